@@ -1,0 +1,333 @@
+//! [`PointWorld`]: the point-world potential `phi_k` and the point-world navigation function
+//! `varphi = sigma ∘ phi_k` with their derivatives.
+
+use nalgebra::{Matrix2, Vector2};
+
+use crate::error::{PotentialError, Singularity};
+use crate::sigma::{ln_sigma_prime, sigma, sigma_prime};
+use crate::terms::{hess_ln_norm2, ln_norm2, reciprocal, unit};
+
+/// A point world `P = R² \ {P_1..P_M}` with destination `P_d` and the parameter `k > M`.
+///
+/// Invariants (checked by the constructors): all points finite, the obstacle points distinct
+/// and different from `P_d`, and `k` finite with `k > M` (lemma `attactive`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PointWorld {
+    destination: Vector2<f64>,
+    obstacles: Vec<Vector2<f64>>,
+    k: f64,
+}
+
+impl PointWorld {
+    /// A point world with the paper's default `k = M + 1`.
+    ///
+    /// Errors: a NaN or infinite coordinate, an obstacle point at the destination or two equal
+    /// obstacle points.
+    pub fn new(
+        destination: Vector2<f64>,
+        obstacles: impl Into<Vec<Vector2<f64>>>,
+    ) -> Result<Self, PotentialError> {
+        let obstacles = obstacles.into();
+        if !(destination.x.is_finite() && destination.y.is_finite()) {
+            return Err(PotentialError::NonFinite { index: None });
+        }
+        for (i, p) in obstacles.iter().enumerate() {
+            if !(p.x.is_finite() && p.y.is_finite()) {
+                return Err(PotentialError::NonFinite { index: Some(i) });
+            }
+            if *p == destination {
+                return Err(PotentialError::ObstacleAtDestination { index: i });
+            }
+            if let Some(j) = obstacles[..i].iter().position(|q| q == p) {
+                return Err(PotentialError::DuplicateObstacle {
+                    first: j,
+                    second: i,
+                });
+            }
+        }
+        let k = obstacles.len() as f64 + 1.0;
+        Ok(Self {
+            destination,
+            obstacles,
+            k,
+        })
+    }
+
+    /// The same world with another `k`. Lemma `attactive`: `phi_k → +∞` far away iff `k > M`,
+    /// so `k ≤ M` (or a non-finite `k`) is rejected with [`PotentialError::KNotAttractive`].
+    pub fn with_k(mut self, k: f64) -> Result<Self, PotentialError> {
+        let m = self.obstacles.len();
+        if !(k.is_finite() && k > m as f64) {
+            return Err(PotentialError::KNotAttractive { k, obstacles: m });
+        }
+        self.k = k;
+        Ok(self)
+    }
+
+    /// The destination `P_d = Phi(x_d)`.
+    pub fn destination(&self) -> Vector2<f64> {
+        self.destination
+    }
+
+    /// The obstacle points `P_1..P_M`.
+    pub fn obstacles(&self) -> &[Vector2<f64>] {
+        &self.obstacles
+    }
+
+    /// The parameter `k` (> M).
+    pub fn k(&self) -> f64 {
+        self.k
+    }
+
+    /// Which singular point `h` is, if any: the destination or an obstacle point (exact
+    /// equality; every other point of `R²` is a regular point of `phi_k`).
+    pub fn singularity(&self, h: Vector2<f64>) -> Option<Singularity> {
+        if h == self.destination {
+            return Some(Singularity::Destination);
+        }
+        self.obstacles
+            .iter()
+            .position(|p| *p == h)
+            .map(Singularity::Obstacle)
+    }
+
+    /// `phi_k(h) = ln|h − P_d|² − (1/k) Σ_i ln|h − P_i|²` (section `HFcontruction`).
+    ///
+    /// Evaluated as a sum of logarithms, so it is finite for every regular `h` including
+    /// `|h| = 1e300`. Edges: `−∞` at `P_d`, `+∞` at an obstacle point (never NaN).
+    pub fn phi_k(&self, h: Vector2<f64>) -> f64 {
+        let obstacles: f64 = self.obstacles.iter().map(|p| ln_norm2(h - p)).sum();
+        ln_norm2(h - self.destination) - obstacles / self.k
+    }
+
+    /// Eq. (`gradient`): `∇phi_k(h) = 2 h_d/|h_d|² − (2/k) Σ_i h_i/|h_i|²`.
+    ///
+    /// Errors with the [`Singularity`] at `P_d` and at the obstacle points, where the gradient
+    /// is unbounded.
+    pub fn grad_phi_k(&self, h: Vector2<f64>) -> Result<Vector2<f64>, Singularity> {
+        let mut acc = Vector2::zeros();
+        for (i, p) in self.obstacles.iter().enumerate() {
+            acc += reciprocal(h - p).ok_or(Singularity::Obstacle(i))?;
+        }
+        let d = reciprocal(h - self.destination).ok_or(Singularity::Destination)?;
+        Ok(2.0 * d - (2.0 / self.k) * acc)
+    }
+
+    /// Eq. (`hessquadratic`): `H(phi_k) = H(ln|h_d|²) − (1/k) Σ_i H(ln|h_i|²)`, each term
+    /// `(2/|v|²)(I − 2 v̂ v̂ᵀ)`. Its trace is zero (harmonicity, lemma `locminfree`).
+    ///
+    /// Errors with the [`Singularity`] at `P_d` and at the obstacle points.
+    pub fn hess_phi_k(&self, h: Vector2<f64>) -> Result<Matrix2<f64>, Singularity> {
+        let mut acc = Matrix2::zeros();
+        for (i, p) in self.obstacles.iter().enumerate() {
+            acc += hess_ln_norm2(h - p).ok_or(Singularity::Obstacle(i))?;
+        }
+        let d = hess_ln_norm2(h - self.destination).ok_or(Singularity::Destination)?;
+        Ok(d - acc / self.k)
+    }
+
+    /// Eq. (`NFcand`) in the point world: `varphi(h) = sigma(phi_k(h))
+    /// = |h_d|² / (|h_d|² + Π_i |h_i|^{2/k})`, computed through `phi_k` in log space.
+    ///
+    /// Edges: exactly `0` at `P_d`, exactly `1` at an obstacle point; in `[0, 1]` everywhere.
+    pub fn varphi(&self, h: Vector2<f64>) -> f64 {
+        sigma(self.phi_k(h))
+    }
+
+    /// `∇varphi = sigma'(phi_k) ∇phi_k` (chain rule of theorem `isNF`).
+    ///
+    /// At `P_d` the limit exists and is returned: `0`. At an obstacle point the gradient is
+    /// unbounded for `k > 2` and the call errors with [`Singularity::Obstacle`]. Far from the
+    /// destination `sigma'` may underflow to `0`; use [`Self::descent_direction`] for the
+    /// direction.
+    pub fn grad_varphi(&self, h: Vector2<f64>) -> Result<Vector2<f64>, Singularity> {
+        match self.grad_phi_k(h) {
+            Ok(g) => Ok(sigma_prime(self.phi_k(h)) * g),
+            Err(Singularity::Destination) => Ok(Vector2::zeros()),
+            Err(e) => Err(e),
+        }
+    }
+
+    /// `H(varphi) = sigma'(phi_k) H(phi_k) + sigma''(phi_k) ∇phi_k ∇phi_kᵀ`.
+    ///
+    /// Numerical guard: written as `Σ_v c_v·2(σ'/|v|²)(I − 2v̂v̂ᵀ) + t·g gᵀ` with
+    /// `g = √σ'·∇phi_k`, `t = sigma''/sigma' = −tanh(phi_k/2)` and every factor `σ'/|v|²`,
+    /// `√σ'/|v|` formed as one exponential of a sum of logarithms, so that near `P_d` the
+    /// huge `H(phi_k)` and the vanishing `σ'` never meet as `∞·0`.
+    ///
+    /// At `P_d` the limit [`Self::destination_hessian`] is returned. Errors at obstacle points,
+    /// and near one (closer than ≈ 1e-150) where the Hessian, growing like `|h_i|^{2/k − 2}`,
+    /// exceeds the range of `f64`: the error names that obstacle.
+    pub fn hess_varphi(&self, h: Vector2<f64>) -> Result<Matrix2<f64>, Singularity> {
+        match self.singularity(h) {
+            Some(Singularity::Destination) => return Ok(self.destination_hessian()),
+            Some(e) => return Err(e),
+            None => {}
+        }
+        let s = self.phi_k(h);
+        let ln_sp = ln_sigma_prime(s);
+        let t = -(0.5 * s).tanh();
+        let mut hess = Matrix2::zeros();
+        let mut g = Vector2::zeros();
+        let terms = std::iter::once((self.destination, 1.0))
+            .chain(self.obstacles.iter().map(|&p| (p, -1.0 / self.k)));
+        for (p, c) in terms {
+            let v = h - p;
+            let ln_r2 = ln_norm2(v);
+            let n = unit(v).expect("h is not a singular point");
+            let a = (ln_sp - ln_r2).exp(); // σ'/|v|²
+            hess += (2.0 * c * a) * (Matrix2::identity() - 2.0 * n * n.transpose());
+            g += (2.0 * c * (0.5 * (ln_sp - ln_r2)).exp()) * n; // √σ'·(2v/|v|²)
+        }
+        let out = hess + t * g * g.transpose();
+        if out.iter().all(|x| x.is_finite()) {
+            Ok(out)
+        } else {
+            Err(Singularity::Obstacle(self.nearest_obstacle(h)))
+        }
+    }
+
+    /// Index of the obstacle point nearest to `h` (`0` if there is none).
+    fn nearest_obstacle(&self, h: Vector2<f64>) -> usize {
+        (0..self.obstacles.len())
+            .min_by(|&i, &j| {
+                ln_norm2(h - self.obstacles[i]).total_cmp(&ln_norm2(h - self.obstacles[j]))
+            })
+            .unwrap_or(0)
+    }
+
+    /// The Hessian of `varphi` at the destination (eq. `destphik2`, corrected):
+    ///
+    /// ```text
+    /// H(varphi)(P_d) = 2 / Π_i |P_d − P_i|^{2/k} · I
+    /// ```
+    ///
+    /// The paper prints the exponent `4/k`; corollary `critdamp` uses `2/k`. Finite differences
+    /// of [`Self::varphi`] at `P_d` agree with `2/k` (tests `destination_hessian_*` and the
+    /// verify check `potential.destination-hessian-exponent`; evidence in `docs/maths.md`).
+    /// The product is formed in log space.
+    pub fn destination_hessian(&self) -> Matrix2<f64> {
+        Matrix2::identity() * self.destination_stiffness()
+    }
+
+    /// The scalar `2 / Π_i |P_d − P_i|^{2/k}` of [`Self::destination_hessian`]: the spring
+    /// constant per unit `μ` used by the critical damping `lambda_c` (eq. `critdamp`).
+    pub fn destination_stiffness(&self) -> f64 {
+        let ln_prod: f64 = self
+            .obstacles
+            .iter()
+            .map(|p| ln_norm2(self.destination - p))
+            .sum();
+        2.0 * (-ln_prod / self.k).exp()
+    }
+
+    /// The unit descent direction `−∇varphi/|∇varphi| = −∇phi_k/|∇phi_k|`.
+    ///
+    /// `sigma' > 0` is a scalar factor, so the direction is taken from `∇phi_k` and stays
+    /// well defined where `sigma'` underflows (far from the destination, near obstacles).
+    /// `None` at `P_d`, at obstacle points and at exact critical points (`∇phi_k = 0`); the
+    /// kinematic law (eq. `kinctrl`) returns `u = 0` there.
+    pub fn descent_direction(&self, h: Vector2<f64>) -> Option<Vector2<f64>> {
+        let g = self.grad_phi_k(h).ok()?;
+        // Guard: scale before normalising so that |g| neither overflows nor underflows.
+        let s = g.x.abs().max(g.y.abs());
+        if s == 0.0 || !s.is_finite() {
+            return None;
+        }
+        let g = g / s;
+        Some(-g / g.norm())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn world() -> PointWorld {
+        PointWorld::new(
+            Vector2::new(1.0, 0.5),
+            vec![Vector2::new(-1.0, 0.0), Vector2::new(0.5, -1.5)],
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn default_k_is_m_plus_one_and_k_le_m_is_rejected() {
+        let w = world();
+        assert_eq!(w.k(), 3.0);
+        assert_eq!(
+            w.clone().with_k(2.0),
+            Err(PotentialError::KNotAttractive {
+                k: 2.0,
+                obstacles: 2
+            })
+        );
+        assert!(w.clone().with_k(f64::NAN).is_err());
+        assert!(w.clone().with_k(f64::INFINITY).is_err());
+        assert_eq!(w.with_k(2.5).unwrap().k(), 2.5);
+    }
+
+    #[test]
+    fn invalid_worlds_are_typed_errors() {
+        let d = Vector2::new(0.0, 0.0);
+        let a = Vector2::new(1.0, 0.0);
+        assert_eq!(
+            PointWorld::new(d, vec![a, d]),
+            Err(PotentialError::ObstacleAtDestination { index: 1 })
+        );
+        assert_eq!(
+            PointWorld::new(d, vec![a, Vector2::new(2.0, 0.0), a]),
+            Err(PotentialError::DuplicateObstacle {
+                first: 0,
+                second: 2
+            })
+        );
+        assert_eq!(
+            PointWorld::new(Vector2::new(f64::NAN, 0.0), vec![a]),
+            Err(PotentialError::NonFinite { index: None })
+        );
+        assert_eq!(
+            PointWorld::new(d, vec![Vector2::new(0.0, f64::INFINITY)]),
+            Err(PotentialError::NonFinite { index: Some(0) })
+        );
+    }
+
+    #[test]
+    fn value_matches_the_closed_form_quotient() {
+        // sigma(phi_k(h)) = |h_d|² / (|h_d|² + Π|h_i|^{2/k})
+        let w = world();
+        for h in [
+            Vector2::new(0.3, 0.2),
+            Vector2::new(-2.0, 3.0),
+            Vector2::new(4.0, -1.0),
+        ] {
+            let hd2 = (h - w.destination()).norm_squared();
+            let prod: f64 = w
+                .obstacles()
+                .iter()
+                .map(|p| (h - p).norm_squared().powf(1.0 / w.k()))
+                .product();
+            let expected = hd2 / (hd2 + prod);
+            assert!((w.varphi(h) - expected).abs() < 1e-15, "at {h:?}");
+        }
+    }
+
+    #[test]
+    fn singular_points_have_exact_limits() {
+        let w = world();
+        let d = w.destination();
+        let p = w.obstacles()[1];
+        assert_eq!(w.phi_k(d), f64::NEG_INFINITY);
+        assert_eq!(w.phi_k(p), f64::INFINITY);
+        assert_eq!(w.varphi(d), 0.0);
+        assert_eq!(w.varphi(p), 1.0);
+        assert_eq!(w.grad_varphi(d), Ok(Vector2::zeros()));
+        assert_eq!(w.grad_varphi(p), Err(Singularity::Obstacle(1)));
+        assert_eq!(w.grad_phi_k(d), Err(Singularity::Destination));
+        assert_eq!(w.hess_varphi(d), Ok(w.destination_hessian()));
+        assert_eq!(w.descent_direction(d), None);
+        assert_eq!(w.descent_direction(p), None);
+        assert_eq!(w.singularity(p), Some(Singularity::Obstacle(1)));
+        assert_eq!(w.singularity(Vector2::new(9.0, 9.0)), None);
+    }
+}

@@ -1,0 +1,80 @@
+//! Shared proptest strategies: random valid point worlds and regular query points.
+#![allow(dead_code)]
+
+use harmonav_potential::{PointWorld, Vector2};
+use proptest::prelude::*;
+use proptest::test_runner::{Config, RngSeed};
+
+/// Seeded, non-persisting proptest configuration (deterministic runs, no files written).
+pub fn config(cases: u32) -> Config {
+    Config {
+        cases,
+        rng_seed: RngSeed::Fixed(0x0048_4152_4D4E_4156),
+        failure_persistence: None,
+        ..Config::default()
+    }
+}
+
+/// Minimum pairwise separation of the generated points.
+pub const SEPARATION: f64 = 0.3;
+
+pub fn point(extent: f64) -> impl Strategy<Value = Vector2<f64>> {
+    (-extent..extent, -extent..extent).prop_map(|(x, y)| Vector2::new(x, y))
+}
+
+/// Random point worlds with 1..=max_m obstacle points in [-5, 5]², all points (destination
+/// included) at least `SEPARATION` apart, default k = M + 1.
+pub fn world(max_m: usize) -> impl Strategy<Value = PointWorld> {
+    (1..=max_m)
+        .prop_flat_map(|m| (proptest::collection::vec(point(5.0), m), point(5.0)))
+        .prop_filter_map("points too close", |(pts, d)| {
+            let mut all = pts.clone();
+            all.push(d);
+            for i in 0..all.len() {
+                for j in 0..i {
+                    if (all[i] - all[j]).norm() < SEPARATION {
+                        return None;
+                    }
+                }
+            }
+            PointWorld::new(d, pts).ok()
+        })
+}
+
+/// Smallest distance from `h` to the destination and the obstacle points.
+pub fn clearance(w: &PointWorld, h: Vector2<f64>) -> f64 {
+    w.obstacles()
+        .iter()
+        .map(|p| (h - p).norm())
+        .fold((h - w.destination()).norm(), f64::min)
+}
+
+/// Sum of the magnitudes of the terms of eq. (gradient) at h: the natural scale of ∇phi_k.
+pub fn grad_scale(w: &PointWorld, h: Vector2<f64>) -> f64 {
+    2.0 / (h - w.destination()).norm()
+        + (2.0 / w.k())
+            * w.obstacles()
+                .iter()
+                .map(|p| 1.0 / (h - p).norm())
+                .sum::<f64>()
+}
+
+/// Sum of the magnitudes of the terms of eq. (hessquadratic) at h.
+pub fn hess_scale(w: &PointWorld, h: Vector2<f64>) -> f64 {
+    2.0 / (h - w.destination()).norm_squared()
+        + (2.0 / w.k())
+            * w.obstacles()
+                .iter()
+                .map(|p| 1.0 / (h - p).norm_squared())
+                .sum::<f64>()
+}
+
+/// Central finite-difference gradient of a scalar function.
+pub fn fd_grad(f: impl Fn(Vector2<f64>) -> f64, h: Vector2<f64>, step: f64) -> Vector2<f64> {
+    let ex = Vector2::new(step, 0.0);
+    let ey = Vector2::new(0.0, step);
+    Vector2::new(
+        (f(h + ex) - f(h - ex)) / (2.0 * step),
+        (f(h + ey) - f(h - ey)) / (2.0 * step),
+    )
+}

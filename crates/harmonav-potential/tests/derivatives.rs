@@ -1,0 +1,229 @@
+//! Values and derivatives of phi_k and varphi against closed forms and finite differences.
+
+mod common;
+
+use common::*;
+use harmonav_potential::{Matrix2, PointWorld, Vector2, terms};
+use proptest::prelude::*;
+
+/// Central finite-difference Jacobian of a vector function (columns = d/dx, d/dy).
+fn fd_jacobian(
+    f: impl Fn(Vector2<f64>) -> Vector2<f64>,
+    h: Vector2<f64>,
+    step: f64,
+) -> Matrix2<f64> {
+    let ex = Vector2::new(step, 0.0);
+    let ey = Vector2::new(0.0, step);
+    let cx = (f(h + ex) - f(h - ex)) / (2.0 * step);
+    let cy = (f(h + ey) - f(h - ey)) / (2.0 * step);
+    Matrix2::from_columns(&[cx, cy])
+}
+
+proptest! {
+    #![proptest_config(config(1024))]
+
+    /// Eq. (gradient) against central differences of phi_k.
+    #[test]
+    fn gradient_matches_finite_differences(w in world(8), h in point(6.0)) {
+        prop_assume!(clearance(&w, h) > 0.05);
+        let g = w.grad_phi_k(h).unwrap();
+        let fd = fd_grad(|x| w.phi_k(x), h, 1e-6);
+        prop_assert!((g - fd).norm() <= 1e-6 * grad_scale(&w, h), "g = {g:?}, fd = {fd:?}");
+    }
+
+    /// Eq. (hessquadratic) against central differences of the gradient; harmonicity.
+    #[test]
+    fn hessian_matches_finite_differences_and_is_trace_free(w in world(8), h in point(6.0)) {
+        prop_assume!(clearance(&w, h) > 0.05);
+        let hess = w.hess_phi_k(h).unwrap();
+        let fd = fd_jacobian(|x| w.grad_phi_k(x).unwrap(), h, 1e-6);
+        let scale = hess_scale(&w, h);
+        prop_assert!((hess - fd).norm() <= 1e-6 * scale, "H = {hess}, fd = {fd}");
+        prop_assert!((hess - hess.transpose()).norm() <= 1e-15 * scale);
+        // Lemma locminfree: Δphi_k = tr H = 0.
+        prop_assert!(hess.trace().abs() <= 1e-13 * scale, "trace {}", hess.trace());
+    }
+
+    /// varphi = sigma(phi_k): value in [0, 1], gradient and Hessian against differences.
+    #[test]
+    fn navigation_function_derivatives_match_finite_differences(w in world(8), h in point(6.0)) {
+        prop_assume!(clearance(&w, h) > 0.05);
+        let v = w.varphi(h);
+        prop_assert!((0.0..=1.0).contains(&v));
+        let g = w.grad_varphi(h).unwrap();
+        let fd = fd_grad(|x| w.varphi(x), h, 1e-6);
+        let gscale = grad_scale(&w, h);
+        prop_assert!((g - fd).norm() <= 1e-7 * gscale, "g = {g:?}, fd = {fd:?}");
+        let hess = w.hess_varphi(h).unwrap();
+        let fdh = fd_jacobian(|x| w.grad_varphi(x).unwrap(), h, 1e-6);
+        prop_assert!((hess - fdh).norm() <= 1e-6 * hess_scale(&w, h), "H = {hess}, fd = {fdh}");
+        // The unit descent direction is −∇varphi normalised wherever the gradient is resolvable.
+        if let Some(u) = w.descent_direction(h) {
+            prop_assert!((u.norm() - 1.0).abs() < 1e-14);
+            if g.norm() > 1e-300 {
+                prop_assert!((u + g / g.norm()).norm() < 1e-12);
+            }
+        }
+    }
+
+    /// Lemma attactive: far away phi_k ≈ 2(1 − M/k) ln|h| → +∞ for k > M.
+    #[test]
+    fn attractive_far_away_for_k_above_m(w in world(8), angle in 0.0..std::f64::consts::TAU, extra in 0.0..3.0f64) {
+        let m = w.obstacles().len() as f64;
+        let w = w.with_k(m + 0.1 + extra).unwrap();
+        let u = Vector2::new(angle.cos(), angle.sin());
+        let slope = 2.0 * (1.0 - m / w.k());
+        let mut last = f64::NEG_INFINITY;
+        for e in [3, 6, 12, 50, 150, 300] {
+            let r = 10f64.powi(e);
+            let phi = w.phi_k(r * u);
+            prop_assert!(phi.is_finite() && phi > last, "not increasing at 1e{e}");
+            let expected = slope * r.ln();
+            prop_assert!((phi - expected).abs() <= 1e-9 * expected.abs() + 20.0 / r, "1e{e}: {phi} vs {expected}");
+            last = phi;
+        }
+    }
+
+    /// Lemma attactive, converse: with k = M the potential stays bounded far away and with
+    /// k < M it tends to −∞ — which is why PointWorld rejects k ≤ M. The sum is evaluated here
+    /// term by term from the public `terms` module (an independent reference).
+    #[test]
+    fn not_attractive_for_k_at_most_m(w in world(8), angle in 0.0..std::f64::consts::TAU) {
+        let m = w.obstacles().len();
+        prop_assert!(w.clone().with_k(m as f64).is_err());
+        let phi = |k: f64, h: Vector2<f64>| {
+            terms::ln_norm2(h - w.destination())
+                - w.obstacles().iter().map(|p| terms::ln_norm2(h - p)).sum::<f64>() / k
+        };
+        let u = Vector2::new(angle.cos(), angle.sin());
+        let far = 1e12 * u;
+        prop_assert!(phi(m as f64, far).abs() < 1e-9, "k = M: {}", phi(m as f64, far));
+        if m > 1 {
+            let k = m as f64 - 0.5;
+            prop_assert!(phi(k, 1e100 * u) < phi(k, 1e10 * u) && phi(k, 1e100 * u) < -10.0);
+        }
+    }
+
+    /// The destination Hessian of sigma∘phi_k against the closed form 2/Π|P_d−P_i|^{2/k}·I
+    /// (eq. critdamp's exponent), from second differences of varphi values at P_d; and not the
+    /// 4/k of eq. destphik2, which differs from it whenever Π|P_d − P_i| ≠ 1.
+    #[test]
+    fn destination_hessian_has_exponent_two_over_k(w in world(8)) {
+        let d = w.destination();
+        let ln_prod: f64 = w.obstacles().iter().map(|p| (d - p).norm().ln()).sum();
+        prop_assume!((ln_prod / w.k()).abs() > 0.05);
+        let step = 1e-4;
+        let f = |x: Vector2<f64>| w.varphi(x);
+        let ex = Vector2::new(step, 0.0);
+        let ey = Vector2::new(0.0, step);
+        let hxx = (f(d + ex) - 2.0 * f(d) + f(d - ex)) / (step * step);
+        let hyy = (f(d + ey) - 2.0 * f(d) + f(d - ey)) / (step * step);
+        let hxy = (f(d + ex + ey) - f(d + ex - ey) - f(d - ex + ey) + f(d - ex - ey)) / (4.0 * step * step);
+        let two_over_k = 2.0 * (-2.0 * ln_prod / w.k()).exp();
+        let four_over_k = 2.0 * (-4.0 * ln_prod / w.k()).exp();
+        let closed = w.destination_hessian();
+        prop_assert!((closed[(0, 0)] - two_over_k).abs() <= 1e-12 * two_over_k);
+        for (fd, exact) in [(hxx, closed[(0, 0)]), (hyy, closed[(1, 1)]), (hxy, 0.0)] {
+            prop_assert!((fd - exact).abs() <= 1e-4 * two_over_k, "fd {fd} vs closed {exact}");
+        }
+        prop_assert!((hxx - four_over_k).abs() > 1e-2 * two_over_k, "4/k cannot be told apart");
+    }
+
+    /// No local minimum except the destination: on a dense grid no node (away from the
+    /// destination) is strictly below all eight neighbours.
+    #[test]
+    fn no_local_minimum_on_a_dense_grid(w in world(6)) {
+        let n = 240;
+        let extent = 6.0;
+        let cell = 2.0 * extent / n as f64;
+        let node = |i: usize, j: usize| Vector2::new(-extent + cell * i as f64 + 1e-7, -extent + cell * j as f64 + 3e-7);
+        let values: Vec<f64> = (0..=n).flat_map(|i| (0..=n).map(move |j| (i, j))).map(|(i, j)| w.phi_k(node(i, j))).collect();
+        let at = |i: usize, j: usize| values[i * (n + 1) + j];
+        for i in 1..n {
+            for j in 1..n {
+                if (node(i, j) - w.destination()).norm() < 2.0 * cell {
+                    continue;
+                }
+                let v = at(i, j);
+                let lower = [(0, 0), (0, 1), (0, 2), (1, 0), (1, 2), (2, 0), (2, 1), (2, 2)]
+                    .iter()
+                    .all(|&(di, dj)| at(i + di - 1, j + dj - 1) > v);
+                prop_assert!(!lower, "local minimum at {:?}", node(i, j));
+            }
+        }
+    }
+}
+
+/// The closed form of varphi in the point world, and the exact limits at the singular points,
+/// across extreme scales: nothing overflows or turns NaN as h → P_i, h → P_d, |h| → ∞.
+#[test]
+fn extreme_scales_stay_finite() {
+    let w = PointWorld::new(
+        Vector2::new(1.0, 0.0),
+        vec![
+            Vector2::new(0.0, 0.0),
+            Vector2::new(-2.0, 1.5),
+            Vector2::new(3.0, -2.0),
+        ],
+    )
+    .unwrap();
+    let dir = Vector2::new(0.6, 0.8);
+    for e in [-300, -200, -150, -100, -50, -12, -3] {
+        let eps = 10f64.powi(e);
+        for (base, label) in [(w.obstacles()[0], "P_1"), (w.destination(), "P_d")] {
+            let h = base + eps * dir;
+            if h == base {
+                continue; // below the resolution of base's coordinates
+            }
+            let phi = w.phi_k(h);
+            let g = w.grad_phi_k(h).unwrap();
+            let gv = w.grad_varphi(h).unwrap();
+            let hv = match w.hess_varphi(h) {
+                Ok(hv) => hv,
+                // The Hessian grows like |h_i|^{2/k−2}: beyond f64 closer than ~1e-150.
+                Err(_) if label == "P_1" && e < -150 => Matrix2::zeros(),
+                Err(err) => panic!("{label} + 1e{e}: {err}"),
+            };
+            assert!(phi.is_finite(), "{label} + 1e{e}: phi = {phi}");
+            assert!(
+                g.iter().all(|x| x.is_finite()),
+                "{label} + 1e{e}: grad {g:?}"
+            );
+            assert!(
+                gv.iter().all(|x| x.is_finite()),
+                "{label} + 1e{e}: grad varphi {gv:?}"
+            );
+            assert!(
+                hv.iter().all(|x| x.is_finite()),
+                "{label} + 1e{e}: hess varphi {hv}"
+            );
+            assert!((0.0..=1.0).contains(&w.varphi(h)));
+            assert!(w.descent_direction(h).is_some());
+        }
+        // The Hessian at the destination is continuous: within 1e-12 of it, it is the closed form.
+        let hd = w.hess_varphi(w.destination() + eps * dir).unwrap();
+        if e <= -12 {
+            let closed = w.destination_hessian();
+            assert!(
+                (hd - closed).norm() <= 1e-9 * closed.norm(),
+                "P_d + 1e{e}: {hd}"
+            );
+        }
+        // Approaching an obstacle point varphi → 1, approaching the destination → 0.
+        if e <= -12 {
+            assert!(w.varphi(w.obstacles()[0] + eps * dir) > 0.99);
+            assert!(w.varphi(w.destination() + eps * dir) < 1e-20);
+        }
+    }
+    for e in [3, 50, 150, 200, 300, 307] {
+        let h = 10f64.powi(e) * dir;
+        let phi = w.phi_k(h);
+        assert!(phi.is_finite() && phi > 0.0, "1e{e}: phi = {phi}");
+        let g = w.grad_phi_k(h).unwrap();
+        assert!(g.iter().all(|x| x.is_finite()), "1e{e}: grad {g:?}");
+        // Far away the descent direction points back towards the origin.
+        let u = w.descent_direction(h).unwrap();
+        assert!(u.dot(&dir) < -0.99, "1e{e}: {u:?}");
+        assert!(w.varphi(h) > 0.0 && w.varphi(h) <= 1.0);
+    }
+}

@@ -1,0 +1,220 @@
+//! `cargo xtask bench`: the benchmark figures, measured in release mode.
+//!
+//! Timing is the median of repeated batches (`std::time::Instant`); the criterion benches
+//! (`cargo bench -p harmonav-potential`) give the full distributions. Speed goals live here,
+//! never in timed unit tests.
+
+use std::hint::black_box;
+use std::process::{Command, ExitCode};
+use std::time::Instant;
+
+use harmonav_potential::{BatchGradient, PointWorld, Vector2};
+
+pub struct Options {
+    json: bool,
+    numpy: bool,
+}
+
+impl Options {
+    pub fn parse(args: &[String]) -> Result<Self, String> {
+        let mut options = Self {
+            json: false,
+            numpy: false,
+        };
+        for a in args {
+            match a.as_str() {
+                "--json" => options.json = true,
+                "--numpy" => options.numpy = true,
+                other => return Err(format!("unknown bench option `{other}`")),
+            }
+        }
+        Ok(options)
+    }
+}
+
+pub fn run(options: &Options) -> ExitCode {
+    if cfg!(debug_assertions) {
+        return rerun_in_release();
+    }
+    let mut figures = serde_json::Map::new();
+    let mut put = |key: &str, value: f64| {
+        figures.insert(
+            key.to_string(),
+            serde_json::json!((value * 1000.0).round() / 1000.0),
+        );
+    };
+    put("grad_single_ns", grad_single_ns(6));
+    let mut ours = f64::NAN;
+    for m in [6, 20, 100, 1000] {
+        let ns = grad_batch_ns_per_pair(m, 4096);
+        if m == 100 {
+            put("grad_batch_ns_per_pair", ns);
+            ours = ns;
+        }
+        put(&format!("grad_batch_ns_per_pair_m{m}"), ns);
+    }
+    if options.numpy {
+        match numpy_ns_per_pair(100, 4096) {
+            Ok((broadcast, per_point)) => {
+                put("numpy_broadcast_ns_per_pair", broadcast);
+                put("numpy_per_point_ns_per_pair", per_point);
+                put("numpy_broadcast_ratio", broadcast / ours);
+                put("numpy_per_point_ratio", per_point / ours);
+            }
+            Err(e) => {
+                eprintln!("xtask bench: --numpy: {e}");
+                return ExitCode::from(2);
+            }
+        }
+    }
+    if options.json {
+        println!("{}", serde_json::Value::Object(figures));
+    } else {
+        for (key, value) in &figures {
+            println!("{key:32} {value}");
+        }
+    }
+    ExitCode::SUCCESS
+}
+
+/// Re-executes `cargo xtask bench` with the release profile (timings of a debug build mean
+/// nothing).
+fn rerun_in_release() -> ExitCode {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let status = Command::new(cargo)
+        .args(["run", "--quiet", "--release", "--package", "xtask", "--"])
+        .args(&args)
+        .status();
+    match status {
+        Ok(s) if s.success() => ExitCode::SUCCESS,
+        Ok(s) => ExitCode::from(s.code().unwrap_or(1).clamp(1, 255) as u8),
+        Err(e) => {
+            eprintln!("xtask bench: could not run cargo: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// A deterministic world of `m` points on a golden-angle spiral (the same as the criterion
+/// benches) and `n` query points between them.
+fn setup(m: usize, n: usize) -> (PointWorld, Vec<f64>, Vec<f64>) {
+    let pts: Vec<_> = (0..m)
+        .map(|i| {
+            let r = 1.0 + 0.05 * i as f64;
+            let a = 2.399_963 * i as f64;
+            Vector2::new(r * a.cos(), r * a.sin())
+        })
+        .collect();
+    let world = PointWorld::new(Vector2::new(0.123, -0.077), pts).expect("valid world");
+    let hx = (0..n)
+        .map(|i| -3.0 + 6.0 * ((i * 7919) % n) as f64 / n as f64 + 1e-3)
+        .collect();
+    let hy = (0..n)
+        .map(|i| -3.0 + 6.0 * i as f64 / n as f64 + 2e-3)
+        .collect();
+    (world, hx, hy)
+}
+
+/// Median over `samples` runs of `f`, each run timed as a whole, divided by `per_run`.
+fn median_ns(samples: usize, per_run: f64, mut f: impl FnMut()) -> f64 {
+    f(); // warm up
+    let mut times: Vec<f64> = (0..samples)
+        .map(|_| {
+            let t = Instant::now();
+            f();
+            t.elapsed().as_nanos() as f64 / per_run
+        })
+        .collect();
+    times.sort_by(f64::total_cmp);
+    times[samples / 2]
+}
+
+/// `PointWorld::grad_phi_k` for one point (M obstacles), ns per call.
+fn grad_single_ns(m: usize) -> f64 {
+    let (world, hx, hy) = setup(m, 1024);
+    let pts: Vec<_> = hx
+        .iter()
+        .zip(&hy)
+        .map(|(&x, &y)| Vector2::new(x, y))
+        .collect();
+    let reps = 200;
+    median_ns(21, (reps * pts.len()) as f64, || {
+        for _ in 0..reps {
+            for &h in &pts {
+                let _ = black_box(world.grad_phi_k(black_box(h)));
+            }
+        }
+    })
+}
+
+/// `BatchGradient::eval`, ns per obstacle–point pair.
+fn grad_batch_ns_per_pair(m: usize, n: usize) -> f64 {
+    let (world, hx, hy) = setup(m, n);
+    let kernel = BatchGradient::new(&world);
+    let (mut gx, mut gy) = (vec![0.0; n], vec![0.0; n]);
+    let reps = (20_000 / m).max(1);
+    median_ns(21, (reps * m * n) as f64, || {
+        for _ in 0..reps {
+            kernel
+                .eval(black_box(&hx), black_box(&hy), &mut gx, &mut gy)
+                .expect("regular query points");
+        }
+        black_box((&gx, &gy));
+    })
+}
+
+/// The same eq. (gradient) in NumPy, two straightforward ways: broadcasting an (N, M) array,
+/// and a Python loop over points vectorised over the obstacles. ns per pair, median of runs.
+fn numpy_ns_per_pair(m: usize, n: usize) -> Result<(f64, f64), String> {
+    const SCRIPT: &str = r#"
+import sys, time, numpy as np
+m, n = int(sys.argv[1]), int(sys.argv[2])
+i = np.arange(m); r = 1.0 + 0.05 * i; a = 2.399963 * i
+px, py = r * np.cos(a), r * np.sin(a)
+dx, dy, k = 0.123, -0.077, m + 1.0
+j = np.arange(n)
+hx = -3.0 + 6.0 * ((j * 7919) % n) / n + 1e-3
+hy = -3.0 + 6.0 * j / n + 2e-3
+def broadcast(hx, hy):
+    ex = hx[:, None] - px[None, :]; ey = hy[:, None] - py[None, :]
+    r2 = ex * ex + ey * ey
+    sx = (ex / r2).sum(axis=1); sy = (ey / r2).sum(axis=1)
+    qx, qy = hx - dx, hy - dy; q2 = qx * qx + qy * qy
+    return 2 * qx / q2 - 2 / k * sx, 2 * qy / q2 - 2 / k * sy
+def per_point(hx, hy):
+    gx = np.empty(n); gy = np.empty(n)
+    for t in range(n):
+        ex = hx[t] - px; ey = hy[t] - py; r2 = ex * ex + ey * ey
+        qx, qy = hx[t] - dx, hy[t] - dy; q2 = qx * qx + qy * qy
+        gx[t] = 2 * qx / q2 - 2 / k * (ex / r2).sum(); gy[t] = 2 * qy / q2 - 2 / k * (ey / r2).sum()
+    return gx, gy
+def median(f, runs):
+    ts = []
+    for _ in range(runs):
+        t = time.perf_counter(); f(hx, hy); ts.append(time.perf_counter() - t)
+    return sorted(ts)[runs // 2] * 1e9 / (m * n)
+a, b = broadcast(hx, hy), per_point(hx, hy)
+assert np.allclose(a[0], b[0]) and np.allclose(a[1], b[1])
+print(median(broadcast, 21), median(per_point, 5))
+"#;
+    let out = Command::new("python3")
+        .args(["-c", SCRIPT, &m.to_string(), &n.to_string()])
+        .output()
+        .map_err(|e| format!("could not run python3: {e}"))?;
+    if !out.status.success() {
+        return Err(format!(
+            "the NumPy script failed (is numpy installed?): {}",
+            String::from_utf8_lossy(&out.stderr).trim()
+        ));
+    }
+    let text = String::from_utf8_lossy(&out.stdout);
+    let v: Vec<f64> = text
+        .split_whitespace()
+        .filter_map(|s| s.parse().ok())
+        .collect();
+    match v.as_slice() {
+        [a, b] => Ok((*a, *b)),
+        _ => Err(format!("unexpected NumPy output `{}`", text.trim())),
+    }
+}

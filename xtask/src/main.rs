@@ -1,0 +1,41 @@
+//! `cargo xtask`: project automation for harmonav.
+//!
+//! - `cargo xtask verify` runs every named guarantee check (the paper's properties, measured)
+//!   and ends with `verify: N passed, M failed` (exit code 1 if M > 0).
+//! - `cargo xtask bench [--json] [--numpy]` re-runs itself in release mode and prints the
+//!   benchmark figures (one JSON object with `--json`).
+
+mod bench;
+mod rng;
+mod verify;
+
+use std::process::ExitCode;
+
+const USAGE: &str = "usage: cargo xtask <verify | bench [--json] [--numpy]>
+
+  verify   run the named guarantee checks; ends with `verify: N passed, M failed`
+  bench    measure the benchmark figures in release mode
+             --json    print one JSON object instead of a table
+             --numpy   also time a NumPy implementation of eq. (gradient) (needs python3 + numpy)";
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    match args.first().map(String::as_str) {
+        Some("verify") if args.len() == 1 => verify::run(),
+        Some("bench") => match bench::Options::parse(&args[1..]) {
+            Ok(options) => bench::run(&options),
+            Err(message) => usage_error(&message),
+        },
+        Some("-h" | "--help" | "help") => {
+            println!("{USAGE}");
+            ExitCode::SUCCESS
+        }
+        Some(other) => usage_error(&format!("unknown command or argument `{other}`")),
+        None => usage_error("no command given"),
+    }
+}
+
+fn usage_error(message: &str) -> ExitCode {
+    eprintln!("xtask: {message}\n\n{USAGE}");
+    ExitCode::from(2)
+}
