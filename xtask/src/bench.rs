@@ -1,5 +1,8 @@
 //! `cargo xtask bench`: the benchmark figures, measured in release mode.
 //!
+//! By default the kernels are compiled for this machine's CPU (`--portable`: the baseline
+//! x86-64 target of ordinary builds); the JSON says which (`avx2`).
+//!
 //! Timing is the median of repeated batches (`std::time::Instant`); the criterion benches
 //! (`cargo bench -p harmonav-potential`) give the full distributions. Speed goals live here,
 //! never in timed unit tests.
@@ -13,6 +16,7 @@ use harmonav_potential::{BatchGradient, PointWorld, Vector2};
 pub struct Options {
     json: bool,
     numpy: bool,
+    portable: bool,
 }
 
 impl Options {
@@ -20,11 +24,13 @@ impl Options {
         let mut options = Self {
             json: false,
             numpy: false,
+            portable: false,
         };
         for a in args {
             match a.as_str() {
                 "--json" => options.json = true,
                 "--numpy" => options.numpy = true,
+                "--portable" => options.portable = true,
                 other => return Err(format!("unknown bench option `{other}`")),
             }
         }
@@ -34,7 +40,7 @@ impl Options {
 
 pub fn run(options: &Options) -> ExitCode {
     if cfg!(debug_assertions) {
-        return rerun_in_release();
+        return rerun_in_release(options.portable);
     }
     let mut figures = serde_json::Map::new();
     let mut put = |key: &str, value: f64| {
@@ -67,6 +73,8 @@ pub fn run(options: &Options) -> ExitCode {
             }
         }
     }
+    // Which instruction set the kernels were compiled for (see `rerun_in_release`).
+    figures.insert("avx2".to_string(), cfg!(target_feature = "avx2").into());
     if options.json {
         println!("{}", serde_json::Value::Object(figures));
     } else {
@@ -78,15 +86,22 @@ pub fn run(options: &Options) -> ExitCode {
 }
 
 /// Re-executes `cargo xtask bench` with the release profile (timings of a debug build mean
-/// nothing).
-fn rerun_in_release() -> ExitCode {
+/// nothing), compiled for this machine's CPU (`-C target-cpu=native`, in its own target
+/// directory so that the ordinary builds stay portable) unless `--portable` is given.
+fn rerun_in_release(portable: bool) -> ExitCode {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let status = Command::new(cargo)
+    let mut command = Command::new(cargo);
+    command
         .args(["run", "--quiet", "--release", "--package", "xtask", "--"])
-        .args(&args)
-        .status();
-    match status {
+        .args(&args);
+    if !portable {
+        let flags = std::env::var("RUSTFLAGS").unwrap_or_default();
+        command
+            .env("RUSTFLAGS", format!("{flags} -C target-cpu=native"))
+            .env("CARGO_TARGET_DIR", "target/bench-native");
+    }
+    match command.status() {
         Ok(s) if s.success() => ExitCode::SUCCESS,
         Ok(s) => ExitCode::from(s.code().unwrap_or(1).clamp(1, 255) as u8),
         Err(e) => {

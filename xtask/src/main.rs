@@ -2,7 +2,7 @@
 //!
 //! - `cargo xtask verify` runs every named guarantee check (the paper's properties, measured)
 //!   and ends with `verify: N passed, M failed` (exit code 1 if M > 0).
-//! - `cargo xtask bench [--json] [--numpy]` re-runs itself in release mode and prints the
+//! - `cargo xtask bench [--json] [--numpy] [--portable]` re-runs itself in release mode and prints the
 //!   benchmark figures (one JSON object with `--json`).
 
 mod bench;
@@ -11,12 +11,13 @@ mod verify;
 
 use std::process::ExitCode;
 
-const USAGE: &str = "usage: cargo xtask <verify | bench [--json] [--numpy]>
+const USAGE: &str = "usage: cargo xtask <verify | bench [--json] [--numpy] [--portable]>
 
   verify   run the named guarantee checks; ends with `verify: N passed, M failed`
   bench    measure the benchmark figures in release mode
              --json    print one JSON object instead of a table
-             --numpy   also time a NumPy implementation of eq. (gradient) (needs python3 + numpy)";
+             --numpy   also time a NumPy implementation of eq. (gradient) (needs python3 + numpy)
+             --portable  compile for the baseline target instead of this machine's CPU";
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
