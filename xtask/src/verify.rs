@@ -2,6 +2,7 @@
 //! seeded random inputs and reporting the figure it measured.
 
 mod potential;
+mod transform;
 
 use std::process::ExitCode;
 use std::sync::Mutex;
@@ -18,7 +19,9 @@ pub struct Check {
 
 /// Every check, in report order. Later crates append their suites here.
 fn checks() -> Vec<Check> {
-    potential::checks()
+    let mut all = potential::checks();
+    all.extend(transform::checks());
+    all
 }
 
 pub fn run() -> ExitCode {
