@@ -11,7 +11,7 @@ use std::hint::black_box;
 use std::process::{Command, ExitCode};
 use std::time::Instant;
 
-use harmonav_potential::{BatchGradient, PointWorld, Vector2};
+use harmonav_potential::{BatchGradient, PointWorld, Vector2, arrangements};
 
 pub struct Options {
     json: bool,
@@ -111,17 +111,10 @@ fn rerun_in_release(portable: bool) -> ExitCode {
     }
 }
 
-/// A deterministic world of `m` points on a golden-angle spiral (the same as the criterion
-/// benches) and `n` query points between them.
+/// The golden-spiral benchmark world of `m` points (the same as the criterion benches) and
+/// `n` query points between them.
 fn setup(m: usize, n: usize) -> (PointWorld, Vec<f64>, Vec<f64>) {
-    let pts: Vec<_> = (0..m)
-        .map(|i| {
-            let r = 1.0 + 0.05 * i as f64;
-            let a = 2.399_963 * i as f64;
-            Vector2::new(r * a.cos(), r * a.sin())
-        })
-        .collect();
-    let world = PointWorld::new(Vector2::new(0.123, -0.077), pts).expect("valid world");
+    let world = arrangements::golden_spiral(m);
     let hx = (0..n)
         .map(|i| -3.0 + 6.0 * ((i * 7919) % n) as f64 / n as f64 + 1e-3)
         .collect();

@@ -4,18 +4,11 @@
 use std::hint::black_box;
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use harmonav_potential::{BatchGradient, PointWorld, Vector2};
+use harmonav_potential::{BatchGradient, PointWorld, Vector2, arrangements};
 
-/// A deterministic world of `m` points on a spiral and `n` query points between them.
+/// The golden-spiral benchmark world of `m` points and `n` query points between them.
 fn setup(m: usize, n: usize) -> (PointWorld, Vec<f64>, Vec<f64>) {
-    let pts: Vec<_> = (0..m)
-        .map(|i| {
-            let r = 1.0 + 0.05 * i as f64;
-            let a = 2.399_963 * i as f64; // golden angle
-            Vector2::new(r * a.cos(), r * a.sin())
-        })
-        .collect();
-    let world = PointWorld::new(Vector2::new(0.123, -0.077), pts).expect("valid world");
+    let world = arrangements::golden_spiral(m);
     let hx = (0..n)
         .map(|i| -3.0 + 6.0 * ((i * 7919) % n) as f64 / n as f64 + 1e-3)
         .collect();

@@ -42,6 +42,20 @@ pub fn non_morse(
     Ok((PointWorld::new(destination, obstacles)?, centre))
 }
 
+/// A deterministic benchmark world: `m` obstacle points on a golden-angle spiral
+/// (`r_i = 1 + 0.05 i`, `θ_i = 2.399963 i`) around the destination `(0.123, −0.077)`.
+/// Used by the criterion benches and `cargo xtask bench` so that both time the same world.
+pub fn golden_spiral(m: usize) -> PointWorld {
+    let points: Vec<_> = (0..m)
+        .map(|i| {
+            let (r, a) = (1.0 + 0.05 * i as f64, 2.399_963 * i as f64);
+            Vector2::new(r * a.cos(), r * a.sin())
+        })
+        .collect();
+    PointWorld::new(Vector2::new(0.123, -0.077), points)
+        .expect("distinct points: the radii strictly increase")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -65,7 +65,7 @@ impl PointWorld {
         let k = self.k();
         let scale = length_scale(d, &p);
         let roots = aberth(d, &p, k, scale);
-        cluster(d, &p, k, scale, &roots)
+        cluster(self, d, &p, k, scale, &roots)
     }
 }
 
@@ -137,15 +137,16 @@ fn aberth(d: C, p: &[C], k: f64, scale: f64) -> Vec<C> {
     z
 }
 
-/// The sum of the magnitudes of the terms of eq. (`hessquadratic`) at `z`: the scale against
-/// which a Hessian eigenvalue counts as zero.
-fn local_hessian_scale(z: C, d: C, p: &[C], k: f64) -> f64 {
-    2.0 / (z - d).norm_sqr() + (2.0 / k) * p.iter().map(|&q| 1.0 / (z - q).norm_sqr()).sum::<f64>()
-}
-
 /// Groups roots that coincide (a multiple root shows up as a tight cluster), polishes each
 /// group and classifies it by its Hessian eigenvalues.
-fn cluster(d: C, p: &[C], k: f64, scale: f64, roots: &[C]) -> Vec<CriticalPoint> {
+fn cluster(
+    world: &PointWorld,
+    d: C,
+    p: &[C],
+    k: f64,
+    scale: f64,
+    roots: &[C],
+) -> Vec<CriticalPoint> {
     // Aberth locates a root of multiplicity m only to ≈ ε^{1/m}·scale (6e-6 for m = 3), as m
     // nearby approximations. Merge approximations closer than 1e-4·scale if each of them is
     // itself nearly degenerate (|F'| tiny): two distinct simple roots that close would each
@@ -153,7 +154,7 @@ fn cluster(d: C, p: &[C], k: f64, scale: f64, roots: &[C]) -> Vec<CriticalPoint>
     let tol = 1e-4 * scale;
     let nearly_degenerate = |z: C| {
         let (_, df) = f_and_df(z, d, p, k);
-        2.0 * df.norm() <= 1e-3 * local_hessian_scale(z, d, p, k)
+        2.0 * df.norm() <= 1e-3 * world.hess_term_scale(Vector2::new(z.re, z.im))
     };
     let mut used = vec![false; roots.len()];
     let mut out = Vec::new();
@@ -189,7 +190,7 @@ fn cluster(d: C, p: &[C], k: f64, scale: f64, roots: &[C]) -> Vec<CriticalPoint>
         let (_, df) = f_and_df(z, d, p, k);
         let lambda = 2.0 * df.norm();
         let position = Vector2::new(z.re, z.im);
-        let local = local_hessian_scale(z, d, p, k);
+        let local = world.hess_term_scale(Vector2::new(z.re, z.im));
         let kind = if lambda <= DEGENERATE_TOL * local || multiplicity > 1 {
             CriticalKind::Degenerate
         } else {

@@ -221,6 +221,26 @@ impl PointWorld {
         2.0 * (-ln_prod / self.k).exp()
     }
 
+    /// `2/|h_d| + (2/k) Σ_i 1/|h_i|`: the sum of the magnitudes of the terms of eq.
+    /// (`gradient`) at `h`, the natural scale against which an error in `∇phi_k` (or a
+    /// "zero" gradient) is measured. `+∞` at the singular points.
+    pub fn grad_term_scale(&self, h: Vector2<f64>) -> f64 {
+        let obstacles: f64 = self.obstacles.iter().map(|p| 1.0 / (h - p).norm()).sum();
+        2.0 / (h - self.destination).norm() + (2.0 / self.k) * obstacles
+    }
+
+    /// `2/|h_d|² + (2/k) Σ_i 1/|h_i|²`: the sum of the magnitudes of the terms of eq.
+    /// (`hessquadratic`) at `h`, the scale against which a Hessian entry or eigenvalue counts
+    /// as zero. `+∞` at the singular points.
+    pub fn hess_term_scale(&self, h: Vector2<f64>) -> f64 {
+        let obstacles: f64 = self
+            .obstacles
+            .iter()
+            .map(|p| 1.0 / (h - p).norm_squared())
+            .sum();
+        2.0 / (h - self.destination).norm_squared() + (2.0 / self.k) * obstacles
+    }
+
     /// The unit descent direction `−∇varphi/|∇varphi| = −∇phi_k/|∇phi_k|`.
     ///
     /// `sigma' > 0` is a scalar factor, so the direction is taken from `∇phi_k` and stays

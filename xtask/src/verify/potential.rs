@@ -43,21 +43,11 @@ pub fn checks() -> Vec<Check> {
 }
 
 fn grad_scale(w: &PointWorld, h: Vector2<f64>) -> f64 {
-    2.0 / (h - w.destination()).norm()
-        + (2.0 / w.k())
-            * w.obstacles()
-                .iter()
-                .map(|p| 1.0 / (h - p).norm())
-                .sum::<f64>()
+    w.grad_term_scale(h)
 }
 
 fn hess_scale(w: &PointWorld, h: Vector2<f64>) -> f64 {
-    2.0 / (h - w.destination()).norm_squared()
-        + (2.0 / w.k())
-            * w.obstacles()
-                .iter()
-                .map(|p| 1.0 / (h - p).norm_squared())
-                .sum::<f64>()
+    w.hess_term_scale(h)
 }
 
 /// Samples `(world, h)` pairs with `h` at least 0.05 from every point.

@@ -49,24 +49,14 @@ pub fn clearance(w: &PointWorld, h: Vector2<f64>) -> f64 {
         .fold((h - w.destination()).norm(), f64::min)
 }
 
-/// Sum of the magnitudes of the terms of eq. (gradient) at h: the natural scale of ∇phi_k.
+/// The scale of ∇phi_k at h (the sum of the magnitudes of the terms of eq. gradient).
 pub fn grad_scale(w: &PointWorld, h: Vector2<f64>) -> f64 {
-    2.0 / (h - w.destination()).norm()
-        + (2.0 / w.k())
-            * w.obstacles()
-                .iter()
-                .map(|p| 1.0 / (h - p).norm())
-                .sum::<f64>()
+    w.grad_term_scale(h)
 }
 
-/// Sum of the magnitudes of the terms of eq. (hessquadratic) at h.
+/// The scale of H(phi_k) at h (the sum of the magnitudes of the terms of eq. hessquadratic).
 pub fn hess_scale(w: &PointWorld, h: Vector2<f64>) -> f64 {
-    2.0 / (h - w.destination()).norm_squared()
-        + (2.0 / w.k())
-            * w.obstacles()
-                .iter()
-                .map(|p| 1.0 / (h - p).norm_squared())
-                .sum::<f64>()
+    w.hess_term_scale(h)
 }
 
 /// Central finite-difference gradient of a scalar function.
