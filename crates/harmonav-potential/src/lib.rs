@@ -39,7 +39,8 @@
 //!   `H(varphi)` and the destination Hessian (eq. `destphik2`, with the corrected exponent);
 //! - [`batch`]: the structure-of-arrays gradient kernel for many query points;
 //! - [`critical`]: the critical points of `phi_k` as polynomial roots (a census);
-//! - [`arrangements`]: the symmetric non-Morse arrangement of proposition `Morse`.
+//! - [`arrangements`]: the symmetric non-Morse arrangement of proposition `Morse`, and the
+//!   deterministic golden-spiral world the benchmarks time.
 
 #![warn(missing_docs)]
 
