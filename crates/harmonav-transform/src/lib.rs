@@ -27,5 +27,10 @@
 
 #![warn(missing_docs)]
 
+mod error;
 pub mod radial;
+pub mod shape;
 pub mod smooth;
+
+pub use error::ShapeError;
+pub use shape::StarShape;

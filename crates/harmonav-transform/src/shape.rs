@@ -1,0 +1,568 @@
+//! Star-shaped obstacle and workspace shapes: circle, ellipse, rounded polygon, Fourier star.
+//!
+//! Every shape is star-shaped about its [`StarShape::centre`] and is described by its *radial
+//! function*: the boundary point in direction `θ` is `centre + R(θ)(cos θ, sin θ)`. The
+//! navigation transformation needs `R(θ)` and `R'(θ)` (both exact, closed form or analytic ray
+//! casts); signed distances for the automatic band widths come from parry2d-f64 point queries
+//! on a dense outline (exact for circles); `rho_min`, the minimum radius of curvature of the
+//! convex parts of the boundary, feeds `d_min` (eq. `dmin`).
+
+use std::f64::consts::{PI, TAU};
+use std::sync::Arc;
+
+use nalgebra::Vector2;
+use parry2d_f64::math::Vector as PVector;
+use parry2d_f64::query::PointQuery;
+use parry2d_f64::shape::Polyline;
+
+use crate::error::ShapeError;
+
+/// Number of outline vertices used for parry distance queries on curved shapes.
+const OUTLINE: usize = 512;
+
+/// A star-shaped region of the plane with its radial function (see the module docs).
+#[derive(Clone, Debug)]
+pub struct StarShape {
+    kind: Kind,
+    centre: Vector2<f64>,
+    r_min: f64,
+    r_max: f64,
+    rho_min: f64,
+    outline: Arc<Polyline>,
+}
+
+#[derive(Clone, Debug)]
+enum Kind {
+    Circle {
+        r: f64,
+    },
+    Ellipse {
+        a: f64,
+        b: f64,
+        angle: f64,
+    },
+    Polygon {
+        pieces: Vec<Piece>,
+        starts: Vec<f64>,
+    },
+    Star {
+        r0: f64,
+        harmonics: Vec<(f64, f64, f64)>,
+    },
+}
+
+/// A piece of a rounded polygon's boundary, traversed counter-clockwise.
+#[derive(Clone, Copy, Debug)]
+enum Piece {
+    Segment {
+        a: Vector2<f64>,
+        b: Vector2<f64>,
+    },
+    /// A fillet: `convex` arcs (centre inside the shape) turn left, the others right.
+    Arc {
+        centre: Vector2<f64>,
+        radius: f64,
+        convex: bool,
+    },
+}
+
+fn finite(v: f64, field: &'static str) -> Result<f64, ShapeError> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(ShapeError::NonFinite { field })
+    }
+}
+
+fn positive(v: f64, field: &'static str) -> Result<f64, ShapeError> {
+    if finite(v, field)? > 0.0 {
+        Ok(v)
+    } else {
+        Err(ShapeError::NotPositive { field, value: v })
+    }
+}
+
+fn finite_point(p: Vector2<f64>, field: &'static str) -> Result<Vector2<f64>, ShapeError> {
+    finite(p.x, field)?;
+    finite(p.y, field)?;
+    Ok(p)
+}
+
+fn cross(a: Vector2<f64>, b: Vector2<f64>) -> f64 {
+    a.x * b.y - a.y * b.x
+}
+
+fn left(v: Vector2<f64>) -> Vector2<f64> {
+    Vector2::new(-v.y, v.x)
+}
+
+fn dir(theta: f64) -> Vector2<f64> {
+    Vector2::new(theta.cos(), theta.sin())
+}
+
+impl StarShape {
+    /// A disc of the given radius: `R(θ) = r`, `rho_min = r`.
+    pub fn circle(centre: Vector2<f64>, radius: f64) -> Result<Self, ShapeError> {
+        let centre = finite_point(centre, "center")?;
+        let r = positive(radius, "radius")?;
+        Ok(Self::build(Kind::Circle { r }, centre, r, r, r))
+    }
+
+    /// An ellipse with semi-axes `(a, b)` along the directions `angle` and `angle + π/2`
+    /// (radians): `R(ψ) = ab/√(b² cos²ψ + a² sin²ψ)`, `ψ = θ − angle`;
+    /// `rho_min = min(a,b)²/max(a,b)`.
+    pub fn ellipse(
+        centre: Vector2<f64>,
+        semi_axes: [f64; 2],
+        angle: f64,
+    ) -> Result<Self, ShapeError> {
+        let centre = finite_point(centre, "center")?;
+        let a = positive(semi_axes[0], "semi_axes")?;
+        let b = positive(semi_axes[1], "semi_axes")?;
+        let angle = finite(angle, "angle_deg")?;
+        let (lo, hi) = (a.min(b), a.max(b));
+        Ok(Self::build(
+            Kind::Ellipse { a, b, angle },
+            centre,
+            lo,
+            hi,
+            lo * lo / hi,
+        ))
+    }
+
+    /// A Fourier star `R(θ) = r0 + Σ (a_n cos nθ + b_n sin nθ)` about `centre`, harmonics
+    /// given as `(n, a_n, b_n)` with `n ≥ 1`. Rejected if `R ≤ 0` anywhere (checked on a dense
+    /// grid with a margin bounding the variation between grid points).
+    pub fn fourier_star(
+        centre: Vector2<f64>,
+        r0: f64,
+        harmonics: &[(u32, f64, f64)],
+    ) -> Result<Self, ShapeError> {
+        let centre = finite_point(centre, "center")?;
+        let r0 = positive(r0, "radius")?;
+        let mut h = Vec::with_capacity(harmonics.len());
+        for &(n, a, b) in harmonics {
+            if n == 0 {
+                return Err(ShapeError::Invalid {
+                    field: "harmonics",
+                    problem: "harmonic numbers n must be ≥ 1".into(),
+                });
+            }
+            h.push((n as f64, finite(a, "harmonics")?, finite(b, "harmonics")?));
+        }
+        let kind = Kind::Star { r0, harmonics: h };
+        let samples = 8192;
+        let step = TAU / samples as f64;
+        let (mut lo, mut hi, mut slope, mut rho) = (f64::INFINITY, 0.0f64, 0.0f64, f64::INFINITY);
+        for i in 0..samples {
+            let th = i as f64 * step;
+            let (r, dr, ddr) = star_radius(r0, kind_harmonics(&kind), th);
+            lo = lo.min(r);
+            hi = hi.max(r);
+            slope = slope.max(dr.abs());
+            let den = r * r + 2.0 * dr * dr - r * ddr;
+            if den > 0.0 {
+                rho = rho.min((r * r + dr * dr).powf(1.5) / den);
+            }
+        }
+        let margin = slope * step; // |R(θ) − R(θ_i)| ≤ max|R'|·Δθ between grid points
+        if lo - margin <= 0.0 {
+            return Err(ShapeError::Invalid {
+                field: "harmonics",
+                problem: format!(
+                    "the radius R(θ) reaches {lo:.3} ≤ 0: the star is not a valid star-shaped region"
+                ),
+            });
+        }
+        Ok(Self::build(kind, centre, lo - margin, hi + margin, rho))
+    }
+
+    /// A polygon with rounded corners: each corner (convex or reflex) is replaced by a circular
+    /// arc of radius `corner_radius` tangent to both edges, so the boundary is `C¹`. The
+    /// polygon must be strictly star-shaped about its vertex centroid (the centre); vertices
+    /// may be given in either orientation. `rho_min = corner_radius`.
+    pub fn rounded_polygon(
+        vertices: &[Vector2<f64>],
+        corner_radius: f64,
+    ) -> Result<Self, ShapeError> {
+        if vertices.len() < 3 {
+            return Err(ShapeError::Invalid {
+                field: "vertices",
+                problem: format!(
+                    "a polygon needs at least 3 vertices, got {}",
+                    vertices.len()
+                ),
+            });
+        }
+        for &v in vertices {
+            finite_point(v, "vertices")?;
+        }
+        let rc = positive(corner_radius, "corner_radius")?;
+        let mut v: Vec<Vector2<f64>> = vertices.to_vec();
+        let area2: f64 = (0..v.len())
+            .map(|i| cross(v[i], v[(i + 1) % v.len()]))
+            .sum();
+        if area2 < 0.0 {
+            v.reverse();
+        }
+        let n = v.len();
+        let centre = v.iter().sum::<Vector2<f64>>() / n as f64;
+        // Tangent points and fillet arcs.
+        let mut t_in = Vec::with_capacity(n);
+        let mut t_out = Vec::with_capacity(n);
+        let mut arcs = Vec::with_capacity(n);
+        for i in 0..n {
+            let (p, c, q) = (v[(i + n - 1) % n], v[i], v[(i + 1) % n]);
+            let (l1, l2) = ((c - p).norm(), (q - c).norm());
+            if l1 == 0.0 || l2 == 0.0 {
+                return Err(ShapeError::Invalid {
+                    field: "vertices",
+                    problem: format!("vertex {i} repeats its neighbour"),
+                });
+            }
+            let (e1, e2) = ((c - p) / l1, (q - c) / l2);
+            let turn = cross(e1, e2).atan2(e1.dot(&e2)); // signed turning angle
+            if turn.abs() >= PI - 1e-9 {
+                return Err(ShapeError::Invalid {
+                    field: "vertices",
+                    problem: format!("the polygon folds back on itself at vertex {i}"),
+                });
+            }
+            let d = rc * (turn.abs() / 2.0).tan();
+            t_in.push(c - d * e1);
+            t_out.push(c + d * e2);
+            let convex = turn > 0.0;
+            let centre_arc = if convex {
+                c - d * e1 + rc * left(e1)
+            } else {
+                c - d * e1 - rc * left(e1)
+            };
+            arcs.push((turn.abs() > 1e-12).then_some(Piece::Arc {
+                centre: centre_arc,
+                radius: rc,
+                convex,
+            }));
+        }
+        let mut pieces = Vec::with_capacity(2 * n);
+        for i in 0..n {
+            let j = (i + 1) % n;
+            let edge = (v[j] - v[i]).norm();
+            let used = (t_out[i] - v[i]).norm() + (v[j] - t_in[j]).norm();
+            if used > edge * (1.0 + 1e-12) {
+                return Err(ShapeError::Invalid {
+                    field: "corner_radius",
+                    problem: format!(
+                        "corner radius {rc} is too large for edge {i}–{j} (length {edge:.4})"
+                    ),
+                });
+            }
+            if let Some(arc) = arcs[i] {
+                pieces.push(arc);
+            }
+            if used < edge {
+                pieces.push(Piece::Segment {
+                    a: t_out[i],
+                    b: t_in[j],
+                });
+            }
+        }
+        // Strict star-shapedness: the boundary turns counter-clockwise as seen from the centre.
+        let mut starts = Vec::with_capacity(pieces.len());
+        let mut rho_max = 0.0f64;
+        for (k, piece) in pieces.iter().enumerate() {
+            let (start, _) = piece_ends(piece, &pieces, k);
+            for s in 0..=16 {
+                let (p, tangent) = piece_point(piece, &pieces, k, s as f64 / 16.0);
+                rho_max = rho_max.max((p - centre).norm());
+                if cross(p - centre, tangent) <= 1e-12 * (p - centre).norm() {
+                    return Err(ShapeError::Invalid { field: "vertices", problem: "the rounded polygon is not strictly star-shaped about its vertex centroid".into() });
+                }
+            }
+            starts.push((start - centre).y.atan2((start - centre).x));
+        }
+        // Unwrap the start angles into an increasing sequence over one turn.
+        for k in 1..starts.len() {
+            while starts[k] <= starts[k - 1] {
+                starts[k] += TAU;
+            }
+        }
+        if starts[starts.len() - 1] - starts[0] >= TAU {
+            return Err(ShapeError::Invalid {
+                field: "vertices",
+                problem: "the rounded polygon winds more than once about its centroid".into(),
+            });
+        }
+        let kind = Kind::Polygon { pieces, starts };
+        let mut shape = Self::build(kind, centre, 0.0, rho_max * (1.0 + 1e-12), rc);
+        shape.r_min = (0..4096)
+            .map(|i| shape.radius(i as f64 * TAU / 4096.0).0)
+            .fold(f64::INFINITY, f64::min)
+            * (1.0 - 1e-3);
+        Ok(shape)
+    }
+
+    fn build(kind: Kind, centre: Vector2<f64>, r_min: f64, r_max: f64, rho_min: f64) -> Self {
+        let mut shape = Self {
+            kind,
+            centre,
+            r_min,
+            r_max,
+            rho_min,
+            outline: Arc::new(Polyline::new(Vec::new(), None)),
+        };
+        let pts: Vec<PVector> = match &shape.kind {
+            // Segments are exact with their end points; arcs get 32 vertices each.
+            Kind::Polygon { pieces, .. } => pieces
+                .iter()
+                .enumerate()
+                .flat_map(|(k, piece)| {
+                    let steps = if matches!(piece, Piece::Arc { .. }) {
+                        32
+                    } else {
+                        1
+                    };
+                    (0..steps)
+                        .map(move |i| piece_point(piece, pieces, k, i as f64 / steps as f64).0)
+                })
+                .map(|p| PVector::new(p.x, p.y))
+                .collect(),
+            _ => (0..OUTLINE)
+                .map(|i| {
+                    let p = shape.boundary_point(i as f64 * TAU / OUTLINE as f64);
+                    PVector::new(p.x, p.y)
+                })
+                .collect(),
+        };
+        let n = pts.len() as u32;
+        let idx = (0..n).map(|i| [i, (i + 1) % n]).collect();
+        shape.outline = Arc::new(Polyline::new(pts, Some(idx)));
+        shape
+    }
+
+    /// The centre about which the shape is star-shaped (the obstacle's point `P_i`).
+    pub fn centre(&self) -> Vector2<f64> {
+        self.centre
+    }
+
+    /// Lower and upper bounds of `R(θ)` over all directions (exact for circles and ellipses).
+    pub fn radius_bounds(&self) -> (f64, f64) {
+        (self.r_min, self.r_max)
+    }
+
+    /// Minimum radius of curvature of the convex parts of the boundary (for eq. `dmin`).
+    pub fn rho_min(&self) -> f64 {
+        self.rho_min
+    }
+
+    /// The radial function `(R(θ), R'(θ))` for the direction `θ` (radians, any value).
+    pub fn radius(&self, theta: f64) -> (f64, f64) {
+        match &self.kind {
+            Kind::Circle { r } => (*r, 0.0),
+            Kind::Ellipse { a, b, angle } => {
+                let (s, c) = (theta - angle).sin_cos();
+                let d = b * b * c * c + a * a * s * s;
+                let r = a * b / d.sqrt();
+                (r, -a * b * (a * a - b * b) * s * c / (d * d.sqrt()))
+            }
+            Kind::Star { r0, harmonics } => {
+                let (r, dr, _) = star_radius(*r0, harmonics, theta);
+                (r, dr)
+            }
+            Kind::Polygon { pieces, starts, .. } => {
+                polygon_radius(self.centre, pieces, starts, theta)
+            }
+        }
+    }
+
+    /// The boundary point `centre + R(θ)(cos θ, sin θ)`.
+    pub fn boundary_point(&self, theta: f64) -> Vector2<f64> {
+        self.centre + self.radius(theta).0 * dir(theta)
+    }
+
+    /// Whether `x` lies in the closed region (exact, from the radial function).
+    pub fn contains(&self, x: Vector2<f64>) -> bool {
+        let v = x - self.centre;
+        let rho = v.norm();
+        rho <= self.r_min || (rho <= self.r_max && rho <= self.radius(v.y.atan2(v.x)).0)
+    }
+
+    /// Signed distance to the boundary: negative inside. Exact for circles; otherwise a parry
+    /// point query on a 512-vertex outline (error below the outline's chord sagitta, ~1e-5 of
+    /// the size) with the sign from the exact [`Self::contains`].
+    pub fn signed_distance(&self, x: Vector2<f64>) -> f64 {
+        if let Kind::Circle { r } = self.kind {
+            return (x - self.centre).norm() - r;
+        }
+        let d = self
+            .outline
+            .distance_to_local_point(PVector::new(x.x, x.y), false);
+        if self.contains(x) { -d } else { d }
+    }
+
+    /// The outline vertices used for distance queries (counter-clockwise, closed).
+    pub fn outline(&self) -> impl Iterator<Item = Vector2<f64>> + '_ {
+        self.outline
+            .vertices()
+            .iter()
+            .map(|p| Vector2::new(p.x, p.y))
+    }
+
+    /// Smallest signed distance from any outline point of `self` to `other` (negative when
+    /// they overlap): the distance between two obstacles, one side sampled.
+    pub fn distance_to(&self, other: &StarShape) -> f64 {
+        let a = self
+            .outline()
+            .map(|p| other.signed_distance(p))
+            .fold(f64::INFINITY, f64::min);
+        let b = other
+            .outline()
+            .map(|p| self.signed_distance(p))
+            .fold(f64::INFINITY, f64::min);
+        a.min(b)
+    }
+
+    /// Smallest distance from the outline of `self` to the boundary of the region `outer`,
+    /// positive when `self` lies inside `outer` (negative when it crosses or leaves it).
+    pub fn clearance_inside(&self, outer: &StarShape) -> f64 {
+        self.outline()
+            .map(|p| -outer.signed_distance(p))
+            .fold(f64::INFINITY, f64::min)
+    }
+}
+
+fn kind_harmonics(kind: &Kind) -> &[(f64, f64, f64)] {
+    match kind {
+        Kind::Star { harmonics, .. } => harmonics,
+        _ => &[],
+    }
+}
+
+/// `(R, R', R'')` of a Fourier star.
+fn star_radius(r0: f64, harmonics: &[(f64, f64, f64)], theta: f64) -> (f64, f64, f64) {
+    let (mut r, mut dr, mut ddr) = (r0, 0.0, 0.0);
+    for &(n, a, b) in harmonics {
+        let (s, c) = (n * theta).sin_cos();
+        r += a * c + b * s;
+        dr += n * (b * c - a * s);
+        ddr -= n * n * (a * c + b * s);
+    }
+    (r, dr, ddr)
+}
+
+/// Start and end point of piece `k` (arcs run from the previous segment's end, or the
+/// tangent point, to the next one).
+fn piece_ends(piece: &Piece, pieces: &[Piece], k: usize) -> (Vector2<f64>, Vector2<f64>) {
+    match *piece {
+        Piece::Segment { a, b } => (a, b),
+        Piece::Arc { .. } => {
+            let n = pieces.len();
+            let prev = pieces[(k + n - 1) % n];
+            let next = pieces[(k + 1) % n];
+            let start = match prev {
+                Piece::Segment { b, .. } => b,
+                Piece::Arc { .. } => arc_neighbour_end(pieces, k, false),
+            };
+            let end = match next {
+                Piece::Segment { a, .. } => a,
+                Piece::Arc { .. } => arc_neighbour_end(pieces, k, true),
+            };
+            (start, end)
+        }
+    }
+}
+
+/// Where two consecutive arcs meet (an edge fully consumed by its fillets): the tangent point
+/// shared by both arcs lies on the line between their centres at `radius` from each.
+fn arc_neighbour_end(pieces: &[Piece], k: usize, forward: bool) -> Vector2<f64> {
+    let n = pieces.len();
+    let other = if forward {
+        pieces[(k + 1) % n]
+    } else {
+        pieces[(k + n - 1) % n]
+    };
+    match (pieces[k], other) {
+        (
+            Piece::Arc {
+                centre: c1,
+                radius: r1,
+                ..
+            },
+            Piece::Arc { centre: c2, .. },
+        ) => {
+            let d = c2 - c1;
+            let dist = d.norm();
+            if dist == 0.0 {
+                c1
+            } else {
+                c1 + d * (r1 / dist).min(1.0)
+            }
+        }
+        _ => unreachable!("only called for two consecutive arcs"),
+    }
+}
+
+/// Point and counter-clockwise unit tangent at parameter `s ∈ [0, 1]` of piece `k`.
+fn piece_point(piece: &Piece, pieces: &[Piece], k: usize, s: f64) -> (Vector2<f64>, Vector2<f64>) {
+    let (start, end) = piece_ends(piece, pieces, k);
+    match *piece {
+        Piece::Segment { a, b } => (a + s * (b - a), (b - a).normalize()),
+        Piece::Arc {
+            centre,
+            radius,
+            convex,
+        } => {
+            let a0 = (start - centre).y.atan2((start - centre).x);
+            let mut a1 = (end - centre).y.atan2((end - centre).x);
+            if convex {
+                while a1 < a0 {
+                    a1 += TAU;
+                }
+            } else {
+                while a1 > a0 {
+                    a1 -= TAU;
+                }
+            }
+            let a = a0 + s * (a1 - a0);
+            let p = centre + radius * dir(a);
+            let t = if convex { left(dir(a)) } else { -left(dir(a)) };
+            (p, t)
+        }
+    }
+}
+
+/// `(R, R')` of a rounded polygon: find the piece whose angular span contains `θ` and
+/// intersect the ray with it; `R' = −R (u⊥·n)/(u·n)` from the outward normal `n`.
+fn polygon_radius(c: Vector2<f64>, pieces: &[Piece], starts: &[f64], theta: f64) -> (f64, f64) {
+    let mut th = theta;
+    let base = starts[0];
+    th = base + (th - base).rem_euclid(TAU);
+    let k = starts.partition_point(|&s| s <= th).saturating_sub(1);
+    let u = dir(th);
+    let (r, n) = match pieces[k] {
+        Piece::Segment { a, b } => {
+            let d = b - a;
+            let r = cross(a - c, d) / cross(u, d);
+            (r, Vector2::new(d.y, -d.x).normalize())
+        }
+        Piece::Arc {
+            centre,
+            radius,
+            convex,
+        } => {
+            let w = c - centre;
+            let uw = u.dot(&w);
+            let disc = (uw * uw - w.norm_squared() + radius * radius)
+                .max(0.0)
+                .sqrt();
+            let r = if convex { -uw + disc } else { -uw - disc };
+            let p = c + r * u;
+            let n = if convex {
+                (p - centre) / radius
+            } else {
+                (centre - p) / radius
+            };
+            (r, n)
+        }
+    };
+    (r, -r * left(u).dot(&n) / u.dot(&n))
+}

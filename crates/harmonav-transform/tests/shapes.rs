@@ -1,0 +1,163 @@
+//! Shapes: the radial function against its derivative and the boundary, containment, rho_min.
+
+mod common;
+
+use common::*;
+use harmonav_transform::{ShapeError, StarShape};
+use nalgebra::Vector2;
+use proptest::prelude::*;
+
+proptest! {
+    #![proptest_config(config(1000))]
+
+    /// R' against central differences of R; the boundary point is on the outline (distance ≈ 0),
+    /// points just inside / outside along the ray are inside / outside.
+    #[test]
+    fn radial_function_is_consistent(shape in shape_at(Vector2::new(0.3, -0.2), 1.0), th in -3.2..3.2f64) {
+        let (r, dr) = shape.radius(th);
+        let h = 1e-6;
+        let fd = (shape.radius(th + h).0 - shape.radius(th - h).0) / (2.0 * h);
+        prop_assert!((dr - fd).abs() <= 1e-5 * (1.0 + dr.abs()), "R' = {dr}, fd = {fd}");
+        let (lo, hi) = shape.radius_bounds();
+        prop_assert!(r >= lo && r <= hi && lo > 0.0);
+        let u = Vector2::new(th.cos(), th.sin());
+        let p = shape.boundary_point(th);
+        prop_assert!(shape.signed_distance(p).abs() < 1e-4, "boundary point at distance {}", shape.signed_distance(p));
+        prop_assert!(shape.contains(shape.centre() + (r - 1e-9) * u));
+        prop_assert!(!shape.contains(shape.centre() + (r + 1e-9) * u));
+        prop_assert!(shape.signed_distance(shape.centre() + 0.5 * r * u) < 0.0);
+        prop_assert!(shape.signed_distance(shape.centre() + 1.5 * r * u) > 0.0);
+        prop_assert!(shape.rho_min() > 0.0 && shape.rho_min() <= hi * (1.0 + 1e-9));
+    }
+}
+
+#[test]
+fn closed_forms() {
+    let c = Vector2::new(1.0, 2.0);
+    let e = StarShape::ellipse(c, [2.0, 0.5], 0.3).unwrap();
+    assert!((e.radius(0.3).0 - 2.0).abs() < 1e-14);
+    assert!((e.radius(0.3 + std::f64::consts::FRAC_PI_2).0 - 0.5).abs() < 1e-14);
+    assert!((e.rho_min() - 0.125).abs() < 1e-14);
+    // A 2×2 square with rounded corners: R = 1 across the middle of each side.
+    let sq =
+        [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)].map(|(x, y)| c + Vector2::new(x, y));
+    let p = StarShape::rounded_polygon(&sq, 0.2).unwrap();
+    assert!((p.radius(0.0).0 - 1.0).abs() < 1e-14 && p.radius(0.0).1.abs() < 1e-14);
+    assert!((p.radius(std::f64::consts::FRAC_PI_2).0 - 1.0).abs() < 1e-14);
+    // At 45° the ray meets the corner fillet: centre (0.8, 0.8), radius 0.2.
+    let expected = 0.8 * 2f64.sqrt() + 0.2;
+    assert!((p.radius(std::f64::consts::FRAC_PI_4).0 - expected).abs() < 1e-12);
+    assert_eq!(p.rho_min(), 0.2);
+    let s = StarShape::fourier_star(c, 1.0, &[(3, 0.1, 0.0)]).unwrap();
+    assert!((s.radius(0.0).0 - 1.1).abs() < 1e-14);
+    // Curvature radius of R = 1 + 0.1 cos 3θ at θ = 0: (R²)^{3/2}/(R² − R R'') = 1.21^{1.5}/(1.21 + 1.1·0.9).
+    let rho0 = 1.21f64.powf(1.5) / (1.21 + 1.1 * 0.9);
+    assert!(
+        s.rho_min() <= rho0 + 1e-9 && s.rho_min() > 0.5 * rho0,
+        "{}",
+        s.rho_min()
+    );
+}
+
+#[test]
+fn invalid_shapes_are_rejected_with_the_field_named() {
+    let c = Vector2::new(0.0, 0.0);
+    assert_eq!(
+        StarShape::circle(c, 0.0).unwrap_err(),
+        ShapeError::NotPositive {
+            field: "radius",
+            value: 0.0
+        }
+    );
+    assert_eq!(
+        StarShape::circle(Vector2::new(f64::NAN, 0.0), 1.0).unwrap_err(),
+        ShapeError::NonFinite { field: "center" }
+    );
+    assert!(matches!(
+        StarShape::ellipse(c, [1.0, -1.0], 0.0),
+        Err(ShapeError::NotPositive {
+            field: "semi_axes",
+            ..
+        })
+    ));
+    assert!(matches!(
+        StarShape::fourier_star(c, 1.0, &[(2, 1.5, 0.0)]),
+        Err(ShapeError::Invalid {
+            field: "harmonics",
+            ..
+        })
+    ));
+    assert!(matches!(
+        StarShape::fourier_star(c, 1.0, &[(0, 0.1, 0.0)]),
+        Err(ShapeError::Invalid {
+            field: "harmonics",
+            ..
+        })
+    ));
+    // A corner radius larger than the edges allow.
+    let tri = [
+        Vector2::new(0.0, 0.0),
+        Vector2::new(1.0, 0.0),
+        Vector2::new(0.0, 1.0),
+    ];
+    assert!(matches!(
+        StarShape::rounded_polygon(&tri, 0.5),
+        Err(ShapeError::Invalid {
+            field: "corner_radius",
+            ..
+        })
+    ));
+    // A "C" shape is not star-shaped about its vertex centroid.
+    let c_shape = [
+        (0.0, 0.0),
+        (3.0, 0.0),
+        (3.0, 0.5),
+        (0.5, 0.5),
+        (0.5, 2.5),
+        (3.0, 2.5),
+        (3.0, 3.0),
+        (0.0, 3.0),
+    ]
+    .map(|(x, y)| Vector2::new(x, y));
+    assert!(matches!(
+        StarShape::rounded_polygon(&c_shape, 0.05),
+        Err(ShapeError::Invalid {
+            field: "vertices",
+            ..
+        })
+    ));
+    assert!(matches!(
+        StarShape::rounded_polygon(&tri[..2], 0.05),
+        Err(ShapeError::Invalid {
+            field: "vertices",
+            ..
+        })
+    ));
+}
+
+#[test]
+fn non_convex_star_polygon_is_accepted_and_smooth() {
+    // A five-pointed star (reflex corners) rounded with radius 0.05.
+    let v: Vec<_> = (0..10)
+        .map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / 10.0;
+            let r = if i % 2 == 0 { 1.0 } else { 0.5 };
+            Vector2::new(r * a.cos(), r * a.sin())
+        })
+        .collect();
+    let s = StarShape::rounded_polygon(&v, 0.05).unwrap();
+    // C¹: R' continuous across piece junctions (sampled densely).
+    let n = 20000;
+    let mut worst = 0.0f64;
+    for i in 0..n {
+        let a = std::f64::consts::TAU * i as f64 / n as f64;
+        let b = a + std::f64::consts::TAU / n as f64;
+        worst = worst.max((s.radius(a).1 - s.radius(b).1).abs());
+    }
+    assert!(worst < 0.05, "R' jumps by {worst}");
+    assert!(s.contains(Vector2::new(0.0, 0.0)));
+    // At 18° the boundary runs along the edge from (1, 0) to the reflex vertex, at radius 0.634.
+    let u = Vector2::new(0.951_056_5, 0.309_017);
+    assert!(s.contains(0.6 * u) && !s.contains(0.7 * u));
+    assert!((s.radius(0.1 * std::f64::consts::PI).0 - 0.634_2).abs() < 1e-3);
+}
