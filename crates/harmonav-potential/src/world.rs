@@ -100,6 +100,49 @@ impl PointWorld {
         ln_norm2(h - self.destination) - obstacles / self.k
     }
 
+    /// `phi_k(h)` and `∇phi_k(h)` together (eq. `gradient`), for the per-step hot path.
+    ///
+    /// `exact` optionally gives the offset `h − P_i` of one obstacle point exactly, for when
+    /// `h` was formed as `P_i + ν u` with tiny `ν` (maths.md §4, pitfall C: subtracting `P_i`
+    /// again would lose the direction).
+    ///
+    /// Numerical guard: the obstacle sum `Σ ln|h_i|²` is taken as the logarithm of a running
+    /// product of the `|h_i|²`, renormalised into the log accumulator whenever it leaves
+    /// `[1e-150, 1e150]`; factors outside `[1e-100, 1e100]` go to the accumulator directly.
+    /// So there is one logarithm per call in the usual case and nothing overflows. Agrees with
+    /// [`Self::phi_k`] and [`Self::grad_phi_k`] to rounding (tested).
+    pub fn phi_and_grad(
+        &self,
+        h: Vector2<f64>,
+        exact: Option<(usize, Vector2<f64>)>,
+    ) -> Result<(f64, Vector2<f64>), Singularity> {
+        let mut acc = Vector2::zeros();
+        let (mut prod, mut ln_acc) = (1.0f64, 0.0f64);
+        for (i, p) in self.obstacles.iter().enumerate() {
+            let v = match exact {
+                Some((j, offset)) if j == i => offset,
+                _ => h - p,
+            };
+            let r2 = v.x * v.x + v.y * v.y;
+            if (1e-100..=1e100).contains(&r2) {
+                acc += v / r2;
+                prod *= r2;
+                if !(1e-150..=1e150).contains(&prod) {
+                    ln_acc += prod.ln();
+                    prod = 1.0;
+                }
+            } else {
+                acc += reciprocal(v).ok_or(Singularity::Obstacle(i))?;
+                ln_acc += ln_norm2(v);
+            }
+        }
+        ln_acc += prod.ln();
+        let vd = h - self.destination;
+        let d = reciprocal(vd).ok_or(Singularity::Destination)?;
+        let phi = ln_norm2(vd) - ln_acc / self.k;
+        Ok((phi, 2.0 * d - (2.0 / self.k) * acc))
+    }
+
     /// Eq. (`gradient`): `∇phi_k(h) = 2 h_d/|h_d|² − (2/k) Σ_i h_i/|h_i|²`.
     ///
     /// Errors with the [`Singularity`] at `P_d` and at the obstacle points, where the gradient

@@ -31,6 +31,30 @@ proptest! {
         prop_assert!((g - fd).norm() <= 1e-6 * grad_scale(&w, h), "g = {g:?}, fd = {fd:?}");
     }
 
+    /// The one-logarithm hot path agrees with the sum-of-logs value and the plain gradient,
+    /// also when one offset is given exactly and at extreme distances.
+    #[test]
+    fn phi_and_grad_agrees_with_the_separate_evaluations(w in world(8), h in point(6.0), e in -120i32..120) {
+        prop_assume!(clearance(&w, h) > 0.05);
+        let (phi, g) = w.phi_and_grad(h, None).unwrap();
+        prop_assert!((phi - w.phi_k(h)).abs() <= 1e-13 * (1.0 + phi.abs()));
+        prop_assert!((g - w.grad_phi_k(h).unwrap()).norm() <= 1e-14 * grad_scale(&w, h));
+        // Near obstacle 0 with the offset given exactly (pitfall C): equal to phi_k where h − P_0
+        // is still resolvable, finite and larger (closer to the point) where it is not.
+        let dir = Vector2::new(0.6, 0.8);
+        let moderate = 1e-4 * dir;
+        let (phi_m, _) = w.phi_and_grad(w.obstacles()[0] + moderate, Some((0, moderate))).unwrap();
+        prop_assert!((phi_m - w.phi_k(w.obstacles()[0] + moderate)).abs() <= 1e-8 * phi_m.abs().max(1.0));
+        let tiny = 10f64.powi(e.min(0) - 30) * dir;
+        let (phi_t, g_t) = w.phi_and_grad(w.obstacles()[0] + tiny, Some((0, tiny))).unwrap();
+        prop_assert!(phi_t.is_finite() && g_t.iter().all(|x| x.is_finite()) && phi_t > phi_m);
+        // The descent direction there points straight away from P_0.
+        prop_assert!((-g_t / g_t.norm() - dir).norm() < 1e-6, "{g_t:?}");
+        let far = 10f64.powi(e.max(0) + 3) * Vector2::new(0.6, 0.8);
+        let (phi, _) = w.phi_and_grad(far, None).unwrap();
+        prop_assert!((phi - w.phi_k(far)).abs() <= 1e-12 * phi.abs().max(1.0));
+    }
+
     /// Eq. (hessquadratic) against central differences of the gradient; harmonicity.
     #[test]
     fn hessian_matches_finite_differences_and_is_trace_free(w in world(8), h in point(6.0)) {

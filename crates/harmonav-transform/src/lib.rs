@@ -28,9 +28,14 @@
 #![warn(missing_docs)]
 
 mod error;
+pub mod nav;
 pub mod radial;
+pub mod random;
 pub mod shape;
 pub mod smooth;
+pub mod workspace;
 
 pub use error::ShapeError;
+pub use nav::{Active, Mapped, NavTransform, NotFree};
 pub use shape::StarShape;
+pub use workspace::{Workspace, WorldError};

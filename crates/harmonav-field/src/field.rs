@@ -1,0 +1,230 @@
+//! [`Field`]: `Θ` over the known obstacles.
+
+use std::sync::Arc;
+
+use harmonav_potential::{
+    CriticalPoint, PointWorld, PotentialError, Singularity, sigma, sigma_prime,
+};
+use harmonav_transform::{Active, NavTransform, NotFree, Workspace, WorldError};
+use nalgebra::Vector2;
+
+/// Why `Θ` cannot be evaluated or the field not built.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum FieldError {
+    /// The point lies in (or on) known obstacle `obstacle` (a workspace index).
+    InObstacle {
+        /// The obstacle.
+        obstacle: usize,
+    },
+    /// The point lies on or outside the workspace boundary.
+    Outside,
+    /// The workspace or an obstacle index is invalid.
+    World(WorldError),
+    /// The point world is invalid (e.g. two obstacles share a centre).
+    Potential(PotentialError),
+}
+
+impl std::fmt::Display for FieldError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::InObstacle { obstacle } => write!(f, "the point lies inside obstacle {obstacle}"),
+            Self::Outside => write!(f, "the point lies on or outside the workspace boundary"),
+            Self::World(e) => write!(f, "{e}"),
+            Self::Potential(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl std::error::Error for FieldError {}
+
+impl From<WorldError> for FieldError {
+    fn from(e: WorldError) -> Self {
+        Self::World(e)
+    }
+}
+
+impl From<PotentialError> for FieldError {
+    fn from(e: PotentialError) -> Self {
+        Self::Potential(e)
+    }
+}
+
+/// One evaluation of the field at a workspace point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FieldEval {
+    /// `Θ(x) ∈ [0, 1]`.
+    pub value: f64,
+    /// `∇Θ(x)` (may underflow to 0 far from the goal; use `direction`).
+    pub gradient: Vector2<f64>,
+    /// `−∇Θ/|∇Θ|`, from `J_Phiᵀ∇phi_k` so that it survives the underflow of `sigma'`;
+    /// `None` at the goal and at exact critical points.
+    pub direction: Option<Vector2<f64>>,
+    /// `h = Phi(x)`.
+    pub h: Vector2<f64>,
+    /// `phi_k(h)`.
+    pub phi: f64,
+}
+
+/// A critical point of `Θ` in the workspace: the destination (minimum) or the pull-back of a
+/// saddle of `phi_k`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Critical {
+    /// Workspace position.
+    pub x: Vector2<f64>,
+    /// The point-world critical point (`None` for the destination, the minimum).
+    pub point_world: Option<CriticalPoint>,
+}
+
+/// `Θ = sigma∘phi_k∘Phi` over the known obstacles, with obstacle memory.
+#[derive(Clone, Debug)]
+pub struct Field {
+    workspace: Arc<Workspace>,
+    transform: NavTransform,
+    world: PointWorld,
+}
+
+impl Field {
+    /// The field with the obstacles `known` already known (assumption `localobs`), `k = n + 1`.
+    pub fn new(
+        workspace: Arc<Workspace>,
+        known: impl IntoIterator<Item = usize>,
+    ) -> Result<Self, FieldError> {
+        let mut ids: Vec<usize> = Vec::new();
+        for i in known {
+            if !ids.contains(&i) {
+                ids.push(i);
+            }
+        }
+        let (transform, world) = build(&workspace, &ids)?;
+        Ok(Self {
+            workspace,
+            transform,
+            world,
+        })
+    }
+
+    /// The field with every obstacle known (global sensing).
+    pub fn all_known(workspace: Arc<Workspace>) -> Result<Self, FieldError> {
+        let n = workspace.obstacles().len();
+        Self::new(workspace, 0..n)
+    }
+
+    /// Eq. (`phiseq`): obstacle `id` becomes known; `k` increases to `n + 1` and `Phi` is
+    /// rebuilt with new widths. Returns `false` if it was already known (obstacles are never
+    /// forgotten, assumption `objpers`).
+    pub fn discover(&mut self, id: usize) -> Result<bool, FieldError> {
+        if self.transform.known().contains(&id) {
+            return Ok(false);
+        }
+        let mut ids = self.transform.known().to_vec();
+        ids.push(id);
+        let (transform, world) = build(&self.workspace, &ids)?;
+        self.transform = transform;
+        self.world = world;
+        Ok(true)
+    }
+
+    /// The workspace.
+    pub fn workspace(&self) -> &Workspace {
+        &self.workspace
+    }
+
+    /// Known obstacles (workspace indices), in discovery order.
+    pub fn known(&self) -> &[usize] {
+        self.transform.known()
+    }
+
+    /// `k = n + 1`.
+    pub fn k(&self) -> f64 {
+        self.world.k()
+    }
+
+    /// The navigation transformation for the known obstacles.
+    pub fn transform(&self) -> &NavTransform {
+        &self.transform
+    }
+
+    /// The point world (`P_d`, `P_i`, `k`) the controllers need, e.g. for `lambda_c`.
+    pub fn point_world(&self) -> &PointWorld {
+        &self.world
+    }
+
+    /// `H(Θ)(x_d) = s·I` with `s = 2/Π_i|P_d − P_i|^{2/k}` (eq. `destphik2` with the exponent
+    /// established in `docs/maths.md` §2; `Phi` is the identity around `x_d`). The spring
+    /// constant of eq. `critdamp` is `μ·s`.
+    pub fn destination_stiffness(&self) -> f64 {
+        self.world.destination_stiffness()
+    }
+
+    /// `Θ(x)`, `∇Θ(x)` and the descent direction (eq. `NFcand` with the chain rule of theorem
+    /// `isNF`). Errors if `x` is not in the free space of the known obstacles. No allocation.
+    pub fn eval(&self, x: Vector2<f64>) -> Result<FieldEval, FieldError> {
+        let mapped = self.transform.nav_transform(x).map_err(|e| match e {
+            NotFree::Obstacle(slot) => FieldError::InObstacle {
+                obstacle: self.transform.known()[slot],
+            },
+            NotFree::Outside => FieldError::Outside,
+        })?;
+        let exact = match mapped.active {
+            Active::Obstacle { slot, offset } => Some((slot, offset)),
+            _ => None,
+        };
+        let (phi, g) = match self.world.phi_and_grad(mapped.h, exact) {
+            Ok(v) => v,
+            Err(Singularity::Destination) => {
+                return Ok(FieldEval {
+                    value: 0.0,
+                    gradient: Vector2::zeros(),
+                    direction: None,
+                    h: mapped.h,
+                    phi: f64::NEG_INFINITY,
+                });
+            }
+            Err(Singularity::Obstacle(slot)) => {
+                return Err(FieldError::InObstacle {
+                    obstacle: self.transform.known()[slot],
+                });
+            }
+        };
+        let gx = mapped.jacobian.transpose() * g;
+        // Guard: normalise a scaled copy so that |gx| neither overflows nor underflows.
+        let scale = gx.x.abs().max(gx.y.abs());
+        let direction = (scale > 0.0 && scale.is_finite()).then(|| {
+            let s = gx / scale;
+            -s / s.norm()
+        });
+        Ok(FieldEval {
+            value: sigma(phi),
+            gradient: sigma_prime(phi) * gx,
+            direction,
+            h: mapped.h,
+            phi,
+        })
+    }
+
+    /// The critical points of `Θ`: the destination (the unique minimum) and the `M` saddles of
+    /// `phi_k` pulled back through `Phi⁻¹` (theorem `isNF`: `C(phi_k) = Phi(C(Θ) − {x_d})`).
+    pub fn critical_points(&self) -> Vec<Critical> {
+        let mut out = vec![Critical {
+            x: self.workspace.destination(),
+            point_world: None,
+        }];
+        for c in self.world.critical_points() {
+            if let Some(x) = self.transform.inverse(c.position) {
+                out.push(Critical {
+                    x,
+                    point_world: Some(c),
+                });
+            }
+        }
+        out
+    }
+}
+
+fn build(ws: &Workspace, known: &[usize]) -> Result<(NavTransform, PointWorld), FieldError> {
+    let k = known.len() as f64 + 1.0;
+    let transform = ws.nav_transform(known, k)?;
+    let world = PointWorld::new(ws.destination(), transform.points().collect::<Vec<_>>())?;
+    Ok((transform, world))
+}

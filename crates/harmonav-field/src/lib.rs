@@ -1,0 +1,36 @@
+//! # harmonav-field
+//!
+//! The navigation function of the paper over the obstacles known so far (eq. `phiseq`):
+//!
+//! ```text
+//! Θ(x) = varphi_k(x) = sigma(phi_k(Phi(x))),      k = n + 1 (n known obstacles)
+//! ∇Θ   = sigma'(phi_k) · J_Phiᵀ ∇phi_k(Phi(x))
+//! ```
+//!
+//! [`Field`] keeps the obstacle memory (assumption `objpers`: [`Field::discover`] adds an
+//! obstacle, nothing is ever forgotten), rebuilds `Phi` and the point world at each discovery
+//! (the only allocations), and evaluates `Θ`, `∇Θ` and the unit descent direction
+//! `−∇Θ/|∇Θ|` without allocating.
+//!
+//! ```
+//! use std::sync::Arc;
+//! use harmonav_field::Field;
+//! use harmonav_transform::{StarShape, Workspace};
+//! use nalgebra::Vector2;
+//!
+//! let boundary = StarShape::circle(Vector2::zeros(), 5.0)?;
+//! let obstacles = vec![StarShape::circle(Vector2::new(0.0, 0.0), 1.0)?];
+//! let ws = Arc::new(Workspace::new(boundary, obstacles, Vector2::new(3.0, 0.0))?);
+//! let mut field = Field::new(ws, [])?;          // nothing known yet: k = 1
+//! assert!(field.discover(0)?);                  // obstacle 0 seen: k = 2
+//! let e = field.eval(Vector2::new(-3.0, 0.5))?;
+//! assert!(e.value > 0.0 && e.value < 1.0);
+//! assert!(e.direction.is_some());
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+#![warn(missing_docs)]
+
+mod field;
+
+pub use field::{Critical, Field, FieldError, FieldEval};

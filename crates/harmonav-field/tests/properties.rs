@@ -1,0 +1,175 @@
+//! Θ = sigma∘phi_k∘Phi on random valid worlds of all four shapes (seeded).
+
+use std::sync::Arc;
+
+use harmonav_field::Field;
+use harmonav_transform::random::{self, Kind, Rng};
+use harmonav_transform::{Active, Workspace};
+use nalgebra::{Matrix2, Vector2};
+use proptest::prelude::*;
+use proptest::test_runner::{Config, RngSeed};
+
+const KINDS: [Kind; 4] = [Kind::Circle, Kind::Ellipse, Kind::Polygon, Kind::Star];
+
+fn config(cases: u32) -> Config {
+    Config {
+        cases,
+        rng_seed: RngSeed::Fixed(0x0048_4152_4D4E_4156),
+        failure_persistence: None,
+        ..Config::default()
+    }
+}
+
+/// A random world (1–6 obstacles, any boundary kind) with every obstacle known, and an RNG.
+fn world(seed: u64) -> (Field, Rng) {
+    let mut rng = Rng::new(seed);
+    let m = 1 + rng.below(6);
+    let outer = KINDS[rng.below(4)];
+    let ws = random::workspace(&mut rng, m, &KINDS, outer, 0.15);
+    (Field::all_known(Arc::new(ws)).expect("valid world"), rng)
+}
+
+/// Points at distance `d` outside each known obstacle boundary and inside the outer boundary.
+fn near_boundaries(ws: &Workspace, th: f64, d: f64) -> Vec<Vector2<f64>> {
+    let u = Vector2::new(th.cos(), th.sin());
+    let mut pts: Vec<_> = ws
+        .obstacles()
+        .iter()
+        .map(|o| o.centre() + (o.radius(th).0 + d) * u)
+        .collect();
+    let b = ws.boundary();
+    pts.push(b.centre() + (b.radius(th).0 - d) * u);
+    pts
+}
+
+fn fd_jacobian(f: impl Fn(Vector2<f64>) -> Vector2<f64>, x: Vector2<f64>, h: f64) -> Matrix2<f64> {
+    let cx = (f(x + Vector2::new(h, 0.0)) - f(x - Vector2::new(h, 0.0))) / (2.0 * h);
+    let cy = (f(x + Vector2::new(0.0, h)) - f(x - Vector2::new(0.0, h))) / (2.0 * h);
+    Matrix2::from_columns(&[cx, cy])
+}
+
+proptest! {
+    #![proptest_config(config(2500))]
+
+    /// det J_Phi > 0 at random free points and within 1e-9 of every boundary; Phi⁻¹∘Phi = id
+    /// (hence Phi injective on the samples); Θ finite in [0, 1].
+    #[test]
+    fn phi_is_a_diffeomorphism_on_samples(seed in any::<u64>(), th in -3.1..3.1f64) {
+        let (field, mut rng) = world(seed);
+        let ws = field.workspace();
+        let near = near_boundaries(ws, th, 1e-9);
+        let n_near = near.len();
+        let mut pts = near;
+        pts.extend((0..8).map(|_| random::free_point(&mut rng, ws, 1e-3)));
+        for (i, x) in pts.into_iter().enumerate() {
+            let m = field.transform().nav_transform(x).map_err(|e| TestCaseError::fail(format!("{e:?} at {x:?}")))?;
+            let det = m.jacobian.determinant();
+            prop_assert!(det > 0.0 && det.is_finite(), "det J = {det} at {x:?}");
+            // Round trip: 1e-9 from a boundary h = P_i + ν u with ν ~ 1e-9 carries only
+            // ~7 significant digits of u (pitfall C), so the check is for interior samples.
+            if i >= n_near {
+                let back = field.transform().inverse(m.h).unwrap();
+                prop_assert!((back - x).norm() <= 1e-8 * (1.0 + x.norm()), "round trip {x:?} → {back:?}");
+            }
+            let e = field.eval(x).unwrap();
+            prop_assert!((0.0..=1.0).contains(&e.value) && e.phi.is_finite());
+            prop_assert!(e.gradient.iter().all(|g| g.is_finite()));
+            prop_assert!(e.direction.is_some_and(|d| (d.norm() - 1.0).abs() < 1e-12));
+        }
+    }
+
+    /// J_Phi and ∇Θ against central differences at random free points.
+    #[test]
+    fn jacobian_and_gradient_match_finite_differences(seed in any::<u64>()) {
+        let (field, mut rng) = world(seed);
+        for _ in 0..4 {
+            let x = random::free_point(&mut rng, field.workspace(), 0.02);
+            let m = field.transform().nav_transform(x).unwrap();
+            let h = 1e-7;
+            let fd = fd_jacobian(|y| field.transform().nav_transform(y).unwrap().h, x, h);
+            prop_assert!((m.jacobian - fd).norm() <= 1e-5 * m.jacobian.norm(), "J = {}, fd = {fd}", m.jacobian);
+            let e = field.eval(x).unwrap();
+            let v = |y: Vector2<f64>| field.eval(y).unwrap().value;
+            let g = Vector2::new((v(x + Vector2::new(h, 0.0)) - v(x - Vector2::new(h, 0.0))) / (2.0 * h),
+                                 (v(x + Vector2::new(0.0, h)) - v(x - Vector2::new(0.0, h))) / (2.0 * h));
+            prop_assert!((e.gradient - g).norm() <= 1e-5 * e.gradient.norm() + 1e-9, "∇Θ = {:?}, fd = {g:?}", e.gradient);
+            if matches!(m.active, Active::Identity) {
+                prop_assert_eq!(m.h, x);
+            }
+        }
+    }
+
+    /// Θ(x_d) = 0; Θ → 1 at every obstacle boundary and at the outer boundary.
+    #[test]
+    fn theta_is_zero_at_the_goal_and_one_on_the_boundaries(seed in any::<u64>(), th in -3.1..3.1f64) {
+        let (field, _) = world(seed);
+        let ws = field.workspace();
+        prop_assert_eq!(field.eval(ws.destination()).unwrap().value, 0.0);
+        let far = near_boundaries(ws, th, 1e-3);
+        let mid = near_boundaries(ws, th, 1e-6);
+        let near = near_boundaries(ws, th, 1e-12);
+        for ((a, b), c) in far.iter().zip(&mid).zip(&near) {
+            let (va, vb, vc) = (field.eval(*a).unwrap().value, field.eval(*b).unwrap().value, field.eval(*c).unwrap().value);
+            prop_assert!(va < vb && vb < vc, "not increasing towards the boundary: {va} {vb} {vc}");
+            prop_assert!(vc > 0.85, "Θ = {vc} at 1e-12 from a boundary");
+        }
+    }
+
+    /// theorem isNF: the critical points of Θ are the destination (a minimum) and M saddles
+    /// (pulled back from the point world), each a zero of ∇Θ with index −1 (winding number of
+    /// the descent direction along a small circle).
+    #[test]
+    fn critical_points_are_one_minimum_and_m_saddles(seed in any::<u64>()) {
+        let (field, _) = world(seed);
+        let cps = field.critical_points();
+        let m = field.known().len();
+        let saddles: usize = cps.iter().filter_map(|c| c.point_world.map(|p| p.multiplicity)).sum();
+        prop_assert_eq!(saddles, m);
+        prop_assert_eq!(cps[0].x, field.workspace().destination());
+        for c in &cps[1..] {
+            let e = field.eval(c.x).map_err(|e| TestCaseError::fail(format!("{e} at {:?}", c.x)))?;
+            let r = 1e-4;
+            let mut turn = 0.0;
+            let n = 256;
+            let angle = |i: usize| {
+                let a = std::f64::consts::TAU * i as f64 / n as f64;
+                let d = field.eval(c.x + r * Vector2::new(a.cos(), a.sin())).unwrap().direction.unwrap();
+                d.y.atan2(d.x)
+            };
+            let mut prev = angle(0);
+            for i in 1..=n {
+                let next = angle(i % n);
+                let mut d = next - prev;
+                if d > std::f64::consts::PI { d -= std::f64::consts::TAU; }
+                if d < -std::f64::consts::PI { d += std::f64::consts::TAU; }
+                turn += d;
+                prev = next;
+            }
+            let index = (turn / std::f64::consts::TAU).round() as i64;
+            prop_assert_eq!(index, -(c.point_world.unwrap().multiplicity as i64), "at {:?}, Θ = {}", c.x, e.value);
+        }
+    }
+}
+
+/// Discovery: k = n + 1, obstacles never forgotten, Θ changes only through the known set.
+#[test]
+fn discovery_increments_k_and_remembers() {
+    let mut rng = Rng::new(7);
+    let ws = Arc::new(random::workspace(&mut rng, 4, &KINDS, Kind::Circle, 0.2));
+    let mut field = Field::new(ws.clone(), [2]).unwrap();
+    assert_eq!(field.k(), 2.0);
+    let x = random::free_point(&mut rng, &ws, 0.1);
+    let before = field.eval(x).unwrap().value;
+    assert!(field.discover(0).unwrap());
+    assert!(!field.discover(2).unwrap(), "already known");
+    assert_eq!(field.known(), &[2, 0]);
+    assert_eq!(field.k(), 3.0);
+    assert_ne!(field.eval(x).unwrap().value, before);
+    assert!(field.discover(9).is_err());
+    let full = Field::all_known(ws.clone()).unwrap();
+    assert_eq!(full.k(), 5.0);
+    // The unknown obstacle 1 is not part of Θ: its interior is "free" for the field.
+    let inside = ws.obstacles()[1].centre() + Vector2::new(1e-3, 0.0);
+    assert!(field.eval(inside).is_ok());
+    assert!(full.eval(inside).is_err());
+}

@@ -1,0 +1,243 @@
+//! The navigation transformation `Phi` (definition `NavTran`) for a set of known obstacles.
+
+use nalgebra::{Matrix2, Vector2};
+
+use crate::radial::{Radial, obstacle_map, outer_map};
+use crate::shape::StarShape;
+use crate::workspace::Workspace;
+
+/// Safety factor on the band widths (½ would make neighbouring bands touch; 0.45 absorbs
+/// the sampling error of the outline distances).
+pub const WIDTH_FACTOR: f64 = 0.45;
+
+/// Where a point lies for `Phi`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Active {
+    /// Outside every band: `Phi(x) = x`.
+    Identity,
+    /// In the band of known obstacle `slot` (an index into [`NavTransform::known`]): the exact
+    /// offset `Phi(x) − P_i = ν u` is given to avoid cancellation near the collapsed point.
+    Obstacle {
+        /// Index into the known obstacles.
+        slot: usize,
+        /// `Phi(x) − P_i`, formed as `ν·u` directly (maths.md §4, pitfall C).
+        offset: Vector2<f64>,
+    },
+    /// In the band along the outer boundary.
+    Outer,
+}
+
+/// `Phi(x)`, its Jacobian and which band produced them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Mapped {
+    /// `h = Phi(x)`.
+    pub h: Vector2<f64>,
+    /// `J_Phi(x)`.
+    pub jacobian: Matrix2<f64>,
+    /// The band the point lies in.
+    pub active: Active,
+}
+
+/// `x` is not in the free space of the known obstacles.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NotFree {
+    /// Inside (or on) known obstacle `slot`.
+    Obstacle(usize),
+    /// On or beyond the outer boundary.
+    Outside,
+}
+
+#[derive(Clone, Debug)]
+struct Band {
+    shape: StarShape,
+    eps: f64,
+    /// `(max R + ε)²`: beyond it the band cannot contain the point.
+    reach2: f64,
+}
+
+/// The navigation transformation for the known obstacles (`docs/maths.md` §5): obstacle `i`'s
+/// band of width `ε_i` collapses it to its centre, the outer band of width `ε_0` stretches the
+/// boundary to infinity with gain `A`, identity elsewhere.
+///
+/// Widths, chosen automatically from the workspace's cached distances (f = [`WIDTH_FACTOR`]):
+///
+/// ```text
+/// ε_i = f·min( min_j d(O_i, O_j), d(O_i, ∂O_0), 2 d(x_d, O_i) )      (i, j known)
+/// ε_0 = f·min( min_i d(O_i, ∂O_0), 2 d(x_d, ∂O_0) )
+/// A   = max(ε_0, 2 r*),  r* = k/(k − M)·|P_d − c_0 − (1/k) Σ_i (P_i − c_0)|
+/// ```
+///
+/// so the bands are disjoint, inside the workspace, and exclude a neighbourhood of `x_d`
+/// (where `Phi` is the identity); `r*` is the radius of the far-field valley of `phi_k`
+/// (pitfall A), placed inside the stretched band.
+#[derive(Clone, Debug)]
+pub struct NavTransform {
+    known: Vec<usize>,
+    bands: Vec<Band>,
+    outer: StarShape,
+    eps0: f64,
+    gain: f64,
+    /// Points with `|x − c_0| ≤ min R_0 − ε_0` are inside the identity region of the outer map.
+    inner2: f64,
+}
+
+impl NavTransform {
+    pub(crate) fn new(ws: &Workspace, known: &[usize], k: f64) -> Self {
+        let mut bands = Vec::with_capacity(known.len());
+        for &i in known {
+            let mut d = ws.to_boundary(i).min(2.0 * ws.goal_to_obstacle(i));
+            for &j in known {
+                if j != i {
+                    d = d.min(ws.between(i, j));
+                }
+            }
+            let shape = ws.obstacles()[i].clone();
+            let eps = WIDTH_FACTOR * d;
+            let reach = shape.radius_bounds().1 + eps;
+            bands.push(Band {
+                shape,
+                eps,
+                reach2: reach * reach,
+            });
+        }
+        let outer = ws.boundary().clone();
+        let eps0 = WIDTH_FACTOR
+            * known
+                .iter()
+                .map(|&i| ws.to_boundary(i))
+                .fold(2.0 * ws.goal_to_boundary(), f64::min);
+        let c0 = outer.centre();
+        let m = known.len() as f64;
+        let dipole = (ws.destination() - c0)
+            - known
+                .iter()
+                .map(|&i| ws.obstacles()[i].centre() - c0)
+                .sum::<Vector2<f64>>()
+                / k;
+        let valley = k / (k - m) * dipole.norm();
+        let gain = eps0.max(2.0 * valley);
+        let inner = (outer.radius_bounds().0 - eps0).max(0.0);
+        Self {
+            known: known.to_vec(),
+            bands,
+            outer,
+            eps0,
+            gain,
+            inner2: inner * inner,
+        }
+    }
+
+    /// The known obstacles (indices into the workspace), in the order of their bands.
+    pub fn known(&self) -> &[usize] {
+        &self.known
+    }
+
+    /// The band width `ε_i` of each known obstacle.
+    pub fn widths(&self) -> impl Iterator<Item = f64> + '_ {
+        self.bands.iter().map(|b| b.eps)
+    }
+
+    /// The outer band width `ε_0` and stretch gain `A`.
+    pub fn outer_band(&self) -> (f64, f64) {
+        (self.eps0, self.gain)
+    }
+
+    /// The obstacle points `P_i` (the centres of the known obstacles, in band order).
+    pub fn points(&self) -> impl Iterator<Item = Vector2<f64>> + '_ {
+        self.bands.iter().map(|b| b.shape.centre())
+    }
+
+    /// `Phi(x)` with its Jacobian (definition `NavTran`); errors if `x` is not in the free
+    /// space of the known obstacles. Allocation-free.
+    pub fn nav_transform(&self, x: Vector2<f64>) -> Result<Mapped, NotFree> {
+        for (slot, band) in self.bands.iter().enumerate() {
+            let v = x - band.shape.centre();
+            let rho2 = v.norm_squared();
+            if rho2 >= band.reach2 {
+                continue;
+            }
+            let rho = rho2.sqrt();
+            if rho == 0.0 {
+                return Err(NotFree::Obstacle(slot));
+            }
+            let u = v / rho;
+            let (r, dr) = band.shape.radius(v.y.atan2(v.x));
+            if rho <= r {
+                return Err(NotFree::Obstacle(slot));
+            }
+            if rho < r + band.eps {
+                let m = obstacle_map(rho, r, dr, band.eps);
+                let offset = m.nu * u;
+                return Ok(Mapped {
+                    h: band.shape.centre() + offset,
+                    jacobian: m.jacobian(u, rho),
+                    active: Active::Obstacle { slot, offset },
+                });
+            }
+        }
+        let v = x - self.outer.centre();
+        let rho2 = v.norm_squared();
+        if rho2 > self.inner2 {
+            let rho = rho2.sqrt();
+            let (r0, dr0) = self.outer.radius(v.y.atan2(v.x));
+            if rho >= r0 {
+                return Err(NotFree::Outside);
+            }
+            if rho > r0 - self.eps0 {
+                let u = v / rho;
+                let m: Radial = outer_map(rho, r0, dr0, self.eps0, self.gain);
+                return Ok(Mapped {
+                    h: self.outer.centre() + m.nu * u,
+                    jacobian: m.jacobian(u, rho),
+                    active: Active::Outer,
+                });
+            }
+        }
+        Ok(Mapped {
+            h: x,
+            jacobian: Matrix2::identity(),
+            active: Active::Identity,
+        })
+    }
+
+    /// `Phi⁻¹(h)` by bisection on `ν` along the ray (each band map increases strictly in `ρ`);
+    /// `None` if `h` is an obstacle point `P_i`. Accurate to ~1e-14 relative.
+    pub fn inverse(&self, h: Vector2<f64>) -> Option<Vector2<f64>> {
+        for band in &self.bands {
+            let v = h - band.shape.centre();
+            let nu = v.norm();
+            if nu == 0.0 {
+                return None;
+            }
+            let (r, dr) = band.shape.radius(v.y.atan2(v.x));
+            if nu < r + band.eps {
+                let rho = bisect(r, r + band.eps, nu, |rho| {
+                    obstacle_map(rho, r, dr, band.eps).nu
+                });
+                return Some(band.shape.centre() + rho * v / nu);
+            }
+        }
+        let v = h - self.outer.centre();
+        let nu = v.norm();
+        let (r0, dr0) = self.outer.radius(v.y.atan2(v.x));
+        if nu > r0 - self.eps0 {
+            let rho = bisect(r0 - self.eps0, r0, nu, |rho| {
+                outer_map(rho, r0, dr0, self.eps0, self.gain).nu
+            });
+            return Some(self.outer.centre() + rho * v / nu);
+        }
+        Some(h)
+    }
+}
+
+/// Solves `f(ρ) = target` for increasing `f` on `[lo, hi]` by bisection.
+fn bisect(mut lo: f64, mut hi: f64, target: f64, f: impl Fn(f64) -> f64) -> f64 {
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if mid <= lo || mid >= hi {
+            break;
+        }
+        if f(mid) < target { lo = mid } else { hi = mid }
+    }
+    0.5 * (lo + hi)
+}

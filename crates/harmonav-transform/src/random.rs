@@ -1,0 +1,169 @@
+//! Seeded random valid workspaces of mixed shapes, for property tests, `cargo xtask verify`
+//! and benchmarks (deterministic: the same seed gives the same workspace everywhere).
+
+use std::f64::consts::TAU;
+
+use nalgebra::Vector2;
+
+use crate::shape::StarShape;
+use crate::workspace::Workspace;
+
+/// SplitMix64 (Steele, Lea & Flood 2014): a small, fast, seedable generator.
+#[derive(Clone, Debug)]
+pub struct Rng(u64);
+
+impl Rng {
+    /// A generator with the given seed.
+    pub fn new(seed: u64) -> Self {
+        Self(seed)
+    }
+
+    /// The next 64 random bits.
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in `[lo, hi)`.
+    pub fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// Uniform in `0..n`.
+    pub fn below(&mut self, n: usize) -> usize {
+        (self.next_u64() % n as u64) as usize
+    }
+
+    /// Uniform in the square `[-extent, extent]²`.
+    pub fn point(&mut self, extent: f64) -> Vector2<f64> {
+        Vector2::new(self.uniform(-extent, extent), self.uniform(-extent, extent))
+    }
+}
+
+/// The four obstacle shapes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// A disc.
+    Circle,
+    /// An ellipse.
+    Ellipse,
+    /// A rounded, possibly non-convex star-shaped polygon.
+    Polygon,
+    /// A Fourier star.
+    Star,
+}
+
+/// A random shape of kind `kind` and size about `size` centred at `c`.
+pub fn shape(rng: &mut Rng, kind: Kind, c: Vector2<f64>, size: f64) -> StarShape {
+    loop {
+        let s = match kind {
+            Kind::Circle => StarShape::circle(c, size * rng.uniform(0.7, 1.0)),
+            Kind::Ellipse => {
+                let a = size * rng.uniform(0.7, 1.0);
+                StarShape::ellipse(c, [a, a * rng.uniform(0.4, 1.0)], rng.uniform(0.0, TAU))
+            }
+            Kind::Polygon => {
+                let n = 3 + rng.below(5);
+                let phase = rng.uniform(0.0, TAU);
+                let v: Vec<_> = (0..n)
+                    .map(|i| {
+                        let a = phase + TAU * (i as f64 + rng.uniform(-0.2, 0.2)) / n as f64;
+                        c + size * rng.uniform(0.6, 1.0) * Vector2::new(a.cos(), a.sin())
+                    })
+                    .collect();
+                StarShape::rounded_polygon(&v, size * rng.uniform(0.05, 0.2))
+            }
+            Kind::Star => {
+                let h: Vec<_> = (0..1 + rng.below(3))
+                    .map(|_| {
+                        (
+                            1 + rng.below(5) as u32,
+                            size * rng.uniform(-0.12, 0.12),
+                            size * rng.uniform(-0.12, 0.12),
+                        )
+                    })
+                    .collect();
+                StarShape::fourier_star(c, size * rng.uniform(0.7, 1.0), &h)
+            }
+        };
+        if let Ok(s) = s {
+            return s;
+        }
+    }
+}
+
+/// The outer boundary shapes (circle, ellipse, rounded polygon, star) of radius about `r`.
+pub fn boundary(rng: &mut Rng, kind: Kind, r: f64) -> StarShape {
+    let c = Vector2::zeros();
+    match kind {
+        Kind::Circle => StarShape::circle(c, r).expect("valid circle"),
+        Kind::Ellipse => {
+            StarShape::ellipse(c, [r * 1.1, r * 0.9], rng.uniform(0.0, TAU)).expect("valid ellipse")
+        }
+        Kind::Polygon => {
+            let v: Vec<_> = (0..6)
+                .map(|i| {
+                    r * 1.1
+                        * Vector2::new((TAU * i as f64 / 6.0).cos(), (TAU * i as f64 / 6.0).sin())
+                })
+                .collect();
+            StarShape::rounded_polygon(&v, 0.3 * r).expect("valid hexagon")
+        }
+        Kind::Star => StarShape::fourier_star(c, r, &[(3, 0.06 * r, 0.0), (5, 0.0, 0.03 * r)])
+            .expect("valid star"),
+    }
+}
+
+/// A random valid workspace: boundary of radius ≈ 5 of kind `outer`, `m` obstacles of sizes
+/// 0.3–0.8 and random kinds from `kinds`, at least `gap` apart and from the boundary, and a
+/// destination at least 0.2 from everything.
+pub fn workspace(rng: &mut Rng, m: usize, kinds: &[Kind], outer: Kind, gap: f64) -> Workspace {
+    loop {
+        let b = boundary(rng, outer, 5.0);
+        let mut obstacles: Vec<StarShape> = Vec::with_capacity(m);
+        let mut tries = 0;
+        while obstacles.len() < m && tries < 2000 {
+            tries += 1;
+            let c = rng.point(4.0);
+            let kind = kinds[rng.below(kinds.len())];
+            let size = rng.uniform(0.3, 0.8);
+            let o = shape(rng, kind, c, size);
+            if o.clearance_inside(&b) > gap
+                && obstacles
+                    .iter()
+                    .all(|p| p.distance_to(&o) > gap && !p.contains(c) && !o.contains(p.centre()))
+            {
+                obstacles.push(o);
+            }
+        }
+        if obstacles.len() < m {
+            continue;
+        }
+        for _ in 0..1000 {
+            let d = rng.point(4.5);
+            let clear =
+                -b.signed_distance(d) > 0.2 && obstacles.iter().all(|o| o.signed_distance(d) > 0.2);
+            if let (true, Ok(ws)) = (clear, Workspace::new(b.clone(), obstacles.clone(), d)) {
+                return ws;
+            }
+        }
+    }
+}
+
+/// A random point of the free space of `ws` at least `margin` from every obstacle and the
+/// boundary (rejection sampling).
+pub fn free_point(rng: &mut Rng, ws: &Workspace, margin: f64) -> Vector2<f64> {
+    let (_, r_max) = ws.boundary().radius_bounds();
+    loop {
+        let x = ws.boundary().centre() + rng.point(r_max);
+        if ws.boundary().contains(x)
+            && -ws.boundary().signed_distance(x) > margin
+            && ws.obstacles().iter().all(|o| o.signed_distance(x) > margin)
+        {
+            return x;
+        }
+    }
+}

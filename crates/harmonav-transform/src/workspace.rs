@@ -1,0 +1,197 @@
+//! A validated workspace: the outer boundary, the (true) obstacles and the destination, with
+//! every distance the navigation transformation needs computed once.
+
+use nalgebra::Vector2;
+
+use crate::nav::NavTransform;
+use crate::shape::StarShape;
+
+/// Why a workspace or a point in it is not valid (indices are obstacle indices).
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum WorldError {
+    /// Two obstacles touch or overlap.
+    Overlap {
+        /// First obstacle.
+        first: usize,
+        /// Second obstacle.
+        second: usize,
+    },
+    /// An obstacle is not strictly inside the outer boundary.
+    OutsideBoundary {
+        /// The obstacle.
+        obstacle: usize,
+    },
+    /// The point (`what`: "destination", "start", …) lies in an obstacle.
+    InObstacle {
+        /// Which point.
+        what: &'static str,
+        /// The obstacle.
+        obstacle: usize,
+    },
+    /// The point lies on or outside the outer boundary.
+    OutsideWorkspace {
+        /// Which point.
+        what: &'static str,
+    },
+    /// An obstacle index that does not exist.
+    NoSuchObstacle {
+        /// The index.
+        obstacle: usize,
+    },
+}
+
+impl std::fmt::Display for WorldError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Overlap { first, second } => {
+                write!(f, "obstacles {first} and {second} overlap or touch")
+            }
+            Self::OutsideBoundary { obstacle } => write!(
+                f,
+                "obstacle {obstacle} is not strictly inside the workspace boundary"
+            ),
+            Self::InObstacle { what, obstacle } => {
+                write!(f, "the {what} lies inside obstacle {obstacle}")
+            }
+            Self::OutsideWorkspace { what } => {
+                write!(f, "the {what} lies on or outside the workspace boundary")
+            }
+            Self::NoSuchObstacle { obstacle } => write!(f, "there is no obstacle {obstacle}"),
+        }
+    }
+}
+
+impl std::error::Error for WorldError {}
+
+/// The workspace `W`: boundary `∂O_0`, obstacles `O_1..O_M`, destination `x_d`.
+#[derive(Clone, Debug)]
+pub struct Workspace {
+    boundary: StarShape,
+    obstacles: Vec<StarShape>,
+    destination: Vector2<f64>,
+    /// `d(O_i, O_j)`, row-major `M × M` (diagonal `∞`).
+    between: Vec<f64>,
+    /// `d(O_i, ∂O_0)`.
+    to_boundary: Vec<f64>,
+    /// `d(x_d, O_i)`.
+    goal_to_obstacle: Vec<f64>,
+    /// `d(x_d, ∂O_0)`.
+    goal_to_boundary: f64,
+}
+
+impl Workspace {
+    /// Validates the workspace and caches the distances between its parts (computed with
+    /// parry point queries, see [`StarShape::distance_to`]).
+    ///
+    /// Errors: overlapping obstacles, an obstacle not strictly inside the boundary, a
+    /// destination inside an obstacle or outside the workspace.
+    pub fn new(
+        boundary: StarShape,
+        obstacles: Vec<StarShape>,
+        destination: Vector2<f64>,
+    ) -> Result<Self, WorldError> {
+        let m = obstacles.len();
+        let mut to_boundary = Vec::with_capacity(m);
+        for (i, o) in obstacles.iter().enumerate() {
+            let d = o.clearance_inside(&boundary);
+            if d <= 0.0 || !boundary.contains(o.centre()) {
+                return Err(WorldError::OutsideBoundary { obstacle: i });
+            }
+            to_boundary.push(d);
+        }
+        let mut between = vec![f64::INFINITY; m * m];
+        for i in 0..m {
+            for j in 0..i {
+                let (a, b) = (&obstacles[i], &obstacles[j]);
+                let (ca, cb) = (a.centre(), b.centre());
+                // Bounding circles first: only near pairs need the outline query.
+                let lower = (ca - cb).norm() - a.radius_bounds().1 - b.radius_bounds().1;
+                let d = if lower > 0.0 && lower > 0.5 * (ca - cb).norm() {
+                    lower
+                } else {
+                    a.distance_to(b)
+                };
+                if d <= 0.0 || a.contains(cb) || b.contains(ca) {
+                    return Err(WorldError::Overlap {
+                        first: j,
+                        second: i,
+                    });
+                }
+                between[i * m + j] = d;
+                between[j * m + i] = d;
+            }
+        }
+        let mut ws = Self {
+            boundary,
+            obstacles,
+            destination,
+            between,
+            to_boundary,
+            goal_to_obstacle: Vec::new(),
+            goal_to_boundary: 0.0,
+        };
+        ws.check_free(destination, "destination")?;
+        ws.goal_to_obstacle = ws
+            .obstacles
+            .iter()
+            .map(|o| o.signed_distance(destination))
+            .collect();
+        ws.goal_to_boundary = -ws.boundary.signed_distance(destination);
+        Ok(ws)
+    }
+
+    /// `Ok` if `x` lies in the free space (outside every obstacle, strictly inside the
+    /// boundary); `what` names the point in the error ("start", "destination", …).
+    pub fn check_free(&self, x: Vector2<f64>, what: &'static str) -> Result<(), WorldError> {
+        let inside = x.x.is_finite() && x.y.is_finite() && self.boundary.contains(x);
+        if !inside || self.boundary.signed_distance(x) >= 0.0 {
+            return Err(WorldError::OutsideWorkspace { what });
+        }
+        match self.obstacles.iter().position(|o| o.contains(x)) {
+            Some(obstacle) => Err(WorldError::InObstacle { what, obstacle }),
+            None => Ok(()),
+        }
+    }
+
+    /// The outer boundary `∂O_0`.
+    pub fn boundary(&self) -> &StarShape {
+        &self.boundary
+    }
+
+    /// The obstacles `O_1..O_M`.
+    pub fn obstacles(&self) -> &[StarShape] {
+        &self.obstacles
+    }
+
+    /// The destination `x_d`.
+    pub fn destination(&self) -> Vector2<f64> {
+        self.destination
+    }
+
+    /// The navigation transformation for the obstacles in `known` (indices into
+    /// [`Self::obstacles`]), with the automatic widths and stretch gain for the potential
+    /// parameter `k` (see [`NavTransform`]).
+    pub fn nav_transform(&self, known: &[usize], k: f64) -> Result<NavTransform, WorldError> {
+        if let Some(&obstacle) = known.iter().find(|&&i| i >= self.obstacles.len()) {
+            return Err(WorldError::NoSuchObstacle { obstacle });
+        }
+        Ok(NavTransform::new(self, known, k))
+    }
+
+    pub(crate) fn between(&self, i: usize, j: usize) -> f64 {
+        self.between[i * self.obstacles.len() + j]
+    }
+
+    pub(crate) fn to_boundary(&self, i: usize) -> f64 {
+        self.to_boundary[i]
+    }
+
+    pub(crate) fn goal_to_obstacle(&self, i: usize) -> f64 {
+        self.goal_to_obstacle[i]
+    }
+
+    pub(crate) fn goal_to_boundary(&self) -> f64 {
+        self.goal_to_boundary
+    }
+}
