@@ -1,6 +1,7 @@
 //! `cargo xtask verify`: named guarantee checks, each measuring a property of the paper on
 //! seeded random inputs and reporting the figure it measured.
 
+mod field;
 mod potential;
 mod transform;
 
@@ -21,6 +22,7 @@ pub struct Check {
 fn checks() -> Vec<Check> {
     let mut all = potential::checks();
     all.extend(transform::checks());
+    all.extend(field::checks());
     all
 }
 

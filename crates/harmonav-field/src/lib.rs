@@ -31,6 +31,7 @@
 
 #![warn(missing_docs)]
 
+pub mod descent;
 mod field;
 
 pub use field::{Critical, Field, FieldError, FieldEval};

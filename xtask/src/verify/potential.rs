@@ -3,7 +3,7 @@
 use harmonav_potential::{CriticalKind, PointWorld, Vector2, arrangements};
 
 use super::{Check, Outcome, outcome};
-use crate::rng::{Rng, clearance};
+use crate::rng::{PointWorlds, Rng, clearance};
 
 pub fn checks() -> Vec<Check> {
     vec![

@@ -1,0 +1,226 @@
+//! Guarantee checks of the navigation transformation and `Θ` (`harmonav-transform`,
+//! `harmonav-field`) on seeded random worlds of all four shapes.
+
+use std::sync::Arc;
+
+use harmonav_field::Field;
+use harmonav_field::descent::{Ending, FollowOptions, follow};
+use harmonav_transform::random::{self, Kind, Rng};
+use nalgebra::Vector2;
+
+use super::{Check, Outcome, outcome};
+
+const KINDS: [Kind; 4] = [Kind::Circle, Kind::Ellipse, Kind::Polygon, Kind::Star];
+
+pub fn checks() -> Vec<Check> {
+    vec![
+        Check {
+            name: "field.phi-diffeomorphism-on-samples",
+            run: diffeomorphism,
+        },
+        Check {
+            name: "field.theta-range-and-boundary-limits",
+            run: limits,
+        },
+        Check {
+            name: "field.critical-points-one-min-m-saddles",
+            run: census,
+        },
+        Check {
+            name: "field.convergence-sphere-world",
+            run: || convergence(&[Kind::Circle], Kind::Circle, 1),
+        },
+        Check {
+            name: "field.convergence-star-world",
+            run: || convergence(&KINDS, Kind::Star, 2),
+        },
+    ]
+}
+
+fn world(seed: u64, m: usize) -> (Field, Rng) {
+    let mut rng = Rng::new(seed);
+    let outer = KINDS[rng.below(4)];
+    let ws = random::workspace(&mut rng, m, &KINDS, outer, 0.15);
+    (
+        Field::all_known(Arc::new(ws)).expect("valid random world"),
+        rng,
+    )
+}
+
+/// det J > 0 (including 1e-9 from every boundary), round trip Phi⁻¹∘Phi, J and ∇Θ against
+/// central differences.
+fn diffeomorphism() -> Outcome {
+    let (mut min_det, mut worst_j, mut worst_g, mut worst_trip, mut samples) =
+        (f64::INFINITY, 0.0f64, 0.0f64, 0.0f64, 0);
+    for seed in 0..300u64 {
+        let (field, mut rng) = world(1000 + seed, 1 + (seed as usize) % 8);
+        let ws = field.workspace();
+        let t = field.transform();
+        for s in 0..60 {
+            let th = rng.uniform(-3.1, 3.1);
+            let x = if s % 3 == 0 {
+                // 1e-9 outside an obstacle or inside the outer boundary.
+                let n = ws.obstacles().len();
+                let i = rng.below(n + 1);
+                let u = Vector2::new(th.cos(), th.sin());
+                if i < n {
+                    let o = &ws.obstacles()[i];
+                    o.centre() + (o.radius(th).0 + 1e-9) * u
+                } else {
+                    let b = ws.boundary();
+                    b.centre() + (b.radius(th).0 - 1e-9) * u
+                }
+            } else {
+                random::free_point(&mut rng, ws, 1e-3)
+            };
+            let m = t
+                .nav_transform(x)
+                .map_err(|e| format!("seed {seed}: {e:?} at {x:?}"))?;
+            let det = m.jacobian.determinant();
+            if !(det > 0.0 && det.is_finite()) {
+                return Err(format!("seed {seed}: det J = {det} at {x:?}"));
+            }
+            min_det = min_det.min(det);
+            samples += 1;
+            if s % 3 != 0 {
+                let back = t.inverse(m.h).ok_or("inverse failed")?;
+                worst_trip = worst_trip.max((back - x).norm());
+                let h = 1e-7;
+                let (ex, ey) = (Vector2::new(h, 0.0), Vector2::new(0.0, h));
+                let map =
+                    |y: Vector2<f64>| t.nav_transform(y).map(|m| m.h).unwrap_or(Vector2::zeros());
+                let cx = (map(x + ex) - map(x - ex)) / (2.0 * h);
+                let cy = (map(x + ey) - map(x - ey)) / (2.0 * h);
+                let err = (m.jacobian.column(0) - cx)
+                    .norm()
+                    .max((m.jacobian.column(1) - cy).norm());
+                worst_j = worst_j.max(err / m.jacobian.norm());
+                let v = |y: Vector2<f64>| field.eval(y).map(|e| e.value).unwrap_or(f64::NAN);
+                let g = field.eval(x).map_err(|e| e.to_string())?.gradient;
+                let fd = Vector2::new(
+                    (v(x + ex) - v(x - ex)) / (2.0 * h),
+                    (v(x + ey) - v(x - ey)) / (2.0 * h),
+                );
+                if g.norm() > 1e-6 {
+                    worst_g = worst_g.max((g - fd).norm() / g.norm());
+                }
+            }
+        }
+    }
+    outcome(
+        worst_j < 1e-4 && worst_g < 1e-4 && worst_trip < 1e-8,
+        format!(
+            "300 worlds, {samples} samples: min det J {min_det:.1e} > 0, worst J−FD {worst_j:.1e}, worst ∇Θ−FD {worst_g:.1e} (relative), round trip ≤ {worst_trip:.1e}"
+        ),
+    )
+}
+
+/// Θ ∈ [0, 1] and finite in the open free space; Θ(x_d) = 0; Θ → 1 at every boundary.
+fn limits() -> Outcome {
+    let mut lowest_near = f64::INFINITY;
+    for seed in 0..300u64 {
+        let (field, mut rng) = world(2000 + seed, 1 + (seed as usize) % 8);
+        let ws = field.workspace();
+        if field.eval(ws.destination()).map(|e| e.value) != Ok(0.0) {
+            return Err(format!("seed {seed}: Θ(x_d) ≠ 0"));
+        }
+        for _ in 0..50 {
+            let x = random::free_point(&mut rng, ws, 1e-6);
+            let e = field
+                .eval(x)
+                .map_err(|e| format!("seed {seed}: {e} at {x:?}"))?;
+            if !((0.0..=1.0).contains(&e.value)
+                && e.gradient.iter().all(|g| g.is_finite())
+                && e.direction.is_some())
+            {
+                return Err(format!("seed {seed}: bad evaluation {e:?} at {x:?}"));
+            }
+        }
+        let th = rng.uniform(-3.1, 3.1);
+        let u = Vector2::new(th.cos(), th.sin());
+        let b = ws.boundary();
+        let near = ws
+            .obstacles()
+            .iter()
+            .map(|o| o.centre() + (o.radius(th).0 + 1e-12) * u)
+            .chain([b.centre() + (b.radius(th).0 - 1e-12) * u]);
+        for x in near {
+            lowest_near = lowest_near.min(field.eval(x).map_err(|e| e.to_string())?.value);
+        }
+    }
+    outcome(
+        lowest_near > 0.85,
+        format!(
+            "300 worlds × 50 free points: Θ ∈ [0,1], finite; Θ(x_d) = 0; Θ ≥ {lowest_near:.3} at 1e-12 from every boundary"
+        ),
+    )
+}
+
+/// Theorem isNF: exactly one minimum (x_d) and M saddles, each a zero of ∇Θ.
+fn census() -> Outcome {
+    let mut total = 0;
+    let mut worst = 0.0f64;
+    for seed in 0..300u64 {
+        let (field, _) = world(3000 + seed, 1 + (seed as usize) % 10);
+        let cps = field.critical_points();
+        let m = field.known().len();
+        let saddles: usize = cps
+            .iter()
+            .filter_map(|c| c.point_world.map(|p| p.multiplicity))
+            .sum();
+        if saddles != m {
+            return Err(format!("seed {seed}: {saddles} saddles for M = {m}"));
+        }
+        for c in &cps[1..] {
+            let e = field
+                .eval(c.x)
+                .map_err(|e| format!("seed {seed}: {e} at {:?}", c.x))?;
+            // |J_Phiᵀ∇phi_k| at the pulled-back point, relative to its size 1e-3 away.
+            let probe = field
+                .eval(c.x + Vector2::new(1e-3, 0.0))
+                .map_err(|e| e.to_string())?;
+            let ratio = e.gradient.norm() / probe.gradient.norm().max(1e-300);
+            worst = worst.max(ratio);
+        }
+        total += m;
+    }
+    outcome(
+        worst < 1e-4,
+        format!(
+            "300 worlds: 1 minimum + {total} saddles = Σ M; |∇Θ| at them ≤ {worst:.1e} of its value 1e-3 away"
+        ),
+    )
+}
+
+/// Following −∇Θ/|∇Θ| (unit speed, Bogacki–Shampine 3(2) with error control) from 1000
+/// seeded random starts in a 6-obstacle world with k = M + 1: ≥ 99.9 % arrive within 100 s,
+/// no collision.
+fn convergence(kinds: &[Kind], outer: Kind, seed: u64) -> Outcome {
+    let mut rng = Rng::new(seed);
+    let ws = Arc::new(random::workspace(&mut rng, 6, kinds, outer, 0.2));
+    let field = Field::all_known(ws.clone()).map_err(|e| e.to_string())?;
+    let (mut reached, mut collisions) = (0, 0);
+    let mut times = Vec::new();
+    let starts = 1000;
+    for _ in 0..starts {
+        let x = random::free_point(&mut rng, &ws, 1e-3);
+        let d = follow(&field, x, &FollowOptions::default());
+        if !d.collision_free {
+            collisions += 1;
+        }
+        if d.ending == Ending::Reached {
+            reached += 1;
+            times.push(d.time);
+        }
+    }
+    times.sort_by(f64::total_cmp);
+    let median = times.get(times.len() / 2).copied().unwrap_or(f64::NAN);
+    let max = times.last().copied().unwrap_or(f64::NAN);
+    outcome(
+        reached * 1000 >= starts * 999 && collisions == 0,
+        format!(
+            "{reached}/{starts} reached in ≤ 100 s (median {median:.2} s, max {max:.2} s), {collisions} collisions, k = M + 1 = {}",
+            field.k()
+        ),
+    )
+}
