@@ -59,6 +59,7 @@ pub fn run(options: &Options) -> ExitCode {
         }
         put(&format!("grad_batch_ns_per_pair_m{m}"), ns);
     }
+    put("field_grad_ns_m20", field_grad_ns(20));
     if options.numpy {
         match numpy_ns_per_pair(100, 4096) {
             Ok((broadcast, per_point)) => {
@@ -151,6 +152,28 @@ fn grad_single_ns(m: usize) -> f64 {
         for _ in 0..reps {
             for &h in &pts {
                 let _ = black_box(world.grad_phi_k(black_box(h)));
+            }
+        }
+    })
+}
+
+/// `Field::eval` (Θ, ∇Θ and the direction through `Phi` and `J_Phi`) with `m` known
+/// mixed-shape obstacles, ns per query point (1024 random free points, 10 % of them in bands).
+fn field_grad_ns(m: usize) -> f64 {
+    use harmonav_field::Field;
+    use harmonav_transform::random::{self, Kind, Rng};
+    let kinds = [Kind::Circle, Kind::Ellipse, Kind::Polygon, Kind::Star];
+    let mut rng = Rng::new(20);
+    let ws = std::sync::Arc::new(random::workspace(&mut rng, m, &kinds, Kind::Star, 0.1));
+    let field = Field::all_known(ws.clone()).expect("valid benchmark world");
+    let pts: Vec<_> = (0..1024)
+        .map(|_| random::free_point(&mut rng, &ws, 1e-3))
+        .collect();
+    let reps = 100;
+    median_ns(21, (reps * pts.len()) as f64, || {
+        for _ in 0..reps {
+            for &x in &pts {
+                let _ = black_box(field.eval(black_box(x)));
             }
         }
     })

@@ -2,9 +2,7 @@
 
 use std::sync::Arc;
 
-use harmonav_potential::{
-    CriticalPoint, PointWorld, PotentialError, Singularity, sigma, sigma_prime,
-};
+use harmonav_potential::{CriticalPoint, PointWorld, PotentialError, Singularity, sigma_and_prime};
 use harmonav_transform::{Active, NavTransform, NotFree, Workspace, WorldError};
 use nalgebra::Vector2;
 
@@ -194,9 +192,10 @@ impl Field {
             let s = gx / scale;
             -s / s.norm()
         });
+        let (value, slope) = sigma_and_prime(phi);
         Ok(FieldEval {
-            value: sigma(phi),
-            gradient: sigma_prime(phi) * gx,
+            value,
+            gradient: slope * gx,
             direction,
             h: mapped.h,
             phi,

@@ -56,7 +56,7 @@ pub use batch::BatchGradient;
 pub use critical::{CriticalKind, CriticalPoint};
 pub use error::{PotentialError, Singularity};
 pub use nalgebra::{Matrix2, Vector2};
-pub use sigma::{ln_sigma_prime, sigma, sigma_prime, sigma_second};
+pub use sigma::{ln_sigma_prime, sigma, sigma_and_prime, sigma_prime, sigma_second};
 pub use world::PointWorld;
 
 /// The README's code compiles and runs (checked by `cargo test --doc`).

@@ -16,6 +16,8 @@ pub struct PointWorld {
     destination: Vector2<f64>,
     obstacles: Vec<Vector2<f64>>,
     k: f64,
+    /// `B = 10^{300/M}`: a product of `M` factors in `[1/B, B]` stays finite and normal.
+    product_bound: f64,
 }
 
 impl PointWorld {
@@ -46,10 +48,12 @@ impl PointWorld {
             }
         }
         let k = obstacles.len() as f64 + 1.0;
+        let product_bound = 10f64.powf(300.0 / obstacles.len().max(1) as f64).min(1e150);
         Ok(Self {
             destination,
             obstacles,
             k,
+            product_bound,
         })
     }
 
@@ -106,41 +110,74 @@ impl PointWorld {
     /// `h` was formed as `P_i + ν u` with tiny `ν` (maths.md §4, pitfall C: subtracting `P_i`
     /// again would lose the direction).
     ///
-    /// Numerical guard: the obstacle sum `Σ ln|h_i|²` is taken as the logarithm of a running
-    /// product of the `|h_i|²`, renormalised into the log accumulator whenever it leaves
-    /// `[1e-150, 1e150]`; factors outside `[1e-100, 1e100]` go to the accumulator directly.
-    /// So there is one logarithm per call in the usual case and nothing overflows. Agrees with
-    /// [`Self::phi_k`] and [`Self::grad_phi_k`] to rounding (tested).
+    /// Numerical guard: the obstacle sum `Σ ln|h_i|²` is taken as the logarithm of the product
+    /// of the `|h_i|²` (one logarithm instead of `M`), which is safe when every factor lies in
+    /// `[1/B, B]` with `B = 10^{300/M}`; the branch-free loop tracks the smallest and largest
+    /// factor and, if one is outside, the call falls back to the guarded sum of logarithms of
+    /// [`Self::phi_k`] and [`Self::grad_phi_k`]. Agrees with them to rounding (tested).
     pub fn phi_and_grad(
         &self,
         h: Vector2<f64>,
         exact: Option<(usize, Vector2<f64>)>,
     ) -> Result<(f64, Vector2<f64>), Singularity> {
-        let mut acc = Vector2::zeros();
-        let (mut prod, mut ln_acc) = (1.0f64, 0.0f64);
+        let (before, after) = match exact {
+            Some((j, _)) => (&self.obstacles[..j], &self.obstacles[j + 1..]),
+            None => (&self.obstacles[..], &self.obstacles[..0]),
+        };
+        let (mut gx, mut gy, mut prod) = (0.0, 0.0, 1.0f64);
+        let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+        for p in before.iter().chain(after) {
+            let (vx, vy) = (h.x - p.x, h.y - p.y);
+            let r2 = vx * vx + vy * vy;
+            let inv = 1.0 / r2;
+            gx += vx * inv;
+            gy += vy * inv;
+            prod *= r2;
+            lo = lo.min(r2);
+            hi = hi.max(r2);
+        }
+        if let Some((_, v)) = exact {
+            let r2 = v.norm_squared();
+            gx += v.x / r2;
+            gy += v.y / r2;
+            prod *= r2;
+            lo = lo.min(r2);
+            hi = hi.max(r2);
+        }
+        let vd = h - self.destination;
+        let rd2 = vd.norm_squared();
+        if !(lo >= self.product_bound.recip() && hi <= self.product_bound && rd2.is_normal()) {
+            return self.phi_and_grad_guarded(h, exact);
+        }
+        let phi = rd2.ln() - prod.ln() / self.k;
+        let k2 = 2.0 / self.k;
+        Ok((
+            phi,
+            Vector2::new(2.0 * vd.x / rd2 - k2 * gx, 2.0 * vd.y / rd2 - k2 * gy),
+        ))
+    }
+
+    /// The guarded slow path of [`Self::phi_and_grad`]: a sum of logarithms.
+    fn phi_and_grad_guarded(
+        &self,
+        h: Vector2<f64>,
+        exact: Option<(usize, Vector2<f64>)>,
+    ) -> Result<(f64, Vector2<f64>), Singularity> {
+        let (mut acc, mut ln_sum) = (Vector2::zeros(), 0.0);
         for (i, p) in self.obstacles.iter().enumerate() {
             let v = match exact {
                 Some((j, offset)) if j == i => offset,
                 _ => h - p,
             };
-            let r2 = v.x * v.x + v.y * v.y;
-            if (1e-100..=1e100).contains(&r2) {
-                acc += v / r2;
-                prod *= r2;
-                if !(1e-150..=1e150).contains(&prod) {
-                    ln_acc += prod.ln();
-                    prod = 1.0;
-                }
-            } else {
-                acc += reciprocal(v).ok_or(Singularity::Obstacle(i))?;
-                ln_acc += ln_norm2(v);
-            }
+            acc += reciprocal(v).ok_or(Singularity::Obstacle(i))?;
+            ln_sum += ln_norm2(v);
         }
-        ln_acc += prod.ln();
         let vd = h - self.destination;
         let d = reciprocal(vd).ok_or(Singularity::Destination)?;
-        let phi = ln_norm2(vd) - ln_acc / self.k;
-        Ok((phi, 2.0 * d - (2.0 / self.k) * acc))
+        Ok((
+            ln_norm2(vd) - ln_sum / self.k,
+            2.0 * d - (2.0 / self.k) * acc,
+        ))
     }
 
     /// Eq. (`gradient`): `∇phi_k(h) = 2 h_d/|h_d|² − (2/k) Σ_i h_i/|h_i|²`.

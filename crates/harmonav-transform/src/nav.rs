@@ -51,8 +51,6 @@ pub enum NotFree {
 struct Band {
     shape: StarShape,
     eps: f64,
-    /// `(max R + ε)²`: beyond it the band cannot contain the point.
-    reach2: f64,
 }
 
 /// The navigation transformation for the known obstacles (`docs/maths.md` §5): obstacle `i`'s
@@ -74,6 +72,8 @@ struct Band {
 pub struct NavTransform {
     known: Vec<usize>,
     bands: Vec<Band>,
+    /// `[c_x, c_y, (max R + ε)²]` per band, contiguous for the per-step scan.
+    reach: Vec<[f64; 3]>,
     outer: StarShape,
     eps0: f64,
     gain: f64,
@@ -93,12 +93,7 @@ impl NavTransform {
             }
             let shape = ws.obstacles()[i].clone();
             let eps = WIDTH_FACTOR * d;
-            let reach = shape.radius_bounds().1 + eps;
-            bands.push(Band {
-                shape,
-                eps,
-                reach2: reach * reach,
-            });
+            bands.push(Band { shape, eps });
         }
         let outer = ws.boundary().clone();
         let eps0 = WIDTH_FACTOR
@@ -117,9 +112,19 @@ impl NavTransform {
         let valley = k / (k - m) * dipole.norm();
         let gain = eps0.max(2.0 * valley);
         let inner = (outer.radius_bounds().0 - eps0).max(0.0);
+        // Beyond (max R + ε) from its centre a band cannot contain the point.
+        let reach = bands
+            .iter()
+            .map(|b| {
+                let c = b.shape.centre();
+                let r = b.shape.radius_bounds().1 + b.eps;
+                [c.x, c.y, r * r]
+            })
+            .collect();
         Self {
             known: known.to_vec(),
             bands,
+            reach,
             outer,
             eps0,
             gain,
@@ -150,18 +155,20 @@ impl NavTransform {
     /// `Phi(x)` with its Jacobian (definition `NavTran`); errors if `x` is not in the free
     /// space of the known obstacles. Allocation-free.
     pub fn nav_transform(&self, x: Vector2<f64>) -> Result<Mapped, NotFree> {
-        for (slot, band) in self.bands.iter().enumerate() {
-            let v = x - band.shape.centre();
-            let rho2 = v.norm_squared();
-            if rho2 >= band.reach2 {
+        for (slot, &[cx, cy, reach2]) in self.reach.iter().enumerate() {
+            let (dx, dy) = (x.x - cx, x.y - cy);
+            let rho2 = dx * dx + dy * dy;
+            if rho2 >= reach2 {
                 continue;
             }
+            let band = &self.bands[slot];
+            let v = Vector2::new(dx, dy);
             let rho = rho2.sqrt();
             if rho == 0.0 {
                 return Err(NotFree::Obstacle(slot));
             }
             let u = v / rho;
-            let (r, dr) = band.shape.radius(v.y.atan2(v.x));
+            let (r, dr) = band.shape.radius_along(u);
             if rho <= r {
                 return Err(NotFree::Obstacle(slot));
             }
@@ -179,12 +186,12 @@ impl NavTransform {
         let rho2 = v.norm_squared();
         if rho2 > self.inner2 {
             let rho = rho2.sqrt();
-            let (r0, dr0) = self.outer.radius(v.y.atan2(v.x));
+            let u = v / rho;
+            let (r0, dr0) = self.outer.radius_along(u);
             if rho >= r0 {
                 return Err(NotFree::Outside);
             }
             if rho > r0 - self.eps0 {
-                let u = v / rho;
                 let m: Radial = outer_map(rho, r0, dr0, self.eps0, self.gain);
                 return Ok(Mapped {
                     h: self.outer.centre() + m.nu * u,

@@ -39,7 +39,7 @@ enum Kind {
     Ellipse {
         a: f64,
         b: f64,
-        angle: f64,
+        axis: Vector2<f64>,
     },
     Polygon {
         pieces: Vec<Piece>,
@@ -122,7 +122,11 @@ impl StarShape {
         let angle = finite(angle, "angle_deg")?;
         let (lo, hi) = (a.min(b), a.max(b));
         Ok(Self::build(
-            Kind::Ellipse { a, b, angle },
+            Kind::Ellipse {
+                a,
+                b,
+                axis: dir(angle),
+            },
             centre,
             lo,
             hi,
@@ -150,13 +154,14 @@ impl StarShape {
             }
             h.push((n as f64, finite(a, "harmonics")?, finite(b, "harmonics")?));
         }
+        h.sort_by(|x, y| x.0.total_cmp(&y.0));
         let kind = Kind::Star { r0, harmonics: h };
         let samples = 8192;
         let step = TAU / samples as f64;
         let (mut lo, mut hi, mut slope, mut rho) = (f64::INFINITY, 0.0f64, 0.0f64, f64::INFINITY);
         for i in 0..samples {
             let th = i as f64 * step;
-            let (r, dr, ddr) = star_radius(r0, kind_harmonics(&kind), th);
+            let (r, dr, ddr) = star_radius(r0, kind_harmonics(&kind), dir(th));
             lo = lo.min(r);
             hi = hi.max(r);
             slope = slope.max(dr.abs());
@@ -356,20 +361,29 @@ impl StarShape {
 
     /// The radial function `(R(θ), R'(θ))` for the direction `θ` (radians, any value).
     pub fn radius(&self, theta: f64) -> (f64, f64) {
+        self.radius_along(dir(theta))
+    }
+
+    /// The radial function `(R(θ), R'(θ))` for the unit direction `u = (cos θ, sin θ)`.
+    ///
+    /// The hot path of `Phi`: circles, ellipses and Fourier stars need no trigonometric call
+    /// (`cos nθ + i sin nθ = (u_x + i u_y)^n`); rounded polygons take one `atan2`.
+    pub fn radius_along(&self, u: Vector2<f64>) -> (f64, f64) {
         match &self.kind {
             Kind::Circle { r } => (*r, 0.0),
-            Kind::Ellipse { a, b, angle } => {
-                let (s, c) = (theta - angle).sin_cos();
+            Kind::Ellipse { a, b, axis } => {
+                // ψ = θ − angle: cos ψ = u·axis, sin ψ = axis × u.
+                let (c, s) = (u.dot(axis), cross(*axis, u));
                 let d = b * b * c * c + a * a * s * s;
                 let r = a * b / d.sqrt();
                 (r, -a * b * (a * a - b * b) * s * c / (d * d.sqrt()))
             }
             Kind::Star { r0, harmonics } => {
-                let (r, dr, _) = star_radius(*r0, harmonics, theta);
+                let (r, dr, _) = star_radius(*r0, harmonics, u);
                 (r, dr)
             }
-            Kind::Polygon { pieces, starts, .. } => {
-                polygon_radius(self.centre, pieces, starts, theta)
+            Kind::Polygon { pieces, starts } => {
+                polygon_radius(self.centre, pieces, starts, u.y.atan2(u.x))
             }
         }
     }
@@ -437,11 +451,16 @@ fn kind_harmonics(kind: &Kind) -> &[(f64, f64, f64)] {
     }
 }
 
-/// `(R, R', R'')` of a Fourier star.
-fn star_radius(r0: f64, harmonics: &[(f64, f64, f64)], theta: f64) -> (f64, f64, f64) {
+/// `(R, R', R'')` of a Fourier star in the unit direction `u`, with `cos nθ + i sin nθ`
+/// as the `n`-th power of `u_x + i u_y` (harmonics sorted by `n`).
+fn star_radius(r0: f64, harmonics: &[(f64, f64, f64)], u: Vector2<f64>) -> (f64, f64, f64) {
     let (mut r, mut dr, mut ddr) = (r0, 0.0, 0.0);
+    let (mut power, mut c, mut s) = (0.0, 1.0, 0.0);
     for &(n, a, b) in harmonics {
-        let (s, c) = (n * theta).sin_cos();
+        while power < n {
+            (c, s) = (c * u.x - s * u.y, c * u.y + s * u.x);
+            power += 1.0;
+        }
         r += a * c + b * s;
         dr += n * (b * c - a * s);
         ddr -= n * n * (a * c + b * s);
