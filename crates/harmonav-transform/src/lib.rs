@@ -38,4 +38,4 @@ pub mod workspace;
 pub use error::ShapeError;
 pub use nav::{Active, Mapped, NavTransform, NotFree};
 pub use shape::StarShape;
-pub use workspace::{Workspace, WorldError};
+pub use workspace::{RobotWorldError, Workspace, WorldError};

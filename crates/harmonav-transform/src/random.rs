@@ -144,8 +144,8 @@ pub fn workspace(rng: &mut Rng, m: usize, kinds: &[Kind], outer: Kind, gap: f64)
         }
         for _ in 0..1000 {
             let d = rng.point(4.5);
-            let clear =
-                -b.signed_distance(d) > 0.2 && obstacles.iter().all(|o| o.signed_distance(d) > 0.2);
+            let clear = -b.coarse_signed_distance(d) > 0.2
+                && obstacles.iter().all(|o| o.coarse_signed_distance(d) > 0.2);
             if let (true, Ok(ws)) = (clear, Workspace::new(b.clone(), obstacles.clone(), d)) {
                 return ws;
             }
@@ -160,8 +160,11 @@ pub fn free_point(rng: &mut Rng, ws: &Workspace, margin: f64) -> Vector2<f64> {
     loop {
         let x = ws.boundary().centre() + rng.point(r_max);
         if ws.boundary().contains(x)
-            && -ws.boundary().signed_distance(x) > margin
-            && ws.obstacles().iter().all(|o| o.signed_distance(x) > margin)
+            && -ws.boundary().coarse_signed_distance(x) > margin
+            && ws
+                .obstacles()
+                .iter()
+                .all(|o| o.coarse_signed_distance(x) > margin)
         {
             return x;
         }

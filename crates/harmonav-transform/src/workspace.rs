@@ -3,6 +3,7 @@
 
 use nalgebra::Vector2;
 
+use crate::error::ShapeError;
 use crate::nav::NavTransform;
 use crate::shape::StarShape;
 
@@ -63,6 +64,39 @@ impl std::fmt::Display for WorldError {
 }
 
 impl std::error::Error for WorldError {}
+
+/// Why the workspace of a robot of some radius cannot be built.
+#[derive(Clone, Debug, PartialEq)]
+pub enum RobotWorldError {
+    /// Offsetting a shape failed (`obstacle: None` for the boundary).
+    Shape {
+        /// The obstacle, or `None` for the boundary.
+        obstacle: Option<usize>,
+        /// What went wrong.
+        error: ShapeError,
+    },
+    /// The grown world is invalid (e.g. two inflated obstacles overlap: the passage between
+    /// them is narrower than the robot).
+    World(WorldError),
+}
+
+impl std::fmt::Display for RobotWorldError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Shape {
+                obstacle: Some(i),
+                error,
+            } => write!(f, "obstacle {i}: {error}"),
+            Self::Shape {
+                obstacle: None,
+                error,
+            } => write!(f, "workspace boundary: {error}"),
+            Self::World(e) => write!(f, "with the robot radius: {e}"),
+        }
+    }
+}
+
+impl std::error::Error for RobotWorldError {}
 
 /// The workspace `W`: boundary `∂O_0`, obstacles `O_1..O_M`, destination `x_d`.
 #[derive(Clone, Debug)]
@@ -141,11 +175,49 @@ impl Workspace {
         Ok(ws)
     }
 
+    /// The workspace of a disc robot of radius `robot_radius` (configuration space): every
+    /// obstacle inflated and the boundary deflated by it ([`StarShape::offset`]), then
+    /// validated as in [`Self::new`]. A zero radius is the point robot.
+    pub fn for_robot(
+        boundary: StarShape,
+        obstacles: Vec<StarShape>,
+        destination: Vector2<f64>,
+        robot_radius: f64,
+    ) -> Result<Self, RobotWorldError> {
+        if !(robot_radius >= 0.0 && robot_radius.is_finite()) {
+            return Err(RobotWorldError::Shape {
+                obstacle: None,
+                error: ShapeError::NotPositive {
+                    field: "robot.radius",
+                    value: robot_radius,
+                },
+            });
+        }
+        let boundary = boundary
+            .offset(-robot_radius)
+            .map_err(|error| RobotWorldError::Shape {
+                obstacle: None,
+                error,
+            })?;
+        let obstacles = obstacles
+            .iter()
+            .enumerate()
+            .map(|(i, o)| {
+                o.offset(robot_radius)
+                    .map_err(|error| RobotWorldError::Shape {
+                        obstacle: Some(i),
+                        error,
+                    })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        Self::new(boundary, obstacles, destination).map_err(RobotWorldError::World)
+    }
+
     /// `Ok` if `x` lies in the free space (outside every obstacle, strictly inside the
     /// boundary); `what` names the point in the error ("start", "destination", …).
     pub fn check_free(&self, x: Vector2<f64>, what: &'static str) -> Result<(), WorldError> {
         let inside = x.x.is_finite() && x.y.is_finite() && self.boundary.contains(x);
-        if !inside || self.boundary.signed_distance(x) >= 0.0 {
+        if !inside || self.boundary.coarse_signed_distance(x) >= 0.0 {
             return Err(WorldError::OutsideWorkspace { what });
         }
         match self.obstacles.iter().position(|o| o.contains(x)) {

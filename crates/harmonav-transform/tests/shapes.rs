@@ -22,7 +22,7 @@ proptest! {
         prop_assert!(r >= lo && r <= hi && lo > 0.0);
         let u = Vector2::new(th.cos(), th.sin());
         let p = shape.boundary_point(th);
-        prop_assert!(shape.signed_distance(p).abs() < 1e-4, "boundary point at distance {}", shape.signed_distance(p));
+        prop_assert!(shape.signed_distance(p).abs() < 1e-9, "boundary point at distance {}", shape.signed_distance(p));
         prop_assert!(shape.contains(shape.centre() + (r - 1e-9) * u));
         prop_assert!(!shape.contains(shape.centre() + (r + 1e-9) * u));
         prop_assert!(shape.signed_distance(shape.centre() + 0.5 * r * u) < 0.0);
@@ -160,4 +160,70 @@ fn non_convex_star_polygon_is_accepted_and_smooth() {
     let u = Vector2::new(0.951_056_5, 0.309_017);
     assert!(s.contains(0.6 * u) && !s.contains(0.7 * u));
     assert!((s.radius(0.1 * std::f64::consts::PI).0 - 0.634_2).abs() < 1e-3);
+}
+
+proptest! {
+    #![proptest_config(config(300))]
+
+    /// Inflating by r puts the boundary at distance r outside the original (and deflating at
+    /// distance r inside), with R' still the derivative of R.
+    #[test]
+    fn offset_shapes_are_at_the_offset_distance(shape in shape_at(Vector2::new(-0.4, 0.1), 1.0), r in 0.01..0.3f64, th in -3.1..3.1f64) {
+        // Concave parts sharper than r fold the offset curve: a typed error (checked below for
+        // shapes that have none).
+        let grown = match shape.offset(r) {
+            Ok(g) => g,
+            Err(e) => {
+                let typed = matches!(e, ShapeError::Invalid { field: "robot.radius", .. });
+                prop_assert!(typed, "unexpected error {e:?}");
+                return Err(TestCaseError::reject("offset folds"));
+            }
+        };
+        let p = grown.boundary_point(th);
+        prop_assert!((shape.signed_distance(p) - r).abs() < 1e-5, "distance {} for r = {r}", shape.signed_distance(p));
+        let h = 1e-6;
+        let fd = (grown.radius(th + h).0 - grown.radius(th - h).0) / (2.0 * h);
+        prop_assert!((grown.radius(th).1 - fd).abs() <= 1e-4 * (1.0 + fd.abs()), "R' {} vs {fd}", grown.radius(th).1);
+        prop_assert!(grown.rho_min() >= shape.rho_min());
+        if let Ok(shrunk) = shape.offset(-0.5 * shape.rho_min().min(r)) {
+            let q = shrunk.boundary_point(th);
+            let d = -shape.signed_distance(q);
+            prop_assert!((d - 0.5 * shape.rho_min().min(r)).abs() < 1e-5, "inside distance {d}");
+        }
+    }
+}
+
+#[test]
+fn robot_radius_grows_obstacles_and_shrinks_the_boundary() {
+    use harmonav_transform::{RobotWorldError, Workspace, WorldError};
+    let c = |x: f64| StarShape::circle(Vector2::new(x, 0.0), 1.0).unwrap();
+    let boundary = StarShape::circle(Vector2::zeros(), 6.0).unwrap();
+    let goal = Vector2::new(0.0, 4.0);
+    // Gap of 0.3 between the two discs: a robot of radius 0.1 passes, one of 0.2 does not.
+    let ws = Workspace::for_robot(boundary.clone(), vec![c(-1.15), c(1.15)], goal, 0.1).unwrap();
+    assert_eq!(ws.obstacles()[0].radius(0.3).0, 1.1);
+    assert_eq!(ws.boundary().radius(0.3).0, 5.9);
+    assert_eq!(
+        Workspace::for_robot(boundary.clone(), vec![c(-1.15), c(1.15)], goal, 0.2).unwrap_err(),
+        RobotWorldError::World(WorldError::Overlap {
+            first: 0,
+            second: 1
+        })
+    );
+    assert!(Workspace::for_robot(boundary.clone(), vec![c(-1.15)], goal, -0.1).is_err());
+    // Convex shapes always inflate.
+    let e = StarShape::ellipse(Vector2::zeros(), [0.5, 0.1], 0.4).unwrap();
+    for r in [0.01, 0.3, 2.0] {
+        let g = e.offset(r).unwrap();
+        assert!((e.signed_distance(g.boundary_point(1.0)) - r).abs() < 1e-5);
+    }
+    // Deflating a boundary below zero size is a clear error, not a panic.
+    let tiny = StarShape::ellipse(Vector2::zeros(), [0.3, 0.2], 0.0).unwrap();
+    assert!(matches!(
+        tiny.offset(-0.5),
+        Err(ShapeError::Invalid {
+            field: "robot.radius",
+            ..
+        })
+    ));
 }
