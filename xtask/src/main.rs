@@ -4,25 +4,29 @@
 //!   and ends with `verify: N passed, M failed` (exit code 1 if M > 0).
 //! - `cargo xtask bench [--json] [--numpy] [--portable]` re-runs itself in release mode and prints the
 //!   benchmark figures (one JSON object with `--json`).
+//! - `cargo xtask figures` regenerates the documentation figures in `docs/figures/`.
 
 mod bench;
+mod figures;
 mod rng;
 mod verify;
 
 use std::process::ExitCode;
 
-const USAGE: &str = "usage: cargo xtask <verify | bench [--json] [--numpy] [--portable]>
+const USAGE: &str = "usage: cargo xtask <verify | bench [--json] [--numpy] [--portable] | figures>
 
   verify   run the named guarantee checks; ends with `verify: N passed, M failed`
   bench    measure the benchmark figures in release mode
              --json    print one JSON object instead of a table
              --numpy   also time a NumPy implementation of eq. (gradient) (needs python3 + numpy)
-             --portable  compile for the baseline target instead of this machine's CPU";
+             --portable  compile for the baseline target instead of this machine's CPU
+  figures  regenerate the documentation figures in docs/figures/";
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     match args.first().map(String::as_str) {
         Some("verify") if args.len() == 1 => verify::run(),
+        Some("figures") if args.len() == 1 => figures::run(),
         Some("bench") => match bench::Options::parse(&args[1..]) {
             Ok(options) => bench::run(&options),
             Err(message) => usage_error(&message),

@@ -1,28 +1,35 @@
 //! # harmonav-transform
 //!
-//! The building blocks of the navigation transformation `Phi` (definition `NavTran` of the
-//! paper; construction in `docs/maths.md` §5): a `C^∞` smooth step and the two radial maps
-//! that `Phi` is made of —
+//! Star-shaped obstacles and the navigation transformation `Phi` (definition `NavTran` of the
+//! paper; construction in `docs/maths.md` §5), which maps the free workspace
+//! diffeomorphically onto a point world: every known obstacle collapses to its centre, the
+//! outer boundary goes to infinity.
 //!
-//! - [`radial::obstacle_map`]: inside a band of width `ε` around a star-shaped obstacle, the
-//!   boundary `ρ = R(θ)` is collapsed to the obstacle's centre and the outer edge of the band
-//!   is left fixed (identity beyond);
-//! - [`radial::outer_map`]: inside a band of width `ε_0` along the outer boundary, the
-//!   boundary is sent to infinity (identity inside the band).
+//! - [`StarShape`]: circle, ellipse, rounded polygon and Fourier star with their radial
+//!   function `R(θ)`, `R'(θ)`, signed distance (parry2d-f64), `rho_min` and robot-radius offset;
+//! - [`Workspace`]: a validated world with the distances the widths need, cached;
+//! - [`NavTransform`]: `Phi`, `J_Phi` and `Phi⁻¹`, with band widths and the outer stretch gain
+//!   chosen automatically; built from [`radial::obstacle_map`] and [`radial::outer_map`],
+//!   which keep the polar angle and increase strictly in `ρ` (`det J = ν_ρ·ν/ρ > 0`);
+//! - [`random`]: seeded random valid worlds for tests and benchmarks.
 //!
-//! Both maps keep the polar angle about their centre and increase strictly in `ρ`
-//! (`∂ν/∂ρ ≥ 1`), hence are injective with `det J = ν_ρ·ν/ρ > 0`.
-//!
-//! This crate knows nothing of `phi_k`, sensing or time. Shapes and the assembled `Phi` with
-//! automatic widths are still to come (issue 4).
+//! This crate knows nothing of `phi_k`, sensing or time.
 //!
 //! ```
-//! use harmonav_transform::radial::obstacle_map;
+//! use harmonav_transform::{Active, StarShape, Workspace};
+//! use nalgebra::Vector2;
 //!
-//! // A circle of radius 1 with a band of width 0.5: its boundary goes to the centre ...
-//! assert_eq!(obstacle_map(1.0, 1.0, 0.0, 0.5).nu, 0.0);
-//! // ... and the outer edge of the band stays where it is.
-//! assert_eq!(obstacle_map(1.5, 1.0, 0.0, 0.5).nu, 1.5);
+//! let boundary = StarShape::circle(Vector2::zeros(), 5.0)?;
+//! let rock = StarShape::ellipse(Vector2::new(1.0, 0.0), [1.0, 0.5], 0.0)?;
+//! let ws = Workspace::new(boundary, vec![rock], Vector2::new(-3.0, 0.0))?;
+//! let phi = ws.nav_transform(&[0], 2.0)?; // obstacle 0 known, k = 2
+//! // Just outside the ellipse the point maps next to its centre P_1 = (1, 0).
+//! let m = phi.nav_transform(Vector2::new(2.0 + 1e-6, 0.0)).unwrap();
+//! assert!(matches!(m.active, Active::Obstacle { .. }) && (m.h - Vector2::new(1.0, 0.0)).norm() < 1e-5);
+//! assert!(m.jacobian.determinant() > 0.0);
+//! // Far from every band Phi is the identity.
+//! assert_eq!(phi.nav_transform(Vector2::new(-3.0, 0.0)).unwrap().h, Vector2::new(-3.0, 0.0));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
 #![warn(missing_docs)]
