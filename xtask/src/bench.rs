@@ -60,6 +60,7 @@ pub fn run(options: &Options) -> ExitCode {
         put(&format!("grad_batch_ns_per_pair_m{m}"), ns);
     }
     put("field_grad_ns_m20", field_grad_ns(20));
+    put("control_step_ns_m6", control_step_ns());
     if options.numpy {
         match numpy_ns_per_pair(100, 4096) {
             Ok((broadcast, per_point)) => {
@@ -174,6 +175,37 @@ fn field_grad_ns(m: usize) -> f64 {
         for _ in 0..reps {
             for &x in &pts {
                 let _ = black_box(field.eval(black_box(x)));
+            }
+        }
+    })
+}
+
+/// One full control step with 6 known obstacles (and 2 not yet known): the sector check of
+/// the unknown obstacles, `Θ` and `∇Θ`, and the dynamic law with its damping; ns per step.
+fn control_step_ns() -> f64 {
+    use harmonav_control::Dynamic;
+    use harmonav_field::Field;
+    use harmonav_sensing::{Sector, axis};
+    use harmonav_transform::random::{self, Kind, Rng};
+    let kinds = [Kind::Circle, Kind::Ellipse, Kind::Polygon, Kind::Star];
+    let mut rng = Rng::new(6);
+    let ws = std::sync::Arc::new(random::workspace(&mut rng, 8, &kinds, Kind::Star, 0.15));
+    let field = Field::new(ws.clone(), 0..6).expect("valid benchmark world");
+    let sector = Sector::new(1.0, 60f64.to_radians()).expect("valid sector");
+    let law = Dynamic::new(1.0, 10.0, sector.d_min(0.05)).expect("valid law");
+    let states: Vec<_> = (0..1024)
+        .map(|_| (random::free_point(&mut rng, &ws, 1e-3), rng.point(1.0)))
+        .collect();
+    let reps = 20;
+    median_ns(15, (reps * states.len()) as f64, || {
+        for _ in 0..reps {
+            for &(x, v) in &states {
+                let (x, v) = (black_box(x), black_box(v));
+                let Ok(e) = field.eval(x) else { continue };
+                let seen = axis(v, e.direction)
+                    .is_some_and(|a| (6..8).any(|i| sector.detects(x, a, &ws.obstacles()[i])));
+                let lambda = law.damping(&field, law.energy(e.value, v), v.norm());
+                black_box((seen, law.force(&e, v, lambda)));
             }
         }
     })

@@ -80,6 +80,8 @@ pub struct Field {
     workspace: Arc<Workspace>,
     transform: NavTransform,
     world: PointWorld,
+    /// `H(Θ)(x_d) = stiffness·I`, computed at discovery.
+    stiffness: f64,
 }
 
 impl Field {
@@ -95,10 +97,12 @@ impl Field {
             }
         }
         let (transform, world) = build(&workspace, &ids)?;
+        let stiffness = world.destination_stiffness();
         Ok(Self {
             workspace,
             transform,
             world,
+            stiffness,
         })
     }
 
@@ -119,6 +123,7 @@ impl Field {
         ids.push(id);
         let (transform, world) = build(&self.workspace, &ids)?;
         self.transform = transform;
+        self.stiffness = world.destination_stiffness();
         self.world = world;
         Ok(true)
     }
@@ -152,7 +157,7 @@ impl Field {
     /// established in `docs/maths.md` §2; `Phi` is the identity around `x_d`). The spring
     /// constant of eq. `critdamp` is `μ·s`.
     pub fn destination_stiffness(&self) -> f64 {
-        self.world.destination_stiffness()
+        self.stiffness
     }
 
     /// `Θ(x)`, `∇Θ(x)` and the descent direction (eq. `NFcand` with the chain rule of theorem

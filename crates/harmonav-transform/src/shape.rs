@@ -12,7 +12,7 @@ use std::sync::Arc;
 
 use nalgebra::Vector2;
 use parry2d_f64::math::Vector as PVector;
-use parry2d_f64::query::PointQuery;
+use parry2d_f64::query::{PointQuery, Ray, RayCast};
 use parry2d_f64::shape::Polyline;
 
 use crate::error::ShapeError;
@@ -535,25 +535,12 @@ impl StarShape {
         let coarse = (near - x).norm();
         let start = near - self.centre;
         let th0 = start.y.atan2(start.x);
-        let f = |th: f64| (self.boundary_point(th) - x).norm_squared();
-        let (mut lo, mut hi) = (th0 - 0.05, th0 + 0.05);
-        let g = 0.5 * (5f64.sqrt() - 1.0);
-        let (mut a, mut b) = (hi - g * (hi - lo), lo + g * (hi - lo));
-        let (mut fa, mut fb) = (f(a), f(b));
-        for _ in 0..64 {
-            if fa < fb {
-                hi = b;
-                (b, fb) = (a, fa);
-                a = hi - g * (hi - lo);
-                fa = f(a);
-            } else {
-                lo = a;
-                (a, fa) = (b, fb);
-                b = lo + g * (hi - lo);
-                fb = f(b);
-            }
-        }
-        let fine = fa.min(fb).sqrt();
+        let th = golden_min(
+            |th| (self.boundary_point(th) - x).norm_squared(),
+            th0 - 0.05,
+            th0 + 0.05,
+        );
+        let fine = (self.boundary_point(th) - x).norm();
         // Keep the refined value unless the search left the right stretch of boundary.
         let d = if fine <= coarse + 1e-3 * (1.0 + coarse) {
             fine
@@ -593,6 +580,79 @@ impl StarShape {
             .fold(f64::INFINITY, f64::min)
     }
 
+    /// Distance along the ray `origin + t·dir` (`dir` a unit vector, `origin` outside the
+    /// shape) to the first boundary point, if it is at most `max`.
+    ///
+    /// parry casts the ray against the outline; the hit is then refined by bisection on the
+    /// exact containment test, bracketed a little before and after parry's hit.
+    pub fn ray_hit(&self, origin: Vector2<f64>, dir: Vector2<f64>, max: f64) -> Option<f64> {
+        // Quick reject: the ray's closest approach to the centre is beyond the largest radius.
+        let to_c = self.centre - origin;
+        let along = to_c.dot(&dir).clamp(0.0, max);
+        if (to_c - along * dir).norm() > self.r_max {
+            return None;
+        }
+        // Larger than the outline's chord error (~3e-4 of the size at curvature radius 0.05).
+        let slack = 4e-3 * self.r_max;
+        let coarse = self.outline.cast_local_ray(
+            &Ray::new(PVector::new(origin.x, origin.y), PVector::new(dir.x, dir.y)),
+            max + slack,
+            false,
+        );
+        // parry's hit on the outline is within the chord error of the true one: bisect on the
+        // exact containment test in a bracket around it. (A part of the shape thinner than the
+        // outline's chord error, ~1e-5 of its size, can be missed.)
+        let t = coarse?;
+        let (mut a, mut b) = ((t - slack).max(0.0), t + slack);
+        if self.contains(origin + a * dir) {
+            return Some(a).filter(|&a| a <= max);
+        }
+        if !self.contains(origin + b * dir) {
+            // The exact boundary is entered somewhere in the bracket: search it on a fine grid.
+            let steps = 64;
+            b = (1..=steps)
+                .map(|i| a + (b - a) * i as f64 / steps as f64)
+                .find(|&s| self.contains(origin + s * dir))?;
+            a = b - 2.0 * slack / steps as f64;
+        }
+        for _ in 0..60 {
+            let m = 0.5 * (a + b);
+            if self.contains(origin + m * dir) {
+                b = m
+            } else {
+                a = m
+            }
+        }
+        (b <= max).then_some(b)
+    }
+
+    /// The local minima of the distance from `x` (outside the shape) to the boundary: the
+    /// boundary points where `|p(θ) − x|` has a local minimum, found on the outline and
+    /// refined on the exact curve. The global minimum (the nearest point) is among them.
+    pub fn distance_minima(&self, x: Vector2<f64>) -> impl Iterator<Item = Vector2<f64>> + '_ {
+        let n = self.outline.vertices().len();
+        let d = move |i: usize| {
+            let v = self.outline.vertices()[i % n];
+            (Vector2::new(v.x, v.y) - x).norm_squared()
+        };
+        (0..n).filter_map(move |i| {
+            let (prev, here, next) = (d(i + n - 1), d(i), d(i + 1));
+            if here > prev || here > next {
+                return None;
+            }
+            let v = self.outline.vertices()[i];
+            let w = Vector2::new(v.x, v.y) - self.centre;
+            let th0 = w.y.atan2(w.x);
+            // The minimum lies within the neighbouring outline spacing: search ±2 spacings.
+            let spread = 4.0 * (TAU / n as f64).max(0.02);
+            Some(self.boundary_point(golden_min(
+                |th| (self.boundary_point(th) - x).norm_squared(),
+                th0 - spread,
+                th0 + spread,
+            )))
+        })
+    }
+
     /// [`Self::signed_distance`] without the refinement: the outline's chord error (~1e-5 of
     /// the size) remains. For the band widths (where the factor 0.45 absorbs it) and sampling.
     pub fn coarse_signed_distance(&self, x: Vector2<f64>) -> f64 {
@@ -628,6 +688,27 @@ fn star_radius(r0: f64, harmonics: &[(f64, f64, f64)], u: Vector2<f64>) -> (f64,
         ddr -= n * n * (a * c + b * s);
     }
     (r, dr, ddr)
+}
+
+/// Golden-section search for the minimum of a unimodal `f` on `[lo, hi]` (to ~1e-13).
+fn golden_min(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut a, mut b) = (hi - g * (hi - lo), lo + g * (hi - lo));
+    let (mut fa, mut fb) = (f(a), f(b));
+    for _ in 0..64 {
+        if fa < fb {
+            hi = b;
+            (b, fb) = (a, fa);
+            a = hi - g * (hi - lo);
+            fa = f(a);
+        } else {
+            lo = a;
+            (a, fa) = (b, fb);
+            b = lo + g * (hi - lo);
+            fb = f(b);
+        }
+    }
+    if fa < fb { a } else { b }
 }
 
 /// Cubic Hermite interpolation of `(R, R')` between samples `a = (θ_a, R_a, R'_a)` and `b`.

@@ -1,0 +1,42 @@
+//! # harmonav-control
+//!
+//! The two control laws of the paper as pure functions of the state and the field — no
+//! simulator inside:
+//!
+//! - [`Kinematic`] (eq. `kinctrl`): `u = −K √(2Θ) ∇Θ/|∇Θ|` for `ẋ = u`;
+//! - [`Dynamic`] (eq. `dynctrllocal`): `f = −μ∇Θ − λ(t)ẋ` for `m ẍ = f`, with the critical
+//!   damping `λ_c` (eq. `critdamp`) while the energy `V = μΘ + ½m|ẋ|²` (eq. `totalenergy`)
+//!   stays below `μ`, and `(m/d_min)|ẋ(T_n)|` otherwise (eq. `dissipationfun`); the speed
+//!   bound `√(2μ/m)` (corollary `boundedvel`).
+//!
+//! ```
+//! use std::sync::Arc;
+//! use harmonav_control::{Dynamic, Kinematic};
+//! use harmonav_field::Field;
+//! use harmonav_transform::{StarShape, Workspace};
+//! use nalgebra::Vector2;
+//!
+//! let ws = Workspace::new(
+//!     StarShape::circle(Vector2::zeros(), 5.0)?,
+//!     vec![StarShape::circle(Vector2::new(0.0, 0.0), 1.0)?],
+//!     Vector2::new(3.0, 0.0),
+//! )?;
+//! let field = Field::all_known(Arc::new(ws))?;
+//! let x = Vector2::new(-3.0, 0.5);
+//! let eval = field.eval(x)?;
+//! let u = Kinematic::new(1.0)?.velocity(&eval);         // unit-free speed K√(2Θ) ≤ √2
+//! assert!(u.norm() > 0.0 && u.norm() < 2f64.sqrt());
+//! let law = Dynamic::new(1.0, 10.0, 0.05)?;             // m = 1 kg, μ = 10, d_min = 0.05 m
+//! assert!((law.speed_bound() - 20f64.sqrt()).abs() < 1e-12);
+//! let lambda = law.damping(&field, law.energy(eval.value, Vector2::zeros()), 0.0);
+//! assert_eq!(lambda, law.lambda_c(&field));             // V < μ: critical damping
+//! let f = law.force(&eval, Vector2::zeros(), lambda);
+//! assert!(f.dot(&eval.gradient) < 0.0);                 // pushes downhill
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+#![warn(missing_docs)]
+
+mod laws;
+
+pub use laws::{ControlError, Dynamic, Kinematic};
