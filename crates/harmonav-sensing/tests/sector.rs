@@ -215,7 +215,7 @@ fn detection_agrees_with_brute_force() {
                 )
             })
             .collect();
-        let inside = gaps.iter().any(|&g| g == 0.0);
+        let inside = gaps.contains(&0.0);
         let near = gaps.iter().cloned().fold(f64::INFINITY, f64::min) < 1e-3;
         if !inside && near {
             continue;
