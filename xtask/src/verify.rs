@@ -1,6 +1,7 @@
 //! `cargo xtask verify`: named guarantee checks, each measuring a property of the paper on
 //! seeded random inputs and reporting the figure it measured.
 
+mod control;
 mod field;
 mod potential;
 mod transform;
@@ -23,6 +24,7 @@ fn checks() -> Vec<Check> {
     let mut all = potential::checks();
     all.extend(transform::checks());
     all.extend(field::checks());
+    all.extend(control::checks());
     all
 }
 
