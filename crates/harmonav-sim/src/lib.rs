@@ -1,0 +1,34 @@
+//! # harmonav-sim
+//!
+//! Scenario files ([`scenario`]), the built-in integrator with discovery events and the
+//! guarantee monitors ([`run`]). Only this crate and the CLI know about files.
+//!
+//! ```
+//! use std::path::Path;
+//! use harmonav_sim::scenario::Scenario;
+//!
+//! let text = r#"
+//!     name = "one-rock"
+//!     [workspace]
+//!     type = "circle"
+//!     center = [0.0, 0.0]
+//!     radius = 5.0
+//!     [[obstacles]]
+//!     type = "circle"
+//!     center = [0.0, 0.0]
+//!     radius = 1.0
+//!     [robot]
+//!     model = "kinematic"
+//!     start = [-3.0, 0.2]
+//!     goal = [3.0, 0.0]
+//! "#;
+//! let prepared = Scenario::parse(Path::new("one-rock.toml"), text)?.prepare(Path::new("one-rock.toml"))?;
+//! let run = harmonav_sim::run::run(&prepared, None)?;
+//! assert!(run.summary.reached && run.summary.all_passed());
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+#![warn(missing_docs)]
+
+pub mod run;
+pub mod scenario;

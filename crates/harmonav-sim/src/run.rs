@@ -1,0 +1,655 @@
+//! Running a scenario: the integrator with discovery events, and the guarantee monitors.
+//!
+//! Both robot models are integrated with the Bogacki–Shampine 3(2) pair and step-size
+//! control (`sim.dt` is the largest step and the recording interval). The dynamic law is stiff
+//! near walls (`|∇Θ|` grows without bound, maths.md §4 pitfall B), so a step any of whose stages
+//! leaves the free space is rejected and retried smaller. After each accepted step the sector
+//! is checked against the unknown obstacles; a discovery is located within the step by
+//! bisection on the cubic Hermite interpolant of the step, the state is cut there, and only
+//! then do `Θ`, `k` and `λ` change (Carathéodory solutions). Runs are deterministic.
+
+use harmonav_control::{Dynamic, Kinematic};
+use harmonav_field::{Field, FieldEval};
+use harmonav_sensing::{Sensing, axis, initially_known};
+use nalgebra::Vector2;
+use serde::Serialize;
+
+use crate::scenario::{Model, Prepared};
+
+/// One recorded state.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Sample {
+    /// Time, s.
+    pub t: f64,
+    /// Position.
+    pub x: [f64; 2],
+    /// Velocity.
+    pub v: [f64; 2],
+    /// `Θ(x)`.
+    pub theta: f64,
+    /// `V = μΘ + ½m|ẋ|²` (dynamic model).
+    pub energy: Option<f64>,
+    /// `k = n + 1`.
+    pub k: f64,
+    /// Damping `λ` in force (dynamic model).
+    pub lambda: Option<f64>,
+    /// Whether `λ = λ_c` (dynamic model).
+    pub critical: bool,
+}
+
+/// A discovery event.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Discovery {
+    /// Obstacle name.
+    pub obstacle: String,
+    /// Obstacle index in the scenario.
+    #[serde(skip)]
+    pub index: usize,
+    /// Time, s.
+    pub time_s: f64,
+    /// Robot position at discovery.
+    #[serde(skip)]
+    pub position: [f64; 2],
+    /// Sector axis at discovery.
+    #[serde(skip)]
+    pub axis: [f64; 2],
+}
+
+/// A named guarantee with its verdict.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Guarantee {
+    /// Name.
+    pub name: String,
+    /// Whether it held.
+    pub passed: bool,
+    /// What was measured.
+    pub detail: String,
+}
+
+/// The summary of a run (`summary.json`).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Summary {
+    /// Scenario name.
+    pub name: String,
+    /// `kinematic` or `dynamic`.
+    pub model: Model,
+    /// `builtin` (or `rapier`).
+    pub physics: String,
+    /// Goal reached within tolerance and time.
+    pub reached: bool,
+    /// Time at the end of the run, s.
+    pub time_s: f64,
+    /// Distance to the goal at the end, m.
+    pub final_distance: f64,
+    /// Smallest clearance to the true obstacles and boundary (minus the robot radius), m.
+    pub min_clearance: f64,
+    /// Largest speed, m/s.
+    pub max_speed: f64,
+    /// `√(2μ/m)` for the dynamic model.
+    pub speed_bound: Option<f64>,
+    /// Recorded states in collision (clearance ≤ 0).
+    pub collisions: usize,
+    /// Contact events reported by the physics engine (rapier runs only).
+    pub physics_contacts: Option<usize>,
+    /// Discoveries in order.
+    pub discoveries: Vec<Discovery>,
+    /// The guarantee monitors.
+    pub guarantees: Vec<Guarantee>,
+    /// Accepted integration steps.
+    pub steps: usize,
+    /// Rejected integration steps.
+    pub rejected_steps: usize,
+}
+
+impl Summary {
+    /// Whether every guarantee held.
+    pub fn all_passed(&self) -> bool {
+        self.guarantees.iter().all(|g| g.passed)
+    }
+}
+
+/// A run: the summary and the recorded trajectory.
+#[derive(Clone, Debug)]
+pub struct Run {
+    /// The summary.
+    pub summary: Summary,
+    /// Recorded states (every `sim.dt`, and at discoveries and the end).
+    pub samples: Vec<Sample>,
+}
+
+/// Why a run could not start.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunError(pub String);
+
+impl std::fmt::Display for RunError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for RunError {}
+
+type State = [f64; 4];
+
+fn pos(y: &State) -> Vector2<f64> {
+    Vector2::new(y[0], y[1])
+}
+
+fn vel(y: &State) -> Vector2<f64> {
+    Vector2::new(y[2], y[3])
+}
+
+fn axpy(y: &State, h: f64, ks: &[(f64, &State)]) -> State {
+    let mut out = *y;
+    for (c, k) in ks {
+        for i in 0..4 {
+            out[i] += h * c * k[i];
+        }
+    }
+    out
+}
+
+/// The closed loop of one robot model.
+struct Loop<'a> {
+    model: Model,
+    kinematic: Kinematic,
+    dynamic: Dynamic,
+    field: Field,
+    /// `|ẋ(T_n)|` at the latest discovery (eq. `dissipationfun`).
+    speed_at_discovery: f64,
+    prepared: &'a Prepared,
+}
+
+impl Loop<'_> {
+    /// `(ẏ, Θ-evaluation, λ)`; `None` if `x` is outside the free space of the known obstacles.
+    fn rhs(&self, y: &State) -> Option<(State, FieldEval, Option<f64>)> {
+        let e = self.field.eval(pos(y)).ok()?;
+        match self.model {
+            Model::Kinematic => {
+                let u = self.kinematic.velocity(&e);
+                Some(([u.x, u.y, 0.0, 0.0], e, None))
+            }
+            Model::Dynamic => {
+                let v = vel(y);
+                let lambda = self.dynamic.damping(
+                    &self.field,
+                    self.dynamic.energy(e.value, v),
+                    self.speed_at_discovery,
+                );
+                let a = self.dynamic.force(&e, v, lambda) / self.dynamic.mass();
+                Some(([v.x, v.y, a.x, a.y], e, Some(lambda)))
+            }
+        }
+    }
+
+    /// The robot's velocity (for the sector axis).
+    fn velocity(&self, y: &State, dy: &State) -> Vector2<f64> {
+        match self.model {
+            Model::Kinematic => Vector2::new(dy[0], dy[1]),
+            Model::Dynamic => vel(y),
+        }
+    }
+
+    /// Unknown obstacles the sensor sees in state `y`.
+    fn sees(&self, y: &State) -> Vec<usize> {
+        let Sensing::Sector(sector) = self.prepared.sensing else {
+            return Vec::new();
+        };
+        let Some((dy, e, _)) = self.rhs(y) else {
+            return Vec::new();
+        };
+        let Some(a) = axis(self.velocity(y, &dy), e.direction) else {
+            return Vec::new();
+        };
+        let x = pos(y);
+        (0..self.prepared.workspace.obstacles().len())
+            .filter(|i| !self.field.known().contains(i))
+            .filter(|&i| sector.detects(x, a, &self.prepared.workspace.obstacles()[i]))
+            .collect()
+    }
+
+    fn sample(&self, t: f64, y: &State) -> Sample {
+        let (theta, lambda) = match self.rhs(y) {
+            Some((_, e, l)) => (e.value, l),
+            None => (f64::NAN, None),
+        };
+        let dynamic = self.model == Model::Dynamic;
+        let critical = lambda.is_some_and(|l| l == self.dynamic.lambda_c(&self.field));
+        Sample {
+            t,
+            x: [y[0], y[1]],
+            v: if dynamic {
+                [y[2], y[3]]
+            } else {
+                self.rhs(y).map_or([0.0; 2], |(d, _, _)| [d[0], d[1]])
+            },
+            theta,
+            energy: dynamic.then(|| self.dynamic.energy(theta, vel(y))),
+            k: self.field.k(),
+            lambda,
+            critical,
+        }
+    }
+}
+
+/// Cubic Hermite interpolation of the step `y0 → y1` (derivatives `d0`, `d1`) at `s ∈ [0, 1]`.
+fn hermite(y0: &State, d0: &State, y1: &State, d1: &State, h: f64, s: f64) -> State {
+    let (s2, s3) = (s * s, s * s * s);
+    let (h00, h10, h01, h11) = (
+        2.0 * s3 - 3.0 * s2 + 1.0,
+        s3 - 2.0 * s2 + s,
+        -2.0 * s3 + 3.0 * s2,
+        s3 - s2,
+    );
+    let mut out = [0.0; 4];
+    for i in 0..4 {
+        out[i] = h00 * y0[i] + h10 * h * d0[i] + h01 * y1[i] + h11 * h * d1[i];
+    }
+    out
+}
+
+/// Runs a prepared scenario with the built-in integrator; `model` overrides the file's robot
+/// model.
+pub fn run(prepared: &Prepared, model: Option<Model>) -> Result<Run, RunError> {
+    let sc = &prepared.scenario;
+    let model = model.unwrap_or(sc.robot.model);
+    let start = Vector2::new(sc.robot.start[0], sc.robot.start[1]);
+    let goal = prepared.workspace.destination();
+    let d_min = match prepared.sensing {
+        Sensing::Sector(s) => s.d_min(prepared.rho_min),
+        Sensing::Global => f64::INFINITY,
+    };
+    let dynamic = Dynamic::new(
+        sc.robot.mass,
+        sc.controller.mu,
+        if d_min.is_finite() { d_min } else { 1.0 },
+    )
+    .map_err(|e| RunError(e.to_string()))?;
+    let kinematic = Kinematic::new(sc.controller.gain).map_err(|e| RunError(e.to_string()))?;
+    // Assumption localobs: obstacles within d_min of the start (and those the sector already
+    // sees along the initial descent direction) are known at t = 0.
+    let global =
+        Field::all_known(prepared.workspace.clone()).map_err(|e| RunError(e.to_string()))?;
+    let first_axis = global.eval(start).ok().and_then(|e| e.direction);
+    let known = initially_known(
+        &prepared.workspace,
+        start,
+        &prepared.sensing,
+        prepared.rho_min,
+        first_axis,
+    );
+    let field = Field::new(prepared.workspace.clone(), known.iter().copied())
+        .map_err(|e| RunError(e.to_string()))?;
+    let mut lp = Loop {
+        model,
+        kinematic,
+        dynamic,
+        field,
+        speed_at_discovery: 0.0,
+        prepared,
+    };
+    let mut discoveries: Vec<Discovery> = known
+        .iter()
+        .map(|&i| Discovery {
+            obstacle: prepared.names[i].clone(),
+            index: i,
+            time_s: 0.0,
+            position: [start.x, start.y],
+            axis: first_axis.map_or([0.0; 2], |a| [a.x, a.y]),
+        })
+        .collect();
+    // A discovery at t = 0 along the axis needs the field of the known set: redo once.
+    let mut y: State = [start.x, start.y, 0.0, 0.0];
+    for i in lp.sees(&y) {
+        lp.field.discover(i).map_err(|e| RunError(e.to_string()))?;
+        discoveries.push(Discovery {
+            obstacle: prepared.names[i].clone(),
+            index: i,
+            time_s: 0.0,
+            position: [start.x, start.y],
+            axis: [0.0; 2],
+        });
+    }
+
+    let (dt, max_time, tol) = (sc.sim.dt, sc.sim.max_time, sc.sim.goal_tolerance);
+    let step_tol = 1e-7;
+    let mut t = 0.0;
+    let mut h = dt.min(1e-3);
+    let (mut steps, mut rejected) = (0usize, 0usize);
+    let mut samples = vec![lp.sample(t, &y)];
+    let mut next_record = dt;
+    let mut monitor = Monitor::new(prepared, model, &lp);
+    monitor.observe(&samples[0], false, prepared);
+    let (mut k1, _, _) = lp
+        .rhs(&y)
+        .ok_or_else(|| RunError("the start is not in the free space".into()))?;
+    let mut reached = (pos(&y) - goal).norm() < tol;
+    while !reached && t < max_time {
+        h = h.min(dt).min(max_time - t);
+        if h < 1e-14 {
+            break;
+        }
+        let stages = (|| {
+            let (k2, _, _) = lp.rhs(&axpy(&y, h, &[(0.5, &k1)]))?;
+            let (k3, _, _) = lp.rhs(&axpy(&y, h, &[(0.75, &k2)]))?;
+            let y1 = axpy(
+                &y,
+                h,
+                &[(2.0 / 9.0, &k1), (1.0 / 3.0, &k2), (4.0 / 9.0, &k3)],
+            );
+            let (k4, _, _) = lp.rhs(&y1)?;
+            let e = axpy(
+                &[0.0; 4],
+                h,
+                &[
+                    (-5.0 / 72.0, &k1),
+                    (1.0 / 12.0, &k2),
+                    (1.0 / 9.0, &k3),
+                    (-1.0 / 8.0, &k4),
+                ],
+            );
+            let err = e.iter().map(|v| v * v).sum::<f64>().sqrt();
+            Some((y1, k4, err))
+        })();
+        let Some((y1, k4, err)) = stages.filter(|s| s.2 <= step_tol) else {
+            rejected += 1;
+            h *= match stages {
+                Some((_, _, err)) => (0.9 * (step_tol / err).cbrt()).clamp(0.1, 0.9),
+                None => 0.25,
+            };
+            continue;
+        };
+        // Discovery within the step: the earliest s ∈ (0, 1] where the sector sees a new obstacle.
+        let (mut s_end, mut found) = (1.0, lp.sees(&y1));
+        if !found.is_empty() {
+            let (mut lo, mut hi) = (0.0, 1.0);
+            for _ in 0..40 {
+                let mid = 0.5 * (lo + hi);
+                if lp.sees(&hermite(&y, &k1, &y1, &k4, h, mid)).is_empty() {
+                    lo = mid
+                } else {
+                    hi = mid
+                }
+            }
+            s_end = hi;
+            found = lp.sees(&hermite(&y, &k1, &y1, &k4, h, hi));
+        }
+        // Record on the dt grid inside the accepted part of the step (cubic Hermite).
+        let t_end = t + s_end * h;
+        while next_record <= t_end + 1e-12 && next_record > t {
+            let yr = hermite(&y, &k1, &y1, &k4, h, (next_record - t) / h);
+            let s = lp.sample(next_record, &yr);
+            monitor.observe(&s, false, prepared);
+            samples.push(s);
+            next_record += dt;
+        }
+        y = if s_end < 1.0 {
+            hermite(&y, &k1, &y1, &k4, h, s_end)
+        } else {
+            y1
+        };
+        t = t_end;
+        steps += 1;
+        let discovered = !found.is_empty();
+        if discovered {
+            let speed = vel(&y).norm();
+            let ax = lp
+                .rhs(&y)
+                .and_then(|(d, e, _)| axis(lp.velocity(&y, &d), e.direction))
+                .unwrap_or_default();
+            samples.push(lp.sample(t, &y));
+            for i in found {
+                lp.field.discover(i).map_err(|e| RunError(e.to_string()))?;
+                discoveries.push(Discovery {
+                    obstacle: prepared.names[i].clone(),
+                    index: i,
+                    time_s: t,
+                    position: [y[0], y[1]],
+                    axis: [ax.x, ax.y],
+                });
+            }
+            lp.speed_at_discovery = speed;
+        }
+        // Θ, k and λ change here; the next step starts from the new right-hand side.
+        let Some((k_next, _, _)) = lp.rhs(&y) else {
+            return Err(RunError(format!(
+                "t = {t:.4}: the state left the free space after a discovery"
+            )));
+        };
+        k1 = k_next;
+        h *= (0.9 * (step_tol / err.max(1e-300)).cbrt()).clamp(0.2, 5.0);
+        reached = (pos(&y) - goal).norm() < tol;
+        let s = lp.sample(t, &y);
+        monitor.observe(&s, discovered, prepared);
+        if reached {
+            samples.push(s);
+        }
+    }
+    if samples.last().map(|s| s.t) != Some(t) {
+        samples.push(lp.sample(t, &y));
+    }
+    let final_distance = (pos(&y) - goal).norm();
+    let summary = monitor.finish(
+        prepared,
+        model,
+        &lp,
+        reached,
+        t,
+        final_distance,
+        discoveries,
+        steps,
+        rejected,
+        &samples,
+    );
+    Ok(Run { summary, samples })
+}
+
+/// Guarantee monitors, fed every accepted state.
+struct Monitor {
+    min_clearance: f64,
+    min_boundary: f64,
+    collisions: usize,
+    max_speed: f64,
+    theta_range: (f64, f64),
+    energy_rise: f64,
+    last_energy: Option<f64>,
+}
+
+impl Monitor {
+    fn new(_prepared: &Prepared, _model: Model, _lp: &Loop) -> Self {
+        Self {
+            min_clearance: f64::INFINITY,
+            min_boundary: f64::INFINITY,
+            collisions: 0,
+            max_speed: 0.0,
+            theta_range: (f64::INFINITY, f64::NEG_INFINITY),
+            energy_rise: 0.0,
+            last_energy: None,
+        }
+    }
+
+    fn observe(&mut self, s: &Sample, discovered: bool, prepared: &Prepared) {
+        let x = Vector2::new(s.x[0], s.x[1]);
+        let radius = prepared.scenario.robot.radius;
+        let obstacle = prepared
+            .true_obstacles
+            .iter()
+            .map(|o| o.signed_distance(x) - radius)
+            .fold(f64::INFINITY, f64::min);
+        let boundary = -prepared.true_boundary.signed_distance(x) - radius;
+        let clearance = obstacle.min(boundary);
+        self.min_clearance = self.min_clearance.min(clearance);
+        self.min_boundary = self.min_boundary.min(boundary);
+        if clearance <= 0.0 {
+            self.collisions += 1;
+        }
+        self.max_speed = self.max_speed.max(Vector2::new(s.v[0], s.v[1]).norm());
+        self.theta_range = (
+            self.theta_range.0.min(s.theta),
+            self.theta_range.1.max(s.theta),
+        );
+        if let Some(v) = s.energy {
+            if let (Some(last), false) = (self.last_energy, discovered) {
+                self.energy_rise = self.energy_rise.max((v - last) / last.max(1e-12));
+            }
+            self.last_energy = Some(v);
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn finish(
+        self,
+        prepared: &Prepared,
+        model: Model,
+        lp: &Loop,
+        reached: bool,
+        t: f64,
+        final_distance: f64,
+        discoveries: Vec<Discovery>,
+        steps: usize,
+        rejected: usize,
+        samples: &[Sample],
+    ) -> Summary {
+        let sc = &prepared.scenario;
+        let g = |name: &str, passed: bool, detail: String| Guarantee {
+            name: name.to_string(),
+            passed,
+            detail,
+        };
+        let mut guarantees = vec![
+            g(
+                "reached-goal",
+                reached,
+                format!(
+                    "final distance {final_distance:.2e} m (tolerance {}) at t = {t:.3} s (max {} s)",
+                    sc.sim.goal_tolerance, sc.sim.max_time
+                ),
+            ),
+            g(
+                "no-collision",
+                self.collisions == 0 && self.min_clearance > 0.0,
+                format!(
+                    "min clearance {:.4} m to the true obstacles and boundary",
+                    self.min_clearance
+                ),
+            ),
+            g(
+                "stayed-in-workspace",
+                self.min_boundary > 0.0,
+                format!("min distance to the boundary {:.4} m", self.min_boundary),
+            ),
+            g(
+                "theta-in-unit-interval",
+                self.theta_range.0 >= 0.0 && self.theta_range.1 <= 1.0,
+                format!(
+                    "Θ ∈ [{:.3e}, {:.6}]",
+                    self.theta_range.0, self.theta_range.1
+                ),
+            ),
+            g(
+                "discoveries",
+                true,
+                if discoveries.is_empty() {
+                    "none".to_string()
+                } else {
+                    discoveries
+                        .iter()
+                        .map(|d| format!("{} at {:.3} s", d.obstacle, d.time_s))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                },
+            ),
+        ];
+        let speed_bound = (model == Model::Dynamic).then(|| lp.dynamic.speed_bound());
+        if let Some(bound) = speed_bound {
+            guarantees.push(g(
+                "speed-below-bound",
+                self.max_speed < bound,
+                format!(
+                    "max speed {:.3} m/s < √(2μ/m) = {bound:.3} m/s",
+                    self.max_speed
+                ),
+            ));
+            guarantees.push(g(
+                "energy-non-increasing-between-discoveries",
+                self.energy_rise <= 1e-6,
+                format!(
+                    "largest relative rise of V between steps {:.1e}",
+                    self.energy_rise
+                ),
+            ));
+            guarantees.push(overshoot(samples, prepared, &discoveries));
+        }
+        let expect = sc.expect.clone().unwrap_or_default();
+        if let Some(want) = expect.reached {
+            guarantees.push(g(
+                "expect.reached",
+                want == reached,
+                format!("expected {want}, got {reached}"),
+            ));
+        }
+        if let Some(order) = &expect.discovery_order {
+            let got: Vec<String> = discoveries.iter().map(|d| d.obstacle.clone()).collect();
+            guarantees.push(g(
+                "expect.discovery-order",
+                &got == order,
+                format!("expected {order:?}, got {got:?}"),
+            ));
+        }
+        if let Some(limit) = expect.max_speed_below {
+            guarantees.push(g(
+                "expect.max-speed-below",
+                self.max_speed < limit,
+                format!("max speed {:.3} m/s, limit {limit} m/s", self.max_speed),
+            ));
+        }
+        Summary {
+            name: sc.name.clone(),
+            model,
+            physics: "builtin".into(),
+            reached,
+            time_s: t,
+            final_distance,
+            min_clearance: self.min_clearance,
+            max_speed: self.max_speed,
+            speed_bound,
+            collisions: self.collisions,
+            physics_contacts: None,
+            discoveries,
+            guarantees,
+            steps,
+            rejected_steps: rejected,
+        }
+    }
+}
+
+/// No overshoot with `λ = λ_c` (corollary `critdamp`): in the last approach — the trailing
+/// samples after the last discovery with `λ = λ_c` and `Θ < 0.01` (the quadratic basin of the
+/// goal) — the distance to the goal never increases.
+fn overshoot(samples: &[Sample], prepared: &Prepared, discoveries: &[Discovery]) -> Guarantee {
+    let goal = prepared.workspace.destination();
+    let last_discovery = discoveries.last().map_or(0.0, |d| d.time_s);
+    let tail: Vec<&Sample> = samples
+        .iter()
+        .rev()
+        .take_while(|s| s.critical && s.theta < 0.01 && s.t >= last_discovery)
+        .collect();
+    let dist = |s: &Sample| (Vector2::new(s.x[0], s.x[1]) - goal).norm();
+    let mut worst: f64 = 0.0;
+    for w in tail.windows(2) {
+        // `tail` runs backwards in time: w[1] precedes w[0].
+        worst = worst.max(dist(w[0]) - dist(w[1]));
+    }
+    Guarantee {
+        name: "no-overshoot-at-goal".into(),
+        passed: worst <= 1e-9,
+        detail: if tail.len() < 2 {
+            "the run did not enter the critically damped goal basin".into()
+        } else {
+            format!(
+                "{} samples in the last approach (Θ < 0.01, λ = λ_c): largest increase of the distance {worst:.1e} m",
+                tail.len()
+            )
+        },
+    }
+}

@@ -1,0 +1,548 @@
+//! The scenario file format (TOML) and its validation.
+//!
+//! The layout is a contract (see `scenarios/README.md`): it may be extended, not renamed.
+//! Unknown keys are rejected. Every problem is reported as a [`ScenarioError`] naming the
+//! file, the field and, where the TOML parser gives it, the line.
+
+use std::path::{Path, PathBuf};
+
+use harmonav_sensing::{Sector, Sensing};
+use harmonav_transform::{RobotWorldError, StarShape, Workspace, WorldError};
+use nalgebra::Vector2;
+use serde::{Deserialize, Serialize};
+
+/// A problem with a scenario file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScenarioError {
+    /// The file.
+    pub file: PathBuf,
+    /// The field, as a path (`obstacles[2].radius`), or empty for the whole file.
+    pub field: String,
+    /// The line, where the parser gives it.
+    pub line: Option<usize>,
+    /// What is wrong.
+    pub problem: String,
+}
+
+impl std::fmt::Display for ScenarioError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}", self.file.display())?;
+        if let Some(line) = self.line {
+            write!(f, ":{line}")?;
+        }
+        if !self.field.is_empty() {
+            write!(f, ": `{}`", self.field)?;
+        }
+        write!(f, ": {}", self.problem)
+    }
+}
+
+impl std::error::Error for ScenarioError {}
+
+/// A shape as written in a scenario (`type = "circle" | "ellipse" | "polygon" | "star"`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
+pub enum ShapeSpec {
+    /// A disc.
+    Circle {
+        /// Obstacle name (obstacles only).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        name: Option<String>,
+        /// Centre.
+        center: [f64; 2],
+        /// Radius.
+        radius: f64,
+    },
+    /// An ellipse.
+    Ellipse {
+        /// Obstacle name (obstacles only).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        name: Option<String>,
+        /// Centre.
+        center: [f64; 2],
+        /// Semi-axes `[a, b]`.
+        semi_axes: [f64; 2],
+        /// Rotation of the first axis, degrees.
+        #[serde(default)]
+        angle_deg: f64,
+    },
+    /// A polygon with rounded corners, star-shaped about its vertex centroid.
+    Polygon {
+        /// Obstacle name (obstacles only).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        name: Option<String>,
+        /// Vertices.
+        vertices: Vec<[f64; 2]>,
+        /// Corner radius (> 0).
+        corner_radius: f64,
+    },
+    /// A Fourier star `R(θ) = r0 + Σ (a_n cos nθ + b_n sin nθ)`.
+    Star {
+        /// Obstacle name (obstacles only).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        name: Option<String>,
+        /// Centre.
+        center: [f64; 2],
+        /// `r0`.
+        radius: f64,
+        /// `[n, a_n, b_n]` triples.
+        #[serde(default)]
+        harmonics: Vec<[f64; 3]>,
+    },
+}
+
+/// The robot model.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Model {
+    /// `ẋ = u` (eq. `holint`) under the kinematic law.
+    Kinematic,
+    /// `m ẍ = f` (eq. `dynmodel`) under the dynamic law.
+    Dynamic,
+}
+
+/// `[robot]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RobotSpec {
+    /// `kinematic` or `dynamic`.
+    pub model: Model,
+    /// Start position.
+    pub start: [f64; 2],
+    /// Goal position.
+    pub goal: [f64; 2],
+    /// Mass (dynamic only), kg.
+    #[serde(default = "one")]
+    pub mass: f64,
+    /// Disc radius (0: point robot).
+    #[serde(default)]
+    pub radius: f64,
+}
+
+/// `[sensor]` (omit the table for global sensing).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SensorSpec {
+    /// Range `r`.
+    pub range: f64,
+    /// Aperture `θ`, degrees, in (0, 360].
+    pub aperture_deg: f64,
+    /// A-priori minimum curvature radius of the obstacles for `d_min` (eq. `dmin`); default:
+    /// the smallest `rho_min` of the scenario's obstacles.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rho_min: Option<f64>,
+}
+
+/// `[controller]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ControllerSpec {
+    /// `K` of the kinematic law.
+    #[serde(default = "one")]
+    pub gain: f64,
+    /// `μ` of the dynamic law.
+    #[serde(default = "ten")]
+    pub mu: f64,
+}
+
+impl Default for ControllerSpec {
+    fn default() -> Self {
+        Self {
+            gain: 1.0,
+            mu: 10.0,
+        }
+    }
+}
+
+/// `[sim]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SimSpec {
+    /// Largest step and recording interval, s.
+    #[serde(default = "default_dt")]
+    pub dt: f64,
+    /// Give up after this time, s.
+    #[serde(default = "default_max_time")]
+    pub max_time: f64,
+    /// Arrival radius, m.
+    #[serde(default = "default_tolerance")]
+    pub goal_tolerance: f64,
+}
+
+impl Default for SimSpec {
+    fn default() -> Self {
+        Self {
+            dt: default_dt(),
+            max_time: default_max_time(),
+            goal_tolerance: default_tolerance(),
+        }
+    }
+}
+
+/// `[expect]`: what a run of this scenario must show (checked by the CLI and `xtask verify`).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExpectSpec {
+    /// Whether the goal is reached.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reached: Option<bool>,
+    /// Obstacle names in discovery order.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub discovery_order: Option<Vec<String>>,
+    /// An upper bound on the largest speed, m/s.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_speed_below: Option<f64>,
+}
+
+fn one() -> f64 {
+    1.0
+}
+fn ten() -> f64 {
+    10.0
+}
+fn default_dt() -> f64 {
+    0.01
+}
+fn default_max_time() -> f64 {
+    200.0
+}
+fn default_tolerance() -> f64 {
+    0.01
+}
+
+/// A scenario file as written.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scenario {
+    /// Name.
+    pub name: String,
+    /// Free text.
+    #[serde(default)]
+    pub description: String,
+    /// The outer boundary (circle, ellipse or polygon).
+    pub workspace: ShapeSpec,
+    /// The obstacles.
+    #[serde(default)]
+    pub obstacles: Vec<ShapeSpec>,
+    /// The robot.
+    pub robot: RobotSpec,
+    /// The sensor; `None` for global sensing.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sensor: Option<SensorSpec>,
+    /// Controller gains.
+    #[serde(default)]
+    pub controller: ControllerSpec,
+    /// Integration settings.
+    #[serde(default)]
+    pub sim: SimSpec,
+    /// Expected outcome.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub expect: Option<ExpectSpec>,
+}
+
+/// A validated scenario, ready to run.
+#[derive(Clone, Debug)]
+pub struct Prepared {
+    /// The scenario as written.
+    pub scenario: Scenario,
+    /// The configuration-space workspace (grown by the robot radius).
+    pub workspace: std::sync::Arc<Workspace>,
+    /// The true obstacle shapes (not grown), for clearance monitors and drawings.
+    pub true_obstacles: Vec<StarShape>,
+    /// The true boundary (not shrunk).
+    pub true_boundary: StarShape,
+    /// Obstacle names (`O1`, … where the file gives none).
+    pub names: Vec<String>,
+    /// How obstacles are discovered.
+    pub sensing: Sensing,
+    /// `rho_min` for `d_min`.
+    pub rho_min: f64,
+}
+
+impl Scenario {
+    /// Reads and validates a scenario file.
+    pub fn load(path: &Path) -> Result<Prepared, ScenarioError> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| err(path, "", None, format!("cannot read the file: {e}")))?;
+        Self::parse(path, &text)?.prepare(path)
+    }
+
+    /// Parses TOML text (`path` names it in errors); unknown keys are errors.
+    pub fn parse(path: &Path, text: &str) -> Result<Self, ScenarioError> {
+        toml::from_str::<Scenario>(text).map_err(|e| {
+            let (line, field) = match e.span() {
+                Some(span) => {
+                    let line = text[..span.start.min(text.len())].matches('\n').count() + 1;
+                    (Some(line), table_at(text, span.start))
+                }
+                None => (None, String::new()),
+            };
+            err(path, &field, line, e.message().trim().to_string())
+        })
+    }
+
+    /// Validates the scenario and builds the workspace (see [`Prepared`]).
+    pub fn prepare(self, path: &Path) -> Result<Prepared, ScenarioError> {
+        let f = |field: &str, problem: String| err(path, field, None, problem);
+        if let Some(n) = shape_name(&self.workspace) {
+            return Err(f(
+                "workspace.name",
+                format!("the workspace boundary takes no name (got \"{n}\")"),
+            ));
+        }
+        if matches!(self.workspace, ShapeSpec::Star { .. }) {
+            return Err(f(
+                "workspace.type",
+                "the workspace boundary must be a circle, an ellipse or a polygon".into(),
+            ));
+        }
+        let true_boundary =
+            build_shape(&self.workspace).map_err(|e| f(&format!("workspace.{}", e.0), e.1))?;
+        let mut true_obstacles = Vec::with_capacity(self.obstacles.len());
+        let mut names = Vec::with_capacity(self.obstacles.len());
+        for (i, o) in self.obstacles.iter().enumerate() {
+            true_obstacles
+                .push(build_shape(o).map_err(|e| f(&format!("obstacles[{i}].{}", e.0), e.1))?);
+            let name = shape_name(o)
+                .map(str::to_string)
+                .unwrap_or_else(|| format!("O{}", i + 1));
+            if names.contains(&name) {
+                return Err(f(
+                    &format!("obstacles[{i}].name"),
+                    format!("the name \"{name}\" is used twice"),
+                ));
+            }
+            names.push(name);
+        }
+        let r = &self.robot;
+        check_point(r.start, "robot.start").map_err(|p| f("robot.start", p))?;
+        check_point(r.goal, "robot.goal").map_err(|p| f("robot.goal", p))?;
+        if !(r.mass.is_finite() && r.mass > 0.0) {
+            return Err(f(
+                "robot.mass",
+                format!("must be finite and positive, got {}", r.mass),
+            ));
+        }
+        if !(r.radius.is_finite() && r.radius >= 0.0) {
+            return Err(f(
+                "robot.radius",
+                format!("must be finite and ≥ 0, got {}", r.radius),
+            ));
+        }
+        let c = &self.controller;
+        for (name, v) in [("controller.gain", c.gain), ("controller.mu", c.mu)] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(f(name, format!("must be finite and positive, got {v}")));
+            }
+        }
+        let s = &self.sim;
+        for (name, v) in [
+            ("sim.dt", s.dt),
+            ("sim.max_time", s.max_time),
+            ("sim.goal_tolerance", s.goal_tolerance),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(f(name, format!("must be finite and positive, got {v}")));
+            }
+        }
+        let goal = Vector2::new(r.goal[0], r.goal[1]);
+        let start = Vector2::new(r.start[0], r.start[1]);
+        let name_of = |i: usize| names[i].clone();
+        let world_error = |e: WorldError| match e {
+            WorldError::Overlap { first, second } => f(
+                "obstacles",
+                format!(
+                    "obstacles {} and {} overlap or touch",
+                    name_of(first),
+                    name_of(second)
+                ),
+            ),
+            WorldError::OutsideBoundary { obstacle } => f(
+                "obstacles",
+                format!(
+                    "obstacle {} crosses or lies outside the workspace boundary",
+                    name_of(obstacle)
+                ),
+            ),
+            WorldError::InObstacle { what, obstacle } => f(
+                if what == "start" {
+                    "robot.start"
+                } else {
+                    "robot.goal"
+                },
+                format!("lies inside obstacle {}", name_of(obstacle)),
+            ),
+            WorldError::OutsideWorkspace { what } => f(
+                if what == "start" {
+                    "robot.start"
+                } else {
+                    "robot.goal"
+                },
+                "lies on or outside the workspace boundary".into(),
+            ),
+            other => f("", other.to_string()),
+        };
+        let workspace = Workspace::for_robot(
+            true_boundary.clone(),
+            true_obstacles.clone(),
+            goal,
+            r.radius,
+        )
+        .map_err(|e| match e {
+            RobotWorldError::World(w) => world_error(w),
+            RobotWorldError::Shape {
+                obstacle: Some(i),
+                error,
+            } => f("robot.radius", format!("obstacle {}: {error}", name_of(i))),
+            RobotWorldError::Shape {
+                obstacle: None,
+                error,
+            } => f("robot.radius", format!("workspace boundary: {error}")),
+        })?;
+        workspace.check_free(start, "start").map_err(world_error)?;
+        let rho_default = workspace
+            .obstacles()
+            .iter()
+            .map(StarShape::rho_min)
+            .fold(f64::INFINITY, f64::min);
+        let (sensing, rho_min) = match &self.sensor {
+            None => (Sensing::Global, rho_default),
+            Some(spec) => {
+                let sector = Sector::new(spec.range, spec.aperture_deg.to_radians()).map_err(
+                    |e| match e {
+                        harmonav_sensing::SensorError::Range(v) => f(
+                            "sensor.range",
+                            format!("must be finite and positive, got {v}"),
+                        ),
+                        harmonav_sensing::SensorError::Aperture(_) => f(
+                            "sensor.aperture_deg",
+                            format!("must be in (0, 360], got {}", spec.aperture_deg),
+                        ),
+                    },
+                )?;
+                let rho = spec.rho_min.unwrap_or(rho_default);
+                let no_bound_needed = spec.rho_min.is_none() && self.obstacles.is_empty();
+                if !(no_bound_needed || rho.is_finite() && rho > 0.0) {
+                    return Err(f(
+                        "sensor.rho_min",
+                        format!("must be finite and positive, got {rho}"),
+                    ));
+                }
+                (Sensing::Sector(sector), rho)
+            }
+        };
+        Ok(Prepared {
+            scenario: self,
+            workspace: std::sync::Arc::new(workspace),
+            true_obstacles,
+            true_boundary,
+            names,
+            sensing,
+            rho_min,
+        })
+    }
+}
+
+fn err(path: &Path, field: &str, line: Option<usize>, problem: String) -> ScenarioError {
+    ScenarioError {
+        file: path.to_path_buf(),
+        field: field.to_string(),
+        line,
+        problem,
+    }
+}
+
+fn shape_name(s: &ShapeSpec) -> Option<&str> {
+    match s {
+        ShapeSpec::Circle { name, .. }
+        | ShapeSpec::Ellipse { name, .. }
+        | ShapeSpec::Polygon { name, .. }
+        | ShapeSpec::Star { name, .. } => name.as_deref(),
+    }
+}
+
+fn check_point(p: [f64; 2], _field: &str) -> Result<(), String> {
+    if p.iter().all(|v| v.is_finite()) {
+        Ok(())
+    } else {
+        Err(format!("NaN or infinite coordinate in {p:?}"))
+    }
+}
+
+/// Builds a shape; on error returns (sub-field, problem).
+fn build_shape(s: &ShapeSpec) -> Result<StarShape, (String, String)> {
+    let v = |p: [f64; 2]| Vector2::new(p[0], p[1]);
+    let shape = match s {
+        ShapeSpec::Circle { center, radius, .. } => StarShape::circle(v(*center), *radius),
+        ShapeSpec::Ellipse {
+            center,
+            semi_axes,
+            angle_deg,
+            ..
+        } => StarShape::ellipse(v(*center), *semi_axes, angle_deg.to_radians()),
+        ShapeSpec::Polygon {
+            vertices,
+            corner_radius,
+            ..
+        } => StarShape::rounded_polygon(
+            &vertices.iter().map(|p| v(*p)).collect::<Vec<_>>(),
+            *corner_radius,
+        ),
+        ShapeSpec::Star {
+            center,
+            radius,
+            harmonics,
+            ..
+        } => {
+            let mut h = Vec::with_capacity(harmonics.len());
+            for &[n, a, b] in harmonics {
+                if !(n >= 1.0 && n.fract() == 0.0 && n <= 1000.0) {
+                    return Err((
+                        "harmonics".into(),
+                        format!("harmonic numbers must be whole numbers from 1, got {n}"),
+                    ));
+                }
+                h.push((n as u32, a, b));
+            }
+            StarShape::fourier_star(v(*center), *radius, &h)
+        }
+    };
+    shape.map_err(|e| match e {
+        harmonav_transform::ShapeError::NonFinite { field } => {
+            (field.to_string(), "NaN or infinite number".into())
+        }
+        harmonav_transform::ShapeError::NotPositive { field, value } => {
+            (field.to_string(), format!("must be positive, got {value}"))
+        }
+        harmonav_transform::ShapeError::Invalid { field, problem } => (field.to_string(), problem),
+        other => ("".into(), other.to_string()),
+    })
+}
+
+/// The table a byte offset falls in: `workspace`, `obstacles[i]`, `robot`, … (for error
+/// messages; empty before the first table header).
+fn table_at(text: &str, offset: usize) -> String {
+    let mut table = String::new();
+    let mut obstacles = 0usize;
+    let mut pos = 0;
+    for line in text.split_inclusive('\n') {
+        if pos > offset {
+            break;
+        }
+        let t = line.trim();
+        if t.starts_with("[[obstacles]]") {
+            obstacles += 1;
+            table = format!("obstacles[{}]", obstacles - 1);
+        } else if t.starts_with('[') {
+            table = t
+                .trim_matches(|c| c == '[' || c == ']')
+                .split(']')
+                .next()
+                .unwrap_or("")
+                .trim()
+                .to_string();
+        }
+        pos += line.len();
+    }
+    table
+}
