@@ -1,5 +1,6 @@
 //! Runs a scenario file and prints its summary as JSON: `cargo run -p harmonav-sim --example
-//! run_scenario -- FILE [kinematic|dynamic]` (the `harmonav` CLI will supersede it).
+//! run_scenario -- FILE [kinematic|dynamic|file] [OUT_DIR]` (the `harmonav` CLI will supersede
+//! it).
 
 use std::path::Path;
 use std::process::ExitCode;
@@ -9,7 +10,7 @@ use harmonav_sim::scenario::{Model, Scenario};
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let Some(file) = args.first() else {
-        eprintln!("usage: run_scenario FILE [kinematic|dynamic]");
+        eprintln!("usage: run_scenario FILE [kinematic|dynamic|file] [OUT_DIR]");
         return ExitCode::from(2);
     };
     let model = match args.get(1).map(String::as_str) {
@@ -26,6 +27,13 @@ fn main() -> ExitCode {
     };
     match harmonav_sim::run::run(&prepared, model) {
         Ok(run) => {
+            if let Some(dir) = args.get(2) {
+                if let Err(e) = harmonav_sim::record::write_outputs(Path::new(dir), &prepared, &run)
+                {
+                    eprintln!("{e}");
+                    return ExitCode::from(2);
+                }
+            }
             println!(
                 "{}",
                 serde_json::to_string_pretty(&run.summary).expect("serialisable summary")

@@ -1,7 +1,8 @@
 //! # harmonav-sim
 //!
 //! Scenario files ([`scenario`]), the built-in integrator with discovery events and the
-//! guarantee monitors ([`run`]). Only this crate and the CLI know about files.
+//! guarantee monitors ([`run`]), the MCAP recording ([`record`]) and the SVG figures
+//! ([`figures`]). Only this crate and the CLI know about files.
 //!
 //! ```
 //! use std::path::Path;
@@ -30,5 +31,8 @@
 
 #![warn(missing_docs)]
 
+pub mod figures;
+pub mod record;
 pub mod run;
 pub mod scenario;
+pub mod svg;

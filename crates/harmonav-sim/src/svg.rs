@@ -1,0 +1,161 @@
+//! A small SVG canvas for the figures (paths, discs, labels in world coordinates).
+//!
+//! Hand-written rather than a plotting crate: the figures need only polylines, circles and
+//! text, and no font handling.
+
+use std::fmt::Write as _;
+
+use nalgebra::Vector2;
+
+/// A rectangular panel mapping a world window onto pixels (y up in the world, down on screen).
+#[derive(Clone, Copy, Debug)]
+pub struct Panel {
+    /// Left pixel of the panel.
+    pub left: f64,
+    /// Top pixel of the panel.
+    pub top: f64,
+    /// Panel width and height in pixels.
+    pub size: (f64, f64),
+    /// World window: lower-left corner and upper-right corner.
+    pub window: (Vector2<f64>, Vector2<f64>),
+}
+
+impl Panel {
+    /// Pixel coordinates of a world point.
+    pub fn px(&self, p: Vector2<f64>) -> (f64, f64) {
+        let (lo, hi) = self.window;
+        let sx = self.size.0 / (hi.x - lo.x);
+        let sy = self.size.1 / (hi.y - lo.y);
+        (self.left + (p.x - lo.x) * sx, self.top + (hi.y - p.y) * sy)
+    }
+
+    /// Whether a world point lies in the window.
+    pub fn inside(&self, p: Vector2<f64>) -> bool {
+        let (lo, hi) = self.window;
+        p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y
+    }
+
+    /// Pixels per world unit (horizontal).
+    pub fn scale(&self) -> f64 {
+        self.size.0 / (self.window.1.x - self.window.0.x)
+    }
+}
+
+/// An SVG document being written.
+#[derive(Clone, Debug)]
+pub struct Canvas {
+    body: String,
+    width: f64,
+    height: f64,
+}
+
+impl Canvas {
+    /// An empty white canvas.
+    pub fn new(width: f64, height: f64) -> Self {
+        Self {
+            body: String::new(),
+            width,
+            height,
+        }
+    }
+
+    /// A polyline through world points, broken at `None` and outside the panel window;
+    /// `style` holds SVG attributes.
+    pub fn path(
+        &mut self,
+        panel: &Panel,
+        points: impl IntoIterator<Item = Option<Vector2<f64>>>,
+        style: &str,
+    ) {
+        let mut d = String::new();
+        let mut pen = false;
+        for p in points {
+            match p.filter(|p| panel.inside(*p)) {
+                Some(p) => {
+                    let (x, y) = panel.px(p);
+                    let _ = write!(d, "{}{x:.2},{y:.2} ", if pen { "L" } else { "M" });
+                    pen = true;
+                }
+                None => pen = false,
+            }
+        }
+        if !d.is_empty() {
+            let _ = writeln!(self.body, r#"<path d="{}" {style}/>"#, d.trim_end());
+        }
+    }
+
+    /// A closed polygon through world points.
+    pub fn polygon(
+        &mut self,
+        panel: &Panel,
+        points: impl IntoIterator<Item = Vector2<f64>>,
+        style: &str,
+    ) {
+        let pts: Vec<String> = points
+            .into_iter()
+            .map(|p| {
+                let (x, y) = panel.px(p);
+                format!("{x:.2},{y:.2}")
+            })
+            .collect();
+        let _ = writeln!(
+            self.body,
+            r#"<polygon points="{}" {style}/>"#,
+            pts.join(" ")
+        );
+    }
+
+    /// A disc of `radius` pixels at a world point.
+    pub fn dot(&mut self, panel: &Panel, p: Vector2<f64>, radius: f64, fill: &str) {
+        let (x, y) = panel.px(p);
+        let _ = writeln!(
+            self.body,
+            r#"<circle cx="{x:.2}" cy="{y:.2}" r="{radius}" fill="{fill}"/>"#
+        );
+    }
+
+    /// Text at a world point, offset by `(dx, dy)` pixels.
+    pub fn label(&mut self, panel: &Panel, p: Vector2<f64>, (dx, dy): (f64, f64), text: &str) {
+        let (x, y) = panel.px(p);
+        self.text(x + dx, y + dy, text, "");
+    }
+
+    /// Text at pixel coordinates.
+    pub fn text(&mut self, x: f64, y: f64, text: &str, style: &str) {
+        let escaped = text
+            .replace('&', "&amp;")
+            .replace('<', "&lt;")
+            .replace('>', "&gt;");
+        let _ = writeln!(
+            self.body,
+            r#"<text x="{x:.1}" y="{y:.1}" {style}>{escaped}</text>"#
+        );
+    }
+
+    /// A raw element.
+    pub fn raw(&mut self, element: &str) {
+        self.body.push_str(element);
+        self.body.push('\n');
+    }
+
+    /// The finished document.
+    pub fn finish(self) -> String {
+        format!(
+            "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\" font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n{}</svg>\n",
+            self.body,
+            w = self.width,
+            h = self.height
+        )
+    }
+}
+
+/// Writes `contents` to `path` through a temporary file and a rename, so that a failure never
+/// leaves a half-written file behind.
+pub fn write_atomically(path: &std::path::Path, contents: &[u8]) -> std::io::Result<()> {
+    let tmp = path.with_extension(format!(
+        "{}.tmp",
+        path.extension().and_then(|e| e.to_str()).unwrap_or("out")
+    ));
+    std::fs::write(&tmp, contents)?;
+    std::fs::rename(&tmp, path)
+}
