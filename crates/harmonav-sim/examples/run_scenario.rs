@@ -27,12 +27,12 @@ fn main() -> ExitCode {
     };
     match harmonav_sim::run::run(&prepared, model) {
         Ok(run) => {
-            if let Some(dir) = args.get(2) {
-                if let Err(e) = harmonav_sim::record::write_outputs(Path::new(dir), &prepared, &run)
-                {
-                    eprintln!("{e}");
-                    return ExitCode::from(2);
-                }
+            let written = args
+                .get(2)
+                .map(|dir| harmonav_sim::record::write_outputs(Path::new(dir), &prepared, &run));
+            if let Some(Err(e)) = written {
+                eprintln!("{e}");
+                return ExitCode::from(2);
             }
             println!(
                 "{}",
