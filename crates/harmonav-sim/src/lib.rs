@@ -32,6 +32,7 @@
 #![warn(missing_docs)]
 
 pub mod figures;
+pub mod physics;
 pub mod record;
 pub mod run;
 pub mod scenario;

@@ -318,7 +318,7 @@ pub fn run(prepared: &Prepared, model: Option<Model>) -> Result<Run, RunError> {
     let (mut steps, mut rejected) = (0usize, 0usize);
     let mut samples = vec![lp.sample(t, &y)];
     let mut next_record = dt;
-    let mut monitor = Monitor::new(prepared, model, &lp);
+    let mut monitor = Monitor::new();
     monitor.observe(&samples[0], false, prepared);
     let (mut k1, _, _) = lp
         .rhs(&y)
@@ -429,10 +429,11 @@ pub fn run(prepared: &Prepared, model: Option<Model>) -> Result<Run, RunError> {
         samples.push(lp.sample(t, &y));
     }
     let final_distance = (pos(&y) - goal).norm();
+    let speed_bound = (model == Model::Dynamic).then(|| lp.dynamic.speed_bound());
     let summary = monitor.finish(
         prepared,
         model,
-        &lp,
+        speed_bound,
         reached,
         t,
         final_distance,
@@ -445,7 +446,7 @@ pub fn run(prepared: &Prepared, model: Option<Model>) -> Result<Run, RunError> {
 }
 
 /// Guarantee monitors, fed every accepted state.
-struct Monitor {
+pub(crate) struct Monitor {
     min_clearance: f64,
     min_boundary: f64,
     collisions: usize,
@@ -456,7 +457,7 @@ struct Monitor {
 }
 
 impl Monitor {
-    fn new(_prepared: &Prepared, _model: Model, _lp: &Loop) -> Self {
+    pub(crate) fn new() -> Self {
         Self {
             min_clearance: f64::INFINITY,
             min_boundary: f64::INFINITY,
@@ -468,7 +469,7 @@ impl Monitor {
         }
     }
 
-    fn observe(&mut self, s: &Sample, discovered: bool, prepared: &Prepared) {
+    pub(crate) fn observe(&mut self, s: &Sample, discovered: bool, prepared: &Prepared) {
         let x = Vector2::new(s.x[0], s.x[1]);
         let radius = prepared.scenario.robot.radius;
         let obstacle = prepared
@@ -497,11 +498,11 @@ impl Monitor {
     }
 
     #[allow(clippy::too_many_arguments)]
-    fn finish(
+    pub(crate) fn finish(
         self,
         prepared: &Prepared,
         model: Model,
-        lp: &Loop,
+        speed_bound: Option<f64>,
         reached: bool,
         t: f64,
         final_distance: f64,
@@ -560,7 +561,6 @@ impl Monitor {
                 },
             ),
         ];
-        let speed_bound = (model == Model::Dynamic).then(|| lp.dynamic.speed_bound());
         if let Some(bound) = speed_bound {
             guarantees.push(g(
                 "speed-below-bound",

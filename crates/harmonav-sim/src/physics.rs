@@ -1,0 +1,309 @@
+//! The rapier2d cross-check: the same scenario as a rapier world. Static colliders for the
+//! obstacles and the boundary (a ball for circles, closed polylines through the true
+//! boundary otherwise), the robot a dynamic ball (zero gravity, no rapier damping) driven by
+//! the control law — its velocity for the kinematic model, a force for the dynamic one. It
+//! reports the contact events and the largest deviation from the built-in trajectory.
+
+use std::collections::BTreeSet;
+use std::f64::consts::TAU;
+
+use harmonav_control::{Dynamic, Kinematic};
+use harmonav_field::{Field, FieldEval};
+use harmonav_sensing::{Sensing, axis, initially_known};
+use harmonav_transform::StarShape;
+use nalgebra::Vector2;
+use rapier2d_f64::prelude::{ColliderBuilder, PhysicsWorld, RigidBodyBuilder, Vector};
+
+use crate::run::{Discovery, Monitor, Run, RunError, Sample};
+use crate::scenario::{Model, Prepared};
+
+/// A controller other than the law: `(field, eval, x, ẋ) → command`.
+pub type Controller<'a> =
+    &'a dyn Fn(&Field, &FieldEval, Vector2<f64>, Vector2<f64>) -> Vector2<f64>;
+
+/// A command source for the rapier robot: the velocity (kinematic) or force (dynamic) to apply
+/// given the field evaluation, position and velocity. [`Drive::Law`] is the paper's law;
+/// tests use [`Drive::Custom`] to drive a deliberately broken controller.
+pub enum Drive<'a> {
+    /// The kinematic or dynamic law of the scenario.
+    Law,
+    /// Any other controller: `(field, eval, x, ẋ) → command`.
+    Custom(Controller<'a>),
+}
+
+/// What the rapier run adds to the summary.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RapierReport {
+    /// Contact events between the robot and any obstacle or the boundary.
+    pub contacts: usize,
+    /// Largest distance between the rapier and the built-in positions at equal times, m.
+    pub max_deviation: f64,
+}
+
+fn v(p: Vector2<f64>) -> Vector {
+    Vector::new(p.x, p.y)
+}
+
+/// A static collider for `shape`: an exact ball for a circular obstacle, otherwise (and always
+/// for the workspace boundary, which the robot is inside) a closed polyline through the true
+/// boundary.
+fn collider(shape: &StarShape, obstacle: bool) -> ColliderBuilder {
+    let (lo, hi) = shape.radius_bounds();
+    if obstacle && (hi - lo).abs() <= 1e-12 * hi {
+        return ColliderBuilder::ball(hi).translation(v(shape.centre()));
+    }
+    let n = 720u32;
+    let pts: Vec<Vector> = (0..n)
+        .map(|i| v(shape.boundary_point(TAU * i as f64 / n as f64)))
+        .collect();
+    let idx: Vec<[u32; 2]> = (0..n).map(|i| [i, (i + 1) % n]).collect();
+    ColliderBuilder::polyline(pts, Some(idx))
+}
+
+/// Runs the scenario in rapier with `drive`; `builtin` (a built-in run of the same model) is
+/// the reference for the deviation.
+pub fn run_rapier(
+    prepared: &Prepared,
+    model: Option<Model>,
+    drive: Drive,
+    builtin: Option<&Run>,
+) -> Result<(Run, RapierReport), RunError> {
+    let sc = &prepared.scenario;
+    let model = model.unwrap_or(sc.robot.model);
+    let start = Vector2::new(sc.robot.start[0], sc.robot.start[1]);
+    let goal = prepared.workspace.destination();
+    let d_min = match prepared.sensing {
+        Sensing::Sector(s) => s.d_min(prepared.rho_min),
+        Sensing::Global => 1.0,
+    };
+    let dynamic = Dynamic::new(sc.robot.mass, sc.controller.mu, d_min)
+        .map_err(|e| RunError(e.to_string()))?;
+    let kinematic = Kinematic::new(sc.controller.gain).map_err(|e| RunError(e.to_string()))?;
+    let global =
+        Field::all_known(prepared.workspace.clone()).map_err(|e| RunError(e.to_string()))?;
+    let first_axis = global.eval(start).ok().and_then(|e| e.direction);
+    let known = initially_known(
+        &prepared.workspace,
+        start,
+        &prepared.sensing,
+        prepared.rho_min,
+        first_axis,
+    );
+    let mut field = Field::new(prepared.workspace.clone(), known.iter().copied())
+        .map_err(|e| RunError(e.to_string()))?;
+    let mut discoveries: Vec<Discovery> = known
+        .iter()
+        .map(|&i| Discovery {
+            obstacle: prepared.names[i].clone(),
+            index: i,
+            time_s: 0.0,
+            position: [start.x, start.y],
+            axis: [0.0; 2],
+        })
+        .collect();
+
+    let mut world = PhysicsWorld {
+        gravity: Vector::new(0.0, 0.0),
+        ..PhysicsWorld::default()
+    };
+    let substeps = (sc.sim.dt / 1e-3).ceil().max(1.0) as usize;
+    let h = sc.sim.dt / substeps as f64;
+    world.integration_parameters.dt = h;
+    let mut walls = Vec::new();
+    for o in &prepared.true_obstacles {
+        walls.push(world.insert(RigidBodyBuilder::fixed(), collider(o, true)).1);
+    }
+    walls.push(
+        world
+            .insert(
+                RigidBodyBuilder::fixed(),
+                collider(&prepared.true_boundary, false),
+            )
+            .1,
+    );
+    let radius = sc.robot.radius.max(1e-3);
+    let (robot, robot_collider) = world.insert(
+        RigidBodyBuilder::dynamic()
+            .translation(v(start))
+            .linear_damping(0.0)
+            .can_sleep(false)
+            .ccd_enabled(true),
+        ColliderBuilder::ball(radius)
+            .density(sc.robot.mass / (std::f64::consts::PI * radius * radius)),
+    );
+
+    let mut monitor = Monitor::new();
+    let mut samples = Vec::new();
+    let mut speed_at_discovery = 0.0;
+    let mut touching: BTreeSet<u32> = BTreeSet::new();
+    let mut contacts = 0;
+    let mut t = 0.0;
+    let mut steps = 0;
+    let mut reached = false;
+    let state = |world: &PhysicsWorld| {
+        let b = &world.bodies[robot];
+        (
+            Vector2::new(b.translation().x, b.translation().y),
+            Vector2::new(b.linvel().x, b.linvel().y),
+        )
+    };
+    let mut aborted = None;
+    loop {
+        let (x, vel) = state(&world);
+        let Ok(e) = field.eval(x) else {
+            // Only a controller other than the law gets here: record and stop.
+            aborted = Some(format!(
+                "t = {t:.3}: the robot left the free space at ({:.4}, {:.4})",
+                x.x, x.y
+            ));
+            break;
+        };
+        let lambda = (model == Model::Dynamic)
+            .then(|| dynamic.damping(&field, dynamic.energy(e.value, vel), speed_at_discovery));
+        if steps % substeps == 0 || reached {
+            let s = Sample {
+                t,
+                x: [x.x, x.y],
+                v: [vel.x, vel.y],
+                theta: e.value,
+                energy: (model == Model::Dynamic).then(|| dynamic.energy(e.value, vel)),
+                k: field.k(),
+                lambda,
+                critical: lambda.is_some_and(|l| l == dynamic.lambda_c(&field)),
+            };
+            monitor.observe(&s, false, prepared);
+            samples.push(s);
+        }
+        reached = (x - goal).norm() < sc.sim.goal_tolerance;
+        if reached || t >= sc.sim.max_time {
+            break;
+        }
+        // Sensing: discoveries at step granularity.
+        if let Sensing::Sector(sector) = prepared.sensing {
+            let moving = if model == Model::Kinematic {
+                kinematic.velocity(&e)
+            } else {
+                vel
+            };
+            if let Some(a) = axis(moving, e.direction) {
+                let seen: Vec<usize> = (0..prepared.workspace.obstacles().len())
+                    .filter(|i| {
+                        !field.known().contains(i)
+                            && sector.detects(x, a, &prepared.workspace.obstacles()[*i])
+                    })
+                    .collect();
+                for i in seen {
+                    field.discover(i).map_err(|e| RunError(e.to_string()))?;
+                    discoveries.push(Discovery {
+                        obstacle: prepared.names[i].clone(),
+                        index: i,
+                        time_s: t,
+                        position: [x.x, x.y],
+                        axis: [a.x, a.y],
+                    });
+                    speed_at_discovery = vel.norm();
+                }
+            }
+        }
+        let e = field.eval(x).map_err(|e| RunError(e.to_string()))?;
+        let command = match &drive {
+            Drive::Law => match model {
+                Model::Kinematic => kinematic.velocity(&e),
+                Model::Dynamic => {
+                    let l =
+                        dynamic.damping(&field, dynamic.energy(e.value, vel), speed_at_discovery);
+                    dynamic.force(&e, vel, l)
+                }
+            },
+            Drive::Custom(f) => f(&field, &e, x, vel),
+        };
+        let body = &mut world.bodies[robot];
+        match model {
+            Model::Kinematic => body.set_linvel(v(command), true),
+            Model::Dynamic => {
+                body.reset_forces(true);
+                body.add_force(v(command), true);
+            }
+        }
+        world.step();
+        steps += 1;
+        t = steps as f64 * h;
+        // Contact events: robot–wall pairs that became active in this step.
+        let now: BTreeSet<u32> = world
+            .narrow_phase
+            .contact_pairs_with(robot_collider)
+            .filter(|p| p.has_any_active_contact())
+            .map(|p| {
+                if p.collider1 == robot_collider {
+                    p.collider2
+                } else {
+                    p.collider1
+                }
+            })
+            .filter(|c| walls.contains(c))
+            .map(|c| c.into_raw_parts().0)
+            .collect();
+        contacts += now.difference(&touching).count();
+        touching = now;
+    }
+    let (x, _) = state(&world);
+    let final_distance = (x - goal).norm();
+    let speed_bound = (model == Model::Dynamic).then(|| dynamic.speed_bound());
+    let mut summary = monitor.finish(
+        prepared,
+        model,
+        speed_bound,
+        reached,
+        t,
+        final_distance,
+        discoveries,
+        steps,
+        0,
+        &samples,
+    );
+    summary.physics = "rapier".into();
+    summary.physics_contacts = Some(contacts);
+    summary.guarantees.push(crate::run::Guarantee {
+        name: "physics-no-contact".into(),
+        passed: contacts == 0,
+        detail: format!("{contacts} contact events in rapier"),
+    });
+    if let Some(reason) = aborted {
+        summary.guarantees.push(crate::run::Guarantee {
+            name: "stayed-in-free-space".into(),
+            passed: false,
+            detail: reason,
+        });
+    }
+    let max_deviation = builtin.map_or(0.0, |b| deviation(&samples, &b.samples));
+    Ok((
+        Run { summary, samples },
+        RapierReport {
+            contacts,
+            max_deviation,
+        },
+    ))
+}
+
+/// Largest distance between two trajectories at the times of `a` (`b` linearly interpolated,
+/// compared while both exist).
+fn deviation(a: &[Sample], b: &[Sample]) -> f64 {
+    let mut worst = 0.0f64;
+    let mut j = 0;
+    for s in a {
+        while j + 1 < b.len() && b[j + 1].t < s.t {
+            j += 1;
+        }
+        if j + 1 >= b.len() {
+            break;
+        }
+        let (p, q) = (&b[j], &b[j + 1]);
+        let w = ((s.t - p.t) / (q.t - p.t)).clamp(0.0, 1.0);
+        let bx = Vector2::new(
+            p.x[0] + w * (q.x[0] - p.x[0]),
+            p.x[1] + w * (q.x[1] - p.x[1]),
+        );
+        worst = worst.max((Vector2::new(s.x[0], s.x[1]) - bx).norm());
+    }
+    worst
+}
