@@ -324,6 +324,7 @@ pub fn run(prepared: &Prepared, model: Option<Model>) -> Result<Run, RunError> {
         .rhs(&y)
         .ok_or_else(|| RunError("the start is not in the free space".into()))?;
     let mut reached = (pos(&y) - goal).norm() < tol;
+    let mut aborted: Option<String> = None;
     while !reached && t < max_time {
         h = h.min(dt).min(max_time - t);
         if h < 1e-14 {
@@ -412,9 +413,12 @@ pub fn run(prepared: &Prepared, model: Option<Model>) -> Result<Run, RunError> {
         }
         // Θ, k and λ change here; the next step starts from the new right-hand side.
         let Some((k_next, _, _)) = lp.rhs(&y) else {
-            return Err(RunError(format!(
-                "t = {t:.4}: the state left the free space after a discovery"
-            )));
+            // The robot is inside a just-discovered obstacle: the guarantee is already lost;
+            // stop and report it (the outputs are still written).
+            aborted = Some(format!(
+                "t = {t:.4}: the robot is inside an obstacle it has just discovered"
+            ));
+            break;
         };
         k1 = k_next;
         h *= (0.9 * (step_tol / err.max(1e-300)).cbrt()).clamp(0.2, 5.0);
@@ -430,7 +434,7 @@ pub fn run(prepared: &Prepared, model: Option<Model>) -> Result<Run, RunError> {
     }
     let final_distance = (pos(&y) - goal).norm();
     let speed_bound = (model == Model::Dynamic).then(|| lp.dynamic.speed_bound());
-    let summary = monitor.finish(
+    let mut summary = monitor.finish(
         prepared,
         model,
         speed_bound,
@@ -442,6 +446,13 @@ pub fn run(prepared: &Prepared, model: Option<Model>) -> Result<Run, RunError> {
         rejected,
         &samples,
     );
+    if let Some(reason) = aborted {
+        summary.guarantees.push(Guarantee {
+            name: "stayed-in-free-space".into(),
+            passed: false,
+            detail: reason,
+        });
+    }
     Ok(Run { summary, samples })
 }
 

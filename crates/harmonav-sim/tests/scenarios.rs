@@ -232,3 +232,40 @@ fn runs_are_deterministic_and_the_kinematic_run_keeps_every_guarantee() {
         .count();
     assert!(on_grid * 10 > a.samples.len() * 9);
 }
+
+#[test]
+fn dynamic_run_keeps_the_speed_bound_and_arrives_without_overshoot() {
+    let file =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/shapes/dynamic-small.toml");
+    let prepared = Scenario::load(&file).unwrap();
+    let r = run(&prepared, None).unwrap();
+    let s = &r.summary;
+    assert!(
+        s.reached && s.all_passed(),
+        "{}",
+        serde_json::to_string_pretty(s).unwrap()
+    );
+    assert!(s.max_speed < s.speed_bound.unwrap());
+    let overshoot = s
+        .guarantees
+        .iter()
+        .find(|g| g.name == "no-overshoot-at-goal")
+        .unwrap();
+    assert!(
+        overshoot.passed && overshoot.detail.contains("samples in the last approach"),
+        "{}",
+        overshoot.detail
+    );
+    // Energy never rises between discoveries (V̇ = −λ|ẋ|²).
+    let d: Vec<f64> = s.discoveries.iter().map(|d| d.time_s).collect();
+    for w in r.samples.windows(2) {
+        if !d.iter().any(|&t| t > w[0].t - 1e-12 && t <= w[1].t + 1e-12) {
+            let (a, b) = (w[0].energy.unwrap(), w[1].energy.unwrap());
+            assert!(
+                b <= a * (1.0 + 1e-6) + 1e-12,
+                "V rose from {a} to {b} at t = {}",
+                w[1].t
+            );
+        }
+    }
+}
