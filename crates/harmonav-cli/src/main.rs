@@ -1,0 +1,479 @@
+//! `harmonav`: run, evaluate and inspect navigation scenarios.
+//!
+//! Exit codes: 0 success, 1 a guarantee failed, 2 bad input (with a message on stderr).
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::Arc;
+
+use clap::{Parser, Subcommand, ValueEnum};
+use harmonav_field::Field;
+use harmonav_field::descent::{Ending, FollowOptions, follow};
+use harmonav_potential::CriticalKind;
+use harmonav_sensing::Sensing;
+use harmonav_sim::physics::{Drive, run_rapier};
+use harmonav_sim::record::write_outputs;
+use harmonav_sim::run::{Summary, run};
+use harmonav_sim::scenario::{Model, Prepared, Scenario};
+use harmonav_transform::random::{self, Rng};
+use nalgebra::{Matrix2, Vector2};
+use serde_json::{Value, json};
+
+#[derive(Parser)]
+#[command(
+    name = "harmonav",
+    version,
+    about = "Provably correct navigation with harmonic navigation functions"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum Controller {
+    Kinematic,
+    Dynamic,
+}
+
+#[derive(Clone, Copy, ValueEnum, PartialEq)]
+enum Physics {
+    Builtin,
+    Rapier,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a scenario and check every guarantee.
+    Run {
+        scenario: PathBuf,
+        /// Override the scenario's robot model.
+        #[arg(long)]
+        controller: Option<Controller>,
+        /// The integrator: the built-in one or the rapier2d cross-check.
+        #[arg(long, default_value = "builtin")]
+        physics: Physics,
+        /// Write summary.json, run.mcap, trajectory.svg (and speed.svg) here.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Print the summary as JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Evaluate the navigation function (all obstacles known) at points.
+    Eval {
+        scenario: PathBuf,
+        /// A point `X,Y` (repeatable; negative coordinates work: `--at -1.5,-0.2`).
+        #[arg(
+            long = "at",
+            required = true,
+            allow_hyphen_values = true,
+            value_name = "X,Y"
+        )]
+        at: Vec<String>,
+        #[arg(long)]
+        json: bool,
+    },
+    /// Find the critical points of Θ (all obstacles known).
+    Census {
+        scenario: PathBuf,
+        #[arg(long)]
+        json: bool,
+    },
+    /// Follow the law from random starts (global sensing), in parallel.
+    Sweep {
+        scenario: PathBuf,
+        #[arg(long)]
+        starts: usize,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        #[arg(long)]
+        controller: Option<Controller>,
+        #[arg(long)]
+        json: bool,
+    },
+    /// Validate a scenario file.
+    Check { scenario: PathBuf },
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Run {
+            scenario,
+            controller,
+            physics,
+            out,
+            json,
+        } => cmd_run(&scenario, controller, physics, out.as_deref(), json),
+        Command::Eval { scenario, at, json } => cmd_eval(&scenario, &at, json),
+        Command::Census { scenario, json } => cmd_census(&scenario, json),
+        Command::Sweep {
+            scenario,
+            starts,
+            seed,
+            controller,
+            json,
+        } => cmd_sweep(&scenario, starts, seed, controller, json),
+        Command::Check { scenario } => load(&scenario).map(|_| {
+            println!("ok");
+            true
+        }),
+    };
+    match result {
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => ExitCode::from(1),
+        Err(message) => {
+            eprintln!("harmonav: {message}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn load(path: &Path) -> Result<Prepared, String> {
+    Scenario::load(path).map_err(|e| e.to_string())
+}
+
+fn model(c: Option<Controller>) -> Option<Model> {
+    c.map(|c| match c {
+        Controller::Kinematic => Model::Kinematic,
+        Controller::Dynamic => Model::Dynamic,
+    })
+}
+
+fn print_summary(s: &Summary) {
+    println!(
+        "{} ({:?} model, {} physics): {}",
+        s.name,
+        s.model,
+        s.physics,
+        if s.reached {
+            "goal reached"
+        } else {
+            "goal NOT reached"
+        }
+    );
+    println!(
+        "  time {:.3} s, final distance {:.2e} m, min clearance {:.4} m, max speed {:.3} m/s{}",
+        s.time_s,
+        s.final_distance,
+        s.min_clearance,
+        s.max_speed,
+        s.speed_bound
+            .map_or(String::new(), |b| format!(" (bound {b:.3})"))
+    );
+    if !s.discoveries.is_empty() {
+        let d: Vec<String> = s
+            .discoveries
+            .iter()
+            .map(|d| format!("{} {:.2} s", d.obstacle, d.time_s))
+            .collect();
+        println!("  discoveries: {}", d.join(", "));
+    }
+    let width = s.guarantees.iter().map(|g| g.name.len()).max().unwrap_or(0);
+    for g in &s.guarantees {
+        println!(
+            "  {:width$}  {}  {}",
+            g.name,
+            if g.passed { "pass" } else { "FAIL" },
+            g.detail
+        );
+    }
+}
+
+fn cmd_run(
+    path: &Path,
+    controller: Option<Controller>,
+    physics: Physics,
+    out: Option<&Path>,
+    json: bool,
+) -> Result<bool, String> {
+    let prepared = load(path)?;
+    let m = model(controller);
+    let builtin = run(&prepared, m).map_err(|e| format!("{}: {e}", path.display()))?;
+    let result = if physics == Physics::Rapier {
+        let (mut r, report) = run_rapier(&prepared, m, Drive::Law, Some(&builtin))
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        r.summary.guarantees.push(harmonav_sim::run::Guarantee {
+            name: "physics-deviation".into(),
+            passed: true,
+            detail: format!(
+                "largest deviation from the built-in path {:.4} m",
+                report.max_deviation
+            ),
+        });
+        r
+    } else {
+        builtin
+    };
+    if let Some(dir) = out {
+        write_outputs(dir, &prepared, &result)?;
+    }
+    if json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&result.summary).map_err(|e| e.to_string())?
+        );
+    } else {
+        print_summary(&result.summary);
+        if let Some(dir) = out {
+            println!("  outputs in {}", dir.display());
+        }
+    }
+    Ok(result.summary.all_passed())
+}
+
+fn parse_point(s: &str) -> Result<Vector2<f64>, String> {
+    let parts: Vec<&str> = s.split(',').collect();
+    match parts.as_slice() {
+        [x, y] => match (x.trim().parse::<f64>(), y.trim().parse::<f64>()) {
+            (Ok(x), Ok(y)) if x.is_finite() && y.is_finite() => Ok(Vector2::new(x, y)),
+            _ => Err(format!("`--at {s}`: expected two finite numbers X,Y")),
+        },
+        _ => Err(format!("`--at {s}`: expected X,Y")),
+    }
+}
+
+fn cmd_eval(path: &Path, at: &[String], json: bool) -> Result<bool, String> {
+    let prepared = load(path)?;
+    let points = at
+        .iter()
+        .map(|s| parse_point(s))
+        .collect::<Result<Vec<_>, _>>()?;
+    let field = Field::all_known(prepared.workspace.clone()).map_err(|e| e.to_string())?;
+    let rows: Vec<Value> = points
+        .iter()
+        .map(|&x| match field.eval(x) {
+            Ok(e) => json!({ "x": x.x, "y": x.y, "h": [e.h.x, e.h.y], "phi": e.phi, "value": e.value, "grad": [e.gradient.x, e.gradient.y] }),
+            Err(harmonav_field::FieldError::InObstacle { obstacle }) => {
+                json!({ "x": x.x, "y": x.y, "error": format!("inside obstacle {}", prepared.names[obstacle]) })
+            }
+            Err(err) => json!({ "x": x.x, "y": x.y, "error": err.to_string() }),
+        })
+        .collect();
+    if json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&rows).map_err(|e| e.to_string())?
+        );
+    } else {
+        println!(
+            "{:>10} {:>10}  {:>12} {:>12}  {:>12}  {:>12}  grad",
+            "x", "y", "h_x", "h_y", "phi", "Θ"
+        );
+        for r in &rows {
+            match r.get("error") {
+                Some(e) => println!(
+                    "{:>10.4} {:>10.4}  error: {}",
+                    r["x"],
+                    r["y"],
+                    e.as_str().unwrap_or_default()
+                ),
+                None => println!(
+                    "{:>10.4} {:>10.4}  {:>12.6} {:>12.6}  {:>12.6}  {:>12.8}  ({:.3e}, {:.3e})",
+                    r["x"].as_f64().unwrap_or_default(),
+                    r["y"].as_f64().unwrap_or_default(),
+                    r["h"][0].as_f64().unwrap_or_default(),
+                    r["h"][1].as_f64().unwrap_or_default(),
+                    r["phi"].as_f64().unwrap_or_default(),
+                    r["value"].as_f64().unwrap_or_default(),
+                    r["grad"][0].as_f64().unwrap_or_default(),
+                    r["grad"][1].as_f64().unwrap_or_default()
+                ),
+            }
+        }
+    }
+    Ok(true)
+}
+
+/// Eigenvalues of the Hessian of Θ at `x` by central differences of ∇Θ.
+fn hessian_eigenvalues(field: &Field, x: Vector2<f64>) -> [f64; 2] {
+    let h = 1e-6;
+    let g = |y: Vector2<f64>| field.eval(y).map(|e| e.gradient).unwrap_or_default();
+    let m = Matrix2::from_columns(&[
+        (g(x + Vector2::new(h, 0.0)) - g(x - Vector2::new(h, 0.0))) / (2.0 * h),
+        (g(x + Vector2::new(0.0, h)) - g(x - Vector2::new(0.0, h))) / (2.0 * h),
+    ]);
+    let sym = 0.5 * (m + m.transpose());
+    let e = sym.symmetric_eigenvalues();
+    [e[0].min(e[1]), e[0].max(e[1])]
+}
+
+fn cmd_census(path: &Path, json: bool) -> Result<bool, String> {
+    let prepared = load(path)?;
+    let field = Field::all_known(prepared.workspace.clone()).map_err(|e| e.to_string())?;
+    let (mut minima, mut saddles, mut degenerate) = (0, 0, 0);
+    let points: Vec<Value> = field
+        .critical_points()
+        .iter()
+        .map(|c| {
+            let kind = match c.point_world {
+                None => {
+                    minima += 1;
+                    "minimum"
+                }
+                Some(p) if p.kind == CriticalKind::Degenerate => {
+                    degenerate += 1;
+                    "degenerate-saddle"
+                }
+                Some(_) => {
+                    saddles += 1;
+                    "saddle"
+                }
+            };
+            json!({ "x": c.x.x, "y": c.x.y, "kind": kind, "eigenvalues": hessian_eigenvalues(&field, c.x) })
+        })
+        .collect();
+    let out =
+        json!({ "minima": minima, "saddles": saddles, "degenerate": degenerate, "points": points });
+    if json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&out).map_err(|e| e.to_string())?
+        );
+    } else {
+        println!(
+            "{minima} minimum, {saddles} saddles, {degenerate} degenerate (M = {})",
+            prepared.workspace.obstacles().len()
+        );
+        for p in out["points"].as_array().into_iter().flatten() {
+            println!(
+                "  {:>18}  ({:.5}, {:.5})  eigenvalues {}",
+                p["kind"].as_str().unwrap_or_default(),
+                p["x"].as_f64().unwrap_or_default(),
+                p["y"].as_f64().unwrap_or_default(),
+                p["eigenvalues"]
+            );
+        }
+    }
+    Ok(true)
+}
+
+fn cmd_sweep(
+    path: &Path,
+    starts: usize,
+    seed: u64,
+    controller: Option<Controller>,
+    json: bool,
+) -> Result<bool, String> {
+    let prepared = load(path)?;
+    if starts == 0 {
+        return Err("`--starts` must be at least 1".into());
+    }
+    let ws = prepared.workspace.clone();
+    let mut rng = Rng::new(seed);
+    let points: Vec<Vector2<f64>> = (0..starts)
+        .map(|_| random::free_point(&mut rng, &ws, 1e-3))
+        .collect();
+    let results = sweep(
+        &prepared,
+        &points,
+        model(controller).unwrap_or(prepared.scenario.robot.model),
+    )?;
+    let reached: Vec<f64> = results
+        .iter()
+        .filter_map(|r| r.as_ref().ok().copied())
+        .collect();
+    let failures: Vec<Value> = points
+        .iter()
+        .zip(&results)
+        .filter_map(|(p, r)| {
+            r.as_ref()
+                .err()
+                .map(|e| json!({ "start": [p.x, p.y], "reason": e }))
+        })
+        .collect();
+    let collisions = results
+        .iter()
+        .filter(|r| matches!(r, Err(e) if e.contains("collision")))
+        .count();
+    let left = results
+        .iter()
+        .filter(|r| matches!(r, Err(e) if e.contains("left the workspace")))
+        .count();
+    let mut times = reached.clone();
+    times.sort_by(f64::total_cmp);
+    let out = json!({
+        "starts": starts, "reached": reached.len(), "collisions": collisions, "left_workspace": left,
+        "median_time_s": times.get(times.len() / 2), "max_time_s": times.last(), "failures": failures,
+    });
+    if json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&out).map_err(|e| e.to_string())?
+        );
+    } else {
+        println!(
+            "{} of {starts} starts reached the goal; {collisions} collisions; median {:.2} s, max {:.2} s",
+            reached.len(),
+            times.get(times.len() / 2).unwrap_or(&f64::NAN),
+            times.last().unwrap_or(&f64::NAN)
+        );
+        for f in &failures {
+            println!(
+                "  {} : {}",
+                f["start"],
+                f["reason"].as_str().unwrap_or_default()
+            );
+        }
+    }
+    Ok(collisions == 0 && left == 0 && reached.len() == starts)
+}
+
+/// One descent per start on all cores; `Ok(time)` or `Err(reason)` per start, in order.
+fn sweep(
+    prepared: &Prepared,
+    points: &[Vector2<f64>],
+    model: Model,
+) -> Result<Vec<Result<f64, String>>, String> {
+    let field = Arc::new(Field::all_known(prepared.workspace.clone()).map_err(|e| e.to_string())?);
+    let threads = std::thread::available_parallelism()
+        .map_or(2, |n| n.get())
+        .min(points.len().max(1));
+    let chunk = points.len().div_ceil(threads);
+    let options = FollowOptions {
+        goal_tolerance: prepared.scenario.sim.goal_tolerance,
+        max_time: prepared.scenario.sim.max_time,
+        ..FollowOptions::default()
+    };
+    let one = |x: Vector2<f64>| -> Result<f64, String> {
+        match model {
+            Model::Kinematic => {
+                let d = follow(&field, x, &options);
+                match (d.ending, d.collision_free) {
+                    (_, false) => Err("collision".into()),
+                    (Ending::Reached, true) => Ok(d.time),
+                    (ending, true) => Err(format!("{ending:?} at t = {:.2} s", d.time)),
+                }
+            }
+            Model::Dynamic => {
+                let mut p = prepared.clone();
+                p.scenario.robot.start = [x.x, x.y];
+                p.sensing = Sensing::Global;
+                let r = run(&p, Some(Model::Dynamic)).map_err(|e| e.to_string())?;
+                let s = r.summary;
+                if s.collisions > 0 {
+                    Err("collision".into())
+                } else if s.reached {
+                    Ok(s.time_s)
+                } else {
+                    Err(format!("not reached in {} s", s.time_s))
+                }
+            }
+        }
+    };
+    let mut out = Vec::with_capacity(points.len());
+    std::thread::scope(|scope| {
+        let handles: Vec<_> = points
+            .chunks(chunk)
+            .map(|c| scope.spawn(move || c.iter().map(|&x| one(x)).collect::<Vec<_>>()))
+            .collect();
+        for h in handles {
+            out.extend(
+                h.join()
+                    .unwrap_or_else(|_| vec![Err("worker panicked".into())]),
+            );
+        }
+    });
+    Ok(out)
+}
