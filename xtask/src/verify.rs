@@ -4,6 +4,7 @@
 mod control;
 mod field;
 mod potential;
+mod scenarios;
 mod transform;
 
 use std::process::ExitCode;
@@ -15,8 +16,18 @@ pub type Outcome = Result<String, String>;
 
 /// A named guarantee check.
 pub struct Check {
-    pub name: &'static str,
-    pub run: fn() -> Outcome,
+    pub name: String,
+    pub run: Box<dyn Fn() -> Outcome + Send + Sync>,
+}
+
+impl Check {
+    /// A check from a name and a function.
+    pub fn new(name: impl Into<String>, run: impl Fn() -> Outcome + Send + Sync + 'static) -> Self {
+        Self {
+            name: name.into(),
+            run: Box::new(run),
+        }
+    }
 }
 
 /// Every check, in report order. Later crates append their suites here.
@@ -25,6 +36,7 @@ fn checks() -> Vec<Check> {
     all.extend(transform::checks());
     all.extend(field::checks());
     all.extend(control::checks());
+    all.extend(scenarios::checks());
     all
 }
 
@@ -47,8 +59,9 @@ pub fn run() -> ExitCode {
                     };
                     let Some(check) = checks.get(i) else { break };
                     let t = Instant::now();
-                    let outcome = std::panic::catch_unwind(check.run)
-                        .unwrap_or_else(|_| Err("the check panicked".to_string()));
+                    let outcome =
+                        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| (check.run)()))
+                            .unwrap_or_else(|_| Err("the check panicked".to_string()));
                     *results[i].lock().expect("result slot") =
                         Some((outcome, t.elapsed().as_secs_f64()));
                 }

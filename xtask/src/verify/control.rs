@@ -14,22 +14,10 @@ const KINDS: [Kind; 4] = [Kind::Circle, Kind::Ellipse, Kind::Polygon, Kind::Star
 
 pub fn checks() -> Vec<Check> {
     vec![
-        Check {
-            name: "sensing.d-min-formula",
-            run: d_min,
-        },
-        Check {
-            name: "control.critical-damping-at-goal",
-            run: critical_damping,
-        },
-        Check {
-            name: "control.energy-decreases-speed-bounded",
-            run: energy,
-        },
-        Check {
-            name: "control.kinematic-theta-decreases",
-            run: kinematic,
-        },
+        Check::new("sensing.d-min-formula", d_min),
+        Check::new("control.critical-damping-at-goal", critical_damping),
+        Check::new("control.energy-decreases-speed-bounded", energy),
+        Check::new("control.kinematic-theta-decreases", kinematic),
     ]
 }
 

@@ -14,26 +14,15 @@ const KINDS: [Kind; 4] = [Kind::Circle, Kind::Ellipse, Kind::Polygon, Kind::Star
 
 pub fn checks() -> Vec<Check> {
     vec![
-        Check {
-            name: "field.phi-diffeomorphism-on-samples",
-            run: diffeomorphism,
-        },
-        Check {
-            name: "field.theta-range-and-boundary-limits",
-            run: limits,
-        },
-        Check {
-            name: "field.critical-points-one-min-m-saddles",
-            run: census,
-        },
-        Check {
-            name: "field.convergence-sphere-world",
-            run: || convergence(&[Kind::Circle], Kind::Circle, 1),
-        },
-        Check {
-            name: "field.convergence-star-world",
-            run: || convergence(&KINDS, Kind::Star, 2),
-        },
+        Check::new("field.phi-diffeomorphism-on-samples", diffeomorphism),
+        Check::new("field.theta-range-and-boundary-limits", limits),
+        Check::new("field.critical-points-one-min-m-saddles", census),
+        Check::new("field.convergence-sphere-world", || {
+            convergence(&[Kind::Circle], Kind::Circle, 1)
+        }),
+        Check::new("field.convergence-star-world", || {
+            convergence(&KINDS, Kind::Star, 2)
+        }),
     ]
 }
 

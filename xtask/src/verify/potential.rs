@@ -7,38 +7,17 @@ use crate::rng::{PointWorlds, Rng, clearance};
 
 pub fn checks() -> Vec<Check> {
     vec![
-        Check {
-            name: "potential.gradient-matches-finite-differences",
-            run: gradient_fd,
-        },
-        Check {
-            name: "potential.hessian-matches-fd-and-is-harmonic",
-            run: hessian_fd,
-        },
-        Check {
-            name: "potential.attractive-iff-k-above-m",
-            run: attractive,
-        },
-        Check {
-            name: "potential.no-local-minimum-on-grid",
-            run: no_local_minimum,
-        },
-        Check {
-            name: "potential.critical-points-are-m-saddles",
-            run: census,
-        },
-        Check {
-            name: "potential.destination-hessian-exponent",
-            run: destination_hessian,
-        },
-        Check {
-            name: "potential.non-morse-arrangement-degenerate",
-            run: non_morse,
-        },
-        Check {
-            name: "potential.extreme-scales-finite",
-            run: extreme_scales,
-        },
+        Check::new("potential.gradient-matches-finite-differences", gradient_fd),
+        Check::new("potential.hessian-matches-fd-and-is-harmonic", hessian_fd),
+        Check::new("potential.attractive-iff-k-above-m", attractive),
+        Check::new("potential.no-local-minimum-on-grid", no_local_minimum),
+        Check::new("potential.critical-points-are-m-saddles", census),
+        Check::new(
+            "potential.destination-hessian-exponent",
+            destination_hessian,
+        ),
+        Check::new("potential.non-morse-arrangement-degenerate", non_morse),
+        Check::new("potential.extreme-scales-finite", extreme_scales),
     ]
 }
 

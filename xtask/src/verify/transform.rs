@@ -8,10 +8,10 @@ use super::{Check, Outcome, outcome};
 use crate::rng::Rng;
 
 pub fn checks() -> Vec<Check> {
-    vec![Check {
-        name: "transform.radial-maps-are-diffeomorphisms",
-        run: radial_maps,
-    }]
+    vec![Check::new(
+        "transform.radial-maps-are-diffeomorphisms",
+        radial_maps,
+    )]
 }
 
 /// Dense samples of both radial maps on random star boundaries `R(θ) = r0 + a cos(nθ + φ)`,
