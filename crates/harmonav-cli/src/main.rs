@@ -96,6 +96,21 @@ enum Command {
     Check { scenario: PathBuf },
 }
 
+/// `println!` that ends the program quietly when stdout is closed (e.g. piped into `head`)
+/// instead of panicking.
+macro_rules! out {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        if let Err(e) = writeln!(std::io::stdout().lock(), $($arg)*) {
+            if e.kind() == std::io::ErrorKind::BrokenPipe {
+                std::process::exit(0);
+            }
+            eprintln!("harmonav: cannot write the output: {e}");
+            std::process::exit(2);
+        }
+    }};
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
@@ -116,7 +131,7 @@ fn main() -> ExitCode {
             json,
         } => cmd_sweep(&scenario, starts, seed, controller, json),
         Command::Check { scenario } => load(&scenario).map(|_| {
-            println!("ok");
+            out!("ok");
             true
         }),
     };
@@ -142,7 +157,7 @@ fn model(c: Option<Controller>) -> Option<Model> {
 }
 
 fn print_summary(s: &Summary) {
-    println!(
+    out!(
         "{} ({:?} model, {} physics): {}",
         s.name,
         s.model,
@@ -153,7 +168,7 @@ fn print_summary(s: &Summary) {
             "goal NOT reached"
         }
     );
-    println!(
+    out!(
         "  time {:.3} s, final distance {:.2e} m, min clearance {:.4} m, max speed {:.3} m/s{}",
         s.time_s,
         s.final_distance,
@@ -168,11 +183,11 @@ fn print_summary(s: &Summary) {
             .iter()
             .map(|d| format!("{} {:.2} s", d.obstacle, d.time_s))
             .collect();
-        println!("  discoveries: {}", d.join(", "));
+        out!("  discoveries: {}", d.join(", "));
     }
     let width = s.guarantees.iter().map(|g| g.name.len()).max().unwrap_or(0);
     for g in &s.guarantees {
-        println!(
+        out!(
             "  {:width$}  {}  {}",
             g.name,
             if g.passed { "pass" } else { "FAIL" },
@@ -210,14 +225,14 @@ fn cmd_run(
         write_outputs(dir, &prepared, &result)?;
     }
     if json {
-        println!(
+        out!(
             "{}",
             serde_json::to_string_pretty(&result.summary).map_err(|e| e.to_string())?
         );
     } else {
         print_summary(&result.summary);
         if let Some(dir) = out {
-            println!("  outputs in {}", dir.display());
+            out!("  outputs in {}", dir.display());
         }
     }
     Ok(result.summary.all_passed())
@@ -252,24 +267,29 @@ fn cmd_eval(path: &Path, at: &[String], json: bool) -> Result<bool, String> {
         })
         .collect();
     if json {
-        println!(
+        out!(
             "{}",
             serde_json::to_string_pretty(&rows).map_err(|e| e.to_string())?
         );
     } else {
-        println!(
+        out!(
             "{:>10} {:>10}  {:>12} {:>12}  {:>12}  {:>12}  grad",
-            "x", "y", "h_x", "h_y", "phi", "Θ"
+            "x",
+            "y",
+            "h_x",
+            "h_y",
+            "phi",
+            "Θ"
         );
         for r in &rows {
             match r.get("error") {
-                Some(e) => println!(
+                Some(e) => out!(
                     "{:>10.4} {:>10.4}  error: {}",
                     r["x"],
                     r["y"],
                     e.as_str().unwrap_or_default()
                 ),
-                None => println!(
+                None => out!(
                     "{:>10.4} {:>10.4}  {:>12.6} {:>12.6}  {:>12.6}  {:>12.8}  ({:.3e}, {:.3e})",
                     r["x"].as_f64().unwrap_or_default(),
                     r["y"].as_f64().unwrap_or_default(),
@@ -327,17 +347,17 @@ fn cmd_census(path: &Path, json: bool) -> Result<bool, String> {
     let out =
         json!({ "minima": minima, "saddles": saddles, "degenerate": degenerate, "points": points });
     if json {
-        println!(
+        out!(
             "{}",
             serde_json::to_string_pretty(&out).map_err(|e| e.to_string())?
         );
     } else {
-        println!(
+        out!(
             "{minima} minimum, {saddles} saddles, {degenerate} degenerate (M = {})",
             prepared.workspace.obstacles().len()
         );
         for p in out["points"].as_array().into_iter().flatten() {
-            println!(
+            out!(
                 "  {:>18}  ({:.5}, {:.5})  eigenvalues {}",
                 p["kind"].as_str().unwrap_or_default(),
                 p["x"].as_f64().unwrap_or_default(),
@@ -398,19 +418,19 @@ fn cmd_sweep(
         "median_time_s": times.get(times.len() / 2), "max_time_s": times.last(), "failures": failures,
     });
     if json {
-        println!(
+        out!(
             "{}",
             serde_json::to_string_pretty(&out).map_err(|e| e.to_string())?
         );
     } else {
-        println!(
+        out!(
             "{} of {starts} starts reached the goal; {collisions} collisions; median {:.2} s, max {:.2} s",
             reached.len(),
             times.get(times.len() / 2).unwrap_or(&f64::NAN),
             times.last().unwrap_or(&f64::NAN)
         );
         for f in &failures {
-            println!(
+            out!(
                 "  {} : {}",
                 f["start"],
                 f["reason"].as_str().unwrap_or_default()
