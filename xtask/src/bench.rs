@@ -61,6 +61,7 @@ pub fn run(options: &Options) -> ExitCode {
     }
     put("field_grad_ns_m20", field_grad_ns(20));
     put("control_step_ns_m6", control_step_ns());
+    put("montecarlo_runs_per_s", montecarlo_runs_per_s());
     if options.numpy {
         match numpy_ns_per_pair(100, 4096) {
             Ok((broadcast, per_point)) => {
@@ -209,6 +210,33 @@ fn control_step_ns() -> f64 {
             }
         }
     })
+}
+
+/// The Monte-Carlo study of `cargo xtask verify` (descents from random starts in the
+/// 20-obstacle mixed-shape world, global sensing), on both cores: descents per second.
+fn montecarlo_runs_per_s() -> f64 {
+    use harmonav_field::Field;
+    use harmonav_field::descent::{FollowOptions, follow};
+    use harmonav_transform::random::{self, Kind, Rng};
+    let kinds = [Kind::Circle, Kind::Ellipse, Kind::Polygon, Kind::Star];
+    let mut rng = Rng::new(20);
+    let ws = std::sync::Arc::new(random::workspace(&mut rng, 20, &kinds, Kind::Star, 0.1));
+    let field = Field::all_known(ws.clone()).expect("valid benchmark world");
+    let starts: Vec<_> = (0..400)
+        .map(|_| random::free_point(&mut rng, &ws, 1e-3))
+        .collect();
+    let t = Instant::now();
+    std::thread::scope(|scope| {
+        for chunk in starts.chunks(starts.len().div_ceil(2)) {
+            let field = &field;
+            scope.spawn(move || {
+                for &x in chunk {
+                    black_box(follow(field, x, &FollowOptions::default()));
+                }
+            });
+        }
+    });
+    starts.len() as f64 / t.elapsed().as_secs_f64()
 }
 
 /// `BatchGradient::eval`, ns per obstacle–point pair.
