@@ -7,14 +7,13 @@
 use std::collections::BTreeSet;
 use std::f64::consts::TAU;
 
-use harmonav_control::{Dynamic, Kinematic};
 use harmonav_field::{Field, FieldEval};
-use harmonav_sensing::{Sensing, axis, initially_known};
+use harmonav_sensing::{Sensing, axis};
 use harmonav_transform::StarShape;
 use nalgebra::Vector2;
 use rapier2d_f64::prelude::{ColliderBuilder, PhysicsWorld, RigidBodyBuilder, Vector};
 
-use crate::run::{Discovery, Monitor, Run, RunError, Sample};
+use crate::run::{Discovery, Monitor, Run, RunError, Sample, Start, start};
 use crate::scenario::{Model, Prepared};
 
 /// A controller other than the law: `(field, eval, x, ẋ) → command`.
@@ -69,38 +68,15 @@ pub fn run_rapier(
     builtin: Option<&Run>,
 ) -> Result<(Run, RapierReport), RunError> {
     let sc = &prepared.scenario;
-    let model = model.unwrap_or(sc.robot.model);
-    let start = Vector2::new(sc.robot.start[0], sc.robot.start[1]);
-    let goal = prepared.workspace.destination();
-    let d_min = match prepared.sensing {
-        Sensing::Sector(s) => s.d_min(prepared.rho_min),
-        Sensing::Global => 1.0,
-    };
-    let dynamic = Dynamic::new(sc.robot.mass, sc.controller.mu, d_min)
-        .map_err(|e| RunError(e.to_string()))?;
-    let kinematic = Kinematic::new(sc.controller.gain).map_err(|e| RunError(e.to_string()))?;
-    let global =
-        Field::all_known(prepared.workspace.clone()).map_err(|e| RunError(e.to_string()))?;
-    let first_axis = global.eval(start).ok().and_then(|e| e.direction);
-    let known = initially_known(
-        &prepared.workspace,
+    let Start {
+        model,
         start,
-        &prepared.sensing,
-        prepared.rho_min,
-        first_axis,
-    );
-    let mut field = Field::new(prepared.workspace.clone(), known.iter().copied())
-        .map_err(|e| RunError(e.to_string()))?;
-    let mut discoveries: Vec<Discovery> = known
-        .iter()
-        .map(|&i| Discovery {
-            obstacle: prepared.names[i].clone(),
-            index: i,
-            time_s: 0.0,
-            position: [start.x, start.y],
-            axis: [0.0; 2],
-        })
-        .collect();
+        goal,
+        dynamic,
+        kinematic,
+        mut field,
+        mut discoveries,
+    } = start(prepared, model)?;
 
     let mut world = PhysicsWorld {
         gravity: Vector::new(0.0, 0.0),

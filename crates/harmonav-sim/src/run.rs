@@ -248,28 +248,32 @@ fn hermite(y0: &State, d0: &State, y1: &State, d1: &State, h: f64, s: f64) -> St
     out
 }
 
-/// Runs a prepared scenario with the built-in integrator; `model` overrides the file's robot
-/// model.
-pub fn run(prepared: &Prepared, model: Option<Model>) -> Result<Run, RunError> {
+/// What both integrators start from: the laws, the field of the obstacles known at `t = 0`
+/// (assumption `localobs`: within `d_min` of the start, and those the sector already sees
+/// along the initial descent direction) and those discoveries.
+pub(crate) struct Start {
+    pub model: Model,
+    pub start: Vector2<f64>,
+    pub goal: Vector2<f64>,
+    pub dynamic: Dynamic,
+    pub kinematic: Kinematic,
+    pub field: Field,
+    pub discoveries: Vec<Discovery>,
+}
+
+pub(crate) fn start(prepared: &Prepared, model: Option<Model>) -> Result<Start, RunError> {
     let sc = &prepared.scenario;
     let model = model.unwrap_or(sc.robot.model);
     let start = Vector2::new(sc.robot.start[0], sc.robot.start[1]);
-    let goal = prepared.workspace.destination();
     let d_min = match prepared.sensing {
         Sensing::Sector(s) => s.d_min(prepared.rho_min),
-        Sensing::Global => f64::INFINITY,
+        // Global sensing never switches λ on a discovery after t = 0; any positive d_min.
+        Sensing::Global => 1.0,
     };
-    let dynamic = Dynamic::new(
-        sc.robot.mass,
-        sc.controller.mu,
-        if d_min.is_finite() { d_min } else { 1.0 },
-    )
-    .map_err(|e| RunError(e.to_string()))?;
-    let kinematic = Kinematic::new(sc.controller.gain).map_err(|e| RunError(e.to_string()))?;
-    // Assumption localobs: obstacles within d_min of the start (and those the sector already
-    // sees along the initial descent direction) are known at t = 0.
-    let global =
-        Field::all_known(prepared.workspace.clone()).map_err(|e| RunError(e.to_string()))?;
+    let err = |e: &dyn std::fmt::Display| RunError(e.to_string());
+    let dynamic = Dynamic::new(sc.robot.mass, sc.controller.mu, d_min).map_err(|e| err(&e))?;
+    let kinematic = Kinematic::new(sc.controller.gain).map_err(|e| err(&e))?;
+    let global = Field::all_known(prepared.workspace.clone()).map_err(|e| err(&e))?;
     let first_axis = global.eval(start).ok().and_then(|e| e.direction);
     let known = initially_known(
         &prepared.workspace,
@@ -278,8 +282,43 @@ pub fn run(prepared: &Prepared, model: Option<Model>) -> Result<Run, RunError> {
         prepared.rho_min,
         first_axis,
     );
-    let field = Field::new(prepared.workspace.clone(), known.iter().copied())
-        .map_err(|e| RunError(e.to_string()))?;
+    let field =
+        Field::new(prepared.workspace.clone(), known.iter().copied()).map_err(|e| err(&e))?;
+    let axis = first_axis.map_or([0.0; 2], |a| [a.x, a.y]);
+    let discoveries = known
+        .iter()
+        .map(|&i| Discovery {
+            obstacle: prepared.names[i].clone(),
+            index: i,
+            time_s: 0.0,
+            position: [start.x, start.y],
+            axis,
+        })
+        .collect();
+    Ok(Start {
+        model,
+        start,
+        goal: prepared.workspace.destination(),
+        dynamic,
+        kinematic,
+        field,
+        discoveries,
+    })
+}
+
+/// Runs a prepared scenario with the built-in integrator; `model` overrides the file's robot
+/// model.
+pub fn run(prepared: &Prepared, model: Option<Model>) -> Result<Run, RunError> {
+    let sc = &prepared.scenario;
+    let Start {
+        model,
+        start,
+        goal,
+        dynamic,
+        kinematic,
+        field,
+        mut discoveries,
+    } = self::start(prepared, model)?;
     let mut lp = Loop {
         model,
         kinematic,
@@ -288,16 +327,6 @@ pub fn run(prepared: &Prepared, model: Option<Model>) -> Result<Run, RunError> {
         speed_at_discovery: 0.0,
         prepared,
     };
-    let mut discoveries: Vec<Discovery> = known
-        .iter()
-        .map(|&i| Discovery {
-            obstacle: prepared.names[i].clone(),
-            index: i,
-            time_s: 0.0,
-            position: [start.x, start.y],
-            axis: first_axis.map_or([0.0; 2], |a| [a.x, a.y]),
-        })
-        .collect();
     // A discovery at t = 0 along the axis needs the field of the known set: redo once.
     let mut y: State = [start.x, start.y, 0.0, 0.0];
     for i in lp.sees(&y) {
