@@ -30,6 +30,9 @@ pub enum Drive<'a> {
     Custom(Controller<'a>),
 }
 
+/// A robot within this distance (m) of a wall, beyond its own radius, is touching it.
+const TOUCH: f64 = 1e-3;
+
 /// What the rapier run adds to the summary.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RapierReport {
@@ -111,7 +114,7 @@ pub fn run_rapier(
     let mut monitor = Monitor::new();
     let mut samples = Vec::new();
     let mut speed_at_discovery = 0.0;
-    let mut touching: BTreeSet<u32> = BTreeSet::new();
+    let mut touching: BTreeSet<usize> = BTreeSet::new();
     let mut contacts = 0;
     let mut t = 0.0;
     let mut steps = 0;
@@ -204,8 +207,12 @@ pub fn run_rapier(
         world.step();
         steps += 1;
         t = steps as f64 * h;
-        // Contact events: robot–wall pairs that became active in this step.
-        let now: BTreeSet<u32> = world
+        // Contact events: robot–wall pairs that started touching in this step.
+        // rapier's active pairs include speculative contacts within its prediction distance;
+        // a pair counts as touching only if the robot is also within TOUCH of that wall by the
+        // exact signed distance of the true shape.
+        let (x_new, _) = state(&world);
+        let now: BTreeSet<usize> = world
             .narrow_phase
             .contact_pairs_with(robot_collider)
             .filter(|p| p.has_any_active_contact())
@@ -216,8 +223,14 @@ pub fn run_rapier(
                     p.collider1
                 }
             })
-            .filter(|c| walls.contains(c))
-            .map(|c| c.into_raw_parts().0)
+            .filter_map(|c| walls.iter().position(|w| *w == c))
+            .filter(|&i| {
+                let gap = match prepared.true_obstacles.get(i) {
+                    Some(o) => o.signed_distance(x_new),
+                    None => -prepared.true_boundary.signed_distance(x_new),
+                };
+                gap <= radius + TOUCH
+            })
             .collect();
         contacts += now.difference(&touching).count();
         touching = now;
