@@ -145,6 +145,15 @@ fn main() -> ExitCode {
     }
 }
 
+/// Prints a value as pretty JSON (the `--json` output of every command).
+fn print_json(value: &impl serde::Serialize) -> Result<(), String> {
+    out!(
+        "{}",
+        serde_json::to_string_pretty(value).map_err(|e| e.to_string())?
+    );
+    Ok(())
+}
+
 fn load(path: &Path) -> Result<Prepared, String> {
     Scenario::load(path).map_err(|e| e.to_string())
 }
@@ -225,10 +234,7 @@ fn cmd_run(
         write_outputs(dir, &prepared, &result)?;
     }
     if json {
-        out!(
-            "{}",
-            serde_json::to_string_pretty(&result.summary).map_err(|e| e.to_string())?
-        );
+        print_json(&result.summary)?;
     } else {
         print_summary(&result.summary);
         if let Some(dir) = out {
@@ -267,10 +273,7 @@ fn cmd_eval(path: &Path, at: &[String], json: bool) -> Result<bool, String> {
         })
         .collect();
     if json {
-        out!(
-            "{}",
-            serde_json::to_string_pretty(&rows).map_err(|e| e.to_string())?
-        );
+        print_json(&rows)?;
     } else {
         out!(
             "{:>10} {:>10}  {:>12} {:>12}  {:>12}  {:>12}  grad",
@@ -347,10 +350,7 @@ fn cmd_census(path: &Path, json: bool) -> Result<bool, String> {
     let out =
         json!({ "minima": minima, "saddles": saddles, "degenerate": degenerate, "points": points });
     if json {
-        out!(
-            "{}",
-            serde_json::to_string_pretty(&out).map_err(|e| e.to_string())?
-        );
+        print_json(&out)?;
     } else {
         out!(
             "{minima} minimum, {saddles} saddles, {degenerate} degenerate (M = {})",
@@ -418,10 +418,7 @@ fn cmd_sweep(
         "median_time_s": times.get(times.len() / 2), "max_time_s": times.last(), "failures": failures,
     });
     if json {
-        out!(
-            "{}",
-            serde_json::to_string_pretty(&out).map_err(|e| e.to_string())?
-        );
+        print_json(&out)?;
     } else {
         out!(
             "{} of {starts} starts reached the goal; {collisions} collisions; median {:.2} s, max {:.2} s",
