@@ -17,14 +17,22 @@ use crate::world::PointWorld;
 /// gradient along `ĥ_d` vanish (eq. `critpreq`); the perpendicular component cancels by
 /// symmetry. `h_c = centre`, `ĥ_d = e_x`.
 ///
-/// Errors if `mu == 0`, or `a` is not finite and positive (as [`PotentialError::NonFinite`]).
+/// Errors with [`PotentialError::InvalidArgument`] if `mu == 0` or `a` is not finite and
+/// positive.
 pub fn non_morse(
     mu: usize,
     a: f64,
     centre: Vector2<f64>,
 ) -> Result<(PointWorld, Vector2<f64>), PotentialError> {
-    if mu == 0 || !(a.is_finite() && a > 0.0) {
-        return Err(PotentialError::NonFinite { index: None });
+    if mu == 0 {
+        return Err(PotentialError::InvalidArgument {
+            problem: "mu (the number of obstacle pairs) must be at least 1",
+        });
+    }
+    if !(a.is_finite() && a > 0.0) {
+        return Err(PotentialError::InvalidArgument {
+            problem: "a (the distance to obstacle 1) must be finite and positive",
+        });
     }
     let m = 2 * mu + 1;
     let k = m as f64 + 1.0;

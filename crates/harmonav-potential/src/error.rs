@@ -36,6 +36,11 @@ pub enum PotentialError {
         /// Lengths of `hx`, `hy`, `gx`, `gy`.
         lengths: [usize; 4],
     },
+    /// An argument of a constructor outside its domain (named, with the requirement).
+    InvalidArgument {
+        /// What is wrong, e.g. "mu must be at least 1".
+        problem: &'static str,
+    },
     /// A query point of the batched kernel is a singular point (the destination or an obstacle
     /// point) or not finite, so its gradient is undefined.
     SingularQuery {
@@ -67,6 +72,7 @@ impl fmt::Display for PotentialError {
                 f,
                 "batched gradient buffers differ in length (hx, hy, gx, gy) = {lengths:?}"
             ),
+            Self::InvalidArgument { problem } => write!(f, "invalid argument: {problem}"),
             Self::SingularQuery { index } => write!(
                 f,
                 "query point {index} is the destination, an obstacle point or not finite: the gradient is undefined there"

@@ -237,11 +237,10 @@ pub fn run_rapier(
     }
     let (x, _) = state(&world);
     let final_distance = (x - goal).norm();
-    let speed_bound = (model == Model::Dynamic).then(|| dynamic.speed_bound());
     let mut summary = monitor.finish(
         prepared,
         model,
-        speed_bound,
+        &dynamic,
         reached,
         t,
         final_distance,

@@ -462,11 +462,10 @@ pub fn run(prepared: &Prepared, model: Option<Model>) -> Result<Run, RunError> {
         samples.push(lp.sample(t, &y));
     }
     let final_distance = (pos(&y) - goal).norm();
-    let speed_bound = (model == Model::Dynamic).then(|| lp.dynamic.speed_bound());
     let mut summary = monitor.finish(
         prepared,
         model,
-        speed_bound,
+        &lp.dynamic,
         reached,
         t,
         final_distance,
@@ -542,7 +541,7 @@ impl Monitor {
         self,
         prepared: &Prepared,
         model: Model,
-        speed_bound: Option<f64>,
+        dynamic: &Dynamic,
         reached: bool,
         t: f64,
         final_distance: f64,
@@ -552,6 +551,7 @@ impl Monitor {
         samples: &[Sample],
     ) -> Summary {
         let sc = &prepared.scenario;
+        let speed_bound = (model == Model::Dynamic).then(|| dynamic.speed_bound());
         let g = |name: &str, passed: bool, detail: String| Guarantee {
             name: name.to_string(),
             passed,
