@@ -1,17 +1,27 @@
 //! Following the normalised descent direction `ẋ = −∇Θ/|∇Θ|` at unit speed with an
-//! error-controlled integrator: the convergence study of the navigation function (and the
+//! error-controlled, L-stable integrator: the convergence study of the navigation function (and the
 //! kinematic law's path with `K√(2Θ)` replaced by 1).
 
-use nalgebra::Vector2;
+use nalgebra::{Matrix2, Vector2};
 
 use crate::field::Field;
+
+/// Stall detection of [`follow`]: over each stretch of this much path (= time at unit speed)
+/// the net displacement must exceed [`STALL_RATIO`] times it. A descent of Θ cannot turn back
+/// on itself, so only chatter about a critical point fails the test: in the stiff outer band a
+/// path can be squeezed onto a saddle's stable manifold to within rounding (1 in 10⁴ random
+/// starts of the 20-obstacle study), and would otherwise chatter there until `max_time`.
+pub const STALL_WINDOW: f64 = 0.1;
+
+/// See [`STALL_WINDOW`].
+pub const STALL_RATIO: f64 = 1e-3;
 
 /// Settings of [`follow`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FollowOptions {
     /// Arrival: distance to the destination below this.
     pub goal_tolerance: f64,
-    /// Give up after this time (= path length at unit speed).
+    /// Give up after this time (= path length at unit speed); the last step ends exactly there.
     pub max_time: f64,
     /// Local error tolerance per step (absolute, in length units).
     pub step_tolerance: f64,
@@ -37,7 +47,8 @@ pub enum Ending {
     Reached,
     /// `max_time` elapsed.
     TimedOut,
-    /// Stopped at a point where the direction is undefined (an exact critical point).
+    /// Stopped at a critical point: the direction is undefined there, or the path chatters
+    /// about it (see [`STALL_WINDOW`]).
     Stuck,
     /// The step size collapsed (every retry left the free space).
     StepCollapsed,
@@ -60,11 +71,54 @@ pub struct Descent {
     pub collision_free: bool,
 }
 
-/// Integrates `ẋ = −∇Θ/|∇Θ|` from `start` with the Bogacki–Shampine 3(2) pair and step-size
-/// control. A step whose stages leave the free space is rejected and retried smaller, so
+/// The linearly implicit stage solve `W k = b` with `W = I − h d J` (2×2, by Cramer's rule);
+/// `None` if `W` is singular (then the step is retried smaller, where `W → I`).
+fn solve(w: &Matrix2<f64>, b: Vector2<f64>) -> Option<Vector2<f64>> {
+    w.try_inverse().map(|inv| inv * b)
+}
+
+/// Jacobian of the direction field `f` at `x` by one-sided differences (forward, or backward
+/// where the forward point leaves the free space); zero columns where neither is defined. A
+/// W-method stays second order with any Jacobian, so this only affects the step sizes.
+fn direction_jacobian(
+    dir: &impl Fn(Vector2<f64>) -> Option<Vector2<f64>>,
+    x: Vector2<f64>,
+    f: Vector2<f64>,
+) -> Matrix2<f64> {
+    let delta = 1e-8 * x.norm().max(1.0);
+    let mut jac = Matrix2::zeros();
+    for j in 0..2 {
+        let e = Vector2::ith(j, delta);
+        let column = dir(x + e)
+            .map(|fp| (fp - f) / delta)
+            .or_else(|| dir(x - e).map(|fm| (f - fm) / delta));
+        if let Some(c) = column {
+            jac.set_column(j, &c);
+        }
+    }
+    jac
+}
+
+/// Integrates `ẋ = f(x) = −∇Θ/|∇Θ|` from `start` with the Rosenbrock W-method 2(3) of
+/// Shampine & Reichelt (MATLAB's `ode23s`) and step-size control:
+///
+/// ```text
+/// d = 1/(2 + √2),  W = I − h d J,  J ≈ ∂f/∂x
+/// k1 = W⁻¹ f(x),   k2 = W⁻¹(f(x + h k1/2) − k1) + k1,   x' = x + h k2
+/// k3 = W⁻¹(f(x') − (6 + √2)(k2 − f(x + h k1/2)) − 2(k1 − f(x))),   err = h|k1 − 2k2 + k3|/6
+/// ```
+///
+/// Why not an explicit pair: the far-field valley of `phi_k` (maths.md §5, pitfall A) lies in
+/// the stretched outer band, where the normalised field is stiff (it pulls onto the valley
+/// floor over a width of ~1e-4 m while sliding along it); an explicit method is held to steps
+/// at its stability limit there (up to 10⁶ steps for one descent), the L-stable W-method is not.
+///
+/// A step any of whose stages leaves the free space is rejected and retried smaller, so
 /// accepted points never leave it; each accepted point is also checked against the true
 /// obstacles (`collision_free`).
 pub fn follow(field: &Field, start: Vector2<f64>, options: &FollowOptions) -> Descent {
+    const D: f64 = 0.292_893_218_813_452_5; // 1/(2 + √2)
+    const E32: f64 = 6.0 + std::f64::consts::SQRT_2;
     let goal = field.workspace().destination();
     let dir = |x: Vector2<f64>| field.eval(x).ok().and_then(|e| e.direction);
     let mut x = start;
@@ -79,7 +133,7 @@ pub fn follow(field: &Field, start: Vector2<f64>, options: &FollowOptions) -> De
         rejected,
         collision_free,
     };
-    let Some(mut k1) = dir(x) else {
+    let Some(mut f0) = dir(x) else {
         let ending = if (x - goal).norm() < options.goal_tolerance {
             Ending::Reached
         } else {
@@ -87,35 +141,50 @@ pub fn follow(field: &Field, start: Vector2<f64>, options: &FollowOptions) -> De
         };
         return end(ending, t, x, steps, rejected, collision_free);
     };
+    let mut jac = direction_jacobian(&dir, x, f0);
+    let mut window = (0.0, x);
     while t < options.max_time {
+        if t - window.0 >= STALL_WINDOW {
+            if (x - window.1).norm() < STALL_RATIO * (t - window.0) {
+                return end(Ending::Stuck, t, x, steps, rejected, collision_free);
+            }
+            window = (t, x);
+        }
         let dist = (x - goal).norm();
         if dist < options.goal_tolerance {
             return end(Ending::Reached, t, x, steps, rejected, collision_free);
         }
-        h = h.min(options.max_step).min(dist);
+        h = h.min(options.max_step).min(dist).min(options.max_time - t);
         if h < 1e-14 {
             return end(Ending::StepCollapsed, t, x, steps, rejected, collision_free);
         }
-        let stages = dir(x + 0.5 * h * k1).and_then(|k2| {
-            let k3 = dir(x + 0.75 * h * k2)?;
-            let next = x + h * (2.0 / 9.0 * k1 + 1.0 / 3.0 * k2 + 4.0 / 9.0 * k3);
-            let k4 = if (next - goal).norm() < options.goal_tolerance {
-                Some(k3)
+        let w = Matrix2::identity() - h * D * jac;
+        let stages = (|| {
+            let k1 = solve(&w, f0)?;
+            let f1 = dir(x + 0.5 * h * k1)?;
+            let k2 = solve(&w, f1 - k1)? + k1;
+            let next = x + h * k2;
+            // At the goal the direction is undefined; the step ends there anyway.
+            let f2 = if (next - goal).norm() < options.goal_tolerance {
+                f1
             } else {
-                dir(next)
-            }?;
-            let err =
-                (h * (-5.0 / 72.0 * k1 + 1.0 / 12.0 * k2 + 1.0 / 9.0 * k3 - 1.0 / 8.0 * k4)).norm();
-            Some((next, k4, err))
-        });
+                dir(next)?
+            };
+            let k3 = solve(&w, f2 - E32 * (k2 - f1) - 2.0 * (k1 - f0))?;
+            let err = (h / 6.0 * (k1 - 2.0 * k2 + k3)).norm();
+            Some((next, f2, err))
+        })();
         match stages {
-            Some((next, k4, err)) if err <= options.step_tolerance => {
+            Some((next, f2, err)) if err <= options.step_tolerance => {
                 x = next;
-                k1 = k4;
+                f0 = f2;
                 t += h;
                 steps += 1;
                 collision_free &= field.workspace().check_free(x, "trajectory").is_ok()
                     || (x - goal).norm() < options.goal_tolerance;
+                if (x - goal).norm() >= options.goal_tolerance {
+                    jac = direction_jacobian(&dir, x, f0);
+                }
                 h *= (0.9 * (options.step_tolerance / err.max(1e-300)).cbrt()).clamp(0.2, 5.0);
             }
             Some((_, _, err)) => {

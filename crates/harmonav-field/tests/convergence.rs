@@ -38,3 +38,92 @@ fn mixed_star_world_converges() {
     let (reached, worst) = study(&all, Kind::Star, 2, 150);
     assert_eq!(reached, 150, "slowest arrival {worst} s");
 }
+
+/// With no obstacle and `Phi` the identity between start and goal, the descent is the straight
+/// segment at unit speed: the arrival time is the distance less the goal tolerance.
+#[test]
+fn empty_world_descent_is_the_straight_segment() {
+    use harmonav_transform::{StarShape, Workspace};
+    use nalgebra::Vector2;
+    // ε_0 = 0.45·2·d(x_d, ∂O_0) ≈ 89: the outer band starts about 11 from the centre.
+    let boundary = StarShape::circle(Vector2::zeros(), 100.0).unwrap();
+    let goal = Vector2::new(1.0, -0.5);
+    let ws = Arc::new(Workspace::new(boundary, vec![], goal).unwrap());
+    let field = Field::all_known(ws).unwrap();
+    let options = FollowOptions::default();
+    for start in [Vector2::new(-3.0, 2.0), Vector2::new(2.5, 0.3)] {
+        let d = follow(&field, start, &options);
+        assert_eq!(d.ending, Ending::Reached);
+        let expected = (start - goal).norm() - (d.end - goal).norm();
+        assert!((d.time - expected).abs() < 1e-9, "{} vs {expected}", d.time);
+        // The end lies on the segment.
+        let u = (goal - start).normalize();
+        let off = (d.end - start) - (d.end - start).dot(&u) * u;
+        assert!(off.norm() < 1e-9, "{off:?}");
+    }
+}
+
+/// Pitfall A (maths.md §5): from this start the descent runs for about 15 m inside the stretched
+/// outer band, along the far-field valley of phi_k, where the normalised field is stiff. The
+/// explicit Bogacki–Shampine pair needed 925 618 steps here; the L-stable W-method needs a few
+/// ten thousand. (A step count, not a time: deterministic on any machine.)
+#[test]
+fn the_valley_in_the_outer_band_does_not_stall_the_descent() {
+    use nalgebra::Vector2;
+    let kinds = [Kind::Circle, Kind::Ellipse, Kind::Polygon, Kind::Star];
+    let mut rng = Rng::new(20);
+    let ws = Arc::new(random::workspace(&mut rng, 20, &kinds, Kind::Star, 0.1));
+    let field = Field::all_known(ws.clone()).unwrap();
+    let start = Vector2::new(4.640534808881151, 2.2683612449290624);
+    assert!(
+        -ws.boundary().signed_distance(start) < 0.02,
+        "start in the outer band"
+    );
+    let d = follow(&field, start, &FollowOptions::default());
+    assert_eq!(d.ending, Ending::Reached);
+    assert!(d.collision_free);
+    assert!(d.time > 10.0, "the path follows the valley: {} m", d.time);
+    assert!(
+        d.steps + d.rejected < 60_000,
+        "{} steps",
+        d.steps + d.rejected
+    );
+}
+
+/// The error control works: over 2 m of curved path in a 6-obstacle world, the default
+/// tolerance (1e-6 per step) ends within 1e-4 of a run at 1e-11, and halving the largest step
+/// changes nothing beyond that.
+#[test]
+fn descent_converges_as_the_tolerance_shrinks() {
+    let all = [Kind::Circle, Kind::Ellipse, Kind::Polygon, Kind::Star];
+    let mut rng = Rng::new(3);
+    let ws = Arc::new(random::workspace(&mut rng, 6, &all, Kind::Star, 0.2));
+    let field = Field::all_known(ws.clone()).unwrap();
+    let at = |tol: f64, max_step: f64, x| {
+        let options = FollowOptions {
+            max_time: 2.0,
+            step_tolerance: tol,
+            max_step,
+            ..FollowOptions::default()
+        };
+        follow(&field, x, &options)
+    };
+    let mut curved = 0;
+    for _ in 0..20 {
+        let x = random::free_point(&mut rng, &ws, 0.1);
+        let reference = at(1e-11, 0.1, x);
+        if reference.ending != Ending::TimedOut {
+            continue;
+        }
+        // The path bends: its end is well short of 2 m from the start.
+        if (reference.end - x).norm() < 1.95 {
+            curved += 1;
+        }
+        for (tol, max_step) in [(1e-6, 0.1), (1e-6, 0.05)] {
+            let d = at(tol, max_step, x);
+            let gap = (d.end - reference.end).norm();
+            assert!(gap < 1e-4, "from {x:?}: {gap:e} at tol {tol:e}");
+        }
+    }
+    assert!(curved >= 5, "only {curved} curved paths");
+}
