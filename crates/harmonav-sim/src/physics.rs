@@ -127,6 +127,9 @@ pub fn run_rapier(
         )
     };
     let mut aborted = None;
+    // A discovery since the last sample: V may jump there (k and Θ change), which the energy
+    // monitor must not count as a rise.
+    let mut discovered = false;
     loop {
         let (x, vel) = state(&world);
         let Ok(e) = field.eval(x) else {
@@ -150,7 +153,8 @@ pub fn run_rapier(
                 lambda,
                 critical: lambda.is_some_and(|l| l == dynamic.lambda_c(&field)),
             };
-            monitor.observe(&s, false, prepared);
+            monitor.observe(&s, discovered, prepared);
+            discovered = false;
             samples.push(s);
         }
         reached = (x - goal).norm() < sc.sim.goal_tolerance;
@@ -181,6 +185,7 @@ pub fn run_rapier(
                         axis: [a.x, a.y],
                     });
                     speed_at_discovery = vel.norm();
+                    discovered = true;
                 }
             }
         }
