@@ -181,7 +181,15 @@ pub fn speed_svg(run: &Run) -> String {
         (4.0, -4.0),
         "bound √(2μ/m)",
     );
+    // Labels of discoveries closer than 30 px to the previous one drop a line.
+    let mut previous: Option<(f64, f64)> = None;
     for d in &s.discoveries {
+        let x = panel.px(Vector2::new(d.time_s, top)).0;
+        let dy = match previous {
+            Some((px, pdy)) if x - px < 30.0 => pdy + 12.0,
+            _ => 12.0,
+        };
+        previous = Some((x, dy));
         svg.path(
             &panel,
             [
@@ -190,12 +198,7 @@ pub fn speed_svg(run: &Run) -> String {
             ],
             r##"stroke="#aaa" stroke-width="0.8""##,
         );
-        svg.label(
-            &panel,
-            Vector2::new(d.time_s, top),
-            (2.0, 12.0),
-            &d.obstacle,
-        );
+        svg.label(&panel, Vector2::new(d.time_s, top), (2.0, dy), &d.obstacle);
     }
     svg.path(
         &panel,
@@ -210,7 +213,17 @@ pub fn speed_svg(run: &Run) -> String {
         svg.text(x - 50.0, y + 4.0, &format!("{v:.2}"), "");
         let t = t_max * i as f64 / 4.0;
         let (x, y) = panel.px(Vector2::new(t, 0.0));
-        svg.text(x - 10.0, y + 16.0, &format!("{t:.1} s"), "");
+        let anchor = match i {
+            0 => "start",
+            4 => "end",
+            _ => "middle",
+        };
+        svg.text(
+            x,
+            y + 16.0,
+            &format!("{t:.1} s"),
+            &format!("text-anchor=\"{anchor}\""),
+        );
     }
     svg.finish()
 }

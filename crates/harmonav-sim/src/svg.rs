@@ -7,6 +7,9 @@ use std::fmt::Write as _;
 
 use nalgebra::Vector2;
 
+/// Polyline vertices closer than this many pixels to the previous one are not written.
+pub const MIN_SEGMENT_PX: f64 = 0.5;
+
 /// A rectangular panel mapping a world window onto pixels (y up in the world, down on screen).
 #[derive(Clone, Copy, Debug)]
 pub struct Panel {
@@ -60,7 +63,9 @@ impl Canvas {
     }
 
     /// A polyline through world points, broken at `None` and outside the panel window;
-    /// `style` holds SVG attributes.
+    /// `style` holds SVG attributes. Vertices closer than [`MIN_SEGMENT_PX`] to the last one
+    /// written are dropped (the last vertex of each piece is always kept), so a run of 10⁴
+    /// samples stays a few kilobytes.
     pub fn path(
         &mut self,
         panel: &Panel,
@@ -68,17 +73,37 @@ impl Canvas {
         style: &str,
     ) {
         let mut d = String::new();
-        let mut pen = false;
+        // The last vertex written, and one held back because it was too close to it.
+        let mut last: Option<(f64, f64)> = None;
+        let mut held: Option<(f64, f64)> = None;
+        let flush = |d: &mut String, held: &mut Option<(f64, f64)>| {
+            if let Some((x, y)) = held.take() {
+                let _ = write!(d, "L{x:.2},{y:.2} ");
+            }
+        };
         for p in points {
             match p.filter(|p| panel.inside(*p)) {
                 Some(p) => {
                     let (x, y) = panel.px(p);
-                    let _ = write!(d, "{}{x:.2},{y:.2} ", if pen { "L" } else { "M" });
-                    pen = true;
+                    match last {
+                        Some((lx, ly)) if (x - lx).hypot(y - ly) < MIN_SEGMENT_PX => {
+                            held = Some((x, y));
+                        }
+                        _ => {
+                            held = None;
+                            let pen = if last.is_some() { "L" } else { "M" };
+                            let _ = write!(d, "{pen}{x:.2},{y:.2} ");
+                            last = Some((x, y));
+                        }
+                    }
                 }
-                None => pen = false,
+                None => {
+                    flush(&mut d, &mut held);
+                    last = None;
+                }
             }
         }
+        flush(&mut d, &mut held);
         if !d.is_empty() {
             let _ = writeln!(self.body, r#"<path d="{}" {style}/>"#, d.trim_end());
         }
@@ -158,4 +183,67 @@ pub fn write_atomically(path: &std::path::Path, contents: &[u8]) -> std::io::Res
     ));
     std::fs::write(&tmp, contents)?;
     std::fs::rename(&tmp, path)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn unit_panel() -> Panel {
+        Panel {
+            left: 0.0,
+            top: 0.0,
+            size: (100.0, 100.0),
+            window: (Vector2::new(0.0, 0.0), Vector2::new(100.0, 100.0)),
+        }
+    }
+
+    fn vertices(svg: &str) -> Vec<(f64, f64)> {
+        let d = svg.split("d=\"").nth(1).unwrap().split('"').next().unwrap();
+        d.split_whitespace()
+            .map(|v| {
+                let (x, y) = v[1..].split_once(',').unwrap();
+                (x.parse().unwrap(), y.parse().unwrap())
+            })
+            .collect()
+    }
+
+    #[test]
+    fn dense_paths_are_thinned_but_keep_their_ends() {
+        let mut c = Canvas::new(100.0, 100.0);
+        // 1001 points 0.01 px apart along y = 50 (10 px long).
+        let pts = (0..=1000).map(|i| Some(Vector2::new(10.0 + 0.01 * i as f64, 50.0)));
+        c.path(&unit_panel(), pts, "");
+        let v = vertices(&c.finish());
+        assert_eq!(v.first(), Some(&(10.0, 50.0)));
+        assert_eq!(v.last(), Some(&(20.0, 50.0)));
+        assert!((20..=22).contains(&v.len()), "{} vertices", v.len());
+        // Every kept segment but the last is just over the threshold: no more is dropped
+        // than needed (the points are 0.01 px apart; the output is rounded to 0.01 px).
+        for w in v[..v.len() - 1].windows(2) {
+            let step = w[1].0 - w[0].0;
+            assert!(
+                (MIN_SEGMENT_PX - 0.011..=MIN_SEGMENT_PX + 0.011).contains(&step),
+                "{step}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_gap_starts_a_new_piece() {
+        let mut c = Canvas::new(100.0, 100.0);
+        let pts = [
+            Some(Vector2::new(1.0, 1.0)),
+            Some(Vector2::new(5.0, 1.0)),
+            None,
+            Some(Vector2::new(9.0, 1.0)),
+            Some(Vector2::new(9.1, 1.0)),
+        ];
+        c.path(&unit_panel(), pts, "");
+        let svg = c.finish();
+        assert!(
+            svg.contains("M1.00,99.00 L5.00,99.00 M9.00,99.00 L9.10,99.00"),
+            "{svg}"
+        );
+    }
 }

@@ -4,7 +4,7 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use harmonav_sim::record::{TOPICS, mcap_bytes, write_outputs};
+use harmonav_sim::record::{SECTOR_PERIOD, TOPICS, TRAJECTORY_SPACING, mcap_bytes, write_outputs};
 use harmonav_sim::run::run;
 use harmonav_sim::scenario::{Model, Scenario};
 
@@ -41,6 +41,7 @@ fn mcap_reads_back_with_the_expected_channels_and_counts() {
     assert_eq!(schemas["/state"], "harmonav.State");
     let mut counts: BTreeMap<String, usize> = BTreeMap::new();
     let mut last_time = 0;
+    let mut last_path: Vec<(f64, f64)> = Vec::new();
     for m in mcap::MessageStream::new(&bytes).unwrap() {
         let m = m.unwrap();
         assert!(m.log_time >= last_time, "messages in time order");
@@ -50,8 +51,27 @@ fn mcap_reads_back_with_the_expected_channels_and_counts() {
             let theta = body["theta"].as_f64().unwrap();
             assert!((0.0..=1.0).contains(&theta));
         }
+        if m.channel.topic == "/robot/trajectory" {
+            last_path = body["poses"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|p| {
+                    let q = &p["position"];
+                    (q["x"].as_f64().unwrap(), q["y"].as_f64().unwrap())
+                })
+                .collect();
+        }
         *counts.entry(m.channel.topic.clone()).or_default() += 1;
     }
+    // The final path is thinned to TRAJECTORY_SPACING and ends at the last sample.
+    let end = r.samples.last().unwrap().x;
+    assert_eq!(last_path.last(), Some(&(end[0], end[1])));
+    for w in last_path[..last_path.len() - 1].windows(2) {
+        let gap = (w[1].0 - w[0].0).hypot(w[1].1 - w[0].1);
+        assert!(gap >= TRAJECTORY_SPACING, "{gap}");
+    }
+    assert!(last_path.len() > 100, "{} vertices", last_path.len());
     let n = r.samples.len();
     let d = r.summary.discoveries.len();
     assert_eq!(counts["/robot/pose"], n);
@@ -68,9 +88,12 @@ fn mcap_reads_back_with_the_expected_channels_and_counts() {
                 .count()
         )
     );
+    // Drawn every SECTOR_PERIOD while moving (the robot moves from the first sample on).
+    let periods = r.summary.time_s / SECTOR_PERIOD;
+    let sectors = counts["/sensor/sector"] as f64;
     assert!(
-        counts["/sensor/sector"] > n / 2,
-        "sector drawn while moving"
+        (periods - 1.0..=periods + 2.0).contains(&sectors),
+        "{sectors} sectors in {periods} periods"
     );
     assert_eq!(counts.len(), TOPICS.len());
 }
