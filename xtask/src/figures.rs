@@ -3,12 +3,20 @@
 //! `nav-transform.svg`: the mixed-shape star world of the convergence study (left) and its
 //! point world (right): a grid drawn in the free space and mapped through `Phi`, the obstacles
 //! collapsing to their centres, and a few descent paths in both.
+//!
+//! `paper-kinematic.svg`, `paper-dynamic.svg` and `paper-dynamic-speed.svg`: the runs of
+//! `scenarios/paper/` (the two studies of the paper, `docs/reproduction.md`), drawn by
+//! harmonav-sim's own figures.
 
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
 
 use harmonav_field::Field;
 use harmonav_field::descent::{FollowOptions, follow};
+use harmonav_sim::figures::{speed_svg, trajectory_svg};
+use harmonav_sim::run::run as run_scenario;
+use harmonav_sim::scenario::Scenario;
 use harmonav_sim::svg::{Canvas, Panel, write_atomically};
 use harmonav_transform::random::{self, Kind, Rng};
 use nalgebra::Vector2;
@@ -26,19 +34,52 @@ fn panel(dx: f64, half: f64) -> Panel {
 }
 
 pub fn run() -> ExitCode {
-    match nav_transform_figure() {
-        Ok(path) => {
-            println!("wrote {path}");
-            ExitCode::SUCCESS
-        }
-        Err(e) => {
-            eprintln!("xtask figures: {e}");
-            ExitCode::FAILURE
+    let mut code = ExitCode::SUCCESS;
+    for result in [nav_transform_figure(), paper_figures()] {
+        match result {
+            Ok(paths) => paths.iter().for_each(|p| println!("wrote {p}")),
+            Err(e) => {
+                eprintln!("xtask figures: {e}");
+                code = ExitCode::FAILURE;
+            }
         }
     }
+    code
 }
 
-fn nav_transform_figure() -> Result<String, String> {
+fn figures_dir() -> Result<PathBuf, String> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/figures");
+    std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    Ok(dir)
+}
+
+/// Writes `docs/figures/NAME` and returns the path as shown to the user.
+fn write_figure(name: &str, svg: &str) -> Result<String, String> {
+    let path = figures_dir()?.join(name);
+    write_atomically(&path, svg.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(format!("docs/figures/{name}"))
+}
+
+/// The trajectories of the two paper studies and the speed of the dynamic one.
+fn paper_figures() -> Result<Vec<String>, String> {
+    let mut written = Vec::new();
+    for study in ["kinematic", "dynamic"] {
+        let file =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../scenarios/paper/{study}.toml"));
+        let prepared = Scenario::load(&file).map_err(|e| e.to_string())?;
+        let run = run_scenario(&prepared, None).map_err(|e| format!("{}: {e}", file.display()))?;
+        written.push(write_figure(
+            &format!("paper-{study}.svg"),
+            &trajectory_svg(&prepared, &run),
+        )?);
+        if study == "dynamic" {
+            written.push(write_figure("paper-dynamic-speed.svg", &speed_svg(&run))?);
+        }
+    }
+    Ok(written)
+}
+
+fn nav_transform_figure() -> Result<Vec<String>, String> {
     let mut rng = Rng::new(2);
     let kinds = [Kind::Circle, Kind::Ellipse, Kind::Polygon, Kind::Star];
     let ws = Arc::new(random::workspace(&mut rng, 6, &kinds, Kind::Star, 0.2));
@@ -140,10 +181,5 @@ fn nav_transform_figure() -> Result<String, String> {
         svg.dot(p, ws.destination(), 5.0, "#2b8a3e");
         svg.label(p, ws.destination(), (6.0, 14.0), "goal");
     }
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/figures");
-    std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    let path = dir.join("nav-transform.svg");
-    write_atomically(&path, svg.finish().as_bytes())
-        .map_err(|e| format!("{}: {e}", path.display()))?;
-    Ok("docs/figures/nav-transform.svg".to_string())
+    Ok(vec![write_figure("nav-transform.svg", &svg.finish())?])
 }

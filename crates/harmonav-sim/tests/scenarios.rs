@@ -269,3 +269,28 @@ fn dynamic_run_keeps_the_speed_bound_and_arrives_without_overshoot() {
         }
     }
 }
+
+/// The paper runs its two studies in one world: the two files must not drift apart.
+#[test]
+fn the_paper_studies_share_one_world() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/paper");
+    let read = |name: &str| {
+        let path = dir.join(name);
+        let text = std::fs::read_to_string(&path).unwrap();
+        Scenario::parse(&path, &text).unwrap()
+    };
+    let (kin, dyn_) = (read("kinematic.toml"), read("dynamic.toml"));
+    assert_eq!(kin.workspace, dyn_.workspace);
+    assert_eq!(kin.obstacles, dyn_.obstacles);
+    assert_eq!(kin.sensor, dyn_.sensor);
+    assert_eq!(kin.controller, dyn_.controller);
+    assert_eq!(
+        (kin.robot.start, kin.robot.goal),
+        (dyn_.robot.start, dyn_.robot.goal)
+    );
+    assert_eq!(
+        (kin.robot.model, dyn_.robot.model),
+        (Model::Kinematic, Model::Dynamic)
+    );
+    assert_eq!(kin.obstacles.len(), 6);
+}
