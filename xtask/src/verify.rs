@@ -7,9 +7,11 @@ mod potential;
 mod scenarios;
 mod transform;
 
+use std::io::{IsTerminal, Write};
 use std::process::ExitCode;
-use std::sync::Mutex;
-use std::time::Instant;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
 
 /// What a check measured: `Ok(detail)` if the guarantee holds, `Err(detail)` if not.
 pub type Outcome = Result<String, String>;
@@ -18,6 +20,8 @@ pub type Outcome = Result<String, String>;
 pub struct Check {
     pub name: String,
     pub run: Box<dyn Fn() -> Outcome + Send + Sync>,
+    /// Started before the others (a long check last in the queue would run alone at the end).
+    pub early: bool,
 }
 
 impl Check {
@@ -26,8 +30,73 @@ impl Check {
         Self {
             name: name.into(),
             run: Box::new(run),
+            early: false,
         }
     }
+
+    /// Starts this (long) check first; the report keeps its place in the table.
+    pub fn early(mut self) -> Self {
+        self.early = true;
+        self
+    }
+}
+
+struct Counter {
+    name: &'static str,
+    total: usize,
+    done: AtomicUsize,
+}
+
+/// The long parts in progress, drawn on stderr by [`run`].
+static ACTIVE: Mutex<Vec<Arc<Counter>>> = Mutex::new(Vec::new());
+
+/// Progress of a long part of a check (shown as `name done/total` next to the bar while the
+/// part runs). Dropping it removes it from the display.
+pub struct Progress(Arc<Counter>);
+
+impl Progress {
+    pub fn new(name: &'static str, total: usize) -> Self {
+        let counter = Arc::new(Counter {
+            name,
+            total,
+            done: AtomicUsize::new(0),
+        });
+        if let Ok(mut active) = ACTIVE.lock() {
+            active.push(counter.clone());
+        }
+        Self(counter)
+    }
+
+    /// One more item done.
+    pub fn tick(&self) {
+        self.0.done.fetch_add(1, Ordering::Relaxed);
+    }
+}
+
+impl Drop for Progress {
+    fn drop(&mut self) {
+        if let Ok(mut active) = ACTIVE.lock() {
+            active.retain(|c| !Arc::ptr_eq(c, &self.0));
+        }
+    }
+}
+
+/// One progress line: a bar over the checks, then the long parts running.
+fn progress_line(done: usize, total: usize) -> String {
+    const WIDTH: usize = 30;
+    let filled = (WIDTH * done).checked_div(total).unwrap_or(WIDTH);
+    let mut line = format!(
+        "[{}{}] {done}/{total} checks",
+        "#".repeat(filled),
+        "·".repeat(WIDTH - filled)
+    );
+    if let Ok(active) = ACTIVE.lock() {
+        for c in active.iter() {
+            let n = c.done.load(Ordering::Relaxed);
+            line.push_str(&format!(" · {} {n}/{}", c.name, c.total));
+        }
+    }
+    line
 }
 
 /// Every check, in report order. Later crates append their suites here.
@@ -45,25 +114,40 @@ pub fn run() -> ExitCode {
     let started = Instant::now();
     let results: Vec<Mutex<Option<(Outcome, f64)>>> =
         checks.iter().map(|_| Mutex::new(None)).collect();
-    let next = Mutex::new(0usize);
+    // Long checks first; results are reported in table order.
+    let mut order: Vec<usize> = (0..checks.len()).collect();
+    order.sort_by_key(|&i| !checks[i].early);
+    let next = AtomicUsize::new(0);
+    let finished = AtomicUsize::new(0);
     let workers = std::thread::available_parallelism().map_or(2, |n| n.get());
+    let show = std::io::stderr().is_terminal();
     std::thread::scope(|scope| {
         for _ in 0..workers {
             scope.spawn(|| {
-                loop {
-                    let i = {
-                        let mut next = next.lock().expect("work queue");
-                        let i = *next;
-                        *next += 1;
-                        i
-                    };
-                    let Some(check) = checks.get(i) else { break };
+                while let Some(&i) = order.get(next.fetch_add(1, Ordering::Relaxed)) {
+                    let check = &checks[i];
                     let t = Instant::now();
                     let outcome =
                         std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| (check.run)()))
                             .unwrap_or_else(|_| Err("the check panicked".to_string()));
                     *results[i].lock().expect("result slot") =
                         Some((outcome, t.elapsed().as_secs_f64()));
+                    finished.fetch_add(1, Ordering::Relaxed);
+                }
+            });
+        }
+        if show {
+            scope.spawn(|| {
+                let mut stderr = std::io::stderr();
+                loop {
+                    let done = finished.load(Ordering::Relaxed);
+                    let _ = write!(stderr, "\r\x1b[2K{}", progress_line(done, checks.len()));
+                    let _ = stderr.flush();
+                    if done == checks.len() {
+                        let _ = write!(stderr, "\r\x1b[2K");
+                        break;
+                    }
+                    std::thread::sleep(Duration::from_millis(200));
                 }
             });
         }
@@ -103,4 +187,24 @@ pub fn run() -> ExitCode {
 /// `Ok(detail)` if `ok`, else `Err(detail)`.
 pub fn outcome(ok: bool, detail: String) -> Outcome {
     if ok { Ok(detail) } else { Err(detail) }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn progress_line_shows_the_bar_and_the_long_parts() {
+        assert!(progress_line(0, 4).starts_with(&format!("[{}]", "·".repeat(30))));
+        assert!(progress_line(4, 4).starts_with(&format!("[{}] 4/4 checks", "#".repeat(30))));
+        let p = Progress::new("part", 3);
+        p.tick();
+        assert!(
+            progress_line(1, 2).ends_with(" · part 1/3"),
+            "{}",
+            progress_line(1, 2)
+        );
+        drop(p);
+        assert!(!progress_line(1, 2).contains("part"));
+    }
 }
