@@ -11,6 +11,7 @@
 use harmonav_control::{Dynamic, Kinematic};
 use harmonav_field::{Field, FieldEval};
 use harmonav_sensing::{Sensing, axis, initially_known};
+use harmonav_transform::StarShape;
 use nalgebra::Vector2;
 use serde::Serialize;
 
@@ -495,6 +496,21 @@ pub(crate) struct Monitor {
     last_energy: Option<f64>,
 }
 
+/// The smallest signed distance from `x` to the shapes (`+∞` for none). The exact distance
+/// (a parry query refined on the curve, ~2 µs) is computed only for shapes whose bounding disc
+/// could beat the best so far: `|x − c| − R_max` is a lower bound of the signed distance, inside
+/// too (the boundary point on the ray through `x` is at most `R_max` from `c`). With 50
+/// obstacles the monitor was 98 % of a run's time without this.
+fn nearest_signed_distance(shapes: &[StarShape], x: Vector2<f64>) -> f64 {
+    shapes.iter().fold(f64::INFINITY, |best, o| {
+        if (x - o.centre()).norm() - o.radius_bounds().1 >= best {
+            best
+        } else {
+            best.min(o.signed_distance(x))
+        }
+    })
+}
+
 impl Monitor {
     pub(crate) fn new() -> Self {
         Self {
@@ -508,14 +524,11 @@ impl Monitor {
         }
     }
 
+    /// Called after every accepted step (and every recorded sample of the rapier run).
     pub(crate) fn observe(&mut self, s: &Sample, discovered: bool, prepared: &Prepared) {
         let x = Vector2::new(s.x[0], s.x[1]);
         let radius = prepared.scenario.robot.radius;
-        let obstacle = prepared
-            .true_obstacles
-            .iter()
-            .map(|o| o.signed_distance(x) - radius)
-            .fold(f64::INFINITY, f64::min);
+        let obstacle = nearest_signed_distance(&prepared.true_obstacles, x) - radius;
         let boundary = -prepared.true_boundary.signed_distance(x) - radius;
         let clearance = obstacle.min(boundary);
         self.min_clearance = self.min_clearance.min(clearance);
@@ -691,5 +704,37 @@ fn overshoot(samples: &[Sample], prepared: &Prepared, discoveries: &[Discovery])
                 tail.len()
             )
         },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use harmonav_transform::random::{self, Kind, Rng};
+
+    /// The pruned minimum equals the plain one, inside and outside the shapes.
+    #[test]
+    fn pruned_nearest_distance_is_the_minimum() {
+        let kinds = [Kind::Circle, Kind::Ellipse, Kind::Polygon, Kind::Star];
+        let mut rng = Rng::new(7);
+        let ws = random::workspace(&mut rng, 12, &kinds, Kind::Circle, 0.1);
+        let shapes = ws.obstacles();
+        for i in 0..400 {
+            // Half the probes at obstacle centres (inside), half anywhere in the box.
+            let x = if i % 2 == 0 {
+                shapes[i / 2 % shapes.len()].centre() + Vector2::new(0.01, -0.02)
+            } else {
+                Vector2::new(rng.uniform(-6.0, 6.0), rng.uniform(-6.0, 6.0))
+            };
+            let plain = shapes
+                .iter()
+                .map(|o| o.signed_distance(x))
+                .fold(f64::INFINITY, f64::min);
+            assert_eq!(nearest_signed_distance(shapes, x), plain, "at {x:?}");
+        }
+        assert_eq!(
+            nearest_signed_distance(&[], Vector2::zeros()),
+            f64::INFINITY
+        );
     }
 }
