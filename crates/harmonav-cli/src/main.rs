@@ -186,12 +186,18 @@ fn print_summary(s: &Summary) {
         s.speed_bound
             .map_or(String::new(), |b| format!(" (bound {b:.3})"))
     );
+    // Obstacles known at the start (global sensing, or within d_min) are counted, not listed.
+    let (at_start, later): (Vec<_>, Vec<_>) = s.discoveries.iter().partition(|d| d.time_s == 0.0);
     if !s.discoveries.is_empty() {
-        let d: Vec<String> = s
-            .discoveries
+        let mut d: Vec<String> = later
             .iter()
             .map(|d| format!("{} {:.2} s", d.obstacle, d.time_s))
             .collect();
+        match at_start.as_slice() {
+            [] => {}
+            [one] => d.insert(0, format!("{} known at the start", one.obstacle)),
+            many => d.insert(0, format!("{} known at the start", many.len())),
+        }
         out!("  discoveries: {}", d.join(", "));
     }
     let width = s.guarantees.iter().map(|g| g.name.len()).max().unwrap_or(0);
