@@ -294,3 +294,46 @@ fn the_paper_studies_share_one_world() {
     );
     assert_eq!(kin.obstacles.len(), 6);
 }
+
+/// hard/non-morse.toml: the census finds the degenerate critical point of proposition Morse at
+/// the origin, the file's start (0.001 m off the axis) reaches the goal, and a start on the
+/// symmetry axis flows into the degenerate point and stays there.
+#[test]
+fn the_non_morse_world_has_a_degenerate_point_that_only_the_axis_reaches() {
+    use harmonav_potential::CriticalKind;
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/hard/non-morse.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let scenario = Scenario::parse(&path, &text).unwrap();
+    let prepared = scenario.clone().prepare(&path).unwrap();
+    let field = harmonav_field::Field::all_known(prepared.workspace.clone()).unwrap();
+    let degenerate: Vec<_> = field
+        .critical_points()
+        .into_iter()
+        .filter(|c| {
+            c.point_world
+                .as_ref()
+                .is_some_and(|p| p.kind == CriticalKind::Degenerate)
+        })
+        .collect();
+    assert_eq!(degenerate.len(), 1);
+    // A root of multiplicity 3 is located to about ε^(1/3) ≈ 6e-6.
+    assert!(degenerate[0].x.norm() < 1e-4, "{:?}", degenerate[0].x);
+
+    let off_axis = run(&prepared, None).unwrap();
+    assert!(
+        off_axis.summary.all_passed(),
+        "{:?}",
+        off_axis.summary.guarantees
+    );
+
+    let mut on_axis = scenario;
+    on_axis.robot.start = [2.5, 0.0];
+    on_axis.sim.max_time = 20.0;
+    let stuck = run(&on_axis.prepare(&path).unwrap(), None).unwrap();
+    assert!(!stuck.summary.reached);
+    assert_eq!(stuck.summary.collisions, 0);
+    let end = stuck.samples.last().unwrap().x;
+    // On the axis by symmetry, and within the integrator's chatter of the point.
+    assert_eq!(end[1], 0.0);
+    assert!(end[0].abs() < 1e-5, "stopped at {end:?}");
+}
