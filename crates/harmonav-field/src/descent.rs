@@ -1,6 +1,6 @@
 //! Following the normalised descent direction `ẋ = −∇Θ/|∇Θ|` at unit speed with an
-//! error-controlled, L-stable integrator: the convergence study of the navigation function (and the
-//! kinematic law's path with `K√(2Θ)` replaced by 1).
+//! error-controlled, L-stable integrator: the convergence study of the navigation function
+//! (and the kinematic law's path with `K√(2Θ)` replaced by 1).
 
 use nalgebra::{Matrix2, Vector2};
 
@@ -50,7 +50,7 @@ pub enum Ending {
     /// Stopped at a critical point: the direction is undefined there, or the path chatters
     /// about it (see [`STALL_WINDOW`]).
     Stuck,
-    /// The step size collapsed (every retry left the free space).
+    /// The step size collapsed with every retry leaving the free space.
     StepCollapsed,
 }
 
@@ -69,12 +69,6 @@ pub struct Descent {
     pub rejected: usize,
     /// Whether every accepted point was in the free space of the *true* obstacles.
     pub collision_free: bool,
-}
-
-/// The linearly implicit stage solve `W k = b` with `W = I − h d J` (2×2, by Cramer's rule);
-/// `None` if `W` is singular (then the step is retried smaller, where `W → I`).
-fn solve(w: &Matrix2<f64>, b: Vector2<f64>) -> Option<Vector2<f64>> {
-    w.try_inverse().map(|inv| inv * b)
 }
 
 /// Jacobian of the direction field `f` at `x` by one-sided differences (forward, or backward
@@ -120,7 +114,15 @@ pub fn follow(field: &Field, start: Vector2<f64>, options: &FollowOptions) -> De
     const D: f64 = 0.292_893_218_813_452_5; // 1/(2 + √2)
     const E32: f64 = 6.0 + std::f64::consts::SQRT_2;
     let goal = field.workspace().destination();
-    let dir = |x: Vector2<f64>| field.eval(x).ok().and_then(|e| e.direction);
+    // Whether the last failed direction was outside the free space (else: a critical point).
+    let outside = std::cell::Cell::new(false);
+    let dir = |x: Vector2<f64>| match field.eval(x) {
+        Ok(e) => e.direction,
+        Err(_) => {
+            outside.set(true);
+            None
+        }
+    };
     let mut x = start;
     let (mut t, mut h) = (0.0, options.max_step.min(0.01));
     let (mut steps, mut rejected) = (0, 0);
@@ -143,7 +145,9 @@ pub fn follow(field: &Field, start: Vector2<f64>, options: &FollowOptions) -> De
     };
     let mut jac = direction_jacobian(&dir, x, f0);
     let mut window = (0.0, x);
-    while t < options.max_time {
+    let mut left_free_space = false;
+    // Within rounding of max_time counts as there (the last step is clipped to end at it).
+    while options.max_time - t > 1e-12 * options.max_time.max(1.0) {
         if t - window.0 >= STALL_WINDOW {
             if (x - window.1).norm() < STALL_RATIO * (t - window.0) {
                 return end(Ending::Stuck, t, x, steps, rejected, collision_free);
@@ -156,13 +160,24 @@ pub fn follow(field: &Field, start: Vector2<f64>, options: &FollowOptions) -> De
         }
         h = h.min(options.max_step).min(dist).min(options.max_time - t);
         if h < 1e-14 {
-            return end(Ending::StepCollapsed, t, x, steps, rejected, collision_free);
+            // Steps failing down to 1e-14 by the error test or at a stage where the direction
+            // is undefined: x sits on a critical point. By leaving the free space: the path is
+            // pressed against a wall.
+            let ending = if left_free_space {
+                Ending::StepCollapsed
+            } else {
+                Ending::Stuck
+            };
+            return end(ending, t, x, steps, rejected, collision_free);
         }
-        let w = Matrix2::identity() - h * D * jac;
+        // The linearly implicit stages solve with W = I − h d J (closed-form 2×2 inverse); a
+        // singular W fails the step, which is retried smaller (where W → I).
+        outside.set(false);
         let stages = (|| {
-            let k1 = solve(&w, f0)?;
+            let w_inv = (Matrix2::identity() - h * D * jac).try_inverse()?;
+            let k1 = w_inv * f0;
             let f1 = dir(x + 0.5 * h * k1)?;
-            let k2 = solve(&w, f1 - k1)? + k1;
+            let k2 = w_inv * (f1 - k1) + k1;
             let next = x + h * k2;
             // At the goal the direction is undefined; the step ends there anyway.
             let f2 = if (next - goal).norm() < options.goal_tolerance {
@@ -170,7 +185,7 @@ pub fn follow(field: &Field, start: Vector2<f64>, options: &FollowOptions) -> De
             } else {
                 dir(next)?
             };
-            let k3 = solve(&w, f2 - E32 * (k2 - f1) - 2.0 * (k1 - f0))?;
+            let k3 = w_inv * (f2 - E32 * (k2 - f1) - 2.0 * (k1 - f0));
             let err = (h / 6.0 * (k1 - 2.0 * k2 + k3)).norm();
             Some((next, f2, err))
         })();
@@ -189,10 +204,12 @@ pub fn follow(field: &Field, start: Vector2<f64>, options: &FollowOptions) -> De
             }
             Some((_, _, err)) => {
                 rejected += 1;
+                left_free_space = false;
                 h *= (0.9 * (options.step_tolerance / err).cbrt()).clamp(0.1, 0.9);
             }
             None => {
                 rejected += 1;
+                left_free_space = outside.get();
                 h *= 0.25;
             }
         }

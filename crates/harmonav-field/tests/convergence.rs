@@ -127,3 +127,28 @@ fn descent_converges_as_the_tolerance_shrinks() {
     }
     assert!(curved >= 5, "only {curved} curved paths");
 }
+
+/// Stall detection: in the non-Morse world of `scenarios/hard/non-morse.toml` a start on the
+/// symmetry axis flows into the degenerate critical point at the origin; `follow` reports
+/// `Stuck` there soon after arriving instead of chattering until `max_time`, while a start
+/// 0.001 m off the axis passes it and arrives.
+#[test]
+fn a_descent_into_a_critical_point_ends_stuck() {
+    use harmonav_transform::{StarShape, Workspace};
+    use nalgebra::Vector2;
+    let disc = |x: f64, y: f64| StarShape::circle(Vector2::new(x, y), 0.15).unwrap();
+    let ws = Workspace::new(
+        StarShape::circle(Vector2::zeros(), 4.5).unwrap(),
+        vec![disc(-1.0, 0.0), disc(-1.0, -1.0), disc(-1.0, 1.0)],
+        Vector2::new(-2.0, 0.0),
+    )
+    .unwrap();
+    let field = Field::all_known(Arc::new(ws)).unwrap();
+    let options = FollowOptions::default();
+    let on_axis = follow(&field, Vector2::new(2.5, 0.0), &options);
+    assert_eq!(on_axis.ending, Ending::Stuck);
+    assert!(on_axis.end.norm() < 1e-4, "{:?}", on_axis.end);
+    assert!(on_axis.time < 2.5 + 0.5, "stopped after {} m", on_axis.time);
+    let off_axis = follow(&field, Vector2::new(2.5, 1e-3), &options);
+    assert_eq!(off_axis.ending, Ending::Reached);
+}
