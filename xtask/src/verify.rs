@@ -173,6 +173,10 @@ pub fn run() -> ExitCode {
         };
         println!("{:width$}  {label:6}  {secs:5.2}s  {detail}", check.name);
     }
+    let matrix = scenarios::matrix();
+    if !matrix.is_empty() {
+        println!("\n{matrix}");
+    }
     println!(
         "verify: {passed} passed, {failed} failed ({:.1} s)",
         started.elapsed().as_secs_f64()

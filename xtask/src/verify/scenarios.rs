@@ -3,7 +3,7 @@
 //! `target/verify/`.
 
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 use harmonav_field::Field;
 use harmonav_field::descent::{Ending, FollowOptions, follow};
@@ -55,16 +55,17 @@ pub fn checks() -> Vec<Check> {
             .to_string_lossy()
             .replace(std::path::MAIN_SEPARATOR, "/");
         for physics in ["builtin", "rapier"] {
-            let file = file.clone();
+            let (file, row) = (file.clone(), name.clone());
             let out = root().join("target/verify").join(&name).join(physics);
             checks.push(Check::new(
                 format!("scenario.{name}.{physics}"),
-                move || scenario(&file, physics, &out),
+                move || scenario(&file, &row, physics, &out),
             ));
         }
+        let row = name.clone();
         checks.push(Check::new(
             format!("scenario.{name}.other-model"),
-            move || other_model(&file),
+            move || other_model(&file, &row),
         ));
     }
     checks.push(Check::new("montecarlo.20-obstacles-10k-starts", montecarlo).early());
@@ -75,7 +76,7 @@ pub fn checks() -> Vec<Check> {
 /// either law in any world, arrival is not: the dynamic law creeps where `|∇Θ|` is small (far
 /// from the goal, `λ_c` over-damps), so `reached-goal` and the file's `[expect]` (written for its
 /// own model) are reported, not required.
-fn other_model(file: &Path) -> Outcome {
+fn other_model(file: &Path, name: &str) -> Outcome {
     let mut prepared = Scenario::load(file).map_err(|e| e.to_string())?;
     prepared.scenario.expect = None;
     let model = match prepared.scenario.robot.model {
@@ -91,12 +92,108 @@ fn other_model(file: &Path) -> Outcome {
         s.min_clearance,
         s.max_speed,
     );
-    judge(s, detail, |g| g.name != "reached-goal")
+    judge(format!("{name}.other-model"), s, detail, |g| {
+        g.name != "reached-goal"
+    })
+}
+
+/// Columns of the scenario × guarantee matrix: a header and the guarantee names it covers.
+const COLUMNS: [(&str, &[&str]); 10] = [
+    ("reached", &["reached-goal"]),
+    ("no-collision", &["no-collision", "stayed-in-free-space"]),
+    ("inside", &["stayed-in-workspace"]),
+    ("Θ∈[0,1]", &["theta-in-unit-interval"]),
+    ("discoveries", &["discoveries"]),
+    ("speed<bound", &["speed-below-bound"]),
+    ("V↓", &["energy-non-increasing-between-discoveries"]),
+    ("no-overshoot", &["no-overshoot-at-goal"]),
+    ("no-contact", &["physics-no-contact"]),
+    (
+        "expect",
+        &[
+            "expect.reached",
+            "expect.discovery-order",
+            "expect.max-speed-below",
+        ],
+    ),
+];
+
+/// Rows of the matrix, filled by the scenario checks: the row name and one cell per column.
+static MATRIX: Mutex<Vec<(String, Vec<&'static str>)>> = Mutex::new(Vec::new());
+
+/// One matrix cell: `ok` if every guarantee of the column held, `FAIL` if a required one did
+/// not, `no` if only an unrequired one did not (arrival under the other law), `·` if the run has
+/// none of them (no sector, kinematic, built-in…) or, for the overshoot at the goal, never got
+/// there (the check then holds vacuously).
+fn cell(summary: &Summary, names: &[&str], required: &impl Fn(&Guarantee) -> bool) -> &'static str {
+    if names.contains(&"no-overshoot-at-goal") && !summary.reached {
+        return "·";
+    }
+    let mut present = summary
+        .guarantees
+        .iter()
+        .filter(|g| names.contains(&g.name.as_str()))
+        .peekable();
+    if present.peek().is_none() {
+        return "·";
+    }
+    let failed: Vec<&Guarantee> = present.filter(|g| !g.passed).collect();
+    match failed.as_slice() {
+        [] => "ok",
+        f if f.iter().any(|g| required(g)) => "FAIL",
+        _ => "no",
+    }
+}
+
+/// The scenario × guarantee matrix of the runs so far, rows sorted by name.
+pub fn matrix() -> String {
+    let Ok(mut rows) = MATRIX.lock() else {
+        return String::new();
+    };
+    if rows.is_empty() {
+        return String::new();
+    }
+    rows.sort();
+    let width = rows.iter().map(|r| r.0.chars().count()).max().unwrap_or(0);
+    let pad = |text: &str, n: usize| {
+        format!(
+            "{text}{}",
+            " ".repeat(n.saturating_sub(text.chars().count()))
+        )
+    };
+    let mut out = pad("scenario × guarantee", width);
+    for (header, _) in COLUMNS {
+        out.push_str("  ");
+        out.push_str(header);
+    }
+    out.push('\n');
+    for (name, cells) in rows.iter() {
+        let mut line = pad(name, width);
+        for ((header, _), c) in COLUMNS.iter().zip(cells) {
+            line.push_str("  ");
+            line.push_str(&pad(c, header.chars().count()));
+        }
+        out.push_str(line.trim_end());
+        out.push('\n');
+    }
+    out
 }
 
 /// Passes if every guarantee of `summary` that is `required` passed; the failures are appended
-/// to `detail`.
-fn judge(summary: &Summary, detail: String, required: impl Fn(&Guarantee) -> bool) -> Outcome {
+/// to `detail`. Records the run's row of the matrix as `row`.
+fn judge(
+    row: String,
+    summary: &Summary,
+    detail: String,
+    required: impl Fn(&Guarantee) -> bool,
+) -> Outcome {
+    let cells = COLUMNS
+        .iter()
+        .map(|(_, names)| cell(summary, names, &required))
+        .collect();
+    if let Ok(mut rows) = MATRIX.lock() {
+        rows.push((row, cells));
+    }
     let failed: Vec<String> = summary
         .guarantees
         .iter()
@@ -114,7 +211,7 @@ fn judge(summary: &Summary, detail: String, required: impl Fn(&Guarantee) -> boo
 }
 
 /// Runs one scenario with its own robot model; every guarantee (and `[expect]`) must hold.
-fn scenario(file: &Path, physics: &str, out: &Path) -> Outcome {
+fn scenario(file: &Path, name: &str, physics: &str, out: &Path) -> Outcome {
     let prepared = Scenario::load(file).map_err(|e| e.to_string())?;
     let builtin = run(&prepared, None).map_err(|e| e.to_string())?;
     let (r, extra) = if physics == "rapier" {
@@ -141,7 +238,7 @@ fn scenario(file: &Path, physics: &str, out: &Path) -> Outcome {
         s.max_speed,
         s.discoveries.len()
     );
-    judge(s, detail, |_| true)
+    judge(format!("{name}.{physics}"), s, detail, |_| true)
 }
 
 /// [`STARTS`] seeded random starts in a 20-obstacle mixed-shape world, global sensing, the
@@ -204,4 +301,29 @@ fn montecarlo() -> Outcome {
             field.k()
         ),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn matrix_cells_tell_pass_fail_unrequired_and_absent_apart() {
+        let prepared = Scenario::load(&root().join("scenarios/shapes/mixed.toml")).unwrap();
+        let mut s = run(&prepared, None).unwrap().summary;
+        let all = |_: &Guarantee| true;
+        let not_arrival = |g: &Guarantee| g.name != "reached-goal";
+        assert_eq!(cell(&s, &["no-collision"], &all), "ok");
+        assert_eq!(cell(&s, &["physics-no-contact"], &all), "·");
+        let reached = s
+            .guarantees
+            .iter_mut()
+            .find(|g| g.name == "reached-goal")
+            .unwrap();
+        reached.passed = false;
+        assert_eq!(cell(&s, &["reached-goal"], &all), "FAIL");
+        assert_eq!(cell(&s, &["reached-goal"], &not_arrival), "no");
+        s.reached = false;
+        assert_eq!(cell(&s, &["no-overshoot-at-goal"], &all), "·");
+    }
 }
