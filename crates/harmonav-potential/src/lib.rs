@@ -32,7 +32,7 @@
 //! ```
 //!
 //! Modules:
-//! - [`sigma`]: the squashing function `sigma`, its derivatives, stable for any `s`;
+//! - [`sigma`](mod@sigma): the squashing function `sigma`, its derivatives, stable for any `s`;
 //! - [`terms`]: the single harmonic term `ln|v|²`, its gradient and Hessian, guarded against
 //!   overflow and `0/0`;
 //! - [`world`]: [`PointWorld`] with `phi_k`, `∇phi_k`, `H(phi_k)`, `varphi`, `∇varphi`,
