@@ -9,8 +9,9 @@ use crate::field::Field;
 /// Stall detection of [`follow`]: over each stretch of this much path (= time at unit speed)
 /// the net displacement must exceed [`STALL_RATIO`] times it. A descent of Θ cannot turn back
 /// on itself, so only chatter about a critical point fails the test: in the stiff outer band a
-/// path can be squeezed onto a saddle's stable manifold to within rounding (1 in 10⁴ random
-/// starts of the 20-obstacle study), and would otherwise chatter there until `max_time`.
+/// path can be squeezed onto a saddle's stable manifold and lose the direction across the valley
+/// floor in rounding next to the saddle (1 in 10⁴ random starts of the 20-obstacle study); it
+/// would otherwise chatter there until `max_time`.
 pub const STALL_WINDOW: f64 = 0.1;
 
 /// See [`STALL_WINDOW`].

@@ -63,6 +63,14 @@ fn empty_world_descent_is_the_straight_segment() {
     }
 }
 
+/// The 20-obstacle mixed-shape world of the Monte-Carlo study in `cargo xtask verify`.
+fn monte_carlo_world() -> Field {
+    let kinds = [Kind::Circle, Kind::Ellipse, Kind::Polygon, Kind::Star];
+    let mut rng = Rng::new(20);
+    let ws = Arc::new(random::workspace(&mut rng, 20, &kinds, Kind::Star, 0.1));
+    Field::all_known(ws).unwrap()
+}
+
 /// Pitfall A (maths.md §5): from this start the descent runs for about 15 m inside the stretched
 /// outer band, along the far-field valley of phi_k, where the normalised field is stiff. The
 /// explicit Bogacki–Shampine pair needed 925 618 steps here; the L-stable W-method needs a few
@@ -70,24 +78,48 @@ fn empty_world_descent_is_the_straight_segment() {
 #[test]
 fn the_valley_in_the_outer_band_does_not_stall_the_descent() {
     use nalgebra::Vector2;
-    let kinds = [Kind::Circle, Kind::Ellipse, Kind::Polygon, Kind::Star];
-    let mut rng = Rng::new(20);
-    let ws = Arc::new(random::workspace(&mut rng, 20, &kinds, Kind::Star, 0.1));
-    let field = Field::all_known(ws.clone()).unwrap();
+    let field = monte_carlo_world();
     let start = Vector2::new(4.640534808881151, 2.2683612449290624);
+    let wall = -field.workspace().boundary().signed_distance(start);
     assert!(
-        -ws.boundary().signed_distance(start) < 0.02,
-        "start in the outer band"
+        wall < 0.02,
+        "start in the outer band: {wall} m from the wall"
     );
     let d = follow(&field, start, &FollowOptions::default());
     assert_eq!(d.ending, Ending::Reached);
     assert!(d.collision_free);
     assert!(d.time > 10.0, "the path follows the valley: {} m", d.time);
-    assert!(
-        d.steps + d.rejected < 60_000,
-        "{} steps",
-        d.steps + d.rejected
-    );
+    let attempts = d.steps + d.rejected;
+    assert!(attempts < 60_000, "{attempts} steps");
+}
+
+/// The one start in 10⁴ of the Monte-Carlo study that the stiff band squeezes onto the stable
+/// manifold of a far-field saddle of phi_k: it chatters on the valley floor next to the saddle,
+/// and the stall window ends the descent as `Stuck` (without it: 10⁸ step attempts until
+/// `max_time`).
+#[test]
+fn a_path_squeezed_onto_a_saddle_ends_stuck_next_to_it() {
+    use nalgebra::Vector2;
+    let field = monte_carlo_world();
+    let start = Vector2::new(4.255529293381624, 1.7363527519050335);
+    let d = follow(&field, start, &FollowOptions::default());
+    assert_eq!(d.ending, Ending::Stuck);
+    assert!(d.time < 2.0, "stopped after {} m", d.time);
+    let h = field.eval(d.end).unwrap().h;
+    assert!(h.norm() > 40.0, "in the far field: |h| = {}", h.norm());
+    // The saddles of Θ are those of phi_k pulled back through Phi⁻¹ (theorem isNF). The valley
+    // floor is flat there: the path stalls 8 mm short of the saddle with Θ level with it to
+    // 3e-8, where the direction across the 1e-4 m wide floor is lost in rounding.
+    let (gap, saddle) = field
+        .critical_points()
+        .into_iter()
+        .filter(|c| c.point_world.is_some())
+        .map(|c| ((c.x - d.end).norm(), c.x))
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .unwrap();
+    let level = (field.eval(saddle).unwrap().value - field.eval(d.end).unwrap().value).abs();
+    assert!(gap < 0.02, "{gap} m from the nearest saddle of Θ");
+    assert!(level < 1e-7, "Θ differs from the saddle's by {level:e}");
 }
 
 /// The error control works: over 2 m of curved path in a 6-obstacle world, the default

@@ -294,7 +294,7 @@ fn montecarlo() -> Outcome {
     outcome(
         collisions == 0 && reached * 1000 >= results.len() * 999,
         format!(
-            "{reached}/{} reached ({:.2} %), {stuck} stopped at a saddle, {timed_out} timed out, \
+            "{reached}/{} reached ({:.2} %), {stuck} stalled at a saddle, {timed_out} timed out, \
              median {median:.2} s, {collisions} collisions, k = {}",
             results.len(),
             100.0 * reached as f64 / results.len() as f64,
