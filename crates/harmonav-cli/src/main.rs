@@ -47,7 +47,7 @@ enum Command {
     /// Run a scenario and check every guarantee.
     Run {
         scenario: PathBuf,
-        /// Override the scenario's robot model.
+        /// Override the scenario's robot model (the file's `[expect]` then does not apply).
         #[arg(long)]
         controller: Option<Controller>,
         /// The integrator: the built-in one or the rapier2d cross-check.

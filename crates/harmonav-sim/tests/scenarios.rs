@@ -337,3 +337,23 @@ fn the_non_morse_world_has_a_degenerate_point_that_only_the_axis_reaches() {
     assert_eq!(end[1], 0.0);
     assert!(end[0].abs() < 1e-5, "stopped at {end:?}");
 }
+
+/// `[expect]` describes the file's own model: a run with the other model is judged on the
+/// guarantees alone (the paper's kinematic study, driven by the dynamic law, creeps and finds
+/// only O1 — not what its `[expect]` says of the kinematic run).
+#[test]
+fn expectations_apply_to_the_files_own_model_only() {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/paper/kinematic.toml");
+    let prepared = Scenario::load(&file).unwrap();
+    let expects = |model| {
+        run(&prepared, Some(model))
+            .unwrap()
+            .summary
+            .guarantees
+            .iter()
+            .filter(|g| g.name.starts_with("expect."))
+            .count()
+    };
+    assert_eq!(expects(Model::Kinematic), 2);
+    assert_eq!(expects(Model::Dynamic), 0);
+}
