@@ -7,23 +7,8 @@ use harmonav_sim::run::run;
 use harmonav_sim::scenario::{Model, Scenario};
 
 fn scenario_files() -> Vec<PathBuf> {
-    fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
-        for entry in std::fs::read_dir(dir).unwrap() {
-            let p = entry.unwrap().path();
-            if p.is_dir() {
-                walk(&p, out);
-            } else if p.extension().is_some_and(|e| e == "toml") {
-                out.push(p);
-            }
-        }
-    }
-    let mut out = Vec::new();
-    walk(
-        &Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios"),
-        &mut out,
-    );
-    out.sort();
-    out
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios");
+    harmonav_sim::scenario::scenario_files(&dir).unwrap()
 }
 
 #[test]

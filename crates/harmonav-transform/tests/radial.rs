@@ -3,16 +3,9 @@
 use harmonav_transform::radial::{Radial, obstacle_map, outer_map};
 use nalgebra::Vector2;
 use proptest::prelude::*;
-use proptest::test_runner::{Config, RngSeed};
 
-fn config(cases: u32) -> Config {
-    Config {
-        cases,
-        rng_seed: RngSeed::Fixed(0x0048_4152_4D4E_4156),
-        failure_persistence: None,
-        ..Config::default()
-    }
-}
+mod common;
+use common::config;
 
 /// A star boundary `R(θ) = r0 + a cos(nθ + φ)` (positive for |a| < r0) and its derivative.
 fn star(r0: f64, a: f64, n: f64, phase: f64) -> impl Fn(f64) -> (f64, f64) {

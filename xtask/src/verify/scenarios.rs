@@ -24,24 +24,9 @@ fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
 }
 
+/// The suite files; an unreadable `scenarios/` yields none (and no scenario checks).
 fn scenario_files() -> Vec<PathBuf> {
-    fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
-        let Ok(entries) = std::fs::read_dir(dir) else {
-            return;
-        };
-        for entry in entries.flatten() {
-            let p = entry.path();
-            if p.is_dir() {
-                walk(&p, out);
-            } else if p.extension().is_some_and(|e| e == "toml") {
-                out.push(p);
-            }
-        }
-    }
-    let mut out = Vec::new();
-    walk(&root().join("scenarios"), &mut out);
-    out.sort();
-    out
+    harmonav_sim::scenario::scenario_files(&root().join("scenarios")).unwrap_or_default()
 }
 
 pub fn checks() -> Vec<Check> {
