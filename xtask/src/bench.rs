@@ -11,7 +11,11 @@ use std::hint::black_box;
 use std::process::{Command, ExitCode};
 use std::time::Instant;
 
+use harmonav_field::KPolicy;
 use harmonav_potential::{BatchGradient, PointWorld, Vector2, arrangements};
+use harmonav_sim::scenario::Model;
+
+use crate::quality;
 
 pub struct Options {
     json: bool,
@@ -62,6 +66,22 @@ pub fn run(options: &Options) -> ExitCode {
     put("field_grad_ns_m20", field_grad_ns(20));
     put("control_step_ns_m6", control_step_ns());
     put("montecarlo_runs_per_s", montecarlo_runs_per_s());
+    // The motion-quality benchmark (docs/benchmarks.md): both laws, both k policies.
+    let models = [Model::Kinematic, Model::Dynamic];
+    let plan = quality::plan(&models, &KPolicy::ALL, quality::WORLDS);
+    let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
+    match harmonav_sim::quality::run_plan(&plan, threads) {
+        Ok(stats) => {
+            quality::figures(&stats, &mut put);
+            if !options.json {
+                print!("{}", quality::table(&stats));
+            }
+        }
+        Err(e) => {
+            eprintln!("xtask bench: the motion-quality benchmark failed: {e}");
+            return ExitCode::FAILURE;
+        }
+    }
     if options.numpy {
         match numpy_ns_per_pair(100, 4096) {
             Ok((broadcast, per_point)) => {

@@ -8,6 +8,7 @@
 
 mod bench;
 mod figures;
+mod quality;
 mod rng;
 mod verify;
 
@@ -27,6 +28,7 @@ fn main() -> ExitCode {
     match args.first().map(String::as_str) {
         Some("verify") if args.len() == 1 => verify::run(),
         Some("figures") if args.len() == 1 => figures::run(),
+        Some("quality") => quality::run(&args[1..]),
         Some("bench") => match bench::Options::parse(&args[1..]) {
             Ok(options) => bench::run(&options),
             Err(message) => usage_error(&message),

@@ -4,6 +4,7 @@
 mod control;
 mod field;
 mod potential;
+mod quality;
 mod scenarios;
 mod transform;
 
@@ -105,6 +106,7 @@ fn checks() -> Vec<Check> {
     all.extend(transform::checks());
     all.extend(field::checks());
     all.extend(control::checks());
+    all.extend(quality::checks());
     all.extend(scenarios::checks());
     all
 }

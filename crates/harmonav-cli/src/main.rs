@@ -7,8 +7,8 @@ use std::process::ExitCode;
 use std::sync::Arc;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use harmonav_field::Field;
 use harmonav_field::descent::{Ending, FollowOptions, follow};
+use harmonav_field::{Field, KPolicy};
 use harmonav_potential::CriticalKind;
 use harmonav_sensing::Sensing;
 use harmonav_sim::physics::{Drive, run_rapier};
@@ -36,6 +36,24 @@ enum Controller {
     Dynamic,
 }
 
+/// `--k`: overrides the scenario's `[field] k`.
+#[derive(Clone, Copy, ValueEnum)]
+enum KArg {
+    /// `k = n + 1`, exactly the paper.
+    Paper,
+    /// The default: `k` from the known world (docs/maths.md §8).
+    Auto,
+}
+
+impl From<KArg> for KPolicy {
+    fn from(k: KArg) -> Self {
+        match k {
+            KArg::Paper => KPolicy::Paper,
+            KArg::Auto => KPolicy::Auto,
+        }
+    }
+}
+
 #[derive(Clone, Copy, ValueEnum, PartialEq)]
 enum Physics {
     Builtin,
@@ -56,6 +74,9 @@ enum Command {
         /// Write summary.json, run.mcap, trajectory.svg (and speed.svg) here.
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Override the scenario's `[field] k` policy.
+        #[arg(long = "k", value_name = "POLICY")]
+        k: Option<KArg>,
         /// Print the summary as JSON.
         #[arg(long)]
         json: bool,
@@ -71,12 +92,18 @@ enum Command {
             value_name = "X,Y"
         )]
         at: Vec<String>,
+        /// Override the scenario's `[field] k` policy.
+        #[arg(long = "k", value_name = "POLICY")]
+        k: Option<KArg>,
         #[arg(long)]
         json: bool,
     },
     /// Find the critical points of Θ (all obstacles known).
     Census {
         scenario: PathBuf,
+        /// Override the scenario's `[field] k` policy.
+        #[arg(long = "k", value_name = "POLICY")]
+        k: Option<KArg>,
         #[arg(long)]
         json: bool,
     },
@@ -89,6 +116,9 @@ enum Command {
         seed: u64,
         #[arg(long)]
         controller: Option<Controller>,
+        /// Override the scenario's `[field] k` policy.
+        #[arg(long = "k", value_name = "POLICY")]
+        k: Option<KArg>,
         #[arg(long)]
         json: bool,
     },
@@ -119,18 +149,28 @@ fn main() -> ExitCode {
             controller,
             physics,
             out,
+            k,
             json,
-        } => cmd_run(&scenario, controller, physics, out.as_deref(), json),
-        Command::Eval { scenario, at, json } => cmd_eval(&scenario, &at, json),
-        Command::Census { scenario, json } => cmd_census(&scenario, json),
+        } => load(&scenario, k)
+            .and_then(|p| cmd_run(&scenario, &p, controller, physics, out.as_deref(), json)),
+        Command::Eval {
+            scenario,
+            at,
+            k,
+            json,
+        } => load(&scenario, k).and_then(|p| cmd_eval(&p, &at, json)),
+        Command::Census { scenario, k, json } => {
+            load(&scenario, k).and_then(|p| cmd_census(&p, json))
+        }
         Command::Sweep {
             scenario,
             starts,
             seed,
             controller,
+            k,
             json,
-        } => cmd_sweep(&scenario, starts, seed, controller, json),
-        Command::Check { scenario } => load(&scenario).map(|_| {
+        } => load(&scenario, k).and_then(|p| cmd_sweep(&p, starts, seed, controller, json)),
+        Command::Check { scenario } => load(&scenario, None).map(|_| {
             out!("ok");
             true
         }),
@@ -154,8 +194,13 @@ fn print_json(value: &impl serde::Serialize) -> Result<(), String> {
     Ok(())
 }
 
-fn load(path: &Path) -> Result<Prepared, String> {
-    Scenario::load(path).map_err(|e| e.to_string())
+/// Loads and validates a scenario; `k` overrides its `[field] k` policy.
+fn load(path: &Path, k: Option<KArg>) -> Result<Prepared, String> {
+    let mut prepared = Scenario::load(path).map_err(|e| e.to_string())?;
+    if let Some(k) = k {
+        prepared.scenario.field.k = k.into();
+    }
+    Ok(prepared)
 }
 
 fn model(c: Option<Controller>) -> Option<Model> {
@@ -213,16 +258,16 @@ fn print_summary(s: &Summary) {
 
 fn cmd_run(
     path: &Path,
+    prepared: &Prepared,
     controller: Option<Controller>,
     physics: Physics,
     out: Option<&Path>,
     json: bool,
 ) -> Result<bool, String> {
-    let prepared = load(path)?;
     let m = model(controller);
-    let builtin = run(&prepared, m).map_err(|e| format!("{}: {e}", path.display()))?;
+    let builtin = run(prepared, m).map_err(|e| format!("{}: {e}", path.display()))?;
     let result = if physics == Physics::Rapier {
-        let (mut r, report) = run_rapier(&prepared, m, Drive::Law, Some(&builtin))
+        let (mut r, report) = run_rapier(prepared, m, Drive::Law, Some(&builtin))
             .map_err(|e| format!("{}: {e}", path.display()))?;
         r.summary.guarantees.push(harmonav_sim::run::Guarantee {
             name: "physics-deviation".into(),
@@ -237,7 +282,7 @@ fn cmd_run(
         builtin
     };
     if let Some(dir) = out {
-        write_outputs(dir, &prepared, &result)?;
+        write_outputs(dir, prepared, &result)?;
     }
     if json {
         print_json(&result.summary)?;
@@ -261,13 +306,12 @@ fn parse_point(s: &str) -> Result<Vector2<f64>, String> {
     }
 }
 
-fn cmd_eval(path: &Path, at: &[String], json: bool) -> Result<bool, String> {
-    let prepared = load(path)?;
+fn cmd_eval(prepared: &Prepared, at: &[String], json: bool) -> Result<bool, String> {
     let points = at
         .iter()
         .map(|s| parse_point(s))
         .collect::<Result<Vec<_>, _>>()?;
-    let field = Field::all_known(prepared.workspace.clone()).map_err(|e| e.to_string())?;
+    let field = prepared.global_field().map_err(|e| e.to_string())?;
     let rows: Vec<Value> = points
         .iter()
         .map(|&x| match field.eval(x) {
@@ -328,9 +372,8 @@ fn hessian_eigenvalues(field: &Field, x: Vector2<f64>) -> [f64; 2] {
     [e[0].min(e[1]), e[0].max(e[1])]
 }
 
-fn cmd_census(path: &Path, json: bool) -> Result<bool, String> {
-    let prepared = load(path)?;
-    let field = Field::all_known(prepared.workspace.clone()).map_err(|e| e.to_string())?;
+fn cmd_census(prepared: &Prepared, json: bool) -> Result<bool, String> {
+    let field = prepared.global_field().map_err(|e| e.to_string())?;
     let (mut minima, mut saddles, mut degenerate) = (0, 0, 0);
     let points: Vec<Value> = field
         .critical_points()
@@ -353,14 +396,18 @@ fn cmd_census(path: &Path, json: bool) -> Result<bool, String> {
             json!({ "x": c.x.x, "y": c.x.y, "kind": kind, "eigenvalues": hessian_eigenvalues(&field, c.x) })
         })
         .collect();
-    let out =
-        json!({ "minima": minima, "saddles": saddles, "degenerate": degenerate, "points": points });
+    let out = json!({
+        "minima": minima, "saddles": saddles, "degenerate": degenerate,
+        "k": field.k(), "k_policy": field.k_policy().as_str(), "points": points,
+    });
     if json {
         print_json(&out)?;
     } else {
         out!(
-            "{minima} minimum, {saddles} saddles, {degenerate} degenerate (M = {})",
-            prepared.workspace.obstacles().len()
+            "{minima} minimum, {saddles} saddles, {degenerate} degenerate (M = {}, k = {} from \"{}\")",
+            prepared.workspace.obstacles().len(),
+            field.k(),
+            field.k_policy()
         );
         for p in out["points"].as_array().into_iter().flatten() {
             out!(
@@ -376,13 +423,12 @@ fn cmd_census(path: &Path, json: bool) -> Result<bool, String> {
 }
 
 fn cmd_sweep(
-    path: &Path,
+    prepared: &Prepared,
     starts: usize,
     seed: u64,
     controller: Option<Controller>,
     json: bool,
 ) -> Result<bool, String> {
-    let prepared = load(path)?;
     if starts == 0 {
         return Err("`--starts` must be at least 1".into());
     }
@@ -392,7 +438,7 @@ fn cmd_sweep(
         .map(|_| random::free_point(&mut rng, &ws, 1e-3))
         .collect();
     let results = sweep(
-        &prepared,
+        prepared,
         &points,
         model(controller).unwrap_or(prepared.scenario.robot.model),
     )?;
@@ -449,7 +495,7 @@ fn sweep(
     points: &[Vector2<f64>],
     model: Model,
 ) -> Result<Vec<Result<f64, String>>, String> {
-    let field = Arc::new(Field::all_known(prepared.workspace.clone()).map_err(|e| e.to_string())?);
+    let field = Arc::new(prepared.global_field().map_err(|e| e.to_string())?);
     let threads = std::thread::available_parallelism()
         .map_or(2, |n| n.get())
         .min(points.len().max(1));

@@ -101,6 +101,41 @@ fn census_counts_one_minimum_and_m_saddles() {
     }
 }
 
+/// `--k` overrides the file's policy on run, eval, census and sweep; a bad name exits 2.
+#[test]
+fn the_k_option_sets_the_policy() {
+    let file = scenario("shapes/mixed.toml");
+    for (policy, k) in [("paper", 5.0), ("auto", 30.0)] {
+        let (code, out, err) = harmonav(&["census", &file, "--k", policy, "--json"]);
+        assert_eq!(code, 0, "{err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        assert_eq!(
+            (v["k"].as_f64(), v["k_policy"].as_str()),
+            (Some(k), Some(policy))
+        );
+    }
+    let value = |policy: &str| {
+        let (code, out, err) =
+            harmonav(&["eval", &file, "--at", "-1.5,-0.2", "--k", policy, "--json"]);
+        assert_eq!(code, 0, "{err}");
+        serde_json::from_str::<serde_json::Value>(&out).unwrap()[0]["value"]
+            .as_f64()
+            .unwrap()
+    };
+    assert_ne!(value("paper"), value("auto"));
+    for command in ["run", "sweep"] {
+        let mut args = vec![command, &file, "--k", "paper"];
+        if command == "sweep" {
+            args.extend(["--starts", "2"]);
+        }
+        let (code, _, err) = harmonav(&args);
+        assert_eq!(code, 0, "{command}: {err}");
+    }
+    let (code, _, err) = harmonav(&["census", &file, "--k", "n+1"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("paper") && err.contains("auto"), "{err}");
+}
+
 #[test]
 fn sweep_and_check_and_bad_input() {
     let (code, out, err) = harmonav(&[

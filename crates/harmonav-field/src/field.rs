@@ -6,6 +6,8 @@ use harmonav_potential::{CriticalPoint, PointWorld, PotentialError, Singularity,
 use harmonav_transform::{Active, NavTransform, NotFree, Workspace, WorldError};
 use nalgebra::Vector2;
 
+use crate::k_policy::KPolicy;
+
 /// Why `Θ` cannot be evaluated or the field not built.
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
@@ -82,13 +84,26 @@ pub struct Field {
     world: PointWorld,
     /// `H(Θ)(x_d) = stiffness·I`, computed at discovery.
     stiffness: f64,
+    /// How `k` follows the known obstacles.
+    policy: KPolicy,
 }
 
 impl Field {
-    /// The field with the obstacles `known` already known (assumption `localobs`), `k = n + 1`.
+    /// The field with the obstacles `known` already known (assumption `localobs`) and `k` from
+    /// the default policy ([`KPolicy::Auto`]).
     pub fn new(
         workspace: Arc<Workspace>,
         known: impl IntoIterator<Item = usize>,
+    ) -> Result<Self, FieldError> {
+        Self::with_policy(workspace, known, KPolicy::default())
+    }
+
+    /// The field with the obstacles `known` already known and `k = policy.k(n)` (kept at every
+    /// discovery).
+    pub fn with_policy(
+        workspace: Arc<Workspace>,
+        known: impl IntoIterator<Item = usize>,
+        policy: KPolicy,
     ) -> Result<Self, FieldError> {
         let mut ids: Vec<usize> = Vec::new();
         for i in known {
@@ -96,32 +111,39 @@ impl Field {
                 ids.push(i);
             }
         }
-        let (transform, world) = build(&workspace, &ids)?;
+        let (transform, world) = build(&workspace, &ids, policy)?;
         let stiffness = world.destination_stiffness();
         Ok(Self {
             workspace,
             transform,
             world,
             stiffness,
+            policy,
         })
     }
 
-    /// The field with every obstacle known (global sensing).
+    /// The field with every obstacle known (global sensing), default policy.
     pub fn all_known(workspace: Arc<Workspace>) -> Result<Self, FieldError> {
-        let n = workspace.obstacles().len();
-        Self::new(workspace, 0..n)
+        Self::all_known_with(workspace, KPolicy::default())
     }
 
-    /// Eq. (`phiseq`): obstacle `id` becomes known; `k` increases to `n + 1` and `Phi` is
-    /// rebuilt with new widths. Returns `false` if it was already known (obstacles are never
-    /// forgotten, assumption `objpers`).
+    /// The field with every obstacle known (global sensing) and `k` from `policy`.
+    pub fn all_known_with(workspace: Arc<Workspace>, policy: KPolicy) -> Result<Self, FieldError> {
+        let n = workspace.obstacles().len();
+        Self::with_policy(workspace, 0..n, policy)
+    }
+
+    /// Eq. (`phiseq`): obstacle `id` becomes known; `k` becomes the policy's value for `n + 1`
+    /// known obstacles and `Phi` is rebuilt with new widths. Returns `false` if it was already
+    /// known (obstacles are never forgotten, assumption `objpers`). On error the field is
+    /// unchanged.
     pub fn discover(&mut self, id: usize) -> Result<bool, FieldError> {
         if self.transform.known().contains(&id) {
             return Ok(false);
         }
         let mut ids = self.transform.known().to_vec();
         ids.push(id);
-        let (transform, world) = build(&self.workspace, &ids)?;
+        let (transform, world) = build(&self.workspace, &ids, self.policy)?;
         self.transform = transform;
         self.stiffness = world.destination_stiffness();
         self.world = world;
@@ -138,9 +160,14 @@ impl Field {
         self.transform.known()
     }
 
-    /// `k = n + 1`.
+    /// `k` of `phi_k` for the known obstacles (`policy.k(n)`).
     pub fn k(&self) -> f64 {
         self.world.k()
+    }
+
+    /// The policy that sets `k`.
+    pub fn k_policy(&self) -> KPolicy {
+        self.policy
     }
 
     /// The navigation transformation for the known obstacles.
@@ -226,9 +253,14 @@ impl Field {
     }
 }
 
-fn build(ws: &Workspace, known: &[usize]) -> Result<(NavTransform, PointWorld), FieldError> {
-    let k = known.len() as f64 + 1.0;
+fn build(
+    ws: &Workspace,
+    known: &[usize],
+    policy: KPolicy,
+) -> Result<(NavTransform, PointWorld), FieldError> {
+    let k = policy.k(known.len());
     let transform = ws.nav_transform(known, k)?;
-    let world = PointWorld::new(ws.destination(), transform.points().collect::<Vec<_>>())?;
+    let world =
+        PointWorld::new(ws.destination(), transform.points().collect::<Vec<_>>())?.with_k(k)?;
     Ok((transform, world))
 }

@@ -33,5 +33,7 @@
 
 pub mod descent;
 mod field;
+mod k_policy;
 
 pub use field::{Critical, Field, FieldError, FieldEval};
+pub use k_policy::{AUTO_FACTOR, KPolicy, UnknownKPolicy};

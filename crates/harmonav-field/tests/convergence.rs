@@ -1,17 +1,18 @@
-//! Following −∇Θ/|∇Θ| from random starts reaches the goal with k = M + 1 and no tuning.
-//! (The 1000-start study per world runs in `cargo xtask verify`.)
+//! Following −∇Θ/|∇Θ| from random starts reaches the goal under both k policies and with no
+//! tuning. (The 1000-start study per world runs in `cargo xtask verify`.) The tests of the
+//! paper's far-field valley (pitfall A) and of the non-Morse arrangement use `k = n + 1`.
 
 use std::sync::Arc;
 
-use harmonav_field::Field;
 use harmonav_field::descent::{Ending, FollowOptions, follow};
+use harmonav_field::{Field, KPolicy};
 use harmonav_transform::random::{self, Kind, Rng};
 
-fn study(kinds: &[Kind], outer: Kind, seed: u64, starts: usize) -> (usize, f64) {
+fn study(kinds: &[Kind], outer: Kind, seed: u64, starts: usize, policy: KPolicy) -> (usize, f64) {
     let mut rng = Rng::new(seed);
     let ws = Arc::new(random::workspace(&mut rng, 6, kinds, outer, 0.2));
-    let field = Field::all_known(ws.clone()).unwrap();
-    assert_eq!(field.k(), 7.0);
+    let field = Field::all_known_with(ws.clone(), policy).unwrap();
+    assert_eq!(field.k(), policy.k(6));
     let mut reached = 0;
     let mut worst = 0.0f64;
     for _ in 0..starts {
@@ -28,15 +29,19 @@ fn study(kinds: &[Kind], outer: Kind, seed: u64, starts: usize) -> (usize, f64) 
 
 #[test]
 fn sphere_world_converges() {
-    let (reached, worst) = study(&[Kind::Circle], Kind::Circle, 1, 150);
-    assert_eq!(reached, 150, "slowest arrival {worst} s");
+    for policy in KPolicy::ALL {
+        let (reached, worst) = study(&[Kind::Circle], Kind::Circle, 1, 150, policy);
+        assert_eq!(reached, 150, "{policy}: slowest arrival {worst} s");
+    }
 }
 
 #[test]
 fn mixed_star_world_converges() {
     let all = [Kind::Circle, Kind::Ellipse, Kind::Polygon, Kind::Star];
-    let (reached, worst) = study(&all, Kind::Star, 2, 150);
-    assert_eq!(reached, 150, "slowest arrival {worst} s");
+    for policy in KPolicy::ALL {
+        let (reached, worst) = study(&all, Kind::Star, 2, 150, policy);
+        assert_eq!(reached, 150, "{policy}: slowest arrival {worst} s");
+    }
 }
 
 /// With no obstacle and `Phi` the identity between start and goal, the descent is the straight
@@ -64,21 +69,22 @@ fn empty_world_descent_is_the_straight_segment() {
 }
 
 /// The 20-obstacle mixed-shape world of the Monte-Carlo study in `cargo xtask verify`.
-fn monte_carlo_world() -> Field {
+fn monte_carlo_world(policy: KPolicy) -> Field {
     let kinds = [Kind::Circle, Kind::Ellipse, Kind::Polygon, Kind::Star];
     let mut rng = Rng::new(20);
     let ws = Arc::new(random::workspace(&mut rng, 20, &kinds, Kind::Star, 0.1));
-    Field::all_known(ws).unwrap()
+    Field::all_known_with(ws, policy).unwrap()
 }
 
 /// Pitfall A (maths.md §5): from this start the descent runs for about 15 m inside the stretched
 /// outer band, along the far-field valley of phi_k, where the normalised field is stiff. The
 /// explicit Bogacki–Shampine pair needed 925 618 steps here; the L-stable W-method needs a few
-/// ten thousand. (A step count, not a time: deterministic on any machine.)
+/// ten thousand. (A step count, not a time: deterministic on any machine.) With `k = "auto"`
+/// the valley is gone: the same start heads for the goal, within 10 % of the straight line.
 #[test]
 fn the_valley_in_the_outer_band_does_not_stall_the_descent() {
     use nalgebra::Vector2;
-    let field = monte_carlo_world();
+    let field = monte_carlo_world(KPolicy::Paper);
     let start = Vector2::new(4.640534808881151, 2.2683612449290624);
     let wall = -field.workspace().boundary().signed_distance(start);
     assert!(
@@ -91,6 +97,20 @@ fn the_valley_in_the_outer_band_does_not_stall_the_descent() {
     assert!(d.time > 10.0, "the path follows the valley: {} m", d.time);
     let attempts = d.steps + d.rejected;
     assert!(attempts < 60_000, "{attempts} steps");
+    let auto = follow(
+        &monte_carlo_world(KPolicy::Auto),
+        start,
+        &FollowOptions::default(),
+    );
+    assert_eq!(auto.ending, Ending::Reached);
+    assert!(auto.collision_free);
+    let straight = (start - field.workspace().destination()).norm();
+    assert!(
+        auto.time < 1.1 * straight && d.time > 1.5 * straight,
+        "auto {} m, paper {} m, straight line {straight} m",
+        auto.time,
+        d.time
+    );
 }
 
 /// The one start in 10⁴ of the Monte-Carlo study that the stiff band squeezes onto the stable
@@ -100,7 +120,7 @@ fn the_valley_in_the_outer_band_does_not_stall_the_descent() {
 #[test]
 fn a_path_squeezed_onto_a_saddle_ends_stuck_next_to_it() {
     use nalgebra::Vector2;
-    let field = monte_carlo_world();
+    let field = monte_carlo_world(KPolicy::Paper);
     let start = Vector2::new(4.255529293381624, 1.7363527519050335);
     let d = follow(&field, start, &FollowOptions::default());
     assert_eq!(d.ending, Ending::Stuck);
@@ -130,7 +150,7 @@ fn descent_converges_as_the_tolerance_shrinks() {
     let all = [Kind::Circle, Kind::Ellipse, Kind::Polygon, Kind::Star];
     let mut rng = Rng::new(3);
     let ws = Arc::new(random::workspace(&mut rng, 6, &all, Kind::Star, 0.2));
-    let field = Field::all_known(ws.clone()).unwrap();
+    let field = Field::all_known_with(ws.clone(), KPolicy::Paper).unwrap();
     let at = |tol: f64, max_step: f64, x| {
         let options = FollowOptions {
             max_time: 2.0,
@@ -175,7 +195,7 @@ fn a_descent_into_a_critical_point_ends_stuck() {
         Vector2::new(-2.0, 0.0),
     )
     .unwrap();
-    let field = Field::all_known(Arc::new(ws)).unwrap();
+    let field = Field::all_known_with(Arc::new(ws), KPolicy::Paper).unwrap();
     let options = FollowOptions::default();
     let on_axis = follow(&field, Vector2::new(2.5, 0.0), &options);
     assert_eq!(on_axis.ending, Ending::Stuck);

@@ -33,7 +33,9 @@
 
 pub mod figures;
 pub mod physics;
+pub mod quality;
 pub mod record;
 pub mod run;
 pub mod scenario;
+pub mod shortest;
 pub mod svg;

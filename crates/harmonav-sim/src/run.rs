@@ -274,7 +274,7 @@ pub(crate) fn start(prepared: &Prepared, model: Option<Model>) -> Result<Start, 
     let err = |e: &dyn std::fmt::Display| RunError(e.to_string());
     let dynamic = Dynamic::new(sc.robot.mass, sc.controller.mu, d_min).map_err(|e| err(&e))?;
     let kinematic = Kinematic::new(sc.controller.gain).map_err(|e| err(&e))?;
-    let global = Field::all_known(prepared.workspace.clone()).map_err(|e| err(&e))?;
+    let global = prepared.global_field().map_err(|e| err(&e))?;
     let first_axis = global.eval(start).ok().and_then(|e| e.direction);
     let known = initially_known(
         &prepared.workspace,
@@ -283,8 +283,12 @@ pub(crate) fn start(prepared: &Prepared, model: Option<Model>) -> Result<Start, 
         prepared.rho_min,
         first_axis,
     );
-    let field =
-        Field::new(prepared.workspace.clone(), known.iter().copied()).map_err(|e| err(&e))?;
+    let field = Field::with_policy(
+        prepared.workspace.clone(),
+        known.iter().copied(),
+        prepared.k_policy(),
+    )
+    .map_err(|e| err(&e))?;
     let axis = first_axis.map_or([0.0; 2], |a| [a.x, a.y]);
     let discoveries = known
         .iter()
@@ -485,6 +489,11 @@ pub fn run(prepared: &Prepared, model: Option<Model>) -> Result<Run, RunError> {
     Ok(Run { summary, samples })
 }
 
+/// How far below `robot.margin` the measured clearance may fall and still pass: the offset
+/// outlines of non-circular shapes are Hermite tables (`StarShape::offset`) and the exact
+/// distances are refined to ~1e-9 m, so the grown shapes sit within this of the true offset.
+pub const MARGIN_TOLERANCE: f64 = 1e-6;
+
 /// Guarantee monitors, fed every accepted state.
 pub(crate) struct Monitor {
     min_clearance: f64,
@@ -581,10 +590,13 @@ impl Monitor {
             ),
             g(
                 "no-collision",
-                self.collisions == 0 && self.min_clearance > 0.0,
+                self.collisions == 0
+                    && self.min_clearance > 0.0
+                    && self.min_clearance >= prepared.margin() - MARGIN_TOLERANCE,
                 format!(
-                    "min clearance {:.4} m to the true obstacles and boundary",
-                    self.min_clearance
+                    "min clearance {:.4} m to the true obstacles and boundary (margin {} m)",
+                    self.min_clearance,
+                    prepared.margin()
                 ),
             ),
             g(

@@ -6,10 +6,11 @@
 
 use std::path::{Path, PathBuf};
 
+use harmonav_field::{Field, FieldError, KPolicy};
 use harmonav_sensing::{Sector, Sensing};
 use harmonav_transform::{RobotWorldError, StarShape, Workspace, WorldError};
 use nalgebra::Vector2;
-use serde::{Deserialize, Serialize};
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 /// A problem with a scenario file.
 #[derive(Clone, Debug, PartialEq)]
@@ -117,6 +118,34 @@ pub struct RobotSpec {
     /// Disc radius (0: point robot).
     #[serde(default)]
     pub radius: f64,
+    /// Clearance margin, m (default 0): the navigation function is built on the obstacles and
+    /// the boundary offset by `radius + margin`, so the guaranteed clearance to the true shapes
+    /// is `margin`.
+    #[serde(default)]
+    pub margin: f64,
+}
+
+/// `[field]`: how the navigation function is built.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FieldSpec {
+    /// `k = "paper"` (`k = n + 1`) or `"auto"` (the default), see [`KPolicy`].
+    #[serde(
+        default,
+        deserialize_with = "de_k_policy",
+        serialize_with = "ser_k_policy"
+    )]
+    pub k: KPolicy,
+}
+
+fn de_k_policy<'de, D: Deserializer<'de>>(d: D) -> Result<KPolicy, D::Error> {
+    String::deserialize(d)?
+        .parse()
+        .map_err(serde::de::Error::custom)
+}
+
+fn ser_k_policy<S: Serializer>(k: &KPolicy, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(k.as_str())
 }
 
 /// `[sensor]` (omit the table for global sensing).
@@ -229,6 +258,9 @@ pub struct Scenario {
     /// The sensor; `None` for global sensing.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sensor: Option<SensorSpec>,
+    /// The navigation function's policies.
+    #[serde(default)]
+    pub field: FieldSpec,
     /// Controller gains.
     #[serde(default)]
     pub controller: ControllerSpec,
@@ -245,7 +277,7 @@ pub struct Scenario {
 pub struct Prepared {
     /// The scenario as written.
     pub scenario: Scenario,
-    /// The configuration-space workspace (grown by the robot radius).
+    /// The configuration-space workspace (grown by the robot radius plus the margin).
     pub workspace: std::sync::Arc<Workspace>,
     /// The true obstacle shapes (not grown), for clearance monitors and drawings.
     pub true_obstacles: Vec<StarShape>,
@@ -343,12 +375,23 @@ impl Scenario {
                 format!("must be finite and positive, got {}", r.mass),
             ));
         }
-        if !(r.radius.is_finite() && r.radius >= 0.0) {
-            return Err(f(
-                "robot.radius",
-                format!("must be finite and ≥ 0, got {}", r.radius),
-            ));
+        for (name, v) in [("robot.radius", r.radius), ("robot.margin", r.margin)] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(f(name, format!("must be finite and ≥ 0, got {v}")));
+            }
         }
+        // Every shape is offset by the robot radius plus the clearance margin; an error caused by
+        // the offset names the field that set it (the margin where there is one) and the value.
+        let inflation = r.radius + r.margin;
+        let inflation_field = if r.margin > 0.0 {
+            "robot.margin"
+        } else {
+            "robot.radius"
+        };
+        let inflated_by = format!(
+            "with robot.radius + robot.margin = {} m",
+            r.radius + r.margin
+        );
         let c = &self.controller;
         for (name, v) in [("controller.gain", c.gain), ("controller.mu", c.mu)] {
             if !(v.is_finite() && v > 0.0) {
@@ -368,7 +411,23 @@ impl Scenario {
         let goal = Vector2::new(r.goal[0], r.goal[1]);
         let start = Vector2::new(r.start[0], r.start[1]);
         let name_of = |i: usize| names[i].clone();
+        let point_field = |what: &str| {
+            if what == "start" {
+                "robot.start"
+            } else {
+                "robot.goal"
+            }
+        };
         let world_error = |e: WorldError| match e {
+            WorldError::Overlap { first, second } if inflation > 0.0 => f(
+                inflation_field,
+                format!(
+                    "{inflated_by} the grown obstacles {} and {} overlap: the passage between \
+                     them is narrower than 2 × {inflation} m",
+                    name_of(first),
+                    name_of(second)
+                ),
+            ),
             WorldError::Overlap { first, second } => f(
                 "obstacles",
                 format!(
@@ -377,6 +436,19 @@ impl Scenario {
                     name_of(second)
                 ),
             ),
+            WorldError::OutsideBoundary { obstacle }
+                if inflation > 0.0
+                    && true_obstacles[obstacle].clearance_inside(&true_boundary) > 0.0 =>
+            {
+                f(
+                    inflation_field,
+                    format!(
+                        "{inflated_by} obstacle {} reaches the shrunk workspace boundary: the \
+                         passage between them is narrower than 2 × {inflation} m",
+                        name_of(obstacle)
+                    ),
+                )
+            }
             WorldError::OutsideBoundary { obstacle } => f(
                 "obstacles",
                 format!(
@@ -384,20 +456,46 @@ impl Scenario {
                     name_of(obstacle)
                 ),
             ),
+            WorldError::InObstacle { what, obstacle }
+                if inflation > 0.0
+                    && !true_obstacles[obstacle].contains(if what == "start" {
+                        start
+                    } else {
+                        goal
+                    }) =>
+            {
+                let p = if what == "start" { start } else { goal };
+                f(
+                    point_field(what),
+                    format!(
+                        "lies {:.4} m from obstacle {}, closer than robot.radius + robot.margin = {inflation} m",
+                        true_obstacles[obstacle].signed_distance(p),
+                        name_of(obstacle)
+                    ),
+                )
+            }
             WorldError::InObstacle { what, obstacle } => f(
-                if what == "start" {
-                    "robot.start"
-                } else {
-                    "robot.goal"
-                },
+                point_field(what),
                 format!("lies inside obstacle {}", name_of(obstacle)),
             ),
+            WorldError::OutsideWorkspace { what }
+                if inflation > 0.0 && {
+                    let p = if what == "start" { start } else { goal };
+                    true_boundary.contains(p) && true_boundary.signed_distance(p) < 0.0
+                } =>
+            {
+                let p = if what == "start" { start } else { goal };
+                f(
+                    point_field(what),
+                    format!(
+                        "lies {:.4} m from the workspace boundary, closer than robot.radius + \
+                         robot.margin = {inflation} m",
+                        -true_boundary.signed_distance(p)
+                    ),
+                )
+            }
             WorldError::OutsideWorkspace { what } => f(
-                if what == "start" {
-                    "robot.start"
-                } else {
-                    "robot.goal"
-                },
+                point_field(what),
                 "lies on or outside the workspace boundary".into(),
             ),
             other => f("", other.to_string()),
@@ -406,18 +504,24 @@ impl Scenario {
             true_boundary.clone(),
             true_obstacles.clone(),
             goal,
-            r.radius,
+            inflation,
         )
         .map_err(|e| match e {
             RobotWorldError::World(w) => world_error(w),
             RobotWorldError::Shape {
                 obstacle: Some(i),
                 error,
-            } => f("robot.radius", format!("obstacle {}: {error}", name_of(i))),
+            } => f(
+                inflation_field,
+                format!("{inflated_by} obstacle {}: {error}", name_of(i)),
+            ),
             RobotWorldError::Shape {
                 obstacle: None,
                 error,
-            } => f("robot.radius", format!("workspace boundary: {error}")),
+            } => f(
+                inflation_field,
+                format!("{inflated_by} the workspace boundary: {error}"),
+            ),
         })?;
         workspace.check_free(start, "start").map_err(world_error)?;
         let rho_default = workspace
@@ -463,6 +567,23 @@ impl Scenario {
     }
 }
 
+impl Prepared {
+    /// The `k` policy of the file's `[field]` table.
+    pub fn k_policy(&self) -> KPolicy {
+        self.scenario.field.k
+    }
+
+    /// `Θ` with every obstacle known (global sensing) under the file's `k` policy.
+    pub fn global_field(&self) -> Result<Field, FieldError> {
+        Field::all_known_with(self.workspace.clone(), self.k_policy())
+    }
+
+    /// The guaranteed clearance to the true shapes: `robot.margin`.
+    pub fn margin(&self) -> f64 {
+        self.scenario.robot.margin
+    }
+}
+
 fn err(path: &Path, field: &str, line: Option<usize>, problem: String) -> ScenarioError {
     ScenarioError {
         file: path.to_path_buf(),
@@ -490,7 +611,7 @@ fn check_point(p: [f64; 2], _field: &str) -> Result<(), String> {
 }
 
 /// Builds a shape; on error returns (sub-field, problem).
-fn build_shape(s: &ShapeSpec) -> Result<StarShape, (String, String)> {
+pub(crate) fn build_shape(s: &ShapeSpec) -> Result<StarShape, (String, String)> {
     let v = |p: [f64; 2]| Vector2::new(p[0], p[1]);
     let shape = match s {
         ShapeSpec::Circle { center, radius, .. } => StarShape::circle(v(*center), *radius),

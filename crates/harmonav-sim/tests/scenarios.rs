@@ -188,6 +188,85 @@ fn validation_errors_name_the_file_the_field_and_the_problem() {
 }
 
 #[test]
+fn margin_and_k_policy_errors_name_the_field_and_the_reason() {
+    let goal = "goal = [3.0, 0.0]";
+    for bad in ["-0.1", "nan", "inf"] {
+        let to = format!("{goal}\nmargin = {bad}");
+        check(goal, &to, "robot.margin", "finite and ≥ 0", None);
+    }
+    // A (r = 1 at the origin) and B (0.3 below y = 2.5) are 1.2 m apart.
+    check(
+        goal,
+        "goal = [3.0, 0.0]\nmargin = 0.7",
+        "robot.margin",
+        "the grown obstacles A and B overlap: the passage between them is narrower than 2 × 0.7 m",
+        None,
+    );
+    check(
+        goal,
+        "goal = [3.0, 0.0]\nradius = 0.7",
+        "robot.radius",
+        "the grown obstacles A and B overlap",
+        None,
+    );
+    check(
+        "start = [-3.0, 0.0]",
+        "start = [-1.05, 0.0]\nmargin = 0.1",
+        "robot.start",
+        "lies 0.0500 m from obstacle A, closer than robot.radius + robot.margin = 0.1 m",
+        None,
+    );
+    check(
+        goal,
+        "goal = [4.95, 0.0]\nmargin = 0.1",
+        "robot.goal",
+        "lies 0.0500 m from the workspace boundary, closer than robot.radius + robot.margin",
+        None,
+    );
+    check(
+        "[sensor]",
+        "[field]\nk = \"n+1\"\n[sensor]",
+        "field",
+        "unknown k policy \"n+1\": expected \"paper\" or \"auto\"",
+        None,
+    );
+}
+
+/// `robot.margin`: the field is built on shapes grown by it, so the run keeps that clearance to
+/// the true shapes and the monitor checks it; without it the same robot passes closer.
+#[test]
+fn a_margin_is_kept_as_clearance_and_checked() {
+    let path = Path::new("margin.toml");
+    let text = BASE
+        .replacen("start = [-3.0, 0.0]", "start = [-3.0, 0.4]", 1)
+        .replacen("[sensor]\nrange = 1.0\naperture_deg = 60.0\n", "", 1);
+    let clearance = |margin: f64| {
+        let text = text.replacen(
+            "goal = [3.0, 0.0]",
+            &format!("goal = [3.0, 0.0]\nmargin = {margin}"),
+            1,
+        );
+        let p = Scenario::parse(path, &text).unwrap().prepare(path).unwrap();
+        let s = run(&p, None).unwrap().summary;
+        assert!(s.reached && s.all_passed(), "{:?}", s.guarantees);
+        s.min_clearance
+    };
+    let (without, with) = (clearance(0.0), clearance(0.1));
+    assert!(without < 0.1, "without a margin: {without} m");
+    assert!((0.1..0.2).contains(&with), "with a 0.1 m margin: {with} m");
+    // The monitor judges the margin: the same run against a larger stated margin fails.
+    let mut p = Scenario::parse(path, &text).unwrap().prepare(path).unwrap();
+    p.scenario.robot.margin = 0.2;
+    let s = run(&p, None).unwrap().summary;
+    let g = s
+        .guarantees
+        .iter()
+        .find(|g| g.name == "no-collision")
+        .unwrap();
+    assert!(!g.passed && g.detail.contains("margin 0.2 m"), "{g:?}");
+}
+
+#[test]
 fn runs_are_deterministic_and_the_kinematic_run_keeps_every_guarantee() {
     let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/shapes/mixed.toml");
     let prepared = Scenario::load(&file).unwrap();
@@ -290,7 +369,7 @@ fn the_non_morse_world_has_a_degenerate_point_that_only_the_axis_reaches() {
     let text = std::fs::read_to_string(&path).unwrap();
     let scenario = Scenario::parse(&path, &text).unwrap();
     let prepared = scenario.clone().prepare(&path).unwrap();
-    let field = harmonav_field::Field::all_known(prepared.workspace.clone()).unwrap();
+    let field = prepared.global_field().unwrap();
     let degenerate: Vec<_> = field
         .critical_points()
         .into_iter()

@@ -1,0 +1,474 @@
+//! The motion-quality benchmark (`docs/benchmarks.md`): seeded random worlds, every cell of
+//! (obstacle count × sensing × `k` policy × law × margin) run through the same [`run`] as the
+//! CLI, and each path compared with the independent [`shortest_path`].
+//!
+//! The worlds follow the issue that introduced the benchmark: a disc workspace of radius 5 m,
+//! `M` obstacles of the four shapes (discs, ellipses, rounded polygons, Fourier stars) of size
+//! 0.2–0.5 m, at least [`GAP`] apart and from the wall, start and goal at least 5 m apart and
+//! [`POINT_CLEARANCE`] from everything. Every shape also survives an offset by
+//! [`MAX_MARGIN`], so the same worlds serve the runs with a clearance margin.
+
+use harmonav_field::KPolicy;
+use harmonav_transform::StarShape;
+use harmonav_transform::random::{Kind, Rng};
+use nalgebra::Vector2;
+
+use crate::run::{Run, run};
+use crate::scenario::{
+    ControllerSpec, FieldSpec, Model, Prepared, RobotSpec, Scenario, SensorSpec, ShapeSpec, SimSpec,
+};
+use crate::shortest::{NoPath, ShortestPath, shortest_path};
+
+/// Workspace radius, m.
+pub const WORKSPACE_RADIUS: f64 = 5.0;
+/// Smallest distance between two obstacles and from an obstacle to the wall, m.
+pub const GAP: f64 = 0.3;
+/// Smallest distance from the start and the goal to every shape, m.
+pub const POINT_CLEARANCE: f64 = 0.25;
+/// Smallest start–goal distance, m.
+pub const START_GOAL_DISTANCE: f64 = 5.0;
+/// The largest margin the worlds are built for, m.
+pub const MAX_MARGIN: f64 = 0.1;
+
+/// A benchmark world: true shapes, start and goal.
+#[derive(Clone, Debug)]
+pub struct World {
+    /// The seed it was drawn from.
+    pub seed: u64,
+    /// The obstacles as scenario shapes.
+    pub obstacles: Vec<ShapeSpec>,
+    /// Start.
+    pub start: Vector2<f64>,
+    /// Goal.
+    pub goal: Vector2<f64>,
+}
+
+/// How the robot senses the obstacles in a cell.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum SensingKind {
+    /// Every obstacle known from the start.
+    Global,
+    /// The paper's sector: range 1 m, aperture 60°.
+    Sector,
+}
+
+impl SensingKind {
+    /// Both kinds.
+    pub const ALL: [SensingKind; 2] = [SensingKind::Global, SensingKind::Sector];
+
+    /// `"global"` or `"sector"`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::Global => "global",
+            Self::Sector => "sector",
+        }
+    }
+}
+
+/// One cell of the benchmark table.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cell {
+    /// Obstacle count.
+    pub obstacles: usize,
+    /// Sensing.
+    pub sensing: SensingKind,
+    /// `k` policy.
+    pub k: KPolicy,
+    /// Law.
+    pub model: Model,
+    /// `robot.margin`, m.
+    pub margin: f64,
+}
+
+impl Cell {
+    /// A key for JSON figures: `kinematic.auto.global.m12` (with `.margin0.1` when a margin is set).
+    pub fn key(&self) -> String {
+        let model = match self.model {
+            Model::Kinematic => "kinematic",
+            Model::Dynamic => "dynamic",
+        };
+        let mut key = format!(
+            "{model}.{}.{}.m{}",
+            self.k.as_str(),
+            self.sensing.as_str(),
+            self.obstacles
+        );
+        if self.margin > 0.0 {
+            key.push_str(&format!(".margin{}", self.margin));
+        }
+        key
+    }
+}
+
+/// A random shape of `kind` and size `size` at `c`, as a scenario shape (so that runs go through
+/// the scenario layer exactly as a file would).
+fn random_shape(rng: &mut Rng, kind: Kind, c: Vector2<f64>, size: f64) -> ShapeSpec {
+    use std::f64::consts::TAU;
+    let centre = [c.x, c.y];
+    match kind {
+        Kind::Circle => ShapeSpec::Circle {
+            name: None,
+            center: centre,
+            radius: size * rng.uniform(0.7, 1.0),
+        },
+        Kind::Ellipse => {
+            let a = size * rng.uniform(0.7, 1.0);
+            ShapeSpec::Ellipse {
+                name: None,
+                center: centre,
+                semi_axes: [a, a * rng.uniform(0.4, 1.0)],
+                angle_deg: rng.uniform(0.0, 360.0),
+            }
+        }
+        Kind::Polygon => {
+            let n = 3 + rng.below(5);
+            let phase = rng.uniform(0.0, TAU);
+            let vertices = (0..n)
+                .map(|i| {
+                    let a = phase + TAU * (i as f64 + rng.uniform(-0.2, 0.2)) / n as f64;
+                    let r = size * rng.uniform(0.6, 1.0);
+                    [c.x + r * a.cos(), c.y + r * a.sin()]
+                })
+                .collect();
+            ShapeSpec::Polygon {
+                name: None,
+                vertices,
+                corner_radius: size * rng.uniform(0.05, 0.2),
+            }
+        }
+        Kind::Star => ShapeSpec::Star {
+            name: None,
+            center: centre,
+            radius: size * rng.uniform(0.7, 1.0),
+            harmonics: (0..1 + rng.below(3))
+                .map(|_| {
+                    [
+                        (1 + rng.below(5)) as f64,
+                        size * rng.uniform(-0.12, 0.12),
+                        size * rng.uniform(-0.12, 0.12),
+                    ]
+                })
+                .collect(),
+        },
+    }
+}
+
+/// The benchmark world of `m` obstacles drawn from `seed` (deterministic).
+pub fn world(m: usize, seed: u64) -> World {
+    let kinds = [Kind::Circle, Kind::Ellipse, Kind::Polygon, Kind::Star];
+    let mut rng = Rng::new(seed);
+    let boundary = StarShape::circle(Vector2::zeros(), WORKSPACE_RADIUS).expect("valid disc");
+    loop {
+        let mut specs = Vec::with_capacity(m);
+        let mut shapes: Vec<StarShape> = Vec::with_capacity(m);
+        let mut tries = 0;
+        while shapes.len() < m && tries < 5000 {
+            tries += 1;
+            let c = rng.point(WORKSPACE_RADIUS);
+            let kind = kinds[rng.below(kinds.len())];
+            let size = rng.uniform(0.2, 0.5);
+            let s = random_shape(&mut rng, kind, c, size);
+            let Ok(o) = crate::scenario::build_shape(&s) else {
+                continue;
+            };
+            let fits = boundary.contains(c)
+                && o.clearance_inside(&boundary) > GAP
+                && o.offset(MAX_MARGIN).is_ok()
+                && shapes.iter().all(|p| {
+                    p.distance_to(&o) > GAP && !p.contains(o.centre()) && !o.contains(p.centre())
+                });
+            if fits {
+                shapes.push(o);
+                specs.push(s);
+            }
+        }
+        if shapes.len() < m {
+            continue;
+        }
+        let clear = |x: Vector2<f64>| {
+            -boundary.signed_distance(x) > POINT_CLEARANCE
+                && shapes
+                    .iter()
+                    .all(|o| o.signed_distance(x) > POINT_CLEARANCE)
+        };
+        for _ in 0..1000 {
+            let (start, goal) = (rng.point(WORKSPACE_RADIUS), rng.point(WORKSPACE_RADIUS));
+            if (start - goal).norm() >= START_GOAL_DISTANCE && clear(start) && clear(goal) {
+                return World {
+                    seed,
+                    obstacles: specs,
+                    start,
+                    goal,
+                };
+            }
+        }
+    }
+}
+
+impl World {
+    /// The scenario of this world for one cell (dynamic law: m = 1 kg, μ = 10; both laws with
+    /// `sim.max_time` = `max_time`).
+    pub fn scenario(&self, cell: &Cell, max_time: f64) -> Scenario {
+        Scenario {
+            name: format!("quality-{}-seed{}", cell.key(), self.seed),
+            description: String::new(),
+            workspace: ShapeSpec::Circle {
+                name: None,
+                center: [0.0, 0.0],
+                radius: WORKSPACE_RADIUS,
+            },
+            obstacles: self.obstacles.clone(),
+            robot: RobotSpec {
+                model: cell.model,
+                start: [self.start.x, self.start.y],
+                goal: [self.goal.x, self.goal.y],
+                mass: 1.0,
+                radius: 0.0,
+                margin: cell.margin,
+            },
+            sensor: (cell.sensing == SensingKind::Sector).then_some(SensorSpec {
+                range: 1.0,
+                aperture_deg: 60.0,
+                rho_min: None,
+            }),
+            field: FieldSpec { k: cell.k },
+            controller: ControllerSpec::default(),
+            sim: SimSpec {
+                max_time,
+                ..SimSpec::default()
+            },
+            expect: None,
+        }
+    }
+}
+
+/// What one run measured.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Measured {
+    /// Goal reached.
+    pub reached: bool,
+    /// Every guarantee monitor held.
+    pub guarantees_held: bool,
+    /// Recorded states in collision.
+    pub collisions: usize,
+    /// Path length over the shortest path around the same (grown) shapes.
+    pub path_ratio: f64,
+    /// Time at the end of the run, s.
+    pub time: f64,
+    /// Smallest clearance to the true shapes, m.
+    pub min_clearance: f64,
+    /// Largest distance the robot moved away from the goal in its last approach (m, dynamic
+    /// law; 0 for the kinematic law, which cannot overshoot).
+    pub overshoot: f64,
+    /// Integration steps, accepted and rejected (the stiffness of the closed loop).
+    pub steps: usize,
+}
+
+/// The length of the recorded path.
+pub fn path_length(r: &Run) -> f64 {
+    r.samples
+        .windows(2)
+        .map(|w| (Vector2::from(w[1].x) - Vector2::from(w[0].x)).norm())
+        .sum()
+}
+
+/// The shortest path of a prepared scenario's configuration space.
+pub fn reference(prepared: &Prepared) -> Result<ShortestPath, NoPath> {
+    let ws = &prepared.workspace;
+    let s = prepared.scenario.robot.start;
+    shortest_path(
+        ws.boundary(),
+        ws.obstacles(),
+        Vector2::new(s[0], s[1]),
+        ws.destination(),
+    )
+}
+
+/// Runs one cell of one world and measures it against `shortest` (the length of the shortest
+/// path around the cell's grown shapes).
+pub fn measure(prepared: &Prepared, shortest: f64) -> Result<Measured, String> {
+    let r = run(prepared, None).map_err(|e| e.to_string())?;
+    let s = &r.summary;
+
+    let goal = prepared.workspace.destination();
+    // Overshoot: after the closest approach of the last tenth of the path, how far the robot
+    // got away from the goal again.
+    let dist: Vec<f64> = r
+        .samples
+        .iter()
+        .map(|x| (Vector2::from(x.x) - goal).norm())
+        .collect();
+    let mut closest = f64::INFINITY;
+    let mut overshoot: f64 = 0.0;
+    for &d in &dist[dist.len() * 9 / 10..] {
+        closest = closest.min(d);
+        overshoot = overshoot.max(d - closest);
+    }
+    Ok(Measured {
+        reached: s.reached,
+        guarantees_held: s
+            .guarantees
+            .iter()
+            .all(|g| g.passed || g.name == "reached-goal"),
+        collisions: s.collisions,
+        path_ratio: path_length(&r) / shortest,
+        time: s.time_s,
+        min_clearance: s.min_clearance,
+        overshoot,
+        steps: s.steps + s.rejected_steps,
+    })
+}
+
+/// The statistics of one cell over its worlds.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CellStats {
+    /// The cell.
+    pub cell: Cell,
+    /// Runs.
+    pub runs: usize,
+    /// Runs that reached the goal.
+    pub reached: usize,
+    /// Runs in which every guarantee monitor except arrival held.
+    pub guarantees_held: usize,
+    /// Recorded states in collision, summed.
+    pub collisions: usize,
+    /// Path / shortest over the runs that arrived: median, 90th percentile, max.
+    pub ratio: [f64; 3],
+    /// Time to goal over the runs that arrived: median, 90th percentile, max.
+    pub time: [f64; 3],
+    /// Smallest clearance of all runs.
+    pub min_clearance: f64,
+    /// Largest overshoot of all runs.
+    pub overshoot: f64,
+    /// Integration steps (accepted and rejected) per run: median, 90th percentile, max.
+    pub steps: [f64; 3],
+}
+
+/// Median, 90th percentile (nearest rank) and maximum; NaN for no values.
+pub fn quantiles(values: &[f64]) -> [f64; 3] {
+    let mut v = values.to_vec();
+    v.sort_by(f64::total_cmp);
+    if v.is_empty() {
+        return [f64::NAN; 3];
+    }
+    let rank = |q: f64| v[((q * v.len() as f64).ceil() as usize).clamp(1, v.len()) - 1];
+    [rank(0.5), rank(0.9), v[v.len() - 1]]
+}
+
+impl CellStats {
+    /// Summarises the runs of `cell`.
+    pub fn new(cell: Cell, runs: &[Measured]) -> Self {
+        let arrived: Vec<&Measured> = runs.iter().filter(|m| m.reached).collect();
+        Self {
+            cell,
+            runs: runs.len(),
+            reached: arrived.len(),
+            guarantees_held: runs.iter().filter(|m| m.guarantees_held).count(),
+            collisions: runs.iter().map(|m| m.collisions).sum(),
+            ratio: quantiles(&arrived.iter().map(|m| m.path_ratio).collect::<Vec<_>>()),
+            time: quantiles(&arrived.iter().map(|m| m.time).collect::<Vec<_>>()),
+            min_clearance: runs
+                .iter()
+                .map(|m| m.min_clearance)
+                .fold(f64::INFINITY, f64::min),
+            overshoot: runs.iter().map(|m| m.overshoot).fold(0.0, f64::max),
+            steps: quantiles(&runs.iter().map(|m| m.steps as f64).collect::<Vec<_>>()),
+        }
+    }
+}
+
+/// What the benchmark runs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Plan {
+    /// Obstacle counts.
+    pub obstacle_counts: Vec<usize>,
+    /// Worlds per obstacle count (seeds `1..=worlds`).
+    pub worlds: usize,
+    /// The cells to run for each obstacle count (its `obstacles` is overwritten).
+    pub cells: Vec<Cell>,
+    /// `sim.max_time` of every run, s.
+    pub max_time: f64,
+}
+
+/// Runs `plan` on `threads` threads; the statistics of each cell, in plan order. Deterministic:
+/// the threads only share out the runs.
+pub fn run_plan(plan: &Plan, threads: usize) -> Result<Vec<CellStats>, String> {
+    let mut jobs: Vec<(Cell, usize)> = Vec::new();
+    for &m in &plan.obstacle_counts {
+        for cell in &plan.cells {
+            for w in 0..plan.worlds {
+                jobs.push((
+                    Cell {
+                        obstacles: m,
+                        ..*cell
+                    },
+                    w,
+                ));
+            }
+        }
+    }
+    let worlds: Vec<Vec<World>> = plan
+        .obstacle_counts
+        .iter()
+        .map(|&m| (1..=plan.worlds as u64).map(|s| world(m, s)).collect())
+        .collect();
+    let results = parallel_map(&jobs, threads, |(cell, w)| {
+        let mi = plan
+            .obstacle_counts
+            .iter()
+            .position(|&m| m == cell.obstacles)
+            .unwrap_or(0);
+        let world = &worlds[mi][*w];
+        let path = std::path::Path::new("<benchmark>");
+        let prepared = world
+            .scenario(cell, plan.max_time)
+            .prepare(path)
+            .map_err(|e| e.to_string())?;
+        let shortest = reference(&prepared).map_err(|e| e.to_string())?;
+        measure(&prepared, shortest.length)
+    });
+    let mut out = Vec::new();
+    for (i, chunk) in results.chunks(plan.worlds).enumerate() {
+        let runs = chunk.iter().cloned().collect::<Result<Vec<_>, _>>()?;
+        out.push(CellStats::new(jobs[i * plan.worlds].0, &runs));
+    }
+    Ok(out)
+}
+
+/// `f` over `items` on `threads` threads, results in order; items are handed out one at a time
+/// (run lengths differ by orders of magnitude).
+pub fn parallel_map<T: Sync, R: Send>(
+    items: &[T],
+    threads: usize,
+    f: impl Fn(&T) -> R + Sync,
+) -> Vec<R> {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    let next = AtomicUsize::new(0);
+    let mut slots: Vec<Option<R>> = (0..items.len()).map(|_| None).collect();
+    std::thread::scope(|scope| {
+        let handles: Vec<_> = (0..threads.max(1))
+            .map(|_| {
+                let (next, f) = (&next, &f);
+                scope.spawn(move || {
+                    let mut out = Vec::new();
+                    loop {
+                        let i = next.fetch_add(1, Ordering::Relaxed);
+                        let Some(item) = items.get(i) else { break };
+                        out.push((i, f(item)));
+                    }
+                    out
+                })
+            })
+            .collect();
+        for h in handles {
+            let done = h.join().unwrap_or_else(|p| std::panic::resume_unwind(p));
+            for (i, r) in done {
+                slots[i] = Some(r);
+            }
+        }
+    });
+    slots
+        .into_iter()
+        .map(|r| r.expect("every item ran"))
+        .collect()
+}
