@@ -3,9 +3,12 @@
 //! The navigation function of the paper over the obstacles known so far (eq. `phiseq`):
 //!
 //! ```text
-//! Θ(x) = varphi_k(x) = sigma(phi_k(Phi(x))),      k = n + 1 (n known obstacles)
+//! Θ(x) = varphi_k(x) = sigma(phi_k(Phi(x))),      k = policy.k(n) > n (n known obstacles)
 //! ∇Θ   = sigma'(phi_k) · J_Phiᵀ ∇phi_k(Phi(x))
 //! ```
+//!
+//! `k` follows a [`KPolicy`]: `Paper` (`k = n + 1`, exactly the paper) or `Auto` (the default,
+//! `k = 6(n + 1)`: near-shortest paths, `docs/maths.md` §8).
 //!
 //! [`Field`] keeps the obstacle memory (assumption `objpers`: [`Field::discover`] adds an
 //! obstacle, nothing is ever forgotten), rebuilds `Phi` and the point world at each discovery
@@ -21,8 +24,9 @@
 //! let boundary = StarShape::circle(Vector2::zeros(), 5.0)?;
 //! let obstacles = vec![StarShape::circle(Vector2::new(0.0, 0.0), 1.0)?];
 //! let ws = Arc::new(Workspace::new(boundary, obstacles, Vector2::new(3.0, 0.0))?);
-//! let mut field = Field::new(ws, [])?;          // nothing known yet: k = 1
-//! assert!(field.discover(0)?);                  // obstacle 0 seen: k = 2
+//! let mut field = Field::new(ws, [])?;          // nothing known yet: k = 6 (k = "auto")
+//! assert!(field.discover(0)?);                  // obstacle 0 seen: k = 6·(1 + 1)
+//! assert_eq!(field.k(), 12.0);
 //! let e = field.eval(Vector2::new(-3.0, 0.5))?;
 //! assert!(e.value > 0.0 && e.value < 1.0);
 //! assert!(e.direction.is_some());
