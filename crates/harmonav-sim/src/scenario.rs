@@ -388,10 +388,7 @@ impl Scenario {
         } else {
             "robot.radius"
         };
-        let inflated_by = format!(
-            "with robot.radius + robot.margin = {} m",
-            r.radius + r.margin
-        );
+        let inflated_by = format!("with robot.radius + robot.margin = {inflation} m");
         let c = &self.controller;
         for (name, v) in [("controller.gain", c.gain), ("controller.mu", c.mu)] {
             if !(v.is_finite() && v > 0.0) {
@@ -419,15 +416,20 @@ impl Scenario {
             }
         };
         let world_error = |e: WorldError| match e {
-            WorldError::Overlap { first, second } if inflation > 0.0 => f(
-                inflation_field,
-                format!(
-                    "{inflated_by} the grown obstacles {} and {} overlap: the passage between \
+            WorldError::Overlap { first, second }
+                if inflation > 0.0
+                    && true_obstacles[first].distance_to(&true_obstacles[second]) > 0.0 =>
+            {
+                f(
+                    inflation_field,
+                    format!(
+                        "{inflated_by} the grown obstacles {} and {} overlap: the passage between \
                      them is narrower than 2 × {inflation} m",
-                    name_of(first),
-                    name_of(second)
-                ),
-            ),
+                        name_of(first),
+                        name_of(second)
+                    ),
+                )
+            }
             WorldError::Overlap { first, second } => f(
                 "obstacles",
                 format!(
