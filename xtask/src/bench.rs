@@ -11,6 +11,7 @@ use std::hint::black_box;
 use std::process::{Command, ExitCode};
 use std::time::Instant;
 
+use harmonav_control::DampingPolicy;
 use harmonav_field::KPolicy;
 use harmonav_potential::{BatchGradient, PointWorld, Vector2, arrangements};
 use harmonav_sim::scenario::Model;
@@ -66,9 +67,9 @@ pub fn run(options: &Options) -> ExitCode {
     put("field_grad_ns_m20", field_grad_ns(20));
     put("control_step_ns_m6", control_step_ns());
     put("montecarlo_runs_per_s", montecarlo_runs_per_s());
-    // The motion-quality benchmark (docs/benchmarks.md): both laws, both k policies.
+    // The motion-quality benchmark (docs/benchmarks.md): both laws, every policy.
     let models = [Model::Kinematic, Model::Dynamic];
-    let plan = quality::plan(&models, &KPolicy::ALL, quality::WORLDS);
+    let plan = quality::plan(&models, &KPolicy::ALL, &DampingPolicy::ALL, quality::WORLDS);
     let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
     match harmonav_sim::quality::run_plan(&plan, threads) {
         Ok(stats) => {
@@ -225,7 +226,7 @@ fn control_step_ns() -> f64 {
                 let Ok(e) = field.eval(x) else { continue };
                 let seen = axis(v, e.direction)
                     .is_some_and(|a| (6..8).any(|i| sector.detects(x, a, &ws.obstacles()[i])));
-                let lambda = law.damping(&field, law.energy(e.value, v), v.norm());
+                let lambda = law.damping(&field, &e, v, v.norm()).lambda;
                 black_box((seen, law.force(&e, v, lambda)));
             }
         }

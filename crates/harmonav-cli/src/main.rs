@@ -7,6 +7,7 @@ use std::process::ExitCode;
 use std::sync::Arc;
 
 use clap::{Parser, Subcommand, ValueEnum};
+use harmonav_control::DampingPolicy;
 use harmonav_field::descent::{Ending, FollowOptions, follow};
 use harmonav_field::{Field, KPolicy};
 use harmonav_potential::CriticalKind;
@@ -54,6 +55,24 @@ impl From<KArg> for KPolicy {
     }
 }
 
+/// `--damping`: overrides the scenario's `[controller] damping`.
+#[derive(Clone, Copy, ValueEnum)]
+enum DampingArg {
+    /// Eq. `dissipationfun` on Θ, exactly the paper.
+    Paper,
+    /// The default: damping critical at the goal, on the shaped potential (docs/maths.md §9).
+    Auto,
+}
+
+impl From<DampingArg> for DampingPolicy {
+    fn from(d: DampingArg) -> Self {
+        match d {
+            DampingArg::Paper => DampingPolicy::Paper,
+            DampingArg::Auto => DampingPolicy::Auto,
+        }
+    }
+}
+
 #[derive(Clone, Copy, ValueEnum, PartialEq)]
 enum Physics {
     Builtin,
@@ -77,6 +96,9 @@ enum Command {
         /// Override the scenario's `[field] k` policy.
         #[arg(long = "k", value_name = "POLICY")]
         k: Option<KArg>,
+        /// Override the scenario's `[controller] damping` policy (dynamic law).
+        #[arg(long, value_name = "POLICY")]
+        damping: Option<DampingArg>,
         /// Print the summary as JSON.
         #[arg(long)]
         json: bool,
@@ -119,6 +141,9 @@ enum Command {
         /// Override the scenario's `[field] k` policy.
         #[arg(long = "k", value_name = "POLICY")]
         k: Option<KArg>,
+        /// Override the scenario's `[controller] damping` policy (dynamic law).
+        #[arg(long, value_name = "POLICY")]
+        damping: Option<DampingArg>,
         #[arg(long)]
         json: bool,
     },
@@ -150,17 +175,18 @@ fn main() -> ExitCode {
             physics,
             out,
             k,
+            damping,
             json,
-        } => load(&scenario, k)
+        } => load(&scenario, k, damping)
             .and_then(|p| cmd_run(&scenario, &p, controller, physics, out.as_deref(), json)),
         Command::Eval {
             scenario,
             at,
             k,
             json,
-        } => load(&scenario, k).and_then(|p| cmd_eval(&p, &at, json)),
+        } => load(&scenario, k, None).and_then(|p| cmd_eval(&p, &at, json)),
         Command::Census { scenario, k, json } => {
-            load(&scenario, k).and_then(|p| cmd_census(&p, json))
+            load(&scenario, k, None).and_then(|p| cmd_census(&p, json))
         }
         Command::Sweep {
             scenario,
@@ -168,9 +194,12 @@ fn main() -> ExitCode {
             seed,
             controller,
             k,
+            damping,
             json,
-        } => load(&scenario, k).and_then(|p| cmd_sweep(&p, starts, seed, controller, json)),
-        Command::Check { scenario } => load(&scenario, None).map(|_| {
+        } => {
+            load(&scenario, k, damping).and_then(|p| cmd_sweep(&p, starts, seed, controller, json))
+        }
+        Command::Check { scenario } => load(&scenario, None, None).map(|_| {
             out!("ok");
             true
         }),
@@ -194,11 +223,15 @@ fn print_json(value: &impl serde::Serialize) -> Result<(), String> {
     Ok(())
 }
 
-/// Loads and validates a scenario; `k` overrides its `[field] k` policy.
-fn load(path: &Path, k: Option<KArg>) -> Result<Prepared, String> {
+/// Loads and validates a scenario; `k` and `damping` override its `[field] k` and
+/// `[controller] damping` policies.
+fn load(path: &Path, k: Option<KArg>, damping: Option<DampingArg>) -> Result<Prepared, String> {
     let mut prepared = Scenario::load(path).map_err(|e| e.to_string())?;
     if let Some(k) = k {
         prepared.scenario.field.k = k.into();
+    }
+    if let Some(d) = damping {
+        prepared.scenario.controller.damping = d.into();
     }
     Ok(prepared)
 }

@@ -136,6 +136,25 @@ fn the_k_option_sets_the_policy() {
     assert!(err.contains("paper") && err.contains("auto"), "{err}");
 }
 
+/// `--damping` overrides `[controller] damping`: the summary names the policy, the two runs
+/// differ, and an unknown name exits 2 naming the choices.
+#[test]
+fn the_damping_option_sets_the_policy() {
+    let file = scenario("shapes/dynamic-small.toml");
+    let run = |policy: &str| {
+        let (code, out, err) = harmonav(&["run", &file, "--damping", policy, "--json"]);
+        assert_eq!(code, 0, "{err}");
+        serde_json::from_str::<serde_json::Value>(&out).unwrap()
+    };
+    let (paper, auto) = (run("paper"), run("auto"));
+    assert_eq!(paper["damping"].as_str(), Some("paper"));
+    assert_eq!(auto["damping"].as_str(), Some("auto"));
+    assert_ne!(paper["time_s"], auto["time_s"]);
+    let (code, _, err) = harmonav(&["run", &file, "--damping", "critical"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("paper") && err.contains("auto"), "{err}");
+}
+
 #[test]
 fn sweep_and_check_and_bad_input() {
     let (code, out, err) = harmonav(&[

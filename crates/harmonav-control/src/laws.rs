@@ -3,6 +3,8 @@
 use harmonav_field::{Field, FieldEval};
 use nalgebra::Vector2;
 
+use crate::damping::{Branch, Damping, DampingPolicy};
+
 /// A controller parameter that is not finite and positive (field names follow the scenario
 /// format).
 #[derive(Clone, Debug, PartialEq)]
@@ -58,23 +60,51 @@ impl Kinematic {
     }
 }
 
-/// Eq. (`dynctrllocal`): `f = −μ∇Θ − λ(t)ẋ` for the dynamic robot `m ẍ = f`.
+/// `c` of [`Dynamic::uphill_factor`]: chosen on the motion-quality benchmark (`docs/benchmarks.md`;
+/// 0, 4, 8 and 16 were measured).
+pub const UPHILL_GAIN: f64 = 16.0;
+
+/// The potential a [`Dynamic`] law descends, `Ψ`, and its gradient.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Potential {
+    /// `Ψ(x) ∈ [0, 1]`.
+    pub value: f64,
+    /// `∇Ψ(x)`.
+    pub gradient: Vector2<f64>,
+}
+
+/// Eq. (`dynctrllocal`): `f = −μ∇Θ − λ(t)ẋ` for the dynamic robot `m ẍ = f` under the paper's
+/// [`DampingPolicy`]; under the default one `f = −μ∇Ψ − λ(x)ẋ` on the shaped navigation
+/// function `Ψ = 1 − √(1 − Θ)` ([`Dynamic::potential`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Dynamic {
     mass: f64,
     mu: f64,
     d_min: f64,
+    policy: DampingPolicy,
 }
 
 impl Dynamic {
     /// The law for mass `m` (`robot.mass`), gain `μ` (`controller.mu`) and the sensor's
-    /// `d_min(θ)` (eq. `dmin`).
+    /// `d_min(θ)` (eq. `dmin`), with the default [`DampingPolicy`].
     pub fn new(mass: f64, mu: f64, d_min: f64) -> Result<Self, ControlError> {
         Ok(Self {
             mass: positive(mass, "robot.mass")?,
             mu: positive(mu, "controller.mu")?,
             d_min: positive(d_min, "sensor (d_min)")?,
+            policy: DampingPolicy::default(),
         })
+    }
+
+    /// The same law under the damping policy `policy`.
+    #[must_use]
+    pub fn with_damping(self, policy: DampingPolicy) -> Self {
+        Self { policy, ..self }
+    }
+
+    /// The damping policy.
+    pub fn damping_policy(&self) -> DampingPolicy {
+        self.policy
     }
 
     /// The mass `m`.
@@ -87,9 +117,47 @@ impl Dynamic {
         self.mu
     }
 
-    /// Eq. (`totalenergy`): `V = μΘ + ½ m |ẋ|²`.
-    pub fn energy(&self, theta: f64, velocity: Vector2<f64>) -> f64 {
-        self.mu * theta + 0.5 * self.mass * velocity.norm_squared()
+    /// The potential the law descends, with its gradient: `Θ` under [`DampingPolicy::Paper`];
+    /// `Ψ = 1 − √(1 − Θ)` under [`DampingPolicy::Auto`] (`docs/maths.md` §9). `Ψ = g(Θ)` with
+    /// `g` smooth and increasing on `[0, 1)`, `g(0) = 0`, `g(1) = 1`, so `Ψ` is a navigation
+    /// function with the critical points of `Θ`; near the goal `Ψ ≈ Θ/2`, near the walls and
+    /// the outer boundary, where `Θ` saturates, `|∇Ψ| = |∇Θ|/(2√(1 − Θ))` is far larger.
+    ///
+    /// Numerical guards: `Ψ = Θ/(1 + √(1 − Θ))` (no cancellation at the goal), and `1 − Θ` is
+    /// `sigma(−phi)` evaluated from `phi` (exact near the walls, where `1 − Θ` computed from
+    /// `Θ` would round to 0); where even that underflows (`phi ≳ 745`, within ~1e-300 m of a
+    /// wall) `∇Θ` has underflowed too and `∇Ψ = 0`, as under the paper's law.
+    pub fn potential(&self, eval: &FieldEval) -> Potential {
+        match self.policy {
+            DampingPolicy::Paper => Potential {
+                value: eval.value,
+                gradient: eval.gradient,
+            },
+            DampingPolicy::Auto => {
+                // 1 − Θ = sigma(−phi), with a non-positive exponent only.
+                let q = if eval.phi >= 0.0 {
+                    let e = (-eval.phi).exp();
+                    e / (1.0 + e)
+                } else {
+                    1.0 / (1.0 + eval.phi.exp())
+                };
+                let root = q.sqrt();
+                Potential {
+                    value: eval.value / (1.0 + root),
+                    gradient: if root > 0.0 {
+                        eval.gradient / (2.0 * root)
+                    } else {
+                        Vector2::zeros()
+                    },
+                }
+            }
+        }
+    }
+
+    /// Eq. (`totalenergy`): `V = μΨ + ½ m |ẋ|²` with `Ψ` the law's [`Dynamic::potential`]
+    /// (`Ψ = Θ` under the paper's policy). `V̇ = −λ|ẋ|² ≤ 0` between discoveries.
+    pub fn energy(&self, eval: &FieldEval, velocity: Vector2<f64>) -> f64 {
+        self.mu * self.potential(eval).value + 0.5 * self.mass * velocity.norm_squared()
     }
 
     /// Corollary `boundedvel`: `|ẋ| < √(2μ/m)`.
@@ -97,25 +165,93 @@ impl Dynamic {
         (2.0 * self.mu / self.mass).sqrt()
     }
 
-    /// Eq. (`critdamp`): `λ_c = 2√(m k_sp)` with `k_sp = μ·s` and `s` the Hessian of `Θ` at the
-    /// goal (`Field::destination_stiffness`, `2/Π|P_d − P_i|^{2/k}`, the exponent established
-    /// in `docs/maths.md` §2), i.e. `2√(2μm) Π|P_d − P_i|^{−1/k}`: damping ratio 1 there.
-    pub fn lambda_c(&self, field: &Field) -> f64 {
-        2.0 * (self.mass * self.mu * field.destination_stiffness()).sqrt()
-    }
-
-    /// Eq. (`dissipationfun`): `λ_c` while `V < μ`, otherwise `(m/d_min)|ẋ(T_n)|` with
-    /// `speed_at_discovery = |ẋ(T_n)|` the speed at the latest discovery.
-    pub fn damping(&self, field: &Field, energy: f64, speed_at_discovery: f64) -> f64 {
-        if energy < self.mu {
-            self.lambda_c(field)
-        } else {
-            self.mass / self.d_min * speed_at_discovery
+    /// The Hessian of the law's potential at the goal, `s·I`: `s` of `Θ`
+    /// (`Field::destination_stiffness`, `2/Π|P_d − P_i|^{2/k}`, the exponent established in
+    /// `docs/maths.md` §2) under the paper's policy, `s/2` for `Ψ ≈ Θ/2` under `"auto"`.
+    pub fn goal_stiffness(&self, field: &Field) -> f64 {
+        let s = field.destination_stiffness();
+        match self.policy {
+            DampingPolicy::Paper => s,
+            DampingPolicy::Auto => 0.5 * s,
         }
     }
 
-    /// The force `f = −μ∇Θ − λẋ`.
+    /// Eq. (`critdamp`): `λ_c = 2√(m k_sp)` with the spring constant `k_sp = μ·s` of
+    /// [`Dynamic::goal_stiffness`]; under the paper's policy `2√(2μm) Π|P_d − P_i|^{−1/k}`.
+    /// Damping ratio 1 at the goal.
+    pub fn lambda_c(&self, field: &Field) -> f64 {
+        2.0 * (self.mass * self.mu * self.goal_stiffness(field)).sqrt()
+    }
+
+    /// The damping of [`DampingPolicy::Auto`] in the `V < μ` branch:
+    /// `λ(x) = 2√(mμ)·|∇Ψ|/√(2Ψ) = 2√(mμ)·|∇√(2Ψ)|` (`docs/maths.md` §9), with `Ψ` the law's
+    /// [`Dynamic::potential`]. On a quadratic bowl `Ψ = ½s|x − x_d|²` it is `2√(mμs) = λ_c`,
+    /// the critical damping of eq. `critdamp`; away from the goal the terminal speed `μ|∇Ψ|/λ`
+    /// is `½√(μ/m)·√(2Ψ)`, where `λ_c` would over-damp wherever `|∇Ψ|` is small.
+    ///
+    /// Numerical guard: at the goal (`Ψ = 0`, or so close that `Ψ` underflows) the ratio is
+    /// `0/0`; its limit `λ_c` is returned instead.
+    pub fn lambda_auto(&self, field: &Field, eval: &FieldEval) -> f64 {
+        let p = self.potential(eval);
+        let ratio = p.gradient.norm() / (2.0 * p.value).sqrt();
+        if p.value > 0.0 && ratio.is_finite() {
+            2.0 * (self.mass * self.mu).sqrt() * ratio
+        } else {
+            self.lambda_c(field)
+        }
+    }
+
+    /// The brake of [`DampingPolicy::Auto`] on uphill motion: `1 + c·cos₊²(ẋ, ∇Ψ)` with
+    /// `c =` [`UPHILL_GAIN`], `cos₊` the positive part of the cosine between the velocity and
+    /// `∇Ψ`. It is 1 on downhill motion (the approach to the goal keeps its critical damping)
+    /// and up to `1 + c` when the robot climbs towards an obstacle, where with a large `k` the
+    /// barrier of `Ψ` is thin (`docs/maths.md` §9). Bounded, so `λẋ → 0` as `ẋ → 0`; 1 where
+    /// the angle is undefined (`ẋ = 0` or `∇Ψ = 0`).
+    pub fn uphill_factor(&self, eval: &FieldEval, velocity: Vector2<f64>) -> f64 {
+        let g = self.potential(eval).gradient;
+        let cos = velocity.dot(&g) / (velocity.norm() * g.norm());
+        let up = if cos.is_finite() { cos.max(0.0) } else { 0.0 };
+        1.0 + UPHILL_GAIN * up * up
+    }
+
+    /// Eq. (`dissipationfun`) under the law's [`DampingPolicy`], at the state `(eval, ẋ)`, with
+    /// `speed_at_discovery = |ẋ(T_n)|` the speed at the latest discovery:
+    ///
+    /// - `"paper"`: `λ_c` while `V < μ`, otherwise `(m/d_min)|ẋ(T_n)|`;
+    /// - `"auto"`: `λ(x, ẋ) =` [`Dynamic::lambda_auto`] × [`Dynamic::uphill_factor`] while
+    ///   `V < μ`, otherwise `max(λ(x, ẋ), (m/d_min)|ẋ(T_n)|)` — at least the paper's damping, so
+    ///   its stopping-distance argument (eq. `solpos`) holds a fortiori.
+    pub fn damping(
+        &self,
+        field: &Field,
+        eval: &FieldEval,
+        velocity: Vector2<f64>,
+        speed_at_discovery: f64,
+    ) -> Damping {
+        let critical = match self.policy {
+            DampingPolicy::Paper => self.lambda_c(field),
+            DampingPolicy::Auto => {
+                self.lambda_auto(field, eval) * self.uphill_factor(eval, velocity)
+            }
+        };
+        if self.energy(eval, velocity) < self.mu {
+            return Damping {
+                lambda: critical,
+                branch: Branch::Critical,
+            };
+        }
+        let switched = self.mass / self.d_min * speed_at_discovery;
+        Damping {
+            lambda: match self.policy {
+                DampingPolicy::Paper => switched,
+                DampingPolicy::Auto => switched.max(critical),
+            },
+            branch: Branch::Switched,
+        }
+    }
+
+    /// The force `f = −μ∇Ψ − λẋ` (eq. `dynctrllocal`; `Ψ = Θ` under the paper's policy).
     pub fn force(&self, eval: &FieldEval, velocity: Vector2<f64>, lambda: f64) -> Vector2<f64> {
-        -self.mu * eval.gradient - lambda * velocity
+        -self.mu * self.potential(eval).gradient - lambda * velocity
     }
 }

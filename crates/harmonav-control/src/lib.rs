@@ -7,11 +7,13 @@
 //! - [`Dynamic`] (eq. `dynctrllocal`): `f = −μ∇Θ − λ(t)ẋ` for `m ẍ = f`, with the critical
 //!   damping `λ_c` (eq. `critdamp`) while the energy `V = μΘ + ½m|ẋ|²` (eq. `totalenergy`)
 //!   stays below `μ`, and `(m/d_min)|ẋ(T_n)|` otherwise (eq. `dissipationfun`); the speed
-//!   bound `√(2μ/m)` (corollary `boundedvel`).
+//!   bound `√(2μ/m)` (corollary `boundedvel`). That is [`DampingPolicy::Paper`]; the default
+//!   [`DampingPolicy::Auto`] damps with `λ(x) = 2√(mμ)|∇Θ|/√(2Θ)`, which equals `λ_c` at the
+//!   goal and does not over-damp far from it.
 //!
 //! ```
 //! use std::sync::Arc;
-//! use harmonav_control::{Dynamic, Kinematic};
+//! use harmonav_control::{Branch, DampingPolicy, Dynamic, Kinematic};
 //! use harmonav_field::Field;
 //! use harmonav_transform::{StarShape, Workspace};
 //! use nalgebra::Vector2;
@@ -28,15 +30,20 @@
 //! assert!(u.norm() > 0.0 && u.norm() < 2f64.sqrt());
 //! let law = Dynamic::new(1.0, 10.0, 0.05)?;             // m = 1 kg, μ = 10, d_min = 0.05 m
 //! assert!((law.speed_bound() - 20f64.sqrt()).abs() < 1e-12);
-//! let lambda = law.damping(&field, law.energy(eval.value, Vector2::zeros()), 0.0);
-//! assert_eq!(lambda, law.lambda_c(&field));             // V < μ: critical damping
-//! let f = law.force(&eval, Vector2::zeros(), lambda);
+//! let paper = law.with_damping(DampingPolicy::Paper);
+//! let d = paper.damping(&field, &eval, Vector2::zeros(), 0.0);
+//! assert_eq!((d.lambda, d.branch), (paper.lambda_c(&field), Branch::Critical)); // V < μ: λ_c
+//! let d = law.damping(&field, &eval, Vector2::zeros(), 0.0); // the default, "auto"
+//! assert_eq!(d.lambda, law.lambda_auto(&field, &eval));
+//! let f = law.force(&eval, Vector2::zeros(), d.lambda);
 //! assert!(f.dot(&eval.gradient) < 0.0);                 // pushes downhill
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
 #![warn(missing_docs)]
 
+mod damping;
 mod laws;
 
-pub use laws::{ControlError, Dynamic, Kinematic};
+pub use damping::{Branch, Damping, DampingPolicy, UnknownDampingPolicy};
+pub use laws::{ControlError, Dynamic, Kinematic, Potential, UPHILL_GAIN};

@@ -2,7 +2,7 @@
 
 use std::sync::Arc;
 
-use harmonav_control::{Dynamic, Kinematic};
+use harmonav_control::{Branch, DampingPolicy, Dynamic, Kinematic, UPHILL_GAIN};
 use harmonav_field::Field;
 use harmonav_transform::random::{self, Kind, Rng};
 use nalgebra::{Matrix2, Matrix4, Vector2};
@@ -16,17 +16,19 @@ fn world(seed: u64) -> (Field, Rng) {
     (Field::all_known(Arc::new(ws)).unwrap(), rng)
 }
 
-/// Corollary critdamp: the closed loop linearised at the goal, with the Hessian of Θ taken by
-/// finite differences of ∇Θ (independent of the closed form), has damping ratio 1: a double
-/// real eigenvalue per direction.
+/// Corollary critdamp: the closed loop linearised at the goal, with the Hessian of the law's
+/// potential (Θ, or Ψ under "auto") taken by finite differences of its gradient (independent of
+/// the closed form), has damping ratio 1: a double real eigenvalue per direction.
 #[test]
 fn critical_damping_at_the_goal() {
     for seed in 0..40 {
         let (field, _) = world(seed);
-        let law = Dynamic::new(1.0 + seed as f64 * 0.1, 10.0, 0.05).unwrap();
+        let law = Dynamic::new(1.0 + seed as f64 * 0.1, 10.0, 0.05)
+            .unwrap()
+            .with_damping(DampingPolicy::ALL[seed as usize % 2]);
         let xd = field.workspace().destination();
         let h = 1e-5;
-        let g = |x: Vector2<f64>| field.eval(x).unwrap().gradient;
+        let g = |x: Vector2<f64>| law.potential(&field.eval(x).unwrap()).gradient;
         let hx = (g(xd + Vector2::new(h, 0.0)) - g(xd - Vector2::new(h, 0.0))) / (2.0 * h);
         let hy = (g(xd + Vector2::new(0.0, h)) - g(xd - Vector2::new(0.0, h))) / (2.0 * h);
         let hess = Matrix2::from_columns(&[hx, hy]);
@@ -56,20 +58,21 @@ fn critical_damping_at_the_goal() {
 }
 
 /// Eq. (totalenergy): between discoveries V = μΘ + ½m|ẋ|² does not increase along the closed
-/// loop (V̇ = −λ|ẋ|²), and the speed stays below √(2μ/m).
+/// loop (V̇ = −λ|ẋ|²), and the speed stays below √(2μ/m), under either damping policy.
 #[test]
 fn energy_decreases_and_speed_is_bounded() {
     for seed in 0..20 {
         let (field, mut rng) = world(100 + seed);
-        let law = Dynamic::new(1.0, 10.0, 0.05).unwrap();
+        let policy = DampingPolicy::ALL[seed as usize % 2];
+        let law = Dynamic::new(1.0, 10.0, 0.05).unwrap().with_damping(policy);
         let mut x = random::free_point(&mut rng, field.workspace(), 0.2);
         let mut v = Vector2::zeros();
         let accel = |x: Vector2<f64>, v: Vector2<f64>| {
             let e = field.eval(x).unwrap();
-            let lambda = law.damping(&field, law.energy(e.value, v), 0.0);
+            let lambda = law.damping(&field, &e, v, 0.0).lambda;
             law.force(&e, v, lambda) / law.mass()
         };
-        let energy = |x: Vector2<f64>, v: Vector2<f64>| law.energy(field.eval(x).unwrap().value, v);
+        let energy = |x: Vector2<f64>, v: Vector2<f64>| law.energy(&field.eval(x).unwrap(), v);
         let mut last = energy(x, v);
         let dt = 1e-3;
         for _ in 0..3000 {
@@ -89,7 +92,7 @@ fn energy_decreases_and_speed_is_bounded() {
             let now = energy(x, v);
             assert!(
                 now <= last + 1e-9 * last.max(1e-3),
-                "seed {seed}: V rose from {last} to {now}"
+                "seed {seed} ({policy}): V rose from {last} to {now}"
             );
             assert!(v.norm() < law.speed_bound());
             last = now;
@@ -123,13 +126,62 @@ fn kinematic_law_decreases_theta() {
     }
 }
 
-/// Eq. (dissipationfun): the damping switches to (m/d_min)|ẋ(T_n)| once V ≥ μ.
+/// Eq. (dissipationfun): the damping switches to (m/d_min)|ẋ(T_n)| once V ≥ μ; under "auto" it
+/// is never below that.
 #[test]
 fn damping_switches_on_energy() {
-    let (field, _) = world(7);
-    let law = Dynamic::new(2.0, 10.0, 0.05).unwrap();
-    assert_eq!(law.damping(&field, 9.999, 3.0), law.lambda_c(&field));
-    assert_eq!(law.damping(&field, 10.0, 3.0), 2.0 / 0.05 * 3.0);
+    let (field, mut rng) = world(7);
+    let paper = Dynamic::new(2.0, 10.0, 0.05)
+        .unwrap()
+        .with_damping(DampingPolicy::Paper);
+    let auto = paper.with_damping(DampingPolicy::Auto);
+    assert_eq!(
+        auto,
+        Dynamic::new(2.0, 10.0, 0.05).unwrap(),
+        "auto is the default"
+    );
+    for _ in 0..50 {
+        let x = random::free_point(&mut rng, field.workspace(), 0.05);
+        let e = field.eval(x).unwrap();
+        // Speeds that put V just below and at μ: ½m|v|² = μ(1 − Ψ) ∓ ε.
+        for law in [paper, auto] {
+            let psi = law.potential(&e).value;
+            let speed = |target: f64| Vector2::new((2.0 * (target - 10.0 * psi) / 2.0).sqrt(), 0.0);
+            let (below, at) = (speed(9.999), speed(10.0 + 1e-9));
+            assert!(law.energy(&e, below) < 10.0 && law.energy(&e, at) >= 10.0);
+            let d = law.damping(&field, &e, below, 3.0);
+            assert_eq!(d.branch, Branch::Critical);
+            let d = law.damping(&field, &e, at, 3.0);
+            assert_eq!(d.branch, Branch::Switched);
+        }
+        let psi = paper.potential(&e).value;
+        let speed = |target: f64| Vector2::new((2.0 * (target - 10.0 * psi) / 2.0).sqrt(), 0.0);
+        let (below, at) = (speed(9.999), speed(10.0 + 1e-9));
+        let d = paper.damping(&field, &e, below, 3.0);
+        assert_eq!(
+            (d.lambda, d.branch),
+            (paper.lambda_c(&field), Branch::Critical)
+        );
+        let d = paper.damping(&field, &e, at, 3.0);
+        assert_eq!((d.lambda, d.branch), (2.0 / 0.05 * 3.0, Branch::Switched));
+        let psi = auto.potential(&e).value;
+        let speed = |target: f64| Vector2::new((2.0 * (target - 10.0 * psi) / 2.0).sqrt(), 0.0);
+        let (below, at) = (speed(9.999), speed(10.0 + 1e-9));
+        let own = |v| auto.lambda_auto(&field, &e) * auto.uphill_factor(&e, v);
+        let d = auto.damping(&field, &e, below, 3.0);
+        assert_eq!((d.lambda, d.branch), (own(below), Branch::Critical));
+        let d = auto.damping(&field, &e, at, 3.0);
+        assert_eq!(d.branch, Branch::Switched);
+        assert_eq!(d.lambda, (2.0 / 0.05 * 3.0f64).max(own(at)));
+        assert!(auto.damping(&field, &e, at, 1e-3).lambda >= own(at));
+        // The uphill brake: 1 downhill and across, 1 + c straight uphill, 1 at rest.
+        let g = auto.potential(&e).gradient;
+        let across = Vector2::new(-g.y, g.x);
+        assert_eq!(auto.uphill_factor(&e, -g), 1.0);
+        assert!((auto.uphill_factor(&e, across) - 1.0).abs() < 1e-12);
+        assert!((auto.uphill_factor(&e, g) - 1.0 - UPHILL_GAIN).abs() < 1e-12);
+        assert_eq!(auto.uphill_factor(&e, Vector2::zeros()), 1.0);
+    }
     // λ_c = 2√(2μm) Π|P_d − P_i|^{−1/k} (eq. critdamp), evaluated directly.
     let pw = field.point_world();
     let prod: f64 = pw
@@ -138,7 +190,98 @@ fn damping_switches_on_energy() {
         .map(|p| (pw.destination() - p).norm().powf(-1.0 / pw.k()))
         .product();
     let direct = 2.0 * (2.0 * 10.0 * 2.0f64).sqrt() * prod;
-    assert!((law.lambda_c(&field) - direct).abs() < 1e-12 * direct);
+    assert!((paper.lambda_c(&field) - direct).abs() < 1e-12 * direct);
     assert!(Dynamic::new(0.0, 1.0, 1.0).is_err() && Dynamic::new(1.0, f64::NAN, 1.0).is_err());
     assert!(Kinematic::new(-1.0).is_err());
+}
+
+/// The "auto" damping is `2√(mμ)|∇√(2Ψ)|`: against central differences of `√(2Ψ)` (independent
+/// of `∇Ψ`) at random points, and equal to `λ_c` in the limit at the goal, where its damping
+/// ratio is therefore 1 (corollary critdamp).
+#[test]
+fn auto_damping_is_the_gradient_of_root_two_theta_and_lambda_c_at_the_goal() {
+    for seed in 0..30 {
+        let (field, mut rng) = world(300 + seed);
+        let law = Dynamic::new(1.0 + 0.2 * seed as f64, 10.0, 0.05).unwrap();
+        let root = |x: Vector2<f64>| (2.0 * law.potential(&field.eval(x).unwrap()).value).sqrt();
+        for _ in 0..20 {
+            let x = random::free_point(&mut rng, field.workspace(), 0.05);
+            let h = 1e-6;
+            let fd = Vector2::new(
+                root(x + Vector2::new(h, 0.0)) - root(x - Vector2::new(h, 0.0)),
+                root(x + Vector2::new(0.0, h)) - root(x - Vector2::new(0.0, h)),
+            ) / (2.0 * h);
+            let want = 2.0 * (law.mass() * law.mu()).sqrt() * fd.norm();
+            let got = law.lambda_auto(&field, &field.eval(x).unwrap());
+            assert!(
+                (got - want).abs() <= 1e-5 * want + 1e-9,
+                "seed {seed} at {x:?}: {got} vs {want}"
+            );
+            // The terminal speed μ|∇Ψ|/λ is ½√(μ/m)·√(2Ψ).
+            let p = law.potential(&field.eval(x).unwrap());
+            let terminal = law.mu() * p.gradient.norm() / got;
+            let closed = 0.5 * (law.mu() / law.mass()).sqrt() * (2.0 * p.value).sqrt();
+            assert!(
+                (terminal - closed).abs() <= 1e-12 * closed,
+                "{terminal} vs {closed}"
+            );
+        }
+        let xd = field.workspace().destination();
+        let lc = law.lambda_c(&field);
+        assert_eq!(law.lambda_auto(&field, &field.eval(xd).unwrap()), lc);
+        for r in [1e-3, 1e-5, 1e-7] {
+            let a = rng.uniform(0.0, std::f64::consts::TAU);
+            let e = field.eval(xd + r * Vector2::new(a.cos(), a.sin())).unwrap();
+            let rel = (law.lambda_auto(&field, &e) - lc).abs() / lc;
+            assert!(
+                rel < 20.0 * r,
+                "seed {seed}, r = {r}: λ/λ_c − 1 = {rel:.2e}"
+            );
+        }
+    }
+}
+
+/// The shaped potential of "auto": `Ψ = 1 − √(1 − Θ)` (the naive formula where it is accurate),
+/// `∇Ψ` against central differences of `Ψ`, values in [0, 1], `Ψ ≈ Θ/2` at the goal, and a
+/// finite, non-zero gradient at 1e-9 m from an obstacle, where `1 − Θ` is below 1e-2.
+#[test]
+fn shaped_potential_is_a_function_of_theta_with_the_chain_rule_gradient() {
+    let law = Dynamic::new(1.0, 10.0, 0.05).unwrap();
+    let paper = law.with_damping(DampingPolicy::Paper);
+    for seed in 0..30 {
+        let (field, mut rng) = world(400 + seed);
+        for _ in 0..20 {
+            let x = random::free_point(&mut rng, field.workspace(), 0.05);
+            let e = field.eval(x).unwrap();
+            assert_eq!(paper.potential(&e).value, e.value);
+            let p = law.potential(&e);
+            let naive = 1.0 - (1.0 - e.value).sqrt();
+            assert!((p.value - naive).abs() <= 1e-12, "{} vs {naive}", p.value);
+            assert!((0.0..=1.0).contains(&p.value));
+            let h = 1e-6;
+            let psi = |d: Vector2<f64>| law.potential(&field.eval(x + d).unwrap()).value;
+            let fd = Vector2::new(
+                psi(Vector2::new(h, 0.0)) - psi(Vector2::new(-h, 0.0)),
+                psi(Vector2::new(0.0, h)) - psi(Vector2::new(0.0, -h)),
+            ) / (2.0 * h);
+            assert!(
+                (fd - p.gradient).norm() <= 1e-5 * p.gradient.norm() + 1e-9,
+                "seed {seed}: {fd:?} vs {:?}",
+                p.gradient
+            );
+        }
+        let xd = field.workspace().destination();
+        let e = field.eval(xd + Vector2::new(1e-4, 0.0)).unwrap();
+        assert!((law.potential(&e).value / e.value - 0.5).abs() < 1e-6);
+        assert_eq!(law.potential(&field.eval(xd).unwrap()).value, 0.0);
+        // Just outside an obstacle: the gradient is finite and points away from it.
+        let o = &field.workspace().obstacles()[0];
+        let dir: Vector2<f64> = Vector2::new(1.0, 0.3).normalize();
+        let b = o.boundary_point(dir.y.atan2(dir.x));
+        if let Ok(e) = field.eval(b + 1e-9 * (b - o.centre()).normalize()) {
+            let g = law.potential(&e).gradient;
+            assert!(g.iter().all(|v| v.is_finite()) && g.norm() > 0.0, "{g:?}");
+            assert!(g.norm() >= e.gradient.norm() / 2.0);
+        }
+    }
 }

@@ -142,8 +142,9 @@ pub fn trajectory_svg(prepared: &Prepared, run: &Run) -> String {
     svg.finish()
 }
 
-/// `speed.svg` (dynamic runs): `|ẋ|` against time with the bound `√(2μ/m)` and the
-/// discovery instants.
+/// `speed.svg` (dynamic runs): `|ẋ|` against time with the bound `√(2μ/m)`, the discovery
+/// instants, and shaded the intervals in which a discovery lifted `V` to `μ` and the damping
+/// switched to `(m/d_min)|ẋ(T_n)|` (eq. `dissipationfun`).
 pub fn speed_svg(run: &Run) -> String {
     let s = &run.summary;
     let bound = s.speed_bound.unwrap_or(1.0);
@@ -181,6 +182,24 @@ pub fn speed_svg(run: &Run) -> String {
         (4.0, -4.0),
         "bound √(2μ/m)",
     );
+    // The switched intervals: from each recorded sample with λ switched to the next sample.
+    let mut labelled = false;
+    for w in run.samples.windows(2) {
+        if w[0].lambda.is_none() || w[0].critical {
+            continue;
+        }
+        let (x0, _) = panel.px(Vector2::new(w[0].t, top));
+        // At least 2 px wide: the switch often lasts a few milliseconds.
+        let x1 = panel.px(Vector2::new(w[1].t, top)).0.max(x0 + 2.0);
+        svg.raw(&format!(
+            r##"<rect x="{x0:.2}" y="30" width="{:.2}" height="300" fill="#f59f00" fill-opacity="0.35"/>"##,
+            x1 - x0
+        ));
+        if !labelled {
+            svg.text(x1 + 3.0, 326.0, "λ switched (V ≥ μ)", r##"fill="#e67700""##);
+            labelled = true;
+        }
+    }
     // Labels of discoveries closer than 30 px to the previous one drop a line.
     let mut previous: Option<(f64, f64)> = None;
     for d in &s.discoveries {

@@ -7,6 +7,7 @@
 use std::collections::BTreeSet;
 use std::f64::consts::TAU;
 
+use harmonav_control::Branch;
 use harmonav_field::{Field, FieldEval};
 use harmonav_sensing::{Sensing, axis};
 use harmonav_transform::StarShape;
@@ -140,18 +141,27 @@ pub fn run_rapier(
             ));
             break;
         };
-        let lambda = (model == Model::Dynamic)
-            .then(|| dynamic.damping(&field, dynamic.energy(e.value, vel), speed_at_discovery));
-        if steps % substeps == 0 || reached {
+        let damping =
+            (model == Model::Dynamic).then(|| dynamic.damping(&field, &e, vel, speed_at_discovery));
+        // The first state after a discovery is recorded too: the switch of eq.
+        // `dissipationfun` may last only a few milliseconds.
+        if steps % substeps == 0 || reached || discovered {
             let s = Sample {
                 t,
                 x: [x.x, x.y],
                 v: [vel.x, vel.y],
                 theta: e.value,
-                energy: (model == Model::Dynamic).then(|| dynamic.energy(e.value, vel)),
+                energy: (model == Model::Dynamic).then(|| dynamic.energy(&e, vel)),
                 k: field.k(),
-                lambda,
-                critical: lambda.is_some_and(|l| l == dynamic.lambda_c(&field)),
+                lambda: damping.map(|d| d.lambda),
+                // Semi-implicit Euler at 1 ms has no error estimate: half of the former
+                // relative allowance 1e-6 per state.
+                energy_tolerance: if model == Model::Dynamic {
+                    5e-7 * dynamic.energy(&e, vel)
+                } else {
+                    0.0
+                },
+                critical: damping.is_some_and(|d| d.branch == Branch::Critical),
             };
             monitor.observe(&s, discovered, prepared);
             discovered = false;
@@ -194,9 +204,8 @@ pub fn run_rapier(
             Drive::Law => match model {
                 Model::Kinematic => kinematic.velocity(&e),
                 Model::Dynamic => {
-                    let l =
-                        dynamic.damping(&field, dynamic.energy(e.value, vel), speed_at_discovery);
-                    dynamic.force(&e, vel, l)
+                    let d = dynamic.damping(&field, &e, vel, speed_at_discovery);
+                    dynamic.force(&e, vel, d.lambda)
                 }
             },
             Drive::Custom(f) => f(&field, &e, x, vel),

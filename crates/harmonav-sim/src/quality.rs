@@ -8,6 +8,7 @@
 //! [`POINT_CLEARANCE`] from everything. Every shape also survives an offset by
 //! [`MAX_MARGIN`], so the same worlds serve the runs with a clearance margin.
 
+use harmonav_control::DampingPolicy;
 use harmonav_field::KPolicy;
 use harmonav_transform::StarShape;
 use harmonav_transform::random::{Kind, Rng};
@@ -76,16 +77,21 @@ pub struct Cell {
     pub k: KPolicy,
     /// Law.
     pub model: Model,
+    /// Damping policy (dynamic law; kinematic cells carry the default, which they ignore).
+    pub damping: DampingPolicy,
     /// `robot.margin`, m.
     pub margin: f64,
 }
 
 impl Cell {
-    /// A key for JSON figures: `kinematic.auto.global.m12` (with `.margin0.1` when a margin is set).
+    /// A key for JSON figures: `kinematic.auto.global.m12`, `dynamic.auto.global.m12` under the
+    /// default damping and `dynamic-damping-paper.auto.global.m12` under the paper's (with
+    /// `.margin0.1` when a margin is set).
     pub fn key(&self) -> String {
-        let model = match self.model {
-            Model::Kinematic => "kinematic",
-            Model::Dynamic => "dynamic",
+        let model = match (self.model, self.damping) {
+            (Model::Kinematic, _) => "kinematic".to_string(),
+            (Model::Dynamic, d) if d == DampingPolicy::default() => "dynamic".to_string(),
+            (Model::Dynamic, d) => format!("dynamic-damping-{d}"),
         };
         let mut key = format!(
             "{model}.{}.{}.m{}",
@@ -232,7 +238,10 @@ impl World {
                 rho_min: None,
             }),
             field: FieldSpec { k: cell.k },
-            controller: ControllerSpec::default(),
+            controller: ControllerSpec {
+                damping: cell.damping,
+                ..ControllerSpec::default()
+            },
             sim: SimSpec {
                 max_time,
                 ..SimSpec::default()
@@ -342,6 +351,9 @@ pub struct CellStats {
     pub overshoot: f64,
     /// Integration steps (accepted and rejected) per run: median, 90th percentile, max.
     pub steps: [f64; 3],
+    /// Time to goal in each world, in seed order (`None`: did not arrive), for comparisons
+    /// between cells on the same worlds ([`time_ratio`]).
+    pub times: Vec<Option<f64>>,
 }
 
 /// Median, 90th percentile (nearest rank) and maximum; NaN for no values.
@@ -373,8 +385,23 @@ impl CellStats {
                 .fold(f64::INFINITY, f64::min),
             overshoot: runs.iter().map(|m| m.overshoot).fold(0.0, f64::max),
             steps: quantiles(&runs.iter().map(|m| m.steps as f64).collect::<Vec<_>>()),
+            times: runs.iter().map(|m| m.reached.then_some(m.time)).collect(),
         }
     }
+}
+
+/// The time of `cell` over the time of `reference` in each world both ran: median, 90th
+/// percentile and maximum. A world that `cell` did not finish counts as `+∞` (so arrival
+/// failures show in the quantiles instead of vanishing); one that `reference` did not finish is
+/// left out.
+pub fn time_ratio(cell: &CellStats, reference: &CellStats) -> [f64; 3] {
+    let ratios: Vec<f64> = cell
+        .times
+        .iter()
+        .zip(&reference.times)
+        .filter_map(|(t, r)| Some(t.unwrap_or(f64::INFINITY) / (*r)?))
+        .collect();
+    quantiles(&ratios)
 }
 
 /// What the benchmark runs.

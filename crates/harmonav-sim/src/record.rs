@@ -187,7 +187,7 @@ pub fn mcap_bytes(prepared: &Prepared, run: &Run) -> mcap::McapResult<Vec<u8>> {
                 messages.push((nanos(s.t), 3, sec));
                 next_sector = ((s.t / SECTOR_PERIOD).floor() + 1.0) * SECTOR_PERIOD;
             }
-            messages.push((nanos(s.t), 4, json!({ "t": s.t, "x": s.x, "v": s.v, "theta": s.theta, "energy": s.energy, "k": s.k, "lambda": s.lambda })));
+            messages.push((nanos(s.t), 4, json!({ "t": s.t, "x": s.x, "v": s.v, "theta": s.theta, "energy": s.energy, "k": s.k, "lambda": s.lambda, "lambda_switched": s.lambda.is_some() && !s.critical })));
         }
         let mut trajectory_times: Vec<f64> =
             run.summary.discoveries.iter().map(|d| d.time_s).collect();

@@ -6,6 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
+use harmonav_control::DampingPolicy;
 use harmonav_field::{Field, FieldError, KPolicy};
 use harmonav_sensing::{Sector, Sensing};
 use harmonav_transform::{RobotWorldError, StarShape, Workspace, WorldError};
@@ -130,22 +131,24 @@ pub struct RobotSpec {
 #[serde(deny_unknown_fields)]
 pub struct FieldSpec {
     /// `k = "paper"` (`k = n + 1`) or `"auto"` (the default), see [`KPolicy`].
-    #[serde(
-        default,
-        deserialize_with = "de_k_policy",
-        serialize_with = "ser_k_policy"
-    )]
+    #[serde(default, deserialize_with = "de_policy", serialize_with = "ser_policy")]
     pub k: KPolicy,
 }
 
-fn de_k_policy<'de, D: Deserializer<'de>>(d: D) -> Result<KPolicy, D::Error> {
+/// A policy field (`k`, `damping`) by name; an unknown name is an error that lists the names.
+fn de_policy<'de, D, P>(d: D) -> Result<P, D::Error>
+where
+    D: Deserializer<'de>,
+    P: std::str::FromStr,
+    P::Err: std::fmt::Display,
+{
     String::deserialize(d)?
         .parse()
         .map_err(serde::de::Error::custom)
 }
 
-fn ser_k_policy<S: Serializer>(k: &KPolicy, s: S) -> Result<S::Ok, S::Error> {
-    s.serialize_str(k.as_str())
+fn ser_policy<S: Serializer, P: std::fmt::Display>(p: &P, s: S) -> Result<S::Ok, S::Error> {
+    s.collect_str(p)
 }
 
 /// `[sensor]` (omit the table for global sensing).
@@ -172,6 +175,10 @@ pub struct ControllerSpec {
     /// `μ` of the dynamic law.
     #[serde(default = "ten")]
     pub mu: f64,
+    /// `damping = "paper"` (eq. `dissipationfun`) or `"auto"` (the default), see
+    /// [`DampingPolicy`].
+    #[serde(default, deserialize_with = "de_policy", serialize_with = "ser_policy")]
+    pub damping: DampingPolicy,
 }
 
 impl Default for ControllerSpec {
@@ -179,6 +186,7 @@ impl Default for ControllerSpec {
         Self {
             gain: 1.0,
             mu: 10.0,
+            damping: DampingPolicy::default(),
         }
     }
 }
@@ -221,6 +229,16 @@ pub struct ExpectSpec {
     /// An upper bound on the largest speed, m/s.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_speed_below: Option<f64>,
+    /// Whether the dynamic law's damping switches to `(m/d_min)|ẋ(T_n)|` during the run (a
+    /// discovery lifts `V` to `μ` or above, eq. `dissipationfun`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub damping_switched: Option<bool>,
+    /// `false` states that a run with the *other* robot model does not reach the goal within
+    /// `sim.max_time`: a limit of the paper's policies (`xtask verify` reports it as a limit,
+    /// and fails if the run arrives after all). Allowed only when the other model runs under
+    /// a `"paper"` policy; under the default policies every scenario must arrive.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub other_model_reached: Option<bool>,
 }
 
 fn one() -> f64 {
@@ -393,6 +411,24 @@ impl Scenario {
         for (name, v) in [("controller.gain", c.gain), ("controller.mu", c.mu)] {
             if !(v.is_finite() && v > 0.0) {
                 return Err(f(name, format!("must be finite and positive, got {v}")));
+            }
+        }
+        if let Some(false) = self.expect.as_ref().and_then(|e| e.other_model_reached) {
+            let paper = match r.model {
+                // The other model is the dynamic law: the paper's k or damping.
+                Model::Kinematic => {
+                    self.field.k == KPolicy::Paper || c.damping == DampingPolicy::Paper
+                }
+                Model::Dynamic => self.field.k == KPolicy::Paper,
+            };
+            if !paper {
+                return Err(f(
+                    "expect.other_model_reached",
+                    "only a scenario that runs the other model under a \"paper\" policy \
+                     (`[field] k`, or `[controller] damping` for the dynamic law) may state that \
+                     it does not arrive; under the default policies every scenario must arrive"
+                        .into(),
+                ));
             }
         }
         let s = &self.sim;
@@ -573,6 +609,11 @@ impl Prepared {
     /// The `k` policy of the file's `[field]` table.
     pub fn k_policy(&self) -> KPolicy {
         self.scenario.field.k
+    }
+
+    /// The damping policy of the file's `[controller]` table.
+    pub fn damping_policy(&self) -> DampingPolicy {
+        self.scenario.controller.damping
     }
 
     /// `Θ` with every obstacle known (global sensing) under the file's `k` policy.

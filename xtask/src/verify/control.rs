@@ -2,7 +2,7 @@
 
 use std::sync::Arc;
 
-use harmonav_control::{Dynamic, Kinematic};
+use harmonav_control::{DampingPolicy, Dynamic, Kinematic};
 use harmonav_field::Field;
 use harmonav_sensing::Sector;
 use harmonav_transform::random::{self, Kind, Rng};
@@ -45,18 +45,21 @@ fn d_min() -> Outcome {
     )
 }
 
-/// Corollary critdamp with the finite-difference Hessian of Θ at the goal: ζ = 1.
+/// Corollary critdamp with the finite-difference Hessian at the goal of the potential each
+/// damping policy descends (Θ, or Ψ under "auto"): ζ = 1.
 fn critical_damping() -> Outcome {
     let mut worst = 0.0f64;
     for seed in 0..200u64 {
         let (field, _) = world(5000 + seed);
-        let law = Dynamic::new(1.0, 10.0, 0.05).map_err(|e| e.to_string())?;
+        let law = Dynamic::new(1.0, 10.0, 0.05)
+            .map_err(|e| e.to_string())?
+            .with_damping(DampingPolicy::ALL[seed as usize % 2]);
         let xd = field.workspace().destination();
         let h = 1e-5;
         let g = |x: Vector2<f64>| {
             field
                 .eval(x)
-                .map(|e| e.gradient)
+                .map(|e| law.potential(&e).gradient)
                 .unwrap_or(Vector2::zeros())
         };
         let hess = Matrix2::from_columns(&[
@@ -71,17 +74,18 @@ fn critical_damping() -> Outcome {
     outcome(
         worst < 1e-6,
         format!(
-            "200 worlds: damping ratio at the goal within {worst:.1e} of 1 (λ_c with exponent 2/k)"
+            "200 worlds, both damping policies: damping ratio at the goal within {worst:.1e} of 1 (λ_c with exponent 2/k)"
         ),
     )
 }
 
 /// Eq. (totalenergy) and corollary boundedvel along the closed loop from rest (global field,
-/// RK4, 4000 steps of 1 ms): V never rises, |ẋ| < √(2μ/m).
+/// RK4, 4000 steps of 1 ms), under both damping policies: V never rises, |ẋ| < √(2μ/m).
 fn energy() -> Outcome {
     let (mut max_speed, mut worst_rise) = (0.0f64, 0.0f64);
-    let law = Dynamic::new(1.0, 10.0, 0.05).map_err(|e| e.to_string())?;
+    let base = Dynamic::new(1.0, 10.0, 0.05).map_err(|e| e.to_string())?;
     for seed in 0..30u64 {
+        let law = base.with_damping(DampingPolicy::ALL[seed as usize % 2]);
         let (field, mut rng) = world(6000 + seed);
         let mut x = random::free_point(&mut rng, field.workspace(), 0.2);
         let mut v = Vector2::zeros();
@@ -92,9 +96,9 @@ fn energy() -> Outcome {
         };
         let accel = |x: Vector2<f64>, v: Vector2<f64>| -> Result<Vector2<f64>, String> {
             let e = eval(x)?;
-            Ok(law.force(&e, v, law.damping(&field, law.energy(e.value, v), 0.0)) / law.mass())
+            Ok(law.force(&e, v, law.damping(&field, &e, v, 0.0).lambda) / law.mass())
         };
-        let mut last = law.energy(eval(x)?.value, v);
+        let mut last = law.energy(&eval(x)?, v);
         let dt = 1e-3;
         for _ in 0..4000 {
             let (k1x, k1v) = (v, accel(x, v)?);
@@ -109,17 +113,17 @@ fn energy() -> Outcome {
             let (k4x, k4v) = (v + dt * k3v, accel(x + dt * k3x, v + dt * k3v)?);
             x += dt / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x);
             v += dt / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
-            let now = law.energy(eval(x)?.value, v);
+            let now = law.energy(&eval(x)?, v);
             worst_rise = worst_rise.max((now - last) / last.max(1e-12));
             max_speed = max_speed.max(v.norm());
             last = now;
         }
     }
-    let bound = law.speed_bound();
+    let bound = base.speed_bound();
     outcome(
         worst_rise <= 1e-9 && max_speed < bound,
         format!(
-            "30 runs × 4 s: largest relative rise of V {worst_rise:.1e}; max speed {max_speed:.2} m/s < bound {bound:.2} m/s"
+            "30 runs × 4 s, both damping policies: largest relative rise of V {worst_rise:.1e}; max speed {max_speed:.2} m/s < bound {bound:.2} m/s"
         ),
     )
 }

@@ -132,7 +132,8 @@ fn limits() -> Outcome {
     Ok(format!(
         "300 worlds × 50 free points: Θ ∈ [0,1], finite; Θ(x_d) = 0; {}",
         report.join("; ")
-    ))
+    )
+    .into())
 }
 
 /// Θ ∈ [0, 1] at free points, `Θ(x_d) = 0`, the lowest Θ at 1e-12 from a boundary, and the
