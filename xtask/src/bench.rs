@@ -65,7 +65,11 @@ pub fn run(options: &Options) -> ExitCode {
         put(&format!("grad_batch_ns_per_pair_m{m}"), ns);
     }
     put("field_grad_ns_m20", field_grad_ns(20));
-    put("control_step_ns_m6", control_step_ns());
+    put("control_step_ns_m6", control_step_ns(DampingPolicy::Auto));
+    put(
+        "control_step_ns_m6_damping_paper",
+        control_step_ns(DampingPolicy::Paper),
+    );
     put("montecarlo_runs_per_s", montecarlo_runs_per_s());
     // The motion-quality benchmark (docs/benchmarks.md): both laws, every policy.
     let models = [Model::Kinematic, Model::Dynamic];
@@ -203,8 +207,9 @@ fn field_grad_ns(m: usize) -> f64 {
 }
 
 /// One full control step with 6 known obstacles (and 2 not yet known): the sector check of
-/// the unknown obstacles, `Θ` and `∇Θ`, and the dynamic law with its damping; ns per step.
-fn control_step_ns() -> f64 {
+/// the unknown obstacles, `Θ` and `∇Θ`, and the dynamic law under the damping `policy`; ns per
+/// step.
+fn control_step_ns(policy: DampingPolicy) -> f64 {
     use harmonav_control::Dynamic;
     use harmonav_field::Field;
     use harmonav_sensing::{Sector, axis};
@@ -214,7 +219,9 @@ fn control_step_ns() -> f64 {
     let ws = std::sync::Arc::new(random::workspace(&mut rng, 8, &kinds, Kind::Star, 0.15));
     let field = Field::new(ws.clone(), 0..6).expect("valid benchmark world");
     let sector = Sector::new(1.0, 60f64.to_radians()).expect("valid sector");
-    let law = Dynamic::new(1.0, 10.0, sector.d_min(0.05)).expect("valid law");
+    let law = Dynamic::new(1.0, 10.0, sector.d_min(0.05))
+        .expect("valid law")
+        .with_damping(policy);
     let states: Vec<_> = (0..1024)
         .map(|_| (random::free_point(&mut rng, &ws, 1e-3), rng.point(1.0)))
         .collect();
@@ -226,8 +233,8 @@ fn control_step_ns() -> f64 {
                 let Ok(e) = field.eval(x) else { continue };
                 let seen = axis(v, e.direction)
                     .is_some_and(|a| (6..8).any(|i| sector.detects(x, a, &ws.obstacles()[i])));
-                let lambda = law.damping(&field, &e, v, v.norm()).lambda;
-                black_box((seen, law.force(&e, v, lambda)));
+                let d = law.damping(&field, &e, v, v.norm());
+                black_box((seen, law.force(&e, v, &d)));
             }
         }
     })

@@ -18,11 +18,13 @@ pub enum DampingPolicy {
     /// - the law descends `Ψ = 1 − √(1 − Θ)` instead of `Θ` (`Ψ ≈ Θ/2` at the goal, and a far
     ///   stronger pull where `Θ` saturates near the outer boundary, where the paper's robot
     ///   starts at almost no force);
-    /// - `λ(x) = 2√(mμ)·|∇Ψ|/√(2Ψ) = 2√(mμ)·|∇√(2Ψ)|`, times a bounded brake on uphill motion
-    ///   (`Dynamic::uphill_factor`), while `V < μ`, else at least `(m/d_min)|ẋ(T_n)|`. It
-    ///   tends to the critical damping at the goal (damping ratio 1, no overshoot) and gives
-    ///   the terminal speed `½√(μ/m)·√(2Ψ)` downhill, where `λ_c` over-damps wherever `|∇Ψ|`
-    ///   is small.
+    /// - `λ(x) = 2√(mμ)·|∇Ψ|/√(2Ψ) = 2√(mμ)·|∇√(2Ψ)|` while `V < μ`, else at least
+    ///   `(m/d_min)|ẋ(T_n)|`. It tends to the critical damping at the goal (damping ratio 1)
+    ///   and gives the terminal speed `½√(μ/m)·√(2Ψ)`, where `λ_c` over-damps wherever `|∇Ψ|`
+    ///   is small;
+    /// - a brake `c·λ(x)` on the velocity component that climbs `Ψ` only (`Dynamic::force`),
+    ///   so that the robot slides along an obstacle's thin barrier instead of running into it,
+    ///   and cannot overshoot the goal.
     #[default]
     Auto,
 }
@@ -84,11 +86,15 @@ pub enum Branch {
     Switched,
 }
 
-/// The damping in force and its branch.
+/// The damping in force and its branch: the damping force is `−λẋ − λ_up·(ẋ·n)₊·n`,
+/// `n = ∇Ψ/|∇Ψ|` (`Dynamic::force`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Damping {
     /// `λ ≥ 0`, kg/s.
     pub lambda: f64,
+    /// `λ_up ≥ 0`, kg/s: the extra damping of the velocity component that climbs `Ψ` (0 under
+    /// the paper's policy).
+    pub uphill: f64,
     /// Which branch gave it.
     pub branch: Branch,
 }

@@ -60,9 +60,9 @@ impl Kinematic {
     }
 }
 
-/// `c` of [`Dynamic::uphill_factor`]: chosen on the motion-quality benchmark (`docs/benchmarks.md`;
-/// 0, 4, 8 and 16 were measured).
-pub const UPHILL_GAIN: f64 = 16.0;
+/// `c` of the uphill brake of [`DampingPolicy::Auto`] ([`Damping::uphill`] `= c·λ(x)`): chosen
+/// on the motion-quality benchmark (`docs/maths.md` §9: 16, 64 and 256 were measured).
+pub const UPHILL_GAIN: f64 = 64.0;
 
 /// The potential a [`Dynamic`] law descends, `Ψ`, and its gradient.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -201,26 +201,15 @@ impl Dynamic {
         }
     }
 
-    /// The brake of [`DampingPolicy::Auto`] on uphill motion: `1 + c·cos₊²(ẋ, ∇Ψ)` with
-    /// `c =` [`UPHILL_GAIN`], `cos₊` the positive part of the cosine between the velocity and
-    /// `∇Ψ`. It is 1 on downhill motion (the approach to the goal keeps its critical damping)
-    /// and up to `1 + c` when the robot climbs towards an obstacle, where with a large `k` the
-    /// barrier of `Ψ` is thin (`docs/maths.md` §9). Bounded, so `λẋ → 0` as `ẋ → 0`; 1 where
-    /// the angle is undefined (`ẋ = 0` or `∇Ψ = 0`).
-    pub fn uphill_factor(&self, eval: &FieldEval, velocity: Vector2<f64>) -> f64 {
-        let g = self.potential(eval).gradient;
-        let cos = velocity.dot(&g) / (velocity.norm() * g.norm());
-        let up = if cos.is_finite() { cos.max(0.0) } else { 0.0 };
-        1.0 + UPHILL_GAIN * up * up
-    }
-
     /// Eq. (`dissipationfun`) under the law's [`DampingPolicy`], at the state `(eval, ẋ)`, with
     /// `speed_at_discovery = |ẋ(T_n)|` the speed at the latest discovery:
     ///
-    /// - `"paper"`: `λ_c` while `V < μ`, otherwise `(m/d_min)|ẋ(T_n)|`;
-    /// - `"auto"`: `λ(x, ẋ) =` [`Dynamic::lambda_auto`] × [`Dynamic::uphill_factor`] while
-    ///   `V < μ`, otherwise `max(λ(x, ẋ), (m/d_min)|ẋ(T_n)|)` — at least the paper's damping, so
-    ///   its stopping-distance argument (eq. `solpos`) holds a fortiori.
+    /// - `"paper"`: `λ_c` while `V < μ`, otherwise `(m/d_min)|ẋ(T_n)|`; no uphill brake;
+    /// - `"auto"`: `λ =` [`Dynamic::lambda_auto`] while `V < μ`, otherwise
+    ///   `max(λ(x), (m/d_min)|ẋ(T_n)|)` — at least the paper's damping, so its stopping-distance
+    ///   argument (eq. `solpos`) holds a fortiori; and in both branches the uphill brake
+    ///   `c·λ(x)` with `c =` [`UPHILL_GAIN`] on the velocity component that climbs `Ψ`
+    ///   ([`Dynamic::force`]).
     pub fn damping(
         &self,
         field: &Field,
@@ -228,15 +217,17 @@ impl Dynamic {
         velocity: Vector2<f64>,
         speed_at_discovery: f64,
     ) -> Damping {
-        let critical = match self.policy {
-            DampingPolicy::Paper => self.lambda_c(field),
+        let (own, uphill) = match self.policy {
+            DampingPolicy::Paper => (self.lambda_c(field), 0.0),
             DampingPolicy::Auto => {
-                self.lambda_auto(field, eval) * self.uphill_factor(eval, velocity)
+                let l = self.lambda_auto(field, eval);
+                (l, UPHILL_GAIN * l)
             }
         };
         if self.energy(eval, velocity) < self.mu {
             return Damping {
-                lambda: critical,
+                lambda: own,
+                uphill,
                 branch: Branch::Critical,
             };
         }
@@ -244,14 +235,28 @@ impl Dynamic {
         Damping {
             lambda: match self.policy {
                 DampingPolicy::Paper => switched,
-                DampingPolicy::Auto => switched.max(critical),
+                DampingPolicy::Auto => switched.max(own),
             },
+            uphill,
             branch: Branch::Switched,
         }
     }
 
-    /// The force `f = −μ∇Ψ − λẋ` (eq. `dynctrllocal`; `Ψ = Θ` under the paper's policy).
-    pub fn force(&self, eval: &FieldEval, velocity: Vector2<f64>, lambda: f64) -> Vector2<f64> {
-        -self.mu * self.potential(eval).gradient - lambda * velocity
+    /// The force `f = −μ∇Ψ − λẋ − λ_up·(ẋ·n)₊·n` with `n = ∇Ψ/|∇Ψ|` (eq. `dynctrllocal` with
+    /// the uphill brake of `"auto"`; `Ψ = Θ` and `λ_up = 0` under the paper's policy). The
+    /// damping force is `−Λẋ` with `Λ ⪰ 0`, so `V̇ = −λ|ẋ|² − λ_up(ẋ·n)₊² ≤ 0`. The brake acts
+    /// only on the component of the velocity that climbs `Ψ` (towards an obstacle or away from
+    /// the goal): the robot slides along a barrier instead of running into it and losing its
+    /// speed. It is off where `n` is undefined (`∇Ψ = 0`).
+    pub fn force(&self, eval: &FieldEval, velocity: Vector2<f64>, d: &Damping) -> Vector2<f64> {
+        let g = self.potential(eval).gradient;
+        let f = -self.mu * g - d.lambda * velocity;
+        let n = g / g.norm();
+        let climb = velocity.dot(&n);
+        if d.uphill > 0.0 && climb > 0.0 && n.iter().all(|c| c.is_finite()) {
+            f - d.uphill * climb * n
+        } else {
+            f
+        }
     }
 }

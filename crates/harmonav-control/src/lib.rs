@@ -35,7 +35,7 @@
 //! assert_eq!((d.lambda, d.branch), (paper.lambda_c(&field), Branch::Critical)); // V < μ: λ_c
 //! let d = law.damping(&field, &eval, Vector2::zeros(), 0.0); // the default, "auto"
 //! assert_eq!(d.lambda, law.lambda_auto(&field, &eval));
-//! let f = law.force(&eval, Vector2::zeros(), d.lambda);
+//! let f = law.force(&eval, Vector2::zeros(), &d);
 //! assert!(f.dot(&eval.gradient) < 0.0);                 // pushes downhill
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```

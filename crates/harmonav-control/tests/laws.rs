@@ -69,8 +69,7 @@ fn energy_decreases_and_speed_is_bounded() {
         let mut v = Vector2::zeros();
         let accel = |x: Vector2<f64>, v: Vector2<f64>| {
             let e = field.eval(x).unwrap();
-            let lambda = law.damping(&field, &e, v, 0.0).lambda;
-            law.force(&e, v, lambda) / law.mass()
+            law.force(&e, v, &law.damping(&field, &e, v, 0.0)) / law.mass()
         };
         let energy = |x: Vector2<f64>, v: Vector2<f64>| law.energy(&field.eval(x).unwrap(), v);
         let mut last = energy(x, v);
@@ -167,20 +166,29 @@ fn damping_switches_on_energy() {
         let psi = auto.potential(&e).value;
         let speed = |target: f64| Vector2::new((2.0 * (target - 10.0 * psi) / 2.0).sqrt(), 0.0);
         let (below, at) = (speed(9.999), speed(10.0 + 1e-9));
-        let own = |v| auto.lambda_auto(&field, &e) * auto.uphill_factor(&e, v);
+        let own = auto.lambda_auto(&field, &e);
         let d = auto.damping(&field, &e, below, 3.0);
-        assert_eq!((d.lambda, d.branch), (own(below), Branch::Critical));
+        assert_eq!((d.lambda, d.branch), (own, Branch::Critical));
+        assert_eq!(d.uphill, UPHILL_GAIN * own);
         let d = auto.damping(&field, &e, at, 3.0);
         assert_eq!(d.branch, Branch::Switched);
-        assert_eq!(d.lambda, (2.0 / 0.05 * 3.0f64).max(own(at)));
-        assert!(auto.damping(&field, &e, at, 1e-3).lambda >= own(at));
-        // The uphill brake: 1 downhill and across, 1 + c straight uphill, 1 at rest.
+        assert_eq!(d.lambda, (2.0 / 0.05 * 3.0f64).max(own));
+        assert!(auto.damping(&field, &e, at, 1e-3).lambda >= own);
+        assert_eq!(paper.damping(&field, &e, at, 3.0).uphill, 0.0);
+        // The uphill brake acts on the climbing component only: −Λẋ with Λ = λI + λ_up·nnᵀ
+        // uphill, λI downhill and across.
         let g = auto.potential(&e).gradient;
-        let across = Vector2::new(-g.y, g.x);
-        assert_eq!(auto.uphill_factor(&e, -g), 1.0);
-        assert!((auto.uphill_factor(&e, across) - 1.0).abs() < 1e-12);
-        assert!((auto.uphill_factor(&e, g) - 1.0 - UPHILL_GAIN).abs() < 1e-12);
-        assert_eq!(auto.uphill_factor(&e, Vector2::zeros()), 1.0);
+        let n = g / g.norm();
+        let across = Vector2::new(-n.y, n.x);
+        let d = auto.damping(&field, &e, Vector2::zeros(), 0.0);
+        let brake = |v: Vector2<f64>| auto.force(&e, v, &d) - auto.force(&e, Vector2::zeros(), &d);
+        assert!((brake(-n) - d.lambda * n).norm() < 1e-9 * d.lambda);
+        assert!((brake(across) + d.lambda * across).norm() < 1e-9 * d.lambda);
+        let up = -(d.lambda + d.uphill) * n;
+        assert!((brake(n) - up).norm() < 1e-9 * (d.lambda + d.uphill));
+        let v = 0.6 * n + 0.8 * across;
+        assert!((brake(v) - (-d.lambda * v - d.uphill * 0.6 * n)).norm() < 1e-9 * d.uphill);
+        assert!(brake(v).dot(&v) <= 0.0);
     }
     // λ_c = 2√(2μm) Π|P_d − P_i|^{−1/k} (eq. critdamp), evaluated directly.
     let pw = field.point_world();

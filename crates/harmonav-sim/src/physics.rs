@@ -141,28 +141,29 @@ pub fn run_rapier(
             ));
             break;
         };
-        let damping =
-            (model == Model::Dynamic).then(|| dynamic.damping(&field, &e, vel, speed_at_discovery));
-        // The first state after a discovery is recorded too: the switch of eq.
-        // `dissipationfun` may last only a few milliseconds.
-        if steps % substeps == 0 || reached || discovered {
-            let s = Sample {
+        let sample = |field: &Field, e: &FieldEval, speed_at_discovery: f64| {
+            let damping = (model == Model::Dynamic)
+                .then(|| dynamic.damping(field, e, vel, speed_at_discovery));
+            Sample {
                 t,
                 x: [x.x, x.y],
                 v: [vel.x, vel.y],
                 theta: e.value,
-                energy: (model == Model::Dynamic).then(|| dynamic.energy(&e, vel)),
+                energy: (model == Model::Dynamic).then(|| dynamic.energy(e, vel)),
                 k: field.k(),
                 lambda: damping.map(|d| d.lambda),
                 // Semi-implicit Euler at 1 ms has no error estimate: half of the former
                 // relative allowance 1e-6 per state.
                 energy_tolerance: if model == Model::Dynamic {
-                    5e-7 * dynamic.energy(&e, vel)
+                    5e-7 * dynamic.energy(e, vel)
                 } else {
                     0.0
                 },
                 critical: damping.is_some_and(|d| d.branch == Branch::Critical),
-            };
+            }
+        };
+        if steps % substeps == 0 || reached {
+            let s = sample(&field, &e, speed_at_discovery);
             monitor.observe(&s, discovered, prepared);
             discovered = false;
             samples.push(s);
@@ -200,12 +201,20 @@ pub fn run_rapier(
             }
         }
         let e = field.eval(x).map_err(|e| RunError(e.to_string()))?;
+        if discovered {
+            // The state right after a discovery, with the new Θ, k and λ: the switch of eq.
+            // `dissipationfun` may last only a few milliseconds.
+            let s = sample(&field, &e, speed_at_discovery);
+            monitor.observe(&s, true, prepared);
+            discovered = false;
+            samples.push(s);
+        }
         let command = match &drive {
             Drive::Law => match model {
                 Model::Kinematic => kinematic.velocity(&e),
                 Model::Dynamic => {
                     let d = dynamic.damping(&field, &e, vel, speed_at_discovery);
-                    dynamic.force(&e, vel, d.lambda)
+                    dynamic.force(&e, vel, &d)
                 }
             },
             Drive::Custom(f) => f(&field, &e, x, vel),

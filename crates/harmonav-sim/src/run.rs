@@ -186,7 +186,7 @@ impl Loop<'_> {
                 let d = self
                     .dynamic
                     .damping(&self.field, &e, v, self.speed_at_discovery);
-                let a = self.dynamic.force(&e, v, d.lambda) / self.dynamic.mass();
+                let a = self.dynamic.force(&e, v, &d) / self.dynamic.mass();
                 Some(([v.x, v.y, a.x, a.y], e, Some(d)))
             }
         }

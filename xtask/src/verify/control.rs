@@ -96,7 +96,7 @@ fn energy() -> Outcome {
         };
         let accel = |x: Vector2<f64>, v: Vector2<f64>| -> Result<Vector2<f64>, String> {
             let e = eval(x)?;
-            Ok(law.force(&e, v, law.damping(&field, &e, v, 0.0).lambda) / law.mass())
+            Ok(law.force(&e, v, &law.damping(&field, &e, v, 0.0)) / law.mass())
         };
         let mut last = law.energy(&eval(x)?, v);
         let dt = 1e-3;
