@@ -189,7 +189,7 @@ fn validation_errors_name_the_file_the_field_and_the_problem() {
 }
 
 #[test]
-fn margin_and_k_policy_errors_name_the_field_and_the_reason() {
+fn margin_policy_and_limit_errors_name_the_field_and_the_reason() {
     let goal = "goal = [3.0, 0.0]";
     for bad in ["-0.1", "nan", "inf"] {
         let to = format!("{goal}\nmargin = {bad}");
@@ -231,6 +231,31 @@ fn margin_and_k_policy_errors_name_the_field_and_the_reason() {
         "unknown k policy \"n+1\": expected \"paper\" or \"auto\"",
         None,
     );
+    check(
+        "[sensor]",
+        "[controller]\ndamping = \"critical\"\n[sensor]",
+        "controller",
+        "unknown damping policy \"critical\": expected \"paper\" or \"auto\"",
+        None,
+    );
+    // A stated limit needs a "paper" policy for the other model (here the dynamic law).
+    let limit = "[expect]\nother_model_reached = false\n[sensor]";
+    check(
+        "[sensor]",
+        limit,
+        "expect.other_model_reached",
+        "under the default policies every scenario must arrive",
+        None,
+    );
+    let path = Path::new("case.toml");
+    for policy in [
+        "[field]\nk = \"paper\"",
+        "[controller]\ndamping = \"paper\"",
+    ] {
+        let text = BASE.replacen("[sensor]", &format!("{policy}\n{limit}"), 1);
+        let parsed = Scenario::parse(path, &text).and_then(|s| s.prepare(path));
+        assert!(parsed.is_ok(), "{policy}: {:?}", parsed.err());
+    }
 }
 
 /// `robot.margin`: the field is built on shapes grown by it, so the run keeps that clearance to
