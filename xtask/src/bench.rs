@@ -70,6 +70,7 @@ pub fn run(options: &Options) -> ExitCode {
         "control_step_ns_m6_damping_paper",
         control_step_ns(DampingPolicy::Paper),
     );
+    put("navigator_command_ns_m6", navigator_command_ns());
     put("montecarlo_runs_per_s", montecarlo_runs_per_s());
     // The motion-quality benchmark (docs/benchmarks.md): both laws, every policy.
     let models = [Model::Kinematic, Model::Dynamic];
@@ -201,6 +202,38 @@ fn field_grad_ns(m: usize) -> f64 {
         for _ in 0..reps {
             for &x in &pts {
                 let _ = black_box(field.eval(black_box(x)));
+            }
+        }
+    })
+}
+
+/// One `Navigator::command` of the dynamic law (default policies) with 6 known obstacles, at
+/// the states of [`control_step_ns`]'s world; ns per call.
+fn navigator_command_ns() -> f64 {
+    use harmonav::{Law, Navigator, Options};
+    use harmonav_transform::random::{self, Kind, Rng};
+    let kinds = [Kind::Circle, Kind::Ellipse, Kind::Polygon, Kind::Star];
+    let mut rng = Rng::new(6);
+    let ws = random::workspace(&mut rng, 8, &kinds, Kind::Star, 0.15);
+    let mut nav = Navigator::new(
+        ws.boundary().clone(),
+        ws.destination(),
+        Law::dynamic(1.0, 10.0),
+        Options::default(),
+    )
+    .expect("valid benchmark world");
+    for o in &ws.obstacles()[..6] {
+        nav.add_obstacle(o.clone())
+            .expect("valid benchmark obstacle");
+    }
+    let states: Vec<_> = (0..1024)
+        .map(|_| (random::free_point(&mut rng, &ws, 1e-3), rng.point(1.0)))
+        .collect();
+    let reps = 20;
+    median_ns(15, (reps * states.len()) as f64, || {
+        for _ in 0..reps {
+            for &(x, v) in &states {
+                let _ = black_box(nav.command(black_box(x), black_box(v)));
             }
         }
     })

@@ -58,8 +58,3 @@ pub use error::{PotentialError, Singularity};
 pub use nalgebra::{Matrix2, Vector2};
 pub use sigma::{ln_sigma_prime, sigma, sigma_and_prime, sigma_prime, sigma_second};
 pub use world::PointWorld;
-
-/// The README's code compiles and runs (checked by `cargo test --doc`).
-#[doc = include_str!("../../../README.md")]
-#[cfg(doctest)]
-pub struct ReadmeDoctests;
