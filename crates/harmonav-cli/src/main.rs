@@ -4,18 +4,16 @@
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::Arc;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use harmonav_control::DampingPolicy;
-use harmonav_field::descent::{Ending, FollowOptions, follow};
 use harmonav_field::{Field, KPolicy};
 use harmonav_potential::CriticalKind;
-use harmonav_sensing::Sensing;
 use harmonav_sim::physics::{Drive, run_rapier};
 use harmonav_sim::record::write_outputs;
 use harmonav_sim::run::{Summary, run};
 use harmonav_sim::scenario::{Model, Prepared, Scenario};
+use harmonav_sim::sweep::{Counts, Outcome, sweep};
 use harmonav_transform::random::{self, Rng};
 use nalgebra::{Matrix2, Vector2};
 use serde_json::{Value, json};
@@ -470,44 +468,42 @@ fn cmd_sweep(
     let points: Vec<Vector2<f64>> = (0..starts)
         .map(|_| random::free_point(&mut rng, &ws, 1e-3))
         .collect();
-    let results = sweep(
-        prepared,
-        &points,
-        model(controller).unwrap_or(prepared.scenario.robot.model),
-    )?;
-    let reached: Vec<f64> = results
+    let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
+    let model = model(controller).unwrap_or(prepared.scenario.robot.model);
+    let outcomes = sweep(prepared, &points, model, threads).map_err(|e| e.to_string())?;
+    let counts = Counts::of(&outcomes);
+    let mut times: Vec<f64> = outcomes
         .iter()
-        .filter_map(|r| r.as_ref().ok().copied())
-        .collect();
-    let failures: Vec<Value> = points
-        .iter()
-        .zip(&results)
-        .filter_map(|(p, r)| {
-            r.as_ref()
-                .err()
-                .map(|e| json!({ "start": [p.x, p.y], "reason": e }))
+        .filter_map(|o| match o {
+            Outcome::Reached { time } => Some(*time),
+            _ => None,
         })
         .collect();
-    let collisions = results
-        .iter()
-        .filter(|r| matches!(r, Err(e) if e.contains("collision")))
-        .count();
-    let left = results
-        .iter()
-        .filter(|r| matches!(r, Err(e) if e.contains("left the workspace")))
-        .count();
-    let mut times = reached.clone();
     times.sort_by(f64::total_cmp);
+    let failures: Vec<Value> = points
+        .iter()
+        .zip(&outcomes)
+        .filter(|(_, o)| !o.reached())
+        .map(|(p, o)| json!({ "start": [p.x, p.y], "reason": o.to_string() }))
+        .collect();
     let out = json!({
-        "starts": starts, "reached": reached.len(), "collisions": collisions, "left_workspace": left,
+        "starts": starts, "reached": counts.reached, "collisions": counts.collisions,
+        "left_workspace": counts.left_workspace, "stalled": counts.stalled,
+        "timed_out": counts.timed_out, "step_collapsed": counts.step_collapsed,
         "median_time_s": times.get(times.len() / 2), "max_time_s": times.last(), "failures": failures,
     });
     if json {
         print_json(&out)?;
     } else {
         out!(
-            "{} of {starts} starts reached the goal; {collisions} collisions; median {:.2} s, max {:.2} s",
-            reached.len(),
+            "{} of {starts} starts reached the goal; {} collisions, {} left the workspace, {} \
+             stalled, {} timed out, {} step collapses; median {:.2} s, max {:.2} s",
+            counts.reached,
+            counts.collisions,
+            counts.left_workspace,
+            counts.stalled,
+            counts.timed_out,
+            counts.step_collapsed,
             times.get(times.len() / 2).unwrap_or(&f64::NAN),
             times.last().unwrap_or(&f64::NAN)
         );
@@ -519,63 +515,5 @@ fn cmd_sweep(
             );
         }
     }
-    Ok(collisions == 0 && left == 0 && reached.len() == starts)
-}
-
-/// One descent per start on all cores; `Ok(time)` or `Err(reason)` per start, in order.
-fn sweep(
-    prepared: &Prepared,
-    points: &[Vector2<f64>],
-    model: Model,
-) -> Result<Vec<Result<f64, String>>, String> {
-    let field = Arc::new(prepared.global_field().map_err(|e| e.to_string())?);
-    let threads = std::thread::available_parallelism()
-        .map_or(2, |n| n.get())
-        .min(points.len().max(1));
-    let chunk = points.len().div_ceil(threads);
-    let options = FollowOptions {
-        goal_tolerance: prepared.scenario.sim.goal_tolerance,
-        max_time: prepared.scenario.sim.max_time,
-        ..FollowOptions::default()
-    };
-    let one = |x: Vector2<f64>| -> Result<f64, String> {
-        match model {
-            Model::Kinematic => {
-                let d = follow(&field, x, &options);
-                match (d.ending, d.collision_free) {
-                    (_, false) => Err("collision".into()),
-                    (Ending::Reached, true) => Ok(d.time),
-                    (ending, true) => Err(format!("{ending:?} at t = {:.2} s", d.time)),
-                }
-            }
-            Model::Dynamic => {
-                let mut p = prepared.clone();
-                p.scenario.robot.start = [x.x, x.y];
-                p.sensing = Sensing::Global;
-                let r = run(&p, Some(Model::Dynamic)).map_err(|e| e.to_string())?;
-                let s = r.summary;
-                if s.collisions > 0 {
-                    Err("collision".into())
-                } else if s.reached {
-                    Ok(s.time_s)
-                } else {
-                    Err(format!("not reached in {} s", s.time_s))
-                }
-            }
-        }
-    };
-    let mut out = Vec::with_capacity(points.len());
-    std::thread::scope(|scope| {
-        let handles: Vec<_> = points
-            .chunks(chunk)
-            .map(|c| scope.spawn(move || c.iter().map(|&x| one(x)).collect::<Vec<_>>()))
-            .collect();
-        for h in handles {
-            out.extend(
-                h.join()
-                    .unwrap_or_else(|_| vec![Err("worker panicked".into())]),
-            );
-        }
-    });
-    Ok(out)
+    Ok(counts.reached == starts)
 }

@@ -2,7 +2,8 @@
 //!
 //! Scenario files ([`scenario`]), the built-in integrator with discovery events and the
 //! guarantee monitors ([`run`]), the MCAP recording ([`record`]) and the SVG figures
-//! ([`figures`]). Only this crate and the CLI know about files.
+//! ([`figures`]), and many starts with typed outcomes ([`sweep`]). Only this crate and the CLI
+//! know about files.
 //!
 //! ```
 //! use std::path::Path;
@@ -39,3 +40,4 @@ pub mod run;
 pub mod scenario;
 pub mod shortest;
 pub mod svg;
+pub mod sweep;

@@ -491,6 +491,18 @@ fn the_non_morse_world_has_a_degenerate_point_that_only_the_axis_reaches() {
     // On the axis by symmetry, and within the integrator's chatter of the point.
     assert_eq!(end[1], 0.0);
     assert!(end[0].abs() < 1e-5, "stopped at {end:?}");
+
+    // The sweep types the same ending: stalled on the axis, reached off it.
+    use harmonav_sim::sweep::{Counts, Outcome, sweep};
+    let starts = [Vector2::new(2.5, 0.0), Vector2::new(2.5, 0.3)];
+    let outcomes = sweep(&prepared, &starts, Model::Kinematic, 2).unwrap();
+    assert!(
+        matches!(outcomes[0], Outcome::Stalled { .. }),
+        "{outcomes:?}"
+    );
+    assert!(outcomes[1].reached(), "{outcomes:?}");
+    let c = Counts::of(&outcomes);
+    assert_eq!((c.reached, c.stalled, c.collisions), (1, 1, 0));
 }
 
 /// `[expect]` describes the file's own model: a run with the other model is judged on the
