@@ -207,14 +207,27 @@ fn field_grad_ns(m: usize) -> f64 {
     })
 }
 
-/// One `Navigator::command` of the dynamic law (default policies) with 6 known obstacles, at
-/// the states of [`control_step_ns`]'s world; ns per call.
-fn navigator_command_ns() -> f64 {
-    use harmonav::{Law, Navigator, Options};
+/// A robot state `(x, ẋ)`.
+type State = (Vector2<f64>, Vector2<f64>);
+
+/// The world of the control-step figures: 8 mixed obstacles (the first 6 known), and 1024
+/// states `(x, ẋ)` in its free space.
+fn control_world() -> (harmonav_transform::Workspace, Vec<State>) {
     use harmonav_transform::random::{self, Kind, Rng};
     let kinds = [Kind::Circle, Kind::Ellipse, Kind::Polygon, Kind::Star];
     let mut rng = Rng::new(6);
     let ws = random::workspace(&mut rng, 8, &kinds, Kind::Star, 0.15);
+    let states = (0..1024)
+        .map(|_| (random::free_point(&mut rng, &ws, 1e-3), rng.point(1.0)))
+        .collect();
+    (ws, states)
+}
+
+/// One `Navigator::command` of the dynamic law (default policies) with 6 known obstacles, at
+/// the states of [`control_step_ns`]'s world; ns per call.
+fn navigator_command_ns() -> f64 {
+    use harmonav::{Law, Navigator, Options};
+    let (ws, states) = control_world();
     let mut nav = Navigator::new(
         ws.boundary().clone(),
         ws.destination(),
@@ -226,9 +239,6 @@ fn navigator_command_ns() -> f64 {
         nav.add_obstacle(o.clone())
             .expect("valid benchmark obstacle");
     }
-    let states: Vec<_> = (0..1024)
-        .map(|_| (random::free_point(&mut rng, &ws, 1e-3), rng.point(1.0)))
-        .collect();
     let reps = 20;
     median_ns(15, (reps * states.len()) as f64, || {
         for _ in 0..reps {
@@ -246,18 +256,13 @@ fn control_step_ns(policy: DampingPolicy) -> f64 {
     use harmonav_control::Dynamic;
     use harmonav_field::Field;
     use harmonav_sensing::{Sector, axis};
-    use harmonav_transform::random::{self, Kind, Rng};
-    let kinds = [Kind::Circle, Kind::Ellipse, Kind::Polygon, Kind::Star];
-    let mut rng = Rng::new(6);
-    let ws = std::sync::Arc::new(random::workspace(&mut rng, 8, &kinds, Kind::Star, 0.15));
+    let (ws, states) = control_world();
+    let ws = std::sync::Arc::new(ws);
     let field = Field::new(ws.clone(), 0..6).expect("valid benchmark world");
     let sector = Sector::new(1.0, 60f64.to_radians()).expect("valid sector");
     let law = Dynamic::new(1.0, 10.0, sector.d_min(0.05))
         .expect("valid law")
         .with_damping(policy);
-    let states: Vec<_> = (0..1024)
-        .map(|_| (random::free_point(&mut rng, &ws, 1e-3), rng.point(1.0)))
-        .collect();
     let reps = 20;
     median_ns(15, (reps * states.len()) as f64, || {
         for _ in 0..reps {

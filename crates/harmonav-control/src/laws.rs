@@ -1,6 +1,7 @@
 //! The kinematic and dynamic laws.
 
 use harmonav_field::{Field, FieldEval};
+use harmonav_potential::sigma;
 use nalgebra::Vector2;
 
 use crate::damping::{Branch, Damping, DampingPolicy};
@@ -134,14 +135,8 @@ impl Dynamic {
                 gradient: eval.gradient,
             },
             DampingPolicy::Auto => {
-                // 1 − Θ = sigma(−phi), with a non-positive exponent only.
-                let q = if eval.phi >= 0.0 {
-                    let e = (-eval.phi).exp();
-                    e / (1.0 + e)
-                } else {
-                    1.0 / (1.0 + eval.phi.exp())
-                };
-                let root = q.sqrt();
+                // 1 − Θ = sigma(−phi), sigma's own guard (a non-positive exponent only).
+                let root = sigma(-eval.phi).sqrt();
                 Potential {
                     value: eval.value / (1.0 + root),
                     gradient: if root > 0.0 {
@@ -157,7 +152,12 @@ impl Dynamic {
     /// Eq. (`totalenergy`): `V = μΨ + ½ m |ẋ|²` with `Ψ` the law's [`Dynamic::potential`]
     /// (`Ψ = Θ` under the paper's policy). `V̇ = −λ|ẋ|² ≤ 0` between discoveries.
     pub fn energy(&self, eval: &FieldEval, velocity: Vector2<f64>) -> f64 {
-        self.mu * self.potential(eval).value + 0.5 * self.mass * velocity.norm_squared()
+        self.energy_at(&self.potential(eval), velocity)
+    }
+
+    /// [`Dynamic::energy`] from a potential already evaluated.
+    fn energy_at(&self, p: &Potential, velocity: Vector2<f64>) -> f64 {
+        self.mu * p.value + 0.5 * self.mass * velocity.norm_squared()
     }
 
     /// Corollary `boundedvel`: `|ẋ| < √(2μ/m)`.
@@ -192,7 +192,11 @@ impl Dynamic {
     /// Numerical guard: at the goal (`Ψ = 0`, or so close that `Ψ` underflows) the ratio is
     /// `0/0`; its limit `λ_c` is returned instead.
     pub fn lambda_auto(&self, field: &Field, eval: &FieldEval) -> f64 {
-        let p = self.potential(eval);
+        self.lambda_auto_at(field, &self.potential(eval))
+    }
+
+    /// [`Dynamic::lambda_auto`] from a potential already evaluated.
+    fn lambda_auto_at(&self, field: &Field, p: &Potential) -> f64 {
         let ratio = p.gradient.norm() / (2.0 * p.value).sqrt();
         if p.value > 0.0 && ratio.is_finite() {
             2.0 * (self.mass * self.mu).sqrt() * ratio
@@ -217,14 +221,16 @@ impl Dynamic {
         velocity: Vector2<f64>,
         speed_at_discovery: f64,
     ) -> Damping {
+        // Ψ once per call: it serves both λ(x) and V.
+        let p = self.potential(eval);
         let (own, uphill) = match self.policy {
             DampingPolicy::Paper => (self.lambda_c(field), 0.0),
             DampingPolicy::Auto => {
-                let l = self.lambda_auto(field, eval);
+                let l = self.lambda_auto_at(field, &p);
                 (l, UPHILL_GAIN * l)
             }
         };
-        if self.energy(eval, velocity) < self.mu {
+        if self.energy_at(&p, velocity) < self.mu {
             return Damping {
                 lambda: own,
                 uphill,
