@@ -259,8 +259,13 @@ fn build(
     policy: KPolicy,
 ) -> Result<(NavTransform, PointWorld), FieldError> {
     let k = policy.k(known.len());
-    let transform = ws.nav_transform(known, k)?;
-    let world =
-        PointWorld::new(ws.destination(), transform.points().collect::<Vec<_>>())?.with_k(k)?;
+    let mut points = Vec::with_capacity(known.len());
+    for &obstacle in known {
+        let o = ws.obstacles().get(obstacle);
+        points.push(o.ok_or(WorldError::NoSuchObstacle { obstacle })?.centre());
+    }
+    let world = PointWorld::new(ws.destination(), points)?.with_k(k)?;
+    // The potential supplies the radius of its far-field valley, which Phi's outer band holds.
+    let transform = NavTransform::new(ws, known, world.valley_radius(ws.boundary().centre()))?;
     Ok((transform, world))
 }

@@ -16,13 +16,14 @@
 //! This crate knows nothing of `phi_k`, sensing or time.
 //!
 //! ```
-//! use harmonav_transform::{Active, StarShape, Workspace};
+//! use harmonav_transform::{Active, NavTransform, StarShape, Workspace};
 //! use nalgebra::Vector2;
 //!
 //! let boundary = StarShape::circle(Vector2::zeros(), 5.0)?;
 //! let rock = StarShape::ellipse(Vector2::new(1.0, 0.0), [1.0, 0.5], 0.0)?;
 //! let ws = Workspace::new(boundary, vec![rock], Vector2::new(-3.0, 0.0))?;
-//! let phi = ws.nav_transform(&[0], 2.0)?; // obstacle 0 known, k = 2
+//! // Obstacle 0 known; the far-field valley radius r* = 4 m comes from the potential's side.
+//! let phi = NavTransform::new(&ws, &[0], 4.0)?;
 //! // Just outside the ellipse the point maps next to its centre P_1 = (1, 0).
 //! let m = phi.nav_transform(Vector2::new(2.0 + 1e-6, 0.0)).unwrap();
 //! assert!(matches!(m.active, Active::Obstacle { .. }) && (m.h - Vector2::new(1.0, 0.0)).norm() < 1e-5);

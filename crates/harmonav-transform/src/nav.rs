@@ -4,7 +4,7 @@ use nalgebra::{Matrix2, Vector2};
 
 use crate::radial::{Radial, obstacle_map, outer_map};
 use crate::shape::StarShape;
-use crate::workspace::Workspace;
+use crate::workspace::{Workspace, WorldError};
 
 /// Safety factor on the band widths (½ would make neighbouring bands touch; 0.45 absorbs
 /// the sampling error of the outline distances).
@@ -67,7 +67,8 @@ struct Band {
 ///
 /// so the bands are disjoint, inside the workspace, and exclude a neighbourhood of `x_d`
 /// (where `Phi` is the identity); `r*` is the radius of the far-field valley of `phi_k`
-/// (pitfall A), placed inside the stretched band.
+/// (pitfall A), placed inside the stretched band. The potential's side supplies `r*` (the field
+/// crate passes `PointWorld::valley_radius`), so this crate needs nothing of `phi_k`.
 #[derive(Clone, Debug)]
 pub struct NavTransform {
     known: Vec<usize>,
@@ -82,7 +83,21 @@ pub struct NavTransform {
 }
 
 impl NavTransform {
-    pub(crate) fn new(ws: &Workspace, known: &[usize], k: f64) -> Self {
+    /// The transformation for the obstacles `known` (indices into [`Workspace::obstacles`], in
+    /// band order) of `ws`. `valley_radius` is the radius `r*` of the potential's far-field
+    /// valley about the boundary's centre `c_0` (`PointWorld::valley_radius` in
+    /// harmonav-potential, which this crate does not depend on); the stretch gain is
+    /// `A = max(ε_0, 2 r*)`. Errors: an index out of range, or a `valley_radius` that is
+    /// negative or not finite.
+    pub fn new(ws: &Workspace, known: &[usize], valley_radius: f64) -> Result<Self, WorldError> {
+        if let Some(&obstacle) = known.iter().find(|&&i| i >= ws.obstacles().len()) {
+            return Err(WorldError::NoSuchObstacle { obstacle });
+        }
+        if !(valley_radius.is_finite() && valley_radius >= 0.0) {
+            return Err(WorldError::InvalidValleyRadius {
+                value: valley_radius,
+            });
+        }
         let mut bands = Vec::with_capacity(known.len());
         for &i in known {
             let mut d = ws.to_boundary(i).min(2.0 * ws.goal_to_obstacle(i));
@@ -101,16 +116,7 @@ impl NavTransform {
                 .iter()
                 .map(|&i| ws.to_boundary(i))
                 .fold(2.0 * ws.goal_to_boundary(), f64::min);
-        let c0 = outer.centre();
-        let m = known.len() as f64;
-        let dipole = (ws.destination() - c0)
-            - known
-                .iter()
-                .map(|&i| ws.obstacles()[i].centre() - c0)
-                .sum::<Vector2<f64>>()
-                / k;
-        let valley = k / (k - m) * dipole.norm();
-        let gain = eps0.max(2.0 * valley);
+        let gain = eps0.max(2.0 * valley_radius);
         let inner = (outer.radius_bounds().0 - eps0).max(0.0);
         // Beyond (max R + ε) from its centre a band cannot contain the point.
         let reach = bands
@@ -121,7 +127,7 @@ impl NavTransform {
                 [c.x, c.y, r * r]
             })
             .collect();
-        Self {
+        Ok(Self {
             known: known.to_vec(),
             bands,
             reach,
@@ -129,7 +135,7 @@ impl NavTransform {
             eps0,
             gain,
             inner2: inner * inner,
-        }
+        })
     }
 
     /// The known obstacles (indices into the workspace), in the order of their bands.
@@ -247,4 +253,41 @@ fn bisect(mut lo: f64, mut hi: f64, target: f64, f: impl Fn(f64) -> f64) -> f64 
         if f(mid) < target { lo = mid } else { hi = mid }
     }
     0.5 * (lo + hi)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn world() -> Workspace {
+        let boundary = StarShape::circle(Vector2::zeros(), 5.0).unwrap();
+        let rock = StarShape::circle(Vector2::new(1.0, 0.0), 0.5).unwrap();
+        Workspace::new(boundary, vec![rock], Vector2::new(-3.0, 0.0)).unwrap()
+    }
+
+    #[test]
+    fn bad_indices_and_valley_radii_are_rejected() {
+        let ws = world();
+        assert_eq!(
+            NavTransform::new(&ws, &[1], 1.0).err(),
+            Some(WorldError::NoSuchObstacle { obstacle: 1 })
+        );
+        for bad in [-1.0, f64::NAN, f64::INFINITY] {
+            assert!(matches!(
+                NavTransform::new(&ws, &[0], bad),
+                Err(WorldError::InvalidValleyRadius { .. })
+            ));
+        }
+    }
+
+    /// The stretch gain is `A = max(ε_0, 2 r*)`: the valley radius sets it once it exceeds
+    /// `ε_0/2`.
+    #[test]
+    fn the_valley_radius_sets_the_stretch_gain() {
+        let ws = world();
+        let (eps0, small) = NavTransform::new(&ws, &[0], 0.0).unwrap().outer_band();
+        assert_eq!(small, eps0);
+        let (_, gain) = NavTransform::new(&ws, &[0], 30.0).unwrap().outer_band();
+        assert_eq!(gain, 60.0);
+    }
 }

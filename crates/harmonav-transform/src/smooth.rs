@@ -1,15 +1,23 @@
 //! The `C^∞` smooth step `beta` that blends the radial maps into the identity.
 
-use harmonav_potential::{sigma, sigma_prime};
+/// The logistic `s(w) = 1/(1 + e^{−w})` and its derivative `s(w)(1 − s(w))`, from one
+/// exponential of a non-positive argument (no overflow for any `w`). The same function as the
+/// potential crate's `sigma`, kept here so that this crate does not depend on it.
+fn logistic_and_prime(w: f64) -> (f64, f64) {
+    let e = (-w.abs()).exp();
+    let d = 1.0 + e;
+    let value = if w >= 0.0 { 1.0 / d } else { e / d };
+    (value, e / (d * d))
+}
 
 /// Smooth step `beta(t) = f(t)/(f(t) + f(1 − t))`, `f(t) = e^{−1/t}`, and its derivative.
 ///
 /// `beta = 0` for `t ≤ 0`, `1` for `t ≥ 1`; all derivatives vanish at both ends, so pieces
 /// joined with it are `C^∞`. Returns `(beta, beta')`.
 ///
-/// Numerical guard: evaluated as the logistic `sigma(w)` of `w = 1/(1 − t) − 1/t` (no
-/// `e^{−1/t}` ratio of underflowed numbers), with `beta' = sigma'(w)·(1/t² + 1/(1 − t)²)`;
-/// where `sigma'(w)` underflows to 0 (within ≈ 1/745 of either end) `beta' = 0` exactly, so the
+/// Numerical guard: evaluated as the logistic `s(w) = 1/(1 + e^{−w})` of
+/// `w = 1/(1 − t) − 1/t` (no `e^{−1/t}` ratio of underflowed numbers), with
+/// `beta' = s'(w)·(1/t² + 1/(1 − t)²)`; where `s'(w)` underflows to 0 (within ≈ 1/745 of either end) `beta' = 0` exactly, so the
 /// huge `1/t²` never meets it as `0·∞`.
 pub fn beta(t: f64) -> (f64, f64) {
     if t <= 0.0 {
@@ -19,13 +27,13 @@ pub fn beta(t: f64) -> (f64, f64) {
         return (1.0, 0.0);
     }
     let w = 1.0 / (1.0 - t) - 1.0 / t;
-    let sp = sigma_prime(w);
+    let (s, sp) = logistic_and_prime(w);
     let db = if sp == 0.0 {
         0.0
     } else {
         sp * (1.0 / (t * t) + 1.0 / ((1.0 - t) * (1.0 - t)))
     };
-    (sigma(w), db)
+    (s, db)
 }
 
 #[cfg(test)]

@@ -4,7 +4,6 @@
 use nalgebra::Vector2;
 
 use crate::error::ShapeError;
-use crate::nav::NavTransform;
 use crate::shape::StarShape;
 
 /// Why a workspace or a point in it is not valid (indices are obstacle indices).
@@ -40,6 +39,12 @@ pub enum WorldError {
         /// The index.
         obstacle: usize,
     },
+    /// The far-field valley radius given to [`crate::NavTransform::new`] is negative or not
+    /// finite.
+    InvalidValleyRadius {
+        /// The value.
+        value: f64,
+    },
 }
 
 impl std::fmt::Display for WorldError {
@@ -59,6 +64,10 @@ impl std::fmt::Display for WorldError {
                 write!(f, "the {what} lies on or outside the workspace boundary")
             }
             Self::NoSuchObstacle { obstacle } => write!(f, "there is no obstacle {obstacle}"),
+            Self::InvalidValleyRadius { value } => write!(
+                f,
+                "the far-field valley radius must be finite and non-negative, got {value}"
+            ),
         }
     }
 }
@@ -239,16 +248,6 @@ impl Workspace {
     /// The destination `x_d`.
     pub fn destination(&self) -> Vector2<f64> {
         self.destination
-    }
-
-    /// The navigation transformation for the obstacles in `known` (indices into
-    /// [`Self::obstacles`]), with the automatic widths and stretch gain for the potential
-    /// parameter `k` (see [`NavTransform`]).
-    pub fn nav_transform(&self, known: &[usize], k: f64) -> Result<NavTransform, WorldError> {
-        if let Some(&obstacle) = known.iter().find(|&&i| i >= self.obstacles.len()) {
-            return Err(WorldError::NoSuchObstacle { obstacle });
-        }
-        Ok(NavTransform::new(self, known, k))
     }
 
     pub(crate) fn between(&self, i: usize, j: usize) -> f64 {
