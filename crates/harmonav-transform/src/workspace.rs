@@ -146,21 +146,10 @@ impl Workspace {
         let mut between = vec![f64::INFINITY; m * m];
         for i in 0..m {
             for j in 0..i {
-                let (a, b) = (&obstacles[i], &obstacles[j]);
-                let (ca, cb) = (a.centre(), b.centre());
-                // Bounding circles first: only near pairs need the outline query.
-                let lower = (ca - cb).norm() - a.radius_bounds().1 - b.radius_bounds().1;
-                let d = if lower > 0.0 && lower > 0.5 * (ca - cb).norm() {
-                    lower
-                } else {
-                    a.distance_to(b)
-                };
-                if d <= 0.0 || a.contains(cb) || b.contains(ca) {
-                    return Err(WorldError::Overlap {
-                        first: j,
-                        second: i,
-                    });
-                }
+                let d = separation(&obstacles[i], &obstacles[j]).ok_or(WorldError::Overlap {
+                    first: j,
+                    second: i,
+                })?;
                 between[i * m + j] = d;
                 between[j * m + i] = d;
             }
@@ -181,6 +170,48 @@ impl Workspace {
             .map(|o| o.signed_distance(destination))
             .collect();
         ws.goal_to_boundary = -ws.boundary.signed_distance(destination);
+        Ok(ws)
+    }
+
+    /// This workspace with `obstacle` added as obstacle `M + 1` (index `M`), validated against
+    /// the boundary, the known obstacles and the destination as in [`Self::new`], and the cached
+    /// distances extended by its row alone: `O(M)` distance queries instead of `O(M²)`. Used
+    /// when obstacles become known one at a time.
+    ///
+    /// Errors: the obstacle overlaps or touches obstacle `first` ([`WorldError::Overlap`] with
+    /// `second = M`), is not strictly inside the boundary, or contains the destination.
+    pub fn with_obstacle(&self, obstacle: StarShape) -> Result<Self, WorldError> {
+        let m = self.obstacles.len();
+        let to_boundary = obstacle.clearance_inside(&self.boundary);
+        if to_boundary <= 0.0 || !self.boundary.contains(obstacle.centre()) {
+            return Err(WorldError::OutsideBoundary { obstacle: m });
+        }
+        let mut row = Vec::with_capacity(m);
+        for (j, o) in self.obstacles.iter().enumerate() {
+            row.push(separation(&obstacle, o).ok_or(WorldError::Overlap {
+                first: j,
+                second: m,
+            })?);
+        }
+        if obstacle.contains(self.destination) {
+            return Err(WorldError::InObstacle {
+                what: "destination",
+                obstacle: m,
+            });
+        }
+        let goal = obstacle.signed_distance(self.destination);
+        let n = m + 1;
+        let mut between = vec![f64::INFINITY; n * n];
+        for i in 0..m {
+            between[i * n..i * n + m].copy_from_slice(&self.between[i * m..(i + 1) * m]);
+            between[i * n + m] = row[i];
+            between[m * n + i] = row[i];
+        }
+        let mut ws = self.clone();
+        ws.obstacles.push(obstacle);
+        ws.between = between;
+        ws.to_boundary.push(to_boundary);
+        ws.goal_to_obstacle.push(goal);
         Ok(ws)
     }
 
@@ -264,5 +295,80 @@ impl Workspace {
 
     pub(crate) fn goal_to_boundary(&self) -> f64 {
         self.goal_to_boundary
+    }
+}
+
+/// The distance between two obstacles, `None` if they overlap or touch. Bounding circles first:
+/// only near pairs need the outline query ([`StarShape::distance_to`]); a pair whose bounding
+/// circles are apart by more than half their centre distance gets that gap as a lower bound.
+fn separation(a: &StarShape, b: &StarShape) -> Option<f64> {
+    let (ca, cb) = (a.centre(), b.centre());
+    let lower = (ca - cb).norm() - a.radius_bounds().1 - b.radius_bounds().1;
+    let d = if lower > 0.0 && lower > 0.5 * (ca - cb).norm() {
+        lower
+    } else {
+        a.distance_to(b)
+    };
+    (d > 0.0 && !a.contains(cb) && !b.contains(ca)).then_some(d)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::random::{self, Kind, Rng};
+
+    /// Adding the obstacles one at a time gives the workspace `new` builds from all of them.
+    #[test]
+    fn with_obstacle_matches_new() {
+        let kinds = [Kind::Circle, Kind::Ellipse, Kind::Polygon, Kind::Star];
+        let mut rng = Rng::new(11);
+        let all = random::workspace(&mut rng, 8, &kinds, Kind::Circle, 0.1);
+        let mut ws = Workspace::new(all.boundary().clone(), Vec::new(), all.destination()).unwrap();
+        for o in all.obstacles() {
+            ws = ws.with_obstacle(o.clone()).unwrap();
+        }
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(1.0) || a == b;
+        let m = all.obstacles().len();
+        for i in 0..m {
+            assert!(close(ws.to_boundary(i), all.to_boundary(i)));
+            assert!(close(ws.goal_to_obstacle(i), all.goal_to_obstacle(i)));
+            for j in 0..m {
+                assert!(close(ws.between(i, j), all.between(i, j)), "{i}, {j}");
+            }
+        }
+        assert_eq!(ws.goal_to_boundary(), all.goal_to_boundary());
+    }
+
+    #[test]
+    fn with_obstacle_rejects_what_new_rejects_and_names_the_new_index() {
+        let boundary = StarShape::circle(Vector2::zeros(), 5.0).unwrap();
+        let disc = |x: f64, y: f64, r: f64| StarShape::circle(Vector2::new(x, y), r).unwrap();
+        let ws =
+            Workspace::new(boundary, vec![disc(1.0, 0.0, 0.5)], Vector2::new(-3.0, 0.0)).unwrap();
+        assert_eq!(
+            ws.with_obstacle(disc(1.8, 0.0, 0.5)).err(),
+            Some(WorldError::Overlap {
+                first: 0,
+                second: 1
+            })
+        );
+        assert_eq!(
+            ws.with_obstacle(disc(4.8, 0.0, 0.5)).err(),
+            Some(WorldError::OutsideBoundary { obstacle: 1 })
+        );
+        assert_eq!(
+            ws.with_obstacle(disc(-3.0, 0.2, 0.5)).err(),
+            Some(WorldError::InObstacle {
+                what: "destination",
+                obstacle: 1
+            })
+        );
+        assert_eq!(
+            ws.with_obstacle(disc(0.0, 2.0, 0.5))
+                .unwrap()
+                .obstacles()
+                .len(),
+            2
+        );
     }
 }

@@ -53,7 +53,7 @@ pub use harmonav_control::DampingPolicy;
 pub use harmonav_field::KPolicy;
 pub use harmonav_transform::{ShapeError, StarShape};
 pub use nalgebra::Vector2;
-pub use navigator::{Law, NavError, Navigator, Options};
+pub use navigator::{Controller, Evaluation, Law, NavError, Navigator, Options};
 
 /// The README's code compiles and runs (checked by `cargo test --doc`).
 #[doc = include_str!("../../../README.md")]

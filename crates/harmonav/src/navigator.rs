@@ -4,8 +4,8 @@
 
 use std::sync::Arc;
 
-use harmonav_control::{ControlError, DampingPolicy, Dynamic, Kinematic};
-use harmonav_field::{Field, FieldError, KPolicy};
+use harmonav_control::{ControlError, Damping, DampingPolicy, Dynamic, Kinematic};
+use harmonav_field::{Field, FieldError, FieldEval, KPolicy};
 use harmonav_sensing::{Sector, SensorError};
 use harmonav_transform::{ShapeError, StarShape, Workspace, WorldError};
 use nalgebra::Vector2;
@@ -225,11 +225,25 @@ impl From<ControlError> for NavError {
     }
 }
 
-/// The law in use.
+/// The law in use, with its parameters (for logging and monitors: the dynamic law's energy
+/// `V` and speed bound).
 #[derive(Clone, Copy, Debug)]
-enum Controller {
+pub enum Controller {
+    /// Eq. `kinctrl`.
     Kinematic(Kinematic),
+    /// Eq. `dynctrllocal` with its damping policy.
     Dynamic(Dynamic),
+}
+
+/// One evaluation of the law at a state, without side effects ([`Navigator::evaluate`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Evaluation {
+    /// The command: the velocity `u` (kinematic law) or the force `f` (dynamic law).
+    pub command: Vector2<f64>,
+    /// `Θ(x)`, `∇Θ(x)` and the descent direction `−∇Θ/|∇Θ|` over the known obstacles.
+    pub field: FieldEval,
+    /// The damping `λ` and its branch (dynamic law).
+    pub damping: Option<Damping>,
 }
 
 /// An online navigator: the navigation function `Θ` over the obstacles added so far, and the
@@ -239,15 +253,21 @@ pub struct Navigator {
     controller: Controller,
     options: Options,
     goal: Vector2<f64>,
-    /// The boundary shrunk by `radius + margin`.
-    boundary: StarShape,
-    /// The known obstacles grown by `radius + margin`, in the order they were added.
-    obstacles: Vec<StarShape>,
+    /// `Θ` over the known obstacles, grown by `radius + margin` (in the order they were
+    /// added), in the boundary shrunk by `radius + margin`.
     field: Field,
     /// `|ẋ(T_n)|` at the latest discovery (eq. `dissipationfun`).
     speed_at_discovery: f64,
     /// The last state passed to a successful `command`.
     last: Option<(Vector2<f64>, Vector2<f64>)>,
+}
+
+/// A field error at a point, as the navigator reports it.
+fn not_free(e: FieldError) -> NavError {
+    match e {
+        FieldError::InObstacle { obstacle } => NavError::InObstacle { obstacle },
+        _ => NavError::OutsideBoundary,
+    }
 }
 
 fn finite(v: Vector2<f64>, what: &'static str) -> Result<(), NavError> {
@@ -287,38 +307,16 @@ impl Navigator {
         let boundary = boundary
             .offset(-(options.radius + options.margin))
             .map_err(NavError::Shape)?;
-        let field = Self::field(&boundary, &[], goal, options.k)?;
+        let ws = Workspace::new(boundary, Vec::new(), goal).map_err(|_| NavError::GoalNotFree)?;
+        let field = Field::all_known_with(Arc::new(ws), options.k).map_err(NavError::Field)?;
         Ok(Self {
             controller,
             options,
             goal,
-            boundary,
-            obstacles: Vec::new(),
             field,
             speed_at_discovery: 0.0,
             last: None,
         })
-    }
-
-    /// `Θ` over `obstacles` (already grown); workspace errors mapped to the navigator's. The
-    /// new obstacle, if any, is the last.
-    fn field(
-        boundary: &StarShape,
-        obstacles: &[StarShape],
-        goal: Vector2<f64>,
-        k: KPolicy,
-    ) -> Result<Field, NavError> {
-        let n = obstacles.len();
-        let ws =
-            Workspace::new(boundary.clone(), obstacles.to_vec(), goal).map_err(|e| match e {
-                WorldError::Overlap { first, second } => NavError::Overlap {
-                    obstacle: if second + 1 == n { first } else { second },
-                },
-                WorldError::OutsideBoundary { .. } => NavError::CrossesBoundary,
-                WorldError::InObstacle { .. } if n > 0 => NavError::ContainsGoal,
-                _ => NavError::GoalNotFree,
-            })?;
-        Field::all_known_with(Arc::new(ws), k).map_err(NavError::Field)
     }
 
     /// Adds an obstacle that the robot's perception has just found (its true shape; it is grown
@@ -338,13 +336,19 @@ impl Navigator {
         {
             return Err(NavError::ContainsRobot);
         }
-        let mut obstacles = self.obstacles.clone();
-        obstacles.push(grown);
-        let field = Self::field(&self.boundary, &obstacles, self.goal, self.options.k)?;
-        self.obstacles = obstacles;
-        self.field = field;
+        let ws = self
+            .field
+            .workspace()
+            .with_obstacle(grown)
+            .map_err(|e| match e {
+                WorldError::Overlap { first, .. } => NavError::Overlap { obstacle: first },
+                WorldError::InObstacle { .. } => NavError::ContainsGoal,
+                _ => NavError::CrossesBoundary,
+            })?;
+        self.field =
+            Field::all_known_with(Arc::new(ws), self.options.k).map_err(NavError::Field)?;
         self.speed_at_discovery = self.last.map_or(0.0, |(_, v)| v.norm());
-        Ok(self.obstacles.len() - 1)
+        Ok(self.field.known().len() - 1)
     }
 
     /// The command for the state `(x, ẋ)`: the velocity `u` (kinematic law, `ẋ` unused) or the
@@ -362,30 +366,36 @@ impl Navigator {
     /// Errors (the navigator is then unchanged): `x` or `ẋ` not finite, `x` inside a known
     /// (grown) obstacle or outside the (shrunk) boundary.
     pub fn command(&mut self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Vector2<f64>, NavError> {
+        let command = self.evaluate(x, v)?.command;
+        self.last = Some((x, v));
+        Ok(command)
+    }
+
+    /// The law at the state `(x, ẋ)` with what it is made of (`Θ`, `∇Θ`, the damping), without
+    /// remembering the state: for integrators that evaluate trial states, and for logging. The
+    /// command equals [`Navigator::command`]'s; errors as there. Does not allocate.
+    pub fn evaluate(&self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Evaluation, NavError> {
         finite(x, "position")?;
         finite(v, "velocity")?;
-        let e = self.field.eval(x).map_err(|e| match e {
-            FieldError::InObstacle { obstacle } => NavError::InObstacle { obstacle },
-            _ => NavError::OutsideBoundary,
-        })?;
-        let cmd = match &self.controller {
-            Controller::Kinematic(law) => law.velocity(&e),
+        let e = self.field.eval(x).map_err(not_free)?;
+        let (command, damping) = match &self.controller {
+            Controller::Kinematic(law) => (law.velocity(&e), None),
             Controller::Dynamic(law) => {
                 let d = law.damping(&self.field, &e, v, self.speed_at_discovery);
-                law.force(&e, v, &d)
+                (law.force(&e, v, &d), Some(d))
             }
         };
-        self.last = Some((x, v));
-        Ok(cmd)
+        Ok(Evaluation {
+            command,
+            field: e,
+            damping,
+        })
     }
 
     /// `Θ(x)` over the known obstacles (for logging); errors as [`Navigator::command`].
     pub fn theta(&self, x: Vector2<f64>) -> Result<f64, NavError> {
         finite(x, "position")?;
-        self.field.eval(x).map(|e| e.value).map_err(|e| match e {
-            FieldError::InObstacle { obstacle } => NavError::InObstacle { obstacle },
-            _ => NavError::OutsideBoundary,
-        })
+        self.field.eval(x).map(|e| e.value).map_err(not_free)
     }
 
     /// The goal.
@@ -395,7 +405,17 @@ impl Navigator {
 
     /// The known obstacles, grown by `radius + margin`, in the order they were added.
     pub fn obstacles(&self) -> &[StarShape] {
-        &self.obstacles
+        self.field.workspace().obstacles()
+    }
+
+    /// The law in use.
+    pub fn controller(&self) -> &Controller {
+        &self.controller
+    }
+
+    /// `Θ` over the known obstacles (read only).
+    pub fn field(&self) -> &Field {
+        &self.field
     }
 
     /// `k` of `phi_k` for the known obstacles.

@@ -181,7 +181,12 @@ fn commands_are_the_laws_on_the_known_obstacles() {
                 let u = Kinematic::new(1.5).unwrap().velocity(&e);
                 assert_eq!(kin.command(x, v).unwrap(), u);
                 // The discovery speed is that of the last command before the additions: 0.
-                let f = law.force(&e, v, &law.damping(&field, &e, v, 0.0));
+                let d = law.damping(&field, &e, v, 0.0);
+                let f = law.force(&e, v, &d);
+                // `evaluate` is `command` without remembering the state, and shows its parts.
+                let eval = dynamic.evaluate(x, v).unwrap();
+                assert_eq!((eval.command, eval.field, eval.damping), (f, e, Some(d)));
+                assert_eq!(kin.evaluate(x, v).unwrap().damping, None);
                 assert_eq!(dynamic.command(x, v).unwrap(), f);
             }
         }
