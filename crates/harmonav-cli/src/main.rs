@@ -348,7 +348,7 @@ fn cmd_eval(prepared: &Prepared, at: &[String], json: bool) -> Result<bool, Stri
         .map(|&x| match field.eval(x) {
             Ok(e) => json!({ "x": x.x, "y": x.y, "h": [e.h.x, e.h.y], "phi": e.phi, "value": e.value, "grad": [e.gradient.x, e.gradient.y] }),
             Err(harmonav_field::FieldError::InObstacle { obstacle }) => {
-                json!({ "x": x.x, "y": x.y, "error": format!("inside obstacle {}", prepared.names[obstacle]) })
+                json!({ "x": x.x, "y": x.y, "error": format!("inside obstacle {}", prepared.truth.names[obstacle]) })
             }
             Err(err) => json!({ "x": x.x, "y": x.y, "error": err.to_string() }),
         })
@@ -436,7 +436,7 @@ fn cmd_census(prepared: &Prepared, json: bool) -> Result<bool, String> {
     } else {
         out!(
             "{minima} minimum, {saddles} saddles, {degenerate} degenerate (M = {}, k = {} from \"{}\")",
-            prepared.workspace.obstacles().len(),
+            prepared.truth.workspace.obstacles().len(),
             field.k(),
             field.k_policy()
         );
@@ -463,7 +463,7 @@ fn cmd_sweep(
     if starts == 0 {
         return Err("`--starts` must be at least 1".into());
     }
-    let ws = prepared.workspace.clone();
+    let ws = prepared.truth.workspace.clone();
     let mut rng = Rng::new(seed);
     let points: Vec<Vector2<f64>> = (0..starts)
         .map(|_| random::free_point(&mut rng, &ws, 1e-3))

@@ -38,7 +38,7 @@ fn sector_polygon(
 /// `trajectory.svg`: boundary, obstacles labelled (grey until discovered, then red outline),
 /// the path, the sector at the start, at each discovery and at the end, start and goal.
 pub fn trajectory_svg(prepared: &Prepared, run: &Run) -> String {
-    let b = &prepared.true_boundary;
+    let b = &prepared.truth.boundary;
     let (_, r) = b.radius_bounds();
     let c = b.centre();
     let margin = 0.05 * r;
@@ -75,7 +75,7 @@ pub fn trajectory_svg(prepared: &Prepared, run: &Run) -> String {
         outline(b),
         r##"fill="#fafafa" stroke="black" stroke-width="1.5""##,
     );
-    for (i, o) in prepared.true_obstacles.iter().enumerate() {
+    for (i, o) in prepared.truth.obstacles.iter().enumerate() {
         let discovered = s.discoveries.iter().any(|d| d.index == i);
         let style = if discovered {
             r##"fill="#f1c0c0" stroke="#b02020" stroke-width="1.2""##
@@ -83,9 +83,9 @@ pub fn trajectory_svg(prepared: &Prepared, run: &Run) -> String {
             r##"fill="#d0d0d0" stroke="#666" stroke-width="1""##
         };
         svg.polygon(&panel, outline(o), style);
-        svg.label(&panel, o.centre(), (-6.0, 4.0), &prepared.names[i]);
+        svg.label(&panel, o.centre(), (-6.0, 4.0), &prepared.truth.names[i]);
     }
-    if let Sensing::Sector(sector) = prepared.sensing {
+    if let Sensing::Sector(sector) = prepared.truth.sensing {
         let style = r##"fill="#3b7dd8" fill-opacity="0.15" stroke="#3b7dd8" stroke-width="0.8""##;
         let mut poses: Vec<(Vector2<f64>, Vector2<f64>)> = Vec::new();
         // At the start: along the initial motion.
@@ -132,7 +132,7 @@ pub fn trajectory_svg(prepared: &Prepared, run: &Run) -> String {
     );
     svg.dot(&panel, start, 4.0, "#1c7ed6");
     svg.label(&panel, start, (6.0, -6.0), "start");
-    let goal = prepared.workspace.destination();
+    let goal = prepared.truth.workspace.destination();
     svg.dot(&panel, goal, 5.0, "#2b8a3e");
     svg.label(&panel, goal, (6.0, 14.0), "goal");
     for d in &s.discoveries {

@@ -32,7 +32,9 @@
 
 #![warn(missing_docs)]
 
+mod closed_loop;
 pub mod figures;
+mod monitor;
 pub mod physics;
 pub mod quality;
 pub mod record;
@@ -41,3 +43,4 @@ pub mod scenario;
 pub mod shortest;
 pub mod svg;
 pub mod sweep;
+pub mod truth;

@@ -7,14 +7,14 @@
 use std::collections::BTreeSet;
 use std::f64::consts::TAU;
 
-use harmonav_control::Branch;
 use harmonav_field::{Field, FieldEval};
-use harmonav_sensing::{Sensing, axis};
 use harmonav_transform::StarShape;
 use nalgebra::Vector2;
 use rapier2d_f64::prelude::{ColliderBuilder, PhysicsWorld, RigidBodyBuilder, Vector};
 
-use crate::run::{Discovery, Monitor, Run, RunError, Sample, Start, start};
+use crate::closed_loop::ClosedLoop;
+use crate::monitor::Monitor;
+use crate::run::{Discovery, Guarantee, Run, RunError, Sample, rejected_discovery};
 use crate::scenario::{Model, Prepared};
 
 /// A controller other than the law: `(field, eval, x, ẋ) → command`.
@@ -72,15 +72,11 @@ pub fn run_rapier(
     builtin: Option<&Run>,
 ) -> Result<(Run, RapierReport), RunError> {
     let sc = &prepared.scenario;
-    let Start {
-        model,
-        start,
-        goal,
-        dynamic,
-        kinematic,
-        mut field,
-        mut discoveries,
-    } = start(prepared, model)?;
+    let truth = &prepared.truth;
+    let (mut lp, mut discoveries) = ClosedLoop::start(prepared, model)?;
+    let model = lp.model;
+    let start = Vector2::new(sc.robot.start[0], sc.robot.start[1]);
+    let goal = truth.goal();
 
     let mut world = PhysicsWorld {
         gravity: Vector::new(0.0, 0.0),
@@ -90,15 +86,12 @@ pub fn run_rapier(
     let h = sc.sim.dt / substeps as f64;
     world.integration_parameters.dt = h;
     let mut walls = Vec::new();
-    for o in &prepared.true_obstacles {
+    for o in &truth.obstacles {
         walls.push(world.insert(RigidBodyBuilder::fixed(), collider(o, true)).1);
     }
     walls.push(
         world
-            .insert(
-                RigidBodyBuilder::fixed(),
-                collider(&prepared.true_boundary, false),
-            )
+            .insert(RigidBodyBuilder::fixed(), collider(&truth.boundary, false))
             .1,
     );
     let radius = sc.robot.radius.max(1e-3);
@@ -114,7 +107,6 @@ pub fn run_rapier(
 
     let mut monitor = Monitor::new();
     let mut samples = Vec::new();
-    let mut speed_at_discovery = 0.0;
     let mut touching: BTreeSet<usize> = BTreeSet::new();
     let mut contacts = 0;
     let mut t = 0.0;
@@ -127,44 +119,34 @@ pub fn run_rapier(
             Vector2::new(b.linvel().x, b.linvel().y),
         )
     };
+    // Semi-implicit Euler at 1 ms has no error estimate: V may differ from the exact
+    // solution's by half of the former relative allowance 1e-6 per state.
+    let sample = |lp: &ClosedLoop, t: f64, x, vel| {
+        let mut s = lp.sample(t, x, vel);
+        s.energy_tolerance = s.energy.map_or(0.0, |e| 5e-7 * e);
+        s
+    };
     let mut aborted = None;
     // A discovery since the last sample: V may jump there (k and Θ change), which the energy
     // monitor must not count as a rise.
     let mut discovered = false;
     loop {
         let (x, vel) = state(&world);
-        let Ok(e) = field.eval(x) else {
+        if lp.eval(x, vel).is_none() {
             // Only a controller other than the law gets here: record and stop.
-            aborted = Some(format!(
-                "t = {t:.3}: the robot left the free space at ({:.4}, {:.4})",
-                x.x, x.y
-            ));
+            aborted = Some(Guarantee {
+                name: "stayed-in-free-space".into(),
+                passed: false,
+                detail: format!(
+                    "t = {t:.3}: the robot left the free space at ({:.4}, {:.4})",
+                    x.x, x.y
+                ),
+            });
             break;
-        };
-        let sample = |field: &Field, e: &FieldEval, speed_at_discovery: f64| {
-            let damping = (model == Model::Dynamic)
-                .then(|| dynamic.damping(field, e, vel, speed_at_discovery));
-            Sample {
-                t,
-                x: [x.x, x.y],
-                v: [vel.x, vel.y],
-                theta: e.value,
-                energy: (model == Model::Dynamic).then(|| dynamic.energy(e, vel)),
-                k: field.k(),
-                lambda: damping.map(|d| d.lambda),
-                // Semi-implicit Euler at 1 ms has no error estimate: half of the former
-                // relative allowance 1e-6 per state.
-                energy_tolerance: if model == Model::Dynamic {
-                    5e-7 * dynamic.energy(e, vel)
-                } else {
-                    0.0
-                },
-                critical: damping.is_some_and(|d| d.branch == Branch::Critical),
-            }
-        };
+        }
         if steps % substeps == 0 || reached {
-            let s = sample(&field, &e, speed_at_discovery);
-            monitor.observe(&s, discovered, prepared);
+            let s = sample(&lp, t, x, vel);
+            monitor.observe(&s, discovered, truth);
             discovered = false;
             samples.push(s);
         }
@@ -173,51 +155,45 @@ pub fn run_rapier(
             break;
         }
         // Sensing: discoveries at step granularity.
-        if let Sensing::Sector(sector) = prepared.sensing {
-            let moving = if model == Model::Kinematic {
-                kinematic.velocity(&e)
-            } else {
-                vel
-            };
-            if let Some(a) = axis(moving, e.direction) {
-                let seen: Vec<usize> = (0..prepared.workspace.obstacles().len())
-                    .filter(|i| {
-                        !field.known().contains(i)
-                            && sector.detects(x, a, &prepared.workspace.obstacles()[*i])
-                    })
-                    .collect();
-                for i in seen {
-                    field.discover(i).map_err(|e| RunError(e.to_string()))?;
-                    discoveries.push(Discovery {
-                        obstacle: prepared.names[i].clone(),
+        let found = lp.sees(x, vel);
+        if !found.is_empty() {
+            let a = lp.axis(x, vel).unwrap_or_default();
+            let outcome = lp.discover(&found, x, vel);
+            discoveries.extend(
+                found
+                    .iter()
+                    .filter(|i| lp.known.contains(i))
+                    .map(|&i| Discovery {
+                        obstacle: truth.names[i].clone(),
                         index: i,
                         time_s: t,
                         position: [x.x, x.y],
                         axis: [a.x, a.y],
-                    });
-                    speed_at_discovery = vel.norm();
-                    discovered = true;
-                }
+                    }),
+            );
+            if let Err(r) = outcome {
+                aborted = Some(rejected_discovery(t, truth, &r));
+                break;
             }
-        }
-        let e = field.eval(x).map_err(|e| RunError(e.to_string()))?;
-        if discovered {
             // The state right after a discovery, with the new Θ, k and λ: the switch of eq.
             // `dissipationfun` may last only a few milliseconds.
-            let s = sample(&field, &e, speed_at_discovery);
-            monitor.observe(&s, true, prepared);
-            discovered = false;
+            let s = sample(&lp, t, x, vel);
+            monitor.observe(&s, true, truth);
             samples.push(s);
         }
         let command = match &drive {
-            Drive::Law => match model {
-                Model::Kinematic => kinematic.velocity(&e),
-                Model::Dynamic => {
-                    let d = dynamic.damping(&field, &e, vel, speed_at_discovery);
-                    dynamic.force(&e, vel, &d)
-                }
-            },
-            Drive::Custom(f) => f(&field, &e, x, vel),
+            Drive::Law => lp
+                .nav
+                .command(x, vel)
+                .map_err(|e| RunError(e.to_string()))?,
+            Drive::Custom(f) => {
+                let e = lp
+                    .nav
+                    .field()
+                    .eval(x)
+                    .map_err(|e| RunError(e.to_string()))?;
+                f(lp.nav.field(), &e, x, vel)
+            }
         };
         let body = &mut world.bodies[robot];
         match model {
@@ -248,9 +224,9 @@ pub fn run_rapier(
             })
             .filter_map(|c| walls.iter().position(|w| *w == c))
             .filter(|&i| {
-                let gap = match prepared.true_obstacles.get(i) {
+                let gap = match truth.obstacles.get(i) {
                     Some(o) => o.signed_distance(x_new),
-                    None => -prepared.true_boundary.signed_distance(x_new),
+                    None => -truth.boundary.signed_distance(x_new),
                 };
                 gap <= radius + TOUCH
             })
@@ -262,8 +238,7 @@ pub fn run_rapier(
     let final_distance = (x - goal).norm();
     let mut summary = monitor.finish(
         prepared,
-        model,
-        &dynamic,
+        &lp,
         reached,
         t,
         final_distance,
@@ -274,18 +249,12 @@ pub fn run_rapier(
     );
     summary.physics = "rapier".into();
     summary.physics_contacts = Some(contacts);
-    summary.guarantees.push(crate::run::Guarantee {
+    summary.guarantees.push(Guarantee {
         name: "physics-no-contact".into(),
         passed: contacts == 0,
         detail: format!("{contacts} contact events in rapier"),
     });
-    if let Some(reason) = aborted {
-        summary.guarantees.push(crate::run::Guarantee {
-            name: "stayed-in-free-space".into(),
-            passed: false,
-            detail: reason,
-        });
-    }
+    summary.guarantees.extend(aborted);
     let max_deviation = builtin.map_or(0.0, |b| deviation(&samples, &b.samples));
     Ok((
         Run { summary, samples },

@@ -283,7 +283,7 @@ pub fn path_length(r: &Run) -> f64 {
 
 /// The shortest path of a prepared scenario's configuration space.
 pub fn reference(prepared: &Prepared) -> Result<ShortestPath, NoPath> {
-    let ws = &prepared.workspace;
+    let ws = &prepared.truth.workspace;
     let s = prepared.scenario.robot.start;
     shortest_path(
         ws.boundary(),
@@ -299,7 +299,7 @@ pub fn measure(prepared: &Prepared, shortest: f64) -> Result<Measured, String> {
     let r = run(prepared, None).map_err(|e| e.to_string())?;
     let s = &r.summary;
 
-    let goal = prepared.workspace.destination();
+    let goal = prepared.truth.workspace.destination();
     // Overshoot: after the closest approach of the last tenth of the path, how far the robot
     // got away from the goal again.
     let dist: Vec<f64> = r

@@ -99,12 +99,12 @@ fn scene(prepared: &Prepared, run: &Run, t: f64) -> Value {
         t,
         "boundary",
         vec![line_strip(
-            closed(&prepared.true_boundary),
+            closed(&prepared.truth.boundary),
             [1.0, 1.0, 1.0, 1.0],
         )],
         vec![],
     )];
-    for (i, o) in prepared.true_obstacles.iter().enumerate() {
+    for (i, o) in prepared.truth.obstacles.iter().enumerate() {
         let known = run
             .summary
             .discoveries
@@ -117,19 +117,19 @@ fn scene(prepared: &Prepared, run: &Run, t: f64) -> Value {
         };
         entities.push(entity(
             t,
-            &prepared.names[i],
+            &prepared.truth.names[i],
             vec![line_strip(closed(o), color)],
             vec![],
         ));
     }
-    let g = prepared.workspace.destination();
+    let g = prepared.truth.workspace.destination();
     let goal = json!({ "pose": pose([g.x, g.y], [0.0, 0.0]), "size": { "x": 0.1, "y": 0.1, "z": 0.1 }, "color": { "r": 0.2, "g": 0.8, "b": 0.3, "a": 1.0 } });
     entities.push(entity(t, "goal", vec![], vec![goal]));
     json!({ "deletions": [], "entities": entities })
 }
 
 fn sector(prepared: &Prepared, s: &Sample) -> Option<Value> {
-    let Sensing::Sector(sec) = prepared.sensing else {
+    let Sensing::Sector(sec) = prepared.truth.sensing else {
         return None;
     };
     let v = Vector2::new(s.v[0], s.v[1]);

@@ -10,6 +10,8 @@ use harmonav_control::DampingPolicy;
 use harmonav_field::{Field, FieldError, KPolicy};
 use harmonav_sensing::{Sector, Sensing};
 use harmonav_transform::{RobotWorldError, StarShape, Workspace, WorldError};
+
+use crate::truth::Truth;
 use nalgebra::Vector2;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
@@ -295,18 +297,8 @@ pub struct Scenario {
 pub struct Prepared {
     /// The scenario as written.
     pub scenario: Scenario,
-    /// The configuration-space workspace (grown by the robot radius plus the margin).
-    pub workspace: std::sync::Arc<Workspace>,
-    /// The true obstacle shapes (not grown), for clearance monitors and drawings.
-    pub true_obstacles: Vec<StarShape>,
-    /// The true boundary (not shrunk).
-    pub true_boundary: StarShape,
-    /// Obstacle names (`O1`, … where the file gives none).
-    pub names: Vec<String>,
-    /// How obstacles are discovered.
-    pub sensing: Sensing,
-    /// `rho_min` for `d_min`.
-    pub rho_min: f64,
+    /// The world it describes: the true shapes, the configuration space and the sensor.
+    pub truth: Truth,
 }
 
 /// Every scenario file (`*.toml`) below `dir`, recursively, sorted by path: the suites that
@@ -593,14 +585,19 @@ impl Scenario {
                 (Sensing::Sector(sector), rho)
             }
         };
+        let (radius, margin) = (self.robot.radius, self.robot.margin);
         Ok(Prepared {
             scenario: self,
-            workspace: std::sync::Arc::new(workspace),
-            true_obstacles,
-            true_boundary,
-            names,
-            sensing,
-            rho_min,
+            truth: Truth {
+                boundary: true_boundary,
+                obstacles: true_obstacles,
+                names,
+                workspace: std::sync::Arc::new(workspace),
+                sensing,
+                rho_min,
+                radius,
+                margin,
+            },
         })
     }
 }
@@ -618,7 +615,7 @@ impl Prepared {
 
     /// `Θ` with every obstacle known (global sensing) under the file's `k` policy.
     pub fn global_field(&self) -> Result<Field, FieldError> {
-        Field::all_known_with(self.workspace.clone(), self.k_policy())
+        Field::all_known_with(self.truth.workspace.clone(), self.k_policy())
     }
 
     /// The guaranteed clearance to the true shapes: `robot.margin`.

@@ -85,7 +85,7 @@ fn one(
         Model::Dynamic => {
             let mut p = prepared.clone();
             p.scenario.robot.start = [x.x, x.y];
-            p.sensing = Sensing::Global;
+            p.truth.sensing = Sensing::Global;
             let s = run(&p, Some(Model::Dynamic))?.summary;
             let failed = |name: &str| s.guarantees.iter().any(|g| g.name == name && !g.passed);
             if s.collisions > 0 || failed("no-collision") || failed("stayed-in-free-space") {

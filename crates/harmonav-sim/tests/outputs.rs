@@ -115,7 +115,7 @@ fn outputs_are_written_and_figures_show_the_run() {
         "no speed plot for a kinematic run"
     );
     let svg = std::fs::read_to_string(dir.join("trajectory.svg")).unwrap();
-    for name in &prepared.names {
+    for name in &prepared.truth.names {
         assert!(svg.contains(&format!(">{name}</text>")), "label {name}");
     }
     assert!(svg.contains("goal reached"));

@@ -372,10 +372,10 @@ fn the_damping_switch_engages_after_a_discovery_and_brakes_within_d_min() {
     let file =
         Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/hard/lambda-switch.toml");
     let base = Scenario::load(&file).unwrap();
-    let Sensing::Sector(sector) = base.sensing else {
+    let Sensing::Sector(sector) = base.truth.sensing else {
         panic!("the file has a sector")
     };
-    let d_min = sector.d_min(base.rho_min);
+    let d_min = sector.d_min(base.truth.rho_min);
     for policy in DampingPolicy::ALL {
         let mut prepared = base.clone();
         prepared.scenario.controller.damping = policy;

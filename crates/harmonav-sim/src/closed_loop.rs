@@ -1,0 +1,180 @@
+//! The one control loop both integrators share: the robot's [`Navigator`] (its belief: the
+//! obstacles it has sensed) driven against the [`Truth`] (the scenario's shapes, which only the
+//! sensor sees). The built-in integrator ([`crate::run`]) and the rapier harness
+//! ([`crate::physics`]) differ only in how they advance the state.
+
+use harmonav::control::Branch;
+use harmonav::{Controller, Evaluation, Law, NavError, Navigator, Options};
+use harmonav_sensing::{Sensing, axis, initially_known};
+use nalgebra::Vector2;
+
+use crate::run::{Discovery, RunError, STEP_TOLERANCE, Sample};
+use crate::scenario::{Model, Prepared};
+use crate::truth::Truth;
+
+/// The closed loop of one robot model in one world.
+pub(crate) struct ClosedLoop<'a> {
+    pub model: Model,
+    /// What the robot knows.
+    pub nav: Navigator,
+    /// The truth index of each obstacle the navigator knows, in the order it learnt them.
+    pub known: Vec<usize>,
+    pub truth: &'a Truth,
+}
+
+/// A discovery that cannot be added: the robot already is inside the newly sensed obstacle (its
+/// guarantee is lost), or the navigator rejected it.
+pub(crate) struct Rejected {
+    pub obstacle: usize,
+    pub error: NavError,
+}
+
+impl<'a> ClosedLoop<'a> {
+    /// The loop at the start of `prepared` (`model` overrides the file's robot model), with the
+    /// obstacles known at `t = 0` (assumption `localobs`: within `d_min` of the start, and
+    /// those the sector sees from the start along the descent direction of the full field,
+    /// then along that of the known ones) and those discoveries.
+    pub fn start(
+        prepared: &'a Prepared,
+        model: Option<Model>,
+    ) -> Result<(Self, Vec<Discovery>), RunError> {
+        let sc = &prepared.scenario;
+        let truth = &prepared.truth;
+        let model = model.unwrap_or(sc.robot.model);
+        let law = match model {
+            Model::Kinematic => Law::kinematic(sc.controller.gain),
+            Model::Dynamic => Law::dynamic(sc.robot.mass, sc.controller.mu),
+        };
+        let mut options = Options::default()
+            .with_robot(truth.radius, truth.margin)
+            .with_k(prepared.k_policy())
+            .with_damping(prepared.damping_policy());
+        // Global sensing never switches λ on a discovery after t = 0: the default sensor's
+        // d_min serves. Without obstacles no curvature bound is needed either.
+        if let (Sensing::Sector(_), Some(spec)) = (truth.sensing, &sc.sensor) {
+            options = options.with_sensor(spec.range, spec.aperture_deg);
+            if truth.rho_min.is_finite() {
+                options = options.with_rho_min(truth.rho_min);
+            }
+        }
+        let err = |e: &dyn std::fmt::Display| RunError(e.to_string());
+        let nav = Navigator::new(truth.boundary.clone(), truth.goal(), law, options)
+            .map_err(|e| err(&e))?;
+        let mut lp = Self {
+            model,
+            nav,
+            known: Vec::new(),
+            truth,
+        };
+        let start = Vector2::new(sc.robot.start[0], sc.robot.start[1]);
+        let global = prepared.global_field().map_err(|e| err(&e))?;
+        let first_axis = global.eval(start).ok().and_then(|e| e.direction);
+        let known = initially_known(
+            &truth.workspace,
+            start,
+            &truth.sensing,
+            truth.rho_min,
+            first_axis,
+        );
+        let at = |i: usize, axis: Option<Vector2<f64>>| {
+            let a = axis.unwrap_or_default();
+            Discovery {
+                obstacle: truth.names[i].clone(),
+                index: i,
+                time_s: 0.0,
+                position: [start.x, start.y],
+                axis: [a.x, a.y],
+            }
+        };
+        let mut discoveries: Vec<Discovery> = known.iter().map(|&i| at(i, first_axis)).collect();
+        lp.discover(&known, start, Vector2::zeros())
+            .map_err(|r| err(&r.error))?;
+        // A discovery at t = 0 along the axis of the known set's field.
+        let seen = lp.sees(start, Vector2::zeros());
+        lp.discover(&seen, start, Vector2::zeros())
+            .map_err(|r| err(&r.error))?;
+        discoveries.extend(seen.iter().map(|&i| at(i, None)));
+        Ok((lp, discoveries))
+    }
+
+    /// The law at `(x, ẋ)`; `None` outside the free space of the known obstacles.
+    pub fn eval(&self, x: Vector2<f64>, v: Vector2<f64>) -> Option<Evaluation> {
+        self.nav.evaluate(x, v).ok()
+    }
+
+    /// How the robot moves at `(x, ẋ)`: `ẋ` (dynamic model) or the commanded velocity.
+    pub fn moving(&self, v: Vector2<f64>, e: &Evaluation) -> Vector2<f64> {
+        match self.model {
+            Model::Kinematic => e.command,
+            Model::Dynamic => v,
+        }
+    }
+
+    /// The sector's axis at `(x, ẋ)` (eq. `sectoraxis`), `None` at rest at a critical point or
+    /// outside the free space.
+    pub fn axis(&self, x: Vector2<f64>, v: Vector2<f64>) -> Option<Vector2<f64>> {
+        let e = self.eval(x, v)?;
+        axis(self.moving(v, &e), e.field.direction)
+    }
+
+    /// The unknown obstacles (truth indices) the sensor sees at `(x, ẋ)`.
+    pub fn sees(&self, x: Vector2<f64>, v: Vector2<f64>) -> Vec<usize> {
+        match self.axis(x, v) {
+            Some(a) => self.truth.sees(x, a, &self.known),
+            None => Vec::new(),
+        }
+    }
+
+    /// The robot at `(x, ẋ)` learns the true obstacles `found`: `k`, `Phi` and `|ẋ(T_n)|`
+    /// update (the navigator's discovery state is the state of its last command). Stops at the
+    /// first that the navigator rejects; those before it stay known.
+    pub fn discover(
+        &mut self,
+        found: &[usize],
+        x: Vector2<f64>,
+        v: Vector2<f64>,
+    ) -> Result<(), Rejected> {
+        for &i in found {
+            let rejected = |error| Rejected { obstacle: i, error };
+            // The discovery happens at this state: the navigator's last command is here.
+            self.nav.command(x, v).map_err(rejected)?;
+            self.nav
+                .add_obstacle(self.truth.obstacles[i].clone())
+                .map_err(rejected)?;
+            self.known.push(i);
+        }
+        Ok(())
+    }
+
+    /// The recorded state at `t`.
+    pub fn sample(&self, t: f64, x: Vector2<f64>, v: Vector2<f64>) -> Sample {
+        let e = self.eval(x, v);
+        let dynamic = match self.nav.controller() {
+            Controller::Dynamic(law) => Some(law),
+            Controller::Kinematic(_) => None,
+        };
+        let damping = e.and_then(|e| e.damping);
+        Sample {
+            t,
+            x: [x.x, x.y],
+            v: match (dynamic, &e) {
+                (Some(_), _) => [v.x, v.y],
+                (None, Some(e)) => [e.command.x, e.command.y],
+                (None, None) => [0.0; 2],
+            },
+            theta: e.map_or(f64::NAN, |e| e.field.value),
+            energy: dynamic.map(|law| e.map_or(f64::NAN, |e| law.energy(&e.field, v))),
+            k: self.nav.k(),
+            lambda: damping.map(|d| d.lambda),
+            energy_tolerance: match (dynamic, &e) {
+                (Some(law), Some(e)) => {
+                    let sensitivity =
+                        law.mu() * law.potential(&e.field).gradient.norm() + law.mass() * v.norm();
+                    10.0 * STEP_TOLERANCE * sensitivity
+                }
+                _ => 0.0,
+            },
+            critical: damping.is_some_and(|d| d.branch == Branch::Critical),
+        }
+    }
+}
