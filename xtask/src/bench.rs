@@ -292,16 +292,9 @@ fn montecarlo_runs_per_s() -> f64 {
         .map(|_| random::free_point(&mut rng, &ws, 1e-3))
         .collect();
     let t = Instant::now();
-    std::thread::scope(|scope| {
-        for chunk in starts.chunks(starts.len().div_ceil(2)) {
-            let field = &field;
-            scope.spawn(move || {
-                for &x in chunk {
-                    black_box(follow(field, x, &FollowOptions::default()));
-                }
-            });
-        }
-    });
+    black_box(harmonav_sim::quality::parallel_map(&starts, 2, |&x| {
+        follow(&field, x, &FollowOptions::default()).time
+    }));
     starts.len() as f64 / t.elapsed().as_secs_f64()
 }
 

@@ -276,13 +276,18 @@ fn print_summary(s: &Summary) {
         }
         out!("  discoveries: {}", d.join(", "));
     }
-    let width = s.guarantees.iter().map(|g| g.name.len()).max().unwrap_or(0);
+    let width = s
+        .guarantees
+        .iter()
+        .map(|g| g.name().len())
+        .max()
+        .unwrap_or(0);
     for g in &s.guarantees {
         out!(
             "  {:width$}  {}  {}",
-            g.name,
+            g.name(),
             if g.passed { "pass" } else { "FAIL" },
-            g.detail
+            g.detail()
         );
     }
 }
@@ -298,17 +303,9 @@ fn cmd_run(
     let m = model(controller);
     let builtin = run(prepared, m).map_err(|e| format!("{}: {e}", path.display()))?;
     let result = if physics == Physics::Rapier {
-        let (mut r, report) = run_rapier(prepared, m, Drive::Law, Some(&builtin))
-            .map_err(|e| format!("{}: {e}", path.display()))?;
-        r.summary.guarantees.push(harmonav_sim::run::Guarantee {
-            name: "physics-deviation".into(),
-            passed: true,
-            detail: format!(
-                "largest deviation from the built-in path {:.4} m",
-                report.max_deviation
-            ),
-        });
-        r
+        run_rapier(prepared, m, Drive::Law, Some(&builtin))
+            .map_err(|e| format!("{}: {e}", path.display()))?
+            .0
     } else {
         builtin
     };

@@ -34,7 +34,9 @@
 
 mod closed_loop;
 pub mod figures;
+pub mod guarantee;
 mod monitor;
+pub mod outcome;
 pub mod physics;
 pub mod quality;
 pub mod record;

@@ -5,7 +5,9 @@ use harmonav::Controller;
 use nalgebra::Vector2;
 
 use crate::closed_loop::ClosedLoop;
-use crate::run::{Discovery, Guarantee, Sample, Summary};
+use crate::guarantee::{Check, Guarantee};
+use crate::outcome::Outcome;
+use crate::run::{Discovery, Sample, Summary};
 use crate::scenario::{ExpectSpec, Prepared};
 use crate::truth::Truth;
 
@@ -82,80 +84,69 @@ impl Monitor {
         steps: usize,
         rejected: usize,
         samples: &[Sample],
+        aborted: Option<Guarantee>,
     ) -> Summary {
         let sc = &prepared.scenario;
         let model = lp.model;
         let speed_bound = lp.nav.speed_bound();
-        let g = |name: &str, passed: bool, detail: String| Guarantee {
-            name: name.to_string(),
-            passed,
-            detail,
-        };
+        let g = Guarantee::new;
+        let margin = prepared.margin();
         let mut guarantees = vec![
             g(
-                "reached-goal",
+                Check::ReachedGoal {
+                    final_distance,
+                    tolerance: sc.sim.goal_tolerance,
+                    time_s: t,
+                    max_time_s: sc.sim.max_time,
+                },
                 reached,
-                format!(
-                    "final distance {final_distance:.2e} m (tolerance {}) at t = {t:.3} s (max {} s)",
-                    sc.sim.goal_tolerance, sc.sim.max_time
-                ),
             ),
             g(
-                "no-collision",
+                Check::NoCollision {
+                    min_clearance: self.min_clearance,
+                    margin,
+                },
                 self.collisions == 0
                     && self.min_clearance > 0.0
-                    && self.min_clearance >= prepared.margin() - MARGIN_TOLERANCE,
-                format!(
-                    "min clearance {:.4} m to the true obstacles and boundary (margin {} m)",
-                    self.min_clearance,
-                    prepared.margin()
-                ),
+                    && self.min_clearance >= margin - MARGIN_TOLERANCE,
             ),
             g(
-                "stayed-in-workspace",
-                self.min_boundary > 0.0,
-                format!("min distance to the boundary {:.4} m", self.min_boundary),
-            ),
-            g(
-                "theta-in-unit-interval",
-                self.theta_range.0 >= 0.0 && self.theta_range.1 <= 1.0,
-                format!(
-                    "Θ ∈ [{:.3e}, {:.6}]",
-                    self.theta_range.0, self.theta_range.1
-                ),
-            ),
-            g(
-                "discoveries",
-                true,
-                if discoveries.is_empty() {
-                    "none".to_string()
-                } else {
-                    discoveries
-                        .iter()
-                        .map(|d| format!("{} at {:.3} s", d.obstacle, d.time_s))
-                        .collect::<Vec<_>>()
-                        .join(", ")
+                Check::StayedInWorkspace {
+                    min_boundary_distance: self.min_boundary,
                 },
+                self.min_boundary > 0.0,
+            ),
+            g(
+                Check::ThetaInUnitInterval {
+                    min: self.theta_range.0,
+                    max: self.theta_range.1,
+                },
+                self.theta_range.0 >= 0.0 && self.theta_range.1 <= 1.0,
+            ),
+            g(
+                Check::Discoveries {
+                    discoveries: discoveries
+                        .iter()
+                        .map(|d| (d.obstacle.clone(), d.time_s))
+                        .collect(),
+                },
+                true,
             ),
         ];
         if let Some(bound) = speed_bound {
             guarantees.push(g(
-                "speed-below-bound",
+                Check::SpeedBelowBound {
+                    max_speed: self.max_speed,
+                    bound,
+                },
                 self.max_speed < bound,
-                format!(
-                    "max speed {:.3} m/s < √(2μ/m) = {bound:.3} m/s",
-                    self.max_speed
-                ),
             ));
             guarantees.push(g(
-                "energy-non-increasing-between-discoveries",
+                Check::EnergyNonIncreasing {
+                    largest_rise: self.energy_rise_raw.max(0.0),
+                    beyond_tolerance: self.energy_rise.max(0.0),
+                },
                 self.energy_rise <= 0.0,
-                format!(
-                    "largest relative rise of V between states {:.1e}, {:.1e} beyond the \
-                     integration tolerance",
-                    self.energy_rise_raw.max(0.0),
-                    self.energy_rise.max(0.0)
-                ),
             ));
             guarantees.push(overshoot(samples, prepared.truth.goal(), &discoveries));
         }
@@ -166,36 +157,39 @@ impl Monitor {
         } else {
             ExpectSpec::default()
         };
-        if let Some(want) = expect.reached {
+        if let Some(expected) = expect.reached {
             guarantees.push(g(
-                "expect.reached",
-                want == reached,
-                format!("expected {want}, got {reached}"),
+                Check::ExpectReached {
+                    expected,
+                    got: reached,
+                },
+                expected == reached,
             ));
         }
-        if let Some(order) = &expect.discovery_order {
+        if let Some(expected) = expect.discovery_order {
             let got: Vec<String> = discoveries.iter().map(|d| d.obstacle.clone()).collect();
-            guarantees.push(g(
-                "expect.discovery-order",
-                &got == order,
-                format!("expected {order:?}, got {got:?}"),
-            ));
+            let passed = got == expected;
+            guarantees.push(g(Check::ExpectDiscoveryOrder { expected, got }, passed));
         }
-        if let Some(want) = expect.damping_switched {
-            let switched = samples.iter().any(|s| s.lambda.is_some() && !s.critical);
+        if let Some(expected) = expect.damping_switched {
+            let got = samples.iter().any(|s| s.lambda.is_some() && !s.critical);
             guarantees.push(g(
-                "expect.damping-switched",
-                want == switched,
-                format!("expected {want}, got {switched}"),
+                Check::ExpectDampingSwitched { expected, got },
+                expected == got,
             ));
         }
         if let Some(limit) = expect.max_speed_below {
             guarantees.push(g(
-                "expect.max-speed-below",
+                Check::ExpectMaxSpeedBelow {
+                    max_speed: self.max_speed,
+                    limit,
+                },
                 self.max_speed < limit,
-                format!("max speed {:.3} m/s, limit {limit} m/s", self.max_speed),
             ));
         }
+        // A guarantee lost on the way (a step-size collapse, the free space left).
+        guarantees.extend(aborted);
+        let outcome = Outcome::of(&guarantees, reached, t, samples, sc.sim.goal_tolerance);
         Summary {
             name: sc.name.clone(),
             model,
@@ -215,6 +209,7 @@ impl Monitor {
             physics_contacts: None,
             discoveries,
             guarantees,
+            outcome,
             steps,
             rejected_steps: rejected,
         }
@@ -238,16 +233,11 @@ fn overshoot(samples: &[Sample], goal: Vector2<f64>, discoveries: &[Discovery]) 
         // `tail` runs backwards in time: w[1] precedes w[0].
         worst = worst.max(dist(w[0]) - dist(w[1]));
     }
-    Guarantee {
-        name: "no-overshoot-at-goal".into(),
-        passed: worst <= 1e-9,
-        detail: if tail.len() < 2 {
-            "the run did not enter the critically damped goal basin".into()
-        } else {
-            format!(
-                "{} samples in the last approach (Θ < 0.01, critical damping): largest increase of the distance {worst:.1e} m",
-                tail.len()
-            )
+    Guarantee::new(
+        Check::NoOvershoot {
+            samples: tail.len(),
+            largest_increase: worst,
         },
-    }
+        worst <= 1e-9,
+    )
 }

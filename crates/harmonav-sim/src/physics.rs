@@ -13,6 +13,7 @@ use nalgebra::Vector2;
 use rapier2d_f64::prelude::{ColliderBuilder, PhysicsWorld, RigidBodyBuilder, Vector};
 
 use crate::closed_loop::ClosedLoop;
+use crate::guarantee::{Check, FreeSpaceLoss};
 use crate::monitor::Monitor;
 use crate::run::{Discovery, Guarantee, Run, RunError, Sample, rejected_discovery};
 use crate::scenario::{Model, Prepared};
@@ -134,14 +135,11 @@ pub fn run_rapier(
         let (x, vel) = state(&world);
         if lp.eval(x, vel).is_none() {
             // Only a controller other than the law gets here: record and stop.
-            aborted = Some(Guarantee {
-                name: "stayed-in-free-space".into(),
-                passed: false,
-                detail: format!(
-                    "t = {t:.3}: the robot left the free space at ({:.4}, {:.4})",
-                    x.x, x.y
-                ),
-            });
+            aborted = Some(Guarantee::failed(Check::LeftFreeSpace {
+                time_s: t,
+                position: [x.x, x.y],
+                reason: FreeSpaceLoss::Left,
+            }));
             break;
         }
         if steps % substeps == 0 || reached {
@@ -172,7 +170,7 @@ pub fn run_rapier(
                     }),
             );
             if let Err(r) = outcome {
-                aborted = Some(rejected_discovery(t, truth, &r));
+                aborted = Some(rejected_discovery(t, x, truth, r));
                 break;
             }
             // The state right after a discovery, with the new Θ, k and λ: the switch of eq.
@@ -246,16 +244,21 @@ pub fn run_rapier(
         steps,
         0,
         &samples,
+        aborted,
     );
     summary.physics = "rapier".into();
     summary.physics_contacts = Some(contacts);
-    summary.guarantees.push(Guarantee {
-        name: "physics-no-contact".into(),
-        passed: contacts == 0,
-        detail: format!("{contacts} contact events in rapier"),
-    });
-    summary.guarantees.extend(aborted);
+    summary.guarantees.push(Guarantee::new(
+        Check::PhysicsContacts { contacts },
+        contacts == 0,
+    ));
     let max_deviation = builtin.map_or(0.0, |b| deviation(&samples, &b.samples));
+    if builtin.is_some() {
+        summary.guarantees.push(Guarantee::new(
+            Check::PhysicsDeviation { max_deviation },
+            true,
+        ));
+    }
     Ok((
         Run { summary, samples },
         RapierReport {

@@ -14,6 +14,7 @@ use harmonav_transform::StarShape;
 use harmonav_transform::random::{Kind, Rng};
 use nalgebra::Vector2;
 
+use crate::guarantee;
 use crate::run::{Run, run};
 use crate::scenario::{
     ControllerSpec, FieldSpec, Model, Prepared, RobotSpec, Scenario, SensorSpec, ShapeSpec, SimSpec,
@@ -318,7 +319,7 @@ pub fn measure(prepared: &Prepared, shortest: f64) -> Result<Measured, String> {
         guarantees_held: s
             .guarantees
             .iter()
-            .all(|g| g.passed || g.name == "reached-goal"),
+            .all(|g| g.passed || g.kind() == guarantee::Kind::ReachedGoal),
         collisions: s.collisions,
         path_ratio: path_length(&r) / shortest,
         time: s.time_s,

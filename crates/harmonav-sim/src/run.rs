@@ -13,7 +13,10 @@ use nalgebra::Vector2;
 use serde::Serialize;
 
 use crate::closed_loop::{ClosedLoop, Rejected};
+pub use crate::guarantee::Guarantee;
+use crate::guarantee::{Check, FreeSpaceLoss};
 use crate::monitor::Monitor;
+use crate::outcome::Outcome;
 use crate::scenario::{Model, Prepared};
 use crate::truth::Truth;
 
@@ -62,17 +65,6 @@ pub struct Discovery {
     pub axis: [f64; 2],
 }
 
-/// A named guarantee with its verdict.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Guarantee {
-    /// Name.
-    pub name: String,
-    /// Whether it held.
-    pub passed: bool,
-    /// What was measured.
-    pub detail: String,
-}
-
 /// The summary of a run (`summary.json`).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Summary {
@@ -106,6 +98,8 @@ pub struct Summary {
     pub discoveries: Vec<Discovery>,
     /// The guarantee monitors.
     pub guarantees: Vec<Guarantee>,
+    /// How the run ended.
+    pub outcome: Outcome,
     /// Accepted integration steps.
     pub steps: usize,
     /// Rejected integration steps.
@@ -221,15 +215,10 @@ pub fn run(prepared: &Prepared, model: Option<Model>) -> Result<Run, RunError> {
             if max_time - t >= 1e-14 {
                 // Step-size collapse: the run cannot go on, and must not pass as a mere
                 // "not reached".
-                aborted = Some(Guarantee {
-                    name: "integrated".into(),
-                    passed: false,
-                    detail: format!(
-                        "t = {t:.4}: the step size fell below 1e-14 s at ({:.6}, {:.6}); the \
-                         closed loop is too stiff to integrate there",
-                        y[0], y[1]
-                    ),
-                });
+                aborted = Some(Guarantee::failed(Check::StepCollapsed {
+                    time_s: t,
+                    position: [y[0], y[1]],
+                }));
             }
             break;
         }
@@ -313,17 +302,17 @@ pub fn run(prepared: &Prepared, model: Option<Model>) -> Result<Run, RunError> {
                     }),
             );
             if let Err(r) = outcome {
-                aborted = Some(rejected_discovery(t, truth, &r));
+                aborted = Some(rejected_discovery(t, pos(&y), truth, r));
                 break;
             }
         }
         // Θ, k and λ change here; the next step starts from the new right-hand side.
         let Some((k_next, _)) = rhs(&lp, &y) else {
-            aborted = Some(Guarantee {
-                name: "stayed-in-free-space".into(),
-                passed: false,
-                detail: format!("t = {t:.4}: the robot left the free space of the known obstacles"),
-            });
+            aborted = Some(Guarantee::failed(Check::LeftFreeSpace {
+                time_s: t,
+                position: [y[0], y[1]],
+                reason: FreeSpaceLoss::Left,
+            }));
             break;
         };
         k1 = k_next;
@@ -341,7 +330,7 @@ pub fn run(prepared: &Prepared, model: Option<Model>) -> Result<Run, RunError> {
         samples.push(sample(&lp, t, &y));
     }
     let final_distance = (pos(&y) - goal).norm();
-    let mut summary = monitor.finish(
+    let summary = monitor.finish(
         prepared,
         &lp,
         reached,
@@ -351,22 +340,22 @@ pub fn run(prepared: &Prepared, model: Option<Model>) -> Result<Run, RunError> {
         steps,
         rejected,
         &samples,
+        aborted,
     );
-    summary.guarantees.extend(aborted);
     Ok(Run { summary, samples })
 }
 
 /// The guarantee a rejected discovery breaks: the robot is inside the obstacle it has just
 /// sensed (the guarantee is already lost; the run stops and its outputs are still written).
-pub(crate) fn rejected_discovery(t: f64, truth: &Truth, r: &Rejected) -> Guarantee {
-    Guarantee {
-        name: "stayed-in-free-space".into(),
-        passed: false,
-        detail: format!(
-            "t = {t:.4}: obstacle {} could not be added on discovery: {}",
-            truth.names[r.obstacle], r.error
-        ),
-    }
+pub(crate) fn rejected_discovery(t: f64, x: Vector2<f64>, truth: &Truth, r: Rejected) -> Guarantee {
+    Guarantee::failed(Check::LeftFreeSpace {
+        time_s: t,
+        position: [x.x, x.y],
+        reason: FreeSpaceLoss::Discovery {
+            obstacle: truth.names[r.obstacle].clone(),
+            error: r.error,
+        },
+    })
 }
 
 pub use crate::monitor::MARGIN_TOLERANCE;

@@ -4,58 +4,10 @@ use harmonav_field::descent::{Ending, FollowOptions, follow};
 use harmonav_sensing::Sensing;
 use nalgebra::Vector2;
 
+pub use crate::outcome::Outcome;
 use crate::quality::parallel_map;
 use crate::run::{RunError, run};
 use crate::scenario::{Model, Prepared};
-
-/// How one start ended.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Outcome {
-    /// The goal was reached at `time` s.
-    Reached {
-        /// Time to the goal, s.
-        time: f64,
-    },
-    /// The robot touched a true obstacle.
-    Collision,
-    /// The robot left the workspace (dynamic law: the monitor `stayed-in-workspace` failed).
-    LeftWorkspace,
-    /// The robot stopped at a critical point of `Θ` (a saddle) at `time` s.
-    Stalled {
-        /// When, s.
-        time: f64,
-    },
-    /// `sim.max_time` elapsed first.
-    TimedOut {
-        /// The time budget, s.
-        time: f64,
-    },
-    /// The integrator's step size collapsed at `time` s.
-    StepCollapsed {
-        /// When, s.
-        time: f64,
-    },
-}
-
-impl Outcome {
-    /// Whether the goal was reached.
-    pub fn reached(&self) -> bool {
-        matches!(self, Self::Reached { .. })
-    }
-}
-
-impl std::fmt::Display for Outcome {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Self::Reached { time } => write!(f, "reached at t = {time:.2} s"),
-            Self::Collision => write!(f, "collision"),
-            Self::LeftWorkspace => write!(f, "left the workspace"),
-            Self::Stalled { time } => write!(f, "stalled at a critical point at t = {time:.2} s"),
-            Self::TimedOut { time } => write!(f, "not reached within {time:.2} s"),
-            Self::StepCollapsed { time } => write!(f, "step size collapsed at t = {time:.2} s"),
-        }
-    }
-}
 
 /// One start: the kinematic law by [`follow`] (the normalised descent), the dynamic law by the
 /// built-in integrator ([`run`]), both with every obstacle known.
@@ -86,19 +38,7 @@ fn one(
             let mut p = prepared.clone();
             p.scenario.robot.start = [x.x, x.y];
             p.truth.sensing = Sensing::Global;
-            let s = run(&p, Some(Model::Dynamic))?.summary;
-            let failed = |name: &str| s.guarantees.iter().any(|g| g.name == name && !g.passed);
-            if s.collisions > 0 || failed("no-collision") || failed("stayed-in-free-space") {
-                Outcome::Collision
-            } else if failed("stayed-in-workspace") {
-                Outcome::LeftWorkspace
-            } else if s.reached {
-                Outcome::Reached { time: s.time_s }
-            } else if failed("integrated") {
-                Outcome::StepCollapsed { time: s.time_s }
-            } else {
-                Outcome::TimedOut { time: s.time_s }
-            }
+            run(&p, Some(Model::Dynamic))?.summary.outcome
         }
     })
 }

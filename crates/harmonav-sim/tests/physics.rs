@@ -3,6 +3,7 @@
 
 use std::path::Path;
 
+use harmonav_sim::guarantee::Kind;
 use harmonav_sim::physics::{Drive, run_rapier};
 use harmonav_sim::run::run;
 use harmonav_sim::scenario::{Model, Scenario};
@@ -80,7 +81,7 @@ fn a_broken_controller_is_caught_by_rapier_and_the_monitors() {
                 r.summary
                     .guarantees
                     .iter()
-                    .any(|g| g.name == "physics-no-contact" && !g.passed)
+                    .any(|g| g.kind() == Kind::PhysicsNoContact && !g.passed)
             );
         }
         Err(e) => panic!("expected the contact to be reported, got {e}"),

@@ -7,13 +7,13 @@ use std::sync::{Arc, Mutex};
 
 use harmonav_field::Field;
 use harmonav_field::descent::{Ending, FollowOptions, follow};
+use harmonav_sim::guarantee::Kind;
 use harmonav_sim::physics::{Drive, run_rapier};
+use harmonav_sim::quality::parallel_map;
 use harmonav_sim::record::write_outputs;
 use harmonav_sim::run::{Guarantee, Summary, run};
 use harmonav_sim::scenario::{Model, Scenario};
-use harmonav_transform::random::{self, Kind, Rng};
-
-use std::sync::atomic::{AtomicUsize, Ordering};
+use harmonav_transform::random::{self, Kind as Shape, Rng};
 
 use super::{Check, Outcome, Progress, Verdict, outcome};
 
@@ -91,7 +91,7 @@ fn other_model(file: &Path, name: &str) -> Outcome {
         return judge(row, s, detail, |_| true);
     }
     let (Verdict::Held(d) | Verdict::Limit(d)) =
-        judge(row, s, detail, |g| g.name != "reached-goal")?;
+        judge(row, s, detail, |g| g.kind() != Kind::ReachedGoal)?;
     if s.reached {
         return Err(format!(
             "[expect] other_model_reached = false, but the {model:?} run arrived; update the file"
@@ -102,26 +102,21 @@ fn other_model(file: &Path, name: &str) -> Outcome {
     )))
 }
 
-/// Columns of the scenario × guarantee matrix: a header and the guarantee names it covers.
-const COLUMNS: [(&str, &[&str]); 10] = [
-    ("reached", &["reached-goal", "integrated"]),
-    ("no-collision", &["no-collision", "stayed-in-free-space"]),
-    ("inside", &["stayed-in-workspace"]),
-    ("Θ∈[0,1]", &["theta-in-unit-interval"]),
-    ("discoveries", &["discoveries"]),
-    ("speed<bound", &["speed-below-bound"]),
-    ("V↓", &["energy-non-increasing-between-discoveries"]),
-    ("no-overshoot", &["no-overshoot-at-goal"]),
-    ("no-contact", &["physics-no-contact"]),
+/// Columns of the scenario × guarantee matrix: a header and the guarantee kinds it covers.
+const COLUMNS: [(&str, &[Kind]); 10] = [
+    ("reached", &[Kind::ReachedGoal, Kind::Integrated]),
     (
-        "expect",
-        &[
-            "expect.reached",
-            "expect.discovery-order",
-            "expect.max-speed-below",
-            "expect.damping-switched",
-        ],
+        "no-collision",
+        &[Kind::NoCollision, Kind::StayedInFreeSpace],
     ),
+    ("inside", &[Kind::StayedInWorkspace]),
+    ("Θ∈[0,1]", &[Kind::ThetaInUnitInterval]),
+    ("discoveries", &[Kind::Discoveries]),
+    ("speed<bound", &[Kind::SpeedBelowBound]),
+    ("V↓", &[Kind::EnergyNonIncreasing]),
+    ("no-overshoot", &[Kind::NoOvershoot]),
+    ("no-contact", &[Kind::PhysicsNoContact]),
+    ("expect", &[Kind::Expect]),
 ];
 
 /// Rows of the matrix, filled by the scenario checks: the row name and one cell per column.
@@ -132,14 +127,14 @@ static MATRIX: Mutex<Vec<(String, Vec<&'static str>)>> = Mutex::new(Vec::new());
 /// states the limit), `·` if the run has
 /// none of them (no sector, kinematic, built-in…) or, for the overshoot at the goal, never got
 /// there (the check then holds vacuously).
-fn cell(summary: &Summary, names: &[&str], required: &impl Fn(&Guarantee) -> bool) -> &'static str {
-    if names.contains(&"no-overshoot-at-goal") && !summary.reached {
+fn cell(summary: &Summary, kinds: &[Kind], required: &impl Fn(&Guarantee) -> bool) -> &'static str {
+    if kinds.contains(&Kind::NoOvershoot) && !summary.reached {
         return "·";
     }
     let mut present = summary
         .guarantees
         .iter()
-        .filter(|g| names.contains(&g.name.as_str()))
+        .filter(|g| kinds.contains(&g.kind()))
         .peekable();
     if present.peek().is_none() {
         return "·";
@@ -205,7 +200,7 @@ fn judge(
         .guarantees
         .iter()
         .filter(|g| !g.passed && required(g))
-        .map(|g| format!("{}: {}", g.name, g.detail))
+        .map(|g| format!("{}: {}", g.name(), g.detail()))
         .collect();
     outcome(
         failed.is_empty(),
@@ -251,9 +246,9 @@ fn scenario(file: &Path, name: &str, physics: &str, out: &Path) -> Outcome {
 /// [`STARTS`] seeded random starts in a 20-obstacle mixed-shape world, global sensing, the
 /// normalised descent: the fraction that converges, no collision.
 fn montecarlo() -> Outcome {
-    let kinds = [Kind::Circle, Kind::Ellipse, Kind::Polygon, Kind::Star];
+    let kinds = [Shape::Circle, Shape::Ellipse, Shape::Polygon, Shape::Star];
     let mut rng = Rng::new(20);
-    let ws = Arc::new(random::workspace(&mut rng, 20, &kinds, Kind::Star, 0.1));
+    let ws = Arc::new(random::workspace(&mut rng, 20, &kinds, Shape::Star, 0.1));
     let field = Field::all_known(ws.clone()).map_err(|e| e.to_string())?;
     let starts: Vec<_> = (0..STARTS)
         .map(|_| random::free_point(&mut rng, &ws, 1e-3))
@@ -263,29 +258,11 @@ fn montecarlo() -> Outcome {
         .map_or(2, |n| n.get())
         .clamp(1, 2);
     // Starts are handed out one at a time: the slow ones (along the outer wall) cluster.
-    let next = AtomicUsize::new(0);
     let progress = Progress::new("montecarlo", starts.len());
-    let results: Vec<(Ending, bool, f64)> = std::thread::scope(|scope| {
-        let handles: Vec<_> = (0..workers)
-            .map(|_| {
-                let (field, starts, next, progress) = (&field, &starts, &next, &progress);
-                scope.spawn(move || {
-                    let mut out = Vec::new();
-                    loop {
-                        let i = next.fetch_add(1, Ordering::Relaxed);
-                        let Some(&x) = starts.get(i) else { break };
-                        let d = follow(field, x, &options);
-                        out.push((d.ending, d.collision_free, d.time));
-                        progress.tick();
-                    }
-                    out
-                })
-            })
-            .collect();
-        handles
-            .into_iter()
-            .flat_map(|h| h.join().unwrap_or_default())
-            .collect()
+    let results: Vec<(Ending, bool, f64)> = parallel_map(&starts, workers, |&x| {
+        let d = follow(&field, x, &options);
+        progress.tick();
+        (d.ending, d.collision_free, d.time)
     });
     let ended = |e: Ending| results.iter().filter(|r| r.0 == e).count();
     let reached = ended(Ending::Reached);
@@ -319,18 +296,18 @@ mod tests {
         let prepared = Scenario::load(&root().join("scenarios/shapes/mixed.toml")).unwrap();
         let mut s = run(&prepared, None).unwrap().summary;
         let all = |_: &Guarantee| true;
-        let not_arrival = |g: &Guarantee| g.name != "reached-goal";
-        assert_eq!(cell(&s, &["no-collision"], &all), "ok");
-        assert_eq!(cell(&s, &["physics-no-contact"], &all), "·");
+        let not_arrival = |g: &Guarantee| g.kind() != Kind::ReachedGoal;
+        assert_eq!(cell(&s, &[Kind::NoCollision], &all), "ok");
+        assert_eq!(cell(&s, &[Kind::PhysicsNoContact], &all), "·");
         let reached = s
             .guarantees
             .iter_mut()
-            .find(|g| g.name == "reached-goal")
+            .find(|g| g.kind() == Kind::ReachedGoal)
             .unwrap();
         reached.passed = false;
-        assert_eq!(cell(&s, &["reached-goal"], &all), "FAIL");
-        assert_eq!(cell(&s, &["reached-goal"], &not_arrival), "limit");
+        assert_eq!(cell(&s, &[Kind::ReachedGoal], &all), "FAIL");
+        assert_eq!(cell(&s, &[Kind::ReachedGoal], &not_arrival), "limit");
         s.reached = false;
-        assert_eq!(cell(&s, &["no-overshoot-at-goal"], &all), "·");
+        assert_eq!(cell(&s, &[Kind::NoOvershoot], &all), "·");
     }
 }

@@ -1,0 +1,384 @@
+//! The guarantees a run is judged by, typed: each carries what its monitor measured, and its
+//! name and detail line are derived from that. No consumer matches a guarantee by its text.
+
+use harmonav::NavError;
+use serde::Serialize;
+use serde::ser::{SerializeStruct, Serializer};
+
+/// A guarantee's kind, for consumers that group them (the verify matrix, the sweep's outcome).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Kind {
+    /// The goal was reached within tolerance and time.
+    ReachedGoal,
+    /// No collision with the true shapes, and the margin kept.
+    NoCollision,
+    /// Strictly inside the true boundary.
+    StayedInWorkspace,
+    /// `Θ ∈ [0, 1]`.
+    ThetaInUnitInterval,
+    /// The discoveries (informational; always holds).
+    Discoveries,
+    /// The dynamic law's speed below `√(2μ/m)` (corollary `boundedvel`).
+    SpeedBelowBound,
+    /// `V` non-increasing between discoveries.
+    EnergyNonIncreasing,
+    /// No overshoot at the goal (corollary `critdamp`).
+    NoOvershoot,
+    /// The integrator could go on (no step-size collapse).
+    Integrated,
+    /// The robot stayed in the free space of the obstacles it knew.
+    StayedInFreeSpace,
+    /// The rapier cross-check saw no contact.
+    PhysicsNoContact,
+    /// How far the rapier path strayed from the built-in one (informational; always holds).
+    PhysicsDeviation,
+    /// An `[expect]` entry of the scenario file.
+    Expect,
+}
+
+/// Why the robot lost the free space of its known obstacles.
+#[derive(Clone, Debug, PartialEq)]
+pub enum FreeSpaceLoss {
+    /// It moved out of it (only a controller other than the law does).
+    Left,
+    /// The navigator rejected a newly sensed obstacle (the robot is inside it).
+    Discovery {
+        /// The obstacle's name.
+        obstacle: String,
+        /// The navigator's error.
+        error: NavError,
+    },
+}
+
+/// One guarantee with what was measured.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum Check {
+    /// [`Kind::ReachedGoal`].
+    ReachedGoal {
+        /// Distance to the goal at the end, m.
+        final_distance: f64,
+        /// `sim.goal_tolerance`, m.
+        tolerance: f64,
+        /// Time at the end, s.
+        time_s: f64,
+        /// `sim.max_time`, s.
+        max_time_s: f64,
+    },
+    /// [`Kind::NoCollision`].
+    NoCollision {
+        /// Smallest clearance to the true obstacles and boundary, m.
+        min_clearance: f64,
+        /// `robot.margin`, m.
+        margin: f64,
+    },
+    /// [`Kind::StayedInWorkspace`].
+    StayedInWorkspace {
+        /// Smallest clearance to the true boundary, m.
+        min_boundary_distance: f64,
+    },
+    /// [`Kind::ThetaInUnitInterval`].
+    ThetaInUnitInterval {
+        /// Smallest `Θ`.
+        min: f64,
+        /// Largest `Θ`.
+        max: f64,
+    },
+    /// [`Kind::Discoveries`]: `(name, time)` in order.
+    Discoveries {
+        /// The discoveries.
+        discoveries: Vec<(String, f64)>,
+    },
+    /// [`Kind::SpeedBelowBound`].
+    SpeedBelowBound {
+        /// Largest speed, m/s.
+        max_speed: f64,
+        /// `√(2μ/m)`, m/s.
+        bound: f64,
+    },
+    /// [`Kind::EnergyNonIncreasing`].
+    EnergyNonIncreasing {
+        /// Largest relative rise of `V` between states.
+        largest_rise: f64,
+        /// The same beyond the integration tolerance (`> 0` fails).
+        beyond_tolerance: f64,
+    },
+    /// [`Kind::NoOvershoot`].
+    NoOvershoot {
+        /// Samples in the last, critically damped approach (`< 2`: not entered).
+        samples: usize,
+        /// Largest increase of the distance to the goal there, m.
+        largest_increase: f64,
+    },
+    /// [`Kind::Integrated`]: the step size collapsed here.
+    StepCollapsed {
+        /// When, s.
+        time_s: f64,
+        /// Where.
+        position: [f64; 2],
+    },
+    /// [`Kind::StayedInFreeSpace`]: it was lost here.
+    LeftFreeSpace {
+        /// When, s.
+        time_s: f64,
+        /// Where.
+        position: [f64; 2],
+        /// Why.
+        #[serde(skip)]
+        reason: FreeSpaceLoss,
+    },
+    /// [`Kind::PhysicsNoContact`].
+    PhysicsContacts {
+        /// Contact events in rapier.
+        contacts: usize,
+    },
+    /// [`Kind::PhysicsDeviation`].
+    PhysicsDeviation {
+        /// Largest distance between the rapier and the built-in positions at equal times, m.
+        max_deviation: f64,
+    },
+    /// `[expect] reached`.
+    ExpectReached {
+        /// The file's value.
+        expected: bool,
+        /// The run's.
+        got: bool,
+    },
+    /// `[expect] discovery_order`.
+    ExpectDiscoveryOrder {
+        /// The file's value.
+        expected: Vec<String>,
+        /// The run's.
+        got: Vec<String>,
+    },
+    /// `[expect] damping_switched`.
+    ExpectDampingSwitched {
+        /// The file's value.
+        expected: bool,
+        /// The run's.
+        got: bool,
+    },
+    /// `[expect] max_speed_below`.
+    ExpectMaxSpeedBelow {
+        /// Largest speed, m/s.
+        max_speed: f64,
+        /// The file's limit, m/s.
+        limit: f64,
+    },
+}
+
+impl Check {
+    /// The kind.
+    pub fn kind(&self) -> Kind {
+        match self {
+            Self::ReachedGoal { .. } => Kind::ReachedGoal,
+            Self::NoCollision { .. } => Kind::NoCollision,
+            Self::StayedInWorkspace { .. } => Kind::StayedInWorkspace,
+            Self::ThetaInUnitInterval { .. } => Kind::ThetaInUnitInterval,
+            Self::Discoveries { .. } => Kind::Discoveries,
+            Self::SpeedBelowBound { .. } => Kind::SpeedBelowBound,
+            Self::EnergyNonIncreasing { .. } => Kind::EnergyNonIncreasing,
+            Self::NoOvershoot { .. } => Kind::NoOvershoot,
+            Self::StepCollapsed { .. } => Kind::Integrated,
+            Self::LeftFreeSpace { .. } => Kind::StayedInFreeSpace,
+            Self::PhysicsContacts { .. } => Kind::PhysicsNoContact,
+            Self::PhysicsDeviation { .. } => Kind::PhysicsDeviation,
+            Self::ExpectReached { .. }
+            | Self::ExpectDiscoveryOrder { .. }
+            | Self::ExpectDampingSwitched { .. }
+            | Self::ExpectMaxSpeedBelow { .. } => Kind::Expect,
+        }
+    }
+
+    /// The name in `summary.json` and the CLI's table.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::ReachedGoal { .. } => "reached-goal",
+            Self::NoCollision { .. } => "no-collision",
+            Self::StayedInWorkspace { .. } => "stayed-in-workspace",
+            Self::ThetaInUnitInterval { .. } => "theta-in-unit-interval",
+            Self::Discoveries { .. } => "discoveries",
+            Self::SpeedBelowBound { .. } => "speed-below-bound",
+            Self::EnergyNonIncreasing { .. } => "energy-non-increasing-between-discoveries",
+            Self::NoOvershoot { .. } => "no-overshoot-at-goal",
+            Self::StepCollapsed { .. } => "integrated",
+            Self::LeftFreeSpace { .. } => "stayed-in-free-space",
+            Self::PhysicsContacts { .. } => "physics-no-contact",
+            Self::PhysicsDeviation { .. } => "physics-deviation",
+            Self::ExpectReached { .. } => "expect.reached",
+            Self::ExpectDiscoveryOrder { .. } => "expect.discovery-order",
+            Self::ExpectDampingSwitched { .. } => "expect.damping-switched",
+            Self::ExpectMaxSpeedBelow { .. } => "expect.max-speed-below",
+        }
+    }
+}
+
+impl std::fmt::Display for Check {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::ReachedGoal {
+                final_distance,
+                tolerance,
+                time_s,
+                max_time_s,
+            } => write!(
+                f,
+                "final distance {final_distance:.2e} m (tolerance {tolerance}) at t = {time_s:.3} s \
+                 (max {max_time_s} s)"
+            ),
+            Self::NoCollision {
+                min_clearance,
+                margin,
+            } => write!(
+                f,
+                "min clearance {min_clearance:.4} m to the true obstacles and boundary (margin \
+                 {margin} m)"
+            ),
+            Self::StayedInWorkspace {
+                min_boundary_distance,
+            } => write!(
+                f,
+                "min distance to the boundary {min_boundary_distance:.4} m"
+            ),
+            Self::ThetaInUnitInterval { min, max } => write!(f, "Θ ∈ [{min:.3e}, {max:.6}]"),
+            Self::Discoveries { discoveries } if discoveries.is_empty() => write!(f, "none"),
+            Self::Discoveries { discoveries } => {
+                let list: Vec<String> = discoveries
+                    .iter()
+                    .map(|(name, t)| format!("{name} at {t:.3} s"))
+                    .collect();
+                write!(f, "{}", list.join(", "))
+            }
+            Self::SpeedBelowBound { max_speed, bound } => {
+                write!(f, "max speed {max_speed:.3} m/s < √(2μ/m) = {bound:.3} m/s")
+            }
+            Self::EnergyNonIncreasing {
+                largest_rise,
+                beyond_tolerance,
+            } => write!(
+                f,
+                "largest relative rise of V between states {largest_rise:.1e}, \
+                 {beyond_tolerance:.1e} beyond the integration tolerance"
+            ),
+            Self::NoOvershoot { samples, .. } if *samples < 2 => {
+                write!(f, "the run did not enter the critically damped goal basin")
+            }
+            Self::NoOvershoot {
+                samples,
+                largest_increase,
+            } => write!(
+                f,
+                "{samples} samples in the last approach (Θ < 0.01, critical damping): largest \
+                 increase of the distance {largest_increase:.1e} m"
+            ),
+            Self::StepCollapsed { time_s, position } => write!(
+                f,
+                "t = {time_s:.4}: the step size fell below 1e-14 s at ({:.6}, {:.6}); the closed \
+                 loop is too stiff to integrate there",
+                position[0], position[1]
+            ),
+            Self::LeftFreeSpace {
+                time_s,
+                position,
+                reason,
+            } => match reason {
+                FreeSpaceLoss::Left => write!(
+                    f,
+                    "t = {time_s:.3}: the robot left the free space at ({:.4}, {:.4})",
+                    position[0], position[1]
+                ),
+                FreeSpaceLoss::Discovery { obstacle, error } => write!(
+                    f,
+                    "t = {time_s:.4}: obstacle {obstacle} could not be added on discovery at \
+                     ({:.4}, {:.4}): {error}",
+                    position[0], position[1]
+                ),
+            },
+            Self::PhysicsContacts { contacts } => write!(f, "{contacts} contact events in rapier"),
+            Self::PhysicsDeviation { max_deviation } => write!(
+                f,
+                "largest deviation from the built-in path {max_deviation:.4} m"
+            ),
+            Self::ExpectReached { expected, got }
+            | Self::ExpectDampingSwitched { expected, got } => {
+                write!(f, "expected {expected}, got {got}")
+            }
+            Self::ExpectDiscoveryOrder { expected, got } => {
+                write!(f, "expected {expected:?}, got {got:?}")
+            }
+            Self::ExpectMaxSpeedBelow { max_speed, limit } => {
+                write!(f, "max speed {max_speed:.3} m/s, limit {limit} m/s")
+            }
+        }
+    }
+}
+
+/// A guarantee with its verdict. In JSON: `{"name", "passed", "detail", "measured"}`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Guarantee {
+    /// What was measured.
+    pub check: Check,
+    /// Whether it held.
+    pub passed: bool,
+}
+
+impl Guarantee {
+    /// `check` with its verdict.
+    pub fn new(check: Check, passed: bool) -> Self {
+        Self { check, passed }
+    }
+
+    /// A guarantee lost during the run (a step-size collapse, the free space left).
+    pub fn failed(check: Check) -> Self {
+        Self::new(check, false)
+    }
+
+    /// The kind.
+    pub fn kind(&self) -> Kind {
+        self.check.kind()
+    }
+
+    /// The name (`reached-goal`, `no-collision`, …).
+    pub fn name(&self) -> &'static str {
+        self.check.name()
+    }
+
+    /// What was measured, as a sentence.
+    pub fn detail(&self) -> String {
+        self.check.to_string()
+    }
+}
+
+impl Serialize for Guarantee {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let mut st = s.serialize_struct("Guarantee", 4)?;
+        st.serialize_field("name", self.name())?;
+        st.serialize_field("passed", &self.passed)?;
+        st.serialize_field("detail", &self.detail())?;
+        st.serialize_field("measured", &self.check)?;
+        st.end()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn json_carries_name_verdict_detail_and_measured_values() {
+        let g = Guarantee::new(
+            Check::SpeedBelowBound {
+                max_speed: 1.5,
+                bound: 4.0,
+            },
+            true,
+        );
+        let v = serde_json::to_value(&g).unwrap();
+        assert_eq!(v["name"], "speed-below-bound");
+        assert_eq!(v["passed"], true);
+        assert_eq!(v["measured"]["max_speed"], 1.5);
+        assert_eq!(v["measured"]["bound"], 4.0);
+        assert_eq!(v["detail"], "max speed 1.500 m/s < √(2μ/m) = 4.000 m/s");
+        assert_eq!(g.kind(), Kind::SpeedBelowBound);
+    }
+}
