@@ -4,10 +4,11 @@
 //! ([`crate::physics`]) differ only in how they advance the state.
 
 use harmonav::control::Branch;
-use harmonav::{Controller, Evaluation, Law, NavError, Navigator, Options};
+use harmonav::{Controller, Evaluation, Law, Navigator, Options};
 use harmonav_sensing::{Sensing, axis, initially_known};
 use nalgebra::Vector2;
 
+use crate::guarantee::{Check, FreeSpaceLoss, Guarantee};
 use crate::run::{Discovery, RunError, STEP_TOLERANCE, Sample};
 use crate::scenario::{Model, Prepared};
 use crate::truth::Truth;
@@ -20,13 +21,6 @@ pub(crate) struct ClosedLoop<'a> {
     /// The truth index of each obstacle the navigator knows, in the order it learnt them.
     pub known: Vec<usize>,
     pub truth: &'a Truth,
-}
-
-/// A discovery that cannot be added: the robot already is inside the newly sensed obstacle (its
-/// guarantee is lost), or the navigator rejected it.
-pub(crate) struct Rejected {
-    pub obstacle: usize,
-    pub error: NavError,
 }
 
 impl<'a> ClosedLoop<'a> {
@@ -76,24 +70,14 @@ impl<'a> ClosedLoop<'a> {
             truth.rho_min,
             first_axis,
         );
-        let at = |i: usize, axis: Option<Vector2<f64>>| {
-            let a = axis.unwrap_or_default();
-            Discovery {
-                obstacle: truth.names[i].clone(),
-                index: i,
-                time_s: 0.0,
-                position: [start.x, start.y],
-                axis: [a.x, a.y],
-            }
-        };
-        let mut discoveries: Vec<Discovery> = known.iter().map(|&i| at(i, first_axis)).collect();
-        lp.discover(&known, start, Vector2::zeros())
-            .map_err(|r| err(&r.error))?;
+        let mut discoveries = Vec::new();
+        let at_start = (start, Vector2::zeros());
+        lp.discover(0.0, &known, at_start, first_axis, &mut discoveries)
+            .map_err(|g| RunError(g.detail()))?;
         // A discovery at t = 0 along the axis of the known set's field.
         let seen = lp.sees(start, Vector2::zeros());
-        lp.discover(&seen, start, Vector2::zeros())
-            .map_err(|r| err(&r.error))?;
-        discoveries.extend(seen.iter().map(|&i| at(i, None)));
+        lp.discover(0.0, &seen, at_start, None, &mut discoveries)
+            .map_err(|g| RunError(g.detail()))?;
         Ok((lp, discoveries))
     }
 
@@ -125,23 +109,44 @@ impl<'a> ClosedLoop<'a> {
         }
     }
 
-    /// The robot at `(x, ẋ)` learns the true obstacles `found`: `k`, `Phi` and `|ẋ(T_n)|`
-    /// update (the navigator's discovery state is the state of its last command). Stops at the
-    /// first that the navigator rejects; those before it stay known.
+    /// At time `t` the robot at `(x, ẋ)` learns the true obstacles `found`, sensed along
+    /// `axis`: `k`, `Phi` and `|ẋ(T_n)|` update (the navigator's discovery state is the state of
+    /// its last command), and each one added is appended to `log`. Stops at the first that the
+    /// navigator rejects (the robot is inside it) and returns the guarantee that is lost; those
+    /// before it stay known.
     pub fn discover(
         &mut self,
+        t: f64,
         found: &[usize],
-        x: Vector2<f64>,
-        v: Vector2<f64>,
-    ) -> Result<(), Rejected> {
+        (x, v): (Vector2<f64>, Vector2<f64>),
+        axis: Option<Vector2<f64>>,
+        log: &mut Vec<Discovery>,
+    ) -> Result<(), Guarantee> {
+        let a = axis.unwrap_or_default();
         for &i in found {
-            let rejected = |error| Rejected { obstacle: i, error };
             // The discovery happens at this state: the navigator's last command is here.
-            self.nav.command(x, v).map_err(rejected)?;
-            self.nav
-                .add_obstacle(self.truth.obstacles[i].clone())
-                .map_err(rejected)?;
+            let added = self
+                .nav
+                .command(x, v)
+                .and_then(|_| self.nav.add_obstacle(self.truth.obstacles[i].clone()));
+            if let Err(error) = added {
+                return Err(Guarantee::failed(Check::LeftFreeSpace {
+                    time_s: t,
+                    position: [x.x, x.y],
+                    reason: FreeSpaceLoss::Discovery {
+                        obstacle: self.truth.names[i].clone(),
+                        error,
+                    },
+                }));
+            }
             self.known.push(i);
+            log.push(Discovery {
+                obstacle: self.truth.names[i].clone(),
+                index: i,
+                time_s: t,
+                position: [x.x, x.y],
+                axis: [a.x, a.y],
+            });
         }
         Ok(())
     }

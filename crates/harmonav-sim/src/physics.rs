@@ -15,7 +15,7 @@ use rapier2d_f64::prelude::{ColliderBuilder, PhysicsWorld, RigidBodyBuilder, Vec
 use crate::closed_loop::ClosedLoop;
 use crate::guarantee::{Check, FreeSpaceLoss};
 use crate::monitor::Monitor;
-use crate::run::{Discovery, Guarantee, Run, RunError, Sample, rejected_discovery};
+use crate::run::{Guarantee, Run, RunError, Sample};
 use crate::scenario::{Model, Prepared};
 
 /// A controller other than the law: `(field, eval, x, ẋ) → command`.
@@ -155,22 +155,9 @@ pub fn run_rapier(
         // Sensing: discoveries at step granularity.
         let found = lp.sees(x, vel);
         if !found.is_empty() {
-            let a = lp.axis(x, vel).unwrap_or_default();
-            let outcome = lp.discover(&found, x, vel);
-            discoveries.extend(
-                found
-                    .iter()
-                    .filter(|i| lp.known.contains(i))
-                    .map(|&i| Discovery {
-                        obstacle: truth.names[i].clone(),
-                        index: i,
-                        time_s: t,
-                        position: [x.x, x.y],
-                        axis: [a.x, a.y],
-                    }),
-            );
-            if let Err(r) = outcome {
-                aborted = Some(rejected_discovery(t, x, truth, r));
+            let a = lp.axis(x, vel);
+            if let Err(lost) = lp.discover(t, &found, (x, vel), a, &mut discoveries) {
+                aborted = Some(lost);
                 break;
             }
             // The state right after a discovery, with the new Θ, k and λ: the switch of eq.

@@ -12,13 +12,12 @@ use harmonav::{Controller, Evaluation};
 use nalgebra::Vector2;
 use serde::Serialize;
 
-use crate::closed_loop::{ClosedLoop, Rejected};
+use crate::closed_loop::ClosedLoop;
 pub use crate::guarantee::Guarantee;
 use crate::guarantee::{Check, FreeSpaceLoss};
 use crate::monitor::Monitor;
 use crate::outcome::Outcome;
 use crate::scenario::{Model, Prepared};
-use crate::truth::Truth;
 
 /// One recorded state.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -286,23 +285,10 @@ pub fn run(prepared: &Prepared, model: Option<Model>) -> Result<Run, RunError> {
         steps += 1;
         let discovered = !found.is_empty();
         if discovered {
-            let ax = lp.axis(pos(&y), vel(&y)).unwrap_or_default();
+            let ax = lp.axis(pos(&y), vel(&y));
             samples.push(sample(&lp, t, &y));
-            let outcome = lp.discover(&found, pos(&y), vel(&y));
-            discoveries.extend(
-                found
-                    .iter()
-                    .filter(|i| lp.known.contains(i))
-                    .map(|&i| Discovery {
-                        obstacle: truth.names[i].clone(),
-                        index: i,
-                        time_s: t,
-                        position: [y[0], y[1]],
-                        axis: [ax.x, ax.y],
-                    }),
-            );
-            if let Err(r) = outcome {
-                aborted = Some(rejected_discovery(t, pos(&y), truth, r));
+            if let Err(lost) = lp.discover(t, &found, (pos(&y), vel(&y)), ax, &mut discoveries) {
+                aborted = Some(lost);
                 break;
             }
         }
@@ -343,19 +329,6 @@ pub fn run(prepared: &Prepared, model: Option<Model>) -> Result<Run, RunError> {
         aborted,
     );
     Ok(Run { summary, samples })
-}
-
-/// The guarantee a rejected discovery breaks: the robot is inside the obstacle it has just
-/// sensed (the guarantee is already lost; the run stops and its outputs are still written).
-pub(crate) fn rejected_discovery(t: f64, x: Vector2<f64>, truth: &Truth, r: Rejected) -> Guarantee {
-    Guarantee::failed(Check::LeftFreeSpace {
-        time_s: t,
-        position: [x.x, x.y],
-        reason: FreeSpaceLoss::Discovery {
-            obstacle: truth.names[r.obstacle].clone(),
-            error: r.error,
-        },
-    })
 }
 
 pub use crate::monitor::MARGIN_TOLERANCE;
