@@ -7,15 +7,13 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use harmonav_control::DampingPolicy;
-use harmonav_field::{Field, KPolicy};
-use harmonav_potential::CriticalKind;
+use harmonav_field::{FieldError, KPolicy};
 use harmonav_sim::physics::{Drive, run_rapier};
 use harmonav_sim::record::write_outputs;
 use harmonav_sim::run::{Summary, run};
 use harmonav_sim::scenario::{Model, Prepared, Scenario};
-use harmonav_sim::sweep::{Counts, Outcome, sweep};
-use harmonav_transform::random::{self, Rng};
-use nalgebra::{Matrix2, Vector2};
+use harmonav_sim::sweep::{Report, random_starts, sweep};
+use nalgebra::Vector2;
 use serde_json::{Value, json};
 
 #[derive(Parser)]
@@ -340,110 +338,87 @@ fn cmd_eval(prepared: &Prepared, at: &[String], json: bool) -> Result<bool, Stri
         .map(|s| parse_point(s))
         .collect::<Result<Vec<_>, _>>()?;
     let field = prepared.global_field().map_err(|e| e.to_string())?;
-    let rows: Vec<Value> = points
+    let why = |err: FieldError| match err {
+        FieldError::InObstacle { obstacle } => {
+            format!("inside obstacle {}", prepared.truth.names[obstacle])
+        }
+        err => err.to_string(),
+    };
+    let rows: Vec<_> = points
         .iter()
-        .map(|&x| match field.eval(x) {
-            Ok(e) => json!({ "x": x.x, "y": x.y, "h": [e.h.x, e.h.y], "phi": e.phi, "value": e.value, "grad": [e.gradient.x, e.gradient.y] }),
-            Err(harmonav_field::FieldError::InObstacle { obstacle }) => {
-                json!({ "x": x.x, "y": x.y, "error": format!("inside obstacle {}", prepared.truth.names[obstacle]) })
-            }
-            Err(err) => json!({ "x": x.x, "y": x.y, "error": err.to_string() }),
-        })
+        .map(|&x| (x, field.eval(x).map_err(why)))
         .collect();
     if json {
-        print_json(&rows)?;
-    } else {
-        out!(
-            "{:>10} {:>10}  {:>12} {:>12}  {:>12}  {:>12}  grad",
-            "x",
-            "y",
-            "h_x",
-            "h_y",
-            "phi",
-            "Θ"
-        );
-        for r in &rows {
-            match r.get("error") {
-                Some(e) => out!(
-                    "{:>10.4} {:>10.4}  error: {}",
-                    r["x"],
-                    r["y"],
-                    e.as_str().unwrap_or_default()
-                ),
-                None => out!(
-                    "{:>10.4} {:>10.4}  {:>12.6} {:>12.6}  {:>12.6}  {:>12.8}  ({:.3e}, {:.3e})",
-                    r["x"].as_f64().unwrap_or_default(),
-                    r["y"].as_f64().unwrap_or_default(),
-                    r["h"][0].as_f64().unwrap_or_default(),
-                    r["h"][1].as_f64().unwrap_or_default(),
-                    r["phi"].as_f64().unwrap_or_default(),
-                    r["value"].as_f64().unwrap_or_default(),
-                    r["grad"][0].as_f64().unwrap_or_default(),
-                    r["grad"][1].as_f64().unwrap_or_default()
-                ),
-            }
+        let rows: Vec<Value> = rows
+            .iter()
+            .map(|(x, r)| match r {
+                Ok(e) => json!({ "x": x.x, "y": x.y, "h": [e.h.x, e.h.y], "phi": e.phi, "value": e.value, "grad": [e.gradient.x, e.gradient.y] }),
+                Err(error) => json!({ "x": x.x, "y": x.y, "error": error }),
+            })
+            .collect();
+        return print_json(&rows).map(|()| true);
+    }
+    out!(
+        "{:>10} {:>10}  {:>12} {:>12}  {:>12}  {:>12}  grad",
+        "x",
+        "y",
+        "h_x",
+        "h_y",
+        "phi",
+        "Θ"
+    );
+    for (x, r) in &rows {
+        match r {
+            Err(error) => out!("{:>10.4} {:>10.4}  error: {error}", x.x, x.y),
+            Ok(e) => out!(
+                "{:>10.4} {:>10.4}  {:>12.6} {:>12.6}  {:>12.6}  {:>12.8}  ({:.3e}, {:.3e})",
+                x.x,
+                x.y,
+                e.h.x,
+                e.h.y,
+                e.phi,
+                e.value,
+                e.gradient.x,
+                e.gradient.y
+            ),
         }
     }
     Ok(true)
 }
 
-/// Eigenvalues of the Hessian of Θ at `x` by central differences of ∇Θ.
-fn hessian_eigenvalues(field: &Field, x: Vector2<f64>) -> [f64; 2] {
-    let h = 1e-6;
-    let g = |y: Vector2<f64>| field.eval(y).map(|e| e.gradient).unwrap_or_default();
-    let m = Matrix2::from_columns(&[
-        (g(x + Vector2::new(h, 0.0)) - g(x - Vector2::new(h, 0.0))) / (2.0 * h),
-        (g(x + Vector2::new(0.0, h)) - g(x - Vector2::new(0.0, h))) / (2.0 * h),
-    ]);
-    let sym = 0.5 * (m + m.transpose());
-    let e = sym.symmetric_eigenvalues();
-    [e[0].min(e[1]), e[0].max(e[1])]
-}
-
 fn cmd_census(prepared: &Prepared, json: bool) -> Result<bool, String> {
     let field = prepared.global_field().map_err(|e| e.to_string())?;
-    let (mut minima, mut saddles, mut degenerate) = (0, 0, 0);
-    let points: Vec<Value> = field
-        .critical_points()
+    let census = field.census();
+    let points: Vec<Value> = census
+        .points
         .iter()
-        .map(|c| {
-            let kind = match c.point_world {
-                None => {
-                    minima += 1;
-                    "minimum"
-                }
-                Some(p) if p.kind == CriticalKind::Degenerate => {
-                    degenerate += 1;
-                    "degenerate-saddle"
-                }
-                Some(_) => {
-                    saddles += 1;
-                    "saddle"
-                }
-            };
-            json!({ "x": c.x.x, "y": c.x.y, "kind": kind, "eigenvalues": hessian_eigenvalues(&field, c.x) })
-        })
+        .map(|p| json!({ "x": p.x.x, "y": p.x.y, "kind": p.kind.as_str(), "eigenvalues": p.eigenvalues }))
         .collect();
     let out = json!({
-        "minima": minima, "saddles": saddles, "degenerate": degenerate,
+        "minima": census.minima, "saddles": census.saddles, "degenerate": census.degenerate,
         "k": field.k(), "k_policy": field.k_policy().as_str(), "points": points,
     });
     if json {
         print_json(&out)?;
     } else {
         out!(
-            "{minima} minimum, {saddles} saddles, {degenerate} degenerate (M = {}, k = {} from \"{}\")",
+            "{} minimum, {} saddles, {} degenerate (M = {}, k = {} from \"{}\")",
+            census.minima,
+            census.saddles,
+            census.degenerate,
             prepared.truth.workspace.obstacles().len(),
             field.k(),
             field.k_policy()
         );
-        for p in out["points"].as_array().into_iter().flatten() {
+        for p in &census.points {
+            let eigenvalues = p.eigenvalues.map_or("not resolvable".into(), |[a, b]| {
+                format!("[{a:.6e}, {b:.6e}]")
+            });
             out!(
-                "  {:>18}  ({:.5}, {:.5})  eigenvalues {}",
-                p["kind"].as_str().unwrap_or_default(),
-                p["x"].as_f64().unwrap_or_default(),
-                p["y"].as_f64().unwrap_or_default(),
-                p["eigenvalues"]
+                "  {:>18}  ({:.5}, {:.5})  eigenvalues {eigenvalues}",
+                p.kind.as_str(),
+                p.x.x,
+                p.x.y
             );
         }
     }
@@ -460,38 +435,15 @@ fn cmd_sweep(
     if starts == 0 {
         return Err("`--starts` must be at least 1".into());
     }
-    let ws = prepared.truth.workspace.clone();
-    let mut rng = Rng::new(seed);
-    let points: Vec<Vector2<f64>> = (0..starts)
-        .map(|_| random::free_point(&mut rng, &ws, 1e-3))
-        .collect();
+    let points = random_starts(prepared, starts, seed);
     let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
     let model = model(controller).unwrap_or(prepared.scenario.robot.model);
     let outcomes = sweep(prepared, &points, model, threads).map_err(|e| e.to_string())?;
-    let counts = Counts::of(&outcomes);
-    let mut times: Vec<f64> = outcomes
-        .iter()
-        .filter_map(|o| match o {
-            Outcome::Reached { time } => Some(*time),
-            _ => None,
-        })
-        .collect();
-    times.sort_by(f64::total_cmp);
-    let failures: Vec<Value> = points
-        .iter()
-        .zip(&outcomes)
-        .filter(|(_, o)| !o.reached())
-        .map(|(p, o)| json!({ "start": [p.x, p.y], "reason": o.to_string() }))
-        .collect();
-    let out = json!({
-        "starts": starts, "reached": counts.reached, "collisions": counts.collisions,
-        "left_workspace": counts.left_workspace, "stalled": counts.stalled,
-        "timed_out": counts.timed_out, "step_collapsed": counts.step_collapsed,
-        "median_time_s": times.get(times.len() / 2), "max_time_s": times.last(), "failures": failures,
-    });
+    let report = Report::of(&points, &outcomes);
     if json {
-        print_json(&out)?;
+        print_json(&report)?;
     } else {
+        let counts = &report.counts;
         out!(
             "{} of {starts} starts reached the goal; {} collisions, {} left the workspace, {} \
              stalled, {} timed out, {} step collapses; median {:.2} s, max {:.2} s",
@@ -501,16 +453,12 @@ fn cmd_sweep(
             counts.stalled,
             counts.timed_out,
             counts.step_collapsed,
-            times.get(times.len() / 2).unwrap_or(&f64::NAN),
-            times.last().unwrap_or(&f64::NAN)
+            report.median_time_s.unwrap_or(f64::NAN),
+            report.max_time_s.unwrap_or(f64::NAN)
         );
-        for f in &failures {
-            out!(
-                "  {} : {}",
-                f["start"],
-                f["reason"].as_str().unwrap_or_default()
-            );
+        for f in &report.failures {
+            out!("  {:?} : {}", f.start, f.reason);
         }
     }
-    Ok(counts.reached == starts)
+    Ok(report.all_reached())
 }

@@ -35,9 +35,11 @@
 
 #![warn(missing_docs)]
 
+mod census;
 pub mod descent;
 mod field;
 mod k_policy;
 
+pub use census::{Census, CensusPoint, CriticalType};
 pub use field::{Critical, Field, FieldError, FieldEval};
 pub use k_policy::{AUTO_FACTOR, KPolicy, UnknownKPolicy};

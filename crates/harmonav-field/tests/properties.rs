@@ -2,10 +2,11 @@
 
 use std::sync::Arc;
 
-use harmonav_field::{Field, KPolicy};
+use harmonav_field::{CriticalType, Field, KPolicy};
+use harmonav_potential::checks::fd_jacobian;
 use harmonav_transform::random::{self, Kind, Rng};
 use harmonav_transform::{Active, Workspace};
-use nalgebra::{Matrix2, Vector2};
+use nalgebra::Vector2;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
 
@@ -48,12 +49,6 @@ fn near_boundaries(ws: &Workspace, th: f64, d: f64) -> Vec<Vector2<f64>> {
     let b = ws.boundary();
     pts.push(b.centre() + (b.radius(th).0 - d) * u);
     pts
-}
-
-fn fd_jacobian(f: impl Fn(Vector2<f64>) -> Vector2<f64>, x: Vector2<f64>, h: f64) -> Matrix2<f64> {
-    let cx = (f(x + Vector2::new(h, 0.0)) - f(x - Vector2::new(h, 0.0))) / (2.0 * h);
-    let cy = (f(x + Vector2::new(0.0, h)) - f(x - Vector2::new(0.0, h))) / (2.0 * h);
-    Matrix2::from_columns(&[cx, cy])
 }
 
 proptest! {
@@ -167,6 +162,30 @@ proptest! {
             }
             let index = (turn / std::f64::consts::TAU).round() as i64;
             prop_assert_eq!(index, -(c.point_world.unwrap().multiplicity as i64), "at {:?}, Θ = {}", c.x, e.value);
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(config(300))]
+    /// The census types the critical points and its Hessians are right: at the destination
+    /// H(Θ) = s·I with the closed-form stiffness s (eq. critdamp); at a non-degenerate saddle
+    /// the eigenvalues have opposite signs (lemma saddlep).
+    #[test]
+    fn census_hessians_match_the_closed_form_and_the_saddle_signs(seed in any::<u64>()) {
+        let (field, _) = world(seed);
+        let census = field.census();
+        prop_assert_eq!((census.minima, census.saddles + census.degenerate), (1, census.points.len() - 1));
+        let goal = census.points[0];
+        prop_assert_eq!(goal.kind, CriticalType::Minimum);
+        let s = field.destination_stiffness();
+        let [lo, hi] = goal.eigenvalues.expect("the goal is inside the free space");
+        prop_assert!((lo - s).abs() <= 1e-5 * s && (hi - s).abs() <= 1e-5 * s, "{lo}, {hi} vs {s}");
+        for p in &census.points[1..] {
+            if let (CriticalType::Saddle, Some([lo, hi])) = (p.kind, p.eigenvalues) {
+                // sigma' may underflow far from the goal: then both are 0, never of one sign.
+                prop_assert!(lo <= 0.0 && hi >= 0.0 && (lo < 0.0) == (hi > 0.0), "{lo}, {hi} at {:?}", p.x);
+            }
         }
     }
 }

@@ -46,6 +46,7 @@
 
 pub mod arrangements;
 pub mod batch;
+pub mod checks;
 pub mod critical;
 mod error;
 pub mod sigma;

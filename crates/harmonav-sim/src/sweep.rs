@@ -2,7 +2,9 @@
 
 use harmonav_field::descent::{Ending, FollowOptions, follow};
 use harmonav_sensing::Sensing;
+use harmonav_transform::random::{self, Rng};
 use nalgebra::Vector2;
+use serde::Serialize;
 
 pub use crate::outcome::Outcome;
 use crate::quality::parallel_map;
@@ -58,8 +60,81 @@ pub fn sweep(
         .collect()
 }
 
+/// `count` seeded random starts in the free space of the scenario's true (grown) obstacles,
+/// each at least 1 mm from every boundary (the same starts for the same seed on every machine).
+pub fn random_starts(prepared: &Prepared, count: usize, seed: u64) -> Vec<Vector2<f64>> {
+    let mut rng = Rng::new(seed);
+    (0..count)
+        .map(|_| random::free_point(&mut rng, &prepared.truth.workspace, 1e-3))
+        .collect()
+}
+
+/// A sweep summarised: counts by outcome, arrival times and the starts that did not arrive
+/// (the JSON of `harmonav sweep --json`).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Report {
+    /// How many starts.
+    pub starts: usize,
+    /// Counts by outcome.
+    #[serde(flatten)]
+    pub counts: Counts,
+    /// Median arrival time over the starts that arrived (`None` if none did).
+    pub median_time_s: Option<f64>,
+    /// Longest arrival time.
+    pub max_time_s: Option<f64>,
+    /// Each start that did not arrive, in order.
+    pub failures: Vec<Failure>,
+}
+
+/// A start that did not arrive.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Failure {
+    /// The start `[x, y]`.
+    pub start: [f64; 2],
+    /// What happened, in words.
+    pub reason: String,
+    /// What happened.
+    pub outcome: Outcome,
+}
+
+impl Report {
+    /// Summarises the `outcomes` of `starts` (paired by index).
+    pub fn of(starts: &[Vector2<f64>], outcomes: &[Outcome]) -> Self {
+        let mut times: Vec<f64> = outcomes
+            .iter()
+            .filter_map(|o| match o {
+                Outcome::Reached { time } => Some(*time),
+                _ => None,
+            })
+            .collect();
+        times.sort_by(f64::total_cmp);
+        let failures = starts
+            .iter()
+            .zip(outcomes)
+            .filter(|(_, o)| !o.reached())
+            .map(|(p, o)| Failure {
+                start: [p.x, p.y],
+                reason: o.to_string(),
+                outcome: o.clone(),
+            })
+            .collect();
+        Self {
+            starts: starts.len(),
+            counts: Counts::of(outcomes),
+            median_time_s: times.get(times.len() / 2).copied(),
+            max_time_s: times.last().copied(),
+            failures,
+        }
+    }
+
+    /// Did every start arrive?
+    pub fn all_reached(&self) -> bool {
+        self.counts.reached == self.starts
+    }
+}
+
 /// Counts of a sweep's outcomes.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 pub struct Counts {
     /// Reached the goal.
     pub reached: usize,
@@ -122,5 +197,21 @@ mod tests {
         );
         assert_eq!(outcomes[3].to_string(), "left the workspace");
         assert!(outcomes[0].reached() && !outcomes[2].reached());
+        let starts: Vec<_> = (0..7).map(|i| Vector2::new(i as f64, 0.0)).collect();
+        let report = Report::of(&starts, &outcomes);
+        assert_eq!((report.starts, report.counts), (7, c));
+        assert_eq!(
+            (report.median_time_s, report.max_time_s),
+            (Some(2.0), Some(2.0))
+        );
+        let failed: Vec<[f64; 2]> = report.failures.iter().map(|f| f.start).collect();
+        assert_eq!(
+            failed,
+            [[2.0, 0.0], [3.0, 0.0], [4.0, 0.0], [5.0, 0.0], [6.0, 0.0]]
+        );
+        assert!(!report.all_reached());
+        let json = serde_json::to_value(&report).unwrap();
+        assert_eq!(json["left_workspace"], 1);
+        assert_eq!(json["failures"][1]["outcome"]["kind"], "left-workspace");
     }
 }

@@ -1,14 +1,16 @@
 //! Guarantee checks of `harmonav-potential` (issue: potential core).
 
-use harmonav_potential::{CriticalKind, PointWorld, Vector2, arrangements};
+use harmonav_potential::{CriticalKind, Matrix2, PointWorld, Vector2, arrangements, checks};
 
 use super::{Check, Outcome, outcome};
 use crate::rng::{PointWorlds, Rng, clearance};
 
 pub fn checks() -> Vec<Check> {
     vec![
-        Check::new("potential.gradient-matches-finite-differences", gradient_fd),
-        Check::new("potential.hessian-matches-fd-and-is-harmonic", hessian_fd),
+        Check::new(
+            "potential.derivatives-match-fd-and-are-harmonic",
+            derivatives,
+        ),
         Check::new("potential.attractive-iff-k-above-m", attractive),
         Check::new("potential.no-local-minimum-on-grid", no_local_minimum),
         Check::new("potential.critical-points-are-m-saddles", census),
@@ -19,10 +21,6 @@ pub fn checks() -> Vec<Check> {
         Check::new("potential.non-morse-arrangement-degenerate", non_morse),
         Check::new("potential.extreme-scales-finite", extreme_scales),
     ]
-}
-
-fn grad_scale(w: &PointWorld, h: Vector2<f64>) -> f64 {
-    w.grad_term_scale(h)
 }
 
 fn hess_scale(w: &PointWorld, h: Vector2<f64>) -> f64 {
@@ -47,56 +45,25 @@ fn samples(seed: u64, worlds: usize, per_world: usize) -> Vec<(PointWorld, Vec<V
         .collect()
 }
 
-/// Eq. (gradient) against central differences of phi_k and of varphi.
-fn gradient_fd() -> Outcome {
-    let step = 1e-6;
-    let (ex, ey) = (Vector2::new(step, 0.0), Vector2::new(0.0, step));
-    let mut worst = 0.0f64;
-    let mut n = 0;
+/// Eq. (gradient) and eq. (hessquadratic) against central differences, for phi_k and varphi;
+/// tr H = 0 (lemma locminfree).
+fn derivatives() -> Outcome {
+    let (mut grad, mut hess, mut trace, mut n) = (0.0f64, 0.0f64, 0.0f64, 0);
     for (w, hs) in samples(1, 200, 100) {
         for h in hs {
-            let fd = |f: &dyn Fn(Vector2<f64>) -> f64| {
-                Vector2::new(
-                    (f(h + ex) - f(h - ex)) / (2.0 * step),
-                    (f(h + ey) - f(h - ey)) / (2.0 * step),
-                )
-            };
-            let scale = grad_scale(&w, h);
-            let e1 = (w.grad_phi_k(h).map_err(|e| e.to_string())? - fd(&|x| w.phi_k(x))).norm();
-            let e2 = (w.grad_varphi(h).map_err(|e| e.to_string())? - fd(&|x| w.varphi(x))).norm();
-            worst = worst.max(e1.max(e2) / scale);
+            let e = checks::derivative_errors(&w, h).map_err(|e| format!("{h:?}: {e}"))?;
+            grad = grad.max(e.grad_phi_k.max(e.grad_varphi));
+            hess = hess.max(e.hess_phi_k.max(e.hess_varphi));
+            trace = trace.max(e.trace.max(e.asymmetry));
             n += 1;
         }
     }
     outcome(
-        worst < 1e-6,
+        grad < 1e-6 && hess < 1e-6 && trace < 1e-13,
         format!(
-            "worst error {worst:.1e} (relative to the term scale) over {n} points in 200 worlds"
-        ),
-    )
-}
-
-/// Eq. (hessquadratic) against differences of the gradient; tr H = 0 (lemma locminfree).
-fn hessian_fd() -> Outcome {
-    let step = 1e-6;
-    let (ex, ey) = (Vector2::new(step, 0.0), Vector2::new(0.0, step));
-    let (mut worst, mut worst_trace) = (0.0f64, 0.0f64);
-    for (w, hs) in samples(2, 200, 100) {
-        for h in hs {
-            let g = |x: Vector2<f64>| w.grad_phi_k(x).expect("regular point");
-            let hess = w.hess_phi_k(h).map_err(|e| e.to_string())?;
-            let cx = (g(h + ex) - g(h - ex)) / (2.0 * step);
-            let cy = (g(h + ey) - g(h - ey)) / (2.0 * step);
-            let scale = hess_scale(&w, h);
-            let err = ((hess.column(0) - cx).norm()).max((hess.column(1) - cy).norm());
-            worst = worst.max(err / scale);
-            worst_trace = worst_trace.max(hess.trace().abs() / scale);
-        }
-    }
-    outcome(
-        worst < 1e-6 && worst_trace < 1e-13,
-        format!(
-            "worst FD error {worst:.1e}, worst |tr H| {worst_trace:.1e} (relative) over 20000 points"
+            "worst error (relative to the term scale) over {n} points in 200 worlds: gradient \
+             {:.1e}, Hessian {:.1e}, |tr H| and asymmetry {:.1e}",
+            grad, hess, trace
         ),
     )
 }
@@ -116,25 +83,17 @@ fn attractive() -> Outcome {
             .map_err(|e| e.to_string())?;
         let a = rng.uniform(0.0, std::f64::consts::TAU);
         let u = Vector2::new(a.cos(), a.sin());
-        let slope = 2.0 * (1.0 - m as f64 / w.k());
-        let mut last = f64::NEG_INFINITY;
-        for e in [3, 12, 100, 300] {
-            let r = 10f64.powi(e);
-            let phi = w.phi_k(r * u);
-            if phi.is_nan() || phi <= last {
-                return Err(format!(
-                    "phi_k not increasing at |h| = 1e{e} (k = {})",
-                    w.k()
-                ));
-            }
-            last = phi;
-            if e >= 12 {
-                worst = worst.max((phi / (slope * r.ln()) - 1.0).abs());
-            }
-        }
+        let deviation = checks::far_field(&w, u, &[3, 12, 100, 300]).map_err(|e| {
+            format!(
+                "phi_k not increasing at |h| = {:.0e} (k = {})",
+                e.radius,
+                w.k()
+            )
+        })?;
+        worst = worst.max(deviation);
     }
     outcome(
-        worst < 1e-2,
+        worst < 1e-9,
         format!(
             "500 worlds: k ≤ M rejected; phi_k/(2(1−M/k) ln|h|) − 1 ≤ {worst:.1e} for |h| ≥ 1e12; increasing from 1e3"
         ),
@@ -146,34 +105,10 @@ fn attractive() -> Outcome {
 fn no_local_minimum() -> Outcome {
     let mut rng = Rng::new(4);
     let n = 300;
-    let extent = 6.0;
-    let cell = 2.0 * extent / n as f64;
     for i in 0..20 {
         let w = rng.world(1 + i % 10);
-        let node = |a: usize, b: usize| {
-            Vector2::new(
-                -extent + cell * a as f64 + 1e-7,
-                -extent + cell * b as f64 + 3e-7,
-            )
-        };
-        let v: Vec<f64> = (0..=n)
-            .flat_map(|a| (0..=n).map(move |b| (a, b)))
-            .map(|(a, b)| w.phi_k(node(a, b)))
-            .collect();
-        let at = |a: usize, b: usize| v[a * (n + 1) + b];
-        for a in 1..n {
-            for b in 1..n {
-                if (node(a, b) - w.destination()).norm() < 2.0 * cell {
-                    continue;
-                }
-                let c = at(a, b);
-                let minimum = (0..3).all(|da| {
-                    (0..3).all(|db| (da, db) == (1, 1) || at(a + da - 1, b + db - 1) > c)
-                });
-                if minimum {
-                    return Err(format!("world {i}: local minimum at {:?}", node(a, b)));
-                }
-            }
+        if let Some(x) = checks::grid_local_minimum(&w, n, 6.0) {
+            return Err(format!("world {i}: local minimum at {x:?}"));
         }
     }
     outcome(
@@ -188,31 +123,10 @@ fn census() -> Outcome {
     let (mut points, mut degenerate, mut worst) = (0usize, 0usize, 0.0f64);
     for i in 0..1000 {
         let w = rng.world(1 + i % 20);
-        let m = w.obstacles().len();
-        let cps = w.critical_points();
-        let total: usize = cps.iter().map(|c| c.multiplicity).sum();
-        if total != m {
-            return Err(format!("world {i}: {total} critical points for M = {m}"));
-        }
-        for c in &cps {
-            let g = w.grad_phi_k(c.position).map_err(|e| e.to_string())?;
-            worst = worst.max(g.norm() / grad_scale(&w, c.position));
-            let det = w
-                .hess_phi_k(c.position)
-                .map_err(|e| e.to_string())?
-                .determinant();
-            match c.kind {
-                CriticalKind::Saddle if det >= 0.0 => {
-                    return Err(format!(
-                        "world {i}: critical point {:?} with det H = {det}",
-                        c.position
-                    ));
-                }
-                CriticalKind::Degenerate => degenerate += 1,
-                _ => {}
-            }
-        }
-        points += cps.len();
+        let c = checks::census(&w).map_err(|e| format!("world {i}: {e:?}"))?;
+        points += c.points;
+        degenerate += c.degenerate;
+        worst = worst.max(c.worst_gradient);
     }
     outcome(
         worst < 1e-7,
@@ -226,27 +140,24 @@ fn census() -> Outcome {
 /// 2/Π|P_d − P_i|^{e/k} for e = 2 and e = 4.
 fn destination_hessian() -> Outcome {
     let mut rng = Rng::new(6);
-    let step = 1e-4;
     let (mut worst2, mut best4) = (0.0f64, f64::INFINITY);
     let mut example = String::new();
     let mut used = 0;
     while used < 500 {
         let w = rng.world(1 + used % 10);
-        let d = w.destination();
-        let ln_prod: f64 = w.obstacles().iter().map(|p| (d - p).norm().ln()).sum();
-        if (ln_prod / w.k()).abs() < 0.05 {
-            continue; // Π ≈ 1: the two exponents cannot be told apart
+        let m = checks::destination_hessian(&w, 1e-4);
+        if (m.two_over_k / m.four_over_k).ln().abs() < 0.1 {
+            continue; // Π|P_d − P_i|^{2/k} ≈ 1: the two exponents cannot be told apart
         }
-        let f = |x: Vector2<f64>| w.varphi(x);
-        let hxx = (f(d + Vector2::new(step, 0.0)) + f(d - Vector2::new(step, 0.0)) - 2.0 * f(d))
-            / (step * step);
-        let two = 2.0 * (-2.0 * ln_prod / w.k()).exp();
-        let four = 2.0 * (-4.0 * ln_prod / w.k()).exp();
+        let hxx = m.fd[(0, 0)];
         if example.is_empty() {
-            example = format!("e.g. FD {hxx:.6} vs 2/k: {two:.6}, 4/k: {four:.6}");
+            example = format!(
+                "e.g. FD {hxx:.6} vs 2/k: {:.6}, 4/k: {:.6}",
+                m.two_over_k, m.four_over_k
+            );
         }
-        worst2 = worst2.max((hxx - two).abs() / two);
-        best4 = best4.min((hxx - four).abs() / two);
+        worst2 = worst2.max((m.fd - m.two_over_k * Matrix2::identity()).norm() / m.two_over_k);
+        best4 = best4.min((hxx - m.four_over_k).abs() / m.two_over_k);
         used += 1;
     }
     outcome(
@@ -299,38 +210,9 @@ fn extreme_scales() -> Outcome {
     for i in 0..200 {
         let w = rng.world(1 + i % 10);
         let a = rng.uniform(0.0, std::f64::consts::TAU);
-        let dir = Vector2::new(a.cos(), a.sin());
-        if w.varphi(w.destination()) != 0.0 || w.obstacles().iter().any(|&p| w.varphi(p) != 1.0) {
-            return Err(format!(
-                "world {i}: varphi not exactly 0 at P_d and 1 at P_i"
-            ));
-        }
-        for e in (-300..=300).step_by(25) {
-            let s = 10f64.powi(e);
-            let mut hs = vec![s * dir];
-            hs.extend(
-                w.obstacles()
-                    .iter()
-                    .chain([&w.destination()])
-                    .map(|p| p + s * dir),
-            );
-            for h in hs {
-                if w.singularity(h).is_some() {
-                    continue; // s below the resolution of the point's coordinates
-                }
-                let ok = w.phi_k(h).is_finite()
-                    && (0.0..=1.0).contains(&w.varphi(h))
-                    && w.grad_phi_k(h)
-                        .is_ok_and(|g| g.iter().all(|x| x.is_finite()))
-                    && w.grad_varphi(h)
-                        .is_ok_and(|g| g.iter().all(|x| x.is_finite()))
-                    && w.descent_direction(h).is_some();
-                if !ok {
-                    return Err(format!("world {i}: non-finite result at {h:?}"));
-                }
-                evaluations += 1;
-            }
-        }
+        let u = Vector2::new(a.cos(), a.sin());
+        evaluations += checks::extreme_scales(&w, u, (-300..=300).step_by(25))
+            .map_err(|h| format!("world {i}: non-finite result or inexact limit at {h:?}"))?;
     }
     outcome(
         true,

@@ -58,13 +58,3 @@ pub fn grad_scale(w: &PointWorld, h: Vector2<f64>) -> f64 {
 pub fn hess_scale(w: &PointWorld, h: Vector2<f64>) -> f64 {
     w.hess_term_scale(h)
 }
-
-/// Central finite-difference gradient of a scalar function.
-pub fn fd_grad(f: impl Fn(Vector2<f64>) -> f64, h: Vector2<f64>, step: f64) -> Vector2<f64> {
-    let ex = Vector2::new(step, 0.0);
-    let ey = Vector2::new(0.0, step);
-    Vector2::new(
-        (f(h + ex) - f(h - ex)) / (2.0 * step),
-        (f(h + ey) - f(h - ey)) / (2.0 * step),
-    )
-}
