@@ -4,6 +4,7 @@ use std::sync::Arc;
 
 use harmonav_control::{Branch, DampingPolicy, Dynamic, Kinematic, UPHILL_GAIN};
 use harmonav_field::Field;
+use harmonav_potential::checks::fd_jacobian;
 use harmonav_transform::random::{self, Kind, Rng};
 use nalgebra::{Matrix2, Matrix4, Vector2};
 
@@ -29,9 +30,7 @@ fn critical_damping_at_the_goal() {
         let xd = field.workspace().destination();
         let h = 1e-5;
         let g = |x: Vector2<f64>| law.potential(&field.eval(x).unwrap()).gradient;
-        let hx = (g(xd + Vector2::new(h, 0.0)) - g(xd - Vector2::new(h, 0.0))) / (2.0 * h);
-        let hy = (g(xd + Vector2::new(0.0, h)) - g(xd - Vector2::new(0.0, h))) / (2.0 * h);
-        let hess = Matrix2::from_columns(&[hx, hy]);
+        let hess = fd_jacobian(g, xd, h);
         let (m, mu, lc) = (law.mass(), law.mu(), law.lambda_c(&field));
         for eig in hess.symmetric_eigenvalues().iter() {
             let zeta = lc / (2.0 * (m * mu * eig).sqrt());

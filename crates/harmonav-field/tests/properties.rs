@@ -3,7 +3,7 @@
 use std::sync::Arc;
 
 use harmonav_field::{CriticalType, Field, KPolicy};
-use harmonav_potential::checks::fd_jacobian;
+use harmonav_potential::checks::{fd_gradient, fd_jacobian};
 use harmonav_transform::random::{self, Kind, Rng};
 use harmonav_transform::{Active, Workspace};
 use nalgebra::Vector2;
@@ -93,8 +93,7 @@ proptest! {
             prop_assert!((m.jacobian - fd).norm() <= 1e-5 * m.jacobian.norm(), "J = {}, fd = {fd}", m.jacobian);
             let e = field.eval(x).unwrap();
             let v = |y: Vector2<f64>| field.eval(y).unwrap().value;
-            let g = Vector2::new((v(x + Vector2::new(h, 0.0)) - v(x - Vector2::new(h, 0.0))) / (2.0 * h),
-                                 (v(x + Vector2::new(0.0, h)) - v(x - Vector2::new(0.0, h))) / (2.0 * h));
+            let g = fd_gradient(v, x, h);
             prop_assert!((e.gradient - g).norm() <= 1e-5 * e.gradient.norm() + 1e-9, "∇Θ = {:?}, fd = {g:?}", e.gradient);
             if matches!(m.active, Active::Identity) {
                 prop_assert_eq!(m.h, x);

@@ -6,7 +6,8 @@ use harmonav_control::{DampingPolicy, Dynamic, Kinematic};
 use harmonav_field::Field;
 use harmonav_sensing::Sector;
 use harmonav_transform::random::{self, Kind, Rng};
-use nalgebra::{Matrix2, Vector2};
+use harmonav_potential::checks::fd_jacobian;
+use nalgebra::Vector2;
 
 use super::{Check, Outcome, outcome};
 
@@ -62,10 +63,7 @@ fn critical_damping() -> Outcome {
                 .map(|e| law.potential(&e).gradient)
                 .unwrap_or(Vector2::zeros())
         };
-        let hess = Matrix2::from_columns(&[
-            (g(xd + Vector2::new(h, 0.0)) - g(xd - Vector2::new(h, 0.0))) / (2.0 * h),
-            (g(xd + Vector2::new(0.0, h)) - g(xd - Vector2::new(0.0, h))) / (2.0 * h),
-        ]);
+        let hess = fd_jacobian(g, xd, h);
         for eig in hess.symmetric_eigenvalues().iter() {
             let zeta = law.lambda_c(&field) / (2.0 * (law.mass() * law.mu() * eig).sqrt());
             worst = worst.max((zeta - 1.0).abs());

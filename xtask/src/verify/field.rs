@@ -6,6 +6,7 @@ use std::sync::Arc;
 use harmonav_field::descent::{Ending, FollowOptions, follow};
 use harmonav_field::{Field, KPolicy};
 use harmonav_transform::random::{self, Kind, Rng};
+use harmonav_potential::checks::{fd_gradient, fd_jacobian};
 use nalgebra::Vector2;
 
 use super::{Check, Outcome, outcome};
@@ -79,21 +80,16 @@ fn diffeomorphism() -> Outcome {
                 let back = t.inverse(m.h).ok_or("inverse failed")?;
                 worst_trip = worst_trip.max((back - x).norm());
                 let h = 1e-7;
-                let (ex, ey) = (Vector2::new(h, 0.0), Vector2::new(0.0, h));
                 let map =
                     |y: Vector2<f64>| t.nav_transform(y).map(|m| m.h).unwrap_or(Vector2::zeros());
-                let cx = (map(x + ex) - map(x - ex)) / (2.0 * h);
-                let cy = (map(x + ey) - map(x - ey)) / (2.0 * h);
-                let err = (m.jacobian.column(0) - cx)
+                let fd = fd_jacobian(map, x, h);
+                let err = (m.jacobian.column(0) - fd.column(0))
                     .norm()
-                    .max((m.jacobian.column(1) - cy).norm());
+                    .max((m.jacobian.column(1) - fd.column(1)).norm());
                 worst_j = worst_j.max(err / m.jacobian.norm());
                 let v = |y: Vector2<f64>| field.eval(y).map(|e| e.value).unwrap_or(f64::NAN);
                 let g = field.eval(x).map_err(|e| e.to_string())?.gradient;
-                let fd = Vector2::new(
-                    (v(x + ex) - v(x - ex)) / (2.0 * h),
-                    (v(x + ey) - v(x - ey)) / (2.0 * h),
-                );
+                let fd = fd_gradient(v, x, h);
                 if g.norm() > 1e-6 {
                     worst_g = worst_g.max((g - fd).norm() / g.norm());
                 }

@@ -2,6 +2,7 @@
 //! radial maps `Phi` is built from.
 
 use harmonav_transform::radial::{obstacle_map, outer_map};
+use harmonav_potential::checks::fd_jacobian;
 use nalgebra::Vector2;
 
 use super::{Check, Outcome, outcome};
@@ -78,13 +79,11 @@ fn radial_maps() -> Outcome {
                         let (r, dr) = boundary(which, y.y.atan2(y.x));
                         radial(which, y.norm(), r, dr).nu * y / y.norm()
                     };
-                    let h = 1e-7;
-                    let cx =
-                        (phi(x + Vector2::new(h, 0.0)) - phi(x - Vector2::new(h, 0.0))) / (2.0 * h);
-                    let cy =
-                        (phi(x + Vector2::new(0.0, h)) - phi(x - Vector2::new(0.0, h))) / (2.0 * h);
+                    let fd = fd_jacobian(phi, x, 1e-7);
                     let j = m.jacobian(x / rho, rho);
-                    let err = (j.column(0) - cx).norm().max((j.column(1) - cy).norm())
+                    let err = (j.column(0) - fd.column(0))
+                        .norm()
+                        .max((j.column(1) - fd.column(1)).norm())
                         / j.norm().max(1.0);
                     worst_fd = worst_fd.max(err);
                 }
