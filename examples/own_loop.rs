@@ -1,7 +1,8 @@
 //! harmonav in your own robot loop: your integrator, your perception (discs within 1 m are
 //! reported), the Navigator's commands. Runs both laws and exits non-zero if a run fails.
 //!
-//! `cargo run --release -p harmonav --example own_loop`
+//! `cargo run --release --manifest-path examples/Cargo.toml --bin own_loop` (a project of its
+//! own, outside the workspace, whose only dependency is `harmonav`)
 
 use harmonav::{Law, NavError, Navigator, Options, StarShape, Vector2};
 
