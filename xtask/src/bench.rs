@@ -22,6 +22,8 @@ pub struct Options {
     json: bool,
     numpy: bool,
     portable: bool,
+    /// Only the figures whose names start with this (`--only PREFIX`).
+    only: Option<String>,
 }
 
 impl Options {
@@ -30,16 +32,29 @@ impl Options {
             json: false,
             numpy: false,
             portable: false,
+            only: None,
         };
-        for a in args {
+        let mut args = args.iter();
+        while let Some(a) = args.next() {
             match a.as_str() {
                 "--json" => options.json = true,
                 "--numpy" => options.numpy = true,
                 "--portable" => options.portable = true,
+                "--only" => match args.next() {
+                    Some(prefix) => options.only = Some(prefix.clone()),
+                    None => return Err("`--only` needs a figure-name prefix".into()),
+                },
                 other => return Err(format!("unknown bench option `{other}`")),
             }
         }
         Ok(options)
+    }
+
+    /// Whether the figure (or group of figures) `name` is to be measured.
+    fn wants(&self, name: &str) -> bool {
+        self.only
+            .as_deref()
+            .is_none_or(|p| name.starts_with(p) || p.starts_with(name))
     }
 }
 
@@ -54,38 +69,62 @@ pub fn run(options: &Options) -> ExitCode {
             serde_json::json!((value * 1000.0).round() / 1000.0),
         );
     };
-    put("grad_single_ns", grad_single_ns(6));
-    let mut ours = f64::NAN;
-    for m in [6, 20, 100, 1000] {
-        let ns = grad_batch_ns_per_pair(m, 4096);
-        if m == 100 {
-            put("grad_batch_ns_per_pair", ns);
-            ours = ns;
-        }
-        put(&format!("grad_batch_ns_per_pair_m{m}"), ns);
+    let wants = |name: &str| options.wants(name);
+    if wants("grad_single_ns") {
+        put("grad_single_ns", grad_single_ns(6));
     }
-    put("field_grad_ns_m20", field_grad_ns(20));
-    put("control_step_ns_m6", control_step_ns(DampingPolicy::Auto));
-    put(
-        "control_step_ns_m6_damping_paper",
-        control_step_ns(DampingPolicy::Paper),
-    );
-    put("navigator_command_ns_m6", navigator_command_ns());
-    put("montecarlo_runs_per_s", montecarlo_runs_per_s());
-    // The motion-quality benchmark (docs/benchmarks.md): both laws, every policy.
-    let models = [Model::Kinematic, Model::Dynamic];
-    let plan = quality::plan(&models, &KPolicy::ALL, &DampingPolicy::ALL, quality::WORLDS);
-    let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
-    match harmonav_sim::quality::run_plan(&plan, threads) {
-        Ok(stats) => {
-            quality::figures(&stats, &mut put);
-            if !options.json {
-                print!("{}", quality::table(&stats));
+    let mut ours = f64::NAN;
+    if wants("grad_batch") || options.numpy {
+        for m in [6, 20, 100, 1000] {
+            let ns = grad_batch_ns_per_pair(m, 4096);
+            if m == 100 {
+                put("grad_batch_ns_per_pair", ns);
+                ours = ns;
+            }
+            put(&format!("grad_batch_ns_per_pair_m{m}"), ns);
+        }
+    }
+    if wants("field_grad_ns_m20") {
+        put("field_grad_ns_m20", field_grad_ns(20));
+    }
+    if wants("field_eval_ns_discs20") {
+        match field_eval_ns_discs20() {
+            Ok(ns) => put("field_eval_ns_discs20", ns),
+            Err(e) => {
+                eprintln!("xtask bench: {e}");
+                return ExitCode::FAILURE;
             }
         }
-        Err(e) => {
-            eprintln!("xtask bench: the motion-quality benchmark failed: {e}");
-            return ExitCode::FAILURE;
+    }
+    if wants("control_step_ns_m6") {
+        put("control_step_ns_m6", control_step_ns(DampingPolicy::Auto));
+        put(
+            "control_step_ns_m6_damping_paper",
+            control_step_ns(DampingPolicy::Paper),
+        );
+    }
+    if wants("navigator_command_ns_m6") {
+        put("navigator_command_ns_m6", navigator_command_ns());
+    }
+    if wants("montecarlo_runs_per_s") {
+        put("montecarlo_runs_per_s", montecarlo_runs_per_s());
+    }
+    // The motion-quality benchmark (docs/benchmarks.md): both laws, every policy.
+    if wants("quality") {
+        let models = [Model::Kinematic, Model::Dynamic];
+        let plan = quality::plan(&models, &KPolicy::ALL, &DampingPolicy::ALL, quality::WORLDS);
+        let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
+        match harmonav_sim::quality::run_plan(&plan, threads) {
+            Ok(stats) => {
+                quality::figures(&stats, &mut put);
+                if !options.json {
+                    print!("{}", quality::table(&stats));
+                }
+            }
+            Err(e) => {
+                eprintln!("xtask bench: the motion-quality benchmark failed: {e}");
+                return ExitCode::FAILURE;
+            }
         }
     }
     if options.numpy {
@@ -205,6 +244,29 @@ fn field_grad_ns(m: usize) -> f64 {
             }
         }
     })
+}
+
+/// `Θ` and `∇Θ` per point, one thread, in `scenarios/scale/discs-20-global.toml` (20 discs,
+/// all known) at 4096 seeded free points: the Rust side of the Python package's benchmark
+/// (`python/bench/bench_eval.py`, which times `Field.eval` and NumPy in the same world).
+fn field_eval_ns_discs20() -> Result<f64, String> {
+    use harmonav_sim::scenario::Scenario;
+    use harmonav_transform::random::{self, Rng};
+    let path = std::path::Path::new("scenarios/scale/discs-20-global.toml");
+    let prepared = Scenario::load(path).map_err(|e| e.to_string())?;
+    let field = prepared.global_field().map_err(|e| e.to_string())?;
+    let mut rng = Rng::new(0);
+    let pts: Vec<_> = (0..4096)
+        .map(|_| random::free_point(&mut rng, &prepared.truth.workspace, 1e-3))
+        .collect();
+    let reps = 25;
+    Ok(median_ns(21, (reps * pts.len()) as f64, || {
+        for _ in 0..reps {
+            for &x in &pts {
+                let _ = black_box(field.eval(black_box(x)));
+            }
+        }
+    }))
 }
 
 /// A robot state `(x, ẋ)`.

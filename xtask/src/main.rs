@@ -2,7 +2,7 @@
 //!
 //! - `cargo xtask verify` runs every named guarantee check (the paper's properties, measured)
 //!   and ends with `verify: N passed, M failed` (exit code 1 if M > 0).
-//! - `cargo xtask bench [--json] [--numpy] [--portable]` re-runs itself in release mode and prints the
+//! - `cargo xtask bench [--json] [--numpy] [--portable] [--only PREFIX]` re-runs itself in release mode and prints the
 //!   benchmark figures (one JSON object with `--json`).
 //! - `cargo xtask figures` regenerates the documentation figures in `docs/figures/`.
 
@@ -14,13 +14,14 @@ mod verify;
 
 use std::process::ExitCode;
 
-const USAGE: &str = "usage: cargo xtask <verify | bench [--json] [--numpy] [--portable] | figures>
+const USAGE: &str = "usage: cargo xtask <verify | bench [--json] [--numpy] [--portable] [--only PREFIX] | figures>
 
   verify   run the named guarantee checks; ends with `verify: N passed, M failed`
   bench    measure the benchmark figures in release mode
              --json    print one JSON object instead of a table
              --numpy   also time a NumPy implementation of eq. (gradient) (needs python3 + numpy)
              --portable  compile for the baseline target instead of this machine's CPU
+             --only P  only the figures whose names start with P (e.g. field_eval, quality)
   figures  regenerate the documentation figures in docs/figures/";
 
 fn main() -> ExitCode {

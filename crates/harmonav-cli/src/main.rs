@@ -8,9 +8,9 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand, ValueEnum};
 use harmonav_control::DampingPolicy;
 use harmonav_field::{FieldError, KPolicy};
-use harmonav_sim::physics::{Drive, run_rapier};
+use harmonav_sim::physics::{Physics, simulate};
 use harmonav_sim::record::write_outputs;
-use harmonav_sim::run::{Summary, run};
+use harmonav_sim::run::Summary;
 use harmonav_sim::scenario::{Model, Prepared, Scenario};
 use harmonav_sim::sweep::{Report, random_starts, sweep};
 use nalgebra::Vector2;
@@ -70,7 +70,7 @@ impl From<DampingArg> for DampingPolicy {
 }
 
 #[derive(Clone, Copy, ValueEnum, PartialEq)]
-enum Physics {
+enum PhysicsArg {
     Builtin,
     Rapier,
 }
@@ -85,7 +85,7 @@ enum Command {
         controller: Option<Controller>,
         /// The integrator: the built-in one or the rapier2d cross-check.
         #[arg(long, default_value = "builtin")]
-        physics: Physics,
+        physics: PhysicsArg,
         /// Write summary.json, run.mcap, trajectory.svg (and speed.svg) here.
         #[arg(long)]
         out: Option<PathBuf>,
@@ -294,19 +294,16 @@ fn cmd_run(
     path: &Path,
     prepared: &Prepared,
     controller: Option<Controller>,
-    physics: Physics,
+    physics: PhysicsArg,
     out: Option<&Path>,
     json: bool,
 ) -> Result<bool, String> {
-    let m = model(controller);
-    let builtin = run(prepared, m).map_err(|e| format!("{}: {e}", path.display()))?;
-    let result = if physics == Physics::Rapier {
-        run_rapier(prepared, m, Drive::Law, Some(&builtin))
-            .map_err(|e| format!("{}: {e}", path.display()))?
-            .0
-    } else {
-        builtin
+    let physics = match physics {
+        PhysicsArg::Builtin => Physics::Builtin,
+        PhysicsArg::Rapier => Physics::Rapier,
     };
+    let result = simulate(prepared, model(controller), physics)
+        .map_err(|e| format!("{}: {e}", path.display()))?;
     if let Some(dir) = out {
         write_outputs(dir, prepared, &result)?;
     }

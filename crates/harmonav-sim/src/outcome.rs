@@ -75,6 +75,30 @@ impl Outcome {
     pub fn reached(&self) -> bool {
         matches!(self, Self::Reached { .. })
     }
+
+    /// The name of the outcome, as in the JSON's `"kind"`: `reached`, `collision`,
+    /// `left-workspace`, `stalled`, `timed-out` or `step-collapsed`.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Self::Reached { .. } => "reached",
+            Self::Collision => "collision",
+            Self::LeftWorkspace => "left-workspace",
+            Self::Stalled { .. } => "stalled",
+            Self::TimedOut { .. } => "timed-out",
+            Self::StepCollapsed { .. } => "step-collapsed",
+        }
+    }
+
+    /// The time the outcome carries (arrival, stall, time budget or collapse), if any.
+    pub fn time(&self) -> Option<f64> {
+        match self {
+            Self::Reached { time }
+            | Self::Stalled { time }
+            | Self::TimedOut { time }
+            | Self::StepCollapsed { time } => Some(*time),
+            Self::Collision | Self::LeftWorkspace => None,
+        }
+    }
 }
 
 impl std::fmt::Display for Outcome {

@@ -15,7 +15,9 @@ use rapier2d_f64::prelude::{ColliderBuilder, PhysicsWorld, RigidBodyBuilder, Vec
 use crate::closed_loop::ClosedLoop;
 use crate::guarantee::{Check, FreeSpaceLoss};
 use crate::monitor::Monitor;
-use crate::run::{Guarantee, Run, RunError, Sample};
+use serde::{Deserialize, Serialize};
+
+use crate::run::{Guarantee, Run, RunError, Sample, run};
 use crate::scenario::{Model, Prepared};
 
 /// A controller other than the law: `(field, eval, x, ẋ) → command`.
@@ -62,6 +64,44 @@ fn collider(shape: &StarShape, obstacle: bool) -> ColliderBuilder {
         .collect();
     let idx: Vec<[u32; 2]> = (0..n).map(|i| [i, (i + 1) % n]).collect();
     ColliderBuilder::polyline(pts, Some(idx))
+}
+
+/// Which integrator moves the robot.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Physics {
+    /// The built-in adaptive integrator ([`run`]).
+    #[default]
+    Builtin,
+    /// rapier2d, cross-checked against a built-in run of the same model ([`run_rapier`]).
+    Rapier,
+}
+
+impl std::str::FromStr for Physics {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "builtin" => Ok(Self::Builtin),
+            "rapier" => Ok(Self::Rapier),
+            other => Err(format!(
+                "unknown physics \"{other}\": expected \"builtin\" or \"rapier\""
+            )),
+        }
+    }
+}
+
+/// Runs the scenario with `model` (or the file's) under `physics`: the built-in run, or the
+/// rapier run with the built-in run as the reference of its deviation guarantee.
+pub fn simulate(
+    prepared: &Prepared,
+    model: Option<Model>,
+    physics: Physics,
+) -> Result<Run, RunError> {
+    let builtin = run(prepared, model)?;
+    match physics {
+        Physics::Builtin => Ok(builtin),
+        Physics::Rapier => Ok(run_rapier(prepared, model, Drive::Law, Some(&builtin))?.0),
+    }
 }
 
 /// Runs the scenario in rapier with `drive`; `builtin` (a built-in run of the same model) is

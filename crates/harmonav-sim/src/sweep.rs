@@ -213,5 +213,10 @@ mod tests {
         let json = serde_json::to_value(&report).unwrap();
         assert_eq!(json["left_workspace"], 1);
         assert_eq!(json["failures"][1]["outcome"]["kind"], "left-workspace");
+        for o in &outcomes {
+            let json = serde_json::to_value(o).unwrap();
+            assert_eq!(json["kind"], o.kind(), "{o:?}");
+            assert_eq!(json["time"].as_f64(), o.time(), "{o:?}");
+        }
     }
 }

@@ -4,9 +4,9 @@ use std::sync::Arc;
 
 use harmonav_control::{DampingPolicy, Dynamic, Kinematic};
 use harmonav_field::Field;
+use harmonav_potential::checks::fd_jacobian;
 use harmonav_sensing::Sector;
 use harmonav_transform::random::{self, Kind, Rng};
-use harmonav_potential::checks::fd_jacobian;
 use nalgebra::Vector2;
 
 use super::{Check, Outcome, outcome};

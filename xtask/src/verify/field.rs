@@ -5,8 +5,8 @@ use std::sync::Arc;
 
 use harmonav_field::descent::{Ending, FollowOptions, follow};
 use harmonav_field::{Field, KPolicy};
-use harmonav_transform::random::{self, Kind, Rng};
 use harmonav_potential::checks::{fd_gradient, fd_jacobian};
+use harmonav_transform::random::{self, Kind, Rng};
 use nalgebra::Vector2;
 
 use super::{Check, Outcome, outcome};

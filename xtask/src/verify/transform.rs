@@ -1,8 +1,8 @@
 //! Guarantee checks of `harmonav-transform` (issue: navigation transformations), so far the
 //! radial maps `Phi` is built from.
 
-use harmonav_transform::radial::{obstacle_map, outer_map};
 use harmonav_potential::checks::fd_jacobian;
+use harmonav_transform::radial::{obstacle_map, outer_map};
 use nalgebra::Vector2;
 
 use super::{Check, Outcome, outcome};
