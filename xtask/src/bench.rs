@@ -87,9 +87,12 @@ pub fn run(options: &Options) -> ExitCode {
     if wants("field_grad_ns_m20") {
         put("field_grad_ns_m20", field_grad_ns(20));
     }
-    if wants("field_eval_ns_discs20") {
+    if wants("field_eval_ns_discs20") || wants("field_eval_many_ns_discs20") {
         match field_eval_ns_discs20() {
-            Ok(ns) => put("field_eval_ns_discs20", ns),
+            Ok((one, many)) => {
+                put("field_eval_ns_discs20", one);
+                put("field_eval_many_ns_discs20", many);
+            }
             Err(e) => {
                 eprintln!("xtask bench: {e}");
                 return ExitCode::FAILURE;
@@ -247,9 +250,10 @@ fn field_grad_ns(m: usize) -> f64 {
 }
 
 /// `Θ` and `∇Θ` per point, one thread, in `scenarios/scale/discs-20-global.toml` (20 discs,
-/// all known) at 4096 seeded free points: the Rust side of the Python package's benchmark
+/// all known) at 4096 seeded free points, point by point (`Field::eval`) and batched
+/// (`Field::eval_many`): the Rust side of the Python package's benchmark
 /// (`python/bench/bench_eval.py`, which times `Field.eval` and NumPy in the same world).
-fn field_eval_ns_discs20() -> Result<f64, String> {
+fn field_eval_ns_discs20() -> Result<(f64, f64), String> {
     use harmonav_sim::scenario::Scenario;
     use harmonav_transform::random::{self, Rng};
     let path = std::path::Path::new("scenarios/scale/discs-20-global.toml");
@@ -260,13 +264,20 @@ fn field_eval_ns_discs20() -> Result<f64, String> {
         .map(|_| random::free_point(&mut rng, &prepared.truth.workspace, 1e-3))
         .collect();
     let reps = 25;
-    Ok(median_ns(21, (reps * pts.len()) as f64, || {
+    let one = median_ns(21, (reps * pts.len()) as f64, || {
         for _ in 0..reps {
             for &x in &pts {
                 let _ = black_box(field.eval(black_box(x)));
             }
         }
-    }))
+    });
+    let mut out = vec![Err(harmonav_field::FieldError::Outside); pts.len()];
+    let many = median_ns(21, (reps * pts.len()) as f64, || {
+        for _ in 0..reps {
+            let _ = black_box(field.eval_many(black_box(&pts), &mut out));
+        }
+    });
+    Ok((one, many))
 }
 
 /// A robot state `(x, ẋ)`.

@@ -14,7 +14,8 @@ mod verify;
 
 use std::process::ExitCode;
 
-const USAGE: &str = "usage: cargo xtask <verify | bench [--json] [--numpy] [--portable] [--only PREFIX] | figures>
+const USAGE: &str =
+    "usage: cargo xtask <verify | bench [--json] [--numpy] [--portable] [--only PREFIX] | figures>
 
   verify   run the named guarantee checks; ends with `verify: N passed, M failed`
   bench    measure the benchmark figures in release mode

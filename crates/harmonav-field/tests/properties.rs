@@ -189,6 +189,31 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(config(200))]
+    /// The batched evaluation equals the single-point one bit for bit, for points everywhere:
+    /// free, in the obstacle and outer bands, inside obstacles, outside, at the goal, NaN.
+    #[test]
+    fn eval_many_equals_eval_everywhere(seed in any::<u64>()) {
+        let (field, mut rng) = world(seed);
+        let ws = field.workspace();
+        let mut xs: Vec<Vector2<f64>> = (0..150).map(|_| random::free_point(&mut rng, ws, 1e-3)).collect();
+        for (i, th) in [0.3, 1.9, -2.2].into_iter().enumerate() {
+            xs.extend(near_boundaries(ws, th, 1e-3 * (i + 1) as f64));
+            xs.extend(near_boundaries(ws, th, -1e-3));
+        }
+        xs.extend([ws.destination(), Vector2::new(f64::NAN, 0.0), Vector2::new(1e300, 0.0)]);
+        let mut out = vec![Err(harmonav_field::FieldError::Outside); xs.len()];
+        field.eval_many(&xs, &mut out).unwrap();
+        for (x, o) in xs.iter().zip(&out) {
+            prop_assert_eq!(o, &field.eval(*x), "at {:?}", x);
+        }
+        prop_assert_eq!(field.eval(Vector2::new(f64::NAN, 0.0)), Err(harmonav_field::FieldError::NotFinite));
+        let mut short = vec![Err(harmonav_field::FieldError::Outside); 3];
+        prop_assert!(field.eval_many(&xs, &mut short).is_err());
+    }
+}
+
 /// Discovery: k follows the policy (n + 1 for the paper, 6(n + 1) by default), obstacles are
 /// never forgotten, Θ changes only through the known set.
 #[test]

@@ -10,6 +10,8 @@
 //! at an obstacle point, or a non-finite one, is reported as
 //! [`PotentialError::SingularQuery`] — never returned as NaN.
 
+use nalgebra::Vector2;
+
 use crate::error::PotentialError;
 use crate::world::PointWorld;
 
@@ -129,10 +131,75 @@ impl BatchGradient {
     }
 }
 
+impl PointWorld {
+    /// [`PointWorld::phi_and_grad`] (without an exact offset) at many points: `out[n]` is
+    /// `Some((phi_k, ∇phi_k))` at `hs[n]` where the one-logarithm fast path applies, bit for
+    /// bit what `phi_and_grad(hs[n], None)` returns, and `None` where it does not (a factor
+    /// `|h − P_i|²` outside `[1/B, B]`, `h` at or extremely near `P_d`, or a non-finite `h`):
+    /// the caller then takes the guarded scalar path for that point.
+    ///
+    /// Points are processed in chunks of [`CHUNK`] in structure-of-arrays form with the
+    /// obstacle loop outside, so the compiler vectorises across points (the scalar path is
+    /// latency-bound on its running product). No allocation.
+    ///
+    /// Errors: [`PotentialError::LengthMismatch`] if `out` is not as long as `hs` (nothing is
+    /// written).
+    pub fn phi_and_grad_many(
+        &self,
+        hs: &[Vector2<f64>],
+        out: &mut [Option<(f64, Vector2<f64>)>],
+    ) -> Result<(), PotentialError> {
+        if hs.len() != out.len() {
+            return Err(PotentialError::LengthMismatch {
+                lengths: [hs.len(), hs.len(), out.len(), out.len()],
+            });
+        }
+        let bound = self.product_bound();
+        let (k, k2) = (self.k(), 2.0 / self.k());
+        let d = self.destination();
+        for (hs, out) in hs.chunks(CHUNK).zip(out.chunks_mut(CHUNK)) {
+            let len = hs.len();
+            let mut hx = [0.0f64; CHUNK];
+            let mut hy = [0.0f64; CHUNK];
+            for (i, h) in hs.iter().enumerate() {
+                hx[i] = h.x;
+                hy[i] = h.y;
+            }
+            let mut gx = [0.0f64; CHUNK];
+            let mut gy = [0.0f64; CHUNK];
+            let mut prod = [1.0f64; CHUNK];
+            let mut lo = [f64::INFINITY; CHUNK];
+            let mut hi = [0.0f64; CHUNK];
+            for p in self.obstacles() {
+                for i in 0..CHUNK {
+                    let (vx, vy) = (hx[i] - p.x, hy[i] - p.y);
+                    let r2 = vx * vx + vy * vy;
+                    let inv = 1.0 / r2;
+                    gx[i] += vx * inv;
+                    gy[i] += vy * inv;
+                    prod[i] *= r2;
+                    lo[i] = lo[i].min(r2);
+                    hi[i] = hi[i].max(r2);
+                }
+            }
+            for i in 0..len {
+                let (vx, vy) = (hx[i] - d.x, hy[i] - d.y);
+                let rd2 = vx * vx + vy * vy;
+                // The guard of `phi_and_grad`: every factor in [1/B, B] and |h − P_d|² normal.
+                out[i] = (lo[i] >= bound.recip() && hi[i] <= bound && rd2.is_normal()).then(|| {
+                    let phi = rd2.ln() - prod[i].ln() / k;
+                    let g = Vector2::new(2.0 * vx / rd2 - k2 * gx[i], 2.0 * vy / rd2 - k2 * gy[i]);
+                    (phi, g)
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nalgebra::Vector2;
 
     fn world() -> PointWorld {
         let pts: Vec<_> = (0..7)
@@ -160,6 +227,40 @@ mod tests {
             let err = ((gx[i] - g.x).powi(2) + (gy[i] - g.y).powi(2)).sqrt();
             assert!(err <= 1e-12 * g.norm().max(1.0), "point {i}: {err}");
         }
+    }
+
+    #[test]
+    fn many_points_equal_the_scalar_fast_path_bit_for_bit() {
+        let w = world();
+        let n = 3 * CHUNK + 7;
+        let mut hs: Vec<Vector2<f64>> = (0..n)
+            .map(|i| {
+                Vector2::new(
+                    -4.0 + 8.0 * (i as f64 + 0.5) / n as f64,
+                    1.7 * (i as f64 * 0.37).sin(),
+                )
+            })
+            .collect();
+        // Singular and extreme points take the guarded path: None here.
+        hs[5] = w.destination();
+        hs[CHUNK + 1] = w.obstacles()[2];
+        hs[2 * CHUNK] = Vector2::new(1e200, 0.0);
+        hs[2 * CHUNK + 3] = Vector2::new(f64::NAN, 0.0);
+        let mut out = vec![None; n];
+        w.phi_and_grad_many(&hs, &mut out).unwrap();
+        for (i, (h, o)) in hs.iter().zip(&out).enumerate() {
+            if [5, CHUNK + 1, 2 * CHUNK, 2 * CHUNK + 3].contains(&i) {
+                assert_eq!(*o, None, "point {i}");
+            } else {
+                let (phi, g) = o.expect("fast path");
+                assert_eq!((phi, g), w.phi_and_grad(*h, None).unwrap(), "point {i}");
+            }
+        }
+        let mut short = vec![None; n - 1];
+        assert!(matches!(
+            w.phi_and_grad_many(&hs, &mut short),
+            Err(PotentialError::LengthMismatch { .. })
+        ));
     }
 
     #[test]

@@ -31,9 +31,11 @@ pub enum PotentialError {
         /// The second obstacle's index.
         second: usize,
     },
-    /// The buffers handed to [`crate::BatchGradient::eval`] differ in length.
+    /// The buffers handed to a batched evaluation ([`crate::BatchGradient::eval`],
+    /// [`crate::PointWorld::phi_and_grad_many`]) differ in length.
     LengthMismatch {
-        /// Lengths of `hx`, `hy`, `gx`, `gy`.
+        /// Lengths of the inputs `hx`, `hy` and the outputs `gx`, `gy` (for
+        /// `phi_and_grad_many`: the points twice, the outputs twice).
         lengths: [usize; 4],
     },
     /// An argument of a constructor outside its domain (named, with the requirement).
@@ -70,7 +72,7 @@ impl fmt::Display for PotentialError {
             }
             Self::LengthMismatch { lengths } => write!(
                 f,
-                "batched gradient buffers differ in length (hx, hy, gx, gy) = {lengths:?}"
+                "batched buffers differ in length (inputs x, y; outputs x, y) = {lengths:?}"
             ),
             Self::InvalidArgument { problem } => write!(f, "invalid argument: {problem}"),
             Self::SingularQuery { index } => write!(

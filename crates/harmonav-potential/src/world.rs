@@ -104,6 +104,12 @@ impl PointWorld {
         ln_norm2(h - self.destination) - obstacles / self.k
     }
 
+    /// `B = 10^{300/M}` (at most 1e150): the fast path of [`Self::phi_and_grad`] multiplies
+    /// factors `|h − P_i|²` in `[1/B, B]` only, so that their product stays a normal `f64`.
+    pub(crate) fn product_bound(&self) -> f64 {
+        self.product_bound
+    }
+
     /// `phi_k(h)` and `∇phi_k(h)` together (eq. `gradient`), for the per-step hot path.
     ///
     /// `exact` optionally gives the offset `h − P_i` of one obstacle point exactly, for when

@@ -213,6 +213,29 @@ impl NavTransform {
         })
     }
 
+    /// For many points at once, which ones lie where `Phi` is the identity and the point is
+    /// free: outside every band's reach (`|x − c_i| ≥ max R_i + ε_i`, which also excludes the
+    /// obstacles) and inside the identity disc of the outer map (`|x − c_0| ≤ min R_0 − ε_0`).
+    /// `identity[n]` is set for `xs[n]`; `false` says only that [`Self::nav_transform`] has to
+    /// decide (a band, an obstacle, outside, or a NaN coordinate). There
+    /// `nav_transform(x) = (x, I, Identity)` exactly. The band loop runs outside the point loop
+    /// without branches, so it vectorises across points. Only the common length is written.
+    pub fn identity_mask(&self, xs: &[Vector2<f64>], identity: &mut [bool]) {
+        let n = xs.len().min(identity.len());
+        let (xs, identity) = (&xs[..n], &mut identity[..n]);
+        let c0 = self.outer.centre();
+        for (x, id) in xs.iter().zip(identity.iter_mut()) {
+            let (dx, dy) = (x.x - c0.x, x.y - c0.y);
+            *id = dx * dx + dy * dy <= self.inner2;
+        }
+        for &[cx, cy, reach2] in &self.reach {
+            for (x, id) in xs.iter().zip(identity.iter_mut()) {
+                let (dx, dy) = (x.x - cx, x.y - cy);
+                *id &= dx * dx + dy * dy >= reach2;
+            }
+        }
+    }
+
     /// `Phi⁻¹(h)` by bisection on `ν` along the ray (each band map increases strictly in `ρ`);
     /// `None` if `h` is an obstacle point `P_i`. Accurate to ~1e-14 relative.
     pub fn inverse(&self, h: Vector2<f64>) -> Option<Vector2<f64>> {
