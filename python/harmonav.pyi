@@ -1,0 +1,158 @@
+"""harmonav: provably correct robot navigation with the harmonic navigation functions of
+Loizou & Rimon, ``Θ = σ∘φ_k∘Φ`` (eq. ``phiseq``), in Rust with NumPy arrays in and out."""
+
+from os import PathLike
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union, overload
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+_Point = Union[Sequence[float], npt.NDArray[np.float64]]
+_Points = npt.ArrayLike
+
+class Shape:
+    """A star-shaped region ``{c + r·u : r ≤ R(θ)}``: an obstacle or a workspace boundary."""
+
+    @property
+    def center(self) -> npt.NDArray[np.float64]:
+        """The centre ``c`` about which the shape is star-shaped, (2,)."""
+    def contains(self, point_xy: _Point) -> bool:
+        """Whether the point lies in the closed region."""
+    @overload
+    def signed_distance(self, points_xy: Sequence[float]) -> float: ...
+    @overload
+    def signed_distance(self, points_xy: npt.NDArray[np.float64]) -> Union[float, npt.NDArray[np.float64]]:
+        """Signed distance to the outline, negative inside: a float for one point, an (N,)
+        array for an (N, 2) array."""
+    def outline(self, n: int = 256) -> npt.NDArray[np.float64]:
+        """``n`` points on the outline, evenly spaced in angle, (n, 2)."""
+
+def circle(center: _Point, radius: float) -> Shape:
+    """A disc: ``R(θ) = r``."""
+
+def ellipse(center: _Point, semi_axes: _Point, angle_deg: float = 0.0) -> Shape:
+    """An ellipse: ``R(ψ) = ab/√(b² cos²ψ + a² sin²ψ)``, ``ψ = θ − angle``."""
+
+def polygon(vertices: _Points, corner_radius: float) -> Shape:
+    """A polygon, star-shaped about its vertex centroid, with corners rounded to ``corner_radius``."""
+
+def star(center: _Point, radius: float, harmonics: Sequence[Tuple[int, float, float]]) -> Shape:
+    """A Fourier star ``R(θ) = r0 + Σ (a_n cos nθ + b_n sin nθ)``, harmonics ``(n, a_n, b_n)``."""
+
+class Field:
+    """``Θ(x) = σ(φ_k(Φ(x)))`` with every obstacle known.
+
+    ``k`` is ``"auto"`` (``k = 6(M + 1)``) or ``"paper"`` (``k = M + 1``); ``margin`` grows the
+    obstacles and shrinks the boundary.
+    """
+
+    def __init__(
+        self,
+        boundary: Shape,
+        obstacles: Sequence[Shape],
+        goal: _Point,
+        k: str = "auto",
+        margin: float = 0.0,
+    ) -> None: ...
+    @property
+    def k(self) -> float:
+        """``k`` of ``φ_k``."""
+    def eval(
+        self, points_xy: _Points
+    ) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+        """``(theta (N,), grad (N, 2))`` at the rows of an (N, 2) array; NaN rows outside the
+        free space or for non-finite input (``free`` is the mask)."""
+    def free(self, points_xy: _Points) -> npt.NDArray[np.bool_]:
+        """Whether each row lies in the free space, (N,)."""
+    def census(self) -> List[Dict[str, Any]]:
+        """The critical points of ``Θ`` (theorem ``isNF``): dicts with ``x``, ``kind`` and
+        ``eigenvalues``."""
+
+class Navigator:
+    """The navigator of a robot that does not know its map.
+
+    ``law="kinematic"``: ``u = −K√(2Θ)∇Θ/|∇Θ|`` (eq. ``kinctrl``), ``K = gain``.
+    ``law="dynamic"``: ``f = −μ∇Ψ − λẋ`` (eq. ``dynctrllocal``) for a robot of mass ``mass``,
+    whose speed stays below ``√(2μ/m)``.
+    """
+
+    def __init__(
+        self,
+        boundary: Shape,
+        goal: _Point,
+        law: str = "kinematic",
+        gain: float = 1.0,
+        mass: float = 1.0,
+        mu: float = 10.0,
+        sensor: Tuple[float, float] = (1.0, 60.0),
+        radius: float = 0.0,
+        margin: float = 0.0,
+        k: str = "auto",
+        damping: str = "auto",
+        rho_min: float = 0.05,
+    ) -> None: ...
+    def add_obstacle(self, shape: Shape) -> int:
+        """Adds a newly sensed obstacle; returns its index. ``ValueError`` leaves the navigator unchanged."""
+    def command(self, x: _Point, v: Optional[_Point] = None) -> npt.NDArray[np.float64]:
+        """The law's command (a velocity or a force), (2,)."""
+    def theta(self, x: _Point) -> float:
+        """``Θ(x)`` over the known obstacles."""
+    @property
+    def k(self) -> float: ...
+    @property
+    def obstacle_count(self) -> int: ...
+    @property
+    def goal(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def speed_bound(self) -> Optional[float]:
+        """``√(2μ/m)`` for the dynamic law, ``None`` for the kinematic one."""
+
+class RunResult:
+    """The result of ``Scenario.run``."""
+
+    summary: Dict[str, Any]
+    t: npt.NDArray[np.float64]
+    x: npt.NDArray[np.float64]
+    v: npt.NDArray[np.float64]
+    theta: npt.NDArray[np.float64]
+    discoveries: List[Dict[str, Any]]
+
+class Scenario:
+    """A scenario file, validated as ``harmonav check`` does."""
+
+    @staticmethod
+    def load(path: Union[str, PathLike[str]]) -> Scenario:
+        """Raises ``ValueError`` naming the file, field and line of the first problem."""
+    @property
+    def name(self) -> str: ...
+    @property
+    def path(self) -> str: ...
+    def field(self) -> Field:
+        """``Θ`` with every obstacle known, grown by the robot's radius and margin (what
+        ``harmonav eval`` evaluates)."""
+    def run(
+        self,
+        controller: Optional[str] = None,
+        physics: str = "builtin",
+        out: Optional[Union[str, PathLike[str]]] = None,
+    ) -> RunResult: ...
+
+class SweepResult:
+    """The result of ``sweep``."""
+
+    starts: npt.NDArray[np.float64]
+    outcomes: npt.NDArray[np.str_]
+    times: npt.NDArray[np.float64]
+    reached: npt.NDArray[np.bool_]
+    report: Dict[str, Any]
+
+def sweep(
+    scenario: Scenario,
+    starts: Union[int, _Points],
+    seed: int = 0,
+    controller: Optional[str] = None,
+) -> SweepResult:
+    """Many starts with every obstacle known, in parallel: a count of seeded random starts or an
+    (N, 2) array."""

@@ -1,0 +1,163 @@
+//! `Θ = σ∘φ_k∘Φ` with every given obstacle known, evaluated in batches.
+
+use std::sync::Arc;
+
+use harmonav_rs::KPolicy;
+use harmonav_rs::field::{Field as RsField, FieldError};
+use harmonav_rs::transform::Workspace;
+use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::convert::{parallel_rows, point, points, policy, value_error};
+use crate::shapes::Shape;
+
+/// Points per `Field::eval_many` call (its results live on the stack).
+const BATCH: usize = 256;
+
+/// `(Θ (N,), ∇Θ (N, 2))` of a batch evaluation.
+type ThetaAndGradient<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray2<f64>>);
+
+/// The navigation function `Θ(x) = σ(φ_k(Φ(x)))` (eq. `phiseq`) of a workspace whose every
+/// obstacle is known: `boundary` and `obstacles` are `Shape`s, `goal` the destination `x_d`.
+/// `k` is the policy `"auto"` (the default, `k = 6(M + 1)`) or `"paper"` (`k = M + 1`).
+/// `margin` (m) grows the obstacles and shrinks the boundary, as a robot radius does.
+#[pyclass(module = "harmonav", frozen)]
+pub struct Field {
+    inner: RsField,
+}
+
+impl From<RsField> for Field {
+    fn from(inner: RsField) -> Self {
+        Self { inner }
+    }
+}
+
+#[pymethods]
+impl Field {
+    #[new]
+    #[pyo3(signature = (boundary, obstacles, goal, k="auto", margin=0.0))]
+    fn new(
+        boundary: &Shape,
+        obstacles: Vec<PyRef<'_, Shape>>,
+        goal: [f64; 2],
+        k: &str,
+        margin: f64,
+    ) -> PyResult<Self> {
+        let k: KPolicy = policy(k)?;
+        if !(margin.is_finite() && margin >= 0.0) {
+            return Err(value_error(format!(
+                "margin must be finite and ≥ 0, got {margin}"
+            )));
+        }
+        let goal = point(goal, "goal")?;
+        let boundary = boundary.inner.offset(-margin).map_err(value_error)?;
+        let grown = obstacles
+            .iter()
+            .enumerate()
+            .map(|(i, o)| {
+                o.inner
+                    .offset(margin)
+                    .map_err(|e| value_error(format!("obstacles[{i}]: {e}")))
+            })
+            .collect::<PyResult<Vec<_>>>()?;
+        let ws = Workspace::new(boundary, grown, goal).map_err(value_error)?;
+        let inner = RsField::all_known_with(Arc::new(ws), k).map_err(value_error)?;
+        Ok(Self { inner })
+    }
+
+    /// `k` of `φ_k`.
+    #[getter]
+    fn k(&self) -> f64 {
+        self.inner.k()
+    }
+
+    /// `(theta, grad)` at each row of `points` (N, 2): `Θ` as an (N,) array and `∇Θ` as an
+    /// (N, 2) array. Rows outside the free space (inside an obstacle grown by `margin`, on or
+    /// outside the boundary) and non-finite rows are NaN; `free(points)` is the mask. Runs
+    /// without the GIL through the batched `Field::eval_many`, on all cores for large N.
+    fn eval<'py>(
+        &self,
+        py: Python<'py>,
+        points_xy: PyReadonlyArray2<'py, f64>,
+    ) -> PyResult<ThetaAndGradient<'py>> {
+        let pts = points(&points_xy)?;
+        let n = pts.len();
+        let theta = PyArray1::<f64>::zeros(py, n, false);
+        let grad = PyArray2::<f64>::zeros(py, [n, 2], false);
+        {
+            let (mut tw, mut gw) = (theta.readwrite(), grad.readwrite());
+            let (t, g) = (tw.as_slice_mut()?, gw.as_slice_mut()?);
+            py.detach(|| {
+                parallel_rows(&pts, [t, g], [1, 2], |xs, [t, g]| {
+                    let mut evals = [const { Err(FieldError::Outside) }; BATCH];
+                    let pieces = xs.chunks(BATCH).zip(t.chunks_mut(BATCH));
+                    for ((xs, t), g) in pieces.zip(g.chunks_mut(2 * BATCH)) {
+                        let evals = &mut evals[..xs.len()];
+                        // The lengths are equal by construction.
+                        let batch = self.inner.eval_many(xs, evals);
+                        for ((e, t), g) in evals.iter().zip(t).zip(g.chunks_exact_mut(2)) {
+                            (*t, g[0], g[1]) = match (&batch, e) {
+                                (Ok(()), Ok(e)) => (e.value, e.gradient.x, e.gradient.y),
+                                _ => (f64::NAN, f64::NAN, f64::NAN),
+                            };
+                        }
+                    }
+                })
+            });
+        }
+        Ok((theta, grad))
+    }
+
+    /// Whether each row of `points` (N, 2) lies in the free space (a boolean (N,) array).
+    fn free<'py>(
+        &self,
+        py: Python<'py>,
+        points_xy: PyReadonlyArray2<'py, f64>,
+    ) -> PyResult<Bound<'py, PyArray1<bool>>> {
+        let pts = points(&points_xy)?;
+        let mut out = vec![0.0; pts.len()];
+        py.detach(|| {
+            parallel_rows(&pts, [&mut out], [1], |xs, [rows]| {
+                for (x, row) in xs.iter().zip(rows) {
+                    *row = if self.inner.eval(*x).is_ok() {
+                        1.0
+                    } else {
+                        0.0
+                    };
+                }
+            })
+        });
+        Ok(PyArray1::from_vec(
+            py,
+            out.iter().map(|&v| v > 0.5).collect(),
+        ))
+    }
+
+    /// The critical points of `Θ` (theorem `isNF`): a list of dicts with `x` (a (2,) list),
+    /// `kind` (`"minimum"`, `"saddle"` or `"degenerate-saddle"`) and `eigenvalues` of the
+    /// Hessian (ascending, or `None` where it cannot be resolved).
+    fn census<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        self.inner
+            .census()
+            .points
+            .iter()
+            .map(|p| {
+                let d = PyDict::new(py);
+                d.set_item("x", [p.x.x, p.x.y])?;
+                d.set_item("kind", p.kind.as_str())?;
+                d.set_item("eigenvalues", p.eigenvalues)?;
+                Ok(d)
+            })
+            .collect()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Field({} obstacles, k={}, policy=\"{}\")",
+            self.inner.known().len(),
+            self.inner.k(),
+            self.inner.k_policy()
+        )
+    }
+}

@@ -1,0 +1,237 @@
+//! Scenario files: loading (with the CLI's validation), runs and sweeps.
+
+use std::path::PathBuf;
+
+use harmonav_sim::physics::{Physics, simulate};
+use harmonav_sim::record::write_outputs;
+use harmonav_sim::run::Run;
+use harmonav_sim::scenario::{Model, Prepared, Scenario as RsScenario};
+use harmonav_sim::sweep::{Report, random_starts, sweep as rs_sweep};
+use numpy::{PyArray1, PyArray2, PyReadonlyArray2, PyUntypedArrayMethods};
+use pyo3::exceptions::PyTypeError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::convert::{points, policy, rows2, value_error};
+use crate::field::Field;
+
+/// A scenario file (TOML, `scenarios/README.md`), validated as `harmonav check` does.
+#[pyclass(module = "harmonav", frozen)]
+pub struct Scenario {
+    prepared: Prepared,
+    path: PathBuf,
+}
+
+fn model(controller: Option<&str>) -> PyResult<Option<Model>> {
+    match controller {
+        None => Ok(None),
+        Some("kinematic") => Ok(Some(Model::Kinematic)),
+        Some("dynamic") => Ok(Some(Model::Dynamic)),
+        Some(other) => Err(value_error(format!(
+            "unknown controller \"{other}\": expected \"kinematic\" or \"dynamic\""
+        ))),
+    }
+}
+
+/// A JSON-serialisable Rust value as a Python object (through `json.loads`), so that the keys
+/// are exactly those of the files the CLI writes.
+fn to_python<'py>(py: Python<'py>, value: &impl serde::Serialize) -> PyResult<Bound<'py, PyAny>> {
+    let text = serde_json::to_string(value).map_err(value_error)?;
+    py.import("json")?.call_method1("loads", (text,))
+}
+
+#[pymethods]
+impl Scenario {
+    /// Loads and validates `path`. Raises `ValueError` naming the file, the field and the line
+    /// of the first problem.
+    #[staticmethod]
+    fn load(path: PathBuf) -> PyResult<Self> {
+        let prepared = RsScenario::load(&path).map_err(value_error)?;
+        Ok(Self { prepared, path })
+    }
+
+    /// The scenario's `name`.
+    #[getter]
+    fn name(&self) -> &str {
+        &self.prepared.scenario.name
+    }
+
+    /// The file it was loaded from.
+    #[getter]
+    fn path(&self) -> String {
+        self.path.display().to_string()
+    }
+
+    /// The field `Θ` of the scenario with every obstacle known (global sensing), grown by the
+    /// robot's radius and margin: what `harmonav eval` evaluates.
+    fn field(&self) -> PyResult<Field> {
+        let field = self.prepared.global_field().map_err(value_error)?;
+        Ok(Field::from(field))
+    }
+
+    /// Runs the scenario and checks every guarantee. `controller` (`"kinematic"` or
+    /// `"dynamic"`) overrides the file's model; `physics` is `"builtin"` or `"rapier"` (the
+    /// rapier2d cross-check); `out`, a directory, receives summary.json, run.mcap and the
+    /// figures. The simulation runs without the GIL.
+    #[pyo3(signature = (controller=None, physics="builtin", out=None))]
+    fn run(
+        &self,
+        py: Python<'_>,
+        controller: Option<&str>,
+        physics: &str,
+        out: Option<PathBuf>,
+    ) -> PyResult<RunResult> {
+        let model = model(controller)?;
+        let physics: Physics = policy(physics)?;
+        let prepared = &self.prepared;
+        let run = py
+            .detach(|| simulate(prepared, model, physics))
+            .map_err(|e| value_error(format!("{}: {e}", self.path.display())))?;
+        if let Some(dir) = &out {
+            py.detach(|| write_outputs(dir, prepared, &run))
+                .map_err(value_error)?;
+        }
+        RunResult::new(py, &run)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Scenario({:?}, {})",
+            self.prepared.scenario.name,
+            self.path.display()
+        )
+    }
+}
+
+/// The result of `Scenario.run`: `summary` (the dict of summary.json: `reached`, `time_s`,
+/// `guarantees`, `outcome`, …), the recorded states `t` (N,), `x` (N, 2), `v` (N, 2),
+/// `theta` (N,), and `discoveries` (a list of dicts: `obstacle`, `time_s`, `position`).
+#[pyclass(module = "harmonav", frozen, get_all)]
+pub struct RunResult {
+    summary: Py<PyAny>,
+    t: Py<PyArray1<f64>>,
+    x: Py<PyArray2<f64>>,
+    v: Py<PyArray2<f64>>,
+    theta: Py<PyArray1<f64>>,
+    discoveries: Py<PyAny>,
+}
+
+impl RunResult {
+    fn new(py: Python<'_>, run: &Run) -> PyResult<Self> {
+        let n = run.samples.len();
+        let column = |f: &dyn Fn(&harmonav_sim::run::Sample) -> f64| -> Vec<f64> {
+            run.samples.iter().map(f).collect()
+        };
+        let pairs = |f: &dyn Fn(&harmonav_sim::run::Sample) -> [f64; 2]| -> Vec<f64> {
+            run.samples.iter().flat_map(f).collect()
+        };
+        let discoveries = pyo3::types::PyList::empty(py);
+        for d in &run.summary.discoveries {
+            let item = PyDict::new(py);
+            item.set_item("obstacle", &d.obstacle)?;
+            item.set_item("index", d.index)?;
+            item.set_item("time_s", d.time_s)?;
+            item.set_item("position", d.position)?;
+            discoveries.append(item)?;
+        }
+        Ok(Self {
+            summary: to_python(py, &run.summary)?.unbind(),
+            t: PyArray1::from_vec(py, column(&|s| s.t)).unbind(),
+            x: rows2(py, pairs(&|s| s.x), n)?.unbind(),
+            v: rows2(py, pairs(&|s| s.v), n)?.unbind(),
+            theta: PyArray1::from_vec(py, column(&|s| s.theta)).unbind(),
+            discoveries: discoveries.into_any().unbind(),
+        })
+    }
+}
+
+#[pymethods]
+impl RunResult {
+    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+        let summary = self.summary.bind(py);
+        Ok(format!(
+            "RunResult(reached={}, time_s={}, samples={})",
+            summary.get_item("reached")?,
+            summary.get_item("time_s")?,
+            self.t.bind(py).len()
+        ))
+    }
+}
+
+/// The result of `sweep`: `starts` (N, 2), `outcomes` (N,) strings (`"reached"`,
+/// `"collision"`, `"left-workspace"`, `"stalled"`, `"timed-out"`, `"step-collapsed"`),
+/// `times` (N,) seconds (the arrival time for reached starts, the stall, budget or collapse
+/// time otherwise, NaN for a collision), `reached` (N,) booleans and `report`, the dict of
+/// `harmonav sweep --json`.
+#[pyclass(module = "harmonav", frozen, get_all)]
+pub struct SweepResult {
+    starts: Py<PyArray2<f64>>,
+    outcomes: Py<PyAny>,
+    times: Py<PyArray1<f64>>,
+    reached: Py<PyArray1<bool>>,
+    report: Py<PyAny>,
+}
+
+#[pymethods]
+impl SweepResult {
+    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+        let report = self.report.bind(py);
+        Ok(format!(
+            "SweepResult(starts={}, reached={})",
+            report.get_item("starts")?,
+            report.get_item("reached")?
+        ))
+    }
+}
+
+/// Many starts in the scenario's world with every obstacle known (global sensing), in
+/// parallel without the GIL: `starts` is a count of seeded random free starts (`seed`) or an
+/// (N, 2) array of starts. `controller` overrides the file's model.
+#[pyfunction]
+#[pyo3(signature = (scenario, starts, seed=0, controller=None))]
+pub fn sweep(
+    py: Python<'_>,
+    scenario: &Scenario,
+    starts: &Bound<'_, PyAny>,
+    seed: u64,
+    controller: Option<&str>,
+) -> PyResult<SweepResult> {
+    let prepared = &scenario.prepared;
+    let pts = if let Ok(count) = starts.extract::<usize>() {
+        py.detach(|| random_starts(prepared, count, seed))
+    } else if let Ok(array) = starts.extract::<PyReadonlyArray2<'_, f64>>() {
+        let pts = points(&array)?;
+        if let Some(i) = pts.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
+            return Err(value_error(format!("starts[{i}] is not finite")));
+        }
+        pts
+    } else {
+        return Err(PyTypeError::new_err(
+            "starts must be a count (int) or an (N, 2) float array",
+        ));
+    };
+    let model = model(controller)?.unwrap_or(prepared.scenario.robot.model);
+    let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
+    let outcomes = py
+        .detach(|| rs_sweep(prepared, &pts, model, threads))
+        .map_err(value_error)?;
+    let report = Report::of(&pts, &outcomes);
+    let n = pts.len();
+    let flat: Vec<f64> = pts.iter().flat_map(|p| [p.x, p.y]).collect();
+    let kinds: Vec<&str> = outcomes.iter().map(|o| o.kind()).collect();
+    let numpy = py.import("numpy")?;
+    Ok(SweepResult {
+        starts: rows2(py, flat, n)?.unbind(),
+        outcomes: numpy.call_method1("asarray", (kinds,))?.unbind(),
+        times: PyArray1::from_vec(
+            py,
+            outcomes
+                .iter()
+                .map(|o| o.time().unwrap_or(f64::NAN))
+                .collect(),
+        )
+        .unbind(),
+        reached: PyArray1::from_vec(py, outcomes.iter().map(|o| o.reached()).collect()).unbind(),
+        report: to_python(py, &report)?.unbind(),
+    })
+}

@@ -1,0 +1,70 @@
+"""Scenario files: validation errors, runs with their arrays, sweeps."""
+
+import json
+
+import numpy as np
+import pytest
+
+import harmonav
+from conftest import SCENARIOS
+
+
+def test_a_run_returns_the_summary_and_the_trajectory(tmp_path):
+    sc = harmonav.Scenario.load(SCENARIOS / "shapes" / "mixed.toml")
+    assert sc.name == "shapes-mixed"
+    res = sc.run(out=tmp_path)
+    s = res.summary
+    assert s["reached"] and s["outcome"]["kind"] == "reached"
+    assert all(g["passed"] for g in s["guarantees"])
+    n = len(res.t)
+    assert res.x.shape == (n, 2) and res.v.shape == (n, 2) and res.theta.shape == (n,)
+    assert np.all(np.diff(res.t) >= 0) and abs(res.t[-1] - s["time_s"]) < 1e-9
+    assert np.all((res.theta >= 0) & (res.theta <= 1))
+    np.testing.assert_allclose(res.x[0], [-4.0, 0.1])
+    assert np.linalg.norm(res.x[-1] - [4.0, 0.0]) <= 0.01
+    names = [d["obstacle"] for d in res.discoveries]
+    assert names == [d["obstacle"] for d in s["discoveries"]] and len(names) >= 1
+    written = json.loads((tmp_path / "summary.json").read_text())
+    assert written["time_s"] == s["time_s"]
+
+
+def test_the_controller_override_runs_the_dynamic_law():
+    sc = harmonav.Scenario.load(SCENARIOS / "shapes" / "dynamic-small.toml")
+    res = sc.run(controller="kinematic")
+    assert res.summary["model"] == "kinematic" and res.summary["reached"]
+    with pytest.raises(ValueError, match="kinematic"):
+        sc.run(controller="pid")
+    with pytest.raises(ValueError, match="rapier"):
+        sc.run(physics="bullet")
+
+
+def test_load_errors_name_the_file_the_field_and_the_line(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text(
+        'name = "x"\n[workspace]\ntype = "circle"\ncenter = [0.0, 0.0]\nradius = -1.0\n'
+        '[robot]\nmodel = "kinematic"\nstart = [0.0, 0.0]\ngoal = [1.0, 0.0]\n'
+    )
+    with pytest.raises(ValueError) as err:
+        harmonav.Scenario.load(bad)
+    msg = str(err.value)
+    assert "bad.toml" in msg and "workspace.radius" in msg and "positive" in msg
+    broken = tmp_path / "broken.toml"
+    broken.write_text('name = "x"\n[workspace\n')
+    with pytest.raises(ValueError, match=r"broken\.toml:2"):
+        harmonav.Scenario.load(broken)
+    with pytest.raises(ValueError, match="no-such"):
+        harmonav.Scenario.load(tmp_path / "no-such.toml")
+
+
+def test_sweep_from_a_count_and_from_an_array():
+    sc = harmonav.Scenario.load(SCENARIOS / "shapes" / "mixed.toml")
+    res = harmonav.sweep(sc, 12, seed=3, controller="kinematic")
+    assert res.starts.shape == (12, 2)
+    assert res.outcomes.tolist() == ["reached"] * 12 and res.reached.all()
+    assert np.all(res.times > 0) and res.report["reached"] == 12
+    again = harmonav.sweep(sc, res.starts[:3], controller="kinematic")
+    np.testing.assert_array_equal(again.times, res.times[:3])
+    with pytest.raises(ValueError, match="finite"):
+        harmonav.sweep(sc, np.array([[np.nan, 0.0]]))
+    with pytest.raises(TypeError):
+        harmonav.sweep(sc, "many")
