@@ -132,6 +132,9 @@ class Scenario:
     def field(self) -> Field:
         """``Θ`` with every obstacle known, grown by the robot's radius and margin (what
         ``harmonav eval`` evaluates)."""
+    def shortest_path(self) -> Tuple[float, npt.NDArray[np.float64]]:
+        """``(length, waypoints (K, 2))`` of the shortest collision-free path around the grown
+        shapes (independent of ``Θ``)."""
     def run(
         self,
         controller: Optional[str] = None,

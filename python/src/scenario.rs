@@ -94,6 +94,16 @@ impl Scenario {
         RunResult::new(py, &run)
     }
 
+    /// The shortest collision-free path from the start to the goal around the shapes grown by
+    /// the robot's radius and margin (a reduced visibility graph over their outlines,
+    /// independent of `Θ`): `(length, waypoints (K, 2))`. The true shortest length lies within
+    /// the outline's chord error of `length`. Raises `ValueError` if there is none.
+    fn shortest_path<'py>(&self, py: Python<'py>) -> PyResult<(f64, Bound<'py, PyArray2<f64>>)> {
+        let path = harmonav_sim::quality::reference(&self.prepared).map_err(value_error)?;
+        let flat = path.waypoints.iter().flat_map(|p| [p.x, p.y]).collect();
+        Ok((path.length, rows2(py, flat, path.waypoints.len())?))
+    }
+
     fn __repr__(&self) -> String {
         format!(
             "Scenario({:?}, {})",

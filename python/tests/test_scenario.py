@@ -68,3 +68,15 @@ def test_sweep_from_a_count_and_from_an_array():
         harmonav.sweep(sc, np.array([[np.nan, 0.0]]))
     with pytest.raises(TypeError):
         harmonav.sweep(sc, "many")
+
+
+def test_the_shortest_path_is_shorter_than_the_run_and_longer_than_the_segment():
+    sc = harmonav.Scenario.load(SCENARIOS / "shapes" / "mixed.toml")
+    length, waypoints = sc.shortest_path()
+    start, goal = np.array([-4.0, 0.1]), np.array([4.0, 0.0])
+    np.testing.assert_allclose(waypoints[0], start)
+    np.testing.assert_allclose(waypoints[-1], goal)
+    assert abs(np.sum(np.linalg.norm(np.diff(waypoints, axis=0), axis=1)) - length) < 1e-9
+    res = sc.run()
+    travelled = np.sum(np.linalg.norm(np.diff(res.x, axis=0), axis=1))
+    assert np.linalg.norm(goal - start) <= length <= travelled

@@ -1,0 +1,308 @@
+"""harmonav against navground 0.7 (HL and ORCA) in the same seeded disc worlds, and in two
+worlds where a purely reactive planner is known to struggle.
+
+    pip install ./python "navground==0.7.*"      # navground is not a test dependency
+    python examples/python/compare_navground.py [--worlds 20] [--markdown]
+
+Every method drives a disc robot of radius 0.1 m from the same start to the same goal in a
+disc workspace of radius 5 m.
+
+- harmonav runs each world's scenario with its built-in integrator and its guarantee
+  monitors. It senses through the paper's sector (1 m, 60°): an obstacle becomes known only
+  when it is seen. Four configurations: both laws (kinematic, K = 1; dynamic, m = 1 kg,
+  μ = 10), each with the paper's choices (`k = "paper"`, `damping = "paper"`) and the defaults.
+  It arrives within 0.01 m.
+- navground's HL and ORCA behaviours get the whole map from the start (discs as `Disc`, the
+  non-disc shapes as 1024 line segments of their outlines, the wall as 256),  an omnidirectional robot with
+  1 m/s top speed, 100 Hz steps, and arrival within 0.05 m (its target tolerance).
+
+Reported per method: arrival within 120 s, runs with a collision (the clearance to a true
+shape, less the radius, at or below 0) and the closest clearance over all runs, path length over the shortest path (the median over the
+arrivals, from harmonav's visibility-graph shortest path around the grown shapes), time to
+the goal (median over arrivals), and the cost of one command, timed from Python for both
+(`Navigator.command` with every obstacle known, `Behavior.compute_cmd`).
+"""
+
+import argparse
+import math
+import pathlib
+import statistics
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+import harmonav
+
+try:
+    from navground import core
+except ImportError:  # pragma: no cover - the comparison needs it, the tests do not
+    sys.exit('navground is needed: pip install "navground==0.7.*"')
+
+WORKSPACE_RADIUS = 5.0
+ROBOT_RADIUS = 0.1
+MAX_TIME = 120.0
+HARMONAV = [
+    ("harmonav kinematic, paper", "kinematic", "paper", "paper"),
+    ("harmonav kinematic, default", "kinematic", "auto", "auto"),
+    ("harmonav dynamic, paper", "dynamic", "paper", "paper"),
+    ("harmonav dynamic, default", "dynamic", "auto", "auto"),
+]
+NAVGROUND = ["HL", "ORCA"]
+
+
+# --- worlds -----------------------------------------------------------------------------------
+
+
+def disc_world(m, seed):
+    """`m` discs (radius 0.2–0.5 m, 0.35 m apart and from the wall) and a start and goal at
+    least 6 m apart, 0.35 m clear of everything. Deterministic in `seed`."""
+    rng = np.random.default_rng(seed)
+    while True:
+        discs = []
+        for _ in range(5000):
+            if len(discs) == m:
+                break
+            r = rng.uniform(0.2, 0.5)
+            c = rng.uniform(-WORKSPACE_RADIUS, WORKSPACE_RADIUS, 2)
+            if WORKSPACE_RADIUS - np.linalg.norm(c) - r < 0.35:
+                continue
+            if all(np.linalg.norm(c - d) - r - s >= 0.35 for d, s in discs):
+                discs.append((c, r))
+        if len(discs) < m:
+            continue
+
+        def clear(p):
+            return WORKSPACE_RADIUS - np.linalg.norm(p) > 0.35 and all(
+                np.linalg.norm(p - c) - r > 0.35 for c, r in discs
+            )
+
+        for _ in range(1000):
+            s, g = rng.uniform(-4.5, 4.5, (2, 2))
+            if np.linalg.norm(s - g) >= 6.0 and clear(s) and clear(g):
+                shapes = [{"type": "circle", "center": list(c), "radius": r} for c, r in discs]
+                return {"name": f"discs-m{m}-seed{seed}", "obstacles": shapes, "start": s, "goal": g}
+
+
+def concave_star_world():
+    """A deep three-lobed star (R(θ) = 1.6 + 0.8 cos 3θ: bays 1.6 m deep between lobes 2.4 m
+    long) whose bay at θ = π faces the start: the straight line to the goal runs into it. The
+    start is 0.3 m off the symmetry axis (on it, the descent ends at the saddle on the axis)."""
+    star = {"type": "star", "center": [0.0, 0.0], "radius": 1.6, "harmonics": [[3, 0.8, 0.0]]}
+    return {"name": "concave-star", "obstacles": [star], "start": np.array([-4.0, 0.3]), "goal": np.array([4.2, 0.0])}
+
+
+def dense_cluster_world():
+    """28 discs of radius 0.18 m on a jittered grid around the start–goal line, 0.3–0.42 m
+    apart: a maze of narrow gaps (the robot's disc needs 0.2 m)."""
+    rng = np.random.default_rng(7)
+    shapes = []
+    for i in range(7):
+        for j in range(4):
+            c = np.array([-2.16 + 0.72 * i, -1.08 + 0.72 * j]) + rng.uniform(-0.03, 0.03, 2)
+            shapes.append({"type": "circle", "center": list(c), "radius": 0.18})
+    return {"name": "dense-cluster", "obstacles": shapes, "start": np.array([-4.0, 0.2]), "goal": np.array([4.0, -0.1])}
+
+
+def value_toml(v):
+    """A string, a number or a (nested) list of numbers in TOML."""
+    if isinstance(v, str):
+        return f'"{v}"'
+    if isinstance(v, (list, tuple, np.ndarray)):
+        return "[" + ", ".join(value_toml(x) for x in v) + "]"
+    return repr(float(v))
+
+
+def toml(world, law, k, damping):
+    """The world as a harmonav scenario file."""
+    lines = [
+        f'name = "{world["name"]}"',
+        "[workspace]",
+        'type = "circle"',
+        "center = [0.0, 0.0]",
+        f"radius = {WORKSPACE_RADIUS}",
+    ]
+    for i, o in enumerate(world["obstacles"]):
+        lines += ["[[obstacles]]", f'name = "O{i + 1}"']
+        for key, value in o.items():
+            lines.append(f"{key} = {value_toml(value)}")
+    s, g = world["start"], world["goal"]
+    lines += [
+        "[robot]",
+        f'model = "{law}"',
+        f"start = {value_toml(s)}",
+        f"goal = {value_toml(g)}",
+        "mass = 1.0",
+        f"radius = {ROBOT_RADIUS}",
+        "[sensor]",
+        "range = 1.0",
+        "aperture_deg = 60.0",
+        "[field]",
+        f'k = "{k}"',
+        "[controller]",
+        "gain = 1.0",
+        "mu = 10.0",
+        f'damping = "{damping}"',
+        "[sim]",
+        "dt = 0.01",
+        f"max_time = {MAX_TIME}",
+        "goal_tolerance = 0.01",
+    ]
+    return "\n".join(lines) + "\n"
+
+
+def shapes(world):
+    return [
+        harmonav.circle(o["center"], o["radius"])
+        if o["type"] == "circle"
+        else harmonav.star(o["center"], o["radius"], [tuple(h) for h in o["harmonics"]])
+        for o in world["obstacles"]
+    ]
+
+
+def clearance(world_shapes, x):
+    """Distance from the robot's disc to the nearest true shape or the wall (N,)."""
+    d = WORKSPACE_RADIUS - np.linalg.norm(x, axis=1)
+    for s in world_shapes:
+        d = np.minimum(d, s.signed_distance(x))
+    return d - ROBOT_RADIUS
+
+
+def path_length(x):
+    return float(np.sum(np.linalg.norm(np.diff(x, axis=0), axis=1)))
+
+
+# --- methods ----------------------------------------------------------------------------------
+
+
+def run_harmonav(world, tmp, law, k, damping, world_shapes):
+    path = pathlib.Path(tmp) / f'{world["name"]}-{law}-{k}.toml'
+    path.write_text(toml(world, law, k, damping))
+    sc = harmonav.Scenario.load(path)
+    shortest, _ = sc.shortest_path()
+    res = sc.run()
+    s = res.summary
+    # The cost of one command with every obstacle known, at the states of the run.
+    nav = harmonav.Navigator(
+        harmonav.circle([0, 0], WORKSPACE_RADIUS), world["goal"], law=law, radius=ROBOT_RADIUS,
+        k=k, damping=damping,
+    )
+    for o in world_shapes:
+        nav.add_obstacle(o)
+    states = list(zip(res.x[:: max(1, len(res.x) // 500)], res.v[:: max(1, len(res.x) // 500)]))
+    t0 = time.perf_counter()
+    for x, v in states:
+        nav.command(x, v)
+    cost = (time.perf_counter() - t0) / len(states) * 1e6
+    return {
+        "reached": bool(s["reached"]),
+        "clearance": float(clearance(world_shapes, res.x).min()),
+        "ratio": path_length(res.x) / shortest,
+        "time": s["time_s"],
+        "cost_us": cost,
+    }
+
+
+def run_navground(world, kind, world_shapes, shortest):
+    b = core.Behavior.make_type(kind)
+    b.kinematics = core.kinematics.OmnidirectionalKinematics(max_speed=1.0)
+    b.radius = ROBOT_RADIUS
+    b.optimal_speed = 1.0
+    b.position = tuple(world["start"])
+    b.target = core.Target.Point(tuple(world["goal"]), 0.05)
+    state = b.environment_state
+    state.static_obstacles = [
+        core.Disc(tuple(o["center"]), o["radius"]) for o in world["obstacles"] if o["type"] == "circle"
+    ]
+    outlines = [
+        s.outline(1024) for s, o in zip(world_shapes, world["obstacles"]) if o["type"] != "circle"
+    ]
+    # The wall as an inscribed 256-gon: on the safe side (navground sees it up to 1.5 mm early).
+    outlines.append(harmonav.circle([0, 0], WORKSPACE_RADIUS).outline(256))
+    state.line_obstacles = [
+        core.LineSegment(tuple(p[i]), tuple(p[(i + 1) % len(p)])) for p in outlines for i in range(len(p))
+    ]
+    dt, xs, spent = 0.01, [np.array(world["start"])], 0.0
+    reached = False
+    for _ in range(int(MAX_TIME / dt)):
+        t0 = time.perf_counter()
+        cmd = b.compute_cmd(dt)
+        spent += time.perf_counter() - t0
+        b.actuate(cmd, dt)
+        xs.append(np.array(b.position))
+        if b.check_if_target_satisfied():
+            reached = True
+            break
+    x = np.array(xs)
+    return {
+        "reached": reached,
+        "clearance": float(clearance(world_shapes, x).min()),
+        # navground stops within its 0.05 m tolerance: count the rest of the way as travelled.
+        "ratio": (path_length(x) + np.linalg.norm(x[-1] - world["goal"])) / shortest,
+        "time": (len(xs) - 1) * dt,
+        "cost_us": spent / (len(xs) - 1) * 1e6,
+    }
+
+
+# --- the study --------------------------------------------------------------------------------
+
+
+def study(worlds):
+    rows = {name: [] for name, *_ in HARMONAV}
+    rows.update({f"navground {kind}": [] for kind in NAVGROUND})
+    with tempfile.TemporaryDirectory() as tmp:
+        for world in worlds:
+            world_shapes = shapes(world)
+            shortest = None
+            for name, law, k, damping in HARMONAV:
+                r = run_harmonav(world, tmp, law, k, damping, world_shapes)
+                rows[name].append(r)
+            path = pathlib.Path(tmp) / f'{world["name"]}-kinematic-auto.toml'
+            shortest, _ = harmonav.Scenario.load(path).shortest_path()
+            for kind in NAVGROUND:
+                rows[f"navground {kind}"].append(run_navground(world, kind, world_shapes, shortest))
+    return rows
+
+
+def summary(runs):
+    for r in runs:
+        r["collision"] = r["clearance"] <= 0.0
+    arrived = [r for r in runs if r["reached"] and not r["collision"]]
+    med = lambda key: statistics.median(r[key] for r in arrived) if arrived else math.nan  # noqa: E731
+    return {
+        "arrived": f"{sum(r['reached'] for r in runs)}/{len(runs)}",
+        "collisions": sum(r["collision"] for r in runs),
+        "clearance_mm": 1e3 * min(r["clearance"] for r in runs),
+        "path/shortest": med("ratio"),
+        "time_s": med("time"),
+        "cost_us": statistics.median(r["cost_us"] for r in runs),
+    }
+
+
+def table(title, rows, markdown):
+    head = ["method", "arrived", "collisions", "closest (mm)", "path/shortest (median)", "time s (median)", "µs per command"]
+    lines = [f"### {title}" if markdown else f"== {title}"]
+    if markdown:
+        lines += ["", "| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for name, runs in rows.items():
+        s = summary(runs)
+        cells = [name, s["arrived"], str(s["collisions"]), f'{s["clearance_mm"]:.1f}', f'{s["path/shortest"]:.2f}', f'{s["time_s"]:.1f}', f'{s["cost_us"]:.1f}']
+        lines.append("| " + " | ".join(cells) + " |" if markdown else "  ".join(f"{c:>28}" if i == 0 else f"{c:>10}" for i, c in enumerate(cells)))
+    return "\n".join(lines) + "\n"
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--worlds", type=int, default=20, help="seeded disc worlds per size (6 and 12 discs)")
+    ap.add_argument("--markdown", action="store_true", help="print Markdown tables")
+    args = ap.parse_args()
+    for m in (6, 12):
+        worlds = [disc_world(m, seed) for seed in range(args.worlds)]
+        print(table(f"{args.worlds} seeded worlds of {m} discs", study(worlds), args.markdown))
+    for world in (concave_star_world(), dense_cluster_world()):
+        print(table(f"hard world: {world['name']}", study([world]), args.markdown))
+
+
+if __name__ == "__main__":
+    main()
