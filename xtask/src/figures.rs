@@ -14,10 +14,11 @@ use std::sync::Arc;
 
 use harmonav_field::Field;
 use harmonav_field::descent::{FollowOptions, follow};
+use harmonav_sim::atomic::write_atomically;
 use harmonav_sim::figures::{speed_svg, trajectory_svg};
 use harmonav_sim::run::run as run_scenario;
 use harmonav_sim::scenario::Scenario;
-use harmonav_sim::svg::{Canvas, Panel, write_atomically};
+use harmonav_sim::svg::{Canvas, Panel};
 use harmonav_transform::random::{self, Kind, Rng};
 use nalgebra::Vector2;
 

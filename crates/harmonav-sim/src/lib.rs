@@ -32,6 +32,7 @@
 
 #![warn(missing_docs)]
 
+pub mod atomic;
 mod closed_loop;
 pub mod figures;
 pub mod guarantee;

@@ -1,242 +1,479 @@
-//! The MCAP recording of a run (mcap crate), with JSON messages under Foxglove schema names
-//! so that Foxglove's 3D and plot panels show it directly.
+//! The MCAP recording of a run, written by the `foxglove` crate with its official Protobuf
+//! schemas (every message is decodable from the schemas the file carries), chunks compressed
+//! with zstd.
 //!
 //! | topic | schema | content |
 //! |---|---|---|
-//! | `/robot/pose` | `foxglove.PoseInFrame` | the robot pose at every recorded state |
-//! | `/robot/trajectory` | `foxglove.PosesInFrame` | the path so far, at each discovery and at the end |
-//! | `/scene` | `foxglove.SceneUpdate` | boundary, obstacles (grey: unknown, red: known), goal; at t = 0 and each discovery |
-//! | `/sensor/sector` | `foxglove.SceneUpdate` | the sensing sector at every recorded state (sector sensing only) |
-//! | `/state` | `harmonav.State` | t, x, ẋ, Θ, V, k, λ |
-//! | `/discoveries` | `harmonav.Discovery` | obstacle name and time |
+//! | `/scene` | `foxglove.SceneUpdate` | boundary (white), obstacles (grey: unknown, red: known), goal; at t = 0 and each discovery |
+//! | `/theta` | `foxglove.Grid` | `Θ` of the known world on a [`GRID_CELLS`]² grid over the workspace (field `theta`, float32, NaN outside the free space); at t = 0 and each discovery |
+//! | `/robot/pose` | `foxglove.PoseInFrame` | the robot pose (heading: the velocity) at every recorded state |
+//! | `/tf` | `foxglove.FrameTransform` | `world → robot` at every recorded state |
+//! | `/sensor/sector` | `foxglove.SceneUpdate` | the sensing sector, once, in the `robot` frame (it follows `/tf`); sector sensing only |
+//! | `/robot/path` | `foxglove.SceneUpdate` | the path, one new line entity per [`PATH_PERIOD`] of simulated time (entities accumulate: the size is linear in the run's length) |
+//! | `/log` | `foxglove.Log` | discoveries and damping switches |
+//! | `/harmonav/state` | `harmonavstate.HarmonavState` ([`HarmonavState`], Protobuf derived from the struct) | t, x, ẋ, speed, Θ, V, λ, k, the policies |
 
-use std::collections::BTreeMap;
 use std::f64::consts::TAU;
-use std::io::{BufWriter, Cursor};
+use std::fs::File;
+use std::io::BufWriter;
 use std::path::Path;
+use std::sync::Arc;
 
+use foxglove::messages::{
+    Color, FrameTransform, Grid, LinePrimitive, Log, PackedElementField, Point3, Pose, PoseInFrame,
+    Quaternion, SceneEntity, SceneUpdate, SpherePrimitive, Timestamp, Vector2 as FVector2, Vector3,
+    line_primitive, log, packed_element_field::NumericType,
+};
+use foxglove::{Channel, Context, Encode, McapCompression, McapWriteOptions};
+use harmonav_field::{Field, FieldError};
 use harmonav_sensing::Sensing;
 use harmonav_transform::StarShape;
-use mcap::records::MessageHeader;
 use nalgebra::Vector2;
-use serde_json::{Value, json};
 
+use crate::atomic::AtomicFile;
 use crate::run::{Run, Sample};
-use crate::scenario::Prepared;
+use crate::scenario::{Model, Prepared};
 
-/// Topic names, in channel order.
-pub const TOPICS: [&str; 6] = [
-    "/robot/pose",
-    "/robot/trajectory",
+/// The topics, in the order of the table above.
+pub const TOPICS: [&str; 8] = [
     "/scene",
+    "/theta",
+    "/robot/pose",
+    "/tf",
     "/sensor/sector",
-    "/state",
-    "/discoveries",
-];
-const SCHEMAS: [&str; 6] = [
-    "foxglove.PoseInFrame",
-    "foxglove.PosesInFrame",
-    "foxglove.SceneUpdate",
-    "foxglove.SceneUpdate",
-    "harmonav.State",
-    "harmonav.Discovery",
+    "/robot/path",
+    "/log",
+    "/harmonav/state",
 ];
 
-/// The sensing sector is drawn at most once per this many seconds of simulated time (a
-/// sector is ~1.5 kB of JSON; drawing it at every 0.01 s sample made a 193 s run 64 MB).
-pub const SECTOR_PERIOD: f64 = 0.1;
+/// Cells along each side of the `/theta` grid.
+pub const GRID_CELLS: u32 = 160;
 
-/// Vertices of the `/robot/trajectory` paths are at least this far apart, m (every sample is
-/// still on `/robot/pose` and `/state`).
-pub const TRAJECTORY_SPACING: f64 = 0.01;
+/// Simulated seconds between two `/robot/path` updates.
+pub const PATH_PERIOD: f64 = 0.5;
 
-fn stamp(t: f64) -> Value {
-    let ns = (t.max(0.0) * 1e9).round() as u64;
-    json!({ "sec": ns / 1_000_000_000, "nsec": ns % 1_000_000_000 })
+/// Vertices of the path are at least this far apart, m (every state is on `/robot/pose`).
+pub const PATH_SPACING: f64 = 0.01;
+
+/// harmonav's state at a recorded instant: the message of `/harmonav/state` (its Protobuf
+/// schema, `harmonavstate.HarmonavState`, is derived from this struct by `foxglove`).
+#[derive(Clone, Debug, Default, PartialEq, Encode, serde::Serialize)]
+pub struct HarmonavState {
+    /// Time, s.
+    pub t: f64,
+    /// Position `x`, m.
+    pub x: f64,
+    /// Position `y`, m.
+    pub y: f64,
+    /// Velocity `ẋ`, m/s.
+    pub vx: f64,
+    /// Velocity `ẏ`, m/s.
+    pub vy: f64,
+    /// `|ẋ|`, m/s.
+    pub speed: f64,
+    /// `Θ(x)` over the known obstacles.
+    pub theta: f64,
+    /// `V = μΘ + ½m|ẋ|²` (dynamic law).
+    pub energy: Option<f64>,
+    /// The damping `λ` in force (dynamic law).
+    pub lambda: Option<f64>,
+    /// `k` of `phi_k`.
+    pub k: f64,
+    /// The `k` policy.
+    pub k_policy: String,
+    /// The damping policy (dynamic law; empty for the kinematic one).
+    pub damping: String,
+    /// The damping is in its `V < μ` branch (dynamic law).
+    pub damping_critical: bool,
 }
+
+/// Why a recording could not be written.
+#[derive(Debug)]
+pub struct RecordError(pub String);
+
+impl std::fmt::Display for RecordError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for RecordError {}
 
 fn nanos(t: f64) -> u64 {
     (t.max(0.0) * 1e9).round() as u64
 }
 
-fn pose(p: [f64; 2], v: [f64; 2]) -> Value {
-    let yaw = if v[0] == 0.0 && v[1] == 0.0 {
-        0.0
-    } else {
-        v[1].atan2(v[0])
-    };
-    json!({
-        "position": { "x": p[0], "y": p[1], "z": 0.0 },
-        "orientation": { "x": 0.0, "y": 0.0, "z": (0.5 * yaw).sin(), "w": (0.5 * yaw).cos() }
-    })
+fn stamp(t: f64) -> Option<Timestamp> {
+    let ns = nanos(t);
+    Some(Timestamp::new(
+        (ns / 1_000_000_000) as u32,
+        (ns % 1_000_000_000) as u32,
+    ))
 }
 
-fn line_strip(points: impl Iterator<Item = Vector2<f64>>, color: [f64; 4]) -> Value {
-    let pts: Vec<Value> = points
-        .map(|p| json!({ "x": p.x, "y": p.y, "z": 0.0 }))
-        .collect();
-    json!({
-        "type": 0, "pose": pose([0.0, 0.0], [0.0, 0.0]), "thickness": 0.02, "scale_invariant": false,
-        "points": pts, "color": { "r": color[0], "g": color[1], "b": color[2], "a": color[3] }, "colors": [], "indices": []
-    })
+fn point(p: Vector2<f64>) -> Point3 {
+    Point3 {
+        x: p.x,
+        y: p.y,
+        z: 0.0,
+    }
 }
 
-fn entity(t: f64, id: &str, lines: Vec<Value>, spheres: Vec<Value>) -> Value {
-    json!({
-        "timestamp": stamp(t), "frame_id": "world", "id": id, "lifetime": { "sec": 0, "nsec": 0 },
-        "frame_locked": false, "metadata": [], "arrows": [], "cubes": [], "spheres": spheres, "cylinders": [],
-        "lines": lines, "triangles": [], "texts": [], "models": []
-    })
+fn color([r, g, b, a]: [f64; 4]) -> Option<Color> {
+    Some(Color { r, g, b, a })
 }
 
-fn closed(shape: &StarShape) -> impl Iterator<Item = Vector2<f64>> + '_ {
+/// The pose at `p` heading along `yaw`.
+fn pose(p: Vector2<f64>, yaw: f64) -> Pose {
+    Pose {
+        position: Some(Vector3 {
+            x: p.x,
+            y: p.y,
+            z: 0.0,
+        }),
+        orientation: Some(yaw_quaternion(yaw)),
+    }
+}
+
+fn yaw_quaternion(yaw: f64) -> Quaternion {
+    Quaternion {
+        x: 0.0,
+        y: 0.0,
+        z: (0.5 * yaw).sin(),
+        w: (0.5 * yaw).cos(),
+    }
+}
+
+fn line(
+    points: impl Iterator<Item = Vector2<f64>>,
+    rgba: [f64; 4],
+    thickness: f64,
+) -> LinePrimitive {
+    LinePrimitive {
+        r#type: line_primitive::Type::LineStrip as i32,
+        pose: Some(pose(Vector2::zeros(), 0.0)),
+        thickness,
+        scale_invariant: false,
+        points: points.map(point).collect(),
+        color: color(rgba),
+        ..Default::default()
+    }
+}
+
+fn entity(t: f64, frame: &str, id: &str, lines: Vec<LinePrimitive>) -> SceneEntity {
+    SceneEntity {
+        timestamp: stamp(t),
+        frame_id: frame.into(),
+        id: id.into(),
+        frame_locked: frame != "world",
+        lines,
+        ..Default::default()
+    }
+}
+
+fn outline(shape: &StarShape) -> impl Iterator<Item = Vector2<f64>> + '_ {
     (0..=180).map(move |i| shape.boundary_point(TAU * i as f64 / 180.0))
 }
 
-/// The scene at time `t`: boundary, obstacles (known ones red), goal.
-fn scene(prepared: &Prepared, run: &Run, t: f64) -> Value {
+/// The obstacles known at `t` (scenario indices, in discovery order).
+fn known_at(run: &Run, t: f64) -> Vec<usize> {
+    run.summary
+        .discoveries
+        .iter()
+        .filter(|d| d.time_s <= t)
+        .map(|d| d.index)
+        .collect()
+}
+
+/// The scene at `t`: boundary, obstacles (known ones red), goal.
+fn scene(prepared: &Prepared, known: &[usize], t: f64) -> SceneUpdate {
+    let truth = &prepared.truth;
     let mut entities = vec![entity(
         t,
+        "world",
         "boundary",
-        vec![line_strip(
-            closed(&prepared.truth.boundary),
-            [1.0, 1.0, 1.0, 1.0],
-        )],
-        vec![],
+        vec![line(outline(&truth.boundary), [1.0, 1.0, 1.0, 1.0], 0.03)],
     )];
-    for (i, o) in prepared.truth.obstacles.iter().enumerate() {
-        let known = run
-            .summary
-            .discoveries
-            .iter()
-            .any(|d| d.index == i && d.time_s <= t);
-        let color = if known {
+    for (i, o) in truth.obstacles.iter().enumerate() {
+        let rgba = if known.contains(&i) {
             [0.9, 0.2, 0.2, 1.0]
         } else {
             [0.6, 0.6, 0.6, 1.0]
         };
         entities.push(entity(
             t,
-            &prepared.truth.names[i],
-            vec![line_strip(closed(o), color)],
-            vec![],
+            "world",
+            &truth.names[i],
+            vec![line(outline(o), rgba, 0.03)],
         ));
     }
-    let g = prepared.truth.workspace.destination();
-    let goal = json!({ "pose": pose([g.x, g.y], [0.0, 0.0]), "size": { "x": 0.1, "y": 0.1, "z": 0.1 }, "color": { "r": 0.2, "g": 0.8, "b": 0.3, "a": 1.0 } });
-    entities.push(entity(t, "goal", vec![], vec![goal]));
-    json!({ "deletions": [], "entities": entities })
+    let mut goal = entity(t, "world", "goal", Vec::new());
+    goal.spheres.push(SpherePrimitive {
+        pose: Some(pose(truth.goal(), 0.0)),
+        size: Some(Vector3 {
+            x: 0.12,
+            y: 0.12,
+            z: 0.12,
+        }),
+        color: color([0.2, 0.8, 0.3, 1.0]),
+    });
+    entities.push(goal);
+    SceneUpdate {
+        deletions: Vec::new(),
+        entities,
+    }
 }
 
-fn sector(prepared: &Prepared, s: &Sample) -> Option<Value> {
+/// `Θ` of the known world at the centres of a [`GRID_CELLS`]² grid over the workspace's
+/// bounding square, as little-endian float32 (NaN outside the free space).
+fn theta_grid(prepared: &Prepared, known: &[usize], t: f64) -> Result<Grid, FieldError> {
+    let ws = prepared.truth.workspace.clone();
+    let field = Field::with_policy(ws, known.iter().copied(), prepared.k_policy())?;
+    let b = &prepared.truth.boundary;
+    let (c, half) = (b.centre(), b.radius_bounds().1);
+    let n = GRID_CELLS as usize;
+    let cell = 2.0 * half / n as f64;
+    let corner = c - Vector2::new(half, half);
+    let mut data = Vec::with_capacity(4 * n * n);
+    let mut row = vec![Vector2::zeros(); n];
+    let mut evals = vec![Err(FieldError::Outside); n];
+    for j in 0..n {
+        for (i, p) in row.iter_mut().enumerate() {
+            *p = corner + cell * Vector2::new(i as f64 + 0.5, j as f64 + 0.5);
+        }
+        field.eval_many(&row, &mut evals)?;
+        for e in &evals {
+            let v = e.as_ref().map_or(f32::NAN, |e| e.value as f32);
+            data.extend_from_slice(&v.to_le_bytes());
+        }
+    }
+    Ok(Grid {
+        timestamp: stamp(t),
+        frame_id: "world".into(),
+        pose: Some(pose(corner, 0.0)),
+        column_count: GRID_CELLS,
+        cell_size: Some(FVector2 { x: cell, y: cell }),
+        row_stride: 4 * GRID_CELLS,
+        cell_stride: 4,
+        fields: vec![PackedElementField {
+            name: "theta".into(),
+            offset: 0,
+            r#type: NumericType::Float32 as i32,
+        }],
+        data: data.into(),
+    })
+}
+
+/// The sector in the robot's frame (its axis along the robot's x axis).
+fn sector(prepared: &Prepared) -> Option<SceneUpdate> {
     let Sensing::Sector(sec) = prepared.truth.sensing else {
         return None;
     };
-    let v = Vector2::new(s.v[0], s.v[1]);
-    if v.norm() == 0.0 {
-        return None;
-    }
-    let (pole, a0) = (Vector2::new(s.x[0], s.x[1]), v.y.atan2(v.x));
-    let mut pts = vec![pole];
+    let mut pts = vec![Vector2::zeros()];
     for i in 0..=24 {
-        let a = a0 - 0.5 * sec.aperture() + sec.aperture() * i as f64 / 24.0;
-        pts.push(pole + sec.range() * Vector2::new(a.cos(), a.sin()));
+        let a = -0.5 * sec.aperture() + sec.aperture() * i as f64 / 24.0;
+        pts.push(sec.range() * Vector2::new(a.cos(), a.sin()));
     }
-    pts.push(pole);
-    Some(
-        json!({ "deletions": [], "entities": [entity(s.t, "sector", vec![line_strip(pts.into_iter(), [0.2, 0.5, 0.9, 1.0])], vec![])] }),
-    )
+    pts.push(Vector2::zeros());
+    Some(SceneUpdate {
+        deletions: Vec::new(),
+        entities: vec![entity(
+            0.0,
+            "robot",
+            "sector",
+            vec![line(pts.into_iter(), [0.2, 0.5, 0.9, 1.0], 0.015)],
+        )],
+    })
 }
 
-/// The recording as bytes (deterministic for a given run).
-pub fn mcap_bytes(prepared: &Prepared, run: &Run) -> mcap::McapResult<Vec<u8>> {
-    let mut out = Cursor::new(Vec::new());
-    {
-        let mut w = mcap::Writer::new(BufWriter::new(&mut out))?;
-        let mut channels = [0u16; 6];
-        for (i, (topic, schema)) in TOPICS.iter().zip(SCHEMAS).enumerate() {
-            let schema_id = w.add_schema(schema, "jsonschema", br#"{"type":"object"}"#)?;
-            channels[i] = w.add_channel(schema_id, topic, "json", &BTreeMap::new())?;
-        }
-        let mut sequence = [0u32; 6];
-        // Messages in time order; ties keep the channel order.
-        let mut messages: Vec<(u64, usize, Value)> = Vec::new();
-        let frame = |poses: Vec<Value>, t: f64| json!({ "timestamp": stamp(t), "frame_id": "world", "poses": poses });
-        let mut scene_times = vec![0.0];
-        scene_times.extend(
-            run.summary
-                .discoveries
-                .iter()
-                .map(|d| d.time_s)
-                .filter(|&t| t > 0.0),
-        );
-        scene_times.dedup();
-        for &t in &scene_times {
-            messages.push((nanos(t), 2, scene(prepared, run, t)));
-        }
-        let mut next_sector = 0.0;
-        for s in &run.samples {
-            messages.push((
-                nanos(s.t),
-                0,
-                json!({ "timestamp": stamp(s.t), "frame_id": "world", "pose": pose(s.x, s.v) }),
-            ));
-            if s.t >= next_sector
-                && let Some(sec) = sector(prepared, s)
-            {
-                messages.push((nanos(s.t), 3, sec));
-                next_sector = ((s.t / SECTOR_PERIOD).floor() + 1.0) * SECTOR_PERIOD;
-            }
-            messages.push((nanos(s.t), 4, json!({ "t": s.t, "x": s.x, "v": s.v, "theta": s.theta, "energy": s.energy, "k": s.k, "lambda": s.lambda, "lambda_switched": s.lambda.is_some() && !s.critical })));
-        }
-        let mut trajectory_times: Vec<f64> =
-            run.summary.discoveries.iter().map(|d| d.time_s).collect();
-        trajectory_times.push(run.summary.time_s);
-        // The path so far, thinned to vertices TRAJECTORY_SPACING apart (and the last one).
-        let mut thinned: Vec<&Sample> = Vec::new();
-        for (i, s) in run.samples.iter().enumerate() {
-            let last = i + 1 == run.samples.len();
-            let far = thinned.last().is_none_or(|p| {
-                (Vector2::new(s.x[0] - p.x[0], s.x[1] - p.x[1])).norm() >= TRAJECTORY_SPACING
-            });
-            if far || last {
-                thinned.push(s);
-            }
-        }
-        for &t in &trajectory_times {
-            let poses = thinned
-                .iter()
-                .filter(|s| s.t <= t)
-                .map(|s| pose(s.x, s.v))
-                .collect();
-            messages.push((nanos(t), 1, frame(poses, t)));
-        }
-        for d in &run.summary.discoveries {
-            messages.push((
-                nanos(d.time_s),
-                5,
-                json!({ "t": d.time_s, "obstacle": d.obstacle }),
-            ));
-        }
-        messages.sort_by_key(|m| (m.0, m.1));
-        for (time, channel, body) in messages {
-            let header = MessageHeader {
-                channel_id: channels[channel],
-                sequence: sequence[channel],
-                log_time: time,
-                publish_time: time,
-            };
-            sequence[channel] += 1;
-            w.write_to_known_channel(&header, body.to_string().as_bytes())?;
-        }
-        // Finish explicitly: dropping would swallow errors.
-        w.finish()?;
+fn log_message(t: f64, level: log::Level, message: String) -> Log {
+    Log {
+        timestamp: stamp(t),
+        level: level as i32,
+        message,
+        name: "harmonav".into(),
+        ..Default::default()
     }
-    Ok(out.into_inner())
+}
+
+/// The channels of one recording, on a context of its own (recordings made in parallel do
+/// not share channels).
+struct Channels {
+    scene: Channel<SceneUpdate>,
+    theta: Channel<Grid>,
+    pose: Channel<PoseInFrame>,
+    tf: Channel<FrameTransform>,
+    sector: Channel<SceneUpdate>,
+    path: Channel<SceneUpdate>,
+    log: Channel<Log>,
+    state: Channel<HarmonavState>,
+}
+
+impl Channels {
+    fn new(ctx: &Arc<Context>) -> Self {
+        let [scene, theta, pose, tf, sector, path, log, state] = TOPICS;
+        Self {
+            scene: ctx.channel_builder(scene).build(),
+            theta: ctx.channel_builder(theta).build(),
+            pose: ctx.channel_builder(pose).build(),
+            tf: ctx.channel_builder(tf).build(),
+            sector: ctx.channel_builder(sector).build(),
+            path: ctx.channel_builder(path).build(),
+            log: ctx.channel_builder(log).build(),
+            state: ctx.channel_builder(state).build(),
+        }
+    }
+}
+
+/// The heading shown at each state: the velocity's direction, held while at rest.
+struct Heading(f64);
+
+impl Heading {
+    fn at(&mut self, v: Vector2<f64>) -> f64 {
+        if v.norm() > 1e-9 {
+            self.0 = v.y.atan2(v.x);
+        }
+        self.0
+    }
+}
+
+/// Writes the recording of `run` to `path`, whole or not at all (through a temporary file).
+pub fn write_mcap(path: &Path, prepared: &Prepared, run: &Run) -> Result<(), RecordError> {
+    let io = |e: std::io::Error| RecordError(format!("{}: {e}", path.display()));
+    let mut file = AtomicFile::create(path).map_err(io)?;
+    let ctx = Context::new();
+    let ch = Channels::new(&ctx);
+    let options = McapWriteOptions::new().compression(Some(McapCompression::Zstd));
+    let writer = ctx
+        .mcap_writer_with_options(options)
+        .create(file.take_writer())
+        .map_err(|e| RecordError(format!("{}: {e}", path.display())))?;
+    log_run(&ch, prepared, run)?;
+    let inner: BufWriter<File> = writer
+        .close()
+        .map_err(|e| RecordError(format!("{}: {e}", path.display())))?;
+    file.commit_with(inner).map_err(io)
+}
+
+/// Logs every message of the run in time order.
+fn log_run(ch: &Channels, prepared: &Prepared, run: &Run) -> Result<(), RecordError> {
+    let sc = &prepared.scenario;
+    let k_policy = prepared.k_policy().as_str().to_string();
+    let damping = match sc.robot.model {
+        Model::Dynamic => prepared.damping_policy().as_str().to_string(),
+        Model::Kinematic => String::new(),
+    };
+    let mut events: Vec<f64> = vec![0.0];
+    events.extend(run.summary.discoveries.iter().map(|d| d.time_s));
+    events.dedup();
+    let mut events = events.into_iter().peekable();
+    if let Some(s) = sector(prepared) {
+        ch.sector.log_with_time(&s, 0);
+    }
+    let mut heading = Heading(0.0);
+    let (mut path, mut path_n, mut next_path) = (Vec::<Vector2<f64>>::new(), 0, PATH_PERIOD);
+    let mut critical: Option<bool> = None;
+    let last = run.samples.len().saturating_sub(1);
+    for (i, s) in run.samples.iter().enumerate() {
+        while let Some(t) = events.next_if(|&t| t <= s.t) {
+            let known = known_at(run, t);
+            ch.scene
+                .log_with_time(&scene(prepared, &known, t), nanos(t));
+            let grid = theta_grid(prepared, &known, t)
+                .map_err(|e| RecordError(format!("the Θ grid at t = {t}: {e}")))?;
+            ch.theta.log_with_time(&grid, nanos(t));
+            for d in run.summary.discoveries.iter().filter(|d| d.time_s == t) {
+                let text = format!("discovered {} at t = {:.3} s", d.obstacle, d.time_s);
+                ch.log
+                    .log_with_time(&log_message(t, log::Level::Info, text), nanos(t));
+            }
+        }
+        let (x, v) = (Vector2::from(s.x), Vector2::from(s.v));
+        let yaw = heading.at(v);
+        let t = nanos(s.t);
+        ch.pose.log_with_time(
+            &PoseInFrame {
+                timestamp: stamp(s.t),
+                frame_id: "world".into(),
+                pose: Some(pose(x, yaw)),
+            },
+            t,
+        );
+        ch.tf.log_with_time(
+            &FrameTransform {
+                timestamp: stamp(s.t),
+                parent_frame_id: "world".into(),
+                child_frame_id: "robot".into(),
+                translation: Some(Vector3 {
+                    x: x.x,
+                    y: x.y,
+                    z: 0.0,
+                }),
+                rotation: Some(yaw_quaternion(yaw)),
+            },
+            t,
+        );
+        ch.state.log_with_time(&state(s, &k_policy, &damping), t);
+        if s.lambda.is_some() && critical.is_some_and(|c| c != s.critical) {
+            let text = if s.critical {
+                format!(
+                    "damping back to its critical branch (V < μ) at t = {:.3} s",
+                    s.t
+                )
+            } else {
+                format!("damping switched (V ≥ μ) at t = {:.3} s", s.t)
+            };
+            ch.log
+                .log_with_time(&log_message(s.t, log::Level::Warning, text), t);
+        }
+        critical = s.lambda.map(|_| s.critical);
+        if path
+            .last()
+            .is_none_or(|p: &Vector2<f64>| (x - p).norm() >= PATH_SPACING)
+            || i == last
+        {
+            path.push(x);
+        }
+        if (s.t >= next_path || i == last) && path.len() >= 2 {
+            let id = format!("path-{path_n:05}");
+            let update = SceneUpdate {
+                deletions: Vec::new(),
+                entities: vec![entity(
+                    s.t,
+                    "world",
+                    &id,
+                    vec![line(path.iter().copied(), [1.0, 0.8, 0.1, 1.0], 0.02)],
+                )],
+            };
+            ch.path.log_with_time(&update, t);
+            path_n += 1;
+            path.drain(..path.len() - 1); // the next segment starts where this one ends
+            next_path = ((s.t / PATH_PERIOD).floor() + 1.0) * PATH_PERIOD;
+        }
+    }
+    Ok(())
+}
+
+fn state(s: &Sample, k_policy: &str, damping: &str) -> HarmonavState {
+    HarmonavState {
+        t: s.t,
+        x: s.x[0],
+        y: s.x[1],
+        vx: s.v[0],
+        vy: s.v[1],
+        speed: s.v[0].hypot(s.v[1]),
+        theta: s.theta,
+        energy: s.energy,
+        lambda: s.lambda,
+        k: s.k,
+        k_policy: k_policy.into(),
+        damping: damping.into(),
+        damping_critical: s.critical,
+    }
 }
 
 /// Writes `summary.json`, `run.mcap`, `trajectory.svg` and (dynamic runs) `speed.svg` into
-/// `dir`, each through a temporary file and a rename.
+/// `dir`, each whole or not at all.
 pub fn write_outputs(
     dir: &Path,
     prepared: &Prepared,
@@ -246,7 +483,7 @@ pub fn write_outputs(
     let mut files = Vec::new();
     let mut put = |name: &str, bytes: Vec<u8>| -> Result<(), String> {
         let path = dir.join(name);
-        crate::svg::write_atomically(&path, &bytes)
+        crate::atomic::write_atomically(&path, &bytes)
             .map_err(|e| format!("{}: {e}", path.display()))?;
         files.push(path);
         Ok(())
@@ -254,15 +491,14 @@ pub fn write_outputs(
     let summary = serde_json::to_string_pretty(&run.summary).map_err(|e| e.to_string())?;
     put("summary.json", (summary + "\n").into_bytes())?;
     put(
-        "run.mcap",
-        mcap_bytes(prepared, run).map_err(|e| format!("MCAP: {e}"))?,
-    )?;
-    put(
         "trajectory.svg",
         crate::figures::trajectory_svg(prepared, run).into_bytes(),
     )?;
     if run.summary.speed_bound.is_some() {
         put("speed.svg", crate::figures::speed_svg(run).into_bytes())?;
     }
+    let mcap = dir.join("run.mcap");
+    write_mcap(&mcap, prepared, run).map_err(|e| e.to_string())?;
+    files.insert(1, mcap);
     Ok(files)
 }

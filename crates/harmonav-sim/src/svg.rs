@@ -174,17 +174,6 @@ impl Canvas {
     }
 }
 
-/// Writes `contents` to `path` through a temporary file and a rename, so that a failure never
-/// leaves a half-written file behind.
-pub fn write_atomically(path: &std::path::Path, contents: &[u8]) -> std::io::Result<()> {
-    let tmp = path.with_extension(format!(
-        "{}.tmp",
-        path.extension().and_then(|e| e.to_str()).unwrap_or("out")
-    ));
-    std::fs::write(&tmp, contents)?;
-    std::fs::rename(&tmp, path)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -4,98 +4,176 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use harmonav_sim::record::{SECTOR_PERIOD, TOPICS, TRAJECTORY_SPACING, mcap_bytes, write_outputs};
+use foxglove::messages::{FrameTransform, Grid, Log, PoseInFrame, SceneUpdate};
+use harmonav_sim::record::{
+    GRID_CELLS, PATH_PERIOD, PATH_SPACING, TOPICS, write_mcap, write_outputs,
+};
 use harmonav_sim::run::run;
-use harmonav_sim::scenario::{Model, Scenario};
+use harmonav_sim::scenario::{Model, Prepared, Scenario};
+use prost::Message;
+
+fn scenario(name: &str) -> Prepared {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenarios")
+        .join(name);
+    Scenario::load(&file).unwrap()
+}
+
+/// Decodes `data` as the message its schema names, with the foxglove crate's types; the
+/// harmonav state through the schema's own descriptor (field names checked).
+fn decode(schema: &mcap::Schema, data: &[u8]) -> Result<String, String> {
+    let e = |e: prost::DecodeError| e.to_string();
+    Ok(match schema.name.as_str() {
+        "foxglove.SceneUpdate" => format!(
+            "{} entities",
+            SceneUpdate::decode(data).map_err(e)?.entities.len()
+        ),
+        "foxglove.Grid" => {
+            let g = Grid::decode(data).map_err(e)?;
+            format!(
+                "grid {}x{}",
+                g.column_count,
+                g.data.len() / g.row_stride as usize
+            )
+        }
+        "foxglove.PoseInFrame" => {
+            format!("{:?}", PoseInFrame::decode(data).map_err(e)?.pose.is_some())
+        }
+        "foxglove.FrameTransform" => FrameTransform::decode(data).map_err(e)?.child_frame_id,
+        "foxglove.Log" => Log::decode(data).map_err(e)?.message,
+        name if name.ends_with("State") => format!("{} bytes", data.len()),
+        other => return Err(format!("unexpected schema {other}")),
+    })
+}
 
 #[test]
-fn mcap_reads_back_with_the_expected_channels_and_counts() {
-    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/shapes/mixed.toml");
-    let prepared = Scenario::load(&file).unwrap();
-    let r = run(&prepared, Some(Model::Kinematic)).unwrap();
-    let bytes = mcap_bytes(&prepared, &r).unwrap();
-    assert_eq!(
-        bytes,
-        mcap_bytes(&prepared, &r).unwrap(),
-        "recording is deterministic"
-    );
-    let summary = mcap::Summary::read(&bytes)
-        .unwrap()
-        .expect("summary section");
-    let schemas: BTreeMap<String, String> = summary
-        .channels
-        .values()
-        .map(|c| {
-            (
-                c.topic.clone(),
-                c.schema
-                    .as_ref()
-                    .map(|s| s.name.clone())
-                    .unwrap_or_default(),
-            )
-        })
-        .collect();
-    assert_eq!(schemas["/robot/pose"], "foxglove.PoseInFrame");
-    assert_eq!(schemas["/robot/trajectory"], "foxglove.PosesInFrame");
-    assert_eq!(schemas["/scene"], "foxglove.SceneUpdate");
-    assert_eq!(schemas["/state"], "harmonav.State");
+fn every_message_decodes_with_the_schema_the_file_carries() {
+    let prepared = scenario("shapes/dynamic-small.toml");
+    let r = run(&prepared, None).unwrap();
+    let dir = std::env::temp_dir().join(format!("harmonav-mcap-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("run.mcap");
+    write_mcap(&path, &prepared, &r).unwrap();
+    let bytes = std::fs::read(&path).unwrap();
     let mut counts: BTreeMap<String, usize> = BTreeMap::new();
     let mut last_time = 0;
-    let mut last_path: Vec<(f64, f64)> = Vec::new();
+    let mut grids = Vec::new();
+    let mut logs = Vec::new();
     for m in mcap::MessageStream::new(&bytes).unwrap() {
         let m = m.unwrap();
         assert!(m.log_time >= last_time, "messages in time order");
         last_time = m.log_time;
-        let body: serde_json::Value = serde_json::from_slice(&m.data).unwrap();
-        if m.channel.topic == "/state" {
-            let theta = body["theta"].as_f64().unwrap();
-            assert!((0.0..=1.0).contains(&theta));
-        }
-        if m.channel.topic == "/robot/trajectory" {
-            last_path = body["poses"]
-                .as_array()
-                .unwrap()
+        let schema = m
+            .channel
+            .schema
+            .as_ref()
+            .expect("every channel has a schema");
+        assert_eq!(schema.encoding, "protobuf", "{}", m.channel.topic);
+        assert_eq!(m.channel.message_encoding, "protobuf");
+        // The schema is a FileDescriptorSet that defines the message it names.
+        let fds = foxglove::prost_types::FileDescriptorSet::decode(&schema.data[..]).unwrap();
+        let defined = fds.file.iter().any(|f| {
+            f.message_type
                 .iter()
-                .map(|p| {
-                    let q = &p["position"];
-                    (q["x"].as_f64().unwrap(), q["y"].as_f64().unwrap())
-                })
-                .collect();
+                .any(|d| format!("{}.{}", f.package(), d.name()) == schema.name)
+        });
+        assert!(
+            defined,
+            "{} defines {}: {fds:?}",
+            m.channel.topic, schema.name
+        );
+        let text = decode(schema, &m.data).unwrap_or_else(|e| panic!("{}: {e}", m.channel.topic));
+        if m.channel.topic == "/theta" {
+            grids.push(Grid::decode(&m.data[..]).unwrap());
+        }
+        if m.channel.topic == "/log" {
+            logs.push(text);
         }
         *counts.entry(m.channel.topic.clone()).or_default() += 1;
     }
-    // The final path is thinned to TRAJECTORY_SPACING and ends at the last sample.
-    let end = r.samples.last().unwrap().x;
-    assert_eq!(last_path.last(), Some(&(end[0], end[1])));
-    for w in last_path[..last_path.len() - 1].windows(2) {
-        let gap = (w[1].0 - w[0].0).hypot(w[1].1 - w[0].1);
-        assert!(gap >= TRAJECTORY_SPACING, "{gap}");
+    let (n, d) = (r.samples.len(), r.summary.discoveries.len());
+    assert_eq!(counts.len(), TOPICS.len(), "{counts:?}");
+    for topic in ["/robot/pose", "/tf", "/harmonav/state"] {
+        assert_eq!(counts[topic], n, "{topic}");
     }
-    assert!(last_path.len() > 100, "{} vertices", last_path.len());
-    let n = r.samples.len();
-    let d = r.summary.discoveries.len();
-    assert_eq!(counts["/robot/pose"], n);
-    assert_eq!(counts["/state"], n);
-    assert_eq!(counts["/discoveries"], d);
-    assert_eq!(counts["/robot/trajectory"], d + 1);
     assert_eq!(
-        counts["/scene"],
-        1 + d.min(
-            r.summary
-                .discoveries
-                .iter()
-                .filter(|x| x.time_s > 0.0)
-                .count()
-        )
+        counts["/sensor/sector"], 1,
+        "drawn once, in the robot frame"
     );
-    // Drawn every SECTOR_PERIOD while moving (the robot moves from the first sample on).
-    let periods = r.summary.time_s / SECTOR_PERIOD;
-    let sectors = counts["/sensor/sector"] as f64;
+    let events = 1 + r
+        .summary
+        .discoveries
+        .iter()
+        .filter(|x| x.time_s > 0.0)
+        .count();
+    assert_eq!((counts["/scene"], counts["/theta"]), (events, events));
+    let paths = counts["/robot/path"] as f64;
+    let periods = r.summary.time_s / PATH_PERIOD;
     assert!(
-        (periods - 1.0..=periods + 2.0).contains(&sectors),
-        "{sectors} sectors in {periods} periods"
+        (periods - 1.0..=periods + 2.0).contains(&paths),
+        "{paths} path updates in {periods} periods"
     );
-    assert_eq!(counts.len(), TOPICS.len());
+    assert!(
+        logs.iter().filter(|l| l.starts_with("discovered")).count() == d,
+        "{logs:?}"
+    );
+    // The Θ grid: float32 values in [0, 1] in the free space, NaN in the obstacles.
+    let g = grids.last().unwrap();
+    assert_eq!(g.column_count, GRID_CELLS);
+    let values: Vec<f32> = g
+        .data
+        .chunks_exact(4)
+        .map(|b| f32::from_le_bytes(b.try_into().unwrap()))
+        .collect();
+    assert_eq!(values.len(), (GRID_CELLS * GRID_CELLS) as usize);
+    let nan = values.iter().filter(|v| v.is_nan()).count();
+    assert!(nan > 0 && nan < values.len() / 2, "{nan} NaN cells");
+    assert!(
+        values
+            .iter()
+            .filter(|v| !v.is_nan())
+            .all(|v| (0.0..=1.0).contains(v))
+    );
+    assert!(
+        std::fs::read_dir(&dir).unwrap().count() == 1,
+        "no temporary file left"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn the_path_grows_linearly_and_in_order() {
+    let prepared = scenario("shapes/mixed.toml");
+    let r = run(&prepared, Some(Model::Kinematic)).unwrap();
+    let path = std::env::temp_dir().join(format!("harmonav-path-{}.mcap", std::process::id()));
+    write_mcap(&path, &prepared, &r).unwrap();
+    let bytes = std::fs::read(&path).unwrap();
+    let mut points: Vec<(f64, f64)> = Vec::new();
+    for m in mcap::MessageStream::new(&bytes).unwrap() {
+        let m = m.unwrap();
+        if m.channel.topic == "/robot/path" {
+            let u = SceneUpdate::decode(&m.data[..]).unwrap();
+            let segment: Vec<(f64, f64)> = u.entities[0].lines[0]
+                .points
+                .iter()
+                .map(|p| (p.x, p.y))
+                .collect();
+            // Each update carries only the new part, starting where the last one ended.
+            if let Some(&end) = points.last() {
+                assert_eq!(segment[0], end);
+                points.extend(&segment[1..]);
+            } else {
+                points.extend(segment);
+            }
+        }
+    }
+    let end = r.samples.last().unwrap().x;
+    assert_eq!(points.last(), Some(&(end[0], end[1])));
+    assert_eq!(points[0], (r.samples[0].x[0], r.samples[0].x[1]));
+    for w in points[..points.len() - 1].windows(2) {
+        assert!((w[1].0 - w[0].0).hypot(w[1].1 - w[0].1) >= PATH_SPACING);
+    }
+    std::fs::remove_file(path).unwrap();
 }
 
 #[test]
@@ -130,4 +208,50 @@ fn outputs_are_written_and_figures_show_the_run() {
             .ends_with(".tmp"))
     );
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// docs/foxglove-layout.json names only topics (and `/harmonav/state` fields) that the
+/// recording has, so the layout and the recorder cannot drift apart.
+#[test]
+fn the_foxglove_layout_names_recorded_topics_and_fields() {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs/foxglove-layout.json");
+    let layout: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(file).unwrap()).unwrap();
+    fn strings(v: &serde_json::Value, out: &mut Vec<String>) {
+        match v {
+            serde_json::Value::String(s) => out.push(s.clone()),
+            serde_json::Value::Array(a) => a.iter().for_each(|x| strings(x, out)),
+            serde_json::Value::Object(o) => o.iter().for_each(|(k, x)| {
+                out.push(k.clone());
+                strings(x, out)
+            }),
+            _ => {}
+        }
+    }
+    let mut all = Vec::new();
+    strings(&layout, &mut all);
+    let state = serde_json::to_value(harmonav_sim::record::HarmonavState::default()).unwrap();
+    let mut named = 0;
+    for s in all.iter().filter(|s| s.starts_with('/')) {
+        let (topic, field) = s
+            .split_once('.')
+            .map_or((s.as_str(), None), |(t, f)| (t, Some(f)));
+        assert!(
+            TOPICS.contains(&topic),
+            "the layout names {topic}, which is not recorded"
+        );
+        if let Some(f) = field {
+            assert!(
+                topic == "/harmonav/state" && state.get(f).is_some(),
+                "no field {s}"
+            );
+        }
+        named += 1;
+    }
+    assert!(named >= 8, "{named} topic references");
+    let panels = layout["configById"].as_object().unwrap();
+    assert!(
+        panels.keys().any(|k| k.starts_with("3D!"))
+            && panels.keys().any(|k| k.starts_with("RosOut!"))
+    );
 }
