@@ -4,9 +4,12 @@
 //! point world (right): a grid drawn in the free space and mapped through `Phi`, the obstacles
 //! collapsing to their centres, and a few descent paths in both.
 //!
-//! `paper-kinematic.svg`, `paper-dynamic.svg` and `paper-dynamic-speed.svg`: the runs of
-//! `scenarios/paper/` (the two studies of the paper, `docs/reproduction.md`), drawn by
-//! harmonav-sim's own figures.
+//! `nav-transform-levels.svg`: the same world with the level sets of `Θ` (left) and of
+//! `sigma∘phi_k` in the point world (right): `Phi` maps the one onto the other.
+//!
+//! `paper-kinematic.svg`, `paper-dynamic.svg`, `paper-dynamic-speed.svg` and
+//! `paper-dynamic-energy.svg`: the runs of `scenarios/paper/` (the two studies of the paper,
+//! `docs/reproduction.md`), drawn by harmonav-sim's own figures.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -15,28 +18,20 @@ use std::sync::Arc;
 use harmonav_field::Field;
 use harmonav_field::descent::{FollowOptions, follow};
 use harmonav_sim::atomic::write_atomically;
-use harmonav_sim::figures::{speed_svg, trajectory_svg};
+use harmonav_sim::figures::{
+    Plane, draw_level_lines, energy_svg, err, outline, plane, speed_svg, trajectory_svg, xy,
+};
+use harmonav_sim::levels::ThetaGrid;
 use harmonav_sim::run::run as run_scenario;
 use harmonav_sim::scenario::Scenario;
-use harmonav_sim::svg::{Canvas, Panel};
+use harmonav_transform::Workspace;
 use harmonav_transform::random::{self, Kind, Rng};
 use nalgebra::Vector2;
-
-const SIZE: f64 = 460.0;
-
-/// A square panel of `SIZE` pixels showing `[-half, half]²`, `dx` pixels from the left.
-fn panel(dx: f64, half: f64) -> Panel {
-    Panel {
-        left: dx,
-        top: 20.0,
-        size: (SIZE, SIZE),
-        window: (Vector2::new(-half, -half), Vector2::new(half, half)),
-    }
-}
+use plotters::prelude::*;
 
 pub fn run() -> ExitCode {
     let mut code = ExitCode::SUCCESS;
-    for result in [nav_transform_figure(), paper_figures()] {
+    for result in [nav_transform_figures(), paper_figures()] {
         match result {
             Ok(paths) => paths.iter().for_each(|p| println!("wrote {p}")),
             Err(e) => {
@@ -71,90 +66,135 @@ fn paper_figures() -> Result<Vec<String>, String> {
         let run = run_scenario(&prepared, None).map_err(|e| format!("{}: {e}", file.display()))?;
         written.push(write_figure(
             &format!("paper-{study}.svg"),
-            &trajectory_svg(&prepared, &run),
+            &trajectory_svg(&prepared, &run)?,
         )?);
         if study == "dynamic" {
-            written.push(write_figure("paper-dynamic-speed.svg", &speed_svg(&run))?);
+            written.push(write_figure("paper-dynamic-speed.svg", &speed_svg(&run)?)?);
+            written.push(write_figure(
+                "paper-dynamic-energy.svg",
+                &energy_svg(&run)?,
+            )?);
         }
     }
     Ok(written)
 }
 
-fn nav_transform_figure() -> Result<Vec<String>, String> {
+/// The world of the figures: six mixed obstacles in a star-shaped workspace (seed 2).
+fn figure_world() -> Result<(Arc<Workspace>, Field), String> {
     let mut rng = Rng::new(2);
     let kinds = [Kind::Circle, Kind::Ellipse, Kind::Polygon, Kind::Star];
     let ws = Arc::new(random::workspace(&mut rng, 6, &kinds, Kind::Star, 0.2));
     let field = Field::all_known(ws.clone()).map_err(|e| e.to_string())?;
-    let t = field.transform();
-    let (left, right) = (panel(10.0, 6.0), panel(SIZE + 40.0, 9.0));
-    let mut svg = Canvas::new(2.0 * SIZE + 50.0, SIZE + 50.0);
-    for p in [&left, &right] {
-        svg.raw(&format!(
-            r##"<rect x="{}" y="20" width="{SIZE}" height="{SIZE}" fill="none" stroke="#999"/>"##,
-            p.left
-        ));
+    Ok((ws, field))
+}
+
+/// Two square panels side by side: the workspace `[−6, 6]²` and the point world `[−9, 9]²`.
+fn two_panels(
+    out: &mut String,
+    titles: [&str; 2],
+    draw: impl FnOnce(&mut Plane<'_, '_>, &mut Plane<'_, '_>) -> Result<(), String>,
+) -> Result<(), String> {
+    let root = SVGBackend::with_string(out, (1000, 520)).into_drawing_area();
+    root.fill(&WHITE).map_err(err)?;
+    let (l, r) = root.split_horizontally(500);
+    let mut left = plane(&l, titles[0], Vector2::zeros(), 6.0)?;
+    let mut right = plane(&r, titles[1], Vector2::zeros(), 9.0)?;
+    draw(&mut left, &mut right)?;
+    root.present().map_err(err)
+}
+
+/// The obstacle points (labelled) and the goal.
+fn mark_points(panel: &mut Plane<'_, '_>, ws: &Workspace) -> Result<(), String> {
+    for (i, o) in ws.obstacles().iter().enumerate() {
+        let c = o.centre();
+        panel
+            .draw_series([Circle::new(xy(c), 3, BLACK.filled())])
+            .map_err(err)?;
+        panel
+            .draw_series(std::iter::once(Text::new(
+                format!("O{}", i + 1),
+                (c.x + 0.25, c.y + 0.25),
+                ("sans-serif", 12),
+            )))
+            .map_err(err)?;
     }
-    svg.text(
-        left.left,
-        14.0,
-        &format!("workspace W (k = M + 1 = {})", field.k()),
-        "",
-    );
-    svg.text(
-        right.left,
-        14.0,
-        "point world Phi(W): obstacles collapse to points, ∂W to infinity",
-        "",
-    );
-    // Grid lines in the free space, and their images.
-    let grid = |fixed: f64, vertical: bool| {
-        (0..=400).map(move |i| {
-            let s = -6.0 + 12.0 * i as f64 / 400.0;
-            if vertical {
-                Vector2::new(fixed, s)
-            } else {
-                Vector2::new(s, fixed)
-            }
-        })
-    };
-    let free = |x: Vector2<f64>| ws.check_free(x, "grid").ok().map(|_| x);
-    let style = r##"fill="none" stroke="#4a7ab5" stroke-width="0.6""##;
+    panel
+        .draw_series([Circle::new(
+            xy(ws.destination()),
+            5,
+            RGBColor(43, 138, 62).filled(),
+        )])
+        .map_err(err)?;
+    Ok(())
+}
+
+/// The boundary and the obstacles (filled) in the workspace panel, the points in both.
+fn draw_world(
+    left: &mut Plane<'_, '_>,
+    right: &mut Plane<'_, '_>,
+    ws: &Workspace,
+) -> Result<(), String> {
+    left.draw_series(std::iter::once(PathElement::new(
+        outline(ws.boundary()),
+        BLACK.stroke_width(2),
+    )))
+    .map_err(err)?;
+    for o in ws.obstacles() {
+        left.draw_series(std::iter::once(Polygon::new(
+            outline(o),
+            RGBColor(187, 187, 187).filled(),
+        )))
+        .map_err(err)?;
+        left.draw_series(std::iter::once(PathElement::new(
+            outline(o),
+            BLACK.stroke_width(1),
+        )))
+        .map_err(err)?;
+    }
+    mark_points(left, ws)?;
+    mark_points(right, ws)
+}
+
+fn nav_transform_figures() -> Result<Vec<String>, String> {
+    let (ws, field) = figure_world()?;
+    let t = field.transform();
+    let blue = RGBColor(74, 122, 181);
+    let orange = RGBColor(217, 72, 15);
+    // Grid lines in the free space, as runs of consecutive free points.
+    let free = |x: Vector2<f64>| ws.check_free(x, "grid").is_ok();
+    let mut grid_lines: Vec<Vec<Vector2<f64>>> = Vec::new();
     for j in 0..=24 {
         let fixed = -6.0 + 0.5 * j as f64;
         for vertical in [false, true] {
-            svg.path(&left, grid(fixed, vertical).map(free), style);
-            svg.path(
-                &right,
-                grid(fixed, vertical)
-                    .map(|x| free(x).and_then(|x| t.nav_transform(x).ok()).map(|m| m.h)),
-                style,
-            );
+            let mut run: Vec<Vector2<f64>> = Vec::new();
+            for i in 0..=400 {
+                let s = -6.0 + 12.0 * i as f64 / 400.0;
+                let x = if vertical {
+                    Vector2::new(fixed, s)
+                } else {
+                    Vector2::new(s, fixed)
+                };
+                if free(x) {
+                    run.push(x);
+                } else if run.len() > 1 {
+                    grid_lines.push(std::mem::take(&mut run));
+                } else {
+                    run.clear();
+                }
+            }
+            if run.len() > 1 {
+                grid_lines.push(run);
+            }
         }
     }
-    // Boundary and obstacles.
-    let outline = |shape: &harmonav_transform::StarShape| {
-        (0..=720)
-            .map(|i| Some(shape.boundary_point(std::f64::consts::TAU * i as f64 / 720.0)))
-            .collect::<Vec<_>>()
+    let image = |pts: &[Vector2<f64>]| -> Vec<(f64, f64)> {
+        pts.iter()
+            .filter_map(|&x| t.nav_transform(x).ok())
+            .map(|m| xy(m.h))
+            .collect()
     };
-    svg.path(
-        &left,
-        outline(ws.boundary()),
-        r#"fill="none" stroke="black" stroke-width="1.5""#,
-    );
-    for (i, o) in ws.obstacles().iter().enumerate() {
-        svg.path(
-            &left,
-            outline(o),
-            r##"fill="#bbb" stroke="black" stroke-width="1""##,
-        );
-        for p in [&left, &right] {
-            svg.dot(p, o.centre(), 3.0, "black");
-            svg.label(p, o.centre(), (4.0, -4.0), &format!("O{}", i + 1));
-        }
-    }
     // Descent paths from a few starts.
-    let style = r##"fill="none" stroke="#d9480f" stroke-width="1.4""##;
+    let mut paths: Vec<Vec<Vector2<f64>>> = Vec::new();
     for s in 0..6 {
         let start = random::free_point(&mut Rng::new(100 + s), &ws, 0.05);
         let mut pts = vec![start];
@@ -171,16 +211,62 @@ fn nav_transform_figure() -> Result<Vec<String>, String> {
                 break;
             }
         }
-        svg.path(&left, pts.iter().map(|&p| Some(p)), style);
-        svg.path(
-            &right,
-            pts.iter().map(|&p| t.nav_transform(p).ok().map(|m| m.h)),
-            style,
-        );
+        paths.push(pts);
     }
-    for p in [&left, &right] {
-        svg.dot(p, ws.destination(), 5.0, "#2b8a3e");
-        svg.label(p, ws.destination(), (6.0, 14.0), "goal");
-    }
-    Ok(vec![write_figure("nav-transform.svg", &svg.finish())?])
+    let mut grid_svg = String::new();
+    let titles = [
+        format!("workspace W (k = {})", field.k()),
+        "point world Φ(W): obstacles collapse to points".to_string(),
+    ];
+    two_panels(&mut grid_svg, [&titles[0], &titles[1]], |left, right| {
+        for l in &grid_lines {
+            left.draw_series(std::iter::once(PathElement::new(
+                l.iter().map(|&p| xy(p)).collect::<Vec<_>>(),
+                blue.stroke_width(1),
+            )))
+            .map_err(err)?;
+            right
+                .draw_series(std::iter::once(PathElement::new(
+                    image(l),
+                    blue.stroke_width(1),
+                )))
+                .map_err(err)?;
+        }
+        draw_world(left, right, &ws)?;
+        for p in &paths {
+            left.draw_series(std::iter::once(PathElement::new(
+                p.iter().map(|&x| xy(x)).collect::<Vec<_>>(),
+                orange.stroke_width(2),
+            )))
+            .map_err(err)?;
+            right
+                .draw_series(std::iter::once(PathElement::new(
+                    image(p),
+                    orange.stroke_width(2),
+                )))
+                .map_err(err)?;
+        }
+        Ok(())
+    })?;
+    // The level sets of Θ, and of sigma∘phi_k in the point world.
+    let theta = ThetaGrid::sample(&field, Vector2::zeros(), 6.0, 300).map_err(|e| e.to_string())?;
+    let world = field.point_world();
+    let varphi = ThetaGrid::from_fn(Vector2::zeros(), 9.0, 300, |h| Some(world.varphi(h)));
+    let mut levels_svg = String::new();
+    two_panels(
+        &mut levels_svg,
+        [
+            "level sets of Θ in W",
+            "level sets of σ∘φ_k in the point world",
+        ],
+        |left, right| {
+            draw_level_lines(left, &theta)?;
+            draw_level_lines(right, &varphi)?;
+            draw_world(left, right, &ws)
+        },
+    )?;
+    Ok(vec![
+        write_figure("nav-transform.svg", &grid_svg)?,
+        write_figure("nav-transform-levels.svg", &levels_svg)?,
+    ])
 }

@@ -1,18 +1,51 @@
-//! The run figures: the trajectory (like the paper's figures) and, for dynamic runs, the
-//! speed against time with the bound `√(2μ/m)`.
+//! The run figures, drawn with plotters (SVG; text stays text, axes get round ticks):
+//!
+//! - `trajectory.svg`: the workspace, the named obstacles (discovered ones red), the level sets
+//!   of `Θ` for the final known world, the sector at each discovery, the path, start and goal;
+//! - `speed.svg`: `|ẋ|` against time with the bound `√(2μ/m)` and the discoveries marked;
+//! - `energy.svg` (dynamic law): `V(t)` and `λ(t)`.
 
 use std::f64::consts::TAU;
 
+use harmonav_field::Field;
 use harmonav_sensing::Sensing;
 use harmonav_transform::StarShape;
 use nalgebra::Vector2;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use crate::run::Run;
+use crate::levels::ThetaGrid;
+use crate::run::{Discovery, Run};
 use crate::scenario::Prepared;
-use crate::svg::{Canvas, Panel};
 
-fn outline(shape: &StarShape) -> impl Iterator<Item = Vector2<f64>> + '_ {
-    (0..360).map(move |i| shape.boundary_point(TAU * i as f64 / 360.0))
+/// The levels of `Θ` drawn on the figures (denser towards 1, where the obstacles shape them).
+pub const LEVELS: [f64; 9] = [0.1, 0.2, 0.3, 0.5, 0.7, 0.9, 0.97, 0.99, 0.999];
+
+/// Cells per side of the grid the level sets are traced on.
+const LEVEL_CELLS: usize = 240;
+
+const FONT: &str = "sans-serif";
+const PATH: RGBColor = RGBColor(217, 72, 15);
+const KNOWN: RGBColor = RGBColor(176, 32, 32);
+const SECTOR: RGBColor = RGBColor(59, 125, 216);
+const GOAL: RGBColor = RGBColor(43, 138, 62);
+
+/// A plotters error as text.
+pub fn err(e: impl std::fmt::Debug) -> String {
+    format!("drawing a figure: {e:?}")
+}
+
+/// A point as plotters wants it.
+pub fn xy(p: Vector2<f64>) -> (f64, f64) {
+    (p.x, p.y)
+}
+
+/// The closed outline of `shape`.
+pub fn outline(shape: &StarShape) -> Vec<(f64, f64)> {
+    (0..=360)
+        .map(|i| xy(shape.boundary_point(TAU * i as f64 / 360.0)))
+        .collect()
 }
 
 /// The sector `S_{r,θ}` at `pole` along `axis` as a closed polygon.
@@ -21,228 +54,381 @@ fn sector_polygon(
     axis: Vector2<f64>,
     range: f64,
     aperture: f64,
-) -> Vec<Vector2<f64>> {
+) -> Vec<(f64, f64)> {
     let a0 = axis.y.atan2(axis.x);
     let mut pts = if aperture < TAU {
-        vec![pole]
+        vec![xy(pole)]
     } else {
         Vec::new()
     };
     for i in 0..=48 {
         let a = a0 - 0.5 * aperture + aperture * i as f64 / 48.0;
-        pts.push(pole + range * Vector2::new(a.cos(), a.sin()));
+        pts.push(xy(pole + range * Vector2::new(a.cos(), a.sin())));
     }
     pts
 }
 
-/// `trajectory.svg`: boundary, obstacles labelled (grey until discovered, then red outline),
-/// the path, the sector at the start, at each discovery and at the end, start and goal.
-pub fn trajectory_svg(prepared: &Prepared, run: &Run) -> String {
-    let b = &prepared.truth.boundary;
-    let (_, r) = b.radius_bounds();
-    let c = b.centre();
-    let margin = 0.05 * r;
-    let window = (
-        c - Vector2::new(r + margin, r + margin),
-        c + Vector2::new(r + margin, r + margin),
-    );
-    let panel = Panel {
-        left: 10.0,
-        top: 30.0,
-        size: (620.0, 620.0),
-        window,
-    };
-    let mut svg = Canvas::new(640.0, 660.0);
-    let s = &run.summary;
-    svg.text(
-        10.0,
-        18.0,
-        &format!(
-            "{} — {:?} model, {} ({:.2} s)",
-            s.name,
-            s.model,
-            if s.reached {
-                "goal reached"
-            } else {
-                "goal NOT reached"
-            },
-            s.time_s
-        ),
-        "font-weight=\"bold\"",
-    );
-    svg.polygon(
-        &panel,
-        outline(b),
-        r##"fill="#fafafa" stroke="black" stroke-width="1.5""##,
-    );
-    for (i, o) in prepared.truth.obstacles.iter().enumerate() {
-        let discovered = s.discoveries.iter().any(|d| d.index == i);
-        let style = if discovered {
-            r##"fill="#f1c0c0" stroke="#b02020" stroke-width="1.2""##
-        } else {
-            r##"fill="#d0d0d0" stroke="#666" stroke-width="1""##
-        };
-        svg.polygon(&panel, outline(o), style);
-        svg.label(&panel, o.centre(), (-6.0, 4.0), &prepared.truth.names[i]);
-    }
-    if let Sensing::Sector(sector) = prepared.truth.sensing {
-        let style = r##"fill="#3b7dd8" fill-opacity="0.15" stroke="#3b7dd8" stroke-width="0.8""##;
-        let mut poses: Vec<(Vector2<f64>, Vector2<f64>)> = Vec::new();
-        // At the start: along the initial motion.
-        if let Some(w) = run.samples.windows(2).find(|w| w[0].x != w[1].x) {
-            let (a, b2) = (
-                Vector2::new(w[0].x[0], w[0].x[1]),
-                Vector2::new(w[1].x[0], w[1].x[1]),
-            );
-            poses.push((
-                Vector2::new(run.samples[0].x[0], run.samples[0].x[1]),
-                (b2 - a).normalize(),
-            ));
-        }
-        for d in &s.discoveries {
-            let a = Vector2::new(d.axis[0], d.axis[1]);
-            if a.norm() > 0.0 {
-                poses.push((Vector2::new(d.position[0], d.position[1]), a));
-            }
-        }
-        if let [.., p, q] = run.samples.as_slice() {
-            let (a, b2) = (Vector2::new(p.x[0], p.x[1]), Vector2::new(q.x[0], q.x[1]));
-            if (b2 - a).norm() > 0.0 {
-                poses.push((b2, (b2 - a).normalize()));
-            }
-        }
-        for (pole, axis) in poses {
-            svg.polygon(
-                &panel,
-                sector_polygon(pole, axis, sector.range(), sector.aperture()),
-                style,
-            );
-        }
-    }
-    svg.path(
-        &panel,
-        run.samples
-            .iter()
-            .map(|s| Some(Vector2::new(s.x[0], s.x[1]))),
-        r##"fill="none" stroke="#d9480f" stroke-width="1.8""##,
-    );
-    let start = Vector2::new(
-        prepared.scenario.robot.start[0],
-        prepared.scenario.robot.start[1],
-    );
-    svg.dot(&panel, start, 4.0, "#1c7ed6");
-    svg.label(&panel, start, (6.0, -6.0), "start");
-    let goal = prepared.truth.workspace.destination();
-    svg.dot(&panel, goal, 5.0, "#2b8a3e");
-    svg.label(&panel, goal, (6.0, 14.0), "goal");
-    for d in &s.discoveries {
-        let p = Vector2::new(d.position[0], d.position[1]);
-        svg.dot(&panel, p, 2.5, "#b02020");
-    }
-    svg.finish()
+/// A colour from blue (`Θ` near 0) to orange (near 1) for the level lines.
+fn level_color(v: f64) -> RGBColor {
+    let mix = |a: f64, b: f64| (a + (b - a) * v).round() as u8;
+    RGBColor(mix(40.0, 240.0), mix(90.0, 140.0), mix(200.0, 40.0))
 }
 
-/// `speed.svg` (dynamic runs): `|ẋ|` against time with the bound `√(2μ/m)`, the discovery
-/// instants, and shaded the intervals in which a discovery lifted `V` to `μ` and the damping
-/// switched to `(m/d_min)|ẋ(T_n)|` (eq. `dissipationfun`).
-pub fn speed_svg(run: &Run) -> String {
+/// A square chart of the plane `[c − half, c + half]²`.
+pub type Plane<'a, 'b> = ChartContext<
+    'a,
+    SVGBackend<'b>,
+    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+>;
+
+/// A square chart of `[c − half, c + half]²` on `area`, with round ticks and axis titles.
+pub fn plane<'a, 'b>(
+    area: &'a DrawingArea<SVGBackend<'b>, Shift>,
+    title: &str,
+    c: Vector2<f64>,
+    half: f64,
+) -> Result<Plane<'a, 'b>, String> {
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, (FONT, 16))
+        .margin(8)
+        .x_label_area_size(32)
+        .y_label_area_size(40)
+        .build_cartesian_2d(c.x - half..c.x + half, c.y - half..c.y + half)
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_labels(7)
+        .y_labels(7)
+        .x_desc("x (m)")
+        .y_desc("y (m)")
+        .label_style((FONT, 12))
+        .draw()
+        .map_err(err)?;
+    Ok(chart)
+}
+
+/// Draws the level sets of `Θ` of `field` over the chart's square.
+fn draw_levels(
+    chart: &mut Plane<'_, '_>,
+    field: &Field,
+    c: Vector2<f64>,
+    half: f64,
+) -> Result<(), String> {
+    let grid = ThetaGrid::sample(field, c, half, LEVEL_CELLS).map_err(|e| e.to_string())?;
+    draw_level_lines(chart, &grid)
+}
+
+/// Draws the [`LEVELS`] of `grid` (blue near 0, orange near 1).
+pub fn draw_level_lines(chart: &mut Plane<'_, '_>, grid: &ThetaGrid) -> Result<(), String> {
+    for level in grid.level_lines(&LEVELS) {
+        let style = level_color(level.value).stroke_width(1);
+        chart
+            .draw_series(
+                level
+                    .lines
+                    .iter()
+                    .map(|l| PathElement::new(l.iter().map(|&p| xy(p)).collect::<Vec<_>>(), style)),
+            )
+            .map_err(err)?;
+    }
+    Ok(())
+}
+
+/// The poses at which the sector is drawn: at each discovery, with its axis.
+fn sector_poses(run: &Run) -> Vec<(Vector2<f64>, Vector2<f64>)> {
+    run.summary
+        .discoveries
+        .iter()
+        .map(|d| (Vector2::from(d.position), Vector2::from(d.axis)))
+        .filter(|(_, a)| a.norm() > 0.0)
+        .collect()
+}
+
+/// `trajectory.svg` of `run`.
+pub fn trajectory_svg(prepared: &Prepared, run: &Run) -> Result<String, String> {
+    let truth = &prepared.truth;
     let s = &run.summary;
-    let bound = s.speed_bound.unwrap_or(1.0);
-    let t_max = run.samples.last().map_or(1.0, |s| s.t).max(1e-9);
-    let top = 1.1 * bound;
-    let panel = Panel {
-        left: 60.0,
-        top: 30.0,
-        size: (560.0, 300.0),
-        window: (Vector2::new(0.0, 0.0), Vector2::new(t_max, top)),
-    };
-    let mut svg = Canvas::new(640.0, 370.0);
-    svg.text(
-        60.0,
-        18.0,
-        &format!(
-            "speed of {} — max {:.3} m/s, bound √(2μ/m) = {:.3} m/s",
-            s.name, s.max_speed, bound
-        ),
-        "font-weight=\"bold\"",
+    let b = &truth.boundary;
+    let (c, half) = (b.centre(), 1.04 * b.radius_bounds().1);
+    let title = format!(
+        "{} — {:?} law, {} ({:.2} s)",
+        s.name,
+        s.model,
+        if s.reached {
+            "goal reached"
+        } else {
+            "goal NOT reached"
+        },
+        s.time_s
     );
-    svg.raw(r##"<rect x="60" y="30" width="560" height="300" fill="none" stroke="#999"/>"##);
-    let bound_line = [
-        Some(Vector2::new(0.0, bound)),
-        Some(Vector2::new(t_max, bound)),
-    ];
-    svg.path(
-        &panel,
-        bound_line,
-        r##"fill="none" stroke="#c92a2a" stroke-dasharray="6 4" stroke-width="1.2""##,
-    );
-    svg.label(
-        &panel,
-        Vector2::new(0.0, bound),
-        (4.0, -4.0),
-        "bound √(2μ/m)",
-    );
-    // The switched intervals: from each recorded sample with λ switched to the next sample.
-    let mut labelled = false;
-    for w in run.samples.windows(2) {
-        if w[0].lambda.is_none() || w[0].critical {
-            continue;
+    let known: Vec<usize> = s.discoveries.iter().map(|d| d.index).collect();
+    let field = Field::with_policy(
+        truth.workspace.clone(),
+        known.iter().copied(),
+        prepared.k_policy(),
+    )
+    .map_err(|e| e.to_string())?;
+    let mut out = String::new();
+    {
+        let root = SVGBackend::with_string(&mut out, (720, 740)).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        let mut chart = plane(&root, &title, c, half)?;
+        chart
+            .draw_series(std::iter::once(Polygon::new(
+                outline(b),
+                RGBColor(250, 250, 250).filled(),
+            )))
+            .map_err(err)?;
+        draw_levels(&mut chart, &field, c, half)?;
+        chart
+            .draw_series(std::iter::once(PathElement::new(
+                outline(b),
+                BLACK.stroke_width(2),
+            )))
+            .map_err(err)?;
+        if let Sensing::Sector(sector) = truth.sensing {
+            for (pole, axis) in sector_poses(run) {
+                let poly = sector_polygon(pole, axis, sector.range(), sector.aperture());
+                chart
+                    .draw_series([Polygon::new(poly.clone(), SECTOR.mix(0.12).filled())])
+                    .map_err(err)?;
+                chart
+                    .draw_series(std::iter::once(PathElement::new(
+                        poly,
+                        SECTOR.mix(0.6).stroke_width(1),
+                    )))
+                    .map_err(err)?;
+            }
         }
-        let (x0, _) = panel.px(Vector2::new(w[0].t, top));
-        // At least 2 px wide: the switch often lasts a few milliseconds.
-        let x1 = panel.px(Vector2::new(w[1].t, top)).0.max(x0 + 2.0);
-        svg.raw(&format!(
-            r##"<rect x="{x0:.2}" y="30" width="{:.2}" height="300" fill="#f59f00" fill-opacity="0.35"/>"##,
-            x1 - x0
-        ));
-        if !labelled {
-            svg.text(x1 + 3.0, 326.0, "λ switched (V ≥ μ)", r##"fill="#e67700""##);
-            labelled = true;
+        for (i, o) in truth.obstacles.iter().enumerate() {
+            let (fill, stroke) = if known.contains(&i) {
+                (RGBColor(241, 192, 192), KNOWN)
+            } else {
+                (RGBColor(208, 208, 208), RGBColor(102, 102, 102))
+            };
+            chart
+                .draw_series(std::iter::once(Polygon::new(outline(o), fill.filled())))
+                .map_err(err)?;
+            chart
+                .draw_series(std::iter::once(PathElement::new(
+                    outline(o),
+                    stroke.stroke_width(1),
+                )))
+                .map_err(err)?;
+            let style =
+                TextStyle::from((FONT, 12).into_font()).pos(Pos::new(HPos::Center, VPos::Center));
+            chart
+                .draw_series(std::iter::once(Text::new(
+                    truth.names[i].clone(),
+                    xy(o.centre()),
+                    style,
+                )))
+                .map_err(err)?;
+        }
+        chart
+            .draw_series(LineSeries::new(
+                run.samples.iter().map(|p| (p.x[0], p.x[1])),
+                PATH.stroke_width(2),
+            ))
+            .map_err(err)?;
+        let start = run.samples.first().map_or((0.0, 0.0), |p| (p.x[0], p.x[1]));
+        chart
+            .draw_series([
+                Circle::new(start, 5, BLACK.filled()),
+                Circle::new(xy(truth.goal()), 6, GOAL.filled()),
+            ])
+            .map_err(err)?;
+        root.present().map_err(err)?;
+    }
+    Ok(out)
+}
+
+/// Discovery labels for a time axis: discoveries at the same time share one label, and labels
+/// closer than their width in pixels go to the next row, so none overlaps another.
+fn discovery_labels(discoveries: &[Discovery]) -> Vec<(f64, String)> {
+    let mut groups: Vec<(f64, Vec<&str>)> = Vec::new();
+    for d in discoveries {
+        match groups.last_mut() {
+            Some((t, names)) if *t == d.time_s => names.push(&d.obstacle),
+            _ => groups.push((d.time_s, vec![&d.obstacle])),
         }
     }
-    // Labels of discoveries closer than 30 px to the previous one drop a line.
-    let mut previous: Option<(f64, f64)> = None;
-    for d in &s.discoveries {
-        let x = panel.px(Vector2::new(d.time_s, top)).0;
-        let dy = match previous {
-            Some((px, pdy)) if x - px < 30.0 => pdy + 12.0,
-            _ => 12.0,
+    groups
+        .into_iter()
+        .map(|(t, names)| {
+            let label = if names.len() > 3 {
+                format!("{}…{} ({})", names[0], names[names.len() - 1], names.len())
+            } else {
+                names.join(", ")
+            };
+            (t, label)
+        })
+        .collect()
+}
+
+/// Estimated width of `text` at 11 px (no font metrics in an SVG-only build).
+fn text_width(text: &str) -> i32 {
+    7 * text.chars().count() as i32 + 6
+}
+
+/// A named, coloured time series `(t, value)`.
+type Series<'a> = (&'a str, RGBColor, Vec<(f64, f64)>);
+
+/// A time series chart on `area` with discovery markers.
+fn time_chart(
+    area: &DrawingArea<SVGBackend<'_>, Shift>,
+    title: &str,
+    y_desc: &str,
+    series: &[Series<'_>],
+    discoveries: &[Discovery],
+) -> Result<(), String> {
+    let t_end = series
+        .iter()
+        .flat_map(|(_, _, s)| s.last().map(|p| p.0))
+        .fold(0.0, f64::max)
+        .max(1e-3);
+    let y_max = series
+        .iter()
+        .flat_map(|(_, _, s)| s.iter().map(|p| p.1))
+        .filter(|v| v.is_finite())
+        .fold(0.0, f64::max)
+        .max(1e-9)
+        * 1.25;
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, (FONT, 16))
+        .margin(8)
+        .x_label_area_size(32)
+        .y_label_area_size(50)
+        .build_cartesian_2d(0.0..t_end, 0.0..y_max)
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .light_line_style(WHITE)
+        .disable_x_mesh()
+        .x_labels(8)
+        .y_labels(6)
+        .x_desc("t (s)")
+        .y_desc(y_desc)
+        .label_style((FONT, 12))
+        .draw()
+        .map_err(err)?;
+    // Discovery markers, labels on rows so that none overlaps another.
+    let mut rows: Vec<i32> = Vec::new(); // the right end of the last label in each row, px
+    for (t, label) in discovery_labels(discoveries) {
+        chart
+            .draw_series(std::iter::once(PathElement::new(
+                vec![(t, 0.0), (t, y_max)],
+                RGBColor(150, 150, 150).stroke_width(1),
+            )))
+            .map_err(err)?;
+        let (px, _) = chart.backend_coord(&(t, y_max));
+        let w = text_width(&label);
+        let row = match rows.iter().position(|&right| px > right + 4) {
+            Some(r) => r,
+            None => {
+                rows.push(i32::MIN);
+                rows.len() - 1
+            }
         };
-        previous = Some((x, dy));
-        svg.path(
-            &panel,
-            [
-                Some(Vector2::new(d.time_s, 0.0)),
-                Some(Vector2::new(d.time_s, top)),
-            ],
-            r##"stroke="#aaa" stroke-width="0.8""##,
-        );
-        svg.label(&panel, Vector2::new(d.time_s, top), (2.0, dy), &d.obstacle);
+        rows[row] = px + w;
+        let y = y_max * (0.97 - 0.06 * row as f64);
+        chart
+            .draw_series(std::iter::once(Text::new(
+                label,
+                (t, y),
+                (FONT, 11).into_font().color(&RGBColor(90, 90, 90)),
+            )))
+            .map_err(err)?;
     }
-    svg.path(
-        &panel,
-        run.samples
-            .iter()
-            .map(|s| Some(Vector2::new(s.t, Vector2::new(s.v[0], s.v[1]).norm()))),
-        r##"fill="none" stroke="#1c7ed6" stroke-width="1.5""##,
-    );
-    for i in 0..=4 {
-        let v = top * i as f64 / 4.0;
-        let (x, y) = panel.px(Vector2::new(0.0, v));
-        svg.text(x - 50.0, y + 4.0, &format!("{v:.2}"), "");
-        let t = t_max * i as f64 / 4.0;
-        let (x, y) = panel.px(Vector2::new(t, 0.0));
-        let anchor = match i {
-            0 => "start",
-            4 => "end",
-            _ => "middle",
-        };
-        svg.text(
-            x,
-            y + 16.0,
-            &format!("{t:.1} s"),
-            &format!("text-anchor=\"{anchor}\""),
-        );
+    for (name, color, points) in series {
+        let color = *color;
+        chart
+            .draw_series(LineSeries::new(
+                points.iter().copied(),
+                color.stroke_width(2),
+            ))
+            .map_err(err)?
+            .label(*name)
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
+            });
     }
-    svg.finish()
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::MiddleLeft)
+        .background_style(WHITE.mix(0.85))
+        .border_style(RGBColor(180, 180, 180))
+        .label_font((FONT, 12))
+        .draw()
+        .map_err(err)?;
+    Ok(())
+}
+
+/// `speed.svg`: `|ẋ|` against time, with the bound `√(2μ/m)` (corollary `boundedvel`) when
+/// there is one, and the discoveries marked.
+pub fn speed_svg(run: &Run) -> Result<String, String> {
+    let speed: Vec<(f64, f64)> = run
+        .samples
+        .iter()
+        .map(|s| (s.t, s.v[0].hypot(s.v[1])))
+        .collect();
+    let mut series = vec![("|ẋ|", PATH, speed)];
+    let t_end = run.summary.time_s;
+    if let Some(bound) = run.summary.speed_bound {
+        series.push(("√(2μ/m)", KNOWN, vec![(0.0, bound), (t_end, bound)]));
+    }
+    let mut out = String::new();
+    {
+        let root = SVGBackend::with_string(&mut out, (760, 360)).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        let title = format!("{}: speed", run.summary.name);
+        time_chart(
+            &root,
+            &title,
+            "speed (m/s)",
+            &series,
+            &run.summary.discoveries,
+        )?;
+        root.present().map_err(err)?;
+    }
+    Ok(out)
+}
+
+/// `energy.svg` (dynamic law): `V(t) = μΘ + ½m|ẋ|²` (eq. `totalenergy`) and the damping
+/// `λ(t)` in force, with the discoveries marked.
+pub fn energy_svg(run: &Run) -> Result<String, String> {
+    let energy: Vec<(f64, f64)> = run
+        .samples
+        .iter()
+        .filter_map(|s| s.energy.map(|e| (s.t, e)))
+        .collect();
+    let lambda: Vec<(f64, f64)> = run
+        .samples
+        .iter()
+        .filter_map(|s| s.lambda.map(|l| (s.t, l)))
+        .collect();
+    let mut out = String::new();
+    {
+        let root = SVGBackend::with_string(&mut out, (760, 620)).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        let (top, bottom) = root.split_vertically(310);
+        let d = &run.summary.discoveries;
+        time_chart(
+            &top,
+            &format!("{}: energy", run.summary.name),
+            "V (J)",
+            &[("V", PATH, energy)],
+            d,
+        )?;
+        time_chart(
+            &bottom,
+            &format!("{}: damping", run.summary.name),
+            "λ (kg/s)",
+            &[("λ", SECTOR, lambda)],
+            d,
+        )?;
+        root.present().map_err(err)?;
+    }
+    Ok(out)
 }

@@ -31,6 +31,7 @@ use harmonav_transform::StarShape;
 use nalgebra::Vector2;
 
 use crate::atomic::AtomicFile;
+use crate::levels::ThetaGrid;
 use crate::run::{Run, Sample};
 use crate::scenario::{Model, Prepared};
 
@@ -224,35 +225,27 @@ fn scene(prepared: &Prepared, known: &[usize], t: f64) -> SceneUpdate {
     }
 }
 
-/// `Θ` of the known world at the centres of a [`GRID_CELLS`]² grid over the workspace's
-/// bounding square, as little-endian float32 (NaN outside the free space).
+/// `Θ` of the known world on a [`GRID_CELLS`]² grid over the workspace's bounding square, as
+/// little-endian float32 (NaN outside the free space).
 fn theta_grid(prepared: &Prepared, known: &[usize], t: f64) -> Result<Grid, FieldError> {
     let ws = prepared.truth.workspace.clone();
     let field = Field::with_policy(ws, known.iter().copied(), prepared.k_policy())?;
     let b = &prepared.truth.boundary;
-    let (c, half) = (b.centre(), b.radius_bounds().1);
-    let n = GRID_CELLS as usize;
-    let cell = 2.0 * half / n as f64;
-    let corner = c - Vector2::new(half, half);
-    let mut data = Vec::with_capacity(4 * n * n);
-    let mut row = vec![Vector2::zeros(); n];
-    let mut evals = vec![Err(FieldError::Outside); n];
-    for j in 0..n {
-        for (i, p) in row.iter_mut().enumerate() {
-            *p = corner + cell * Vector2::new(i as f64 + 0.5, j as f64 + 0.5);
-        }
-        field.eval_many(&row, &mut evals)?;
-        for e in &evals {
-            let v = e.as_ref().map_or(f32::NAN, |e| e.value as f32);
-            data.extend_from_slice(&v.to_le_bytes());
-        }
-    }
+    let grid = ThetaGrid::sample(&field, b.centre(), b.radius_bounds().1, GRID_CELLS as usize)?;
+    let data: Vec<u8> = grid
+        .values
+        .iter()
+        .flat_map(|&v| (v as f32).to_le_bytes())
+        .collect();
     Ok(Grid {
         timestamp: stamp(t),
         frame_id: "world".into(),
-        pose: Some(pose(corner, 0.0)),
+        pose: Some(pose(grid.corner, 0.0)),
         column_count: GRID_CELLS,
-        cell_size: Some(FVector2 { x: cell, y: cell }),
+        cell_size: Some(FVector2 {
+            x: grid.cell,
+            y: grid.cell,
+        }),
         row_stride: 4 * GRID_CELLS,
         cell_stride: 4,
         fields: vec![PackedElementField {
@@ -472,7 +465,8 @@ fn state(s: &Sample, k_policy: &str, damping: &str) -> HarmonavState {
     }
 }
 
-/// Writes `summary.json`, `run.mcap`, `trajectory.svg` and (dynamic runs) `speed.svg` into
+/// Writes `summary.json`, `run.mcap`, `trajectory.svg` and (dynamic runs) `speed.svg` and
+/// `energy.svg` into
 /// `dir`, each whole or not at all.
 pub fn write_outputs(
     dir: &Path,
@@ -492,10 +486,11 @@ pub fn write_outputs(
     put("summary.json", (summary + "\n").into_bytes())?;
     put(
         "trajectory.svg",
-        crate::figures::trajectory_svg(prepared, run).into_bytes(),
+        crate::figures::trajectory_svg(prepared, run)?.into_bytes(),
     )?;
     if run.summary.speed_bound.is_some() {
-        put("speed.svg", crate::figures::speed_svg(run).into_bytes())?;
+        put("speed.svg", crate::figures::speed_svg(run)?.into_bytes())?;
+        put("energy.svg", crate::figures::energy_svg(run)?.into_bytes())?;
     }
     let mcap = dir.join("run.mcap");
     write_mcap(&mcap, prepared, run).map_err(|e| e.to_string())?;

@@ -193,20 +193,23 @@ fn outputs_are_written_and_figures_show_the_run() {
         "no speed plot for a kinematic run"
     );
     let svg = std::fs::read_to_string(dir.join("trajectory.svg")).unwrap();
+    let labels: Vec<&str> = svg
+        .split("<text")
+        .skip(1)
+        .filter_map(|t| t.split_once('>').and_then(|(_, rest)| rest.split_once("</text>")))
+        .map(|(text, _)| text.trim())
+        .collect();
     for name in &prepared.truth.names {
-        assert!(svg.contains(&format!(">{name}</text>")), "label {name}");
+        assert!(labels.contains(&name.as_str()), "label {name} in {labels:?}");
     }
-    assert!(svg.contains("goal reached"));
+    assert!(labels.iter().any(|l| l.contains("goal reached")));
+    // The level sets of Θ: one path per level line, in the levels' colours.
+    let level_paths = svg.matches("<polyline").count();
+    assert!(level_paths > 20, "{level_paths} polylines");
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary["reached"], true);
-    assert!(
-        std::fs::read_dir(&dir).unwrap().all(|e| !e
-            .unwrap()
-            .file_name()
-            .to_string_lossy()
-            .ends_with(".tmp"))
-    );
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 3, "no temporary files left");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
