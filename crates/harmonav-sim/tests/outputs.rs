@@ -196,11 +196,17 @@ fn outputs_are_written_and_figures_show_the_run() {
     let labels: Vec<&str> = svg
         .split("<text")
         .skip(1)
-        .filter_map(|t| t.split_once('>').and_then(|(_, rest)| rest.split_once("</text>")))
+        .filter_map(|t| {
+            t.split_once('>')
+                .and_then(|(_, rest)| rest.split_once("</text>"))
+        })
         .map(|(text, _)| text.trim())
         .collect();
     for name in &prepared.truth.names {
-        assert!(labels.contains(&name.as_str()), "label {name} in {labels:?}");
+        assert!(
+            labels.contains(&name.as_str()),
+            "label {name} in {labels:?}"
+        );
     }
     assert!(labels.iter().any(|l| l.contains("goal reached")));
     // The level sets of Θ: one path per level line, in the levels' colours.
@@ -209,7 +215,11 @@ fn outputs_are_written_and_figures_show_the_run() {
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary["reached"], true);
-    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 3, "no temporary files left");
+    assert_eq!(
+        std::fs::read_dir(&dir).unwrap().count(),
+        3,
+        "no temporary files left"
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
