@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use harmonav_sim::physics::{Physics, simulate};
-use harmonav_sim::record::write_outputs;
+use harmonav_sim::record::{check_output_dir, write_outputs};
 use harmonav_sim::run::Run;
 use harmonav_sim::scenario::{Model, Prepared, Scenario as RsScenario};
 use harmonav_sim::sweep::{Report, random_starts, sweep as rs_sweep};
@@ -83,6 +83,9 @@ impl Scenario {
     ) -> PyResult<RunResult> {
         let model = model(controller)?;
         let physics: Physics = policy(physics)?;
+        if let Some(dir) = &out {
+            check_output_dir(dir).map_err(value_error)?;
+        }
         let prepared = &self.prepared;
         let run = py
             .detach(|| simulate(prepared, model, physics))
@@ -209,6 +212,7 @@ pub fn sweep(
     let prepared = &scenario.prepared;
     let pts = if let Ok(count) = starts.extract::<usize>() {
         py.detach(|| random_starts(prepared, count, seed))
+            .map_err(value_error)?
     } else if let Ok(array) = starts.extract::<PyReadonlyArray2<'_, f64>>() {
         let pts = points(&array)?;
         if let Some(i) = pts.iter().position(|p| !p.iter().all(|c| c.is_finite())) {

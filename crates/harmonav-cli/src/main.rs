@@ -9,7 +9,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 use harmonav_control::DampingPolicy;
 use harmonav_field::{FieldError, KPolicy};
 use harmonav_sim::physics::{Physics, simulate};
-use harmonav_sim::record::write_outputs;
+use harmonav_sim::record::{check_output_dir, write_outputs};
 use harmonav_sim::run::Summary;
 use harmonav_sim::scenario::{Model, Prepared, Scenario};
 use harmonav_sim::sweep::{Report, random_starts, sweep};
@@ -298,6 +298,9 @@ fn cmd_run(
     out: Option<&Path>,
     json: bool,
 ) -> Result<bool, String> {
+    if let Some(dir) = out {
+        check_output_dir(dir)?;
+    }
     let physics = match physics {
         PhysicsArg::Builtin => Physics::Builtin,
         PhysicsArg::Rapier => Physics::Rapier,
@@ -432,7 +435,7 @@ fn cmd_sweep(
     if starts == 0 {
         return Err("`--starts` must be at least 1".into());
     }
-    let points = random_starts(prepared, starts, seed);
+    let points = random_starts(prepared, starts, seed).map_err(|e| e.to_string())?;
     let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
     let model = model(controller).unwrap_or(prepared.scenario.robot.model);
     let outcomes = sweep(prepared, &points, model, threads).map_err(|e| e.to_string())?;

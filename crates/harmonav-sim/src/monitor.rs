@@ -29,6 +29,9 @@ pub(crate) struct Monitor {
     /// The largest relative rise of `V` between consecutive states, tolerance included.
     energy_rise_raw: f64,
     last_energy: Option<(f64, f64)>,
+    /// Set by the integrator when it stopped a run that had come to rest away from the goal:
+    /// since when.
+    stalled_since: Option<f64>,
 }
 
 impl Monitor {
@@ -42,7 +45,13 @@ impl Monitor {
             energy_rise: 0.0,
             energy_rise_raw: 0.0,
             last_energy: None,
+            stalled_since: None,
         }
+    }
+
+    /// The integrator stopped the run at rest away from the goal, at rest since `since`.
+    pub(crate) fn stalled(&mut self, since: f64) {
+        self.stalled_since = Some(since);
     }
 
     /// Called after every accepted step (and every recorded sample of the rapier run).
@@ -189,7 +198,14 @@ impl Monitor {
         }
         // A guarantee lost on the way (a step-size collapse, the free space left).
         guarantees.extend(aborted);
-        let outcome = Outcome::of(&guarantees, reached, t, samples, sc.sim.goal_tolerance);
+        let outcome = Outcome::of(
+            &guarantees,
+            reached,
+            t,
+            samples,
+            sc.sim.goal_tolerance,
+            self.stalled_since,
+        );
         Summary {
             name: sc.name.clone(),
             model,

@@ -45,13 +45,15 @@ pub enum Outcome {
 
 impl Outcome {
     /// The outcome of a run: its guarantees first (a collision or lost free space, leaving the
-    /// workspace), then arrival, a step-size collapse, a stall at rest, or the time budget.
+    /// workspace), then arrival, a step-size collapse, a stall (the integrator's `stalled_since`,
+    /// or rest at the end of the recording), or the time budget.
     pub fn of(
         guarantees: &[Guarantee],
         reached: bool,
         time: f64,
         samples: &[Sample],
         goal_tolerance: f64,
+        stalled_since: Option<f64>,
     ) -> Self {
         let failed = |kind: Kind| guarantees.iter().any(|g| g.kind() == kind && !g.passed);
         if failed(Kind::NoCollision) || failed(Kind::StayedInFreeSpace) {
@@ -62,6 +64,8 @@ impl Outcome {
             Self::Reached { time }
         } else if failed(Kind::Integrated) {
             Self::StepCollapsed { time }
+        } else if let Some(since) = stalled_since {
+            Self::Stalled { time: since }
         } else if let Some(since) = rest_since(samples, goal_tolerance)
             && time - since >= (STALL_WINDOW * time).max(1.0)
         {
@@ -159,12 +163,12 @@ mod tests {
             },
             true,
         )];
-        let stalled = Outcome::of(&ok, false, 20.0, &path(12.0, 20.0), 0.01);
+        let stalled = Outcome::of(&ok, false, 20.0, &path(12.0, 20.0), 0.01, None);
         assert!(matches!(stalled, Outcome::Stalled { time } if (time - 12.0).abs() < 0.11));
         // At rest for less than 10 % of the run: still moving at the end.
-        let moving = Outcome::of(&ok, false, 20.0, &path(19.5, 20.0), 0.01);
+        let moving = Outcome::of(&ok, false, 20.0, &path(19.5, 20.0), 0.01, None);
         assert_eq!(moving, Outcome::TimedOut { time: 20.0 });
-        let reached = Outcome::of(&ok, true, 20.0, &path(12.0, 20.0), 0.01);
+        let reached = Outcome::of(&ok, true, 20.0, &path(12.0, 20.0), 0.01, None);
         assert_eq!(reached, Outcome::Reached { time: 20.0 });
     }
 
@@ -175,14 +179,14 @@ mod tests {
             margin: 0.0,
         })];
         assert_eq!(
-            Outcome::of(&lost, true, 5.0, &path(5.0, 5.0), 0.01),
+            Outcome::of(&lost, true, 5.0, &path(5.0, 5.0), 0.01, None),
             Outcome::Collision
         );
         let outside = [Guarantee::failed(Check::StayedInWorkspace {
             min_boundary_distance: -0.1,
         })];
         assert_eq!(
-            Outcome::of(&outside, false, 5.0, &path(5.0, 5.0), 0.01),
+            Outcome::of(&outside, false, 5.0, &path(5.0, 5.0), 0.01, None),
             Outcome::LeftWorkspace
         );
         let collapsed = [Guarantee::failed(Check::StepCollapsed {
@@ -190,7 +194,7 @@ mod tests {
             position: [0.0; 2],
         })];
         assert_eq!(
-            Outcome::of(&collapsed, false, 3.0, &path(3.0, 3.0), 0.01),
+            Outcome::of(&collapsed, false, 3.0, &path(3.0, 3.0), 0.01, None),
             Outcome::StepCollapsed { time: 3.0 }
         );
     }

@@ -465,35 +465,59 @@ fn state(s: &Sample, k_policy: &str, damping: &str) -> HarmonavState {
     }
 }
 
-/// Writes `summary.json`, `run.mcap`, `trajectory.svg` and (dynamic runs) `speed.svg` and
-/// `energy.svg` into
-/// `dir`, each whole or not at all.
+/// The figures a run may write; those a run does not write are removed from `dir`, so that a
+/// folder never mixes the files of two runs.
+const FIGURES: [&str; 3] = ["trajectory.svg", "speed.svg", "energy.svg"];
+
+/// Checks that `dir` can take the outputs (it is a directory or does not exist yet), before a
+/// run that would otherwise fail only at its end.
+pub fn check_output_dir(dir: &Path) -> Result<(), String> {
+    if dir.exists() && !dir.is_dir() {
+        return Err(format!("{}: exists and is not a directory", dir.display()));
+    }
+    Ok(())
+}
+
+/// Writes `run.mcap`, `trajectory.svg`, (dynamic runs) `speed.svg` and `energy.svg`, and last
+/// `summary.json` into `dir`, each whole or not at all. `summary.json` comes last: when it is
+/// there and new, the rest of the set is too. Figures a run does not draw are removed.
 pub fn write_outputs(
     dir: &Path,
     prepared: &Prepared,
     run: &Run,
 ) -> Result<Vec<std::path::PathBuf>, String> {
+    check_output_dir(dir)?;
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    let mut files = Vec::new();
-    let mut put = |name: &str, bytes: Vec<u8>| -> Result<(), String> {
-        let path = dir.join(name);
-        crate::atomic::write_atomically(&path, &bytes)
-            .map_err(|e| format!("{}: {e}", path.display()))?;
-        files.push(path);
-        Ok(())
-    };
-    let summary = serde_json::to_string_pretty(&run.summary).map_err(|e| e.to_string())?;
-    put("summary.json", (summary + "\n").into_bytes())?;
-    put(
+    let mut figures = vec![(
         "trajectory.svg",
-        crate::figures::trajectory_svg(prepared, run)?.into_bytes(),
-    )?;
+        crate::figures::trajectory_svg(prepared, run)?,
+    )];
     if run.summary.speed_bound.is_some() {
-        put("speed.svg", crate::figures::speed_svg(run)?.into_bytes())?;
-        put("energy.svg", crate::figures::energy_svg(run)?.into_bytes())?;
+        figures.push(("speed.svg", crate::figures::speed_svg(run)?));
+        figures.push(("energy.svg", crate::figures::energy_svg(run)?));
     }
+    let summary = serde_json::to_string_pretty(&run.summary).map_err(|e| e.to_string())? + "\n";
     let mcap = dir.join("run.mcap");
     write_mcap(&mcap, prepared, run).map_err(|e| e.to_string())?;
-    files.insert(1, mcap);
+    let mut files = vec![mcap];
+    let write = |name: &str, bytes: &[u8]| -> Result<std::path::PathBuf, String> {
+        let path = dir.join(name);
+        crate::atomic::write_atomically(&path, bytes)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        Ok(path)
+    };
+    for (name, svg) in &figures {
+        files.push(write(name, svg.as_bytes())?);
+    }
+    for stale in FIGURES
+        .iter()
+        .filter(|f| !figures.iter().any(|(n, _)| n == *f))
+    {
+        let path = dir.join(stale);
+        if path.exists() {
+            std::fs::remove_file(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        }
+    }
+    files.insert(0, write("summary.json", summary.as_bytes())?);
     Ok(files)
 }

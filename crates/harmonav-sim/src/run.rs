@@ -16,7 +16,7 @@ use crate::closed_loop::ClosedLoop;
 pub use crate::guarantee::Guarantee;
 use crate::guarantee::{Check, FreeSpaceLoss};
 use crate::monitor::Monitor;
-use crate::outcome::Outcome;
+use crate::outcome::{Outcome, STALL_WINDOW};
 use crate::scenario::{Model, Prepared};
 
 /// One recorded state.
@@ -135,6 +135,9 @@ impl std::error::Error for RunError {}
 
 type State = [f64; 4];
 
+/// Accepted steps at rest after which a kinematic run is stopped as stalled (see `run`).
+pub const STALL_STEPS: usize = 10_000;
+
 fn pos(y: &State) -> Vector2<f64> {
     Vector2::new(y[0], y[1])
 }
@@ -208,6 +211,15 @@ pub fn run(prepared: &Prepared, model: Option<Model>) -> Result<Run, RunError> {
         rhs(&lp, &y).ok_or_else(|| RunError("the start is not in the free space".into()))?;
     let mut reached = (pos(&y) - goal).norm() < tol;
     let mut aborted: Option<Guarantee> = None;
+    // Stall detection (kinematic law): the robot has stayed within tol/2 of `anchor` since
+    // `rest_from`, for `rest_steps` steps. At a saddle the normalised law chatters at ever
+    // smaller steps (1.5 million per simulated second were seen, for minutes to max_time), so
+    // the run stops once the rest has lasted the window of `Outcome::Stalled`,
+    // max(STALL_WINDOW·t, 1 s), or STALL_STEPS steps: a robot moving at all covers tol/2 in
+    // far fewer (at 1 m/s and 1e-5 s steps, 10⁴ steps are 0.1 m). The dynamic law is smooth
+    // there and creeps: it is left to run.
+    let kinematic = lp.model == Model::Kinematic;
+    let (mut anchor, mut rest_from, mut rest_steps) = (start, 0.0, 0usize);
     while !reached && t < max_time {
         h = h.min(dt).min(max_time - t);
         if h < 1e-14 {
@@ -310,6 +322,18 @@ pub fn run(prepared: &Prepared, model: Option<Model>) -> Result<Run, RunError> {
         // recording shows the switch of eq. `dissipationfun` when the jump lifts V to μ.
         if reached || discovered {
             samples.push(s);
+        }
+        if (pos(&y) - anchor).norm() > 0.5 * tol || discovered {
+            (anchor, rest_from, rest_steps) = (pos(&y), t, 0);
+        } else {
+            rest_steps += 1;
+            if kinematic
+                && !reached
+                && (t - rest_from >= (STALL_WINDOW * t).max(1.0) || rest_steps >= STALL_STEPS)
+            {
+                monitor.stalled(rest_from);
+                break;
+            }
         }
     }
     if samples.last().map(|s| s.t) != Some(t) {

@@ -218,6 +218,21 @@ impl Default for SimSpec {
     }
 }
 
+/// The largest scenario file read, bytes.
+pub const MAX_FILE_BYTES: u64 = 4 << 20;
+
+/// The most obstacles a scenario may have (validation and the census grow like `M²`).
+pub const MAX_OBSTACLES: usize = 2000;
+
+/// The most states a run may record, `sim.max_time / sim.dt` (each is kept in memory for the
+/// monitors, the recording and the figures: about 100 bytes).
+pub const MAX_SAMPLES: f64 = 2e6;
+
+/// The range of the physical parameters (`robot.mass`, `controller.gain`, `controller.mu`,
+/// `sim.dt`, `sim.max_time`, `sim.goal_tolerance`): outside it the closed loop cannot be
+/// integrated in `f64` (a `dt` of 1e-300 or a mass of 5e-324 stopped at t = 0).
+pub const PARAMETER_RANGE: (f64, f64) = (1e-9, 1e9);
+
 /// `[expect]`: what a run of this scenario must show (checked by the CLI and `xtask verify`).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -322,30 +337,89 @@ pub fn scenario_files(dir: &Path) -> std::io::Result<Vec<PathBuf>> {
 }
 
 impl Scenario {
-    /// Reads and validates a scenario file.
+    /// Reads and validates a scenario file (at most [`MAX_FILE_BYTES`]: a device or a huge file
+    /// is refused instead of read forever).
     pub fn load(path: &Path) -> Result<Prepared, ScenarioError> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| err(path, "", None, format!("cannot read the file: {e}")))?;
+        use std::io::Read;
+        let cannot = |e: std::io::Error| err(path, "", None, format!("cannot read the file: {e}"));
+        let mut bytes = Vec::new();
+        std::fs::File::open(path)
+            .map_err(cannot)?
+            .take(MAX_FILE_BYTES + 1)
+            .read_to_end(&mut bytes)
+            .map_err(cannot)?;
+        if bytes.len() as u64 > MAX_FILE_BYTES {
+            return Err(err(
+                path,
+                "",
+                None,
+                format!("the file is larger than {} MiB", MAX_FILE_BYTES >> 20),
+            ));
+        }
+        let text = String::from_utf8(bytes)
+            .map_err(|e| err(path, "", None, format!("the file is not UTF-8 text: {e}")))?;
         Self::parse(path, &text)?.prepare(path)
     }
 
     /// Parses TOML text (`path` names it in errors); unknown keys are errors.
     pub fn parse(path: &Path, text: &str) -> Result<Self, ScenarioError> {
         toml::from_str::<Scenario>(text).map_err(|e| {
-            let (line, field) = match e.span() {
-                Some(span) => {
-                    let line = text[..span.start.min(text.len())].matches('\n').count() + 1;
-                    (Some(line), table_at(text, span.start))
-                }
-                None => (None, String::new()),
+            let problem = e.message().trim().to_string();
+            let Some(span) = e.span() else {
+                return err(path, "", None, problem);
             };
-            err(path, &field, line, e.message().trim().to_string())
+            let start = span.start.min(text.len());
+            // A shape is an internally tagged enum, whose errors point at the whole
+            // `[[obstacles]]` array: find the obstacle that fails on its own.
+            if let Some(i) = failing_obstacle(text) {
+                return err(
+                    path,
+                    &format!("obstacles[{i}]"),
+                    obstacle_line(text, i),
+                    problem,
+                );
+            }
+            let line = text[..start].matches('\n').count() + 1;
+            let table = table_at(text, start);
+            // The key on the error's line, so that a wrong type names its field.
+            let key = text[..start]
+                .rsplit('\n')
+                .next()
+                .and_then(|l| l.split_once('='))
+                .map(|(k, _)| k.trim().trim_matches('"').to_string())
+                .filter(|k| !k.is_empty() && !k.contains(['[', ' ']));
+            let field = match (table.is_empty(), key) {
+                (_, None) => table,
+                (true, Some(k)) => k,
+                (false, Some(k)) => format!("{table}.{k}"),
+            };
+            err(path, &field, Some(line), problem)
         })
     }
 
     /// Validates the scenario and builds the workspace (see [`Prepared`]).
     pub fn prepare(self, path: &Path) -> Result<Prepared, ScenarioError> {
         let f = |field: &str, problem: String| err(path, field, None, problem);
+        if self.obstacles.len() > MAX_OBSTACLES {
+            return Err(f(
+                "obstacles",
+                format!(
+                    "{} obstacles; at most {MAX_OBSTACLES} are supported",
+                    self.obstacles.len()
+                ),
+            ));
+        }
+        let in_range = |name: &str, v: f64| {
+            let (lo, hi) = PARAMETER_RANGE;
+            if v.is_finite() && (lo..=hi).contains(&v) {
+                Ok(())
+            } else {
+                Err(f(
+                    name,
+                    format!("must be finite and in [{lo:e}, {hi:e}], got {v}"),
+                ))
+            }
+        };
         if let Some(n) = shape_name(&self.workspace) {
             return Err(f(
                 "workspace.name",
@@ -379,12 +453,7 @@ impl Scenario {
         let r = &self.robot;
         check_point(r.start, "robot.start").map_err(|p| f("robot.start", p))?;
         check_point(r.goal, "robot.goal").map_err(|p| f("robot.goal", p))?;
-        if !(r.mass.is_finite() && r.mass > 0.0) {
-            return Err(f(
-                "robot.mass",
-                format!("must be finite and positive, got {}", r.mass),
-            ));
-        }
+        in_range("robot.mass", r.mass)?;
         for (name, v) in [("robot.radius", r.radius), ("robot.margin", r.margin)] {
             if !(v.is_finite() && v >= 0.0) {
                 return Err(f(name, format!("must be finite and ≥ 0, got {v}")));
@@ -400,10 +469,15 @@ impl Scenario {
         };
         let inflated_by = format!("with robot.radius + robot.margin = {inflation} m");
         let c = &self.controller;
-        for (name, v) in [("controller.gain", c.gain), ("controller.mu", c.mu)] {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(f(name, format!("must be finite and positive, got {v}")));
-            }
+        in_range("controller.gain", c.gain)?;
+        in_range("controller.mu", c.mu)?;
+        if let Some(v) = self.expect.as_ref().and_then(|e| e.max_speed_below)
+            && !(v.is_finite() && v > 0.0)
+        {
+            return Err(f(
+                "expect.max_speed_below",
+                format!("must be finite and positive, got {v}"),
+            ));
         }
         if let Some(false) = self.expect.as_ref().and_then(|e| e.other_model_reached) {
             let paper = match r.model {
@@ -424,14 +498,18 @@ impl Scenario {
             }
         }
         let s = &self.sim;
-        for (name, v) in [
-            ("sim.dt", s.dt),
-            ("sim.max_time", s.max_time),
-            ("sim.goal_tolerance", s.goal_tolerance),
-        ] {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(f(name, format!("must be finite and positive, got {v}")));
-            }
+        in_range("sim.dt", s.dt)?;
+        in_range("sim.max_time", s.max_time)?;
+        in_range("sim.goal_tolerance", s.goal_tolerance)?;
+        if s.max_time / s.dt > MAX_SAMPLES {
+            return Err(f(
+                "sim.dt",
+                format!(
+                    "sim.max_time / sim.dt = {:.3e} states to record; at most {MAX_SAMPLES:e} are \
+                     kept in memory (raise sim.dt or lower sim.max_time)",
+                    s.max_time / s.dt
+                ),
+            ));
         }
         let goal = Vector2::new(r.goal[0], r.goal[1]);
         let start = Vector2::new(r.start[0], r.start[1]);
@@ -562,6 +640,16 @@ impl Scenario {
         let (sensing, rho_min) = match &self.sensor {
             None => (Sensing::Global, rho_default),
             Some(spec) => {
+                // Below a thousandth of a degree the sector's d_min (eq. dmin) underflows.
+                if !(spec.aperture_deg.is_finite() && spec.aperture_deg >= 1e-3) {
+                    return Err(f(
+                        "sensor.aperture_deg",
+                        format!(
+                            "must be in (0, 360] and at least 0.001°, got {}",
+                            spec.aperture_deg
+                        ),
+                    ));
+                }
                 let sector = Sector::new(spec.range, spec.aperture_deg.to_radians()).map_err(
                     |e| match e {
                         harmonav_sensing::SensorError::Range(v) => f(
@@ -702,6 +790,24 @@ pub(crate) fn build_shape(s: &ShapeSpec) -> Result<StarShape, (String, String)> 
 
 /// The table a byte offset falls in: `workspace`, `obstacles[i]`, `robot`, … (for error
 /// messages; empty before the first table header).
+/// The index of the first `[[obstacles]]` entry that is not a valid shape on its own, if any.
+fn failing_obstacle(text: &str) -> Option<usize> {
+    let doc: toml::Table = toml::from_str(text).ok()?;
+    let obstacles = doc.get("obstacles")?.as_array()?;
+    obstacles
+        .iter()
+        .position(|o| o.clone().try_into::<ShapeSpec>().is_err())
+}
+
+/// The line of the `i`-th `[[obstacles]]` header.
+fn obstacle_line(text: &str, i: usize) -> Option<usize> {
+    text.lines()
+        .enumerate()
+        .filter(|(_, l)| l.trim().starts_with("[[obstacles]]"))
+        .nth(i)
+        .map(|(n, _)| n + 1)
+}
+
 fn table_at(text: &str, offset: usize) -> String {
     let mut table = String::new();
     let mut obstacles = 0usize;

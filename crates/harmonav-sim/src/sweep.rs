@@ -1,6 +1,5 @@
 //! Many starts in one world (global sensing), in parallel: the outcome of each, typed.
 
-use harmonav_field::descent::{Ending, FollowOptions, follow};
 use harmonav_sensing::Sensing;
 use harmonav_transform::random::{self, Rng};
 use nalgebra::Vector2;
@@ -11,62 +10,58 @@ use crate::quality::parallel_map;
 use crate::run::{RunError, run};
 use crate::scenario::{Model, Prepared};
 
-/// One start: the kinematic law by [`follow`] (the normalised descent), the dynamic law by the
-/// built-in integrator ([`run`]), both with every obstacle known.
-fn one(
-    prepared: &Prepared,
-    field: &harmonav_field::Field,
-    x: Vector2<f64>,
-    model: Model,
-) -> Result<Outcome, RunError> {
-    let sc = &prepared.scenario;
-    Ok(match model {
-        Model::Kinematic => {
-            let options = FollowOptions {
-                goal_tolerance: sc.sim.goal_tolerance,
-                max_time: sc.sim.max_time,
-                ..FollowOptions::default()
-            };
-            let d = follow(field, x, &options);
-            match (d.ending, d.collision_free) {
-                (_, false) => Outcome::Collision,
-                (Ending::Reached, true) => Outcome::Reached { time: d.time },
-                (Ending::Stuck, true) => Outcome::Stalled { time: d.time },
-                (Ending::TimedOut, true) => Outcome::TimedOut { time: d.time },
-                (Ending::StepCollapsed, true) => Outcome::StepCollapsed { time: d.time },
-            }
-        }
-        Model::Dynamic => {
-            let mut p = prepared.clone();
-            p.scenario.robot.start = [x.x, x.y];
-            p.truth.sensing = Sensing::Global;
-            run(&p, Some(Model::Dynamic))?.summary.outcome
-        }
-    })
+/// The most starts one sweep takes (each outcome is kept; a larger count is refused rather
+/// than allocated).
+pub const MAX_STARTS: usize = 1_000_000;
+
+/// One start: the scenario's law (or `model`) by the built-in integrator ([`run`]), every
+/// obstacle known. A kinematic run that comes to rest at a saddle stops there as stalled.
+fn one(prepared: &Prepared, x: Vector2<f64>, model: Model) -> Result<Outcome, RunError> {
+    let mut p = prepared.clone();
+    p.scenario.robot.start = [x.x, x.y];
+    p.truth.sensing = Sensing::Global;
+    Ok(run(&p, Some(model))?.summary.outcome)
 }
 
-/// The outcome of each start in `starts`, in order, on `threads` threads.
+/// The outcome of each start in `starts`, in order, on `threads` threads. Errors: more than
+/// [`MAX_STARTS`] starts, or a start the run refuses (outside the free space).
 pub fn sweep(
     prepared: &Prepared,
     starts: &[Vector2<f64>],
     model: Model,
     threads: usize,
 ) -> Result<Vec<Outcome>, RunError> {
-    let field = prepared
-        .global_field()
-        .map_err(|e| RunError(e.to_string()))?;
-    parallel_map(starts, threads, |&x| one(prepared, &field, x, model))
+    check_count(starts.len())?;
+    parallel_map(starts, threads, |&x| one(prepared, x, model))
         .into_iter()
         .collect()
 }
 
+fn check_count(n: usize) -> Result<(), RunError> {
+    if n > MAX_STARTS {
+        return Err(RunError(format!(
+            "{n} starts; a sweep takes at most {MAX_STARTS}"
+        )));
+    }
+    Ok(())
+}
+
 /// `count` seeded random starts in the free space of the scenario's true (grown) obstacles,
-/// each at least 1 mm from every boundary (the same starts for the same seed on every machine).
-pub fn random_starts(prepared: &Prepared, count: usize, seed: u64) -> Vec<Vector2<f64>> {
+/// each at least 1 mm (or a thousandth of the workspace's size, if smaller) from every
+/// boundary: the same starts for the same seed on every machine. Errors: more than
+/// [`MAX_STARTS`].
+pub fn random_starts(
+    prepared: &Prepared,
+    count: usize,
+    seed: u64,
+) -> Result<Vec<Vector2<f64>>, RunError> {
+    check_count(count)?;
+    let ws = &prepared.truth.workspace;
+    let margin = 1e-3_f64.min(1e-3 * ws.boundary().radius_bounds().0);
     let mut rng = Rng::new(seed);
-    (0..count)
-        .map(|_| random::free_point(&mut rng, &prepared.truth.workspace, 1e-3))
-        .collect()
+    Ok((0..count)
+        .map(|_| random::free_point(&mut rng, ws, margin))
+        .collect())
 }
 
 /// A sweep summarised: counts by outcome, arrival times and the starts that did not arrive

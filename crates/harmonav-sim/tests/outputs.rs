@@ -181,6 +181,10 @@ fn outputs_are_written_and_figures_show_the_run() {
     let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/shapes/mixed.toml");
     let prepared = Scenario::load(&file).unwrap();
     let dir = std::env::temp_dir().join(format!("harmonav-outputs-{}", std::process::id()));
+    // A dynamic run first: its speed and energy figures must not outlive it.
+    let dynamic = run(&prepared, Some(Model::Dynamic)).unwrap();
+    write_outputs(&dir, &prepared, &dynamic).unwrap();
+    assert!(dir.join("speed.svg").exists() && dir.join("energy.svg").exists());
     let r = run(&prepared, Some(Model::Kinematic)).unwrap();
     let files = write_outputs(&dir, &prepared, &r).unwrap();
     let names: Vec<_> = files
@@ -220,6 +224,10 @@ fn outputs_are_written_and_figures_show_the_run() {
         3,
         "no temporary files left"
     );
+    // A file where the folder should be is refused before anything is written.
+    let file_path = dir.join("summary.json");
+    let e = write_outputs(&file_path, &prepared, &r).unwrap_err();
+    assert!(e.contains("not a directory"), "{e}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -183,7 +183,7 @@ fn validation_errors_name_the_file_the_field_and_the_problem() {
     check(
         "start = [-3.0, 0.0]",
         "start = [-3.0]",
-        "robot",
+        "robot.start",
         "invalid length 1",
         None,
     );
@@ -228,14 +228,14 @@ fn margin_policy_and_limit_errors_name_the_field_and_the_reason() {
     check(
         "[sensor]",
         "[field]\nk = \"n+1\"\n[sensor]",
-        "field",
+        "field.k",
         "unknown k policy \"n+1\": expected \"paper\" or \"auto\"",
         None,
     );
     check(
         "[sensor]",
         "[controller]\ndamping = \"critical\"\n[sensor]",
-        "controller",
+        "controller.damping",
         "unknown damping policy \"critical\": expected \"paper\" or \"auto\"",
         None,
     );
@@ -531,4 +531,188 @@ fn expectations_apply_to_the_files_own_model_only() {
     };
     assert_eq!(expects(Model::Kinematic), 2);
     assert_eq!(expects(Model::Dynamic), 0);
+}
+
+/// A start on the symmetry axis of a deep star facing it (`k = "paper"`) descends onto the
+/// saddle on the axis, where the normalised kinematic law chatters at ever smaller steps: the
+/// run stops as stalled after `STALL_STEPS` steps at rest (it used to integrate on for 188
+/// million steps to max_time). The same start 0.3 m off the axis arrives.
+#[test]
+fn a_start_on_a_symmetry_axis_ends_stalled_at_once() {
+    let toml = |y: f64| {
+        format!(
+            "name = \"symmetric-saddle\"\n[workspace]\ntype = \"circle\"\ncenter = [0.0, 0.0]\n\
+             radius = 5.0\n[[obstacles]]\nname = \"star\"\ntype = \"star\"\ncenter = [0.0, 0.0]\n\
+             radius = 1.6\nharmonics = [[3, 0.8, 0.0]]\n[robot]\nmodel = \"kinematic\"\n\
+             start = [-4.0, {y}]\ngoal = [4.2, 0.0]\nradius = 0.1\n[field]\nk = \"paper\"\n\
+             [sim]\nmax_time = 120.0\n"
+        )
+    };
+    let path = std::path::Path::new("symmetric-saddle.toml");
+    let on_axis = harmonav_sim::scenario::Scenario::parse(path, &toml(0.0))
+        .unwrap()
+        .prepare(path)
+        .unwrap();
+    let r = harmonav_sim::run::run(&on_axis, None).unwrap();
+    assert!(
+        matches!(
+            r.summary.outcome,
+            harmonav_sim::outcome::Outcome::Stalled { .. }
+        ),
+        "{:?}",
+        r.summary.outcome
+    );
+    assert!(
+        r.summary.steps <= harmonav_sim::run::STALL_STEPS + 2000,
+        "{} steps",
+        r.summary.steps
+    );
+    assert!(
+        r.summary.time_s < 1.0,
+        "stopped at t = {}",
+        r.summary.time_s
+    );
+    let off_axis = harmonav_sim::scenario::Scenario::parse(path, &toml(0.3))
+        .unwrap()
+        .prepare(path)
+        .unwrap();
+    assert!(
+        harmonav_sim::run::run(&off_axis, None)
+            .unwrap()
+            .summary
+            .reached
+    );
+}
+
+/// The validation gaps of the hostile round (issue: hardening), each refused with the file, the
+/// field and the problem named.
+#[test]
+fn hostile_values_are_refused_naming_the_field() {
+    let base = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/shapes/mixed.toml"),
+    )
+    .unwrap();
+    let path = Path::new("hostile.toml");
+    let check = |from: &str, to: &str, field: &str, words: &[&str]| {
+        assert!(base.contains(from), "{from}");
+        let text = base.replacen(from, to, 1);
+        let e = Scenario::parse(path, &text)
+            .and_then(|s| s.prepare(path))
+            .expect_err(to);
+        assert_eq!(e.field, field, "{to}: {e}");
+        let msg = e.to_string();
+        for w in words {
+            assert!(msg.contains(w), "{to}: {msg}");
+        }
+    };
+    // A bad value in the third obstacle names it and its line.
+    check(
+        "corner_radius = 0.1",
+        "corner_radius = \"x\"",
+        "obstacles[2]",
+        &["hostile.toml:22"],
+    );
+    // A top-level type error names its key.
+    check(
+        "name = \"shapes-mixed\"",
+        "name = 5",
+        "name",
+        &["hostile.toml:1"],
+    );
+    check(
+        "radius = 0.5\n",
+        "radius = 1e155\n",
+        "obstacles[0].radius",
+        &["at most"],
+    );
+    check("dt = 0.01", "dt = 1e-300", "sim.dt", &["[1e-9"]);
+    check("dt = 0.01", "dt = 1e-6", "sim.dt", &["states to record"]);
+    check("mass = 1.0", "mass = 5e-324", "robot.mass", &["[1e-9"]);
+    check(
+        "max_time = 200.0",
+        "max_time = 1e12",
+        "sim.max_time",
+        &["1e9"],
+    );
+    check(
+        "aperture_deg = 60.0",
+        "aperture_deg = 1e-320",
+        "sensor.aperture_deg",
+        &["0.001°"],
+    );
+    check(
+        "goal_tolerance = 0.01",
+        "goal_tolerance = 0.01\n[expect]\nmax_speed_below = nan",
+        "expect.max_speed_below",
+        &["finite"],
+    );
+    let many: String = (0..2001)
+        .map(|i| {
+            format!(
+                "[[obstacles]]\ntype = \"circle\"\ncenter = [{}, {}]\nradius = 0.01\n",
+                -5.0 + 0.2 * (i % 50) as f64,
+                -4.0 + 0.2 * (i / 50) as f64
+            )
+        })
+        .collect();
+    let text = base.replacen("[robot]", &format!("{many}[robot]"), 1);
+    let e = Scenario::parse(path, &text)
+        .unwrap()
+        .prepare(path)
+        .unwrap_err();
+    assert!(e.to_string().contains("at most 2000"), "{e}");
+}
+
+/// A device or an oversized file is refused, not read forever.
+#[test]
+fn an_endless_file_is_refused() {
+    let e = Scenario::load(Path::new("/dev/zero")).unwrap_err();
+    assert!(e.to_string().contains("larger than"), "{e}");
+}
+
+/// The sweep follows the law with its gain: twice the gain, half the time on the same paths.
+#[test]
+fn the_sweep_follows_the_gain() {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/shapes/mixed.toml");
+    let prepared = Scenario::load(&file).unwrap();
+    let starts = harmonav_sim::sweep::random_starts(&prepared, 4, 1).unwrap();
+    let times = |gain: f64| -> Vec<f64> {
+        let mut p = prepared.clone();
+        p.scenario.controller.gain = gain;
+        harmonav_sim::sweep::sweep(&p, &starts, Model::Kinematic, 2)
+            .unwrap()
+            .iter()
+            .map(|o| o.time().unwrap())
+            .collect()
+    };
+    for (a, b) in times(1.0).iter().zip(times(2.0)) {
+        assert!((b / a - 0.5).abs() < 0.02, "{a} s at K = 1, {b} s at K = 2");
+    }
+    assert!(harmonav_sim::sweep::random_starts(&prepared, 2_000_000, 1).is_err());
+}
+
+/// The format example of scenarios/README.md is a valid scenario whose run holds every
+/// guarantee and its own `[expect]`.
+#[test]
+fn the_readme_format_example_holds_its_own_expectations() {
+    let readme = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/README.md"),
+    )
+    .unwrap();
+    let start = readme.find("```toml\n").expect("a toml block") + "```toml\n".len();
+    let text = &readme[start..start + readme[start..].find("```").unwrap()];
+    let path = Path::new("scenarios/README.md");
+    let prepared = Scenario::parse(path, text).unwrap().prepare(path).unwrap();
+    let r = run(&prepared, None).unwrap();
+    let failed: Vec<_> = r.summary.guarantees.iter().filter(|g| !g.passed).collect();
+    assert!(failed.is_empty(), "{failed:?}");
+    assert_eq!(
+        r.summary
+            .guarantees
+            .iter()
+            .filter(|g| g.kind() == Kind::Expect)
+            .count(),
+        4,
+        "every [expect] line is checked"
+    );
 }

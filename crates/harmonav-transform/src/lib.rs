@@ -45,5 +45,5 @@ pub mod workspace;
 
 pub use error::ShapeError;
 pub use nav::{Active, Mapped, NavTransform, NotFree};
-pub use shape::StarShape;
+pub use shape::{MAX_LENGTH, StarShape};
 pub use workspace::{RobotWorldError, Workspace, WorldError};

@@ -72,11 +72,21 @@ enum Piece {
     },
 }
 
+/// The largest coordinate or length a shape takes, m. Squared distances then stay below 1e19
+/// (far from overflow, which at 1e155 m let an ellipse through whose distances were infinite)
+/// and positions keep a resolution of 1e-7 m.
+pub const MAX_LENGTH: f64 = 1e9;
+
 fn finite(v: f64, field: &'static str) -> Result<f64, ShapeError> {
-    if v.is_finite() {
-        Ok(v)
-    } else {
+    if !v.is_finite() {
         Err(ShapeError::NonFinite { field })
+    } else if v.abs() > MAX_LENGTH {
+        Err(ShapeError::Invalid {
+            field,
+            problem: format!("must be at most {MAX_LENGTH:e} m in magnitude, got {v:e}"),
+        })
+    } else {
+        Ok(v)
     }
 }
 

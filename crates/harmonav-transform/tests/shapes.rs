@@ -73,6 +73,22 @@ fn invalid_shapes_are_rejected_with_the_field_named() {
         StarShape::circle(Vector2::new(f64::NAN, 0.0), 1.0).unwrap_err(),
         ShapeError::NonFinite { field: "center" }
     );
+    // Beyond MAX_LENGTH a squared distance would overflow: 1e155 is refused like 1e10.
+    for huge in [1e10, 1e155] {
+        let e = StarShape::ellipse(c, [huge, 1.0], 0.0).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                ShapeError::Invalid {
+                    field: "semi_axes",
+                    ..
+                }
+            ) && e.to_string().contains("at most"),
+            "{e}"
+        );
+        assert!(StarShape::circle(Vector2::new(0.0, huge), 1.0).is_err());
+    }
+    assert!(StarShape::ellipse(c, [1e9, 1.0], 0.0).is_ok());
     assert!(matches!(
         StarShape::ellipse(c, [1.0, -1.0], 0.0),
         Err(ShapeError::NotPositive {
