@@ -148,7 +148,15 @@ pub fn run_rapier(
 
     let mut monitor = Monitor::new();
     let mut samples = Vec::new();
-    let mut touching: BTreeSet<usize> = BTreeSet::new();
+    // Walls the robot's ball already reaches at the start (a point robot is a 1 mm ball in
+    // rapier, and a start may lie closer than that): touching them is not a contact event.
+    let gap_to = |i: usize, x: Vector2<f64>| match truth.obstacles.get(i) {
+        Some(o) => o.signed_distance(x),
+        None => -truth.boundary.signed_distance(x),
+    };
+    let mut touching: BTreeSet<usize> = (0..walls.len())
+        .filter(|&i| gap_to(i, start) <= radius + TOUCH)
+        .collect();
     let mut contacts = 0;
     let mut t = 0.0;
     let mut steps = 0;
@@ -248,13 +256,7 @@ pub fn run_rapier(
                 }
             })
             .filter_map(|c| walls.iter().position(|w| *w == c))
-            .filter(|&i| {
-                let gap = match truth.obstacles.get(i) {
-                    Some(o) => o.signed_distance(x_new),
-                    None => -truth.boundary.signed_distance(x_new),
-                };
-                gap <= radius + TOUCH
-            })
+            .filter(|&i| gap_to(i, x_new) <= radius + TOUCH)
             .collect();
         contacts += now.difference(&touching).count();
         touching = now;

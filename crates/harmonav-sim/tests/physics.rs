@@ -87,3 +87,29 @@ fn a_broken_controller_is_caught_by_rapier_and_the_monitors() {
         Err(e) => panic!("expected the contact to be reported, got {e}"),
     }
 }
+
+/// A start 1 µm from the wall: the point robot's 1 mm rapier ball already reaches the wall, so
+/// touching it is not a contact event (it was reported as one), and the law keeps the speed
+/// below its bound in rapier too.
+#[test]
+fn a_start_one_micrometre_from_the_wall_is_not_a_contact() {
+    let file =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/shapes/dynamic-small.toml");
+    let text = std::fs::read_to_string(&file)
+        .unwrap()
+        .replace("start = [-2.2, 0.0]", "start = [-3.199999, 0.0]");
+    assert!(text.contains("-3.199999"));
+    let prepared = Scenario::parse(&file, &text)
+        .unwrap()
+        .prepare(&file)
+        .unwrap();
+    let (r, report) = run_rapier(&prepared, None, Drive::Law, None).unwrap();
+    assert_eq!(report.contacts, 0);
+    assert!(r.summary.reached);
+    let bound = r.summary.speed_bound.unwrap();
+    assert!(
+        r.summary.max_speed < bound,
+        "{} m/s against {bound}",
+        r.summary.max_speed
+    );
+}
