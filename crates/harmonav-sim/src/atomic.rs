@@ -6,10 +6,9 @@ use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 
-/// A file being written: [`AtomicFile::commit`] renames it into place; dropping it without a
-/// commit (an error, a panic) removes the temporary file.
+/// A file being written under a temporary name: [`AtomicFile::commit`] renames it into place;
+/// dropping it without a commit (an error, a panic) removes the temporary file.
 pub struct AtomicFile {
-    writer: Option<BufWriter<File>>,
     tmp: PathBuf,
     path: PathBuf,
 }
@@ -25,36 +24,21 @@ fn temporary(path: &Path) -> PathBuf {
 }
 
 impl AtomicFile {
-    /// Starts writing `path` (through a temporary file in the same directory).
-    pub fn create(path: &Path) -> std::io::Result<Self> {
+    /// Starts writing `path` (through a temporary file in the same directory): the guard and
+    /// the writer to write into.
+    pub fn create(path: &Path) -> std::io::Result<(Self, BufWriter<File>)> {
         let tmp = temporary(path);
         let file = File::create(&tmp)?;
-        Ok(Self {
-            writer: Some(BufWriter::new(file)),
+        let guard = Self {
             tmp,
             path: path.to_path_buf(),
-        })
+        };
+        Ok((guard, BufWriter::new(file)))
     }
 
-    /// The writer.
-    pub fn writer(&mut self) -> &mut BufWriter<File> {
-        self.writer.as_mut().expect("present until commit")
-    }
-
-    /// Takes the writer out (for a consumer that owns it, such as the MCAP sink); give it
-    /// back with [`AtomicFile::commit_with`].
-    pub fn take_writer(&mut self) -> BufWriter<File> {
-        self.writer.take().expect("present until commit")
-    }
-
-    /// Flushes, syncs and renames the file into place.
-    pub fn commit(mut self) -> std::io::Result<()> {
-        let writer = self.take_writer();
-        self.commit_with(writer)
-    }
-
-    /// [`AtomicFile::commit`] with the writer taken by [`AtomicFile::take_writer`].
-    pub fn commit_with(self, writer: BufWriter<File>) -> std::io::Result<()> {
+    /// Flushes and syncs `writer` (the one [`AtomicFile::create`] returned) and renames the
+    /// file into place.
+    pub fn commit(self, writer: BufWriter<File>) -> std::io::Result<()> {
         let file = writer.into_inner().map_err(|e| e.into_error())?;
         file.sync_all()?;
         std::fs::rename(&self.tmp, &self.path)?;
@@ -65,16 +49,16 @@ impl AtomicFile {
 
 impl Drop for AtomicFile {
     fn drop(&mut self) {
-        drop(self.writer.take());
+        // The temporary file of a write that did not complete; nothing to do if it is gone.
         let _ = std::fs::remove_file(&self.tmp);
     }
 }
 
 /// Writes `contents` to `path` whole or not at all.
 pub fn write_atomically(path: &Path, contents: &[u8]) -> std::io::Result<()> {
-    let mut f = AtomicFile::create(path)?;
-    f.writer().write_all(contents)?;
-    f.commit()
+    let (guard, mut writer) = AtomicFile::create(path)?;
+    writer.write_all(contents)?;
+    guard.commit(writer)
 }
 
 #[cfg(test)]
@@ -104,9 +88,9 @@ mod tests {
         let path = d.join("out.txt");
         std::fs::write(&path, "old").unwrap();
         {
-            let mut f = AtomicFile::create(&path).unwrap();
-            f.writer().write_all(b"half").unwrap();
-            let other = AtomicFile::create(&path).unwrap();
+            let (f, mut w) = AtomicFile::create(&path).unwrap();
+            w.write_all(b"half").unwrap();
+            let (other, _) = AtomicFile::create(&path).unwrap();
             assert_ne!(f.tmp, other.tmp, "two writers never share a temporary file");
         }
         assert_eq!(std::fs::read_to_string(&path).unwrap(), "old");

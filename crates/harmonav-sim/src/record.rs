@@ -333,19 +333,19 @@ impl Heading {
 /// Writes the recording of `run` to `path`, whole or not at all (through a temporary file).
 pub fn write_mcap(path: &Path, prepared: &Prepared, run: &Run) -> Result<(), RecordError> {
     let io = |e: std::io::Error| RecordError(format!("{}: {e}", path.display()));
-    let mut file = AtomicFile::create(path).map_err(io)?;
+    let (file, out) = AtomicFile::create(path).map_err(io)?;
     let ctx = Context::new();
     let ch = Channels::new(&ctx);
     let options = McapWriteOptions::new().compression(Some(McapCompression::Zstd));
     let writer = ctx
         .mcap_writer_with_options(options)
-        .create(file.take_writer())
+        .create(out)
         .map_err(|e| RecordError(format!("{}: {e}", path.display())))?;
     log_run(&ch, prepared, run)?;
     let inner: BufWriter<File> = writer
         .close()
         .map_err(|e| RecordError(format!("{}: {e}", path.display())))?;
-    file.commit_with(inner).map_err(io)
+    file.commit(inner).map_err(io)
 }
 
 /// Logs every message of the run in time order.
