@@ -19,7 +19,8 @@ use harmonav_field::Field;
 use harmonav_field::descent::{FollowOptions, follow};
 use harmonav_sim::atomic::write_atomically;
 use harmonav_sim::figures::{
-    Plane, draw_level_lines, energy_svg, err, outline, plane, speed_svg, trajectory_svg, xy,
+    Plane, draw_level_lines, draw_path, energy_svg, err, outline, plane, speed_svg, trajectory_svg,
+    xy,
 };
 use harmonav_sim::levels::ThetaGrid;
 use harmonav_sim::run::run as run_scenario;
@@ -134,22 +135,14 @@ fn draw_world(
     right: &mut Plane<'_, '_>,
     ws: &Workspace,
 ) -> Result<(), String> {
-    left.draw_series(std::iter::once(PathElement::new(
-        outline(ws.boundary()),
-        BLACK.stroke_width(2),
-    )))
-    .map_err(err)?;
+    draw_path(left, outline(ws.boundary()), BLACK.stroke_width(2))?;
     for o in ws.obstacles() {
         left.draw_series(std::iter::once(Polygon::new(
             outline(o),
             RGBColor(187, 187, 187).filled(),
         )))
         .map_err(err)?;
-        left.draw_series(std::iter::once(PathElement::new(
-            outline(o),
-            BLACK.stroke_width(1),
-        )))
-        .map_err(err)?;
+        draw_path(left, outline(o), BLACK.stroke_width(1))?;
     }
     mark_points(left, ws)?;
     mark_points(right, ws)
@@ -220,31 +213,21 @@ fn nav_transform_figures() -> Result<Vec<String>, String> {
     ];
     two_panels(&mut grid_svg, [&titles[0], &titles[1]], |left, right| {
         for l in &grid_lines {
-            left.draw_series(std::iter::once(PathElement::new(
+            draw_path(
+                left,
                 l.iter().map(|&p| xy(p)).collect::<Vec<_>>(),
                 blue.stroke_width(1),
-            )))
-            .map_err(err)?;
-            right
-                .draw_series(std::iter::once(PathElement::new(
-                    image(l),
-                    blue.stroke_width(1),
-                )))
-                .map_err(err)?;
+            )?;
+            draw_path(right, image(l), blue.stroke_width(1))?;
         }
         draw_world(left, right, &ws)?;
         for p in &paths {
-            left.draw_series(std::iter::once(PathElement::new(
+            draw_path(
+                left,
                 p.iter().map(|&x| xy(x)).collect::<Vec<_>>(),
                 orange.stroke_width(2),
-            )))
-            .map_err(err)?;
-            right
-                .draw_series(std::iter::once(PathElement::new(
-                    image(p),
-                    orange.stroke_width(2),
-                )))
-                .map_err(err)?;
+            )?;
+            draw_path(right, image(p), orange.stroke_width(2))?;
         }
         Ok(())
     })?;

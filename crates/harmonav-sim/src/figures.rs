@@ -41,11 +41,27 @@ pub fn xy(p: Vector2<f64>) -> (f64, f64) {
     (p.x, p.y)
 }
 
-/// The closed outline of `shape`.
+/// The outline of `shape`, closed: the vertices it answers distance queries with (evenly
+/// spaced in arc length, [`StarShape::outline`]), then the first again.
+pub fn closed_outline(shape: &StarShape) -> impl Iterator<Item = Vector2<f64>> + '_ {
+    shape.outline().chain(shape.outline().take(1))
+}
+
+/// [`closed_outline`] as plotters points.
 pub fn outline(shape: &StarShape) -> Vec<(f64, f64)> {
-    (0..=360)
-        .map(|i| xy(shape.boundary_point(TAU * i as f64 / 360.0)))
-        .collect()
+    closed_outline(shape).map(xy).collect()
+}
+
+/// Draws the polyline `points` with `style` on `chart`.
+pub fn draw_path(
+    chart: &mut Plane<'_, '_>,
+    points: Vec<(f64, f64)>,
+    style: ShapeStyle,
+) -> Result<(), String> {
+    chart
+        .draw_series(std::iter::once(PathElement::new(points, style)))
+        .map(|_| ())
+        .map_err(err)
 }
 
 /// The sector `S_{r,θ}` at `pole` along `axis` as a closed polygon.
@@ -181,24 +197,14 @@ pub fn trajectory_svg(prepared: &Prepared, run: &Run) -> Result<String, String> 
             )))
             .map_err(err)?;
         draw_levels(&mut chart, &field, c, half)?;
-        chart
-            .draw_series(std::iter::once(PathElement::new(
-                outline(b),
-                BLACK.stroke_width(2),
-            )))
-            .map_err(err)?;
+        draw_path(&mut chart, outline(b), BLACK.stroke_width(2))?;
         if let Sensing::Sector(sector) = truth.sensing {
             for (pole, axis) in sector_poses(run) {
                 let poly = sector_polygon(pole, axis, sector.range(), sector.aperture());
                 chart
                     .draw_series([Polygon::new(poly.clone(), SECTOR.mix(0.12).filled())])
                     .map_err(err)?;
-                chart
-                    .draw_series(std::iter::once(PathElement::new(
-                        poly,
-                        SECTOR.mix(0.6).stroke_width(1),
-                    )))
-                    .map_err(err)?;
+                draw_path(&mut chart, poly, SECTOR.mix(0.6).stroke_width(1))?;
             }
         }
         for (i, o) in truth.obstacles.iter().enumerate() {
@@ -210,12 +216,7 @@ pub fn trajectory_svg(prepared: &Prepared, run: &Run) -> Result<String, String> 
             chart
                 .draw_series(std::iter::once(Polygon::new(outline(o), fill.filled())))
                 .map_err(err)?;
-            chart
-                .draw_series(std::iter::once(PathElement::new(
-                    outline(o),
-                    stroke.stroke_width(1),
-                )))
-                .map_err(err)?;
+            draw_path(&mut chart, outline(o), stroke.stroke_width(1))?;
             let style =
                 TextStyle::from((FONT, 12).into_font()).pos(Pos::new(HPos::Center, VPos::Center));
             chart
@@ -316,12 +317,11 @@ fn time_chart(
     // Discovery markers, labels on rows so that none overlaps another.
     let mut rows: Vec<i32> = Vec::new(); // the right end of the last label in each row, px
     for (t, label) in discovery_labels(discoveries) {
-        chart
-            .draw_series(std::iter::once(PathElement::new(
-                vec![(t, 0.0), (t, y_max)],
-                RGBColor(150, 150, 150).stroke_width(1),
-            )))
-            .map_err(err)?;
+        draw_path(
+            &mut chart,
+            vec![(t, 0.0), (t, y_max)],
+            RGBColor(150, 150, 150).stroke_width(1),
+        )?;
         let (px, _) = chart.backend_coord(&(t, y_max));
         let w = text_width(&label);
         let row = match rows.iter().position(|&right| px > right + 4) {

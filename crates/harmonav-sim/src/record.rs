@@ -13,7 +13,6 @@
 //! | `/log` | `foxglove.Log` | discoveries and damping switches |
 //! | `/harmonav/state` | `harmonavstate.HarmonavState` ([`HarmonavState`], Protobuf derived from the struct) | t, x, ẋ, speed, Θ, V, λ, k, the policies |
 
-use std::f64::consts::TAU;
 use std::fs::File;
 use std::io::BufWriter;
 use std::path::Path;
@@ -27,10 +26,10 @@ use foxglove::messages::{
 use foxglove::{Channel, Context, Encode, McapCompression, McapWriteOptions};
 use harmonav_field::{Field, FieldError};
 use harmonav_sensing::Sensing;
-use harmonav_transform::StarShape;
 use nalgebra::Vector2;
 
 use crate::atomic::AtomicFile;
+use crate::figures::closed_outline;
 use crate::levels::ThetaGrid;
 use crate::run::{Run, Sample};
 use crate::scenario::{Model, Prepared};
@@ -172,10 +171,6 @@ fn entity(t: f64, frame: &str, id: &str, lines: Vec<LinePrimitive>) -> SceneEnti
     }
 }
 
-fn outline(shape: &StarShape) -> impl Iterator<Item = Vector2<f64>> + '_ {
-    (0..=180).map(move |i| shape.boundary_point(TAU * i as f64 / 180.0))
-}
-
 /// The obstacles known at `t` (scenario indices, in discovery order).
 fn known_at(run: &Run, t: f64) -> Vec<usize> {
     run.summary
@@ -193,7 +188,11 @@ fn scene(prepared: &Prepared, known: &[usize], t: f64) -> SceneUpdate {
         t,
         "world",
         "boundary",
-        vec![line(outline(&truth.boundary), [1.0, 1.0, 1.0, 1.0], 0.03)],
+        vec![line(
+            closed_outline(&truth.boundary),
+            [1.0, 1.0, 1.0, 1.0],
+            0.03,
+        )],
     )];
     for (i, o) in truth.obstacles.iter().enumerate() {
         let rgba = if known.contains(&i) {
@@ -205,7 +204,7 @@ fn scene(prepared: &Prepared, known: &[usize], t: f64) -> SceneUpdate {
             t,
             "world",
             &truth.names[i],
-            vec![line(outline(o), rgba, 0.03)],
+            vec![line(closed_outline(o), rgba, 0.03)],
         ));
     }
     let mut goal = entity(t, "world", "goal", Vec::new());
