@@ -44,7 +44,7 @@ def star(center: _Point, radius: float, harmonics: Sequence[Tuple[int, float, fl
 class Field:
     """``Θ(x) = σ(φ_k(Φ(x)))`` with every obstacle known.
 
-    ``k`` is ``"auto"`` (``k = 6(M + 1)``) or ``"paper"`` (``k = M + 1``); ``margin`` grows the
+    ``k`` is ``"auto"`` (``k = max(6(M + 1), 2·layer_ratio)``) or ``"paper"`` (``k = M + 1``); ``margin`` grows the
     obstacles and shrinks the boundary.
     """
 

@@ -20,7 +20,7 @@ type ThetaAndGradient<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray2<f64
 
 /// The navigation function `Θ(x) = σ(φ_k(Φ(x)))` (eq. `phiseq`) of a workspace whose every
 /// obstacle is known: `boundary` and `obstacles` are `Shape`s, `goal` the destination `x_d`.
-/// `k` is the policy `"auto"` (the default, `k = 6(M + 1)`) or `"paper"` (`k = M + 1`).
+/// `k` is the policy `"auto"` (the default, `k = max(6(M + 1), 2·layer_ratio)`, docs/maths.md §8) or `"paper"` (`k = M + 1`).
 /// `margin` (m) grows the obstacles and shrinks the boundary, as a robot radius does.
 #[pyclass(module = "harmonav", frozen)]
 pub struct Field {

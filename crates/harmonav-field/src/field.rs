@@ -7,7 +7,7 @@ use harmonav_potential::{CriticalPoint, PointWorld, PotentialError, Singularity,
 use harmonav_transform::{Active, NavTransform, NotFree, Workspace, WorldError};
 use nalgebra::{Matrix2, Vector2};
 
-use crate::k_policy::KPolicy;
+use crate::k_policy::{KPolicy, layer_ratio};
 
 /// Why `Θ` cannot be evaluated or the field not built.
 #[derive(Clone, Debug, PartialEq)]
@@ -102,8 +102,8 @@ impl Field {
         Self::with_policy(workspace, known, KPolicy::default())
     }
 
-    /// The field with the obstacles `known` already known and `k = policy.k(n)` (kept at every
-    /// discovery).
+    /// The field with the obstacles `known` already known and `k = policy.k_for(n, layer_ratio)`
+    /// (recomputed at every discovery, as the paper's `k = n + 1` is).
     pub fn with_policy(
         workspace: Arc<Workspace>,
         known: impl IntoIterator<Item = usize>,
@@ -164,7 +164,7 @@ impl Field {
         self.transform.known()
     }
 
-    /// `k` of `phi_k` for the known obstacles (`policy.k(n)`).
+    /// `k` of `phi_k` for the known obstacles (`policy.k_for(n, layer_ratio)`).
     pub fn k(&self) -> f64 {
         self.world.k()
     }
@@ -322,7 +322,9 @@ fn build(
     known: &[usize],
     policy: KPolicy,
 ) -> Result<(NavTransform, PointWorld), FieldError> {
-    let k = policy.k(known.len());
+    // The bands do not depend on k; the layer rule of KPolicy::Auto depends on the bands.
+    let transform = NavTransform::new(ws, known, 0.0)?;
+    let k = policy.k_for(known.len(), layer_ratio(ws, &transform));
     let mut points = Vec::with_capacity(known.len());
     for &obstacle in known {
         let o = ws.obstacles().get(obstacle);
@@ -330,6 +332,6 @@ fn build(
     }
     let world = PointWorld::new(ws.destination(), points)?.with_k(k)?;
     // The potential supplies the radius of its far-field valley, which Phi's outer band holds.
-    let transform = NavTransform::new(ws, known, world.valley_radius(ws.boundary().centre()))?;
+    let transform = transform.with_valley_radius(world.valley_radius(ws.boundary().centre()))?;
     Ok((transform, world))
 }

@@ -1,5 +1,7 @@
 //! How `k` of `phi_k` is chosen from the known world (`docs/maths.md` §8).
 
+use harmonav_transform::{NavTransform, Workspace};
+
 /// The rule that sets `k` of `phi_k` from the `n` known obstacles, at construction and at every
 /// discovery. Every policy gives `k > n` (lemma `attactive`), the only condition theorem `isNF`
 /// puts on `k`, so `Θ` is a navigation function under each of them.
@@ -8,29 +10,71 @@
 pub enum KPolicy {
     /// `k = n + 1`, exactly the paper (its simulations and theorem `isNF`'s statement).
     Paper,
-    /// `k = AUTO_FACTOR·(n + 1)` (the default): the obstacles' joint repulsion `n/k` stays below
-    /// `1/AUTO_FACTOR` of the goal's attraction, whatever `n`, which removes the far-field valley
-    /// that sends the paper's robot along the outer wall. Chosen by measurement on the
-    /// motion-quality benchmark (`docs/maths.md` §8, `docs/benchmarks.md`).
+    /// `k = max(AUTO_FACTOR·(n + 1), LAYER_FACTOR·layer_ratio)` (the default).
+    /// The first term keeps the obstacles' joint repulsion `n/k` below `1/AUTO_FACTOR` of the
+    /// goal's attraction, whatever `n`, which removes the far-field valley that sends the
+    /// paper's robot along the outer wall. The second keeps each point obstacle's repulsion
+    /// layer (radius `≈ |x_d − P_i|/k` in the point world) clear of the outer band, so that in
+    /// a narrow workspace the detour round an obstacle is not pressed against the wall
+    /// ([`layer_ratio`]). Chosen by
+    /// measurement (`docs/maths.md` §8, `docs/benchmarks.md`).
     #[default]
     Auto,
 }
 
-/// The factor of [`KPolicy::Auto`]: `k = AUTO_FACTOR·(n + 1)`.
+/// The factor of [`KPolicy::Auto`]: `k ≥ AUTO_FACTOR·(n + 1)`.
 pub const AUTO_FACTOR: f64 = 6.0;
+
+/// The layer factor of [`KPolicy::Auto`]: `k ≥ LAYER_FACTOR·`[`layer_ratio`] (`docs/maths.md`
+/// §8 has the measurements).
+pub const LAYER_FACTOR: f64 = 2.0;
+
+/// How far the destination lies from the known obstacles in units of their room to the outer
+/// band:
+///
+/// ```text
+/// layer_ratio = max_i |x_d − P_i| / (d(P_i, ∂O_0) − ε_0)        (0 with no obstacle known)
+/// ```
+///
+/// with `P_i` the centre of known obstacle `i` and `ε_0` the outer band's width. Near `P_i` the
+/// repulsion `(2/k)/|h − P_i|` of `phi_k` outweighs the attraction `2/|h − x_d|` within
+/// `|h − P_i| < |x_d − P_i|/k`, the detour a descent makes round the point. `Phi` is the
+/// identity between the obstacle's band and the outer band, which lies within `ε_0` of the wall,
+/// so `k ≥ layer_ratio` keeps that detour out of the outer band, where it would be compressed to
+/// millimetres against the wall of a narrow workspace (`docs/maths.md` §8).
+#[must_use]
+pub fn layer_ratio(ws: &Workspace, transform: &NavTransform) -> f64 {
+    let eps0 = transform.outer_band().0;
+    transform
+        .points()
+        .map(|p| {
+            let room = -ws.boundary().signed_distance(p) - eps0;
+            (ws.destination() - p).norm() / room
+        })
+        .fold(0.0, f64::max)
+}
 
 impl KPolicy {
     /// Every policy, for reports and sweeps.
     pub const ALL: [KPolicy; 2] = [KPolicy::Paper, KPolicy::Auto];
 
-    /// `k` for `n` known obstacles; always `> n`.
+    /// `k` for `n` known obstacles whose [`layer_ratio`] is `layer`; always `> n`. A `layer`
+    /// that is not finite is ignored (the `n` term alone).
     #[must_use]
-    pub fn k(self, n: usize) -> f64 {
+    pub fn k_for(self, n: usize, layer: f64) -> f64 {
         let n1 = n as f64 + 1.0;
         match self {
             Self::Paper => n1,
+            Self::Auto if layer.is_finite() => (AUTO_FACTOR * n1).max(LAYER_FACTOR * layer),
             Self::Auto => AUTO_FACTOR * n1,
         }
+    }
+
+    /// `k` for `n` known obstacles before geometry: [`Self::k_for`]`(n, 0)`, the least `k`
+    /// the policy gives (`n + 1` or `AUTO_FACTOR·(n + 1)`).
+    #[must_use]
+    pub fn k(self, n: usize) -> f64 {
+        self.k_for(n, 0.0)
     }
 
     /// The name used in scenario files, the CLI and JSON (`"paper"`, `"auto"`).
@@ -84,9 +128,14 @@ mod tests {
     fn every_policy_keeps_k_above_n_and_paper_is_n_plus_one() {
         for n in 0..200 {
             for p in KPolicy::ALL {
-                assert!(p.k(n) > n as f64, "{p} at n = {n}");
+                for layer in [0.0, 1.0, 1e6, f64::NAN, f64::INFINITY] {
+                    assert!(p.k_for(n, layer) > n as f64, "{p} at n = {n}");
+                    assert!(p.k_for(n, layer).is_finite());
+                }
+                assert_eq!(p.k(n), p.k_for(n, 0.0));
             }
-            assert_eq!(KPolicy::Paper.k(n), n as f64 + 1.0);
+            assert_eq!(KPolicy::Paper.k_for(n, 1e6), n as f64 + 1.0);
+            assert_eq!(KPolicy::Auto.k_for(n, 1e6), 2e6);
         }
     }
 

@@ -3,12 +3,13 @@
 //! The navigation function of the paper over the obstacles known so far (eq. `phiseq`):
 //!
 //! ```text
-//! Θ(x) = varphi_k(x) = sigma(phi_k(Phi(x))),      k = policy.k(n) > n (n known obstacles)
+//! Θ(x) = varphi_k(x) = sigma(phi_k(Phi(x))),      k = policy.k_for(n, ·) > n (n known obstacles)
 //! ∇Θ   = sigma'(phi_k) · J_Phiᵀ ∇phi_k(Phi(x))
 //! ```
 //!
 //! `k` follows a [`KPolicy`]: `Paper` (`k = n + 1`, exactly the paper) or `Auto` (the default,
-//! `k = 6(n + 1)`: near-shortest paths, `docs/maths.md` §8).
+//! `k = max(6(n + 1), 2·layer_ratio)`: near-shortest paths, and elongated workspaces crossed
+//! without stiffness, `docs/maths.md` §8).
 //!
 //! [`Field`] keeps the obstacle memory (assumption `objpers`: [`Field::discover`] adds an
 //! obstacle, nothing is ever forgotten), rebuilds `Phi` and the point world at each discovery
@@ -42,4 +43,4 @@ mod k_policy;
 
 pub use census::{Census, CensusPoint, CriticalType};
 pub use field::{Critical, Field, FieldError, FieldEval};
-pub use k_policy::{AUTO_FACTOR, KPolicy, UnknownKPolicy};
+pub use k_policy::{AUTO_FACTOR, KPolicy, LAYER_FACTOR, UnknownKPolicy, layer_ratio};

@@ -204,3 +204,41 @@ fn a_descent_into_a_critical_point_ends_stuck() {
     let off_axis = follow(&field, Vector2::new(2.5, 1e-3), &options);
     assert_eq!(off_axis.ending, Ending::Reached);
 }
+
+/// A 50:1 ellipse workspace with one disc: the descent round the disc is a detour of radius
+/// `≈ |x_d − P_1|/k` in the point world. With `k = 6(n + 1) = 12` that is 3.3 m in a corridor
+/// 2 m wide, so the detour runs through the outer band, compressed to millimetres against the
+/// wall, and the kinematic run stalled there after 2 million steps. The layer rule of
+/// `KPolicy::Auto` raises `k` to `2·layer_ratio` (closed form below), and the descent crosses
+/// the 80 m in a few thousand steps, with the paper's `k` still stiff (a step count, not a time).
+#[test]
+fn an_elongated_workspace_is_crossed_without_stiffness() {
+    use harmonav_field::{LAYER_FACTOR, layer_ratio};
+    use harmonav_transform::{StarShape, Workspace};
+    use nalgebra::Vector2;
+    let boundary = StarShape::ellipse(Vector2::zeros(), [50.0, 1.0], 0.0).unwrap();
+    let disc = StarShape::circle(Vector2::new(0.0, 0.3), 0.2).unwrap();
+    let goal = Vector2::new(40.0, 0.0);
+    let ws = Arc::new(Workspace::new(boundary, vec![disc], goal).unwrap());
+    let field = Field::all_known(ws.clone()).unwrap();
+    // ε_0 = 0.45·min(d(O_1, ∂O_0), 2 d(x_d, ∂O_0)) = 0.45·0.5; the disc's centre is 0.7 m
+    // from the wall, 40.0011 m from the goal (the boundary distances are parry queries
+    // refined to ~1e-9).
+    let ratio = (goal - Vector2::new(0.0, 0.3)).norm() / (0.7 - 0.45 * 0.5);
+    assert!((layer_ratio(&ws, field.transform()) - ratio).abs() < 1e-6 * ratio);
+    assert!((field.k() - LAYER_FACTOR * ratio).abs() < 1e-6 * ratio);
+    let options = FollowOptions {
+        goal_tolerance: 0.01,
+        max_time: 200.0,
+        ..FollowOptions::default()
+    };
+    let d = follow(&field, Vector2::new(-40.0, 0.0), &options);
+    assert_eq!(d.ending, Ending::Reached);
+    assert!(d.collision_free);
+    assert!(d.time < 1.05 * 80.0, "path {} m", d.time);
+    assert!(
+        d.steps + d.rejected < 20_000,
+        "{} steps",
+        d.steps + d.rejected
+    );
+}

@@ -214,7 +214,7 @@ proptest! {
     }
 }
 
-/// Discovery: k follows the policy (n + 1 for the paper, 6(n + 1) by default), obstacles are
+/// Discovery: k follows the policy (n + 1 for the paper, 6(n + 1) by default in this roomy world), obstacles are
 /// never forgotten, Θ changes only through the known set.
 #[test]
 fn discovery_increments_k_and_remembers() {

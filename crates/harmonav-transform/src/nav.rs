@@ -93,11 +93,6 @@ impl NavTransform {
         if let Some(&obstacle) = known.iter().find(|&&i| i >= ws.obstacles().len()) {
             return Err(WorldError::NoSuchObstacle { obstacle });
         }
-        if !(valley_radius.is_finite() && valley_radius >= 0.0) {
-            return Err(WorldError::InvalidValleyRadius {
-                value: valley_radius,
-            });
-        }
         let mut bands = Vec::with_capacity(known.len());
         for &i in known {
             let mut d = ws.to_boundary(i).min(2.0 * ws.goal_to_obstacle(i));
@@ -116,7 +111,6 @@ impl NavTransform {
                 .iter()
                 .map(|&i| ws.to_boundary(i))
                 .fold(2.0 * ws.goal_to_boundary(), f64::min);
-        let gain = eps0.max(2.0 * valley_radius);
         let inner = (outer.radius_bounds().0 - eps0).max(0.0);
         // Beyond (max R + ε) from its centre a band cannot contain the point.
         let reach = bands
@@ -127,15 +121,29 @@ impl NavTransform {
                 [c.x, c.y, r * r]
             })
             .collect();
-        Ok(Self {
+        Self {
             known: known.to_vec(),
             bands,
             reach,
             outer,
             eps0,
-            gain,
+            gain: eps0,
             inner2: inner * inner,
-        })
+        }
+        .with_valley_radius(valley_radius)
+    }
+
+    /// The same transformation with the stretch gain `A = max(ε_0, 2 r*)` for the valley
+    /// radius `r* = valley_radius` (the bands do not depend on it). Errors: a `valley_radius`
+    /// that is negative or not finite.
+    pub fn with_valley_radius(mut self, valley_radius: f64) -> Result<Self, WorldError> {
+        if !(valley_radius.is_finite() && valley_radius >= 0.0) {
+            return Err(WorldError::InvalidValleyRadius {
+                value: valley_radius,
+            });
+        }
+        self.gain = self.eps0.max(2.0 * valley_radius);
+        Ok(self)
     }
 
     /// The known obstacles (indices into the workspace), in the order of their bands.
