@@ -1,6 +1,7 @@
 //! `cargo xtask verify`: named guarantee checks, each measuring a property of the paper on
 //! seeded random inputs and reporting the figure it measured.
 
+mod adversarial;
 mod control;
 mod field;
 mod potential;
@@ -125,6 +126,7 @@ fn checks() -> Vec<Check> {
     all.extend(control::checks());
     all.extend(quality::checks());
     all.extend(scenarios::checks());
+    all.extend(adversarial::checks());
     all
 }
 

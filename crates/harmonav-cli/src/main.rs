@@ -1,6 +1,8 @@
 //! `harmonav`: run, evaluate and inspect navigation scenarios.
 //!
-//! Exit codes: 0 success, 1 a guarantee failed, 2 bad input (with a message on stderr).
+//! Exit codes: 0 success, 1 a guarantee failed, 2 bad input (with a message on stderr), 130
+//! interrupted (Ctrl-C or SIGTERM; `--out` then holds its previous outputs or the new ones,
+//! complete, and no staging folder).
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -164,6 +166,17 @@ macro_rules! out {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    // Ctrl-C or SIGTERM: wait for an output set being moved into place, remove any staging
+    // folder not yet committed, and exit with 130 (128 + SIGINT). Without a handler the default
+    // action would leave a staging folder behind.
+    let handler = ctrlc::set_handler(|| {
+        let _no_new_set = harmonav_sim::atomic::abandon_staged();
+        eprintln!("harmonav: interrupted; no output was changed");
+        std::process::exit(130);
+    });
+    if let Err(e) = handler {
+        eprintln!("harmonav: cannot install the interrupt handler: {e}");
+    }
     let result = match cli.command {
         Command::Run {
             scenario,
@@ -222,6 +235,12 @@ fn print_json(value: &impl serde::Serialize) -> Result<(), String> {
 /// Loads and validates a scenario; `k` and `damping` override its `[field] k` and
 /// `[controller] damping` policies.
 fn load(path: &Path, k: Option<KArg>, damping: Option<DampingArg>) -> Result<Prepared, String> {
+    if path == Path::new("-") {
+        return Err(
+            "`-`: reading a scenario from standard input is not supported; give the file's path"
+                .into(),
+        );
+    }
     let mut prepared = Scenario::load(path).map_err(|e| e.to_string())?;
     if let Some(k) = k {
         prepared.scenario.field.k = k.into();
@@ -260,6 +279,12 @@ fn print_summary(s: &Summary) {
         s.speed_bound
             .map_or(String::new(), |b| format!(" (bound {b:.3})"))
     );
+    if !s.reached {
+        out!("  outcome: {}", s.outcome);
+    }
+    for w in &s.warnings {
+        out!("  warning: {w}");
+    }
     // Obstacles known at the start (global sensing, or within d_min) are counted, not listed.
     let (at_start, later): (Vec<_>, Vec<_>) = s.discoveries.iter().partition(|d| d.time_s == 0.0);
     if !s.discoveries.is_empty() {

@@ -20,7 +20,7 @@ impl std::fmt::Display for ControlError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "`{}`: must be finite and positive, got {}",
+            "`{}`: must be finite and positive, got {:e}",
             self.field, self.value
         )
     }

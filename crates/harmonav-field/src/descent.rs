@@ -28,6 +28,9 @@ pub struct FollowOptions {
     pub step_tolerance: f64,
     /// Largest step.
     pub max_step: f64,
+    /// Give up (`TimedOut`) after this many step attempts, accepted or rejected: a bound on the
+    /// work of one descent whatever the field's stiffness.
+    pub max_attempts: usize,
 }
 
 impl Default for FollowOptions {
@@ -37,6 +40,7 @@ impl Default for FollowOptions {
             max_time: 100.0,
             step_tolerance: 1e-6,
             max_step: 0.1,
+            max_attempts: usize::MAX,
         }
     }
 }
@@ -148,7 +152,9 @@ pub fn follow(field: &Field, start: Vector2<f64>, options: &FollowOptions) -> De
     let mut window = (0.0, x);
     let mut left_free_space = false;
     // Within rounding of max_time counts as there (the last step is clipped to end at it).
-    while options.max_time - t > 1e-12 * options.max_time.max(1.0) {
+    while options.max_time - t > 1e-12 * options.max_time.max(1.0)
+        && steps + rejected < options.max_attempts
+    {
         if t - window.0 >= STALL_WINDOW {
             if (x - window.1).norm() < STALL_RATIO * (t - window.0) {
                 return end(Ending::Stuck, t, x, steps, rejected, collision_free);

@@ -17,10 +17,10 @@ pub enum SensorError {
 impl std::fmt::Display for SensorError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            Self::Range(r) => write!(f, "`sensor.range`: must be finite and positive, got {r}"),
+            Self::Range(r) => write!(f, "`sensor.range`: must be finite and positive, got {r:e}"),
             Self::Aperture(a) => write!(
                 f,
-                "`sensor.aperture_deg`: must be in (0, 360], got {}",
+                "`sensor.aperture_deg`: must be in (0, 360], got {:e}",
                 a.to_degrees()
             ),
         }

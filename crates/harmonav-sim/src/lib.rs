@@ -47,3 +47,4 @@ pub mod scenario;
 pub mod shortest;
 pub mod sweep;
 pub mod truth;
+pub mod warning;

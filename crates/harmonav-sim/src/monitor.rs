@@ -205,7 +205,8 @@ impl Monitor {
             samples,
             sc.sim.goal_tolerance,
             self.stalled_since,
-        );
+        )
+        .classify_stall(lp.nav.field(), sc.sim.goal_tolerance);
         Summary {
             name: sc.name.clone(),
             model,
@@ -226,6 +227,7 @@ impl Monitor {
             discoveries,
             guarantees,
             outcome,
+            warnings: Vec::new(),
             steps,
             rejected_steps: rejected,
         }

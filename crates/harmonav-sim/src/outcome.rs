@@ -1,6 +1,7 @@
 //! How a run ended ([`Outcome`]), from its typed guarantees: reached, collision, left the
 //! workspace, stalled at a saddle, timed out, step-size collapse. The sweep counts these.
 
+use harmonav_field::Field;
 use nalgebra::Vector2;
 use serde::Serialize;
 
@@ -24,12 +25,16 @@ pub enum Outcome {
     Collision,
     /// The robot left the workspace (dynamic law: the monitor `stayed-in-workspace` failed).
     LeftWorkspace,
-    /// The robot stopped at a critical point of `Θ` (a saddle) at `time` s: it stayed within
-    /// the goal tolerance of where it ended for the last [`STALL_WINDOW`] of the run (at least
-    /// 1 s) without reaching the goal.
+    /// The robot came to rest away from the goal at `time` s: it stayed within the goal
+    /// tolerance of where it ended for the last [`STALL_WINDOW`] of the run (at least 1 s), or
+    /// the kinematic integrator chattered in place for `run::STALL_STEPS` steps.
     Stalled {
         /// When, s.
         time: f64,
+        /// Where it rests.
+        position: [f64; 2],
+        /// What is there ([`StallPoint::classify`]).
+        point: StallPoint,
     },
     /// `sim.max_time` elapsed first.
     TimedOut {
@@ -64,14 +69,33 @@ impl Outcome {
             Self::Reached { time }
         } else if failed(Kind::Integrated) {
             Self::StepCollapsed { time }
-        } else if let Some(since) = stalled_since {
-            Self::Stalled { time: since }
-        } else if let Some(since) = rest_since(samples, goal_tolerance)
-            && time - since >= (STALL_WINDOW * time).max(1.0)
-        {
-            Self::Stalled { time: since }
+        } else if let Some(since) = stalled_since.or_else(|| {
+            rest_since(samples, goal_tolerance)
+                .filter(|since| time - since >= (STALL_WINDOW * time).max(1.0))
+        }) {
+            Self::Stalled {
+                time: since,
+                position: samples.last().map_or([f64::NAN; 2], |s| s.x),
+                point: StallPoint::Unclassified,
+            }
         } else {
             Self::TimedOut { time }
+        }
+    }
+
+    /// The same outcome with a stall's point classified on `field` (the field in force when
+    /// the run ended); `tolerance` is the goal tolerance.
+    pub fn classify_stall(self, field: &Field, tolerance: f64) -> Self {
+        match self {
+            Self::Stalled { time, position, .. } => {
+                let (point, at) = StallPoint::classify(field, Vector2::from(position), tolerance);
+                Self::Stalled {
+                    time,
+                    position: at.into(),
+                    point,
+                }
+            }
+            other => other,
         }
     }
 
@@ -97,7 +121,7 @@ impl Outcome {
     pub fn time(&self) -> Option<f64> {
         match self {
             Self::Reached { time }
-            | Self::Stalled { time }
+            | Self::Stalled { time, .. }
             | Self::TimedOut { time }
             | Self::StepCollapsed { time } => Some(*time),
             Self::Collision | Self::LeftWorkspace => None,
@@ -111,9 +135,69 @@ impl std::fmt::Display for Outcome {
             Self::Reached { time } => write!(f, "reached at t = {time:.2} s"),
             Self::Collision => write!(f, "collision"),
             Self::LeftWorkspace => write!(f, "left the workspace"),
-            Self::Stalled { time } => write!(f, "stalled at a critical point at t = {time:.2} s"),
+            Self::Stalled {
+                time,
+                position: [x, y],
+                point,
+            } => write!(
+                f,
+                "stalled {} ({x:.4}, {y:.4}) at t = {time:.2} s",
+                point.phrase()
+            ),
             Self::TimedOut { time } => write!(f, "not reached within {time:.2} s"),
             Self::StepCollapsed { time } => write!(f, "step size collapsed at t = {time:.2} s"),
+        }
+    }
+}
+
+/// What lies where a run stalled.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum StallPoint {
+    /// A saddle of `Θ` (the Hessian's eigenvalues have opposite signs, and Newton's step to the
+    /// critical point is shorter than the goal tolerance): the start lay on the saddle's stable
+    /// manifold, e.g. a symmetry axis of the world through the goal. Moving the start off it
+    /// resolves it; the law cannot, as `∇Θ = 0` there.
+    Saddle,
+    /// Against a wall: `Θ` cannot be differentiated within 1e-6 m of the point in the free
+    /// space.
+    Wall,
+    /// Not a critical point of `Θ`: the integrator could not follow a stiff valley of `Θ`
+    /// (the outer band of a narrow workspace, docs/maths.md §8).
+    NotCritical,
+    /// Not classified (no field was at hand).
+    Unclassified,
+}
+
+impl StallPoint {
+    /// Classifies `x` on `field`, and returns the critical point's position for a saddle
+    /// (`x − H⁻¹∇Θ`, one Newton step) or `x` itself:
+    ///
+    /// ```text
+    /// saddle        det H < 0 and |H⁻¹∇Θ| ≤ tolerance
+    /// wall          H not defined (a finite-difference point outside the free space)
+    /// not critical  otherwise
+    /// ```
+    pub fn classify(field: &Field, x: Vector2<f64>, tolerance: f64) -> (Self, Vector2<f64>) {
+        let (Ok(h), Ok(e)) = (field.hessian(x), field.eval(x)) else {
+            return (Self::Wall, x);
+        };
+        let newton = h.try_inverse().map(|inv| inv * e.gradient);
+        match newton {
+            Some(step) if h.determinant() < 0.0 && step.norm() <= tolerance => {
+                (Self::Saddle, x - step)
+            }
+            _ => (Self::NotCritical, x),
+        }
+    }
+
+    /// How the CLI phrases it: "at a saddle of Θ at", "against a wall at", …
+    pub fn phrase(self) -> &'static str {
+        match self {
+            Self::Saddle => "at a saddle of Θ at",
+            Self::Wall => "against a wall at",
+            Self::NotCritical => "in a stiff valley of Θ (not a critical point) at",
+            Self::Unclassified => "at",
         }
     }
 }
@@ -164,7 +248,8 @@ mod tests {
             true,
         )];
         let stalled = Outcome::of(&ok, false, 20.0, &path(12.0, 20.0), 0.01, None);
-        assert!(matches!(stalled, Outcome::Stalled { time } if (time - 12.0).abs() < 0.11));
+        assert!(matches!(stalled, Outcome::Stalled { time, position, .. }
+            if (time - 12.0).abs() < 0.11 && position == [12.0, 0.0]));
         // At rest for less than 10 % of the run: still moving at the end.
         let moving = Outcome::of(&ok, false, 20.0, &path(19.5, 20.0), 0.01, None);
         assert_eq!(moving, Outcome::TimedOut { time: 20.0 });

@@ -91,17 +91,20 @@ impl std::str::FromStr for Physics {
 }
 
 /// Runs the scenario with `model` (or the file's) under `physics`: the built-in run, or the
-/// rapier run with the built-in run as the reference of its deviation guarantee.
+/// rapier run with the built-in run as the reference of its deviation guarantee, with the
+/// scenario's warnings ([`crate::warning::check`]).
 pub fn simulate(
     prepared: &Prepared,
     model: Option<Model>,
     physics: Physics,
 ) -> Result<Run, RunError> {
     let builtin = run(prepared, model)?;
-    match physics {
-        Physics::Builtin => Ok(builtin),
-        Physics::Rapier => Ok(run_rapier(prepared, model, Drive::Law, Some(&builtin))?.0),
-    }
+    let mut result = match physics {
+        Physics::Builtin => builtin,
+        Physics::Rapier => run_rapier(prepared, model, Drive::Law, Some(&builtin))?.0,
+    };
+    result.summary.warnings = crate::warning::check(prepared, model)?;
+    Ok(result)
 }
 
 /// Runs the scenario in rapier with `drive`; `builtin` (a built-in run of the same model) is

@@ -10,7 +10,7 @@
 //! | `/tf` | `foxglove.FrameTransform` | `world → robot` at every recorded state |
 //! | `/sensor/sector` | `foxglove.SceneUpdate` | the sensing sector, once, in the `robot` frame (it follows `/tf`); sector sensing only |
 //! | `/robot/path` | `foxglove.SceneUpdate` | the path, one new line entity per [`PATH_PERIOD`] of simulated time (entities accumulate: the size is linear in the run's length) |
-//! | `/log` | `foxglove.Log` | discoveries and damping switches |
+//! | `/log` | `foxglove.Log` | the scenario's warnings, discoveries and damping switches |
 //! | `/harmonav/state` | `harmonavstate.HarmonavState` ([`HarmonavState`], Protobuf derived from the struct) | t, x, ẋ, speed, Θ, V, λ, k, the policies |
 
 use std::fs::File;
@@ -362,6 +362,10 @@ fn log_run(ch: &Channels, prepared: &Prepared, run: &Run) -> Result<(), RecordEr
     if let Some(s) = sector(prepared) {
         ch.sector.log_with_time(&s, 0);
     }
+    for w in &run.summary.warnings {
+        ch.log
+            .log_with_time(&log_message(0.0, log::Level::Warning, w.to_string()), 0);
+    }
     let mut heading = Heading(0.0);
     let (mut path, mut path_n, mut next_path) = (Vec::<Vector2<f64>>::new(), 0, PATH_PERIOD);
     let mut critical: Option<bool> = None;
@@ -477,16 +481,19 @@ pub fn check_output_dir(dir: &Path) -> Result<(), String> {
     Ok(())
 }
 
-/// Writes `run.mcap`, `trajectory.svg`, (dynamic runs) `speed.svg` and `energy.svg`, and last
-/// `summary.json` into `dir`, each whole or not at all. `summary.json` comes last: when it is
-/// there and new, the rest of the set is too. Figures a run does not draw are removed.
+/// Writes `run.mcap`, `trajectory.svg`, (dynamic runs) `speed.svg` and `energy.svg`, and
+/// `summary.json` into `dir` as one set: all into a fresh staging folder inside `dir`
+/// ([`crate::atomic::StagedDir`]), then moved into place, `summary.json` last, and the figures
+/// this run does not draw removed. On an error nothing of the new set is left, and the previous
+/// set is untouched. Returns the paths, `summary.json` first.
 pub fn write_outputs(
     dir: &Path,
     prepared: &Prepared,
     run: &Run,
 ) -> Result<Vec<std::path::PathBuf>, String> {
     check_output_dir(dir)?;
-    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    let io = |e: std::io::Error| format!("{}: {e}", dir.display());
+    std::fs::create_dir_all(dir).map_err(io)?;
     let mut figures = vec![(
         "trajectory.svg",
         crate::figures::trajectory_svg(prepared, run)?,
@@ -496,27 +503,16 @@ pub fn write_outputs(
         figures.push(("energy.svg", crate::figures::energy_svg(run)?));
     }
     let summary = serde_json::to_string_pretty(&run.summary).map_err(|e| e.to_string())? + "\n";
-    let mcap = dir.join("run.mcap");
-    write_mcap(&mcap, prepared, run).map_err(|e| e.to_string())?;
-    let mut files = vec![mcap];
-    let write = |name: &str, bytes: &[u8]| -> Result<std::path::PathBuf, String> {
-        let path = dir.join(name);
-        crate::atomic::write_atomically(&path, bytes)
-            .map_err(|e| format!("{}: {e}", path.display()))?;
-        Ok(path)
-    };
+    let stage = crate::atomic::StagedDir::new(dir).map_err(io)?;
+    write_mcap(&stage.path().join("run.mcap"), prepared, run).map_err(|e| e.to_string())?;
+    let mut names = vec!["run.mcap"];
     for (name, svg) in &figures {
-        files.push(write(name, svg.as_bytes())?);
+        std::fs::write(stage.path().join(name), svg.as_bytes()).map_err(io)?;
+        names.push(name);
     }
-    for stale in FIGURES
-        .iter()
-        .filter(|f| !figures.iter().any(|(n, _)| n == *f))
-    {
-        let path = dir.join(stale);
-        if path.exists() {
-            std::fs::remove_file(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-        }
-    }
-    files.insert(0, write("summary.json", summary.as_bytes())?);
-    Ok(files)
+    std::fs::write(stage.path().join("summary.json"), summary).map_err(io)?;
+    names.push("summary.json");
+    stage.commit(&names, &FIGURES).map_err(io)?;
+    names.rotate_right(1);
+    Ok(names.iter().map(|n| dir.join(n)).collect())
 }

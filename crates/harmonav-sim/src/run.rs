@@ -99,6 +99,9 @@ pub struct Summary {
     pub guarantees: Vec<Guarantee>,
     /// How the run ended.
     pub outcome: Outcome,
+    /// What the verdict alone would not explain (a start on a symmetry axis, …): filled by
+    /// [`crate::physics::simulate`], empty from [`run`] alone (a sweep's many runs skip them).
+    pub warnings: Vec<crate::warning::Warning>,
     /// Accepted integration steps.
     pub steps: usize,
     /// Rejected integration steps.

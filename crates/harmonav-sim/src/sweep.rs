@@ -174,7 +174,11 @@ mod tests {
             Outcome::Reached { time: 2.0 },
             Outcome::Collision,
             Outcome::LeftWorkspace,
-            Outcome::Stalled { time: 3.0 },
+            Outcome::Stalled {
+                time: 3.0,
+                position: [0.0; 2],
+                point: crate::outcome::StallPoint::Saddle,
+            },
             Outcome::TimedOut { time: 4.0 },
             Outcome::StepCollapsed { time: 5.0 },
         ];

@@ -716,3 +716,60 @@ fn the_readme_format_example_holds_its_own_expectations() {
         "every [expect] line is checked"
     );
 }
+
+/// The warnings: none in the suites; a goal tolerance of 0.5 m over a 6 m route, a start at
+/// the saddle itself, and a start on the saddle's stable manifold each draw theirs.
+#[test]
+fn warnings_name_what_the_verdict_alone_would_not_explain() {
+    use harmonav_sim::warning::{Warning, check};
+    for file in scenario_files() {
+        let p = Scenario::load(&file).unwrap();
+        assert_eq!(check(&p, None).unwrap(), [], "{}", file.display());
+    }
+    // BASE with global sensing: disc A sits on the start–goal axis, B above it.
+    let global = BASE.replace("[sensor]\nrange = 1.0\naperture_deg = 60.0\n", "");
+    let load = |text: &str| {
+        Scenario::parse(Path::new("w.toml"), text)
+            .unwrap()
+            .prepare(Path::new("w.toml"))
+            .unwrap()
+    };
+    let loose = load(&format!("{global}[sim]\ngoal_tolerance = 0.5\n"));
+    assert!(matches!(
+        check(&loose, None).unwrap().as_slice(),
+        [Warning::GoalToleranceLarge { goal_tolerance, scale }, ..]
+            if *goal_tolerance == 0.5 && (*scale - 5.0).abs() < 1e-9
+    ));
+    // Without B the world is mirror-symmetric about y = 0: the axis through A is the stable
+    // manifold of the saddle between A and the start.
+    let symmetric = global.replace(
+        "[[obstacles]]\nname = \"B\"\ntype = \"ellipse\"\ncenter = [0.0, 2.5]\nsemi_axes = [0.8, 0.3]\n",
+        "",
+    );
+    let on_axis = load(&symmetric);
+    let w = check(&on_axis, None).unwrap();
+    let [Warning::StartOnSaddleManifold { saddle }] = w.as_slice() else {
+        panic!("{w:?}");
+    };
+    assert!(saddle[0] < -1.0 && saddle[1].abs() < 1e-9, "{saddle:?}");
+    let r =
+        harmonav_sim::physics::simulate(&on_axis, None, harmonav_sim::physics::Physics::Builtin)
+            .unwrap();
+    assert_eq!(r.summary.outcome.kind(), "stalled");
+    assert_eq!(r.summary.warnings, w);
+    let at_saddle = load(&symmetric.replace(
+        "start = [-3.0, 0.0]",
+        &format!("start = [{:?}, 0.0]", saddle[0]),
+    ));
+    let w = check(&at_saddle, None).unwrap();
+    assert!(
+        matches!(
+            w.as_slice(),
+            [Warning::StartAtCriticalPoint] | [Warning::StartOnSaddleManifold { .. }]
+        ),
+        "{w:?}"
+    );
+    // Off the axis by 5 cm: no warning, and the run arrives.
+    let off = load(&symmetric.replace("start = [-3.0, 0.0]", "start = [-3.0, 0.05]"));
+    assert_eq!(check(&off, None).unwrap(), []);
+}

@@ -32,7 +32,7 @@ impl fmt::Display for ShapeError {
         match self {
             Self::NonFinite { field } => write!(f, "`{field}`: NaN or infinite number"),
             Self::NotPositive { field, value } => {
-                write!(f, "`{field}`: must be positive, got {value}")
+                write!(f, "`{field}`: must be positive, got {value:e}")
             }
             Self::Invalid { field, problem } => write!(f, "`{field}`: {problem}"),
         }

@@ -66,7 +66,7 @@ impl std::fmt::Display for WorldError {
             Self::NoSuchObstacle { obstacle } => write!(f, "there is no obstacle {obstacle}"),
             Self::InvalidValleyRadius { value } => write!(
                 f,
-                "the far-field valley radius must be finite and non-negative, got {value}"
+                "the far-field valley radius must be finite and non-negative, got {value:e}"
             ),
         }
     }

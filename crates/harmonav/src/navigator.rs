@@ -180,7 +180,7 @@ impl std::fmt::Display for NavError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             Self::InvalidOption { field, value } => {
-                write!(f, "`{field}`: must be finite and positive, got {value}")
+                write!(f, "`{field}`: must be finite and positive, got {value:e}")
             }
             Self::Sensor(e) => write!(f, "sensor: {e}"),
             Self::Shape(e) => write!(f, "growing the shape by radius + margin: {e}"),

@@ -1,0 +1,116 @@
+//! Warnings about a scenario that a run's verdict alone would not explain: a start on a
+//! saddle's stable manifold (a symmetry axis), a start at a critical point, a goal tolerance
+//! comparable to the world. `physics::simulate` attaches them to the summary; the CLI prints
+//! them, the JSON and `summary.json` carry them, and the recording logs them at t = 0.
+
+use harmonav_field::descent::{Ending, FollowOptions, follow};
+use nalgebra::Vector2;
+use serde::Serialize;
+
+use crate::closed_loop::ClosedLoop;
+use crate::outcome::StallPoint;
+use crate::run::RunError;
+use crate::scenario::{Model, Prepared};
+
+/// Step attempts of the descent that looks for a saddle ahead of the start: a bound on the
+/// warning's cost (a normal descent takes a few hundred).
+pub const DESCENT_ATTEMPTS: usize = 20_000;
+
+/// The share of the start–goal distance (or of the workspace's smallest radius) above which
+/// `sim.goal_tolerance` draws a warning.
+pub const TOLERANCE_SHARE: f64 = 0.05;
+
+/// A warning about a scenario.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum Warning {
+    /// The normalised descent of `Θ` (the obstacles known at the start) from the start ends at
+    /// this saddle: the start lies on its stable manifold, typically a symmetry axis of the
+    /// world through the goal, and the law stops there.
+    StartOnSaddleManifold {
+        /// The saddle.
+        saddle: [f64; 2],
+    },
+    /// `∇Θ = 0` at the start: the law does not move.
+    StartAtCriticalPoint,
+    /// `sim.goal_tolerance` is at least [`TOLERANCE_SHARE`] of the start–goal distance or of
+    /// the workspace's smallest radius, so "reached" says little.
+    GoalToleranceLarge {
+        /// `sim.goal_tolerance`, m.
+        goal_tolerance: f64,
+        /// The smaller of the start–goal distance and the workspace's smallest radius, m.
+        scale: f64,
+    },
+}
+
+impl std::fmt::Display for Warning {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::StartOnSaddleManifold { saddle: [x, y] } => write!(
+                f,
+                "the descent from the start ends at a saddle of Θ at ({x:.4}, {y:.4}): the start \
+                 lies on its stable manifold (a symmetry axis through the goal?) and the law stops \
+                 there; move the start off the axis"
+            ),
+            Self::StartAtCriticalPoint => {
+                write!(
+                    f,
+                    "∇Θ = 0 at the start: the law does not move; move the start"
+                )
+            }
+            Self::GoalToleranceLarge {
+                goal_tolerance,
+                scale,
+            } => write!(
+                f,
+                "sim.goal_tolerance = {goal_tolerance:e} m is comparable to the world ({scale:e} \
+                 m): arrival within it says little"
+            ),
+        }
+    }
+}
+
+/// The warnings for a run of `prepared` with `model` (or the file's).
+pub fn check(prepared: &Prepared, model: Option<Model>) -> Result<Vec<Warning>, RunError> {
+    let sc = &prepared.scenario;
+    let (lp, _) = ClosedLoop::start(prepared, model)?;
+    let field = lp.nav.field();
+    let start = Vector2::from(sc.robot.start);
+    let goal = prepared.truth.goal();
+    let tol = sc.sim.goal_tolerance;
+    let mut warnings = Vec::new();
+    let scale = (start - goal)
+        .norm()
+        .min(prepared.truth.workspace.boundary().radius_bounds().0);
+    if tol >= TOLERANCE_SHARE * scale {
+        warnings.push(Warning::GoalToleranceLarge {
+            goal_tolerance: tol,
+            scale,
+        });
+    }
+    if (start - goal).norm() < tol {
+        return Ok(warnings);
+    }
+    match field.eval(start) {
+        Ok(e) if e.direction.is_none() => warnings.push(Warning::StartAtCriticalPoint),
+        Ok(_) => {
+            let options = FollowOptions {
+                goal_tolerance: tol,
+                max_time: sc.sim.max_time,
+                max_attempts: DESCENT_ATTEMPTS,
+                ..FollowOptions::default()
+            };
+            let d = follow(field, start, &options);
+            // At a saddle the descent chatters in place: it ends stuck or out of attempts.
+            if d.ending != Ending::Reached
+                && let (StallPoint::Saddle, saddle) = StallPoint::classify(field, d.end, tol)
+            {
+                warnings.push(Warning::StartOnSaddleManifold {
+                    saddle: saddle.into(),
+                });
+            }
+        }
+        Err(_) => {}
+    }
+    Ok(warnings)
+}
