@@ -34,8 +34,13 @@ pub enum Drive<'a> {
     Custom(Controller<'a>),
 }
 
-/// A robot within this distance (m) of a wall, beyond its own radius, is touching it.
-const TOUCH: f64 = 1e-3;
+/// rapier's ball touches a wall when the exact distance from its centre to the true shape is
+/// at most its radius plus this (m). rapier's active contact pairs also hold speculative
+/// contacts within its prediction distance (they were counted at 0.5–1 mm of clearance); those
+/// are not counted. A point robot is a ball of 1 mm in rapier, so its contact events happen at
+/// a true clearance of up to 1 mm: a margin of the engine, not a collision, which the
+/// no-collision monitor judges on the true clearance.
+const TOUCH: f64 = 1e-6;
 
 /// What the rapier run adds to the summary.
 #[derive(Clone, Debug, PartialEq)]
@@ -244,8 +249,8 @@ pub fn run_rapier(
         t = steps as f64 * h;
         // Contact events: robot–wall pairs that started touching in this step.
         // rapier's active pairs include speculative contacts within its prediction distance;
-        // a pair counts as touching only if the robot is also within TOUCH of that wall by the
-        // exact signed distance of the true shape.
+        // a pair counts as touching only if the ball is also within TOUCH of that wall by the
+        // exact signed distance of the true shape (see TOUCH).
         let (x_new, _) = state(&world);
         let now: BTreeSet<usize> = world
             .narrow_phase
