@@ -332,6 +332,7 @@ fn build(
     }
     let world = PointWorld::new(ws.destination(), points)?.with_k(k)?;
     // The potential supplies the radius of its far-field valley, which Phi's outer band holds.
-    let transform = transform.with_valley_radius(world.valley_radius(ws.boundary().centre()))?;
+    let c0 = transform.outer_centre();
+    let transform = transform.with_valley_radius(world.valley_radius(c0))?;
     Ok((transform, world))
 }

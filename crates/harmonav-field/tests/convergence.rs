@@ -241,4 +241,37 @@ fn an_elongated_workspace_is_crossed_without_stiffness() {
         "{} steps",
         d.steps + d.rejected
     );
+    // The outer map is radial about x_d, so its band is no shortcut: starts next to the long
+    // walls arrive too (about the ellipse's centre 7 of 20 such starts stalled in the band).
+    assert_eq!(field.transform().outer_centre(), goal);
+    let mut rng = harmonav_transform::random::Rng::new(5);
+    let mut tried = 0;
+    while tried < 20 {
+        let x = Vector2::new(rng.uniform(-45.0, 30.0), rng.uniform(-1.0, 1.0));
+        let wall = -ws.boundary().signed_distance(x);
+        if wall < 0.01 || ws.obstacles()[0].signed_distance(x) < 0.01 {
+            continue;
+        }
+        tried += 1;
+        let d = follow(&field, x, &options);
+        assert_eq!(
+            d.ending,
+            Ending::Reached,
+            "from {x:?}, {wall} m from the wall"
+        );
+        assert!(d.collision_free);
+        let attempts = d.steps + d.rejected;
+        assert!(attempts < 20_000, "{attempts} steps from {x:?}");
+        // J_Phi against central differences, in the band as elsewhere.
+        let m = field.transform().nav_transform(x).unwrap();
+        let fd = harmonav_potential::checks::fd_jacobian(
+            |y| field.transform().nav_transform(y).unwrap().h,
+            x,
+            1e-7,
+        );
+        assert!(
+            (m.jacobian - fd).norm() <= 1e-5 * m.jacobian.norm(),
+            "at {x:?}"
+        );
+    }
 }

@@ -76,6 +76,9 @@ pub struct NavTransform {
     /// `[c_x, c_y, (max R + ε)²]` per band, contiguous for the per-step scan.
     reach: Vec<[f64; 3]>,
     outer: StarShape,
+    /// The centre of the outer map when it is not the boundary's own: the destination, for an
+    /// ellipse boundary ([`NavTransform::outer_centre`]).
+    about: Option<Vector2<f64>>,
     eps0: f64,
     gain: f64,
     /// Points with `|x − c_0| ≤ min R_0 − ε_0` are inside the identity region of the outer map.
@@ -85,7 +88,7 @@ pub struct NavTransform {
 impl NavTransform {
     /// The transformation for the obstacles `known` (indices into [`Workspace::obstacles`], in
     /// band order) of `ws`. `valley_radius` is the radius `r*` of the potential's far-field
-    /// valley about the boundary's centre `c_0` (`PointWorld::valley_radius` in
+    /// valley about the outer centre `c_0` ([`Self::outer_centre`]; `PointWorld::valley_radius` in
     /// harmonav-potential, which this crate does not depend on); the stretch gain is
     /// `A = max(ε_0, 2 r*)`. Errors: an index out of range, or a `valley_radius` that is
     /// negative or not finite.
@@ -111,7 +114,16 @@ impl NavTransform {
                 .iter()
                 .map(|&i| ws.to_boundary(i))
                 .fold(2.0 * ws.goal_to_boundary(), f64::min);
-        let inner = (outer.radius_bounds().0 - eps0).max(0.0);
+        let (r_min, r_max) = outer.radius_bounds();
+        let about = (r_min < r_max
+            && outer
+                .radius_about(ws.destination(), Vector2::new(1.0, 0.0))
+                .is_some())
+        .then(|| ws.destination());
+        let inner = match about {
+            Some(_) => (ws.goal_to_boundary() - eps0).max(0.0),
+            None => (outer.radius_bounds().0 - eps0).max(0.0),
+        };
         // Beyond (max R + ε) from its centre a band cannot contain the point.
         let reach = bands
             .iter()
@@ -126,6 +138,7 @@ impl NavTransform {
             bands,
             reach,
             outer,
+            about,
             eps0,
             gain: eps0,
             inner2: inner * inner,
@@ -154,6 +167,26 @@ impl NavTransform {
     /// The band width `ε_i` of each known obstacle.
     pub fn widths(&self) -> impl Iterator<Item = f64> + '_ {
         self.bands.iter().map(|b| b.eps)
+    }
+
+    /// The centre `c_0` of the outer map's rays. For an ellipse boundary it is the destination
+    /// `x_d` (the ellipse is convex, so star-shaped about it, and `R_0`, `R_0'` about it are
+    /// closed forms: [`StarShape::radius_about`]); otherwise the boundary's centre, as in the
+    /// paper. About the boundary's centre, a band near the long side of an elongated ellipse
+    /// maps onto every radius out to infinity, including `|x_d − c_0|`, and so lies close to
+    /// `x_d` in the point world: descents ran into it and stalled along the wall (50:1 ellipse:
+    /// 13 of 20 random starts arrived). About `x_d`, `|Phi(x) − x_d| = ν` grows along every ray
+    /// of the band, and 20 of 20 arrive (docs/maths.md §8).
+    pub fn outer_centre(&self) -> Vector2<f64> {
+        self.about.unwrap_or(self.outer.centre())
+    }
+
+    /// `(R_0, R_0')` of the boundary about [`Self::outer_centre`] in the direction `u`.
+    fn outer_radius(&self, u: Vector2<f64>) -> (f64, f64) {
+        match self.about.and_then(|p| self.outer.radius_about(p, u)) {
+            Some(r) => r,
+            None => self.outer.radius_along(u),
+        }
     }
 
     /// The outer band width `ε_0` and stretch gain `A`.
@@ -196,19 +229,19 @@ impl NavTransform {
                 });
             }
         }
-        let v = x - self.outer.centre();
+        let v = x - self.outer_centre();
         let rho2 = v.norm_squared();
         if rho2 > self.inner2 {
             let rho = rho2.sqrt();
             let u = v / rho;
-            let (r0, dr0) = self.outer.radius_along(u);
+            let (r0, dr0) = self.outer_radius(u);
             if rho >= r0 {
                 return Err(NotFree::Outside);
             }
             if rho > r0 - self.eps0 {
                 let m: Radial = outer_map(rho, r0, dr0, self.eps0, self.gain);
                 return Ok(Mapped {
-                    h: self.outer.centre() + m.nu * u,
+                    h: self.outer_centre() + m.nu * u,
                     jacobian: m.jacobian(u, rho),
                     active: Active::Outer,
                 });
@@ -231,7 +264,7 @@ impl NavTransform {
     pub fn identity_mask(&self, xs: &[Vector2<f64>], identity: &mut [bool]) {
         let n = xs.len().min(identity.len());
         let (xs, identity) = (&xs[..n], &mut identity[..n]);
-        let c0 = self.outer.centre();
+        let c0 = self.outer_centre();
         for (x, id) in xs.iter().zip(identity.iter_mut()) {
             let (dx, dy) = (x.x - c0.x, x.y - c0.y);
             *id = dx * dx + dy * dy <= self.inner2;
@@ -261,14 +294,19 @@ impl NavTransform {
                 return Some(band.shape.centre() + rho * v / nu);
             }
         }
-        let v = h - self.outer.centre();
+        let c0 = self.outer_centre();
+        let v = h - c0;
         let nu = v.norm();
-        let (r0, dr0) = self.outer.radius(v.y.atan2(v.x));
+        if nu == 0.0 {
+            // c_0 lies inside the identity region (the boundary's centre, or x_d).
+            return Some(h);
+        }
+        let (r0, dr0) = self.outer_radius(v / nu);
         if nu > r0 - self.eps0 {
             let rho = bisect(r0 - self.eps0, r0, nu, |rho| {
                 outer_map(rho, r0, dr0, self.eps0, self.gain).nu
             });
-            return Some(self.outer.centre() + rho * v / nu);
+            return Some(c0 + rho * v / nu);
         }
         Some(h)
     }

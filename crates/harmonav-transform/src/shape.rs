@@ -425,6 +425,33 @@ impl StarShape {
         }
     }
 
+    /// The radial function `(R(θ), R'(θ))` about another interior point `p` (the shape is
+    /// convex, so star-shaped about it), for circles and ellipses; `None` for other shapes. In
+    /// the ellipse's frame scaled to the unit circle (`M`), with `q = M(p − c)`, `v = M u`,
+    /// `v' = M u⊥`, the ray `p + t u` meets the boundary at `|q + t v| = 1`:
+    ///
+    /// ```text
+    /// R  = (−q·v + √((q·v)² − |v|²(|q|² − 1))) / |v|²
+    /// R' = −R (q·v' + R v·v') / (q·v + R |v|²)
+    /// ```
+    pub fn radius_about(&self, p: Vector2<f64>, u: Vector2<f64>) -> Option<(f64, f64)> {
+        let (a, b, axis) = match &self.kind {
+            Kind::Ellipse { a, b, axis } => (*a, *b, *axis),
+            Kind::Circle { r } => (*r, *r, Vector2::new(1.0, 0.0)),
+            _ => return None,
+        };
+        let m = |w: Vector2<f64>| Vector2::new(w.dot(&axis) / a, cross(axis, w) / b);
+        let q = m(p - self.centre);
+        let v = m(u);
+        let vp = m(left(u));
+        let (qv, vv) = (q.dot(&v), v.norm_squared());
+        let disc = qv * qv - vv * (q.norm_squared() - 1.0);
+        // disc ≥ (q·v)² > 0 for p inside (|q| < 1); the guard only absorbs rounding at the wall.
+        let t = (-qv + disc.max(0.0).sqrt()) / vv;
+        let dt = -t * (q.dot(&vp) + t * v.dot(&vp)) / (qv + t * vv);
+        Some((t, dt))
+    }
+
     /// The shape offset by `r` along its outward normal: inflated for `r > 0` (an obstacle
     /// grown by the robot radius), deflated for `r < 0` (the workspace boundary shrunk by it).
     ///

@@ -243,3 +243,49 @@ fn robot_radius_grows_obstacles_and_shrinks_the_boundary() {
         })
     ));
 }
+
+/// `radius_about`: about an off-centre point of an ellipse, `R` is where the ray meets the
+/// boundary (the implicit equation, and bisection on `contains`) and `R'` its derivative
+/// (central differences); about the centre it is `radius`; other shapes have none.
+#[test]
+fn the_radial_function_about_another_point_is_exact() {
+    let e = StarShape::ellipse(Vector2::new(1.0, -0.5), [50.0, 1.0], 0.2).unwrap();
+    let axis = Vector2::new(0.2f64.cos(), 0.2f64.sin());
+    let p = Vector2::new(1.0, -0.5) + 40.0 * axis + Vector2::new(-0.1, 0.3) * 0.5;
+    assert!(e.contains(p));
+    let dir = |th: f64| Vector2::new(th.cos(), th.sin());
+    for i in 0..720 {
+        let th = -3.1 + i as f64 * 0.0086;
+        let (r, dr) = e.radius_about(p, dir(th)).unwrap();
+        let (mut lo, mut hi) = (0.0, 200.0);
+        for _ in 0..100 {
+            let mid = 0.5 * (lo + hi);
+            if e.contains(p + mid * dir(th)) {
+                lo = mid
+            } else {
+                hi = mid
+            }
+        }
+        let hit = lo;
+        assert!(
+            (r - hit).abs() <= 1e-9 * r.max(1.0),
+            "θ = {th}: {r} vs {hit}"
+        );
+        let q = p + r * dir(th) - Vector2::new(1.0, -0.5);
+        let (x, y) = (q.dot(&axis), axis.x * q.y - axis.y * q.x);
+        assert!(((x / 50.0).powi(2) + y * y - 1.0).abs() < 1e-12);
+        let d = 1e-6;
+        let fd = (e.radius_about(p, dir(th + d)).unwrap().0
+            - e.radius_about(p, dir(th - d)).unwrap().0)
+            / (2.0 * d);
+        assert!(
+            (dr - fd).abs() <= 1e-5 * (dr.abs() + r),
+            "θ = {th}: R' {dr} vs {fd}"
+        );
+    }
+    let (r, dr) = e.radius_about(e.centre(), dir(0.7)).unwrap();
+    let (r0, dr0) = e.radius(0.7);
+    assert!((r - r0).abs() < 1e-12 && (dr - dr0).abs() < 1e-9);
+    let s = StarShape::fourier_star(Vector2::zeros(), 1.0, &[(3, 0.1, 0.0)]).unwrap();
+    assert!(s.radius_about(Vector2::zeros(), dir(0.0)).is_none());
+}
