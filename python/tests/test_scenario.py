@@ -80,3 +80,18 @@ def test_the_shortest_path_is_shorter_than_the_run_and_longer_than_the_segment()
     res = sc.run()
     travelled = np.sum(np.linalg.norm(np.diff(res.x, axis=0), axis=1))
     assert np.linalg.norm(goal - start) <= length <= travelled
+
+
+def test_a_start_on_a_symmetry_axis_is_warned_about_and_explained(tmp_path):
+    # One disc between start and goal: the run stops at the saddle behind the disc.
+    sc = harmonav.Scenario.load(SCENARIOS / "adversarial" / "one-disc-on-the-axis.toml")
+    s = sc.run(out=tmp_path).summary
+    assert not s["reached"]
+    out = s["outcome"]
+    assert out["kind"] == "stalled" and out["point"] == "saddle"
+    [w] = s["warnings"]
+    assert w["kind"] == "start-on-saddle-manifold"
+    np.testing.assert_allclose(w["saddle"], out["position"], atol=1e-3)
+    assert abs(out["position"][1]) < 1e-9 and -2.0 < out["position"][0] < -1.0
+    assert json.loads((tmp_path / "summary.json").read_text())["warnings"] == s["warnings"]
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]
