@@ -484,8 +484,9 @@ pub fn check_output_dir(dir: &Path) -> Result<(), String> {
 /// Writes `run.mcap`, `trajectory.svg`, (dynamic runs) `speed.svg` and `energy.svg`, and
 /// `summary.json` into `dir` as one set: all into a fresh staging folder inside `dir`
 /// ([`crate::atomic::StagedDir`]), then moved into place, `summary.json` last, and the figures
-/// this run does not draw removed. On an error nothing of the new set is left, and the previous
-/// set is untouched. Returns the paths, `summary.json` first.
+/// this run does not draw removed. On an error while writing, nothing of the new set is left
+/// and the previous set is untouched (a failing rename while moving the set, an I/O fault, can
+/// leave a mix). Returns the paths, `summary.json` first.
 pub fn write_outputs(
     dir: &Path,
     prepared: &Prepared,
