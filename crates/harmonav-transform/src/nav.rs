@@ -169,14 +169,15 @@ impl NavTransform {
         self.bands.iter().map(|b| b.eps)
     }
 
-    /// The centre `c_0` of the outer map's rays. For an ellipse boundary it is the destination
-    /// `x_d` (the ellipse is convex, so star-shaped about it, and `R_0`, `R_0'` about it are
-    /// closed forms: [`StarShape::radius_about`]); otherwise the boundary's centre, as in the
-    /// paper. About the boundary's centre, a band near the long side of an elongated ellipse
-    /// maps onto every radius out to infinity, including `|x_d − c_0|`, and so lies close to
-    /// `x_d` in the point world: descents ran into it and stalled along the wall (50:1 ellipse:
-    /// 13 of 20 random starts arrived). About `x_d`, `|Phi(x) − x_d| = ν` grows along every ray
-    /// of the band, and 20 of 20 arrive (docs/maths.md §8).
+    /// The centre `c_0` of the outer map's rays. For an ellipse boundary (an exact ellipse: a
+    /// boundary shrunk by the robot's radius is a sampled table and is not one) it is the
+    /// destination `x_d` (the ellipse is convex, so star-shaped about it, and `R_0`, `R_0'`
+    /// about it are closed forms: [`StarShape::radius_about`]); otherwise the boundary's
+    /// centre, as in the paper. About the boundary's centre, a band near the long side of an
+    /// elongated ellipse maps onto every radius out to infinity, including `|x_d − c_0|`, and
+    /// so lies close to `x_d` in the point world: descents ran into it and stalled along the
+    /// wall (50:1 ellipse: 13 of 20 random starts arrived). About `x_d`, `|Phi(x) − x_d| = ν`
+    /// grows along every ray of the band, and 20 of 20 arrive (docs/maths.md §8).
     pub fn outer_centre(&self) -> Vector2<f64> {
         self.about.unwrap_or(self.outer.centre())
     }
