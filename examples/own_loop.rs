@@ -41,7 +41,7 @@ fn run(law: Law, hz: f64) -> Result<f64, Box<dyn std::error::Error>> {
                 }
             }
         }
-        let cmd = nav.command(x, v)?;
+        let cmd = nav.command(x, v)?.value;
         match law {
             Law::Kinematic { .. } => x += h * cmd,
             Law::Dynamic { mass, .. } => {

@@ -4,6 +4,7 @@
 mod adversarial;
 mod control;
 mod field;
+mod navigator;
 mod potential;
 mod quality;
 mod scenarios;
@@ -124,6 +125,7 @@ fn checks() -> Vec<Check> {
     all.extend(transform::checks());
     all.extend(field::checks());
     all.extend(control::checks());
+    all.extend(navigator::checks());
     all.extend(quality::checks());
     all.extend(scenarios::checks());
     all.extend(adversarial::checks());

@@ -50,6 +50,11 @@ impl Kinematic {
         })
     }
 
+    /// The gain `K`.
+    pub fn gain(&self) -> f64 {
+        self.gain
+    }
+
     /// The velocity command. Uses the unit direction of the evaluation (well defined where
     /// `sigma'` underflows); `u = 0` at the goal (`Θ = 0`) and at exact critical points, where
     /// the direction is undefined. Along the law `dΘ/dt = −K √(2Θ) |∇Θ| ≤ 0`.

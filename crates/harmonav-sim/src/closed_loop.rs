@@ -27,10 +27,13 @@ impl<'a> ClosedLoop<'a> {
     /// The loop at the start of `prepared` (`model` overrides the file's robot model), with the
     /// obstacles known at `t = 0` (assumption `localobs`: within `d_min` of the start, and
     /// those the sector sees from the start along the descent direction of the full field,
-    /// then along that of the known ones) and those discoveries.
+    /// then along that of the known ones) and those discoveries. `period`: the control period
+    /// of a fixed-step loop, for the navigator's hold (`None`: the law's default; the built-in
+    /// integrator evaluates the continuous law and does not use it).
     pub fn start(
         prepared: &'a Prepared,
         model: Option<Model>,
+        period: Option<f64>,
     ) -> Result<(Self, Vec<Discovery>), RunError> {
         let sc = &prepared.scenario;
         let truth = &prepared.truth;
@@ -43,6 +46,9 @@ impl<'a> ClosedLoop<'a> {
             .with_robot(truth.radius, truth.margin)
             .with_k(prepared.k_policy())
             .with_damping(prepared.damping_policy());
+        if let Some(h) = period {
+            options = options.with_control_period(h);
+        }
         // Global sensing never switches λ on a discovery after t = 0: the default sensor's
         // d_min serves. Without obstacles no curvature bound is needed either.
         if let (Sensing::Sector(_), Some(spec)) = (truth.sensing, &sc.sensor) {

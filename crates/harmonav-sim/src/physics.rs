@@ -122,7 +122,10 @@ pub fn run_rapier(
 ) -> Result<(Run, RapierReport), RunError> {
     let sc = &prepared.scenario;
     let truth = &prepared.truth;
-    let (mut lp, mut discoveries) = ClosedLoop::start(prepared, model)?;
+    // rapier's fixed step, at most 1 ms; the navigator holds each command for it.
+    let substeps = (sc.sim.dt / 1e-3).ceil().max(1.0) as usize;
+    let h = sc.sim.dt / substeps as f64;
+    let (mut lp, mut discoveries) = ClosedLoop::start(prepared, model, Some(h))?;
     let model = lp.model;
     let start = Vector2::new(sc.robot.start[0], sc.robot.start[1]);
     let goal = truth.goal();
@@ -131,8 +134,6 @@ pub fn run_rapier(
         gravity: Vector::new(0.0, 0.0),
         ..PhysicsWorld::default()
     };
-    let substeps = (sc.sim.dt / 1e-3).ceil().max(1.0) as usize;
-    let h = sc.sim.dt / substeps as f64;
     world.integration_parameters.dt = h;
     let mut walls = Vec::new();
     for o in &truth.obstacles {
@@ -223,10 +224,12 @@ pub fn run_rapier(
             samples.push(s);
         }
         let command = match &drive {
-            Drive::Law => lp
-                .nav
-                .command(x, vel)
-                .map_err(|e| RunError(e.to_string()))?,
+            Drive::Law => {
+                lp.nav
+                    .command(x, vel)
+                    .map_err(|e| RunError(e.to_string()))?
+                    .value
+            }
             Drive::Custom(f) => {
                 let e = lp
                     .nav

@@ -195,7 +195,7 @@ fn rhs(lp: &ClosedLoop, y: &State) -> Option<(State, Evaluation)> {
 pub fn run(prepared: &Prepared, model: Option<Model>) -> Result<Run, RunError> {
     let sc = &prepared.scenario;
     let truth = &prepared.truth;
-    let (mut lp, mut discoveries) = ClosedLoop::start(prepared, model)?;
+    let (mut lp, mut discoveries) = ClosedLoop::start(prepared, model, None)?;
     let start = Vector2::new(sc.robot.start[0], sc.robot.start[1]);
     let goal = truth.goal();
     let mut y: State = [start.x, start.y, 0.0, 0.0];

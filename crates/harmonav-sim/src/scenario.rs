@@ -6,6 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
+use harmonav::MIN_APERTURE_DEG;
 use harmonav_control::DampingPolicy;
 use harmonav_field::{Field, FieldError, KPolicy};
 use harmonav_sensing::{Sector, Sensing};
@@ -231,9 +232,10 @@ pub const MAX_OBSTACLES: usize = 2000;
 pub const MAX_SAMPLES: f64 = 2e6;
 
 /// The range of the physical parameters (`robot.mass`, `controller.gain`, `controller.mu`,
-/// `sim.dt`, `sim.max_time`, `sim.goal_tolerance`): outside it the closed loop cannot be
+/// `sensor.range`, `sensor.rho_min`, `sim.dt`, `sim.max_time`, `sim.goal_tolerance`): the
+/// navigator's own ([`harmonav::PARAMETER_RANGE`]); outside it the closed loop cannot be
 /// integrated in `f64` (a `dt` of 1e-300 or a mass of 5e-324 stopped at t = 0).
-pub const PARAMETER_RANGE: (f64, f64) = (1e-9, 1e9);
+pub use harmonav::PARAMETER_RANGE;
 
 /// `[expect]`: what a run of this scenario must show (checked by the CLI and `xtask verify`).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -650,15 +652,16 @@ impl Scenario {
             None => (Sensing::Global, rho_default),
             Some(spec) => {
                 // Below a thousandth of a degree the sector's d_min (eq. dmin) underflows.
-                if !(spec.aperture_deg.is_finite() && spec.aperture_deg >= 1e-3) {
+                if !(spec.aperture_deg.is_finite() && spec.aperture_deg >= MIN_APERTURE_DEG) {
                     return Err(f(
                         "sensor.aperture_deg",
                         format!(
-                            "must be in (0, 360] and at least 0.001°, got {:e}",
+                            "must be in (0, 360] and at least {MIN_APERTURE_DEG}°, got {:e}",
                             spec.aperture_deg
                         ),
                     ));
                 }
+                in_range("sensor.range", spec.range)?;
                 let sector = Sector::new(spec.range, spec.aperture_deg.to_radians()).map_err(
                     |e| match e {
                         harmonav_sensing::SensorError::Range(v) => f(
@@ -673,10 +676,16 @@ impl Scenario {
                 )?;
                 let rho = spec.rho_min.unwrap_or(rho_default);
                 let no_bound_needed = spec.rho_min.is_none() && self.obstacles.is_empty();
-                if !(no_bound_needed || rho.is_finite() && rho > 0.0) {
+                let (lo, hi) = PARAMETER_RANGE;
+                if !(no_bound_needed || rho.is_finite() && (lo..=hi).contains(&rho)) {
+                    let from = if spec.rho_min.is_some() {
+                        ""
+                    } else {
+                        " (the obstacles' smallest curvature radius, as none is given)"
+                    };
                     return Err(f(
                         "sensor.rho_min",
-                        format!("must be finite and positive, got {rho:e}"),
+                        format!("must be finite and in [{lo:e}, {hi:e}] m{from}, got {rho:e}"),
                     ));
                 }
                 (Sensing::Sector(sector), rho)

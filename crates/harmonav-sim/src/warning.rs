@@ -73,7 +73,7 @@ impl std::fmt::Display for Warning {
 /// The warnings for a run of `prepared` with `model` (or the file's).
 pub fn check(prepared: &Prepared, model: Option<Model>) -> Result<Vec<Warning>, RunError> {
     let sc = &prepared.scenario;
-    let (lp, _) = ClosedLoop::start(prepared, model)?;
+    let (lp, _) = ClosedLoop::start(prepared, model, None)?;
     let field = lp.nav.field();
     let start = Vector2::from(sc.robot.start);
     let goal = prepared.truth.goal();

@@ -27,7 +27,7 @@
 //!             *s = true;
 //!         }
 //!     }
-//!     let u = nav.command(x, Vector2::zeros())?;
+//!     let u = nav.command(x, Vector2::zeros())?.value;
 //!     x += h * u;
 //!     assert!(truth.iter().all(|o| o.signed_distance(x) > 0.0));
 //! }
@@ -41,7 +41,10 @@
 
 #![warn(missing_docs)]
 
+pub mod checks;
+mod hold;
 mod navigator;
+mod options;
 
 pub use harmonav_control as control;
 pub use harmonav_field as field;
@@ -52,8 +55,15 @@ pub use harmonav_transform as transform;
 pub use harmonav_control::DampingPolicy;
 pub use harmonav_field::KPolicy;
 pub use harmonav_transform::{ShapeError, StarShape};
+pub use hold::{
+    Band, Command, DYNAMIC_FRACTION, KINEMATIC_FRACTION, MAX_HALVINGS, Mode, SPEED_SLACK,
+};
 pub use nalgebra::Vector2;
-pub use navigator::{Controller, Evaluation, Law, NavError, Navigator, Options};
+pub use navigator::{Controller, Evaluation, Law, NavError, Navigator};
+pub use options::{
+    DEFAULT_DYNAMIC_PERIOD, DEFAULT_KINEMATIC_PERIOD, HoldPolicy, MIN_APERTURE_DEG, Options,
+    PARAMETER_RANGE,
+};
 
 /// The README's code compiles and runs (checked by `cargo test --doc`).
 #[doc = include_str!("../../../README.md")]

@@ -4,11 +4,14 @@
 
 use std::sync::Arc;
 
-use harmonav_control::{ControlError, Damping, DampingPolicy, Dynamic, Kinematic};
-use harmonav_field::{Field, FieldError, FieldEval, KPolicy};
-use harmonav_sensing::{Sector, SensorError};
+use harmonav_control::{ControlError, Damping, Dynamic, Kinematic};
+use harmonav_field::{Field, FieldError, FieldEval};
+use harmonav_sensing::SensorError;
 use harmonav_transform::{ShapeError, StarShape, Workspace, WorldError};
 use nalgebra::Vector2;
+
+use crate::hold::{self, Band, Command, Mode};
+use crate::options::{HoldPolicy, MIN_APERTURE_DEG, Options, PARAMETER_RANGE, in_range};
 
 /// The robot model and its law.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -41,95 +44,6 @@ impl Law {
     }
 }
 
-/// The navigator's settings, all with defaults (`Options::default()`).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Options {
-    /// Robot disc radius, m (default 0: a point robot). Obstacles are grown and the boundary
-    /// shrunk by `radius + margin`.
-    pub radius: f64,
-    /// Clearance kept to the true shapes, m (default 0).
-    pub margin: f64,
-    /// Sensor range `r`, m (default 1, the paper's).
-    pub sensor_range: f64,
-    /// Sensor aperture `θ`, degrees, in (0, 360] (default 60, the paper's).
-    pub sensor_aperture_deg: f64,
-    /// A-priori lower bound on the obstacles' curvature radius, m, for `d_min` (eq. `dmin`;
-    /// default 0.05, the paper's).
-    pub rho_min: f64,
-    /// How `k` follows the number of known obstacles (default `"auto"`).
-    pub k: KPolicy,
-    /// The dynamic law's damping (default `"auto"`).
-    pub damping: DampingPolicy,
-}
-
-impl Default for Options {
-    fn default() -> Self {
-        Self {
-            radius: 0.0,
-            margin: 0.0,
-            sensor_range: 1.0,
-            sensor_aperture_deg: 60.0,
-            rho_min: 0.05,
-            k: KPolicy::default(),
-            damping: DampingPolicy::default(),
-        }
-    }
-}
-
-impl Options {
-    /// The sensor: range `r` (m) and aperture (degrees). It sets `d_min` (eq. `dmin`), the
-    /// distance within which the dynamic law must be able to stop after a discovery.
-    #[must_use]
-    pub fn with_sensor(self, range: f64, aperture_deg: f64) -> Self {
-        Self {
-            sensor_range: range,
-            sensor_aperture_deg: aperture_deg,
-            ..self
-        }
-    }
-
-    /// The robot's radius and the clearance margin, m.
-    #[must_use]
-    pub fn with_robot(self, radius: f64, margin: f64) -> Self {
-        Self {
-            radius,
-            margin,
-            ..self
-        }
-    }
-
-    /// The a-priori curvature bound `ρ_min` of `d_min`, m.
-    #[must_use]
-    pub fn with_rho_min(self, rho_min: f64) -> Self {
-        Self { rho_min, ..self }
-    }
-
-    /// The `k` policy.
-    #[must_use]
-    pub fn with_k(self, k: KPolicy) -> Self {
-        Self { k, ..self }
-    }
-
-    /// The damping policy of the dynamic law.
-    #[must_use]
-    pub fn with_damping(self, damping: DampingPolicy) -> Self {
-        Self { damping, ..self }
-    }
-
-    /// `d_min(θ)` of eq. `dmin` for this sensor and `ρ_min`.
-    pub fn d_min(&self) -> Result<f64, NavError> {
-        let sector = Sector::new(self.sensor_range, self.sensor_aperture_deg.to_radians())
-            .map_err(NavError::Sensor)?;
-        if !(self.rho_min.is_finite() && self.rho_min > 0.0) {
-            return Err(NavError::InvalidOption {
-                field: "rho_min",
-                value: self.rho_min,
-            });
-        }
-        Ok(sector.d_min(self.rho_min))
-    }
-}
-
 /// Why a navigator call failed. A failed call leaves the navigator as it was.
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
@@ -152,13 +66,17 @@ pub enum NavError {
     },
     /// The goal lies in a grown obstacle or outside the shrunk boundary.
     GoalNotFree,
-    /// The position passed to [`Navigator::command`] lies in known obstacle `obstacle` (grown by
-    /// `radius + margin`; indices in the order of [`Navigator::add_obstacle`]).
+    /// The position passed to [`Navigator::command`] lies in known obstacle `obstacle` grown by
+    /// `radius` alone: the robot's disc overlaps the true shape (indices in the order of
+    /// [`Navigator::add_obstacle`]). From [`Navigator::evaluate`] and [`Navigator::theta`]: in
+    /// the obstacle grown by `radius + margin`. Inside the margin band alone `command` recovers
+    /// ([`Mode::Recovering`]).
     InObstacle {
         /// The obstacle.
         obstacle: usize,
     },
-    /// The position lies on or outside the (shrunk) boundary.
+    /// The position lies on or outside the boundary shrunk by `radius` (from `command`; by
+    /// `radius + margin` from `evaluate` and `theta`).
     OutsideBoundary,
     /// The added obstacle (grown) overlaps or touches known obstacle `obstacle`.
     Overlap {
@@ -169,18 +87,37 @@ pub enum NavError {
     CrossesBoundary,
     /// The added obstacle (grown) contains the goal.
     ContainsGoal,
-    /// The added obstacle (grown) contains the robot's last commanded position.
+    /// The added obstacle, grown by `radius` alone, contains the robot's last commanded
+    /// position: the robot's disc would overlap it. (Grown by `radius + margin` it may contain
+    /// the robot: the next command then leads out of the margin band.)
     ContainsRobot,
+    /// The command came out non-finite (a guard: not expected within the validated ranges;
+    /// reported rather than returned as NaN).
+    NonFiniteCommand,
     /// The navigation function could not be built over the obstacles (not expected for a
     /// validated workspace; reported rather than hidden).
     Field(FieldError),
+}
+
+/// What an [`NavError::InvalidOption`] field must be.
+fn expected(field: &str) -> String {
+    let (lo, hi) = PARAMETER_RANGE;
+    match field {
+        "radius" | "margin" => format!(
+            "must be finite and in [0, {:e}] m",
+            harmonav_transform::MAX_LENGTH
+        ),
+        "sensor_aperture_deg" => format!("must be in [{MIN_APERTURE_DEG:e}, 360] degrees"),
+        "d_min" => "must come out finite and positive (eq. dmin)".to_string(),
+        _ => format!("must be finite and in [{lo:e}, {hi:e}]"),
+    }
 }
 
 impl std::fmt::Display for NavError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             Self::InvalidOption { field, value } => {
-                write!(f, "`{field}`: must be finite and positive, got {value:e}")
+                write!(f, "`{field}`: {}, got {value:e}", expected(field))
             }
             Self::Sensor(e) => write!(f, "sensor: {e}"),
             Self::Shape(e) => write!(f, "growing the shape by radius + margin: {e}"),
@@ -209,6 +146,7 @@ impl std::fmt::Display for NavError {
             Self::ContainsRobot => {
                 write!(f, "the new obstacle contains the robot's last position")
             }
+            Self::NonFiniteCommand => write!(f, "the command came out non-finite"),
             Self::Field(e) => write!(f, "the navigation function: {e}"),
         }
     }
@@ -235,10 +173,12 @@ pub enum Controller {
     Dynamic(Dynamic),
 }
 
-/// One evaluation of the law at a state, without side effects ([`Navigator::evaluate`]).
+/// One evaluation of the continuous law at a state, without side effects
+/// ([`Navigator::evaluate`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Evaluation {
-    /// The command: the velocity `u` (kinematic law) or the force `f` (dynamic law).
+    /// The continuous law's command: the velocity `u` (kinematic law) or the force `f`
+    /// (dynamic law), before the hold of [`Navigator::command`].
     pub command: Vector2<f64>,
     /// `Θ(x)`, `∇Θ(x)` and the descent direction `−∇Θ/|∇Θ|` over the known obstacles.
     pub field: FieldEval,
@@ -252,10 +192,16 @@ pub struct Evaluation {
 pub struct Navigator {
     controller: Controller,
     options: Options,
+    /// The control period `h` in force (s).
+    period: f64,
     goal: Vector2<f64>,
     /// `Θ` over the known obstacles, grown by `radius + margin` (in the order they were
     /// added), in the boundary shrunk by `radius + margin`.
     field: Field,
+    /// The same shapes grown by `radius` alone (the boundary: shrunk by `radius`): the robot's
+    /// disc overlaps a true shape iff its centre is in one of these. Empty with no margin.
+    inner: Vec<StarShape>,
+    inner_boundary: Option<StarShape>,
     /// `|ẋ(T_n)|` at the latest discovery (eq. `dissipationfun`).
     speed_at_discovery: f64,
     /// The last state passed to a successful `command`.
@@ -282,9 +228,10 @@ impl Navigator {
     /// A navigator in the workspace bounded by `boundary`, towards `goal`, with no obstacle
     /// known yet.
     ///
-    /// Errors: a law or option parameter that is not finite and positive (a negative radius or
-    /// margin), an invalid sensor, a boundary that cannot be shrunk by `radius + margin`, a goal
-    /// that is not finite or not strictly inside.
+    /// Errors: a law parameter (`gain`, `mass`, `mu`) or option outside its range
+    /// ([`crate::PARAMETER_RANGE`], [`Options::validate`]; the error names the field), a
+    /// boundary that cannot be shrunk by `radius + margin`, a goal that is not finite or not
+    /// strictly inside.
     pub fn new(
         boundary: StarShape,
         goal: Vector2<f64>,
@@ -292,31 +239,58 @@ impl Navigator {
         options: Options,
     ) -> Result<Self, NavError> {
         finite(goal, "goal")?;
-        for (field, value) in [("radius", options.radius), ("margin", options.margin)] {
-            if !(value.is_finite() && value >= 0.0) {
-                return Err(NavError::InvalidOption { field, value });
-            }
-        }
+        options.validate(&law)?;
         let d_min = options.d_min()?;
         let controller = match law {
-            Law::Kinematic { gain } => Controller::Kinematic(Kinematic::new(gain)?),
+            Law::Kinematic { gain } => {
+                Controller::Kinematic(Kinematic::new(in_range("gain", gain)?)?)
+            }
             Law::Dynamic { mass, mu } => {
-                Controller::Dynamic(Dynamic::new(mass, mu, d_min)?.with_damping(options.damping))
+                let law = Dynamic::new(in_range("mass", mass)?, in_range("mu", mu)?, d_min)?
+                    .with_damping(options.damping);
+                // Guard: within the ranges √(2μ/m) ≤ √2·1e9; checked, not assumed.
+                let bound = law.speed_bound();
+                if !(bound.is_finite() && bound > 0.0) {
+                    return Err(NavError::InvalidOption {
+                        field: "mu",
+                        value: mu,
+                    });
+                }
+                Controller::Dynamic(law)
             }
         };
-        let boundary = boundary
-            .offset(-(options.radius + options.margin))
-            .map_err(NavError::Shape)?;
-        let ws = Workspace::new(boundary, Vec::new(), goal).map_err(|_| NavError::GoalNotFree)?;
+        let inflation = options.radius + options.margin;
+        let shrunk = boundary.offset(-inflation).map_err(NavError::Shape)?;
+        let inner_boundary = if options.margin > 0.0 {
+            Some(boundary.offset(-options.radius).map_err(NavError::Shape)?)
+        } else {
+            None
+        };
+        let ws = Workspace::new(shrunk, Vec::new(), goal).map_err(|_| NavError::GoalNotFree)?;
         let field = Field::all_known_with(Arc::new(ws), options.k).map_err(NavError::Field)?;
-        Ok(Self {
+        let nav = Self {
             controller,
             options,
+            period: options.period_for(&law),
             goal,
             field,
+            inner: Vec::new(),
+            inner_boundary,
             speed_at_discovery: 0.0,
             last: None,
-        })
+        };
+        // Guard: λ_c (eq. critdamp) overflowed for m = μ = 1e308; within the ranges it is
+        // finite, and this checks it once rather than at every command.
+        if let Controller::Dynamic(law) = &nav.controller {
+            let lambda_c = law.lambda_c(&nav.field);
+            if !lambda_c.is_finite() {
+                return Err(NavError::InvalidOption {
+                    field: "mu",
+                    value: law.mu(),
+                });
+            }
+        }
+        Ok(nav)
     }
 
     /// Adds an obstacle that the robot's perception has just found (its true shape; it is grown
@@ -324,16 +298,22 @@ impl Navigator {
     /// the speed of the last commanded state) update. Returns its index. Allocates (the only
     /// call that does).
     ///
+    /// A shape found late, whose margin band already holds the robot, is accepted: the next
+    /// [`Navigator::command`] leads out of the band ([`Mode::Recovering`]).
+    ///
     /// Errors (the navigator is then unchanged): the grown shape overlaps a known obstacle,
-    /// crosses the boundary, contains the goal or the robot's last commanded position, or
-    /// cannot be grown.
+    /// crosses the boundary, or contains the goal; the shape grown by `radius` alone contains
+    /// the robot's last commanded position; the shape cannot be grown.
     pub fn add_obstacle(&mut self, shape: StarShape) -> Result<usize, NavError> {
         let inflation = self.options.radius + self.options.margin;
         let grown = shape.offset(inflation).map_err(NavError::Shape)?;
-        if self
-            .last
-            .is_some_and(|(x, _)| grown.signed_distance(x) <= 0.0)
-        {
+        let inner = if self.options.margin > 0.0 {
+            Some(shape.offset(self.options.radius).map_err(NavError::Shape)?)
+        } else {
+            None
+        };
+        let body = inner.as_ref().unwrap_or(&grown);
+        if self.last.is_some_and(|(x, _)| body.contains(x)) {
             return Err(NavError::ContainsRobot);
         }
         let ws = self
@@ -345,35 +325,112 @@ impl Navigator {
                 WorldError::InObstacle { .. } => NavError::ContainsGoal,
                 _ => NavError::CrossesBoundary,
             })?;
-        self.field =
-            Field::all_known_with(Arc::new(ws), self.options.k).map_err(NavError::Field)?;
+        let field = Field::all_known_with(Arc::new(ws), self.options.k).map_err(NavError::Field)?;
+        self.field = field;
+        self.inner.extend(inner);
         self.speed_at_discovery = self.last.map_or(0.0, |(_, v)| v.norm());
         Ok(self.field.known().len() - 1)
     }
 
-    /// The command for the state `(x, ẋ)`: the velocity `u` (kinematic law, `ẋ` unused) or the
-    /// force `f` (dynamic law). Does not allocate.
+    /// The command to hold for one control period at the state `(x, ẋ)`: the velocity `u`
+    /// (kinematic law, `ẋ` unused) or the force `f` (dynamic law), with how it was formed.
+    /// Does not allocate.
     ///
-    /// Held for a fixed step `h` (a sampled-data loop), the guarantees are those of the
-    /// continuous law only for small enough `h`. Tested (`tests/navigator.rs`, 12 worlds of 4–10
-    /// mixed shapes, point robot and 0.1 m disc with a 0.05 m margin): the kinematic law
-    /// (`K = 1`, `x += h·u`) never touches a shape at `h = 0.01 s` and also always arrives at
-    /// `h = 0.005 s` (at 0.01 s one run in 24 stops in a 2-cycle across a saddle's stable
-    /// manifold); the dynamic law (`m = 1`, `μ = 10`, semi-implicit Euler) is safe and arrives at
-    /// `h = 0.001 s`. Its damping must stay stable in discrete time: `h(1 + c)λ/m < 2` with `c`
-    /// the uphill gain of `harmonav_control::UPHILL_GAIN` (`docs/maths.md` §9).
+    /// Under [`HoldPolicy::Auto`] (the default) it is safe when held for the control period
+    /// `h` ([`Options::with_control_period`]; 100 Hz kinematic, 1 kHz dynamic by default), by
+    /// construction (`docs/maths.md` §10):
     ///
-    /// Errors (the navigator is then unchanged): `x` or `ẋ` not finite, `x` inside a known
-    /// (grown) obstacle or outside the (shrunk) boundary.
-    pub fn command(&mut self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Vector2<f64>, NavError> {
-        let command = self.evaluate(x, v)?.command;
+    /// - kinematic (`x += h·u`): the step stays within half the certified distance to the
+    ///   nearest known grown shape, and `Θ` strictly decreases over it ([`Mode::Capped`] when
+    ///   the law's step was shortened);
+    /// - dynamic (`v += h·f/m, x += h·v`, or the exact hold of `f`): the damping acts
+    ///   implicitly, `h|v⁺|` stays within a quarter of the certified distance, and
+    ///   `|v⁺| < √(2μ/m)`.
+    ///
+    /// A robot inside the margin band of a known shape (clear of the true shape by at least
+    /// `radius`, after a disturbance or a late perception) gets a command straight out of the
+    /// band ([`Mode::Recovering`]). Under [`HoldPolicy::Paper`] the command is the continuous
+    /// law's (`Navigator::evaluate`), unchecked.
+    ///
+    /// Errors (the navigator is then unchanged): `x` or `ẋ` not finite, the robot's disc
+    /// overlapping a known true shape or the boundary, a non-finite command (a guard).
+    pub fn command(&mut self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Command, NavError> {
+        let command = self.held(x, v)?;
+        if !command.value.iter().all(|c| c.is_finite()) {
+            return Err(NavError::NonFiniteCommand);
+        }
         self.last = Some((x, v));
         Ok(command)
     }
 
-    /// The law at the state `(x, ẋ)` with what it is made of (`Θ`, `∇Θ`, the damping), without
-    /// remembering the state: for integrators that evaluate trial states, and for logging. The
-    /// command equals [`Navigator::command`]'s; errors as there. Does not allocate.
+    /// [`Navigator::command`] without the finite check and the memory of the state.
+    fn held(&self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Command, NavError> {
+        let eval = match self.evaluate(x, v) {
+            Ok(eval) => eval,
+            Err(e) => return self.recover(x, v, e),
+        };
+        if self.options.hold == HoldPolicy::Paper {
+            return Ok(Command {
+                value: eval.command,
+                mode: Mode::Law,
+            });
+        }
+        let h = self.period;
+        Ok(match (&self.controller, eval.damping) {
+            (Controller::Dynamic(law), Some(d)) => {
+                hold::dynamic(law, self.field.workspace(), x, (&eval.field, v), &d, h)
+            }
+            _ => hold::kinematic(&self.field, x, &eval.field, eval.command, h),
+        })
+    }
+
+    /// The command out of the margin band, if `x` (not in the free space: `error`) is in it;
+    /// otherwise `error`, with the obstacle or boundary that the robot's disc overlaps.
+    fn recover(
+        &self,
+        x: Vector2<f64>,
+        v: Vector2<f64>,
+        error: NavError,
+    ) -> Result<Command, NavError> {
+        let band = match error {
+            NavError::InObstacle { obstacle } => match self.inner.get(obstacle) {
+                Some(inner) if !inner.contains(x) => Band::Obstacle(obstacle),
+                _ => return Err(error),
+            },
+            NavError::OutsideBoundary => match &self.inner_boundary {
+                Some(inner) if inner.contains(x) => Band::Boundary,
+                _ => return Err(error),
+            },
+            _ => return Err(error),
+        };
+        let ws = self.field.workspace();
+        let Some((dir, length)) = hold::way_out(ws, band, x, self.options.margin) else {
+            return Err(error);
+        };
+        let h = self.period;
+        let value = match &self.controller {
+            Controller::Kinematic(law) => {
+                // At most the law's top speed K√2.
+                (length / h).min(law.gain() * std::f64::consts::SQRT_2) * dir
+            }
+            Controller::Dynamic(law) => {
+                // v⁺ along the way out, at most half the speed bound; v += h f/m gives it.
+                let next = (length / h).min(0.5 * law.speed_bound()) * dir;
+                (law.mass() / h) * (next - v)
+            }
+        };
+        Ok(Command {
+            value,
+            mode: Mode::Recovering(band),
+        })
+    }
+
+    /// The continuous law at the state `(x, ẋ)` with what it is made of (`Θ`, `∇Θ`, the
+    /// damping), without remembering the state and without the hold: for integrators of the
+    /// continuous closed loop that evaluate trial states, and for logging. Does not allocate.
+    ///
+    /// Errors: `x` or `ẋ` not finite, `x` inside a known obstacle grown by `radius + margin`
+    /// or outside the boundary shrunk by it.
     pub fn evaluate(&self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Evaluation, NavError> {
         finite(x, "position")?;
         finite(v, "velocity")?;
@@ -392,7 +449,7 @@ impl Navigator {
         })
     }
 
-    /// `Θ(x)` over the known obstacles (for logging); errors as [`Navigator::command`].
+    /// `Θ(x)` over the known obstacles (for logging); errors as [`Navigator::evaluate`].
     pub fn theta(&self, x: Vector2<f64>) -> Result<f64, NavError> {
         finite(x, "position")?;
         self.field.eval(x).map(|e| e.value).map_err(not_free)
@@ -430,6 +487,18 @@ impl Navigator {
             Controller::Kinematic(_) => None,
             Controller::Dynamic(law) => Some(law.speed_bound()),
         }
+    }
+
+    /// The control period `h` in force, s ([`Options::control_period`] or the law's default).
+    pub fn control_period(&self) -> f64 {
+        self.period
+    }
+
+    /// The certified clearance at `x`: a lower bound on the distance to the nearest known grown
+    /// obstacle and to the shrunk boundary (0 or less outside the free space), the quantity
+    /// the hold of [`Navigator::command`] keeps its steps within.
+    pub fn clearance(&self, x: Vector2<f64>) -> f64 {
+        hold::clearance(self.field.workspace(), x, f64::INFINITY, None)
     }
 
     /// The options in use.

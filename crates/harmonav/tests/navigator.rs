@@ -8,7 +8,9 @@ use harmonav::control::{Dynamic, Kinematic};
 use harmonav::field::Field;
 use harmonav::transform::Workspace;
 use harmonav::transform::random::{self, Kind, Rng};
-use harmonav::{DampingPolicy, Law, NavError, Navigator, Options, StarShape, Vector2};
+use harmonav::{
+    DampingPolicy, HoldPolicy, Law, Mode, NavError, Navigator, Options, StarShape, Vector2,
+};
 
 const KINDS: [Kind; 4] = [Kind::Circle, Kind::Ellipse, Kind::Polygon, Kind::Star];
 
@@ -67,7 +69,8 @@ fn fly(ws: &Workspace, start: Vector2<f64>, law: Law, options: Options, h: f64) 
         }
         let cmd = nav
             .command(x, v)
-            .expect("the robot stays in the free space");
+            .expect("the robot stays in the free space")
+            .value;
         match law {
             Law::Kinematic { .. } => x += h * cmd,
             Law::Dynamic { mass, .. } => {
@@ -135,14 +138,25 @@ fn a_fixed_step_loop_with_its_own_perception_arrives_safely_with_both_laws() {
 }
 
 /// The commands are the laws of harmonav-control on a field built directly from the same grown
-/// obstacles (an independent path through the crates).
+/// obstacles (an independent path through the crates): exactly under the paper's hold (the
+/// continuous law sampled as is), and under the default hold wherever it did not shorten the
+/// kinematic step.
 #[test]
 fn commands_are_the_laws_on_the_known_obstacles() {
     for seed in 0..8u64 {
         let (ws, _) = world(950 + seed, 5, 0.3);
         let mut rng = Rng::new(seed);
         for damping in DampingPolicy::ALL {
-            let options = Options::default().with_damping(damping);
+            let options = Options::default()
+                .with_damping(damping)
+                .with_hold(HoldPolicy::Paper);
+            let mut held = Navigator::new(
+                ws.boundary().clone(),
+                ws.destination(),
+                Law::kinematic(1.5),
+                options.with_hold(HoldPolicy::Auto),
+            )
+            .unwrap();
             let mut kin = Navigator::new(
                 ws.boundary().clone(),
                 ws.destination(),
@@ -159,6 +173,7 @@ fn commands_are_the_laws_on_the_known_obstacles() {
             .unwrap();
             let n = 3;
             for o in &ws.obstacles()[..n] {
+                held.add_obstacle(o.clone()).unwrap();
                 kin.add_obstacle(o.clone()).unwrap();
                 dynamic.add_obstacle(o.clone()).unwrap();
             }
@@ -179,7 +194,13 @@ fn commands_are_the_laws_on_the_known_obstacles() {
                 let v = rng.point(1.0);
                 let e = field.eval(x).unwrap();
                 let u = Kinematic::new(1.5).unwrap().velocity(&e);
-                assert_eq!(kin.command(x, v).unwrap(), u);
+                assert_eq!(kin.command(x, v).unwrap().value, u);
+                let c = held.command(x, v).unwrap();
+                match c.mode {
+                    Mode::Law => assert_eq!(c.value, u),
+                    Mode::Capped { scale } => assert_eq!(c.value, scale * u),
+                    Mode::Recovering(_) => panic!("a free point is not in a band"),
+                }
                 // The discovery speed is that of the last command before the additions: 0.
                 let d = law.damping(&field, &e, v, 0.0);
                 let f = law.force(&e, v, &d);
@@ -187,7 +208,7 @@ fn commands_are_the_laws_on_the_known_obstacles() {
                 let eval = dynamic.evaluate(x, v).unwrap();
                 assert_eq!((eval.command, eval.field, eval.damping), (f, e, Some(d)));
                 assert_eq!(kin.evaluate(x, v).unwrap().damping, None);
-                assert_eq!(dynamic.command(x, v).unwrap(), f);
+                assert_eq!(dynamic.command(x, v).unwrap().value, f);
             }
         }
     }
@@ -246,7 +267,7 @@ fn errors_are_typed_and_leave_the_navigator_unchanged() {
     assert_eq!(
         bad(Law::kinematic(-1.0), d, goal),
         NavError::InvalidOption {
-            field: "controller.gain",
+            field: "gain",
             value: -1.0
         }
     );
@@ -259,7 +280,10 @@ fn errors_are_typed_and_leave_the_navigator_unchanged() {
     ));
     assert!(matches!(
         bad(Law::dynamic(1.0, 10.0), d.with_sensor(0.0, 60.0), goal),
-        NavError::Sensor(_)
+        NavError::InvalidOption {
+            field: "sensor_range",
+            ..
+        }
     ));
     assert_eq!(
         bad(Law::kinematic(1.0), d, Vector2::new(6.0, 0.0)),

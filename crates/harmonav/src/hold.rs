@@ -1,0 +1,261 @@
+//! The sampled-data hold: the command the robot holds for one control period `h`, made safe
+//! by construction ([`crate::HoldPolicy::Auto`], `docs/maths.md` §10), and the way back out of
+//! the margin band.
+//!
+//! Everything here rests on one certified quantity, the clearance `d(x)`: a lower bound on the
+//! distance from `x` to the nearest known grown obstacle and to the shrunk boundary. The ball
+//! `B(x, d(x))` lies in the free space, so a motion that stays in it cannot collide.
+
+use harmonav_control::{Damping, Dynamic};
+use harmonav_field::{Field, FieldEval};
+use harmonav_transform::{StarShape, Workspace};
+use nalgebra::Vector2;
+
+/// How a command was formed ([`Command::mode`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Mode {
+    /// The law's command, safe to hold for the control period as it is (under
+    /// [`crate::HoldPolicy::Paper`], always this: the continuous law, unchecked).
+    Law,
+    /// The law's command, shortened to be safe to hold: the step (kinematic) or the velocity
+    /// after the step (dynamic) is `scale ∈ [0, 1)` of the law's.
+    Capped {
+        /// The fraction kept.
+        scale: f64,
+    },
+    /// The robot was inside the margin band (inside a grown shape but clear of the true one by
+    /// at least its radius): the command leads it straight back out.
+    Recovering(Band),
+}
+
+/// Where a recovering robot is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Band {
+    /// In the margin band of known obstacle `i` (indices in the order of
+    /// [`crate::Navigator::add_obstacle`]).
+    Obstacle(usize),
+    /// In the margin band along the workspace boundary.
+    Boundary,
+}
+
+/// The command to hold for one control period, and how it was formed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Command {
+    /// The velocity `u` (kinematic law) or the force `f` (dynamic law).
+    pub value: Vector2<f64>,
+    /// Whether it is the law's, shortened, or a recovery.
+    pub mode: Mode,
+}
+
+/// `β` of the kinematic hold: the step `h|u|` is at most `β·d(x)`, so that
+/// `d(x⁺) ≥ (1 − β)·d(x) > 0` (`docs/maths.md` §10).
+pub const KINEMATIC_FRACTION: f64 = 0.5;
+
+/// `c = β(1 − β)` (`β = 1/2`) of the dynamic hold: `h|v⁺| ≤ c·d(x)`. It keeps the invariant
+/// `h|v| ≤ β·d(x)` under both semi-implicit Euler and the exact hold of the force
+/// (`docs/maths.md` §10).
+pub const DYNAMIC_FRACTION: f64 = 0.25;
+
+/// The most halvings of the kinematic step in search of a decrease of `Θ`; `2⁻⁴⁰` of a step is
+/// below a picometre at any speed the ranges allow, where only a critical point is left.
+pub const MAX_HALVINGS: u32 = 40;
+
+/// `v⁺` is kept below `(1 − SPEED_SLACK)·√(2μ/m)`, strictly under the bound of corollary
+/// `boundedvel`.
+pub const SPEED_SLACK: f64 = 1e-6;
+
+// TODO(shapes-exact): StarShape::signed_distance_bounds.
+fn bounds(shape: &StarShape, x: Vector2<f64>) -> (f64, f64) {
+    let d = shape.signed_distance(x);
+    let t = 1e-9 * (1.0 + d.abs());
+    (d - t, d + t)
+}
+
+/// A certified lower bound on the signed distance from `x` to `shape` (negative inside).
+fn lower(shape: &StarShape, x: Vector2<f64>) -> f64 {
+    bounds(shape, x).0
+}
+
+/// A certified upper bound on the signed distance from `x` to `shape`.
+fn upper(shape: &StarShape, x: Vector2<f64>) -> f64 {
+    bounds(shape, x).1
+}
+
+/// The certified clearance `d(x)`, clipped at `need`: `min(need, d̲(x))` with `d̲(x)` a lower
+/// bound on the distance from `x` to every grown obstacle of `ws` (but `except`) and to its
+/// boundary. A shape is queried exactly only when its bounding disc could come within `need`
+/// (`|x − c| − max R` for an obstacle, `min R − |x − c|` inside the boundary, both exact
+/// lower bounds), so the usual far-from-everything call costs a few multiplications a shape.
+pub(crate) fn clearance(ws: &Workspace, x: Vector2<f64>, need: f64, except: Option<Band>) -> f64 {
+    let mut best = need;
+    if except != Some(Band::Boundary) {
+        let b = ws.boundary();
+        let cheap = b.radius_bounds().0 - (x - b.centre()).norm();
+        if cheap < best {
+            best = best.min(-upper(b, x));
+        }
+    }
+    for (i, o) in ws.obstacles().iter().enumerate() {
+        if except == Some(Band::Obstacle(i)) {
+            continue;
+        }
+        let cheap = (x - o.centre()).norm() - o.radius_bounds().1;
+        if cheap < best {
+            best = best.min(lower(o, x));
+        }
+    }
+    best
+}
+
+/// The most balls of [`free_length`]'s sphere tracing.
+pub const MAX_TRACE_BALLS: usize = 64;
+
+/// A certified free length along the ray `x + t·dir` (`dir` a unit vector), clipped at `want`:
+/// sphere tracing on the certified clearance. With `t_0 = 0`, `t_{j+1} = t_j + d(x + t_j dir)`,
+/// every open ball `B(x + t_j dir, d(x + t_j dir))` lies in the free space, and they cover the
+/// segment up to `t_{j+1}`. Returns `want` once a ball reaches past it (the whole segment is
+/// free), else the covered length after [`MAX_TRACE_BALLS`] balls or at a ball too small to
+/// advance. A ray that runs along a wall keeps its balls as large as its distance to the wall,
+/// where the one ball of `d(x)` would cap the step at that distance.
+pub(crate) fn free_length(ws: &Workspace, x: Vector2<f64>, dir: Vector2<f64>, want: f64) -> f64 {
+    let mut t = 0.0;
+    for _ in 0..MAX_TRACE_BALLS {
+        // Asked for twice the rest, so that the clip at `need` cannot bind by rounding.
+        let d = clearance(ws, x + t * dir, 2.0 * (want - t), None);
+        if t + d > want {
+            return want;
+        }
+        // A NaN clearance stops the trace as a zero one does.
+        if d.is_nan() || d <= 1e-12 * (1.0 + t) {
+            break;
+        }
+        t += d;
+    }
+    t
+}
+
+/// The kinematic hold at `x` (with its evaluation `e` and the law's velocity `u`): the largest
+/// `s ∈ {1, ½, ¼, …}·s_0` with `phi_k(Phi(x + s h u)) < phi_k(Phi(x))`, and the command `s·u`.
+/// `s_0 = 1` if the whole step is certified free ([`free_length`] `≥ h|u|`), otherwise
+/// `β·L/(h|u|)` with `L` the certified free length and `β =` [`KINEMATIC_FRACTION`], so the
+/// step ends inside the free space. `Θ = sigma(phi_k∘Phi)` with `sigma` increasing, so `Θ`
+/// decreases over the step; the comparison is made on `phi_k`, in log space, where `Θ` near a
+/// wall would round to 1 at both ends. After [`MAX_HALVINGS`] the robot is at a critical point
+/// to working precision and the command is 0.
+pub(crate) fn kinematic(
+    field: &Field,
+    x: Vector2<f64>,
+    e: &FieldEval,
+    u: Vector2<f64>,
+    h: f64,
+) -> Command {
+    let step = h * u.norm();
+    if step == 0.0 {
+        return Command {
+            value: u,
+            mode: Mode::Law,
+        };
+    }
+    let free = free_length(field.workspace(), x, u / u.norm(), step);
+    let mut scale = if free >= step {
+        1.0
+    } else {
+        KINEMATIC_FRACTION * free / step
+    };
+    let mut halvings = 0;
+    while !field.eval(x + scale * h * u).is_ok_and(|e1| e1.phi < e.phi) {
+        halvings += 1;
+        if halvings > MAX_HALVINGS {
+            scale = 0.0;
+            break;
+        }
+        scale *= 0.5;
+    }
+    Command {
+        value: scale * u,
+        mode: if scale == 1.0 {
+            Mode::Law
+        } else {
+            Mode::Capped { scale }
+        },
+    }
+}
+
+/// The dynamic hold at `(x, v)` for the law `law` with damping `d`: the velocity after the
+/// step with the damping taken implicitly,
+///
+/// ```text
+/// v⁺ = (I + hΛ/m)⁻¹ (v − hμ∇Ψ/m),     Λ = λI + λ_up·n nᵀ (n = ∇Ψ/|∇Ψ|, if (v − hμ∇Ψ/m)·n > 0)
+///    = w/a − n (w·n)(1/a − 1/(a + b)),  w = v − hμ∇Ψ/m,  a = 1 + hλ/m,  b = hλ_up/m,
+/// ```
+///
+/// shortened if needed to `|v⁺| ≤ min(DYNAMIC_FRACTION·d(x)/h, (1 − SPEED_SLACK)√(2μ/m))`,
+/// and the force `f = m(v⁺ − v)/h` that produces it under `v += h f/m`. As `h → 0`,
+/// `f → −μ∇Ψ − Λv`, the continuous law of [`Dynamic::force`]. The implicit damping contracts
+/// every velocity for every `h` (`|(I + hΛ/m)⁻¹| ≤ 1`), where the explicit one is stable only
+/// for `h(λ + λ_up)/m < 2`.
+pub(crate) fn dynamic(
+    law: &Dynamic,
+    ws: &Workspace,
+    x: Vector2<f64>,
+    (e, v): (&FieldEval, Vector2<f64>),
+    d: &Damping,
+    h: f64,
+) -> Command {
+    let m = law.mass();
+    let g = law.potential(e).gradient;
+    let w = v - (h * law.mu() / m) * g;
+    let a = 1.0 + h * d.lambda / m;
+    let mut next = w / a;
+    let n = g / g.norm();
+    let climb = w.dot(&n);
+    if d.uphill > 0.0 && climb > 0.0 && n.iter().all(|c| c.is_finite()) {
+        let b = h * d.uphill / m;
+        next -= n * (climb * (1.0 / a - 1.0 / (a + b)));
+    }
+    let speed = next.norm();
+    let bound = (1.0 - SPEED_SLACK) * law.speed_bound();
+    let room = DYNAMIC_FRACTION * clearance(ws, x, 2.0 * h * speed / DYNAMIC_FRACTION, None) / h;
+    let cap = bound.min(room);
+    let mut mode = Mode::Law;
+    if speed > cap {
+        let scale = cap / speed;
+        next *= scale;
+        mode = Mode::Capped { scale };
+    }
+    Command {
+        value: (m / h) * (next - v),
+        mode,
+    }
+}
+
+/// The way out of the margin band: the robot at `x` is inside grown shape `band` of `ws` but
+/// outside `inner` (the same true shape grown by the robot radius alone). Every shape is
+/// star-shaped about its centre `c`, so the ray from `c` through `x` (for an obstacle; towards
+/// `c` for the boundary) leaves the grown shape at one point `p` and never re-enters it, and
+/// the part of it inside the band meets no other grown shape (they are disjoint from this one).
+/// Returns the unit direction and the length to go: to `p`, and beyond by half of the
+/// clearance of `p` from the other shapes (at most half the margin), so that the robot comes
+/// out into the free space and not onto its edge.
+pub(crate) fn way_out(
+    ws: &Workspace,
+    band: Band,
+    x: Vector2<f64>,
+    margin: f64,
+) -> Option<(Vector2<f64>, f64)> {
+    let (shape, outward) = match band {
+        Band::Obstacle(i) => (ws.obstacles().get(i)?, true),
+        Band::Boundary => (ws.boundary(), false),
+    };
+    let radial = x - shape.centre();
+    let rho = radial.norm();
+    if rho.is_nan() || rho <= 0.0 {
+        return None;
+    }
+    let u = radial / rho;
+    let r = shape.radius_along(u).0;
+    let (dir, to_edge) = if outward { (u, r - rho) } else { (-u, rho - r) };
+    let edge = x + to_edge.max(0.0) * dir;
+    let room = clearance(ws, edge, margin, Some(band)).max(0.0);
+    Some((dir, to_edge.max(0.0) + 0.5 * room))
+}

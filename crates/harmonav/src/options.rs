@@ -1,0 +1,230 @@
+//! The navigator's settings ([`Options`]), their valid ranges, and how a command is made safe
+//! to hold for the user's control period ([`HoldPolicy`]).
+
+use harmonav_control::DampingPolicy;
+use harmonav_field::KPolicy;
+use harmonav_sensing::Sector;
+use harmonav_transform::MAX_LENGTH;
+
+use crate::navigator::{Law, NavError};
+
+/// The range of the physical parameters: the law's gain `K`, mass `m` and `μ`, the sensor's
+/// range and `ρ_min`, and the control period `h`. Outside it the closed loop cannot be
+/// evaluated in `f64`: `m = 5e-324` makes the speed bound `√(2μ/m)` infinite, `ρ_min = 5e-324`
+/// makes `d_min` (eq. `dmin`) and with it the switched damping `(m/d_min)|ẋ(T_n)|` overflow,
+/// and `m = μ = 1e308` overflows `λ_c = 2√(mμs)` (eq. `critdamp`). Scenario files use the
+/// same range.
+pub const PARAMETER_RANGE: (f64, f64) = (1e-9, 1e9);
+
+/// The smallest sensor aperture, degrees: below it `r sin(θ/2)` of `d_min` (eq. `dmin`)
+/// underflows towards 0 (at 1e-320° the dynamic law returned `[-inf, nan]`).
+pub const MIN_APERTURE_DEG: f64 = 1e-3;
+
+/// The control period assumed for [`Law::Kinematic`] when none is given: 100 Hz, s.
+pub const DEFAULT_KINEMATIC_PERIOD: f64 = 0.01;
+
+/// The control period assumed for [`Law::Dynamic`] when none is given: 1 kHz, s.
+pub const DEFAULT_DYNAMIC_PERIOD: f64 = 0.001;
+
+/// How [`crate::Navigator::command`] turns the continuous law into a command that the robot
+/// holds for the control period `h` (a sampled-data loop, `docs/maths.md` §10).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum HoldPolicy {
+    /// The continuous law evaluated at the sampled state, as the paper states it. Safe only for
+    /// a small enough `h`: at 100 Hz the kinematic robot stepped into obstacles whose barrier
+    /// was thinner than one step (`docs/maths.md` §10).
+    Paper,
+    /// The default: every command is safe when held for `h`, by construction.
+    ///
+    /// - Kinematic (`x⁺ = x + h·u`): the step `h|u|` is at most half the certified distance
+    ///   `d(x)` to the nearest known grown shape or the shrunk boundary, and shortened further
+    ///   until `phi_k∘Phi` (so `Θ`) strictly decreases over it.
+    /// - Dynamic (semi-implicit Euler `v⁺ = v + h f/m`, `x⁺ = x + h v⁺`, or the exact hold of
+    ///   `f`): the damping is applied implicitly (`v⁺ = (I + hΛ/m)⁻¹(v − hμ∇Ψ/m)`, stable for
+    ///   every `h`), and `|v⁺| ≤ d(x)/(4h)` and `|v⁺| < √(2μ/m)`.
+    #[default]
+    Auto,
+}
+
+impl HoldPolicy {
+    /// Every policy, for reports and sweeps.
+    pub const ALL: [HoldPolicy; 2] = [HoldPolicy::Paper, HoldPolicy::Auto];
+
+    /// The name used in scenario files, the CLI and JSON (`"paper"`, `"auto"`).
+    #[must_use]
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::Paper => "paper",
+            Self::Auto => "auto",
+        }
+    }
+}
+
+impl std::fmt::Display for HoldPolicy {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// The navigator's settings, all with defaults (`Options::default()`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Options {
+    /// Robot disc radius, m (default 0: a point robot). Obstacles are grown and the boundary
+    /// shrunk by `radius + margin`.
+    pub radius: f64,
+    /// Clearance kept to the true shapes, m (default 0). A robot found inside this band (after
+    /// a disturbance or a late perception) is steered back out
+    /// ([`crate::Mode::Recovering`]).
+    pub margin: f64,
+    /// Sensor range `r`, m (default 1, the paper's).
+    pub sensor_range: f64,
+    /// Sensor aperture `θ`, degrees, in `[MIN_APERTURE_DEG, 360]` (default 60, the paper's).
+    pub sensor_aperture_deg: f64,
+    /// A-priori lower bound on the obstacles' curvature radius, m, for `d_min` (eq. `dmin`;
+    /// default 0.05, the paper's).
+    pub rho_min: f64,
+    /// How `k` follows the number of known obstacles (default `"auto"`).
+    pub k: KPolicy,
+    /// The dynamic law's damping (default `"auto"`).
+    pub damping: DampingPolicy,
+    /// The period `h` for which the robot holds each command, s; `None` (the default) means
+    /// [`DEFAULT_KINEMATIC_PERIOD`] (100 Hz) or [`DEFAULT_DYNAMIC_PERIOD`] (1 kHz) by law.
+    pub control_period: Option<f64>,
+    /// How a command is made safe to hold for `control_period` (default `"auto"`).
+    pub hold: HoldPolicy,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Self {
+            radius: 0.0,
+            margin: 0.0,
+            sensor_range: 1.0,
+            sensor_aperture_deg: 60.0,
+            rho_min: 0.05,
+            k: KPolicy::default(),
+            damping: DampingPolicy::default(),
+            control_period: None,
+            hold: HoldPolicy::default(),
+        }
+    }
+}
+
+/// `value` if it is finite and within [`PARAMETER_RANGE`], else the error naming `field`.
+pub(crate) fn in_range(field: &'static str, value: f64) -> Result<f64, NavError> {
+    let (lo, hi) = PARAMETER_RANGE;
+    if value.is_finite() && (lo..=hi).contains(&value) {
+        Ok(value)
+    } else {
+        Err(NavError::InvalidOption { field, value })
+    }
+}
+
+impl Options {
+    /// The sensor: range `r` (m) and aperture (degrees). It sets `d_min` (eq. `dmin`), the
+    /// distance within which the dynamic law must be able to stop after a discovery.
+    #[must_use]
+    pub fn with_sensor(self, range: f64, aperture_deg: f64) -> Self {
+        Self {
+            sensor_range: range,
+            sensor_aperture_deg: aperture_deg,
+            ..self
+        }
+    }
+
+    /// The robot's radius and the clearance margin, m.
+    #[must_use]
+    pub fn with_robot(self, radius: f64, margin: f64) -> Self {
+        Self {
+            radius,
+            margin,
+            ..self
+        }
+    }
+
+    /// The a-priori curvature bound `ρ_min` of `d_min`, m.
+    #[must_use]
+    pub fn with_rho_min(self, rho_min: f64) -> Self {
+        Self { rho_min, ..self }
+    }
+
+    /// The `k` policy.
+    #[must_use]
+    pub fn with_k(self, k: KPolicy) -> Self {
+        Self { k, ..self }
+    }
+
+    /// The damping policy of the dynamic law.
+    #[must_use]
+    pub fn with_damping(self, damping: DampingPolicy) -> Self {
+        Self { damping, ..self }
+    }
+
+    /// The control period `h`, s: the robot holds each command for `h` (`x += h·u`, or
+    /// `v += h·f/m, x += h·v`), and every command is made safe for it ([`HoldPolicy::Auto`]).
+    #[must_use]
+    pub fn with_control_period(self, h: f64) -> Self {
+        Self {
+            control_period: Some(h),
+            ..self
+        }
+    }
+
+    /// The hold policy.
+    #[must_use]
+    pub fn with_hold(self, hold: HoldPolicy) -> Self {
+        Self { hold, ..self }
+    }
+
+    /// The control period in force for `law`: [`Options::control_period`], or the law's
+    /// default.
+    #[must_use]
+    pub fn period_for(&self, law: &Law) -> f64 {
+        self.control_period.unwrap_or(match law {
+            Law::Kinematic { .. } => DEFAULT_KINEMATIC_PERIOD,
+            Law::Dynamic { .. } => DEFAULT_DYNAMIC_PERIOD,
+        })
+    }
+
+    /// `d_min(θ)` of eq. `dmin` for this sensor and `ρ_min`, after checking both against
+    /// [`PARAMETER_RANGE`] and [`MIN_APERTURE_DEG`]; errors name the field.
+    pub fn d_min(&self) -> Result<f64, NavError> {
+        in_range("sensor_range", self.sensor_range)?;
+        let aperture = self.sensor_aperture_deg;
+        if !(aperture.is_finite() && (MIN_APERTURE_DEG..=360.0).contains(&aperture)) {
+            return Err(NavError::InvalidOption {
+                field: "sensor_aperture_deg",
+                value: aperture,
+            });
+        }
+        in_range("rho_min", self.rho_min)?;
+        let sector =
+            Sector::new(self.sensor_range, aperture.to_radians()).map_err(NavError::Sensor)?;
+        let d_min = sector.d_min(self.rho_min);
+        // Guard: within the ranges above d_min ≥ min(1e-9·sin(5e-4°)... , ρ_min) > 0; checked
+        // rather than assumed, as every quantity derived from it divides by it.
+        if d_min.is_finite() && d_min > 0.0 {
+            Ok(d_min)
+        } else {
+            Err(NavError::InvalidOption {
+                field: "d_min",
+                value: d_min,
+            })
+        }
+    }
+
+    /// Checks every option against its range, with `law` (which sets the default period):
+    /// `radius` and `margin` finite, `≥ 0` and at most [`MAX_LENGTH`]; the sensor and `ρ_min` as
+    /// in [`Options::d_min`]; the control period in [`PARAMETER_RANGE`].
+    pub fn validate(&self, law: &Law) -> Result<(), NavError> {
+        for (field, value) in [("radius", self.radius), ("margin", self.margin)] {
+            if !(value.is_finite() && (0.0..=MAX_LENGTH).contains(&value)) {
+                return Err(NavError::InvalidOption { field, value });
+            }
+        }
+        self.d_min()?;
+        in_range("control_period", self.period_for(law))?;
+        Ok(())
+    }
+}

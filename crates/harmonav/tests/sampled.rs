@@ -1,0 +1,323 @@
+//! Sampled-data safety (`docs/maths.md` §10): every command of the default hold is safe when
+//! held for the control period, the robot in the margin band is led back out, and no option
+//! the navigator accepts makes a command non-finite. `cargo xtask verify` runs the same suite
+//! (`harmonav::checks`) on 300 worlds at every rate.
+
+use harmonav::checks::{Integrator, disc_world, fly, suite};
+use harmonav::transform::random::Rng;
+use harmonav::{Band, HoldPolicy, Law, Mode, NavError, Navigator, Options, StarShape, Vector2};
+
+/// The worlds where the continuous law sampled as is (the hold off, as before the hold
+/// existed) entered a grown shape or touched a true one, found by `cargo xtask verify`'s
+/// negative control: `(world, law, rate, radius, margin)`.
+const DEFECTS: [(u64, bool, f64, f64, f64); 4] = [
+    (48, true, 100.0, 0.1, 0.05),
+    (101, true, 100.0, 0.1, 0.05),
+    (167, false, 250.0, 0.1, 0.0),
+    (220, false, 250.0, 0.1, 0.05),
+];
+
+#[test]
+fn the_flights_that_failed_without_the_hold_are_safe_with_it() {
+    for (seed, kinematic, hz, radius, margin) in DEFECTS {
+        let law = if kinematic {
+            Law::kinematic(1.0)
+        } else {
+            Law::dynamic(1.0, 10.0)
+        };
+        let world = disc_world(seed);
+        let options = Options::default().with_robot(radius, margin);
+        let fly_with = |hold| {
+            fly(
+                &world,
+                law,
+                options.with_hold(hold),
+                1.0 / hz,
+                Integrator::SemiImplicitEuler,
+            )
+            .unwrap()
+        };
+        let before = fly_with(HoldPolicy::Paper);
+        assert!(
+            !before.safe(),
+            "world {seed}: the defect is gone without the hold"
+        );
+        let after = fly_with(HoldPolicy::Auto);
+        assert!(
+            after.safe() && after.reached,
+            "world {seed} at {hz} Hz: {after:?}"
+        );
+    }
+}
+
+/// 20 worlds of the suite at the slowest rate of each law: every flight safe, nearly all arrive.
+#[test]
+fn the_suite_is_safe_at_the_slowest_rates() {
+    for (law, h) in [
+        (Law::kinematic(1.0), 0.05),
+        (Law::dynamic(1.0, 10.0), 0.004),
+    ] {
+        let r = suite(0..20, law, Options::default(), h).unwrap();
+        assert!(
+            r.failures.is_empty(),
+            "{law:?} at h = {h}: {:?}",
+            r.failures
+        );
+        assert!(r.arrival() >= 0.95, "{law:?} at h = {h}: {r:?}");
+    }
+}
+
+/// The exact hold of the force (the double integrator between samples) is covered too.
+#[test]
+fn the_dynamic_hold_is_safe_under_the_exact_hold_of_the_force() {
+    for seed in 0..20 {
+        let world = disc_world(seed);
+        let options = Options::default().with_robot(0.1, 0.05);
+        let f = fly(
+            &world,
+            Law::dynamic(1.0, 10.0),
+            options,
+            0.004,
+            Integrator::ExactHold,
+        )
+        .unwrap();
+        assert!(f.safe() && f.reached, "world {seed}: {f:?}");
+    }
+}
+
+/// At random free states: the kinematic step is certified free and Θ decreases over it; the
+/// dynamic step keeps `h|v⁺| ≤ d(x)/4` and `|v⁺| < √(2μ/m)`.
+#[test]
+fn each_held_command_keeps_its_certificate() {
+    let mut rng = Rng::new(7);
+    for seed in 0..10 {
+        let world = disc_world(seed);
+        for h in [0.01, 0.05, 0.2] {
+            let options = Options::default()
+                .with_robot(0.1, 0.0)
+                .with_control_period(h);
+            let mut kin = Navigator::new(
+                world.boundary.clone(),
+                world.goal,
+                Law::kinematic(2.0),
+                options,
+            )
+            .unwrap();
+            let mut dynamic = Navigator::new(
+                world.boundary.clone(),
+                world.goal,
+                Law::dynamic(1.0, 10.0),
+                options,
+            )
+            .unwrap();
+            for o in &world.obstacles {
+                kin.add_obstacle(o.clone()).unwrap();
+                dynamic.add_obstacle(o.clone()).unwrap();
+            }
+            let mut tried = 0;
+            while tried < 200 {
+                let x = rng.point(5.0);
+                if kin.theta(x).is_err() {
+                    continue;
+                }
+                tried += 1;
+                let u = kin.command(x, Vector2::zeros()).unwrap().value;
+                let end = x + h * u;
+                // The whole segment lies in the free space: sampled against the true discs.
+                for i in 0..=20 {
+                    let p = x + (i as f64 / 20.0) * h * u;
+                    assert!(
+                        kin.clearance(p) > 0.0,
+                        "h {h}: the step leaves the free space at {p:?}"
+                    );
+                }
+                if u.norm() > 0.0 {
+                    assert!(kin.theta(end).unwrap() <= kin.theta(x).unwrap(), "Θ rose");
+                }
+                let v = rng.point(3.0);
+                let f = dynamic.command(x, v).unwrap().value;
+                let next = v + h * f;
+                assert!(h * next.norm() <= 0.25 * dynamic.clearance(x) * (1.0 + 1e-9));
+                assert!(next.norm() < dynamic.speed_bound().unwrap());
+            }
+        }
+    }
+}
+
+/// As `h → 0` the held force tends to the continuous law's (`Navigator::evaluate`).
+#[test]
+fn the_dynamic_hold_tends_to_the_law_as_the_period_shrinks() {
+    let world = disc_world(3);
+    let mut rng = Rng::new(11);
+    let make = |h: f64| {
+        let mut nav = Navigator::new(
+            world.boundary.clone(),
+            world.goal,
+            Law::dynamic(1.0, 10.0),
+            Options::default().with_control_period(h),
+        )
+        .unwrap();
+        for o in &world.obstacles {
+            nav.add_obstacle(o.clone()).unwrap();
+        }
+        nav
+    };
+    let (mut coarse, mut fine) = (make(1e-3), make(1e-7));
+    let (mut worst_coarse, mut worst_fine) = (0.0f64, 0.0f64);
+    for _ in 0..200 {
+        let x = rng.point(5.0);
+        if fine.clearance(x) < 0.3 {
+            continue;
+        }
+        let v = rng.point(1.0);
+        let law = fine.evaluate(x, v).unwrap().command;
+        let rel = |f: Vector2<f64>| (f - law).norm() / (1.0 + law.norm());
+        worst_fine = worst_fine.max(rel(fine.command(x, v).unwrap().value));
+        worst_coarse = worst_coarse.max(rel(coarse.command(x, v).unwrap().value));
+    }
+    assert!(worst_fine < 1e-4, "h = 1e-7: {worst_fine:e}");
+    assert!(
+        worst_fine < worst_coarse,
+        "{worst_fine:e} vs {worst_coarse:e}"
+    );
+}
+
+/// A robot pushed into the margin band, and one whose obstacle is perceived late, get a
+/// command back out, flagged, and never touch the true shape; a robot whose disc overlaps the
+/// true shape is refused.
+#[test]
+fn a_robot_in_the_margin_band_is_led_back_out() {
+    let boundary = StarShape::circle(Vector2::zeros(), 5.0).unwrap();
+    let rock = StarShape::circle(Vector2::new(0.0, 0.0), 1.0).unwrap();
+    let goal = Vector2::new(3.0, 0.0);
+    let (radius, margin) = (0.1, 0.2);
+    for law in [Law::kinematic(1.0), Law::dynamic(1.0, 10.0)] {
+        let options = Options::default().with_robot(radius, margin);
+        let mut nav = Navigator::new(boundary.clone(), goal, law, options).unwrap();
+        // Perceived late: the robot already stands in the rock's margin band.
+        let mut x = Vector2::new(-1.2, 0.05);
+        nav.command(x, Vector2::zeros()).unwrap();
+        assert_eq!(nav.add_obstacle(rock.clone()), Ok(0));
+        let h = nav.control_period();
+        let mut v = Vector2::zeros();
+        let mut recovered = 0;
+        for _ in 0..20_000 {
+            let c = nav.command(x, v).unwrap();
+            if let Mode::Recovering(band) = c.mode {
+                assert_eq!(band, Band::Obstacle(0));
+                recovered += 1;
+            }
+            match law {
+                Law::Kinematic { .. } => x += h * c.value,
+                Law::Dynamic { mass, .. } => {
+                    v += h * c.value / mass;
+                    x += h * v;
+                }
+            }
+            assert!(
+                rock.signed_distance(x) > radius,
+                "{law:?}: touched at {x:?}"
+            );
+            if (x - goal).norm() < 0.01 {
+                break;
+            }
+        }
+        assert!(recovered >= 1, "{law:?}: no recovery flagged");
+        assert!((x - goal).norm() < 0.01, "{law:?}: stopped at {x:?}");
+        // Disc overlapping the true rock: refused, and the navigator unchanged.
+        let inside = Vector2::new(-1.05, 0.0);
+        assert_eq!(
+            nav.command(inside, Vector2::zeros()),
+            Err(NavError::InObstacle { obstacle: 0 })
+        );
+        // The boundary's band: inward.
+        let near_wall = Vector2::new(0.0, -4.75);
+        let c = nav.command(near_wall, Vector2::zeros()).unwrap();
+        assert_eq!(c.mode, Mode::Recovering(Band::Boundary));
+        // A perception that puts the robot's disc into the true shape is refused.
+        let mut fresh = Navigator::new(boundary.clone(), goal, law, options).unwrap();
+        fresh
+            .command(Vector2::new(-1.05, 0.0), Vector2::zeros())
+            .unwrap();
+        assert_eq!(
+            fresh.add_obstacle(rock.clone()),
+            Err(NavError::ContainsRobot)
+        );
+    }
+}
+
+/// Parameters at the edge of `f64` are refused with the field named, and within the ranges
+/// every command is finite.
+#[test]
+fn no_option_the_navigator_accepts_makes_a_nan() {
+    let boundary = StarShape::circle(Vector2::zeros(), 5.0).unwrap();
+    let goal = Vector2::new(3.0, 0.0);
+    let d = Options::default();
+    let refused = [
+        (Law::dynamic(1.0, 10.0), d.with_rho_min(5e-324), "rho_min"),
+        (
+            Law::dynamic(1.0, 10.0),
+            d.with_sensor(1.0, 1e-320),
+            "sensor_aperture_deg",
+        ),
+        (Law::dynamic(1e308, 1e308), d, "mass"),
+        (Law::dynamic(5e-324, 10.0), d, "mass"),
+        (Law::dynamic(1.0, 1e308), d, "mu"),
+        (Law::kinematic(1e308), d, "gain"),
+        (
+            Law::kinematic(1.0),
+            d.with_control_period(0.0),
+            "control_period",
+        ),
+        (
+            Law::kinematic(1.0),
+            d.with_sensor(f64::NAN, 60.0),
+            "sensor_range",
+        ),
+        (
+            Law::kinematic(1.0),
+            d.with_robot(f64::INFINITY, 0.0),
+            "radius",
+        ),
+    ];
+    for (law, options, field) in refused {
+        match Navigator::new(boundary.clone(), goal, law, options) {
+            Err(NavError::InvalidOption { field: f, .. }) => {
+                assert_eq!(f, field);
+                let message = NavError::InvalidOption {
+                    field: f,
+                    value: 0.0,
+                }
+                .to_string();
+                assert!(message.contains(field), "{message}");
+            }
+            other => panic!("{field}: {other:?}"),
+        }
+    }
+    let rock = StarShape::circle(Vector2::new(0.0, 0.5), 1.0).unwrap();
+    let mut rng = Rng::new(3);
+    for (law, options) in [
+        (
+            Law::dynamic(1e-9, 1e9),
+            d.with_rho_min(1e-9).with_sensor(1e-9, 1e-3),
+        ),
+        (
+            Law::dynamic(1e9, 1e-9),
+            d.with_sensor(1e9, 360.0).with_control_period(1e9),
+        ),
+        (Law::kinematic(1e9), d.with_control_period(1e-9)),
+        (Law::kinematic(1e-9), d.with_control_period(1e9)),
+    ] {
+        let mut nav = Navigator::new(boundary.clone(), goal, law, options).unwrap();
+        nav.add_obstacle(rock.clone()).unwrap();
+        for _ in 0..300 {
+            let x = rng.point(5.0);
+            let v = rng.point(1e3);
+            match nav.command(x, v) {
+                Ok(c) => assert!(c.value.iter().all(|c| c.is_finite()), "{law:?} at {x:?}"),
+                Err(NavError::InObstacle { .. } | NavError::OutsideBoundary) => {}
+                Err(e) => panic!("{law:?} at {x:?}: {e}"),
+            }
+        }
+    }
+}
