@@ -28,6 +28,18 @@ pub enum Mode {
     Recovering(Band),
 }
 
+impl Mode {
+    /// The name used in logs, JSON and Python (`"law"`, `"capped"`, `"recovering"`).
+    #[must_use]
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            Self::Law => "law",
+            Self::Capped { .. } => "capped",
+            Self::Recovering(_) => "recovering",
+        }
+    }
+}
+
 /// Where a recovering robot is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Band {
