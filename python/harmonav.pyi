@@ -9,11 +9,18 @@ import numpy.typing as npt
 
 __version__: str
 
-_Point = Union[Sequence[float], npt.NDArray[np.float64]]
+# Any array-like of real numbers (lists, tuples, int, unsigned or float arrays of any width),
+# cast to float64: one point ``[x, y]``, or an (N, 2) array of points. Errors name the argument:
+# ``TypeError`` for values that are not real numbers or the wrong number of dimensions,
+# ``ValueError`` for the wrong length or a ragged list.
+_Point = npt.ArrayLike
 _Points = npt.ArrayLike
 
 class Shape:
-    """A star-shaped region ``{c + r·u : r ≤ R(θ)}``: an obstacle or a workspace boundary."""
+    """A star-shaped region ``{c + r·u : r ≤ R(θ)}``: an obstacle or a workspace boundary.
+
+    Immutable. ``copy.copy``, ``copy.deepcopy`` and pickle rebuild it from the call that made it
+    (``circle``, ``ellipse``, ``polygon`` or ``star``)."""
 
     @property
     def center(self) -> npt.NDArray[np.float64]:
@@ -23,11 +30,16 @@ class Shape:
     @overload
     def signed_distance(self, points_xy: Sequence[float]) -> float: ...
     @overload
-    def signed_distance(self, points_xy: npt.NDArray[np.float64]) -> Union[float, npt.NDArray[np.float64]]:
+    def signed_distance(self, points_xy: _Points) -> Union[float, npt.NDArray[np.float64]]:
         """Signed distance to the outline, negative inside: a float for one point, an (N,)
-        array for an (N, 2) array."""
+        array for an (N, 2) array-like (NaN for a non-finite row). ``MemoryError`` if the batch
+        cannot be allocated."""
     def outline(self, n: int = 256) -> npt.NDArray[np.float64]:
-        """``n`` points on the outline, evenly spaced in angle, (n, 2)."""
+        """``n`` points on the outline, evenly spaced in angle, (n, 2). ``n`` is at most 2**24
+        (16 777 216); above that, or when the array cannot be allocated, ``MemoryError``."""
+    def __reduce__(self) -> Tuple[Any, Tuple[Any, ...]]: ...
+    def __copy__(self) -> Shape: ...
+    def __deepcopy__(self, memo: Any) -> Shape: ...
 
 def circle(center: _Point, radius: float) -> Shape:
     """A disc: ``R(θ) = r``."""
@@ -36,10 +48,13 @@ def ellipse(center: _Point, semi_axes: _Point, angle_deg: float = 0.0) -> Shape:
     """An ellipse: ``R(ψ) = ab/√(b² cos²ψ + a² sin²ψ)``, ``ψ = θ − angle``."""
 
 def polygon(vertices: _Points, corner_radius: float) -> Shape:
-    """A polygon, star-shaped about its vertex centroid, with corners rounded to ``corner_radius``."""
+    """A polygon (an (N, 2) array-like, N ≥ 3), star-shaped about its vertex centroid, with
+    corners rounded to ``corner_radius``."""
 
-def star(center: _Point, radius: float, harmonics: Sequence[Tuple[int, float, float]]) -> Shape:
-    """A Fourier star ``R(θ) = r0 + Σ (a_n cos nθ + b_n sin nθ)``, harmonics ``(n, a_n, b_n)``."""
+def star(center: _Point, radius: float, harmonics: Sequence[Sequence[float]]) -> Shape:
+    """A Fourier star ``R(θ) = r0 + Σ (a_n cos nθ + b_n sin nθ)``, harmonics ``(n, a_n, b_n)``.
+    Each order ``n`` is a whole number from 1 to 1000 (the cap of scenario files); a larger one
+    raises ``ValueError`` naming ``harmonics[i]``."""
 
 class Field:
     """``Θ(x) = σ(φ_k(Φ(x)))`` with every obstacle known.
@@ -62,10 +77,11 @@ class Field:
     def eval(
         self, points_xy: _Points
     ) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
-        """``(theta (N,), grad (N, 2))`` at the rows of an (N, 2) array; NaN rows outside the
-        free space or for non-finite input (``free`` is the mask)."""
+        """``(theta (N,), grad (N, 2))`` at the rows of an (N, 2) array-like; NaN rows outside
+        the free space or for non-finite input (``free`` is the mask). ``MemoryError`` if the
+        copy of the points or the results cannot be allocated."""
     def free(self, points_xy: _Points) -> npt.NDArray[np.bool_]:
-        """Whether each row lies in the free space, (N,)."""
+        """Whether each row lies in the free space, (N,). ``MemoryError`` as ``eval``."""
     def census(self) -> List[Dict[str, Any]]:
         """The critical points of ``Θ`` (theorem ``isNF``): dicts with ``x``, ``kind`` and
         ``eigenvalues``."""
@@ -76,6 +92,12 @@ class Navigator:
     ``law="kinematic"``: ``u = −K√(2Θ)∇Θ/|∇Θ|`` (eq. ``kinctrl``), ``K = gain``.
     ``law="dynamic"``: ``f = −μ∇Ψ − λẋ`` (eq. ``dynctrllocal``) for a robot of mass ``mass``,
     whose speed stays below ``√(2μ/m)``.
+
+    Invalid parameters raise ``ValueError`` naming them, and so do parameters whose derived
+    quantities (``d_min``, the speed bound, ``m/d_min``, ``K√2``) are not finite.
+    ``copy.copy``, ``copy.deepcopy`` and pickle give an independent navigator with the same
+    known obstacles and state (the speed at the latest discovery, the last position): it
+    commands exactly as the original.
     """
 
     def __init__(
@@ -96,9 +118,11 @@ class Navigator:
     def add_obstacle(self, shape: Shape) -> int:
         """Adds a newly sensed obstacle; returns its index. ``ValueError`` leaves the navigator unchanged."""
     def command(self, x: _Point, v: Optional[_Point] = None) -> npt.NDArray[np.float64]:
-        """The law's command (a velocity or a force), (2,)."""
+        """The law's command (a velocity or a force), (2,), always finite: ``ValueError`` (and
+        nothing changed) outside the free space, for non-finite input, or for a command that
+        would not be finite."""
     def theta(self, x: _Point) -> float:
-        """``Θ(x)`` over the known obstacles."""
+        """``Θ(x)`` over the known obstacles (finite, or ``ValueError``)."""
     @property
     def k(self) -> float: ...
     @property
@@ -108,6 +132,12 @@ class Navigator:
     @property
     def speed_bound(self) -> Optional[float]:
         """``√(2μ/m)`` for the dynamic law, ``None`` for the kinematic one."""
+    def __reduce__(self) -> Tuple[Any, Tuple[Any, ...], List[Tuple[Any, ...]]]: ...
+    def __setstate__(self, state: List[Tuple[Any, ...]]) -> None:
+        """Rebuilds the navigator and replays ``state`` (``("add", shape)``, ``("command", x,
+        v)`` entries); ``ValueError``/``TypeError``, and nothing changed, if it does not replay."""
+    def __copy__(self) -> Navigator: ...
+    def __deepcopy__(self, memo: Any) -> Navigator: ...
 
 class RunResult:
     """The result of ``Scenario.run``."""

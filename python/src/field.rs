@@ -5,11 +5,11 @@ use std::sync::Arc;
 use harmonav_rs::KPolicy;
 use harmonav_rs::field::{Field as RsField, FieldError};
 use harmonav_rs::transform::Workspace;
-use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2};
+use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::convert::{parallel_rows, point, points, policy, value_error};
+use crate::convert::{empty, parallel_rows, point_like, points_like, policy, value_error};
 use crate::shapes::Shape;
 
 /// Points per `Field::eval_many` call (its results live on the stack).
@@ -40,7 +40,7 @@ impl Field {
     fn new(
         boundary: &Shape,
         obstacles: Vec<PyRef<'_, Shape>>,
-        goal: [f64; 2],
+        goal: &Bound<'_, PyAny>,
         k: &str,
         margin: f64,
     ) -> PyResult<Self> {
@@ -50,7 +50,7 @@ impl Field {
                 "margin must be finite and ≥ 0, got {margin}"
             )));
         }
-        let goal = point(goal, "goal")?;
+        let goal = point_like(goal, "goal")?;
         let boundary = boundary.inner.offset(-margin).map_err(value_error)?;
         let grown = obstacles
             .iter()
@@ -72,21 +72,24 @@ impl Field {
         self.inner.k()
     }
 
-    /// `(theta, grad)` at each row of `points` (N, 2): `Θ` as an (N,) array and `∇Θ` as an
-    /// (N, 2) array. Rows outside the free space (inside an obstacle grown by `margin`, on or
-    /// outside the boundary) and non-finite rows are NaN; `free(points)` is the mask. Runs
-    /// without the GIL through the batched `Field::eval_many`, on all cores for large N.
+    /// `(theta, grad)` at each row of `points_xy`, an (N, 2) array-like: `Θ` as an (N,) array
+    /// and `∇Θ` as an (N, 2) array. Rows outside the free space (inside an obstacle grown by
+    /// `margin`, on or outside the boundary) and non-finite rows are NaN; `free(points_xy)` is
+    /// the mask. Runs without the GIL through the batched `Field::eval_many`, on all cores for
+    /// large N. Raises `MemoryError` if the copy of the points or the results cannot be
+    /// allocated.
     fn eval<'py>(
         &self,
         py: Python<'py>,
-        points_xy: PyReadonlyArray2<'py, f64>,
+        points_xy: &Bound<'py, PyAny>,
     ) -> PyResult<ThetaAndGradient<'py>> {
-        let pts = points(&points_xy)?;
+        // The copy first, then the results (tests/test_memory.py reaches both).
+        let pts = points_like(points_xy, "points_xy")?;
         let n = pts.len();
-        let theta = PyArray1::<f64>::zeros(py, n, false);
-        let grad = PyArray2::<f64>::zeros(py, [n, 2], false);
+        let theta = empty::<f64, _>(py, &[n], "theta")?;
+        let grad = empty::<f64, _>(py, &[n, 2], "grad")?;
         {
-            let (mut tw, mut gw) = (theta.readwrite(), grad.readwrite());
+            let (mut tw, mut gw) = (theta.try_readwrite()?, grad.try_readwrite()?);
             let (t, g) = (tw.as_slice_mut()?, gw.as_slice_mut()?);
             py.detach(|| {
                 parallel_rows(&pts, [t, g], [1, 2], |xs, [t, g]| {
@@ -109,29 +112,27 @@ impl Field {
         Ok((theta, grad))
     }
 
-    /// Whether each row of `points` (N, 2) lies in the free space (a boolean (N,) array).
+    /// Whether each row of `points_xy`, an (N, 2) array-like, lies in the free space (a
+    /// boolean (N,) array). Raises `MemoryError` as `eval` does.
     fn free<'py>(
         &self,
         py: Python<'py>,
-        points_xy: PyReadonlyArray2<'py, f64>,
+        points_xy: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyArray1<bool>>> {
-        let pts = points(&points_xy)?;
-        let mut out = vec![0.0; pts.len()];
-        py.detach(|| {
-            parallel_rows(&pts, [&mut out], [1], |xs, [rows]| {
-                for (x, row) in xs.iter().zip(rows) {
-                    *row = if self.inner.eval(*x).is_ok() {
-                        1.0
-                    } else {
-                        0.0
-                    };
-                }
-            })
-        });
-        Ok(PyArray1::from_vec(
-            py,
-            out.iter().map(|&v| v > 0.5).collect(),
-        ))
+        let pts = points_like(points_xy, "points_xy")?;
+        let out = empty::<bool, _>(py, &[pts.len()], "free")?;
+        {
+            let mut w = out.try_readwrite()?;
+            let rows = w.as_slice_mut().map_err(value_error)?;
+            py.detach(|| {
+                parallel_rows(&pts, [rows], [1], |xs, [rows]| {
+                    for (x, row) in xs.iter().zip(rows) {
+                        *row = self.inner.eval(*x).is_ok();
+                    }
+                })
+            });
+        }
+        Ok(out)
     }
 
     /// The critical points of `Θ` (theorem `isNF`): a list of dicts with `x` (a (2,) list),

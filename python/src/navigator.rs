@@ -1,10 +1,13 @@
 //! The online API: `harmonav::Navigator`.
 
+use harmonav_rs::Vector2;
 use harmonav_rs::{DampingPolicy, KPolicy, Law, NavError, Navigator as RsNavigator, Options};
 use numpy::PyArray1;
+use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
+use pyo3::types::{PyList, PyTuple};
 
-use crate::convert::{point, policy, value_error};
+use crate::convert::{array1, point_like, policy, value_error};
 use crate::shapes::Shape;
 
 /// The navigator of a robot that does not know its map: obstacles are added as its perception
@@ -17,13 +20,214 @@ use crate::shapes::Shape;
 ///
 /// `sensor=(range_m, aperture_deg)` sets `d_min` (eq. `dmin`); `radius` and `margin` (m) grow
 /// every obstacle and shrink the boundary; `k` is `"auto"` or `"paper"`.
+///
+/// Invalid parameters raise `ValueError` with the Rust `NavError`'s message, which names the
+/// parameter; so do parameters whose derived quantities (`d_min`, the speed bound) are not
+/// finite. `copy.copy`, `copy.deepcopy` and pickle give an independent navigator with the same
+/// known obstacles and state, which commands exactly as the original.
 #[pyclass(module = "harmonav")]
+#[derive(Clone)]
 pub struct Navigator {
     inner: RsNavigator,
+    /// The constructor's arguments (what pickle rebuilds the navigator from).
+    args: Args,
+    /// The calls that made the state since construction (what pickle replays): every added
+    /// obstacle, and the last successful command before each and at the end. The Rust
+    /// navigator's state is the known obstacles, the speed of the last command before the
+    /// latest addition, and the last commanded state: this log determines all three.
+    log: Vec<Event>,
+}
+
+/// The constructor's arguments, checked.
+#[derive(Clone)]
+struct Args {
+    boundary: Shape,
+    goal: [f64; 2],
+    law: String,
+    gain: f64,
+    mass: f64,
+    mu: f64,
+    sensor: (f64, f64),
+    radius: f64,
+    margin: f64,
+    k: String,
+    damping: String,
+    rho_min: f64,
+}
+
+/// A call that changed a navigator's state.
+#[derive(Clone)]
+enum Event {
+    /// `add_obstacle(shape)` (the true shape).
+    Add(Shape),
+    /// `command(x, v)`.
+    Command([f64; 2], [f64; 2]),
 }
 
 fn nav_error(e: NavError) -> PyErr {
     value_error(e)
+}
+
+impl Args {
+    /// The Rust navigator these arguments make, with its derived quantities checked finite.
+    fn build(&self) -> PyResult<RsNavigator> {
+        let law = match self.law.as_str() {
+            "kinematic" => Law::kinematic(self.gain),
+            "dynamic" => Law::dynamic(self.mass, self.mu),
+            other => {
+                return Err(value_error(format!(
+                    "unknown law \"{other}\": expected \"kinematic\" or \"dynamic\""
+                )));
+            }
+        };
+        let options = Options::default()
+            .with_sensor(self.sensor.0, self.sensor.1)
+            .with_robot(self.radius, self.margin)
+            .with_rho_min(self.rho_min)
+            .with_k(policy::<KPolicy>(&self.k)?)
+            .with_damping(policy::<DampingPolicy>(&self.damping)?);
+        let goal = Vector2::new(self.goal[0], self.goal[1]);
+        let inner =
+            RsNavigator::new(self.boundary.inner.clone(), goal, law, options).map_err(nav_error)?;
+        // Whatever the Rust validation covers, no quantity derived from the options may be
+        // NaN or infinite (issue 23: tiny or huge values gave NaN commands, an infinite bound).
+        let d_min = options.d_min().map_err(nav_error)?;
+        if !(d_min.is_finite() && d_min > 0.0) {
+            return Err(value_error(format!(
+                "sensor = ({:e}, {:e}) and rho_min = {:e} give d_min = {d_min:e} (eq. dmin), \
+                 which is not a positive finite distance",
+                self.sensor.0, self.sensor.1, self.rho_min
+            )));
+        }
+        let finite = |quantity: f64, what: String| {
+            if quantity.is_finite() {
+                Ok(())
+            } else {
+                Err(value_error(format!(
+                    "{what} = {quantity:e}, which is not finite"
+                )))
+            }
+        };
+        match law {
+            Law::Kinematic { gain } => finite(
+                gain * std::f64::consts::SQRT_2,
+                format!("gain = {gain:e} gives the top speed K√2 (eq. kinctrl)"),
+            )?,
+            Law::Dynamic { mass, mu } => {
+                finite(
+                    inner.speed_bound().unwrap_or(f64::NAN),
+                    format!("mass = {mass:e} and mu = {mu:e} give the speed bound √(2μ/m)"),
+                )?;
+                finite(
+                    mass / d_min,
+                    format!(
+                        "mass = {mass:e}, sensor = ({:e}, {:e}) and rho_min = {:e} give the \
+                         switched damping gain m/d_min (eq. dissipationfun)",
+                        self.sensor.0, self.sensor.1, self.rho_min
+                    ),
+                )?;
+            }
+        }
+        Ok(inner)
+    }
+
+    /// The positional arguments of `Navigator(...)`, in the order of its signature.
+    fn to_tuple<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
+        PyTuple::new(
+            py,
+            [
+                Bound::new(py, self.boundary.clone())?.into_any(),
+                self.goal.into_pyobject(py)?.into_any(),
+                self.law.clone().into_pyobject(py)?.into_any(),
+                self.gain.into_pyobject(py)?.into_any(),
+                self.mass.into_pyobject(py)?.into_any(),
+                self.mu.into_pyobject(py)?.into_any(),
+                self.sensor.into_pyobject(py)?.into_any(),
+                self.radius.into_pyobject(py)?.into_any(),
+                self.margin.into_pyobject(py)?.into_any(),
+                self.k.clone().into_pyobject(py)?.into_any(),
+                self.damping.clone().into_pyobject(py)?.into_any(),
+                self.rho_min.into_pyobject(py)?.into_any(),
+            ],
+        )
+    }
+}
+
+impl Navigator {
+    /// Adds an obstacle and records it.
+    fn add(&mut self, shape: &Shape) -> Result<usize, NavError> {
+        let i = self.inner.add_obstacle(shape.inner.clone())?;
+        self.log.push(Event::Add(shape.clone()));
+        Ok(i)
+    }
+
+    /// The command at `(x, v)`, refused unless finite, and recorded. A refusal changes
+    /// nothing: the command is evaluated (without side effects) before it is issued.
+    fn issue(&mut self, x: Vector2<f64>, v: Vector2<f64>) -> PyResult<Vector2<f64>> {
+        let trial = self.inner.evaluate(x, v).map_err(nav_error)?.command;
+        if !trial.iter().all(|c| c.is_finite()) {
+            return Err(value_error(format!(
+                "the command at x = [{:?}, {:?}], v = [{:?}, {:?}] is not finite ([{:?}, {:?}]): \
+                 the options or the state (the speed at the latest discovery, v) are beyond \
+                 what the law can compute in floating point",
+                x.x, x.y, v.x, v.y, trial.x, trial.y
+            )));
+        }
+        let c = self.inner.command(x, v).map_err(nav_error)?;
+        let event = Event::Command([x.x, x.y], [v.x, v.y]);
+        // Only the last command before an addition (and the last one) shape the state.
+        match self.log.last_mut() {
+            Some(last @ Event::Command(..)) => *last = event,
+            _ => self.log.push(event),
+        }
+        Ok(c)
+    }
+
+    /// The state as pickle stores it: `("add", shape)` and `("command", x, v)` entries.
+    fn state<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        let entries = self
+            .log
+            .iter()
+            .map(|e| -> PyResult<Bound<'py, PyTuple>> {
+                match e {
+                    Event::Add(shape) => ("add", Bound::new(py, shape.clone())?).into_pyobject(py),
+                    Event::Command(x, v) => ("command", *x, *v).into_pyobject(py),
+                }
+            })
+            .collect::<PyResult<Vec<_>>>()?;
+        PyList::new(py, entries)
+    }
+}
+
+/// One entry of a pickled state, parsed.
+fn event(entry: &Bound<'_, PyAny>, i: usize) -> PyResult<Event> {
+    let bad = |problem: String| {
+        PyTypeError::new_err(format!(
+            "Navigator state, entry {i}: {problem}; expected (\"add\", Shape) or \
+             (\"command\", [x, y], [vx, vy])"
+        ))
+    };
+    let parts = entry
+        .extract::<Vec<Bound<'_, PyAny>>>()
+        .map_err(|e| bad(e.to_string()))?;
+    let kind: String = match parts.first() {
+        Some(k) => k.extract::<String>().map_err(|e| bad(e.to_string()))?,
+        None => return Err(bad("an empty entry".into())),
+    };
+    match (kind.as_str(), parts.as_slice()) {
+        ("add", [_, shape]) => Ok(Event::Add(
+            shape
+                .extract::<PyRef<'_, Shape>>()
+                .map_err(|e| bad(e.to_string()))?
+                .clone(),
+        )),
+        ("command", [_, x, v]) => {
+            let x = point_like(x, "x")?;
+            let v = point_like(v, "v")?;
+            Ok(Event::Command([x.x, x.y], [v.x, v.y]))
+        }
+        _ => Err(bad(format!("got \"{kind}\" with {} values", parts.len()))),
+    }
 }
 
 #[pymethods]
@@ -35,7 +239,7 @@ impl Navigator {
     #[allow(clippy::too_many_arguments)]
     fn new(
         boundary: &Shape,
-        goal: [f64; 2],
+        goal: &Bound<'_, PyAny>,
         law: &str,
         gain: f64,
         mass: f64,
@@ -47,25 +251,26 @@ impl Navigator {
         damping: &str,
         rho_min: f64,
     ) -> PyResult<Self> {
-        let law = match law {
-            "kinematic" => Law::kinematic(gain),
-            "dynamic" => Law::dynamic(mass, mu),
-            other => {
-                return Err(value_error(format!(
-                    "unknown law \"{other}\": expected \"kinematic\" or \"dynamic\""
-                )));
-            }
+        let goal = point_like(goal, "goal")?;
+        let args = Args {
+            boundary: boundary.clone(),
+            goal: [goal.x, goal.y],
+            law: law.to_owned(),
+            gain,
+            mass,
+            mu,
+            sensor,
+            radius,
+            margin,
+            k: k.to_owned(),
+            damping: damping.to_owned(),
+            rho_min,
         };
-        let options = Options::default()
-            .with_sensor(sensor.0, sensor.1)
-            .with_robot(radius, margin)
-            .with_rho_min(rho_min)
-            .with_k(policy::<KPolicy>(k)?)
-            .with_damping(policy::<DampingPolicy>(damping)?);
-        let goal = point(goal, "goal")?;
-        let inner =
-            RsNavigator::new(boundary.inner.clone(), goal, law, options).map_err(nav_error)?;
-        Ok(Self { inner })
+        Ok(Self {
+            inner: args.build()?,
+            args,
+            log: Vec::new(),
+        })
     }
 
     /// Adds a newly sensed obstacle (its true shape; grown by `radius + margin` here) and
@@ -73,30 +278,34 @@ impl Navigator {
     /// changes nothing) if it overlaps a known obstacle, crosses the boundary, or contains the
     /// goal or the robot.
     fn add_obstacle(&mut self, shape: &Shape) -> PyResult<usize> {
-        self.inner
-            .add_obstacle(shape.inner.clone())
-            .map_err(nav_error)
+        self.add(shape).map_err(nav_error)
     }
 
-    /// The command at position `x` with velocity `v` (default 0): a velocity (kinematic law)
-    /// or a force (dynamic law), as a (2,) array. Raises `ValueError` (and changes nothing)
-    /// for a point outside the free space or non-finite input.
+    /// The command at position `x` with velocity `v` (default 0), each an array-like `[x, y]`:
+    /// a velocity (kinematic law) or a force (dynamic law), as a (2,) array, always finite.
+    /// Raises `ValueError` (and changes nothing) for a point outside the free space,
+    /// non-finite input, or a command that would not be finite.
     #[pyo3(signature = (x, v=None))]
     fn command<'py>(
         &mut self,
         py: Python<'py>,
-        x: [f64; 2],
-        v: Option<[f64; 2]>,
+        x: &Bound<'py, PyAny>,
+        v: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let x = point(x, "x")?;
-        let v = point(v.unwrap_or([0.0; 2]), "v")?;
-        let c = self.inner.command(x, v).map_err(nav_error)?;
-        Ok(PyArray1::from_vec(py, vec![c.x, c.y]))
+        let x = point_like(x, "x")?;
+        let v = v.map_or(Ok(Vector2::zeros()), |v| point_like(v, "v"))?;
+        let c = self.issue(x, v)?;
+        array1(py, &[c.x, c.y], "command")
     }
 
-    /// `Θ(x)` over the known obstacles.
-    fn theta(&self, x: [f64; 2]) -> PyResult<f64> {
-        self.inner.theta(point(x, "x")?).map_err(nav_error)
+    /// `Θ(x)` over the known obstacles (finite, or `ValueError` as `command`).
+    fn theta(&self, x: &Bound<'_, PyAny>) -> PyResult<f64> {
+        let theta = self.inner.theta(point_like(x, "x")?).map_err(nav_error)?;
+        if theta.is_finite() {
+            Ok(theta)
+        } else {
+            Err(value_error(format!("Θ is not finite here ({theta})")))
+        }
     }
 
     /// `k` of `φ_k` for the obstacles known so far.
@@ -113,15 +322,59 @@ impl Navigator {
 
     /// The goal, as a (2,) array.
     #[getter]
-    fn goal<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+    fn goal<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let g = self.inner.goal();
-        PyArray1::from_vec(py, vec![g.x, g.y])
+        array1(py, &[g.x, g.y], "goal")
     }
 
-    /// `√(2μ/m)` for the dynamic law, `None` for the kinematic one.
+    /// `√(2μ/m)` for the dynamic law (finite), `None` for the kinematic one.
     #[getter]
     fn speed_bound(&self) -> Option<f64> {
         self.inner.speed_bound()
+    }
+
+    /// Pickle support: `(Navigator, constructor arguments, state)`, the state being the list of
+    /// calls that made it (`("add", shape)`, `("command", x, v)`), replayed by `__setstate__`.
+    fn __reduce__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>, Bound<'py, PyList>)> {
+        Ok((
+            py.get_type::<Self>().into_any(),
+            self.args.to_tuple(py)?,
+            self.state(py)?,
+        ))
+    }
+
+    /// Restores a pickled state: rebuilds the navigator from its constructor arguments and
+    /// replays `state`. Raises `ValueError` or `TypeError` (and changes nothing) for a state
+    /// that does not replay.
+    fn __setstate__(&mut self, state: &Bound<'_, PyAny>) -> PyResult<()> {
+        let mut fresh = Self {
+            inner: self.args.build()?,
+            args: self.args.clone(),
+            log: Vec::new(),
+        };
+        for (i, entry) in state.try_iter()?.enumerate() {
+            let replayed = match event(&entry?, i)? {
+                Event::Add(shape) => fresh.add(&shape).map(drop).map_err(nav_error),
+                Event::Command(x, v) => fresh.issue(Vector2::from(x), Vector2::from(v)).map(drop),
+            };
+            replayed.map_err(|e| value_error(format!("Navigator state, entry {i}: {e}")))?;
+        }
+        *self = fresh;
+        Ok(())
+    }
+
+    /// An independent navigator with the same obstacles and state (not shared: changing
+    /// either leaves the other as it was).
+    fn __copy__(&self) -> Self {
+        self.clone()
+    }
+
+    /// As `__copy__`; `memo` is unused (a navigator holds no Python objects).
+    fn __deepcopy__(&self, _memo: &Bound<'_, PyAny>) -> Self {
+        self.clone()
     }
 
     fn __repr__(&self) -> String {

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import harmonav
-from conftest import SCENARIOS, free_points
+from conftest import REPO, SCENARIOS, free_points
 
 
 def test_gradient_matches_central_differences(mixed_shapes):
@@ -131,6 +131,37 @@ def test_bad_input_raises_value_error_naming_the_problem(call, words):
         call()
     for w in words:
         assert w in str(err.value), str(err.value)
+
+
+@pytest.mark.parametrize(
+    "harmonics, words",
+    [
+        ([(1001, 1e-12, 0.0)], ["harmonics[0]", "1 to 1000", "1001"]),
+        ([(3, 0.1, 0.0), (2**32, 1e-12, 0.0)], ["harmonics[1]", "1000", str(2**32)]),
+        ([(4_000_000_000, 1e-12, 0.0)], ["harmonics[0]", "1000"]),  # used to hang
+        ([(2**80, 1e-12, 0.0)], ["harmonics[0]", "1000"]),
+        ([(0, 0.1, 0.0)], ["harmonics[0]", "from 1"]),
+        ([(-3, 0.1, 0.0)], ["harmonics[0]", "-3"]),
+        ([(3, 0.1)], ["harmonics[0]", "triple"]),
+    ],
+)
+def test_star_harmonic_orders_are_capped_at_1000(harmonics, words):
+    with pytest.raises(ValueError) as err:
+        harmonav.star([0, 0], 0.5, harmonics)
+    for w in words:
+        assert w in str(err.value), str(err.value)
+
+
+def test_the_harmonic_cap_is_stated_and_order_1000_is_accepted():
+    assert "1000" in harmonav.star.__doc__
+    stub = (REPO / "python" / "harmonav.pyi").read_text()
+    star_stub = stub[stub.index("def star(") :].split("\n\n")[0]
+    assert "1000" in star_stub, star_stub
+    top = harmonav.star([0, 0], 0.5, [(1000, 1e-5, 0.0), (np.int64(7), 0.01, 0.0)])
+    assert top.contains([0.49, 0.0]) and not top.contains([0.52, 0.0])
+    # Lists and arrays of triples work as tuples do.
+    same = harmonav.star([0, 0], 0.5, [[1000, 1e-5, 0.0], [7, 0.01, 0.0]])
+    np.testing.assert_array_equal(same.outline(64), top.outline(64))
 
 
 def test_points_of_the_wrong_shape_are_refused(mixed_shapes):

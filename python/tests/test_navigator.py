@@ -98,3 +98,66 @@ def test_bad_states_raise_and_nan_does_not_crash():
 def test_bad_options_are_refused(kwargs, word):
     with pytest.raises(ValueError, match=word):
         harmonav.Navigator(harmonav.circle([0, 0], 4.0), [3.0, 0.0], **kwargs)
+
+
+# Options that the constructor accepted and that made the dynamic `command` return
+# [-inf, nan] (issue 23), and their neighbours at the other end of the ranges.
+EXTREME = [
+    dict(law="dynamic", rho_min=5e-324),
+    dict(law="dynamic", sensor=(1.0, 1e-320)),
+    dict(law="dynamic", mass=1e308, mu=1e308),
+    dict(law="dynamic", mass=5e-324),
+    dict(law="dynamic", mu=1e308),
+    dict(law="dynamic", mu=5e-324),
+    dict(law="dynamic", sensor=(1e308, 360.0)),
+    dict(law="kinematic", gain=1e308),
+    dict(law="kinematic", gain=5e-324),
+    dict(law="kinematic", rho_min=5e-324),
+]
+
+
+@pytest.mark.parametrize("kwargs", EXTREME, ids=lambda kw: ",".join(f"{k}={v}" for k, v in kw.items()))
+def test_extreme_options_give_finite_commands_or_value_errors(kwargs):
+    """Never a NaN or an infinity handed back: either the constructor or `command` raises
+    `ValueError` naming the problem, or every command, Θ and the speed bound are finite."""
+    try:
+        nav = harmonav.Navigator(harmonav.circle([0, 0], 4.0), [3.0, 0.0], **kwargs)
+        nav.add_obstacle(harmonav.circle([0.0, 0.0], 1.0))
+    except ValueError as e:
+        assert any(name in str(e) for name in kwargs), str(e)
+        return
+    if nav.speed_bound is not None:
+        assert np.isfinite(nav.speed_bound)
+    rng = np.random.default_rng(11)
+    for _ in range(50):
+        x = rng.uniform(-3.5, 3.5, size=2)
+        v = rng.uniform(-1.0, 1.0, size=2)
+        if harmonav.circle([0.0, 0.0], 1.05).contains(x) or np.linalg.norm(x) > 3.9:
+            continue
+        try:
+            cmd = nav.command(x, v)
+        except ValueError as e:
+            assert "finite" in str(e), str(e)
+            with pytest.raises(ValueError):
+                nav.command(x, v)  # refused again: the refusal changed nothing
+            continue
+        assert cmd.shape == (2,) and np.all(np.isfinite(cmd)), (x, v, cmd)
+        assert np.isfinite(nav.theta(x))
+
+
+def test_a_refused_non_finite_command_changes_nothing():
+    """With default options a non-finite command is still reachable: a finite but absurd
+    velocity makes the speed at the next discovery overflow, and the damping after it. The
+    refusal leaves the last position as it was: an obstacle near the refused position, but
+    clear of the last accepted one, is still accepted."""
+    nav = harmonav.Navigator(harmonav.circle([0, 0], 4.0), [3.0, 0.0], law="dynamic")
+    try:
+        assert np.all(np.isfinite(nav.command([-2.0, 0.3], [1.5e308, 1.5e308])))
+        nav.add_obstacle(harmonav.circle([0.0, 0.0], 1.0))
+    except ValueError as e:
+        pytest.skip(f"the absurd state is refused before any command now: {e}")
+    with pytest.raises(ValueError, match="not finite"):
+        nav.command([-1.3, 0.3], [4.0, 0.0])
+    # Refused at x = [-1.3, 0.3]; had it become the last position, this would be "robot".
+    nav.add_obstacle(harmonav.circle([-1.35, 0.35], 0.3))
+    assert nav.obstacle_count == 2
