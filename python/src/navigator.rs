@@ -1,7 +1,9 @@
 //! The online API: `harmonav::Navigator`.
 
 use harmonav_rs::Vector2;
-use harmonav_rs::{DampingPolicy, KPolicy, Law, NavError, Navigator as RsNavigator, Options};
+use harmonav_rs::{
+    DampingPolicy, HoldPolicy, KPolicy, Law, Mode, NavError, Navigator as RsNavigator, Options,
+};
 use numpy::PyArray1;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
@@ -21,9 +23,15 @@ use crate::shapes::Shape;
 /// `sensor=(range_m, aperture_deg)` sets `d_min` (eq. `dmin`); `radius` and `margin` (m) grow
 /// every obstacle and shrink the boundary; `k` is `"auto"` or `"paper"`.
 ///
+/// `control_period` (s; default 0.01 kinematic, 0.001 dynamic) is how long your loop holds
+/// each command (`x += h·u`, or `v += h·f/m; x += h·v`): under `hold="auto"` (the default)
+/// every command is safe to hold for it (`docs/maths.md` §10), and `mode` says whether the last
+/// one was the law's (`"law"`), shortened (`"capped"`) or leads out of the margin band
+/// (`"recovering"`). `hold="paper"` gives the continuous law sampled as is.
+///
 /// Invalid parameters raise `ValueError` with the Rust `NavError`'s message, which names the
-/// parameter; so do parameters whose derived quantities (`d_min`, the speed bound) are not
-/// finite. `copy.copy`, `copy.deepcopy` and pickle give an independent navigator with the same
+/// parameter (every range is the scenario files'; `d_min`, the speed bound and `λ_c` are
+/// checked finite). `copy.copy`, `copy.deepcopy` and pickle give an independent navigator with the same
 /// known obstacles and state, which commands exactly as the original.
 #[pyclass(module = "harmonav")]
 #[derive(Clone)]
@@ -36,6 +44,8 @@ pub struct Navigator {
     /// navigator's state is the known obstacles, the speed of the last command before the
     /// latest addition, and the last commanded state: this log determines all three.
     log: Vec<Event>,
+    /// How the last command was formed.
+    mode: Mode,
 }
 
 /// The constructor's arguments, checked.
@@ -53,6 +63,8 @@ struct Args {
     k: String,
     damping: String,
     rho_min: f64,
+    control_period: Option<f64>,
+    hold: String,
 }
 
 /// A call that changed a navigator's state.
@@ -80,55 +92,20 @@ impl Args {
                 )));
             }
         };
-        let options = Options::default()
+        let mut options = Options::default()
             .with_sensor(self.sensor.0, self.sensor.1)
             .with_robot(self.radius, self.margin)
             .with_rho_min(self.rho_min)
             .with_k(policy::<KPolicy>(&self.k)?)
-            .with_damping(policy::<DampingPolicy>(&self.damping)?);
+            .with_damping(policy::<DampingPolicy>(&self.damping)?)
+            .with_hold(policy::<HoldPolicy>(&self.hold)?);
+        if let Some(h) = self.control_period {
+            options = options.with_control_period(h);
+        }
         let goal = Vector2::new(self.goal[0], self.goal[1]);
-        let inner =
-            RsNavigator::new(self.boundary.inner.clone(), goal, law, options).map_err(nav_error)?;
-        // Whatever the Rust validation covers, no quantity derived from the options may be
-        // NaN or infinite (issue 23: tiny or huge values gave NaN commands, an infinite bound).
-        let d_min = options.d_min().map_err(nav_error)?;
-        if !(d_min.is_finite() && d_min > 0.0) {
-            return Err(value_error(format!(
-                "sensor = ({:e}, {:e}) and rho_min = {:e} give d_min = {d_min:e} (eq. dmin), \
-                 which is not a positive finite distance",
-                self.sensor.0, self.sensor.1, self.rho_min
-            )));
-        }
-        let finite = |quantity: f64, what: String| {
-            if quantity.is_finite() {
-                Ok(())
-            } else {
-                Err(value_error(format!(
-                    "{what} = {quantity:e}, which is not finite"
-                )))
-            }
-        };
-        match law {
-            Law::Kinematic { gain } => finite(
-                gain * std::f64::consts::SQRT_2,
-                format!("gain = {gain:e} gives the top speed K√2 (eq. kinctrl)"),
-            )?,
-            Law::Dynamic { mass, mu } => {
-                finite(
-                    inner.speed_bound().unwrap_or(f64::NAN),
-                    format!("mass = {mass:e} and mu = {mu:e} give the speed bound √(2μ/m)"),
-                )?;
-                finite(
-                    mass / d_min,
-                    format!(
-                        "mass = {mass:e}, sensor = ({:e}, {:e}) and rho_min = {:e} give the \
-                         switched damping gain m/d_min (eq. dissipationfun)",
-                        self.sensor.0, self.sensor.1, self.rho_min
-                    ),
-                )?;
-            }
-        }
-        Ok(inner)
+        // The Rust navigator checks every option against its range and every derived
+        // quantity (d_min, √(2μ/m), λ_c) for finiteness, naming the field.
+        RsNavigator::new(self.boundary.inner.clone(), goal, law, options).map_err(nav_error)
     }
 
     /// The positional arguments of `Navigator(...)`, in the order of its signature.
@@ -148,6 +125,8 @@ impl Args {
                 self.k.clone().into_pyobject(py)?.into_any(),
                 self.damping.clone().into_pyobject(py)?.into_any(),
                 self.rho_min.into_pyobject(py)?.into_any(),
+                self.control_period.into_pyobject(py)?.into_any(),
+                self.hold.clone().into_pyobject(py)?.into_any(),
             ],
         )
     }
@@ -161,26 +140,18 @@ impl Navigator {
         Ok(i)
     }
 
-    /// The command at `(x, v)`, refused unless finite, and recorded. A refusal changes
-    /// nothing: the command is evaluated (without side effects) before it is issued.
+    /// The command at `(x, v)`, and recorded. The Rust navigator refuses a non-finite command
+    /// (`NavError::NonFiniteCommand`) and changes nothing on any error.
     fn issue(&mut self, x: Vector2<f64>, v: Vector2<f64>) -> PyResult<Vector2<f64>> {
-        let trial = self.inner.evaluate(x, v).map_err(nav_error)?.command;
-        if !trial.iter().all(|c| c.is_finite()) {
-            return Err(value_error(format!(
-                "the command at x = [{:?}, {:?}], v = [{:?}, {:?}] is not finite ([{:?}, {:?}]): \
-                 the options or the state (the speed at the latest discovery, v) are beyond \
-                 what the law can compute in floating point",
-                x.x, x.y, v.x, v.y, trial.x, trial.y
-            )));
-        }
         let c = self.inner.command(x, v).map_err(nav_error)?;
+        self.mode = c.mode;
         let event = Event::Command([x.x, x.y], [v.x, v.y]);
         // Only the last command before an addition (and the last one) shape the state.
         match self.log.last_mut() {
             Some(last @ Event::Command(..)) => *last = event,
             _ => self.log.push(event),
         }
-        Ok(c)
+        Ok(c.value)
     }
 
     /// The state as pickle stores it: `("add", shape)` and `("command", x, v)` entries.
@@ -235,7 +206,7 @@ impl Navigator {
     #[new]
     #[pyo3(signature = (boundary, goal, law="kinematic", gain=1.0, mass=1.0, mu=10.0,
                         sensor=(1.0, 60.0), radius=0.0, margin=0.0, k="auto", damping="auto",
-                        rho_min=0.05))]
+                        rho_min=0.05, control_period=None, hold="auto"))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         boundary: &Shape,
@@ -250,6 +221,8 @@ impl Navigator {
         k: &str,
         damping: &str,
         rho_min: f64,
+        control_period: Option<f64>,
+        hold: &str,
     ) -> PyResult<Self> {
         let goal = point_like(goal, "goal")?;
         let args = Args {
@@ -265,11 +238,14 @@ impl Navigator {
             k: k.to_owned(),
             damping: damping.to_owned(),
             rho_min,
+            control_period,
+            hold: hold.to_owned(),
         };
         Ok(Self {
             inner: args.build()?,
             args,
             log: Vec::new(),
+            mode: Mode::Law,
         })
     }
 
@@ -281,10 +257,12 @@ impl Navigator {
         self.add(shape).map_err(nav_error)
     }
 
-    /// The command at position `x` with velocity `v` (default 0), each an array-like `[x, y]`:
-    /// a velocity (kinematic law) or a force (dynamic law), as a (2,) array, always finite.
-    /// Raises `ValueError` (and changes nothing) for a point outside the free space,
-    /// non-finite input, or a command that would not be finite.
+    /// The command to hold for `control_period` at position `x` with velocity `v` (default 0),
+    /// each an array-like `[x, y]`: a velocity (kinematic law) or a force (dynamic law), as a
+    /// (2,) array, always finite; `mode` then says how it was formed. Inside the margin band
+    /// it leads back out (`mode == "recovering"`). Raises `ValueError` (and changes nothing)
+    /// where the robot's disc overlaps a known obstacle or the boundary, for non-finite input,
+    /// or for a command that would not be finite.
     #[pyo3(signature = (x, v=None))]
     fn command<'py>(
         &mut self,
@@ -333,6 +311,25 @@ impl Navigator {
         self.inner.speed_bound()
     }
 
+    /// How the last command was formed: `"law"`, `"capped"` (shortened to be safe to hold)
+    /// or `"recovering"` (out of the margin band); `"law"` before the first.
+    #[getter]
+    fn mode(&self) -> &'static str {
+        self.mode.as_str()
+    }
+
+    /// The control period in force, s.
+    #[getter]
+    fn control_period(&self) -> f64 {
+        self.inner.control_period()
+    }
+
+    /// The certified clearance at `x`: a lower bound on the distance to the nearest known
+    /// grown obstacle and to the shrunk boundary, m (what the hold keeps each step within).
+    fn clearance(&self, x: &Bound<'_, PyAny>) -> PyResult<f64> {
+        Ok(self.inner.clearance(point_like(x, "x")?))
+    }
+
     /// Pickle support: `(Navigator, constructor arguments, state)`, the state being the list of
     /// calls that made it (`("add", shape)`, `("command", x, v)`), replayed by `__setstate__`.
     fn __reduce__<'py>(
@@ -354,6 +351,7 @@ impl Navigator {
             inner: self.args.build()?,
             args: self.args.clone(),
             log: Vec::new(),
+            mode: Mode::Law,
         };
         for (i, entry) in state.try_iter()?.enumerate() {
             let replayed = match event(&entry?, i)? {

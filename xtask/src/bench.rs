@@ -107,7 +107,26 @@ pub fn run(options: &Options) -> ExitCode {
         );
     }
     if wants("navigator_command_ns_m6") {
-        put("navigator_command_ns_m6", navigator_command_ns());
+        use harmonav::{HoldPolicy, Law};
+        // The hold (docs/maths.md §10) against the continuous law sampled as is, side by side.
+        let dynamic = Law::dynamic(1.0, 10.0);
+        let kinematic = Law::kinematic(1.0);
+        put(
+            "navigator_command_ns_m6",
+            navigator_command_ns(dynamic, HoldPolicy::Auto),
+        );
+        put(
+            "navigator_command_ns_m6_hold_paper",
+            navigator_command_ns(dynamic, HoldPolicy::Paper),
+        );
+        put(
+            "navigator_command_ns_m6_kinematic",
+            navigator_command_ns(kinematic, HoldPolicy::Auto),
+        );
+        put(
+            "navigator_command_ns_m6_kinematic_hold_paper",
+            navigator_command_ns(kinematic, HoldPolicy::Paper),
+        );
     }
     if wants("montecarlo_runs_per_s") {
         put("montecarlo_runs_per_s", montecarlo_runs_per_s());
@@ -296,16 +315,16 @@ fn control_world() -> (harmonav_transform::Workspace, Vec<State>) {
     (ws, states)
 }
 
-/// One `Navigator::command` of the dynamic law (default policies) with 6 known obstacles, at
-/// the states of [`control_step_ns`]'s world; ns per call.
-fn navigator_command_ns() -> f64 {
-    use harmonav::{Law, Navigator, Options};
+/// One `Navigator::command` of `law` (default policies but the hold `hold`) with 6 known
+/// obstacles, at the states of [`control_step_ns`]'s world; ns per call.
+fn navigator_command_ns(law: harmonav::Law, hold: harmonav::HoldPolicy) -> f64 {
+    use harmonav::{Navigator, Options};
     let (ws, states) = control_world();
     let mut nav = Navigator::new(
         ws.boundary().clone(),
         ws.destination(),
-        Law::dynamic(1.0, 10.0),
-        Options::default(),
+        law,
+        Options::default().with_hold(hold),
     )
     .expect("valid benchmark world");
     for o in &ws.obstacles()[..6] {

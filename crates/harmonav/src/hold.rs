@@ -6,7 +6,7 @@
 //! distance from `x` to the nearest known grown obstacle and to the shrunk boundary. The ball
 //! `B(x, d(x))` lies in the free space, so a motion that stays in it cannot collide.
 
-use harmonav_control::{Damping, Dynamic};
+use harmonav_control::{Damping, Dynamic, Kinematic};
 use harmonav_field::{Field, FieldEval};
 use harmonav_transform::{StarShape, Workspace};
 use nalgebra::Vector2;
@@ -146,27 +146,84 @@ pub(crate) fn free_length(ws: &Workspace, x: Vector2<f64>, dir: Vector2<f64>, wa
     t
 }
 
-/// The kinematic hold at `x` (with its evaluation `e` and the law's velocity `u`): the largest
-/// `s ∈ {1, ½, ¼, …}·s_0` with `phi_k(Phi(x + s h u)) < phi_k(Phi(x))`, and the command `s·u`.
-/// `s_0 = 1` if the whole step is certified free ([`free_length`] `≥ h|u|`), otherwise
-/// `β·L/(h|u|)` with `L` the certified free length and `β =` [`KINEMATIC_FRACTION`], so the
-/// step ends inside the free space. `Θ = sigma(phi_k∘Phi)` with `sigma` increasing, so `Θ`
-/// decreases over the step; the comparison is made on `phi_k`, in log space, where `Θ` near a
-/// wall would round to 1 at both ends. After [`MAX_HALVINGS`] the robot is at a critical point
-/// to working precision and the command is 0.
+/// The sub-steps of the kinematic hold's chord ([`kinematic`]).
+pub const CHORD_SUBSTEPS: usize = 8;
+
+/// The kinematic hold tries the chord once `Θ`'s decrease has halved the step this many times.
+/// Measured on the 300 worlds at 100 Hz: after one halving, median time 7.13 s; after two,
+/// 7.20 s, for the same cost (both arrive everywhere; without the chord 7.24 s, and at 20 Hz
+/// four of 1 200 flights crawled).
+pub const CHORD_AFTER_HALVINGS: u32 = 1;
+
+/// The kinematic hold at `x` (with its evaluation `e` and the law's velocity `u`).
+///
+/// First the single step ([`kinematic_step`]). Where `Θ`'s decrease shortened it
+/// ([`CHORD_AFTER_HALVINGS`]; in a stiff valley, where the straight step overshoots the floor), the flow line is followed over `h`
+/// instead by [`CHORD_SUBSTEPS`] single steps of `h/`[`CHORD_SUBSTEPS`] (each certified, each
+/// decreasing `phi_k`), ending at `y`; the chord `[x, y]` is taken if it is certified free
+/// ([`free_length`]) and longer than the single step, with the command `(y − x)/h`. Its end
+/// is `y`, so `Θ` decreases over it as over the sub-steps.
 pub(crate) fn kinematic(
+    law: &Kinematic,
     field: &Field,
     x: Vector2<f64>,
     e: &FieldEval,
     u: Vector2<f64>,
     h: f64,
 ) -> Command {
+    let (single, halvings) = kinematic_step(field, x, e, u, h);
+    if halvings < CHORD_AFTER_HALVINGS {
+        return single;
+    }
+    let tau = h / CHORD_SUBSTEPS as f64;
+    let mut y = x;
+    for _ in 0..CHORD_SUBSTEPS {
+        let Ok(ey) = field.eval(y) else {
+            return single;
+        };
+        let (c, _) = kinematic_step(field, y, &ey, law.velocity(&ey), tau);
+        y += tau * c.value;
+    }
+    let chord = y - x;
+    let length = chord.norm();
+    let better = length > h * single.value.norm();
+    let decreases = field.eval(y).is_ok_and(|ey| ey.phi < e.phi);
+    if better && decreases && free_length(field.workspace(), x, chord / length, length) >= length {
+        Command {
+            value: chord / h,
+            mode: Mode::Capped {
+                scale: length / (h * u.norm()),
+            },
+        }
+    } else {
+        single
+    }
+}
+
+/// One straight kinematic step at `x`: the largest `s ∈ {1, ½, ¼, …}·s_0` with
+/// `phi_k(Phi(x + s h u)) < phi_k(Phi(x))`, the command `s·u`, and the number of halvings.
+/// `s_0 = 1` if the whole step is certified free ([`free_length`] `≥ h|u|`), otherwise
+/// `β·L/(h|u|)` with `L` the certified free length and `β =` [`KINEMATIC_FRACTION`], so the
+/// step ends inside the free space. `Θ = sigma(phi_k∘Phi)` with `sigma` increasing, so `Θ`
+/// decreases over the step; the comparison is made on `phi_k`, in log space, where `Θ` near a
+/// wall would round to 1 at both ends. After [`MAX_HALVINGS`] the robot is at a critical point
+/// to working precision and the command is 0.
+fn kinematic_step(
+    field: &Field,
+    x: Vector2<f64>,
+    e: &FieldEval,
+    u: Vector2<f64>,
+    h: f64,
+) -> (Command, u32) {
     let step = h * u.norm();
     if step == 0.0 {
-        return Command {
-            value: u,
-            mode: Mode::Law,
-        };
+        return (
+            Command {
+                value: u,
+                mode: Mode::Law,
+            },
+            0,
+        );
     }
     let free = free_length(field.workspace(), x, u / u.norm(), step);
     let mut scale = if free >= step {
@@ -183,14 +240,15 @@ pub(crate) fn kinematic(
         }
         scale *= 0.5;
     }
-    Command {
+    let command = Command {
         value: scale * u,
         mode: if scale == 1.0 {
             Mode::Law
         } else {
             Mode::Capped { scale }
         },
-    }
+    };
+    (command, halvings)
 }
 
 /// The dynamic hold at `(x, v)` for the law `law` with damping `d`: the velocity after the

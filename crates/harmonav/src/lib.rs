@@ -56,13 +56,14 @@ pub use harmonav_control::DampingPolicy;
 pub use harmonav_field::KPolicy;
 pub use harmonav_transform::{ShapeError, StarShape};
 pub use hold::{
-    Band, Command, DYNAMIC_FRACTION, KINEMATIC_FRACTION, MAX_HALVINGS, Mode, SPEED_SLACK,
+    Band, CHORD_AFTER_HALVINGS, CHORD_SUBSTEPS, Command, DYNAMIC_FRACTION, KINEMATIC_FRACTION,
+    MAX_HALVINGS, MAX_TRACE_BALLS, Mode, SPEED_SLACK,
 };
 pub use nalgebra::Vector2;
 pub use navigator::{Controller, Evaluation, Law, NavError, Navigator};
 pub use options::{
     DEFAULT_DYNAMIC_PERIOD, DEFAULT_KINEMATIC_PERIOD, HoldPolicy, MIN_APERTURE_DEG, Options,
-    PARAMETER_RANGE,
+    PARAMETER_RANGE, UnknownHoldPolicy,
 };
 
 /// The README's code compiles and runs (checked by `cargo test --doc`).

@@ -376,11 +376,17 @@ impl Navigator {
             });
         }
         let h = self.period;
-        Ok(match (&self.controller, eval.damping) {
-            (Controller::Dynamic(law), Some(d)) => {
+        Ok(match &self.controller {
+            Controller::Dynamic(law) => {
+                // `evaluate` gives the dynamic law's damping; computed again only if it did not.
+                let d = eval.damping.unwrap_or_else(|| {
+                    law.damping(&self.field, &eval.field, v, self.speed_at_discovery)
+                });
                 hold::dynamic(law, self.field.workspace(), x, (&eval.field, v), &d, h)
             }
-            _ => hold::kinematic(&self.field, x, &eval.field, eval.command, h),
+            Controller::Kinematic(law) => {
+                hold::kinematic(law, &self.field, x, &eval.field, eval.command, h)
+            }
         })
     }
 
@@ -434,6 +440,11 @@ impl Navigator {
     pub fn evaluate(&self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Evaluation, NavError> {
         finite(x, "position")?;
         finite(v, "velocity")?;
+        // Guard: components of 1.5e308 are finite but |ẋ| overflows, and with it |ẋ(T_n)| at
+        // the next discovery and the damping (m/d_min)|ẋ(T_n)| (eq. dissipationfun).
+        if !v.norm().is_finite() {
+            return Err(NavError::NotFinite { what: "velocity" });
+        }
         let e = self.field.eval(x).map_err(not_free)?;
         let (command, damping) = match &self.controller {
             Controller::Kinematic(law) => (law.velocity(&e), None),

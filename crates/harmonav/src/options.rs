@@ -67,6 +67,33 @@ impl std::fmt::Display for HoldPolicy {
     }
 }
 
+/// A name that is not a [`HoldPolicy`].
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct UnknownHoldPolicy(pub String);
+
+impl std::fmt::Display for UnknownHoldPolicy {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "unknown hold policy \"{}\": expected \"paper\" or \"auto\"",
+            self.0
+        )
+    }
+}
+
+impl std::error::Error for UnknownHoldPolicy {}
+
+impl std::str::FromStr for HoldPolicy {
+    type Err = UnknownHoldPolicy;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Self::ALL
+            .into_iter()
+            .find(|p| p.as_str() == s)
+            .ok_or_else(|| UnknownHoldPolicy(s.to_string()))
+    }
+}
+
 /// The navigator's settings, all with defaults (`Options::default()`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Options {
@@ -226,5 +253,20 @@ impl Options {
         self.d_min()?;
         in_range("control_period", self.period_for(law))?;
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hold_names_round_trip_and_unknown_names_are_rejected() {
+        for p in HoldPolicy::ALL {
+            assert_eq!(p.as_str().parse::<HoldPolicy>(), Ok(p));
+        }
+        assert_eq!(HoldPolicy::default(), HoldPolicy::Auto);
+        let e = "exact".parse::<HoldPolicy>().unwrap_err();
+        assert!(e.to_string().contains("\"exact\""), "{e}");
     }
 }

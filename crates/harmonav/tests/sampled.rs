@@ -294,6 +294,13 @@ fn no_option_the_navigator_accepts_makes_a_nan() {
             other => panic!("{field}: {other:?}"),
         }
     }
+    // Finite components whose norm overflows: refused, not an infinite discovery speed.
+    let mut nav = Navigator::new(boundary.clone(), goal, Law::dynamic(1.0, 10.0), d).unwrap();
+    let huge = Vector2::new(1.5e308, 1.5e308);
+    assert_eq!(
+        nav.command(Vector2::new(-3.0, 0.0), huge),
+        Err(NavError::NotFinite { what: "velocity" })
+    );
     let rock = StarShape::circle(Vector2::new(0.0, 0.5), 1.0).unwrap();
     let mut rng = Rng::new(3);
     for (law, options) in [
