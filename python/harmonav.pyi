@@ -154,7 +154,8 @@ class Scenario:
 
     @staticmethod
     def load(path: Union[str, PathLike[str]]) -> Scenario:
-        """Raises ``ValueError`` naming the file, field and line of the first problem."""
+        """Reads the file without the GIL. Raises ``ValueError`` naming the file, field and
+        line of the first problem."""
     @property
     def name(self) -> str: ...
     @property
@@ -170,7 +171,14 @@ class Scenario:
         controller: Optional[str] = None,
         physics: str = "builtin",
         out: Optional[Union[str, PathLike[str]]] = None,
-    ) -> RunResult: ...
+    ) -> RunResult:
+        """Runs the scenario without the GIL. ``out``, a folder, receives summary.json,
+        run.mcap and the figures as one set (a kinematic run removes a stale speed.svg and
+        energy.svg there). ``out`` is checked before the run: an empty path, a path below a
+        file, a dangling or looping link, an unwritable folder, a path too long or a folder
+        named like an output raise ``ValueError`` and nothing runs. A failure to write after
+        the run raises ``OSError`` whose ``result`` is the ``RunResult`` (and ``summary`` its
+        summary); the previous outputs stay whole."""
 
 class SweepResult:
     """The result of ``sweep``."""
@@ -188,4 +196,7 @@ def sweep(
     controller: Optional[str] = None,
 ) -> SweepResult:
     """Many starts with every obstacle known, in parallel: a count of seeded random starts or an
-    (N, 2) array."""
+    (N, 2) array, 1 to 1 000 000 of them (else ``ValueError``, as ``harmonav sweep``). A start
+    outside the free space is the outcome ``"invalid-start"`` (its report failure names
+    ``starts[i]``), not an error. Ctrl-C stops the sweep within a part of two starts per core
+    (``KeyboardInterrupt``)."""

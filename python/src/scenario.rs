@@ -1,4 +1,5 @@
-//! Scenario files: loading (with the CLI's validation), runs and sweeps.
+//! Scenario files: loading (with the CLI's validation), runs and sweeps. File I/O and
+//! simulations run without the GIL; a sweep runs in parts and checks for Ctrl-C between them.
 
 use std::path::PathBuf;
 
@@ -6,9 +7,9 @@ use harmonav_sim::physics::{Physics, simulate};
 use harmonav_sim::record::{check_output_dir, write_outputs};
 use harmonav_sim::run::Run;
 use harmonav_sim::scenario::{Model, Prepared, Scenario as RsScenario};
-use harmonav_sim::sweep::{Report, random_starts, sweep as rs_sweep};
+use harmonav_sim::sweep::{Report, check_count, random_starts, sweep_part};
 use numpy::{PyArray1, PyArray2, PyReadonlyArray2, PyUntypedArrayMethods};
-use pyo3::exceptions::PyTypeError;
+use pyo3::exceptions::{PyOSError, PyTypeError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -42,11 +43,12 @@ fn to_python<'py>(py: Python<'py>, value: &impl serde::Serialize) -> PyResult<Bo
 
 #[pymethods]
 impl Scenario {
-    /// Loads and validates `path`. Raises `ValueError` naming the file, the field and the line
-    /// of the first problem.
+    /// Loads and validates `path`, without the GIL (a FIFO or a slow file system does not
+    /// stop other threads). Raises `ValueError` naming the file, the field and the line of the
+    /// first problem.
     #[staticmethod]
-    fn load(path: PathBuf) -> PyResult<Self> {
-        let prepared = RsScenario::load(&path).map_err(value_error)?;
+    fn load(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
+        let prepared = py.detach(|| RsScenario::load(&path)).map_err(value_error)?;
         Ok(Self { prepared, path })
     }
 
@@ -72,7 +74,14 @@ impl Scenario {
     /// Runs the scenario and checks every guarantee. `controller` (`"kinematic"` or
     /// `"dynamic"`) overrides the file's model; `physics` is `"builtin"` or `"rapier"` (the
     /// rapier2d cross-check); `out`, a directory, receives summary.json, run.mcap and the
-    /// figures. The simulation runs without the GIL.
+    /// figures (a kinematic run removes a stale speed.svg and energy.svg there). The
+    /// simulation runs without the GIL.
+    ///
+    /// `out` is checked before the run: an empty path, a path below a file, a dangling or
+    /// looping link, an unwritable folder, a path that is too long or a folder named like an
+    /// output raise `ValueError`, and nothing is run or written. If writing fails after the
+    /// run, `OSError` is raised with the run's `RunResult` as its `result` attribute and the
+    /// summary as `summary`; the previous outputs are left whole.
     #[pyo3(signature = (controller=None, physics="builtin", out=None))]
     fn run(
         &self,
@@ -84,17 +93,27 @@ impl Scenario {
         let model = model(controller)?;
         let physics: Physics = policy(physics)?;
         if let Some(dir) = &out {
-            check_output_dir(dir).map_err(value_error)?;
+            py.detach(|| check_output_dir(dir))
+                .map_err(|e| value_error(format!("out: {e}; nothing was run")))?;
         }
         let prepared = &self.prepared;
         let run = py
             .detach(|| simulate(prepared, model, physics))
             .map_err(|e| value_error(format!("{}: {e}", self.path.display())))?;
-        if let Some(dir) = &out {
-            py.detach(|| write_outputs(dir, prepared, &run))
-                .map_err(value_error)?;
+        let result = RunResult::new(py, &run)?;
+        if let Some(dir) = &out
+            && let Err(e) = py.detach(|| write_outputs(dir, prepared, &run))
+        {
+            let err = PyOSError::new_err(format!(
+                "out: the outputs were not written: {e} (the run's result is this error's \
+                 `result`)"
+            ));
+            let value = err.value(py);
+            value.setattr("summary", result.summary.clone_ref(py))?;
+            value.setattr("result", Py::new(py, result)?)?;
+            return Err(err);
         }
-        RunResult::new(py, &run)
+        Ok(result)
     }
 
     /// The shortest collision-free path from the start to the goal around the shapes grown by
@@ -172,10 +191,11 @@ impl RunResult {
 }
 
 /// The result of `sweep`: `starts` (N, 2), `outcomes` (N,) strings (`"reached"`,
-/// `"collision"`, `"left-workspace"`, `"stalled"`, `"timed-out"`, `"step-collapsed"`),
-/// `times` (N,) seconds (the arrival time for reached starts, the stall, budget or collapse
-/// time otherwise, NaN for a collision), `reached` (N,) booleans and `report`, the dict of
-/// `harmonav sweep --json`.
+/// `"collision"`, `"left-workspace"`, `"stalled"`, `"timed-out"`, `"step-collapsed"`,
+/// `"invalid-start"`), `times` (N,) seconds (the arrival time for reached starts, the stall,
+/// budget or collapse time otherwise, NaN for a collision or an invalid start), `reached`
+/// (N,) booleans and `report`, the dict of `harmonav sweep --json` (its `failures` say why
+/// each start did not arrive: `"not run: starts[3] lies inside obstacle disc"`).
 #[pyclass(module = "harmonav", frozen, get_all)]
 pub struct SweepResult {
     starts: Py<PyArray2<f64>>,
@@ -199,7 +219,10 @@ impl SweepResult {
 
 /// Many starts in the scenario's world with every obstacle known (global sensing), in
 /// parallel without the GIL: `starts` is a count of seeded random free starts (`seed`) or an
-/// (N, 2) array of starts. `controller` overrides the file's model.
+/// (N, 2) array of starts, at least 1 and at most 1 000 000 (as `harmonav sweep --starts`).
+/// A start outside the free space is the outcome `"invalid-start"`, not an error.
+/// `controller` overrides the file's model. The starts run in parts of two per core, and
+/// Ctrl-C between two parts raises `KeyboardInterrupt`.
 #[pyfunction]
 #[pyo3(signature = (scenario, starts, seed=0, controller=None))]
 pub fn sweep(
@@ -212,7 +235,7 @@ pub fn sweep(
     let prepared = &scenario.prepared;
     let pts = if let Ok(count) = starts.extract::<usize>() {
         py.detach(|| random_starts(prepared, count, seed))
-            .map_err(value_error)?
+            .map_err(|e| value_error(format!("starts: {e}")))?
     } else if let Ok(array) = starts.extract::<PyReadonlyArray2<'_, f64>>() {
         let pts = points(&array)?;
         if let Some(i) = pts.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
@@ -224,11 +247,21 @@ pub fn sweep(
             "starts must be a count (int) or an (N, 2) float array",
         ));
     };
+    check_count(pts.len()).map_err(|e| value_error(format!("starts: {e}")))?;
     let model = model(controller)?.unwrap_or(prepared.scenario.robot.model);
     let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
-    let outcomes = py
-        .detach(|| rs_sweep(prepared, &pts, model, threads))
-        .map_err(value_error)?;
+    // Parts of two starts per thread: Ctrl-C waits for at most one part, and the threads
+    // lose little to the last start of each part.
+    let part = 2 * threads;
+    let mut outcomes = Vec::with_capacity(pts.len());
+    for first in (0..pts.len()).step_by(part) {
+        let range = first..first + part;
+        outcomes.extend(
+            py.detach(|| sweep_part(prepared, &pts, range, model, threads))
+                .map_err(value_error)?,
+        );
+        py.check_signals()?;
+    }
     let report = Report::of(&pts, &outcomes);
     let n = pts.len();
     let flat: Vec<f64> = pts.iter().flat_map(|p| [p.x, p.y]).collect();

@@ -95,3 +95,52 @@ def test_a_start_on_a_symmetry_axis_is_warned_about_and_explained(tmp_path):
     assert abs(out["position"][1]) < 1e-9 and -2.0 < out["position"][0] < -1.0
     assert json.loads((tmp_path / "summary.json").read_text())["warnings"] == s["warnings"]
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]
+
+
+def test_an_invalid_start_is_an_outcome_naming_it():
+    # Before, the start inside the disc aborted the whole sweep with a message about a
+    # discovery that named no start.
+    sc = harmonav.Scenario.load(SCENARIOS / "shapes" / "mixed.toml")
+    starts = np.array([[-4.0, 0.1], [-2.0, 1.2], [9.0, 9.0], [-4.0, -0.5]])
+    res = harmonav.sweep(sc, starts, controller="kinematic")
+    assert res.outcomes.tolist() == ["reached", "invalid-start", "invalid-start", "reached"]
+    assert res.reached.tolist() == [True, False, False, True]
+    assert np.isnan(res.times[1]) and np.isnan(res.times[2]) and res.times[0] > 0
+    report = res.report
+    assert report["invalid_starts"] == 2 and report["reached"] == 2
+    inside, outside = report["failures"]
+    assert inside["reason"] == "not run: starts[1] lies inside obstacle disc"
+    assert inside["outcome"] == {
+        "kind": "invalid-start",
+        "index": 1,
+        "problem": {"kind": "in-obstacle", "obstacle": "disc"},
+    }
+    assert "starts[2]" in outside["reason"] and "outside the workspace" in outside["reason"]
+
+
+def test_a_sweep_of_no_starts_is_refused_as_the_cli_refuses_it():
+    # Before, sweep(0) returned an empty result.
+    sc = harmonav.Scenario.load(SCENARIOS / "shapes" / "mixed.toml")
+    for none in (0, np.empty((0, 2))):
+        with pytest.raises(ValueError, match="at least 1"):
+            harmonav.sweep(sc, none)
+    with pytest.raises(ValueError, match="at most 1000000"):
+        harmonav.sweep(sc, 1_000_001)
+
+
+def test_ctrl_c_stops_a_sweep_between_parts():
+    # 3000 starts take about 45 s here; Ctrl-C (simulated) 0.2 s in must stop the sweep within
+    # a part of a few starts. Before, the interrupt waited for the whole sweep.
+    import _thread
+    import threading
+    import time
+
+    sc = harmonav.Scenario.load(SCENARIOS / "shapes" / "mixed.toml")
+    timer = threading.Timer(0.2, _thread.interrupt_main)
+    t0 = time.monotonic()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        harmonav.sweep(sc, 3000, seed=1, controller="kinematic")
+    elapsed = time.monotonic() - t0
+    timer.join()
+    assert elapsed < 5.0, f"interrupted after {elapsed:.1f} s"

@@ -315,3 +315,200 @@ fn an_interrupted_run_leaves_one_complete_output_set() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A fresh folder for one test.
+fn scratch(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("harmonav-cli-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Every entry below `d` with its content (files) or `None` (folders, links), sorted.
+fn tree(d: &std::path::Path) -> Vec<(PathBuf, Option<Vec<u8>>)> {
+    let mut out = Vec::new();
+    let mut todo = vec![d.to_path_buf()];
+    while let Some(at) = todo.pop() {
+        for e in std::fs::read_dir(&at).unwrap() {
+            let e = e.unwrap();
+            let kind = e.file_type().unwrap();
+            if kind.is_dir() {
+                todo.push(e.path());
+            }
+            let content = kind.is_file().then(|| std::fs::read(e.path()).unwrap());
+            out.push((e.path(), content));
+        }
+    }
+    out.sort();
+    out
+}
+
+/// Every `--out` problem is found before the run: exit 2, a message naming the path and the
+/// problem, no summary (the run did not happen: a run's summary is always printed), and
+/// nothing changed. Before, only a file named as `--out` was found up front; a path below a
+/// file, a dangling or looping link, an unwritable folder and a path longer than PATH_MAX
+/// failed after the whole run with the system's bare message, and a folder named
+/// `summary.json` left a mixed set.
+#[test]
+fn out_problems_are_found_before_the_run_and_change_nothing() {
+    use std::os::unix::fs::symlink;
+    let file = scenario("shapes/mixed.toml");
+    let d = scratch("out-problems");
+    std::fs::write(d.join("a-file"), "keep").unwrap();
+    symlink(d.join("nowhere"), d.join("dangling")).unwrap();
+    symlink(d.join("loop"), d.join("loop")).unwrap();
+    // A complete previous set, and a folder where its summary.json should go.
+    let taken = d.join("taken");
+    let (code, _, err) = harmonav(&["run", &file, "--out", taken.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    std::fs::remove_file(taken.join("summary.json")).unwrap();
+    std::fs::create_dir(taken.join("summary.json")).unwrap();
+    // Root writes into a read-only folder; /sys refuses new entries to everyone.
+    let unwritable = {
+        use std::os::unix::fs::PermissionsExt;
+        let ro = d.join("read-only");
+        std::fs::create_dir(&ro).unwrap();
+        std::fs::set_permissions(&ro, std::fs::Permissions::from_mode(0o555)).unwrap();
+        if std::fs::create_dir(ro.join("x")).is_ok() {
+            std::fs::remove_dir(ro.join("x")).unwrap();
+            PathBuf::from("/sys")
+        } else {
+            ro
+        }
+    };
+    let long: PathBuf = std::iter::once(d.clone())
+        .chain((0..20).map(|i| PathBuf::from(format!("{i:0>200}"))))
+        .collect();
+    let before = tree(&d);
+    let cases: [(PathBuf, &[&str]); 6] = [
+        (d.join("a-file/out"), &["a-file is a file"]),
+        (
+            d.join("dangling"),
+            &["is a symbolic link to", "does not exist"],
+        ),
+        (d.join("loop/out"), &["is a symbolic link that loops"]),
+        (unwritable.join("out"), &["cannot create anything in"]),
+        (long, &["PATH_MAX"]),
+        (taken.clone(), &["summary.json: is a directory"]),
+    ];
+    for (out, words) in cases {
+        let shown = out.display().to_string();
+        let (code, stdout, err) = harmonav(&["run", &file, "--out", &shown, "--json"]);
+        assert_eq!(code, 2, "{shown}: {err}");
+        assert_eq!(stdout, "", "{shown}: no run, so no summary");
+        for w in words.iter().chain(&["--out", "nothing was run"]) {
+            assert!(err.contains(w), "{shown}: {w:?} not in {err}");
+        }
+    }
+    assert_eq!(tree(&d), before, "a refused --out changes nothing");
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// Writing the outputs can still fail after the run (here the file-size limit of the process
+/// stops run.mcap): the summary is printed all the same, the error follows on stderr with
+/// exit 2, and the previous set is left whole. Before, the summary was lost.
+#[test]
+fn the_summary_is_printed_when_writing_the_outputs_fails() {
+    let file = scenario("shapes/mixed.toml");
+    let d = scratch("write-fails");
+    let out = d.join("out");
+    let out = out.to_str().unwrap();
+    let (code, _, err) = harmonav(&["run", &file, "--out", out]);
+    assert_eq!(code, 0, "{err}");
+    let before = tree(&d);
+    // SIGXFSZ ignored, so that the write fails with EFBIG instead of killing the process.
+    let limited = |extra: &[&str]| {
+        let o = Command::new("sh")
+            .arg("-c")
+            .arg("trap '' XFSZ; ulimit -f 1; exec \"$0\" \"$@\"")
+            .arg(env!("CARGO_BIN_EXE_harmonav"))
+            .args(["run", &file, "--out", out])
+            .args(extra)
+            .output()
+            .unwrap();
+        (
+            o.status.code(),
+            String::from_utf8_lossy(&o.stdout).into_owned(),
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+        )
+    };
+    let (code, stdout, err) = limited(&[]);
+    assert_eq!(code, Some(2), "{stdout}{err}");
+    assert!(
+        stdout.starts_with("shapes-mixed (Kinematic model, builtin physics): goal reached"),
+        "{stdout}"
+    );
+    assert!(!stdout.contains("outputs in"), "{stdout}");
+    assert!(
+        err.contains("the outputs were not written") && err.contains("run.mcap"),
+        "{err}"
+    );
+    let (code, stdout, err) = limited(&["--json"]);
+    assert_eq!(code, Some(2), "{err}");
+    let summary: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(summary["reached"], true);
+    assert_eq!(
+        tree(&d),
+        before,
+        "the previous set is whole, no staging folder"
+    );
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// Names reach the terminal escaped: a scenario name and an obstacle name holding ESC
+/// sequences (retitle, clear, colour) and a BEL, and a file name with one, print as `\u{1b}`
+/// text in the text output and on stderr; the JSON output keeps the names exact (serde
+/// escapes them). Before, they were written raw.
+#[test]
+fn control_characters_in_names_are_escaped_in_text_and_kept_in_json() {
+    let d = scratch("escape");
+    let src = std::fs::read_to_string(scenario("shapes/mixed.toml")).unwrap();
+    let name = "evil\u{1b}]0;pwned\u{7}\u{1b}[2J";
+    let src = src.replacen(
+        "name = \"shapes-mixed\"",
+        "name = \"evil\\u001b]0;pwned\\u0007\\u001b[2J\"",
+        1,
+    );
+    assert!(src.contains("u001b"), "the scenario's name line moved");
+    let src = src.replacen("name = \"disc\"", "name = \"disc\\u001b[31m\"", 1);
+    let path = d.join("evil.toml");
+    std::fs::write(&path, src).unwrap();
+    let raw = |s: &str| s.contains('\u{1b}') || s.contains('\u{7}');
+    let (code, out, err) = harmonav(&["run", path.to_str().unwrap(), "--controller", "kinematic"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(!raw(&out), "{out:?}");
+    assert!(
+        out.starts_with("evil\\u{1b}]0;pwned\\u{7}\\u{1b}[2J ("),
+        "{out}"
+    );
+    let (_, out, _) = harmonav(&["eval", path.to_str().unwrap(), "--at", "-2,1.2"]);
+    assert!(!raw(&out) && out.contains("disc\\u{1b}[31m"), "{out:?}");
+    let (code, out, _) = harmonav(&["run", path.to_str().unwrap(), "--json"]);
+    assert_eq!(code, 0);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["name"], name);
+    let (code, _, err) = harmonav(&["check", d.join("no\u{1b}[2Jsuch.toml").to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(
+        !raw(&err) && err.contains("no\\u{1b}[2Jsuch.toml"),
+        "{err:?}"
+    );
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// `--starts 0` is refused by the check the Python `sweep` shares; the report counts invalid
+/// starts.
+#[test]
+fn a_sweep_of_no_starts_is_refused_and_invalid_starts_are_counted() {
+    let file = scenario("shapes/mixed.toml");
+    let (code, _, err) = harmonav(&["sweep", &file, "--starts", "0"]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("--starts") && err.contains("at least 1"),
+        "{err}"
+    );
+    let (code, out, err) = harmonav(&["sweep", &file, "--starts", "2", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["invalid_starts"], 0);
+}

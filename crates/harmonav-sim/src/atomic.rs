@@ -1,10 +1,13 @@
 //! Output files that appear whole or not at all: written under a temporary name unique to this
 //! process and call, then renamed into place (a rename within one directory is atomic), and
 //! output *sets* ([`StagedDir`]): written into a fresh folder inside the output folder, then
-//! moved into place together.
+//! moved into place together. [`check_output_dir`] finds every problem of an output folder
+//! before anything is computed for it (an empty path, a path below a file, a dangling or
+//! looping symbolic link, a folder that cannot be written, a path longer than `PATH_MAX`, an
+//! output name taken by a folder); [`OutputError`] says which.
 
 use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::{BufWriter, ErrorKind, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Mutex, MutexGuard};
@@ -78,13 +81,14 @@ pub struct StagedDir {
 }
 
 impl StagedDir {
-    /// A fresh staging folder inside `out` (which must exist).
-    pub fn new(out: &Path) -> std::io::Result<Self> {
+    /// A fresh staging folder inside `out` (which must exist). Errors: [`OutputError::Io`]
+    /// naming the staging folder.
+    pub fn new(out: &Path) -> Result<Self, OutputError> {
         static NEXT: AtomicU64 = AtomicU64::new(0);
         let n = NEXT.fetch_add(1, Ordering::Relaxed);
         let stage = out.join(format!(".{}.{n}.staging", std::process::id()));
         let mut list = staged();
-        std::fs::create_dir(&stage)?;
+        std::fs::create_dir(&stage).map_err(|e| io_error(&stage, e))?;
         list.push(stage.clone());
         Ok(Self {
             stage,
@@ -101,14 +105,25 @@ impl StagedDir {
     /// staging folder into the output folder, removes the `stale` names there that are not in
     /// the set, and removes the staging folder. Renames within one file system; each is atomic,
     /// and [`abandon_staged`] cannot interrupt the sequence.
-    pub fn commit(self, names: &[&str], stale: &[&str]) -> std::io::Result<()> {
+    ///
+    /// Before anything is moved, every name of `names` and `stale` in the output folder is
+    /// checked not to be a folder (a rename or removal there would fail half-way through the
+    /// set): [`OutputError::OutputIsDirectory`], and the previous set is untouched. Other
+    /// errors ([`OutputError::Io`]) come from the file system while moving (a failing rename,
+    /// an I/O fault) and can leave a mix.
+    pub fn commit(self, names: &[&str], stale: &[&str]) -> Result<(), OutputError> {
         let mut list = staged();
+        for name in names.iter().chain(stale) {
+            check_not_a_directory(&self.out.join(name))?;
+        }
         for name in names {
-            std::fs::rename(self.stage.join(name), self.out.join(name))?;
+            let to = self.out.join(name);
+            std::fs::rename(self.stage.join(name), &to).map_err(|e| io_error(&to, e))?;
         }
         for name in stale.iter().filter(|s| !names.contains(s)) {
-            match std::fs::remove_file(self.out.join(name)) {
-                Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(e),
+            let path = self.out.join(name);
+            match std::fs::remove_file(&path) {
+                Err(e) if e.kind() != ErrorKind::NotFound => return Err(io_error(&path, e)),
                 _ => {}
             }
         }
@@ -150,6 +165,346 @@ pub fn write_atomically(path: &Path, contents: &[u8]) -> std::io::Result<()> {
     let (guard, mut writer) = AtomicFile::create(path)?;
     writer.write_all(contents)?;
     guard.commit(writer)
+}
+
+/// Why an output folder cannot take a set of outputs, or why writing the set failed. Each
+/// variant names the path it is about.
+#[derive(Debug)]
+pub enum OutputError {
+    /// The path is empty. It would mean the current folder, where a set replaces files and
+    /// removes stale ones (`speed.svg`, `energy.svg`): give `.` to mean that folder.
+    EmptyPath,
+    /// The path is longer than the system allows once the set's files are written inside it:
+    /// `bytes` long, at most `max` (`PATH_MAX` less [`RESERVED_BYTES`]).
+    PathTooLong {
+        /// The path.
+        path: PathBuf,
+        /// Its length, bytes.
+        bytes: usize,
+        /// The longest path that can take the set, bytes.
+        max: usize,
+    },
+    /// A component of the path is longer than `NAME_MAX` ([`NAME_MAX`] bytes).
+    NameTooLong {
+        /// The path.
+        path: PathBuf,
+        /// The component's length, bytes.
+        bytes: usize,
+    },
+    /// The path exists and is not a folder.
+    NotADirectory {
+        /// The path.
+        path: PathBuf,
+    },
+    /// A parent of the path, `file`, is a file: no folder can be created below it.
+    BelowFile {
+        /// The path.
+        path: PathBuf,
+        /// The parent that is a file.
+        file: PathBuf,
+    },
+    /// `link` (the path or one of its parents) is a symbolic link to `target`, which does not
+    /// exist.
+    DanglingSymlink {
+        /// The path.
+        path: PathBuf,
+        /// The link.
+        link: PathBuf,
+        /// What it points to.
+        target: PathBuf,
+    },
+    /// `link` (the path or one of its parents) is a symbolic link that leads back to itself
+    /// (more than [`MAX_SYMLINK_HOPS`] links in a row).
+    SymlinkLoop {
+        /// The path.
+        path: PathBuf,
+        /// The link.
+        link: PathBuf,
+    },
+    /// Nothing can be created in `dir`: the folder itself or, where it does not exist yet, its
+    /// nearest existing parent (permissions, a read-only file system).
+    Unwritable {
+        /// The path.
+        path: PathBuf,
+        /// The folder.
+        dir: PathBuf,
+        /// What the system said.
+        source: std::io::Error,
+    },
+    /// A file of the set would replace `path`, which is a folder.
+    OutputIsDirectory {
+        /// The path.
+        path: PathBuf,
+    },
+    /// The file `file` of the set could not be produced (a figure, the recording).
+    Content {
+        /// The file's name.
+        file: &'static str,
+        /// Why.
+        problem: String,
+    },
+    /// An I/O error at `path`.
+    Io {
+        /// The path.
+        path: PathBuf,
+        /// What the system said.
+        source: std::io::Error,
+    },
+}
+
+impl std::fmt::Display for OutputError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::EmptyPath => write!(
+                f,
+                "the output folder's path is empty; give a folder (`.` for the current one)"
+            ),
+            Self::PathTooLong { path, bytes, max } => write!(
+                f,
+                "{}: the path is {bytes} bytes long; the outputs written inside it need it to be \
+                 at most {max} (PATH_MAX)",
+                shortened(path)
+            ),
+            Self::NameTooLong { path, bytes } => write!(
+                f,
+                "{}: a component of the path is {bytes} bytes long, more than NAME_MAX \
+                 ({NAME_MAX})",
+                shortened(path)
+            ),
+            Self::NotADirectory { path } => {
+                write!(f, "{}: exists and is not a directory", path.display())
+            }
+            Self::BelowFile { path, file } => write!(
+                f,
+                "{}: cannot create a folder there: {} is a file, not a directory",
+                path.display(),
+                file.display()
+            ),
+            Self::DanglingSymlink { path, link, target } => write!(
+                f,
+                "{}: {} is a symbolic link to {}, which does not exist",
+                path.display(),
+                link.display(),
+                target.display()
+            ),
+            Self::SymlinkLoop { path, link } => write!(
+                f,
+                "{}: {} is a symbolic link that loops (more than {MAX_SYMLINK_HOPS} links in a \
+                 row)",
+                path.display(),
+                link.display()
+            ),
+            Self::Unwritable { path, dir, source } => write!(
+                f,
+                "{}: cannot create anything in {}: {source}",
+                path.display(),
+                dir.display()
+            ),
+            Self::OutputIsDirectory { path } => write!(
+                f,
+                "{}: is a directory, where an output file would go; remove or rename it",
+                path.display()
+            ),
+            Self::Content { file, problem } => write!(f, "cannot produce {file}: {problem}"),
+            Self::Io { path, source } => write!(f, "{}: {source}", path.display()),
+        }
+    }
+}
+
+impl std::error::Error for OutputError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Self::Unwritable { source, .. } | Self::Io { source, .. } => Some(source),
+            _ => None,
+        }
+    }
+}
+
+fn io_error(path: &Path, source: std::io::Error) -> OutputError {
+    OutputError::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+/// A path as shown in an error: at most 80 characters of it (a path that is too long is
+/// thousands of bytes).
+fn shortened(path: &Path) -> String {
+    let text = path.display().to_string();
+    match text.char_indices().nth(80) {
+        Some((cut, _)) => format!("{}…", &text[..cut]),
+        None => text,
+    }
+}
+
+/// The longest path the system takes, bytes (without the terminating NUL).
+#[cfg(target_os = "linux")]
+pub const PATH_MAX: usize = 4095;
+/// The longest path the system takes, bytes (without the terminating NUL).
+#[cfg(not(target_os = "linux"))]
+pub const PATH_MAX: usize = 1023;
+
+/// The longest component of a path, bytes.
+pub const NAME_MAX: usize = 255;
+
+/// What a set adds below its folder, bytes: `/.<pid>.<n>.staging/.<name>.<pid>.<n>.tmp` with
+/// the longest pid (10 digits), counters (20 digits) and file name (`trajectory.svg`) is 93.
+pub const RESERVED_BYTES: usize = 96;
+
+/// Symbolic links followed in a row before a path counts as a loop (Linux's `MAXSYMLINKS`).
+pub const MAX_SYMLINK_HOPS: usize = 40;
+
+/// Checks, before anything is computed for it, that `dir` can take a set of outputs named
+/// `names`, and changes nothing: the path is not empty, not too long ([`PATH_MAX`],
+/// [`NAME_MAX`]), it is a folder or can be created (no parent is a file, no symbolic link on
+/// the way dangles or loops), something can be created in it (or in its nearest existing
+/// parent: a probe folder is created and removed), and none of `names` in it is a folder.
+/// A `dir` that does not exist yet is not created.
+pub fn check_output_dir(dir: &Path, names: &[&str]) -> Result<(), OutputError> {
+    let bytes = dir.as_os_str().len();
+    if bytes == 0 {
+        return Err(OutputError::EmptyPath);
+    }
+    if let Some(long) = dir
+        .components()
+        .map(|c| c.as_os_str().len())
+        .find(|&n| n > NAME_MAX)
+    {
+        return Err(OutputError::NameTooLong {
+            path: dir.to_path_buf(),
+            bytes: long,
+        });
+    }
+    let max = PATH_MAX - RESERVED_BYTES;
+    if bytes > max {
+        return Err(OutputError::PathTooLong {
+            path: dir.to_path_buf(),
+            bytes,
+            max,
+        });
+    }
+    let existing = existing_folder(dir)?;
+    probe(dir, &existing)?;
+    if existing.as_path() == dir {
+        for name in names {
+            check_not_a_directory(&dir.join(name))?;
+        }
+    }
+    Ok(())
+}
+
+/// The nearest of `dir` and its parents that exists (`dir` itself if it does), which must be
+/// a folder (through symbolic links).
+fn existing_folder(dir: &Path) -> Result<PathBuf, OutputError> {
+    // The first error below the folder found that was not "does not exist" or "not a
+    // directory" (e.g. no permission to look): reported if nothing above explains it.
+    let mut unexplained: Option<OutputError> = None;
+    for a in dir.ancestors() {
+        // The relative path's last ancestor is "": the current folder.
+        let a = if a.as_os_str().is_empty() {
+            Path::new(".")
+        } else {
+            a
+        };
+        let meta = match std::fs::symlink_metadata(a) {
+            Ok(m) => m,
+            Err(e) if matches!(e.kind(), ErrorKind::NotFound | ErrorKind::NotADirectory) => {
+                continue;
+            }
+            Err(e) => {
+                unexplained.get_or_insert(io_error(a, e));
+                continue;
+            }
+        };
+        let meta = if meta.file_type().is_symlink() {
+            follow(dir, a)?
+        } else {
+            meta
+        };
+        if !meta.is_dir() {
+            return Err(if a == dir {
+                OutputError::NotADirectory {
+                    path: dir.to_path_buf(),
+                }
+            } else {
+                OutputError::BelowFile {
+                    path: dir.to_path_buf(),
+                    file: a.to_path_buf(),
+                }
+            });
+        }
+        return match unexplained {
+            Some(e) => Err(e),
+            None => Ok(a.to_path_buf()),
+        };
+    }
+    // Only for a path whose root does not exist.
+    Err(unexplained.unwrap_or_else(|| {
+        io_error(
+            dir,
+            std::io::Error::new(ErrorKind::NotFound, "no parent folder exists"),
+        )
+    }))
+}
+
+/// What the symbolic link `link` (on the way to `dir`) leads to: dangling, looping or
+/// unreadable links are errors.
+fn follow(dir: &Path, link: &Path) -> Result<std::fs::Metadata, OutputError> {
+    match std::fs::metadata(link) {
+        Ok(m) => Ok(m),
+        Err(e) if e.kind() == ErrorKind::NotFound => Err(OutputError::DanglingSymlink {
+            path: dir.to_path_buf(),
+            link: link.to_path_buf(),
+            target: std::fs::read_link(link).unwrap_or_default(),
+        }),
+        Err(e) => {
+            // Follow the chain by hand: a loop is a chain that never ends.
+            let mut at = link.to_path_buf();
+            for _ in 0..=MAX_SYMLINK_HOPS {
+                match std::fs::read_link(&at) {
+                    Ok(next) => at = at.parent().unwrap_or(Path::new("")).join(next),
+                    Err(_) => return Err(io_error(link, e)),
+                }
+            }
+            Err(OutputError::SymlinkLoop {
+                path: dir.to_path_buf(),
+                link: link.to_path_buf(),
+            })
+        }
+    }
+}
+
+/// Creates and removes a probe folder in `dir` (the output folder `path` or its nearest
+/// existing parent): whether anything can be created there.
+fn probe(path: &Path, dir: &Path) -> Result<(), OutputError> {
+    static NEXT: AtomicU64 = AtomicU64::new(0);
+    let n = NEXT.fetch_add(1, Ordering::Relaxed);
+    let probe = dir.join(format!(".{}.{n}.probe", std::process::id()));
+    // Under the staging lock, so that an interrupt handler ([`abandon_staged`]) waits for the
+    // probe to be gone.
+    let _no_interrupt = staged();
+    match std::fs::create_dir(&probe) {
+        Ok(()) => {
+            let _ = std::fs::remove_dir(&probe);
+            Ok(())
+        }
+        Err(source) => Err(OutputError::Unwritable {
+            path: path.to_path_buf(),
+            dir: dir.to_path_buf(),
+            source,
+        }),
+    }
+}
+
+/// `path` is not a folder (it may be missing, a file, or a symbolic link, which a rename
+/// replaces).
+fn check_not_a_directory(path: &Path) -> Result<(), OutputError> {
+    match std::fs::symlink_metadata(path) {
+        Ok(m) if m.is_dir() => Err(OutputError::OutputIsDirectory {
+            path: path.to_path_buf(),
+        }),
+        _ => Ok(()),
+    }
 }
 
 #[cfg(test)]
@@ -240,6 +595,159 @@ mod tests {
         assert_eq!(names(&d), ["a.txt"]);
         assert!(stage.commit(&["a.txt"], &[]).is_err());
         assert_eq!(std::fs::read_to_string(d.join("a.txt")).unwrap(), "old");
+        std::fs::remove_dir_all(d).unwrap();
+    }
+
+    /// A folder where nothing can be created: a read-only one, or for root (who may write
+    /// anywhere) `/sys`, which refuses new entries.
+    fn unwritable(d: &Path) -> Option<PathBuf> {
+        use std::os::unix::fs::PermissionsExt;
+        let ro = d.join("read-only");
+        std::fs::create_dir_all(&ro).unwrap();
+        std::fs::set_permissions(&ro, std::fs::Permissions::from_mode(0o555)).unwrap();
+        if std::fs::create_dir(ro.join("x")).is_err() {
+            return Some(ro);
+        }
+        let _ = std::fs::remove_dir(ro.join("x"));
+        let sys = Path::new("/sys");
+        (sys.is_dir() && std::fs::create_dir(sys.join(".harmonav-probe")).is_err())
+            .then(|| sys.to_path_buf())
+    }
+
+    /// Every problem of an output folder, found before anything is written and without a
+    /// change: each case's path, and what the check must say. Before, only "exists and is not
+    /// a directory" was found before the run; the others failed after it, or (an empty path)
+    /// wrote into the current folder.
+    #[test]
+    fn every_problem_of_an_output_folder_is_found_up_front_and_named() {
+        use std::os::unix::fs::symlink;
+        let d = dir("check");
+        let file = d.join("a-file");
+        std::fs::write(&file, "keep").unwrap();
+        symlink(d.join("nowhere"), d.join("dangling")).unwrap();
+        symlink(d.join("loop-b"), d.join("loop-a")).unwrap();
+        symlink(d.join("loop-a"), d.join("loop-b")).unwrap();
+        symlink(d.join("loop-self"), d.join("loop-self")).unwrap();
+        std::fs::create_dir_all(d.join("taken/summary.json")).unwrap();
+        std::fs::create_dir_all(d.join("linked-target")).unwrap();
+        symlink(d.join("linked-target"), d.join("linked")).unwrap();
+        let names = ["summary.json", "run.mcap"];
+        let unwritable = unwritable(&d);
+        let before = names_deep(&d);
+        let check = |path: PathBuf, expected: &dyn Fn(&OutputError) -> bool, words: &str| {
+            let e = check_output_dir(&path, &names).expect_err(&path.display().to_string());
+            assert!(expected(&e), "{}: {e:?}", path.display());
+            let message = e.to_string();
+            assert!(message.contains(words), "{}: {message}", path.display());
+        };
+        check(
+            PathBuf::new(),
+            &|e| matches!(e, OutputError::EmptyPath),
+            "empty",
+        );
+        check(
+            file.clone(),
+            &|e| matches!(e, OutputError::NotADirectory { .. }),
+            "not a directory",
+        );
+        check(
+            file.join("sub/deeper"),
+            &|e| matches!(e, OutputError::BelowFile { file: f, .. } if *f == file),
+            "a-file is a file",
+        );
+        check(
+            d.join("dangling"),
+            &|e| matches!(e, OutputError::DanglingSymlink { target, .. } if target.ends_with("nowhere")),
+            "does not exist",
+        );
+        check(
+            d.join("dangling/sub"),
+            &|e| matches!(e, OutputError::DanglingSymlink { link, .. } if link.ends_with("dangling")),
+            "dangling is a symbolic link to",
+        );
+        for name in ["loop-a", "loop-self"] {
+            check(
+                d.join(name).join("sub"),
+                &|e| matches!(e, OutputError::SymlinkLoop { link, .. } if link.ends_with(name)),
+                "loops",
+            );
+        }
+        check(
+            d.join("taken"),
+            &|e| matches!(e, OutputError::OutputIsDirectory { path } if path.ends_with("taken/summary.json")),
+            "summary.json: is a directory",
+        );
+        let long: PathBuf = std::iter::once(d.clone())
+            .chain((0..20).map(|i| PathBuf::from(format!("{i:0>200}"))))
+            .collect();
+        check(
+            long,
+            &|e| matches!(e, OutputError::PathTooLong { bytes, max, .. } if *bytes > *max),
+            "PATH_MAX",
+        );
+        check(
+            d.join("x".repeat(NAME_MAX + 1)),
+            &|e| matches!(e, OutputError::NameTooLong { bytes, .. } if *bytes == NAME_MAX + 1),
+            "NAME_MAX",
+        );
+        match unwritable {
+            Some(ro) => check(
+                ro.join("new/out"),
+                &|e| matches!(e, OutputError::Unwritable { dir, .. } if *dir == ro),
+                "cannot create anything in",
+            ),
+            None => eprintln!("no unwritable folder on this machine: that case is not checked"),
+        }
+        // What may take a set: an existing folder, one to create, a link to a folder.
+        for ok in [d.clone(), d.join("new/deeper"), d.join("linked")] {
+            check_output_dir(&ok, &names).unwrap_or_else(|e| panic!("{}: {e}", ok.display()));
+        }
+        assert_eq!(names_deep(&d), before, "a check changes nothing");
+        assert_eq!(std::fs::read_to_string(&file).unwrap(), "keep");
+        {
+            use std::os::unix::fs::PermissionsExt;
+            let ro = d.join("read-only");
+            let _ = std::fs::set_permissions(&ro, std::fs::Permissions::from_mode(0o755));
+        }
+        std::fs::remove_dir_all(d).unwrap();
+    }
+
+    /// Every entry below `d`, sorted (links not followed).
+    fn names_deep(d: &Path) -> Vec<PathBuf> {
+        let mut out = Vec::new();
+        let mut todo = vec![d.to_path_buf()];
+        while let Some(at) = todo.pop() {
+            for e in std::fs::read_dir(&at).unwrap() {
+                let e = e.unwrap();
+                if e.file_type().unwrap().is_dir() {
+                    todo.push(e.path());
+                }
+                out.push(e.path());
+            }
+        }
+        out.sort();
+        out
+    }
+
+    /// A folder where a file of the set would go is found before anything is moved: the
+    /// previous set stays whole (before, the files ahead of it had already been moved: a
+    /// mixed set).
+    #[test]
+    fn a_commit_onto_a_folder_moves_nothing() {
+        let _turn = SERIAL.lock().unwrap_or_else(|p| p.into_inner());
+        let d = dir("onto-folder");
+        std::fs::write(d.join("a.txt"), "old a").unwrap();
+        let stage = StagedDir::new(&d).unwrap();
+        std::fs::write(stage.path().join("a.txt"), "new a").unwrap();
+        std::fs::write(stage.path().join("z.txt"), "new z").unwrap();
+        std::fs::create_dir(d.join("z.txt")).unwrap();
+        let e = stage.commit(&["a.txt", "z.txt"], &[]).unwrap_err();
+        assert!(
+            matches!(&e, OutputError::OutputIsDirectory { path } if path.ends_with("z.txt")),
+            "{e:?}"
+        );
+        assert_eq!(std::fs::read_to_string(d.join("a.txt")).unwrap(), "old a");
+        assert_eq!(names(&d), ["a.txt", "z.txt"], "no staging folder is left");
         std::fs::remove_dir_all(d).unwrap();
     }
 }

@@ -2,8 +2,9 @@
 //!
 //! Scenario files ([`scenario`]), the built-in integrator with discovery events and the
 //! guarantee monitors ([`run`]), the MCAP recording ([`record`]) and the SVG figures
-//! ([`figures`]), and many starts with typed outcomes ([`sweep`]). Only this crate and the CLI
-//! know about files.
+//! ([`figures`]), output folders checked before a run and written as one set ([`atomic`]),
+//! and many starts with typed outcomes ([`sweep`]). Only this crate and the CLI know about
+//! files.
 //!
 //! ```
 //! use std::path::Path;

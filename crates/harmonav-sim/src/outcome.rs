@@ -1,5 +1,6 @@
 //! How a run ended ([`Outcome`]), from its typed guarantees: reached, collision, left the
-//! workspace, stalled at a saddle, timed out, step-size collapse. The sweep counts these.
+//! workspace, stalled at a saddle, timed out, step-size collapse; and, for a sweep's start
+//! outside the free space, an invalid start ([`StartProblem`]). The sweep counts these.
 
 use harmonav_field::Field;
 use nalgebra::Vector2;
@@ -46,6 +47,54 @@ pub enum Outcome {
         /// When, s.
         time: f64,
     },
+    /// A sweep's start `starts[index]` is not in the free space, so it was not run (sweeps
+    /// only: a scenario's own start is checked when the file is loaded).
+    InvalidStart {
+        /// Its index in the sweep's starts.
+        index: usize,
+        /// What is wrong with it.
+        problem: StartProblem,
+    },
+}
+
+/// Why a sweep's start is not in the free space (the configuration space of the scenario: its
+/// shapes grown by `robot.radius + robot.margin`).
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum StartProblem {
+    /// Inside the true shape of obstacle `obstacle`.
+    InObstacle {
+        /// The obstacle's name.
+        obstacle: String,
+    },
+    /// Outside obstacle `obstacle`'s true shape, but closer to it than `robot.radius +
+    /// robot.margin`.
+    NearObstacle {
+        /// The obstacle's name.
+        obstacle: String,
+    },
+    /// On or outside the true workspace boundary (or not finite).
+    OutsideWorkspace,
+    /// Inside the true workspace boundary, but closer to it than `robot.radius +
+    /// robot.margin`.
+    NearBoundary,
+}
+
+impl std::fmt::Display for StartProblem {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::InObstacle { obstacle } => write!(f, "lies inside obstacle {obstacle}"),
+            Self::NearObstacle { obstacle } => write!(
+                f,
+                "lies closer to obstacle {obstacle} than robot.radius + robot.margin"
+            ),
+            Self::OutsideWorkspace => write!(f, "lies on or outside the workspace boundary"),
+            Self::NearBoundary => write!(
+                f,
+                "lies closer to the workspace boundary than robot.radius + robot.margin"
+            ),
+        }
+    }
 }
 
 impl Outcome {
@@ -105,7 +154,7 @@ impl Outcome {
     }
 
     /// The name of the outcome, as in the JSON's `"kind"`: `reached`, `collision`,
-    /// `left-workspace`, `stalled`, `timed-out` or `step-collapsed`.
+    /// `left-workspace`, `stalled`, `timed-out`, `step-collapsed` or `invalid-start`.
     pub fn kind(&self) -> &'static str {
         match self {
             Self::Reached { .. } => "reached",
@@ -114,6 +163,7 @@ impl Outcome {
             Self::Stalled { .. } => "stalled",
             Self::TimedOut { .. } => "timed-out",
             Self::StepCollapsed { .. } => "step-collapsed",
+            Self::InvalidStart { .. } => "invalid-start",
         }
     }
 
@@ -124,7 +174,7 @@ impl Outcome {
             | Self::Stalled { time, .. }
             | Self::TimedOut { time }
             | Self::StepCollapsed { time } => Some(*time),
-            Self::Collision | Self::LeftWorkspace => None,
+            Self::Collision | Self::LeftWorkspace | Self::InvalidStart { .. } => None,
         }
     }
 }
@@ -146,6 +196,9 @@ impl std::fmt::Display for Outcome {
             ),
             Self::TimedOut { time } => write!(f, "not reached within {time:.2} s"),
             Self::StepCollapsed { time } => write!(f, "step size collapsed at t = {time:.2} s"),
+            Self::InvalidStart { index, problem } => {
+                write!(f, "not run: starts[{index}] {problem}")
+            }
         }
     }
 }

@@ -28,7 +28,7 @@ use harmonav_field::{Field, FieldError};
 use harmonav_sensing::Sensing;
 use nalgebra::Vector2;
 
-use crate::atomic::AtomicFile;
+use crate::atomic::{AtomicFile, OutputError};
 use crate::figures::closed_outline;
 use crate::levels::ThetaGrid;
 use crate::run::{Run, Sample};
@@ -472,48 +472,75 @@ fn state(s: &Sample, k_policy: &str, damping: &str) -> HarmonavState {
 /// folder never mixes the files of two runs.
 const FIGURES: [&str; 3] = ["trajectory.svg", "speed.svg", "energy.svg"];
 
-/// Checks that `dir` can take the outputs (it is a directory or does not exist yet), before a
-/// run that would otherwise fail only at its end.
-pub fn check_output_dir(dir: &Path) -> Result<(), String> {
-    if dir.exists() && !dir.is_dir() {
-        return Err(format!("{}: exists and is not a directory", dir.display()));
-    }
-    Ok(())
+/// Every file a set of outputs may write or remove.
+pub const OUTPUT_FILES: [&str; 5] = [
+    "summary.json",
+    "run.mcap",
+    "trajectory.svg",
+    "speed.svg",
+    "energy.svg",
+];
+
+/// Checks that `dir` can take the outputs, before a run that would otherwise fail only at its
+/// end, and changes nothing: [`crate::atomic::check_output_dir`] for [`OUTPUT_FILES`] (an empty
+/// path, a path below a file, a dangling or looping link, an unwritable folder, a path too
+/// long, an output name taken by a folder are refused).
+pub fn check_output_dir(dir: &Path) -> Result<(), OutputError> {
+    crate::atomic::check_output_dir(dir, &OUTPUT_FILES)
 }
 
 /// Writes `run.mcap`, `trajectory.svg`, (dynamic runs) `speed.svg` and `energy.svg`, and
 /// `summary.json` into `dir` as one set: all into a fresh staging folder inside `dir`
 /// ([`crate::atomic::StagedDir`]), then moved into place, `summary.json` last, and the figures
-/// this run does not draw removed. On an error while writing, nothing of the new set is left
-/// and the previous set is untouched (a failing rename while moving the set, an I/O fault, can
-/// leave a mix). Returns the paths, `summary.json` first.
+/// this run does not draw removed (a kinematic run removes a stale `speed.svg` and
+/// `energy.svg`). `dir` is checked again first ([`check_output_dir`]: it may have changed
+/// during the run), and the set's names once more before anything is moved. On an error
+/// while writing, nothing of the new set is left and the previous set is untouched (a failing
+/// rename while moving the set, an I/O fault, can leave a mix). Returns the paths,
+/// `summary.json` first.
 pub fn write_outputs(
     dir: &Path,
     prepared: &Prepared,
     run: &Run,
-) -> Result<Vec<std::path::PathBuf>, String> {
+) -> Result<Vec<std::path::PathBuf>, OutputError> {
     check_output_dir(dir)?;
-    let io = |e: std::io::Error| format!("{}: {e}", dir.display());
-    std::fs::create_dir_all(dir).map_err(io)?;
+    let io = |path: &Path, source: std::io::Error| OutputError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let content =
+        |file: &'static str| move |problem: String| OutputError::Content { file, problem };
+    std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
     let mut figures = vec![(
         "trajectory.svg",
-        crate::figures::trajectory_svg(prepared, run)?,
+        crate::figures::trajectory_svg(prepared, run).map_err(content("trajectory.svg"))?,
     )];
     if run.summary.speed_bound.is_some() {
-        figures.push(("speed.svg", crate::figures::speed_svg(run)?));
-        figures.push(("energy.svg", crate::figures::energy_svg(run)?));
+        figures.push((
+            "speed.svg",
+            crate::figures::speed_svg(run).map_err(content("speed.svg"))?,
+        ));
+        figures.push((
+            "energy.svg",
+            crate::figures::energy_svg(run).map_err(content("energy.svg"))?,
+        ));
     }
-    let summary = serde_json::to_string_pretty(&run.summary).map_err(|e| e.to_string())? + "\n";
-    let stage = crate::atomic::StagedDir::new(dir).map_err(io)?;
-    write_mcap(&stage.path().join("run.mcap"), prepared, run).map_err(|e| e.to_string())?;
+    let summary = serde_json::to_string_pretty(&run.summary)
+        .map_err(|e| content("summary.json")(e.to_string()))?
+        + "\n";
+    let stage = crate::atomic::StagedDir::new(dir)?;
+    write_mcap(&stage.path().join("run.mcap"), prepared, run)
+        .map_err(|e| content("run.mcap")(e.to_string()))?;
     let mut names = vec!["run.mcap"];
     for (name, svg) in &figures {
-        std::fs::write(stage.path().join(name), svg.as_bytes()).map_err(io)?;
+        let path = stage.path().join(name);
+        std::fs::write(&path, svg.as_bytes()).map_err(|e| io(&path, e))?;
         names.push(name);
     }
-    std::fs::write(stage.path().join("summary.json"), summary).map_err(io)?;
+    let path = stage.path().join("summary.json");
+    std::fs::write(&path, summary).map_err(|e| io(&path, e))?;
     names.push("summary.json");
-    stage.commit(&names, &FIGURES).map_err(io)?;
+    stage.commit(&names, &FIGURES)?;
     names.rotate_right(1);
     Ok(names.iter().map(|n| dir.join(n)).collect())
 }

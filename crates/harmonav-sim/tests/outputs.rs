@@ -227,7 +227,7 @@ fn outputs_are_written_and_figures_show_the_run() {
     // A file where the folder should be is refused before anything is written.
     let file_path = dir.join("summary.json");
     let e = write_outputs(&file_path, &prepared, &r).unwrap_err();
-    assert!(e.contains("not a directory"), "{e}");
+    assert!(e.to_string().contains("not a directory"), "{e}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -229,7 +229,7 @@ fn scenario(file: &Path, name: &str, physics: &str, out: &Path) -> Outcome {
     } else {
         (builtin, String::new())
     };
-    write_outputs(out, &prepared, &r)?;
+    write_outputs(out, &prepared, &r).map_err(|e| e.to_string())?;
     let s = &r.summary;
     let detail = format!(
         "{:?}: reached {} in {:.1} s, clearance {:.3} m, max speed {:.2} m/s, {} discoveries{extra}",

@@ -1,0 +1,92 @@
+//! The options several commands share, and loading the scenario they name.
+
+use std::path::Path;
+
+use clap::ValueEnum;
+use harmonav_control::DampingPolicy;
+use harmonav_field::KPolicy;
+use harmonav_sim::scenario::{Model, Prepared, Scenario};
+
+use crate::error::CliError;
+
+/// `--controller`: overrides the scenario's robot model.
+#[derive(Clone, Copy, ValueEnum)]
+pub enum Controller {
+    /// `ẋ = u` under the kinematic law.
+    Kinematic,
+    /// `m ẍ = f` under the dynamic law.
+    Dynamic,
+}
+
+/// `--k`: overrides the scenario's `[field] k`.
+#[derive(Clone, Copy, ValueEnum)]
+pub enum KArg {
+    /// `k = n + 1`, exactly the paper.
+    Paper,
+    /// The default: `k` from the known world (docs/maths.md §8).
+    Auto,
+}
+
+impl From<KArg> for KPolicy {
+    fn from(k: KArg) -> Self {
+        match k {
+            KArg::Paper => KPolicy::Paper,
+            KArg::Auto => KPolicy::Auto,
+        }
+    }
+}
+
+/// `--damping`: overrides the scenario's `[controller] damping`.
+#[derive(Clone, Copy, ValueEnum)]
+pub enum DampingArg {
+    /// Eq. `dissipationfun` on Θ, exactly the paper.
+    Paper,
+    /// The default: damping critical at the goal, on the shaped potential (docs/maths.md §9).
+    Auto,
+}
+
+impl From<DampingArg> for DampingPolicy {
+    fn from(d: DampingArg) -> Self {
+        match d {
+            DampingArg::Paper => DampingPolicy::Paper,
+            DampingArg::Auto => DampingPolicy::Auto,
+        }
+    }
+}
+
+/// `--physics`: the integrator.
+#[derive(Clone, Copy, ValueEnum, PartialEq)]
+pub enum PhysicsArg {
+    /// The built-in integrator.
+    Builtin,
+    /// The rapier2d cross-check.
+    Rapier,
+}
+
+/// The model `--controller` asks for, if any.
+pub fn model(c: Option<Controller>) -> Option<Model> {
+    c.map(|c| match c {
+        Controller::Kinematic => Model::Kinematic,
+        Controller::Dynamic => Model::Dynamic,
+    })
+}
+
+/// Loads and validates a scenario; `k` and `damping` override its `[field] k` and
+/// `[controller] damping` policies.
+pub fn load(
+    path: &Path,
+    k: Option<KArg>,
+    damping: Option<DampingArg>,
+) -> Result<Prepared, CliError> {
+    if path == Path::new("-") {
+        return Err(CliError::Stdin);
+    }
+    let mut prepared = Scenario::load(path)?;
+    if let Some(k) = k {
+        prepared.scenario.field.k = k.into();
+    }
+    if let Some(d) = damping {
+        prepared.scenario.controller.damping = d.into();
+    }
+    Ok(prepared)
+}

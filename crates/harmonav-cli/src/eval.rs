@@ -1,0 +1,77 @@
+//! `harmonav eval`: the navigation function (all obstacles known) at points.
+
+use harmonav_field::FieldError;
+use harmonav_sim::scenario::Prepared;
+use nalgebra::Vector2;
+use serde_json::{Value, json};
+
+use crate::error::CliError;
+use crate::text::{out, print_json};
+
+/// `X,Y` as a point of two finite numbers.
+fn parse_point(s: &str) -> Result<Vector2<f64>, CliError> {
+    let bad = || CliError::Point { arg: s.to_string() };
+    match s.split(',').collect::<Vec<_>>().as_slice() {
+        [x, y] => match (x.trim().parse::<f64>(), y.trim().parse::<f64>()) {
+            (Ok(x), Ok(y)) if x.is_finite() && y.is_finite() => Ok(Vector2::new(x, y)),
+            _ => Err(bad()),
+        },
+        _ => Err(bad()),
+    }
+}
+
+/// Evaluates `Θ` at each `--at` point; a point outside the free space is a row with an error.
+pub fn cmd_eval(prepared: &Prepared, at: &[String], json: bool) -> Result<bool, CliError> {
+    let points = at
+        .iter()
+        .map(|s| parse_point(s))
+        .collect::<Result<Vec<_>, _>>()?;
+    let field = prepared.global_field()?;
+    let why = |err: FieldError| match err {
+        FieldError::InObstacle { obstacle } => {
+            format!("inside obstacle {}", prepared.truth.names[obstacle])
+        }
+        err => err.to_string(),
+    };
+    let rows: Vec<_> = points
+        .iter()
+        .map(|&x| (x, field.eval(x).map_err(why)))
+        .collect();
+    if json {
+        let rows: Vec<Value> = rows
+            .iter()
+            .map(|(x, r)| match r {
+                Ok(e) => json!({ "x": x.x, "y": x.y, "h": [e.h.x, e.h.y], "phi": e.phi, "value": e.value, "grad": [e.gradient.x, e.gradient.y] }),
+                Err(error) => json!({ "x": x.x, "y": x.y, "error": error }),
+            })
+            .collect();
+        print_json(&rows)?;
+        return Ok(true);
+    }
+    out!(
+        "{:>10} {:>10}  {:>12} {:>12}  {:>12}  {:>12}  grad",
+        "x",
+        "y",
+        "h_x",
+        "h_y",
+        "phi",
+        "Θ"
+    );
+    for (x, r) in &rows {
+        match r {
+            Err(error) => out!("{:>10.4} {:>10.4}  error: {error}", x.x, x.y),
+            Ok(e) => out!(
+                "{:>10.4} {:>10.4}  {:>12.6} {:>12.6}  {:>12.6}  {:>12.8}  ({:.3e}, {:.3e})",
+                x.x,
+                x.y,
+                e.h.x,
+                e.h.y,
+                e.phi,
+                e.value,
+                e.gradient.x,
+                e.gradient.y
+            ),
+        }
+    }
+    Ok(true)
+}
