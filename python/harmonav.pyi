@@ -93,8 +93,11 @@ class Navigator:
     ``law="dynamic"``: ``f = −μ∇Ψ − λẋ`` (eq. ``dynctrllocal``) for a robot of mass ``mass``,
     whose speed stays below ``√(2μ/m)``.
 
-    Invalid parameters raise ``ValueError`` naming them, and so do parameters whose derived
-    quantities (``d_min``, the speed bound, ``m/d_min``, ``K√2``) are not finite.
+    ``control_period`` is how long the loop holds each command; under ``hold="auto"`` every
+    command is safe to hold for it (``hold="paper"``: the continuous law sampled as is).
+
+    Invalid parameters raise ``ValueError`` naming them (the ranges of scenario files), and so
+    do parameters whose derived quantities (``d_min``, the speed bound, ``λ_c``) are not finite.
     ``copy.copy``, ``copy.deepcopy`` and pickle give an independent navigator with the same
     known obstacles and state (the speed at the latest discovery, the last position): it
     commands exactly as the original.
@@ -114,13 +117,24 @@ class Navigator:
         k: str = "auto",
         damping: str = "auto",
         rho_min: float = 0.05,
+        control_period: Optional[float] = None,
+        hold: str = "auto",
     ) -> None: ...
     def add_obstacle(self, shape: Shape) -> int:
         """Adds a newly sensed obstacle; returns its index. ``ValueError`` leaves the navigator unchanged."""
     def command(self, x: _Point, v: Optional[_Point] = None) -> npt.NDArray[np.float64]:
-        """The law's command (a velocity or a force), (2,), always finite: ``ValueError`` (and
-        nothing changed) outside the free space, for non-finite input, or for a command that
-        would not be finite."""
+        """The command to hold for ``control_period`` (a velocity or a force), (2,), always
+        finite and, under ``hold="auto"``, safe to hold (``mode`` says how it was formed):
+        ``ValueError`` (and nothing changed) where the robot's disc overlaps a known obstacle,
+        for non-finite input, or for a command that would not be finite."""
+    @property
+    def mode(self) -> str:
+        """How the last command was formed: ``"law"``, ``"capped"`` or ``"recovering"``."""
+    @property
+    def control_period(self) -> float:
+        """The control period in force, s (default 0.01 kinematic, 0.001 dynamic)."""
+    def clearance(self, x: _Point) -> float:
+        """The certified distance from ``x`` to the nearest known grown obstacle or the shrunk boundary."""
     def theta(self, x: _Point) -> float:
         """``Θ(x)`` over the known obstacles (finite, or ``ValueError``)."""
     @property

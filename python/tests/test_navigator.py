@@ -145,19 +145,73 @@ def test_extreme_options_give_finite_commands_or_value_errors(kwargs):
         assert np.isfinite(nav.theta(x))
 
 
-def test_a_refused_non_finite_command_changes_nothing():
-    """With default options a non-finite command is still reachable: a finite but absurd
-    velocity makes the speed at the next discovery overflow, and the damping after it. The
-    refusal leaves the last position as it was: an obstacle near the refused position, but
-    clear of the last accepted one, is still accepted."""
+def test_a_velocity_whose_norm_overflows_is_refused_and_changes_nothing():
+    """Finite components of 1.5e308 made the speed at the next discovery overflow, and the
+    command after it [-inf, nan] (issue 23): the navigator refuses the state, and the refusal
+    leaves the last position as it was: an obstacle over the refused position, but clear of
+    the last accepted one, is still accepted."""
     nav = harmonav.Navigator(harmonav.circle([0, 0], 4.0), [3.0, 0.0], law="dynamic")
-    try:
-        assert np.all(np.isfinite(nav.command([-2.0, 0.3], [1.5e308, 1.5e308])))
-        nav.add_obstacle(harmonav.circle([0.0, 0.0], 1.0))
-    except ValueError as e:
-        pytest.skip(f"the absurd state is refused before any command now: {e}")
-    with pytest.raises(ValueError, match="not finite"):
-        nav.command([-1.3, 0.3], [4.0, 0.0])
-    # Refused at x = [-1.3, 0.3]; had it become the last position, this would be "robot".
+    nav.command([-2.0, 0.3], [0.5, 0.0])
+    with pytest.raises(ValueError, match="velocity is not finite"):
+        nav.command([-1.3, 0.3], [1.5e308, 1.5e308])
     nav.add_obstacle(harmonav.circle([-1.35, 0.35], 0.3))
-    assert nav.obstacle_count == 2
+    assert nav.obstacle_count == 1
+    assert np.all(np.isfinite(nav.command([-2.0, 0.3], [0.5, 0.0])))
+
+
+@pytest.mark.parametrize("law,hz", [("kinematic", 20), ("kinematic", 100), ("dynamic", 250)])
+def test_every_command_is_safe_to_hold_for_the_control_period(law, hz):
+    """The README's loop at the rate it states with `control_period`: no true shape touched, no
+    grown shape entered (margin 0.05), every command finite, and the goal reached; `mode` tells
+    the shortened commands apart."""
+    boundary = harmonav.circle([0.0, 0.0], 4.0)
+    goal = np.array([3.0, 0.0])
+    h = 1.0 / hz
+    nav = harmonav.Navigator(boundary, goal, law=law, radius=0.1, margin=0.05, control_period=h)
+    assert nav.control_period == h
+    world = [harmonav.circle(c, r) for c, r in TRUTH]
+    seen = [False] * len(world)
+    x, v, t, modes = np.array([-3.2, -0.3]), np.zeros(2), 0.0, set()
+    while np.linalg.norm(x - goal) > 0.01:
+        for i, o in enumerate(world):
+            if not seen[i] and o.signed_distance(x) < 1.0:
+                nav.add_obstacle(o)
+                seen[i] = True
+        cmd = nav.command(x, v)
+        modes.add(nav.mode)
+        assert np.all(np.isfinite(cmd))
+        if law == "kinematic":
+            x = x + h * cmd
+        else:
+            v = v + h * cmd
+            x = x + h * v
+        t += h
+        gap = min(o.signed_distance(x) for o in world) - 0.1
+        assert gap > 0.05 - 1e-9, f"t = {t:.2f}: clearance {gap} below the margin"
+        assert t < 120.0, f"no arrival: x = {x}"
+    assert modes <= {"law", "capped"}, modes
+
+
+def test_a_robot_in_the_margin_band_is_led_back_out():
+    """An obstacle perceived late, whose margin band holds the robot, is accepted, and the
+    commands lead out (`mode == "recovering"`) without touching it."""
+    rock = harmonav.circle([0.0, 0.0], 1.0)
+    nav = harmonav.Navigator(harmonav.circle([0, 0], 5.0), [3.0, 0.0], radius=0.1, margin=0.2)
+    x = np.array([-1.2, 0.05])
+    nav.command(x)
+    nav.add_obstacle(rock)
+    modes = []
+    for _ in range(50):
+        x = x + nav.control_period * nav.command(x)
+        modes.append(nav.mode)
+        assert rock.signed_distance(x) > 0.1
+    assert modes[0] == "recovering" and modes[-1] != "recovering", modes
+    assert nav.clearance(x) > 0.0
+
+
+@pytest.mark.parametrize(
+    "kwargs,word", [(dict(control_period=0.0), "control_period"), (dict(hold="exact"), "hold")]
+)
+def test_bad_hold_options_are_refused(kwargs, word):
+    with pytest.raises(ValueError, match=word):
+        harmonav.Navigator(harmonav.circle([0, 0], 4.0), [3.0, 0.0], **kwargs)
