@@ -783,7 +783,10 @@ pub(crate) fn build_shape(s: &ShapeSpec) -> Result<StarShape, (String, String)> 
         } => {
             let mut h = Vec::with_capacity(harmonics.len());
             for &[n, a, b] in harmonics {
-                if !(n >= 1.0 && n.fract() == 0.0 && n <= 1000.0) {
+                if !(n >= 1.0
+                    && n.fract() == 0.0
+                    && n <= f64::from(harmonav_transform::MAX_HARMONIC))
+                {
                     return Err((
                         "harmonics".into(),
                         format!("harmonic numbers must be whole numbers from 1, got {n}"),

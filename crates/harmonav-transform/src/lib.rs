@@ -6,7 +6,10 @@
 //! outer boundary goes to infinity.
 //!
 //! - [`StarShape`]: circle, ellipse, rounded polygon and Fourier star with their radial
-//!   function `R(θ)`, `R'(θ)`, signed distance (parry2d-f64), `rho_min` and robot-radius offset;
+//!   function `R(θ)`, `R'(θ)`, `rho_min` and robot-radius offset;
+//! - [`outline`]: the certified outline behind every distance query, a polyline with a proven
+//!   chord bound, so that signed distances ([`StarShape::signed_distance_bounds`]), gaps
+//!   between shapes and clearances are exact to [`DISTANCE_TOLERANCE`] (parry2d-f64 queries);
 //! - [`Workspace`]: a validated world with the distances the widths need, cached;
 //! - [`NavTransform`]: `Phi`, `J_Phi` and `Phi⁻¹`, with band widths and the outer stretch gain
 //!   chosen automatically; built from [`radial::obstacle_map`] and [`radial::outer_map`],
@@ -35,8 +38,10 @@
 
 #![warn(missing_docs)]
 
+mod distance;
 mod error;
 pub mod nav;
+pub mod outline;
 pub mod radial;
 pub mod random;
 pub mod shape;
@@ -45,5 +50,6 @@ pub mod workspace;
 
 pub use error::ShapeError;
 pub use nav::{Active, Mapped, NavTransform, NotFree};
-pub use shape::{MAX_LENGTH, StarShape};
+pub use outline::{DISTANCE_TOLERANCE, MAX_OUTLINE_VERTICES};
+pub use shape::{MAX_ANGLE, MAX_HARMONIC, MAX_LENGTH, StarShape};
 pub use workspace::{RobotWorldError, Workspace, WorldError};

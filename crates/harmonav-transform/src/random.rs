@@ -134,7 +134,7 @@ pub fn workspace(rng: &mut Rng, m: usize, kinds: &[Kind], outer: Kind, gap: f64)
             if o.clearance_inside(&b) > gap
                 && obstacles
                     .iter()
-                    .all(|p| p.distance_to(&o) > gap && !p.contains(c) && !o.contains(p.centre()))
+                    .all(|p| apart(p, &o, gap) && !p.contains(c) && !o.contains(p.centre()))
             {
                 obstacles.push(o);
             }
@@ -151,6 +151,13 @@ pub fn workspace(rng: &mut Rng, m: usize, kinds: &[Kind], outer: Kind, gap: f64)
             }
         }
     }
+}
+
+/// Whether `a` and `b` are more than `gap` apart: their bounding discs first (most pairs), the
+/// outline query ([`StarShape::distance_to`]) for the near ones.
+fn apart(a: &StarShape, b: &StarShape, gap: f64) -> bool {
+    let far = (a.centre() - b.centre()).norm() - a.radius_bounds().1 - b.radius_bounds().1;
+    far > gap || a.distance_to(b) > gap
 }
 
 /// A random point of the free space of `ws` at least `margin` from every obstacle and the

@@ -3,23 +3,31 @@
 //! Every shape is star-shaped about its [`StarShape::centre`] and is described by its *radial
 //! function*: the boundary point in direction `θ` is `centre + R(θ)(cos θ, sin θ)`. The
 //! navigation transformation needs `R(θ)` and `R'(θ)` (both exact, closed form or analytic ray
-//! casts); signed distances for the automatic band widths come from parry2d-f64 point queries
-//! on a dense outline (exact for circles); `rho_min`, the minimum radius of curvature of the
-//! convex parts of the boundary, feeds `d_min` (eq. `dmin`).
+//! casts). Distances come from parry2d-f64 queries on each shape's *certified outline*, a
+//! polyline whose resolution follows the shape's curvature and whose distance to the curve has a
+//! proven bound (module [`crate::outline`]), so they are exact to
+//! [`crate::outline::DISTANCE_TOLERANCE`] whatever the harmonics (queries in `distance.rs`);
+//! `rho_min`, the minimum radius of curvature of the convex parts of the boundary, feeds `d_min`
+//! (eq. `dmin`).
 
 use std::f64::consts::{PI, TAU};
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 use nalgebra::Vector2;
 use parry2d_f64::math::Vector as PVector;
 use parry2d_f64::query::{PointQuery, Ray, RayCast};
-use parry2d_f64::shape::Polyline;
 
 use crate::error::ShapeError;
+use crate::outline::{
+    DISTANCE_TOLERANCE, MAX_OUTLINE_VERTICES, Outline, Span, TABLE_BLOCK, subdivide,
+};
 
-/// Number of outline vertices (evenly spaced in arc length) for parry distance queries on
-/// curved shapes.
-const OUTLINE: usize = 512;
+/// Number of vertices of the display outline ([`StarShape::outline`]) of curved shapes.
+const DISPLAY: usize = 512;
+
+/// Fewest chords of the certified outline of a shape with a single span (circle, ellipse, star),
+/// so that consecutive vertices are never more than 0.1 rad apart as seen from the centre.
+const MIN_CHORDS: usize = 64;
 
 /// A star-shaped region of the plane with its radial function (see the module docs).
 #[derive(Clone, Debug)]
@@ -29,7 +37,10 @@ pub struct StarShape {
     r_min: f64,
     r_max: f64,
     rho_min: f64,
-    outline: Arc<Polyline>,
+    /// The certified outline of the distance queries.
+    outline: Arc<Outline>,
+    /// The display outline, built on first use.
+    display: Arc<OnceLock<Vec<Vector2<f64>>>>,
 }
 
 #[derive(Clone, Debug)]
@@ -53,8 +64,18 @@ enum Kind {
     },
     Star {
         r0: f64,
-        harmonics: Vec<(f64, f64, f64)>,
+        harmonics: Vec<Harmonic>,
     },
+}
+
+/// One term `a cos nθ + b sin nθ` of a Fourier star; `gap` is `n` minus the previous term's `n`
+/// (the terms are sorted by `n`, one per `n`).
+#[derive(Clone, Copy, Debug)]
+struct Harmonic {
+    gap: u32,
+    n: f64,
+    a: f64,
+    b: f64,
 }
 
 /// A piece of a rounded polygon's boundary, traversed counter-clockwise.
@@ -84,6 +105,32 @@ fn finite(v: f64, field: &'static str) -> Result<f64, ShapeError> {
         Err(ShapeError::Invalid {
             field,
             problem: format!("must be at most {MAX_LENGTH:e} m in magnitude, got {v:e}"),
+        })
+    } else {
+        Ok(v)
+    }
+}
+
+/// The largest harmonic number `n` of a Fourier star. A star's outline needs about
+/// `2π·√(n²|c_n|/(4·DISTANCE_TOLERANCE·r0))` vertices (module [`crate::outline`]), so the cap
+/// keeps every single-harmonic star below [`MAX_OUTLINE_VERTICES`]; scenario files use the same
+/// cap.
+pub const MAX_HARMONIC: u32 = 1000;
+
+/// The largest angle magnitude a shape takes, rad. Beyond it an `f64` no longer resolves the
+/// orientation to 1e-10 rad (the spacing of `f64` near 1e6 is 1.2e-10).
+pub const MAX_ANGLE: f64 = 1e6;
+
+fn finite_angle(v: f64, field: &'static str) -> Result<f64, ShapeError> {
+    if !v.is_finite() {
+        Err(ShapeError::NonFinite { field })
+    } else if v.abs() > MAX_ANGLE {
+        Err(ShapeError::Invalid {
+            field,
+            problem: format!(
+                "an angle must be at most {MAX_ANGLE:e} rad ({:.1e}°) in magnitude, got {v:e} rad",
+                MAX_ANGLE.to_degrees()
+            ),
         })
     } else {
         Ok(v)
@@ -121,7 +168,13 @@ impl StarShape {
     pub fn circle(centre: Vector2<f64>, radius: f64) -> Result<Self, ShapeError> {
         let centre = finite_point(centre, "center")?;
         let r = positive(radius, "radius")?;
-        Ok(Self::build(Kind::Circle { r }, centre, r, r, r))
+        let spans = [Span {
+            t0: 0.0,
+            t1: TAU,
+            k: r, // |p''| = r
+        }];
+        Self::new(Kind::Circle { r }, centre, (r, r), r)
+            .certify(&spans, TAU, MIN_CHORDS, r, "radius")
     }
 
     /// An ellipse with semi-axes `(a, b)` along the directions `angle` and `angle + π/2`
@@ -135,24 +188,41 @@ impl StarShape {
         let centre = finite_point(centre, "center")?;
         let a = positive(semi_axes[0], "semi_axes")?;
         let b = positive(semi_axes[1], "semi_axes")?;
-        let angle = finite(angle, "angle_deg")?;
+        let angle = finite_angle(angle, "angle_deg")?;
         let (lo, hi) = (a.min(b), a.max(b));
-        Ok(Self::build(
-            Kind::Ellipse {
-                a,
-                b,
-                axis: dir(angle),
-            },
-            centre,
-            lo,
+        let kind = Kind::Ellipse {
+            a,
+            b,
+            axis: dir(angle),
+        };
+        // Parametrised by the eccentric anomaly t: p'' = −(p − c), |p''| ≤ max(a, b).
+        let spans = [Span {
+            t0: 0.0,
+            t1: TAU,
+            k: hi,
+        }];
+        Self::new(kind, centre, (lo, hi), lo * lo / hi).certify(
+            &spans,
+            TAU,
+            MIN_CHORDS,
             hi,
-            lo * lo / hi,
-        ))
+            "semi_axes",
+        )
     }
 
     /// A Fourier star `R(θ) = r0 + Σ (a_n cos nθ + b_n sin nθ)` about `centre`, harmonics
-    /// given as `(n, a_n, b_n)` with `n ≥ 1`. Rejected if `R ≤ 0` anywhere (checked on a dense
-    /// grid with a margin bounding the variation between grid points).
+    /// given as `(n, a_n, b_n)` with `1 ≤ n ≤` [`MAX_HARMONIC`] (terms of equal `n` add up).
+    ///
+    /// Rejected if `R ≤ 0` anywhere, certified: on a grid of step `h` containing the outline's
+    /// directions, `R(θ) ≥ min R(θ_i) − max|R''|·h²/8` between grid points (eq. chord of
+    /// [`crate::outline`] for `R` itself, `max|R''| ≤ Σ n²√(a_n² + b_n²)`), and the same margin
+    /// makes [`Self::radius_bounds`] certified. `rho_min` is the smallest curvature radius on the
+    /// grid (at least 8192 directions).
+    ///
+    /// Errors: `radius` not positive, a harmonic number of 0 or above [`MAX_HARMONIC`], a
+    /// non-finite or too large amplitude, `R ≤ 0` somewhere, or an outline of more than
+    /// [`MAX_OUTLINE_VERTICES`] (amplitudes that make the curvature too fine), all on the field
+    /// `harmonics` but the first.
     pub fn fourier_star(
         centre: Vector2<f64>,
         r0: f64,
@@ -160,7 +230,7 @@ impl StarShape {
     ) -> Result<Self, ShapeError> {
         let centre = finite_point(centre, "center")?;
         let r0 = positive(r0, "radius")?;
-        let mut h = Vec::with_capacity(harmonics.len());
+        let mut terms = Vec::with_capacity(harmonics.len());
         for &(n, a, b) in harmonics {
             if n == 0 {
                 return Err(ShapeError::Invalid {
@@ -168,25 +238,74 @@ impl StarShape {
                     problem: "harmonic numbers n must be ≥ 1".into(),
                 });
             }
-            h.push((n as f64, finite(a, "harmonics")?, finite(b, "harmonics")?));
+            if n > MAX_HARMONIC {
+                return Err(ShapeError::Invalid {
+                    field: "harmonics",
+                    problem: format!(
+                        "harmonic number {n} is above the cap MAX_HARMONIC = {MAX_HARMONIC}"
+                    ),
+                });
+            }
+            terms.push((n, finite(a, "harmonics")?, finite(b, "harmonics")?));
         }
-        h.sort_by(|x, y| x.0.total_cmp(&y.0));
+        terms.sort_by_key(|t| t.0);
+        let mut merged: Vec<(u32, f64, f64)> = Vec::with_capacity(terms.len());
+        for (n, a, b) in terms {
+            match merged.last_mut() {
+                Some(last) if last.0 == n => {
+                    last.1 += a;
+                    last.2 += b;
+                }
+                _ => merged.push((n, a, b)),
+            }
+        }
+        let mut prev = 0;
+        let mut h = Vec::with_capacity(merged.len());
+        for (n, a, b) in merged {
+            h.push(Harmonic {
+                gap: n - prev,
+                n: n as f64,
+                a: finite(a, "harmonics")?,
+                b: finite(b, "harmonics")?,
+            });
+            prev = n;
+        }
+        // Certified bounds (module `outline`): |R'| ≤ m1, |R''| ≤ m2, |R'' − R| ≤ bend.
+        let (mut m1, mut m2, mut bend, mut size) = (0.0, 0.0, r0, r0);
+        for t in &h {
+            let c = t.a.hypot(t.b);
+            m1 += t.n * c;
+            m2 += t.n * t.n * c;
+            bend += (t.n * t.n + 1.0) * c;
+            size += c;
+        }
+        let spans = [Span {
+            t0: 0.0,
+            t1: TAU,
+            k: bend.hypot(2.0 * m1),
+        }];
+        // r0 is the mean of R over the turn, so r0 ≤ max R (the tolerance's reference).
+        let (params, delta) =
+            subdivide(&spans, r0, MIN_CHORDS).map_err(|count| too_detailed("harmonics", count))?;
         let kind = Kind::Star { r0, harmonics: h };
-        let samples = 8192;
+        let harmonics = match &kind {
+            Kind::Star { harmonics, .. } => harmonics,
+            _ => unreachable!(),
+        };
+        let samples = params.len() * 8192usize.div_ceil(params.len());
         let step = TAU / samples as f64;
-        let (mut lo, mut hi, mut slope, mut rho) = (f64::INFINITY, 0.0f64, 0.0f64, f64::INFINITY);
+        let (mut lo, mut hi, mut rho) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY);
         for i in 0..samples {
-            let th = i as f64 * step;
-            let (r, dr, ddr) = star_radius(r0, kind_harmonics(&kind), dir(th));
+            let (r, dr, ddr) = star_radius(r0, harmonics, dir(i as f64 * step));
             lo = lo.min(r);
             hi = hi.max(r);
-            slope = slope.max(dr.abs());
             let den = r * r + 2.0 * dr * dr - r * ddr;
             if den > 0.0 {
                 rho = rho.min((r * r + dr * dr).powf(1.5) / den);
             }
         }
-        let margin = slope * step; // |R(θ) − R(θ_i)| ≤ max|R'|·Δθ between grid points
+        // Between grid points R strays at most m2·step²/8 from the chord (plus rounding).
+        let margin = m2 * step * step / 8.0 + 1e-12 * size;
         if lo - margin <= 0.0 {
             return Err(ShapeError::Invalid {
                 field: "harmonics",
@@ -195,7 +314,8 @@ impl StarShape {
                 ),
             });
         }
-        Ok(Self::build(kind, centre, lo - margin, hi + margin, rho))
+        Ok(Self::new(kind, centre, (lo - margin, hi + margin), rho)
+            .with_outline(params, delta, TAU))
     }
 
     /// A polygon with rounded corners: each corner (convex or reflex) is replaced by a circular
@@ -313,27 +433,114 @@ impl StarShape {
                 problem: "the rounded polygon winds more than once about its centroid".into(),
             });
         }
+        // Segments are exact chords (|p''| = 0); an arc of radius rc and angle Δ, parametrised
+        // by s ∈ [0, 1], has |p''| = rc Δ².
+        let spans: Vec<Span> = (0..pieces.len())
+            .map(|k| Span {
+                t0: k as f64,
+                t1: (k + 1) as f64,
+                k: match pieces[k] {
+                    Piece::Segment { .. } => 0.0,
+                    Piece::Arc { radius, .. } => {
+                        let (a0, a1) = arc_angles(&pieces, k);
+                        radius * (a1 - a0) * (a1 - a0)
+                    }
+                },
+            })
+            .collect();
+        let period = pieces.len() as f64;
         let kind = Kind::Polygon { pieces, starts };
-        let mut shape = Self::build(kind, centre, 0.0, rho_max * (1.0 + 1e-12), rc);
-        shape.r_min = (0..4096)
-            .map(|i| shape.radius(i as f64 * TAU / 4096.0).0)
-            .fold(f64::INFINITY, f64::min)
-            * (1.0 - 1e-3);
+        // rho_max: the farthest sampled boundary point, at most max R.
+        let mut shape = Self::new(kind, centre, (0.0, f64::INFINITY), rc)
+            .certify(&spans, period, 1, rho_max, "vertices")?;
+        // Certified radius bounds from the outline: the curve is within δ of it.
+        let outline = &shape.outline;
+        let near = outline
+            .polyline
+            .distance_to_local_point(PVector::new(centre.x, centre.y), false);
+        let far = (0..outline.len())
+            .map(|i| (outline.vertex(i) - centre).norm())
+            .fold(0.0, f64::max);
+        shape.r_min = ((near - outline.delta) * (1.0 - 1e-12)).max(0.0);
+        shape.r_max = (far + outline.delta) * (1.0 + 1e-12);
         Ok(shape)
     }
 
-    fn build(kind: Kind, centre: Vector2<f64>, r_min: f64, r_max: f64, rho_min: f64) -> Self {
-        let mut shape = Self {
+    /// A shape without its outline yet; `radii` are the certified bounds of `R`.
+    fn new(kind: Kind, centre: Vector2<f64>, radii: (f64, f64), rho_min: f64) -> Self {
+        Self {
             kind,
             centre,
-            r_min,
-            r_max,
+            r_min: radii.0,
+            r_max: radii.1,
             rho_min,
-            outline: Arc::new(Polyline::new(Vec::new(), None)),
-        };
-        let pts: Vec<PVector> = match &shape.kind {
-            // Segments are exact with their end points; arcs get 32 vertices each.
-            Kind::Polygon { pieces, .. } => pieces
+            outline: Arc::new(Outline::empty()),
+            display: Arc::new(OnceLock::new()),
+        }
+    }
+
+    /// The shape with its certified outline on `spans` (module [`crate::outline`]) for the
+    /// reference radius `r_ref ≤ max R`; a typed error on `field` beyond
+    /// [`MAX_OUTLINE_VERTICES`].
+    fn certify(
+        self,
+        spans: &[Span],
+        period: f64,
+        min_chords: usize,
+        r_ref: f64,
+        field: &'static str,
+    ) -> Result<Self, ShapeError> {
+        let (params, delta) =
+            subdivide(spans, r_ref, min_chords).map_err(|count| too_detailed(field, count))?;
+        Ok(self.with_outline(params, delta, period))
+    }
+
+    /// The shape with the outline through its curve points at `params`.
+    fn with_outline(mut self, params: Vec<f64>, delta: f64, period: f64) -> Self {
+        let vertices: Vec<Vector2<f64>> = params.iter().map(|&t| self.curve_point(t)).collect();
+        self.outline = Arc::new(Outline::new(&vertices, params, period, delta));
+        self
+    }
+
+    /// The boundary curve `p(t)` in the parameter of the certified outline: the polar angle for
+    /// circles, stars and offset shapes, the eccentric anomaly for ellipses
+    /// (`c + a cos t e₁ + b sin t e₂`), piece index plus fraction for rounded polygons.
+    pub(crate) fn curve_point(&self, t: f64) -> Vector2<f64> {
+        match &self.kind {
+            Kind::Ellipse { a, b, axis } => {
+                self.centre + a * t.cos() * axis + b * t.sin() * left(*axis)
+            }
+            Kind::Polygon { pieces, .. } => {
+                let t = t.rem_euclid(pieces.len() as f64);
+                let k = (t.floor() as usize).min(pieces.len() - 1);
+                piece_point(&pieces[k], pieces, k, (t - k as f64).min(1.0)).0
+            }
+            _ => {
+                let u = dir(t);
+                self.centre + self.radius_along(u).0 * u
+            }
+        }
+    }
+
+    /// The certified outline of the distance queries.
+    pub(crate) fn certified(&self) -> &Outline {
+        &self.outline
+    }
+
+    /// `Some(r)` for a circle.
+    pub(crate) fn circle_radius(&self) -> Option<f64> {
+        match self.kind {
+            Kind::Circle { r } => Some(r),
+            _ => None,
+        }
+    }
+
+    /// The display outline: polygon pieces with 32 vertices per arc; other shapes [`DISPLAY`]
+    /// points evenly spaced in arc length (from a dense angular grid), so that sharply curved
+    /// tips are drawn as finely as flat sides.
+    fn display_outline(&self) -> Vec<Vector2<f64>> {
+        if let Kind::Polygon { pieces, .. } = &self.kind {
+            return pieces
                 .iter()
                 .enumerate()
                 .flat_map(|(k, piece)| {
@@ -345,39 +552,28 @@ impl StarShape {
                     (0..steps)
                         .map(move |i| piece_point(piece, pieces, k, i as f64 / steps as f64).0)
                 })
-                .map(|p| PVector::new(p.x, p.y))
-                .collect(),
-            // Curved shapes: OUTLINE points evenly spaced in arc length (from a dense angular
-            // grid), so sharply curved tips are sampled as finely as flat sides.
-            _ => {
-                let dense = 4 * OUTLINE;
-                let p: Vec<Vector2<f64>> = (0..=dense)
-                    .map(|i| shape.boundary_point(TAU * i as f64 / dense as f64))
-                    .collect();
-                let mut arc = vec![0.0; dense + 1];
-                for i in 1..=dense {
-                    arc[i] = arc[i - 1] + (p[i] - p[i - 1]).norm();
+                .collect();
+        }
+        let dense = 4 * DISPLAY;
+        let p: Vec<Vector2<f64>> = (0..=dense)
+            .map(|i| self.boundary_point(TAU * i as f64 / dense as f64))
+            .collect();
+        let mut arc = vec![0.0; dense + 1];
+        for i in 1..=dense {
+            arc[i] = arc[i - 1] + (p[i] - p[i - 1]).norm();
+        }
+        let total = arc[dense];
+        let mut j = 0;
+        (0..DISPLAY)
+            .map(|k| {
+                let target = total * k as f64 / DISPLAY as f64;
+                while arc[j + 1] < target {
+                    j += 1;
                 }
-                let total = arc[dense];
-                let mut j = 0;
-                (0..OUTLINE)
-                    .map(|k| {
-                        let target = total * k as f64 / OUTLINE as f64;
-                        while arc[j + 1] < target {
-                            j += 1;
-                        }
-                        let t = (target - arc[j]) / (arc[j + 1] - arc[j]).max(f64::MIN_POSITIVE);
-                        let th = TAU * (j as f64 + t) / dense as f64;
-                        let q = shape.boundary_point(th);
-                        PVector::new(q.x, q.y)
-                    })
-                    .collect()
-            }
-        };
-        let n = pts.len() as u32;
-        let idx = (0..n).map(|i| [i, (i + 1) % n]).collect();
-        shape.outline = Arc::new(Polyline::new(pts, Some(idx)));
-        shape
+                let t = (target - arc[j]) / (arc[j + 1] - arc[j]).max(f64::MIN_POSITIVE);
+                self.boundary_point(TAU * (j as f64 + t) / dense as f64)
+            })
+            .collect()
     }
 
     /// The centre about which the shape is star-shaped (the obstacle's point `P_i`).
@@ -385,7 +581,9 @@ impl StarShape {
         self.centre
     }
 
-    /// Lower and upper bounds of `R(θ)` over all directions (exact for circles and ellipses).
+    /// Lower and upper bounds of `R(θ)` over all directions, certified (exact for circles and
+    /// ellipses; for stars and offset shapes from a grid with the margin `max|R''|·h²/8`, for
+    /// rounded polygons from the certified outline widened by its chord bound).
     pub fn radius_bounds(&self) -> (f64, f64) {
         (self.r_min, self.r_max)
     }
@@ -403,7 +601,8 @@ impl StarShape {
     /// The radial function `(R(θ), R'(θ))` for the unit direction `u = (cos θ, sin θ)`.
     ///
     /// The hot path of `Phi`: circles, ellipses and Fourier stars need no trigonometric call
-    /// (`cos nθ + i sin nθ = (u_x + i u_y)^n`); rounded polygons take one `atan2`.
+    /// (`cos nθ + i sin nθ = (u_x + i u_y)^n`, by repeated squaring: `O(log n)` products per
+    /// harmonic); rounded polygons and offset shapes take one `atan2`.
     pub fn radius_along(&self, u: Vector2<f64>) -> (f64, f64) {
         match &self.kind {
             Kind::Circle { r } => (*r, 0.0),
@@ -458,7 +657,8 @@ impl StarShape {
     /// Circles stay exact circles. Other shapes: the boundary is sampled at 8192 directions,
     /// each point moved by `r` along its normal (the offset curve keeps the tangent, so
     /// `R' = −R (u⊥·n)/(u·n)` there), and `(R, R')` is resampled on 4096 directions with cubic
-    /// Hermite interpolation (`C¹`). `rho_min` grows by `r`.
+    /// Hermite interpolation (`C¹`). `rho_min` grows by `r`. The table's radius bounds and
+    /// certified outline come from its cubic cells (bounds on `R, R', R''` per cell).
     ///
     /// Errors if the offset curve folds (the radius exceeds the curvature radius of a concave
     /// part of the boundary, where the true grown region would have a corner) or is not
@@ -524,23 +724,20 @@ impl StarShape {
             };
             values.push(hermite(a, b, th));
         }
-        let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
-        for i in 0..4 * grid {
-            let rr = table_radius(&values, TAU * i as f64 / (4 * grid) as f64).0;
-            lo = lo.min(rr);
-            hi = hi.max(rr);
-        }
+        let (spans, lo, hi) = table_spans(&values);
         if lo <= 0.0 {
             return Err(not_star());
         }
+        // The largest tabulated radius is a value of R, at most max R.
+        let r_ref = values.iter().map(|v| v.0).fold(0.0, f64::max);
         let rho = (self.rho_min + r).max(f64::MIN_POSITIVE);
-        Ok(Self::build(
-            Kind::Table { values },
-            self.centre,
-            lo * (1.0 - 1e-6),
-            hi * (1.0 + 1e-6),
-            rho,
-        ))
+        Self::new(Kind::Table { values }, self.centre, (lo, hi), rho).certify(
+            &spans,
+            TAU,
+            1,
+            r_ref,
+            "robot.radius",
+        )
     }
 
     /// The boundary point `centre + R(θ)(cos θ, sin θ)`.
@@ -555,66 +752,15 @@ impl StarShape {
         rho <= self.r_min || (rho <= self.r_max && rho <= self.radius(v.y.atan2(v.x)).0)
     }
 
-    /// Signed distance to the boundary: negative inside. Exact for circles; otherwise a parry
-    /// point query on a 512-vertex outline (evenly spaced in arc length), refined by a
-    /// golden-section search on the exact boundary curve (to ~1e-12; about 2 µs), with the sign from the exact [`Self::contains`].
-    pub fn signed_distance(&self, x: Vector2<f64>) -> f64 {
-        if let Kind::Circle { r } = self.kind {
-            return (x - self.centre).norm() - r;
-        }
-        // parry finds the nearest outline point; a golden-section search for the nearest point
-        // of the exact boundary curve p(θ) = c + R(θ)u(θ) around it removes the chord error.
-        let proj = self
-            .outline
-            .project_local_point(PVector::new(x.x, x.y), false)
-            .point;
-        let near = Vector2::new(proj.x, proj.y);
-        let coarse = (near - x).norm();
-        let start = near - self.centre;
-        let th0 = start.y.atan2(start.x);
-        let th = golden_min(
-            |th| (self.boundary_point(th) - x).norm_squared(),
-            th0 - 0.05,
-            th0 + 0.05,
-        );
-        let fine = (self.boundary_point(th) - x).norm();
-        // Keep the refined value unless the search left the right stretch of boundary.
-        let d = if fine <= coarse + 1e-3 * (1.0 + coarse) {
-            fine
-        } else {
-            coarse
-        };
-        if self.contains(x) { -d } else { d }
-    }
-
-    /// The outline vertices used for distance queries (counter-clockwise, closed).
+    /// The display outline (counter-clockwise, closed): for figures and visibility graphs, not
+    /// for distances. Rounded polygons: the pieces' ends and 32 vertices per arc; other shapes:
+    /// 512 vertices on the curve, evenly spaced in arc length. (Distances use the certified
+    /// outline, module [`crate::outline`], whose resolution follows the curvature.)
     pub fn outline(&self) -> impl Iterator<Item = Vector2<f64>> + '_ {
-        self.outline
-            .vertices()
+        self.display
+            .get_or_init(|| self.display_outline())
             .iter()
-            .map(|p| Vector2::new(p.x, p.y))
-    }
-
-    /// Smallest signed distance from any outline point of `self` to `other` (negative when
-    /// they overlap): the distance between two obstacles, one side sampled.
-    pub fn distance_to(&self, other: &StarShape) -> f64 {
-        let a = self
-            .outline()
-            .map(|p| other.coarse_signed_distance(p))
-            .fold(f64::INFINITY, f64::min);
-        let b = other
-            .outline()
-            .map(|p| self.coarse_signed_distance(p))
-            .fold(f64::INFINITY, f64::min);
-        a.min(b)
-    }
-
-    /// Smallest distance from the outline of `self` to the boundary of the region `outer`,
-    /// positive when `self` lies inside `outer` (negative when it crosses or leaves it).
-    pub fn clearance_inside(&self, outer: &StarShape) -> f64 {
-        self.outline()
-            .map(|p| -outer.coarse_signed_distance(p))
-            .fold(f64::INFINITY, f64::min)
+            .copied()
     }
 
     /// Distance along the ray `origin + t·dir` (`dir` a unit vector, `origin` outside the
@@ -629,16 +775,16 @@ impl StarShape {
         if (to_c - along * dir).norm() > self.r_max {
             return None;
         }
-        // Larger than the outline's chord error (~3e-4 of the size at curvature radius 0.05).
+        // Far larger than the certified outline's chord bound (δ ≤ 5e-5 of max R).
         let slack = 4e-3 * self.r_max;
-        let coarse = self.outline.cast_local_ray(
+        let coarse = self.outline.polyline.cast_local_ray(
             &Ray::new(PVector::new(origin.x, origin.y), PVector::new(dir.x, dir.y)),
             max + slack,
             false,
         );
-        // parry's hit on the outline is within the chord error of the true one: bisect on the
-        // exact containment test in a bracket around it. (A part of the shape thinner than the
-        // outline's chord error, ~1e-5 of its size, can be missed.)
+        // parry's hit on the outline is within the chord bound of the true one: bisect on the
+        // exact containment test in a bracket around it. (A ray that grazes the curve less than
+        // the chord bound δ deep can be missed.)
         let t = coarse?;
         let (mut a, mut b) = ((t - slack).max(0.0), t + slack);
         if self.contains(origin + a * dir) {
@@ -664,71 +810,148 @@ impl StarShape {
     }
 
     /// The local minima of the distance from `x` (outside the shape) to the boundary: the
-    /// boundary points where `|p(θ) − x|` has a local minimum, found on the outline and
-    /// refined on the exact curve. The global minimum (the nearest point) is among them.
+    /// boundary points where `|p(θ) − x|` has a local minimum, found at the vertices of the
+    /// certified outline and refined on the exact curve within two vertices on either side. The
+    /// global minimum (the nearest point) is among them.
     pub fn distance_minima(&self, x: Vector2<f64>) -> impl Iterator<Item = Vector2<f64>> + '_ {
-        let n = self.outline.vertices().len();
-        let d = move |i: usize| {
-            let v = self.outline.vertices()[i % n];
-            (Vector2::new(v.x, v.y) - x).norm_squared()
-        };
+        let outline = &self.outline;
+        let n = outline.len();
+        let d = move |i: usize| (outline.vertex(i % n) - x).norm_squared();
         (0..n).filter_map(move |i| {
             let (prev, here, next) = (d(i + n - 1), d(i), d(i + 1));
             if here > prev || here > next {
                 return None;
             }
-            let v = self.outline.vertices()[i];
-            let w = Vector2::new(v.x, v.y) - self.centre;
-            let th0 = w.y.atan2(w.x);
-            // The minimum lies within the neighbouring outline spacing: search ±2 spacings.
-            let spread = 4.0 * (TAU / n as f64).max(0.02);
-            Some(self.boundary_point(golden_min(
-                |th| (self.boundary_point(th) - x).norm_squared(),
-                th0 - spread,
-                th0 + spread,
+            let (lo, hi) = outline.window(i as isize - 2, i as isize + 2);
+            Some(self.curve_point(golden_min(
+                |t| (self.curve_point(t) - x).norm_squared(),
+                lo,
+                hi,
             )))
         })
     }
+}
 
-    /// [`Self::signed_distance`] without the refinement: the outline's chord error (~1e-5 of
-    /// the size) remains. For the band widths (where the factor 0.45 absorbs it) and sampling.
-    pub fn coarse_signed_distance(&self, x: Vector2<f64>) -> f64 {
-        if let Kind::Circle { r } = self.kind {
-            return (x - self.centre).norm() - r;
-        }
-        let d = self
-            .outline
-            .distance_to_local_point(PVector::new(x.x, x.y), false);
-        if self.contains(x) { -d } else { d }
+/// The typed error for a shape whose certified outline would exceed [`MAX_OUTLINE_VERTICES`].
+fn too_detailed(field: &'static str, count: f64) -> ShapeError {
+    ShapeError::Invalid {
+        field,
+        problem: format!(
+            "the boundary bends too sharply: its outline needs {count:.0} vertices for the \
+             distance tolerance {DISTANCE_TOLERANCE:e}, more than MAX_OUTLINE_VERTICES = \
+             {MAX_OUTLINE_VERTICES}"
+        ),
     }
 }
 
-fn kind_harmonics(kind: &Kind) -> &[(f64, f64, f64)] {
-    match kind {
-        Kind::Star { harmonics, .. } => harmonics,
-        _ => &[],
-    }
-}
-
-/// `(R, R', R'')` of a Fourier star in the unit direction `u`, with `cos nθ + i sin nθ`
-/// as the `n`-th power of `u_x + i u_y` (harmonics sorted by `n`).
-fn star_radius(r0: f64, harmonics: &[(f64, f64, f64)], u: Vector2<f64>) -> (f64, f64, f64) {
-    let (mut r, mut dr, mut ddr) = (r0, 0.0, 0.0);
-    let (mut power, mut c, mut s) = (0.0, 1.0, 0.0);
-    for &(n, a, b) in harmonics {
-        while power < n {
-            (c, s) = (c * u.x - s * u.y, c * u.y + s * u.x);
-            power += 1.0;
-        }
-        r += a * c + b * s;
-        dr += n * (b * c - a * s);
-        ddr -= n * n * (a * c + b * s);
+/// `(R, R', R'')` of a Fourier star in the unit direction `u`: `cos nθ + i sin nθ` is
+/// `(u_x + i u_y)^n`, advanced from one harmonic to the next by the power `u^gap` (harmonics
+/// sorted by `n`).
+///
+/// ```text
+/// R = r0 + Σ (a_n cos nθ + b_n sin nθ),  R' = Σ n (b_n cos nθ − a_n sin nθ),
+/// R'' = −Σ n² (a_n cos nθ + b_n sin nθ)
+/// ```
+///
+/// Cost `O(Σ log₂ gap)` products, at most ~20 per harmonic for `n ≤ MAX_HARMONIC`; the relative
+/// error of `u^n` is `O(n ε)`, the same as that of `sin_cos(n θ)` for the rounded angle.
+#[inline(always)]
+fn star_radius(r0: f64, harmonics: &[Harmonic], u: Vector2<f64>) -> (f64, f64, f64) {
+    let Some((first, rest)) = harmonics.split_first() else {
+        return (r0, 0.0, 0.0);
+    };
+    let (mut c, mut s) = unit_power(u, first.gap);
+    let mut even = first.a * c + first.b * s;
+    let (mut r, mut dr, mut ddr) = (
+        r0 + even,
+        first.n * (first.b * c - first.a * s),
+        -first.n * first.n * even,
+    );
+    for h in rest {
+        let (pc, ps) = unit_power(u, h.gap);
+        (c, s) = (c * pc - s * ps, c * ps + s * pc);
+        even = h.a * c + h.b * s;
+        r += even;
+        dr += h.n * (h.b * c - h.a * s);
+        ddr -= h.n * h.n * even;
     }
     (r, dr, ddr)
 }
 
+/// `(u_x + i u_y)^g` for `g ≥ 1`: `g − 1` products up to `g = 4` (the common dense harmonics),
+/// binary exponentiation beyond (`⌊log₂ g⌋` squarings and `popcount(g) − 1` products).
+fn unit_power(u: Vector2<f64>, g: u32) -> (f64, f64) {
+    let (mut c, mut s) = (u.x, u.y);
+    if g <= 4 {
+        for _ in 1..g {
+            (c, s) = (c * u.x - s * u.y, c * u.y + s * u.x);
+        }
+        return (c, s);
+    }
+    let mut g = g;
+    while g & 1 == 0 {
+        (c, s) = (c * c - s * s, 2.0 * c * s);
+        g >>= 1;
+    }
+    let (mut bc, mut bs) = (c, s);
+    g >>= 1;
+    while g > 0 {
+        (bc, bs) = (bc * bc - bs * bs, 2.0 * bc * bs);
+        if g & 1 == 1 {
+            (c, s) = (c * bc - s * bs, c * bs + s * bc);
+        }
+        g >>= 1;
+    }
+    (c, s)
+}
+
+/// The outline spans of an offset shape's table (one per `TABLE_BLOCK` Hermite cells) with
+/// certified bounds `(min R, max R)`.
+///
+/// On a cell of width `H`, in `t = (θ − θ_a)/H`, `R = c₀ + c₁t + c₂t² + c₃t³` with
+/// `c₀ = R_a`, `c₁ = H R'_a`, `c₂ = 3(R_b − R_a) − H(2R'_a + R'_b)`,
+/// `c₃ = 2(R_a − R_b) + H(R'_a + R'_b)`. So `R'' = (2c₂ + 6c₃t)/H²` is largest at an end,
+/// `R' = (c₁ + 2c₂t + 3c₃t²)/H` at an end or at `t = −c₂/(3c₃)`, `|R| ≤ max(|R_a|, |R_b|) +
+/// max|R'|·H/2`, and `R` is within `max|R''|·H²/8` of its chord (eq. chord). `K` of a span is
+/// the largest `√((max|R''| + max|R|)² + 4 max|R'|²)` of its cells.
+fn table_spans(values: &[(f64, f64)]) -> (Vec<Span>, f64, f64) {
+    let g = values.len();
+    let h = TAU / g as f64;
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    let mut spans = Vec::with_capacity(g.div_ceil(TABLE_BLOCK));
+    for first in (0..g).step_by(TABLE_BLOCK) {
+        let last = (first + TABLE_BLOCK).min(g);
+        let mut k = 0.0f64;
+        for i in first..last {
+            let ((ra, da), (rb, db)) = (values[i], values[(i + 1) % g]);
+            let c1 = h * da;
+            let c2 = 3.0 * (rb - ra) - h * (2.0 * da + db);
+            let c3 = 2.0 * (ra - rb) + h * (da + db);
+            let d2 = (2.0 * c2).abs().max((2.0 * c2 + 6.0 * c3).abs()) / (h * h);
+            let mut d1 = c1.abs().max((c1 + 2.0 * c2 + 3.0 * c3).abs());
+            let vertex = -c2 / (3.0 * c3);
+            if vertex > 0.0 && vertex < 1.0 {
+                d1 = d1.max((c1 + vertex * (2.0 * c2 + 3.0 * c3 * vertex)).abs());
+            }
+            let d1 = d1 / h;
+            let sag = d2 * h * h / 8.0;
+            lo = lo.min(ra.min(rb) - sag);
+            hi = hi.max(ra.max(rb) + sag);
+            let r_abs = ra.abs().max(rb.abs()) + d1 * h / 2.0;
+            k = k.max((d2 + r_abs).hypot(2.0 * d1));
+        }
+        spans.push(Span {
+            t0: first as f64 * h,
+            t1: last as f64 * h,
+            k,
+        });
+    }
+    // Rounding of the cubic's evaluation.
+    (spans, lo * (1.0 - 1e-12), hi * (1.0 + 1e-12))
+}
+
 /// Golden-section search for the minimum of a unimodal `f` on `[lo, hi]` (to ~1e-13).
-fn golden_min(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
+pub(crate) fn golden_min(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
     let g = 0.5 * (5f64.sqrt() - 1.0);
     let (mut a, mut b) = (hi - g * (hi - lo), lo + g * (hi - lo));
     let (mut fa, mut fb) = (f(a), f(b));
@@ -834,7 +1057,6 @@ fn arc_neighbour_end(pieces: &[Piece], k: usize, forward: bool) -> Vector2<f64> 
 
 /// Point and counter-clockwise unit tangent at parameter `s ∈ [0, 1]` of piece `k`.
 fn piece_point(piece: &Piece, pieces: &[Piece], k: usize, s: f64) -> (Vector2<f64>, Vector2<f64>) {
-    let (start, end) = piece_ends(piece, pieces, k);
     match *piece {
         Piece::Segment { a, b } => (a + s * (b - a), (b - a).normalize()),
         Piece::Arc {
@@ -842,23 +1064,34 @@ fn piece_point(piece: &Piece, pieces: &[Piece], k: usize, s: f64) -> (Vector2<f6
             radius,
             convex,
         } => {
-            let a0 = (start - centre).y.atan2((start - centre).x);
-            let mut a1 = (end - centre).y.atan2((end - centre).x);
-            if convex {
-                while a1 < a0 {
-                    a1 += TAU;
-                }
-            } else {
-                while a1 > a0 {
-                    a1 -= TAU;
-                }
-            }
+            let (a0, a1) = arc_angles(pieces, k);
             let a = a0 + s * (a1 - a0);
             let p = centre + radius * dir(a);
             let t = if convex { left(dir(a)) } else { -left(dir(a)) };
             (p, t)
         }
     }
+}
+
+/// Start and end angle (about its centre) of the arc `pieces[k]`, increasing for convex arcs
+/// (turning left) and decreasing for the others.
+fn arc_angles(pieces: &[Piece], k: usize) -> (f64, f64) {
+    let (start, end) = piece_ends(&pieces[k], pieces, k);
+    let Piece::Arc { centre, convex, .. } = pieces[k] else {
+        unreachable!("only called for arcs")
+    };
+    let a0 = (start - centre).y.atan2((start - centre).x);
+    let mut a1 = (end - centre).y.atan2((end - centre).x);
+    if convex {
+        while a1 < a0 {
+            a1 += TAU;
+        }
+    } else {
+        while a1 > a0 {
+            a1 -= TAU;
+        }
+    }
+    (a0, a1)
 }
 
 /// `(R, R')` of a rounded polygon: find the piece whose angular span contains `θ` and

@@ -10,14 +10,16 @@ use crate::shape::StarShape;
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub enum WorldError {
-    /// Two obstacles touch or overlap.
+    /// Two obstacles touch or overlap, or are not certified apart: closer than the sum of
+    /// their [`StarShape::distance_tolerance`]s ([`StarShape::distance_to`]).
     Overlap {
         /// First obstacle.
         first: usize,
         /// Second obstacle.
         second: usize,
     },
-    /// An obstacle is not strictly inside the outer boundary.
+    /// An obstacle is not strictly inside the outer boundary (certified, to the shapes'
+    /// distance tolerances: [`StarShape::clearance_inside`]).
     OutsideBoundary {
         /// The obstacle.
         obstacle: usize,
@@ -124,11 +126,14 @@ pub struct Workspace {
 }
 
 impl Workspace {
-    /// Validates the workspace and caches the distances between its parts (computed with
-    /// parry point queries, see [`StarShape::distance_to`]).
+    /// Validates the workspace and caches the distances between its parts: certified gaps and
+    /// clearances ([`StarShape::distance_to`], [`StarShape::clearance_inside`]: positive only if
+    /// the parts are apart, exact to [`crate::DISTANCE_TOLERANCE`]) and refined signed distances
+    /// of the destination.
     ///
-    /// Errors: overlapping obstacles, an obstacle not strictly inside the boundary, a
-    /// destination inside an obstacle or outside the workspace.
+    /// Errors: overlapping obstacles (or obstacles closer than their distance tolerances), an
+    /// obstacle not strictly inside the boundary, a destination inside an obstacle or outside
+    /// the workspace.
     pub fn new(
         boundary: StarShape,
         obstacles: Vec<StarShape>,

@@ -289,3 +289,91 @@ fn the_radial_function_about_another_point_is_exact() {
     let s = StarShape::fourier_star(Vector2::zeros(), 1.0, &[(3, 0.1, 0.0)]).unwrap();
     assert!(s.radius_about(Vector2::zeros(), dir(0.0)).is_none());
 }
+
+/// The harmonic cap is one constant, refused with the field and the cap named; the issue's
+/// `(4_000_000_000, 1e-12, 0)` hung (the radius built `u^n` by `n` products) and is now a
+/// prompt typed error; at the cap, `R` and `R'` match `cos nθ`, `sin nθ` computed directly.
+#[test]
+fn harmonic_numbers_are_capped_and_high_harmonics_are_exact() {
+    use harmonav_transform::MAX_HARMONIC;
+    let c = Vector2::new(0.5, -1.0);
+    assert_eq!(MAX_HARMONIC, 1000);
+    for n in [MAX_HARMONIC + 1, 4_000_000_000] {
+        let e = StarShape::fourier_star(c, 1.0, &[(n, 1e-12, 0.0)]).unwrap_err();
+        assert!(
+            matches!(&e, ShapeError::Invalid { field: "harmonics", problem } if problem.contains("1000")),
+            "{e}"
+        );
+    }
+    let terms = [
+        (1, 0.1, 0.05),
+        (7, -0.02, 0.01),
+        (999, 1e-5, 2e-5),
+        (MAX_HARMONIC, 2e-5, -1e-5),
+    ];
+    let s = StarShape::fourier_star(c, 1.0, &terms).unwrap();
+    let mut worst = (0.0f64, 0.0f64);
+    for i in 0..5000 {
+        let th = -3.2 + i as f64 * 0.00128;
+        let (r, dr) = s.radius(th);
+        let direct = terms.iter().fold((1.0, 0.0), |(r, dr), &(n, a, b)| {
+            let (sin, cos) = (n as f64 * th).sin_cos();
+            (r + a * cos + b * sin, dr + n as f64 * (b * cos - a * sin))
+        });
+        worst = (
+            worst.0.max((r - direct.0).abs()),
+            worst.1.max((dr - direct.1).abs()),
+        );
+    }
+    assert!(worst.0 < 1e-13 && worst.1 < 1e-11, "{worst:?}");
+    // Terms of equal n add up.
+    let split = StarShape::fourier_star(c, 1.0, &[(3, 0.1, 0.0), (3, -0.05, 0.02)]).unwrap();
+    let whole = StarShape::fourier_star(c, 1.0, &[(3, 0.05, 0.02)]).unwrap();
+    for th in [0.0, 1.0, 2.5] {
+        assert!((split.radius(th).0 - whole.radius(th).0).abs() < 1e-15);
+    }
+}
+
+/// A valid star whose curvature is too fine for any outline of at most
+/// `MAX_OUTLINE_VERTICES` (the Fejér kernel `1 + 2Σ_{k ≤ 1000}(1 − k/1001) cos kθ ≥ 0`, plus
+/// 0.01) is refused with a typed error, promptly.
+#[test]
+fn a_too_detailed_star_is_a_typed_error() {
+    let terms: Vec<_> = (1..=1000u32)
+        .map(|k| (k, 2.0 * (1.0 - k as f64 / 1001.0), 0.0))
+        .collect();
+    let e = StarShape::fourier_star(Vector2::zeros(), 1.01, &terms).unwrap_err();
+    assert!(
+        matches!(&e, ShapeError::Invalid { field: "harmonics", problem } if problem.contains("MAX_OUTLINE_VERTICES")),
+        "{e}"
+    );
+}
+
+/// The ellipse's angle has its own range and message, in radians (it spoke of metres).
+#[test]
+fn the_angle_is_checked_as_an_angle() {
+    use harmonav_transform::MAX_ANGLE;
+    let c = Vector2::zeros();
+    let e = StarShape::ellipse(c, [1.0, 0.5], 1e7).unwrap_err();
+    let text = e.to_string();
+    assert!(
+        matches!(
+            e,
+            ShapeError::Invalid {
+                field: "angle_deg",
+                ..
+            }
+        ) && text.contains("rad")
+            && !text.contains(" m "),
+        "{text}"
+    );
+    assert_eq!(
+        StarShape::ellipse(c, [1.0, 0.5], f64::NAN).unwrap_err(),
+        ShapeError::NonFinite { field: "angle_deg" }
+    );
+    assert!(StarShape::ellipse(c, [1.0, 0.5], MAX_ANGLE).is_ok());
+    // A whole turn more is the same ellipse.
+    let a = StarShape::ellipse(c, [1.0, 0.5], 0.3).unwrap();
+    let b = StarShape::ellipse(c, [1.0, 0.5], 0.3 + std::f64::consts::TAU).unwrap();
+    assert!((a.radius(1.0).0 - b.radius(1.0).0).abs() < 1e-14);
+}
