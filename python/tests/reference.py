@@ -4,7 +4,7 @@ It follows docs/maths.md §5 from the formulas, not from the Rust code: the band
 ``ε_i = f·min(min_j d(O_i, O_j), d(O_i, ∂O_0), 2 d(x_d, O_i))``, ``ε_0``, the stretch gain
 ``A = max(ε_0, 2 r*)``, the obstacle and outer radial maps with the smooth step ``beta``,
 ``φ_k`` on the point world and ``Θ = σ(φ_k)``, ``∇Θ = σ'(φ_k) J_Φᵀ ∇φ_k``. Distances between
-discs are exact here; the Rust side measures them on 512-vertex outlines, so the band widths
+discs are exact here; the Rust side measures them on certified outlines (within 1e-4 of the size), so the band widths
 (and Θ inside the bands) agree to the outline's chord error, and Θ agrees to rounding outside
 the bands. Vectorised over the points; one NumPy pass per obstacle.
 

@@ -174,7 +174,7 @@ def test_points_of_the_wrong_shape_are_refused(mixed_shapes):
 
 def test_theta_matches_an_independent_numpy_implementation():
     """reference.py implements Θ for discs from docs/maths.md §5 with exact disc distances;
-    Rust measures the distances that set the band widths on 512-vertex outlines. So the free
+    Rust measures the distances that set the band widths on certified outlines (within 1e-4 of the size). So the free
     space agrees exactly, Θ agrees to rounding away from the bands and to the chord error of the
     widths inside them."""
     from reference import from_scenario

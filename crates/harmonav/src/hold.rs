@@ -76,21 +76,15 @@ pub const MAX_HALVINGS: u32 = 40;
 /// `boundedvel`.
 pub const SPEED_SLACK: f64 = 1e-6;
 
-// TODO(shapes-exact): StarShape::signed_distance_bounds.
-fn bounds(shape: &StarShape, x: Vector2<f64>) -> (f64, f64) {
-    let d = shape.signed_distance(x);
-    let t = 1e-9 * (1.0 + d.abs());
-    (d - t, d + t)
-}
-
-/// A certified lower bound on the signed distance from `x` to `shape` (negative inside).
+/// A certified lower bound on the signed distance from `x` to `shape` (negative inside):
+/// [`StarShape::signed_distance_bounds`].
 fn lower(shape: &StarShape, x: Vector2<f64>) -> f64 {
-    bounds(shape, x).0
+    shape.signed_distance_bounds(x).0
 }
 
 /// A certified upper bound on the signed distance from `x` to `shape`.
 fn upper(shape: &StarShape, x: Vector2<f64>) -> f64 {
-    bounds(shape, x).1
+    shape.signed_distance_bounds(x).1
 }
 
 /// The certified clearance `d(x)`, clipped at `need`: `min(need, d̲(x))` with `d̲(x)` a lower
