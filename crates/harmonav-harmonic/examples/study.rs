@@ -1,7 +1,8 @@
 //! The measurements of docs/maths.md §11: accuracy, the fold layer, det J against the distance
 //! from the boundary, the certificate and solve times.
 //!
-//! `cargo run --release -p harmonav-harmonic --example study`
+//! `cargo run --release -p harmonav-harmonic --example study [times]` (`times`: only the
+//! solve and evaluation times, up to N ≈ 2 000).
 
 #[path = "../tests/common/mod.rs"]
 mod common;
@@ -80,6 +81,18 @@ fn layer(name: &str, d: &Domain, options: MeshOptions, spacing: f64) {
 }
 
 fn main() {
+    let times_only = std::env::args().any(|a| a == "times");
+    if !times_only {
+        studies();
+    }
+    times(if times_only {
+        &[0.05, 0.0125, 0.008, 0.005]
+    } else {
+        &[0.05, 0.025, 0.0125]
+    });
+}
+
+fn studies() {
     println!("## disk: max |H(x) − x| over |x| ≤ 0.9 (regular n-gon, one element per edge)");
     for n in [16, 32, 64, 128, 256, 512] {
         let (n, e) = disk(n);
@@ -110,8 +123,11 @@ fn main() {
     ] {
         layer(name, &d, MeshOptions::graded(h), h / 4.0);
     }
+}
+
+fn times(hs: &[f64]) {
     println!("## solve and evaluation times (square with hole, graded)");
-    for h in [0.05, 0.025, 0.0125, 0.008] {
+    for &h in hs {
         let d = square_with_hole();
         let t = Instant::now();
         let map = HarmonicMap::new(&d, &MeshOptions::graded(h)).unwrap();

@@ -17,7 +17,7 @@
 //! u(x) = Σ_j k_j ∫_{E_j} ln|z − s|² ds + c,      z = (x − x̄)/D,
 //! ```
 //!
-//! with the element integral and its gradient in closed form ([`kernel`](crate#kernel)):
+//! with the element integral and its gradient in closed form (`src/kernel.rs`):
 //! `W = (xo+a)ln r₊² − (xo−a)ln r₋² − 4a + 2yo·θ`, `θ = atan2(2a·yo, (xo−a)(xo+a) + yo²)`,
 //! `∇W = (ln(r₊²/r₋²), 2θ)` in the element's frame. Collocation at the midpoints gives
 //! `u(c_j) = cos 2πs_j` on the outer ring (`s_j` normalised arc length), `u(c_j) = p_i` on

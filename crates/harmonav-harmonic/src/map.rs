@@ -280,7 +280,8 @@ impl HarmonicMap {
         let lu = a.partial_piv_lu();
         let x = lu.solve(&b);
         let residual = relative_residual(&a, &x, &b);
-        if !(residual <= MAX_SOLVE_RESIDUAL) {
+        // NaN (a non-finite solution) fails this test too.
+        if residual.is_nan() || residual > MAX_SOLVE_RESIDUAL {
             return Err(SolveError::Singular { residual });
         }
         for (j, p) in panels.iter_mut().enumerate() {
