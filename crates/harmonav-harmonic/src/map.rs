@@ -1,0 +1,502 @@
+//! The boundary-element harmonic map `H = (u, v)` of a [`Domain`] onto the punctured unit disk.
+//!
+//! **Representation** (per component, `u` shown; `v` shares every matrix):
+//!
+//! ```text
+//! u(x) = Σ_j k_j·W_j(z) + c,     z = (x − x̄)/D,
+//! ```
+//!
+//! `W_j` the closed-form single layer of element `j` (`crate::kernel`), `k_j` its constant
+//! density, `c` a constant, `x̄` the bounding box's centre and `D` its diagonal.
+//!
+//! **Equations** (`N` elements, `M` holes, `N + M + 1` unknowns `k, p, c` per component):
+//!
+//! ```text
+//! u(c_j) = cos(2π s_j)                      j on the outer ring (s_j its midpoint's arc length / perimeter)
+//! u(c_j) − p_i = 0                          j on hole i          (u is constant, = p_i, on the hole)
+//! Σ_{l ∈ hole i} |E_l| k_l = 0              one row per hole     (zero net flux across hole i)
+//! Σ_{l ∈ outer} |E_l| k_l = 0               one row              (zero total charge)
+//! ```
+//!
+//! with `sin` for `v`. One LU of this matrix serves both right-hand sides.
+//!
+//! *Why a charge row is the flux row.* `Δ ln|x − s|² = 4π δ_s`, so by the divergence theorem
+//! the flux of `u` out of any loop that encloses hole `i` and no other element is exactly
+//! `4π Σ_{l ∈ hole i} |E_l| k_l`: zero charge is zero flux, exactly, for every such loop
+//! (the research notes' length-weighted normal-derivative sum is a quadrature of the same
+//! integral; docs/maths.md §11).
+//!
+//! *Guard against the degenerate scale.* A bare single layer `Σ k_j W_j` cannot represent the
+//! constants when the boundary's logarithmic capacity is 1 (for this kernel), and is
+//! ill-conditioned near it. The constant `c` with the zero-total-charge row makes the system
+//! uniquely solvable at every scale: scaling `z → λz` adds `2 ln λ·Σ_j |E_j| k_j = 0`. The
+//! coordinates are also normalised (`z = (x − x̄)/D`, diameter 1, so the capacity is at most ½),
+//! which keeps the matrix entries `O(1)` whatever the units.
+
+use faer::Mat;
+use faer::linalg::solvers::Solve;
+use nalgebra::{Matrix2, Vector2};
+
+use crate::domain::{Domain, RingId};
+use crate::kernel;
+use crate::mesh::{self, Element, MeshError, MeshOptions};
+
+/// Largest relative residual `‖A x − b‖∞ / (‖A‖∞‖x‖∞ + ‖b‖∞)` accepted from the LU solve;
+/// measured values are about 1e-16.
+pub const MAX_SOLVE_RESIDUAL: f64 = 1e-10;
+
+/// Why a harmonic map cannot be built.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum SolveError {
+    /// The mesh options are bad or give too many elements.
+    Mesh(MeshError),
+    /// The factorisation gave non-finite densities or a residual above [`MAX_SOLVE_RESIDUAL`]
+    /// (a numerically singular system).
+    Singular {
+        /// The relative residual (infinite when the solution was not finite).
+        residual: f64,
+    },
+}
+
+impl std::fmt::Display for SolveError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Mesh(e) => write!(f, "{e}"),
+            Self::Singular { residual } => write!(
+                f,
+                "the boundary-element system is numerically singular (relative residual {residual:e})"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for SolveError {}
+
+impl From<MeshError> for SolveError {
+    fn from(e: MeshError) -> Self {
+        Self::Mesh(e)
+    }
+}
+
+/// Why `H` cannot be evaluated at a point.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum EvalError {
+    /// The point has a NaN or infinite coordinate.
+    NonFinite,
+    /// The point is an element's end point, where `∇W_j` is logarithmically infinite.
+    AtElementEnd,
+}
+
+impl std::fmt::Display for EvalError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::NonFinite => write!(f, "the point has a NaN or infinite coordinate"),
+            Self::AtElementEnd => write!(
+                f,
+                "the point is a boundary element's end point, where the Jacobian is infinite"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for EvalError {}
+
+/// `H(x)` and its exact Jacobian `J_H(x) = [∇u; ∇v]` (rows), in the domain's units.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MapEval {
+    /// `H(x) = (u, v)`, in the unit disk for `x` in the free space away from the boundary layer.
+    pub value: Vector2<f64>,
+    /// `J_H(x)`: row 0 is `∇u`, row 1 is `∇v`.
+    pub jacobian: Matrix2<f64>,
+}
+
+impl MapEval {
+    /// `det J_H = u_x v_y − u_y v_x` (positive where `H` preserves orientation).
+    #[must_use]
+    pub fn det(&self) -> f64 {
+        self.jacobian.determinant()
+    }
+}
+
+/// One element in normalised coordinates with its two densities.
+#[derive(Clone, Copy, Debug)]
+struct Panel {
+    centre: [f64; 2],
+    tangent: [f64; 2],
+    half: f64,
+    ku: f64,
+    kv: f64,
+}
+
+/// Collocation residuals and hole fluxes of a solved map (see [`HarmonicMap::residuals`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Residuals {
+    /// `max_j |H(c_j) − (cos 2πs_j, sin 2πs_j)|` over outer midpoints.
+    pub outer: f64,
+    /// `max_j |H(c_j) − p_i|` over hole midpoints.
+    pub holes: f64,
+    /// `max_i |flux_i|` (both components), [`HarmonicMap::hole_flux`].
+    pub flux: f64,
+}
+
+/// The solved boundary-element harmonic map of a domain (module docs: the equations).
+#[derive(Clone, Debug)]
+pub struct HarmonicMap {
+    domain: Domain,
+    elements: Vec<Element>,
+    panels: Vec<Panel>,
+    /// Element range of each ring (outer first).
+    ranges: Vec<std::ops::Range<usize>>,
+    /// `2π s_j` for the outer elements.
+    angles: Vec<f64>,
+    centre: Vector2<f64>,
+    scale: f64,
+    constant: Vector2<f64>,
+    punctures: Vec<Vector2<f64>>,
+    solve_residual: f64,
+}
+
+/// Data that several evaluations share: the value, Jacobian and (for the certificate) the
+/// Hessian-norm bounds of both components over a disc of radius `rho` (normalised units).
+pub(crate) struct Bounded {
+    pub eval: MapEval,
+    /// `sup ‖∇²u‖₂` and `sup ‖∇²v‖₂` over the disc (world units), infinite if it meets Γ.
+    pub hessian: [f64; 2],
+}
+
+impl HarmonicMap {
+    /// Meshes `domain` ([`mesh::mesh`]), assembles the `(N + M + 1)²` system of the module docs,
+    /// factors it once (faer's partial-pivoting LU) and solves for `u` and `v` together.
+    /// Cost: `O(N²)` closed-form entries, `(2/3)(N + M + 1)³` flops.
+    ///
+    /// # Errors
+    /// [`SolveError::Mesh`] for bad options or too many elements, [`SolveError::Singular`] when
+    /// the solve fails its residual check.
+    pub fn new(domain: &Domain, options: &MeshOptions) -> Result<Self, SolveError> {
+        let elements = mesh::mesh(domain, options)?;
+        let (lower, upper) = domain.bounding_box();
+        let centre = (lower + upper) * 0.5;
+        let scale = domain.diameter();
+        let n = elements.len();
+        let holes = domain.holes().len();
+        let mut ranges = Vec::with_capacity(holes + 1);
+        let mut start = 0;
+        for r in 0..=holes {
+            let id = if r == 0 {
+                RingId::Outer
+            } else {
+                RingId::Hole(r - 1)
+            };
+            let end = start
+                + elements[start..]
+                    .iter()
+                    .take_while(|e| e.ring == id)
+                    .count();
+            ranges.push(start..end);
+            start = end;
+        }
+        let mut panels: Vec<Panel> = elements
+            .iter()
+            .map(|e| {
+                let a = (e.a - centre) / scale;
+                let b = (e.b - centre) / scale;
+                let d = b - a;
+                let len = d.norm();
+                let m = (a + b) * 0.5;
+                Panel {
+                    centre: [m.x, m.y],
+                    tangent: [d.x / len, d.y / len],
+                    half: len / 2.0,
+                    ku: 0.0,
+                    kv: 0.0,
+                }
+            })
+            .collect();
+        // Boundary data: the outer midpoints by normalised arc length, s_j ∈ (0, 1).
+        let perimeter: f64 = elements[ranges[0].clone()]
+            .iter()
+            .map(Element::length)
+            .sum();
+        let mut arc = 0.0;
+        let angles: Vec<f64> = elements[ranges[0].clone()]
+            .iter()
+            .map(|e| {
+                let l = e.length();
+                let s = (arc + l / 2.0) / perimeter;
+                arc += l;
+                std::f64::consts::TAU * s
+            })
+            .collect();
+        let ring_of: Vec<usize> = ranges
+            .iter()
+            .enumerate()
+            .flat_map(|(r, range)| std::iter::repeat_n(r, range.len()))
+            .collect();
+        let mean = panels.iter().map(|p| 2.0 * p.half).sum::<f64>() / n as f64;
+        let size = n + holes + 1;
+        // Entry (row, col): the module docs' equations; charge rows scaled by the mean element
+        // length so that every row is O(1).
+        let a = Mat::<f64>::from_fn(size, size, |row, col| {
+            if row < n {
+                if col < n {
+                    let (p, q) = (&panels[row], &panels[col]);
+                    let dx = p.centre[0] - q.centre[0];
+                    let dy = p.centre[1] - q.centre[1];
+                    let xo = dx * q.tangent[0] + dy * q.tangent[1];
+                    let yo = -dx * q.tangent[1] + dy * q.tangent[0];
+                    let yo = if row == col { 0.0 } else { yo };
+                    kernel::element(xo, yo, q.half).w
+                } else if col == size - 1 {
+                    1.0
+                } else if ring_of[row] == col - n + 1 {
+                    -1.0
+                } else {
+                    0.0
+                }
+            } else if col < n {
+                let ring = if row == size - 1 { 0 } else { row - n + 1 };
+                if ring_of[col] == ring {
+                    2.0 * panels[col].half / mean
+                } else {
+                    0.0
+                }
+            } else {
+                0.0
+            }
+        });
+        let b = Mat::<f64>::from_fn(size, 2, |row, col| {
+            if row < ranges[0].end {
+                if col == 0 {
+                    angles[row].cos()
+                } else {
+                    angles[row].sin()
+                }
+            } else {
+                0.0
+            }
+        });
+        let lu = a.partial_piv_lu();
+        let x = lu.solve(&b);
+        let residual = relative_residual(&a, &x, &b);
+        // NaN (a non-finite solution) fails this test too.
+        if residual.is_nan() || residual > MAX_SOLVE_RESIDUAL {
+            return Err(SolveError::Singular { residual });
+        }
+        for (j, p) in panels.iter_mut().enumerate() {
+            p.ku = x[(j, 0)];
+            p.kv = x[(j, 1)];
+        }
+        let punctures = (0..holes)
+            .map(|i| Vector2::new(x[(n + i, 0)], x[(n + i, 1)]))
+            .collect();
+        let constant = Vector2::new(x[(size - 1, 0)], x[(size - 1, 1)]);
+        Ok(Self {
+            domain: domain.clone(),
+            elements,
+            panels,
+            ranges,
+            angles,
+            centre,
+            scale,
+            constant,
+            punctures,
+            solve_residual: residual,
+        })
+    }
+
+    /// `H(x)` and its exact Jacobian, `O(N)`: per element two logarithms and one `atan2`
+    /// (`crate::kernel`), `J_H = [Σ k^u_j ∇W_j; Σ k^v_j ∇W_j] / D`. Defined everywhere off the
+    /// element end points; it is the harmonic map on the free space (inside a hole it is the
+    /// single layer's harmonic continuation, which means nothing). Within about half an element
+    /// of the boundary it may fold or leave the disk (docs/maths.md §11): certify with
+    /// [`crate::certify`].
+    ///
+    /// # Errors
+    /// [`EvalError::NonFinite`] for a NaN or infinite point, [`EvalError::AtElementEnd`] at an
+    /// element's end point.
+    pub fn eval(&self, x: Vector2<f64>) -> Result<MapEval, EvalError> {
+        self.eval_bounded(x, None).map(|b| b.eval)
+    }
+
+    /// [`HarmonicMap::eval`], plus (with `rho = Some(r)`, world units) bounds of `‖∇²u‖₂` and
+    /// `‖∇²v‖₂` on the disc of radius `r` about `x`:
+    ///
+    /// ```text
+    /// ‖∇²u(y)‖₂ ≤ Σ_j |k_j| ∫_{E_j} ‖∇² ln|y − s|²‖₂ ds ≤ Σ_j |k_j| · 2|E_j| / (d_j − r)²,
+    /// ```
+    ///
+    /// `d_j = dist(x, E_j)`, since `∇² ln|w|² = 2(|w|²I − 2wwᵀ)/|w|⁴` has eigenvalues `±2/|w|²`
+    /// (infinite when some `d_j ≤ r`).
+    pub(crate) fn eval_bounded(
+        &self,
+        x: Vector2<f64>,
+        rho: Option<f64>,
+    ) -> Result<Bounded, EvalError> {
+        if !(x.x.is_finite() && x.y.is_finite()) {
+            return Err(EvalError::NonFinite);
+        }
+        let z = (x - self.centre) / self.scale;
+        let r = rho.map(|r| r / self.scale);
+        let (mut u, mut v) = (0.0, 0.0);
+        let (mut ux, mut uy, mut vx, mut vy) = (0.0, 0.0, 0.0, 0.0);
+        let (mut hu, mut hv) = (0.0, 0.0);
+        for p in &self.panels {
+            let dx = z.x - p.centre[0];
+            let dy = z.y - p.centre[1];
+            let (tx, ty) = (p.tangent[0], p.tangent[1]);
+            let xo = dx * tx + dy * ty;
+            let yo = -dx * ty + dy * tx;
+            let l = kernel::element(xo, yo, p.half);
+            if l.singular {
+                return Err(EvalError::AtElementEnd);
+            }
+            // World-axis gradient: ∂W/∂xo along t, ∂W/∂yo along n = (−t_y, t_x).
+            let gx = l.gx * tx - l.gy * ty;
+            let gy = l.gx * ty + l.gy * tx;
+            u += p.ku * l.w;
+            v += p.kv * l.w;
+            ux += p.ku * gx;
+            uy += p.ku * gy;
+            vx += p.kv * gx;
+            vy += p.kv * gy;
+            if let Some(r) = r {
+                let along = (xo.abs() - p.half).max(0.0);
+                let d = (along * along + yo * yo).sqrt();
+                let gap = d - r;
+                let w = if gap > 0.0 {
+                    4.0 * p.half / (gap * gap)
+                } else {
+                    f64::INFINITY
+                };
+                hu += p.ku.abs() * w;
+                hv += p.kv.abs() * w;
+            }
+        }
+        let s = self.scale;
+        Ok(Bounded {
+            eval: MapEval {
+                value: Vector2::new(u, v) + self.constant,
+                jacobian: Matrix2::new(ux / s, uy / s, vx / s, vy / s),
+            },
+            hessian: [hu / (s * s), hv / (s * s)],
+        })
+    }
+
+    /// The punctures `p_i = H(hole i)`, one per hole in order: unknowns of the solve.
+    #[must_use]
+    pub fn punctures(&self) -> &[Vector2<f64>] {
+        &self.punctures
+    }
+
+    /// The domain the map was built on.
+    #[must_use]
+    pub fn domain(&self) -> &Domain {
+        &self.domain
+    }
+
+    /// The boundary elements (world coordinates), outer ring first, then each hole.
+    #[must_use]
+    pub fn elements(&self) -> &[Element] {
+        &self.elements
+    }
+
+    /// The longest element `h_max` (world units): the scale of the boundary layer, so the
+    /// natural certificate distance is `δ ≥ h_max`.
+    #[must_use]
+    pub fn max_element_length(&self) -> f64 {
+        self.elements
+            .iter()
+            .map(Element::length)
+            .fold(0.0, f64::max)
+    }
+
+    /// The prescribed boundary angle `2π s_j` of outer element `j` (its midpoint maps to
+    /// `(cos, sin)` of it): monotone from 0 at outer vertex 0, so the boundary correspondence
+    /// is a homeomorphism onto the circle.
+    #[must_use]
+    pub fn boundary_angles(&self) -> &[f64] {
+        &self.angles
+    }
+
+    /// Flux of `(u, v)` out of any loop that encloses hole `i` and no other element:
+    /// `4π Σ_{l ∈ hole i} |E_l| k_l` (the divergence theorem with `Δ ln|x − s|² = 4π δ_s`;
+    /// it is the same in world and normalised units). The solve makes it zero; `None` for a
+    /// hole that does not exist.
+    #[must_use]
+    pub fn hole_flux(&self, hole: usize) -> Option<Vector2<f64>> {
+        let range = self.ranges.get(hole + 1)?.clone();
+        let (mut fu, mut fv) = (0.0, 0.0);
+        for p in &self.panels[range] {
+            fu += 2.0 * p.half * p.ku;
+            fv += 2.0 * p.half * p.kv;
+        }
+        let c = 2.0 * std::f64::consts::TAU;
+        Some(Vector2::new(c * fu, c * fv))
+    }
+
+    /// The LU solve's relative residual `‖A x − b‖∞ / (‖A‖∞‖x‖∞ + ‖b‖∞)`.
+    #[must_use]
+    pub fn solve_residual(&self) -> f64 {
+        self.solve_residual
+    }
+
+    /// Collocation residuals and fluxes, re-evaluated through [`HarmonicMap::eval`] at every
+    /// midpoint (`O(N²)`): what the equations demand, measured on the evaluated map.
+    #[must_use]
+    pub fn residuals(&self) -> Residuals {
+        let mut out = Residuals {
+            outer: 0.0,
+            holes: 0.0,
+            flux: 0.0,
+        };
+        for (r, range) in self.ranges.iter().enumerate() {
+            for j in range.clone() {
+                let Ok(e) = self.eval(self.elements[j].midpoint()) else {
+                    out.outer = f64::INFINITY;
+                    continue;
+                };
+                if r == 0 {
+                    let t = self.angles[j];
+                    let err = (e.value - Vector2::new(t.cos(), t.sin())).norm();
+                    out.outer = out.outer.max(err);
+                } else {
+                    out.holes = out.holes.max((e.value - self.punctures[r - 1]).norm());
+                }
+            }
+        }
+        for i in 0..self.punctures.len() {
+            if let Some(f) = self.hole_flux(i) {
+                out.flux = out.flux.max(f.amax());
+            }
+        }
+        out
+    }
+}
+
+/// `‖A x − b‖∞ / (‖A‖∞‖x‖∞ + ‖b‖∞)`, infinite if anything is not finite.
+fn relative_residual(a: &Mat<f64>, x: &Mat<f64>, b: &Mat<f64>) -> f64 {
+    let r = a * x - b;
+    let inf_norm = |m: &Mat<f64>| {
+        let mut worst = 0.0_f64;
+        for i in 0..m.nrows() {
+            let mut s = 0.0;
+            for j in 0..m.ncols() {
+                s += m[(i, j)].abs();
+            }
+            if !s.is_finite() {
+                return f64::INFINITY;
+            }
+            worst = worst.max(s);
+        }
+        worst
+    };
+    let num = inf_norm(&r);
+    let den = inf_norm(a) * inf_norm(x) + inf_norm(b);
+    if num.is_finite() && den.is_finite() && den > 0.0 {
+        num / den
+    } else {
+        f64::INFINITY
+    }
+}
