@@ -20,7 +20,7 @@ use harmonav_rs::Vector2;
 use numpy::ndarray::{ArrayView2, Dimension};
 use numpy::{
     Element, PyArray, PyArray1, PyArray2, PyArrayDescrMethods, PyArrayDyn, PyArrayMethods,
-    PyReadonlyArray2, PyUntypedArray, PyUntypedArrayMethods,
+    PyUntypedArray, PyUntypedArrayMethods,
 };
 use pyo3::exceptions::{PyMemoryError, PyTypeError, PyValueError};
 use pyo3::intern;
@@ -95,12 +95,6 @@ pub fn points_like(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Vector2<f
         ))),
         Floats::Many(a) => rows_of(&a, what),
     }
-}
-
-/// The rows of an `(N, 2)` float64 array (any strides), copied out so that the GIL can be
-/// released.
-pub fn points(a: &PyReadonlyArray2<'_, f64>) -> PyResult<Vec<Vector2<f64>>> {
-    rows(a.as_array(), "points")
 }
 
 /// What `float64_array` found: a 1-D array of length 2 read as a point (an error if it has a

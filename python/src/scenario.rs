@@ -8,12 +8,12 @@ use harmonav_sim::record::{check_output_dir, write_outputs};
 use harmonav_sim::run::Run;
 use harmonav_sim::scenario::{Model, Prepared, Scenario as RsScenario};
 use harmonav_sim::sweep::{Report, check_count, random_starts, sweep_part};
-use numpy::{PyArray1, PyArray2, PyReadonlyArray2, PyUntypedArrayMethods};
-use pyo3::exceptions::{PyOSError, PyTypeError};
+use numpy::{PyArray1, PyArray2, PyUntypedArrayMethods};
+use pyo3::exceptions::PyOSError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::convert::{points, policy, rows2, value_error};
+use crate::convert::{points_like, policy, rows2, value_error};
 use crate::field::Field;
 
 /// A scenario file (TOML, `scenarios/README.md`), validated as `harmonav check` does.
@@ -236,16 +236,13 @@ pub fn sweep(
     let pts = if let Ok(count) = starts.extract::<usize>() {
         py.detach(|| random_starts(prepared, count, seed))
             .map_err(|e| value_error(format!("starts: {e}")))?
-    } else if let Ok(array) = starts.extract::<PyReadonlyArray2<'_, f64>>() {
-        let pts = points(&array)?;
+    } else {
+        // Any array-like of points, as the rest of the module takes them.
+        let pts = points_like(starts, "starts")?;
         if let Some(i) = pts.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
             return Err(value_error(format!("starts[{i}] is not finite")));
         }
         pts
-    } else {
-        return Err(PyTypeError::new_err(
-            "starts must be a count (int) or an (N, 2) float array",
-        ));
     };
     check_count(pts.len()).map_err(|e| value_error(format!("starts: {e}")))?;
     let model = model(controller)?.unwrap_or(prepared.scenario.robot.model);

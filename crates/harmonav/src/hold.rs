@@ -113,7 +113,7 @@ pub(crate) fn clearance(ws: &Workspace, x: Vector2<f64>, need: f64, except: Opti
     best
 }
 
-/// The most balls of [`free_length`]'s sphere tracing.
+/// The most balls of the sphere tracing that certifies a step free (`docs/maths.md` §10).
 pub const MAX_TRACE_BALLS: usize = 64;
 
 /// A certified free length along the ray `x + t·dir` (`dir` a unit vector), clipped at `want`:
@@ -140,7 +140,7 @@ pub(crate) fn free_length(ws: &Workspace, x: Vector2<f64>, dir: Vector2<f64>, wa
     t
 }
 
-/// The sub-steps of the kinematic hold's chord ([`kinematic`]).
+/// The sub-steps of the kinematic hold's chord through a stiff valley (`docs/maths.md` §10).
 pub const CHORD_SUBSTEPS: usize = 8;
 
 /// The kinematic hold tries the chord once `Θ`'s decrease has halved the step this many times.
