@@ -23,10 +23,19 @@
 //! [`Options::order`]) about a centre behind the visible arc, certified (eq. certify) to contain
 //!
 //! ```text
-//! Y = K \ int(T_1 ∪ … ∪ T_{m−1}),   K = ∩_k B(p_k, D + ε)                        (eq. region)
+//! Y = (K ∩ H_a ∩ H_b) \ (int(E_a ∪ T_1 ∪ … ∪ T_{m−1} ∪ E_b) ∪ free side beams)      (eq. region)
+//! K = ∩_k B(p_k, D + ε)
 //! T_i = triangle(s, p_i − κ_i u_i, p_{i+1} − κ_i u_{i+1}),  κ_i = e_i / min(u_i·n_i, u_{i+1}·n_i)
 //! e_i = ε + ρ_min − √(ρ_min² − c_i²/4),   c_i = |p_{i+1} − p_i| + 2ε                 (eq. sagitta)
+//! H_a = the side of the line of beam j_a holding the hits, j_a the first beam outward of
+//!       the first hit whose free part (r_j − ε, or range_max) covers its chord of K    (eq. side)
+//! E_a = triangle(s, s + τ u_a, s + τ u_{j_a}),  τ = r_a − ε − sag(2w) − w,
+//!       w = 2 r_a sin(∠(u_a, u_{j_a})/2), only when w < 2ρ_min                      (eq. end)
 //! ```
+//!
+//! (and `H_b`, `E_b` at the last hit). A wedge or end triangle is left out when its bound does
+//! not apply (`c_i > 2ρ_min`, grazing incidence `u·n < 0.05`, the sensor within `e_i` of the
+//! chord's line).
 //!
 //! **Assumptions** (the guarantee is exactly as strong as these):
 //!
@@ -39,8 +48,14 @@
 //!   every hit point `q_i` of the segment: `O ⊂ ∩_i B(q_i, D)`. This holds when
 //!   `diam O ≤ D`; it is how far an obstacle may extend behind (and beside) its seen surface.
 //!   Obstacles larger than `D` (walls, long furniture) must come from the map.
+//! - **(A4) ends.** `O` is a union of discs of radius `ρ_min` (every boundary point has an
+//!   inner tangent disc of that radius). Beside a segment's end, between its last beam and a
+//!   free side beam `w < 2ρ_min` apart, such a disc can reach no nearer to the sensor than
+//!   `r* − sag(2w)`: it cannot pass between the two beams and must cross the end beam behind
+//!   its first hit. `E_a` keeps a further `w` of slack for the angular approximation; this
+//!   step is argued, not yet proved line by line (docs/maths.md §12).
 //!
-//! **Claim.** Under (A1)–(A3), `O ⊂ Y ⊂ F`.
+//! **Claim.** Under (A1)–(A4), `O ⊂ Y ⊂ F`.
 //!
 //! *Proof.* (A3) and (A1): `O ⊂ ∩ B(q_k, D) ⊂ ∩ B(p_k, D + ε) ⊂ K` (any subset of the hits
 //! gives a superset, so `K` uses at most 8). The arc of (A2) between `q_i` and `q_{i+1}` lies in
@@ -53,7 +68,9 @@
 //! far vertices by the choice of `κ_i`). If a point `x ∈ O` were in `int T_i`, the first point
 //! `a` of `O` on the segment `[s, x]` would be visible, in the wedge, and in `int T_i` (a
 //! segment from a vertex to an interior point of a triangle is interior but for the vertex, and
-//! `a ≠ s`): a contradiction. Along the shared beam `i + 1`, `int(T_i ∪ T_{i+1})` holds points
+//! `a ≠ s`): a contradiction. The side cut: `O` is connected, holds the first hit, lies in the
+//! convex `K`, and cannot cross the free beam `j_a`, whose chord cuts `K` in two; so `O ⊂ H_a`.
+//! `E_a` by (A4). Along the shared beam `i + 1`, `int(T_i ∪ T_{i+1})` holds points
 //! nearer than `r_{i+1} − κ < r*_{i+1}`, free by definition of the first hit. So
 //! `O ⊂ K \ int(∪T_i) = Y`; eq. certify gives `Y ⊂ F`. ∎
 //!

@@ -249,9 +249,9 @@ impl Perception {
     ///    must not lie in a known shape or outside the boundary);
     /// 2. drops the hits explained by known shapes (eq. explained);
     /// 3. segments the rest ([`segment`], eq. jump);
-    /// 4. fits each segment ([`fit_in_scan`](crate::fit_in_scan); segments wider than `D + 2ε` are reported in
+    /// 4. fits each segment ([`fit_in_scan`]; segments wider than `D + 2ε` are reported in
     ///    [`Observation::unfitted`]);
-    /// 5. merges each fit with every perceived shape it overlaps ([`merge`](crate::merge)), repeatedly, so
+    /// 5. merges each fit with every perceived shape it overlaps ([`merge`]), repeatedly, so
     ///    that the perceived shapes stay disjoint; a fit overlapping a map obstacle, or a
     ///    perceived shape with no common kernel point, is [`PerceptionError::NotStarWorld`].
     ///
