@@ -206,9 +206,9 @@ pub const CHORD_AFTER_HALVINGS: u32 = 1;
 /// The kinematic hold at `x` (with its evaluation `e` and the law's velocity `u`).
 ///
 /// First the single step ([`kinematic_step`]). Where `Θ`'s decrease shortened it
-/// ([`CHORD_AFTER_HALVINGS`]; in a stiff valley, where the straight step overshoots the floor), the flow line is followed over `h`
-/// instead by [`CHORD_SUBSTEPS`] single steps of `h/`[`CHORD_SUBSTEPS`] (each certified, each
-/// decreasing `phi_k`), ending at `y`; the chord `[x, y]` is taken if it is certified free
+/// ([`CHORD_AFTER_HALVINGS`]; in a stiff valley, where the straight step overshoots the
+/// floor), the flow line is followed over `h` instead by [`CHORD_SUBSTEPS`] single steps of
+/// `h/`[`CHORD_SUBSTEPS`] (each certified, each decreasing `phi_k`), ending at `y`; the chord `[x, y]` is taken if it is certified free
 /// ([`free_length`]) and longer than the single step, with the command `(y − x)/h`. Its end
 /// is `y`, so `Θ` decreases over it as over the sub-steps.
 pub(crate) fn kinematic(
