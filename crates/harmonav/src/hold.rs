@@ -148,6 +148,14 @@ pub(crate) fn free_length(ws: &Workspace, x: Vector2<f64>, dir: Vector2<f64>, wa
     t
 }
 
+/// The unit direction `u` of the ray from `shape`'s centre through `x`, and `ρ = |x − c|`;
+/// `None` at the centre (or for a NaN `x`), where the ray is undefined.
+fn ray(shape: &StarShape, x: Vector2<f64>) -> Option<(Vector2<f64>, f64)> {
+    let radial = x - shape.centre();
+    let rho = radial.norm();
+    (rho > 0.0).then(|| (radial / rho, rho))
+}
+
 /// The width of the layer along a shape in which its certified distance bounds cannot prove
 /// a free point free: twice the certified width `τ` of [`StarShape::signed_distance_bounds`]
 /// plus its rounding allowance (`64ε` of the coordinates' size, twice).
@@ -183,12 +191,8 @@ pub(crate) fn escape(
         Band::Obstacle(i) => (worst.0, &ws.obstacles()[i], true),
         Band::Boundary => (worst.0, ws.boundary(), false),
     };
-    let radial = x - shape.centre();
-    let rho = radial.norm();
-    if rho.is_nan() || rho <= 0.0 {
-        return None;
-    }
-    let dir = if outward { radial / rho } else { -radial / rho };
+    let (u, _) = ray(shape, x)?;
+    let dir = if outward { u } else { -u };
     let others = clearance(ws, x, 2.0 * most, Some(band)).max(0.0);
     let length = blind_layer(shape, x).min(0.5 * others).min(most);
     (length > 0.0).then_some((band, dir, length))
@@ -404,12 +408,7 @@ pub(crate) fn way_out(
         Band::Obstacle(i) => (ws.obstacles().get(i)?, true),
         Band::Boundary => (ws.boundary(), false),
     };
-    let radial = x - shape.centre();
-    let rho = radial.norm();
-    if rho.is_nan() || rho <= 0.0 {
-        return None;
-    }
-    let u = radial / rho;
+    let (u, rho) = ray(shape, x)?;
     let r = shape.radius_along(u).0;
     let (dir, to_edge) = if outward { (u, r - rho) } else { (-u, rho - r) };
     let edge = x + to_edge.max(0.0) * dir;

@@ -212,13 +212,7 @@ fn a_robot_in_the_margin_band_is_led_back_out() {
                 assert_eq!(band, Band::Obstacle(0));
                 recovered += 1;
             }
-            match law {
-                Law::Kinematic { .. } => x += h * c.value,
-                Law::Dynamic { mass, .. } => {
-                    v += h * c.value / mass;
-                    x += h * v;
-                }
-            }
+            Integrator::SemiImplicitEuler.advance(law, h, c.value, &mut x, &mut v);
             assert!(
                 rock.signed_distance(x) > radius,
                 "{law:?}: touched at {x:?}"
@@ -342,13 +336,7 @@ fn fly_from(nav: &mut Navigator, mut x: Vector2<f64>, law: Law, rock: &StarShape
     let mut v = Vector2::zeros();
     for _ in 0..(60.0 / h) as usize {
         let c = nav.command(x, v).unwrap();
-        match law {
-            Law::Kinematic { .. } => x += h * c.value,
-            Law::Dynamic { mass, .. } => {
-                v += h * c.value / mass;
-                x += h * v;
-            }
-        }
+        Integrator::SemiImplicitEuler.advance(law, h, c.value, &mut x, &mut v);
         assert!(
             !rock.contains(x),
             "{law:?}: entered the grown shape at {x:?}"
