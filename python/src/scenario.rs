@@ -136,8 +136,10 @@ impl Scenario {
 }
 
 /// The result of `Scenario.run`: `summary` (the dict of summary.json: `reached`, `time_s`,
-/// `guarantees`, `outcome`, …), the recorded states `t` (N,), `x` (N, 2), `v` (N, 2),
-/// `theta` (N,), and `discoveries` (a list of dicts: `obstacle`, `time_s`, `position`).
+/// `guarantees`, `outcome`, `path_length`, `recorded_states`, …), the recorded states `t`
+/// (N,), `x` (N, 2), `v` (N, 2), `theta` (N,), and `discoveries` (a list of dicts:
+/// `obstacle`, `time_s`, `position`). A run of more than 2¹⁷ recorded states keeps N ≤ 2¹⁷ of
+/// them, evenly spaced in time (the monitors judged all `recorded_states`).
 #[pyclass(module = "harmonav", frozen, get_all)]
 pub struct RunResult {
     summary: Py<PyAny>,

@@ -128,6 +128,22 @@ pub fn run(options: &Options) -> ExitCode {
             navigator_command_ns(kinematic, HoldPolicy::Paper),
         );
     }
+    // Memory of a long run, side by side with a short one (docs/benchmarks.md): the peak
+    // resident memory the run adds, sampled every 5 ms.
+    if wants("long_run") {
+        for (name, states) in [("1e5", 1e5), ("1e7", 1e7)] {
+            match long_run_rss(states) {
+                Ok((mb, steps)) => {
+                    put(&format!("long_run_peak_rss_mb_{name}"), mb);
+                    put(&format!("long_run_steps_{name}"), steps as f64);
+                }
+                Err(e) => {
+                    eprintln!("xtask bench: the long run failed: {e}");
+                    return ExitCode::FAILURE;
+                }
+            }
+        }
+    }
     if wants("montecarlo_runs_per_s") {
         put("montecarlo_runs_per_s", montecarlo_runs_per_s());
     }
@@ -368,6 +384,60 @@ fn control_step_ns(policy: DampingPolicy) -> f64 {
             }
         }
     })
+}
+
+/// The resident memory of this process, bytes (`VmRSS` of /proc/self/status).
+fn rss_bytes() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmRSS:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
+/// A kinematic run across an empty 10 km world (8 km from start to goal, about 5 660 s) with
+/// `sim.dt` chosen for about `states` recorded states (and as many integration steps), every state handed to an observer as a streamed recording would be: the peak
+/// resident memory it adds over the process's before it (MB, sampled every 5 ms), and its
+/// accepted steps. The run keeps a bounded trajectory and judges online, so the peak must
+/// not grow with `states` (target: ≤ 100 MB at 10⁷).
+fn long_run_rss(states: f64) -> Result<(f64, usize), String> {
+    use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+    let dt = 5660.0 / states;
+    let text = format!(
+        "name = \"long-run\"\n[workspace]\ntype = \"circle\"\ncenter = [0.0, 0.0]\nradius = 5000.0\n\
+         [robot]\nmodel = \"kinematic\"\nstart = [-4000.0, 0.0]\ngoal = [4000.0, 0.0]\n\
+         [sim]\ndt = {dt:e}\nmax_time = 1e5\ngoal_tolerance = 0.05\n"
+    );
+    let path = std::path::Path::new("long-run.toml");
+    let prepared = harmonav_sim::scenario::Scenario::parse(path, &text)
+        .and_then(|s| s.prepare(path))
+        .map_err(|e| e.to_string())?;
+    let base = rss_bytes().ok_or("no /proc/self/status")?;
+    let (done, peak) = (AtomicBool::new(false), AtomicU64::new(base));
+    let run = std::thread::scope(|scope| {
+        scope.spawn(|| {
+            while !done.load(Ordering::Relaxed) {
+                peak.fetch_max(rss_bytes().unwrap_or(0), Ordering::Relaxed);
+                std::thread::sleep(std::time::Duration::from_millis(5));
+            }
+        });
+        let mut streamed = 0usize;
+        let run = harmonav_sim::run::run_observed(&prepared, None, &mut |e| {
+            if let harmonav_sim::run::Event::State(s) = e {
+                streamed += black_box(s).x.len() / 2;
+            }
+        });
+        done.store(true, Ordering::Relaxed);
+        run.map(|r| (r, streamed))
+    });
+    let (run, streamed) = run.map_err(|e| e.to_string())?;
+    if !run.summary.reached || streamed != run.summary.recorded_states {
+        return Err(format!(
+            "the long run did not arrive or lost states: reached {}, {streamed} streamed of {}",
+            run.summary.reached, run.summary.recorded_states
+        ));
+    }
+    let added = peak.load(Ordering::Relaxed).saturating_sub(base);
+    Ok((added as f64 / 1e6, run.summary.steps))
 }
 
 /// The Monte-Carlo study of `cargo xtask verify` (descents from random starts in the

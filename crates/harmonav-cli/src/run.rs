@@ -2,8 +2,8 @@
 
 use std::path::Path;
 
-use harmonav_sim::physics::{Physics, simulate};
-use harmonav_sim::record::{check_output_dir, write_outputs};
+use harmonav_sim::physics::{Physics, simulate_observed};
+use harmonav_sim::record::Outputs;
 use harmonav_sim::run::Summary;
 use harmonav_sim::scenario::Prepared;
 
@@ -26,25 +26,32 @@ pub struct RunArgs<'a> {
 }
 
 /// Runs the scenario: `--out` is checked before the run (every problem of the folder is
-/// found then, and nothing is run), the summary is printed after it, and then the outputs
-/// are written; if that fails the summary has been printed and the error follows.
-/// `Ok(false)` when a guarantee failed.
+/// found then, and nothing is run), the recording streams into its staging folder during the
+/// run (memory stays flat however long it is), the summary is printed after it, and then the
+/// set of outputs is completed and moved into place; if that fails the summary has been
+/// printed and the error follows. `Ok(false)` when a guarantee failed.
 pub fn cmd_run(prepared: &Prepared, args: &RunArgs<'_>) -> Result<bool, CliError> {
-    if let Some(dir) = args.out {
-        check_output_dir(dir).map_err(CliError::Out)?;
-    }
+    let mut outputs = match args.out {
+        Some(dir) => Some(Outputs::begin(dir, prepared).map_err(CliError::Out)?),
+        None => None,
+    };
     let physics = match args.physics {
         PhysicsArg::Builtin => Physics::Builtin,
         PhysicsArg::Rapier => Physics::Rapier,
     };
-    let result =
-        simulate(prepared, model(args.controller), physics).map_err(|error| CliError::Run {
-            scenario: args.path.to_path_buf(),
-            error,
-        })?;
+    let result = simulate_observed(prepared, model(args.controller), physics, &mut |e| {
+        if let Some(o) = outputs.as_mut() {
+            o.observe(e);
+        }
+    })
+    .map_err(|error| CliError::Run {
+        scenario: args.path.to_path_buf(),
+        error,
+    })?;
     let written = args
         .out
-        .map(|dir| write_outputs(dir, prepared, &result).map(|_| dir));
+        .zip(outputs)
+        .map(|(dir, o)| o.finish(&result).map(|_| dir));
     if args.json {
         print_json(&result.summary)?;
     } else {

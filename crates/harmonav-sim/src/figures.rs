@@ -151,6 +151,31 @@ pub fn draw_level_lines(chart: &mut Plane<'_, '_>, grid: &ThetaGrid) -> Result<(
     Ok(())
 }
 
+/// The points of a line worth drawing: the first, the last, and each one whose pixel differs
+/// from the last kept one's (`to_px`: the chart's backend coordinates). The SVG backend
+/// draws at whole pixels, so nothing visible is dropped, and a line over 10⁵ states becomes
+/// at most a few thousand vertices.
+fn drawable(
+    points: impl IntoIterator<Item = (f64, f64)>,
+    to_px: impl Fn(&(f64, f64)) -> (i32, i32),
+) -> Vec<(f64, f64)> {
+    let mut kept: Vec<(f64, f64)> = Vec::new();
+    let mut last_px = None;
+    let mut tail = None;
+    for p in points {
+        let px = to_px(&p);
+        if last_px != Some(px) {
+            kept.push(p);
+            last_px = Some(px);
+            tail = None;
+        } else {
+            tail = Some(p);
+        }
+    }
+    kept.extend(tail);
+    kept
+}
+
 /// The poses at which the sector is drawn: at each discovery, with its axis.
 fn sector_poses(run: &Run) -> Vec<(Vector2<f64>, Vector2<f64>)> {
     run.summary
@@ -227,11 +252,11 @@ pub fn trajectory_svg(prepared: &Prepared, run: &Run) -> Result<String, String> 
                 )))
                 .map_err(err)?;
         }
+        let path = drawable(run.samples.iter().map(|p| (p.x[0], p.x[1])), |p| {
+            chart.backend_coord(p)
+        });
         chart
-            .draw_series(LineSeries::new(
-                run.samples.iter().map(|p| (p.x[0], p.x[1])),
-                PATH.stroke_width(2),
-            ))
+            .draw_series(LineSeries::new(path, PATH.stroke_width(2)))
             .map_err(err)?;
         let start = run.samples.first().map_or((0.0, 0.0), |p| (p.x[0], p.x[1]));
         chart
@@ -343,11 +368,9 @@ fn time_chart(
     }
     for (name, color, points) in series {
         let color = *color;
+        let points = drawable(points.iter().copied(), |p| chart.backend_coord(p));
         chart
-            .draw_series(LineSeries::new(
-                points.iter().copied(),
-                color.stroke_width(2),
-            ))
+            .draw_series(LineSeries::new(points, color.stroke_width(2)))
             .map_err(err)?
             .label(*name)
             .legend(move |(x, y)| {
@@ -431,4 +454,23 @@ pub fn energy_svg(run: &Run) -> Result<String, String> {
         root.present().map_err(err)?;
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn drawable_keeps_one_point_per_pixel_and_both_ends() {
+        // 10⁵ points along a line of 100 px: at most two per pixel, the ends exact, and
+        // every pixel of the line still visited.
+        let points: Vec<(f64, f64)> = (0..=100_000).map(|i| (i as f64 * 1e-3, 0.0)).collect();
+        let px = |p: &(f64, f64)| (p.0.floor() as i32, p.1.floor() as i32);
+        let kept = drawable(points.iter().copied(), px);
+        assert_eq!(kept.first(), Some(&(0.0, 0.0)));
+        assert_eq!(kept.last(), Some(&(100.0, 0.0)));
+        assert!(kept.len() <= 102, "{}", kept.len());
+        let pixels: std::collections::BTreeSet<_> = kept.iter().map(px).collect();
+        assert_eq!(pixels.len(), 101);
+    }
 }

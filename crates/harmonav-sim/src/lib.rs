@@ -1,7 +1,7 @@
 //! # harmonav-sim
 //!
 //! Scenario files ([`scenario`]), the built-in integrator with discovery events and the
-//! guarantee monitors ([`run`]), the MCAP recording ([`record`]) and the SVG figures
+//! online guarantee monitors ([`run`]), the states kept in bounded memory ([`trajectory`]), the MCAP recording ([`record`]) and the SVG figures
 //! ([`figures`]), output folders checked before a run and written as one set ([`atomic`]),
 //! and many starts with typed outcomes ([`sweep`]). Only this crate and the CLI know about
 //! files.
@@ -47,5 +47,6 @@ pub mod run;
 pub mod scenario;
 pub mod shortest;
 pub mod sweep;
+pub mod trajectory;
 pub mod truth;
 pub mod warning;

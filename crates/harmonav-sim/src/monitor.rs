@@ -1,14 +1,17 @@
-//! The guarantee monitors: fed every recorded state, measured against the [`Truth`], and
-//! judged at the end of a run into the summary's guarantees.
+//! The guarantee monitors: fed every state online, measured against the [`Truth`], and
+//! judged at the end of a run into the summary's guarantees. They keep `O(1)` memory, so a
+//! run of any length is judged on every one of its states; what stays in memory for figures
+//! is the bounded [`Trajectory`].
 
 use harmonav::Controller;
 use nalgebra::Vector2;
 
 use crate::closed_loop::ClosedLoop;
 use crate::guarantee::{Check, Guarantee};
-use crate::outcome::Outcome;
-use crate::run::{Discovery, Sample, Summary};
+use crate::outcome::{Outcome, Rest};
+use crate::run::{Discovery, Event, Sample, Summary};
 use crate::scenario::{ExpectSpec, Prepared};
+use crate::trajectory::{Keep, Trajectory};
 use crate::truth::Truth;
 
 /// How far below `robot.margin` the measured clearance may fall and still pass: the offset
@@ -32,10 +35,68 @@ pub(crate) struct Monitor {
     /// Set by the integrator when it stopped a run that had come to rest away from the goal:
     /// since when.
     stalled_since: Option<f64>,
+    /// Since when the recorded states have been at rest.
+    rest: Rest,
+    /// The last approach of the recorded states, for [`overshoot`].
+    approach: Approach,
+    /// Whether a recorded state had the damping switched (`λ` in force, not critical).
+    damping_switched: bool,
+    /// The length of the recorded path, m, and its last point.
+    path: (f64, Option<Vector2<f64>>),
+    /// Recorded states.
+    recorded: usize,
+}
+
+/// The last approach to the goal, judged online (corollary `critdamp`): the trailing recorded
+/// states since the last discovery with the damping in its critical branch and `Θ < 0.01`, and
+/// the largest increase of the distance to the goal between two consecutive ones.
+#[derive(Clone, Copy, Debug, Default)]
+struct Approach {
+    /// Recorded states in the approach.
+    len: usize,
+    /// Of those, the trailing ones at the time of the last.
+    at_last_t: usize,
+    /// The largest increase of the distance to the goal, m.
+    worst: f64,
+    /// The last state's time and distance to the goal.
+    last: Option<(f64, f64)>,
+}
+
+impl Approach {
+    /// A recorded state at time `t`, `distance` from the goal; `inside`: critical damping and
+    /// `Θ < 0.01`.
+    fn observe(&mut self, t: f64, distance: f64, inside: bool) {
+        if !inside {
+            *self = Self::default();
+            return;
+        }
+        match self.last {
+            Some((last_t, last_d)) => {
+                self.worst = self.worst.max(distance - last_d);
+                self.at_last_t = if t == last_t { self.at_last_t + 1 } else { 1 };
+            }
+            None => self.at_last_t = 1,
+        }
+        self.len += 1;
+        self.last = Some((t, distance));
+    }
+
+    /// A discovery at time `t`: the approach starts again there. The states recorded at `t`
+    /// itself, the discovery's first side, stay in it (both sides lie at one position).
+    fn discovery(&mut self, t: f64) {
+        match self.last {
+            Some((last_t, _)) if last_t == t => {
+                self.len = self.at_last_t;
+                self.worst = 0.0;
+            }
+            _ => *self = Self::default(),
+        }
+    }
 }
 
 impl Monitor {
-    pub(crate) fn new() -> Self {
+    /// Monitors for a run whose goal tolerance is `tolerance`.
+    pub(crate) fn new(tolerance: f64) -> Self {
         Self {
             min_clearance: f64::INFINITY,
             min_boundary: f64::INFINITY,
@@ -46,12 +107,36 @@ impl Monitor {
             energy_rise_raw: 0.0,
             last_energy: None,
             stalled_since: None,
+            rest: Rest::new(tolerance),
+            approach: Approach::default(),
+            damping_switched: false,
+            path: (0.0, None),
+            recorded: 0,
         }
     }
 
     /// The integrator stopped the run at rest away from the goal, at rest since `since`.
     pub(crate) fn stalled(&mut self, since: f64) {
         self.stalled_since = Some(since);
+    }
+
+    /// A recorded state: besides [`Monitor::observe`], the judgements made on the recording
+    /// (rest, the last approach, the damping switch, the path length). `discovered`: the
+    /// state is a discovery's second side.
+    fn recorded(&mut self, s: &Sample, discovered: bool, goal: Vector2<f64>) {
+        let x = Vector2::from(s.x);
+        self.recorded += 1;
+        self.rest.observe(s.t, s.x);
+        if discovered {
+            self.approach.discovery(s.t);
+        }
+        self.approach
+            .observe(s.t, (x - goal).norm(), s.critical && s.theta < 0.01);
+        self.damping_switched |= s.lambda.is_some() && !s.critical;
+        if let Some(last) = self.path.1 {
+            self.path.0 += (x - last).norm();
+        }
+        self.path.1 = Some(x);
     }
 
     /// Called after every accepted step (and every recorded sample of the rapier run).
@@ -92,7 +177,6 @@ impl Monitor {
         discoveries: Vec<Discovery>,
         steps: usize,
         rejected: usize,
-        samples: &[Sample],
         aborted: Option<Guarantee>,
     ) -> Summary {
         let sc = &prepared.scenario;
@@ -157,7 +241,7 @@ impl Monitor {
                 },
                 self.energy_rise <= 0.0,
             ));
-            guarantees.push(overshoot(samples, prepared.truth.goal(), &discoveries));
+            guarantees.push(self.approach.judge());
         }
         // `[expect]` describes a run of the file's own robot model; a run with the other model
         // (`harmonav run --controller …`) is judged on the guarantees alone.
@@ -181,7 +265,7 @@ impl Monitor {
             guarantees.push(g(Check::ExpectDiscoveryOrder { expected, got }, passed));
         }
         if let Some(expected) = expect.damping_switched {
-            let got = samples.iter().any(|s| s.lambda.is_some() && !s.critical);
+            let got = self.damping_switched;
             guarantees.push(g(
                 Check::ExpectDampingSwitched { expected, got },
                 expected == got,
@@ -198,15 +282,8 @@ impl Monitor {
         }
         // A guarantee lost on the way (a step-size collapse, the free space left).
         guarantees.extend(aborted);
-        let outcome = Outcome::of(
-            &guarantees,
-            reached,
-            t,
-            samples,
-            sc.sim.goal_tolerance,
-            self.stalled_since,
-        )
-        .classify_stall(lp.nav.field(), sc.sim.goal_tolerance);
+        let outcome = Outcome::of(&guarantees, reached, t, &self.rest, self.stalled_since)
+            .classify_stall(lp.nav.field(), sc.sim.goal_tolerance);
         Summary {
             name: sc.name.clone(),
             model,
@@ -220,6 +297,7 @@ impl Monitor {
             time_s: t,
             final_distance,
             min_clearance: self.min_clearance,
+            path_length: self.path.0,
             max_speed: self.max_speed,
             speed_bound,
             collisions: self.collisions,
@@ -228,34 +306,112 @@ impl Monitor {
             guarantees,
             outcome,
             warnings: Vec::new(),
+            recorded_states: self.recorded,
             steps,
             rejected_steps: rejected,
         }
     }
 }
 
-/// No overshoot with critical damping (corollary `critdamp`): in the last approach — the
-/// trailing samples after the last discovery with the damping in its critical branch (`λ_c`, or
-/// `λ(x, ẋ)` under `"auto"`, which tends to it) and `Θ < 0.01` (the quadratic basin of the
-/// goal) — the distance to the goal never increases.
-fn overshoot(samples: &[Sample], goal: Vector2<f64>, discoveries: &[Discovery]) -> Guarantee {
-    let last_discovery = discoveries.last().map_or(0.0, |d| d.time_s);
-    let tail: Vec<&Sample> = samples
-        .iter()
-        .rev()
-        .take_while(|s| s.critical && s.theta < 0.01 && s.t >= last_discovery)
-        .collect();
-    let dist = |s: &Sample| (Vector2::new(s.x[0], s.x[1]) - goal).norm();
-    let mut worst: f64 = 0.0;
-    for w in tail.windows(2) {
-        // `tail` runs backwards in time: w[1] precedes w[0].
-        worst = worst.max(dist(w[0]) - dist(w[1]));
+impl Approach {
+    /// No overshoot with critical damping (corollary `critdamp`): in the last approach the
+    /// distance to the goal never increases (by more than 1e-9 m).
+    fn judge(&self) -> Guarantee {
+        Guarantee::new(
+            Check::NoOvershoot {
+                samples: self.len,
+                largest_increase: self.worst,
+            },
+            self.worst <= 1e-9,
+        )
     }
-    Guarantee::new(
-        Check::NoOvershoot {
-            samples: tail.len(),
-            largest_increase: worst,
-        },
-        worst <= 1e-9,
-    )
+}
+
+/// A run's monitors, its kept trajectory and the caller's observer, fed together: what the
+/// built-in integrator and the rapier harness both do with a state.
+pub(crate) struct Recorder<'o> {
+    pub monitor: Monitor,
+    kept: Trajectory,
+    observer: &'o mut dyn FnMut(Event<'_>),
+    goal: Vector2<f64>,
+    /// The time of the last recorded state.
+    last_t: Option<f64>,
+}
+
+impl<'o> Recorder<'o> {
+    /// A recorder for a run to `goal` (tolerance `tolerance`); every recorded state also goes
+    /// to `observer`.
+    pub fn new(goal: Vector2<f64>, tolerance: f64, observer: &'o mut dyn FnMut(Event<'_>)) -> Self {
+        Self {
+            monitor: Monitor::new(tolerance),
+            kept: Trajectory::default(),
+            observer,
+            goal,
+            last_t: None,
+        }
+    }
+
+    /// A state the monitors judge but the recording leaves out (an integration step's end).
+    pub fn step(&mut self, s: &Sample, discovered: bool, truth: &Truth) {
+        self.monitor.observe(s, discovered, truth);
+    }
+
+    /// A recorded state: judged, offered to the observer and kept as `keep` says.
+    /// `discovered`: it is a discovery's second side (`V` may jump there).
+    pub fn record(&mut self, s: Sample, keep: Keep, discovered: bool, truth: &Truth) {
+        self.monitor.observe(&s, discovered, truth);
+        self.monitor.recorded(&s, discovered, self.goal);
+        (self.observer)(Event::State(&s));
+        self.last_t = Some(s.t);
+        self.kept.push(s, keep);
+    }
+
+    /// Obstacles that became known, for the observer.
+    pub fn discovered(&mut self, discoveries: &[Discovery]) {
+        for d in discoveries {
+            (self.observer)(Event::Discovery(d));
+        }
+    }
+
+    /// The time of the last recorded state.
+    pub fn last_time(&self) -> Option<f64> {
+        self.last_t
+    }
+
+    /// The monitors and the kept states.
+    pub fn into_parts(self) -> (Monitor, Vec<Sample>) {
+        (self.monitor, self.kept.into_samples())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_last_approach_restarts_at_a_discovery_and_keeps_its_first_side() {
+        let mut a = Approach::default();
+        // Away, then back: an increase of 0.1 m inside the approach.
+        for (t, d) in [(0.0, 0.5), (1.0, 0.6), (2.0, 0.4)] {
+            a.observe(t, d, true);
+        }
+        assert!(a.len == 3 && (a.worst - 0.1).abs() < 1e-12);
+        // A discovery at t = 3 after a state recorded at t = 3: that state stays in.
+        a.observe(3.0, 0.3, true);
+        a.discovery(3.0);
+        a.observe(3.0, 0.3, true);
+        assert_eq!((a.len, a.worst), (2, 0.0));
+        a.observe(4.0, 0.35, true);
+        assert!((a.worst - 0.05).abs() < 1e-12);
+        assert!(!a.judge().passed);
+        // A discovery at a later time than the last state, or a state outside: from scratch.
+        a.discovery(5.0);
+        assert_eq!(a.len, 0);
+        a.observe(5.0, 0.2, true);
+        a.observe(6.0, 0.1, false);
+        assert_eq!((a.len, a.worst), (0, 0.0));
+        a.observe(7.0, 0.1, true);
+        a.observe(8.0, 0.05, true);
+        assert!(a.judge().passed);
+    }
 }

@@ -7,7 +7,6 @@ use nalgebra::Vector2;
 use serde::Serialize;
 
 use crate::guarantee::{Guarantee, Kind};
-use crate::run::Sample;
 
 /// The share of the run's time a robot must rest (within the goal tolerance of its final
 /// position, away from the goal) to be called stalled.
@@ -105,8 +104,7 @@ impl Outcome {
         guarantees: &[Guarantee],
         reached: bool,
         time: f64,
-        samples: &[Sample],
-        goal_tolerance: f64,
+        rest: &Rest,
         stalled_since: Option<f64>,
     ) -> Self {
         let failed = |kind: Kind| guarantees.iter().any(|g| g.kind() == kind && !g.passed);
@@ -119,12 +117,12 @@ impl Outcome {
         } else if failed(Kind::Integrated) {
             Self::StepCollapsed { time }
         } else if let Some(since) = stalled_since.or_else(|| {
-            rest_since(samples, goal_tolerance)
+            rest.since()
                 .filter(|since| time - since >= (STALL_WINDOW * time).max(1.0))
         }) {
             Self::Stalled {
                 time: since,
-                position: samples.last().map_or([f64::NAN; 2], |s| s.x),
+                position: rest.position().unwrap_or([f64::NAN; 2]),
                 point: StallPoint::Unclassified,
             }
         } else {
@@ -255,19 +253,57 @@ impl StallPoint {
     }
 }
 
-/// The earliest time from which every recorded position stays within `tolerance` of the last.
-fn rest_since(samples: &[Sample], tolerance: f64) -> Option<f64> {
-    let last = samples.last()?;
-    let end = Vector2::new(last.x[0], last.x[1]);
-    let moved = |s: &&Sample| (Vector2::new(s.x[0], s.x[1]) - end).norm() > tolerance;
-    let i = samples.iter().rposition(|s| moved(&s)).map_or(0, |i| i + 1);
-    Some(samples[i].t)
+/// Since when the robot has been at rest, judged online from every recorded state: the
+/// positions since [`Rest::since`] all stay within half the goal tolerance of the one recorded
+/// then, so within the tolerance of the last (and of one another). It needs no trajectory in
+/// memory, so runs of any length are judged the same way.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Rest {
+    /// The position the rest is measured from, and since when.
+    anchor: Option<([f64; 2], f64)>,
+    /// The last recorded position.
+    last: Option<[f64; 2]>,
+    /// Half the goal tolerance, m.
+    radius: f64,
+}
+
+impl Rest {
+    /// No state recorded yet; `tolerance` is the goal tolerance.
+    pub fn new(tolerance: f64) -> Self {
+        Self {
+            anchor: None,
+            last: None,
+            radius: 0.5 * tolerance,
+        }
+    }
+
+    /// The robot was at `x` at time `t`: a move of more than half the tolerance from the
+    /// anchor starts a new rest there.
+    pub fn observe(&mut self, t: f64, x: [f64; 2]) {
+        let moved = |a: [f64; 2]| (Vector2::from(a) - Vector2::from(x)).norm() > self.radius;
+        match self.anchor {
+            Some((a, _)) if !moved(a) => {}
+            _ => self.anchor = Some((x, t)),
+        }
+        self.last = Some(x);
+    }
+
+    /// The start of the current rest (`None` before the first state).
+    pub fn since(&self) -> Option<f64> {
+        self.anchor.map(|(_, t)| t)
+    }
+
+    /// The last recorded position.
+    pub fn position(&self) -> Option<[f64; 2]> {
+        self.last
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::guarantee::Check;
+    use crate::run::Sample;
 
     fn at(t: f64, x: f64) -> Sample {
         Sample {
@@ -283,12 +319,16 @@ mod tests {
         }
     }
 
-    /// Moving until `stop`, then at rest until `end` (one sample per 0.1 s).
-    fn path(stop: f64, end: f64) -> Vec<Sample> {
-        (0..=(end * 10.0) as usize)
+    /// Moving until `stop`, then at rest until `end` (one sample per 0.1 s), judged online.
+    fn path(stop: f64, end: f64) -> Rest {
+        let mut rest = Rest::new(0.01);
+        for s in (0..=(end * 10.0) as usize)
             .map(|i| i as f64 * 0.1)
             .map(|t| at(t, t.min(stop)))
-            .collect()
+        {
+            rest.observe(s.t, s.x);
+        }
+        rest
     }
 
     #[test]
@@ -300,13 +340,13 @@ mod tests {
             },
             true,
         )];
-        let stalled = Outcome::of(&ok, false, 20.0, &path(12.0, 20.0), 0.01, None);
+        let stalled = Outcome::of(&ok, false, 20.0, &path(12.0, 20.0), None);
         assert!(matches!(stalled, Outcome::Stalled { time, position, .. }
             if (time - 12.0).abs() < 0.11 && position == [12.0, 0.0]));
         // At rest for less than 10 % of the run: still moving at the end.
-        let moving = Outcome::of(&ok, false, 20.0, &path(19.5, 20.0), 0.01, None);
+        let moving = Outcome::of(&ok, false, 20.0, &path(19.5, 20.0), None);
         assert_eq!(moving, Outcome::TimedOut { time: 20.0 });
-        let reached = Outcome::of(&ok, true, 20.0, &path(12.0, 20.0), 0.01, None);
+        let reached = Outcome::of(&ok, true, 20.0, &path(12.0, 20.0), None);
         assert_eq!(reached, Outcome::Reached { time: 20.0 });
     }
 
@@ -317,14 +357,14 @@ mod tests {
             margin: 0.0,
         })];
         assert_eq!(
-            Outcome::of(&lost, true, 5.0, &path(5.0, 5.0), 0.01, None),
+            Outcome::of(&lost, true, 5.0, &path(5.0, 5.0), None),
             Outcome::Collision
         );
         let outside = [Guarantee::failed(Check::StayedInWorkspace {
             min_boundary_distance: -0.1,
         })];
         assert_eq!(
-            Outcome::of(&outside, false, 5.0, &path(5.0, 5.0), 0.01, None),
+            Outcome::of(&outside, false, 5.0, &path(5.0, 5.0), None),
             Outcome::LeftWorkspace
         );
         let collapsed = [Guarantee::failed(Check::StepCollapsed {
@@ -332,8 +372,22 @@ mod tests {
             position: [0.0; 2],
         })];
         assert_eq!(
-            Outcome::of(&collapsed, false, 3.0, &path(3.0, 3.0), 0.01, None),
+            Outcome::of(&collapsed, false, 3.0, &path(3.0, 3.0), None),
             Outcome::StepCollapsed { time: 3.0 }
         );
+    }
+
+    #[test]
+    fn a_creep_of_many_small_moves_is_not_a_rest() {
+        // 1 mm per 0.1 s for 20 s: each move is far below the 5 mm half-tolerance, the whole
+        // is 20 cm; the rest starts at most one half-tolerance before the end.
+        let mut rest = Rest::new(0.01);
+        for i in 0..=200 {
+            rest.observe(i as f64 * 0.1, [i as f64 * 1e-3, 0.0]);
+        }
+        let since = rest.since().unwrap();
+        assert!(since > 19.4 && since <= 20.0, "{since}");
+        assert_eq!(rest.position(), Some([0.2, 0.0]));
+        assert_eq!(Rest::new(0.01).since(), None);
     }
 }

@@ -14,10 +14,11 @@ use rapier2d_f64::prelude::{ColliderBuilder, PhysicsWorld, RigidBodyBuilder, Vec
 
 use crate::closed_loop::ClosedLoop;
 use crate::guarantee::{Check, FreeSpaceLoss};
-use crate::monitor::Monitor;
+use crate::monitor::Recorder;
+use crate::trajectory::Keep;
 use serde::{Deserialize, Serialize};
 
-use crate::run::{Guarantee, Run, RunError, Sample, run};
+use crate::run::{Event, Guarantee, Run, RunError, Sample, run_observed};
 use crate::scenario::{Model, Prepared};
 
 /// A controller other than the law: `(field, eval, x, ẋ) → command`.
@@ -103,12 +104,30 @@ pub fn simulate(
     model: Option<Model>,
     physics: Physics,
 ) -> Result<Run, RunError> {
-    let builtin = run(prepared, model)?;
+    simulate_observed(prepared, model, physics, &mut |_| {})
+}
+
+/// [`simulate`], handing the warnings first, then every recorded state and discovery of the
+/// run it returns (the built-in or the rapier one) to `observer` as they are made: a recording
+/// streamed to disk this way holds every state, whatever the run's length.
+pub fn simulate_observed(
+    prepared: &Prepared,
+    model: Option<Model>,
+    physics: Physics,
+    observer: &mut dyn FnMut(Event<'_>),
+) -> Result<Run, RunError> {
+    let warnings = crate::warning::check(prepared, model)?;
+    for w in &warnings {
+        observer(Event::Warning(w));
+    }
     let mut result = match physics {
-        Physics::Builtin => builtin,
-        Physics::Rapier => run_rapier(prepared, model, Drive::Law, Some(&builtin))?.0,
+        Physics::Builtin => run_observed(prepared, model, observer)?,
+        Physics::Rapier => {
+            let builtin = run_observed(prepared, model, &mut |_| {})?;
+            rapier_observed(prepared, model, Drive::Law, Some(&builtin), observer)?.0
+        }
     };
-    result.summary.warnings = crate::warning::check(prepared, model)?;
+    result.summary.warnings = warnings;
     Ok(result)
 }
 
@@ -119,6 +138,17 @@ pub fn run_rapier(
     model: Option<Model>,
     drive: Drive,
     builtin: Option<&Run>,
+) -> Result<(Run, RapierReport), RunError> {
+    rapier_observed(prepared, model, drive, builtin, &mut |_| {})
+}
+
+/// [`run_rapier`], handing every recorded state to `observer`.
+fn rapier_observed(
+    prepared: &Prepared,
+    model: Option<Model>,
+    drive: Drive,
+    builtin: Option<&Run>,
+    observer: &mut dyn FnMut(Event<'_>),
 ) -> Result<(Run, RapierReport), RunError> {
     let sc = &prepared.scenario;
     let truth = &prepared.truth;
@@ -155,8 +185,8 @@ pub fn run_rapier(
             .density(sc.robot.mass / (std::f64::consts::PI * radius * radius)),
     );
 
-    let mut monitor = Monitor::new();
-    let mut samples = Vec::new();
+    let mut rec = Recorder::new(goal, sc.sim.goal_tolerance, observer);
+    rec.discovered(&discoveries);
     // Walls the robot's ball already reaches at the start (a point robot is a 1 mm ball in
     // rapier, and a start may lie closer than that): touching them is not a contact event.
     let gap_to = |i: usize, x: Vector2<f64>| match truth.obstacles.get(i) {
@@ -200,10 +230,9 @@ pub fn run_rapier(
             break;
         }
         if steps % substeps == 0 || reached {
-            let s = sample(&lp, t, x, vel);
-            monitor.observe(&s, discovered, truth);
+            let keep = if reached { Keep::Pinned } else { Keep::Grid };
+            rec.record(sample(&lp, t, x, vel), keep, discovered, truth);
             discovered = false;
-            samples.push(s);
         }
         reached = (x - goal).norm() < sc.sim.goal_tolerance;
         if reached || t >= sc.sim.max_time {
@@ -213,15 +242,16 @@ pub fn run_rapier(
         let found = lp.sees(x, vel);
         if !found.is_empty() {
             let a = lp.axis(x, vel);
-            if let Err(lost) = lp.discover(t, &found, (x, vel), a, &mut discoveries) {
+            let before = discoveries.len();
+            let added = lp.discover(t, &found, (x, vel), a, &mut discoveries);
+            rec.discovered(&discoveries[before..]);
+            if let Err(lost) = added {
                 aborted = Some(lost);
                 break;
             }
             // The state right after a discovery, with the new Θ, k and λ: the switch of eq.
             // `dissipationfun` may last only a few milliseconds.
-            let s = sample(&lp, t, x, vel);
-            monitor.observe(&s, true, truth);
-            samples.push(s);
+            rec.record(sample(&lp, t, x, vel), Keep::Pinned, true, truth);
         }
         let command = match &drive {
             Drive::Law => {
@@ -274,6 +304,7 @@ pub fn run_rapier(
     }
     let (x, _) = state(&world);
     let final_distance = (x - goal).norm();
+    let (monitor, samples) = rec.into_parts();
     let mut summary = monitor.finish(
         prepared,
         &lp,
@@ -283,7 +314,6 @@ pub fn run_rapier(
         discoveries,
         steps,
         0,
-        &samples,
         aborted,
     );
     summary.physics = "rapier".into();

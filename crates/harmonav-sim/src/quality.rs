@@ -274,12 +274,10 @@ pub struct Measured {
     pub steps: usize,
 }
 
-/// The length of the recorded path.
+/// The length of the recorded path (measured online over every recorded state,
+/// [`crate::run::Summary::path_length`]).
 pub fn path_length(r: &Run) -> f64 {
-    r.samples
-        .windows(2)
-        .map(|w| (Vector2::from(w[1].x) - Vector2::from(w[0].x)).norm())
-        .sum()
+    r.summary.path_length
 }
 
 /// The shortest path of a prepared scenario's configuration space.

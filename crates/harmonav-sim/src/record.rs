@@ -31,7 +31,7 @@ use nalgebra::Vector2;
 use crate::atomic::{AtomicFile, OutputError};
 use crate::figures::closed_outline;
 use crate::levels::ThetaGrid;
-use crate::run::{Run, Sample};
+use crate::run::{Discovery, Event, Run, Sample};
 use crate::scenario::{Model, Prepared};
 
 /// The topics, in the order of the table above.
@@ -169,16 +169,6 @@ fn entity(t: f64, frame: &str, id: &str, lines: Vec<LinePrimitive>) -> SceneEnti
         lines,
         ..Default::default()
     }
-}
-
-/// The obstacles known at `t` (scenario indices, in discovery order).
-fn known_at(run: &Run, t: f64) -> Vec<usize> {
-    run.summary
-        .discoveries
-        .iter()
-        .filter(|d| d.time_s <= t)
-        .map(|d| d.index)
-        .collect()
 }
 
 /// The scene at `t`: boundary, obstacles (known ones red), goal.
@@ -329,64 +319,152 @@ impl Heading {
     }
 }
 
-/// Writes the recording of `run` to `path`, whole or not at all (through a temporary file).
+/// Writes the recording of `run` to `path`, whole or not at all (through a temporary file):
+/// [`Stream`] replayed over the run's warnings, discoveries and kept states.
 pub fn write_mcap(path: &Path, prepared: &Prepared, run: &Run) -> Result<(), RecordError> {
-    let io = |e: std::io::Error| RecordError(format!("{}: {e}", path.display()));
-    let (file, out) = AtomicFile::create(path).map_err(io)?;
-    let ctx = Context::new();
-    let ch = Channels::new(&ctx);
-    let options = McapWriteOptions::new().compression(Some(McapCompression::Zstd));
-    let writer = ctx
-        .mcap_writer_with_options(options)
-        .create(out)
-        .map_err(|e| RecordError(format!("{}: {e}", path.display())))?;
-    log_run(&ch, prepared, run)?;
-    let inner: BufWriter<File> = writer
-        .close()
-        .map_err(|e| RecordError(format!("{}: {e}", path.display())))?;
-    file.commit(inner).map_err(io)
+    let mut stream = Stream::create(path, prepared)?;
+    replay(run, &mut |e| stream.observe(e));
+    stream.finish()
 }
 
-/// Logs every message of the run in time order.
-fn log_run(ch: &Channels, prepared: &Prepared, run: &Run) -> Result<(), RecordError> {
-    let sc = &prepared.scenario;
-    let k_policy = prepared.k_policy().as_str().to_string();
-    let damping = match sc.robot.model {
-        Model::Dynamic => prepared.damping_policy().as_str().to_string(),
-        Model::Kinematic => String::new(),
-    };
-    let mut events: Vec<f64> = vec![0.0];
-    events.extend(run.summary.discoveries.iter().map(|d| d.time_s));
-    events.dedup();
-    let mut events = events.into_iter().peekable();
-    if let Some(s) = sector(prepared) {
-        ch.sector.log_with_time(&s, 0);
-    }
+/// Hands `run`'s warnings, discoveries and kept states to `observer` in the order
+/// [`crate::run::run_observed`] would have (a discovery after the states before its time).
+pub fn replay(run: &Run, observer: &mut dyn FnMut(Event<'_>)) {
     for w in &run.summary.warnings {
-        ch.log
-            .log_with_time(&log_message(0.0, log::Level::Warning, w.to_string()), 0);
+        observer(Event::Warning(w));
     }
-    let mut heading = Heading(0.0);
-    let (mut path, mut path_n, mut next_path) = (Vec::<Vector2<f64>>::new(), 0, PATH_PERIOD);
-    let mut critical: Option<bool> = None;
-    let last = run.samples.len().saturating_sub(1);
-    for (i, s) in run.samples.iter().enumerate() {
-        while let Some(t) = events.next_if(|&t| t <= s.t) {
-            let known = known_at(run, t);
+    let mut discoveries = run.summary.discoveries.iter().peekable();
+    let mut previous: Option<f64> = None;
+    for s in &run.samples {
+        // Those at the start come first; a later one between its two recorded sides.
+        let due = |d: &&Discovery| {
+            d.time_s < s.t || (d.time_s == s.t && (d.time_s == 0.0 || previous == Some(s.t)))
+        };
+        while let Some(d) = discoveries.next_if(due) {
+            observer(Event::Discovery(d));
+        }
+        observer(Event::State(s));
+        previous = Some(s.t);
+    }
+    for d in discoveries {
+        observer(Event::Discovery(d));
+    }
+}
+
+/// A recording written to disk as the run goes ([`crate::physics::simulate_observed`] feeds
+/// it), so that its memory does not grow with the run's length: every message of the run in
+/// time order, whole or not at all (through a temporary file, committed by
+/// [`Stream::finish`]; dropped before, nothing is left).
+pub struct Stream<'p> {
+    prepared: &'p Prepared,
+    path: std::path::PathBuf,
+    file: AtomicFile,
+    writer: foxglove::McapWriterHandle<BufWriter<File>>,
+    /// The recording's own context: the channels log into it only while it lives.
+    _ctx: Arc<Context>,
+    ch: Channels,
+    k_policy: String,
+    damping: String,
+    /// The obstacles known (scenario indices, in discovery order), and how many of them the
+    /// last `/scene` showed.
+    known: Vec<usize>,
+    shown: Option<usize>,
+    /// Discoveries not yet logged (they are logged with the next state).
+    pending: Vec<Discovery>,
+    heading: Heading,
+    path_points: Vec<Vector2<f64>>,
+    path_n: usize,
+    next_path: f64,
+    critical: Option<bool>,
+    last: Option<Sample>,
+    /// The first error met while logging (reported by [`Stream::finish`]).
+    error: Option<RecordError>,
+}
+
+impl<'p> Stream<'p> {
+    /// Opens the recording of a run of `prepared` at `path` (the sector, if any, is logged at
+    /// `t = 0`).
+    pub fn create(path: &Path, prepared: &'p Prepared) -> Result<Self, RecordError> {
+        let fail = |e: &dyn std::fmt::Display| RecordError(format!("{}: {e}", path.display()));
+        let (file, out) = AtomicFile::create(path).map_err(|e| fail(&e))?;
+        let ctx = Context::new();
+        let ch = Channels::new(&ctx);
+        let options = McapWriteOptions::new().compression(Some(McapCompression::Zstd));
+        let writer = ctx
+            .mcap_writer_with_options(options)
+            .create(out)
+            .map_err(|e| fail(&e))?;
+        if let Some(s) = sector(prepared) {
+            ch.sector.log_with_time(&s, 0);
+        }
+        let sc = &prepared.scenario;
+        Ok(Self {
+            prepared,
+            path: path.to_path_buf(),
+            file,
+            writer,
+            _ctx: ctx,
+            ch,
+            k_policy: prepared.k_policy().as_str().to_string(),
+            damping: match sc.robot.model {
+                Model::Dynamic => prepared.damping_policy().as_str().to_string(),
+                Model::Kinematic => String::new(),
+            },
+            known: Vec::new(),
+            shown: None,
+            pending: Vec::new(),
+            heading: Heading(0.0),
+            path_points: Vec::new(),
+            path_n: 0,
+            next_path: PATH_PERIOD,
+            critical: None,
+            last: None,
+            error: None,
+        })
+    }
+
+    /// Logs one event of the run.
+    pub fn observe(&mut self, event: Event<'_>) {
+        match event {
+            Event::Warning(w) => self
+                .ch
+                .log
+                .log_with_time(&log_message(0.0, log::Level::Warning, w.to_string()), 0),
+            Event::Discovery(d) => {
+                self.known.push(d.index);
+                self.pending.push(d.clone());
+            }
+            Event::State(s) => self.state(s),
+        }
+    }
+
+    /// A recorded state: the scene and `Θ` grid first if the known set changed (and at the
+    /// first state), then the pose, the transform, harmonav's state, a damping switch, and
+    /// the path every [`PATH_PERIOD`].
+    fn state(&mut self, s: &Sample) {
+        if self.shown != Some(self.known.len()) {
+            self.shown = Some(self.known.len());
+            let t = s.t;
+            let (ch, prepared) = (&self.ch, self.prepared);
             ch.scene
-                .log_with_time(&scene(prepared, &known, t), nanos(t));
-            let grid = theta_grid(prepared, &known, t)
-                .map_err(|e| RecordError(format!("the Θ grid at t = {t}: {e}")))?;
-            ch.theta.log_with_time(&grid, nanos(t));
-            for d in run.summary.discoveries.iter().filter(|d| d.time_s == t) {
+                .log_with_time(&scene(prepared, &self.known, t), nanos(t));
+            match theta_grid(prepared, &self.known, t) {
+                Ok(grid) => ch.theta.log_with_time(&grid, nanos(t)),
+                Err(e) => {
+                    let e = RecordError(format!("the Θ grid at t = {t}: {e}"));
+                    self.error.get_or_insert(e);
+                }
+            }
+            for d in self.pending.drain(..) {
                 let text = format!("discovered {} at t = {:.3} s", d.obstacle, d.time_s);
                 ch.log
                     .log_with_time(&log_message(t, log::Level::Info, text), nanos(t));
             }
         }
         let (x, v) = (Vector2::from(s.x), Vector2::from(s.v));
-        let yaw = heading.at(v);
+        let yaw = self.heading.at(v);
         let t = nanos(s.t);
+        let ch = &self.ch;
         ch.pose.log_with_time(
             &PoseInFrame {
                 timestamp: stamp(s.t),
@@ -409,8 +487,9 @@ fn log_run(ch: &Channels, prepared: &Prepared, run: &Run) -> Result<(), RecordEr
             },
             t,
         );
-        ch.state.log_with_time(&state(s, &k_policy, &damping), t);
-        if s.lambda.is_some() && critical.is_some_and(|c| c != s.critical) {
+        ch.state
+            .log_with_time(&state(s, &self.k_policy, &self.damping), t);
+        if s.lambda.is_some() && self.critical.is_some_and(|c| c != s.critical) {
             let text = if s.critical {
                 format!(
                     "damping back to its critical branch (V < μ) at t = {:.3} s",
@@ -422,32 +501,63 @@ fn log_run(ch: &Channels, prepared: &Prepared, run: &Run) -> Result<(), RecordEr
             ch.log
                 .log_with_time(&log_message(s.t, log::Level::Warning, text), t);
         }
-        critical = s.lambda.map(|_| s.critical);
-        if path
+        self.critical = s.lambda.map(|_| s.critical);
+        if self
+            .path_points
             .last()
             .is_none_or(|p: &Vector2<f64>| (x - p).norm() >= PATH_SPACING)
-            || i == last
         {
-            path.push(x);
+            self.path_points.push(x);
         }
-        if (s.t >= next_path || i == last) && path.len() >= 2 {
-            let id = format!("path-{path_n:05}");
+        if s.t >= self.next_path {
+            self.flush_path(s.t);
+        }
+        self.last = Some(s.clone());
+    }
+
+    /// Logs the path since the last update as one line entity at `t`; the next one starts
+    /// where it ends.
+    fn flush_path(&mut self, t: f64) {
+        if self.path_points.len() >= 2 {
+            let id = format!("path-{:05}", self.path_n);
             let update = SceneUpdate {
                 deletions: Vec::new(),
                 entities: vec![entity(
-                    s.t,
+                    t,
                     "world",
                     &id,
-                    vec![line(path.iter().copied(), [1.0, 0.8, 0.1, 1.0], 0.02)],
+                    vec![line(
+                        self.path_points.iter().copied(),
+                        [1.0, 0.8, 0.1, 1.0],
+                        0.02,
+                    )],
                 )],
             };
-            ch.path.log_with_time(&update, t);
-            path_n += 1;
-            path.drain(..path.len() - 1); // the next segment starts where this one ends
-            next_path = ((s.t / PATH_PERIOD).floor() + 1.0) * PATH_PERIOD;
+            self.ch.path.log_with_time(&update, nanos(t));
+            self.path_n += 1;
+            let keep = self.path_points.len() - 1;
+            self.path_points.drain(..keep);
         }
+        self.next_path = ((t / PATH_PERIOD).floor() + 1.0) * PATH_PERIOD;
     }
-    Ok(())
+
+    /// Ends the recording at the last state (its path's last segment) and moves it into place;
+    /// the first error met while logging, if any, instead (and nothing is left).
+    pub fn finish(mut self) -> Result<(), RecordError> {
+        if let Some(last) = self.last.take() {
+            let x = Vector2::from(last.x);
+            if self.path_points.last() != Some(&x) {
+                self.path_points.push(x);
+            }
+            self.flush_path(last.t);
+        }
+        if let Some(e) = self.error {
+            return Err(e);
+        }
+        let fail = |e: &dyn std::fmt::Display| RecordError(format!("{}: {e}", self.path.display()));
+        let inner: BufWriter<File> = self.writer.close().map_err(|e| fail(&e))?;
+        self.file.commit(inner).map_err(|e| fail(&e))
+    }
 }
 
 fn state(s: &Sample, k_policy: &str, damping: &str) -> HarmonavState {
@@ -490,57 +600,107 @@ pub fn check_output_dir(dir: &Path) -> Result<(), OutputError> {
 }
 
 /// Writes `run.mcap`, `trajectory.svg`, (dynamic runs) `speed.svg` and `energy.svg`, and
-/// `summary.json` into `dir` as one set: all into a fresh staging folder inside `dir`
-/// ([`crate::atomic::StagedDir`]), then moved into place, `summary.json` last, and the figures
-/// this run does not draw removed (a kinematic run removes a stale `speed.svg` and
-/// `energy.svg`). `dir` is checked again first ([`check_output_dir`]: it may have changed
-/// during the run), and the set's names once more before anything is moved. On an error
-/// while writing, nothing of the new set is left and the previous set is untouched (a failing
-/// rename while moving the set, an I/O fault, can leave a mix). Returns the paths,
-/// `summary.json` first.
+/// `summary.json` into `dir` as one set: [`Outputs::begin`], the run replayed into its
+/// recording ([`replay`]), then [`Outputs::finish`]. Returns the paths, `summary.json` first.
 pub fn write_outputs(
     dir: &Path,
     prepared: &Prepared,
     run: &Run,
 ) -> Result<Vec<std::path::PathBuf>, OutputError> {
-    check_output_dir(dir)?;
-    let io = |path: &Path, source: std::io::Error| OutputError::Io {
-        path: path.to_path_buf(),
-        source,
-    };
-    let content =
-        |file: &'static str| move |problem: String| OutputError::Content { file, problem };
-    std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
-    let mut figures = vec![(
-        "trajectory.svg",
-        crate::figures::trajectory_svg(prepared, run).map_err(content("trajectory.svg"))?,
-    )];
-    if run.summary.speed_bound.is_some() {
-        figures.push((
-            "speed.svg",
-            crate::figures::speed_svg(run).map_err(content("speed.svg"))?,
-        ));
-        figures.push((
-            "energy.svg",
-            crate::figures::energy_svg(run).map_err(content("energy.svg"))?,
-        ));
+    let mut outputs = Outputs::begin(dir, prepared)?;
+    replay(run, &mut |e| outputs.observe(e));
+    outputs.finish(run)
+}
+
+/// A set of outputs being written while its run goes: the recording streams into a fresh
+/// staging folder inside `dir` ([`crate::atomic::StagedDir`]) as the run hands it its events
+/// ([`Outputs::observe`], the observer of [`crate::physics::simulate_observed`]), and
+/// [`Outputs::finish`] adds the figures and the summary and moves the set into place. Dropped
+/// before (the run failed, an interrupt), nothing of it is left and the previous set is
+/// untouched.
+pub struct Outputs<'p> {
+    dir: std::path::PathBuf,
+    stage: crate::atomic::StagedDir,
+    stream: Stream<'p>,
+}
+
+impl<'p> Outputs<'p> {
+    /// Checks `dir` ([`check_output_dir`]), creates it and its staging folder, and opens the
+    /// recording.
+    pub fn begin(dir: &Path, prepared: &'p Prepared) -> Result<Self, OutputError> {
+        check_output_dir(dir)?;
+        std::fs::create_dir_all(dir).map_err(|source| OutputError::Io {
+            path: dir.to_path_buf(),
+            source,
+        })?;
+        let stage = crate::atomic::StagedDir::new(dir)?;
+        let stream = Stream::create(&stage.path().join("run.mcap"), prepared).map_err(|e| {
+            OutputError::Content {
+                file: "run.mcap",
+                problem: e.to_string(),
+            }
+        })?;
+        Ok(Self {
+            dir: dir.to_path_buf(),
+            stage,
+            stream,
+        })
     }
-    let summary = serde_json::to_string_pretty(&run.summary)
-        .map_err(|e| content("summary.json")(e.to_string()))?
-        + "\n";
-    let stage = crate::atomic::StagedDir::new(dir)?;
-    write_mcap(&stage.path().join("run.mcap"), prepared, run)
-        .map_err(|e| content("run.mcap")(e.to_string()))?;
-    let mut names = vec!["run.mcap"];
-    for (name, svg) in &figures {
-        let path = stage.path().join(name);
-        std::fs::write(&path, svg.as_bytes()).map_err(|e| io(&path, e))?;
-        names.push(name);
+
+    /// Logs one event of the run into the recording.
+    pub fn observe(&mut self, event: Event<'_>) {
+        self.stream.observe(event);
     }
-    let path = stage.path().join("summary.json");
-    std::fs::write(&path, summary).map_err(|e| io(&path, e))?;
-    names.push("summary.json");
-    stage.commit(&names, &FIGURES)?;
-    names.rotate_right(1);
-    Ok(names.iter().map(|n| dir.join(n)).collect())
+
+    /// Ends the recording, draws the figures of `run` (the run whose events were observed),
+    /// writes `summary.json` and moves the set into place: `summary.json` last, and the
+    /// figures this run does not draw removed (a kinematic run removes a stale `speed.svg`
+    /// and `energy.svg`). `dir` is checked again first ([`check_output_dir`]: it may have
+    /// changed during the run), and the set's names once more before anything is moved. On
+    /// an error while writing, nothing of the new set is left and the previous set is
+    /// untouched (a failing rename while moving the set, an I/O fault, can leave a mix).
+    /// Returns the paths, `summary.json` first.
+    pub fn finish(self, run: &Run) -> Result<Vec<std::path::PathBuf>, OutputError> {
+        let Self { dir, stage, stream } = self;
+        check_output_dir(&dir)?;
+        let io = |path: &Path, source: std::io::Error| OutputError::Io {
+            path: path.to_path_buf(),
+            source,
+        };
+        let content =
+            |file: &'static str| move |problem: String| OutputError::Content { file, problem };
+        let prepared = stream.prepared;
+        let mut figures = vec![(
+            "trajectory.svg",
+            crate::figures::trajectory_svg(prepared, run).map_err(content("trajectory.svg"))?,
+        )];
+        if run.summary.speed_bound.is_some() {
+            figures.push((
+                "speed.svg",
+                crate::figures::speed_svg(run).map_err(content("speed.svg"))?,
+            ));
+            figures.push((
+                "energy.svg",
+                crate::figures::energy_svg(run).map_err(content("energy.svg"))?,
+            ));
+        }
+        let summary = serde_json::to_string_pretty(&run.summary)
+            .map_err(|e| content("summary.json")(e.to_string()))?
+            + "\n";
+        stream
+            .finish()
+            .map_err(|e| content("run.mcap")(e.to_string()))?;
+        let mut names = vec!["run.mcap"];
+        for (name, svg) in &figures {
+            let path = stage.path().join(name);
+            std::fs::write(&path, svg.as_bytes()).map_err(|e| io(&path, e))?;
+            names.push(name);
+        }
+        let path = stage.path().join("summary.json");
+        std::fs::write(&path, summary).map_err(|e| io(&path, e))?;
+        names.push("summary.json");
+        stage.commit(&names, &FIGURES)?;
+        names.rotate_right(1);
+        Ok(names.iter().map(|n| dir.join(n)).collect())
+    }
 }

@@ -15,9 +15,11 @@ use serde::Serialize;
 use crate::closed_loop::ClosedLoop;
 pub use crate::guarantee::Guarantee;
 use crate::guarantee::{Check, FreeSpaceLoss};
-use crate::monitor::Monitor;
+use crate::monitor::Recorder;
 use crate::outcome::{Outcome, STALL_WINDOW};
 use crate::scenario::{Model, Prepared};
+use crate::trajectory::Keep;
+pub use crate::trajectory::MAX_KEPT_STATES;
 
 /// One recorded state.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -85,6 +87,9 @@ pub struct Summary {
     pub final_distance: f64,
     /// Smallest clearance to the true obstacles and boundary (minus the robot radius), m.
     pub min_clearance: f64,
+    /// The length of the recorded path (every state on the `sim.dt` grid and at the events),
+    /// m.
+    pub path_length: f64,
     /// Largest speed, m/s.
     pub max_speed: f64,
     /// `√(2μ/m)` for the dynamic model.
@@ -102,6 +107,9 @@ pub struct Summary {
     /// What the verdict alone would not explain (a start on a symmetry axis, …): filled by
     /// [`crate::physics::simulate`], empty from [`run`] alone (a sweep's many runs skip them).
     pub warnings: Vec<crate::warning::Warning>,
+    /// States recorded (on the `sim.dt` grid and at the events), all of them judged and handed
+    /// to the observer; [`Run::samples`] keeps at most [`MAX_KEPT_STATES`] of the grid ones.
+    pub recorded_states: usize,
     /// Accepted integration steps.
     pub steps: usize,
     /// Rejected integration steps.
@@ -115,12 +123,28 @@ impl Summary {
     }
 }
 
+/// What a run hands its observer as it goes, in time order ([`run_observed`]).
+#[derive(Clone, Copy, Debug)]
+pub enum Event<'a> {
+    /// A warning about the scenario, before the run starts
+    /// ([`crate::physics::simulate_observed`]).
+    Warning(&'a crate::warning::Warning),
+    /// An obstacle became known (those known at the start come before the first state).
+    Discovery(&'a Discovery),
+    /// A recorded state (a discovery's first side comes before its [`Event::Discovery`], the
+    /// second after).
+    State(&'a Sample),
+}
+
 /// A run: the summary and the recorded trajectory.
 #[derive(Clone, Debug)]
 pub struct Run {
     /// The summary.
     pub summary: Summary,
-    /// Recorded states (every `sim.dt`, and at discoveries and the end).
+    /// Recorded states (every `sim.dt`, and at discoveries and the end), kept in bounded
+    /// memory: a run longer than [`MAX_KEPT_STATES`] grid states keeps one in a power of two
+    /// of them ([`crate::trajectory`]). The monitors judged every state, and
+    /// [`run_observed`] hands every one to its observer.
     pub samples: Vec<Sample>,
 }
 
@@ -193,6 +217,16 @@ fn rhs(lp: &ClosedLoop, y: &State) -> Option<(State, Evaluation)> {
 /// Runs a prepared scenario with the built-in integrator; `model` overrides the file's robot
 /// model.
 pub fn run(prepared: &Prepared, model: Option<Model>) -> Result<Run, RunError> {
+    run_observed(prepared, model, &mut |_| {})
+}
+
+/// [`run`], handing every recorded state and every discovery to `observer` as they are made
+/// (to stream a recording of a run of any length; [`Run::samples`] keeps a bounded subset).
+pub fn run_observed(
+    prepared: &Prepared,
+    model: Option<Model>,
+    observer: &mut dyn FnMut(Event<'_>),
+) -> Result<Run, RunError> {
     let sc = &prepared.scenario;
     let truth = &prepared.truth;
     let (mut lp, mut discoveries) = ClosedLoop::start(prepared, model, None)?;
@@ -206,10 +240,10 @@ pub fn run(prepared: &Prepared, model: Option<Model>) -> Result<Run, RunError> {
     let mut h = dt.min(1e-3);
     let (mut steps, mut rejected) = (0usize, 0usize);
     let sample = |lp: &ClosedLoop, t: f64, y: &State| lp.sample(t, pos(y), vel(y));
-    let mut samples = vec![sample(&lp, t, &y)];
+    let mut rec = Recorder::new(goal, tol, observer);
+    rec.discovered(&discoveries);
+    rec.record(sample(&lp, t, &y), Keep::Pinned, false, truth);
     let mut next_record = dt;
-    let mut monitor = Monitor::new();
-    monitor.observe(&samples[0], false, truth);
     let (mut k1, _) =
         rhs(&lp, &y).ok_or_else(|| RunError("the start is not in the free space".into()))?;
     let mut reached = (pos(&y) - goal).norm() < tol;
@@ -218,9 +252,11 @@ pub fn run(prepared: &Prepared, model: Option<Model>) -> Result<Run, RunError> {
     // `rest_from`, for `rest_steps` steps. At a saddle the normalised law chatters at ever
     // smaller steps (1.5 million per simulated second were seen, for minutes to max_time), so
     // the run stops once the rest has lasted the window of `Outcome::Stalled`,
-    // max(STALL_WINDOW·t, 1 s), or STALL_STEPS steps: a robot moving at all covers tol/2 in
-    // far fewer (at 1 m/s and 1e-5 s steps, 10⁴ steps are 0.1 m). The dynamic law is smooth
-    // there and creeps: it is left to run.
+    // max(STALL_WINDOW·t, 1 s), or STALL_STEPS chattering steps, those the error control cut
+    // below dt/2: a robot moving at all covers tol/2 in far fewer (at 1 m/s and 1e-5 s steps,
+    // 10⁴ steps are 0.1 m). Steps of a full dt are not counted: at a tiny sim.dt (5e-6 s)
+    // 10⁴ of them are 0.05 s, in which a robot slowing near its goal moves less than tol/2.
+    // The dynamic law is smooth there and creeps: it is left to run.
     let kinematic = lp.model == Model::Kinematic;
     let (mut anchor, mut rest_from, mut rest_steps) = (start, 0.0, 0usize);
     while !reached && t < max_time {
@@ -284,11 +320,10 @@ pub fn run(prepared: &Prepared, model: Option<Model>) -> Result<Run, RunError> {
         }
         // Record on the dt grid inside the accepted part of the step (cubic Hermite).
         let t_end = t + s_end * h;
+        let chattering = s_end * h < 0.5 * dt;
         while next_record <= t_end + 1e-12 && next_record > t {
             let yr = hermite(&y, &k1, &y1, &k4, h, (next_record - t) / h);
-            let s = sample(&lp, next_record, &yr);
-            monitor.observe(&s, false, truth);
-            samples.push(s);
+            rec.record(sample(&lp, next_record, &yr), Keep::Grid, false, truth);
             next_record += dt;
         }
         y = if s_end < 1.0 {
@@ -301,8 +336,11 @@ pub fn run(prepared: &Prepared, model: Option<Model>) -> Result<Run, RunError> {
         let discovered = !found.is_empty();
         if discovered {
             let ax = lp.axis(pos(&y), vel(&y));
-            samples.push(sample(&lp, t, &y));
-            if let Err(lost) = lp.discover(t, &found, (pos(&y), vel(&y)), ax, &mut discoveries) {
+            rec.record(sample(&lp, t, &y), Keep::Pinned, false, truth);
+            let before = discoveries.len();
+            let added = lp.discover(t, &found, (pos(&y), vel(&y)), ax, &mut discoveries);
+            rec.discovered(&discoveries[before..]);
+            if let Err(lost) = added {
                 aborted = Some(lost);
                 break;
             }
@@ -320,29 +358,31 @@ pub fn run(prepared: &Prepared, model: Option<Model>) -> Result<Run, RunError> {
         h *= (0.9 * (step_tol / err.max(1e-300)).cbrt()).clamp(0.2, 5.0);
         reached = (pos(&y) - goal).norm() < tol;
         let s = sample(&lp, t, &y);
-        monitor.observe(&s, discovered, truth);
         // A discovery is recorded on both sides (Θ, k and λ jump at the same t), so that the
         // recording shows the switch of eq. `dissipationfun` when the jump lifts V to μ.
         if reached || discovered {
-            samples.push(s);
+            rec.record(s, Keep::Pinned, discovered, truth);
+        } else {
+            rec.step(&s, false, truth);
         }
         if (pos(&y) - anchor).norm() > 0.5 * tol || discovered {
             (anchor, rest_from, rest_steps) = (pos(&y), t, 0);
         } else {
-            rest_steps += 1;
+            rest_steps += usize::from(chattering);
             if kinematic
                 && !reached
                 && (t - rest_from >= (STALL_WINDOW * t).max(1.0) || rest_steps >= STALL_STEPS)
             {
-                monitor.stalled(rest_from);
+                rec.monitor.stalled(rest_from);
                 break;
             }
         }
     }
-    if samples.last().map(|s| s.t) != Some(t) {
-        samples.push(sample(&lp, t, &y));
+    if rec.last_time() != Some(t) {
+        rec.record(sample(&lp, t, &y), Keep::Pinned, false, truth);
     }
     let final_distance = (pos(&y) - goal).norm();
+    let (monitor, samples) = rec.into_parts();
     let summary = monitor.finish(
         prepared,
         &lp,
@@ -352,7 +392,6 @@ pub fn run(prepared: &Prepared, model: Option<Model>) -> Result<Run, RunError> {
         discoveries,
         steps,
         rejected,
-        &samples,
         aborted,
     );
     Ok(Run { summary, samples })

@@ -227,9 +227,12 @@ pub const MAX_FILE_BYTES: u64 = 4 << 20;
 /// 0.8 s at 500, 3.7 s at 1 000), which keeps every command under 30 s.
 pub const MAX_OBSTACLES: usize = 2000;
 
-/// The most states a run may record, `sim.max_time / sim.dt` (each is kept in memory for the
-/// monitors, the recording and the figures: about 100 bytes).
-pub const MAX_SAMPLES: f64 = 2e6;
+/// The most states a run may record, `sim.max_time / sim.dt`. Not a memory limit: a run keeps
+/// its memory flat whatever its length ([`crate::trajectory`]). A guard against a typo in
+/// `sim.dt`: each recorded state costs at least one integration step of about a microsecond,
+/// so 10⁹ of them are already a quarter of an hour to hours (10⁷ states, a 10 km world at
+/// `sim.dt = 0.01`, take 20–100 s).
+pub const MAX_RECORDED_STATES: f64 = 1e9;
 
 /// The range of the physical parameters (`robot.mass`, `controller.gain`, `controller.mu`,
 /// `sensor.range`, `sensor.rho_min`, `sim.dt`, `sim.max_time`, `sim.goal_tolerance`): the
@@ -325,13 +328,21 @@ pub struct Prepared {
 /// They are not suites (many must fail to load), so [`scenario_files`] skips the folder.
 pub const ADVERSARIAL: &str = "adversarial";
 
+/// The folder of the long runs (`scenarios/long/`): worlds whose runs record 10⁵–10⁷ states
+/// (a 10 km world at `sim.dt = 0.01`). `cargo xtask verify` runs each once, with its own
+/// robot model and the recording streamed to disk ([`crate::physics::simulate_observed`]);
+/// [`scenario_files`] skips the folder, so that the suites do not also run them with the
+/// other model and rapier (hours at this size).
+pub const LONG: &str = "long";
+
 /// Every scenario file (`*.toml`) below `dir`, recursively, sorted by path, except under
-/// [`ADVERSARIAL`] folders: the suites that `cargo xtask verify` runs and must pass.
+/// [`ADVERSARIAL`] and [`LONG`] folders: the suites that `cargo xtask verify` runs and must
+/// pass.
 pub fn scenario_files(dir: &Path) -> std::io::Result<Vec<PathBuf>> {
     fn walk(dir: &Path, out: &mut Vec<PathBuf>) -> std::io::Result<()> {
         for entry in std::fs::read_dir(dir)? {
             let p = entry?.path();
-            if p.is_dir() && p.file_name().is_some_and(|n| n == ADVERSARIAL) {
+            if p.is_dir() && p.file_name().is_some_and(|n| n == ADVERSARIAL || n == LONG) {
                 continue;
             } else if p.is_dir() {
                 walk(&p, out)?;
@@ -512,12 +523,13 @@ impl Scenario {
         in_range("sim.dt", s.dt)?;
         in_range("sim.max_time", s.max_time)?;
         in_range("sim.goal_tolerance", s.goal_tolerance)?;
-        if s.max_time / s.dt > MAX_SAMPLES {
+        if s.max_time / s.dt > MAX_RECORDED_STATES {
             return Err(f(
                 "sim.dt",
                 format!(
-                    "sim.max_time / sim.dt = {:.3e} states to record; at most {MAX_SAMPLES:e} are \
-                     kept in memory (raise sim.dt or lower sim.max_time)",
+                    "sim.max_time / sim.dt = {:.3e} states to record; at most \
+                     {MAX_RECORDED_STATES:e}, about an hour of computing (raise sim.dt or lower \
+                     sim.max_time)",
                     s.max_time / s.dt
                 ),
             ));

@@ -634,7 +634,12 @@ fn hostile_values_are_refused_naming_the_field() {
         &["at most"],
     );
     check("dt = 0.01", "dt = 1e-300", "sim.dt", &["[1e-9"]);
-    check("dt = 0.01", "dt = 1e-6", "sim.dt", &["states to record"]);
+    check(
+        "dt = 0.01",
+        "dt = 1e-9",
+        "sim.dt",
+        &["states to record", "1e9"],
+    );
     check("mass = 1.0", "mass = 5e-324", "robot.mass", &["[1e-9"]);
     check(
         "max_time = 200.0",

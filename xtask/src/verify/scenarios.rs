@@ -8,10 +8,10 @@ use std::sync::{Arc, Mutex};
 use harmonav_field::Field;
 use harmonav_field::descent::{Ending, FollowOptions, follow};
 use harmonav_sim::guarantee::Kind;
-use harmonav_sim::physics::{Drive, run_rapier};
+use harmonav_sim::physics::{Drive, Physics, run_rapier, simulate_observed};
 use harmonav_sim::quality::parallel_map;
-use harmonav_sim::record::write_outputs;
-use harmonav_sim::run::{Guarantee, Summary, run};
+use harmonav_sim::record::{Outputs, write_outputs};
+use harmonav_sim::run::{Event, Guarantee, MAX_KEPT_STATES, Summary, run};
 use harmonav_sim::scenario::{Model, Scenario};
 use harmonav_transform::random::{self, Kind as Shape, Rng};
 
@@ -53,8 +53,53 @@ pub fn checks() -> Vec<Check> {
             move || other_model(&file, &row),
         ));
     }
+    let long = root().join("scenarios").join(harmonav_sim::scenario::LONG);
+    for file in harmonav_sim::scenario::scenario_files(&long).unwrap_or_default() {
+        let name = file
+            .file_stem()
+            .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+        let out = root().join("target/verify/long").join(&name);
+        checks.push(Check::new(format!("long.{name}"), move || long_run(&file, &out)).early());
+    }
     checks.push(Check::new("montecarlo.20-obstacles-10k-starts", montecarlo).early());
     checks
+}
+
+/// A long run (`scenarios/long/`) as `harmonav run --out` makes it: its own robot model, the
+/// built-in integrator, the recording streamed to `out` during the run. Every guarantee must
+/// hold, every recorded state must have reached the recording, and the kept trajectory must
+/// stay within its bound.
+fn long_run(file: &Path, out: &Path) -> Outcome {
+    let prepared = Scenario::load(file).map_err(|e| e.to_string())?;
+    let mut outputs = Outputs::begin(out, &prepared).map_err(|e| e.to_string())?;
+    let mut streamed = 0usize;
+    let r = simulate_observed(&prepared, None, Physics::Builtin, &mut |e| {
+        streamed += usize::from(matches!(e, Event::State(_)));
+        outputs.observe(e);
+    })
+    .map_err(|e| e.to_string())?;
+    outputs.finish(&r).map_err(|e| e.to_string())?;
+    let s = &r.summary;
+    // The pinned states (start, discoveries' two sides, end) come on top of the grid ones.
+    let bound = MAX_KEPT_STATES + 2 * s.discoveries.len() + 2;
+    if streamed != s.recorded_states || r.samples.len() > bound {
+        return Err(format!(
+            "{streamed} states streamed of {} recorded, {} kept (at most {bound})",
+            s.recorded_states,
+            r.samples.len()
+        ));
+    }
+    let mb = std::fs::metadata(out.join("run.mcap")).map_or(0, |m| m.len()) as f64 / 1e6;
+    let detail = format!(
+        "{:?}: reached {} in {:.0} s, {} states streamed ({mb:.0} MB), {} kept, clearance {:.3} m",
+        s.model,
+        s.reached,
+        s.time_s,
+        s.recorded_states,
+        r.samples.len(),
+        s.min_clearance,
+    );
+    judge(format!("long.{}", s.name), s, detail, |_| true)
 }
 
 /// Runs a scenario with the other robot model (built-in integrator). Every guarantee, arrival
