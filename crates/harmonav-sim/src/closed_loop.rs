@@ -45,7 +45,11 @@ impl<'a> ClosedLoop<'a> {
         let mut options = Options::default()
             .with_robot(truth.radius, truth.margin)
             .with_k(prepared.k_policy())
-            .with_damping(prepared.damping_policy());
+            .with_damping(prepared.damping_policy())
+            .with_speed(prepared.speed_policy());
+        if let Some(v) = sc.controller.v_max {
+            options = options.with_v_max(v);
+        }
         if let Some(h) = period {
             options = options.with_control_period(h);
         }
