@@ -82,6 +82,34 @@ pub enum Integrator {
     ExactHold,
 }
 
+impl Integrator {
+    /// Holds the command `c` of `law` for `h` from the state `(x, v)`: the kinematic robot
+    /// moves `x += h·c` (and `v = c`), the dynamic one as the integrator says.
+    pub fn advance(
+        self,
+        law: Law,
+        h: f64,
+        c: Vector2<f64>,
+        x: &mut Vector2<f64>,
+        v: &mut Vector2<f64>,
+    ) {
+        match (law, self) {
+            (Law::Kinematic { .. }, _) => {
+                *x += h * c;
+                *v = c;
+            }
+            (Law::Dynamic { mass, .. }, Integrator::SemiImplicitEuler) => {
+                *v += h * c / mass;
+                *x += h * *v;
+            }
+            (Law::Dynamic { mass, .. }, Integrator::ExactHold) => {
+                *x += h * *v + 0.5 * h * h * c / mass;
+                *v += h * c / mass;
+            }
+        }
+    }
+}
+
 /// What a [`fly`] measured.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Flight {
@@ -180,20 +208,7 @@ pub fn fly(
             Mode::Recovering(_) => flight.recoveries += 1,
         }
         let c = command.value;
-        match (law, integrator) {
-            (Law::Kinematic { .. }, _) => {
-                x += h * c;
-                v = c;
-            }
-            (Law::Dynamic { mass, .. }, Integrator::SemiImplicitEuler) => {
-                v += h * c / mass;
-                x += h * v;
-            }
-            (Law::Dynamic { mass, .. }, Integrator::ExactHold) => {
-                x += h * v + 0.5 * h * h * c / mass;
-                v += h * c / mass;
-            }
-        }
+        integrator.advance(law, h, c, &mut x, &mut v);
         flight.time = (step + 1) as f64 * h;
         let true_gap = world
             .obstacles

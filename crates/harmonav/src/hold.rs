@@ -15,16 +15,20 @@ use nalgebra::Vector2;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Mode {
     /// The law's command, safe to hold for the control period as it is (under
-    /// [`crate::HoldPolicy::Paper`], always this: the continuous law, unchecked).
+    /// [`crate::HoldPolicy::Paper`]: the continuous law, unchecked).
     Law,
-    /// The law's command, shortened to be safe to hold: the step (kinematic) or the velocity
-    /// after the step (dynamic) is `scale ∈ [0, 1)` of the law's.
+    /// Shortened to be safe to hold: the kinematic step is `scale ∈ [0, 1)` of the law's (the
+    /// law's direction; in a stiff valley the chord of its flow line, `scale` its length over
+    /// the law's step), or the dynamic velocity after the step is `scale` of the law's.
     Capped {
         /// The fraction kept.
         scale: f64,
     },
-    /// The robot was inside the margin band (inside a grown shape but clear of the true one by
-    /// at least its radius): the command leads it straight back out.
+    /// A way out, under either hold policy: the robot was inside the margin band (inside a
+    /// grown shape but clear of the true one by at least its radius), or under
+    /// [`crate::HoldPolicy::Auto`] so close to a shape that is not a circle that its certified
+    /// clearance is 0 (within about 1e-4 of its size); the command moves it along the shape's
+    /// ray, away from it.
     Recovering(Band),
 }
 
@@ -113,6 +117,10 @@ pub(crate) fn clearance(ws: &Workspace, x: Vector2<f64>, need: f64, except: Opti
     best
 }
 
+/// A certified clearance at or below this (m) cannot carry a step: the tracing stops, and the
+/// hold leads out of the blind layer ([`Mode::Recovering`]) instead.
+pub const BLIND: f64 = 1e-12;
+
 /// The most balls of the sphere tracing that certifies a step free (`docs/maths.md` §10).
 pub const MAX_TRACE_BALLS: usize = 64;
 
@@ -132,12 +140,62 @@ pub(crate) fn free_length(ws: &Workspace, x: Vector2<f64>, dir: Vector2<f64>, wa
             return want;
         }
         // A NaN clearance stops the trace as a zero one does.
-        if d.is_nan() || d <= 1e-12 * (1.0 + t) {
+        if d.is_nan() || d <= BLIND * (1.0 + t) {
             break;
         }
         t += d;
     }
     t
+}
+
+/// The unit direction `u` of the ray from `shape`'s centre through `x`, and `ρ = |x − c|`;
+/// `None` at the centre (or for a NaN `x`), where the ray is undefined.
+fn ray(shape: &StarShape, x: Vector2<f64>) -> Option<(Vector2<f64>, f64)> {
+    let radial = x - shape.centre();
+    let rho = radial.norm();
+    (rho > 0.0).then(|| (radial / rho, rho))
+}
+
+/// The width of the layer along a shape in which its certified distance bounds cannot prove
+/// a free point free: twice the certified width `τ` of [`StarShape::signed_distance_bounds`]
+/// plus its rounding allowance (`64ε` of the coordinates' size, twice).
+fn blind_layer(shape: &StarShape, x: Vector2<f64>) -> f64 {
+    let size = x.amax() + shape.centre().amax() + shape.radius_bounds().1;
+    2.0 * shape.distance_tolerance() + 256.0 * f64::EPSILON * size
+}
+
+/// The way out of the blind layer: at a free point `x` where the certified clearance is not
+/// positive (within [`blind_layer`] of a shape that is not a circle, whose distance bounds are
+/// `τ` wide), the shape with the lowest bound is the one in the way. Every shape is star-shaped
+/// about its centre `c`, so the ray from `c` through `x` (towards `c` for the boundary) moves
+/// away from it: its points beyond `x` are outside the obstacle (inside the boundary), exactly,
+/// by the radial function. Returns that shape, the unit direction and the length to go: the
+/// layer's width, at most half the certified clearance from every other shape, and at most
+/// `most`.
+pub(crate) fn escape(
+    ws: &Workspace,
+    x: Vector2<f64>,
+    most: f64,
+) -> Option<(Band, Vector2<f64>, f64)> {
+    let mut worst = (Band::Boundary, -upper(ws.boundary(), x));
+    for (i, o) in ws.obstacles().iter().enumerate() {
+        let cheap = (x - o.centre()).norm() - o.radius_bounds().1;
+        if cheap < worst.1 {
+            let d = lower(o, x);
+            if d < worst.1 {
+                worst = (Band::Obstacle(i), d);
+            }
+        }
+    }
+    let (band, shape, outward) = match worst.0 {
+        Band::Obstacle(i) => (worst.0, &ws.obstacles()[i], true),
+        Band::Boundary => (worst.0, ws.boundary(), false),
+    };
+    let (u, _) = ray(shape, x)?;
+    let dir = if outward { u } else { -u };
+    let others = clearance(ws, x, 2.0 * most, Some(band)).max(0.0);
+    let length = blind_layer(shape, x).min(0.5 * others).min(most);
+    (length > 0.0).then_some((band, dir, length))
 }
 
 /// The sub-steps of the kinematic hold's chord through a stiff valley (`docs/maths.md` §10).
@@ -152,9 +210,9 @@ pub const CHORD_AFTER_HALVINGS: u32 = 1;
 /// The kinematic hold at `x` (with its evaluation `e` and the law's velocity `u`).
 ///
 /// First the single step ([`kinematic_step`]). Where `Θ`'s decrease shortened it
-/// ([`CHORD_AFTER_HALVINGS`]; in a stiff valley, where the straight step overshoots the floor), the flow line is followed over `h`
-/// instead by [`CHORD_SUBSTEPS`] single steps of `h/`[`CHORD_SUBSTEPS`] (each certified, each
-/// decreasing `phi_k`), ending at `y`; the chord `[x, y]` is taken if it is certified free
+/// ([`CHORD_AFTER_HALVINGS`]; in a stiff valley, where the straight step overshoots the
+/// floor), the flow line is followed over `h` instead by [`CHORD_SUBSTEPS`] single steps of
+/// `h/`[`CHORD_SUBSTEPS`] (each certified, each decreasing `phi_k`), ending at `y`; the chord `[x, y]` is taken if it is certified free
 /// ([`free_length`]) and longer than the single step, with the command `(y − x)/h`. Its end
 /// is `y`, so `Θ` decreases over it as over the sub-steps.
 pub(crate) fn kinematic(
@@ -195,6 +253,29 @@ pub(crate) fn kinematic(
     }
 }
 
+/// The kinematic command out of the blind layer ([`escape`]), at most the law's step `step`,
+/// halved until `phi_k` decreases over it (`None` if it never does: the law's step stands).
+/// Held for `h`, it moves along the shape's ray, certified free.
+fn kinematic_escape(
+    field: &Field,
+    x: Vector2<f64>,
+    e: &FieldEval,
+    step: f64,
+    h: f64,
+) -> Option<Command> {
+    let (band, dir, mut length) = escape(field.workspace(), x, step)?;
+    for _ in 0..=MAX_HALVINGS {
+        if field.eval(x + length * dir).is_ok_and(|e1| e1.phi < e.phi) {
+            return Some(Command {
+                value: (length / h) * dir,
+                mode: Mode::Recovering(band),
+            });
+        }
+        length *= 0.5;
+    }
+    None
+}
+
 /// One straight kinematic step at `x`: the largest `s ∈ {1, ½, ¼, …}·s_0` with
 /// `phi_k(Phi(x + s h u)) < phi_k(Phi(x))`, the command `s·u`, and the number of halvings.
 /// `s_0 = 1` if the whole step is certified free ([`free_length`] `≥ h|u|`), otherwise
@@ -223,6 +304,11 @@ fn kinematic_step(
         );
     }
     let free = free_length(field.workspace(), x, u / u.norm(), step);
+    if free <= 0.0
+        && let Some(out) = kinematic_escape(field, x, e, step, h)
+    {
+        return (out, 0);
+    }
     let to_goal = (x - field.workspace().destination()).norm();
     let mut scale = if free >= step {
         1.0
@@ -284,7 +370,18 @@ pub(crate) fn dynamic(
     }
     let speed = next.norm();
     let bound = (1.0 - SPEED_SLACK) * law.speed_bound();
-    let room = DYNAMIC_FRACTION * clearance(ws, x, 2.0 * h * speed / DYNAMIC_FRACTION, None) / h;
+    let d = clearance(ws, x, 2.0 * h * speed / DYNAMIC_FRACTION, None);
+    if d <= BLIND
+        && let Some((band, dir, length)) = escape(ws, x, 0.5 * h * bound)
+    {
+        // In the blind layer (`escape`): v⁺ along the shape's ray, `h|v⁺|` the way out.
+        let out = (length / h) * dir;
+        return Command {
+            value: (m / h) * (out - v),
+            mode: Mode::Recovering(band),
+        };
+    }
+    let room = DYNAMIC_FRACTION * d.max(0.0) / h;
     let cap = bound.min(room);
     let mut mode = Mode::Law;
     if speed > cap {
@@ -316,12 +413,7 @@ pub(crate) fn way_out(
         Band::Obstacle(i) => (ws.obstacles().get(i)?, true),
         Band::Boundary => (ws.boundary(), false),
     };
-    let radial = x - shape.centre();
-    let rho = radial.norm();
-    if rho.is_nan() || rho <= 0.0 {
-        return None;
-    }
-    let u = radial / rho;
+    let (u, rho) = ray(shape, x)?;
     let r = shape.radius_along(u).0;
     let (dir, to_edge) = if outward { (u, r - rho) } else { (-u, rho - r) };
     let edge = x + to_edge.max(0.0) * dir;

@@ -56,8 +56,8 @@ pub use harmonav_control::{DampingPolicy, SpeedPolicy};
 pub use harmonav_field::KPolicy;
 pub use harmonav_transform::{ShapeError, StarShape};
 pub use hold::{
-    Band, CHORD_AFTER_HALVINGS, CHORD_SUBSTEPS, Command, DYNAMIC_FRACTION, KINEMATIC_FRACTION,
-    MAX_HALVINGS, MAX_TRACE_BALLS, Mode, SPEED_SLACK,
+    BLIND, Band, CHORD_AFTER_HALVINGS, CHORD_SUBSTEPS, Command, DYNAMIC_FRACTION,
+    KINEMATIC_FRACTION, MAX_HALVINGS, MAX_TRACE_BALLS, Mode, SPEED_SLACK,
 };
 pub use nalgebra::Vector2;
 pub use navigator::{Controller, Evaluation, Law, NavError, Navigator};

@@ -356,8 +356,8 @@ impl Navigator {
     ///
     /// A robot inside the margin band of a known shape (clear of the true shape by at least
     /// `radius`, after a disturbance or a late perception) gets a command straight out of the
-    /// band ([`Mode::Recovering`]). Under [`HoldPolicy::Paper`] the command is the continuous
-    /// law's (`Navigator::evaluate`), unchecked.
+    /// band ([`Mode::Recovering`]), under either policy. Under [`HoldPolicy::Paper`] the command
+    /// is otherwise the continuous law's (`Navigator::evaluate`), unchecked.
     ///
     /// Errors (the navigator is then unchanged): `x` or `ẋ` not finite, the robot's disc
     /// overlapping a known true shape or the boundary, a non-finite command (a guard).
@@ -513,9 +513,14 @@ impl Navigator {
     }
 
     /// The certified clearance at `x`: a lower bound on the distance to the nearest known grown
-    /// obstacle and to the shrunk boundary (0 or less outside the free space), the quantity
-    /// the hold of [`Navigator::command`] keeps its steps within.
+    /// obstacle and to the shrunk boundary (0 or less outside the free space, `−∞` at a
+    /// non-finite point), the quantity the hold of [`Navigator::command`] keeps its steps
+    /// within. Within the certificate's tolerance of a shape that is not a circle (about 1e-4
+    /// of its size) it may be 0 or less at a free point.
     pub fn clearance(&self, x: Vector2<f64>) -> f64 {
+        if !x.iter().all(|c| c.is_finite()) {
+            return f64::NEG_INFINITY;
+        }
         hold::clearance(self.field.workspace(), x, f64::INFINITY, None)
     }
 

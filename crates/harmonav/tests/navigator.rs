@@ -200,8 +200,14 @@ fn commands_are_the_laws_on_the_known_obstacles() {
                 let c = held.command(x, v).unwrap();
                 match c.mode {
                     Mode::Law => assert_eq!(c.value, u),
-                    Mode::Capped { scale } => assert_eq!(c.value, scale * u),
-                    Mode::Recovering(_) => panic!("a free point is not in a band"),
+                    // The law's step shortened, or in a stiff valley the chord of its flow
+                    // line: never faster than the law here, and downhill.
+                    Mode::Capped { scale } => {
+                        assert!((0.0..1.0).contains(&scale), "scale {scale}");
+                        assert!(c.value.norm() <= u.norm() * (1.0 + 1e-12));
+                        assert!(c.value.norm() == 0.0 || c.value.dot(&u) > 0.0);
+                    }
+                    Mode::Recovering(_) => panic!("0.05 m clear of every shape"),
                 }
                 // The discovery speed is that of the last command before the additions: 0.
                 let d = law.damping(&field, &e, v, 0.0);

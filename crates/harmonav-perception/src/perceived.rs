@@ -1,0 +1,324 @@
+//! Perceived shapes: low-order Fourier stars with their coefficients, the certified
+//! construction of a star that contains a sampled region, the kernel test and the merge.
+//!
+//! **Containment by boundary samples.** Let `Y` be a bounded region and `X ⊂ ℝ²` a finite set
+//! such that every point of `∂Y` lies within `h/2` of a point of `X`. If a star `F` satisfies
+//!
+//! ```text
+//! hi_F(x) ≤ −h/2  for every x ∈ X        (hi_F of StarShape::signed_distance_bounds)   (eq. certify)
+//! ```
+//!
+//! then `B(x, h/2) ⊂ F` for every sample, so `∂Y ⊂ F`, and `Y ⊂ F`: a point of `Y` outside `F`
+//! could be joined to infinity outside `F` (the complement of a star is connected), and that
+//! path would leave the bounded `Y` through `∂Y ⊂ F`. Every shape this crate returns has
+//! passed eq. certify for the region it claims to contain.
+
+use std::f64::consts::{PI, TAU};
+
+use harmonav_transform::{ShapeError, StarShape};
+use nalgebra::Vector2;
+
+/// Number of angular bins of the requirement `g` (eq. fit).
+const BINS: usize = 512;
+
+/// Raise-and-recheck rounds before falling back to a disc.
+const ROUNDS: usize = 8;
+
+/// A perceived obstacle: the Fourier star `R(θ) = r0 + Σ (a_n cos nθ + b_n sin nθ)` about
+/// `centre` ([`StarShape::fourier_star`]), with its coefficients kept for the kernel test and
+/// the boundary cover.
+#[derive(Clone, Debug)]
+pub struct Perceived {
+    shape: StarShape,
+    r0: f64,
+    harmonics: Vec<(u32, f64, f64)>,
+}
+
+/// `Σ|c_n|`, `L1 = Σ n|c_n|` (bounds `|R'|`) and `L2 = Σ n²|c_n|` (bounds `|R''|`),
+/// `|c_n| = √(a_n² + b_n²)`.
+fn sums(harmonics: &[(u32, f64, f64)]) -> (f64, f64, f64) {
+    harmonics
+        .iter()
+        .fold((0.0, 0.0, 0.0), |(s, l1, l2), &(n, a, b)| {
+            let (n, c) = (n as f64, a.hypot(b));
+            (s + c, l1 + n * c, l2 + n * n * c)
+        })
+}
+
+impl Perceived {
+    /// The Fourier star `r0, harmonics` about `centre`; errors as [`StarShape::fourier_star`].
+    pub fn new(
+        centre: Vector2<f64>,
+        r0: f64,
+        harmonics: Vec<(u32, f64, f64)>,
+    ) -> Result<Self, ShapeError> {
+        let shape = StarShape::fourier_star(centre, r0, &harmonics)?;
+        Ok(Self {
+            shape,
+            r0,
+            harmonics,
+        })
+    }
+
+    /// The star shape (hand it to `Navigator::add_obstacle`, which grows it by the robot).
+    #[must_use]
+    pub fn shape(&self) -> &StarShape {
+        &self.shape
+    }
+
+    /// The star's centre `c`.
+    #[must_use]
+    pub fn centre(&self) -> Vector2<f64> {
+        self.shape.centre()
+    }
+
+    /// The mean radius `r0`.
+    #[must_use]
+    pub fn r0(&self) -> f64 {
+        self.r0
+    }
+
+    /// The harmonics `(n, a_n, b_n)`.
+    #[must_use]
+    pub fn harmonics(&self) -> &[(u32, f64, f64)] {
+        &self.harmonics
+    }
+
+    /// `max R ≤ r0 + Σ|c_n|`, the certified bound the covers use.
+    fn r_max(&self) -> f64 {
+        self.r0 + sums(&self.harmonics).0
+    }
+
+    /// The area `½∮R² dθ = π(r0² + ½Σ|c_n|²)` (Parseval), m².
+    #[must_use]
+    pub fn area(&self) -> f64 {
+        let h: f64 = self.harmonics.iter().map(|&(_, a, b)| a * a + b * b).sum();
+        PI * (self.r0 * self.r0 + 0.5 * h)
+    }
+
+    /// Whether the star is star-shaped about `p` (certified): the boundary `p(θ) = c + R u`
+    /// turns monotonically about `p`,
+    ///
+    /// ```text
+    /// f(θ) = (p(θ) − p) × p'(θ) > 0,   p' = R'u + R u⊥                         (eq. kernel)
+    /// |f'| = |(p(θ) − p) × p''| ≤ (|c − p| + R_max)(L2 + 2L1 + R_max)
+    /// ```
+    ///
+    /// checked on a grid of `G` directions with the margin `max|f'|·π/G` between grid points
+    /// (`G` doubled up to 65 536 while the margin is what fails). `p` must be inside.
+    #[must_use]
+    pub fn star_about(&self, p: Vector2<f64>) -> bool {
+        if !self.shape.contains(p) {
+            return false;
+        }
+        let (_, l1, l2) = sums(&self.harmonics);
+        let rmax = self.r_max();
+        let c = self.centre();
+        let slope = ((c - p).norm() + rmax) * (l2 + 2.0 * l1 + rmax);
+        let mut g = 4096usize;
+        loop {
+            let margin = slope * PI / g as f64;
+            let mut min = f64::INFINITY;
+            for j in 0..g {
+                let t = TAU * j as f64 / g as f64;
+                let u = Vector2::new(t.cos(), t.sin());
+                let (r, dr) = self.shape.radius_along(u);
+                let q = c + r * u - p;
+                let dp = dr * u + r * Vector2::new(-u.y, u.x);
+                min = min.min(q.x * dp.y - q.y * dp.x);
+                if min <= 0.0 {
+                    return false;
+                }
+            }
+            if min > margin {
+                return true;
+            }
+            if g >= 65_536 {
+                return false;
+            }
+            g *= 2;
+        }
+    }
+
+    /// Points of the boundary such that every boundary point lies within `h/2` of one:
+    /// `p(θ_j)` with `Δθ = h/√(R_max² + L1²)` (the arc between samples is at most `h` long,
+    /// `|p'| = √(R² + R'²)`).
+    #[must_use]
+    pub fn boundary_cover(&self, h: f64) -> Vec<Vector2<f64>> {
+        let (_, l1, _) = sums(&self.harmonics);
+        let speed = self.r_max().hypot(l1);
+        let count = ((TAU * speed / h).ceil() as usize).max(16);
+        (0..count)
+            .map(|j| self.shape.boundary_point(TAU * j as f64 / count as f64))
+            .collect()
+    }
+}
+
+/// How a certified star was obtained.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Certification {
+    /// Samples checked with eq. certify.
+    pub samples: usize,
+    /// Raise-and-recheck rounds after the first construction.
+    pub raises: usize,
+    /// Whether the harmonics were dropped (a disc about the centre) after `ROUNDS` = 8 rounds.
+    pub disc_fallback: bool,
+}
+
+/// The least Fourier star of order `≤ order` about `c` found by eq. fit that passes eq.
+/// certify for `samples` with spacing `h`.
+///
+/// ```text
+/// g_j = max { |x − c| + h/2 : x ∈ samples, angle(x − c) in bin j }   (512 bins)   (eq. fit)
+/// a_n, b_n = discrete Fourier coefficients of g (n ≤ order), R̃ their sum
+/// r0 = a_0 + max_j (g_j − R̃(θ_j))⁺ + L1·π/512          (R ≥ g on every bin: |R'| ≤ L1)
+/// ```
+///
+/// Then eq. certify is checked; while some sample fails by `v`, `r0` grows by
+/// `1.05·v·√(R_min² + L1²)/R_min` (growing `R` by `Δ` moves the boundary outward along the
+/// normal by at least `Δ·R/√(R² + R'²)`). After `ROUNDS` = 8 rounds the harmonics are dropped:
+/// the disc `r0 = max|x − c| + h` passes eq. certify by construction. Empty bins (directions
+/// with no sample) take the largest neighbouring requirement.
+pub fn certified_star(
+    c: Vector2<f64>,
+    samples: &[Vector2<f64>],
+    h: f64,
+    order: u32,
+) -> Result<(Perceived, Certification), ShapeError> {
+    let mut g = [f64::NEG_INFINITY; BINS];
+    let mut reach = 0.0f64;
+    for x in samples {
+        let v = x - c;
+        let rho = v.norm() + 0.5 * h;
+        reach = reach.max(v.norm());
+        let t = v.y.atan2(v.x);
+        let j = (((t + PI) / TAU * BINS as f64).floor() as usize).min(BINS - 1);
+        g[j] = g[j].max(rho);
+    }
+    // Empty bins: the larger of the nearest filled bins on either side.
+    if g.iter().all(|v| !v.is_finite()) {
+        return Err(ShapeError::Invalid {
+            field: "samples",
+            problem: "no sample to contain".into(),
+        });
+    }
+    let filled = g;
+    for j in 0..BINS {
+        if filled[j].is_finite() {
+            continue;
+        }
+        let left = (1..BINS)
+            .map(|k| filled[(j + BINS - k) % BINS])
+            .find(|v| v.is_finite());
+        let right = (1..BINS)
+            .map(|k| filled[(j + k) % BINS])
+            .find(|v| v.is_finite());
+        g[j] = left.unwrap_or(0.0).max(right.unwrap_or(0.0));
+    }
+    let theta = |j: usize| -PI + (j as f64 + 0.5) * TAU / BINS as f64;
+    let a0 = g.iter().sum::<f64>() / BINS as f64;
+    let mut harmonics = Vec::with_capacity(order as usize);
+    for n in 1..=order {
+        let (mut a, mut b) = (0.0, 0.0);
+        for (j, gj) in g.iter().enumerate() {
+            let t = n as f64 * theta(j);
+            a += gj * t.cos();
+            b += gj * t.sin();
+        }
+        harmonics.push((n, 2.0 * a / BINS as f64, 2.0 * b / BINS as f64));
+    }
+    let (sum_c, l1, _) = sums(&harmonics);
+    let short = (0..BINS)
+        .map(|j| {
+            let t = theta(j);
+            let r = a0
+                + harmonics
+                    .iter()
+                    .map(|&(n, a, b)| a * (n as f64 * t).cos() + b * (n as f64 * t).sin())
+                    .sum::<f64>();
+            g[j] - r
+        })
+        .fold(0.0f64, f64::max);
+    // The least r0 that keeps R > 0 with room: R ≥ r0 − Σ|c_n|.
+    let mut r0 = (a0 + short + l1 * PI / BINS as f64).max(sum_c + 0.5 * h);
+    let failure = |shape: &StarShape| -> f64 {
+        samples
+            .iter()
+            .map(|&x| shape.signed_distance_bounds(x).1 + 0.5 * h)
+            .fold(f64::NEG_INFINITY, f64::max)
+    };
+    for round in 0..ROUNDS {
+        // A star too detailed for its outline cap cannot arise at these orders and sizes; if
+        // it does, the disc below is the answer.
+        let Ok(p) = Perceived::new(c, r0, harmonics.clone()) else {
+            break;
+        };
+        let worst = failure(p.shape());
+        if worst <= 0.0 {
+            return Ok((
+                p,
+                Certification {
+                    samples: samples.len(),
+                    raises: round,
+                    disc_fallback: false,
+                },
+            ));
+        }
+        let r_min = (r0 - sum_c).max(1e-9);
+        r0 += 1.05 * worst * r_min.hypot(l1) / r_min + 1e-9 * r0;
+    }
+    let p = Perceived::new(c, reach + h, Vec::new())?;
+    debug_assert!(failure(p.shape()) <= 0.0);
+    Ok((
+        p,
+        Certification {
+            samples: samples.len(),
+            raises: ROUNDS,
+            disc_fallback: true,
+        },
+    ))
+}
+
+/// Why two overlapping perceived shapes could not be merged.
+#[derive(Clone, Debug, PartialEq)]
+pub enum MergeFailure {
+    /// No candidate point lies in the kernel of both (eq. kernel).
+    NoCommonKernel,
+    /// The merged star could not be built.
+    Shape(ShapeError),
+}
+
+/// The merge of two overlapping perceived shapes into one star about a common kernel point
+/// `p` (both star-shaped about `p`, eq. kernel, so the union is star-shaped about `p` and its
+/// radial function is `max(R_A, R_B)` about `p`). Candidates: the two centres and seven points
+/// evenly between them; the one nearest their midpoint is kept. The merged star is
+/// [`certified_star`] over the boundary covers of both shapes (eq. certify, so it contains
+/// `A ∪ B`), less the samples more than `h` inside the other shape (they are not on `∂(A ∪
+/// B)`, nor within `h/2` of it).
+pub fn merge(
+    a: &Perceived,
+    b: &Perceived,
+    h: f64,
+    order: u32,
+) -> Result<(Perceived, Certification), MergeFailure> {
+    let (ca, cb) = (a.centre(), b.centre());
+    let p = (0..=8)
+        .map(|k| ca + (cb - ca) * (k as f64 / 8.0))
+        .filter(|&p| a.star_about(p) && b.star_about(p))
+        .min_by(|p, q| {
+            let mid = 0.5 * (ca + cb);
+            (p - mid).norm().total_cmp(&(q - mid).norm())
+        })
+        .ok_or(MergeFailure::NoCommonKernel)?;
+    let mut samples: Vec<Vector2<f64>> = a
+        .boundary_cover(h)
+        .into_iter()
+        .filter(|&x| b.shape.signed_distance_bounds(x).1 >= -h)
+        .collect();
+    samples.extend(
+        b.boundary_cover(h)
+            .into_iter()
+            .filter(|&x| a.shape.signed_distance_bounds(x).1 >= -h),
+    );
+    certified_star(p, &samples, h, order).map_err(MergeFailure::Shape)
+}
