@@ -5,7 +5,7 @@ use harmonav_potential::sigma;
 use nalgebra::Vector2;
 
 use crate::damping::{Branch, Damping, DampingPolicy};
-use crate::speed::{BRAKING_TIME, SpeedPolicy};
+use crate::speed::{BRAKING_TIME, LINEAR_CORE, SpeedPolicy};
 
 /// A controller parameter that is not finite and positive (field names follow the scenario
 /// format).
@@ -40,7 +40,8 @@ fn positive(value: f64, field: &'static str) -> Result<f64, ControlError> {
 /// Eq. (`kinctrl`) with a speed policy: `u = −s(x)·∇Θ/|∇Θ|` for the kinematic robot `ẋ = u`,
 /// `s = K√(2Θ)` under [`SpeedPolicy::Paper`] (the paper's law), and under the default
 /// [`SpeedPolicy::Auto`] `s = min(v_max, √(2a|x − x_d|))` (full speed, then a constant
-/// deceleration `a` to rest at the goal in finite time; `docs/maths.md` §6). Both follow the
+/// deceleration `a`, then a linear core of 35 µm at the default `v_max`: within any tolerance
+/// of the goal in finite time; `docs/maths.md` §6). Both follow the
 /// flow lines of `−∇Θ`, so both keep the paper's guarantees.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Kinematic {
@@ -97,17 +98,35 @@ impl Kinematic {
         0.5 * self.v_max * BRAKING_TIME
     }
 
+    /// The radius of the linear core of [`SpeedPolicy::Auto`], `r_0 = LINEAR_CORE·d_b`
+    /// ([`LINEAR_CORE`]), m: within it the speed is `λ_0·|x − x_d|`,
+    /// `λ_0 = v_max/√(r_0 d_b)`.
+    pub fn linear_core(&self) -> f64 {
+        LINEAR_CORE * self.braking_distance()
+    }
+
     /// The speed `s(x) ∈ [0, v_max]` at a point with the evaluation `eval` and the distance
     /// `distance = |x − x_d|` to the goal (m):
     ///
     /// - [`SpeedPolicy::Paper`]: `min(v_max, K√(2Θ))` (eq. `kinctrl`);
-    /// - [`SpeedPolicy::Auto`]: `v_max·min(1, √(distance/d_b))` ([`Kinematic::braking_distance`]).
+    /// - [`SpeedPolicy::Auto`]: `v_max` beyond [`Kinematic::braking_distance`] `d_b`,
+    ///   `v_max√(distance/d_b)` within it, and `v_max·distance/√(r_0 d_b)` within
+    ///   [`Kinematic::linear_core`] `r_0` (a policy beyond the paper: `docs/maths.md` §6).
     ///
-    /// It is continuous, positive away from the goal and `0` at the goal.
+    /// It is continuous, Lipschitz, positive away from the goal and `0` at the goal.
     pub fn speed(&self, eval: &FieldEval, distance: f64) -> f64 {
         match self.policy {
             SpeedPolicy::Paper => (self.gain * (2.0 * eval.value).sqrt()).min(self.v_max),
-            SpeedPolicy::Auto => self.v_max * (distance / self.braking_distance()).sqrt().min(1.0),
+            SpeedPolicy::Auto => {
+                let (d_b, r_0) = (self.braking_distance(), self.linear_core());
+                if distance >= d_b {
+                    self.v_max
+                } else if distance >= r_0 {
+                    self.v_max * (distance / d_b).sqrt()
+                } else {
+                    self.v_max * distance / (r_0 * d_b).sqrt()
+                }
+            }
         }
     }
 

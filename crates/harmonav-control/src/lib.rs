@@ -5,7 +5,8 @@
 //!
 //! - [`Kinematic`] (eq. `kinctrl`): `u = −K √(2Θ) ∇Θ/|∇Θ|` for `ẋ = u` under
 //!   [`SpeedPolicy::Paper`]; the default [`SpeedPolicy::Auto`] keeps the direction and moves at
-//!   `s = min(v_max, √(2a|x − x_d|))`, arriving in finite time;
+//!   `s = min(v_max, √(2a|x − x_d|))` with a linear core at the goal, arriving within any
+//!   tolerance in finite time;
 //! - [`Dynamic`] (eq. `dynctrllocal`): `f = −μ∇Θ − λ(t)ẋ` for `m ẍ = f`, with the critical
 //!   damping `λ_c` (eq. `critdamp`) while the energy `V = μΘ + ½m|ẋ|²` (eq. `totalenergy`)
 //!   stays below `μ`, and `(m/d_min)|ẋ(T_n)|` otherwise (eq. `dissipationfun`); the speed
@@ -56,4 +57,4 @@ mod speed;
 
 pub use damping::{Branch, Damping, DampingPolicy, UnknownDampingPolicy};
 pub use laws::{ControlError, Dynamic, Kinematic, Potential, UPHILL_GAIN};
-pub use speed::{BRAKING_TIME, SpeedPolicy, UnknownSpeedPolicy};
+pub use speed::{BRAKING_TIME, LINEAR_CORE, SpeedPolicy, UnknownSpeedPolicy};

@@ -7,6 +7,14 @@
 /// to the goal.
 pub const BRAKING_TIME: f64 = 0.5;
 
+/// `r_0/d_b` of [`SpeedPolicy::Auto`]: within `r_0 = LINEAR_CORE·d_b` of the goal the speed
+/// falls linearly, `s = λ_0·r` with `λ_0 = v_max/√(r_0 d_b) = 2/(T_b·√LINEAR_CORE)` (400 s⁻¹),
+/// so that the law is Lipschitz at the goal: solutions are unique, and an integrator or a
+/// sampled hold converges there as under the paper's law, instead of stepping across the goal
+/// and back (the √ profile alone is not Lipschitz at `r = 0`). It costs `ln(r_0/ε)/λ_0` to
+/// arrive within `ε < r_0` (26 ms to 1e-9 m at the default `v_max`; `r_0` = 35 µm there).
+pub const LINEAR_CORE: f64 = 1e-4;
+
 /// The rule that sets the speed `s(x) > 0` of the kinematic law `u = −s(x)·∇Θ/|∇Θ|`
 /// (eq. `kinctrl` is `s = K√(2Θ)`). Every positive `s` follows the flow lines of `−∇Θ`, so
 /// each policy keeps the guarantees of the kinematic law: `dΘ/dt = −s|∇Θ| < 0` away from the
@@ -19,15 +27,19 @@ pub enum SpeedPolicy {
     /// Near the goal `Θ ≈ ½σ|x − x_d|²`, so the speed falls in proportion to the distance and
     /// the goal is reached only asymptotically (exponentially).
     Paper,
-    /// The default: full speed, then braking at a constant deceleration,
+    /// The default: full speed, then braking at a constant deceleration, then a linear core,
+    /// with `r = |x − x_d|`,
     ///
     /// ```text
-    /// s(x) = min(v_max, √(2a·|x − x_d|)) = v_max·min(1, √(|x − x_d|/d_b)),
-    /// a = v_max/T_b,  d_b = v_max²/(2a) = v_max·T_b/2   (T_b = BRAKING_TIME)
+    ///         ⎧ v_max              r ≥ d_b        a = v_max/T_b,  d_b = v_max·T_b/2
+    /// s(r) =  ⎨ v_max·√(r/d_b)     r_0 ≤ r < d_b  (T_b = BRAKING_TIME)
+    ///         ⎩ v_max·r/√(r_0 d_b) r < r_0        r_0 = LINEAR_CORE·d_b
     /// ```
     ///
-    /// On a straight approach `ṡ = −a`: the robot stops at the goal in the finite time
-    /// `T_b = 2d_b/v_max` from `d_b`, with a bounded deceleration (`docs/maths.md` §6).
+    /// Continuous and increasing in `r`, Lipschitz. On a straight approach `ṡ = −a` in the
+    /// braking zone: the robot comes within `r_0` of the goal in at most `(D + d_b)/v_max` from
+    /// `D`, and within any `ε < r_0` after `ln(r_0/ε)/λ_0` more ([`LINEAR_CORE`];
+    /// `docs/maths.md` §6).
     #[default]
     Auto,
 }

@@ -168,7 +168,12 @@ fn every_speed_policy_follows_the_paper_direction_within_v_max() {
                 assert!((u / s - d).norm() < 1e-12, "direction {:?} vs {d:?}", u / s);
                 assert!(e.gradient.dot(&u) <= 0.0);
             }
-            let expected = auto.v_max() * (r / auto.braking_distance()).sqrt().min(1.0);
+            let (d_b, r_0) = (auto.braking_distance(), auto.linear_core());
+            let expected = if r < r_0 {
+                auto.v_max() * r / (r_0 * d_b).sqrt()
+            } else {
+                auto.v_max() * (r / d_b).sqrt().min(1.0)
+            };
             assert!((auto.speed(&e, r) - expected).abs() <= 1e-14 * expected);
             if r < auto.braking_distance() {
                 near += 1;
@@ -214,10 +219,58 @@ fn arrival_time(
     None
 }
 
+/// The arrival time of `"auto"` within `ε` along a straight ray from `D` (`docs/maths.md` §6):
+/// `(D − d_b)⁺/v_max` at full speed, `2√d_b(√min(D, d_b) − √max(ε, r_0))/v_max` braking, and
+/// `ln(r_0/ε)/λ_0` in the linear core (`λ_0 = v_max/√(r_0 d_b)`) if `ε < r_0`.
+fn closed_form_arrival(law: &Kinematic, distance: f64, eps: f64) -> f64 {
+    let (v, d_b, r_0) = (law.v_max(), law.braking_distance(), law.linear_core());
+    let full = (distance - d_b).max(0.0) / v;
+    let braking = 2.0 * d_b.sqrt() * (distance.min(d_b).sqrt() - eps.max(r_0).sqrt()) / v;
+    let core = (r_0 / eps).ln().max(0.0) / (v / (r_0 * d_b).sqrt());
+    full + braking + core
+}
+
+/// The speed profile of `"auto"` is continuous and Lipschitz in `r = |x − x_d|` with the
+/// constant `λ_0 = v_max/√(r_0 d_b)` of its linear core, so solutions of the closed loop are
+/// unique and the goal is approached as by a linear law: sampled on both sides of `d_b` and
+/// `r_0` and across six decades.
+#[test]
+fn auto_speed_is_continuous_and_lipschitz_in_the_distance() {
+    let ws = Workspace::new(
+        StarShape::circle(Vector2::zeros(), 5.0).unwrap(),
+        Vec::new(),
+        Vector2::zeros(),
+    )
+    .unwrap();
+    let field = Field::all_known(Arc::new(ws)).unwrap();
+    let e = field.eval(Vector2::new(1.0, 0.0)).unwrap();
+    for v_max in [0.2, 2f64.sqrt(), 7.0] {
+        let law = Kinematic::new(1.0).unwrap().with_v_max(v_max).unwrap();
+        let (d_b, r_0) = (law.braking_distance(), law.linear_core());
+        let lipschitz = v_max / (r_0 * d_b).sqrt();
+        for edge in [d_b, r_0] {
+            let (below, above) = (law.speed(&e, edge * (1.0 - 1e-12)), law.speed(&e, edge));
+            assert!((above - below).abs() <= 1e-10 * above, "jump at {edge}");
+        }
+        let mut rng = Rng::new(77);
+        for _ in 0..2000 {
+            let r1 = r_0 * 10f64.powf(rng.uniform(-3.0, 4.0));
+            let r2 = r1 * rng.uniform(0.5, 2.0);
+            let (s1, s2) = (law.speed(&e, r1), law.speed(&e, r2));
+            assert!(s1 > 0.0 && s1 <= v_max);
+            assert!((s1 - s2).abs() <= lipschitz * (r1 - r2).abs() * (1.0 + 1e-12));
+            assert!(
+                (s1 < s2) == (r1 < r2) || s1 == s2,
+                "not increasing at {r1}, {r2}"
+            );
+        }
+    }
+}
+
 /// Finite-time arrival under `"auto"`: with the goal at the centre of a disc world the flow
-/// lines are straight rays, and the arrival time within `ε` from a distance `D ≥ d_b` is, in
-/// closed form, `(D − d_b)/v_max + 2(d_b − √(d_b ε))/v_max` (`docs/maths.md` §6), bounded by
-/// `(D + d_b)/v_max` for every `ε`. The paper's law needs `~ln(D/ε)/(K√σ)` instead.
+/// lines are straight rays, and the arrival time within `ε` from a distance `D ≥ d_b` is the
+/// closed form of [`closed_form_arrival`] (`docs/maths.md` §6), bounded by
+/// `(D + d_b)/v_max + ln(r_0/ε)⁺/λ_0` for every `ε`. The paper's law needs `~ln(D/ε)/(K√σ)`.
 #[test]
 fn auto_speed_arrives_in_the_closed_form_time() {
     let ws = Workspace::new(
@@ -228,14 +281,16 @@ fn auto_speed_arrives_in_the_closed_form_time() {
     .unwrap();
     let field = Field::all_known(Arc::new(ws)).unwrap();
     let law = Kinematic::new(1.0).unwrap();
-    let (v, db) = (law.v_max(), law.braking_distance());
+    let (v, db, r_0) = (law.v_max(), law.braking_distance(), law.linear_core());
+    let lambda = v / (r_0 * db).sqrt();
     let start = Vector2::new(2.0, 1.0);
     let d = start.norm();
-    for eps in [1e-2, 1e-4, 1e-6] {
-        let closed = (d - db) / v + 2.0 * (db - (db * eps).sqrt()) / v;
+    for eps in [1e-2, 1e-4, 1e-6, 1e-9] {
+        let closed = closed_form_arrival(&law, d, eps);
         let t = arrival_time(&field, &law, start, eps, 1e-4, 10.0).unwrap();
         assert!((t - closed).abs() < 2e-3, "ε = {eps}: {t} s vs {closed} s");
-        assert!(t <= (d + db) / v + 1e-3);
+        let bound = (d + db) / v + (r_0 / eps).ln().max(0.0) / lambda;
+        assert!(t <= bound + 1e-3, "ε = {eps}: {t} s > {bound} s");
     }
     // The paper's law is slower, and ever slower as the tolerance shrinks.
     let paper = law.with_speed(SpeedPolicy::Paper);
@@ -248,8 +303,8 @@ fn auto_speed_arrives_in_the_closed_form_time() {
     );
 }
 
-/// Finite-time arrival in random worlds: from a point `r_0 < d_b` from the goal the approach
-/// takes at most `2(√(r_0 d_b) − √(ε d_b))/(c·v_max)`, where `c` bounds `−d·(x − x_d)/r`
+/// Finite-time arrival in random worlds: from a point `D < d_b` from the goal the approach
+/// takes at most `2(√(D d_b) − √(ε d_b))/(c·v_max)` (`ε ≥ r_0`), where `c` bounds `−d·(x − x_d)/r`
 /// from below (`Phi` is the identity near the goal and its Hessian is `σI`, so `c → 1`;
 /// `c = 0.9` here). Integrated, the time is within that bound.
 #[test]
@@ -262,12 +317,13 @@ fn auto_speed_arrives_within_the_finite_time_bound_in_random_worlds() {
         let (field, mut rng) = world(1300 + seed);
         let goal = field.workspace().destination();
         let a = rng.uniform(0.0, std::f64::consts::TAU);
-        let r0 = 0.5 * db;
-        let x = goal + r0 * Vector2::new(a.cos(), a.sin());
+        let start = 0.5 * db;
+        let x = goal + start * Vector2::new(a.cos(), a.sin());
         if field.eval(x).is_err() {
             continue;
         }
-        let bound = 2.0 * ((r0 * db).sqrt() - (eps * db).sqrt()) / (0.9 * v);
+        assert!(eps >= law.linear_core());
+        let bound = 2.0 * ((start * db).sqrt() - (eps * db).sqrt()) / (0.9 * v);
         let t = arrival_time(&field, &law, x, eps, 1e-4, 10.0)
             .unwrap_or_else(|| panic!("seed {seed}: no arrival"));
         assert!(t <= bound, "seed {seed}: {t} s > bound {bound} s");

@@ -9,7 +9,7 @@ use harmonav_sensing::{Sensing, axis, initially_known};
 use nalgebra::Vector2;
 
 use crate::guarantee::{Check, FreeSpaceLoss, Guarantee};
-use crate::run::{Discovery, RunError, STEP_TOLERANCE, Sample};
+use crate::run::{Discovery, RunError, Sample, step_tolerance};
 use crate::scenario::{Model, Prepared};
 use crate::truth::Truth;
 
@@ -185,7 +185,7 @@ impl<'a> ClosedLoop<'a> {
                 (Some(law), Some(e)) => {
                     let sensitivity =
                         law.mu() * law.potential(&e.field).gradient.norm() + law.mass() * v.norm();
-                    10.0 * STEP_TOLERANCE * sensitivity
+                    10.0 * step_tolerance(self.truth) * sensitivity
                 }
                 _ => 0.0,
             },

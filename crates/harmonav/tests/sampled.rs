@@ -381,6 +381,66 @@ fn the_sampled_loop_stops_at_the_goal_in_finite_time_under_the_auto_speed() {
     assert!(t_paper > 4.0 * t, "paper {t_paper} s, auto {t} s");
 }
 
+/// The hold never steps past the goal: every kinematic command held for the period satisfies
+/// `h|u| ≤ |x − x_d|`. Without the cap the finite-time speed `v_max√(r/d_b)` steps across the
+/// goal wherever `r < h²v_max²/d_b` (within 5.7 cm at 20 Hz and the default `v_max`), and the
+/// robot crosses it and comes back from the other side.
+#[test]
+fn the_kinematic_hold_never_steps_past_the_goal() {
+    let boundary = StarShape::circle(Vector2::zeros(), 5.0).unwrap();
+    let rock = StarShape::circle(Vector2::new(0.5, 1.5), 0.4).unwrap();
+    let goal = Vector2::new(1.0, 0.5);
+    let mut crossed_checked = 0;
+    for (h, v_max) in [
+        (0.01, 2f64.sqrt()),
+        (0.05, 2f64.sqrt()),
+        (0.1, 3.0),
+        (0.2, 0.5),
+    ] {
+        for start in [
+            Vector2::new(-3.0, 1.0),
+            Vector2::new(2.5, -2.0),
+            Vector2::new(0.4, 3.0),
+        ] {
+            let options = Options::default().with_control_period(h).with_v_max(v_max);
+            let mut nav =
+                Navigator::new(boundary.clone(), goal, Law::kinematic(1.0), options).unwrap();
+            nav.add_obstacle(rock.clone()).unwrap();
+            let mut x = start;
+            for _ in 0..(30.0 / h) as usize {
+                let r = (x - goal).norm();
+                if r < 1e-12 {
+                    break;
+                }
+                let c = nav.command(x, Vector2::zeros()).unwrap();
+                let step = h * c.value.norm();
+                assert!(
+                    step <= r * (1.0 + 1e-12),
+                    "h = {h}: a step of {step} m with the goal {r} m away at {x:?}"
+                );
+                let next = x + h * c.value;
+                // Near the goal the goal is never behind the robot (to the rounding of the
+                // coordinates: a step that lands on the goal ends within an ulp of it).
+                if r < 0.05 {
+                    let behind = -(next - goal).dot(&(x - goal));
+                    let ulp = 4.0 * f64::EPSILON * goal.norm().max(1.0) * r;
+                    assert!(
+                        behind <= ulp,
+                        "crossed the goal by {behind} m² at {x:?}, h = {h}"
+                    );
+                    crossed_checked += 1;
+                }
+                x = next;
+            }
+            assert!(
+                (x - goal).norm() < 1e-6,
+                "h = {h}, from {start:?}: ended at {x:?}"
+            );
+        }
+    }
+    assert!(crossed_checked > 20, "{crossed_checked}");
+}
+
 /// Flies `nav` from `x` for at most 60 s of commands held for its period; returns whether it
 /// arrived, asserting at every step that the robot's centre stays outside `rock` grown by
 /// `gap` (the navigator's grown shape: no entry).
