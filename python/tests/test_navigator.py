@@ -98,6 +98,9 @@ def test_bad_states_raise_and_nan_does_not_crash():
         (dict(speed="fast"), "speed policy"),
         (dict(v_max=0.0), "v_max"),
         (dict(v_max=float("nan")), "v_max"),
+        (dict(v_max=-1.0), "v_max"),
+        (dict(v_max=float("inf")), "v_max"),
+        (dict(speed="Auto"), "speed policy"),
     ],
 )
 def test_bad_options_are_refused(kwargs, word):
@@ -239,3 +242,21 @@ def test_the_speed_policy_keeps_the_direction_and_auto_stops_at_the_goal():
             break
         x = x + 0.01 * auto.command(x)
     assert np.linalg.norm(x) < 1e-9 and step * 0.01 < 3.0
+
+
+def test_the_auto_speed_never_steps_past_the_goal_at_any_period():
+    """The hold caps the held step at the distance to the goal (`h|u| ≤ |x − x_d|`): at 20 Hz
+    and 5 Hz the loop lands on the goal instead of crossing it and coming back."""
+    boundary = harmonav.circle([0, 0], 5.0)
+    goal = np.array([1.0, 0.5])
+    for h in (0.05, 0.2):
+        nav = harmonav.Navigator(boundary, goal, control_period=h)
+        x = np.array([-3.0, 1.0])
+        for _ in range(int(30 / h)):
+            r = np.linalg.norm(x - goal)
+            if r < 1e-12:
+                break
+            u = nav.command(x)
+            assert h * np.linalg.norm(u) <= r * (1 + 1e-12)
+            x = x + h * u
+        assert np.linalg.norm(x - goal) < 1e-9

@@ -281,10 +281,11 @@ fn kinematic_escape(
 /// `s_0 = 1` if the whole step is certified free ([`free_length`] `≥ h|u|`), otherwise
 /// `β·L/(h|u|)` with `L` the certified free length and `β =` [`KINEMATIC_FRACTION`], so the
 /// step ends inside the free space; and `s_0 ≤ |x − x_d|/(h|u|)`: the step never passes the
-/// goal (near the goal the finite-time speed of `SpeedPolicy::Auto`, `∝ √|x − x_d|`, would
-/// otherwise step across it and back: `docs/maths.md` §6). `Θ = sigma(phi_k∘Phi)` with `sigma` increasing, so `Θ`
-/// decreases over the step; the comparison is made on `phi_k`, in log space, where `Θ` near a
-/// wall would round to 1 at both ends. After [`MAX_HALVINGS`] the robot is at a critical point
+/// goal (near the goal the speed of `SpeedPolicy::Auto`, `∝ √|x − x_d|` and then `λ_0|x − x_d|`
+/// with `hλ_0 > 1`, would otherwise step across it and back: `docs/maths.md` §6).
+/// `Θ = sigma(phi_k∘Phi)` with `sigma` increasing, so `Θ` decreases over the step; the
+/// comparison is made on `phi_k`, in log space, where `Θ` near a wall would round to 1 at both
+/// ends. After [`MAX_HALVINGS`] the robot is at a critical point
 /// to working precision and the command is 0.
 fn kinematic_step(
     field: &Field,
