@@ -91,7 +91,8 @@ class Navigator:
 
     ``law="kinematic"``: ``u = −s(x)∇Θ/|∇Θ|``, the flow lines of eq. ``kinctrl``; under
     ``speed="auto"`` (the default) ``s = min(v_max, √(2a|x − x_d|))``: full speed until a braking
-    distance, then a constant deceleration to rest at the goal in finite time; under
+    distance, then a constant deceleration and a linear core (35 µm at the default ``v_max``):
+    within any tolerance of the goal in finite time, and the hold never steps past it; under
     ``speed="paper"`` ``s = K√(2Θ)``, ``K = gain``. ``v_max`` (m/s, default ``K√2``) caps both.
     ``law="dynamic"``: ``f = −μ∇Ψ − λẋ`` (eq. ``dynctrllocal``) for a robot of mass ``mass``,
     whose speed stays below ``√(2μ/m)``.

@@ -18,9 +18,10 @@ use crate::shapes::Shape;
 ///
 /// - `law="kinematic"`: the velocity `u = −s(x)∇Θ/|∇Θ|` along the flow lines of eq. `kinctrl`:
 ///   under `speed="auto"` (the default) `s = min(v_max, √(2a|x − x_d|))`, full speed until a
-///   braking distance, then a constant deceleration to rest at the goal in finite time; under
-///   `speed="paper"` `s = K√(2Θ)`, `K = gain` (`docs/maths.md` §6). `v_max` (m/s, default
-///   `K√2`) caps both.
+///   braking distance, then a constant deceleration and a linear core (35 µm at the default
+///   `v_max`): within any tolerance of the goal in finite time, and the hold never steps past
+///   it; under `speed="paper"` `s = K√(2Θ)`, `K = gain` (`docs/maths.md` §6). `v_max` (m/s,
+///   default `K√2`) caps both.
 /// - `law="dynamic"`: the force `f = −μ∇Ψ − λẋ` (eq. `dynctrllocal`; `Ψ = Θ` and `λ` of
 ///   eq. `dissipationfun` under `damping="paper"`), for a robot of mass `mass`; its speed stays
 ///   below `√(2μ/m)`.

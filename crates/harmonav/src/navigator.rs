@@ -17,9 +17,9 @@ use crate::options::{HoldPolicy, MIN_APERTURE_DEG, Options, PARAMETER_RANGE, in_
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Law {
     /// `ẋ = u` under eq. `kinctrl` with the speed of [`Options::speed`]: `u = −s(x)∇Θ/|∇Θ|`,
-    /// `s = K√(2Θ)` (`"paper"`) or `min(v_max, √(2a|x − x_d|))` (`"auto"`, the default;
-    /// `v_max` from [`Options::v_max`], default `K√2`); [`Navigator::command`] returns the
-    /// velocity `u`.
+    /// `s = K√(2Θ)` (`"paper"`) or `min(v_max, √(2a|x − x_d|))` with a linear core at the goal
+    /// (`"auto"`, the default; `v_max` from [`Options::v_max`], default `K√2`; `docs/maths.md`
+    /// §6); [`Navigator::command`] returns the velocity `u`.
     Kinematic {
         /// `K > 0`.
         gain: f64,
