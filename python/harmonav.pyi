@@ -89,7 +89,11 @@ class Field:
 class Navigator:
     """The navigator of a robot that does not know its map.
 
-    ``law="kinematic"``: ``u = −K√(2Θ)∇Θ/|∇Θ|`` (eq. ``kinctrl``), ``K = gain``.
+    ``law="kinematic"``: ``u = −s(x)∇Θ/|∇Θ|``, the flow lines of eq. ``kinctrl``; under
+    ``speed="auto"`` (the default) ``s = min(v_max, √(2a|x − x_d|))``: full speed until a braking
+    distance, then a constant deceleration and a linear core (35 µm at the default ``v_max``):
+    within any tolerance of the goal in finite time, and the hold never steps past it; under
+    ``speed="paper"`` ``s = K√(2Θ)``, ``K = gain``. ``v_max`` (m/s, default ``K√2``) caps both.
     ``law="dynamic"``: ``f = −μ∇Ψ − λẋ`` (eq. ``dynctrllocal``) for a robot of mass ``mass``,
     whose speed stays below ``√(2μ/m)``.
 
@@ -119,6 +123,8 @@ class Navigator:
         rho_min: float = 0.05,
         control_period: Optional[float] = None,
         hold: str = "auto",
+        speed: str = "auto",
+        v_max: Optional[float] = None,
     ) -> None: ...
     def add_obstacle(self, shape: Shape) -> int:
         """Adds a newly sensed obstacle; returns its index. ``ValueError`` leaves the navigator unchanged."""

@@ -9,8 +9,9 @@ disc workspace of radius 5 m.
 
 - harmonav runs each world's scenario with its built-in integrator and its guarantee
   monitors. It senses through the paper's sector (1 m, 60°): an obstacle becomes known only
-  when it is seen. Four configurations: both laws (kinematic, K = 1; dynamic, m = 1 kg,
-  μ = 10), each with the paper's choices (`k = "paper"`, `damping = "paper"`) and the defaults.
+  when it is seen. Five configurations: both laws (kinematic, K = 1; dynamic, m = 1 kg,
+  μ = 10), each with the paper's choices (`k = "paper"`, `damping = "paper"`, `speed =
+  "paper"`) and the defaults; and the kinematic default at navground's top speed (`v_max = 1`).
   It arrives within 0.01 m.
 - navground's HL and ORCA behaviours get the whole map from the start (discs as `Disc`, the
   non-disc shapes as 1024 line segments of their outlines, the wall as 256),  an omnidirectional robot with
@@ -43,11 +44,15 @@ except ImportError:  # pragma: no cover - the comparison needs it, the tests do 
 WORKSPACE_RADIUS = 5.0
 ROBOT_RADIUS = 0.1
 MAX_TIME = 120.0
+# (row, law, k, damping and speed policy, v_max): "paper" is the paper's k, damping and
+# speed K√(2Θ); "default" the defaults (speed "auto": full speed, then a constant deceleration,
+# at v_max = K√2 = 1.41 m/s); the last row is the default at navground's 1 m/s top speed.
 HARMONAV = [
-    ("harmonav kinematic, paper", "kinematic", "paper", "paper"),
-    ("harmonav kinematic, default", "kinematic", "auto", "auto"),
-    ("harmonav dynamic, paper", "dynamic", "paper", "paper"),
-    ("harmonav dynamic, default", "dynamic", "auto", "auto"),
+    ("harmonav kinematic, paper", "kinematic", "paper", "paper", None),
+    ("harmonav kinematic, default", "kinematic", "auto", "auto", None),
+    ("harmonav kinematic, default, 1 m/s", "kinematic", "auto", "auto", 1.0),
+    ("harmonav dynamic, paper", "dynamic", "paper", "paper", None),
+    ("harmonav dynamic, default", "dynamic", "auto", "auto", None),
 ]
 NAVGROUND = ["HL", "ORCA"]
 
@@ -114,8 +119,8 @@ def value_toml(v):
     return repr(float(v))
 
 
-def toml(world, law, k, damping):
-    """The world as a harmonav scenario file."""
+def toml(world, law, k, damping, v_max=None):
+    """The world as a harmonav scenario file (`damping` also names the speed policy)."""
     lines = [
         f'name = "{world["name"]}"',
         "[workspace]",
@@ -144,6 +149,11 @@ def toml(world, law, k, damping):
         "gain = 1.0",
         "mu = 10.0",
         f'damping = "{damping}"',
+        f'speed = "{damping}"',
+    ]
+    if v_max is not None:
+        lines.append(f"v_max = {v_max}")
+    lines += [
         "[sim]",
         "dt = 0.01",
         f"max_time = {MAX_TIME}",
@@ -176,9 +186,10 @@ def path_length(x):
 # --- methods ----------------------------------------------------------------------------------
 
 
-def run_harmonav(world, tmp, law, k, damping, world_shapes):
-    path = pathlib.Path(tmp) / f'{world["name"]}-{law}-{k}.toml'
-    path.write_text(toml(world, law, k, damping))
+def run_harmonav(world, tmp, law, k, damping, world_shapes, v_max=None):
+    suffix = "" if v_max is None else f"-vmax{v_max}"
+    path = pathlib.Path(tmp) / f'{world["name"]}-{law}-{k}{suffix}.toml'
+    path.write_text(toml(world, law, k, damping, v_max))
     sc = harmonav.Scenario.load(path)
     shortest, _ = sc.shortest_path()
     res = sc.run()
@@ -186,7 +197,7 @@ def run_harmonav(world, tmp, law, k, damping, world_shapes):
     # The cost of one command with every obstacle known, at the states of the run.
     nav = harmonav.Navigator(
         harmonav.circle([0, 0], WORKSPACE_RADIUS), world["goal"], law=law, radius=ROBOT_RADIUS,
-        k=k, damping=damping,
+        k=k, damping=damping, speed=damping, v_max=v_max,
     )
     for o in world_shapes:
         nav.add_obstacle(o)
@@ -255,8 +266,8 @@ def study(worlds):
         for world in worlds:
             world_shapes = shapes(world)
             shortest = None
-            for name, law, k, damping in HARMONAV:
-                r = run_harmonav(world, tmp, law, k, damping, world_shapes)
+            for name, law, k, damping, v_max in HARMONAV:
+                r = run_harmonav(world, tmp, law, k, damping, world_shapes, v_max)
                 rows[name].append(r)
             path = pathlib.Path(tmp) / f'{world["name"]}-kinematic-auto.toml'
             shortest, _ = harmonav.Scenario.load(path).shortest_path()

@@ -3,6 +3,7 @@
 use harmonav_rs::Vector2;
 use harmonav_rs::{
     DampingPolicy, HoldPolicy, KPolicy, Law, Mode, NavError, Navigator as RsNavigator, Options,
+    SpeedPolicy,
 };
 use numpy::PyArray1;
 use pyo3::exceptions::PyTypeError;
@@ -15,7 +16,12 @@ use crate::shapes::Shape;
 /// The navigator of a robot that does not know its map: obstacles are added as its perception
 /// finds them, and `command(x, v)` returns the law's command.
 ///
-/// - `law="kinematic"`: the velocity `u = −K√(2Θ)∇Θ/|∇Θ|` (eq. `kinctrl`), `K = gain`.
+/// - `law="kinematic"`: the velocity `u = −s(x)∇Θ/|∇Θ|` along the flow lines of eq. `kinctrl`:
+///   under `speed="auto"` (the default) `s = min(v_max, √(2a|x − x_d|))`, full speed until a
+///   braking distance, then a constant deceleration and a linear core (35 µm at the default
+///   `v_max`): within any tolerance of the goal in finite time, and the hold never steps past
+///   it; under `speed="paper"` `s = K√(2Θ)`, `K = gain` (`docs/maths.md` §6). `v_max` (m/s,
+///   default `K√2`) caps both.
 /// - `law="dynamic"`: the force `f = −μ∇Ψ − λẋ` (eq. `dynctrllocal`; `Ψ = Θ` and `λ` of
 ///   eq. `dissipationfun` under `damping="paper"`), for a robot of mass `mass`; its speed stays
 ///   below `√(2μ/m)`.
@@ -65,6 +71,8 @@ struct Args {
     rho_min: f64,
     control_period: Option<f64>,
     hold: String,
+    speed: String,
+    v_max: Option<f64>,
 }
 
 /// A call that changed a navigator's state.
@@ -98,9 +106,13 @@ impl Args {
             .with_rho_min(self.rho_min)
             .with_k(policy::<KPolicy>(&self.k)?)
             .with_damping(policy::<DampingPolicy>(&self.damping)?)
-            .with_hold(policy::<HoldPolicy>(&self.hold)?);
+            .with_hold(policy::<HoldPolicy>(&self.hold)?)
+            .with_speed(policy::<SpeedPolicy>(&self.speed)?);
         if let Some(h) = self.control_period {
             options = options.with_control_period(h);
+        }
+        if let Some(v) = self.v_max {
+            options = options.with_v_max(v);
         }
         let goal = Vector2::new(self.goal[0], self.goal[1]);
         // The Rust navigator checks every option against its range and every derived
@@ -127,6 +139,8 @@ impl Args {
                 self.rho_min.into_pyobject(py)?.into_any(),
                 self.control_period.into_pyobject(py)?.into_any(),
                 self.hold.clone().into_pyobject(py)?.into_any(),
+                self.speed.clone().into_pyobject(py)?.into_any(),
+                self.v_max.into_pyobject(py)?.into_any(),
             ],
         )
     }
@@ -206,7 +220,8 @@ impl Navigator {
     #[new]
     #[pyo3(signature = (boundary, goal, law="kinematic", gain=1.0, mass=1.0, mu=10.0,
                         sensor=(1.0, 60.0), radius=0.0, margin=0.0, k="auto", damping="auto",
-                        rho_min=0.05, control_period=None, hold="auto"))]
+                        rho_min=0.05, control_period=None, hold="auto", speed="auto",
+                        v_max=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         boundary: &Shape,
@@ -223,6 +238,8 @@ impl Navigator {
         rho_min: f64,
         control_period: Option<f64>,
         hold: &str,
+        speed: &str,
+        v_max: Option<f64>,
     ) -> PyResult<Self> {
         let goal = point_like(goal, "goal")?;
         let args = Args {
@@ -240,6 +257,8 @@ impl Navigator {
             rho_min,
             control_period,
             hold: hold.to_owned(),
+            speed: speed.to_owned(),
+            v_max,
         };
         Ok(Self {
             inner: args.build()?,

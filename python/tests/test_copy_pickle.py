@@ -104,6 +104,7 @@ def test_a_pickle_holds_every_constructor_argument():
     given = dict(
         law="dynamic", gain=2.5, mass=2.0, mu=5.0, sensor=(1.5, 90.0), radius=0.1,
         margin=0.05, k="paper", damping="paper", rho_min=0.1, control_period=0.02, hold="paper",
+        speed="paper", v_max=0.7,
     )
     boundary = harmonav.circle([0, 0], 4.0)
     nav = harmonav.Navigator(boundary, [3.0, 0.0], **given)
@@ -151,3 +152,16 @@ def test_a_corrupt_navigator_state_is_refused_and_changes_nothing():
     assert nav.obstacle_count == 1
     nav.__setstate__(state)
     assert nav.obstacle_count == 1
+
+
+def test_a_pickled_kinematic_navigator_keeps_its_speed_policy_and_v_max():
+    """`speed` and `v_max` survive pickle: the copy commands exactly as the original, and
+    differently from a navigator with the default speed."""
+    kwargs = dict(speed="paper", v_max=0.5)
+    nav = harmonav.Navigator(harmonav.circle([0, 0], 4.0), [3.0, 0.0], **kwargs)
+    default = harmonav.Navigator(harmonav.circle([0, 0], 4.0), [3.0, 0.0])
+    x = [-2.0, 0.5]
+    twin = pickle.loads(pickle.dumps(nav))
+    np.testing.assert_array_equal(twin.command(x), nav.command(x))
+    assert np.linalg.norm(nav.command(x)) <= 0.5 + 1e-12
+    assert not np.array_equal(default.command(x), nav.command(x))

@@ -1,5 +1,7 @@
 """Navigator: the README's loop arrives, bad input is refused and leaves the state unchanged."""
 
+import math
+
 import numpy as np
 import pytest
 
@@ -93,6 +95,12 @@ def test_bad_states_raise_and_nan_does_not_crash():
         (dict(radius=-0.1), "radius"),
         (dict(k="n+1"), "auto"),
         (dict(damping="critical"), "paper"),
+        (dict(speed="fast"), "speed policy"),
+        (dict(v_max=0.0), "v_max"),
+        (dict(v_max=float("nan")), "v_max"),
+        (dict(v_max=-1.0), "v_max"),
+        (dict(v_max=float("inf")), "v_max"),
+        (dict(speed="Auto"), "speed policy"),
     ],
 )
 def test_bad_options_are_refused(kwargs, word):
@@ -215,3 +223,40 @@ def test_a_robot_in_the_margin_band_is_led_back_out():
 def test_bad_hold_options_are_refused(kwargs, word):
     with pytest.raises(ValueError, match=word):
         harmonav.Navigator(harmonav.circle([0, 0], 4.0), [3.0, 0.0], **kwargs)
+
+
+def test_the_speed_policy_keeps_the_direction_and_auto_stops_at_the_goal():
+    """`speed="auto"` (the default) and `speed="paper"` command the same direction; "auto" moves
+    at `v_max` far from the goal and its 100 Hz loop stops at the goal in finite time."""
+    boundary = harmonav.circle([0, 0], 5.0)
+    auto = harmonav.Navigator(boundary, [0.0, 0.0])
+    paper = harmonav.Navigator(boundary, [0.0, 0.0], speed="paper")
+    x = np.array([3.0, 1.0])
+    a, p = auto.command(x), paper.command(x)
+    np.testing.assert_allclose(a / np.linalg.norm(a), p / np.linalg.norm(p), atol=1e-12)
+    assert abs(np.linalg.norm(a) - math.sqrt(2.0)) < 1e-12
+    slow = harmonav.Navigator(boundary, [0.0, 0.0], v_max=0.5)
+    assert abs(np.linalg.norm(slow.command(x)) - 0.5) < 1e-12
+    for step in range(1000):
+        if np.linalg.norm(x) < 1e-9:
+            break
+        x = x + 0.01 * auto.command(x)
+    assert np.linalg.norm(x) < 1e-9 and step * 0.01 < 3.0
+
+
+def test_the_auto_speed_never_steps_past_the_goal_at_any_period():
+    """The hold caps the held step at the distance to the goal (`h|u| ≤ |x − x_d|`): at 20 Hz
+    and 5 Hz the loop lands on the goal instead of crossing it and coming back."""
+    boundary = harmonav.circle([0, 0], 5.0)
+    goal = np.array([1.0, 0.5])
+    for h in (0.05, 0.2):
+        nav = harmonav.Navigator(boundary, goal, control_period=h)
+        x = np.array([-3.0, 1.0])
+        for _ in range(int(30 / h)):
+            r = np.linalg.norm(x - goal)
+            if r < 1e-12:
+                break
+            u = nav.command(x)
+            assert h * np.linalg.norm(u) <= r * (1 + 1e-12)
+            x = x + h * u
+        assert np.linalg.norm(x - goal) < 1e-9

@@ -150,7 +150,12 @@ pub fn run(options: &Options) -> ExitCode {
     // The motion-quality benchmark (docs/benchmarks.md): both laws, every policy.
     if wants("quality") {
         let models = [Model::Kinematic, Model::Dynamic];
-        let plan = quality::plan(&models, &KPolicy::ALL, &DampingPolicy::ALL, quality::WORLDS);
+        let plan = quality::plan(
+            &models,
+            &KPolicy::ALL,
+            quality::LawPolicies::ALL,
+            quality::WORLDS,
+        );
         let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
         match harmonav_sim::quality::run_plan(&plan, threads) {
             Ok(stats) => {

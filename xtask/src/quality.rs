@@ -1,7 +1,7 @@
 //! The motion-quality benchmark (`harmonav_sim::quality`): the plan that `cargo xtask bench`
 //! and `cargo xtask verify` run, its Markdown table and its JSON figures.
 
-use harmonav_control::DampingPolicy;
+use harmonav_control::{DampingPolicy, SpeedPolicy};
 use harmonav_field::KPolicy;
 use harmonav_sim::quality::{Cell, CellStats, Plan, SensingKind, time_ratio};
 use harmonav_sim::scenario::Model;
@@ -12,10 +12,34 @@ pub const WORLDS: usize = 24;
 /// The margin of the margin cells, m.
 pub const MARGIN: f64 = 0.1;
 
-/// The cells of the table for the laws `models`, the `k` policies `policies` and (dynamic law)
-/// the damping policies `dampings`: both sensings, and the default `k` policy also with the
-/// clearance margin.
-pub fn cells(models: &[Model], policies: &[KPolicy], dampings: &[DampingPolicy]) -> Vec<Cell> {
+/// The policies of the laws a plan runs: the damping policies of the dynamic law and the speed
+/// policies of the kinematic law.
+#[derive(Clone, Copy, Debug)]
+pub struct LawPolicies<'a> {
+    /// Dynamic law.
+    pub dampings: &'a [DampingPolicy],
+    /// Kinematic law.
+    pub speeds: &'a [SpeedPolicy],
+}
+
+impl LawPolicies<'static> {
+    /// Every damping and speed policy.
+    pub const ALL: Self = Self {
+        dampings: &DampingPolicy::ALL,
+        speeds: &SpeedPolicy::ALL,
+    };
+
+    /// The default policies only.
+    pub const DEFAULT: Self = Self {
+        dampings: &[DampingPolicy::Auto],
+        speeds: &[SpeedPolicy::Auto],
+    };
+}
+
+/// The cells of the table for the laws `models`, the `k` policies `policies` and the law
+/// policies `laws` (damping: dynamic law; speed: kinematic law): both sensings, and the
+/// default `k` policy also with the clearance margin.
+pub fn cells(models: &[Model], policies: &[KPolicy], laws: LawPolicies<'_>) -> Vec<Cell> {
     let mut cells = Vec::new();
     for &model in models {
         for sensing in SensingKind::ALL {
@@ -25,18 +49,28 @@ pub fn cells(models: &[Model], policies: &[KPolicy], dampings: &[DampingPolicy])
                 } else {
                     &[0.0]
                 };
-                let dampings: &[DampingPolicy] = match model {
-                    Model::Kinematic => &[DampingPolicy::Auto],
-                    Model::Dynamic => dampings,
+                // (damping, speed) pairs: each law varies its own policy.
+                let variants: Vec<(DampingPolicy, SpeedPolicy)> = match model {
+                    Model::Kinematic => laws
+                        .speeds
+                        .iter()
+                        .map(|&s| (DampingPolicy::default(), s))
+                        .collect(),
+                    Model::Dynamic => laws
+                        .dampings
+                        .iter()
+                        .map(|&d| (d, SpeedPolicy::default()))
+                        .collect(),
                 };
                 for &margin in margins {
-                    for &damping in dampings {
+                    for &(damping, speed) in &variants {
                         cells.push(Cell {
                             obstacles: 0,
                             sensing,
                             k,
                             model,
                             damping,
+                            speed,
                             margin,
                         });
                     }
@@ -48,17 +82,12 @@ pub fn cells(models: &[Model], policies: &[KPolicy], dampings: &[DampingPolicy])
 }
 
 /// The benchmark plan: 6, 12 and 20 obstacles, `worlds` worlds each, the [`cells`] of
-/// `models`, `policies` and `dampings`, 120 s per run.
-pub fn plan(
-    models: &[Model],
-    policies: &[KPolicy],
-    dampings: &[DampingPolicy],
-    worlds: usize,
-) -> Plan {
+/// `models`, `policies` and `laws`, 120 s per run.
+pub fn plan(models: &[Model], policies: &[KPolicy], laws: LawPolicies<'_>, worlds: usize) -> Plan {
     Plan {
         obstacle_counts: vec![6, 12, 20],
         worlds,
-        cells: cells(models, policies, dampings),
+        cells: cells(models, policies, laws),
         max_time: 120.0,
     }
 }
@@ -67,10 +96,22 @@ fn fmt3(v: [f64; 3], digits: usize) -> String {
     format!("{:.digits$} / {:.digits$} / {:.digits$}", v[0], v[1], v[2])
 }
 
-/// The kinematic cell of the same worlds, sensing, `k` and margin as `cell`, if `stats` has it.
-pub fn kinematic_twin<'a>(stats: &'a [CellStats], cell: &Cell) -> Option<&'a CellStats> {
+/// The speed policy of the kinematic law that the dynamic law's time is compared with (the
+/// table's "time / kinematic" and the target of `cargo xtask verify`): the paper's `K√(2Θ)`,
+/// the reference the targets were set against (issue 12) before the kinematic law's default
+/// speed became `"auto"`, which is 1.6× faster (`docs/benchmarks.md`).
+pub const REFERENCE_SPEED: SpeedPolicy = SpeedPolicy::Paper;
+
+/// The kinematic cell under the speed policy `speed` of the same worlds, sensing, `k` and
+/// margin as `cell`, if `stats` has it.
+pub fn kinematic_twin<'a>(
+    stats: &'a [CellStats],
+    cell: &Cell,
+    speed: SpeedPolicy,
+) -> Option<&'a CellStats> {
     stats.iter().find(|s| {
         s.cell.model == Model::Kinematic
+            && s.cell.speed == speed
             && (s.cell.obstacles, s.cell.sensing, s.cell.k, s.cell.margin)
                 == (cell.obstacles, cell.sensing, cell.k, cell.margin)
     })
@@ -78,7 +119,10 @@ pub fn kinematic_twin<'a>(stats: &'a [CellStats], cell: &Cell) -> Option<&'a Cel
 
 /// Per-world time over the kinematic law's in the same world (median / p90 / max), or `—`.
 fn time_ratio_text(stats: &[CellStats], s: &CellStats) -> String {
-    match (s.cell.model, kinematic_twin(stats, &s.cell)) {
+    match (
+        s.cell.model,
+        kinematic_twin(stats, &s.cell, REFERENCE_SPEED),
+    ) {
         (Model::Dynamic, Some(k)) => fmt3(time_ratio(s, k), 2),
         _ => "—".to_string(),
     }
@@ -87,7 +131,7 @@ fn time_ratio_text(stats: &[CellStats], s: &CellStats) -> String {
 /// The Markdown table of `stats`.
 pub fn table(stats: &[CellStats]) -> String {
     let mut out = String::from(
-        "| law | damping | k | sensing | margin | M | arrived | guarantees held | collisions | path/shortest median / p90 / max | time to goal median / p90 / max (s) | time / kinematic median / p90 / max | min clearance (m) | overshoot (m) | steps median / p90 / max |\n\
+        "| law | damping or speed | k | sensing | margin | M | arrived | guarantees held | collisions | path/shortest median / p90 / max | time to goal median / p90 / max (s) | time / kinematic (paper speed) median / p90 / max | min clearance (m) | overshoot (m) | steps median / p90 / max |\n\
          |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for s in stats {
@@ -95,7 +139,10 @@ pub fn table(stats: &[CellStats]) -> String {
         out.push_str(&format!(
             "| {:?} | {} | {} | {} | {} | {} | {}/{} | {}/{} | {} | {} | {} | {} | {:.4} | {:.1e} | {} |\n",
             c.model,
-            if c.model == Model::Dynamic { c.damping.as_str() } else { "—" },
+            match c.model {
+                Model::Dynamic => c.damping.as_str(),
+                Model::Kinematic => c.speed.as_str(),
+            },
             c.k,
             c.sensing.as_str(),
             c.margin,
@@ -129,11 +176,25 @@ pub fn figures(stats: &[CellStats], mut put: impl FnMut(&str, f64)) {
         put(&format!("{key}.path_ratio_p90"), s.ratio[1]);
         put(&format!("{key}.path_ratio_max"), s.ratio[2]);
         put(&format!("{key}.time_median_s"), s.time[0]);
-        if let (Model::Dynamic, Some(k)) = (s.cell.model, kinematic_twin(stats, &s.cell)) {
+        if let (Model::Dynamic, Some(k)) = (
+            s.cell.model,
+            kinematic_twin(stats, &s.cell, REFERENCE_SPEED),
+        ) {
             let r = time_ratio(s, k);
             put(&format!("{key}.time_over_kinematic_median"), r[0]);
             put(&format!("{key}.time_over_kinematic_p90"), r[1]);
             put(&format!("{key}.overshoot_m"), s.overshoot);
+        }
+        if let (Model::Dynamic, Some(k)) = (
+            s.cell.model,
+            kinematic_twin(stats, &s.cell, SpeedPolicy::Auto),
+        ) {
+            let r = time_ratio(s, k);
+            put(
+                &format!("{key}.time_over_kinematic_auto_speed_median"),
+                r[0],
+            );
+            put(&format!("{key}.time_over_kinematic_auto_speed_p90"), r[1]);
         }
         put(&format!("{key}.min_clearance_m"), s.min_clearance);
         put(&format!("{key}.steps_median"), s.steps[0]);
@@ -164,7 +225,7 @@ pub fn run(args: &[String]) -> std::process::ExitCode {
         }
     }
     let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
-    let plan = plan(&models, &KPolicy::ALL, &DampingPolicy::ALL, worlds);
+    let plan = plan(&models, &KPolicy::ALL, LawPolicies::ALL, worlds);
     match harmonav_sim::quality::run_plan(&plan, threads) {
         Ok(stats) => {
             print!("{}", table(&stats));

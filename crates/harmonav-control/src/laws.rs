@@ -5,6 +5,7 @@ use harmonav_potential::sigma;
 use nalgebra::Vector2;
 
 use crate::damping::{Branch, Damping, DampingPolicy};
+use crate::speed::{BRAKING_TIME, LINEAR_CORE, SpeedPolicy};
 
 /// A controller parameter that is not finite and positive (field names follow the scenario
 /// format).
@@ -36,17 +37,43 @@ fn positive(value: f64, field: &'static str) -> Result<f64, ControlError> {
     }
 }
 
-/// Eq. (`kinctrl`): `u = −K √(2Θ) ∇Θ/|∇Θ|` for the kinematic robot `ẋ = u`.
+/// Eq. (`kinctrl`) with a speed policy: `u = −s(x)·∇Θ/|∇Θ|` for the kinematic robot `ẋ = u`,
+/// `s = K√(2Θ)` under [`SpeedPolicy::Paper`] (the paper's law), and under the default
+/// [`SpeedPolicy::Auto`] `s = min(v_max, √(2a|x − x_d|))` (full speed, then a constant
+/// deceleration `a`, then a linear core of 35 µm at the default `v_max`: within any tolerance
+/// of the goal in finite time; `docs/maths.md` §6). Both follow the
+/// flow lines of `−∇Θ`, so both keep the paper's guarantees.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Kinematic {
     gain: f64,
+    policy: SpeedPolicy,
+    v_max: f64,
 }
 
 impl Kinematic {
-    /// The law with gain `K > 0` (`controller.gain`).
+    /// The law with gain `K > 0` (`controller.gain`), the default [`SpeedPolicy`] and the
+    /// default top speed `v_max = K√2` (the paper law's top speed, at `Θ = 1`).
     pub fn new(gain: f64) -> Result<Self, ControlError> {
+        let gain = positive(gain, "controller.gain")?;
         Ok(Self {
-            gain: positive(gain, "controller.gain")?,
+            gain,
+            policy: SpeedPolicy::default(),
+            v_max: gain * std::f64::consts::SQRT_2,
+        })
+    }
+
+    /// The same law under the speed policy `policy`.
+    #[must_use]
+    pub fn with_speed(self, policy: SpeedPolicy) -> Self {
+        Self { policy, ..self }
+    }
+
+    /// The same law with the top speed `v_max > 0`, m/s (`controller.v_max`). Under
+    /// [`SpeedPolicy::Paper`] it caps `K√(2Θ)`; the default `K√2` leaves the paper's law as is.
+    pub fn with_v_max(self, v_max: f64) -> Result<Self, ControlError> {
+        Ok(Self {
+            v_max: positive(v_max, "controller.v_max")?,
+            ..self
         })
     }
 
@@ -55,12 +82,62 @@ impl Kinematic {
         self.gain
     }
 
-    /// The velocity command. Uses the unit direction of the evaluation (well defined where
-    /// `sigma'` underflows); `u = 0` at the goal (`Θ = 0`) and at exact critical points, where
-    /// the direction is undefined. Along the law `dΘ/dt = −K √(2Θ) |∇Θ| ≤ 0`.
-    pub fn velocity(&self, eval: &FieldEval) -> Vector2<f64> {
+    /// The speed policy.
+    pub fn speed_policy(&self) -> SpeedPolicy {
+        self.policy
+    }
+
+    /// The top speed `v_max`, m/s: `|u| ≤ v_max` everywhere.
+    pub fn v_max(&self) -> f64 {
+        self.v_max
+    }
+
+    /// The braking distance of [`SpeedPolicy::Auto`], `d_b = v_max·T_b/2` (`T_b =`
+    /// [`BRAKING_TIME`]), m: the speed is `v_max` beyond it.
+    pub fn braking_distance(&self) -> f64 {
+        0.5 * self.v_max * BRAKING_TIME
+    }
+
+    /// The radius of the linear core of [`SpeedPolicy::Auto`], `r_0 = LINEAR_CORE·d_b`
+    /// ([`LINEAR_CORE`]), m: within it the speed is `λ_0·|x − x_d|`,
+    /// `λ_0 = v_max/√(r_0 d_b)`.
+    pub fn linear_core(&self) -> f64 {
+        LINEAR_CORE * self.braking_distance()
+    }
+
+    /// The speed `s(x) ∈ [0, v_max]` at a point with the evaluation `eval` and the distance
+    /// `distance = |x − x_d|` to the goal (m):
+    ///
+    /// - [`SpeedPolicy::Paper`]: `min(v_max, K√(2Θ))` (eq. `kinctrl`);
+    /// - [`SpeedPolicy::Auto`]: `v_max` beyond [`Kinematic::braking_distance`] `d_b`,
+    ///   `v_max√(distance/d_b)` within it, and `v_max·distance/√(r_0 d_b)` within
+    ///   [`Kinematic::linear_core`] `r_0` (a policy beyond the paper: `docs/maths.md` §6).
+    ///
+    /// It is continuous, Lipschitz, positive away from the goal and `0` at the goal.
+    pub fn speed(&self, eval: &FieldEval, distance: f64) -> f64 {
+        match self.policy {
+            SpeedPolicy::Paper => (self.gain * (2.0 * eval.value).sqrt()).min(self.v_max),
+            SpeedPolicy::Auto => {
+                let (d_b, r_0) = (self.braking_distance(), self.linear_core());
+                if distance >= d_b {
+                    self.v_max
+                } else if distance >= r_0 {
+                    self.v_max * (distance / d_b).sqrt()
+                } else {
+                    self.v_max * distance / (r_0 * d_b).sqrt()
+                }
+            }
+        }
+    }
+
+    /// The velocity command `u = s·d` with the unit direction `d` of the evaluation (well
+    /// defined where `sigma'` underflows) and the speed `s` of [`Kinematic::speed`];
+    /// `distance = |x − x_d|`. `u = 0` at the goal and at exact critical points, where the
+    /// direction is undefined. Along the law `dΘ/dt = −s|∇Θ| ≤ 0` (`−K√(2Θ)|∇Θ|` under the
+    /// paper's policy).
+    pub fn velocity(&self, eval: &FieldEval, distance: f64) -> Vector2<f64> {
         match eval.direction {
-            Some(d) => self.gain * (2.0 * eval.value).sqrt() * d,
+            Some(d) => self.speed(eval, distance) * d,
             None => Vector2::zeros(),
         }
     }

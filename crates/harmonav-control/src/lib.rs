@@ -3,7 +3,10 @@
 //! The two control laws of the paper as pure functions of the state and the field — no
 //! simulator inside:
 //!
-//! - [`Kinematic`] (eq. `kinctrl`): `u = −K √(2Θ) ∇Θ/|∇Θ|` for `ẋ = u`;
+//! - [`Kinematic`] (eq. `kinctrl`): `u = −K √(2Θ) ∇Θ/|∇Θ|` for `ẋ = u` under
+//!   [`SpeedPolicy::Paper`]; the default [`SpeedPolicy::Auto`] keeps the direction and moves at
+//!   `s = min(v_max, √(2a|x − x_d|))` with a linear core at the goal, arriving within any
+//!   tolerance in finite time;
 //! - [`Dynamic`] (eq. `dynctrllocal`): `f = −μ∇Θ − λ(t)ẋ` for `m ẍ = f`, with the critical
 //!   damping `λ_c` (eq. `critdamp`) while the energy `V = μΘ + ½m|ẋ|²` (eq. `totalenergy`)
 //!   stays below `μ`, and `(m/d_min)|ẋ(T_n)|` otherwise (eq. `dissipationfun`); the speed
@@ -13,7 +16,7 @@
 //!
 //! ```
 //! use std::sync::Arc;
-//! use harmonav_control::{Branch, DampingPolicy, Dynamic, Kinematic};
+//! use harmonav_control::{Branch, DampingPolicy, Dynamic, Kinematic, SpeedPolicy};
 //! use harmonav_field::Field;
 //! use harmonav_transform::{StarShape, Workspace};
 //! use nalgebra::Vector2;
@@ -26,8 +29,14 @@
 //! let field = Field::all_known(Arc::new(ws))?;
 //! let x = Vector2::new(-3.0, 0.5);
 //! let eval = field.eval(x)?;
-//! let u = Kinematic::new(1.0)?.velocity(&eval);         // unit-free speed K√(2Θ) ≤ √2
+//! let to_goal = (x - field.workspace().destination()).norm();
+//! let paper = Kinematic::new(1.0)?.with_speed(SpeedPolicy::Paper);
+//! let u = paper.velocity(&eval, to_goal);               // speed K√(2Θ) ≤ √2
 //! assert!(u.norm() > 0.0 && u.norm() < 2f64.sqrt());
+//! let auto = Kinematic::new(1.0)?;                      // the default: v_max = K√2 until d_b
+//! let w = auto.velocity(&eval, to_goal);
+//! assert!((w.norm() - auto.v_max()).abs() < 1e-12 && to_goal > auto.braking_distance());
+//! assert!((w.normalize() - u.normalize()).norm() < 1e-12); // the same flow line
 //! let law = Dynamic::new(1.0, 10.0, 0.05)?;             // m = 1 kg, μ = 10, d_min = 0.05 m
 //! assert!((law.speed_bound() - 20f64.sqrt()).abs() < 1e-12);
 //! let paper = law.with_damping(DampingPolicy::Paper);
@@ -44,6 +53,8 @@
 
 mod damping;
 mod laws;
+mod speed;
 
 pub use damping::{Branch, Damping, DampingPolicy, UnknownDampingPolicy};
 pub use laws::{ControlError, Dynamic, Kinematic, Potential, UPHILL_GAIN};
+pub use speed::{BRAKING_TIME, LINEAR_CORE, SpeedPolicy, UnknownSpeedPolicy};

@@ -2,10 +2,13 @@
 
 use std::sync::Arc;
 
-use harmonav_control::{Branch, DampingPolicy, Dynamic, Kinematic, UPHILL_GAIN};
+use harmonav_control::{
+    BRAKING_TIME, Branch, DampingPolicy, Dynamic, Kinematic, SpeedPolicy, UPHILL_GAIN,
+};
 use harmonav_field::Field;
 use harmonav_potential::checks::fd_jacobian;
 use harmonav_transform::random::{self, Kind, Rng};
+use harmonav_transform::{StarShape, Workspace};
 use nalgebra::{Matrix2, Matrix4, Vector2};
 
 const KINDS: [Kind; 4] = [Kind::Circle, Kind::Ellipse, Kind::Polygon, Kind::Star];
@@ -101,13 +104,14 @@ fn energy_decreases_and_speed_is_bounded() {
 /// Eq. (kinctrl): dΘ/dt = ∇Θ·u = −K√(2Θ)|∇Θ| ≤ 0, also by a finite step along u.
 #[test]
 fn kinematic_law_decreases_theta() {
-    let law = Kinematic::new(1.5).unwrap();
+    let law = Kinematic::new(1.5).unwrap().with_speed(SpeedPolicy::Paper);
     for seed in 0..40 {
         let (field, mut rng) = world(200 + seed);
         for _ in 0..20 {
             let x = random::free_point(&mut rng, field.workspace(), 0.05);
             let e = field.eval(x).unwrap();
-            let u = law.velocity(&e);
+            let to_goal = (x - field.workspace().destination()).norm();
+            let u = law.velocity(&e, to_goal);
             let rate = e.gradient.dot(&u);
             let expected = -1.5 * (2.0 * e.value).sqrt() * e.gradient.norm();
             assert!(rate <= 0.0 && (rate - expected).abs() <= 1e-12 * expected.abs().max(1e-300));
@@ -120,8 +124,212 @@ fn kinematic_law_decreases_theta() {
         }
         // At the goal the command is zero.
         let goal = field.eval(field.workspace().destination()).unwrap();
-        assert_eq!(law.velocity(&goal), Vector2::zeros());
+        assert_eq!(law.velocity(&goal, 0.0), Vector2::zeros());
     }
+}
+
+/// Every speed policy moves along the paper law's direction `−∇Θ/|∇Θ|` (the same flow lines,
+/// hence the same guarantees), at a speed in `(0, v_max]` that vanishes only at the goal; under
+/// `"auto"` it is `v_max` beyond the braking distance and `v_max√(r/d_b)` within it.
+#[test]
+fn every_speed_policy_follows_the_paper_direction_within_v_max() {
+    let paper = Kinematic::new(1.5).unwrap().with_speed(SpeedPolicy::Paper);
+    let auto = Kinematic::new(1.5).unwrap();
+    assert_eq!(auto.speed_policy(), SpeedPolicy::Auto);
+    assert!((auto.v_max() - 1.5 * 2f64.sqrt()).abs() < 1e-15);
+    assert!((auto.braking_distance() - 0.5 * auto.v_max() * BRAKING_TIME).abs() < 1e-15);
+    let slow = auto.with_v_max(0.3).unwrap();
+    let capped_paper = paper.with_v_max(0.3).unwrap();
+    let (mut near, mut far) = (0, 0);
+    for seed in 0..40 {
+        let (field, mut rng) = world(900 + seed);
+        let goal = field.workspace().destination();
+        for i in 0..40 {
+            // Half the points near the goal, to cover the braking zone.
+            let x = if i % 2 == 0 {
+                random::free_point(&mut rng, field.workspace(), 1e-3)
+            } else {
+                let a = rng.uniform(0.0, std::f64::consts::TAU);
+                let r = rng.uniform(1e-6, 1.5 * auto.braking_distance());
+                let x = goal + r * Vector2::new(a.cos(), a.sin());
+                if field.eval(x).is_err() {
+                    continue;
+                }
+                x
+            };
+            let e = field.eval(x).unwrap();
+            let r = (x - goal).norm();
+            let up = paper.velocity(&e, r);
+            let d = up / up.norm();
+            for law in [auto, slow, capped_paper] {
+                let u = law.velocity(&e, r);
+                let s = u.norm();
+                assert!(s > 0.0 && s <= law.v_max() * (1.0 + 1e-15), "{s} at {x:?}");
+                assert!((u / s - d).norm() < 1e-12, "direction {:?} vs {d:?}", u / s);
+                assert!(e.gradient.dot(&u) <= 0.0);
+            }
+            let (d_b, r_0) = (auto.braking_distance(), auto.linear_core());
+            let expected = if r < r_0 {
+                auto.v_max() * r / (r_0 * d_b).sqrt()
+            } else {
+                auto.v_max() * (r / d_b).sqrt().min(1.0)
+            };
+            assert!((auto.speed(&e, r) - expected).abs() <= 1e-14 * expected);
+            if r < auto.braking_distance() {
+                near += 1;
+            } else {
+                far += 1;
+                assert_eq!(auto.speed(&e, r), auto.v_max());
+            }
+            assert!((capped_paper.speed(&e, r) - paper.speed(&e, r).min(0.3)).abs() < 1e-15);
+        }
+        let at_goal = field.eval(goal).unwrap();
+        assert_eq!(auto.velocity(&at_goal, 0.0), Vector2::zeros());
+    }
+    assert!(near > 300 && far > 300, "near {near}, far {far}");
+    assert!(auto.with_v_max(0.0).is_err());
+    let e = auto.with_v_max(f64::NAN).unwrap_err();
+    assert_eq!(e.field, "controller.v_max");
+}
+
+/// Integrates `ẋ = u` with classical RK4 at step `dt` from `x` until `|x − x_d| < tolerance`;
+/// the arrival time, or `None` after `max_time`.
+fn arrival_time(
+    field: &Field,
+    law: &Kinematic,
+    mut x: Vector2<f64>,
+    tolerance: f64,
+    dt: f64,
+    max_time: f64,
+) -> Option<f64> {
+    let goal = field.workspace().destination();
+    let u = |y: Vector2<f64>| law.velocity(&field.eval(y).unwrap(), (y - goal).norm());
+    let mut t = 0.0;
+    while t < max_time {
+        if (x - goal).norm() < tolerance {
+            return Some(t);
+        }
+        let k1 = u(x);
+        let k2 = u(x + 0.5 * dt * k1);
+        let k3 = u(x + 0.5 * dt * k2);
+        let k4 = u(x + dt * k3);
+        x += dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+        t += dt;
+    }
+    None
+}
+
+/// The arrival time of `"auto"` within `ε` along a straight ray from `D` (`docs/maths.md` §6):
+/// `(D − d_b)⁺/v_max` at full speed, `2√d_b(√min(D, d_b) − √max(ε, r_0))/v_max` braking, and
+/// `ln(r_0/ε)/λ_0` in the linear core (`λ_0 = v_max/√(r_0 d_b)`) if `ε < r_0`.
+fn closed_form_arrival(law: &Kinematic, distance: f64, eps: f64) -> f64 {
+    let (v, d_b, r_0) = (law.v_max(), law.braking_distance(), law.linear_core());
+    let full = (distance - d_b).max(0.0) / v;
+    let braking = 2.0 * d_b.sqrt() * (distance.min(d_b).sqrt() - eps.max(r_0).sqrt()) / v;
+    let core = (r_0 / eps).ln().max(0.0) / (v / (r_0 * d_b).sqrt());
+    full + braking + core
+}
+
+/// The speed profile of `"auto"` is continuous and Lipschitz in `r = |x − x_d|` with the
+/// constant `λ_0 = v_max/√(r_0 d_b)` of its linear core, so solutions of the closed loop are
+/// unique and the goal is approached as by a linear law: sampled on both sides of `d_b` and
+/// `r_0` and across six decades.
+#[test]
+fn auto_speed_is_continuous_and_lipschitz_in_the_distance() {
+    let ws = Workspace::new(
+        StarShape::circle(Vector2::zeros(), 5.0).unwrap(),
+        Vec::new(),
+        Vector2::zeros(),
+    )
+    .unwrap();
+    let field = Field::all_known(Arc::new(ws)).unwrap();
+    let e = field.eval(Vector2::new(1.0, 0.0)).unwrap();
+    for v_max in [0.2, 2f64.sqrt(), 7.0] {
+        let law = Kinematic::new(1.0).unwrap().with_v_max(v_max).unwrap();
+        let (d_b, r_0) = (law.braking_distance(), law.linear_core());
+        let lipschitz = v_max / (r_0 * d_b).sqrt();
+        for edge in [d_b, r_0] {
+            let (below, above) = (law.speed(&e, edge * (1.0 - 1e-12)), law.speed(&e, edge));
+            assert!((above - below).abs() <= 1e-10 * above, "jump at {edge}");
+        }
+        let mut rng = Rng::new(77);
+        for _ in 0..2000 {
+            let r1 = r_0 * 10f64.powf(rng.uniform(-3.0, 4.0));
+            let r2 = r1 * rng.uniform(0.5, 2.0);
+            let (s1, s2) = (law.speed(&e, r1), law.speed(&e, r2));
+            assert!(s1 > 0.0 && s1 <= v_max);
+            assert!((s1 - s2).abs() <= lipschitz * (r1 - r2).abs() * (1.0 + 1e-12));
+            assert!(
+                (s1 < s2) == (r1 < r2) || s1 == s2,
+                "not increasing at {r1}, {r2}"
+            );
+        }
+    }
+}
+
+/// Finite-time arrival under `"auto"`: with the goal at the centre of a disc world the flow
+/// lines are straight rays, and the arrival time within `ε` from a distance `D ≥ d_b` is the
+/// closed form of [`closed_form_arrival`] (`docs/maths.md` §6), bounded by
+/// `(D + d_b)/v_max + ln(r_0/ε)⁺/λ_0` for every `ε`. The paper's law needs `~ln(D/ε)/(K√σ)`.
+#[test]
+fn auto_speed_arrives_in_the_closed_form_time() {
+    let ws = Workspace::new(
+        StarShape::circle(Vector2::zeros(), 5.0).unwrap(),
+        Vec::new(),
+        Vector2::zeros(),
+    )
+    .unwrap();
+    let field = Field::all_known(Arc::new(ws)).unwrap();
+    let law = Kinematic::new(1.0).unwrap();
+    let (v, db, r_0) = (law.v_max(), law.braking_distance(), law.linear_core());
+    let lambda = v / (r_0 * db).sqrt();
+    let start = Vector2::new(2.0, 1.0);
+    let d = start.norm();
+    for eps in [1e-2, 1e-4, 1e-6, 1e-9] {
+        let closed = closed_form_arrival(&law, d, eps);
+        let t = arrival_time(&field, &law, start, eps, 1e-4, 10.0).unwrap();
+        assert!((t - closed).abs() < 2e-3, "ε = {eps}: {t} s vs {closed} s");
+        let bound = (d + db) / v + (r_0 / eps).ln().max(0.0) / lambda;
+        assert!(t <= bound + 1e-3, "ε = {eps}: {t} s > {bound} s");
+    }
+    // The paper's law is slower, and ever slower as the tolerance shrinks.
+    let paper = law.with_speed(SpeedPolicy::Paper);
+    let t2 = arrival_time(&field, &paper, start, 1e-2, 1e-3, 100.0).unwrap();
+    let t4 = arrival_time(&field, &paper, start, 1e-4, 1e-3, 100.0).unwrap();
+    let auto = arrival_time(&field, &law, start, 1e-2, 1e-3, 100.0).unwrap();
+    assert!(
+        t2 > 1.5 * auto && t4 > t2 + 1.0,
+        "paper {t2} s, {t4} s; auto {auto} s"
+    );
+}
+
+/// Finite-time arrival in random worlds: from a point `D < d_b` from the goal the approach
+/// takes at most `2(√(D d_b) − √(ε d_b))/(c·v_max)` (`ε ≥ r_0`), where `c` bounds `−d·(x − x_d)/r`
+/// from below (`Phi` is the identity near the goal and its Hessian is `σI`, so `c → 1`;
+/// `c = 0.9` here). Integrated, the time is within that bound.
+#[test]
+fn auto_speed_arrives_within_the_finite_time_bound_in_random_worlds() {
+    let law = Kinematic::new(1.0).unwrap();
+    let (v, db) = (law.v_max(), law.braking_distance());
+    let eps = 1e-4;
+    let mut tested = 0;
+    for seed in 0..30 {
+        let (field, mut rng) = world(1300 + seed);
+        let goal = field.workspace().destination();
+        let a = rng.uniform(0.0, std::f64::consts::TAU);
+        let start = 0.5 * db;
+        let x = goal + start * Vector2::new(a.cos(), a.sin());
+        if field.eval(x).is_err() {
+            continue;
+        }
+        assert!(eps >= law.linear_core());
+        let bound = 2.0 * ((start * db).sqrt() - (eps * db).sqrt()) / (0.9 * v);
+        let t = arrival_time(&field, &law, x, eps, 1e-4, 10.0)
+            .unwrap_or_else(|| panic!("seed {seed}: no arrival"));
+        assert!(t <= bound, "seed {seed}: {t} s > bound {bound} s");
+        tested += 1;
+    }
+    assert!(tested >= 20, "{tested}");
 }
 
 /// Eq. (dissipationfun): the damping switches to (m/d_min)|ẋ(T_n)| once V ≥ μ; under "auto" it

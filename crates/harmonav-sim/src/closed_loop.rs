@@ -9,7 +9,7 @@ use harmonav_sensing::{Sensing, axis, initially_known};
 use nalgebra::Vector2;
 
 use crate::guarantee::{Check, FreeSpaceLoss, Guarantee};
-use crate::run::{Discovery, RunError, STEP_TOLERANCE, Sample};
+use crate::run::{Discovery, RunError, Sample, step_tolerance};
 use crate::scenario::{Model, Prepared};
 use crate::truth::Truth;
 
@@ -45,7 +45,11 @@ impl<'a> ClosedLoop<'a> {
         let mut options = Options::default()
             .with_robot(truth.radius, truth.margin)
             .with_k(prepared.k_policy())
-            .with_damping(prepared.damping_policy());
+            .with_damping(prepared.damping_policy())
+            .with_speed(prepared.speed_policy());
+        if let Some(v) = sc.controller.v_max {
+            options = options.with_v_max(v);
+        }
         if let Some(h) = period {
             options = options.with_control_period(h);
         }
@@ -181,7 +185,7 @@ impl<'a> ClosedLoop<'a> {
                 (Some(law), Some(e)) => {
                     let sensitivity =
                         law.mu() * law.potential(&e.field).gradient.norm() + law.mass() * v.norm();
-                    10.0 * STEP_TOLERANCE * sensitivity
+                    10.0 * step_tolerance(self.truth) * sensitivity
                 }
                 _ => 0.0,
             },

@@ -8,7 +8,7 @@
 //! [`POINT_CLEARANCE`] from everything. Every shape also survives an offset by
 //! [`MAX_MARGIN`], so the same worlds serve the runs with a clearance margin.
 
-use harmonav_control::DampingPolicy;
+use harmonav_control::{DampingPolicy, SpeedPolicy};
 use harmonav_field::KPolicy;
 use harmonav_transform::StarShape;
 use harmonav_transform::random::{Kind, Rng};
@@ -80,17 +80,23 @@ pub struct Cell {
     pub model: Model,
     /// Damping policy (dynamic law; kinematic cells carry the default, which they ignore).
     pub damping: DampingPolicy,
+    /// Speed policy (kinematic law; dynamic cells carry the default, which they ignore).
+    pub speed: SpeedPolicy,
     /// `robot.margin`, m.
     pub margin: f64,
 }
 
 impl Cell {
     /// A key for JSON figures: `kinematic.auto.global.m12`, `dynamic.auto.global.m12` under the
-    /// default damping and `dynamic-damping-paper.auto.global.m12` under the paper's (with
-    /// `.margin0.1` when a margin is set).
+    /// default speed and damping, `kinematic-speed-paper.auto.global.m12` and
+    /// `dynamic-damping-paper.auto.global.m12` under the paper's (with `.margin0.1` when a
+    /// margin is set).
     pub fn key(&self) -> String {
         let model = match (self.model, self.damping) {
-            (Model::Kinematic, _) => "kinematic".to_string(),
+            (Model::Kinematic, _) if self.speed == SpeedPolicy::default() => {
+                "kinematic".to_string()
+            }
+            (Model::Kinematic, _) => format!("kinematic-speed-{}", self.speed),
             (Model::Dynamic, d) if d == DampingPolicy::default() => "dynamic".to_string(),
             (Model::Dynamic, d) => format!("dynamic-damping-{d}"),
         };
@@ -241,6 +247,7 @@ impl World {
             field: FieldSpec { k: cell.k },
             controller: ControllerSpec {
                 damping: cell.damping,
+                speed: cell.speed,
                 ..ControllerSpec::default()
             },
             sim: SimSpec {

@@ -20,6 +20,7 @@ use crate::outcome::{Outcome, STALL_WINDOW};
 use crate::scenario::{Model, Prepared};
 use crate::trajectory::Keep;
 pub use crate::trajectory::MAX_KEPT_STATES;
+use crate::truth::Truth;
 
 /// One recorded state.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -39,7 +40,7 @@ pub struct Sample {
     /// Damping `λ` in force (dynamic model).
     pub lambda: Option<f64>,
     /// How much `V` may differ from the exact solution's at this state through integration
-    /// error alone (dynamic model): the local error bound [`STEP_TOLERANCE`] times the
+    /// error alone (dynamic model): the local error bound [`step_tolerance`] times the
     /// sensitivity `μ|∇Ψ| + m|ẋ|` of `V` to the state, times a safety factor of 10.
     #[serde(skip)]
     pub energy_tolerance: f64,
@@ -235,7 +236,7 @@ pub fn run_observed(
     let mut y: State = [start.x, start.y, 0.0, 0.0];
 
     let (dt, max_time, tol) = (sc.sim.dt, sc.sim.max_time, sc.sim.goal_tolerance);
-    let step_tol = STEP_TOLERANCE;
+    let step_tol = step_tolerance(truth);
     let mut t = 0.0;
     let mut h = dt.min(1e-3);
     let (mut steps, mut rejected) = (0usize, 0usize);
@@ -400,5 +401,23 @@ pub fn run_observed(
 pub use crate::monitor::MARGIN_TOLERANCE;
 
 /// The local error bound of the Bogacki–Shampine step control (norm of the state error per
-/// step).
+/// step) in a world of [`STEP_TOLERANCE_SCALE`] or more; a smaller world scales it
+/// ([`step_tolerance`]).
 pub const STEP_TOLERANCE: f64 = 1e-7;
+
+/// The workspace size (m, the boundary's smallest radius) below which [`STEP_TOLERANCE`]
+/// shrinks in proportion to the world.
+pub const STEP_TOLERANCE_SCALE: f64 = 1.0;
+
+/// The local error bound of the step control in the world of `truth`:
+/// `STEP_TOLERANCE·min(1, R/STEP_TOLERANCE_SCALE)`, `R` the boundary's smallest radius. An
+/// absolute 1e-7 m is a tenth of a 1 µm world: the integrator then accepted steps that crossed
+/// the goal and back, and a law that is not linear at the goal (the finite-time speed,
+/// `docs/maths.md` §6) chattered 1e-7 m around it, ten times the goal tolerance of 1e-8 m
+/// (`scenarios/adversarial/tiny-world.toml`). Scaled, the tiny world is integrated as the same
+/// world at 1 m; a world of 1 m or more is integrated exactly as before.
+#[must_use]
+pub fn step_tolerance(truth: &Truth) -> f64 {
+    let size = truth.boundary.radius_bounds().0;
+    STEP_TOLERANCE * (size / STEP_TOLERANCE_SCALE).min(1.0)
+}

@@ -7,7 +7,7 @@
 use std::path::{Path, PathBuf};
 
 use harmonav::MIN_APERTURE_DEG;
-use harmonav_control::DampingPolicy;
+use harmonav_control::{DampingPolicy, SpeedPolicy};
 use harmonav_field::{Field, FieldError, KPolicy};
 use harmonav_sensing::{Sector, Sensing};
 use harmonav_transform::{RobotWorldError, StarShape, Workspace, WorldError};
@@ -138,7 +138,7 @@ pub struct FieldSpec {
     pub k: KPolicy,
 }
 
-/// A policy field (`k`, `damping`) by name; an unknown name is an error that lists the names.
+/// A policy field (`k`, `damping`, `speed`) by name; an unknown name is an error that lists the names.
 fn de_policy<'de, D, P>(d: D) -> Result<P, D::Error>
 where
     D: Deserializer<'de>,
@@ -182,6 +182,13 @@ pub struct ControllerSpec {
     /// [`DampingPolicy`].
     #[serde(default, deserialize_with = "de_policy", serialize_with = "ser_policy")]
     pub damping: DampingPolicy,
+    /// `speed = "paper"` (eq. `kinctrl`, `K√(2Θ)`) or `"auto"` (the default: full speed, then
+    /// a constant deceleration to the goal), see [`SpeedPolicy`].
+    #[serde(default, deserialize_with = "de_policy", serialize_with = "ser_policy")]
+    pub speed: SpeedPolicy,
+    /// `v_max`, m/s: the kinematic law's top speed (default `K√2`, the paper law's).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub v_max: Option<f64>,
 }
 
 impl Default for ControllerSpec {
@@ -190,6 +197,8 @@ impl Default for ControllerSpec {
             gain: 1.0,
             mu: 10.0,
             damping: DampingPolicy::default(),
+            speed: SpeedPolicy::default(),
+            v_max: None,
         }
     }
 }
@@ -235,7 +244,7 @@ pub const MAX_OBSTACLES: usize = 2000;
 pub const MAX_RECORDED_STATES: f64 = 1e9;
 
 /// The range of the physical parameters (`robot.mass`, `controller.gain`, `controller.mu`,
-/// `sensor.range`, `sensor.rho_min`, `sim.dt`, `sim.max_time`, `sim.goal_tolerance`): the
+/// `controller.v_max`, `sensor.range`, `sensor.rho_min`, `sim.dt`, `sim.max_time`, `sim.goal_tolerance`): the
 /// navigator's own ([`harmonav::PARAMETER_RANGE`]); outside it the closed loop cannot be
 /// integrated in `f64` (a `dt` of 1e-300 or a mass of 5e-324 stopped at t = 0).
 pub use harmonav::PARAMETER_RANGE;
@@ -493,6 +502,9 @@ impl Scenario {
         let c = &self.controller;
         in_range("controller.gain", c.gain)?;
         in_range("controller.mu", c.mu)?;
+        if let Some(v) = c.v_max {
+            in_range("controller.v_max", v)?;
+        }
         if let Some(v) = self.expect.as_ref().and_then(|e| e.max_speed_below)
             && !(v.is_finite() && v > 0.0)
         {
@@ -507,13 +519,15 @@ impl Scenario {
                 Model::Kinematic => {
                     self.field.k == KPolicy::Paper || c.damping == DampingPolicy::Paper
                 }
-                Model::Dynamic => self.field.k == KPolicy::Paper,
+                // The other model is the kinematic law: the paper's k or speed.
+                Model::Dynamic => self.field.k == KPolicy::Paper || c.speed == SpeedPolicy::Paper,
             };
             if !paper {
                 return Err(f(
                     "expect.other_model_reached",
                     "only a scenario that runs the other model under a \"paper\" policy \
-                     (`[field] k`, or `[controller] damping` for the dynamic law) may state that \
+                     (`[field] k`, or `[controller] damping` for the dynamic law, `speed` for the \
+                     kinematic one) may state that \
                      it does not arrive; under the default policies every scenario must arrive"
                         .into(),
                 ));
@@ -729,6 +743,11 @@ impl Prepared {
     /// The damping policy of the file's `[controller]` table.
     pub fn damping_policy(&self) -> DampingPolicy {
         self.scenario.controller.damping
+    }
+
+    /// The kinematic law's speed policy of the file's `[controller]` table.
+    pub fn speed_policy(&self) -> SpeedPolicy {
+        self.scenario.controller.speed
     }
 
     /// `Θ` with every obstacle known (global sensing) under the file's `k` policy.

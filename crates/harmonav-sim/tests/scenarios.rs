@@ -3,6 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
+use harmonav_control::SpeedPolicy;
 use harmonav_sim::guarantee::{Check, Kind};
 use harmonav_sim::run::run;
 use harmonav_sim::scenario::{Model, Scenario};
@@ -247,6 +248,22 @@ fn margin_policy_and_limit_errors_name_the_field_and_the_reason() {
         "unknown damping policy \"critical\": expected \"paper\" or \"auto\"",
         None,
     );
+    check(
+        "[sensor]",
+        "[controller]\nspeed = \"fast\"\n[sensor]",
+        "controller.speed",
+        "unknown speed policy \"fast\": expected \"paper\" or \"auto\"",
+        None,
+    );
+    for bad in ["0.0", "-1.0", "nan", "inf", "2e9"] {
+        check(
+            "[sensor]",
+            &format!("[controller]\nv_max = {bad}\n[sensor]"),
+            "controller.v_max",
+            "must be finite and in [1e-9, 1e9]",
+            None,
+        );
+    }
     // A stated limit needs a "paper" policy for the other model (here the dynamic law).
     let limit = "[expect]\nother_model_reached = false\n[sensor]";
     check(
@@ -265,6 +282,62 @@ fn margin_policy_and_limit_errors_name_the_field_and_the_reason() {
         let parsed = Scenario::parse(path, &text).and_then(|s| s.prepare(path));
         assert!(parsed.is_ok(), "{policy}: {:?}", parsed.err());
     }
+}
+
+/// `[controller] speed` and `v_max`: parsed, written back, and in force in a run. Both speeds
+/// follow the same path (the same flow lines); `"auto"` (the default) arrives sooner, at most
+/// `v_max`.
+#[test]
+fn the_speed_policy_and_v_max_are_read_and_change_only_the_timing() {
+    let path = Path::new("speed.toml");
+    let run_with = |controller: &str| {
+        // Off the axis through A (on it the descent ends at A's saddle).
+        let text = BASE
+            .replacen("start = [-3.0, 0.0]", "start = [-3.0, 0.4]", 1)
+            .replacen(
+                "[sensor]",
+                &format!("[controller]\n{controller}\n[sensor]"),
+                1,
+            );
+        let p = Scenario::parse(path, &text).unwrap().prepare(path).unwrap();
+        let r = run(&p, Some(Model::Kinematic)).unwrap();
+        assert!(r.summary.reached && r.summary.all_passed(), "{controller}");
+        (p, r)
+    };
+    let (p, auto) = run_with("");
+    assert_eq!(p.speed_policy(), SpeedPolicy::Auto);
+    assert_eq!(p.scenario.controller.v_max, None);
+    let (p, paper) = run_with("speed = \"paper\"");
+    assert_eq!(p.speed_policy(), SpeedPolicy::Paper);
+    let text = toml::to_string(&p.scenario).unwrap();
+    assert!(text.contains("speed = \"paper\""), "{text}");
+    let (p, slow) = run_with("v_max = 0.5");
+    assert_eq!(p.scenario.controller.v_max, Some(0.5));
+    let top = |r: &harmonav_sim::run::Run| {
+        r.samples
+            .iter()
+            .map(|x| Vector2::from(x.v).norm())
+            .fold(0.0, f64::max)
+    };
+    assert!(top(&slow) <= 0.5 * (1.0 + 1e-6), "{}", top(&slow));
+    let (ta, tp, ts) = (
+        auto.summary.time_s,
+        paper.summary.time_s,
+        slow.summary.time_s,
+    );
+    assert!(
+        ta < 0.8 * tp && ta < ts,
+        "auto {ta} s, paper {tp} s, v_max 0.5: {ts} s"
+    );
+    // The same flow lines: the end points of the discoveries agree.
+    let order = |r: &harmonav_sim::run::Run| {
+        r.summary
+            .discoveries
+            .iter()
+            .map(|d| d.obstacle.clone())
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(order(&auto), order(&paper));
 }
 
 /// `robot.margin`: the field is built on shapes grown by it, so the run keeps that clearance to
@@ -683,7 +756,9 @@ fn an_endless_file_is_refused() {
     assert!(e.to_string().contains("larger than"), "{e}");
 }
 
-/// The sweep follows the law with its gain: twice the gain, half the time on the same paths.
+/// The sweep follows the law with its gain: twice the gain, half the time on the same paths
+/// (under the paper's speed `K√(2Θ)`; under `"auto"` the braking distance `d_b ∝ K` does not
+/// scale with the goal tolerance, so the time is not exactly halved).
 #[test]
 fn the_sweep_follows_the_gain() {
     let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/shapes/mixed.toml");
@@ -692,6 +767,7 @@ fn the_sweep_follows_the_gain() {
     let times = |gain: f64| -> Vec<f64> {
         let mut p = prepared.clone();
         p.scenario.controller.gain = gain;
+        p.scenario.controller.speed = SpeedPolicy::Paper;
         harmonav_sim::sweep::sweep(&p, &starts, Model::Kinematic, 2)
             .unwrap()
             .iter()

@@ -233,7 +233,8 @@ pub(crate) fn kinematic(
         let Ok(ey) = field.eval(y) else {
             return single;
         };
-        let (c, _) = kinematic_step(field, y, &ey, law.velocity(&ey), tau);
+        let to_goal = (y - field.workspace().destination()).norm();
+        let (c, _) = kinematic_step(field, y, &ey, law.velocity(&ey, to_goal), tau);
         y += tau * c.value;
     }
     let chord = y - x;
@@ -279,9 +280,12 @@ fn kinematic_escape(
 /// `phi_k(Phi(x + s h u)) < phi_k(Phi(x))`, the command `s·u`, and the number of halvings.
 /// `s_0 = 1` if the whole step is certified free ([`free_length`] `≥ h|u|`), otherwise
 /// `β·L/(h|u|)` with `L` the certified free length and `β =` [`KINEMATIC_FRACTION`], so the
-/// step ends inside the free space. `Θ = sigma(phi_k∘Phi)` with `sigma` increasing, so `Θ`
-/// decreases over the step; the comparison is made on `phi_k`, in log space, where `Θ` near a
-/// wall would round to 1 at both ends. After [`MAX_HALVINGS`] the robot is at a critical point
+/// step ends inside the free space; and `s_0 ≤ |x − x_d|/(h|u|)`: the step never passes the
+/// goal (near the goal the speed of `SpeedPolicy::Auto`, `∝ √|x − x_d|` and then `λ_0|x − x_d|`
+/// with `hλ_0 > 1`, would otherwise step across it and back: `docs/maths.md` §6).
+/// `Θ = sigma(phi_k∘Phi)` with `sigma` increasing, so `Θ` decreases over the step; the
+/// comparison is made on `phi_k`, in log space, where `Θ` near a wall would round to 1 at both
+/// ends. After [`MAX_HALVINGS`] the robot is at a critical point
 /// to working precision and the command is 0.
 fn kinematic_step(
     field: &Field,
@@ -306,11 +310,13 @@ fn kinematic_step(
     {
         return (out, 0);
     }
+    let to_goal = (x - field.workspace().destination()).norm();
     let mut scale = if free >= step {
         1.0
     } else {
         KINEMATIC_FRACTION * free / step
-    };
+    }
+    .min(to_goal / step);
     let mut halvings = 0;
     while !field.eval(x + scale * h * u).is_ok_and(|e1| e1.phi < e.phi) {
         halvings += 1;

@@ -52,7 +52,7 @@ pub use harmonav_potential as potential;
 pub use harmonav_sensing as sensing;
 pub use harmonav_transform as transform;
 
-pub use harmonav_control::DampingPolicy;
+pub use harmonav_control::{DampingPolicy, SpeedPolicy};
 pub use harmonav_field::KPolicy;
 pub use harmonav_transform::{ShapeError, StarShape};
 pub use hold::{

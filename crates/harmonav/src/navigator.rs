@@ -16,8 +16,10 @@ use crate::options::{HoldPolicy, MIN_APERTURE_DEG, Options, PARAMETER_RANGE, in_
 /// The robot model and its law.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Law {
-    /// `ẋ = u` under eq. `kinctrl`, `u = −K√(2Θ)∇Θ/|∇Θ|`; [`Navigator::command`] returns the
-    /// velocity `u`.
+    /// `ẋ = u` under eq. `kinctrl` with the speed of [`Options::speed`]: `u = −s(x)∇Θ/|∇Θ|`,
+    /// `s = K√(2Θ)` (`"paper"`) or `min(v_max, √(2a|x − x_d|))` with a linear core at the goal
+    /// (`"auto"`, the default; `v_max` from [`Options::v_max`], default `K√2`; `docs/maths.md`
+    /// §6); [`Navigator::command`] returns the velocity `u`.
     Kinematic {
         /// `K > 0`.
         gain: f64,
@@ -33,7 +35,7 @@ pub enum Law {
 }
 
 impl Law {
-    /// The kinematic law with gain `K` (speed `K√(2Θ) ≤ K√2`).
+    /// The kinematic law with gain `K` (speed at most `v_max`, by default `K√2`).
     pub fn kinematic(gain: f64) -> Self {
         Self::Kinematic { gain }
     }
@@ -243,7 +245,12 @@ impl Navigator {
         let d_min = options.d_min()?;
         let controller = match law {
             Law::Kinematic { gain } => {
-                Controller::Kinematic(Kinematic::new(in_range("gain", gain)?)?)
+                let law = Kinematic::new(in_range("gain", gain)?)?.with_speed(options.speed);
+                // `v_max` was range-checked by `validate`; the default K√2 is finite.
+                Controller::Kinematic(match options.v_max {
+                    Some(v) => law.with_v_max(v)?,
+                    None => law,
+                })
             }
             Law::Dynamic { mass, mu } => {
                 let law = Dynamic::new(in_range("mass", mass)?, in_range("mu", mu)?, d_min)?
@@ -416,8 +423,8 @@ impl Navigator {
         let h = self.period;
         let value = match &self.controller {
             Controller::Kinematic(law) => {
-                // At most the law's top speed K√2.
-                (length / h).min(law.gain() * std::f64::consts::SQRT_2) * dir
+                // At most the law's top speed v_max.
+                (length / h).min(law.v_max()) * dir
             }
             Controller::Dynamic(law) => {
                 // v⁺ along the way out, at most half the speed bound; v += h f/m gives it.
@@ -447,7 +454,7 @@ impl Navigator {
         }
         let e = self.field.eval(x).map_err(not_free)?;
         let (command, damping) = match &self.controller {
-            Controller::Kinematic(law) => (law.velocity(&e), None),
+            Controller::Kinematic(law) => (law.velocity(&e, (x - self.goal).norm()), None),
             Controller::Dynamic(law) => {
                 let d = law.damping(&self.field, &e, v, self.speed_at_discovery);
                 (law.force(&e, v, &d), Some(d))

@@ -1,7 +1,7 @@
 //! The navigator's settings ([`Options`]), their valid ranges, and how a command is made safe
 //! to hold for the user's control period ([`HoldPolicy`]).
 
-use harmonav_control::DampingPolicy;
+use harmonav_control::{DampingPolicy, SpeedPolicy};
 use harmonav_field::KPolicy;
 use harmonav_sensing::Sector;
 use harmonav_transform::MAX_LENGTH;
@@ -115,6 +115,12 @@ pub struct Options {
     pub k: KPolicy,
     /// The dynamic law's damping (default `"auto"`).
     pub damping: DampingPolicy,
+    /// The kinematic law's speed policy (default `"auto"`: `min(v_max, √(2a|x − x_d|))`,
+    /// `docs/maths.md` §6).
+    pub speed: SpeedPolicy,
+    /// The kinematic law's top speed `v_max`, m/s; `None` (the default) means `K√2`, the paper
+    /// law's top speed.
+    pub v_max: Option<f64>,
     /// The period `h` for which the robot holds each command, s; `None` (the default) means
     /// [`DEFAULT_KINEMATIC_PERIOD`] (100 Hz) or [`DEFAULT_DYNAMIC_PERIOD`] (1 kHz) by law.
     pub control_period: Option<f64>,
@@ -132,6 +138,8 @@ impl Default for Options {
             rho_min: 0.05,
             k: KPolicy::default(),
             damping: DampingPolicy::default(),
+            speed: SpeedPolicy::default(),
+            v_max: None,
             control_period: None,
             hold: HoldPolicy::default(),
         }
@@ -186,6 +194,22 @@ impl Options {
     #[must_use]
     pub fn with_damping(self, damping: DampingPolicy) -> Self {
         Self { damping, ..self }
+    }
+
+    /// The speed policy of the kinematic law (ignored by the dynamic law).
+    #[must_use]
+    pub fn with_speed(self, speed: SpeedPolicy) -> Self {
+        Self { speed, ..self }
+    }
+
+    /// The kinematic law's top speed `v_max`, m/s, in [`PARAMETER_RANGE`] (ignored by the
+    /// dynamic law, whose speed bound is `√(2μ/m)`).
+    #[must_use]
+    pub fn with_v_max(self, v_max: f64) -> Self {
+        Self {
+            v_max: Some(v_max),
+            ..self
+        }
     }
 
     /// The control period `h`, s: the robot holds each command for `h` (`x += h·u`, or
@@ -243,8 +267,11 @@ impl Options {
 
     /// Checks every option against its range, with `law` (which sets the default period):
     /// `radius` and `margin` finite, `≥ 0` and at most [`MAX_LENGTH`]; the sensor and `ρ_min` as
-    /// in [`Options::d_min`]; the control period in [`PARAMETER_RANGE`].
+    /// in [`Options::d_min`]; the control period and `v_max` (if given) in [`PARAMETER_RANGE`].
     pub fn validate(&self, law: &Law) -> Result<(), NavError> {
+        if let Some(v) = self.v_max {
+            in_range("v_max", v)?;
+        }
         for (field, value) in [("radius", self.radius), ("margin", self.margin)] {
             if !(value.is_finite() && (0.0..=MAX_LENGTH).contains(&value)) {
                 return Err(NavError::InvalidOption { field, value });

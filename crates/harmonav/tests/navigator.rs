@@ -193,7 +193,9 @@ fn commands_are_the_laws_on_the_known_obstacles() {
                 let x = random::free_point(&mut rng, &ws, 0.05);
                 let v = rng.point(1.0);
                 let e = field.eval(x).unwrap();
-                let u = Kinematic::new(1.5).unwrap().velocity(&e);
+                let u = Kinematic::new(1.5)
+                    .unwrap()
+                    .velocity(&e, (x - ws.destination()).norm());
                 assert_eq!(kin.command(x, v).unwrap().value, u);
                 let c = held.command(x, v).unwrap();
                 match c.mode {

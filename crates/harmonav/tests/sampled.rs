@@ -9,7 +9,8 @@ use harmonav::{Band, HoldPolicy, Law, Mode, NavError, Navigator, Options, StarSh
 
 /// The worlds where the continuous law sampled as is (the hold off, as before the hold
 /// existed) entered a grown shape or touched a true one, found by `cargo xtask verify`'s
-/// negative control: `(world, law, rate, radius, margin)`.
+/// negative control: `(world, law, rate, radius, margin)`. The kinematic ones were found under
+/// the paper's speed `K√(2Θ)` (`SpeedPolicy::Paper`), which they keep.
 const DEFECTS: [(u64, bool, f64, f64, f64); 4] = [
     (48, true, 100.0, 0.1, 0.05),
     (101, true, 100.0, 0.1, 0.05),
@@ -26,7 +27,9 @@ fn the_flights_that_failed_without_the_hold_are_safe_with_it() {
             Law::dynamic(1.0, 10.0)
         };
         let world = disc_world(seed);
-        let options = Options::default().with_robot(radius, margin);
+        let options = Options::default()
+            .with_robot(radius, margin)
+            .with_speed(harmonav::SpeedPolicy::Paper);
         let fly_with = |hold| {
             fly(
                 &world,
@@ -278,6 +281,9 @@ fn no_option_the_navigator_accepts_makes_a_nan() {
             d.with_robot(f64::INFINITY, 0.0),
             "radius",
         ),
+        (Law::kinematic(1.0), d.with_v_max(0.0), "v_max"),
+        (Law::kinematic(1.0), d.with_v_max(f64::NAN), "v_max"),
+        (Law::kinematic(1.0), d.with_v_max(1e10), "v_max"),
     ];
     for (law, options, field) in refused {
         match Navigator::new(boundary.clone(), goal, law, options) {
@@ -313,6 +319,11 @@ fn no_option_the_navigator_accepts_makes_a_nan() {
         ),
         (Law::kinematic(1e9), d.with_control_period(1e-9)),
         (Law::kinematic(1e-9), d.with_control_period(1e9)),
+        (Law::kinematic(1e-9), d.with_v_max(1e9)),
+        (
+            Law::kinematic(1.0),
+            d.with_v_max(1e-9).with_speed(harmonav::SpeedPolicy::Paper),
+        ),
     ] {
         let mut nav = Navigator::new(boundary.clone(), goal, law, options).unwrap();
         nav.add_obstacle(rock.clone()).unwrap();
@@ -326,6 +337,108 @@ fn no_option_the_navigator_accepts_makes_a_nan() {
             }
         }
     }
+}
+
+/// The hold with the finite-time speed (`SpeedPolicy::Auto`, `docs/maths.md` §6): the user's
+/// 100 Hz loop reaches the goal to 1e-9 m in finitely many steps, never stepping past it (the
+/// distance to the goal never rises in the approach), at most `v_max`, and within the
+/// continuous law's arrival time plus one period; the paper's speed is still 1 mm short then.
+#[test]
+fn the_sampled_loop_stops_at_the_goal_in_finite_time_under_the_auto_speed() {
+    use harmonav::SpeedPolicy;
+    let boundary = StarShape::circle(Vector2::zeros(), 5.0).unwrap();
+    let goal = Vector2::new(0.0, 0.0);
+    let h = 0.01;
+    let start = Vector2::new(3.0, 1.0);
+    let fly_to = |speed: SpeedPolicy| {
+        let options = Options::default().with_speed(speed);
+        let mut nav = Navigator::new(boundary.clone(), goal, Law::kinematic(1.0), options).unwrap();
+        let mut x = start;
+        let mut last = f64::INFINITY;
+        for step in 0..2000 {
+            let r = (x - goal).norm();
+            if r < 1e-9 {
+                return (step as f64 * h, r);
+            }
+            assert!(r <= last * (1.0 + 1e-12), "{speed}: stepped away at {x:?}");
+            last = r;
+            let c = nav.command(x, Vector2::zeros()).unwrap();
+            assert!(c.value.norm() <= 2f64.sqrt() * (1.0 + 1e-12));
+            x += h * c.value;
+        }
+        (2000.0 * h, (x - goal).norm())
+    };
+    let (t, _) = fly_to(SpeedPolicy::Auto);
+    // Continuous closed form (straight ray): (D − d_b)/v + 2d_b/v = (D + d_b)/v.
+    let (v, d_b) = (
+        2f64.sqrt(),
+        0.5 * 2f64.sqrt() * harmonav::control::BRAKING_TIME,
+    );
+    let closed = (start.norm() + d_b) / v;
+    assert!(t <= closed + 2.0 * h, "{t} s vs {closed} s");
+    // The paper's speed converges exponentially: ln(D/ε)/(K√σ), about 15 s to 1e-9 m here.
+    let (t_paper, _) = fly_to(SpeedPolicy::Paper);
+    assert!(t_paper > 4.0 * t, "paper {t_paper} s, auto {t} s");
+}
+
+/// The hold never steps past the goal: every kinematic command held for the period satisfies
+/// `h|u| ≤ |x − x_d|`. Without the cap the finite-time speed `v_max√(r/d_b)` steps across the
+/// goal wherever `r < h²v_max²/d_b` (within 5.7 cm at 20 Hz and the default `v_max`), and the
+/// robot crosses it and comes back from the other side.
+#[test]
+fn the_kinematic_hold_never_steps_past_the_goal() {
+    let boundary = StarShape::circle(Vector2::zeros(), 5.0).unwrap();
+    let rock = StarShape::circle(Vector2::new(0.5, 1.5), 0.4).unwrap();
+    let goal = Vector2::new(1.0, 0.5);
+    let mut crossed_checked = 0;
+    for (h, v_max) in [
+        (0.01, 2f64.sqrt()),
+        (0.05, 2f64.sqrt()),
+        (0.1, 3.0),
+        (0.2, 0.5),
+    ] {
+        for start in [
+            Vector2::new(-3.0, 1.0),
+            Vector2::new(2.5, -2.0),
+            Vector2::new(0.4, 3.0),
+        ] {
+            let options = Options::default().with_control_period(h).with_v_max(v_max);
+            let mut nav =
+                Navigator::new(boundary.clone(), goal, Law::kinematic(1.0), options).unwrap();
+            nav.add_obstacle(rock.clone()).unwrap();
+            let mut x = start;
+            for _ in 0..(30.0 / h) as usize {
+                let r = (x - goal).norm();
+                if r < 1e-12 {
+                    break;
+                }
+                let c = nav.command(x, Vector2::zeros()).unwrap();
+                let step = h * c.value.norm();
+                assert!(
+                    step <= r * (1.0 + 1e-12),
+                    "h = {h}: a step of {step} m with the goal {r} m away at {x:?}"
+                );
+                let next = x + h * c.value;
+                // Near the goal the goal is never behind the robot (to the rounding of the
+                // coordinates: a step that lands on the goal ends within an ulp of it).
+                if r < 0.05 {
+                    let behind = -(next - goal).dot(&(x - goal));
+                    let ulp = 4.0 * f64::EPSILON * goal.norm().max(1.0) * r;
+                    assert!(
+                        behind <= ulp,
+                        "crossed the goal by {behind} m² at {x:?}, h = {h}"
+                    );
+                    crossed_checked += 1;
+                }
+                x = next;
+            }
+            assert!(
+                (x - goal).norm() < 1e-6,
+                "h = {h}, from {start:?}: ended at {x:?}"
+            );
+        }
+    }
+    assert!(crossed_checked > 20, "{crossed_checked}");
 }
 
 /// Flies `nav` from `x` for at most 60 s of commands held for its period; returns whether it

@@ -2,7 +2,7 @@
 
 use std::sync::Arc;
 
-use harmonav_control::{DampingPolicy, Dynamic, Kinematic};
+use harmonav_control::{DampingPolicy, Dynamic, Kinematic, SpeedPolicy};
 use harmonav_field::Field;
 use harmonav_potential::checks::fd_jacobian;
 use harmonav_sensing::Sector;
@@ -126,9 +126,12 @@ fn energy() -> Outcome {
     )
 }
 
-/// Eq. (kinctrl): dΘ/dt = ∇Θ·u = −K√(2Θ)|∇Θ| ≤ 0 at random free points.
+/// Eq. (kinctrl): dΘ/dt = ∇Θ·u = −K√(2Θ)|∇Θ| ≤ 0 at random free points (the paper's speed
+/// policy; every policy has the same direction, `harmonav-control`'s tests).
 fn kinematic() -> Outcome {
-    let law = Kinematic::new(1.0).map_err(|e| e.to_string())?;
+    let law = Kinematic::new(1.0)
+        .map_err(|e| e.to_string())?
+        .with_speed(SpeedPolicy::Paper);
     let mut worst = 0.0f64;
     let mut n = 0;
     for seed in 0..200u64 {
@@ -136,7 +139,8 @@ fn kinematic() -> Outcome {
         for _ in 0..50 {
             let x = random::free_point(&mut rng, field.workspace(), 1e-3);
             let e = field.eval(x).map_err(|e| e.to_string())?;
-            let rate = e.gradient.dot(&law.velocity(&e));
+            let to_goal = (x - field.workspace().destination()).norm();
+            let rate = e.gradient.dot(&law.velocity(&e, to_goal));
             let expected = -(2.0 * e.value).sqrt() * e.gradient.norm();
             if rate > 0.0 {
                 return Err(format!("seed {seed}: dΘ/dt = {rate} > 0 at {x:?}"));
