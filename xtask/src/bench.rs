@@ -385,7 +385,7 @@ fn control_step_ns(policy: DampingPolicy) -> f64 {
                 let seen = axis(v, e.direction)
                     .is_some_and(|a| (6..8).any(|i| sector.detects(x, a, &ws.obstacles()[i])));
                 let d = law.damping(&field, &e, v, v.norm());
-                black_box((seen, law.force(&e, v, &d)));
+                black_box((seen, law.force(&field, &e, v, &d)));
             }
         }
     })

@@ -7,6 +7,7 @@ mod field;
 mod navigator;
 mod potential;
 mod quality;
+mod scale;
 mod scenarios;
 mod transform;
 
@@ -127,6 +128,7 @@ fn checks() -> Vec<Check> {
     all.extend(control::checks());
     all.extend(navigator::checks());
     all.extend(quality::checks());
+    all.extend(scale::checks());
     all.extend(scenarios::checks());
     all.extend(adversarial::checks());
     all

@@ -41,7 +41,11 @@ impl From<KArg> for KPolicy {
 pub enum DampingArg {
     /// Eq. `dissipationfun` on Θ, exactly the paper.
     Paper,
-    /// The default: damping critical at the goal, on the shaped potential (docs/maths.md §9).
+    /// Damping critical at the goal, on the shaped potential Ψ = 1 − √(1 − Θ) (docs/maths.md
+    /// §9), tuned in 5 m worlds: the default until 2026-12.
+    Shaped,
+    /// The default: "shaped" on Θ made free of the world's scale, so the robot is as quick in
+    /// a 100 m world as in a 5 m one (docs/maths.md §9).
     Auto,
 }
 
@@ -49,6 +53,7 @@ impl From<DampingArg> for DampingPolicy {
     fn from(d: DampingArg) -> Self {
         match d {
             DampingArg::Paper => DampingPolicy::Paper,
+            DampingArg::Shaped => DampingPolicy::Shaped,
             DampingArg::Auto => DampingPolicy::Auto,
         }
     }

@@ -13,7 +13,8 @@ pub enum DampingPolicy {
     /// Eq. `dissipationfun` exactly: `λ_c` (critical at the goal) while `V < μ`, else
     /// `(m/d_min)|ẋ(T_n)|`.
     Paper,
-    /// The default, two changes measured on the motion-quality benchmark:
+    /// The policy of 2026-11 (the default until the scale-free [`DampingPolicy::Auto`]), three
+    /// changes measured on the motion-quality benchmark:
     ///
     /// - the law descends `Ψ = 1 − √(1 − Θ)` instead of `Θ` (`Ψ ≈ Θ/2` at the goal, and a far
     ///   stronger pull where `Θ` saturates near the outer boundary, where the paper's robot
@@ -25,19 +26,34 @@ pub enum DampingPolicy {
     /// - a brake `c·λ(x)` on the velocity component that climbs `Ψ` only (`Dynamic::force`),
     ///   so that the robot slides along an obstacle's thin barrier instead of running into it,
     ///   and cannot overshoot the goal.
+    ///
+    /// Tuned in worlds of radius 5 m; in larger ones `Θ` saturates over most of the world
+    /// (`1 − Θ ∝ 1/|x − x_d|²` beyond a few metres) and the robot starts at almost no force.
+    Shaped,
+    /// The default: [`DampingPolicy::Shaped`] on the scale-free `Θ_s = sigma(phi − s)`,
+    /// `s = (1 − n/k)·ln(ρ²/ρ_ref²)` (`Dynamic::scale_shift`), instead of `Θ = sigma(phi)`.
+    /// `phi_k` of a world scaled by `α` is `phi_k + (1 − n/k)·ln α²`, so `Θ_s` of every scaled
+    /// copy of a world is the same function of `x/α`: the law moves through a 50 m world as
+    /// through the 5 m one at 10 times the length and time scale, and its speed does not depend
+    /// on the size of the world. In worlds of radius `ρ_ref` = 5 m it is `"shaped"`.
     #[default]
     Auto,
 }
 
 impl DampingPolicy {
     /// Every policy, for reports and sweeps.
-    pub const ALL: [DampingPolicy; 2] = [DampingPolicy::Paper, DampingPolicy::Auto];
+    pub const ALL: [DampingPolicy; 3] = [
+        DampingPolicy::Paper,
+        DampingPolicy::Shaped,
+        DampingPolicy::Auto,
+    ];
 
-    /// The name used in scenario files, the CLI and JSON (`"paper"`, `"auto"`).
+    /// The name used in scenario files, the CLI and JSON (`"paper"`, `"shaped"`, `"auto"`).
     #[must_use]
     pub fn as_str(self) -> &'static str {
         match self {
             Self::Paper => "paper",
+            Self::Shaped => "shaped",
             Self::Auto => "auto",
         }
     }
@@ -57,7 +73,7 @@ impl std::fmt::Display for UnknownDampingPolicy {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "unknown damping policy \"{}\": expected \"paper\" or \"auto\"",
+            "unknown damping policy \"{}\": expected \"paper\", \"shaped\" or \"auto\"",
             self.0
         )
     }

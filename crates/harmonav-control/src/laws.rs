@@ -1,7 +1,7 @@
 //! The kinematic and dynamic laws.
 
 use harmonav_field::{Field, FieldEval};
-use harmonav_potential::sigma;
+use harmonav_potential::{ln_sigma_prime, sigma};
 use nalgebra::Vector2;
 
 use crate::damping::{Branch, Damping, DampingPolicy};
@@ -143,6 +143,11 @@ impl Kinematic {
     }
 }
 
+/// `ρ_ref` of [`Dynamic::scale_shift`], m: the outer radius of the motion-quality benchmark's
+/// worlds, where [`DampingPolicy::Shaped`] was tuned. In a world of this size `"auto"` is
+/// `"shaped"`; in any other it is `"shaped"` on the world scaled to this size.
+pub const REFERENCE_RADIUS: f64 = 5.0;
+
 /// `c` of the uphill brake of [`DampingPolicy::Auto`] ([`Damping::uphill`] `= c·λ(x)`): chosen
 /// on the motion-quality benchmark (`docs/maths.md` §9: 16, 64 and 256 were measured).
 pub const UPHILL_GAIN: f64 = 64.0;
@@ -200,41 +205,71 @@ impl Dynamic {
         self.mu
     }
 
-    /// The potential the law descends, with its gradient: `Θ` under [`DampingPolicy::Paper`];
-    /// `Ψ = 1 − √(1 − Θ)` under [`DampingPolicy::Auto`] (`docs/maths.md` §9). `Ψ = g(Θ)` with
-    /// `g` smooth and increasing on `[0, 1)`, `g(0) = 0`, `g(1) = 1`, so `Ψ` is a navigation
-    /// function with the critical points of `Θ`; near the goal `Ψ ≈ Θ/2`, near the walls and
-    /// the outer boundary, where `Θ` saturates, `|∇Ψ| = |∇Θ|/(2√(1 − Θ))` is far larger.
-    ///
-    /// Numerical guards: `Ψ = Θ/(1 + √(1 − Θ))` (no cancellation at the goal), and `1 − Θ` is
-    /// `sigma(−phi)` evaluated from `phi` (exact near the walls, where `1 − Θ` computed from
-    /// `Θ` would round to 0); where even that underflows (`phi ≳ 745`, within ~1e-300 m of a
-    /// wall) `∇Θ` has underflowed too and `∇Ψ = 0`, as under the paper's law.
-    pub fn potential(&self, eval: &FieldEval) -> Potential {
+    /// `s` of [`DampingPolicy::Auto`], the shift that makes `Θ_s = sigma(phi − s)` free of the
+    /// world's scale: `s = (1 − n/k)·ln(ρ²/ρ_ref²)`, `n` the known obstacles, `ρ` the outer
+    /// boundary's largest radius and `ρ_ref` = [`REFERENCE_RADIUS`]. Scaling a world by `α`
+    /// scales `Phi` by `α` and adds `(1 − n/k)·ln α²` to `phi_k` (its `ln|h − P_d|²` term
+    /// gains `ln α²`, each of the `n` terms `−(1/k)·ln|h − P_i|²` loses `ln α²/k`), which `s`
+    /// takes away. `s` is constant between discoveries, so `Ψ` is a fixed function there and
+    /// `V̇ ≤ 0` holds; 0 under the other policies.
+    pub fn scale_shift(&self, field: &Field) -> f64 {
         match self.policy {
-            DampingPolicy::Paper => Potential {
+            DampingPolicy::Auto => {
+                let n = field.known().len() as f64;
+                let rho = field.workspace().boundary().radius_bounds().1;
+                (1.0 - n / field.k()) * (rho / REFERENCE_RADIUS).powi(2).ln()
+            }
+            DampingPolicy::Paper | DampingPolicy::Shaped => 0.0,
+        }
+    }
+
+    /// The potential the law descends, with its gradient: `Θ` under [`DampingPolicy::Paper`];
+    /// `Ψ = 1 − √(1 − Θ)` under [`DampingPolicy::Shaped`] (`docs/maths.md` §9); the same on
+    /// `Θ_s = sigma(phi − s)` ([`Dynamic::scale_shift`]) under [`DampingPolicy::Auto`].
+    /// `Ψ = g(Θ)` with `g` smooth and increasing on `[0, 1)`, `g(0) = 0`, `g(1) = 1` (also
+    /// `Θ ↦ Θ_s = sigma(logit Θ − s)` is), so `Ψ` is a navigation function with the critical
+    /// points of `Θ`; near the goal `Ψ ≈ Θ_s/2 ≈ e^{−s}Θ/2`, near the walls and the outer
+    /// boundary, where `Θ` saturates, `|∇Ψ| = |∇Θ_s|/(2√(1 − Θ_s))` is far larger.
+    ///
+    /// Numerical guards: `Ψ = Θ_s/(1 + √(1 − Θ_s))` (no cancellation at the goal), and
+    /// `1 − Θ_s` is `sigma(s − phi)` evaluated from `phi` (exact near the walls, where
+    /// `1 − Θ_s` computed from `Θ_s` would round to 0); `∇Θ_s = ∇Θ·sigma'(phi − s)/sigma'(phi)`
+    /// with the ratio taken in log space (`ln_sigma_prime`, finite for every finite argument),
+    /// and `∇Θ_s = 0` where `∇Θ = 0` (at the goal `phi = −∞` and the ratio is `∞ − ∞`; where
+    /// `sigma'(phi)` underflows, `phi ≳ 745`, within ~1e-300 m of a wall, `∇Θ` has underflowed
+    /// too and `∇Ψ = 0`, as under the paper's law).
+    pub fn potential(&self, field: &Field, eval: &FieldEval) -> Potential {
+        if self.policy == DampingPolicy::Paper {
+            return Potential {
                 value: eval.value,
                 gradient: eval.gradient,
+            };
+        }
+        let s = self.scale_shift(field);
+        let (theta, gradient) = if s == 0.0 {
+            (eval.value, eval.gradient)
+        } else if eval.gradient == Vector2::zeros() {
+            (sigma(eval.phi - s), eval.gradient)
+        } else {
+            let ratio = (ln_sigma_prime(eval.phi - s) - ln_sigma_prime(eval.phi)).exp();
+            (sigma(eval.phi - s), eval.gradient * ratio)
+        };
+        // 1 − Θ_s = sigma(s − phi), sigma's own guard (a non-positive exponent only).
+        let root = sigma(s - eval.phi).sqrt();
+        Potential {
+            value: theta / (1.0 + root),
+            gradient: if root > 0.0 {
+                gradient / (2.0 * root)
+            } else {
+                Vector2::zeros()
             },
-            DampingPolicy::Auto => {
-                // 1 − Θ = sigma(−phi), sigma's own guard (a non-positive exponent only).
-                let root = sigma(-eval.phi).sqrt();
-                Potential {
-                    value: eval.value / (1.0 + root),
-                    gradient: if root > 0.0 {
-                        eval.gradient / (2.0 * root)
-                    } else {
-                        Vector2::zeros()
-                    },
-                }
-            }
         }
     }
 
     /// Eq. (`totalenergy`): `V = μΨ + ½ m |ẋ|²` with `Ψ` the law's [`Dynamic::potential`]
     /// (`Ψ = Θ` under the paper's policy). `V̇ = −λ|ẋ|² ≤ 0` between discoveries.
-    pub fn energy(&self, eval: &FieldEval, velocity: Vector2<f64>) -> f64 {
-        self.energy_at(&self.potential(eval), velocity)
+    pub fn energy(&self, field: &Field, eval: &FieldEval, velocity: Vector2<f64>) -> f64 {
+        self.energy_at(&self.potential(field, eval), velocity)
     }
 
     /// [`Dynamic::energy`] from a potential already evaluated.
@@ -249,12 +284,16 @@ impl Dynamic {
 
     /// The Hessian of the law's potential at the goal, `s·I`: `s` of `Θ`
     /// (`Field::destination_stiffness`, `2/Π|P_d − P_i|^{2/k}`, the exponent established in
-    /// `docs/maths.md` §2) under the paper's policy, `s/2` for `Ψ ≈ Θ/2` under `"auto"`.
+    /// `docs/maths.md` §2) under the paper's policy, `s/2` for `Ψ ≈ Θ/2` under `"shaped"`, and
+    /// `e^{−s_c}·s/2` for `Ψ ≈ Θ_s/2 ≈ e^{−s_c}Θ/2` under `"auto"` (`s_c` the
+    /// [`Dynamic::scale_shift`]: `sigma(phi − s_c) ≈ e^{phi − s_c}` as `phi → −∞`).
     pub fn goal_stiffness(&self, field: &Field) -> f64 {
         let s = field.destination_stiffness();
         match self.policy {
             DampingPolicy::Paper => s,
-            DampingPolicy::Auto => 0.5 * s,
+            DampingPolicy::Shaped | DampingPolicy::Auto => {
+                0.5 * s * (-self.scale_shift(field)).exp()
+            }
         }
     }
 
@@ -274,7 +313,7 @@ impl Dynamic {
     /// Numerical guard: at the goal (`Ψ = 0`, or so close that `Ψ` underflows) the ratio is
     /// `0/0`; its limit `λ_c` is returned instead.
     pub fn lambda_auto(&self, field: &Field, eval: &FieldEval) -> f64 {
-        self.lambda_auto_at(field, &self.potential(eval))
+        self.lambda_auto_at(field, &self.potential(field, eval))
     }
 
     /// [`Dynamic::lambda_auto`] from a potential already evaluated.
@@ -304,10 +343,10 @@ impl Dynamic {
         speed_at_discovery: f64,
     ) -> Damping {
         // Ψ once per call: it serves both λ(x) and V.
-        let p = self.potential(eval);
+        let p = self.potential(field, eval);
         let (own, uphill) = match self.policy {
             DampingPolicy::Paper => (self.lambda_c(field), 0.0),
-            DampingPolicy::Auto => {
+            DampingPolicy::Shaped | DampingPolicy::Auto => {
                 let l = self.lambda_auto_at(field, &p);
                 (l, UPHILL_GAIN * l)
             }
@@ -323,7 +362,7 @@ impl Dynamic {
         Damping {
             lambda: match self.policy {
                 DampingPolicy::Paper => switched,
-                DampingPolicy::Auto => switched.max(own),
+                DampingPolicy::Shaped | DampingPolicy::Auto => switched.max(own),
             },
             uphill,
             branch: Branch::Switched,
@@ -336,8 +375,14 @@ impl Dynamic {
     /// only on the component of the velocity that climbs `Ψ` (towards an obstacle or away from
     /// the goal): the robot slides along a barrier instead of running into it and losing its
     /// speed. It is off where `n` is undefined (`∇Ψ = 0`).
-    pub fn force(&self, eval: &FieldEval, velocity: Vector2<f64>, d: &Damping) -> Vector2<f64> {
-        let g = self.potential(eval).gradient;
+    pub fn force(
+        &self,
+        field: &Field,
+        eval: &FieldEval,
+        velocity: Vector2<f64>,
+        d: &Damping,
+    ) -> Vector2<f64> {
+        let g = self.potential(field, eval).gradient;
         let f = -self.mu * g - d.lambda * velocity;
         let n = g / g.norm();
         let climb = velocity.dot(&n);

@@ -10,9 +10,11 @@
 //! - [`Dynamic`] (eq. `dynctrllocal`): `f = −μ∇Θ − λ(t)ẋ` for `m ẍ = f`, with the critical
 //!   damping `λ_c` (eq. `critdamp`) while the energy `V = μΘ + ½m|ẋ|²` (eq. `totalenergy`)
 //!   stays below `μ`, and `(m/d_min)|ẋ(T_n)|` otherwise (eq. `dissipationfun`); the speed
-//!   bound `√(2μ/m)` (corollary `boundedvel`). That is [`DampingPolicy::Paper`]; the default
-//!   [`DampingPolicy::Auto`] damps with `λ(x) = 2√(mμ)|∇Θ|/√(2Θ)`, which equals `λ_c` at the
-//!   goal and does not over-damp far from it.
+//!   bound `√(2μ/m)` (corollary `boundedvel`). That is [`DampingPolicy::Paper`];
+//!   [`DampingPolicy::Shaped`] descends `Ψ = 1 − √(1 − Θ)` and damps with
+//!   `λ(x) = 2√(mμ)|∇Ψ|/√(2Ψ)`, which equals `λ_c` at the goal and does not over-damp far from
+//!   it; the default [`DampingPolicy::Auto`] does the same on `Θ_s = sigma(phi − s)`, free of
+//!   the world's scale ([`Dynamic::scale_shift`]).
 //!
 //! ```
 //! use std::sync::Arc;
@@ -44,7 +46,7 @@
 //! assert_eq!((d.lambda, d.branch), (paper.lambda_c(&field), Branch::Critical)); // V < μ: λ_c
 //! let d = law.damping(&field, &eval, Vector2::zeros(), 0.0); // the default, "auto"
 //! assert_eq!(d.lambda, law.lambda_auto(&field, &eval));
-//! let f = law.force(&eval, Vector2::zeros(), &d);
+//! let f = law.force(&field, &eval, Vector2::zeros(), &d);
 //! assert!(f.dot(&eval.gradient) < 0.0);                 // pushes downhill
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
@@ -56,5 +58,5 @@ mod laws;
 mod speed;
 
 pub use damping::{Branch, Damping, DampingPolicy, UnknownDampingPolicy};
-pub use laws::{ControlError, Dynamic, Kinematic, Potential, UPHILL_GAIN};
+pub use laws::{ControlError, Dynamic, Kinematic, Potential, REFERENCE_RADIUS, UPHILL_GAIN};
 pub use speed::{BRAKING_TIME, LINEAR_CORE, SpeedPolicy, UnknownSpeedPolicy};

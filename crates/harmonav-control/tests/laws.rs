@@ -29,10 +29,10 @@ fn critical_damping_at_the_goal() {
         let (field, _) = world(seed);
         let law = Dynamic::new(1.0 + seed as f64 * 0.1, 10.0, 0.05)
             .unwrap()
-            .with_damping(DampingPolicy::ALL[seed as usize % 2]);
+            .with_damping(DampingPolicy::ALL[seed as usize % 3]);
         let xd = field.workspace().destination();
         let h = 1e-5;
-        let g = |x: Vector2<f64>| law.potential(&field.eval(x).unwrap()).gradient;
+        let g = |x: Vector2<f64>| law.potential(&field, &field.eval(x).unwrap()).gradient;
         let hess = fd_jacobian(g, xd, h);
         let (m, mu, lc) = (law.mass(), law.mu(), law.lambda_c(&field));
         for eig in hess.symmetric_eigenvalues().iter() {
@@ -65,15 +65,16 @@ fn critical_damping_at_the_goal() {
 fn energy_decreases_and_speed_is_bounded() {
     for seed in 0..20 {
         let (field, mut rng) = world(100 + seed);
-        let policy = DampingPolicy::ALL[seed as usize % 2];
+        let policy = DampingPolicy::ALL[seed as usize % 3];
         let law = Dynamic::new(1.0, 10.0, 0.05).unwrap().with_damping(policy);
         let mut x = random::free_point(&mut rng, field.workspace(), 0.2);
         let mut v = Vector2::zeros();
         let accel = |x: Vector2<f64>, v: Vector2<f64>| {
             let e = field.eval(x).unwrap();
-            law.force(&e, v, &law.damping(&field, &e, v, 0.0)) / law.mass()
+            law.force(&field, &e, v, &law.damping(&field, &e, v, 0.0)) / law.mass()
         };
-        let energy = |x: Vector2<f64>, v: Vector2<f64>| law.energy(&field.eval(x).unwrap(), v);
+        let energy =
+            |x: Vector2<f64>, v: Vector2<f64>| law.energy(&field, &field.eval(x).unwrap(), v);
         let mut last = energy(x, v);
         let dt = 1e-3;
         for _ in 0..3000 {
@@ -351,16 +352,16 @@ fn damping_switches_on_energy() {
         let e = field.eval(x).unwrap();
         // Speeds that put V just below and at μ: ½m|v|² = μ(1 − Ψ) ∓ ε.
         for law in [paper, auto] {
-            let psi = law.potential(&e).value;
+            let psi = law.potential(&field, &e).value;
             let speed = |target: f64| Vector2::new((2.0 * (target - 10.0 * psi) / 2.0).sqrt(), 0.0);
             let (below, at) = (speed(9.999), speed(10.0 + 1e-9));
-            assert!(law.energy(&e, below) < 10.0 && law.energy(&e, at) >= 10.0);
+            assert!(law.energy(&field, &e, below) < 10.0 && law.energy(&field, &e, at) >= 10.0);
             let d = law.damping(&field, &e, below, 3.0);
             assert_eq!(d.branch, Branch::Critical);
             let d = law.damping(&field, &e, at, 3.0);
             assert_eq!(d.branch, Branch::Switched);
         }
-        let psi = paper.potential(&e).value;
+        let psi = paper.potential(&field, &e).value;
         let speed = |target: f64| Vector2::new((2.0 * (target - 10.0 * psi) / 2.0).sqrt(), 0.0);
         let (below, at) = (speed(9.999), speed(10.0 + 1e-9));
         let d = paper.damping(&field, &e, below, 3.0);
@@ -370,7 +371,7 @@ fn damping_switches_on_energy() {
         );
         let d = paper.damping(&field, &e, at, 3.0);
         assert_eq!((d.lambda, d.branch), (2.0 / 0.05 * 3.0, Branch::Switched));
-        let psi = auto.potential(&e).value;
+        let psi = auto.potential(&field, &e).value;
         let speed = |target: f64| Vector2::new((2.0 * (target - 10.0 * psi) / 2.0).sqrt(), 0.0);
         let (below, at) = (speed(9.999), speed(10.0 + 1e-9));
         let own = auto.lambda_auto(&field, &e);
@@ -384,11 +385,13 @@ fn damping_switches_on_energy() {
         assert_eq!(paper.damping(&field, &e, at, 3.0).uphill, 0.0);
         // The uphill brake acts on the climbing component only: −Λẋ with Λ = λI + λ_up·nnᵀ
         // uphill, λI downhill and across.
-        let g = auto.potential(&e).gradient;
+        let g = auto.potential(&field, &e).gradient;
         let n = g / g.norm();
         let across = Vector2::new(-n.y, n.x);
         let d = auto.damping(&field, &e, Vector2::zeros(), 0.0);
-        let brake = |v: Vector2<f64>| auto.force(&e, v, &d) - auto.force(&e, Vector2::zeros(), &d);
+        let brake = |v: Vector2<f64>| {
+            auto.force(&field, &e, v, &d) - auto.force(&field, &e, Vector2::zeros(), &d)
+        };
         assert!((brake(-n) - d.lambda * n).norm() < 1e-9 * d.lambda);
         assert!((brake(across) + d.lambda * across).norm() < 1e-9 * d.lambda);
         let up = -(d.lambda + d.uphill) * n;
@@ -418,7 +421,8 @@ fn auto_damping_is_the_gradient_of_root_two_theta_and_lambda_c_at_the_goal() {
     for seed in 0..30 {
         let (field, mut rng) = world(300 + seed);
         let law = Dynamic::new(1.0 + 0.2 * seed as f64, 10.0, 0.05).unwrap();
-        let root = |x: Vector2<f64>| (2.0 * law.potential(&field.eval(x).unwrap()).value).sqrt();
+        let root =
+            |x: Vector2<f64>| (2.0 * law.potential(&field, &field.eval(x).unwrap()).value).sqrt();
         for _ in 0..20 {
             let x = random::free_point(&mut rng, field.workspace(), 0.05);
             let h = 1e-6;
@@ -433,7 +437,7 @@ fn auto_damping_is_the_gradient_of_root_two_theta_and_lambda_c_at_the_goal() {
                 "seed {seed} at {x:?}: {got} vs {want}"
             );
             // The terminal speed μ|∇Ψ|/λ is ½√(μ/m)·√(2Ψ).
-            let p = law.potential(&field.eval(x).unwrap());
+            let p = law.potential(&field, &field.eval(x).unwrap());
             let terminal = law.mu() * p.gradient.norm() / got;
             let closed = 0.5 * (law.mu() / law.mass()).sqrt() * (2.0 * p.value).sqrt();
             assert!(
@@ -456,25 +460,28 @@ fn auto_damping_is_the_gradient_of_root_two_theta_and_lambda_c_at_the_goal() {
     }
 }
 
-/// The shaped potential of "auto": `Ψ = 1 − √(1 − Θ)` (the naive formula where it is accurate),
-/// `∇Ψ` against central differences of `Ψ`, values in [0, 1], `Ψ ≈ Θ/2` at the goal, and a
-/// finite, non-zero gradient at 1e-9 m from an obstacle, where `1 − Θ` is below 1e-2.
+/// The shaped potential of "shaped": `Ψ = 1 − √(1 − Θ)` (the naive formula where it is
+/// accurate), `∇Ψ` against central differences of `Ψ`, values in [0, 1], `Ψ ≈ Θ/2` at the
+/// goal, and a finite, non-zero gradient at 1e-9 m from an obstacle, where `1 − Θ` is below
+/// 1e-2.
 #[test]
 fn shaped_potential_is_a_function_of_theta_with_the_chain_rule_gradient() {
-    let law = Dynamic::new(1.0, 10.0, 0.05).unwrap();
+    let law = Dynamic::new(1.0, 10.0, 0.05)
+        .unwrap()
+        .with_damping(DampingPolicy::Shaped);
     let paper = law.with_damping(DampingPolicy::Paper);
     for seed in 0..30 {
         let (field, mut rng) = world(400 + seed);
         for _ in 0..20 {
             let x = random::free_point(&mut rng, field.workspace(), 0.05);
             let e = field.eval(x).unwrap();
-            assert_eq!(paper.potential(&e).value, e.value);
-            let p = law.potential(&e);
+            assert_eq!(paper.potential(&field, &e).value, e.value);
+            let p = law.potential(&field, &e);
             let naive = 1.0 - (1.0 - e.value).sqrt();
             assert!((p.value - naive).abs() <= 1e-12, "{} vs {naive}", p.value);
             assert!((0.0..=1.0).contains(&p.value));
             let h = 1e-6;
-            let psi = |d: Vector2<f64>| law.potential(&field.eval(x + d).unwrap()).value;
+            let psi = |d: Vector2<f64>| law.potential(&field, &field.eval(x + d).unwrap()).value;
             let fd = Vector2::new(
                 psi(Vector2::new(h, 0.0)) - psi(Vector2::new(-h, 0.0)),
                 psi(Vector2::new(0.0, h)) - psi(Vector2::new(0.0, -h)),
@@ -487,16 +494,105 @@ fn shaped_potential_is_a_function_of_theta_with_the_chain_rule_gradient() {
         }
         let xd = field.workspace().destination();
         let e = field.eval(xd + Vector2::new(1e-4, 0.0)).unwrap();
-        assert!((law.potential(&e).value / e.value - 0.5).abs() < 1e-6);
-        assert_eq!(law.potential(&field.eval(xd).unwrap()).value, 0.0);
+        assert!((law.potential(&field, &e).value / e.value - 0.5).abs() < 1e-6);
+        assert_eq!(law.potential(&field, &field.eval(xd).unwrap()).value, 0.0);
         // Just outside an obstacle: the gradient is finite and points away from it.
         let o = &field.workspace().obstacles()[0];
         let dir: Vector2<f64> = Vector2::new(1.0, 0.3).normalize();
         let b = o.boundary_point(dir.y.atan2(dir.x));
         if let Ok(e) = field.eval(b + 1e-9 * (b - o.centre()).normalize()) {
-            let g = law.potential(&e).gradient;
+            let g = law.potential(&field, &e).gradient;
             assert!(g.iter().all(|v| v.is_finite()) && g.norm() > 0.0, "{g:?}");
             assert!(g.norm() >= e.gradient.norm() / 2.0);
         }
+    }
+}
+
+/// A world of three shapes scaled by `alpha` (outer radius 5·alpha m).
+fn scaled_world(alpha: f64) -> Field {
+    let v = |x: f64, y: f64| alpha * Vector2::new(x, y);
+    let ws = Workspace::new(
+        StarShape::circle(v(0.0, 0.0), 5.0 * alpha).unwrap(),
+        vec![
+            StarShape::circle(v(1.0, 0.5), 0.5 * alpha).unwrap(),
+            StarShape::ellipse(v(-2.0, 1.0), [0.8 * alpha, 0.3 * alpha], 0.5).unwrap(),
+            StarShape::circle(v(0.5, -2.0), 0.4 * alpha).unwrap(),
+        ],
+        v(4.0, 0.0),
+    )
+    .unwrap();
+    Field::all_known(Arc::new(ws)).unwrap()
+}
+
+/// "auto" is free of the world's scale: in a copy of a world scaled by `α`, `Ψ(αx) = Ψ(x)`
+/// and `∇Ψ(αx) = ∇Ψ(x)/α`, and `λ_c` scales by `1/α`, so the closed loop `m ẍ = −μ∇Ψ − λẋ`
+/// is the same at `α` times the length and time scale. "shaped" is not (its `Ψ` saturates in
+/// the larger world). At the reference radius "auto" is "shaped". `∇Ψ` of "auto" against
+/// central differences, and `Ψ ≈ e^{−s}Θ/2` at the goal.
+#[test]
+fn auto_potential_is_free_of_the_worlds_scale() {
+    let auto = Dynamic::new(1.0, 10.0, 0.05).unwrap();
+    let shaped = auto.with_damping(DampingPolicy::Shaped);
+    let base = scaled_world(1.0);
+    let points = [
+        Vector2::new(-4.0, 0.1),
+        Vector2::new(0.0, 0.0),
+        Vector2::new(2.0, 2.0),
+        Vector2::new(3.9, 0.0),
+        Vector2::new(-4.95, 0.0),
+        Vector2::new(1.0, 1.0005),
+    ];
+    assert_eq!(auto.scale_shift(&base), 0.0, "5 m is the reference radius");
+    for alpha in [1e-3, 0.1, 4.0, 20.0, 1e4] {
+        let field = scaled_world(alpha);
+        assert!(auto.scale_shift(&field).abs() > 0.0);
+        for x in points {
+            let (e0, e1) = (base.eval(x).unwrap(), field.eval(alpha * x).unwrap());
+            let (p0, p1) = (auto.potential(&base, &e0), auto.potential(&field, &e1));
+            assert!(
+                (p1.value - p0.value).abs() <= 1e-9 * p0.value,
+                "α = {alpha}, x = {x:?}: Ψ {} vs {}",
+                p1.value,
+                p0.value
+            );
+            let g = alpha * p1.gradient;
+            assert!(
+                (g - p0.gradient).norm() <= 1e-8 * p0.gradient.norm(),
+                "α = {alpha}, x = {x:?}: {g:?} vs {:?}",
+                p0.gradient
+            );
+            // Shaped Ψ saturates towards 1 in the larger world, or falls towards 0 in the
+            // smaller: it differs from the 5 m world's.
+            let s1 = shaped.potential(&field, &e1).value;
+            assert!((s1 - p0.value).abs() > 1e-3 * p0.value, "α = {alpha}: {s1}");
+            // The gradient against central differences of Ψ, at the world's scale.
+            let h = 1e-6 * alpha;
+            let psi = |d: Vector2<f64>| {
+                auto.potential(&field, &field.eval(alpha * x + d).unwrap())
+                    .value
+            };
+            let fd = Vector2::new(
+                psi(Vector2::new(h, 0.0)) - psi(Vector2::new(-h, 0.0)),
+                psi(Vector2::new(0.0, h)) - psi(Vector2::new(0.0, -h)),
+            ) / (2.0 * h);
+            assert!(
+                (fd - p1.gradient).norm() <= 1e-5 * p1.gradient.norm(),
+                "α = {alpha}: {fd:?} vs {:?}",
+                p1.gradient
+            );
+        }
+        let rel = auto.lambda_c(&field) * alpha / auto.lambda_c(&base) - 1.0;
+        assert!(rel.abs() < 1e-9, "α = {alpha}: λ_c·α off by {rel:e}");
+        let xd = field.workspace().destination();
+        let e = field.eval(xd + alpha * Vector2::new(1e-7, 0.0)).unwrap();
+        let expected = 0.5 * (-auto.scale_shift(&field)).exp();
+        let got = auto.potential(&field, &e).value / e.value;
+        assert!((got / expected - 1.0).abs() < 1e-3, "{got} vs {expected}");
+        assert_eq!(auto.potential(&field, &field.eval(xd).unwrap()).value, 0.0);
+    }
+    // At the reference radius "auto" and "shaped" agree exactly.
+    for x in points {
+        let e = base.eval(x).unwrap();
+        assert_eq!(auto.potential(&base, &e), shaped.potential(&base, &e));
     }
 }

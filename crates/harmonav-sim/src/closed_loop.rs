@@ -178,13 +178,15 @@ impl<'a> ClosedLoop<'a> {
                 (None, None) => [0.0; 2],
             },
             theta: e.map_or(f64::NAN, |e| e.field.value),
-            energy: dynamic.map(|law| e.map_or(f64::NAN, |e| law.energy(&e.field, v))),
+            energy: dynamic
+                .map(|law| e.map_or(f64::NAN, |e| law.energy(self.nav.field(), &e.field, v))),
             k: self.nav.k(),
             lambda: damping.map(|d| d.lambda),
             energy_tolerance: match (dynamic, &e) {
                 (Some(law), Some(e)) => {
-                    let sensitivity =
-                        law.mu() * law.potential(&e.field).gradient.norm() + law.mass() * v.norm();
+                    let sensitivity = law.mu()
+                        * law.potential(self.nav.field(), &e.field).gradient.norm()
+                        + law.mass() * v.norm();
                     10.0 * step_tolerance(self.truth) * sensitivity
                 }
                 _ => 0.0,

@@ -352,14 +352,15 @@ fn kinematic_step(
 /// for `h(λ + λ_up)/m < 2`.
 pub(crate) fn dynamic(
     law: &Dynamic,
-    ws: &Workspace,
+    field: &Field,
     x: Vector2<f64>,
     (e, v): (&FieldEval, Vector2<f64>),
     d: &Damping,
     h: f64,
 ) -> Command {
+    let ws = field.workspace();
     let m = law.mass();
-    let g = law.potential(e).gradient;
+    let g = law.potential(field, e).gradient;
     let w = v - (h * law.mu() / m) * g;
     let a = 1.0 + h * d.lambda / m;
     let mut next = w / a;

@@ -389,7 +389,7 @@ impl Navigator {
                 let d = eval.damping.unwrap_or_else(|| {
                     law.damping(&self.field, &eval.field, v, self.speed_at_discovery)
                 });
-                hold::dynamic(law, self.field.workspace(), x, (&eval.field, v), &d, h)
+                hold::dynamic(law, &self.field, x, (&eval.field, v), &d, h)
             }
             Controller::Kinematic(law) => {
                 hold::kinematic(law, &self.field, x, &eval.field, eval.command, h)
@@ -457,7 +457,7 @@ impl Navigator {
             Controller::Kinematic(law) => (law.velocity(&e, (x - self.goal).norm()), None),
             Controller::Dynamic(law) => {
                 let d = law.damping(&self.field, &e, v, self.speed_at_discovery);
-                (law.force(&e, v, &d), Some(d))
+                (law.force(&self.field, &e, v, &d), Some(d))
             }
         };
         Ok(Evaluation {

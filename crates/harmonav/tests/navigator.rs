@@ -211,7 +211,7 @@ fn commands_are_the_laws_on_the_known_obstacles() {
                 }
                 // The discovery speed is that of the last command before the additions: 0.
                 let d = law.damping(&field, &e, v, 0.0);
-                let f = law.force(&e, v, &d);
+                let f = law.force(&field, &e, v, &d);
                 // `evaluate` is `command` without remembering the state, and shows its parts.
                 let eval = dynamic.evaluate(x, v).unwrap();
                 assert_eq!((eval.command, eval.field, eval.damping), (f, e, Some(d)));

@@ -10,7 +10,8 @@ use harmonav::{Band, HoldPolicy, Law, Mode, NavError, Navigator, Options, StarSh
 /// The worlds where the continuous law sampled as is (the hold off, as before the hold
 /// existed) entered a grown shape or touched a true one, found by `cargo xtask verify`'s
 /// negative control: `(world, law, rate, radius, margin)`. The kinematic ones were found under
-/// the paper's speed `K√(2Θ)` (`SpeedPolicy::Paper`), which they keep.
+/// the paper's speed `K√(2Θ)` (`SpeedPolicy::Paper`), the dynamic ones under the damping
+/// `"shaped"` (`DampingPolicy::Shaped`, the default then), which they keep.
 const DEFECTS: [(u64, bool, f64, f64, f64); 4] = [
     (48, true, 100.0, 0.1, 0.05),
     (101, true, 100.0, 0.1, 0.05),
@@ -29,7 +30,8 @@ fn the_flights_that_failed_without_the_hold_are_safe_with_it() {
         let world = disc_world(seed);
         let options = Options::default()
             .with_robot(radius, margin)
-            .with_speed(harmonav::SpeedPolicy::Paper);
+            .with_speed(harmonav::SpeedPolicy::Paper)
+            .with_damping(harmonav::DampingPolicy::Shaped);
         let fly_with = |hold| {
             fly(
                 &world,

@@ -1,0 +1,120 @@
+//! The dynamic law across world sizes (issue 27, item 1): one world of six discs and a sector,
+//! scaled by `α` (outer radius 5α m; the discs, the start, the goal, the sensor's range and
+//! `rho_min`, the goal tolerance and the recording interval all scaled by `α`).
+//!
+//! Under the default damping `"auto"` the potential is free of the world's scale
+//! (`Dynamic::scale_shift`, docs/maths.md §9), so the run at `α` is the run at 1 with lengths
+//! and times scaled by `α`: `T(α)/α` must equal `T(1)`, and every guarantee must hold. The
+//! negative control is `"shaped"`, the default until 2026-12, whose `Θ` saturates in the larger
+//! worlds: its `T(α)/α` must grow, or the check would not see the defect it guards against.
+//! The time against the kinematic law is reported, not judged (docs/benchmarks.md).
+
+use std::path::Path;
+
+use harmonav_sim::run::{Summary, run};
+use harmonav_sim::scenario::Scenario;
+
+use super::{Check, Outcome, outcome};
+
+pub fn checks() -> Vec<Check> {
+    vec![Check::new("dynamic.scale-free", scale_free).early()]
+}
+
+/// The six discs `(x, y, r)` of the world at `α = 1` (a seeded world of the benchmark's kind).
+const DISCS: [(f64, f64, f64); 6] = [
+    (-3.0259, -1.1930, 0.6167),
+    (1.4381, 0.9658, 0.8551),
+    (1.1085, -2.8181, 0.3635),
+    (-0.9622, -0.8543, 0.7577),
+    (-2.8842, 1.1308, 0.6248),
+    (-0.6124, 1.4084, 0.7955),
+];
+
+/// The scales of the check.
+const SCALES: [f64; 3] = [1.0, 4.0, 10.0];
+
+/// Runs the world at scale `alpha` with `model` and (dynamic law) `damping`.
+fn fly(alpha: f64, model: &str, damping: &str) -> Result<Summary, String> {
+    let mut text = format!(
+        "name = \"scale-{alpha}\"\n[workspace]\ntype = \"circle\"\ncenter = [0.0, 0.0]\n\
+         radius = {}\n",
+        5.0 * alpha
+    );
+    for (x, y, r) in DISCS {
+        text += &format!(
+            "[[obstacles]]\ntype = \"circle\"\ncenter = [{}, {}]\nradius = {}\n",
+            x * alpha,
+            y * alpha,
+            r * alpha
+        );
+    }
+    text += &format!(
+        "[robot]\nmodel = \"{model}\"\nstart = [{}, {}]\ngoal = [{}, 0.0]\n\
+         [sensor]\nrange = {}\naperture_deg = 120.0\nrho_min = {}\n\
+         [controller]\ndamping = \"{damping}\"\n\
+         [sim]\ndt = {}\nmax_time = {}\ngoal_tolerance = {}\n",
+        -4.0 * alpha,
+        0.065 * alpha,
+        4.0 * alpha,
+        3.0 * alpha,
+        0.05 * alpha,
+        0.01 * alpha,
+        400.0 * alpha,
+        0.01 * alpha,
+    );
+    let path = Path::new("scale.toml");
+    let prepared = Scenario::parse(path, &text)
+        .and_then(|s| s.prepare(path))
+        .map_err(|e| e.to_string())?;
+    Ok(run(&prepared, None).map_err(|e| e.to_string())?.summary)
+}
+
+fn scale_free() -> Outcome {
+    let mut report = Vec::new();
+    let (mut worst, mut control) = (0.0f64, f64::INFINITY);
+    let (mut base, mut shaped_base) = (f64::NAN, f64::NAN);
+    for alpha in SCALES {
+        let auto = fly(alpha, "dynamic", "auto")?;
+        let shaped = fly(alpha, "dynamic", "shaped")?;
+        let kinematic = fly(alpha, "kinematic", "auto")?;
+        for s in [&auto, &shaped, &kinematic] {
+            if !(s.reached && s.all_passed()) {
+                let failed: Vec<String> = s
+                    .guarantees
+                    .iter()
+                    .filter(|g| !g.passed)
+                    .map(|g| format!("{}: {}", g.name(), g.detail()))
+                    .collect();
+                return Err(format!(
+                    "α = {alpha}, {:?} ({:?}): {}; {}",
+                    s.model,
+                    s.damping,
+                    s.outcome,
+                    failed.join("; ")
+                ));
+            }
+        }
+        let (t, ts) = (auto.time_s / alpha, shaped.time_s / alpha);
+        if alpha == 1.0 {
+            (base, shaped_base) = (t, ts);
+        }
+        worst = worst.max((t / base - 1.0).abs());
+        if alpha > 1.0 {
+            control = control.min(ts / shaped_base - 1.0);
+        }
+        report.push(format!(
+            "R = {:.0} m: T/α {t:.2} s (shaped {ts:.2} s), dynamic/kinematic {:.2}",
+            5.0 * alpha,
+            auto.time_s / kinematic.time_s
+        ));
+    }
+    outcome(
+        worst < 0.02 && control > 0.2,
+        format!(
+            "{}; T/α within {:.1} % of R = 5 m's (≤ 2 %), shaped slower by ≥ {:.0} % (negative control, > 20 %)",
+            report.join("; "),
+            100.0 * worst,
+            100.0 * control
+        ),
+    )
+}
