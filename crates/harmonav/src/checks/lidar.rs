@@ -161,6 +161,8 @@ pub struct LidarFlight {
     pub event_clearance: f64,
     /// Perceived area over true area of the seen obstacles at the end.
     pub conservatism: f64,
+    /// The fastest speed, m/s.
+    pub max_speed: f64,
     /// The error that ended the flight (a refused scan or command), if one did.
     pub error: Option<NavError>,
     /// Not reached, and the last 10 s moved the robot less than 1 cm.
@@ -239,6 +241,7 @@ pub fn fly_lidar(
         shrunk: 0,
         event_clearance: f64::INFINITY,
         conservatism: 1.0,
+        max_speed: 0.0,
         error: None,
         stalled: false,
     };
@@ -298,6 +301,7 @@ pub fn fly_lidar(
             .fold(-world.boundary.signed_distance(x), f64::min)
             - options.radius;
         f.true_clearance = f.true_clearance.min(gap);
+        f.max_speed = f.max_speed.max(v.norm());
         if (x - anchor).norm() >= 0.01 {
             (anchor, anchor_time) = (x, f.time);
         }
@@ -351,6 +355,8 @@ pub struct LidarReport {
     pub min_event_clearance: f64,
     /// The median conservatism (perceived over true area) of the flights.
     pub median_conservatism: f64,
+    /// The fastest speed of any flight, m/s.
+    pub max_speed: f64,
 }
 
 impl LidarReport {
@@ -431,6 +437,7 @@ impl LidarSuite {
                 r.events += f.events;
                 r.uncovered += f.uncovered;
                 r.min_clearance = r.min_clearance.min(f.true_clearance);
+                r.max_speed = r.max_speed.max(f.max_speed);
                 r.min_event_clearance = r.min_event_clearance.min(f.event_clearance);
                 cons.push(f.conservatism);
                 if f.reached {
