@@ -329,7 +329,7 @@ fn area(s: &StarShape) -> f64 {
     samples(s, n).map(|p| (p - c).norm_squared()).sum::<f64>() * 0.5 * TAU / n as f64
 }
 
-/// What [`lidar_suite`] measured.
+/// What [`LidarSuite::run`] measured.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct LidarReport {
     /// Flights flown.
