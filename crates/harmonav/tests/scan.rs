@@ -326,7 +326,8 @@ fn scan_options_are_validated_by_name() {
     }
 }
 
-/// The closed loop on scans alone (4 worlds of every shape kind, both robots): no collision
+/// The closed loop on scans alone (4 worlds of every shape kind, both robots; 2 with the
+/// dynamic law, below its speed bound √(2μ/m) = 2 m/s): no collision
 /// with the truth, every perceived shape contains its obstacle, shapes only grow. The negative
 /// control gives the navigator a depth prior smaller than the obstacles (`D = 0.3` m against
 /// diameters up to 1 m): the same check must then find uncovered truth.
@@ -340,6 +341,14 @@ fn the_lidar_loop_is_safe_and_its_check_fails_when_the_depth_prior_is_wrong() {
     assert!(r.failures.is_empty(), "{:?}", r.failures);
     assert!(r.min_clearance > 0.0 && r.events > 0, "{r:?}");
     assert!(r.reached >= 7, "{r:?}");
+    let dynamic = LidarSuite {
+        seeds: 0..2,
+        ..LidarSuite::new(Law::dynamic(1.0, 2.0), 0.001)
+    }
+    .run()
+    .unwrap();
+    assert!(dynamic.failures.is_empty(), "{:?}", dynamic.failures);
+    assert!(dynamic.max_speed < 2.0 && dynamic.events > 0, "{dynamic:?}");
     let control = LidarSuite {
         max_obstacle_depth: 0.3,
         ..suite
