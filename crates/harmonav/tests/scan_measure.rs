@@ -57,7 +57,7 @@ fn measure() {
         let t = std::time::Instant::now();
         let r = s.run().unwrap();
         println!(
-            "{name}: runs {} reached {} stalled {} refused {:?} failures {} unc {} scans {} events {} minclr {:.3} minev {:.3} cons {:.2} t {:.1}s",
+            "{name}: runs {} reached {} stalled {} refused {:?} failures {} unc {} scans {} events {} minclr {:.3} minev {:.3} mindet {:.3} cons {:.2} t {:.1}s",
             r.runs,
             r.reached,
             r.stalled,
@@ -68,6 +68,7 @@ fn measure() {
             r.events,
             r.min_clearance,
             r.min_event_clearance,
+            r.min_detection_clearance,
             r.median_conservatism,
             t.elapsed().as_secs_f64()
         );

@@ -45,7 +45,8 @@ pub fn checks() -> Vec<Check> {
 fn summary(r: &LidarReport) -> String {
     format!(
         "{} runs: {} unsafe, {:.1} % arrived ({} stalled, {} refused{}), {} scans, {} events, \
-         true clearance ≥ {:.3} m, event clearance ≥ {:.3} m, {} truth samples uncovered, \
+         true clearance ≥ {:.3} m, event clearance ≥ {:.3} m (first detections ≥ {:.3} m), {} \
+         truth samples uncovered, \
          perceived/true area {:.1} (median), top speed {:.2} m/s",
         r.runs,
         r.failures.len(),
@@ -59,6 +60,7 @@ fn summary(r: &LidarReport) -> String {
         r.events,
         r.min_clearance,
         r.min_event_clearance,
+        r.min_detection_clearance,
         r.uncovered,
         r.median_conservatism,
         r.max_speed

@@ -117,9 +117,10 @@ pub fn suite_lidar() -> Lidar {
     }
 }
 
-/// The navigator options of a lidar flight in `world`: the 360° sensor of `lidar` (so
-/// `d_min = r`), the world's `ρ_min`, and the scan priors `range_noise` (`ε`) and
-/// `max_obstacle_depth` (`D`).
+/// The navigator options of a lidar flight in `world`: a 360° sensor of range `r − D` (`r`
+/// the lidar's, so `d_min = r − D`: the room left when a first fit reaches `D` in front of the
+/// truth, docs/maths.md §12.6), the world's `ρ_min`, and the scan priors `range_noise` (`ε`)
+/// and `max_obstacle_depth` (`D`).
 pub fn lidar_options(
     world: &LidarWorld,
     lidar: &Lidar,
@@ -127,7 +128,7 @@ pub fn lidar_options(
     max_obstacle_depth: f64,
 ) -> Options {
     Options::default()
-        .with_sensor(lidar.range_max, 360.0)
+        .with_sensor(lidar.range_max - max_obstacle_depth, 360.0)
         .with_rho_min(world.rho_min)
         .with_scan(ScanOptions {
             range_noise,
@@ -159,6 +160,9 @@ pub struct LidarFlight {
     pub shrunk: usize,
     /// The smallest [`crate::ScanUpdate::event_clearance`], m.
     pub event_clearance: f64,
+    /// The smallest event clearance of the events that only added obstacles (first
+    /// detections; the braking argument's case), m.
+    pub detection_clearance: f64,
     /// Perceived area over true area of the seen obstacles at the end.
     pub conservatism: f64,
     /// The fastest speed, m/s.
@@ -240,6 +244,7 @@ pub fn fly_lidar(
         uncovered: 0,
         shrunk: 0,
         event_clearance: f64::INFINITY,
+        detection_clearance: f64::INFINITY,
         conservatism: 1.0,
         max_speed: 0.0,
         error: None,
@@ -259,9 +264,11 @@ pub fn fly_lidar(
                 Ok(u) if u.changed() => {
                     f.events += 1;
                     f.obstacles = f.obstacles.max(nav.obstacles().len());
-                    f.event_clearance = f
-                        .event_clearance
-                        .min(u.event_clearance.unwrap_or(f64::INFINITY));
+                    let clearance = u.event_clearance.unwrap_or(f64::INFINITY);
+                    f.event_clearance = f.event_clearance.min(clearance);
+                    if u.grown.is_empty() {
+                        f.detection_clearance = f.detection_clearance.min(clearance);
+                    }
                     let now: Vec<StarShape> =
                         nav.perceived().map(|(_, p)| p.shape().clone()).collect();
                     f.uncovered += uncovered(&world.obstacles, &now);
@@ -353,6 +360,8 @@ pub struct LidarReport {
     pub min_clearance: f64,
     /// The smallest event clearance of any flight, m.
     pub min_event_clearance: f64,
+    /// The smallest clearance at a first detection of any flight, m.
+    pub min_detection_clearance: f64,
     /// The median conservatism (perceived over true area) of the flights.
     pub median_conservatism: f64,
     /// The fastest speed of any flight, m/s.
@@ -410,6 +419,7 @@ impl LidarSuite {
         let mut r = LidarReport {
             min_clearance: f64::INFINITY,
             min_event_clearance: f64::INFINITY,
+            min_detection_clearance: f64::INFINITY,
             ..LidarReport::default()
         };
         let mut cons = Vec::new();
@@ -439,6 +449,7 @@ impl LidarSuite {
                 r.min_clearance = r.min_clearance.min(f.true_clearance);
                 r.max_speed = r.max_speed.max(f.max_speed);
                 r.min_event_clearance = r.min_event_clearance.min(f.event_clearance);
+                r.min_detection_clearance = r.min_detection_clearance.min(f.detection_clearance);
                 cons.push(f.conservatism);
                 if f.reached {
                     r.reached += 1;
