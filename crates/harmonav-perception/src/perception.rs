@@ -105,6 +105,8 @@ pub enum Known {
     Map(usize),
     /// Perceived shape `i` ([`Perception::perceived`]).
     Perceived(usize),
+    /// Another shape fitted from the same scan (not yet perceived).
+    Fit,
 }
 
 /// Why a scan update failed. A failed update changes nothing.
@@ -343,7 +345,7 @@ impl Perception {
                 let (other, other_origin) = shapes.remove(j);
                 let with = match other_origin {
                     Origin::Old(i) | Origin::Grown(i) => Known::Perceived(i),
-                    Origin::New => Known::Perceived(j),
+                    Origin::New => Known::Fit,
                 };
                 current = match merge(&current, &other, h, params.order) {
                     Ok((merged, _)) => merged,

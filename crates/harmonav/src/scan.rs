@@ -301,6 +301,7 @@ impl Navigator {
                 obstacle: match with {
                     Known::Map(i) => self.scan.exact.get(i).copied(),
                     Known::Perceived(i) => self.scan.slots.get(i).copied(),
+                    Known::Fit => None,
                 },
             },
             e => NavError::Perception(e),
