@@ -125,7 +125,30 @@ class Navigator:
         hold: str = "auto",
         speed: str = "auto",
         v_max: Optional[float] = None,
+        range_noise: float = 0.02,
+        max_obstacle_depth: float = 1.0,
+        growth_threshold: float = 0.02,
     ) -> None: ...
+    def observe_scan(
+        self,
+        position: _Point,
+        heading: float,
+        ranges: Any,
+        angle_min: float,
+        angle_increment: float,
+        range_max: float,
+        range_min: float = 0.0,
+    ) -> ScanUpdate:
+        """Observes one range scan (``sensor_msgs/LaserScan`` fields) taken at ``position`` with
+        ``heading`` (rad): hits explained by known shapes are dropped, the rest fitted to
+        conservative stars that grow known obstacles or are added (docs/maths.md §12.6), under
+        the priors ``range_noise``, ``max_obstacle_depth``, ``growth_threshold`` and ``rho_min``.
+        ``ValueError`` (and nothing changed) for an invalid scan or pose, or a shape that would
+        contain the robot or the goal, cross the boundary or overlap another ("the world as
+        perceived is not a star world")."""
+    @property
+    def perceived(self) -> List[Tuple[int, Shape]]:
+        """The perceived shapes (not grown) as ``(index among the obstacles, star)`` pairs."""
     def add_obstacle(self, shape: Shape) -> int:
         """Adds a newly sensed obstacle; returns its index. ``ValueError`` leaves the navigator unchanged."""
     def command(self, x: _Point, v: Optional[_Point] = None) -> npt.NDArray[np.float64]:
@@ -158,6 +181,28 @@ class Navigator:
         v)`` entries); ``ValueError``/``TypeError``, and nothing changed, if it does not replay."""
     def __copy__(self) -> Navigator: ...
     def __deepcopy__(self, memo: Any) -> Navigator: ...
+
+class ScanUpdate:
+    """What one ``Navigator.observe_scan`` did (indices among the navigator's obstacles)."""
+
+    @property
+    def added(self) -> List[int]: ...
+    @property
+    def grown(self) -> List[int]: ...
+    @property
+    def absorbed(self) -> List[int]:
+        """Obstacles merged into a grown one and removed (indices before the scan)."""
+    @property
+    def hits(self) -> int: ...
+    @property
+    def explained(self) -> int: ...
+    @property
+    def unfitted(self) -> int: ...
+    @property
+    def event_clearance(self) -> Optional[float]:
+        """At an event, the distance from the robot to the changed grown shapes, m."""
+    @property
+    def changed(self) -> bool: ...
 
 class RunResult:
     """The result of ``Scenario.run``."""

@@ -26,6 +26,7 @@ fn harmonav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(shapes::star, m)?)?;
     m.add_class::<field::Field>()?;
     m.add_class::<navigator::Navigator>()?;
+    m.add_class::<navigator::ScanUpdate>()?;
     m.add_class::<scenario::Scenario>()?;
     m.add_class::<scenario::RunResult>()?;
     m.add_class::<scenario::SweepResult>()?;

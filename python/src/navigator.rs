@@ -2,8 +2,8 @@
 
 use harmonav_rs::Vector2;
 use harmonav_rs::{
-    DampingPolicy, HoldPolicy, KPolicy, Law, Mode, NavError, Navigator as RsNavigator, Options,
-    SpeedPolicy,
+    DampingPolicy, HoldPolicy, KPolicy, LaserScan, Law, Mode, NavError, Navigator as RsNavigator,
+    Options, Pose, ScanOptions, ScanUpdate as RsScanUpdate, SpeedPolicy,
 };
 use numpy::PyArray1;
 use pyo3::exceptions::PyTypeError;
@@ -11,7 +11,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyList, PyTuple};
 
 use crate::convert::{array1, point_like, policy, value_error};
-use crate::shapes::Shape;
+use crate::shapes::{Shape, from_perceived};
 
 /// The navigator of a robot that does not know its map: obstacles are added as its perception
 /// finds them, and `command(x, v)` returns the law's command.
@@ -30,6 +30,11 @@ use crate::shapes::Shape;
 ///
 /// `sensor=(range_m, aperture_deg)` sets `d_min` (eq. `dmin`); `radius` and `margin` (m) grow
 /// every obstacle and shrink the boundary; `k` is `"auto"` or `"paper"`.
+///
+/// `observe_scan(...)` feeds it range scans instead of shapes (`docs/maths.md` §12.6), under the
+/// priors `range_noise` (m, the noise bound), `max_obstacle_depth` (m, how far an obstacle may
+/// extend behind what was seen), `growth_threshold` (m, how far outside a shape a hit must lie
+/// to grow it) and `rho_min`.
 ///
 /// `control_period` (s; default 0.01 kinematic, 0.001 dynamic) is how long your loop holds
 /// each command (`x += h·u`, or `v += h·f/m; x += h·v`): under `hold="auto"` (the default)
@@ -75,6 +80,9 @@ struct Args {
     hold: String,
     speed: String,
     v_max: Option<f64>,
+    range_noise: f64,
+    max_obstacle_depth: f64,
+    growth_threshold: f64,
 }
 
 /// A call that changed a navigator's state.
@@ -84,6 +92,9 @@ enum Event {
     Add(Shape),
     /// `command(x, v)`.
     Command([f64; 2], [f64; 2]),
+    /// `observe_scan(...)` that changed the obstacles (a scan that changed nothing leaves no
+    /// state to replay).
+    Scan(Box<(Pose, LaserScan)>),
 }
 
 fn nav_error(e: NavError) -> PyErr {
@@ -109,7 +120,13 @@ impl Args {
             .with_k(policy::<KPolicy>(&self.k)?)
             .with_damping(policy::<DampingPolicy>(&self.damping)?)
             .with_hold(policy::<HoldPolicy>(&self.hold)?)
-            .with_speed(policy::<SpeedPolicy>(&self.speed)?);
+            .with_speed(policy::<SpeedPolicy>(&self.speed)?)
+            .with_scan(ScanOptions {
+                range_noise: self.range_noise,
+                max_obstacle_depth: self.max_obstacle_depth,
+                growth_threshold: self.growth_threshold,
+                ..ScanOptions::default()
+            });
         if let Some(h) = self.control_period {
             options = options.with_control_period(h);
         }
@@ -143,6 +160,9 @@ impl Args {
                 self.hold.clone().into_pyobject(py)?.into_any(),
                 self.speed.clone().into_pyobject(py)?.into_any(),
                 self.v_max.into_pyobject(py)?.into_any(),
+                self.range_noise.into_pyobject(py)?.into_any(),
+                self.max_obstacle_depth.into_pyobject(py)?.into_any(),
+                self.growth_threshold.into_pyobject(py)?.into_any(),
             ],
         )
     }
@@ -154,6 +174,15 @@ impl Navigator {
         let i = self.inner.add_obstacle(shape.inner.clone())?;
         self.log.push(Event::Add(shape.clone()));
         Ok(i)
+    }
+
+    /// Observes a scan, and records it if it changed the obstacles.
+    fn scan(&mut self, pose: Pose, scan: LaserScan) -> Result<RsScanUpdate, NavError> {
+        let u = self.inner.observe_scan(pose, &scan)?;
+        if u.changed() {
+            self.log.push(Event::Scan(Box::new((pose, scan))));
+        }
+        Ok(u)
     }
 
     /// The command at `(x, v)`, and recorded. The Rust navigator refuses a non-finite command
@@ -179,6 +208,16 @@ impl Navigator {
                 match e {
                     Event::Add(shape) => ("add", Bound::new(py, shape.clone())?).into_pyobject(py),
                     Event::Command(x, v) => ("command", *x, *v).into_pyobject(py),
+                    Event::Scan(b) => {
+                        let (p, s) = b.as_ref();
+                        (
+                            "scan",
+                            [p.x, p.y, p.yaw],
+                            s.ranges.clone(),
+                            [s.angle_min, s.angle_increment, s.range_min, s.range_max],
+                        )
+                            .into_pyobject(py)
+                    }
                 }
             })
             .collect::<PyResult<Vec<_>>>()?;
@@ -190,8 +229,9 @@ impl Navigator {
 fn event(entry: &Bound<'_, PyAny>, i: usize) -> PyResult<Event> {
     let bad = |problem: String| {
         PyTypeError::new_err(format!(
-            "Navigator state, entry {i}: {problem}; expected (\"add\", Shape) or \
-             (\"command\", [x, y], [vx, vy])"
+            "Navigator state, entry {i}: {problem}; expected (\"add\", Shape), \
+             (\"command\", [x, y], [vx, vy]) or (\"scan\", [x, y, yaw], ranges, \
+             [angle_min, angle_increment, range_min, range_max])"
         ))
     };
     let parts = entry
@@ -213,6 +253,26 @@ fn event(entry: &Bound<'_, PyAny>, i: usize) -> PyResult<Event> {
             let v = point_like(v, "v")?;
             Ok(Event::Command([x.x, x.y], [v.x, v.y]))
         }
+        ("scan", [_, pose, ranges, angles]) => {
+            let [x, y, yaw] = pose.extract::<[f64; 3]>().map_err(|e| bad(e.to_string()))?;
+            let ranges = ranges
+                .extract::<Vec<f64>>()
+                .map_err(|e| bad(e.to_string()))?;
+            let [angle_min, angle_increment, range_min, range_max] =
+                angles
+                    .extract::<[f64; 4]>()
+                    .map_err(|e| bad(e.to_string()))?;
+            Ok(Event::Scan(Box::new((
+                Pose::new(x, y, yaw),
+                LaserScan {
+                    angle_min,
+                    angle_increment,
+                    range_min,
+                    range_max,
+                    ranges,
+                },
+            ))))
+        }
         _ => Err(bad(format!("got \"{kind}\" with {} values", parts.len()))),
     }
 }
@@ -223,7 +283,8 @@ impl Navigator {
     #[pyo3(signature = (boundary, goal, law="kinematic", gain=1.0, mass=1.0, mu=10.0,
                         sensor=(1.0, 60.0), radius=0.0, margin=0.0, k="auto", damping="auto",
                         rho_min=0.05, control_period=None, hold="auto", speed="auto",
-                        v_max=None))]
+                        v_max=None, range_noise=0.02, max_obstacle_depth=1.0,
+                        growth_threshold=0.02))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         boundary: &Shape,
@@ -242,6 +303,9 @@ impl Navigator {
         hold: &str,
         speed: &str,
         v_max: Option<f64>,
+        range_noise: f64,
+        max_obstacle_depth: f64,
+        growth_threshold: f64,
     ) -> PyResult<Self> {
         let goal = point_like(goal, "goal")?;
         let args = Args {
@@ -261,6 +325,9 @@ impl Navigator {
             hold: hold.to_owned(),
             speed: speed.to_owned(),
             v_max,
+            range_noise,
+            max_obstacle_depth,
+            growth_threshold,
         };
         Ok(Self {
             inner: args.build()?,
@@ -295,6 +362,55 @@ impl Navigator {
         let v = v.map_or(Ok(Vector2::zeros()), |v| point_like(v, "v"))?;
         let c = self.issue(x, v)?;
         array1(py, &[c.x, c.y], "command")
+    }
+
+    /// Observes one range scan (the fields of `sensor_msgs/LaserScan`) taken at `position`
+    /// (array-like `[x, y]`, the robot's centre) with `heading` (rad, the scan's angle 0):
+    /// `ranges` (m, a NumPy array or sequence; NaN, ±inf and out-of-range readings are
+    /// classified as ROS does), `angle_min` and `angle_increment` (rad, increment > 0),
+    /// `range_max` and `range_min` (m). Hits explained by known shapes are dropped, the rest
+    /// fitted to conservative stars that grow known ones or are added (`docs/maths.md` §12.6).
+    /// Returns a `ScanUpdate`. Raises `ValueError` (and changes nothing) for an invalid scan or
+    /// pose, or when a new or grown shape would contain the robot or the goal, cross the
+    /// boundary, or overlap another ("the world as perceived is not a star world").
+    #[pyo3(signature = (position, heading, ranges, angle_min, angle_increment, range_max,
+                        range_min=0.0))]
+    #[allow(clippy::too_many_arguments)]
+    fn observe_scan(
+        &mut self,
+        py: Python<'_>,
+        position: &Bound<'_, PyAny>,
+        heading: f64,
+        ranges: &Bound<'_, PyAny>,
+        angle_min: f64,
+        angle_increment: f64,
+        range_max: f64,
+        range_min: f64,
+    ) -> PyResult<ScanUpdate> {
+        let p = point_like(position, "position")?;
+        let ranges: Vec<f64> = ranges.extract().map_err(|e| {
+            PyTypeError::new_err(format!("ranges must be a sequence of floats: {e}"))
+        })?;
+        let scan = LaserScan {
+            angle_min,
+            angle_increment,
+            range_min,
+            range_max,
+            ranges,
+        };
+        let pose = Pose::new(p.x, p.y, heading);
+        let u = py.detach(|| self.scan(pose, scan)).map_err(nav_error)?;
+        Ok(ScanUpdate::from(u))
+    }
+
+    /// The perceived shapes (from scans, not grown), as `(index, Shape)` pairs: `index` among
+    /// the navigator's obstacles, the shape a `star` with `signed_distance` and `contains`.
+    #[getter]
+    fn perceived(&self) -> Vec<(usize, Shape)> {
+        self.inner
+            .perceived()
+            .map(|(i, p)| (i, from_perceived(p)))
+            .collect()
     }
 
     /// `Θ(x)` over the known obstacles (finite, or `ValueError` as `command`).
@@ -378,6 +494,10 @@ impl Navigator {
             let replayed = match event(&entry?, i)? {
                 Event::Add(shape) => fresh.add(&shape).map(drop).map_err(nav_error),
                 Event::Command(x, v) => fresh.issue(Vector2::from(x), Vector2::from(v)).map(drop),
+                Event::Scan(b) => {
+                    let (pose, scan) = *b;
+                    fresh.scan(pose, scan).map(drop).map_err(nav_error)
+                }
             };
             replayed.map_err(|e| value_error(format!("Navigator state, entry {i}: {e}")))?;
         }
@@ -401,6 +521,53 @@ impl Navigator {
             "Navigator({} obstacles known, k={})",
             self.inner.obstacles().len(),
             self.inner.k()
+        )
+    }
+}
+
+/// What one `Navigator.observe_scan` did (indices among the navigator's obstacles).
+#[pyclass(module = "harmonav", frozen, get_all)]
+#[derive(Clone, Debug)]
+pub struct ScanUpdate {
+    /// New obstacles (indices after the scan).
+    added: Vec<usize>,
+    /// Obstacles that grew (indices after the scan).
+    grown: Vec<usize>,
+    /// Obstacles merged into a grown one and removed (indices before the scan).
+    absorbed: Vec<usize>,
+    /// Returns in `[range_min, range_max)`.
+    hits: usize,
+    /// Hits explained by a known shape or the boundary.
+    explained: usize,
+    /// Segments no fit covers (wider than the depth prior).
+    unfitted: usize,
+    /// At an event: the distance from the robot's centre to the changed grown shapes, m.
+    event_clearance: Option<f64>,
+    /// Whether the obstacles changed (an event).
+    changed: bool,
+}
+
+impl From<RsScanUpdate> for ScanUpdate {
+    fn from(u: RsScanUpdate) -> Self {
+        Self {
+            changed: u.changed(),
+            added: u.added,
+            grown: u.grown,
+            absorbed: u.absorbed,
+            hits: u.hits,
+            explained: u.explained,
+            unfitted: u.unfitted,
+            event_clearance: u.event_clearance,
+        }
+    }
+}
+
+#[pymethods]
+impl ScanUpdate {
+    fn __repr__(&self) -> String {
+        format!(
+            "ScanUpdate(added={:?}, grown={:?}, absorbed={:?}, hits={}, explained={})",
+            self.added, self.grown, self.absorbed, self.hits, self.explained
         )
     }
 }

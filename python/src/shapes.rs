@@ -333,6 +333,19 @@ pub fn star(
     )
 }
 
+/// A perceived shape (`Navigator.perceived`) as the `star(center, r0, harmonics)` it is.
+pub(crate) fn from_perceived(p: &harmonav_rs::Perceived) -> Shape {
+    let c = p.centre();
+    Shape {
+        inner: p.shape().clone(),
+        recipe: Recipe::Star {
+            center: [c.x, c.y],
+            radius: p.r0(),
+            harmonics: p.harmonics().to_vec(),
+        },
+    }
+}
+
 /// `harmonics` as `(n, a_n, b_n)` with `1 ≤ n ≤ MAX_HARMONIC`, each error naming its entry.
 fn harmonic_triples(harmonics: &Bound<'_, PyAny>) -> PyResult<Vec<(u32, f64, f64)>> {
     let py = harmonics.py();

@@ -144,6 +144,13 @@ pub fn run(options: &Options) -> ExitCode {
             }
         }
     }
+    if wants("observe_scan") {
+        for beams in [360, 1080] {
+            let (steady, event) = observe_scan_us(beams);
+            put(&format!("observe_scan_us_{beams}"), steady);
+            put(&format!("observe_scan_event_us_{beams}"), event);
+        }
+    }
     if wants("montecarlo_runs_per_s") {
         put("montecarlo_runs_per_s", montecarlo_runs_per_s());
     }
@@ -360,6 +367,46 @@ fn navigator_command_ns(law: harmonav::Law, hold: harmonav::HoldPolicy) -> f64 {
             }
         }
     })
+}
+
+/// `Navigator::observe_scan` on a scan of `beams` beams (360°, 3 m, 2 cm noise, 1 % dropouts)
+/// in lidar world 0 (`harmonav::checks::lidar`), µs: `(steady, event)`. Steady: the obstacles
+/// in view are perceived already, every hit is explained (the common case); event: the first
+/// scan of a fresh navigator, which fits, certifies and rebuilds `Θ`.
+fn observe_scan_us(beams: usize) -> (f64, f64) {
+    use harmonav::checks::lidar::{LIDAR_WORLD_DEPTH, lidar_options, lidar_world, suite_lidar};
+    use harmonav::{Law, Navigator, Pose};
+    let world = lidar_world(0, false);
+    let lidar = harmonav::perception::sim::Lidar {
+        beams,
+        ..suite_lidar()
+    };
+    let options = lidar_options(&world, &lidar, lidar.noise, LIDAR_WORLD_DEPTH);
+    let fresh = Navigator::new(
+        world.boundary.clone(),
+        world.goal,
+        Law::kinematic(1.0),
+        options,
+    )
+    .expect("valid benchmark world");
+    let pose = Pose::new(world.start.x, world.start.y, 0.0);
+    let mut rng = harmonav::transform::random::Rng::new(7);
+    let scans: Vec<_> = (0..8)
+        .map(|_| lidar.scan(&pose, &world.obstacles, Some(&world.boundary), &mut rng))
+        .collect();
+    let event = median_ns(5, 1e3, || {
+        let mut nav = fresh.clone();
+        let _ = black_box(nav.observe_scan(pose, black_box(&scans[0])));
+    });
+    let mut nav = fresh.clone();
+    nav.observe_scan(pose, &scans[0])
+        .expect("the benchmark scan is accepted");
+    let steady = median_ns(15, 1e3 * scans.len() as f64, || {
+        for s in &scans {
+            let _ = black_box(nav.observe_scan(pose, black_box(s)));
+        }
+    });
+    (steady, event)
 }
 
 /// One full control step with 6 known obstacles (and 2 not yet known): the sector check of

@@ -4,6 +4,7 @@
 mod adversarial;
 mod control;
 mod field;
+mod lidar;
 mod navigator;
 mod potential;
 mod quality;
@@ -127,6 +128,7 @@ fn checks() -> Vec<Check> {
     all.extend(field::checks());
     all.extend(control::checks());
     all.extend(navigator::checks());
+    all.extend(lidar::checks());
     all.extend(quality::checks());
     all.extend(scale::checks());
     all.extend(scenarios::checks());

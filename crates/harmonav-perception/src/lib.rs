@@ -2,7 +2,8 @@
 //!
 //! Obstacles from range scans (issue 26, part 1; docs/maths.md §12): a `sensor_msgs/LaserScan`
 //! becomes star-shaped obstacles that **provably contain the true obstacle** under three stated
-//! priors, persist, and only ever grow. Pure Rust, no ROS; nothing depends on it yet.
+//! priors, persist, and only ever grow. Pure Rust, no ROS; the facade's `Navigator::observe_scan`
+//! feeds it (docs/maths.md §12.6).
 //!
 //! - [`LaserScan`], [`Pose`], [`Reading`]: the ROS fields, validated ([`ScanError`]); NaN, `±∞`
 //!   and out-of-range readings classified as ROS does (REP 117);
@@ -80,12 +81,13 @@
 //!
 //! ## Explained hits, growth and disjointness
 //!
-//! A hit within `ε` of a known shape (map obstacle or perceived) or of the known boundary is
-//! attributed to it (eq. explained). This keeps repeated scans of a perceived obstacle from
-//! growing it (its true surface is inside it, so the hits are within `ε`); it also assumes that
-//! an unknown obstacle does not come within `2ε` of a known one. A fit that overlaps a perceived
-//! shape is merged with it ([`merge`]): the merged star contains both (eq. certify over both
-//! boundaries), so perceived shapes only grow and stay disjoint.
+//! A hit within `ε_x = max(ε, ε_g)` ([`Options::growth_threshold`]) of a known shape (map
+//! obstacle or perceived) or of the known boundary is attributed to it (eq. explained). This
+//! keeps repeated scans of a perceived obstacle from growing it (its true surface is inside it,
+//! so the hits are within `ε`) and makes growth events finitely many (`ε_g > 0`); it also
+//! assumes that an unknown obstacle does not come within `ε + ε_x` of a known one. A fit that
+//! overlaps a perceived shape is merged with it ([`merge`]): the merged star contains both (eq.
+//! certify over both boundaries), so perceived shapes only grow and stay disjoint.
 
 #![warn(missing_docs)]
 

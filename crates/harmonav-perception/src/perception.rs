@@ -30,10 +30,15 @@ pub struct Options {
     /// `h`, m: spacing of the certification cover (eq. certify); the fit is about `1.5h`
     /// larger than the region it contains.
     pub check_spacing: f64,
+    /// `ε_g`, m: the growth threshold. A hit is explained (eq. explained) when it lies within
+    /// `ε_x = max(ε, ε_g)` of a known shape, so a shape grows only for a hit more than `ε_x`
+    /// outside every known shape. With `ε_g > 0` the hits that cause growth are `ε_x` apart,
+    /// so a bounded region sees finitely many growths (docs/maths.md §12.6).
+    pub growth_threshold: f64,
 }
 
 impl Default for Options {
-    /// `ε = 0.02`, `D = 1`, `ρ_min = 0.05`, `d0 = 0.1`, order 6, `h = 0.01`.
+    /// `ε = 0.02`, `D = 1`, `ρ_min = 0.05`, `d0 = 0.1`, order 6, `h = 0.01`, `ε_g = 0.02`.
     fn default() -> Self {
         Self {
             range_noise: 0.02,
@@ -42,13 +47,14 @@ impl Default for Options {
             jump_distance: 0.1,
             order: 6,
             check_spacing: 0.01,
+            growth_threshold: 0.02,
         }
     }
 }
 
 impl Options {
     /// Errors unless `0 ≤ ε ≤ 10`, `0 < D ≤ 100`, `0 < ρ_min ≤ 1e3`, `0 ≤ d0 ≤ 100`,
-    /// `1 ≤ order ≤ 16`, `1e-4 ≤ h ≤ D/4` (finite, m). `h` bounds the cover's size, `~2πD/h`
+    /// `1 ≤ order ≤ 16`, `1e-4 ≤ h ≤ D/4`, `0 < ε_g ≤ 10` (finite, m). `h` bounds the cover's size, `~2πD/h`
     /// samples per disc of `K`.
     pub fn validate(&self) -> Result<(), PerceptionError> {
         let check = |field: &'static str, v: f64, lo: f64, hi: f64, open_lo: bool| {
@@ -77,6 +83,7 @@ impl Options {
             0.25 * self.max_obstacle_depth,
             false,
         )?;
+        check("growth_threshold", self.growth_threshold, 0.0, 10.0, true)?;
         Ok(())
     }
 
@@ -98,6 +105,8 @@ pub enum Known {
     Map(usize),
     /// Perceived shape `i` ([`Perception::perceived`]).
     Perceived(usize),
+    /// Another shape fitted from the same scan (not yet perceived).
+    Fit,
 }
 
 /// Why a scan update failed. A failed update changes nothing.
@@ -211,25 +220,40 @@ impl Perception {
         &self.options
     }
 
+    /// Adds an exact shape to the map (a known obstacle that did not come from a scan, e.g.
+    /// `Navigator::add_obstacle`): its hits are explained from now on and a fit that overlaps
+    /// it is [`PerceptionError::NotStarWorld`]. The caller checks that it is disjoint from the
+    /// perceived shapes.
+    pub fn add_map(&mut self, shape: StarShape) {
+        self.map.push(shape);
+    }
+
+    /// The map obstacles (exact), in the order they were given.
+    #[must_use]
+    pub fn map(&self) -> &[StarShape] {
+        &self.map
+    }
+
     /// The perceived shapes, pairwise disjoint (certified, `StarShape::distance_to > 0`).
     #[must_use]
     pub fn perceived(&self) -> &[Perceived] {
         &self.perceived
     }
 
-    /// Whether hit `p` is explained by a known shape within the noise bound `ε` (certified
-    /// bounds of `StarShape::signed_distance_bounds`):
+    /// Whether hit `p` is explained by a known shape within `ε_x = max(ε, ε_g)` (the noise
+    /// bound or the growth threshold, [`Options::growth_threshold`]; certified bounds of
+    /// `StarShape::signed_distance_bounds`):
     ///
     /// ```text
-    /// obstacle S (map or perceived):  hi_S(p) ≤ ε      (p is within ε outside S, or inside)
-    /// boundary B:                     lo_B(p) ≥ −ε     (p is within ε inside B, or beyond)
+    /// obstacle S (map or perceived):  hi_S(p) ≤ ε_x    (p is within ε_x outside S, or inside)
+    /// boundary B:                     lo_B(p) ≥ −ε_x   (p is within ε_x inside B, or beyond)
     /// ```
     ///
-    /// (eq. explained). Quick rejects by the bounding discs `|p − c| > max R + ε` and
-    /// `|p − c_B| < min R_B − ε`.
+    /// (eq. explained). Quick rejects by the bounding discs `|p − c| > max R + ε_x` and
+    /// `|p − c_B| < min R_B − ε_x`.
     #[must_use]
     pub fn explained(&self, p: Vector2<f64>) -> bool {
-        let eps = self.options.range_noise;
+        let eps = self.options.range_noise.max(self.options.growth_threshold);
         let near = |s: &StarShape| {
             (p - s.centre()).norm() <= s.radius_bounds().1 + eps
                 && s.signed_distance_bounds(p).1 <= eps
@@ -321,7 +345,7 @@ impl Perception {
                 let (other, other_origin) = shapes.remove(j);
                 let with = match other_origin {
                     Origin::Old(i) | Origin::Grown(i) => Known::Perceived(i),
-                    Origin::New => Known::Perceived(j),
+                    Origin::New => Known::Fit,
                 };
                 current = match merge(&current, &other, h, params.order) {
                     Ok((merged, _)) => merged,

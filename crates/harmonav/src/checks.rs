@@ -3,6 +3,8 @@
 //! The crate's tests assert on these functions and `cargo xtask verify` runs them on 300
 //! worlds at every documented rate, so the two cannot drift apart (`docs/maths.md` §10).
 
+pub mod lidar;
+
 use harmonav_transform::StarShape;
 use harmonav_transform::random::Rng;
 use nalgebra::Vector2;

@@ -36,8 +36,9 @@
 //! ```
 //!
 //! The layers, re-exported: [`potential`] (`phi_k` on the point world), [`transform`] (shapes
-//! and the navigation transformation), [`field`] (`Θ`), [`sensing`] (the sector and `d_min`) and
-//! [`control`] (the laws).
+//! and the navigation transformation), [`field`] (`Θ`), [`sensing`] (the sector and `d_min`),
+//! [`control`] (the laws) and [`perception`] (range scans to conservative star obstacles, fed
+//! to the navigator by [`Navigator::observe_scan`]).
 
 #![warn(missing_docs)]
 
@@ -45,9 +46,11 @@ pub mod checks;
 mod hold;
 mod navigator;
 mod options;
+mod scan;
 
 pub use harmonav_control as control;
 pub use harmonav_field as field;
+pub use harmonav_perception as perception;
 pub use harmonav_potential as potential;
 pub use harmonav_sensing as sensing;
 pub use harmonav_transform as transform;
@@ -65,6 +68,7 @@ pub use options::{
     DEFAULT_DYNAMIC_PERIOD, DEFAULT_KINEMATIC_PERIOD, HoldPolicy, MIN_APERTURE_DEG, Options,
     PARAMETER_RANGE, UnknownHoldPolicy,
 };
+pub use scan::{LaserScan, Perceived, Pose, ScanOptions, ScanUpdate};
 
 /// The README's code compiles and runs (checked by `cargo test --doc`).
 #[doc = include_str!("../../../README.md")]

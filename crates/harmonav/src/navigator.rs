@@ -12,6 +12,7 @@ use nalgebra::Vector2;
 
 use crate::hold::{self, Band, Command, Mode};
 use crate::options::{HoldPolicy, MIN_APERTURE_DEG, Options, PARAMETER_RANGE, in_range};
+use crate::scan::ScanState;
 
 /// The robot model and its law.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -99,6 +100,18 @@ pub enum NavError {
     /// The navigation function could not be built over the obstacles (not expected for a
     /// validated workspace; reported rather than hidden).
     Field(FieldError),
+    /// [`Navigator::observe_scan`]: the scan, the pose or the scan options are not valid, the
+    /// sensor lies in a known shape, or a fit could not be built (the perception crate's
+    /// typed error).
+    Perception(harmonav_perception::PerceptionError),
+    /// [`Navigator::observe_scan`]: a new or grown perceived shape (grown by `radius +
+    /// margin`) overlaps known obstacle `obstacle` and no star about a common kernel point
+    /// holds both: the world as perceived is not a star world.
+    NotStarWorld {
+        /// The known obstacle (index before the scan); `None` when it is another shape fitted
+        /// from the same scan.
+        obstacle: Option<usize>,
+    },
 }
 
 /// What an [`NavError::InvalidOption`] field must be.
@@ -111,6 +124,12 @@ fn expected(field: &str) -> String {
         ),
         "sensor_aperture_deg" => format!("must be in [{MIN_APERTURE_DEG:e}, 360] degrees"),
         "d_min" => "must come out finite and positive (eq. dmin)".to_string(),
+        "range_noise" => "must be finite and in [0, 10] m".to_string(),
+        "growth_threshold" => "must be finite and in (0, 10] m".to_string(),
+        "max_obstacle_depth" => "must be finite and in (0, 100] m".to_string(),
+        "jump_distance" => "must be finite and in [0, 100] m".to_string(),
+        "order" => "must be an integer from 1 to 16".to_string(),
+        "check_spacing" => "must be finite and in [1e-4, max_obstacle_depth/4] m".to_string(),
         _ => format!("must be finite and in [{lo:e}, {hi:e}]"),
     }
 }
@@ -150,6 +169,19 @@ impl std::fmt::Display for NavError {
             }
             Self::NonFiniteCommand => write!(f, "the command came out non-finite"),
             Self::Field(e) => write!(f, "the navigation function: {e}"),
+            Self::Perception(e) => write!(f, "scan: {e}"),
+            Self::NotStarWorld {
+                obstacle: Some(obstacle),
+            } => write!(
+                f,
+                "the world as perceived is not a star world: a perceived shape overlaps known \
+                 obstacle {obstacle} (grown by radius + margin)"
+            ),
+            Self::NotStarWorld { obstacle: None } => write!(
+                f,
+                "the world as perceived is not a star world: two shapes fitted from the scan \
+                 overlap"
+            ),
         }
     }
 }
@@ -192,22 +224,25 @@ pub struct Evaluation {
 /// law. See the crate documentation for a complete loop.
 #[derive(Clone, Debug)]
 pub struct Navigator {
-    controller: Controller,
-    options: Options,
+    pub(crate) controller: Controller,
+    pub(crate) options: Options,
     /// The control period `h` in force (s).
-    period: f64,
-    goal: Vector2<f64>,
+    pub(crate) period: f64,
+    pub(crate) goal: Vector2<f64>,
     /// `Θ` over the known obstacles, grown by `radius + margin` (in the order they were
     /// added), in the boundary shrunk by `radius + margin`.
-    field: Field,
+    pub(crate) field: Field,
     /// The same shapes grown by `radius` alone (the boundary: shrunk by `radius`): the robot's
     /// disc overlaps a true shape iff its centre is in one of these. Empty with no margin.
-    inner: Vec<StarShape>,
-    inner_boundary: Option<StarShape>,
+    pub(crate) inner: Vec<StarShape>,
+    pub(crate) inner_boundary: Option<StarShape>,
     /// `|ẋ(T_n)|` at the latest discovery (eq. `dissipationfun`).
-    speed_at_discovery: f64,
+    pub(crate) speed_at_discovery: f64,
     /// The last state passed to a successful `command`.
-    last: Option<(Vector2<f64>, Vector2<f64>)>,
+    pub(crate) last: Option<(Vector2<f64>, Vector2<f64>)>,
+    /// The scan perception: the true boundary, the exact shapes of `add_obstacle`, the
+    /// perceived shapes and where each sits among the obstacles ([`Navigator::observe_scan`]).
+    pub(crate) scan: ScanState,
 }
 
 /// A field error at a point, as the navigator reports it.
@@ -273,6 +308,7 @@ impl Navigator {
         } else {
             None
         };
+        let scan = ScanState::new(boundary, &options)?;
         let ws = Workspace::new(shrunk, Vec::new(), goal).map_err(|_| NavError::GoalNotFree)?;
         let field = Field::all_known_with(Arc::new(ws), options.k).map_err(NavError::Field)?;
         let nav = Self {
@@ -285,6 +321,7 @@ impl Navigator {
             inner_boundary,
             speed_at_discovery: 0.0,
             last: None,
+            scan,
         };
         // Guard: λ_c (eq. critdamp) overflowed for m = μ = 1e308; within the ranges it is
         // finite, and this checks it once rather than at every command.
@@ -336,7 +373,9 @@ impl Navigator {
         self.field = field;
         self.inner.extend(inner);
         self.speed_at_discovery = self.last.map_or(0.0, |(_, v)| v.norm());
-        Ok(self.field.known().len() - 1)
+        let index = self.field.known().len() - 1;
+        self.scan.add_exact(shape, index);
+        Ok(index)
     }
 
     /// The command to hold for one control period at the state `(x, ẋ)`: the velocity `u`

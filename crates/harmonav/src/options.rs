@@ -7,6 +7,7 @@ use harmonav_sensing::Sector;
 use harmonav_transform::MAX_LENGTH;
 
 use crate::navigator::{Law, NavError};
+use crate::scan::ScanOptions;
 
 /// The range of the physical parameters: the law's gain `K`, mass `m` and `μ`, the sensor's
 /// range and `ρ_min`, and the control period `h`. Outside it the closed loop cannot be
@@ -109,8 +110,12 @@ pub struct Options {
     /// Sensor aperture `θ`, degrees, in `[MIN_APERTURE_DEG, 360]` (default 60, the paper's).
     pub sensor_aperture_deg: f64,
     /// A-priori lower bound on the obstacles' curvature radius, m, for `d_min` (eq. `dmin`;
-    /// default 0.05, the paper's).
+    /// default 0.05, the paper's). Also the prior (A2) of [`crate::Navigator::observe_scan`]'s
+    /// fits (the sagitta between beams).
     pub rho_min: f64,
+    /// The priors and parameters of [`crate::Navigator::observe_scan`] (noise bound, depth
+    /// prior, growth threshold; [`ScanOptions`]).
+    pub scan: ScanOptions,
     /// How `k` follows the number of known obstacles (default `"auto"`).
     pub k: KPolicy,
     /// The dynamic law's damping (default `"auto"`).
@@ -136,6 +141,7 @@ impl Default for Options {
             sensor_range: 1.0,
             sensor_aperture_deg: 60.0,
             rho_min: 0.05,
+            scan: ScanOptions::default(),
             k: KPolicy::default(),
             damping: DampingPolicy::default(),
             speed: SpeedPolicy::default(),
@@ -182,6 +188,12 @@ impl Options {
     #[must_use]
     pub fn with_rho_min(self, rho_min: f64) -> Self {
         Self { rho_min, ..self }
+    }
+
+    /// The scan perception's priors and parameters ([`crate::Navigator::observe_scan`]).
+    #[must_use]
+    pub fn with_scan(self, scan: ScanOptions) -> Self {
+        Self { scan, ..self }
     }
 
     /// The `k` policy.
@@ -267,7 +279,8 @@ impl Options {
 
     /// Checks every option against its range, with `law` (which sets the default period):
     /// `radius` and `margin` finite, `≥ 0` and at most [`MAX_LENGTH`]; the sensor and `ρ_min` as
-    /// in [`Options::d_min`]; the control period and `v_max` (if given) in [`PARAMETER_RANGE`].
+    /// in [`Options::d_min`]; the control period and `v_max` (if given) in [`PARAMETER_RANGE`];
+    /// the scan options as in [`ScanOptions::validate`].
     pub fn validate(&self, law: &Law) -> Result<(), NavError> {
         if let Some(v) = self.v_max {
             in_range("v_max", v)?;
@@ -278,6 +291,7 @@ impl Options {
             }
         }
         self.d_min()?;
+        self.scan.validate(self.rho_min)?;
         in_range("control_period", self.period_for(law))?;
         Ok(())
     }

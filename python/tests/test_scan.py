@@ -1,0 +1,165 @@
+"""Navigator.observe_scan: a lidar loop that never touches the truth, perceived shapes that
+contain it, typed results, refusals that change nothing, and pickling of scanned state."""
+
+import copy
+import math
+import pickle
+
+import numpy as np
+import pytest
+
+import harmonav
+
+TRUTH = [([-1.0, 0.2], 0.4), ([1.5, -1.2], 0.3)]
+BOUNDARY_R = 5.0
+BEAMS = 360
+RANGE_MAX = 3.0
+NOISE = 0.01
+
+
+def ranges_at(x, heading, rng, truth=TRUTH):
+    """A 360° scan of the true discs and the boundary (ray-circle intersections), uniform noise
+    within NOISE, 1 % NaN dropouts, +inf beyond RANGE_MAX."""
+    a = heading - math.pi + np.arange(BEAMS) * (2 * math.pi / BEAMS)
+    u = np.stack([np.cos(a), np.sin(a)], axis=1)
+    best = np.full(BEAMS, np.inf)
+    for c, r in truth:
+        d = x - np.asarray(c)
+        b = u @ d
+        disc = b * b - (d @ d - r * r)
+        t = -b - np.sqrt(np.maximum(disc, 0.0))
+        best = np.where((disc > 0) & (t > 0), np.minimum(best, t), best)
+    # The boundary: the ray leaves the disc of radius BOUNDARY_R.
+    b = u @ x
+    t = -b + np.sqrt(b * b - (x @ x - BOUNDARY_R**2))
+    best = np.minimum(best, t)
+    out = best + rng.uniform(-NOISE, NOISE, BEAMS)
+    out[out >= RANGE_MAX] = np.inf
+    out[rng.uniform(size=BEAMS) < 0.01] = np.nan
+    return out, -math.pi, 2 * math.pi / BEAMS
+
+
+def navigator(goal=(3.0, 0.5), **kw):
+    args = dict(sensor=(RANGE_MAX, 360.0), range_noise=NOISE, max_obstacle_depth=1.0)
+    args.update(kw)
+    return harmonav.Navigator(harmonav.circle([0.0, 0.0], BOUNDARY_R), np.array(goal), **args)
+
+
+def observe(nav, x, rng, heading=0.0):
+    ranges, amin, inc = ranges_at(np.asarray(x, float), heading, rng)
+    return nav.observe_scan(
+        position=x, heading=heading, ranges=ranges, angle_min=amin, angle_increment=inc, range_max=RANGE_MAX
+    )
+
+
+def truth_boundary(n=128):
+    th = np.linspace(0, 2 * math.pi, n, endpoint=False)
+    return [np.asarray(c) + r * np.stack([np.cos(th), np.sin(th)], axis=1) for c, r in TRUTH]
+
+
+def test_a_scan_adds_shapes_that_contain_the_seen_truth():
+    nav = navigator()
+    k0 = nav.k
+    u = observe(nav, [-3.0, 0.0], np.random.default_rng(1))
+    assert isinstance(u, harmonav.ScanUpdate)
+    assert u.changed and u.added and not u.grown and not u.absorbed
+    assert u.hits > 0 and u.explained > 0 and u.event_clearance > 0.5
+    assert nav.obstacle_count == len(u.added) and nav.k != k0
+    shapes = [s for _, s in nav.perceived]
+    seen = [pts for pts in truth_boundary() if any(s.contains(pts.mean(axis=0)) for s in shapes)]
+    assert seen, "the near disc is seen"
+    for pts in seen:
+        inside = np.min([s.signed_distance(pts) for s in shapes], axis=0)
+        assert np.all(inside < 0), inside.max()
+    # The same view again: explained, no event.
+    again = observe(nav, [-3.0, 0.0], np.random.default_rng(2))
+    assert not again.changed and again.explained == again.hits
+
+
+def test_the_lidar_loop_arrives_without_touching_the_truth():
+    nav = navigator()
+    rng = np.random.default_rng(7)
+    x, h, t, closest, events = np.array([-3.2, -0.3]), 0.01, 0.0, np.inf, 0
+    goal = nav.goal
+    while np.linalg.norm(x - goal) > 0.01:
+        if round(t / h) % 10 == 0:
+            events += observe(nav, x, rng).changed
+        x = x + h * nav.command(x)
+        t += h
+        closest = min(closest, min(np.linalg.norm(x - np.asarray(c)) - r for c, r in TRUTH))
+        assert t < 60.0, f"no arrival: x = {x}"
+    assert closest > 0.0 and events >= 1 and nav.obstacle_count == len(TRUTH)
+
+
+def state(nav):
+    pts = [[-3.0, 2.0], [2.0, 2.0], [0.0, -3.0]]
+    return (
+        nav.obstacle_count,
+        nav.k,
+        [(i, s.center.tolist(), s.signed_distance([0.0, 0.0])) for i, s in nav.perceived],
+        [nav.theta(p) for p in pts],
+    )
+
+
+@pytest.mark.parametrize(
+    "change, message",
+    [
+        (dict(ranges=[]), "no ranges"),
+        (dict(angle_increment=-0.01), "angle_increment"),
+        (dict(angle_min=float("nan")), "angle_min"),
+        (dict(range_max=-1.0), "range_min"),
+        (dict(position=[float("inf"), 0.0]), "finite"),
+        (dict(heading=float("nan")), "pose.yaw"),
+        (dict(position=[-1.0, 0.2]), "inside known shape"),
+        (dict(position=[9.0, 0.0]), "outside the known boundary"),
+    ],
+)
+def test_bad_scans_raise_and_change_nothing(change, message):
+    nav = navigator()
+    observe(nav, [-3.0, 0.0], np.random.default_rng(1))
+    before = state(nav)
+    ranges, amin, inc = ranges_at(np.array([-2.5, 1.0]), 0.0, np.random.default_rng(3))
+    args = dict(
+        position=[-2.5, 1.0], heading=0.0, ranges=ranges, angle_min=amin, angle_increment=inc, range_max=RANGE_MAX
+    )
+    args.update(change)
+    with pytest.raises(ValueError, match=message):
+        nav.observe_scan(**args)
+    assert state(nav) == before
+
+
+def test_all_nan_ranges_are_no_information():
+    nav = navigator()
+    u = nav.observe_scan([-3.0, 0.0], 0.0, np.full(BEAMS, np.nan), -math.pi, 2 * math.pi / BEAMS, RANGE_MAX)
+    assert (u.hits, u.changed, nav.obstacle_count) == (0, False, 0)
+
+
+def test_a_shape_over_the_goal_is_refused():
+    nav = navigator(goal=(-0.4, 0.2))  # just behind the first disc, within the depth prior
+    with pytest.raises(ValueError, match="contains the goal"):
+        observe(nav, [-3.0, 0.0], np.random.default_rng(1))
+    assert nav.obstacle_count == 0 and nav.perceived == []
+
+
+@pytest.mark.parametrize(
+    "kw, field",
+    [
+        (dict(range_noise=-1.0), "range_noise"),
+        (dict(max_obstacle_depth=0.0), "max_obstacle_depth"),
+        (dict(growth_threshold=0.0), "growth_threshold"),
+    ],
+)
+def test_scan_options_are_checked(kw, field):
+    with pytest.raises(ValueError, match=field):
+        navigator(**kw)
+
+
+def test_copy_and_pickle_keep_the_scanned_obstacles():
+    nav = navigator()
+    rng = np.random.default_rng(5)
+    observe(nav, [-3.0, 0.0], rng)
+    nav.command([-3.0, 0.0])
+    observe(nav, [0.0, -2.5], rng)
+    for other in (copy.copy(nav), copy.deepcopy(nav), pickle.loads(pickle.dumps(nav))):
+        assert state(other) == state(nav)
+        assert np.array_equal(other.command([-2.9, 0.0]), copy.copy(nav).command([-2.9, 0.0]))
