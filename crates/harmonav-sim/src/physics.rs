@@ -76,7 +76,7 @@ fn collider(shape: &StarShape, obstacle: bool) -> ColliderBuilder {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Physics {
-    /// The built-in adaptive integrator ([`run`]).
+    /// The built-in adaptive integrator ([`crate::run::run`]).
     #[default]
     Builtin,
     /// rapier2d, cross-checked against a built-in run of the same model ([`run_rapier`]).

@@ -1,6 +1,6 @@
 //! The states a run keeps, in bounded memory whatever its length.
 //!
-//! The monitors judge every state online ([`crate::monitor`]) and the recording may stream every
+//! The monitors judge every state online (`monitor.rs`) and the recording may stream every
 //! state to disk ([`crate::run::run_observed`]); what stays in memory is only what the figures
 //! and the bindings draw. [`Trajectory`] keeps the `sim.dt` grid while it fits in
 //! [`MAX_KEPT_STATES`], then decimates it online by **stride doubling**: when full, it drops
