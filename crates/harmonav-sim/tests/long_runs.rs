@@ -17,7 +17,7 @@ fn parse(text: &str) -> Prepared {
 
 #[test]
 fn a_run_longer_than_the_kept_states_is_judged_on_every_state() {
-    // An empty disc crossed in about 2 s at a recording interval of 5 µs: some 4·10⁵ states,
+    // An empty disc crossed in about 1.3 s at a recording interval of 3 µs: some 4·10⁵ states,
     // three times what a run keeps.
     let prepared = parse(
         r#"
@@ -31,7 +31,7 @@ fn a_run_longer_than_the_kept_states_is_judged_on_every_state() {
         start = [-0.8, 0.0]
         goal = [0.8, 0.0]
         [sim]
-        dt = 5e-6
+        dt = 3e-6
         max_time = 20.0
         goal_tolerance = 0.01
         "#,
@@ -63,7 +63,7 @@ fn a_run_longer_than_the_kept_states_is_judged_on_every_state() {
         .windows(2)
         .map(|w| w[1].t - w[0].t)
         .collect();
-    let stride = gaps[0] / 5e-6;
+    let stride = gaps[0] / 3e-6;
     assert!((stride.round() - stride).abs() < 1e-3 && (stride.round() as usize).is_power_of_two());
     assert!(
         gaps.iter().all(|g| (g - gaps[0]).abs() < 1e-9),

@@ -245,7 +245,7 @@ fn margin_policy_and_limit_errors_name_the_field_and_the_reason() {
         "[sensor]",
         "[controller]\ndamping = \"critical\"\n[sensor]",
         "controller.damping",
-        "unknown damping policy \"critical\": expected \"paper\" or \"auto\"",
+        "unknown damping policy \"critical\": expected \"paper\", \"shaped\" or \"auto\"",
         None,
     );
     check(
