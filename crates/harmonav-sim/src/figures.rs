@@ -1,7 +1,9 @@
 //! The run figures, drawn with plotters (SVG; text stays text, axes get round ticks):
 //!
-//! - `trajectory.svg`: the workspace, the named obstacles (discovered ones red), the level sets
-//!   of `Θ` for the final known world, the sector at each discovery, the path, start and goal;
+//! - `trajectory.svg`: the workspace, the obstacles (discovered ones red; named only where a
+//!   name overlaps no other, and in worlds of more than [`LABEL_ALL_UP_TO`] only the
+//!   discovered), the level sets of `Θ` for the final known world, the sector at each
+//!   discovery, the path, start and goal, and a legend strip with the value of each level;
 //! - `speed.svg`: `|ẋ|` against time with the bound `√(2μ/m)` and the discoveries marked;
 //! - `energy.svg` (dynamic law): `V(t)` and `λ(t)`.
 
@@ -212,9 +214,10 @@ pub fn trajectory_svg(prepared: &Prepared, run: &Run) -> Result<String, String> 
     .map_err(|e| e.to_string())?;
     let mut out = String::new();
     {
-        let root = SVGBackend::with_string(&mut out, (720, 740)).into_drawing_area();
+        let root = SVGBackend::with_string(&mut out, (720, 800)).into_drawing_area();
         root.fill(&WHITE).map_err(err)?;
-        let mut chart = plane(&root, &title, c, half)?;
+        let (top, legend) = root.split_vertically(740);
+        let mut chart = plane(&top, &title, c, half)?;
         chart
             .draw_series(std::iter::once(Polygon::new(
                 outline(b),
@@ -242,15 +245,6 @@ pub fn trajectory_svg(prepared: &Prepared, run: &Run) -> Result<String, String> 
                 .draw_series(std::iter::once(Polygon::new(outline(o), fill.filled())))
                 .map_err(err)?;
             draw_path(&mut chart, outline(o), stroke.stroke_width(1))?;
-            let style =
-                TextStyle::from((FONT, 12).into_font()).pos(Pos::new(HPos::Center, VPos::Center));
-            chart
-                .draw_series(std::iter::once(Text::new(
-                    truth.names[i].clone(),
-                    xy(o.centre()),
-                    style,
-                )))
-                .map_err(err)?;
         }
         let path = drawable(run.samples.iter().map(|p| (p.x[0], p.x[1])), |p| {
             chart.backend_coord(p)
@@ -265,9 +259,145 @@ pub fn trajectory_svg(prepared: &Prepared, run: &Run) -> Result<String, String> 
                 Circle::new(xy(truth.goal()), 6, GOAL.filled()),
             ])
             .map_err(err)?;
+        // The names: the discovered obstacles (every one in a world of at most
+        // LABEL_ALL_UP_TO), each only where it overlaps no name already placed.
+        let candidates: Vec<usize> = if truth.obstacles.len() <= LABEL_ALL_UP_TO {
+            (0..truth.obstacles.len()).collect()
+        } else {
+            known.clone()
+        };
+        let style =
+            TextStyle::from((FONT, 12).into_font()).pos(Pos::new(HPos::Center, VPos::Center));
+        let wanted = candidates.iter().map(|&i| {
+            let at = chart.backend_coord(&xy(truth.obstacles[i].centre()));
+            (i, label_box(at, &truth.names[i], 12))
+        });
+        for i in place_labels(wanted) {
+            chart
+                .draw_series(std::iter::once(Text::new(
+                    truth.names[i].clone(),
+                    xy(truth.obstacles[i].centre()),
+                    style.clone(),
+                )))
+                .map_err(err)?;
+        }
+        let sector = matches!(truth.sensing, Sensing::Sector(_)) && !sector_poses(run).is_empty();
+        draw_legend(&legend, sector)?;
         root.present().map_err(err)?;
     }
     Ok(out)
+}
+
+/// Worlds of at most this many obstacles name every one on `trajectory.svg`; larger ones name
+/// only the discovered obstacles (a 600-disc world printed 600 names on top of one another).
+pub const LABEL_ALL_UP_TO: usize = 20;
+
+/// The pixel box `(left, top, right, bottom)` of `text` centred at `at`, at `size` px: 0.6 em
+/// per character (no font metrics in an SVG-only build), one em high.
+fn label_box(at: (i32, i32), text: &str, size: i32) -> (i32, i32, i32, i32) {
+    let w = (0.6 * f64::from(size) * text.chars().count() as f64).ceil() as i32;
+    (
+        at.0 - w / 2,
+        at.1 - size / 2,
+        at.0 + w / 2 + 1,
+        at.1 + size / 2 + 1,
+    )
+}
+
+/// The labels to draw, in the order offered: each one whose box (with 2 px to spare) overlaps
+/// no box already placed.
+fn place_labels(wanted: impl IntoIterator<Item = (usize, (i32, i32, i32, i32))>) -> Vec<usize> {
+    let mut placed: Vec<(i32, i32, i32, i32)> = Vec::new();
+    let mut kept = Vec::new();
+    for (i, b) in wanted {
+        let clear = |p: &(i32, i32, i32, i32)| {
+            b.2 + 2 <= p.0 || p.2 + 2 <= b.0 || b.3 + 2 <= p.1 || p.3 + 2 <= b.1
+        };
+        if placed.iter().all(clear) {
+            placed.push(b);
+            kept.push(i);
+        }
+    }
+    kept
+}
+
+/// The legend strip under `trajectory.svg`'s plane: the markers of the start, the goal, the
+/// path, the obstacles (discovered and not), the sector if drawn, and the colour of each level
+/// of `Θ` with its value. Laid out left to right at fixed widths, so no text overlaps another.
+fn draw_legend(area: &DrawingArea<SVGBackend<'_>, Shift>, sector: bool) -> Result<(), String> {
+    let text = |s: &str, x: i32, y: i32| {
+        Text::new(
+            s.to_string(),
+            (x, y),
+            TextStyle::from((FONT, 12).into_font()).pos(Pos::new(HPos::Left, VPos::Center)),
+        )
+    };
+    let mut x = 48;
+    let row = 14;
+    let mut item = |label: &str, draw: &dyn Fn(i32) -> Result<(), String>| -> Result<(), String> {
+        draw(x)?;
+        area.draw(&text(label, x + 20, row)).map_err(err)?;
+        x += 20 + (0.6 * 12.0 * label.chars().count() as f64).ceil() as i32 + 18;
+        Ok(())
+    };
+    let dot = |color: RGBColor, r: i32| {
+        move |x: i32| {
+            area.draw(&Circle::new((x + 8, row), r, color.filled()))
+                .map_err(err)
+        }
+    };
+    let bar = |color: RGBColor, w: u32| {
+        move |x: i32| {
+            area.draw(&PathElement::new(
+                vec![(x, row), (x + 16, row)],
+                color.stroke_width(w),
+            ))
+            .map_err(err)
+        }
+    };
+    let patch = |fill: RGBColor, stroke: RGBColor| {
+        move |x: i32| {
+            area.draw(&Rectangle::new(
+                [(x + 2, row - 6), (x + 14, row + 6)],
+                fill.filled(),
+            ))
+            .map_err(err)?;
+            area.draw(&Rectangle::new(
+                [(x + 2, row - 6), (x + 14, row + 6)],
+                stroke,
+            ))
+            .map_err(err)
+        }
+    };
+    item("start", &dot(BLACK, 5))?;
+    item("goal", &dot(GOAL, 6))?;
+    item("path", &bar(PATH, 2))?;
+    item("discovered", &patch(RGBColor(241, 192, 192), KNOWN))?;
+    item(
+        "not discovered",
+        &patch(RGBColor(208, 208, 208), RGBColor(102, 102, 102)),
+    )?;
+    if sector {
+        item(
+            "sector at a discovery",
+            &patch(RGBColor(231, 239, 250), SECTOR),
+        )?;
+    }
+    // The level sets: a coloured bar and its value each.
+    let (mut x, row) = (48, 38);
+    area.draw(&text("Θ levels:", x, row)).map_err(err)?;
+    x += 80;
+    for v in LEVELS {
+        area.draw(&PathElement::new(
+            vec![(x, row), (x + 14, row)],
+            level_color(v).stroke_width(3),
+        ))
+        .map_err(err)?;
+        let label = format!("{v}");
+        area.draw(&text(&label, x + 18, row)).map_err(err)?;
+        x += 18 + (0.6 * 12.0 * label.chars().count() as f64).ceil() as i32 + 14;
+    }
+    Ok(())
 }
 
 /// Discovery labels for a time axis: discoveries at the same time share one label, and labels
@@ -459,6 +589,21 @@ pub fn energy_svg(run: &Run) -> Result<String, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn labels_that_would_overlap_are_left_out_in_order() {
+        // Three names in a row, the middle one crowding both: the first and the last stay.
+        let wanted = [
+            (0, label_box((100, 100), "O1", 12)),
+            (1, label_box((112, 102), "O2", 12)),
+            (2, label_box((130, 100), "O3", 12)),
+            (3, label_box((100, 200), "O4", 12)),
+        ];
+        assert_eq!(place_labels(wanted), vec![0, 2, 3]);
+        // 600 names on one spot: one is drawn.
+        let crowd = (0..600).map(|i| (i, label_box((300, 300), &format!("O{i}"), 12)));
+        assert_eq!(place_labels(crowd).len(), 1);
+    }
 
     #[test]
     fn drawable_keeps_one_point_per_pixel_and_both_ends() {
