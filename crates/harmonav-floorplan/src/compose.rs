@@ -293,7 +293,7 @@ impl FloorTransform {
         let rw = w.norm();
         // Guard: |H| ≥ 1 happens only in the layer (excluded on W_δ by the certificate); S is
         // infinite there, so the point is reported, never mapped to a NaN.
-        if !(rw < 1.0) {
+        if rw.is_nan() || rw >= 1.0 {
             return Err(NotFree::BoundaryLayer);
         }
         let mut h = w;
