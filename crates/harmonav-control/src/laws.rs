@@ -174,7 +174,12 @@ impl Dynamic {
     /// (`Field::destination_stiffness`, `2/Π|P_d − P_i|^{2/k}`, the exponent established in
     /// `docs/maths.md` §2) under the paper's policy, `s/2` for `Ψ ≈ Θ/2` under `"auto"`.
     pub fn goal_stiffness(&self, field: &Field) -> f64 {
-        let s = field.destination_stiffness();
+        self.goal_stiffness_for(field.destination_stiffness())
+    }
+
+    /// [`Dynamic::goal_stiffness`] for a field whose `H(Θ)(x_d)` has smallest eigenvalue `s`
+    /// (a floor plan's `Θ`, where `Phi` is not the identity at the goal).
+    pub fn goal_stiffness_for(&self, s: f64) -> f64 {
         match self.policy {
             DampingPolicy::Paper => s,
             DampingPolicy::Auto => 0.5 * s,
@@ -185,7 +190,12 @@ impl Dynamic {
     /// [`Dynamic::goal_stiffness`]; under the paper's policy `2√(2μm) Π|P_d − P_i|^{−1/k}`.
     /// Damping ratio 1 at the goal.
     pub fn lambda_c(&self, field: &Field) -> f64 {
-        2.0 * (self.mass * self.mu * self.goal_stiffness(field)).sqrt()
+        self.lambda_c_for(field.destination_stiffness())
+    }
+
+    /// [`Dynamic::lambda_c`] for the goal stiffness `s` of [`Dynamic::goal_stiffness_for`].
+    pub fn lambda_c_for(&self, s: f64) -> f64 {
+        2.0 * (self.mass * self.mu * self.goal_stiffness_for(s)).sqrt()
     }
 
     /// The damping of [`DampingPolicy::Auto`] in the `V < μ` branch:
@@ -197,16 +207,17 @@ impl Dynamic {
     /// Numerical guard: at the goal (`Ψ = 0`, or so close that `Ψ` underflows) the ratio is
     /// `0/0`; its limit `λ_c` is returned instead.
     pub fn lambda_auto(&self, field: &Field, eval: &FieldEval) -> f64 {
-        self.lambda_auto_at(field, &self.potential(eval))
+        self.lambda_auto_at(field.destination_stiffness(), &self.potential(eval))
     }
 
-    /// [`Dynamic::lambda_auto`] from a potential already evaluated.
-    fn lambda_auto_at(&self, field: &Field, p: &Potential) -> f64 {
+    /// [`Dynamic::lambda_auto`] from a potential already evaluated (`s`: the field's
+    /// destination stiffness).
+    fn lambda_auto_at(&self, s: f64, p: &Potential) -> f64 {
         let ratio = p.gradient.norm() / (2.0 * p.value).sqrt();
         if p.value > 0.0 && ratio.is_finite() {
             2.0 * (self.mass * self.mu).sqrt() * ratio
         } else {
-            self.lambda_c(field)
+            self.lambda_c_for(s)
         }
     }
 
@@ -226,12 +237,25 @@ impl Dynamic {
         velocity: Vector2<f64>,
         speed_at_discovery: f64,
     ) -> Damping {
+        let s = field.destination_stiffness();
+        self.damping_for(s, eval, velocity, speed_at_discovery)
+    }
+
+    /// [`Dynamic::damping`] for a field whose destination stiffness (the smallest eigenvalue
+    /// of `H(Θ)(x_d)`) is `s`: the same law for any `Θ`, e.g. a floor plan's.
+    pub fn damping_for(
+        &self,
+        s: f64,
+        eval: &FieldEval,
+        velocity: Vector2<f64>,
+        speed_at_discovery: f64,
+    ) -> Damping {
         // Ψ once per call: it serves both λ(x) and V.
         let p = self.potential(eval);
         let (own, uphill) = match self.policy {
-            DampingPolicy::Paper => (self.lambda_c(field), 0.0),
+            DampingPolicy::Paper => (self.lambda_c_for(s), 0.0),
             DampingPolicy::Auto => {
-                let l = self.lambda_auto_at(field, &p);
+                let l = self.lambda_auto_at(s, &p);
                 (l, UPHILL_GAIN * l)
             }
         };

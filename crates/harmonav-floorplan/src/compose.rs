@@ -65,11 +65,15 @@ struct Band {
 /// - `H`: the harmonic map of the walls onto the unit disk ([`FloorMap`]); holes collapse to
 ///   the punctures `p_j`, solved once. Adding a sensed obstacle needs no new solve.
 /// - `S`: the existing outer stretch applied to the unit circle, `radial::outer_map(|w|, 1, 0,
-///   ε_0, A)` about 0, `ε_0 = f·min(min_i(1 − |P_i|), 2(1 − |P_d|))` over every point, so all
-///   points lie in its identity disc, `A = max(ε_0, 2r*)` with `r*` the potential's valley
-///   radius about 0.
+///   ε_0, A)` about 0, with
+///   `ε_0 = clamp(max(f·min(min_i(1 − |p_i|), 2(1 − |H(x_d)|)), EDGE_BAND·(1 − r_δ)), MIN_BAND, MAX_BAND)`
+///   ([`EDGE_BAND`], [`MIN_BAND`], [`MAX_BAND`], `r_δ` = [`FloorMap::edge_radius`]): the band holds the image
+///   of `∂W_δ`, so the walls' barrier is steep where navigation stops;
+///   `A = max(ε_0, 2r*, MIN_GAIN)` ([`MIN_GAIN`]) with `r*` the potential's valley radius
+///   about 0 (computed on the points before `S`).
 ///
-/// The point world is `P_d = H(x_d)`, `P = (p_1 … p_M, H(c_1) … H(c_n))`, `k > M + n`.
+/// The point world is `P_d = S(H(x_d))`, `P = (S(p_1) … S(p_M), S(H(c_1)) … S(H(c_n)))`,
+/// `k > M + n`.
 /// Defined on `W_δ` minus the sensed obstacles; [`NotFree::BoundaryLayer`] in the layer.
 #[derive(Clone, Debug)]
 pub struct FloorTransform {
@@ -79,9 +83,30 @@ pub struct FloorTransform {
     images: Vec<Vector2<f64>>,
     goal: Vector2<f64>,
     goal_image: Vector2<f64>,
+    /// `S(p)` of every point (punctures, then `H(c_i)`).
+    stretched: Vec<Vector2<f64>>,
+    /// `S(H(x_d))`.
+    goal_point: Vector2<f64>,
     eps0: f64,
     gain: f64,
 }
+
+/// `S`'s band reaches `EDGE_BAND·(1 − r_δ)` into the disk, `r_δ = min |H|` on `∂W_δ`
+/// ([`FloorMap::edge_radius`]): the edge of the certified region lies in the band's outer
+/// half, where the stretch makes the walls' barrier steep.
+pub const EDGE_BAND: f64 = 2.0;
+
+/// The narrowest band of `S` (measured: with the band only as wide as the points allow, the
+/// L room's descents from the far arm stalled at the reflex corner's layer edge).
+pub const MIN_BAND: f64 = 0.5;
+
+/// The widest band of `S`: it leaves the disk of radius `1 − MAX_BAND` to the identity.
+pub const MAX_BAND: f64 = 0.9;
+
+/// The least gain `A` of `S`: the disk's own radius. On the L room with `A = ε_0` (≈ 0.1) the
+/// barrier at `∂W_δ` was so flat that the descent from the far arm ran into the layer edge and
+/// stalled there.
+pub const MIN_GAIN: f64 = 1.0;
 
 impl FloorTransform {
     /// The transformation for the sensed obstacles `obstacles` (true shapes already grown by
@@ -159,17 +184,38 @@ impl FloorTransform {
                 delta,
             });
         }
-        let eps0 = WIDTH_FACTOR * room;
+        let eps0 = (WIDTH_FACTOR * room)
+            .max(EDGE_BAND * (1.0 - floor.edge_radius()))
+            .clamp(MIN_BAND, MAX_BAND);
         Self {
             floor,
             bands,
             images,
             goal,
             goal_image,
+            stretched: Vec::new(),
+            goal_point: goal_image,
             eps0,
             gain: eps0,
         }
         .with_valley_radius(valley_radius)
+    }
+
+    /// `S(w)` and `J_S(w)` for `|w| < 1`: `radial::outer_map(|w|, 1, 0, ε_0, A)` about 0,
+    /// the identity for `|w| ≤ 1 − ε_0`; `None` at or beyond the circle.
+    fn stretch(&self, w: Vector2<f64>) -> Option<(Vector2<f64>, Matrix2<f64>)> {
+        let rw = w.norm();
+        // Guard: |H| ≥ 1 happens only in the layer (excluded on W_δ by the certificate); S is
+        // infinite there, so the point is reported, never mapped to a NaN.
+        if rw.is_nan() || rw >= 1.0 {
+            return None;
+        }
+        if rw <= 1.0 - self.eps0 {
+            return Some((w, Matrix2::identity()));
+        }
+        let u = w / rw;
+        let m = outer_map(rw, 1.0, 0.0, self.eps0, self.gain);
+        m.nu.is_finite().then(|| (m.nu * u, m.jacobian(u, rw)))
     }
 
     /// The same transformation with `A = max(ε_0, 2·valley_radius)`.
@@ -183,7 +229,14 @@ impl FloorTransform {
                 value: valley_radius,
             });
         }
-        self.gain = self.eps0.max(2.0 * valley_radius);
+        self.gain = self.eps0.max(2.0 * valley_radius).max(MIN_GAIN);
+        let raw: Vec<_> = self.raw_points().collect();
+        let mut stretched = Vec::with_capacity(raw.len());
+        for p in raw.into_iter().chain([self.goal_image]) {
+            stretched.push(self.stretch(p).ok_or(FloorError::PointOnCircle)?.0);
+        }
+        self.goal_point = stretched.pop().ok_or(FloorError::PointOnCircle)?;
+        self.stretched = stretched;
         Ok(self)
     }
 
@@ -199,15 +252,26 @@ impl FloorTransform {
         self.goal
     }
 
-    /// `P_d = S(H(x_d)) = H(x_d)` (in `S`'s identity disc).
+    /// `P_d = S(H(x_d))`.
     #[must_use]
     pub fn destination_point(&self) -> Vector2<f64> {
+        self.goal_point
+    }
+
+    /// `H(x_d)` in the disk.
+    #[must_use]
+    pub fn destination_image(&self) -> Vector2<f64> {
         self.goal_image
     }
 
-    /// The obstacle points: the punctures `p_j` of the holes, then `H(c_i)` of the sensed
-    /// obstacles (all in `S`'s identity disc, so `S` leaves them).
+    /// The obstacle points of the point world: `S(p_j)` of the holes' punctures, then
+    /// `S(H(c_i))` of the sensed obstacles.
     pub fn points(&self) -> impl Iterator<Item = Vector2<f64>> + '_ {
+        self.stretched.iter().copied()
+    }
+
+    /// The same points in the disk, before `S`: the punctures `p_j`, then `H(c_i)`.
+    pub fn raw_points(&self) -> impl Iterator<Item = Vector2<f64>> + '_ {
         self.floor
             .map()
             .punctures()
@@ -289,26 +353,9 @@ impl FloorTransform {
             .map()
             .eval(y)
             .map_err(|_| NotFree::BoundaryLayer)?;
-        let w = e.value;
-        let rw = w.norm();
-        // Guard: |H| ≥ 1 happens only in the layer (excluded on W_δ by the certificate); S is
-        // infinite there, so the point is reported, never mapped to a NaN.
-        if rw.is_nan() || rw >= 1.0 {
-            return Err(NotFree::BoundaryLayer);
-        }
-        let mut h = w;
-        let mut js = Matrix2::identity();
-        if rw > 1.0 - self.eps0 {
-            let u = w / rw;
-            let m = outer_map(rw, 1.0, 0.0, self.eps0, self.gain);
-            if !m.nu.is_finite() {
-                return Err(NotFree::BoundaryLayer);
-            }
-            h = m.nu * u;
-            js = m.jacobian(u, rw);
-            if part == Part::Harmonic {
-                part = Part::Stretched;
-            }
+        let (h, js) = self.stretch(e.value).ok_or(NotFree::BoundaryLayer)?;
+        if part == Part::Harmonic && e.value.norm() > 1.0 - self.eps0 {
+            part = Part::Stretched;
         }
         Ok(FloorMapped {
             h,

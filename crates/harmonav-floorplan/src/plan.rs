@@ -3,7 +3,7 @@
 
 use harmonav_harmonic::{
     Certificate, CertifyError, CertifyOptions, Domain, DomainError, HarmonicMap, MeshOptions,
-    SolveError, certify,
+    RingId, SolveError, certify,
 };
 use nalgebra::Vector2;
 use parry2d_f64::math::Vector as PVector;
@@ -45,6 +45,14 @@ pub enum FloorError {
         /// The later one.
         second: usize,
     },
+    /// The walls shrunk by `radius + margin − δ` are not a valid polygon with holes: a passage
+    /// narrower than the robot, a hole that comes to touch a wall, or an edge too short.
+    TooNarrow {
+        /// The ring (as given) where it showed.
+        ring: RingId,
+        /// What went wrong.
+        problem: String,
+    },
     /// A sensed obstacle contains the goal.
     ContainsGoal {
         /// The obstacle.
@@ -54,6 +62,9 @@ pub enum FloorError {
     Potential(harmonav_potential::PotentialError),
     /// The goal maps outside the disk or onto a puncture (a map that failed there).
     Map(harmonav_harmonic::EvalError),
+    /// A point of the point world (a puncture, a sensed centre's or the goal's image) lies on
+    /// or beyond the unit circle: a map that failed there.
+    PointOnCircle,
 }
 
 impl std::fmt::Display for FloorError {
@@ -77,11 +88,20 @@ impl std::fmt::Display for FloorError {
             Self::Overlap { first, second } => {
                 write!(f, "sensed obstacles {first} and {second} overlap")
             }
+            Self::TooNarrow { ring, problem } => write!(
+                f,
+                "the free space shrunk by radius + margin is not a valid floor plan at {ring} \
+                 (a passage narrower than the robot?): {problem}"
+            ),
             Self::ContainsGoal { obstacle } => {
                 write!(f, "sensed obstacle {obstacle} contains the goal")
             }
             Self::Potential(e) => write!(f, "the point world: {e}"),
             Self::Map(e) => write!(f, "the harmonic map at the goal: {e}"),
+            Self::PointOnCircle => write!(
+                f,
+                "a point of the point world maps onto or beyond the unit circle"
+            ),
         }
     }
 }
@@ -145,37 +165,165 @@ fn oriented(mut ring: Vec<Vector2<f64>>, ccw: bool) -> Vec<Vector2<f64>> {
     ring
 }
 
-/// A floor plan with its harmonic map: the walls (an outer polygon and polygonal holes, which
-/// may be of any shape: U, L, walls on the outer ring), `H` solved once (docs/maths.md §11), and
-/// the certified region
+/// A floor plan with its harmonic map: the true walls (an outer polygon and polygonal holes of
+/// any shape: U, L, walls on the outer ring); the free space `W_s`, the walls shrunk by
+/// `s = max(radius + margin − δ, 0)` (mitred offsets, arcs circumscribed: inside the true
+/// erosion); `H` of `W_s`, solved once (docs/maths.md §11); and the certified region
 ///
 /// ```text
-/// W_δ = { x : sd(x) ≥ δ },   δ = max(radius + margin, h_max)
+/// W_δ = { x : sd(x) ≥ δ },   δ = h (the largest element asked for, ≥ h_max)
 /// ```
 ///
-/// with `sd` the signed distance to the walls and `h_max` the longest boundary element. The
-/// map is built on the walls themselves, so `W_δ` is the robot's configuration space with its
-/// margin (`radius + margin − δ = 0` in the issue's terms); when `radius + margin < h_max` the
-/// robot keeps `δ = h_max` instead, the boundary layer in which the discrete map may fold, and
-/// [`FloorMap::keeps_delta`] says so.
+/// with `sd` the signed distance to `∂W_s`. So `W_δ` is the robot's configuration space with
+/// its margin (the erosion by `s + δ = radius + margin`), and the walls' barrier (`Θ → 1`) is on
+/// `∂W_s`, only `δ` beyond it. When `radius + margin < δ` the robot keeps `δ` from the walls
+/// instead, and [`FloorMap::keeps_delta`] says so.
 #[derive(Clone, Debug)]
 pub struct FloorMap {
     map: HarmonicMap,
     /// Every wall segment (all rings), for parry's distance queries.
+    /// The true walls (as given, validated).
+    truth: Domain,
     walls: Polyline,
+    /// The boundary of the shrunk free space `W_s` on which `H` is built.
+    boundary: Polyline,
     delta: f64,
+    shrink: f64,
     clearance: f64,
+    /// Samples of the edge `∂W_δ = {sd = δ}` of the certified region ([`FloorMap::layer_edge`]).
+    edge: Vec<Vector2<f64>>,
+    /// `min |H|` over the edge samples.
+    edge_radius: f64,
+}
+
+/// The rings of a domain, outer first.
+fn rings(d: &Domain) -> impl Iterator<Item = &[Vector2<f64>]> {
+    std::iter::once(d.outer()).chain(d.holes().iter().map(Vec::as_slice))
+}
+
+/// Every edge of every ring, for parry.
+fn polyline(d: &Domain) -> Polyline {
+    let mut vertices = Vec::new();
+    let mut indices = Vec::new();
+    for ring in rings(d) {
+        let base = vertices.len() as u32;
+        let n = ring.len() as u32;
+        vertices.extend(ring.iter().map(|p| PVector::new(p.x, p.y)));
+        indices.extend((0..n).map(|i| [base + i, base + (i + 1) % n]));
+    }
+    Polyline::new(vertices, Some(indices))
+}
+
+/// The most a circumscribed arc piece turns (rad).
+const ARC_STEP: f64 = std::f64::consts::PI / 8.0;
+
+/// A ring (free side on the left of every edge: the outer ring counter-clockwise, a hole
+/// clockwise) moved by `s > 0` into the free space: every edge along its left normal `n_i`;
+/// at a left turn (a convex corner of the free space) the two offset edges meet at the mitre
+/// `a + s(n₁ + n₂)/(1 + n₁·n₂)`, exactly the erosion's corner; at a right turn (a wall's convex
+/// corner, where the erosion has an arc of radius `s`) the arc is replaced by its circumscribed
+/// polyline (pieces of at most [`ARC_STEP`], corners at `s/cos(Δ/2)`), which lies outside the
+/// arc: the result is inside the true erosion, so it is conservative. `None` when an offset
+/// edge turns back (a feature thinner than `s`); crossings are left to `Domain::new`.
+fn offset_ring(ring: &[Vector2<f64>], s: f64) -> Option<Vec<Vector2<f64>>> {
+    let n = ring.len();
+    let dir = |i: usize| {
+        let e = ring[(i + 1) % n] - ring[i];
+        e / e.norm()
+    };
+    let left = |d: Vector2<f64>| Vector2::new(-d.y, d.x);
+    let mut out = Vec::with_capacity(2 * n);
+    // For each edge, the first and last offset points it contributes (to check its direction).
+    let mut ends = vec![(None, None); n];
+    for i in 0..n {
+        let prev = (i + n - 1) % n;
+        let (d0, d1) = (dir(prev), dir(i));
+        let (n0, n1) = (left(d0), left(d1));
+        let a = ring[i];
+        let turn = d0.x * d1.y - d0.y * d1.x;
+        let cos = d0.dot(&d1);
+        if turn > 1e-12 || (turn.abs() <= 1e-12 && cos > 0.0) {
+            let m = a + s * (n0 + n1) / (1.0 + n0.dot(&n1));
+            ends[prev].1 = Some(out.len());
+            ends[i].0 = Some(out.len());
+            out.push(m);
+        } else {
+            // Right turn (or a full reversal): the arc from n0 to n1, clockwise.
+            let sweep = -(turn.atan2(cos)); // in (0, π]
+            let pieces = (sweep / ARC_STEP).ceil().max(1.0) as usize;
+            let step = sweep / pieces as f64;
+            let start = n0.y.atan2(n0.x);
+            ends[prev].1 = Some(out.len());
+            out.push(a + s * n0);
+            for j in 0..pieces {
+                let t = start - (j as f64 + 0.5) * step;
+                out.push(a + (s / (0.5 * step).cos()) * Vector2::new(t.cos(), t.sin()));
+            }
+            ends[i].0 = Some(out.len());
+            out.push(a + s * n1);
+        }
+    }
+    for (i, &(first, last)) in ends.iter().enumerate() {
+        let (first, last) = (first?, last?);
+        if (out[last] - out[first]).dot(&dir(i)) <= 0.0 {
+            return None;
+        }
+    }
+    Some(out)
+}
+
+/// Spacing of the samples of `∂W_δ`, in units of `δ`.
+pub const EDGE_SPACING: f64 = 0.25;
+
+/// Samples of `∂W_δ = {sd = δ}` about `EDGE_SPACING·δ` apart: every wall edge moved by `δ` along
+/// its normal into the free space, and the arcs of radius `δ` about every vertex, kept where
+/// `sd = δ` to rounding (elsewhere another wall is nearer).
+fn layer_edge(
+    domain: &Domain,
+    walls: &Polyline,
+    delta: f64,
+    outer_only: bool,
+) -> Vec<Vector2<f64>> {
+    let step = EDGE_SPACING * delta;
+    let mut out = Vec::new();
+    let mut keep = |p: Vector2<f64>| {
+        let d = walls.distance_to_local_point(PVector::new(p.x, p.y), false);
+        if (d - delta).abs() <= 1e-9 * delta.max(1.0) && domain.contains(p) {
+            out.push(p);
+        }
+    };
+    for ring in rings(domain).take(if outer_only { 1 } else { usize::MAX }) {
+        let n = ring.len();
+        for i in 0..n {
+            let (a, b) = (ring[i], ring[(i + 1) % n]);
+            let e = b - a;
+            let len = e.norm();
+            // Outer ring counter-clockwise, holes clockwise: the free side is on the left.
+            let normal = Vector2::new(-e.y, e.x) / len;
+            let m = (len / step).ceil().max(1.0) as usize;
+            for j in 0..=m {
+                keep(a + e * (j as f64 / m as f64) + delta * normal);
+            }
+            let arcs = (std::f64::consts::TAU * delta / step).ceil() as usize;
+            for j in 0..arcs {
+                let t = std::f64::consts::TAU * j as f64 / arcs as f64;
+                keep(a + delta * Vector2::new(t.cos(), t.sin()));
+            }
+        }
+    }
+    out
 }
 
 impl FloorMap {
     /// Validates the rings (either orientation is accepted: the outer ring is made
-    /// counter-clockwise and the holes clockwise), meshes and solves `H` (one LU,
-    /// `O((N + M)³)`), and sets `δ = max(clearance, h_max)`.
+    /// counter-clockwise and the holes clockwise), shrinks them by `s = max(clearance − δ, 0)`,
+    /// `δ = max_element`, and meshes and solves `H` on the result (one LU, `O((N + M)³)`).
     ///
     /// # Errors
     /// [`FloorError::InvalidOption`] for a non-positive or non-finite `max_element` or a
     /// negative `clearance`; [`FloorError::Domain`] for invalid rings (self-crossing, holes
-    /// outside or touching, …); [`FloorError::Solve`] when the solve fails.
+    /// outside or touching, …); [`FloorError::TooNarrow`] when the shrunk rings are not valid
+    /// (a passage narrower than the robot); [`FloorError::Solve`] when the solve fails.
     pub fn new(
         outer: Vec<Vector2<f64>>,
         holes: Vec<Vec<Vector2<f64>>>,
@@ -197,24 +345,56 @@ impl FloorMap {
         }
         let outer = oriented(outer, true);
         let holes: Vec<_> = holes.into_iter().map(|r| oriented(r, false)).collect();
-        let domain = Domain::new(outer, holes)?;
+        let truth = Domain::new(outer, holes)?;
+        // δ = h ≥ h_max: the layer of the discrete map. The free space is shrunk by the rest of
+        // the clearance, so that W_δ is the configuration space with its margin.
+        let delta = h;
+        let shrink = (c - delta).max(0.0);
+        let domain = if shrink > 0.0 {
+            let rings: Vec<Vec<Vector2<f64>>> = rings(&truth)
+                .enumerate()
+                .map(|(i, r)| {
+                    offset_ring(r, shrink).ok_or(FloorError::TooNarrow {
+                        ring: if i == 0 {
+                            RingId::Outer
+                        } else {
+                            RingId::Hole(i - 1)
+                        },
+                        problem: "an edge vanishes or turns back".into(),
+                    })
+                })
+                .collect::<Result<_, _>>()?;
+            let mut rings = rings.into_iter();
+            let outer = rings.next().unwrap_or_default();
+            Domain::new(outer, rings.collect()).map_err(|e| FloorError::TooNarrow {
+                ring: RingId::Outer,
+                problem: e.to_string(),
+            })?
+        } else {
+            truth.clone()
+        };
         let map = HarmonicMap::new(&domain, &MeshOptions::graded(h))?;
-        let mut vertices = Vec::new();
-        let mut indices = Vec::new();
-        for ring in std::iter::once(domain.outer()).chain(domain.holes().iter().map(Vec::as_slice))
-        {
-            let base = vertices.len() as u32;
-            let n = ring.len() as u32;
-            vertices.extend(ring.iter().map(|p| PVector::new(p.x, p.y)));
-            indices.extend((0..n).map(|i| [base + i, base + (i + 1) % n]));
+        let walls = polyline(&truth);
+        let boundary = polyline(&domain);
+        let edge = layer_edge(map.domain(), &boundary, delta, false);
+        // Over every ring: near a hole the layer maps next to its puncture (the U's pocket
+        // squeezes it to 2e-4), which widens S's band to MAX_BAND. Measured: taking r_δ along
+        // the outer ring alone narrowed the band and the L room's far starts stalled.
+        let mut edge_radius: f64 = 1.0;
+        for &p in &edge {
+            let r = map.eval(p).map_or(1.0, |e| e.value.norm());
+            edge_radius = edge_radius.min(r);
         }
-        let walls = Polyline::new(vertices, Some(indices));
-        let delta = c.max(map.max_element_length());
         Ok(Self {
             map,
+            truth,
             walls,
+            boundary,
             delta,
+            shrink,
             clearance: c,
+            edge,
+            edge_radius,
         })
     }
 
@@ -224,23 +404,52 @@ impl FloorMap {
         &self.map
     }
 
-    /// The walls as a validated domain.
+    /// The free space `W_s` on which `H` is built: the walls shrunk by
+    /// [`FloorMap::shrink`].
     #[must_use]
     pub fn domain(&self) -> &Domain {
         self.map.domain()
     }
 
-    /// `δ = max(radius + margin, h_max)`: the certified region is `W_δ = {sd ≥ δ}`.
+    /// The true walls, as given (validated, oriented).
+    #[must_use]
+    pub fn walls(&self) -> &Domain {
+        &self.truth
+    }
+
+    /// `δ = h` (the largest element asked for, `≥ h_max`): the certified region is
+    /// `W_δ = {sd ≥ δ}`, `sd` the signed distance to `∂W_s`.
     #[must_use]
     pub fn delta(&self) -> f64 {
         self.delta
     }
 
-    /// `true` when `radius + margin < h_max`: the robot keeps the larger `δ = h_max` from the
-    /// walls (the discrete map is only claimed a diffeomorphism there).
+    /// `s = max(radius + margin − δ, 0)`: how far the walls were shrunk to give `W_s`.
+    #[must_use]
+    pub fn shrink(&self) -> f64 {
+        self.shrink
+    }
+
+    /// `true` when `radius + margin < δ`: the robot keeps the larger `δ` from the walls (the
+    /// discrete map is only claimed a diffeomorphism there).
     #[must_use]
     pub fn keeps_delta(&self) -> bool {
         self.clearance < self.delta
+    }
+
+    /// Samples of the edge `∂W_δ` of the certified region, [`EDGE_SPACING`]`·δ` apart (the
+    /// wall edges moved by `δ` into the free space and the arcs about the vertices), where
+    /// `c_δ` is measured ([`crate::FloorField::layer_level`]).
+    #[must_use]
+    pub fn layer_edge(&self) -> &[Vector2<f64>] {
+        &self.edge
+    }
+
+    /// `r_δ = min |H|` over [`FloorMap::layer_edge`]: the stretch `S` starts inside it, so the
+    /// walls' barrier is already steep at `∂W_δ` (`docs/maths.md` §13).
+    #[must_use]
+    pub fn edge_radius(&self) -> f64 {
+        self.edge_radius
     }
 
     /// The distance from `x` to the nearest wall (parry's point query on the wall segments),
@@ -251,12 +460,27 @@ impl FloorMap {
             .distance_to_local_point(PVector::new(x.x, x.y), false)
     }
 
-    /// The signed distance `sd(x)` to the walls: positive in the free space, negative in a
-    /// hole or beyond the outer ring. 1-Lipschitz.
+    /// The signed distance `sd(x)` to `∂W_s` (the shrunk walls, parry): positive in `W_s`,
+    /// negative outside it. 1-Lipschitz.
     #[must_use]
     pub fn signed_distance(&self, x: Vector2<f64>) -> f64 {
-        let d = self.wall_distance(x);
+        let d = self
+            .boundary
+            .distance_to_local_point(PVector::new(x.x, x.y), false);
         if self.domain().contains(x) { d } else { -d }
+    }
+
+    /// The unit vector from `x` to the nearest point of `∂W_s` (parry's projection), `−∇sd`
+    /// inside `W_s`; `None` on the boundary itself.
+    #[must_use]
+    pub fn toward_boundary(&self, x: Vector2<f64>) -> Option<Vector2<f64>> {
+        let p = self
+            .boundary
+            .project_local_point(PVector::new(x.x, x.y), false)
+            .point;
+        let d = Vector2::new(p.x - x.x, p.y - x.y);
+        let norm = d.norm();
+        (norm > 0.0 && norm.is_finite()).then(|| d / norm)
     }
 
     /// A lower bound on the distance from `x ∈ W_δ` to the boundary layer: `sd(x) − δ` (exact:

@@ -23,8 +23,8 @@ impl From<NotFree> for FieldError {
 /// `Θ(x) = sigma(phi_k(Phi(x)))` on a floor plan, `Phi = S ∘ H ∘ B` ([`FloorTransform`]),
 /// `∇Θ = sigma'(phi_k)·J_Phiᵀ ∇phi_k` (the chain rule of theorem `isNF`), over the holes and
 /// the sensed obstacles: `k = policy.k_for(M + n, layer)` with the layer ratio
-/// `max_i |P_d − P_i|/(1 − |P_i| − ε_0)` of the disk (the star world's rule, `docs/maths.md`
-/// §8, with the unit circle as the boundary). [`FloorField::with_obstacle`] adds a sensed
+/// `max_i |H(x_d) − p_i|/(1 − |p_i|)` of the points in the disk (the star world's rule,
+/// `docs/maths.md` §8, with the unit circle as the boundary). [`FloorField::with_obstacle`] adds a sensed
 /// obstacle without a new solve of `H`.
 #[derive(Clone, Debug)]
 pub struct FloorField {
@@ -60,16 +60,18 @@ impl FloorField {
         policy: KPolicy,
     ) -> Result<Self, FloorError> {
         let transform = FloorTransform::new(floor, obstacles, goal, 0.0)?;
-        let points: Vec<_> = transform.points().collect();
-        let pd = transform.destination_point();
-        let eps0 = transform.outer_band().0;
-        let layer = points
+        // k and the valley radius from the points in the disk (before S, which depends on r*).
+        let raw: Vec<_> = transform.raw_points().collect();
+        let pd = transform.destination_image();
+        let layer = raw
             .iter()
-            .map(|p| (pd - p).norm() / (1.0 - p.norm() - eps0))
+            .map(|p| (pd - p).norm() / (1.0 - p.norm()))
             .fold(0.0, f64::max);
-        let k = policy.k_for(points.len(), layer);
-        let world = PointWorld::new(pd, points)?.with_k(k)?;
-        let transform = transform.with_valley_radius(world.valley_radius(Vector2::zeros()))?;
+        let k = policy.k_for(raw.len(), layer);
+        let disk = PointWorld::new(pd, raw)?.with_k(k)?;
+        let transform = transform.with_valley_radius(disk.valley_radius(Vector2::zeros()))?;
+        let points: Vec<_> = transform.points().collect();
+        let world = PointWorld::new(transform.destination_point(), points)?.with_k(k)?;
         let j = transform
             .nav_transform(goal)
             .map_err(|_| FloorError::GoalNotCertified {

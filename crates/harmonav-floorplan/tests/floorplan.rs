@@ -135,13 +135,13 @@ fn points_are_punctures_then_sensed_centres_and_k_counts_both() {
     let floor = u_trap(0.25, 0.25);
     let field = FloorField::new(floor.clone(), v(5.0, 2.0), KPolicy::Paper).unwrap();
     assert_eq!(field.k(), 2.0);
-    let pw: Vec<_> = field.transform().points().collect();
+    let pw: Vec<_> = field.transform().raw_points().collect();
     assert_eq!(pw, floor.map().punctures().to_vec());
     let rock = StarShape::circle(v(1.0, 2.0), 0.3).unwrap();
     let more = field.with_obstacle(rock).unwrap();
     assert_eq!(more.k(), 3.0);
     assert!(Arc::ptr_eq(more.floor(), field.floor()), "no new solve");
-    let last = more.transform().points().last().unwrap();
+    let last = more.transform().raw_points().last().unwrap();
     assert!((last - floor.map().eval(v(1.0, 2.0)).unwrap().value).norm() < 1e-15);
     // Inside the obstacle, at its centre, and on the hole: typed, never a NaN.
     assert_eq!(

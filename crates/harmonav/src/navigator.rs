@@ -97,6 +97,12 @@ pub enum NavError {
     /// The navigation function could not be built over the obstacles (not expected for a
     /// validated workspace; reported rather than hidden).
     Field(FieldError),
+    /// A floor plan's navigation function could not be built, or a sensed obstacle does not
+    /// fit in it ([`crate::FloorNavigator`]).
+    Floor(harmonav_floorplan::FloorError),
+    /// The position lies in a floor plan's boundary layer: closer than `δ` to a wall, where
+    /// the discrete harmonic map is not certified ([`crate::FloorNavigator`]).
+    BoundaryLayer,
 }
 
 /// What an [`NavError::InvalidOption`] field must be.
@@ -148,6 +154,11 @@ impl std::fmt::Display for NavError {
             }
             Self::NonFiniteCommand => write!(f, "the command came out non-finite"),
             Self::Field(e) => write!(f, "the navigation function: {e}"),
+            Self::Floor(e) => write!(f, "the floor plan: {e}"),
+            Self::BoundaryLayer => write!(
+                f,
+                "the position lies in the floor plan's boundary layer (closer than δ to a wall)"
+            ),
         }
     }
 }
@@ -208,6 +219,28 @@ pub struct Navigator {
     last: Option<(Vector2<f64>, Vector2<f64>)>,
 }
 
+/// The law's controller for `law` under `options`, validated (each error names the field).
+pub(crate) fn controller(law: &Law, options: &Options) -> Result<Controller, NavError> {
+    options.validate(law)?;
+    let d_min = options.d_min()?;
+    Ok(match *law {
+        Law::Kinematic { gain } => Controller::Kinematic(Kinematic::new(in_range("gain", gain)?)?),
+        Law::Dynamic { mass, mu } => {
+            let law = Dynamic::new(in_range("mass", mass)?, in_range("mu", mu)?, d_min)?
+                .with_damping(options.damping);
+            // Guard: within the ranges √(2μ/m) ≤ √2·1e9; checked, not assumed.
+            let bound = law.speed_bound();
+            if !(bound.is_finite() && bound > 0.0) {
+                return Err(NavError::InvalidOption {
+                    field: "mu",
+                    value: mu,
+                });
+            }
+            Controller::Dynamic(law)
+        }
+    })
+}
+
 /// A field error at a point, as the navigator reports it.
 fn not_free(e: FieldError) -> NavError {
     match e {
@@ -216,7 +249,7 @@ fn not_free(e: FieldError) -> NavError {
     }
 }
 
-fn finite(v: Vector2<f64>, what: &'static str) -> Result<(), NavError> {
+pub(crate) fn finite(v: Vector2<f64>, what: &'static str) -> Result<(), NavError> {
     if v.iter().all(|c| c.is_finite()) {
         Ok(())
     } else {
@@ -239,26 +272,7 @@ impl Navigator {
         options: Options,
     ) -> Result<Self, NavError> {
         finite(goal, "goal")?;
-        options.validate(&law)?;
-        let d_min = options.d_min()?;
-        let controller = match law {
-            Law::Kinematic { gain } => {
-                Controller::Kinematic(Kinematic::new(in_range("gain", gain)?)?)
-            }
-            Law::Dynamic { mass, mu } => {
-                let law = Dynamic::new(in_range("mass", mass)?, in_range("mu", mu)?, d_min)?
-                    .with_damping(options.damping);
-                // Guard: within the ranges √(2μ/m) ≤ √2·1e9; checked, not assumed.
-                let bound = law.speed_bound();
-                if !(bound.is_finite() && bound > 0.0) {
-                    return Err(NavError::InvalidOption {
-                        field: "mu",
-                        value: mu,
-                    });
-                }
-                Controller::Dynamic(law)
-            }
-        };
+        let controller = controller(&law, &options)?;
         let inflation = options.radius + options.margin;
         let shrunk = boundary.offset(-inflation).map_err(NavError::Shape)?;
         let inner_boundary = if options.margin > 0.0 {
@@ -382,7 +396,7 @@ impl Navigator {
                 let d = eval.damping.unwrap_or_else(|| {
                     law.damping(&self.field, &eval.field, v, self.speed_at_discovery)
                 });
-                hold::dynamic(law, self.field.workspace(), x, (&eval.field, v), &d, h)
+                hold::dynamic(law, &self.field, x, (&eval.field, v), &d, h)
             }
             Controller::Kinematic(law) => {
                 hold::kinematic(law, &self.field, x, &eval.field, eval.command, h)
