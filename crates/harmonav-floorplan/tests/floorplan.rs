@@ -162,9 +162,11 @@ fn points_are_punctures_then_sensed_centres_and_k_counts_both() {
 #[test]
 fn folds_in_the_layer_are_found_and_refused() {
     let floor = u_trap(0.5, 0.0);
-    let h = floor.map().max_element_length();
-    assert_eq!(floor.delta(), h);
+    let h = floor.delta();
+    assert_eq!(h, 0.5);
+    assert!(floor.map().max_element_length() <= h);
     assert!(floor.keeps_delta());
+    assert_eq!(floor.shrink(), 0.0);
     let field = FloorField::new(floor.clone(), v(5.0, 2.0), KPolicy::Auto).unwrap();
     let mut folds = Vec::new();
     for i in 0..600 {

@@ -55,6 +55,19 @@ pub fn checks() -> Vec<Check> {
 /// and obstacles, never leaving the plan, and never entering the boundary layer.
 fn fly(file: &Path, model: Model) -> Outcome {
     let p = FloorScenario::load(file).map_err(|e| e.to_string())?;
+    let field = harmonav::floorplan::FloorField::new(
+        p.floor.clone(),
+        nalgebra::Vector2::new(p.scenario.robot.goal[0], p.scenario.robot.goal[1]),
+        harmonav::KPolicy::default(),
+    )
+    .map_err(|e| e.to_string())?;
+    // c_δ over the walls alone (the sensed obstacles are not known at the start).
+    let (level, _) = field.layer_level();
+    let below = p
+        .starts
+        .iter()
+        .filter(|&&s| field.eval(s).is_ok_and(|e| e.value < level))
+        .count();
     let (mut reached, mut bad) = (0, Vec::new());
     let (mut walls, mut obstacles, mut layer, mut slowest) =
         (f64::INFINITY, f64::INFINITY, f64::INFINITY, 0.0_f64);
@@ -81,8 +94,8 @@ fn fly(file: &Path, model: Model) -> Outcome {
         bad.is_empty() && walls > 0.0 && obstacles > 0.0 && layer >= 0.0,
         format!(
             "{reached}/{n} within {} m (slowest {slowest:.1} s), 0 collisions: wall clearance \
-             {walls:.3} m, obstacles {obstacles:.3} m, layer {layer:.1e} m; N = {}, δ = {} m, \
-             setup {:.2} s{}",
+             {walls:.3} m, obstacles {obstacles:.3} m, layer {layer:.1e} m; {below}/{n} starts \
+             below c_δ = {level:.3e}; N = {}, δ = {} m, setup {:.2} s{}",
             p.scenario.sim.arrival,
             p.floor.map().elements().len(),
             p.floor.delta(),
