@@ -15,9 +15,10 @@ mod verify;
 use std::process::ExitCode;
 
 const USAGE: &str =
-    "usage: cargo xtask <verify | bench [--json] [--numpy] [--portable] [--only PREFIX] | figures>
+    "usage: cargo xtask <verify [--only PREFIX] | bench [--json] [--numpy] [--portable] [--only PREFIX] | figures>
 
   verify   run the named guarantee checks; ends with `verify: N passed, M failed`
+             --only P  only the checks whose names start with P (e.g. floorplan.)
   bench    measure the benchmark figures in release mode
              --json    print one JSON object instead of a table
              --numpy   also time a NumPy implementation of eq. (gradient) (needs python3 + numpy)
@@ -28,7 +29,8 @@ const USAGE: &str =
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     match args.first().map(String::as_str) {
-        Some("verify") if args.len() == 1 => verify::run(),
+        Some("verify") if args.len() == 1 => verify::run(None),
+        Some("verify") if args.len() == 3 && args[1] == "--only" => verify::run(Some(&args[2])),
         Some("figures") if args.len() == 1 => figures::run(),
         Some("quality") => quality::run(&args[1..]),
         Some("bench") => match bench::Options::parse(&args[1..]) {

@@ -4,6 +4,7 @@
 mod adversarial;
 mod control;
 mod field;
+mod floorplans;
 mod lidar;
 mod navigator;
 mod potential;
@@ -132,12 +133,16 @@ fn checks() -> Vec<Check> {
     all.extend(quality::checks());
     all.extend(scale::checks());
     all.extend(scenarios::checks());
+    all.extend(floorplans::checks());
     all.extend(adversarial::checks());
     all
 }
 
-pub fn run() -> ExitCode {
-    let checks = checks();
+pub fn run(only: Option<&str>) -> ExitCode {
+    let mut checks = checks();
+    if let Some(prefix) = only {
+        checks.retain(|c| c.name.starts_with(prefix));
+    }
     let started = Instant::now();
     let results: Vec<Mutex<Option<(Outcome, f64)>>> =
         checks.iter().map(|_| Mutex::new(None)).collect();

@@ -239,13 +239,24 @@ impl Dynamic {
     /// `sigma'(phi)` underflows, `phi ≳ 745`, within ~1e-300 m of a wall, `∇Θ` has underflowed
     /// too and `∇Ψ = 0`, as under the paper's law).
     pub fn potential(&self, field: &Field, eval: &FieldEval) -> Potential {
+        self.potential_for(self.scale_shift(field), eval)
+    }
+
+    /// [`Dynamic::potential`] for the scale shift `shift` (the [`Dynamic::scale_shift`] of the
+    /// field that made `eval`; 0 for a `Θ` that is free of the world's scale already, such as
+    /// a floor plan's, whose harmonic map goes onto the unit disk).
+    pub fn potential_for(&self, shift: f64, eval: &FieldEval) -> Potential {
         if self.policy == DampingPolicy::Paper {
             return Potential {
                 value: eval.value,
                 gradient: eval.gradient,
             };
         }
-        let s = self.scale_shift(field);
+        let s = if self.policy == DampingPolicy::Auto {
+            shift
+        } else {
+            0.0
+        };
         let (theta, gradient) = if s == 0.0 {
             (eval.value, eval.gradient)
         } else if eval.gradient == Vector2::zeros() {
@@ -288,12 +299,17 @@ impl Dynamic {
     /// `e^{−s_c}·s/2` for `Ψ ≈ Θ_s/2 ≈ e^{−s_c}Θ/2` under `"auto"` (`s_c` the
     /// [`Dynamic::scale_shift`]: `sigma(phi − s_c) ≈ e^{phi − s_c}` as `phi → −∞`).
     pub fn goal_stiffness(&self, field: &Field) -> f64 {
-        let s = field.destination_stiffness();
+        self.goal_stiffness_for(field.destination_stiffness(), self.scale_shift(field))
+    }
+
+    /// [`Dynamic::goal_stiffness`] for a field whose `H(Θ)(x_d)` has smallest eigenvalue `s`
+    /// (a floor plan's `Θ`, where `Phi` is not the identity at the goal) and whose scale shift
+    /// is `shift` ([`Dynamic::potential_for`]).
+    pub fn goal_stiffness_for(&self, s: f64, shift: f64) -> f64 {
         match self.policy {
             DampingPolicy::Paper => s,
-            DampingPolicy::Shaped | DampingPolicy::Auto => {
-                0.5 * s * (-self.scale_shift(field)).exp()
-            }
+            DampingPolicy::Shaped => 0.5 * s,
+            DampingPolicy::Auto => 0.5 * s * (-shift).exp(),
         }
     }
 
@@ -301,7 +317,13 @@ impl Dynamic {
     /// [`Dynamic::goal_stiffness`]; under the paper's policy `2√(2μm) Π|P_d − P_i|^{−1/k}`.
     /// Damping ratio 1 at the goal.
     pub fn lambda_c(&self, field: &Field) -> f64 {
-        2.0 * (self.mass * self.mu * self.goal_stiffness(field)).sqrt()
+        self.lambda_c_for(field.destination_stiffness(), self.scale_shift(field))
+    }
+
+    /// [`Dynamic::lambda_c`] for the goal stiffness `s` and the scale shift `shift` of
+    /// [`Dynamic::goal_stiffness_for`].
+    pub fn lambda_c_for(&self, s: f64, shift: f64) -> f64 {
+        2.0 * (self.mass * self.mu * self.goal_stiffness_for(s, shift)).sqrt()
     }
 
     /// The damping of [`DampingPolicy::Auto`] in the `V < μ` branch:
@@ -313,16 +335,22 @@ impl Dynamic {
     /// Numerical guard: at the goal (`Ψ = 0`, or so close that `Ψ` underflows) the ratio is
     /// `0/0`; its limit `λ_c` is returned instead.
     pub fn lambda_auto(&self, field: &Field, eval: &FieldEval) -> f64 {
-        self.lambda_auto_at(field, &self.potential(field, eval))
+        let shift = self.scale_shift(field);
+        self.lambda_auto_at(
+            field.destination_stiffness(),
+            shift,
+            &self.potential_for(shift, eval),
+        )
     }
 
-    /// [`Dynamic::lambda_auto`] from a potential already evaluated.
-    fn lambda_auto_at(&self, field: &Field, p: &Potential) -> f64 {
+    /// [`Dynamic::lambda_auto`] from a potential already evaluated (`s`: the field's
+    /// destination stiffness, `shift` its scale shift).
+    fn lambda_auto_at(&self, s: f64, shift: f64, p: &Potential) -> f64 {
         let ratio = p.gradient.norm() / (2.0 * p.value).sqrt();
         if p.value > 0.0 && ratio.is_finite() {
             2.0 * (self.mass * self.mu).sqrt() * ratio
         } else {
-            self.lambda_c(field)
+            self.lambda_c_for(s, shift)
         }
     }
 
@@ -342,12 +370,31 @@ impl Dynamic {
         velocity: Vector2<f64>,
         speed_at_discovery: f64,
     ) -> Damping {
+        let s = field.destination_stiffness();
+        self.damping_for(
+            (s, self.scale_shift(field)),
+            eval,
+            velocity,
+            speed_at_discovery,
+        )
+    }
+
+    /// [`Dynamic::damping`] for a field whose destination stiffness (the smallest eigenvalue
+    /// of `H(Θ)(x_d)`) is `s` and whose scale shift is `shift` ([`Dynamic::potential_for`]):
+    /// the same law for any `Θ`, e.g. a floor plan's.
+    pub fn damping_for(
+        &self,
+        (s, shift): (f64, f64),
+        eval: &FieldEval,
+        velocity: Vector2<f64>,
+        speed_at_discovery: f64,
+    ) -> Damping {
         // Ψ once per call: it serves both λ(x) and V.
-        let p = self.potential(field, eval);
+        let p = self.potential_for(shift, eval);
         let (own, uphill) = match self.policy {
-            DampingPolicy::Paper => (self.lambda_c(field), 0.0),
+            DampingPolicy::Paper => (self.lambda_c_for(s, shift), 0.0),
             DampingPolicy::Shaped | DampingPolicy::Auto => {
-                let l = self.lambda_auto_at(field, &p);
+                let l = self.lambda_auto_at(s, shift, &p);
                 (l, UPHILL_GAIN * l)
             }
         };
@@ -382,7 +429,18 @@ impl Dynamic {
         velocity: Vector2<f64>,
         d: &Damping,
     ) -> Vector2<f64> {
-        let g = self.potential(field, eval).gradient;
+        self.force_for(self.scale_shift(field), eval, velocity, d)
+    }
+
+    /// [`Dynamic::force`] for the scale shift `shift` ([`Dynamic::potential_for`]).
+    pub fn force_for(
+        &self,
+        shift: f64,
+        eval: &FieldEval,
+        velocity: Vector2<f64>,
+        d: &Damping,
+    ) -> Vector2<f64> {
+        let g = self.potential_for(shift, eval).gradient;
         let f = -self.mu * g - d.lambda * velocity;
         let n = g / g.norm();
         let climb = velocity.dot(&n);

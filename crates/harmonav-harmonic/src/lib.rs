@@ -3,7 +3,7 @@
 //! The harmonic map `H` of a polygonal free space with polygonal holes onto the punctured unit
 //! disk, by boundary elements, with its exact Jacobian and a certificate of `det J_H > 0` away
 //! from the boundary. It is the `H` of the floor-plan transformation `Phi = S ∘ H ∘ B`
-//! (issue 25, docs/maths.md §11); nothing depends on it yet.
+//! (issue 25, docs/maths.md §11); harmonav-floorplan composes it (§13).
 //!
 //! **The theorem** (Radó–Kneser–Choquet; Duren & Hengartner for finitely connected domains):
 //! if `u, v` are harmonic in `W_s`, the outer boundary goes monotonically onto the unit circle,

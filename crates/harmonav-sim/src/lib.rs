@@ -36,6 +36,7 @@
 pub mod atomic;
 mod closed_loop;
 pub mod figures;
+pub mod floorplan;
 pub mod guarantee;
 pub mod levels;
 mod monitor;

@@ -351,7 +351,12 @@ pub fn scenario_files(dir: &Path) -> std::io::Result<Vec<PathBuf>> {
     fn walk(dir: &Path, out: &mut Vec<PathBuf>) -> std::io::Result<()> {
         for entry in std::fs::read_dir(dir)? {
             let p = entry?.path();
-            if p.is_dir() && p.file_name().is_some_and(|n| n == ADVERSARIAL || n == LONG) {
+            // Floor plans have their own format and loop (`crate::floorplan`).
+            if p.is_dir()
+                && p.file_name().is_some_and(|n| {
+                    n == ADVERSARIAL || n == LONG || n == crate::floorplan::FLOORPLANS
+                })
+            {
                 continue;
             } else if p.is_dir() {
                 walk(&p, out)?;

@@ -7,9 +7,11 @@
 //! `B(x, d(x))` lies in the free space, so a motion that stays in it cannot collide.
 
 use harmonav_control::{Damping, Dynamic, Kinematic};
-use harmonav_field::{Field, FieldEval};
+use harmonav_field::FieldEval;
 use harmonav_transform::{StarShape, Workspace};
 use nalgebra::Vector2;
+
+use crate::space::Space;
 
 /// How a command was formed ([`Command::mode`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -82,7 +84,7 @@ pub const SPEED_SLACK: f64 = 1e-6;
 
 /// A certified lower bound on the signed distance from `x` to `shape` (negative inside):
 /// [`StarShape::signed_distance_bounds`].
-fn lower(shape: &StarShape, x: Vector2<f64>) -> f64 {
+pub(crate) fn lower(shape: &StarShape, x: Vector2<f64>) -> f64 {
     shape.signed_distance_bounds(x).0
 }
 
@@ -131,11 +133,16 @@ pub const MAX_TRACE_BALLS: usize = 64;
 /// free), else the covered length after [`MAX_TRACE_BALLS`] balls or at a ball too small to
 /// advance. A ray that runs along a wall keeps its balls as large as its distance to the wall,
 /// where the one ball of `d(x)` would cap the step at that distance.
-pub(crate) fn free_length(ws: &Workspace, x: Vector2<f64>, dir: Vector2<f64>, want: f64) -> f64 {
+pub(crate) fn free_length(
+    space: &impl Space,
+    x: Vector2<f64>,
+    dir: Vector2<f64>,
+    want: f64,
+) -> f64 {
     let mut t = 0.0;
     for _ in 0..MAX_TRACE_BALLS {
         // Asked for twice the rest, so that the clip at `need` cannot bind by rounding.
-        let d = clearance(ws, x + t * dir, 2.0 * (want - t), None);
+        let d = space.clearance(x + t * dir, 2.0 * (want - t), None);
         if t + d > want {
             return want;
         }
@@ -150,7 +157,7 @@ pub(crate) fn free_length(ws: &Workspace, x: Vector2<f64>, dir: Vector2<f64>, wa
 
 /// The unit direction `u` of the ray from `shape`'s centre through `x`, and `ρ = |x − c|`;
 /// `None` at the centre (or for a NaN `x`), where the ray is undefined.
-fn ray(shape: &StarShape, x: Vector2<f64>) -> Option<(Vector2<f64>, f64)> {
+pub(crate) fn ray(shape: &StarShape, x: Vector2<f64>) -> Option<(Vector2<f64>, f64)> {
     let radial = x - shape.centre();
     let rho = radial.norm();
     (rho > 0.0).then(|| (radial / rho, rho))
@@ -159,7 +166,7 @@ fn ray(shape: &StarShape, x: Vector2<f64>) -> Option<(Vector2<f64>, f64)> {
 /// The width of the layer along a shape in which its certified distance bounds cannot prove
 /// a free point free: twice the certified width `τ` of [`StarShape::signed_distance_bounds`]
 /// plus its rounding allowance (`64ε` of the coordinates' size, twice).
-fn blind_layer(shape: &StarShape, x: Vector2<f64>) -> f64 {
+pub(crate) fn blind_layer(shape: &StarShape, x: Vector2<f64>) -> f64 {
     let size = x.amax() + shape.centre().amax() + shape.radius_bounds().1;
     2.0 * shape.distance_tolerance() + 256.0 * f64::EPSILON * size
 }
@@ -217,7 +224,7 @@ pub const CHORD_AFTER_HALVINGS: u32 = 1;
 /// is `y`, so `Θ` decreases over it as over the sub-steps.
 pub(crate) fn kinematic(
     law: &Kinematic,
-    field: &Field,
+    field: &impl Space,
     x: Vector2<f64>,
     e: &FieldEval,
     u: Vector2<f64>,
@@ -233,7 +240,7 @@ pub(crate) fn kinematic(
         let Ok(ey) = field.eval(y) else {
             return single;
         };
-        let to_goal = (y - field.workspace().destination()).norm();
+        let to_goal = (y - field.goal()).norm();
         let (c, _) = kinematic_step(field, y, &ey, law.velocity(&ey, to_goal), tau);
         y += tau * c.value;
     }
@@ -241,7 +248,7 @@ pub(crate) fn kinematic(
     let length = chord.norm();
     let better = length > h * single.value.norm();
     let decreases = field.eval(y).is_ok_and(|ey| ey.phi < e.phi);
-    if better && decreases && free_length(field.workspace(), x, chord / length, length) >= length {
+    if better && decreases && free_length(field, x, chord / length, length) >= length {
         Command {
             value: chord / h,
             mode: Mode::Capped {
@@ -257,13 +264,13 @@ pub(crate) fn kinematic(
 /// halved until `phi_k` decreases over it (`None` if it never does: the law's step stands).
 /// Held for `h`, it moves along the shape's ray, certified free.
 fn kinematic_escape(
-    field: &Field,
+    field: &impl Space,
     x: Vector2<f64>,
     e: &FieldEval,
     step: f64,
     h: f64,
 ) -> Option<Command> {
-    let (band, dir, mut length) = escape(field.workspace(), x, step)?;
+    let (band, dir, mut length) = field.escape(x, step)?;
     for _ in 0..=MAX_HALVINGS {
         if field.eval(x + length * dir).is_ok_and(|e1| e1.phi < e.phi) {
             return Some(Command {
@@ -288,12 +295,13 @@ fn kinematic_escape(
 /// ends. After [`MAX_HALVINGS`] the robot is at a critical point
 /// to working precision and the command is 0.
 fn kinematic_step(
-    field: &Field,
+    field: &impl Space,
     x: Vector2<f64>,
     e: &FieldEval,
     u: Vector2<f64>,
     h: f64,
 ) -> (Command, u32) {
+    let u = field.slide(x, u, h * u.norm());
     let step = h * u.norm();
     if step == 0.0 {
         return (
@@ -304,13 +312,13 @@ fn kinematic_step(
             0,
         );
     }
-    let free = free_length(field.workspace(), x, u / u.norm(), step);
+    let free = free_length(field, x, u / u.norm(), step);
     if free <= 0.0
         && let Some(out) = kinematic_escape(field, x, e, step, h)
     {
         return (out, 0);
     }
-    let to_goal = (x - field.workspace().destination()).norm();
+    let to_goal = (x - field.goal()).norm();
     let mut scale = if free >= step {
         1.0
     } else {
@@ -352,15 +360,14 @@ fn kinematic_step(
 /// for `h(λ + λ_up)/m < 2`.
 pub(crate) fn dynamic(
     law: &Dynamic,
-    field: &Field,
+    space: &impl Space,
     x: Vector2<f64>,
     (e, v): (&FieldEval, Vector2<f64>),
     d: &Damping,
     h: f64,
 ) -> Command {
-    let ws = field.workspace();
     let m = law.mass();
-    let g = law.potential(field, e).gradient;
+    let g = law.potential_for(space.scale_shift(law), e).gradient;
     let w = v - (h * law.mu() / m) * g;
     let a = 1.0 + h * d.lambda / m;
     let mut next = w / a;
@@ -370,11 +377,12 @@ pub(crate) fn dynamic(
         let b = h * d.uphill / m;
         next -= n * (climb * (1.0 / a - 1.0 / (a + b)));
     }
+    next = space.slide(x, next, 2.0 * h * next.norm());
     let speed = next.norm();
     let bound = (1.0 - SPEED_SLACK) * law.speed_bound();
-    let d = clearance(ws, x, 2.0 * h * speed / DYNAMIC_FRACTION, None);
+    let d = space.clearance(x, 2.0 * h * speed / DYNAMIC_FRACTION, None);
     if d <= BLIND
-        && let Some((band, dir, length)) = escape(ws, x, 0.5 * h * bound)
+        && let Some((band, dir, length)) = space.escape(x, 0.5 * h * bound)
     {
         // In the blind layer (`escape`): v⁺ along the shape's ray, `h|v⁺|` the way out.
         let out = (length / h) * dir;

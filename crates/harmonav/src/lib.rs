@@ -36,27 +36,37 @@
 //! ```
 //!
 //! The layers, re-exported: [`potential`] (`phi_k` on the point world), [`transform`] (shapes
-//! and the navigation transformation), [`field`] (`Θ`), [`sensing`] (the sector and `d_min`),
-//! [`control`] (the laws) and [`perception`] (range scans to conservative star obstacles, fed
-//! to the navigator by [`Navigator::observe_scan`]).
+//! and the navigation transformation), [`field`] (`Θ`), [`floorplan`] (`Θ` on floor plans,
+//! `Phi = S ∘ H ∘ B`), [`sensing`] (the sector and `d_min`), [`control`] (the laws) and
+//! [`perception`] (range scans to conservative star obstacles, fed to the navigator by
+//! [`Navigator::observe_scan`]).
+//!
+//! Floor plans (polygons with polygonal holes, walls of any shape) have their own navigator,
+//! [`FloorNavigator`], with the same calls; it navigates in the certified region `W_δ` of the
+//! harmonic map ([`FloorMap`], `docs/maths.md` §13).
 
 #![warn(missing_docs)]
 
 pub mod checks;
+mod floor;
 mod hold;
 mod navigator;
 mod options;
 mod scan;
+mod space;
 
 pub use harmonav_control as control;
 pub use harmonav_field as field;
+pub use harmonav_floorplan as floorplan;
 pub use harmonav_perception as perception;
 pub use harmonav_potential as potential;
 pub use harmonav_sensing as sensing;
 pub use harmonav_transform as transform;
 
+pub use floor::FloorNavigator;
 pub use harmonav_control::{DampingPolicy, SpeedPolicy};
 pub use harmonav_field::KPolicy;
+pub use harmonav_floorplan::{FloorError, FloorMap, FloorOptions};
 pub use harmonav_transform::{ShapeError, StarShape};
 pub use hold::{
     BLIND, Band, CHORD_AFTER_HALVINGS, CHORD_SUBSTEPS, Command, DYNAMIC_FRACTION,

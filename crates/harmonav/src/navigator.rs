@@ -112,6 +112,12 @@ pub enum NavError {
         /// from the same scan.
         obstacle: Option<usize>,
     },
+    /// A floor plan's navigation function could not be built, or a sensed obstacle does not
+    /// fit in it ([`crate::FloorNavigator`]).
+    Floor(harmonav_floorplan::FloorError),
+    /// The position lies in a floor plan's boundary layer: closer than `δ` to a wall, where
+    /// the discrete harmonic map is not certified ([`crate::FloorNavigator`]).
+    BoundaryLayer,
 }
 
 /// What an [`NavError::InvalidOption`] field must be.
@@ -182,6 +188,11 @@ impl std::fmt::Display for NavError {
                 "the world as perceived is not a star world: two shapes fitted from the scan \
                  overlap"
             ),
+            Self::Floor(e) => write!(f, "the floor plan: {e}"),
+            Self::BoundaryLayer => write!(
+                f,
+                "the position lies in the floor plan's boundary layer (closer than δ to a wall)"
+            ),
         }
     }
 }
@@ -245,6 +256,35 @@ pub struct Navigator {
     pub(crate) scan: ScanState,
 }
 
+/// The law's controller for `law` under `options`, validated (each error names the field).
+pub(crate) fn controller(law: &Law, options: &Options) -> Result<Controller, NavError> {
+    options.validate(law)?;
+    let d_min = options.d_min()?;
+    Ok(match *law {
+        Law::Kinematic { gain } => {
+            let law = Kinematic::new(in_range("gain", gain)?)?.with_speed(options.speed);
+            // `v_max` was range-checked by `validate`; the default K√2 is finite.
+            Controller::Kinematic(match options.v_max {
+                Some(v) => law.with_v_max(v)?,
+                None => law,
+            })
+        }
+        Law::Dynamic { mass, mu } => {
+            let law = Dynamic::new(in_range("mass", mass)?, in_range("mu", mu)?, d_min)?
+                .with_damping(options.damping);
+            // Guard: within the ranges √(2μ/m) ≤ √2·1e9; checked, not assumed.
+            let bound = law.speed_bound();
+            if !(bound.is_finite() && bound > 0.0) {
+                return Err(NavError::InvalidOption {
+                    field: "mu",
+                    value: mu,
+                });
+            }
+            Controller::Dynamic(law)
+        }
+    })
+}
+
 /// A field error at a point, as the navigator reports it.
 fn not_free(e: FieldError) -> NavError {
     match e {
@@ -253,7 +293,7 @@ fn not_free(e: FieldError) -> NavError {
     }
 }
 
-fn finite(v: Vector2<f64>, what: &'static str) -> Result<(), NavError> {
+pub(crate) fn finite(v: Vector2<f64>, what: &'static str) -> Result<(), NavError> {
     if v.iter().all(|c| c.is_finite()) {
         Ok(())
     } else {
@@ -276,31 +316,7 @@ impl Navigator {
         options: Options,
     ) -> Result<Self, NavError> {
         finite(goal, "goal")?;
-        options.validate(&law)?;
-        let d_min = options.d_min()?;
-        let controller = match law {
-            Law::Kinematic { gain } => {
-                let law = Kinematic::new(in_range("gain", gain)?)?.with_speed(options.speed);
-                // `v_max` was range-checked by `validate`; the default K√2 is finite.
-                Controller::Kinematic(match options.v_max {
-                    Some(v) => law.with_v_max(v)?,
-                    None => law,
-                })
-            }
-            Law::Dynamic { mass, mu } => {
-                let law = Dynamic::new(in_range("mass", mass)?, in_range("mu", mu)?, d_min)?
-                    .with_damping(options.damping);
-                // Guard: within the ranges √(2μ/m) ≤ √2·1e9; checked, not assumed.
-                let bound = law.speed_bound();
-                if !(bound.is_finite() && bound > 0.0) {
-                    return Err(NavError::InvalidOption {
-                        field: "mu",
-                        value: mu,
-                    });
-                }
-                Controller::Dynamic(law)
-            }
-        };
+        let controller = controller(&law, &options)?;
         let inflation = options.radius + options.margin;
         let shrunk = boundary.offset(-inflation).map_err(NavError::Shape)?;
         let inner_boundary = if options.margin > 0.0 {

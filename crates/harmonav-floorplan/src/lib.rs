@@ -1,0 +1,59 @@
+//! # harmonav-floorplan
+//!
+//! Navigation functions on floor plans (issue 25, part 2; docs/maths.md §13): any polygonal
+//! free space with polygonal holes (walls on the outer ring, U- and L-shaped furniture), with
+//! star-shaped obstacles sensed online inside it.
+//!
+//! ```text
+//! Phi = S ∘ H ∘ B,    J_Phi = J_S · J_H · J_B,    Θ = sigma ∘ phi_k ∘ Phi
+//! ```
+//!
+//! - `B`: the star-obstacle bands of harmonav-transform for the sensed obstacles (each
+//!   collapsed to its centre; no new solve when one is added);
+//! - `H`: the harmonic map of the walls onto the unit disk (harmonav-harmonic), holes collapsed
+//!   to their punctures, solved once;
+//! - `S`: the outer stretch of harmonav-transform applied to the unit circle, so the walls go
+//!   to infinity;
+//! - `k` counts the holes plus the sensed obstacles.
+//!
+//! **The guarantee, honestly.** The discrete `H` may fold within about half an element of the
+//! walls. Everything here is defined on the certified region `W_δ = {sd ≥ δ}`,
+//! `δ = max(radius + margin, h_max)` ([`FloorMap`]); [`FloorMap::certify`] proves (or fails to
+//! prove) `det J_H > 0` and `|H| < 1` on all of it. In the layer `sd < δ`, `Phi` and `Θ`
+//! return [`NotFree::BoundaryLayer`] instead of a value.
+//!
+//! Catalogue:
+//! - [`FloorMap`], [`FloorOptions`], typed [`FloorError`]: walls, `H`, `δ`, wall distances
+//!   (parry), the certificate;
+//! - [`FloorTransform`] (`nav_transform` → [`FloorMapped`], [`Part`], [`NotFree`]);
+//! - [`FloorField`]: `Θ`, `∇Θ`, the direction, `k`, the destination stiffness.
+//!
+//! **Invariant:** knows polygons, star shapes, the harmonic map and `phi_k`; nothing of
+//! robots' laws, sensing, time or files. Star worlds keep their own exact construction
+//! (harmonav-field); nothing here changes it.
+//!
+//! ```
+//! use std::sync::Arc;
+//! use harmonav_floorplan::{FloorField, FloorMap, FloorOptions};
+//! use harmonav_field::KPolicy;
+//! use nalgebra::Vector2;
+//!
+//! let v = Vector2::new;
+//! // An L-shaped room, 4 m arms, 1.5 m wide corridors.
+//! let room = vec![v(0.0, 0.0), v(4.0, 0.0), v(4.0, 1.5), v(1.5, 1.5), v(1.5, 4.0), v(0.0, 4.0)];
+//! let floor = Arc::new(FloorMap::new(room, vec![], &FloorOptions::new(0.25, 0.2))?);
+//! let field = FloorField::new(floor, v(3.5, 0.75), KPolicy::default())?;
+//! let e = field.eval(v(0.75, 3.5))?;
+//! assert!(e.value > 0.0 && e.value < 1.0 && e.direction.is_some());
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+#![warn(missing_docs)]
+
+pub mod compose;
+pub mod plan;
+pub mod theta;
+
+pub use compose::{FloorMapped, FloorTransform, NotFree, Part};
+pub use plan::{FloorError, FloorMap, FloorOptions};
+pub use theta::FloorField;

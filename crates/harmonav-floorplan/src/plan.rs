@@ -1,0 +1,504 @@
+//! [`FloorMap`]: the static floor plan (walls), its harmonic map `H` onto the punctured disk,
+//! and the certified region `W_δ` in which navigation is claimed.
+
+use harmonav_harmonic::{
+    Certificate, CertifyError, CertifyOptions, Domain, DomainError, HarmonicMap, MeshOptions,
+    RingId, SolveError, certify,
+};
+use nalgebra::Vector2;
+use parry2d_f64::math::Vector as PVector;
+use parry2d_f64::query::PointQuery;
+use parry2d_f64::shape::Polyline;
+
+/// Why a floor plan could not be built.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum FloorError {
+    /// The rings do not form a valid polygon with holes (the problem is named).
+    Domain(DomainError),
+    /// The boundary-element solve failed (too many elements, or a singular system).
+    Solve(SolveError),
+    /// An option is out of range (`field` names it).
+    InvalidOption {
+        /// The option.
+        field: &'static str,
+        /// Its value.
+        value: f64,
+    },
+    /// The goal is not in the certified region `W_δ` (closer than `δ` to a wall, or outside).
+    GoalNotCertified {
+        /// Its signed distance to the walls (positive inside).
+        clearance: f64,
+        /// `δ`.
+        delta: f64,
+    },
+    /// A sensed obstacle's bounding disc reaches into the boundary layer (closer than `δ` to a
+    /// wall): it is not inside `W_δ`.
+    ObstacleNearWall {
+        /// The sensed obstacle (its index in the order added).
+        obstacle: usize,
+    },
+    /// A sensed obstacle overlaps or touches another sensed obstacle.
+    Overlap {
+        /// The earlier obstacle.
+        first: usize,
+        /// The later one.
+        second: usize,
+    },
+    /// The walls shrunk by `radius + margin − δ` are not a valid polygon with holes: a passage
+    /// narrower than the robot, a hole that comes to touch a wall, or an edge too short.
+    TooNarrow {
+        /// The ring (as given) where it showed.
+        ring: RingId,
+        /// What went wrong.
+        problem: String,
+    },
+    /// A sensed obstacle contains the goal.
+    ContainsGoal {
+        /// The obstacle.
+        obstacle: usize,
+    },
+    /// The point world could not be formed (two points coincide in the disk, to rounding).
+    Potential(harmonav_potential::PotentialError),
+    /// The goal maps outside the disk or onto a puncture (a map that failed there).
+    Map(harmonav_harmonic::EvalError),
+    /// A point of the point world (a puncture, a sensed centre's or the goal's image) lies on
+    /// or beyond the unit circle: a map that failed there.
+    PointOnCircle,
+}
+
+impl std::fmt::Display for FloorError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Domain(e) => write!(f, "the floor plan: {e}"),
+            Self::Solve(e) => write!(f, "the harmonic map: {e}"),
+            Self::InvalidOption { field, value } => {
+                write!(f, "`{field}` must be finite and positive, got {value:e}")
+            }
+            Self::GoalNotCertified { clearance, delta } => write!(
+                f,
+                "the goal is {clearance:.4} m from the walls, not in the certified region \
+                 (at least δ = {delta:.4} m from every wall)"
+            ),
+            Self::ObstacleNearWall { obstacle } => write!(
+                f,
+                "sensed obstacle {obstacle} reaches within δ of a wall (its bounding disc leaves \
+                 the certified region)"
+            ),
+            Self::Overlap { first, second } => {
+                write!(f, "sensed obstacles {first} and {second} overlap")
+            }
+            Self::TooNarrow { ring, problem } => write!(
+                f,
+                "the free space shrunk by radius + margin is not a valid floor plan at {ring} \
+                 (a passage narrower than the robot?): {problem}"
+            ),
+            Self::ContainsGoal { obstacle } => {
+                write!(f, "sensed obstacle {obstacle} contains the goal")
+            }
+            Self::Potential(e) => write!(f, "the point world: {e}"),
+            Self::Map(e) => write!(f, "the harmonic map at the goal: {e}"),
+            Self::PointOnCircle => write!(
+                f,
+                "a point of the point world maps onto or beyond the unit circle"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for FloorError {}
+
+impl From<DomainError> for FloorError {
+    fn from(e: DomainError) -> Self {
+        Self::Domain(e)
+    }
+}
+
+impl From<SolveError> for FloorError {
+    fn from(e: SolveError) -> Self {
+        Self::Solve(e)
+    }
+}
+
+impl From<harmonav_potential::PotentialError> for FloorError {
+    fn from(e: harmonav_potential::PotentialError) -> Self {
+        Self::Potential(e)
+    }
+}
+
+/// Options of [`FloorMap::new`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FloorOptions {
+    /// Largest boundary element `h` (m), graded toward corners ([`MeshOptions::graded`]).
+    pub max_element: f64,
+    /// The clearance the robot keeps from every wall: `radius + margin` (m, ≥ 0).
+    pub clearance: f64,
+}
+
+impl FloorOptions {
+    /// Elements of at most `max_element` and the clearance `radius + margin`.
+    #[must_use]
+    pub fn new(max_element: f64, clearance: f64) -> Self {
+        Self {
+            max_element,
+            clearance,
+        }
+    }
+}
+
+/// Twice the signed area of a ring (positive counter-clockwise).
+fn twice_area(ring: &[Vector2<f64>]) -> f64 {
+    let n = ring.len();
+    (0..n)
+        .map(|i| {
+            let (a, b) = (ring[i], ring[(i + 1) % n]);
+            a.x * b.y - b.x * a.y
+        })
+        .sum()
+}
+
+/// The ring in the orientation `ccw` (reversed if it has the other one).
+fn oriented(mut ring: Vec<Vector2<f64>>, ccw: bool) -> Vec<Vector2<f64>> {
+    if (twice_area(&ring) > 0.0) != ccw {
+        ring.reverse();
+    }
+    ring
+}
+
+/// A floor plan with its harmonic map: the true walls (an outer polygon and polygonal holes of
+/// any shape: U, L, walls on the outer ring); the free space `W_s`, the walls shrunk by
+/// `s = max(radius + margin − δ, 0)` (mitred offsets, arcs circumscribed: inside the true
+/// erosion); `H` of `W_s`, solved once (docs/maths.md §11); and the certified region
+///
+/// ```text
+/// W_δ = { x : sd(x) ≥ δ },   δ = h (the largest element asked for, ≥ h_max)
+/// ```
+///
+/// with `sd` the signed distance to `∂W_s`. So `W_δ` is the robot's configuration space with
+/// its margin (the erosion by `s + δ = radius + margin`), and the walls' barrier (`Θ → 1`) is on
+/// `∂W_s`, only `δ` beyond it. When `radius + margin < δ` the robot keeps `δ` from the walls
+/// instead, and [`FloorMap::keeps_delta`] says so.
+#[derive(Clone, Debug)]
+pub struct FloorMap {
+    map: HarmonicMap,
+    /// Every wall segment (all rings), for parry's distance queries.
+    /// The true walls (as given, validated).
+    truth: Domain,
+    walls: Polyline,
+    /// The boundary of the shrunk free space `W_s` on which `H` is built.
+    boundary: Polyline,
+    delta: f64,
+    shrink: f64,
+    clearance: f64,
+    /// Samples of the edge `∂W_δ = {sd = δ}` of the certified region ([`FloorMap::layer_edge`]).
+    edge: Vec<Vector2<f64>>,
+    /// `min |H|` over the edge samples.
+    edge_radius: f64,
+}
+
+/// The rings of a domain, outer first.
+fn rings(d: &Domain) -> impl Iterator<Item = &[Vector2<f64>]> {
+    std::iter::once(d.outer()).chain(d.holes().iter().map(Vec::as_slice))
+}
+
+/// Every edge of every ring, for parry.
+fn polyline(d: &Domain) -> Polyline {
+    let mut vertices = Vec::new();
+    let mut indices = Vec::new();
+    for ring in rings(d) {
+        let base = vertices.len() as u32;
+        let n = ring.len() as u32;
+        vertices.extend(ring.iter().map(|p| PVector::new(p.x, p.y)));
+        indices.extend((0..n).map(|i| [base + i, base + (i + 1) % n]));
+    }
+    Polyline::new(vertices, Some(indices))
+}
+
+/// The most a circumscribed arc piece turns (rad).
+const ARC_STEP: f64 = std::f64::consts::PI / 8.0;
+
+/// A ring (free side on the left of every edge: the outer ring counter-clockwise, a hole
+/// clockwise) moved by `s > 0` into the free space: every edge along its left normal `n_i`;
+/// at a left turn (a convex corner of the free space) the two offset edges meet at the mitre
+/// `a + s(n₁ + n₂)/(1 + n₁·n₂)`, exactly the erosion's corner; at a right turn (a wall's convex
+/// corner, where the erosion has an arc of radius `s`) the arc is replaced by its circumscribed
+/// polyline (pieces of at most [`ARC_STEP`], corners at `s/cos(Δ/2)`), which lies outside the
+/// arc: the result is inside the true erosion, so it is conservative. `None` when an offset
+/// edge turns back (a feature thinner than `s`); crossings are left to `Domain::new`.
+fn offset_ring(ring: &[Vector2<f64>], s: f64) -> Option<Vec<Vector2<f64>>> {
+    let n = ring.len();
+    let dir = |i: usize| {
+        let e = ring[(i + 1) % n] - ring[i];
+        e / e.norm()
+    };
+    let left = |d: Vector2<f64>| Vector2::new(-d.y, d.x);
+    let mut out = Vec::with_capacity(2 * n);
+    // For each edge, the first and last offset points it contributes (to check its direction).
+    let mut ends = vec![(None, None); n];
+    for i in 0..n {
+        let prev = (i + n - 1) % n;
+        let (d0, d1) = (dir(prev), dir(i));
+        let (n0, n1) = (left(d0), left(d1));
+        let a = ring[i];
+        let turn = d0.x * d1.y - d0.y * d1.x;
+        let cos = d0.dot(&d1);
+        if turn > 1e-12 || (turn.abs() <= 1e-12 && cos > 0.0) {
+            let m = a + s * (n0 + n1) / (1.0 + n0.dot(&n1));
+            ends[prev].1 = Some(out.len());
+            ends[i].0 = Some(out.len());
+            out.push(m);
+        } else {
+            // Right turn (or a full reversal): the arc from n0 to n1, clockwise.
+            let sweep = -(turn.atan2(cos)); // in (0, π]
+            let pieces = (sweep / ARC_STEP).ceil().max(1.0) as usize;
+            let step = sweep / pieces as f64;
+            let start = n0.y.atan2(n0.x);
+            ends[prev].1 = Some(out.len());
+            out.push(a + s * n0);
+            for j in 0..pieces {
+                let t = start - (j as f64 + 0.5) * step;
+                out.push(a + (s / (0.5 * step).cos()) * Vector2::new(t.cos(), t.sin()));
+            }
+            ends[i].0 = Some(out.len());
+            out.push(a + s * n1);
+        }
+    }
+    for (i, &(first, last)) in ends.iter().enumerate() {
+        let (first, last) = (first?, last?);
+        if (out[last] - out[first]).dot(&dir(i)) <= 0.0 {
+            return None;
+        }
+    }
+    Some(out)
+}
+
+/// Spacing of the samples of `∂W_δ`, in units of `δ`.
+pub const EDGE_SPACING: f64 = 0.25;
+
+/// Samples of `∂W_δ = {sd = δ}` about `EDGE_SPACING·δ` apart: every wall edge moved by `δ` along
+/// its normal into the free space, and the arcs of radius `δ` about every vertex, kept where
+/// `sd = δ` to rounding (elsewhere another wall is nearer).
+fn layer_edge(
+    domain: &Domain,
+    walls: &Polyline,
+    delta: f64,
+    outer_only: bool,
+) -> Vec<Vector2<f64>> {
+    let step = EDGE_SPACING * delta;
+    let mut out = Vec::new();
+    let mut keep = |p: Vector2<f64>| {
+        let d = walls.distance_to_local_point(PVector::new(p.x, p.y), false);
+        if (d - delta).abs() <= 1e-9 * delta.max(1.0) && domain.contains(p) {
+            out.push(p);
+        }
+    };
+    for ring in rings(domain).take(if outer_only { 1 } else { usize::MAX }) {
+        let n = ring.len();
+        for i in 0..n {
+            let (a, b) = (ring[i], ring[(i + 1) % n]);
+            let e = b - a;
+            let len = e.norm();
+            // Outer ring counter-clockwise, holes clockwise: the free side is on the left.
+            let normal = Vector2::new(-e.y, e.x) / len;
+            let m = (len / step).ceil().max(1.0) as usize;
+            for j in 0..=m {
+                keep(a + e * (j as f64 / m as f64) + delta * normal);
+            }
+            let arcs = (std::f64::consts::TAU * delta / step).ceil() as usize;
+            for j in 0..arcs {
+                let t = std::f64::consts::TAU * j as f64 / arcs as f64;
+                keep(a + delta * Vector2::new(t.cos(), t.sin()));
+            }
+        }
+    }
+    out
+}
+
+impl FloorMap {
+    /// Validates the rings (either orientation is accepted: the outer ring is made
+    /// counter-clockwise and the holes clockwise), shrinks them by `s = max(clearance − δ, 0)`,
+    /// `δ = max_element`, and meshes and solves `H` on the result (one LU, `O((N + M)³)`).
+    ///
+    /// # Errors
+    /// [`FloorError::InvalidOption`] for a non-positive or non-finite `max_element` or a
+    /// negative `clearance`; [`FloorError::Domain`] for invalid rings (self-crossing, holes
+    /// outside or touching, …); [`FloorError::TooNarrow`] when the shrunk rings are not valid
+    /// (a passage narrower than the robot); [`FloorError::Solve`] when the solve fails.
+    pub fn new(
+        outer: Vec<Vector2<f64>>,
+        holes: Vec<Vec<Vector2<f64>>>,
+        options: &FloorOptions,
+    ) -> Result<Self, FloorError> {
+        let h = options.max_element;
+        if !(h.is_finite() && h > 0.0) {
+            return Err(FloorError::InvalidOption {
+                field: "max_element",
+                value: h,
+            });
+        }
+        let c = options.clearance;
+        if !(c.is_finite() && c >= 0.0) {
+            return Err(FloorError::InvalidOption {
+                field: "clearance",
+                value: c,
+            });
+        }
+        let outer = oriented(outer, true);
+        let holes: Vec<_> = holes.into_iter().map(|r| oriented(r, false)).collect();
+        let truth = Domain::new(outer, holes)?;
+        // δ = h ≥ h_max: the layer of the discrete map. The free space is shrunk by the rest of
+        // the clearance, so that W_δ is the configuration space with its margin.
+        let delta = h;
+        let shrink = (c - delta).max(0.0);
+        let domain = if shrink > 0.0 {
+            let rings: Vec<Vec<Vector2<f64>>> = rings(&truth)
+                .enumerate()
+                .map(|(i, r)| {
+                    offset_ring(r, shrink).ok_or(FloorError::TooNarrow {
+                        ring: if i == 0 {
+                            RingId::Outer
+                        } else {
+                            RingId::Hole(i - 1)
+                        },
+                        problem: "an edge vanishes or turns back".into(),
+                    })
+                })
+                .collect::<Result<_, _>>()?;
+            let mut rings = rings.into_iter();
+            let outer = rings.next().unwrap_or_default();
+            Domain::new(outer, rings.collect()).map_err(|e| FloorError::TooNarrow {
+                ring: RingId::Outer,
+                problem: e.to_string(),
+            })?
+        } else {
+            truth.clone()
+        };
+        let map = HarmonicMap::new(&domain, &MeshOptions::graded(h))?;
+        let walls = polyline(&truth);
+        let boundary = polyline(&domain);
+        let edge = layer_edge(map.domain(), &boundary, delta, false);
+        // Over every ring: near a hole the layer maps next to its puncture (the U's pocket
+        // squeezes it to 2e-4), which widens S's band to MAX_BAND. Measured: taking r_δ along
+        // the outer ring alone narrowed the band and the L room's far starts stalled.
+        let mut edge_radius: f64 = 1.0;
+        for &p in &edge {
+            let r = map.eval(p).map_or(1.0, |e| e.value.norm());
+            edge_radius = edge_radius.min(r);
+        }
+        Ok(Self {
+            map,
+            truth,
+            walls,
+            boundary,
+            delta,
+            shrink,
+            clearance: c,
+            edge,
+            edge_radius,
+        })
+    }
+
+    /// The harmonic map `H`.
+    #[must_use]
+    pub fn map(&self) -> &HarmonicMap {
+        &self.map
+    }
+
+    /// The free space `W_s` on which `H` is built: the walls shrunk by
+    /// [`FloorMap::shrink`].
+    #[must_use]
+    pub fn domain(&self) -> &Domain {
+        self.map.domain()
+    }
+
+    /// The true walls, as given (validated, oriented).
+    #[must_use]
+    pub fn walls(&self) -> &Domain {
+        &self.truth
+    }
+
+    /// `δ = h` (the largest element asked for, `≥ h_max`): the certified region is
+    /// `W_δ = {sd ≥ δ}`, `sd` the signed distance to `∂W_s`.
+    #[must_use]
+    pub fn delta(&self) -> f64 {
+        self.delta
+    }
+
+    /// `s = max(radius + margin − δ, 0)`: how far the walls were shrunk to give `W_s`.
+    #[must_use]
+    pub fn shrink(&self) -> f64 {
+        self.shrink
+    }
+
+    /// `true` when `radius + margin < δ`: the robot keeps the larger `δ` from the walls (the
+    /// discrete map is only claimed a diffeomorphism there).
+    #[must_use]
+    pub fn keeps_delta(&self) -> bool {
+        self.clearance < self.delta
+    }
+
+    /// Samples of the edge `∂W_δ` of the certified region, [`EDGE_SPACING`]`·δ` apart (the
+    /// wall edges moved by `δ` into the free space and the arcs about the vertices), where
+    /// `c_δ` is measured ([`crate::FloorField::layer_level`]).
+    #[must_use]
+    pub fn layer_edge(&self) -> &[Vector2<f64>] {
+        &self.edge
+    }
+
+    /// `r_δ = min |H|` over [`FloorMap::layer_edge`]: the stretch `S` starts inside it, so the
+    /// walls' barrier is already steep at `∂W_δ` (`docs/maths.md` §13).
+    #[must_use]
+    pub fn edge_radius(&self) -> f64 {
+        self.edge_radius
+    }
+
+    /// The distance from `x` to the nearest wall (parry's point query on the wall segments),
+    /// exact to rounding.
+    #[must_use]
+    pub fn wall_distance(&self, x: Vector2<f64>) -> f64 {
+        self.walls
+            .distance_to_local_point(PVector::new(x.x, x.y), false)
+    }
+
+    /// The signed distance `sd(x)` to `∂W_s` (the shrunk walls, parry): positive in `W_s`,
+    /// negative outside it. 1-Lipschitz.
+    #[must_use]
+    pub fn signed_distance(&self, x: Vector2<f64>) -> f64 {
+        let d = self
+            .boundary
+            .distance_to_local_point(PVector::new(x.x, x.y), false);
+        if self.domain().contains(x) { d } else { -d }
+    }
+
+    /// The unit vector from `x` to the nearest point of `∂W_s` (parry's projection), `−∇sd`
+    /// inside `W_s`; `None` on the boundary itself.
+    #[must_use]
+    pub fn toward_boundary(&self, x: Vector2<f64>) -> Option<Vector2<f64>> {
+        let p = self
+            .boundary
+            .project_local_point(PVector::new(x.x, x.y), false)
+            .point;
+        let d = Vector2::new(p.x - x.x, p.y - x.y);
+        let norm = d.norm();
+        (norm > 0.0 && norm.is_finite()).then(|| d / norm)
+    }
+
+    /// A lower bound on the distance from `x ∈ W_δ` to the boundary layer: `sd(x) − δ` (exact:
+    /// `sd` is 1-Lipschitz, so every `y` with `sd(y) < δ` is farther than `sd(x) − δ`). Negative
+    /// in the layer and outside.
+    #[must_use]
+    pub fn clearance(&self, x: Vector2<f64>) -> f64 {
+        self.signed_distance(x) - self.delta
+    }
+
+    /// The Lipschitz certificate of `det J_H > 0` and `|H| < 1` on all of `W_δ`
+    /// ([`harmonav_harmonic::certify`], `O(N)` per cell) with at most `max_evaluations` cells.
+    ///
+    /// # Errors
+    /// [`CertifyError`] when `δ` is out of range or the first grid exceeds the budget.
+    pub fn certify(&self, max_evaluations: usize) -> Result<Certificate, CertifyError> {
+        let mut options = CertifyOptions::new(self.delta);
+        options.max_evaluations = max_evaluations;
+        certify(&self.map, &options)
+    }
+}

@@ -1,0 +1,222 @@
+//! [`FloorField`]: `Θ = sigma∘phi_k∘Phi` on a floor plan.
+
+use std::sync::Arc;
+
+use harmonav_field::{FieldError, FieldEval, KPolicy};
+use harmonav_potential::{PointWorld, Singularity, sigma_and_prime};
+use harmonav_transform::StarShape;
+use nalgebra::{Matrix2, Vector2};
+
+use crate::compose::{FloorTransform, NotFree};
+use crate::plan::{FloorError, FloorMap};
+
+impl From<NotFree> for FieldError {
+    /// A sensed obstacle keeps its index; the boundary layer and the walls are `Outside`.
+    fn from(e: NotFree) -> Self {
+        match e {
+            NotFree::Obstacle(obstacle) => FieldError::InObstacle { obstacle },
+            NotFree::BoundaryLayer | NotFree::Outside => FieldError::Outside,
+        }
+    }
+}
+
+/// `Θ(x) = sigma(phi_k(Phi(x)))` on a floor plan, `Phi = S ∘ H ∘ B` ([`FloorTransform`]),
+/// `∇Θ = sigma'(phi_k)·J_Phiᵀ ∇phi_k` (the chain rule of theorem `isNF`), over the holes and
+/// the sensed obstacles: `k = policy.k_for(M + n, layer)` with the layer ratio
+/// `max_i |H(x_d) − p_i|/(1 − |p_i|)` of the points in the disk (the star world's rule,
+/// `docs/maths.md` §8, with the unit circle as the boundary). [`FloorField::with_obstacle`] adds a sensed
+/// obstacle without a new solve of `H`.
+#[derive(Clone, Debug)]
+pub struct FloorField {
+    transform: FloorTransform,
+    world: PointWorld,
+    policy: KPolicy,
+    /// The smallest eigenvalue of `H(Θ)(x_d) = s·J_Phiᵀ J_Phi` (at `x_d`, `Phi` is not the
+    /// identity).
+    stiffness: f64,
+}
+
+impl FloorField {
+    /// `Θ` on `floor` towards `goal` with no sensed obstacle.
+    ///
+    /// # Errors
+    /// As [`FloorTransform::new`].
+    pub fn new(
+        floor: Arc<FloorMap>,
+        goal: Vector2<f64>,
+        policy: KPolicy,
+    ) -> Result<Self, FloorError> {
+        Self::with_obstacles(floor, &[], goal, policy)
+    }
+
+    /// `Θ` with the sensed obstacles `obstacles` (grown by `radius + margin`).
+    ///
+    /// # Errors
+    /// As [`FloorTransform::new`].
+    pub fn with_obstacles(
+        floor: Arc<FloorMap>,
+        obstacles: &[StarShape],
+        goal: Vector2<f64>,
+        policy: KPolicy,
+    ) -> Result<Self, FloorError> {
+        let transform = FloorTransform::new(floor, obstacles, goal, 0.0)?;
+        // k and the valley radius from the points in the disk (before S, which depends on r*).
+        let raw: Vec<_> = transform.raw_points().collect();
+        let pd = transform.destination_image();
+        let layer = raw
+            .iter()
+            .map(|p| (pd - p).norm() / (1.0 - p.norm()))
+            .fold(0.0, f64::max);
+        let k = policy.k_for(raw.len(), layer);
+        let disk = PointWorld::new(pd, raw)?.with_k(k)?;
+        let transform = transform.with_valley_radius(disk.valley_radius(Vector2::zeros()))?;
+        let points: Vec<_> = transform.points().collect();
+        let world = PointWorld::new(transform.destination_point(), points)?.with_k(k)?;
+        let j = transform
+            .nav_transform(goal)
+            .map_err(|_| FloorError::GoalNotCertified {
+                clearance: transform.floor().signed_distance(goal),
+                delta: transform.floor().delta(),
+            })?
+            .jacobian;
+        let smallest = (j.transpose() * j).symmetric_eigenvalues().min();
+        let stiffness = world.destination_stiffness() * smallest.max(0.0);
+        Ok(Self {
+            transform,
+            world,
+            policy,
+            stiffness,
+        })
+    }
+
+    /// The same field with one more sensed obstacle (grown); `k` and the bands update, `H` is
+    /// reused. `self` is unchanged on error.
+    ///
+    /// # Errors
+    /// As [`FloorTransform::new`].
+    pub fn with_obstacle(&self, obstacle: StarShape) -> Result<Self, FloorError> {
+        let mut all: Vec<StarShape> = self.transform.obstacles().cloned().collect();
+        all.push(obstacle);
+        Self::with_obstacles(
+            self.transform.floor().clone(),
+            &all,
+            self.transform.goal(),
+            self.policy,
+        )
+    }
+
+    /// `Θ(x)`, `∇Θ(x)` and the descent direction. No allocation.
+    ///
+    /// # Errors
+    /// [`FieldError::NotFinite`] for a non-finite point, [`FieldError::InObstacle`] inside a
+    /// sensed obstacle, [`FieldError::Outside`] in the boundary layer (`sd(x) < δ`) or beyond a
+    /// wall ([`FloorField::locate`] tells them apart).
+    pub fn eval(&self, x: Vector2<f64>) -> Result<FieldEval, FieldError> {
+        if !(x.x.is_finite() && x.y.is_finite()) {
+            return Err(FieldError::NotFinite);
+        }
+        let m = self.transform.nav_transform(x)?;
+        let (phi, g) = match self.world.phi_and_grad(m.h, None) {
+            Ok(v) => v,
+            Err(Singularity::Destination) => {
+                return Ok(FieldEval {
+                    value: 0.0,
+                    gradient: Vector2::zeros(),
+                    direction: None,
+                    h: m.h,
+                    phi: f64::NEG_INFINITY,
+                });
+            }
+            // A hole's puncture is reached only from the layer (to rounding); a sensed one is
+            // the obstacle's centre.
+            Err(Singularity::Obstacle(slot)) => {
+                return Err(match slot.checked_sub(self.transform.holes()) {
+                    Some(obstacle) => FieldError::InObstacle { obstacle },
+                    None => FieldError::Outside,
+                });
+            }
+        };
+        Ok(finish(m.h, &m.jacobian, phi, g))
+    }
+
+    /// `c_δ`, the level of `Θ` below which the continuous law's sublevel set stays inside
+    /// `W_δ` (docs/maths.md §13): the least `Θ` over the samples of `∂W_δ`
+    /// ([`FloorMap::layer_edge`], spacing `σ = EDGE_SPACING·δ`), minus the margin
+    /// `max|∇Θ|·σ/2` from the largest sampled gradient. **Sampled, not certified**: the margin
+    /// is an estimate of the Lipschitz constant, not a bound. Samples where `Θ` cannot be
+    /// evaluated (rounding at `sd = δ`) are skipped; returns `(c_δ, skipped)`.
+    #[must_use]
+    pub fn layer_level(&self) -> (f64, usize) {
+        let floor = self.floor();
+        let spacing = crate::plan::EDGE_SPACING * floor.delta();
+        let (mut least, mut slope, mut skipped) = (f64::INFINITY, 0.0_f64, 0);
+        for &p in floor.layer_edge() {
+            match self.eval(p) {
+                Ok(e) => {
+                    least = least.min(e.value);
+                    slope = slope.max(e.gradient.norm());
+                }
+                Err(_) => skipped += 1,
+            }
+        }
+        ((least - 0.5 * spacing * slope).max(0.0), skipped)
+    }
+
+    /// Why `Phi` is not defined at `x`, or `None` if it is.
+    #[must_use]
+    pub fn locate(&self, x: Vector2<f64>) -> Option<NotFree> {
+        self.transform.nav_transform(x).err()
+    }
+
+    /// The transformation.
+    #[must_use]
+    pub fn transform(&self) -> &FloorTransform {
+        &self.transform
+    }
+
+    /// The floor plan and its map.
+    #[must_use]
+    pub fn floor(&self) -> &Arc<FloorMap> {
+        self.transform.floor()
+    }
+
+    /// The point world (`P_d`, the punctures then the sensed points, `k`).
+    #[must_use]
+    pub fn point_world(&self) -> &PointWorld {
+        &self.world
+    }
+
+    /// `k` of `phi_k`.
+    #[must_use]
+    pub fn k(&self) -> f64 {
+        self.world.k()
+    }
+
+    /// The smallest eigenvalue of `H(Θ)(x_d) = s·J_Phi(x_d)ᵀ J_Phi(x_d)`, `s` the point world's
+    /// [`PointWorld::destination_stiffness`] (eq. `destphik2`, exponent `2/k`,
+    /// `docs/maths.md` §2): the stiffness of the softest direction, the input of `λ_c`.
+    #[must_use]
+    pub fn destination_stiffness(&self) -> f64 {
+        self.stiffness
+    }
+}
+
+/// `Θ = sigma(phi)`, `∇Θ = sigma'(phi)·J_Phiᵀ∇phi_k`, and the direction (from `J_Phiᵀ∇phi_k`
+/// scaled, so that it survives the underflow of `sigma'`), as `harmonav_field::Field::eval`.
+fn finish(h: Vector2<f64>, jacobian: &Matrix2<f64>, phi: f64, g: Vector2<f64>) -> FieldEval {
+    let gx = jacobian.transpose() * g;
+    // Guard: normalise a scaled copy so that |gx| neither overflows nor underflows.
+    let scale = gx.x.abs().max(gx.y.abs());
+    let direction = (scale > 0.0 && scale.is_finite()).then(|| {
+        let s = gx / scale;
+        -s / s.norm()
+    });
+    let (value, slope) = sigma_and_prime(phi);
+    FieldEval {
+        value,
+        gradient: slope * gx,
+        direction,
+        h,
+        phi,
+    }
+}

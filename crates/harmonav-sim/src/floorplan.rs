@@ -1,0 +1,552 @@
+//! Floor-plan scenarios (`[floor_plan]`, issue 25): a polygon with polygonal holes as the known
+//! walls, star obstacles sensed online inside it, and the user's loop around a
+//! [`harmonav::FloorNavigator`] with its monitors (no collision with the true walls and
+//! obstacles, never leaving, arrival within a stated threshold).
+//!
+//! ```toml
+//! name = "u-trap"
+//! [floor_plan]
+//! outer = [[0, 0], [8, 0], [8, 5], [0, 5]]      # either orientation
+//! holes = [[[3, 1], [5, 1], [5, 4], …]]          # any shape (U, L, …)
+//! max_element = 0.2                              # boundary element h (m)
+//! [robot]
+//! model = "kinematic"                            # or "dynamic" (mass, mu)
+//! start = [1, 2.5]
+//! goal = [4, 2.5]
+//! radius = 0.1
+//! margin = 0.1
+//! [starts]                                       # seeded starts in W_δ, besides `start`
+//! count = 6
+//! seed = 1
+//! [[obstacles]]                                  # sensed online (scenario shapes)
+//! type = "circle"
+//! center = [6.5, 1.2]
+//! radius = 0.3
+//! ```
+//!
+//! The `floorplans/` folder is not a suite of [`crate::scenario::Scenario`] files
+//! ([`crate::scenario::scenario_files`] skips it): `cargo xtask verify` runs it through
+//! [`run`].
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use harmonav::{FloorMap, FloorNavigator, FloorOptions, Law, NavError, Options, StarShape};
+use harmonav_floorplan::FloorError;
+use harmonav_harmonic::{Certificate, DomainError, RingId, SolveError};
+use harmonav_transform::random::Rng;
+use nalgebra::Vector2;
+use serde::Deserialize;
+
+use crate::scenario::{MAX_FILE_BYTES, Model, ScenarioError, ShapeSpec, build_shape};
+
+/// The folder of floor-plan scenarios under `scenarios/`.
+pub const FLOORPLANS: &str = "floorplans";
+
+/// Most seeded starts of one file.
+pub const MAX_STARTS: usize = 64;
+
+/// `[floor_plan]`.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FloorPlanSpec {
+    /// The outer ring (either orientation; no repeated closing vertex needed).
+    pub outer: Vec<[f64; 2]>,
+    /// The holes, each a ring.
+    #[serde(default)]
+    pub holes: Vec<Vec<[f64; 2]>>,
+    /// The longest boundary element `h`, m.
+    #[serde(default = "default_element")]
+    pub max_element: f64,
+}
+
+fn default_element() -> f64 {
+    0.2
+}
+
+/// `[robot]` of a floor-plan scenario.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FloorRobotSpec {
+    /// `kinematic` or `dynamic`.
+    pub model: Model,
+    /// Start position.
+    pub start: [f64; 2],
+    /// Goal position.
+    pub goal: [f64; 2],
+    /// Disc radius, m.
+    #[serde(default)]
+    pub radius: f64,
+    /// Clearance margin, m.
+    #[serde(default)]
+    pub margin: f64,
+    /// Kinematic gain `K`.
+    #[serde(default = "one")]
+    pub gain: f64,
+    /// Mass (dynamic), kg.
+    #[serde(default = "one")]
+    pub mass: f64,
+    /// `μ` (dynamic): the speed bound is `√(2μ/m)`.
+    #[serde(default = "one")]
+    pub mu: f64,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+/// `[starts]`: seeded random starts in `W_δ`, run besides `robot.start`.
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StartsSpec {
+    /// How many (at most [`MAX_STARTS`]).
+    pub count: usize,
+    /// The seed.
+    #[serde(default)]
+    pub seed: u64,
+}
+
+/// `[sim]` of a floor-plan scenario.
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FloorSimSpec {
+    /// Simulated time limit, s.
+    #[serde(default = "default_max_time")]
+    pub max_time: f64,
+    /// Arrival threshold `|x − x_d|`, m.
+    #[serde(default = "default_arrival")]
+    pub arrival: f64,
+    /// Sensor range: a true obstacle becomes known once it is this close, m.
+    #[serde(default = "one")]
+    pub sensor_range: f64,
+}
+
+fn default_max_time() -> f64 {
+    120.0
+}
+
+fn default_arrival() -> f64 {
+    0.05
+}
+
+impl Default for FloorSimSpec {
+    fn default() -> Self {
+        Self {
+            max_time: default_max_time(),
+            arrival: default_arrival(),
+            sensor_range: 1.0,
+        }
+    }
+}
+
+/// A floor-plan scenario file.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FloorScenario {
+    /// Name.
+    pub name: String,
+    /// Description.
+    #[serde(default)]
+    pub description: String,
+    /// The walls.
+    pub floor_plan: FloorPlanSpec,
+    /// The robot.
+    pub robot: FloorRobotSpec,
+    /// Seeded starts.
+    #[serde(default)]
+    pub starts: Option<StartsSpec>,
+    /// The loop.
+    #[serde(default)]
+    pub sim: FloorSimSpec,
+    /// Obstacles inside the plan, unknown until sensed.
+    #[serde(default)]
+    pub obstacles: Vec<ShapeSpec>,
+}
+
+/// A loaded and validated floor-plan scenario: the solved map and the true obstacles.
+#[derive(Clone, Debug)]
+pub struct FloorPrepared {
+    /// The file.
+    pub path: PathBuf,
+    /// What the file says.
+    pub scenario: FloorScenario,
+    /// The walls and `H`, solved once (with `δ ≥ radius + margin`).
+    pub floor: Arc<FloorMap>,
+    /// The true obstacles (the robot senses them online).
+    pub obstacles: Vec<StarShape>,
+    /// `robot.start`, then the seeded starts.
+    pub starts: Vec<Vector2<f64>>,
+    /// Seconds spent meshing and solving `H`.
+    pub setup_seconds: f64,
+}
+
+fn err(path: &Path, field: &str, line: Option<usize>, problem: String) -> ScenarioError {
+    ScenarioError {
+        file: path.to_path_buf(),
+        field: field.to_string(),
+        line,
+        problem,
+    }
+}
+
+fn v(p: [f64; 2]) -> Vector2<f64> {
+    Vector2::new(p[0], p[1])
+}
+
+/// The scenario field a domain error is about.
+fn ring_field(e: &DomainError) -> String {
+    let ring = match e {
+        DomainError::TooFewVertices { ring, .. }
+        | DomainError::NonFinite { ring, .. }
+        | DomainError::TooLarge { ring, .. } => Some(*ring),
+        _ => None,
+    };
+    match ring {
+        Some(RingId::Outer) => "floor_plan.outer".into(),
+        Some(RingId::Hole(i)) => format!("floor_plan.holes[{i}]"),
+        None => "floor_plan".into(),
+    }
+}
+
+impl FloorScenario {
+    /// Reads, parses and validates a floor-plan scenario (at most [`MAX_FILE_BYTES`]).
+    ///
+    /// # Errors
+    /// A [`ScenarioError`] naming the file, the field (`floor_plan.holes[1]`, `robot.start`,
+    /// `obstacles[0]`, …), the line where the parser gives it, and the problem.
+    pub fn load(path: &Path) -> Result<FloorPrepared, ScenarioError> {
+        use std::io::Read;
+        let cannot = |e: std::io::Error| err(path, "", None, format!("cannot read the file: {e}"));
+        let mut bytes = Vec::new();
+        std::fs::File::open(path)
+            .map_err(cannot)?
+            .take(MAX_FILE_BYTES + 1)
+            .read_to_end(&mut bytes)
+            .map_err(cannot)?;
+        if bytes.len() as u64 > MAX_FILE_BYTES {
+            return Err(err(
+                path,
+                "",
+                None,
+                format!("the file exceeds {MAX_FILE_BYTES} bytes"),
+            ));
+        }
+        let text = String::from_utf8(bytes)
+            .map_err(|e| err(path, "", None, format!("the file is not UTF-8 text: {e}")))?;
+        Self::parse(path, &text)?.prepare(path)
+    }
+
+    /// Parses TOML text; unknown keys are errors, with the line.
+    ///
+    /// # Errors
+    /// A [`ScenarioError`] with the line of the problem.
+    pub fn parse(path: &Path, text: &str) -> Result<Self, ScenarioError> {
+        toml::from_str::<Self>(text).map_err(|e| {
+            let line = e
+                .span()
+                .map(|s| text[..s.start.min(text.len())].matches('\n').count() + 1);
+            err(path, "", line, e.message().trim().to_string())
+        })
+    }
+
+    /// Validates the scenario and solves the map.
+    ///
+    /// # Errors
+    /// A [`ScenarioError`] naming the field: bad rings, element size, robot parameters, a
+    /// start or goal not in the certified region `W_δ` or inside an obstacle, a bad obstacle.
+    pub fn prepare(self, path: &Path) -> Result<FloorPrepared, ScenarioError> {
+        let f = |field: &str, problem: String| err(path, field, None, problem);
+        let r = &self.robot;
+        for (name, value) in [("robot.radius", r.radius), ("robot.margin", r.margin)] {
+            if !(value.is_finite() && (0.0..=harmonav_transform::MAX_LENGTH).contains(&value)) {
+                return Err(f(name, format!("must be finite and ≥ 0, got {value:e}")));
+            }
+        }
+        let h = self.floor_plan.max_element;
+        if !(h.is_finite() && h > 0.0) {
+            return Err(f(
+                "floor_plan.max_element",
+                format!("must be finite and positive, got {h:e}"),
+            ));
+        }
+        for (name, p) in [("robot.start", r.start), ("robot.goal", r.goal)] {
+            if !p.iter().all(|c| c.is_finite()) {
+                return Err(f(name, format!("NaN or infinite coordinate in {p:?}")));
+            }
+        }
+        let s = &self.sim;
+        for (name, value) in [
+            ("sim.max_time", s.max_time),
+            ("sim.arrival", s.arrival),
+            ("sim.sensor_range", s.sensor_range),
+        ] {
+            if !(value.is_finite() && value > 0.0 && value <= 1e6) {
+                return Err(f(
+                    name,
+                    format!("must be finite and in (0, 1e6], got {value:e}"),
+                ));
+            }
+        }
+        let mut obstacles = Vec::with_capacity(self.obstacles.len());
+        for (i, o) in self.obstacles.iter().enumerate() {
+            let shape =
+                build_shape(o).map_err(|(sub, p)| f(&format!("obstacles[{i}].{sub}"), p))?;
+            obstacles.push(shape);
+        }
+        let outer = self.floor_plan.outer.iter().copied().map(v).collect();
+        let holes = self
+            .floor_plan
+            .holes
+            .iter()
+            .map(|ring| ring.iter().copied().map(v).collect())
+            .collect();
+        let clock = std::time::Instant::now();
+        let options = FloorOptions::new(h, r.radius + r.margin);
+        let floor = FloorMap::new(outer, holes, &options).map_err(|e| match &e {
+            FloorError::Domain(d) => f(&ring_field(d), d.to_string()),
+            FloorError::Solve(SolveError::Mesh(m)) => f("floor_plan.max_element", m.to_string()),
+            _ => f("floor_plan", e.to_string()),
+        })?;
+        let setup_seconds = clock.elapsed().as_secs_f64();
+        let floor = Arc::new(floor);
+        let delta = floor.delta();
+        let goal = v(r.goal);
+        // Where a point may be: in W_δ and clear of every true obstacle grown by radius+margin.
+        let place = |p: Vector2<f64>| -> Result<(), String> {
+            let sd = floor.signed_distance(p);
+            if sd < delta {
+                return Err(format!(
+                    "{p:?} is {sd:.4} m from the walls: not in the certified region (at least \
+                     δ = {delta:.4} m from every wall{})",
+                    if sd <= 0.0 {
+                        "; it is in a wall or outside"
+                    } else {
+                        ""
+                    }
+                ));
+            }
+            for (i, o) in obstacles.iter().enumerate() {
+                if o.signed_distance(p) <= r.radius + r.margin {
+                    return Err(format!("{p:?} is within radius + margin of obstacles[{i}]"));
+                }
+            }
+            Ok(())
+        };
+        place(goal).map_err(|p| f("robot.goal", p))?;
+        let start = v(r.start);
+        place(start).map_err(|p| f("robot.start", p))?;
+        for (i, o) in obstacles.iter().enumerate() {
+            let room = floor.signed_distance(o.centre()) - delta - o.radius_bounds().1;
+            if room <= r.radius + r.margin {
+                return Err(f(
+                    &format!("obstacles[{i}]"),
+                    format!(
+                        "its bounding disc, grown by radius + margin, reaches within δ = \
+                         {delta:.4} m of a wall (sensed obstacles must lie inside the certified \
+                         region)"
+                    ),
+                ));
+            }
+        }
+        let mut starts = vec![start];
+        if let Some(spec) = self.starts {
+            if spec.count > MAX_STARTS {
+                return Err(f(
+                    "starts.count",
+                    format!("at most {MAX_STARTS} starts, got {}", spec.count),
+                ));
+            }
+            let (lo, hi) = floor.domain().bounding_box();
+            let mut rng = Rng::new(spec.seed);
+            let mut tries = 0;
+            while starts.len() < spec.count + 1 {
+                tries += 1;
+                if tries > 10_000 * (spec.count + 1) {
+                    return Err(f("starts", "no free start found in 10⁴ tries".into()));
+                }
+                let p = Vector2::new(rng.uniform(lo.x, hi.x), rng.uniform(lo.y, hi.y));
+                // Away from the goal, and from the layer by a little.
+                if (p - goal).norm() > 1.0
+                    && floor.signed_distance(p) > 1.1 * delta
+                    && place(p).is_ok()
+                {
+                    starts.push(p);
+                }
+            }
+        }
+        Ok(FloorPrepared {
+            path: path.to_path_buf(),
+            scenario: self,
+            floor,
+            obstacles,
+            starts,
+            setup_seconds,
+        })
+    }
+}
+
+/// How a floor-plan run ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FloorEnding {
+    /// Within the arrival threshold of the goal.
+    Reached,
+    /// The robot's disc touched a true wall or obstacle.
+    Collision,
+    /// The robot's centre left the floor plan (or entered a hole).
+    Left,
+    /// The time limit passed first.
+    TimedOut,
+    /// The navigator refused a command (the error is in [`FloorRun::error`]).
+    Refused,
+}
+
+impl FloorEnding {
+    /// The name for JSON and tables.
+    #[must_use]
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::Reached => "reached",
+            Self::Collision => "collision",
+            Self::Left => "left",
+            Self::TimedOut => "timed_out",
+            Self::Refused => "refused",
+        }
+    }
+}
+
+/// What one run measured.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FloorRun {
+    /// How it ended.
+    pub ending: FloorEnding,
+    /// Simulated time, s.
+    pub time: f64,
+    /// The smallest distance from the robot's centre to a true wall, minus its radius (its
+    /// disc's clearance), m.
+    pub wall_clearance: f64,
+    /// The smallest clearance of the robot's disc from a true obstacle, m (∞ with none).
+    pub obstacle_clearance: f64,
+    /// The smallest certified clearance to the boundary layer (`sd − δ`) seen, m.
+    pub layer_clearance: f64,
+    /// `|x − x_d|` at the end, m.
+    pub final_distance: f64,
+    /// Path length, m.
+    pub path: f64,
+    /// Obstacles sensed and added.
+    pub sensed: usize,
+    /// Commands issued.
+    pub commands: usize,
+    /// The navigator's error, if it refused.
+    pub error: Option<NavError>,
+}
+
+/// Runs the user's loop from `start` under `model` (the file's by default): at every period
+/// `h` the robot senses the true obstacles within `sim.sensor_range` (added once, grown by the
+/// navigator), asks [`FloorNavigator::command`], and holds it — `x += h·u` (kinematic), or
+/// `v += h·f/m, x += h·v` (dynamic, semi-implicit Euler). The monitors use the true walls and
+/// shapes only.
+///
+/// # Errors
+/// The navigator could not be built (a message naming the parameter).
+pub fn run(
+    prepared: &FloorPrepared,
+    model: Option<Model>,
+    start: Vector2<f64>,
+) -> Result<FloorRun, NavError> {
+    let r = &prepared.scenario.robot;
+    let law = match model.unwrap_or(r.model) {
+        Model::Kinematic => Law::kinematic(r.gain),
+        Model::Dynamic => Law::dynamic(r.mass, r.mu),
+    };
+    let options = Options::default().with_robot(r.radius, r.margin);
+    let goal = v(r.goal);
+    let mut nav = FloorNavigator::new(prepared.floor.clone(), goal, law, options)?;
+    let h = nav.control_period();
+    let sim = prepared.scenario.sim;
+    let steps = (sim.max_time / h).ceil() as usize;
+    let floor = &prepared.floor;
+    let (mut x, mut vel) = (start, Vector2::zeros());
+    let mut known = vec![false; prepared.obstacles.len()];
+    let mut out = FloorRun {
+        ending: FloorEnding::TimedOut,
+        time: 0.0,
+        wall_clearance: f64::INFINITY,
+        obstacle_clearance: f64::INFINITY,
+        layer_clearance: f64::INFINITY,
+        final_distance: (x - goal).norm(),
+        path: 0.0,
+        sensed: 0,
+        commands: 0,
+        error: None,
+    };
+    for n in 0..=steps {
+        out.time = n as f64 * h;
+        // Monitors on the truth.
+        if !floor.domain().contains(x) {
+            out.ending = FloorEnding::Left;
+            break;
+        }
+        out.wall_clearance = out.wall_clearance.min(floor.wall_distance(x) - r.radius);
+        out.layer_clearance = out.layer_clearance.min(floor.clearance(x));
+        for o in &prepared.obstacles {
+            out.obstacle_clearance = out.obstacle_clearance.min(o.signed_distance(x) - r.radius);
+        }
+        if out.wall_clearance <= 0.0 || out.obstacle_clearance <= 0.0 {
+            out.ending = FloorEnding::Collision;
+            break;
+        }
+        out.final_distance = (x - goal).norm();
+        if out.final_distance < sim.arrival {
+            out.ending = FloorEnding::Reached;
+            break;
+        }
+        if n == steps {
+            break;
+        }
+        // Perception: a true obstacle within range of the robot's disc becomes known.
+        for (o, seen) in prepared.obstacles.iter().zip(&mut known) {
+            if !*seen && o.signed_distance(x) - r.radius < sim.sensor_range {
+                nav.add_obstacle(o.clone())?;
+                *seen = true;
+                out.sensed += 1;
+            }
+        }
+        let c = match nav.command(x, vel) {
+            Ok(c) => c,
+            Err(e) => {
+                out.ending = FloorEnding::Refused;
+                out.error = Some(e);
+                break;
+            }
+        };
+        out.commands += 1;
+        let next = match &law {
+            Law::Kinematic { .. } => {
+                vel = c.value;
+                x + h * c.value
+            }
+            Law::Dynamic { mass, .. } => {
+                vel += h * c.value / *mass;
+                x + h * vel
+            }
+        };
+        out.path += (next - x).norm();
+        x = next;
+    }
+    Ok(out)
+}
+
+/// The certificate of the scenario's map on `W_δ` ([`FloorMap::certify`]) with at most
+/// `max_evaluations` cells.
+///
+/// # Errors
+/// The certificate's own error, as text.
+pub fn certificate(
+    prepared: &FloorPrepared,
+    max_evaluations: usize,
+) -> Result<Certificate, String> {
+    prepared
+        .floor
+        .certify(max_evaluations)
+        .map_err(|e| e.to_string())
+}

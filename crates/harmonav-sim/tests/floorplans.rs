@@ -1,0 +1,115 @@
+//! The floor-plan scenarios (`scenarios/floorplans/`): every start under both laws arrives with
+//! no collision and never leaves; bad files are named errors.
+
+use std::path::{Path, PathBuf};
+
+use harmonav_sim::floorplan::{FLOORPLANS, FloorEnding, FloorScenario, run};
+use harmonav_sim::scenario::Model;
+
+fn files() -> Vec<PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenarios")
+        .join(FLOORPLANS);
+    let mut out: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    out.sort();
+    out
+}
+
+#[test]
+fn every_floor_plan_start_arrives_under_both_laws() {
+    let files = files();
+    assert!(files.len() >= 2);
+    for file in files {
+        let p = FloorScenario::load(&file).unwrap();
+        for model in [Model::Kinematic, Model::Dynamic] {
+            // The file's start keeps `cargo test` short; verify runs all.
+            for &start in p.starts.iter().take(1) {
+                let r = run(&p, Some(model), start).unwrap();
+                eprintln!(
+                    "{} {model:?} {start:?}: {} in {:.1} s, walls {:.3}, obstacles {:.3}, layer {:.3}",
+                    file.display(),
+                    r.ending.as_str(),
+                    r.time,
+                    r.wall_clearance,
+                    r.obstacle_clearance,
+                    r.layer_clearance
+                );
+                assert_eq!(r.ending, FloorEnding::Reached, "{r:?}");
+                assert!(r.wall_clearance > 0.0 && r.obstacle_clearance > 0.0);
+                assert!(r.layer_clearance >= 0.0, "left W_δ: {r:?}");
+            }
+        }
+    }
+}
+
+fn check(text: &str, field: &str, problem: &str) {
+    let path = Path::new("bad.toml");
+    let e = FloorScenario::parse(path, text)
+        .and_then(|s| s.prepare(path))
+        .unwrap_err();
+    assert_eq!(e.field, field, "{e}");
+    assert!(e.problem.contains(problem), "{e}");
+    assert!(e.to_string().starts_with("bad.toml"), "{e}");
+}
+
+#[test]
+fn bad_floor_plans_name_the_file_field_and_problem() {
+    let good = |plan: &str, robot: &str| {
+        format!("name = \"x\"\n[floor_plan]\n{plan}\n[robot]\nmodel = \"kinematic\"\n{robot}\n")
+    };
+    let square = "outer = [[0.0, 0.0], [4.0, 0.0], [4.0, 4.0], [0.0, 4.0]]";
+    let robot = "start = [1.0, 1.0]\ngoal = [3.0, 3.0]";
+    check(
+        &good(square, "start = [0.05, 1.0]\ngoal = [3.0, 3.0]"),
+        "robot.start",
+        "not in the certified region",
+    );
+    check(
+        &good(square, "start = [1.0, 1.0]\ngoal = [5.0, 3.0]"),
+        "robot.goal",
+        "in a wall or outside",
+    );
+    check(
+        &good(
+            &format!("{square}\nholes = [[[1.0, 1.0], [2.0, 2.0], [2.0, 1.0], [1.0, 2.0]]]"),
+            robot,
+        ),
+        "floor_plan",
+        "",
+    );
+    check(
+        &good(
+            &format!("{square}\nholes = [[[1.0, 1.0], [2.0, 1.0]]]"),
+            robot,
+        ),
+        "floor_plan.holes[0]",
+        "",
+    );
+    check(
+        &good(&format!("{square}\nmax_element = -1.0"), robot),
+        "floor_plan.max_element",
+        "positive",
+    );
+    check(
+        &good(square, &format!("{robot}\nradius = -0.1")),
+        "robot.radius",
+        "≥ 0",
+    );
+    let obstacle = "\n[[obstacles]]\ntype = \"circle\"\ncenter = [0.3, 2.0]\nradius = 0.2\n";
+    check(
+        &format!("{}{obstacle}", good(square, robot)),
+        "obstacles[0]",
+        "within δ",
+    );
+    // An unknown key names its line.
+    let e = FloorScenario::parse(
+        Path::new("bad.toml"),
+        &good(square, &format!("{robot}\nspeed = 1")),
+    )
+    .unwrap_err();
+    assert!(e.line.is_some() && e.problem.contains("speed"), "{e}");
+}

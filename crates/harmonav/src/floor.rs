@@ -1,0 +1,335 @@
+//! [`FloorNavigator`]: the online navigator on a floor plan (issue 25): `Θ` through
+//! `Phi = S ∘ H ∘ B` (harmonav-floorplan), both laws, the sampled-data hold, obstacles sensed
+//! online inside the plan (no new solve of `H` when one is added).
+
+use std::sync::Arc;
+
+use harmonav_field::{FieldError, FieldEval};
+use harmonav_floorplan::{FloorError, FloorField, FloorMap, NotFree};
+use harmonav_transform::StarShape;
+use nalgebra::Vector2;
+
+use crate::hold::{self, Band, Command, Mode};
+use crate::navigator::{Controller, Evaluation, Law, NavError, controller, finite};
+use crate::options::{HoldPolicy, Options};
+use crate::space::Space;
+
+/// An online navigator on a floor plan: the walls are known (a [`FloorMap`], whose harmonic
+/// map is solved once), star-shaped obstacles are added as perception finds them.
+///
+/// **Where it navigates.** Only in the certified region `W_δ = {sd ≥ δ}` ([`FloorMap::delta`],
+/// `sd` the distance to the walls shrunk by `s = radius + margin − δ`: `W_δ` is the
+/// configuration space with its margin), minus the sensed obstacles grown by
+/// `radius + margin`. The hold ([`HoldPolicy::Auto`]) measures its clearance to the
+/// boundary layer, `sd(x) − δ`, so every held step stays in `W_δ`. In the layer (`radius <
+/// sd < δ`, reached only by a disturbance) [`FloorNavigator::command`] and `evaluate` return
+/// [`NavError::BoundaryLayer`]: the discrete map is not claimed a diffeomorphism there, and no
+/// command is invented (there is no way out of the walls' layer yet; the sensed obstacles'
+/// margin bands do have one, [`Mode::Recovering`]).
+///
+/// ```
+/// use std::sync::Arc;
+/// use harmonav::{FloorMap, FloorNavigator, FloorOptions, Law, Options, Vector2};
+///
+/// let v = Vector2::new;
+/// let room = vec![v(0.0, 0.0), v(4.0, 0.0), v(4.0, 1.5), v(1.5, 1.5), v(1.5, 4.0), v(0.0, 4.0)];
+/// let options = Options::default().with_robot(0.1, 0.1);
+/// let floor = Arc::new(FloorMap::new(room, vec![], &FloorOptions::new(0.2, 0.2))?);
+/// let goal = v(3.5, 0.75);
+/// let mut nav = FloorNavigator::new(floor, goal, Law::kinematic(1.0), options)?;
+/// let (mut x, h) = (v(0.75, 3.5), 0.01);
+/// for _ in 0..3000 {
+///     x += h * nav.command(x, Vector2::zeros())?.value;
+///     assert!(nav.field().floor().wall_distance(x) > 0.2);
+/// }
+/// assert!((x - goal).norm() < 0.05);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Clone, Debug)]
+pub struct FloorNavigator {
+    controller: Controller,
+    options: Options,
+    period: f64,
+    /// `Θ` over the holes and the sensed obstacles (grown by `radius + margin`).
+    field: FloorField,
+    /// The sensed obstacles grown by `radius` alone (the robot's disc overlaps a true shape iff
+    /// its centre is in one); empty with no margin.
+    inner: Vec<StarShape>,
+    speed_at_discovery: f64,
+    last: Option<(Vector2<f64>, Vector2<f64>)>,
+}
+
+impl FloorNavigator {
+    /// A navigator on `floor` towards `goal`. `floor` must keep at least `radius + margin`
+    /// from the walls (build it with `FloorOptions::new(h, radius + margin)`: then `W_δ` is the
+    /// walls' erosion by `s + δ = max(radius + margin, δ)`).
+    ///
+    /// # Errors
+    /// A law parameter or option out of range (named, as [`crate::Navigator::new`]);
+    /// `radius + margin` larger than the floor's `δ` ([`NavError::InvalidOption`], `margin`);
+    /// a goal not finite or not in `W_δ` ([`NavError::Floor`]).
+    pub fn new(
+        floor: Arc<FloorMap>,
+        goal: Vector2<f64>,
+        law: Law,
+        options: Options,
+    ) -> Result<Self, NavError> {
+        finite(goal, "goal")?;
+        let controller = controller(&law, &options)?;
+        let inflation = options.radius + options.margin;
+        // W_δ is the erosion of the walls by s + δ (FloorMap::shrink, delta).
+        if inflation > (floor.shrink() + floor.delta()) * (1.0 + 1e-12) {
+            return Err(NavError::InvalidOption {
+                field: "margin",
+                value: options.margin,
+            });
+        }
+        let field = FloorField::new(floor, goal, options.k).map_err(NavError::Floor)?;
+        let nav = Self {
+            controller,
+            options,
+            period: options.period_for(&law),
+            field,
+            inner: Vec::new(),
+            speed_at_discovery: 0.0,
+            last: None,
+        };
+        // Guard: λ_c (eq. critdamp) from the floor's goal stiffness, checked once.
+        if let Controller::Dynamic(law) = &nav.controller {
+            let lambda_c = law.lambda_c_for(nav.field.destination_stiffness(), 0.0);
+            if !lambda_c.is_finite() {
+                return Err(NavError::InvalidOption {
+                    field: "mu",
+                    value: law.mu(),
+                });
+            }
+        }
+        Ok(nav)
+    }
+
+    /// Adds a sensed obstacle (true shape, grown here by `radius + margin`): `k`, `B` and the
+    /// point world update, `H` is reused (no new solve). Returns its index.
+    ///
+    /// # Errors
+    /// The navigator is then unchanged: the shape cannot be grown ([`NavError::Shape`]); it
+    /// contains the robot's last position grown by `radius` ([`NavError::ContainsRobot`]); it
+    /// overlaps another, contains the goal or reaches the boundary layer ([`NavError::Floor`]).
+    pub fn add_obstacle(&mut self, shape: StarShape) -> Result<usize, NavError> {
+        let inflation = self.options.radius + self.options.margin;
+        let grown = shape.offset(inflation).map_err(NavError::Shape)?;
+        let inner = if self.options.margin > 0.0 {
+            Some(shape.offset(self.options.radius).map_err(NavError::Shape)?)
+        } else {
+            None
+        };
+        let body = inner.as_ref().unwrap_or(&grown);
+        if self.last.is_some_and(|(x, _)| body.contains(x)) {
+            return Err(NavError::ContainsRobot);
+        }
+        let field = self.field.with_obstacle(grown).map_err(NavError::Floor)?;
+        self.field = field;
+        self.inner.extend(inner);
+        self.speed_at_discovery = self.last.map_or(0.0, |(_, v)| v.norm());
+        Ok(self.field.transform().obstacles().count() - 1)
+    }
+
+    /// The command to hold for one control period at `(x, ẋ)`, as
+    /// [`crate::Navigator::command`]: under [`HoldPolicy::Auto`] every held step stays in the
+    /// certified clearance (to the sensed obstacles and to the boundary layer), `Θ` decreases
+    /// over each kinematic step, and the dynamic law's caps hold.
+    ///
+    /// # Errors
+    /// (the navigator is then unchanged) `x` or `ẋ` not finite; the robot's disc overlapping a
+    /// wall ([`NavError::OutsideBoundary`]) or a sensed obstacle ([`NavError::InObstacle`]);
+    /// `x` in the boundary layer ([`NavError::BoundaryLayer`]); a non-finite command.
+    pub fn command(&mut self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Command, NavError> {
+        let command = self.held(x, v)?;
+        if !command.value.iter().all(|c| c.is_finite()) {
+            return Err(NavError::NonFiniteCommand);
+        }
+        self.last = Some((x, v));
+        Ok(command)
+    }
+
+    fn held(&self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Command, NavError> {
+        let eval = match self.evaluate(x, v) {
+            Ok(eval) => eval,
+            Err(NavError::InObstacle { obstacle }) => return self.recover(x, v, obstacle),
+            Err(e) => return Err(e),
+        };
+        if self.options.hold == HoldPolicy::Paper {
+            return Ok(Command {
+                value: eval.command,
+                mode: Mode::Law,
+            });
+        }
+        let h = self.period;
+        Ok(match &self.controller {
+            Controller::Dynamic(law) => {
+                let d = eval.damping.unwrap_or_else(|| {
+                    law.damping_for(
+                        (self.field.destination_stiffness(), 0.0),
+                        &eval.field,
+                        v,
+                        self.speed_at_discovery,
+                    )
+                });
+                hold::dynamic(law, &self.field, x, (&eval.field, v), &d, h)
+            }
+            Controller::Kinematic(law) => {
+                hold::kinematic(law, &self.field, x, &eval.field, eval.command, h)
+            }
+        })
+    }
+
+    /// The way out of sensed obstacle `i`'s margin band, as [`crate::Navigator`]'s: along the
+    /// ray from its centre to the grown shape's edge, plus half the edge's clearance from
+    /// everything else (at most half the margin).
+    fn recover(&self, x: Vector2<f64>, v: Vector2<f64>, i: usize) -> Result<Command, NavError> {
+        let error = NavError::InObstacle { obstacle: i };
+        let Some(inner) = self.inner.get(i) else {
+            return Err(error);
+        };
+        if inner.contains(x) {
+            return Err(error);
+        }
+        let grown = self
+            .field
+            .transform()
+            .obstacles()
+            .nth(i)
+            .ok_or(error.clone())?;
+        let (dir, rho) = hold::ray(grown, x).ok_or(error.clone())?;
+        let to_edge = (grown.radius_along(dir).0 - rho).max(0.0);
+        let edge = x + to_edge * dir;
+        let band = Band::Obstacle(i);
+        let room = self
+            .field
+            .clearance(edge, self.options.margin, Some(band))
+            .max(0.0);
+        if room <= 0.0 {
+            return Err(error);
+        }
+        let length = to_edge + 0.5 * room;
+        let h = self.period;
+        let value = match &self.controller {
+            Controller::Kinematic(law) => {
+                (length / h).min(law.gain() * std::f64::consts::SQRT_2) * dir
+            }
+            Controller::Dynamic(law) => {
+                let next = (length / h).min(0.5 * law.speed_bound()) * dir;
+                (law.mass() / h) * (next - v)
+            }
+        };
+        Ok(Command {
+            value,
+            mode: Mode::Recovering(band),
+        })
+    }
+
+    /// The continuous law at `(x, ẋ)` without the hold and without remembering the state.
+    ///
+    /// # Errors
+    /// As [`FloorNavigator::command`], with the sensed obstacles grown by `radius + margin`.
+    pub fn evaluate(&self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Evaluation, NavError> {
+        finite(x, "position")?;
+        finite(v, "velocity")?;
+        if !v.norm().is_finite() {
+            return Err(NavError::NotFinite { what: "velocity" });
+        }
+        let e = self.eval(x)?;
+        let (command, damping) = match &self.controller {
+            Controller::Kinematic(law) => (
+                law.velocity(&e, (x - self.field.transform().goal()).norm()),
+                None,
+            ),
+            Controller::Dynamic(law) => {
+                // A floor plan's Θ is free of the world's scale already: no shift.
+                let s = self.field.destination_stiffness();
+                let d = law.damping_for((s, 0.0), &e, v, self.speed_at_discovery);
+                (law.force_for(0.0, &e, v, &d), Some(d))
+            }
+        };
+        Ok(Evaluation {
+            command,
+            field: e,
+            damping,
+        })
+    }
+
+    /// `Θ` at `x` with the navigator's errors.
+    fn eval(&self, x: Vector2<f64>) -> Result<FieldEval, NavError> {
+        self.field.eval(x).map_err(|e| match e {
+            FieldError::InObstacle { obstacle } => NavError::InObstacle { obstacle },
+            FieldError::NotFinite => NavError::NotFinite { what: "position" },
+            _ => match self.field.locate(x) {
+                Some(NotFree::BoundaryLayer)
+                    if self.field.floor().wall_distance(x) > self.options.radius =>
+                {
+                    NavError::BoundaryLayer
+                }
+                _ => NavError::OutsideBoundary,
+            },
+        })
+    }
+
+    /// `Θ(x)` (for logging); errors as [`FloorNavigator::evaluate`].
+    pub fn theta(&self, x: Vector2<f64>) -> Result<f64, NavError> {
+        finite(x, "position")?;
+        self.eval(x).map(|e| e.value)
+    }
+
+    /// The certified clearance at `x`: a lower bound on the distance to the boundary layer
+    /// (`sd(x) − δ`) and to every sensed obstacle grown by `radius + margin`; `−∞` at a
+    /// non-finite point.
+    pub fn clearance(&self, x: Vector2<f64>) -> f64 {
+        if !x.iter().all(|c| c.is_finite()) {
+            return f64::NEG_INFINITY;
+        }
+        self.field.clearance(x, f64::INFINITY, None)
+    }
+
+    /// The goal.
+    pub fn goal(&self) -> Vector2<f64> {
+        self.field.transform().goal()
+    }
+
+    /// `Θ` on the floor plan (read only).
+    pub fn field(&self) -> &FloorField {
+        &self.field
+    }
+
+    /// `k` (holes plus sensed obstacles under the k policy).
+    pub fn k(&self) -> f64 {
+        self.field.k()
+    }
+
+    /// The law in use.
+    pub fn controller(&self) -> &Controller {
+        &self.controller
+    }
+
+    /// The speed bound `√(2μ/m)` of the dynamic law, `None` for the kinematic law.
+    pub fn speed_bound(&self) -> Option<f64> {
+        match &self.controller {
+            Controller::Kinematic(_) => None,
+            Controller::Dynamic(law) => Some(law.speed_bound()),
+        }
+    }
+
+    /// The control period `h` in force, s.
+    pub fn control_period(&self) -> f64 {
+        self.period
+    }
+
+    /// The options in use.
+    pub fn options(&self) -> &Options {
+        &self.options
+    }
+}
+
+impl From<FloorError> for NavError {
+    fn from(e: FloorError) -> Self {
+        Self::Floor(e)
+    }
+}

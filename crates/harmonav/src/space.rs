@@ -1,0 +1,133 @@
+//! [`Space`]: what the sampled-data hold needs of a navigation function and its free space —
+//! `Θ`, the certified clearance `d(x)` and the way out of the blind layer — for a star world
+//! ([`Field`]) and a floor plan ([`FloorField`]), so that one hold serves both.
+
+use harmonav_control::Dynamic;
+use harmonav_field::{Field, FieldError, FieldEval};
+use harmonav_floorplan::FloorField;
+use nalgebra::Vector2;
+
+use crate::hold::{self, Band};
+
+/// The hold's view of a navigation function over its free space (`docs/maths.md` §10).
+pub(crate) trait Space {
+    /// `Θ`, `∇Θ` and the direction at `x`; an error outside the free space.
+    fn eval(&self, x: Vector2<f64>) -> Result<FieldEval, FieldError>;
+    /// The goal `x_d` (the kinematic law's speed policy brakes on `|x − x_d|`).
+    fn goal(&self) -> Vector2<f64>;
+    /// The certified clearance `d(x)` clipped at `need`: a lower bound on the distance to every
+    /// known grown shape (but `except`) and to the boundary (for a floor plan: to the boundary
+    /// layer `sd < δ`).
+    fn clearance(&self, x: Vector2<f64>, need: f64, except: Option<Band>) -> f64;
+    /// The way out of the blind layer of a shape that is not a circle (`hold::escape`).
+    fn escape(&self, x: Vector2<f64>, most: f64) -> Option<(Band, Vector2<f64>, f64)>;
+    /// The motion `u` the hold should certify at `x` for a step of length `reach`: `u` itself
+    /// in a star world; on a floor plan, within `reach` of the boundary layer, `u` without its
+    /// component into the layer (a projected descent along `∂W_δ`).
+    fn slide(&self, x: Vector2<f64>, u: Vector2<f64>, reach: f64) -> Vector2<f64> {
+        let _ = (x, reach);
+        u
+    }
+    /// The scale shift of the dynamic law's potential on this space
+    /// (`Dynamic::potential_for`): `Dynamic::scale_shift` of a star world's field; 0 on a floor
+    /// plan, whose `Θ` is free of the world's scale already (its harmonic map goes onto the
+    /// unit disk).
+    fn scale_shift(&self, law: &Dynamic) -> f64 {
+        let _ = law;
+        0.0
+    }
+}
+
+impl Space for Field {
+    fn eval(&self, x: Vector2<f64>) -> Result<FieldEval, FieldError> {
+        Field::eval(self, x)
+    }
+
+    fn goal(&self) -> Vector2<f64> {
+        self.workspace().destination()
+    }
+
+    fn clearance(&self, x: Vector2<f64>, need: f64, except: Option<Band>) -> f64 {
+        hold::clearance(self.workspace(), x, need, except)
+    }
+
+    fn escape(&self, x: Vector2<f64>, most: f64) -> Option<(Band, Vector2<f64>, f64)> {
+        hold::escape(self.workspace(), x, most)
+    }
+
+    fn scale_shift(&self, law: &Dynamic) -> f64 {
+        law.scale_shift(self)
+    }
+}
+
+/// On a floor plan, [`Band::Boundary`] is the boundary layer of the walls: its clearance is
+/// `sd(x) − δ` (parry's exact point–segment distances, `FloorMap::clearance`), so a step that
+/// the hold certifies never enters the layer; the sensed obstacles keep their certified
+/// star-shape bounds.
+impl Space for FloorField {
+    fn eval(&self, x: Vector2<f64>) -> Result<FieldEval, FieldError> {
+        FloorField::eval(self, x)
+    }
+
+    fn goal(&self) -> Vector2<f64> {
+        self.transform().goal()
+    }
+
+    fn clearance(&self, x: Vector2<f64>, need: f64, except: Option<Band>) -> f64 {
+        let mut best = need;
+        if except != Some(Band::Boundary) {
+            best = best.min(self.floor().clearance(x));
+        }
+        for (i, o) in self.transform().obstacles().enumerate() {
+            if except == Some(Band::Obstacle(i)) {
+                continue;
+            }
+            let cheap = (x - o.centre()).norm() - o.radius_bounds().1;
+            if cheap < best {
+                best = best.min(hold::lower(o, x));
+            }
+        }
+        best
+    }
+
+    /// Projected descent on `W_δ` (`docs/maths.md` §13): where the step could reach the layer
+    /// (`sd(x) − δ < 2·reach`) and `u` points into it (`u·n > 0`, `n` the unit vector from `x`
+    /// to the nearest point of `∂W_s`), the hold certifies `u − (u·n)n` instead. For the
+    /// kinematic law `u = −c∇Θ`, so `u'·∇Θ = −c|∇Θ − (∇Θ·n)n|² ≤ 0`: still a descent
+    /// direction (the halving then makes `Θ` decrease). Without it the descent around a
+    /// reflex corner ran into the layer edge and stalled there (the L room: 3 of 7 starts).
+    fn slide(&self, x: Vector2<f64>, u: Vector2<f64>, reach: f64) -> Vector2<f64> {
+        let floor = self.floor();
+        if floor.clearance(x) >= 2.0 * reach {
+            return u;
+        }
+        let Some(n) = floor.toward_boundary(x) else {
+            return u;
+        };
+        let into = u.dot(&n);
+        if into > 0.0 { u - into * n } else { u }
+    }
+
+    /// Only a sensed obstacle has a blind layer (the walls' distances are exact to rounding):
+    /// the ray from its centre through `x`, as `hold::escape`. `None` when the walls are the
+    /// nearest: the hold then keeps its (shortened) law step.
+    fn escape(&self, x: Vector2<f64>, most: f64) -> Option<(Band, Vector2<f64>, f64)> {
+        let mut worst: Option<(usize, f64)> = None;
+        for (i, o) in self.transform().obstacles().enumerate() {
+            let d = hold::lower(o, x);
+            if worst.is_none_or(|(_, w)| d < w) {
+                worst = Some((i, d));
+            }
+        }
+        let (i, d) = worst?;
+        if d > self.floor().clearance(x) {
+            return None;
+        }
+        let shape = self.transform().obstacles().nth(i)?;
+        let (dir, _) = hold::ray(shape, x)?;
+        let band = Band::Obstacle(i);
+        let others = self.clearance(x, 2.0 * most, Some(band)).max(0.0);
+        let length = hold::blind_layer(shape, x).min(0.5 * others).min(most);
+        (length > 0.0).then_some((band, dir, length))
+    }
+}

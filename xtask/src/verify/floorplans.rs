@@ -1,0 +1,136 @@
+//! The floor-plan suite (`scenarios/floorplans/`, issue 25; docs/maths.md §13): every start
+//! of each file (its `robot.start` and the seeded `[starts]`) flown under both laws in the
+//! user's loop around `harmonav::FloorNavigator` (`harmonav_sim::floorplan::run`), and the
+//! Lipschitz certificate of `det J_H > 0`, `|H| < 1` on `W_δ` for each map.
+
+use std::path::{Path, PathBuf};
+
+use harmonav_sim::floorplan::{FLOORPLANS, FloorEnding, FloorScenario, certificate, run};
+use harmonav_sim::scenario::Model;
+
+use super::{Check, Outcome, outcome};
+
+/// Cells of the certificate (each an `O(N)` evaluation; the first grid of the U room at
+/// `δ = 0.05` m alone has 7·10⁴).
+const CERTIFY_BUDGET: usize = 150_000;
+
+fn files() -> Vec<PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../scenarios")
+        .join(FLOORPLANS);
+    let mut out: Vec<_> = std::fs::read_dir(dir)
+        .map(|d| {
+            d.filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+                .collect()
+        })
+        .unwrap_or_default();
+    out.sort();
+    out
+}
+
+pub fn checks() -> Vec<Check> {
+    let mut all = Vec::new();
+    for file in files() {
+        let name = file
+            .file_stem()
+            .map_or(String::new(), |s| s.to_string_lossy().into_owned());
+        for (law, model) in [("kinematic", Model::Kinematic), ("dynamic", Model::Dynamic)] {
+            let file = file.clone();
+            all.push(
+                Check::new(format!("floorplan.{name}.{law}"), move || fly(&file, model)).early(),
+            );
+        }
+        all.push(
+            Check::new(format!("floorplan.{name}.certificate"), move || {
+                certify(&file)
+            })
+            .early(),
+        );
+    }
+    all
+}
+
+/// Every start arrives within the file's `sim.arrival`, with no collision with the true walls
+/// and obstacles, never leaving the plan, and never entering the boundary layer.
+fn fly(file: &Path, model: Model) -> Outcome {
+    let p = FloorScenario::load(file).map_err(|e| e.to_string())?;
+    let field = harmonav::floorplan::FloorField::new(
+        p.floor.clone(),
+        nalgebra::Vector2::new(p.scenario.robot.goal[0], p.scenario.robot.goal[1]),
+        harmonav::KPolicy::default(),
+    )
+    .map_err(|e| e.to_string())?;
+    // c_δ over the walls alone (the sensed obstacles are not known at the start).
+    let (level, _) = field.layer_level();
+    let below = p
+        .starts
+        .iter()
+        .filter(|&&s| field.eval(s).is_ok_and(|e| e.value < level))
+        .count();
+    let (mut reached, mut bad) = (0, Vec::new());
+    let (mut walls, mut obstacles, mut layer, mut slowest) =
+        (f64::INFINITY, f64::INFINITY, f64::INFINITY, 0.0_f64);
+    for &start in &p.starts {
+        let r = run(&p, Some(model), start).map_err(|e| e.to_string())?;
+        walls = walls.min(r.wall_clearance);
+        obstacles = obstacles.min(r.obstacle_clearance);
+        layer = layer.min(r.layer_clearance);
+        match r.ending {
+            FloorEnding::Reached => {
+                reached += 1;
+                slowest = slowest.max(r.time);
+            }
+            e => bad.push(format!(
+                "{start:?}: {} at {:.3} m ({:?})",
+                e.as_str(),
+                r.final_distance,
+                r.error
+            )),
+        }
+    }
+    let n = p.starts.len();
+    outcome(
+        bad.is_empty() && walls > 0.0 && obstacles > 0.0 && layer >= 0.0,
+        format!(
+            "{reached}/{n} within {} m (slowest {slowest:.1} s), 0 collisions: wall clearance \
+             {walls:.3} m, obstacles {obstacles:.3} m, layer {layer:.1e} m; {below}/{n} starts \
+             below c_δ = {level:.3e}; N = {}, δ = {} m, setup {:.2} s{}",
+            p.scenario.sim.arrival,
+            p.floor.map().elements().len(),
+            p.floor.delta(),
+            p.setup_seconds,
+            if bad.is_empty() {
+                String::new()
+            } else {
+                format!("; {}", bad.join("; "))
+            }
+        ),
+    )
+}
+
+/// The certificate's verdict on `W_δ`: a fold or `|H| ≥ 1` fails; "undecided" (no
+/// counterexample, some area neither proven nor refuted: the U's pocket squeeze) is reported
+/// with its area, and the sampled `min det J_H` must be positive.
+fn certify(file: &Path) -> Outcome {
+    let p = FloorScenario::load(file).map_err(|e| e.to_string())?;
+    let c = certificate(&p, CERTIFY_BUDGET)?;
+    let bad = matches!(
+        c.verdict,
+        harmonav_harmonic::Verdict::Fold { .. } | harmonav_harmonic::Verdict::OutsideDisk { .. }
+    );
+    outcome(
+        !bad && c.extremes.min_det > 0.0,
+        format!(
+            "{} on W_δ (δ = {} m): certified {:.2} m², undecided {:.3} m², {} evaluations, \
+             sampled min det J_H {:.1e}, max |H| {:.4}",
+            c.verdict.as_str(),
+            c.delta,
+            c.certified_area,
+            c.undecided_area,
+            c.evaluations,
+            c.extremes.min_det,
+            c.extremes.max_norm,
+        ),
+    )
+}
