@@ -215,9 +215,6 @@ fn rapier_observed(
         s
     };
     let mut aborted = None;
-    // A discovery since the last sample: V may jump there (k and Θ change), which the energy
-    // monitor must not count as a rise.
-    let mut discovered = false;
     loop {
         let (x, vel) = state(&world);
         if lp.eval(x, vel).is_none() {
@@ -230,9 +227,10 @@ fn rapier_observed(
             break;
         }
         if steps % substeps == 0 || reached {
+            // A discovery's second side is recorded where it happens (below), flagged there so
+            // that the energy monitor does not count V's jump as a rise.
             let keep = if reached { Keep::Pinned } else { Keep::Grid };
-            rec.record(sample(&lp, t, x, vel), keep, discovered, truth);
-            discovered = false;
+            rec.record(sample(&lp, t, x, vel), keep, false, truth);
         }
         reached = (x - goal).norm() < sc.sim.goal_tolerance;
         if reached || t >= sc.sim.max_time {
