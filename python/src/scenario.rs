@@ -3,10 +3,10 @@
 
 use std::path::PathBuf;
 
+use harmonav_output::set::{check_output_dir, write_outputs};
+use harmonav_scenario::{Model, Prepared, Scenario as RsScenario};
 use harmonav_sim::physics::{Physics, simulate};
-use harmonav_sim::record::{check_output_dir, write_outputs};
-use harmonav_sim::run::Run;
-use harmonav_sim::scenario::{Model, Prepared, Scenario as RsScenario};
+use harmonav_sim::summary::Run;
 use harmonav_sim::sweep::{Report, check_count, random_starts, sweep_part};
 use numpy::{PyArray1, PyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::PyOSError;
@@ -121,7 +121,7 @@ impl Scenario {
     /// independent of `Θ`): `(length, waypoints (K, 2))`. The true shortest length lies within
     /// the outline's chord error of `length`. Raises `ValueError` if there is none.
     fn shortest_path<'py>(&self, py: Python<'py>) -> PyResult<(f64, Bound<'py, PyArray2<f64>>)> {
-        let path = harmonav_sim::quality::reference(&self.prepared).map_err(value_error)?;
+        let path = harmonav_sim::shortest::of_scenario(&self.prepared).map_err(value_error)?;
         let flat = path.waypoints.iter().flat_map(|p| [p.x, p.y]).collect();
         Ok((path.length, rows2(py, flat, path.waypoints.len())?))
     }
@@ -153,10 +153,10 @@ pub struct RunResult {
 impl RunResult {
     fn new(py: Python<'_>, run: &Run) -> PyResult<Self> {
         let n = run.samples.len();
-        let column = |f: &dyn Fn(&harmonav_sim::run::Sample) -> f64| -> Vec<f64> {
+        let column = |f: &dyn Fn(&harmonav_sim::trace::Sample) -> f64| -> Vec<f64> {
             run.samples.iter().map(f).collect()
         };
-        let pairs = |f: &dyn Fn(&harmonav_sim::run::Sample) -> [f64; 2]| -> Vec<f64> {
+        let pairs = |f: &dyn Fn(&harmonav_sim::trace::Sample) -> [f64; 2]| -> Vec<f64> {
             run.samples.iter().flat_map(f).collect()
         };
         let discoveries = pyo3::types::PyList::empty(py);

@@ -14,7 +14,7 @@ use std::time::Instant;
 use harmonav_control::DampingPolicy;
 use harmonav_field::KPolicy;
 use harmonav_potential::{BatchGradient, PointWorld, Vector2, arrangements};
-use harmonav_sim::scenario::Model;
+use harmonav_scenario::Model;
 
 use crate::quality;
 
@@ -164,7 +164,7 @@ pub fn run(options: &Options) -> ExitCode {
             quality::WORLDS,
         );
         let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
-        match harmonav_sim::quality::run_plan(&plan, threads) {
+        match harmonav_bench::quality::run_plan(&plan, threads) {
             Ok(stats) => {
                 quality::figures(&stats, &mut put);
                 if !options.json {
@@ -301,7 +301,7 @@ fn field_grad_ns(m: usize) -> f64 {
 /// (`Field::eval_many`): the Rust side of the Python package's benchmark
 /// (`python/bench/bench_eval.py`, which times `Field.eval` and NumPy in the same world).
 fn field_eval_ns_discs20() -> Result<(f64, f64), String> {
-    use harmonav_sim::scenario::Scenario;
+    use harmonav_scenario::Scenario;
     use harmonav_transform::random::{self, Rng};
     let path = std::path::Path::new("scenarios/scale/discs-20-global.toml");
     let prepared = Scenario::load(path).map_err(|e| e.to_string())?;
@@ -460,7 +460,7 @@ fn long_run_rss(states: f64) -> Result<(f64, usize), String> {
          [sim]\ndt = {dt:e}\nmax_time = 1e5\ngoal_tolerance = 0.05\n"
     );
     let path = std::path::Path::new("long-run.toml");
-    let prepared = harmonav_sim::scenario::Scenario::parse(path, &text)
+    let prepared = harmonav_scenario::Scenario::parse(path, &text)
         .and_then(|s| s.prepare(path))
         .map_err(|e| e.to_string())?;
     let base = rss_bytes().ok_or("no /proc/self/status")?;
@@ -474,7 +474,7 @@ fn long_run_rss(states: f64) -> Result<(f64, usize), String> {
         });
         let mut streamed = 0usize;
         let run = harmonav_sim::run::run_observed(&prepared, None, &mut |e| {
-            if let harmonav_sim::run::Event::State(s) = e {
+            if let harmonav_sim::trace::Event::State(s) = e {
                 streamed += black_box(s).x.len() / 2;
             }
         });
@@ -506,7 +506,7 @@ fn montecarlo_runs_per_s() -> f64 {
         .map(|_| random::free_point(&mut rng, &ws, 1e-3))
         .collect();
     let t = Instant::now();
-    black_box(harmonav_sim::quality::parallel_map(&starts, 2, |&x| {
+    black_box(harmonav_sim::pool::parallel_map(&starts, 2, |&x| {
         follow(&field, x, &FollowOptions::default()).time
     }));
     starts.len() as f64 / t.elapsed().as_secs_f64()

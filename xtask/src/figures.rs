@@ -17,14 +17,14 @@ use std::sync::Arc;
 
 use harmonav_field::Field;
 use harmonav_field::descent::{FollowOptions, follow};
-use harmonav_sim::atomic::write_atomically;
-use harmonav_sim::figures::{
-    Plane, draw_level_lines, draw_path, energy_svg, err, outline, plane, speed_svg, trajectory_svg,
-    xy,
+use harmonav_output::atomic::write_atomically;
+use harmonav_output::drawing::{outline, xy};
+use harmonav_output::figures::{
+    Plane, draw_level_lines, draw_path, energy_svg, err, plane, speed_svg, trajectory_svg,
 };
-use harmonav_sim::levels::ThetaGrid;
+use harmonav_output::levels::ThetaGrid;
+use harmonav_scenario::Scenario;
 use harmonav_sim::run::run as run_scenario;
-use harmonav_sim::scenario::Scenario;
 use harmonav_transform::Workspace;
 use harmonav_transform::random::{self, Kind, Rng};
 use nalgebra::Vector2;

@@ -1,10 +1,10 @@
 //! The motion-quality benchmark (`harmonav_sim::quality`): the plan that `cargo xtask bench`
 //! and `cargo xtask verify` run, its Markdown table and its JSON figures.
 
+use harmonav_bench::quality::{Cell, CellStats, Plan, SensingKind, time_ratio};
 use harmonav_control::{DampingPolicy, SpeedPolicy};
 use harmonav_field::KPolicy;
-use harmonav_sim::quality::{Cell, CellStats, Plan, SensingKind, time_ratio};
-use harmonav_sim::scenario::Model;
+use harmonav_scenario::Model;
 
 /// Worlds per obstacle count in the benchmark.
 pub const WORLDS: usize = 24;
@@ -226,7 +226,7 @@ pub fn run(args: &[String]) -> std::process::ExitCode {
     }
     let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
     let plan = plan(&models, &KPolicy::ALL, LawPolicies::ALL, worlds);
-    match harmonav_sim::quality::run_plan(&plan, threads) {
+    match harmonav_bench::quality::run_plan(&plan, threads) {
         Ok(stats) => {
             print!("{}", table(&stats));
             std::process::ExitCode::SUCCESS

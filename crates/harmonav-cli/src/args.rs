@@ -5,7 +5,7 @@ use std::path::Path;
 use clap::ValueEnum;
 use harmonav_control::DampingPolicy;
 use harmonav_field::KPolicy;
-use harmonav_sim::scenario::{Model, Prepared, Scenario};
+use harmonav_scenario::{Model, Prepared, Scenario};
 
 use crate::error::CliError;
 

@@ -1,6 +1,6 @@
 //! `harmonav census`: the critical points of `Θ` (all obstacles known).
 
-use harmonav_sim::scenario::Prepared;
+use harmonav_scenario::Prepared;
 use serde_json::{Value, json};
 
 use crate::error::CliError;

@@ -4,9 +4,9 @@
 use std::path::PathBuf;
 
 use harmonav_field::FieldError;
-use harmonav_sim::atomic::OutputError;
-use harmonav_sim::run::RunError;
-use harmonav_sim::scenario::ScenarioError;
+use harmonav_output::atomic::OutputError;
+use harmonav_scenario::ScenarioError;
+use harmonav_sim::summary::RunError;
 use harmonav_sim::sweep::SweepError;
 
 /// Why a command failed.

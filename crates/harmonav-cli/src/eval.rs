@@ -1,7 +1,7 @@
 //! `harmonav eval`: the navigation function (all obstacles known) at points.
 
 use harmonav_field::FieldError;
-use harmonav_sim::scenario::Prepared;
+use harmonav_scenario::Prepared;
 use nalgebra::Vector2;
 use serde_json::{Value, json};
 

@@ -125,7 +125,7 @@ fn main() -> ExitCode {
     // folder not yet committed, and exit with 130 (128 + SIGINT). Without a handler the default
     // action would leave a staging folder behind.
     let handler = ctrlc::set_handler(|| {
-        let _no_new_set = harmonav_sim::atomic::abandon_staged();
+        let _no_new_set = harmonav_output::atomic::abandon_staged();
         eprintln!("harmonav: interrupted; no output was changed");
         std::process::exit(130);
     });

@@ -2,10 +2,10 @@
 
 use std::path::Path;
 
+use harmonav_output::set::Outputs;
+use harmonav_scenario::Prepared;
 use harmonav_sim::physics::{Physics, simulate_observed};
-use harmonav_sim::record::Outputs;
-use harmonav_sim::run::Summary;
-use harmonav_sim::scenario::Prepared;
+use harmonav_sim::summary::Summary;
 
 use crate::args::{Controller, PhysicsArg, model};
 use crate::error::CliError;

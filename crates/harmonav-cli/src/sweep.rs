@@ -1,6 +1,6 @@
 //! `harmonav sweep`: the law from seeded random starts (global sensing), in parallel.
 
-use harmonav_sim::scenario::Prepared;
+use harmonav_scenario::Prepared;
 use harmonav_sim::sweep::{Report, check_count, random_starts, sweep};
 
 use crate::args::{Controller, model};

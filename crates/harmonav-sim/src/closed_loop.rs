@@ -1,17 +1,19 @@
 //! The one control loop both integrators share: the robot's [`Navigator`] (its belief: the
 //! obstacles it has sensed) driven against the [`Truth`] (the scenario's shapes, which only the
 //! sensor sees). The built-in integrator ([`crate::run`]) and the rapier harness
-//! ([`crate::physics`]) differ only in how they advance the state.
+//! (`rapier.rs`, feature `rapier`) differ only in how they advance the state; the driver
+//! (`driver.rs`) does the rest.
 
 use harmonav::control::Branch;
 use harmonav::{Controller, Evaluation, Law, Navigator, Options};
 use harmonav_sensing::{Sensing, axis, initially_known};
 use nalgebra::Vector2;
 
+use harmonav_scenario::{Model, Prepared, Truth};
+
 use crate::guarantee::{Check, FreeSpaceLoss, Guarantee};
-use crate::run::{Discovery, RunError, Sample, step_tolerance};
-use crate::scenario::{Model, Prepared};
-use crate::truth::Truth;
+use crate::summary::RunError;
+use crate::trace::{Discovery, Sample};
 
 /// The closed loop of one robot model in one world.
 pub(crate) struct ClosedLoop<'a> {
@@ -61,17 +63,15 @@ impl<'a> ClosedLoop<'a> {
                 options = options.with_rho_min(truth.rho_min);
             }
         }
-        let err = |e: &dyn std::fmt::Display| RunError(e.to_string());
-        let nav = Navigator::new(truth.boundary.clone(), truth.goal(), law, options)
-            .map_err(|e| err(&e))?;
+        let nav = Navigator::new(truth.boundary.clone(), truth.goal(), law, options)?;
         let mut lp = Self {
             model,
             nav,
             known: Vec::new(),
             truth,
         };
-        let start = Vector2::new(sc.robot.start[0], sc.robot.start[1]);
-        let global = prepared.global_field().map_err(|e| err(&e))?;
+        let start = prepared.start();
+        let global = prepared.global_field()?;
         let first_axis = global.eval(start).ok().and_then(|e| e.direction);
         let known = initially_known(
             &truth.workspace,
@@ -83,11 +83,11 @@ impl<'a> ClosedLoop<'a> {
         let mut discoveries = Vec::new();
         let at_start = (start, Vector2::zeros());
         lp.discover(0.0, &known, at_start, first_axis, &mut discoveries)
-            .map_err(|g| RunError(g.detail()))?;
+            .map_err(|lost| RunError::Start(Box::new(lost)))?;
         // A discovery at t = 0 along the axis of the known set's field.
         let seen = lp.sees(start, Vector2::zeros());
         lp.discover(0.0, &seen, at_start, None, &mut discoveries)
-            .map_err(|g| RunError(g.detail()))?;
+            .map_err(|lost| RunError::Start(Box::new(lost)))?;
         Ok((lp, discoveries))
     }
 
@@ -161,8 +161,11 @@ impl<'a> ClosedLoop<'a> {
         Ok(())
     }
 
-    /// The recorded state at `t`.
-    pub fn sample(&self, t: f64, x: Vector2<f64>, v: Vector2<f64>) -> Sample {
+    /// The recorded state at `t`. `state_error`: the integrator's bound on the error of the
+    /// state `(x, ẋ)` (m, m/s), from which the energy's is bounded: `V` may differ from the
+    /// exact solution's by `10 · state_error · (μ|∇Ψ| + m|ẋ|)`, the state's error times the
+    /// sensitivity of `V` to it, with a safety factor of 10 (dynamic model).
+    pub fn sample(&self, t: f64, x: Vector2<f64>, v: Vector2<f64>, state_error: f64) -> Sample {
         let e = self.eval(x, v);
         let dynamic = match self.nav.controller() {
             Controller::Dynamic(law) => Some(law),
@@ -187,7 +190,7 @@ impl<'a> ClosedLoop<'a> {
                     let sensitivity = law.mu()
                         * law.potential(self.nav.field(), &e.field).gradient.norm()
                         + law.mass() * v.norm();
-                    10.0 * step_tolerance(self.truth) * sensitivity
+                    10.0 * state_error * sensitivity
                 }
                 _ => 0.0,
             },

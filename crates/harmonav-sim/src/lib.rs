@@ -1,14 +1,35 @@
 //! # harmonav-sim
 //!
-//! Scenario files ([`scenario`]), the built-in integrator with discovery events and the
-//! online guarantee monitors ([`run`]), the states kept in bounded memory ([`trajectory`]), the MCAP recording ([`record`]) and the SVG figures
-//! ([`figures`]), output folders checked before a run and written as one set ([`atomic`]),
-//! and many starts with typed outcomes ([`sweep`]). Only this crate and the CLI know about
-//! files.
+//! The closed loop and its judgement, with no files and no outputs: the robot's
+//! [`harmonav::Navigator`] driven against the scenario's truth ([`harmonav_scenario`]), every
+//! guarantee judged online, and the run's [`summary::Summary`].
+//!
+//! The path of a run is a straight line through the modules, each entered once:
+//!
+//! ```text
+//! physics::simulate → preflight (warnings) → run | rapier (the integrator)
+//!   → driver (start, sensing, recording, the stall rule, the end)
+//!     → closed_loop (Navigator against the Truth) → monitor (guarantees) → summary
+//! ```
+//!
+//! Leaves every module may use: [`trace`] (samples, discoveries, events), [`guarantee`],
+//! [`outcome`], [`warning`], [`trajectory`]. Studies: [`sweep`] (many starts, typed outcomes)
+//! on the one thread pool [`pool`], and [`shortest`] (the independent shortest path of "path
+//! over shortest"). [`floor`] is the loop of the floor-plan scenarios.
+//!
+//! Equations held here: the closed loops `ẋ = u` (eq. `holint`) and `m ẍ = f` (eq.
+//! `dynmodel`) integrated by Bogacki–Shampine 3(2) with step control ([`run`]); the
+//! Carathéodory solution at a discovery (the state cut at the first instant the sector sees
+//! an obstacle); the monitors' measures of each guarantee ([`guarantee::Check`]).
+//!
+//! May depend on: the facade and the crates below it, [`harmonav_scenario`] (the validated
+//! scenario), serde (the summary's JSON form), and rapier2d-f64 only with the feature
+//! `rapier` (the cross-check [`physics::Physics::Rapier`]). Not on toml parsing of its own,
+//! foxglove or plotters (those are `harmonav-output`'s).
 //!
 //! ```
 //! use std::path::Path;
-//! use harmonav_sim::scenario::Scenario;
+//! use harmonav_scenario::Scenario;
 //!
 //! let text = r#"
 //!     name = "one-rock"
@@ -33,21 +54,24 @@
 
 #![warn(missing_docs)]
 
-pub mod atomic;
 mod closed_loop;
-pub mod figures;
-pub mod floorplan;
+mod driver;
+pub mod floor;
 pub mod guarantee;
-pub mod levels;
 mod monitor;
 pub mod outcome;
 pub mod physics;
-pub mod quality;
-pub mod record;
+pub mod pool;
+pub mod preflight;
+#[cfg(feature = "rapier")]
+pub mod rapier;
 pub mod run;
-pub mod scenario;
 pub mod shortest;
+pub mod summary;
 pub mod sweep;
+pub mod trace;
 pub mod trajectory;
-pub mod truth;
 pub mod warning;
+
+pub use driver::STALL_STEPS;
+pub use monitor::MARGIN_TOLERANCE;

@@ -3,21 +3,37 @@
 //! run of any length is judged on every one of its states; what stays in memory for figures
 //! is the bounded [`Trajectory`].
 
-use harmonav::Controller;
+use harmonav::{Controller, Navigator};
+use harmonav_scenario::{ExpectSpec, Model, Prepared, Truth};
 use nalgebra::Vector2;
 
-use crate::closed_loop::ClosedLoop;
 use crate::guarantee::{Check, Guarantee};
 use crate::outcome::{Outcome, Rest};
-use crate::run::{Discovery, Event, Sample, Summary};
-use crate::scenario::{ExpectSpec, Prepared};
+use crate::summary::Summary;
+use crate::trace::{Discovery, Event, Sample};
 use crate::trajectory::{Keep, Trajectory};
-use crate::truth::Truth;
 
 /// How far below `robot.margin` the measured clearance may fall and still pass: the offset
 /// outlines of non-circular shapes are Hermite tables (`StarShape::offset`) and the exact
 /// distances are refined to ~1e-9 m, so the grown shapes sit within this of the true offset.
 pub const MARGIN_TOLERANCE: f64 = 1e-6;
+
+/// How a run ended, as its integrator saw it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct End {
+    /// Within the goal tolerance.
+    pub reached: bool,
+    /// The time at the end, s.
+    pub time: f64,
+    /// The distance to the goal at the end, m.
+    pub final_distance: f64,
+    /// Accepted integration steps.
+    pub steps: usize,
+    /// Rejected integration steps.
+    pub rejected: usize,
+    /// The integrator's name in the summary (`builtin`, `rapier`).
+    pub physics: &'static str,
+}
 
 /// Guarantee monitors, fed every accepted state.
 pub(crate) struct Monitor {
@@ -166,22 +182,27 @@ impl Monitor {
         }
     }
 
-    #[allow(clippy::too_many_arguments)]
+    /// The summary of the run of `model` that ended at `end`, `nav` the robot's navigator
+    /// then; `aborted`: a guarantee lost on the way.
     pub(crate) fn finish(
         self,
         prepared: &Prepared,
-        lp: &ClosedLoop,
-        reached: bool,
-        t: f64,
-        final_distance: f64,
+        model: Model,
+        nav: &Navigator,
+        end: End,
         discoveries: Vec<Discovery>,
-        steps: usize,
-        rejected: usize,
         aborted: Option<Guarantee>,
     ) -> Summary {
+        let End {
+            reached,
+            time: t,
+            final_distance,
+            steps,
+            rejected,
+            physics,
+        } = end;
         let sc = &prepared.scenario;
-        let model = lp.model;
-        let speed_bound = lp.nav.speed_bound();
+        let speed_bound = nav.speed_bound();
         let g = Guarantee::new;
         let margin = prepared.margin();
         let mut guarantees = vec![
@@ -283,13 +304,13 @@ impl Monitor {
         // A guarantee lost on the way (a step-size collapse, the free space left).
         guarantees.extend(aborted);
         let outcome = Outcome::of(&guarantees, reached, t, &self.rest, self.stalled_since)
-            .classify_stall(lp.nav.field(), sc.sim.goal_tolerance);
+            .classify_stall(nav.field(), sc.sim.goal_tolerance);
         Summary {
             name: sc.name.clone(),
             model,
-            physics: "builtin".into(),
+            physics: physics.into(),
             k_policy: prepared.k_policy().as_str(),
-            damping: match lp.nav.controller() {
+            damping: match nav.controller() {
                 Controller::Dynamic(law) => Some(law.damping_policy().as_str()),
                 Controller::Kinematic(_) => None,
             },

@@ -9,8 +9,15 @@ use serde::Serialize;
 use crate::guarantee::{Guarantee, Kind};
 
 /// The share of the run's time a robot must rest (within the goal tolerance of its final
-/// position, away from the goal) to be called stalled.
-pub const STALL_WINDOW: f64 = 0.1;
+/// position, away from the goal) to be called stalled ([`rested_too_long`]).
+pub const STALL_SHARE: f64 = 0.1;
+
+/// Whether a rest since `since` has lasted, at time `t`, the window of a stall:
+/// `t − since ≥ max(STALL_SHARE·t, 1 s)`. The one rule by which the driver stops a run
+/// (`driver.rs`) and by which [`Outcome::of`] names its end.
+pub fn rested_too_long(since: f64, t: f64) -> bool {
+    t - since >= (STALL_SHARE * t).max(1.0)
+}
 
 /// How a run ended, judged from its typed guarantees and its recorded states.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -26,8 +33,8 @@ pub enum Outcome {
     /// The robot left the workspace (dynamic law: the monitor `stayed-in-workspace` failed).
     LeftWorkspace,
     /// The robot came to rest away from the goal at `time` s: it stayed within the goal
-    /// tolerance of where it ended for the last [`STALL_WINDOW`] of the run (at least 1 s), or
-    /// the kinematic integrator chattered in place for `run::STALL_STEPS` steps.
+    /// tolerance of where it ended for the last [`STALL_SHARE`] of the run (at least 1 s), or
+    /// the kinematic integrator chattered in place for `driver::STALL_STEPS` steps.
     Stalled {
         /// When, s.
         time: f64,
@@ -116,10 +123,9 @@ impl Outcome {
             Self::Reached { time }
         } else if failed(Kind::Integrated) {
             Self::StepCollapsed { time }
-        } else if let Some(since) = stalled_since.or_else(|| {
-            rest.since()
-                .filter(|since| time - since >= (STALL_WINDOW * time).max(1.0))
-        }) {
+        } else if let Some(since) =
+            stalled_since.or_else(|| rest.since().filter(|&since| rested_too_long(since, time)))
+        {
             Self::Stalled {
                 time: since,
                 position: rest.position().unwrap_or([f64::NAN; 2]),
@@ -303,7 +309,7 @@ impl Rest {
 mod tests {
     use super::*;
     use crate::guarantee::Check;
-    use crate::run::Sample;
+    use crate::trace::Sample;
 
     fn at(t: f64, x: f64) -> Sample {
         Sample {

@@ -9,162 +9,18 @@
 //! then do `Θ`, `k` and `λ` change (Carathéodory solutions). Runs are deterministic.
 
 use harmonav::{Controller, Evaluation};
+use harmonav_scenario::{Model, Prepared, Truth};
 use nalgebra::Vector2;
-use serde::Serialize;
 
 use crate::closed_loop::ClosedLoop;
-pub use crate::guarantee::Guarantee;
-use crate::guarantee::{Check, FreeSpaceLoss};
-use crate::monitor::Recorder;
-use crate::outcome::{Outcome, STALL_WINDOW};
-use crate::scenario::{Model, Prepared};
+use crate::driver::Driver;
+use crate::guarantee::{Check, FreeSpaceLoss, Guarantee};
+use crate::monitor::End;
+use crate::summary::{Run, RunError};
+use crate::trace::Event;
 use crate::trajectory::Keep;
-pub use crate::trajectory::MAX_KEPT_STATES;
-use crate::truth::Truth;
-
-/// One recorded state.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Sample {
-    /// Time, s.
-    pub t: f64,
-    /// Position.
-    pub x: [f64; 2],
-    /// Velocity.
-    pub v: [f64; 2],
-    /// `Θ(x)`.
-    pub theta: f64,
-    /// `V = μΘ + ½m|ẋ|²` (dynamic model).
-    pub energy: Option<f64>,
-    /// `k = n + 1`.
-    pub k: f64,
-    /// Damping `λ` in force (dynamic model).
-    pub lambda: Option<f64>,
-    /// How much `V` may differ from the exact solution's at this state through integration
-    /// error alone (dynamic model): the local error bound [`step_tolerance`] times the
-    /// sensitivity `μ|∇Ψ| + m|ẋ|` of `V` to the state, times a safety factor of 10.
-    #[serde(skip)]
-    pub energy_tolerance: f64,
-    /// Whether the damping is in its `V < μ` branch, critical at the goal (`λ_c` under the
-    /// `"paper"` policy, `λ(x)` under `"auto"`), rather than switched (dynamic model).
-    pub critical: bool,
-}
-
-/// A discovery event.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Discovery {
-    /// Obstacle name.
-    pub obstacle: String,
-    /// Obstacle index in the scenario.
-    #[serde(skip)]
-    pub index: usize,
-    /// Time, s.
-    pub time_s: f64,
-    /// Robot position at discovery.
-    #[serde(skip)]
-    pub position: [f64; 2],
-    /// Sector axis at discovery.
-    #[serde(skip)]
-    pub axis: [f64; 2],
-}
-
-/// The summary of a run (`summary.json`).
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Summary {
-    /// Scenario name.
-    pub name: String,
-    /// `kinematic` or `dynamic`.
-    pub model: Model,
-    /// `builtin` (or `rapier`).
-    pub physics: String,
-    /// The `k` policy (`"paper"` or `"auto"`).
-    pub k_policy: &'static str,
-    /// The damping policy of the dynamic law (`None` for the kinematic model).
-    pub damping: Option<&'static str>,
-    /// Goal reached within tolerance and time.
-    pub reached: bool,
-    /// Time at the end of the run, s.
-    pub time_s: f64,
-    /// Distance to the goal at the end, m.
-    pub final_distance: f64,
-    /// Smallest clearance to the true obstacles and boundary (minus the robot radius), m.
-    pub min_clearance: f64,
-    /// The length of the recorded path (every state on the `sim.dt` grid and at the events),
-    /// m.
-    pub path_length: f64,
-    /// Largest speed, m/s.
-    pub max_speed: f64,
-    /// `√(2μ/m)` for the dynamic model.
-    pub speed_bound: Option<f64>,
-    /// Recorded states in collision (clearance ≤ 0).
-    pub collisions: usize,
-    /// Contact events reported by the physics engine (rapier runs only).
-    pub physics_contacts: Option<usize>,
-    /// Discoveries in order.
-    pub discoveries: Vec<Discovery>,
-    /// The guarantee monitors.
-    pub guarantees: Vec<Guarantee>,
-    /// How the run ended.
-    pub outcome: Outcome,
-    /// What the verdict alone would not explain (a start on a symmetry axis, …): filled by
-    /// [`crate::physics::simulate`], empty from [`run`] alone (a sweep's many runs skip them).
-    pub warnings: Vec<crate::warning::Warning>,
-    /// States recorded (on the `sim.dt` grid and at the events), all of them judged and handed
-    /// to the observer; [`Run::samples`] keeps at most [`MAX_KEPT_STATES`] of the grid ones.
-    pub recorded_states: usize,
-    /// Accepted integration steps.
-    pub steps: usize,
-    /// Rejected integration steps.
-    pub rejected_steps: usize,
-}
-
-impl Summary {
-    /// Whether every guarantee held.
-    pub fn all_passed(&self) -> bool {
-        self.guarantees.iter().all(|g| g.passed)
-    }
-}
-
-/// What a run hands its observer as it goes, in time order ([`run_observed`]).
-#[derive(Clone, Copy, Debug)]
-pub enum Event<'a> {
-    /// A warning about the scenario, before the run starts
-    /// ([`crate::physics::simulate_observed`]).
-    Warning(&'a crate::warning::Warning),
-    /// An obstacle became known (those known at the start come before the first state).
-    Discovery(&'a Discovery),
-    /// A recorded state (a discovery's first side comes before its [`Event::Discovery`], the
-    /// second after).
-    State(&'a Sample),
-}
-
-/// A run: the summary and the recorded trajectory.
-#[derive(Clone, Debug)]
-pub struct Run {
-    /// The summary.
-    pub summary: Summary,
-    /// Recorded states (every `sim.dt`, and at discoveries and the end), kept in bounded
-    /// memory: a run longer than [`MAX_KEPT_STATES`] grid states keeps one in a power of two
-    /// of them ([`crate::trajectory`]). The monitors judged every state, and
-    /// [`run_observed`] hands every one to its observer.
-    pub samples: Vec<Sample>,
-}
-
-/// Why a run could not start.
-#[derive(Clone, Debug, PartialEq)]
-pub struct RunError(pub String);
-
-impl std::fmt::Display for RunError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for RunError {}
 
 type State = [f64; 4];
-
-/// Accepted steps at rest after which a kinematic run is stopped as stalled (see `run`).
-pub const STALL_STEPS: usize = 10_000;
 
 fn pos(y: &State) -> Vector2<f64> {
     Vector2::new(y[0], y[1])
@@ -229,59 +85,42 @@ pub fn run_observed(
     observer: &mut dyn FnMut(Event<'_>),
 ) -> Result<Run, RunError> {
     let sc = &prepared.scenario;
-    let truth = &prepared.truth;
-    let (mut lp, mut discoveries) = ClosedLoop::start(prepared, model, None)?;
-    let start = Vector2::new(sc.robot.start[0], sc.robot.start[1]);
-    let goal = truth.goal();
+    let step_tol = step_tolerance(&prepared.truth);
+    let mut d = Driver::start(prepared, model, None, step_tol, observer)?;
+    let start = prepared.start();
     let mut y: State = [start.x, start.y, 0.0, 0.0];
 
-    let (dt, max_time, tol) = (sc.sim.dt, sc.sim.max_time, sc.sim.goal_tolerance);
-    let step_tol = step_tolerance(truth);
+    let (dt, max_time) = (sc.sim.dt, sc.sim.max_time);
     let mut t = 0.0;
     let mut h = dt.min(1e-3);
     let (mut steps, mut rejected) = (0usize, 0usize);
-    let sample = |lp: &ClosedLoop, t: f64, y: &State| lp.sample(t, pos(y), vel(y));
-    let mut rec = Recorder::new(goal, tol, observer);
-    rec.discovered(&discoveries);
-    rec.record(sample(&lp, t, &y), Keep::Pinned, false, truth);
+    d.record(d.sample(t, pos(&y), vel(&y)), Keep::Pinned, false);
     let mut next_record = dt;
-    let (mut k1, _) =
-        rhs(&lp, &y).ok_or_else(|| RunError("the start is not in the free space".into()))?;
-    let mut reached = (pos(&y) - goal).norm() < tol;
-    let mut aborted: Option<Guarantee> = None;
-    // Stall detection (kinematic law): the robot has stayed within tol/2 of `anchor` since
-    // `rest_from`, for `rest_steps` steps. At a saddle the normalised law chatters at ever
-    // smaller steps (1.5 million per simulated second were seen, for minutes to max_time), so
-    // the run stops once the rest has lasted the window of `Outcome::Stalled`,
-    // max(STALL_WINDOW·t, 1 s), or STALL_STEPS chattering steps, those the error control cut
-    // below dt/2: a robot moving at all covers tol/2 in far fewer (at 1 m/s and 1e-5 s steps,
-    // 10⁴ steps are 0.1 m). Steps of a full dt are not counted: at a tiny sim.dt (5e-6 s)
-    // 10⁴ of them are 0.05 s, in which a robot slowing near its goal moves less than tol/2.
-    // The dynamic law is smooth there and creeps: it is left to run.
-    let kinematic = lp.model == Model::Kinematic;
-    let (mut anchor, mut rest_from, mut rest_steps) = (start, 0.0, 0usize);
+    let (mut k1, _) = rhs(&d.lp, &y).ok_or(RunError::StartNotFree)?;
+    let mut reached = d.arrived(pos(&y));
     while !reached && t < max_time {
         h = h.min(dt).min(max_time - t);
         if h < 1e-14 {
             if max_time - t >= 1e-14 {
                 // Step-size collapse: the run cannot go on, and must not pass as a mere
                 // "not reached".
-                aborted = Some(Guarantee::failed(Check::StepCollapsed {
+                d.abort(Guarantee::failed(Check::StepCollapsed {
                     time_s: t,
                     position: [y[0], y[1]],
                 }));
             }
             break;
         }
+        let lp = &d.lp;
         let stages = (|| {
-            let (k2, _) = rhs(&lp, &axpy(&y, h, &[(0.5, &k1)]))?;
-            let (k3, _) = rhs(&lp, &axpy(&y, h, &[(0.75, &k2)]))?;
+            let (k2, _) = rhs(lp, &axpy(&y, h, &[(0.5, &k1)]))?;
+            let (k3, _) = rhs(lp, &axpy(&y, h, &[(0.75, &k2)]))?;
             let y1 = axpy(
                 &y,
                 h,
                 &[(2.0 / 9.0, &k1), (1.0 / 3.0, &k2), (4.0 / 9.0, &k3)],
             );
-            let (k4, _) = rhs(&lp, &y1)?;
+            let (k4, _) = rhs(lp, &y1)?;
             let e = axpy(
                 &[0.0; 4],
                 h,
@@ -304,7 +143,7 @@ pub fn run_observed(
             continue;
         };
         // Discovery within the step: the earliest s ∈ (0, 1] where the sector sees a new obstacle.
-        let sees = |y: &State| lp.sees(pos(y), vel(y));
+        let sees = |y: &State| d.sees(pos(y), vel(y));
         let (mut s_end, mut found) = (1.0, sees(&y1));
         if !found.is_empty() {
             let (mut lo, mut hi) = (0.0, 1.0);
@@ -324,7 +163,7 @@ pub fn run_observed(
         let chattering = s_end * h < 0.5 * dt;
         while next_record <= t_end + 1e-12 && next_record > t {
             let yr = hermite(&y, &k1, &y1, &k4, h, (next_record - t) / h);
-            rec.record(sample(&lp, next_record, &yr), Keep::Grid, false, truth);
+            d.record(d.sample(next_record, pos(&yr), vel(&yr)), Keep::Grid, false);
             next_record += dt;
         }
         y = if s_end < 1.0 {
@@ -336,19 +175,16 @@ pub fn run_observed(
         steps += 1;
         let discovered = !found.is_empty();
         if discovered {
-            let ax = lp.axis(pos(&y), vel(&y));
-            rec.record(sample(&lp, t, &y), Keep::Pinned, false, truth);
-            let before = discoveries.len();
-            let added = lp.discover(t, &found, (pos(&y), vel(&y)), ax, &mut discoveries);
-            rec.discovered(&discoveries[before..]);
-            if let Err(lost) = added {
-                aborted = Some(lost);
+            // A discovery is recorded on both sides (Θ, k and λ jump at the same t), so that
+            // the recording shows the switch of eq. `dissipationfun` when the jump lifts V to μ.
+            d.record(d.sample(t, pos(&y), vel(&y)), Keep::Pinned, false);
+            if !d.discover(t, &found, pos(&y), vel(&y)) {
                 break;
             }
         }
         // Θ, k and λ change here; the next step starts from the new right-hand side.
-        let Some((k_next, _)) = rhs(&lp, &y) else {
-            aborted = Some(Guarantee::failed(Check::LeftFreeSpace {
+        let Some((k_next, _)) = rhs(&d.lp, &y) else {
+            d.abort(Guarantee::failed(Check::LeftFreeSpace {
                 time_s: t,
                 position: [y[0], y[1]],
                 reason: FreeSpaceLoss::Left,
@@ -357,48 +193,29 @@ pub fn run_observed(
         };
         k1 = k_next;
         h *= (0.9 * (step_tol / err.max(1e-300)).cbrt()).clamp(0.2, 5.0);
-        reached = (pos(&y) - goal).norm() < tol;
-        let s = sample(&lp, t, &y);
-        // A discovery is recorded on both sides (Θ, k and λ jump at the same t), so that the
-        // recording shows the switch of eq. `dissipationfun` when the jump lifts V to μ.
+        reached = d.arrived(pos(&y));
+        let s = d.sample(t, pos(&y), vel(&y));
         if reached || discovered {
-            rec.record(s, Keep::Pinned, discovered, truth);
+            d.record(s, Keep::Pinned, discovered);
         } else {
-            rec.step(&s, false, truth);
+            d.judge(&s);
         }
-        if (pos(&y) - anchor).norm() > 0.5 * tol || discovered {
-            (anchor, rest_from, rest_steps) = (pos(&y), t, 0);
-        } else {
-            rest_steps += usize::from(chattering);
-            if kinematic
-                && !reached
-                && (t - rest_from >= (STALL_WINDOW * t).max(1.0) || rest_steps >= STALL_STEPS)
-            {
-                rec.monitor.stalled(rest_from);
-                break;
-            }
+        if d.at_rest(t, pos(&y), chattering, discovered, reached) {
+            break;
         }
     }
-    if rec.last_time() != Some(t) {
-        rec.record(sample(&lp, t, &y), Keep::Pinned, false, truth);
+    if d.last_recorded() != Some(t) {
+        d.record(d.sample(t, pos(&y), vel(&y)), Keep::Pinned, false);
     }
-    let final_distance = (pos(&y) - goal).norm();
-    let (monitor, samples) = rec.into_parts();
-    let summary = monitor.finish(
-        prepared,
-        &lp,
+    Ok(d.finish(End {
         reached,
-        t,
-        final_distance,
-        discoveries,
+        time: t,
+        final_distance: (pos(&y) - prepared.truth.goal()).norm(),
         steps,
         rejected,
-        aborted,
-    );
-    Ok(Run { summary, samples })
+        physics: "builtin",
+    }))
 }
-
-pub use crate::monitor::MARGIN_TOLERANCE;
 
 /// The local error bound of the Bogacki–Shampine step control (norm of the state error per
 /// step) in a world of [`STEP_TOLERANCE_SCALE`] or more; a smaller world scales it

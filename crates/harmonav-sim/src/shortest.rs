@@ -19,6 +19,7 @@
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
+use harmonav_scenario::Prepared;
 use harmonav_transform::StarShape;
 use nalgebra::Vector2;
 
@@ -146,6 +147,20 @@ fn proper_cross(a: Vector2<f64>, b: Vector2<f64>, c: Vector2<f64>, d: Vector2<f6
 struct Node {
     at: Vector2<f64>,
     on: Option<(usize, usize)>,
+}
+
+/// The shortest path from the start to the goal of a prepared scenario, in its configuration
+/// space (the shapes grown by `robot.radius + robot.margin`): the independent reference of
+/// "path over shortest".
+pub fn of_scenario(prepared: &Prepared) -> Result<ShortestPath, NoPath> {
+    let ws = &prepared.truth.workspace;
+    let s = prepared.scenario.robot.start;
+    shortest_path(
+        ws.boundary(),
+        ws.obstacles(),
+        Vector2::new(s[0], s[1]),
+        ws.destination(),
+    )
 }
 
 /// The shortest path from `start` to `goal` inside `boundary` and outside `obstacles` (the

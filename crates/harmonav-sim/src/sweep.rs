@@ -8,10 +8,12 @@ use harmonav_transform::random::{self, Rng};
 use nalgebra::Vector2;
 use serde::Serialize;
 
+use harmonav_scenario::{Model, Prepared};
+
 pub use crate::outcome::{Outcome, StartProblem};
-use crate::quality::parallel_map;
-use crate::run::{RunError, run};
-use crate::scenario::{Model, Prepared};
+use crate::pool::parallel_map;
+use crate::run::run;
+use crate::summary::RunError;
 
 /// The most starts one sweep takes (each outcome is kept; a larger count is refused rather
 /// than allocated).
@@ -367,7 +369,7 @@ mod tests {
             goal = [3.0, 0.0]
         "#;
         let path = std::path::Path::new("one-rock.toml");
-        crate::scenario::Scenario::parse(path, text)
+        harmonav_scenario::Scenario::parse(path, text)
             .unwrap()
             .prepare(path)
             .unwrap()

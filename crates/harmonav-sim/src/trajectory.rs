@@ -13,7 +13,7 @@
 //! there), the arrival and the last state. There are at most `2M + 2` of them for `M`
 //! obstacles, so they do not grow with the run's length.
 
-use crate::run::Sample;
+use crate::trace::Sample;
 
 /// The most grid states a [`Trajectory`] keeps (see the module's doc): 2¹⁷, about 15 MB of
 /// [`Sample`]s, far more than a figure can draw and enough for any run of up to 1 300 s at

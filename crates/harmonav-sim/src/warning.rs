@@ -1,20 +1,10 @@
 //! Warnings about a scenario that a run's verdict alone would not explain: a start on a
 //! saddle's stable manifold (a symmetry axis), a start at a critical point, a goal tolerance
-//! comparable to the world. `physics::simulate` attaches them to the summary; the CLI prints
+//! comparable to the world ([`crate::preflight::check`] finds them). `physics::simulate`
+//! attaches them to the summary; the CLI prints
 //! them, the JSON and `summary.json` carry them, and the recording logs them at t = 0.
 
-use harmonav_field::descent::{Ending, FollowOptions, follow};
-use nalgebra::Vector2;
 use serde::Serialize;
-
-use crate::closed_loop::ClosedLoop;
-use crate::outcome::StallPoint;
-use crate::run::RunError;
-use crate::scenario::{Model, Prepared};
-
-/// Step attempts of the descent that looks for a saddle ahead of the start: a bound on the
-/// warning's cost (a normal descent takes a few hundred).
-pub const DESCENT_ATTEMPTS: usize = 20_000;
 
 /// The share of the start–goal distance (or of the workspace's smallest radius) above which
 /// `sim.goal_tolerance` draws a warning.
@@ -68,49 +58,4 @@ impl std::fmt::Display for Warning {
             ),
         }
     }
-}
-
-/// The warnings for a run of `prepared` with `model` (or the file's).
-pub fn check(prepared: &Prepared, model: Option<Model>) -> Result<Vec<Warning>, RunError> {
-    let sc = &prepared.scenario;
-    let (lp, _) = ClosedLoop::start(prepared, model, None)?;
-    let field = lp.nav.field();
-    let start = Vector2::from(sc.robot.start);
-    let goal = prepared.truth.goal();
-    let tol = sc.sim.goal_tolerance;
-    let mut warnings = Vec::new();
-    let scale = (start - goal)
-        .norm()
-        .min(prepared.truth.workspace.boundary().radius_bounds().0);
-    if tol >= TOLERANCE_SHARE * scale {
-        warnings.push(Warning::GoalToleranceLarge {
-            goal_tolerance: tol,
-            scale,
-        });
-    }
-    if (start - goal).norm() < tol {
-        return Ok(warnings);
-    }
-    match field.eval(start) {
-        Ok(e) if e.direction.is_none() => warnings.push(Warning::StartAtCriticalPoint),
-        Ok(_) => {
-            let options = FollowOptions {
-                goal_tolerance: tol,
-                max_time: sc.sim.max_time,
-                max_attempts: DESCENT_ATTEMPTS,
-                ..FollowOptions::default()
-            };
-            let d = follow(field, start, &options);
-            // At a saddle the descent chatters in place: it ends stuck or out of attempts.
-            if d.ending != Ending::Reached
-                && let (StallPoint::Saddle, saddle) = StallPoint::classify(field, d.end, tol)
-            {
-                warnings.push(Warning::StartOnSaddleManifold {
-                    saddle: saddle.into(),
-                });
-            }
-        }
-        Err(_) => {}
-    }
-    Ok(warnings)
 }

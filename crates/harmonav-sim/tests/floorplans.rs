@@ -3,8 +3,9 @@
 
 use std::path::{Path, PathBuf};
 
-use harmonav_sim::floorplan::{FLOORPLANS, FloorEnding, FloorScenario, run};
-use harmonav_sim::scenario::Model;
+use harmonav_scenario::Model;
+use harmonav_scenario::floorplan::{FLOORPLANS, FloorScenario};
+use harmonav_sim::floor::{FloorEnding, run};
 
 fn files() -> Vec<PathBuf> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -3,13 +3,13 @@
 
 use std::path::Path;
 
+use harmonav_scenario::{Model, Scenario};
 use harmonav_sim::guarantee::Kind;
-use harmonav_sim::physics::{Drive, run_rapier};
+use harmonav_sim::rapier::{Drive, run_rapier};
 use harmonav_sim::run::run;
-use harmonav_sim::scenario::{Model, Scenario};
 use nalgebra::Vector2;
 
-fn mixed() -> harmonav_sim::scenario::Prepared {
+fn mixed() -> harmonav_scenario::Prepared {
     Scenario::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/shapes/mixed.toml"))
         .unwrap()
 }

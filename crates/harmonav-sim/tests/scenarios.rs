@@ -4,14 +4,14 @@
 use std::path::{Path, PathBuf};
 
 use harmonav_control::SpeedPolicy;
+use harmonav_scenario::{Model, Scenario};
 use harmonav_sim::guarantee::{Check, Kind};
 use harmonav_sim::run::run;
-use harmonav_sim::scenario::{Model, Scenario};
 use nalgebra::Vector2;
 
 fn scenario_files() -> Vec<PathBuf> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios");
-    harmonav_sim::scenario::scenario_files(&dir).unwrap()
+    harmonav_scenario::scenario_files(&dir).unwrap()
 }
 
 #[test]
@@ -313,7 +313,7 @@ fn the_speed_policy_and_v_max_are_read_and_change_only_the_timing() {
     assert!(text.contains("speed = \"paper\""), "{text}");
     let (p, slow) = run_with("v_max = 0.5");
     assert_eq!(p.scenario.controller.v_max, Some(0.5));
-    let top = |r: &harmonav_sim::run::Run| {
+    let top = |r: &harmonav_sim::summary::Run| {
         r.samples
             .iter()
             .map(|x| Vector2::from(x.v).norm())
@@ -330,7 +330,7 @@ fn the_speed_policy_and_v_max_are_read_and_change_only_the_timing() {
         "auto {ta} s, paper {tp} s, v_max 0.5: {ts} s"
     );
     // The same flow lines: the end points of the discoveries agree.
-    let order = |r: &harmonav_sim::run::Run| {
+    let order = |r: &harmonav_sim::summary::Run| {
         r.summary
             .discoveries
             .iter()
@@ -630,7 +630,7 @@ fn a_start_on_a_symmetry_axis_ends_stalled_at_once() {
         )
     };
     let path = std::path::Path::new("symmetric-saddle.toml");
-    let on_axis = harmonav_sim::scenario::Scenario::parse(path, &toml(0.0))
+    let on_axis = harmonav_scenario::Scenario::parse(path, &toml(0.0))
         .unwrap()
         .prepare(path)
         .unwrap();
@@ -644,7 +644,7 @@ fn a_start_on_a_symmetry_axis_ends_stalled_at_once() {
         r.summary.outcome
     );
     assert!(
-        r.summary.steps <= harmonav_sim::run::STALL_STEPS + 2000,
+        r.summary.steps <= harmonav_sim::STALL_STEPS + 2000,
         "{} steps",
         r.summary.steps
     );
@@ -653,7 +653,7 @@ fn a_start_on_a_symmetry_axis_ends_stalled_at_once() {
         "stopped at t = {}",
         r.summary.time_s
     );
-    let off_axis = harmonav_sim::scenario::Scenario::parse(path, &toml(0.3))
+    let off_axis = harmonav_scenario::Scenario::parse(path, &toml(0.3))
         .unwrap()
         .prepare(path)
         .unwrap();
@@ -810,7 +810,8 @@ fn the_readme_format_example_holds_its_own_expectations() {
 /// the saddle itself, and a start on the saddle's stable manifold each draw theirs.
 #[test]
 fn warnings_name_what_the_verdict_alone_would_not_explain() {
-    use harmonav_sim::warning::{Warning, check};
+    use harmonav_sim::preflight::check;
+    use harmonav_sim::warning::Warning;
     for file in scenario_files() {
         let p = Scenario::load(&file).unwrap();
         assert_eq!(check(&p, None).unwrap(), [], "{}", file.display());

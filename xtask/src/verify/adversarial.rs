@@ -5,9 +5,9 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use harmonav_scenario::{ADVERSARIAL, Scenario};
 use harmonav_sim::guarantee::Kind;
 use harmonav_sim::physics::{Physics, simulate};
-use harmonav_sim::scenario::{ADVERSARIAL, Scenario};
 use harmonav_sim::sweep::{random_starts, sweep};
 use serde::Deserialize;
 

@@ -5,8 +5,9 @@
 
 use std::path::{Path, PathBuf};
 
-use harmonav_sim::floorplan::{FLOORPLANS, FloorEnding, FloorScenario, certificate, run};
-use harmonav_sim::scenario::Model;
+use harmonav_scenario::Model;
+use harmonav_scenario::floorplan::{FLOORPLANS, FloorScenario};
+use harmonav_sim::floor::{FloorEnding, certificate, run};
 
 use super::{Check, Outcome, outcome};
 

@@ -8,10 +8,10 @@
 //!   goal over the kinematic law's (under the paper's speed `K√(2Θ)`, the reference of these
 //!   targets: `crate::quality::REFERENCE_SPEED`) in the same world median ≤ 1.5 and p90 ≤ 2.5.
 
+use harmonav_bench::quality::{CellStats, run_plan, time_ratio};
 use harmonav_field::KPolicy;
-use harmonav_sim::quality::{CellStats, run_plan, time_ratio};
-use harmonav_sim::run::MARGIN_TOLERANCE;
-use harmonav_sim::scenario::Model;
+use harmonav_scenario::Model;
+use harmonav_sim::MARGIN_TOLERANCE;
 
 use super::{Check, Outcome, outcome};
 use crate::quality::{LawPolicies, REFERENCE_SPEED, WORLDS, kinematic_twin, plan};

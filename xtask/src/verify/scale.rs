@@ -11,8 +11,9 @@
 
 use std::path::Path;
 
-use harmonav_sim::run::{Summary, run};
-use harmonav_sim::scenario::Scenario;
+use harmonav_scenario::Scenario;
+use harmonav_sim::run::run;
+use harmonav_sim::summary::Summary;
 
 use super::{Check, Outcome, outcome};
 

@@ -7,12 +7,17 @@ use std::sync::{Arc, Mutex};
 
 use harmonav_field::Field;
 use harmonav_field::descent::{Ending, FollowOptions, follow};
+use harmonav_output::set::{Outputs, write_outputs};
+use harmonav_scenario::{Model, Scenario};
+use harmonav_sim::guarantee::Guarantee;
 use harmonav_sim::guarantee::Kind;
-use harmonav_sim::physics::{Drive, Physics, run_rapier, simulate_observed};
-use harmonav_sim::quality::parallel_map;
-use harmonav_sim::record::{Outputs, write_outputs};
-use harmonav_sim::run::{Event, Guarantee, MAX_KEPT_STATES, Summary, run};
-use harmonav_sim::scenario::{Model, Scenario};
+use harmonav_sim::physics::{Physics, simulate_observed};
+use harmonav_sim::pool::parallel_map;
+use harmonav_sim::rapier::{Drive, run_rapier};
+use harmonav_sim::run::run;
+use harmonav_sim::summary::Summary;
+use harmonav_sim::trace::Event;
+use harmonav_sim::trajectory::MAX_KEPT_STATES;
 use harmonav_transform::random::{self, Kind as Shape, Rng};
 
 use super::{Check, Outcome, Progress, Verdict, outcome};
@@ -26,7 +31,7 @@ fn root() -> PathBuf {
 
 /// The suite files; an unreadable `scenarios/` yields none (and no scenario checks).
 fn scenario_files() -> Vec<PathBuf> {
-    harmonav_sim::scenario::scenario_files(&root().join("scenarios")).unwrap_or_default()
+    harmonav_scenario::scenario_files(&root().join("scenarios")).unwrap_or_default()
 }
 
 pub fn checks() -> Vec<Check> {
@@ -53,8 +58,8 @@ pub fn checks() -> Vec<Check> {
             move || other_model(&file, &row),
         ));
     }
-    let long = root().join("scenarios").join(harmonav_sim::scenario::LONG);
-    for file in harmonav_sim::scenario::scenario_files(&long).unwrap_or_default() {
+    let long = root().join("scenarios").join(harmonav_scenario::LONG);
+    for file in harmonav_scenario::scenario_files(&long).unwrap_or_default() {
         let name = file
             .file_stem()
             .map_or_else(String::new, |s| s.to_string_lossy().into_owned());

@@ -11,15 +11,17 @@ use std::f64::consts::TAU;
 
 use harmonav_field::Field;
 use harmonav_sensing::Sensing;
-use harmonav_transform::StarShape;
 use nalgebra::Vector2;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
+use harmonav_scenario::Prepared;
+use harmonav_sim::summary::Run;
+use harmonav_sim::trace::Discovery;
+
+use crate::drawing::{outline, xy};
 use crate::levels::ThetaGrid;
-use crate::run::{Discovery, Run};
-use crate::scenario::Prepared;
 
 /// The levels of `Θ` drawn on the figures (denser towards 1, where the obstacles shape them).
 pub const LEVELS: [f64; 9] = [0.1, 0.2, 0.3, 0.5, 0.7, 0.9, 0.97, 0.99, 0.999];
@@ -36,22 +38,6 @@ const GOAL: RGBColor = RGBColor(43, 138, 62);
 /// A plotters error as text.
 pub fn err(e: impl std::fmt::Debug) -> String {
     format!("drawing a figure: {e:?}")
-}
-
-/// A point as plotters wants it.
-pub fn xy(p: Vector2<f64>) -> (f64, f64) {
-    (p.x, p.y)
-}
-
-/// The outline of `shape`, closed: the vertices it answers distance queries with (evenly
-/// spaced in arc length, [`StarShape::outline`]), then the first again.
-pub fn closed_outline(shape: &StarShape) -> impl Iterator<Item = Vector2<f64>> + '_ {
-    shape.outline().chain(shape.outline().take(1))
-}
-
-/// [`closed_outline`] as plotters points.
-pub fn outline(shape: &StarShape) -> Vec<(f64, f64)> {
-    closed_outline(shape).map(xy).collect()
 }
 
 /// Draws the polyline `points` with `style` on `chart`.

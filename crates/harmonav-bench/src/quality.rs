@@ -1,6 +1,6 @@
 //! The motion-quality benchmark (`docs/benchmarks.md`): seeded random worlds, every cell of
 //! (obstacle count × sensing × `k` policy × law × margin) run through the same [`run`] as the
-//! CLI, and each path compared with the independent [`shortest_path`].
+//! CLI, and each path compared with the independent shortest path (`harmonav_sim::shortest`).
 //!
 //! The worlds follow the issue that introduced the benchmark: a disc workspace of radius 5 m,
 //! `M` obstacles of the four shapes (discs, ellipses, rounded polygons, Fourier stars) of size
@@ -8,18 +8,19 @@
 //! [`POINT_CLEARANCE`] from everything. Every shape also survives an offset by
 //! [`MAX_MARGIN`], so the same worlds serve the runs with a clearance margin.
 
-use harmonav_control::{DampingPolicy, SpeedPolicy};
-use harmonav_field::KPolicy;
+use harmonav::{DampingPolicy, KPolicy, SpeedPolicy};
 use harmonav_transform::StarShape;
 use harmonav_transform::random::{Kind, Rng};
 use nalgebra::Vector2;
 
-use crate::guarantee;
-use crate::run::{Run, run};
-use crate::scenario::{
+use harmonav_scenario::{
     ControllerSpec, FieldSpec, Model, Prepared, RobotSpec, Scenario, SensorSpec, ShapeSpec, SimSpec,
 };
-use crate::shortest::{NoPath, ShortestPath, shortest_path};
+use harmonav_sim::guarantee;
+use harmonav_sim::pool::parallel_map;
+use harmonav_sim::run::run;
+use harmonav_sim::shortest::of_scenario;
+use harmonav_sim::summary::Run;
 
 /// Workspace radius, m.
 pub const WORKSPACE_RADIUS: f64 = 5.0;
@@ -181,7 +182,7 @@ pub fn world(m: usize, seed: u64) -> World {
             let kind = kinds[rng.below(kinds.len())];
             let size = rng.uniform(0.2, 0.5);
             let s = random_shape(&mut rng, kind, c, size);
-            let Ok(o) = crate::scenario::build_shape(&s) else {
+            let Ok(o) = harmonav_scenario::build_shape(&s) else {
                 continue;
             };
             let fits = boundary.contains(c)
@@ -282,21 +283,9 @@ pub struct Measured {
 }
 
 /// The length of the recorded path (measured online over every recorded state,
-/// [`crate::run::Summary::path_length`]).
+/// [`harmonav_sim::summary::Summary::path_length`]).
 pub fn path_length(r: &Run) -> f64 {
     r.summary.path_length
-}
-
-/// The shortest path of a prepared scenario's configuration space.
-pub fn reference(prepared: &Prepared) -> Result<ShortestPath, NoPath> {
-    let ws = &prepared.truth.workspace;
-    let s = prepared.scenario.robot.start;
-    shortest_path(
-        ws.boundary(),
-        ws.obstacles(),
-        Vector2::new(s[0], s[1]),
-        ws.destination(),
-    )
 }
 
 /// Runs one cell of one world and measures it against `shortest` (the length of the shortest
@@ -457,7 +446,7 @@ pub fn run_plan(plan: &Plan, threads: usize) -> Result<Vec<CellStats>, String> {
             .scenario(cell, plan.max_time)
             .prepare(path)
             .map_err(|e| e.to_string())?;
-        let shortest = reference(&prepared).map_err(|e| e.to_string())?;
+        let shortest = of_scenario(&prepared).map_err(|e| e.to_string())?;
         measure(&prepared, shortest.length)
     });
     let mut out = Vec::new();
@@ -466,42 +455,4 @@ pub fn run_plan(plan: &Plan, threads: usize) -> Result<Vec<CellStats>, String> {
         out.push(CellStats::new(jobs[i * plan.worlds].0, &runs));
     }
     Ok(out)
-}
-
-/// `f` over `items` on `threads` threads, results in order; items are handed out one at a time
-/// (run lengths differ by orders of magnitude).
-pub fn parallel_map<T: Sync, R: Send>(
-    items: &[T],
-    threads: usize,
-    f: impl Fn(&T) -> R + Sync,
-) -> Vec<R> {
-    use std::sync::atomic::{AtomicUsize, Ordering};
-    let next = AtomicUsize::new(0);
-    let mut slots: Vec<Option<R>> = (0..items.len()).map(|_| None).collect();
-    std::thread::scope(|scope| {
-        let handles: Vec<_> = (0..threads.max(1))
-            .map(|_| {
-                let (next, f) = (&next, &f);
-                scope.spawn(move || {
-                    let mut out = Vec::new();
-                    loop {
-                        let i = next.fetch_add(1, Ordering::Relaxed);
-                        let Some(item) = items.get(i) else { break };
-                        out.push((i, f(item)));
-                    }
-                    out
-                })
-            })
-            .collect();
-        for h in handles {
-            let done = h.join().unwrap_or_else(|p| std::panic::resume_unwind(p));
-            for (i, r) in done {
-                slots[i] = Some(r);
-            }
-        }
-    });
-    slots
-        .into_iter()
-        .map(|r| r.expect("every item ran"))
-        .collect()
 }

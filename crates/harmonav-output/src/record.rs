@@ -28,11 +28,13 @@ use harmonav_field::{Field, FieldError};
 use harmonav_sensing::Sensing;
 use nalgebra::Vector2;
 
-use crate::atomic::{AtomicFile, OutputError};
-use crate::figures::closed_outline;
+use harmonav_scenario::Prepared;
+use harmonav_sim::summary::Run;
+use harmonav_sim::trace::{Discovery, Event, Sample};
+
+use crate::atomic::AtomicFile;
+use crate::drawing::closed_outline;
 use crate::levels::ThetaGrid;
-use crate::run::{Discovery, Event, Run, Sample};
-use crate::scenario::{Model, Prepared};
 
 /// The topics, in the order of the table above.
 pub const TOPICS: [&str; 8] = [
@@ -328,7 +330,7 @@ pub fn write_mcap(path: &Path, prepared: &Prepared, run: &Run) -> Result<(), Rec
 }
 
 /// Hands `run`'s warnings, discoveries and kept states to `observer` in the order
-/// [`crate::run::run_observed`] would have (a discovery after the states before its time).
+/// `harmonav_sim::run::run_observed` would have (a discovery after the states before its time).
 pub fn replay(run: &Run, observer: &mut dyn FnMut(Event<'_>)) {
     for w in &run.summary.warnings {
         observer(Event::Warning(w));
@@ -351,12 +353,12 @@ pub fn replay(run: &Run, observer: &mut dyn FnMut(Event<'_>)) {
     }
 }
 
-/// A recording written to disk as the run goes ([`crate::physics::simulate_observed`] feeds
+/// A recording written to disk as the run goes (`harmonav_sim::physics::simulate_observed` feeds
 /// it), so that its memory does not grow with the run's length: every message of the run in
 /// time order, whole or not at all (through a temporary file, committed by
 /// [`Stream::finish`]; dropped before, nothing is left).
 pub struct Stream<'p> {
-    prepared: &'p Prepared,
+    pub(crate) prepared: &'p Prepared,
     path: std::path::PathBuf,
     file: AtomicFile,
     writer: foxglove::McapWriterHandle<BufWriter<File>>,
@@ -364,6 +366,7 @@ pub struct Stream<'p> {
     _ctx: Arc<Context>,
     ch: Channels,
     k_policy: String,
+    /// The file's damping policy (the dynamic law's states are labelled with it).
     damping: String,
     /// The obstacles known (scenario indices, in discovery order), and how many of them the
     /// last `/scene` showed.
@@ -397,7 +400,6 @@ impl<'p> Stream<'p> {
         if let Some(s) = sector(prepared) {
             ch.sector.log_with_time(&s, 0);
         }
-        let sc = &prepared.scenario;
         Ok(Self {
             prepared,
             path: path.to_path_buf(),
@@ -406,10 +408,7 @@ impl<'p> Stream<'p> {
             _ctx: ctx,
             ch,
             k_policy: prepared.k_policy().as_str().to_string(),
-            damping: match sc.robot.model {
-                Model::Dynamic => prepared.damping_policy().as_str().to_string(),
-                Model::Kinematic => String::new(),
-            },
+            damping: prepared.damping_policy().as_str().to_string(),
             known: Vec::new(),
             shown: None,
             pending: Vec::new(),
@@ -560,7 +559,11 @@ impl<'p> Stream<'p> {
     }
 }
 
+/// harmonav's state at `s`. `damping` is the file's damping policy: it labels the states of
+/// the dynamic law (those with an energy), whatever the file's own robot model (a kinematic
+/// file run with `--controller dynamic` runs the dynamic law), and is empty for the kinematic.
 fn state(s: &Sample, k_policy: &str, damping: &str) -> HarmonavState {
+    let damping = if s.energy.is_some() { damping } else { "" };
     HarmonavState {
         t: s.t,
         x: s.x[0],
@@ -575,132 +578,5 @@ fn state(s: &Sample, k_policy: &str, damping: &str) -> HarmonavState {
         k_policy: k_policy.into(),
         damping: damping.into(),
         damping_critical: s.critical,
-    }
-}
-
-/// The figures a run may write; those a run does not write are removed from `dir`, so that a
-/// folder never mixes the files of two runs.
-const FIGURES: [&str; 3] = ["trajectory.svg", "speed.svg", "energy.svg"];
-
-/// Every file a set of outputs may write or remove.
-pub const OUTPUT_FILES: [&str; 5] = [
-    "summary.json",
-    "run.mcap",
-    "trajectory.svg",
-    "speed.svg",
-    "energy.svg",
-];
-
-/// Checks that `dir` can take the outputs, before a run that would otherwise fail only at its
-/// end, and changes nothing: [`crate::atomic::check_output_dir`] for [`OUTPUT_FILES`] (an empty
-/// path, a path below a file, a dangling or looping link, an unwritable folder, a path too
-/// long, an output name taken by a folder are refused).
-pub fn check_output_dir(dir: &Path) -> Result<(), OutputError> {
-    crate::atomic::check_output_dir(dir, &OUTPUT_FILES)
-}
-
-/// Writes `run.mcap`, `trajectory.svg`, (dynamic runs) `speed.svg` and `energy.svg`, and
-/// `summary.json` into `dir` as one set: [`Outputs::begin`], the run replayed into its
-/// recording ([`replay`]), then [`Outputs::finish`]. Returns the paths, `summary.json` first.
-pub fn write_outputs(
-    dir: &Path,
-    prepared: &Prepared,
-    run: &Run,
-) -> Result<Vec<std::path::PathBuf>, OutputError> {
-    let mut outputs = Outputs::begin(dir, prepared)?;
-    replay(run, &mut |e| outputs.observe(e));
-    outputs.finish(run)
-}
-
-/// A set of outputs being written while its run goes: the recording streams into a fresh
-/// staging folder inside `dir` ([`crate::atomic::StagedDir`]) as the run hands it its events
-/// ([`Outputs::observe`], the observer of [`crate::physics::simulate_observed`]), and
-/// [`Outputs::finish`] adds the figures and the summary and moves the set into place. Dropped
-/// before (the run failed, an interrupt), nothing of it is left and the previous set is
-/// untouched.
-pub struct Outputs<'p> {
-    dir: std::path::PathBuf,
-    stage: crate::atomic::StagedDir,
-    stream: Stream<'p>,
-}
-
-impl<'p> Outputs<'p> {
-    /// Checks `dir` ([`check_output_dir`]), creates it and its staging folder, and opens the
-    /// recording.
-    pub fn begin(dir: &Path, prepared: &'p Prepared) -> Result<Self, OutputError> {
-        check_output_dir(dir)?;
-        std::fs::create_dir_all(dir).map_err(|source| OutputError::Io {
-            path: dir.to_path_buf(),
-            source,
-        })?;
-        let stage = crate::atomic::StagedDir::new(dir)?;
-        let stream = Stream::create(&stage.path().join("run.mcap"), prepared).map_err(|e| {
-            OutputError::Content {
-                file: "run.mcap",
-                problem: e.to_string(),
-            }
-        })?;
-        Ok(Self {
-            dir: dir.to_path_buf(),
-            stage,
-            stream,
-        })
-    }
-
-    /// Logs one event of the run into the recording.
-    pub fn observe(&mut self, event: Event<'_>) {
-        self.stream.observe(event);
-    }
-
-    /// Ends the recording, draws the figures of `run` (the run whose events were observed),
-    /// writes `summary.json` and moves the set into place: `summary.json` last, and the
-    /// figures this run does not draw removed (a kinematic run removes a stale `speed.svg`
-    /// and `energy.svg`). `dir` is checked again first ([`check_output_dir`]: it may have
-    /// changed during the run), and the set's names once more before anything is moved. On
-    /// an error while writing, nothing of the new set is left and the previous set is
-    /// untouched (a failing rename while moving the set, an I/O fault, can leave a mix).
-    /// Returns the paths, `summary.json` first.
-    pub fn finish(self, run: &Run) -> Result<Vec<std::path::PathBuf>, OutputError> {
-        let Self { dir, stage, stream } = self;
-        check_output_dir(&dir)?;
-        let io = |path: &Path, source: std::io::Error| OutputError::Io {
-            path: path.to_path_buf(),
-            source,
-        };
-        let content =
-            |file: &'static str| move |problem: String| OutputError::Content { file, problem };
-        let prepared = stream.prepared;
-        let mut figures = vec![(
-            "trajectory.svg",
-            crate::figures::trajectory_svg(prepared, run).map_err(content("trajectory.svg"))?,
-        )];
-        if run.summary.speed_bound.is_some() {
-            figures.push((
-                "speed.svg",
-                crate::figures::speed_svg(run).map_err(content("speed.svg"))?,
-            ));
-            figures.push((
-                "energy.svg",
-                crate::figures::energy_svg(run).map_err(content("energy.svg"))?,
-            ));
-        }
-        let summary = serde_json::to_string_pretty(&run.summary)
-            .map_err(|e| content("summary.json")(e.to_string()))?
-            + "\n";
-        stream
-            .finish()
-            .map_err(|e| content("run.mcap")(e.to_string()))?;
-        let mut names = vec!["run.mcap"];
-        for (name, svg) in &figures {
-            let path = stage.path().join(name);
-            std::fs::write(&path, svg.as_bytes()).map_err(|e| io(&path, e))?;
-            names.push(name);
-        }
-        let path = stage.path().join("summary.json");
-        std::fs::write(&path, summary).map_err(|e| io(&path, e))?;
-        names.push("summary.json");
-        stage.commit(&names, &FIGURES)?;
-        names.rotate_right(1);
-        Ok(names.iter().map(|n| dir.join(n)).collect())
     }
 }

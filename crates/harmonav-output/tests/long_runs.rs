@@ -4,10 +4,12 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
+use harmonav_output::set::{Outputs, write_outputs};
+use harmonav_scenario::{Prepared, Scenario};
 use harmonav_sim::physics::{Physics, simulate, simulate_observed};
-use harmonav_sim::record::{Outputs, write_outputs};
-use harmonav_sim::run::{Event, MAX_KEPT_STATES, Sample, run_observed};
-use harmonav_sim::scenario::{Prepared, Scenario};
+use harmonav_sim::run::run_observed;
+use harmonav_sim::trace::{Event, Sample};
+use harmonav_sim::trajectory::MAX_KEPT_STATES;
 use nalgebra::Vector2;
 
 fn parse(text: &str) -> Prepared {

@@ -12,8 +12,9 @@ use harmonav_field::{Field, FieldError, KPolicy};
 use harmonav_sensing::{Sector, Sensing};
 use harmonav_transform::{RobotWorldError, StarShape, Workspace, WorldError};
 
-use crate::truth::Truth;
 use nalgebra::Vector2;
+
+use crate::truth::Truth;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 /// A problem with a scenario file.
@@ -237,7 +238,7 @@ pub const MAX_FILE_BYTES: u64 = 4 << 20;
 pub const MAX_OBSTACLES: usize = 2000;
 
 /// The most states a run may record, `sim.max_time / sim.dt`. Not a memory limit: a run keeps
-/// its memory flat whatever its length ([`crate::trajectory`]). A guard against a typo in
+/// its memory flat whatever its length (harmonav-sim's `trajectory`). A guard against a typo in
 /// `sim.dt`: each recorded state costs at least one integration step of about a microsecond,
 /// so 10⁹ of them are already a quarter of an hour to hours (10⁷ states, a 10 km world at
 /// `sim.dt = 0.01`, take 20–100 s).
@@ -330,46 +331,6 @@ pub struct Prepared {
     pub scenario: Scenario,
     /// The world it describes: the true shapes, the configuration space and the sensor.
     pub truth: Truth,
-}
-
-/// The folder of the hostile-input regression cases (`scenarios/adversarial/`): malformed and
-/// extreme files with the verdict or error each must end with, listed in its `cases.toml`.
-/// They are not suites (many must fail to load), so [`scenario_files`] skips the folder.
-pub const ADVERSARIAL: &str = "adversarial";
-
-/// The folder of the long runs (`scenarios/long/`): worlds whose runs record 10⁵–10⁷ states
-/// (a 10 km world at `sim.dt = 0.01`). `cargo xtask verify` runs each once, with its own
-/// robot model and the recording streamed to disk ([`crate::physics::simulate_observed`]);
-/// [`scenario_files`] skips the folder, so that the suites do not also run them with the
-/// other model and rapier (hours at this size).
-pub const LONG: &str = "long";
-
-/// Every scenario file (`*.toml`) below `dir`, recursively, sorted by path, except under
-/// [`ADVERSARIAL`] and [`LONG`] folders: the suites that `cargo xtask verify` runs and must
-/// pass.
-pub fn scenario_files(dir: &Path) -> std::io::Result<Vec<PathBuf>> {
-    fn walk(dir: &Path, out: &mut Vec<PathBuf>) -> std::io::Result<()> {
-        for entry in std::fs::read_dir(dir)? {
-            let p = entry?.path();
-            // Floor plans have their own format and loop (`crate::floorplan`).
-            if p.is_dir()
-                && p.file_name().is_some_and(|n| {
-                    n == ADVERSARIAL || n == LONG || n == crate::floorplan::FLOORPLANS
-                })
-            {
-                continue;
-            } else if p.is_dir() {
-                walk(&p, out)?;
-            } else if p.extension().is_some_and(|e| e == "toml") {
-                out.push(p);
-            }
-        }
-        Ok(())
-    }
-    let mut out = Vec::new();
-    walk(dir, &mut out)?;
-    out.sort();
-    Ok(out)
 }
 
 impl Scenario {
@@ -740,6 +701,11 @@ impl Scenario {
 }
 
 impl Prepared {
+    /// The start `robot.start`.
+    pub fn start(&self) -> Vector2<f64> {
+        Vector2::from(self.scenario.robot.start)
+    }
+
     /// The `k` policy of the file's `[field]` table.
     pub fn k_policy(&self) -> KPolicy {
         self.scenario.field.k
@@ -792,8 +758,9 @@ fn check_point(p: [f64; 2], _field: &str) -> Result<(), String> {
     }
 }
 
-/// Builds a shape; on error returns (sub-field, problem).
-pub(crate) fn build_shape(s: &ShapeSpec) -> Result<StarShape, (String, String)> {
+/// The shape a scenario gives ([`ShapeSpec`]); on error, the sub-field (`radius`, `harmonics`)
+/// and the problem, for a [`ScenarioError`] that names the whole field path.
+pub fn build_shape(s: &ShapeSpec) -> Result<StarShape, (String, String)> {
     let v = |p: [f64; 2]| Vector2::new(p[0], p[1]);
     let shape = match s {
         ShapeSpec::Circle { center, radius, .. } => StarShape::circle(v(*center), *radius),

@@ -5,11 +5,10 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use foxglove::messages::{FrameTransform, Grid, Log, PoseInFrame, SceneUpdate};
-use harmonav_sim::record::{
-    GRID_CELLS, PATH_PERIOD, PATH_SPACING, TOPICS, write_mcap, write_outputs,
-};
+use harmonav_output::record::{GRID_CELLS, PATH_PERIOD, PATH_SPACING, TOPICS, write_mcap};
+use harmonav_output::set::write_outputs;
+use harmonav_scenario::{Model, Prepared, Scenario};
 use harmonav_sim::run::run;
-use harmonav_sim::scenario::{Model, Prepared, Scenario};
 use prost::Message;
 
 fn scenario(name: &str) -> Prepared {
@@ -251,7 +250,7 @@ fn the_foxglove_layout_names_recorded_topics_and_fields() {
     }
     let mut all = Vec::new();
     strings(&layout, &mut all);
-    let state = serde_json::to_value(harmonav_sim::record::HarmonavState::default()).unwrap();
+    let state = serde_json::to_value(harmonav_output::record::HarmonavState::default()).unwrap();
     let mut named = 0;
     for s in all.iter().filter(|s| s.starts_with('/')) {
         let (topic, field) = s

@@ -1,0 +1,22 @@
+//! # harmonav-output
+//!
+//! What a run leaves on disk: the MCAP recording for Foxglove ([`record`]: the official
+//! Foxglove schemas through the `foxglove` crate, streamed during a run of any length), the
+//! SVG figures ([`figures`], plotters), the level sets of `Θ` they share ([`levels`],
+//! marching squares), the shapes as drawn ([`drawing`]), and output folders checked before a
+//! run and written as one set, atomically ([`atomic`], [`set`]).
+//!
+//! Equations held here: none of the paper's; `Θ` is sampled on a grid (`levels`) and drawn.
+//!
+//! May depend on: harmonav-scenario (what is drawn), harmonav-sim (the run and its events),
+//! foxglove, plotters, contour, serde_json. Nothing below it knows it exists: a user of the
+//! closed loop alone compiles neither foxglove nor plotters.
+
+#![warn(missing_docs)]
+
+pub mod atomic;
+pub mod drawing;
+pub mod figures;
+pub mod levels;
+pub mod record;
+pub mod set;

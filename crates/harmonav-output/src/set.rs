@@ -1,0 +1,139 @@
+//! A run's outputs as one set: `summary.json`, `run.mcap` and the figures, checked before the
+//! run ([`check_output_dir`]), streamed while it goes ([`Outputs`]) and moved into place
+//! together ([`crate::atomic::StagedDir`]).
+
+use std::path::Path;
+
+use harmonav_scenario::Prepared;
+use harmonav_sim::summary::Run;
+use harmonav_sim::trace::Event;
+
+use crate::atomic::OutputError;
+use crate::record::{Stream, replay};
+
+/// The figures a run may write; those a run does not write are removed from `dir`, so that a
+/// folder never mixes the files of two runs.
+const FIGURES: [&str; 3] = ["trajectory.svg", "speed.svg", "energy.svg"];
+
+/// Every file a set of outputs may write or remove.
+pub const OUTPUT_FILES: [&str; 5] = [
+    "summary.json",
+    "run.mcap",
+    "trajectory.svg",
+    "speed.svg",
+    "energy.svg",
+];
+
+/// Checks that `dir` can take the outputs, before a run that would otherwise fail only at its
+/// end, and changes nothing: [`crate::atomic::check_output_dir`] for [`OUTPUT_FILES`] (an empty
+/// path, a path below a file, a dangling or looping link, an unwritable folder, a path too
+/// long, an output name taken by a folder are refused).
+pub fn check_output_dir(dir: &Path) -> Result<(), OutputError> {
+    crate::atomic::check_output_dir(dir, &OUTPUT_FILES)
+}
+
+/// Writes `run.mcap`, `trajectory.svg`, (dynamic runs) `speed.svg` and `energy.svg`, and
+/// `summary.json` into `dir` as one set: [`Outputs::begin`], the run replayed into its
+/// recording ([`replay`]), then [`Outputs::finish`]. Returns the paths, `summary.json` first.
+pub fn write_outputs(
+    dir: &Path,
+    prepared: &Prepared,
+    run: &Run,
+) -> Result<Vec<std::path::PathBuf>, OutputError> {
+    let mut outputs = Outputs::begin(dir, prepared)?;
+    replay(run, &mut |e| outputs.observe(e));
+    outputs.finish(run)
+}
+
+/// A set of outputs being written while its run goes: the recording streams into a fresh
+/// staging folder inside `dir` ([`crate::atomic::StagedDir`]) as the run hands it its events
+/// ([`Outputs::observe`], the observer of `harmonav_sim::physics::simulate_observed`), and
+/// [`Outputs::finish`] adds the figures and the summary and moves the set into place. Dropped
+/// before (the run failed, an interrupt), nothing of it is left and the previous set is
+/// untouched.
+pub struct Outputs<'p> {
+    dir: std::path::PathBuf,
+    stage: crate::atomic::StagedDir,
+    stream: Stream<'p>,
+}
+
+impl<'p> Outputs<'p> {
+    /// Checks `dir` ([`check_output_dir`]), creates it and its staging folder, and opens the
+    /// recording.
+    pub fn begin(dir: &Path, prepared: &'p Prepared) -> Result<Self, OutputError> {
+        check_output_dir(dir)?;
+        std::fs::create_dir_all(dir).map_err(|source| OutputError::Io {
+            path: dir.to_path_buf(),
+            source,
+        })?;
+        let stage = crate::atomic::StagedDir::new(dir)?;
+        let stream = Stream::create(&stage.path().join("run.mcap"), prepared).map_err(|e| {
+            OutputError::Content {
+                file: "run.mcap",
+                problem: e.to_string(),
+            }
+        })?;
+        Ok(Self {
+            dir: dir.to_path_buf(),
+            stage,
+            stream,
+        })
+    }
+
+    /// Logs one event of the run into the recording.
+    pub fn observe(&mut self, event: Event<'_>) {
+        self.stream.observe(event);
+    }
+
+    /// Ends the recording, draws the figures of `run` (the run whose events were observed),
+    /// writes `summary.json` and moves the set into place: `summary.json` last, and the
+    /// figures this run does not draw removed (a kinematic run removes a stale `speed.svg`
+    /// and `energy.svg`). `dir` is checked again first ([`check_output_dir`]: it may have
+    /// changed during the run), and the set's names once more before anything is moved. On
+    /// an error while writing, nothing of the new set is left and the previous set is
+    /// untouched (a failing rename while moving the set, an I/O fault, can leave a mix).
+    /// Returns the paths, `summary.json` first.
+    pub fn finish(self, run: &Run) -> Result<Vec<std::path::PathBuf>, OutputError> {
+        let Self { dir, stage, stream } = self;
+        check_output_dir(&dir)?;
+        let io = |path: &Path, source: std::io::Error| OutputError::Io {
+            path: path.to_path_buf(),
+            source,
+        };
+        let content =
+            |file: &'static str| move |problem: String| OutputError::Content { file, problem };
+        let prepared = stream.prepared;
+        let mut figures = vec![(
+            "trajectory.svg",
+            crate::figures::trajectory_svg(prepared, run).map_err(content("trajectory.svg"))?,
+        )];
+        if run.summary.speed_bound.is_some() {
+            figures.push((
+                "speed.svg",
+                crate::figures::speed_svg(run).map_err(content("speed.svg"))?,
+            ));
+            figures.push((
+                "energy.svg",
+                crate::figures::energy_svg(run).map_err(content("energy.svg"))?,
+            ));
+        }
+        let summary = serde_json::to_string_pretty(&run.summary)
+            .map_err(|e| content("summary.json")(e.to_string()))?
+            + "\n";
+        stream
+            .finish()
+            .map_err(|e| content("run.mcap")(e.to_string()))?;
+        let mut names = vec!["run.mcap"];
+        for (name, svg) in &figures {
+            let path = stage.path().join(name);
+            std::fs::write(&path, svg.as_bytes()).map_err(|e| io(&path, e))?;
+            names.push(name);
+        }
+        let path = stage.path().join("summary.json");
+        std::fs::write(&path, summary).map_err(|e| io(&path, e))?;
+        names.push("summary.json");
+        stage.commit(&names, &FIGURES)?;
+        names.rotate_right(1);
+        Ok(names.iter().map(|n| dir.join(n)).collect())
+    }
+}

@@ -1,0 +1,186 @@
+//! The one driver of every integrator: it starts the closed loop, senses, records, decides
+//! when a run stops (arrival, a lost guarantee, a stall), and hands the monitors' judgement
+//! back as a [`Run`]. An integrator ([`crate::run`], the built-in Bogacki–Shampine one, and
+//! `rapier.rs`, rapier's fixed step) only advances the state between the driver's
+//! calls.
+
+use harmonav_scenario::{Model, Prepared};
+use nalgebra::Vector2;
+
+use crate::closed_loop::ClosedLoop;
+use crate::guarantee::Guarantee;
+use crate::monitor::{End, Recorder};
+use crate::outcome::rested_too_long;
+use crate::summary::{Run, RunError};
+use crate::trace::{Discovery, Event, Sample};
+use crate::trajectory::Keep;
+
+/// Accepted steps at rest, each cut by the error control below half of `sim.dt`, after which
+/// a kinematic run is stopped as stalled (the stall rule of `driver.rs`, for every
+/// integrator).
+pub const STALL_STEPS: usize = 10_000;
+
+/// The stall rule's state (kinematic law): the robot has stayed within half the goal
+/// tolerance of `anchor` since `since`, for `chattering` steps that the error control cut.
+struct Rest {
+    anchor: Vector2<f64>,
+    since: f64,
+    chattering: usize,
+}
+
+/// A run in progress: the closed loop, the monitors and the kept trajectory, and what ended
+/// it so far.
+pub(crate) struct Driver<'a, 'o> {
+    /// The robot's navigator against the truth.
+    pub lp: ClosedLoop<'a>,
+    rec: Recorder<'o>,
+    prepared: &'a Prepared,
+    discoveries: Vec<Discovery>,
+    aborted: Option<Guarantee>,
+    rest: Rest,
+    /// The integrator's bound on the state error of one recorded state (m), from which
+    /// [`Driver::sample`] bounds the energy's ([`ClosedLoop::sample`]).
+    state_error: f64,
+}
+
+impl<'a, 'o> Driver<'a, 'o> {
+    /// The run of `prepared` with `model` (or the file's) at the start, with the obstacles
+    /// known at `t = 0` handed to `observer`. `period`: the control period of a fixed-step
+    /// integrator (the navigator holds each command for it). `state_error`: see
+    /// [`Driver::sample`].
+    pub fn start(
+        prepared: &'a Prepared,
+        model: Option<Model>,
+        period: Option<f64>,
+        state_error: f64,
+        observer: &'o mut dyn FnMut(Event<'_>),
+    ) -> Result<Self, RunError> {
+        let (lp, discoveries) = ClosedLoop::start(prepared, model, period)?;
+        let sim = &prepared.scenario.sim;
+        let mut rec = Recorder::new(prepared.truth.goal(), sim.goal_tolerance, observer);
+        rec.discovered(&discoveries);
+        Ok(Self {
+            lp,
+            rec,
+            prepared,
+            discoveries,
+            aborted: None,
+            rest: Rest {
+                anchor: prepared.start(),
+                since: 0.0,
+                chattering: 0,
+            },
+            state_error,
+        })
+    }
+
+    /// Whether the robot at `x` is within the goal tolerance.
+    pub fn arrived(&self, x: Vector2<f64>) -> bool {
+        (x - self.prepared.truth.goal()).norm() < self.prepared.scenario.sim.goal_tolerance
+    }
+
+    /// The state at `t`, as recorded ([`ClosedLoop::sample`] with the integrator's state error).
+    pub fn sample(&self, t: f64, x: Vector2<f64>, v: Vector2<f64>) -> Sample {
+        self.lp.sample(t, x, v, self.state_error)
+    }
+
+    /// A recorded state: judged, handed to the observer and kept as `keep` says;
+    /// `discovered`: it is a discovery's second side.
+    pub fn record(&mut self, s: Sample, keep: Keep, discovered: bool) {
+        self.rec.record(s, keep, discovered, &self.prepared.truth);
+    }
+
+    /// A state the monitors judge but the recording leaves out (an integration step's end).
+    pub fn judge(&mut self, s: &Sample) {
+        self.rec.step(s, false, &self.prepared.truth);
+    }
+
+    /// The time of the last recorded state.
+    pub fn last_recorded(&self) -> Option<f64> {
+        self.rec.last_time()
+    }
+
+    /// The unknown obstacles the sensor sees at `(x, ẋ)`.
+    pub fn sees(&self, x: Vector2<f64>, v: Vector2<f64>) -> Vec<usize> {
+        self.lp.sees(x, v)
+    }
+
+    /// At `t` the robot at `(x, ẋ)` learns the obstacles `found`, sensed along the sector's
+    /// axis there. `false`: the navigator refused one (the robot is inside it), the guarantee
+    /// is lost and the run must stop.
+    pub fn discover(&mut self, t: f64, found: &[usize], x: Vector2<f64>, v: Vector2<f64>) -> bool {
+        let axis = self.lp.axis(x, v);
+        let before = self.discoveries.len();
+        let added = self
+            .lp
+            .discover(t, found, (x, v), axis, &mut self.discoveries);
+        self.rec.discovered(&self.discoveries[before..]);
+        match added {
+            Ok(()) => true,
+            Err(lost) => {
+                self.aborted = Some(lost);
+                false
+            }
+        }
+    }
+
+    /// A guarantee lost on the way (a step-size collapse, the free space left): the run stops.
+    pub fn abort(&mut self, lost: Guarantee) {
+        self.aborted = Some(lost);
+    }
+
+    /// **The stall rule**, for every integrator. The robot is at `x` at time `t` after a step;
+    /// `chattering`: the error control cut that step below half of `sim.dt` (a fixed-step
+    /// integrator never does). At a saddle the normalised kinematic law chatters in place at
+    /// ever smaller steps (1.5 million per simulated second were seen, for minutes up to
+    /// `sim.max_time`), so a kinematic run that has rested within half the goal tolerance of
+    /// one point stops once the rest has lasted the window of
+    /// [`crate::outcome::Outcome::Stalled`] (`max(STALL_SHARE·t, 1 s)`), or for [`STALL_STEPS`]
+    /// chattering steps: a robot moving at all covers that distance in far fewer (at 1 m/s and
+    /// 1e-5 s steps, 10⁴ steps are 0.1 m). Steps of a full `sim.dt` are not counted: at a tiny
+    /// `sim.dt` (5e-6 s) 10⁴ of them are 0.05 s, in which a robot slowing near its goal moves
+    /// less than half the tolerance. The dynamic law is smooth there and creeps: it is left to
+    /// run. `true`: stop the run (the monitors record the stall).
+    pub fn at_rest(
+        &mut self,
+        t: f64,
+        x: Vector2<f64>,
+        chattering: bool,
+        discovered: bool,
+        reached: bool,
+    ) -> bool {
+        let tol = self.prepared.scenario.sim.goal_tolerance;
+        let rest = &mut self.rest;
+        if (x - rest.anchor).norm() > 0.5 * tol || discovered {
+            *rest = Rest {
+                anchor: x,
+                since: t,
+                chattering: 0,
+            };
+            return false;
+        }
+        rest.chattering += usize::from(chattering);
+        let stop = self.lp.model == Model::Kinematic
+            && !reached
+            && (rested_too_long(rest.since, t) || rest.chattering >= STALL_STEPS);
+        if stop {
+            self.rec.monitor.stalled(rest.since);
+        }
+        stop
+    }
+
+    /// The judgement of the run that ended at `end`: the summary of the monitors and the
+    /// kept states. `physics` names the integrator in the summary.
+    pub fn finish(self, end: End) -> Run {
+        let (monitor, samples) = self.rec.into_parts();
+        let summary = monitor.finish(
+            self.prepared,
+            self.lp.model,
+            &self.lp.nav,
+            end,
+            self.discoveries,
+            self.aborted,
+        );
+        Run { summary, samples }
+    }
+}

@@ -1,0 +1,284 @@
+//! The rapier2d cross-check: the same scenario as a rapier world. Static colliders for the
+//! obstacles and the boundary (a ball for circles, closed polylines through the true
+//! boundary otherwise), the robot a dynamic ball (zero gravity, no rapier damping) driven by
+//! the control law — its velocity for the kinematic model, a force for the dynamic one. It
+//! reports the contact events and the largest deviation from the built-in trajectory.
+
+use std::collections::BTreeSet;
+use std::f64::consts::TAU;
+
+use harmonav_field::{Field, FieldEval};
+use harmonav_scenario::{Model, Prepared};
+use harmonav_transform::StarShape;
+use nalgebra::Vector2;
+use rapier2d_f64::prelude::{ColliderBuilder, PhysicsWorld, RigidBodyBuilder, Vector};
+
+use crate::driver::Driver;
+use crate::guarantee::{Check, FreeSpaceLoss, Guarantee};
+use crate::monitor::End;
+use crate::summary::{Run, RunError};
+use crate::trace::{Event, Sample};
+use crate::trajectory::Keep;
+
+/// A controller other than the law: `(field, eval, x, ẋ) → command`.
+pub type CustomLaw<'a> = &'a dyn Fn(&Field, &FieldEval, Vector2<f64>, Vector2<f64>) -> Vector2<f64>;
+
+/// A command source for the rapier robot: the velocity (kinematic) or force (dynamic) to apply
+/// given the field evaluation, position and velocity. [`Drive::Law`] is the paper's law;
+/// tests use [`Drive::Custom`] to drive a deliberately broken controller.
+pub enum Drive<'a> {
+    /// The kinematic or dynamic law of the scenario.
+    Law,
+    /// Any other controller: `(field, eval, x, ẋ) → command`.
+    Custom(CustomLaw<'a>),
+}
+
+/// rapier's ball touches a wall when the exact distance from its centre to the true shape is
+/// at most its radius plus this (m). rapier's active contact pairs also hold speculative
+/// contacts within its prediction distance (they were counted at 0.5–1 mm of clearance); those
+/// are not counted. A point robot is a ball of 1 mm in rapier, so its contact events happen at
+/// a true clearance of up to 1 mm: a margin of the engine, not a collision, which the
+/// no-collision monitor judges on the true clearance.
+const TOUCH: f64 = 1e-6;
+
+/// What the rapier run adds to the summary.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RapierReport {
+    /// Contact events between the robot and any obstacle or the boundary.
+    pub contacts: usize,
+    /// Largest distance between the rapier and the built-in positions at equal times, m.
+    pub max_deviation: f64,
+}
+
+fn v(p: Vector2<f64>) -> Vector {
+    Vector::new(p.x, p.y)
+}
+
+/// A static collider for `shape`: an exact ball for a circular obstacle, otherwise (and always
+/// for the workspace boundary, which the robot is inside) a closed polyline through the true
+/// boundary.
+fn collider(shape: &StarShape, obstacle: bool) -> ColliderBuilder {
+    let (lo, hi) = shape.radius_bounds();
+    if obstacle && (hi - lo).abs() <= 1e-12 * hi {
+        return ColliderBuilder::ball(hi).translation(v(shape.centre()));
+    }
+    let n = 720u32;
+    let pts: Vec<Vector> = (0..n)
+        .map(|i| v(shape.boundary_point(TAU * i as f64 / n as f64)))
+        .collect();
+    let idx: Vec<[u32; 2]> = (0..n).map(|i| [i, (i + 1) % n]).collect();
+    ColliderBuilder::polyline(pts, Some(idx))
+}
+
+/// Runs the scenario in rapier with `drive`; `builtin` (a built-in run of the same model) is
+/// the reference for the deviation.
+pub fn run_rapier(
+    prepared: &Prepared,
+    model: Option<Model>,
+    drive: Drive,
+    builtin: Option<&Run>,
+) -> Result<(Run, RapierReport), RunError> {
+    rapier_observed(prepared, model, drive, builtin, &mut |_| {})
+}
+
+/// [`run_rapier`], handing every recorded state to `observer`.
+pub(crate) fn rapier_observed(
+    prepared: &Prepared,
+    model: Option<Model>,
+    drive: Drive,
+    builtin: Option<&Run>,
+    observer: &mut dyn FnMut(Event<'_>),
+) -> Result<(Run, RapierReport), RunError> {
+    let sc = &prepared.scenario;
+    let truth = &prepared.truth;
+    // rapier's fixed step, at most 1 ms; the navigator holds each command for it.
+    let substeps = (sc.sim.dt / 1e-3).ceil().max(1.0) as usize;
+    let h = sc.sim.dt / substeps as f64;
+    // Semi-implicit Euler at a fixed step has no error estimate: the energy's allowance is
+    // relative (`sample` below), not from a state error.
+    let mut d = Driver::start(prepared, model, Some(h), 0.0, observer)?;
+    let model = d.lp.model;
+    let start = prepared.start();
+
+    let mut world = PhysicsWorld {
+        gravity: Vector::new(0.0, 0.0),
+        ..PhysicsWorld::default()
+    };
+    world.integration_parameters.dt = h;
+    let mut walls = Vec::new();
+    for o in &truth.obstacles {
+        walls.push(world.insert(RigidBodyBuilder::fixed(), collider(o, true)).1);
+    }
+    walls.push(
+        world
+            .insert(RigidBodyBuilder::fixed(), collider(&truth.boundary, false))
+            .1,
+    );
+    let radius = sc.robot.radius.max(1e-3);
+    let (robot, robot_collider) = world.insert(
+        RigidBodyBuilder::dynamic()
+            .translation(v(start))
+            .linear_damping(0.0)
+            .can_sleep(false)
+            .ccd_enabled(true),
+        ColliderBuilder::ball(radius)
+            .density(sc.robot.mass / (std::f64::consts::PI * radius * radius)),
+    );
+
+    // Walls the robot's ball already reaches at the start (a point robot is a 1 mm ball in
+    // rapier, and a start may lie closer than that): touching them is not a contact event.
+    let gap_to = |i: usize, x: Vector2<f64>| match truth.obstacles.get(i) {
+        Some(o) => o.signed_distance(x),
+        None => -truth.boundary.signed_distance(x),
+    };
+    let mut touching: BTreeSet<usize> = (0..walls.len())
+        .filter(|&i| gap_to(i, start) <= radius + TOUCH)
+        .collect();
+    let mut contacts = 0;
+    let mut t = 0.0;
+    let mut steps = 0;
+    let mut reached = false;
+    let state = |world: &PhysicsWorld| {
+        let b = &world.bodies[robot];
+        (
+            Vector2::new(b.translation().x, b.translation().y),
+            Vector2::new(b.linvel().x, b.linvel().y),
+        )
+    };
+    // Semi-implicit Euler at 1 ms has no error estimate: V may differ from the exact
+    // solution's by half of the former relative allowance 1e-6 per state.
+    let sample = |d: &Driver, t: f64, x, vel| {
+        let mut s = d.sample(t, x, vel);
+        s.energy_tolerance = s.energy.map_or(0.0, |e| 5e-7 * e);
+        s
+    };
+    loop {
+        let (x, vel) = state(&world);
+        if d.lp.eval(x, vel).is_none() {
+            // Only a controller other than the law gets here: record and stop.
+            d.abort(Guarantee::failed(Check::LeftFreeSpace {
+                time_s: t,
+                position: [x.x, x.y],
+                reason: FreeSpaceLoss::Left,
+            }));
+            break;
+        }
+        if steps % substeps == 0 || reached {
+            // A discovery's second side is recorded where it happens (below), flagged there so
+            // that the energy monitor does not count V's jump as a rise.
+            let keep = if reached { Keep::Pinned } else { Keep::Grid };
+            d.record(sample(&d, t, x, vel), keep, false);
+        }
+        reached = d.arrived(x);
+        if reached || t >= sc.sim.max_time {
+            break;
+        }
+        // Sensing: discoveries at step granularity.
+        let found = d.sees(x, vel);
+        let discovered = !found.is_empty();
+        if discovered {
+            if !d.discover(t, &found, x, vel) {
+                break;
+            }
+            // The state right after a discovery, with the new Θ, k and λ: the switch of eq.
+            // `dissipationfun` may last only a few milliseconds.
+            d.record(sample(&d, t, x, vel), Keep::Pinned, true);
+        }
+        if d.at_rest(t, x, false, discovered, reached) {
+            break;
+        }
+        let command = match &drive {
+            Drive::Law => d.lp.nav.command(x, vel)?.value,
+            Drive::Custom(f) => {
+                let e = d.lp.nav.field().eval(x)?;
+                f(d.lp.nav.field(), &e, x, vel)
+            }
+        };
+        let body = &mut world.bodies[robot];
+        match model {
+            Model::Kinematic => body.set_linvel(v(command), true),
+            Model::Dynamic => {
+                body.reset_forces(true);
+                body.add_force(v(command), true);
+            }
+        }
+        world.step();
+        steps += 1;
+        t = steps as f64 * h;
+        // Contact events: robot–wall pairs that started touching in this step.
+        // rapier's active pairs include speculative contacts within its prediction distance;
+        // a pair counts as touching only if the ball is also within TOUCH of that wall by the
+        // exact signed distance of the true shape (see TOUCH).
+        let (x_new, _) = state(&world);
+        let now: BTreeSet<usize> = world
+            .narrow_phase
+            .contact_pairs_with(robot_collider)
+            .filter(|p| p.has_any_active_contact())
+            .map(|p| {
+                if p.collider1 == robot_collider {
+                    p.collider2
+                } else {
+                    p.collider1
+                }
+            })
+            .filter_map(|c| walls.iter().position(|w| *w == c))
+            .filter(|&i| gap_to(i, x_new) <= radius + TOUCH)
+            .collect();
+        contacts += now.difference(&touching).count();
+        touching = now;
+    }
+    let (x, _) = state(&world);
+    let Run {
+        mut summary,
+        samples,
+    } = d.finish(End {
+        reached,
+        time: t,
+        final_distance: (x - prepared.truth.goal()).norm(),
+        steps,
+        rejected: 0,
+        physics: "rapier",
+    });
+    summary.physics_contacts = Some(contacts);
+    summary.guarantees.push(Guarantee::new(
+        Check::PhysicsContacts { contacts },
+        contacts == 0,
+    ));
+    let max_deviation = builtin.map_or(0.0, |b| deviation(&samples, &b.samples));
+    if builtin.is_some() {
+        summary.guarantees.push(Guarantee::new(
+            Check::PhysicsDeviation { max_deviation },
+            true,
+        ));
+    }
+    Ok((
+        Run { summary, samples },
+        RapierReport {
+            contacts,
+            max_deviation,
+        },
+    ))
+}
+
+/// Largest distance between two trajectories at the times of `a` (`b` linearly interpolated,
+/// compared while both exist).
+fn deviation(a: &[Sample], b: &[Sample]) -> f64 {
+    let mut worst = 0.0f64;
+    let mut j = 0;
+    for s in a {
+        while j + 1 < b.len() && b[j + 1].t < s.t {
+            j += 1;
+        }
+        if j + 1 >= b.len() {
+            break;
+        }
+        let (p, q) = (&b[j], &b[j + 1]);
+        let w = ((s.t - p.t) / (q.t - p.t)).clamp(0.0, 1.0);
+        let bx = Vector2::new(
+            p.x[0] + w * (q.x[0] - p.x[0]),
+            p.x[1] + w * (q.x[1] - p.x[1]),
+        );
+        worst = worst.max((Vector2::new(s.x[0], s.x[1]) - bx).norm());
+    }
+    worst
+}

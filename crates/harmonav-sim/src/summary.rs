@@ -1,0 +1,126 @@
+//! The judgement of a run: its [`Summary`] (`summary.json`), the [`Run`] with the kept
+//! states, and why a run could not start ([`RunError`]).
+
+use harmonav::NavError;
+use harmonav_field::FieldError;
+use harmonav_scenario::Model;
+use serde::Serialize;
+
+use crate::guarantee::Guarantee;
+use crate::outcome::Outcome;
+use crate::trace::{Discovery, Sample};
+use crate::warning::Warning;
+
+/// The summary of a run (`summary.json`).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Summary {
+    /// Scenario name.
+    pub name: String,
+    /// `kinematic` or `dynamic`.
+    pub model: Model,
+    /// `builtin` (or `rapier`).
+    pub physics: String,
+    /// The `k` policy (`"paper"` or `"auto"`).
+    pub k_policy: &'static str,
+    /// The damping policy of the dynamic law (`None` for the kinematic model).
+    pub damping: Option<&'static str>,
+    /// Goal reached within tolerance and time.
+    pub reached: bool,
+    /// Time at the end of the run, s.
+    pub time_s: f64,
+    /// Distance to the goal at the end, m.
+    pub final_distance: f64,
+    /// Smallest clearance to the true obstacles and boundary (minus the robot radius), m.
+    pub min_clearance: f64,
+    /// The length of the recorded path (every state on the `sim.dt` grid and at the events),
+    /// m.
+    pub path_length: f64,
+    /// Largest speed, m/s.
+    pub max_speed: f64,
+    /// `√(2μ/m)` for the dynamic model.
+    pub speed_bound: Option<f64>,
+    /// Recorded states in collision (clearance ≤ 0).
+    pub collisions: usize,
+    /// Contact events reported by the physics engine (rapier runs only).
+    pub physics_contacts: Option<usize>,
+    /// Discoveries in order.
+    pub discoveries: Vec<Discovery>,
+    /// The guarantee monitors.
+    pub guarantees: Vec<Guarantee>,
+    /// How the run ended.
+    pub outcome: Outcome,
+    /// What the verdict alone would not explain (a start on a symmetry axis, …): filled by
+    /// [`crate::physics::simulate`], empty from [`crate::run::run`] alone (a sweep's many runs skip them).
+    pub warnings: Vec<Warning>,
+    /// States recorded (on the `sim.dt` grid and at the events), all of them judged and handed
+    /// to the observer; [`Run::samples`] keeps at most [`crate::trajectory::MAX_KEPT_STATES`] of the grid ones.
+    pub recorded_states: usize,
+    /// Accepted integration steps.
+    pub steps: usize,
+    /// Rejected integration steps.
+    pub rejected_steps: usize,
+}
+
+impl Summary {
+    /// Whether every guarantee held.
+    pub fn all_passed(&self) -> bool {
+        self.guarantees.iter().all(|g| g.passed)
+    }
+}
+
+/// A run: the summary and the recorded trajectory.
+#[derive(Clone, Debug)]
+pub struct Run {
+    /// The summary.
+    pub summary: Summary,
+    /// Recorded states (every `sim.dt`, and at discoveries and the end), kept in bounded
+    /// memory: a run longer than [`crate::trajectory::MAX_KEPT_STATES`] grid states keeps one in a power of two
+    /// of them ([`crate::trajectory`]). The monitors judged every state, and
+    /// [`crate::run::run_observed`] hands every one to its observer.
+    pub samples: Vec<Sample>,
+}
+
+/// Why a run could not start or go on (the run's guarantees are judged only on a run that
+/// started; this is the error before that, or of a controller other than the law).
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum RunError {
+    /// The navigator refused the scenario's world, goal or law, or a command.
+    Navigator(NavError),
+    /// `Θ` with every obstacle known could not be built (the first sector axis).
+    Field(FieldError),
+    /// An obstacle known at the start could not be added: the start is inside it.
+    Start(Box<Guarantee>),
+    /// The start is not in the free space of the obstacles known at the start.
+    StartNotFree,
+    /// A rapier run was asked of a build without the feature `rapier`.
+    NoRapier,
+}
+
+impl std::fmt::Display for RunError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Navigator(e) => write!(f, "{e}"),
+            Self::Field(e) => write!(f, "{e}"),
+            Self::Start(lost) => f.write_str(&lost.detail()),
+            Self::StartNotFree => f.write_str("the start is not in the free space"),
+            Self::NoRapier => f.write_str(
+                "this build has no rapier integrator: enable harmonav-sim's feature `rapier`",
+            ),
+        }
+    }
+}
+
+impl std::error::Error for RunError {}
+
+impl From<NavError> for RunError {
+    fn from(e: NavError) -> Self {
+        Self::Navigator(e)
+    }
+}
+
+impl From<FieldError> for RunError {
+    fn from(e: FieldError) -> Self {
+        Self::Field(e)
+    }
+}

@@ -1,0 +1,66 @@
+//! What a run produces as it goes: the recorded states ([`Sample`]), the discoveries
+//! ([`Discovery`]) and the events an observer is handed in time order ([`Event`]). A leaf:
+//! every other module of the closed loop may use it, it uses none of them.
+
+use serde::Serialize;
+
+use crate::warning::Warning;
+
+/// One recorded state.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Sample {
+    /// Time, s.
+    pub t: f64,
+    /// Position.
+    pub x: [f64; 2],
+    /// Velocity.
+    pub v: [f64; 2],
+    /// `Θ(x)`.
+    pub theta: f64,
+    /// `V = μΘ + ½m|ẋ|²` (dynamic model).
+    pub energy: Option<f64>,
+    /// `k = n + 1`.
+    pub k: f64,
+    /// Damping `λ` in force (dynamic model).
+    pub lambda: Option<f64>,
+    /// How much `V` may differ from the exact solution's at this state through integration
+    /// error alone (dynamic model), by the integrator's own error model: the built-in one's
+    /// local error bound ([`crate::run::step_tolerance`]) times the sensitivity `μ|∇Ψ| + m|ẋ|`
+    /// of `V` to the state, times a safety factor of 10; rapier's, see `rapier.rs`.
+    #[serde(skip)]
+    pub energy_tolerance: f64,
+    /// Whether the damping is in its `V < μ` branch, critical at the goal (`λ_c` under the
+    /// `"paper"` policy, `λ(x)` under `"auto"`), rather than switched (dynamic model).
+    pub critical: bool,
+}
+
+/// A discovery event.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Discovery {
+    /// Obstacle name.
+    pub obstacle: String,
+    /// Obstacle index in the scenario.
+    #[serde(skip)]
+    pub index: usize,
+    /// Time, s.
+    pub time_s: f64,
+    /// Robot position at discovery.
+    #[serde(skip)]
+    pub position: [f64; 2],
+    /// Sector axis at discovery.
+    #[serde(skip)]
+    pub axis: [f64; 2],
+}
+
+/// What a run hands its observer as it goes, in time order ([`crate::run::run_observed`]).
+#[derive(Clone, Copy, Debug)]
+pub enum Event<'a> {
+    /// A warning about the scenario, before the run starts
+    /// ([`crate::physics::simulate_observed`]).
+    Warning(&'a Warning),
+    /// An obstacle became known (those known at the start come before the first state).
+    Discovery(&'a Discovery),
+    /// A recorded state (a discovery's first side comes before its [`Event::Discovery`], the
+    /// second after).
+    State(&'a Sample),
+}
