@@ -4,8 +4,8 @@ docs/benchmarks.md): worlds of radius 5, 20, 50 and 100 m whose discs keep their
 
     python examples/python/scale_worlds.py OUT_DIR [--seeds 3]
     for f in OUT_DIR/*.toml; do
-        harmonav run "$f" --controller kinematic --json
-        harmonav run "$f" --controller dynamic --damping auto --json    # or shaped, paper
+        harmonav run "$f" --model kinematic --json
+        harmonav run "$f" --model dynamic --damping auto --json    # or shaped, paper
     done
 
 Writes scenario files only: no dependency beyond the standard library.

@@ -23,13 +23,33 @@ pub struct Scenario {
     path: PathBuf,
 }
 
-fn model(controller: Option<&str>) -> PyResult<Option<Model>> {
-    match controller {
+/// The robot model asked for by `model=` (the facade's and the scenario file's name), or by
+/// the old keyword `controller=`, kept as a deprecated alias (a `DeprecationWarning`; both at
+/// once is an error).
+fn model(py: Python<'_>, model: Option<&str>, controller: Option<&str>) -> PyResult<Option<Model>> {
+    let name = match (model, controller) {
+        (Some(_), Some(_)) => {
+            return Err(value_error(
+                "model and controller name the same thing: give model only",
+            ));
+        }
+        (None, Some(old)) => {
+            PyErr::warn(
+                py,
+                &py.get_type::<pyo3::exceptions::PyDeprecationWarning>(),
+                c"controller= is deprecated: use model=",
+                1,
+            )?;
+            Some(old)
+        }
+        (name, None) => name,
+    };
+    match name {
         None => Ok(None),
         Some("kinematic") => Ok(Some(Model::Kinematic)),
         Some("dynamic") => Ok(Some(Model::Dynamic)),
         Some(other) => Err(value_error(format!(
-            "unknown controller \"{other}\": expected \"kinematic\" or \"dynamic\""
+            "unknown model \"{other}\": expected \"kinematic\" or \"dynamic\""
         ))),
     }
 }
@@ -71,8 +91,8 @@ impl Scenario {
         Ok(Field::from(field))
     }
 
-    /// Runs the scenario and checks every guarantee. `controller` (`"kinematic"` or
-    /// `"dynamic"`) overrides the file's model; `physics` is `"builtin"` or `"rapier"` (the
+    /// Runs the scenario and checks every guarantee. `model` (`"kinematic"` or `"dynamic"`)
+    /// overrides the file's `[robot] model` (`controller=` is its deprecated alias); `physics` is `"builtin"` or `"rapier"` (the
     /// rapier2d cross-check); `out`, a directory, receives summary.json, run.mcap and the
     /// figures (a kinematic run removes a stale speed.svg and energy.svg there). The
     /// simulation runs without the GIL.
@@ -82,15 +102,16 @@ impl Scenario {
     /// output raise `ValueError`, and nothing is run or written. If writing fails after the
     /// run, `OSError` is raised with the run's `RunResult` as its `result` attribute and the
     /// summary as `summary`; the previous outputs are left whole.
-    #[pyo3(signature = (controller=None, physics="builtin", out=None))]
+    #[pyo3(signature = (model=None, physics="builtin", out=None, *, controller=None))]
     fn run(
         &self,
         py: Python<'_>,
-        controller: Option<&str>,
+        model: Option<&str>,
         physics: &str,
         out: Option<PathBuf>,
+        controller: Option<&str>,
     ) -> PyResult<RunResult> {
-        let model = model(controller)?;
+        let model = self::model(py, model, controller)?;
         let physics: Physics = policy(physics)?;
         if let Some(dir) = &out {
             py.detach(|| check_output_dir(dir))
@@ -223,15 +244,16 @@ impl SweepResult {
 /// parallel without the GIL: `starts` is a count of seeded random free starts (`seed`) or an
 /// (N, 2) array of starts, at least 1 and at most 1 000 000 (as `harmonav sweep --starts`).
 /// A start outside the free space is the outcome `"invalid-start"`, not an error.
-/// `controller` overrides the file's model. The starts run in parts of two per core, and
+/// `model` overrides the file's (`controller=` is its deprecated alias). The starts run in parts of two per core, and
 /// Ctrl-C between two parts raises `KeyboardInterrupt`.
 #[pyfunction]
-#[pyo3(signature = (scenario, starts, seed=0, controller=None))]
+#[pyo3(signature = (scenario, starts, seed=0, model=None, *, controller=None))]
 pub fn sweep(
     py: Python<'_>,
     scenario: &Scenario,
     starts: &Bound<'_, PyAny>,
     seed: u64,
+    model: Option<&str>,
     controller: Option<&str>,
 ) -> PyResult<SweepResult> {
     let prepared = &scenario.prepared;
@@ -247,7 +269,7 @@ pub fn sweep(
         pts
     };
     check_count(pts.len()).map_err(|e| value_error(format!("starts: {e}")))?;
-    let model = model(controller)?.unwrap_or(prepared.scenario.robot.model);
+    let model = self::model(py, model, controller)?.unwrap_or(prepared.scenario.robot.model);
     let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
     // Parts of two starts per thread: Ctrl-C waits for at most one part, and the threads
     // lose little to the last start of each part.

@@ -97,7 +97,7 @@ def test_the_figures_of_a_dynamic_run(tmp_path):
 
 def test_twenty_discoveries_at_once_share_one_label(tmp_path):
     sc = harmonav.Scenario.load(SCENARIOS / "scale" / "twenty-global.toml")
-    res = sc.run(controller="dynamic", out=tmp_path)
+    res = sc.run(model="dynamic", out=tmp_path)
     assert len(res.discoveries) == 20 and all(d["time_s"] == 0.0 for d in res.discoveries)
     check(tmp_path / "speed.svg")
     labels = [t[5] for t in texts(tmp_path / "speed.svg")]
@@ -107,7 +107,7 @@ def test_twenty_discoveries_at_once_share_one_label(tmp_path):
 @pytest.mark.parametrize("path", sorted((SCENARIOS / "scale").glob("*.toml")), ids=lambda p: p.stem)
 def test_the_trajectory_of_a_scale_world_names_without_overlap(path, tmp_path):
     sc = harmonav.Scenario.load(path)
-    res = sc.run(controller="kinematic", out=tmp_path)
+    res = sc.run(model="kinematic", out=tmp_path)
     check(tmp_path / "trajectory.svg")
     labels = {t[5] for t in texts(tmp_path / "trajectory.svg")}
     # The legend: every marker and each level of Θ with its value.

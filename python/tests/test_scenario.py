@@ -28,14 +28,26 @@ def test_a_run_returns_the_summary_and_the_trajectory(tmp_path):
     assert written["time_s"] == s["time_s"]
 
 
-def test_the_controller_override_runs_the_dynamic_law():
+def test_the_model_override_runs_the_other_law():
     sc = harmonav.Scenario.load(SCENARIOS / "shapes" / "dynamic-small.toml")
-    res = sc.run(controller="kinematic")
+    res = sc.run(model="kinematic")
     assert res.summary["model"] == "kinematic" and res.summary["reached"]
     with pytest.raises(ValueError, match="kinematic"):
-        sc.run(controller="pid")
+        sc.run(model="pid")
     with pytest.raises(ValueError, match="rapier"):
         sc.run(physics="bullet")
+
+
+def test_controller_is_a_deprecated_alias_of_model():
+    sc = harmonav.Scenario.load(SCENARIOS / "shapes" / "dynamic-small.toml")
+    with pytest.warns(DeprecationWarning, match="model="):
+        old = sc.run(controller="kinematic")
+    assert old.summary == sc.run(model="kinematic").summary
+    with pytest.raises(ValueError, match="model only"):
+        sc.run(model="kinematic", controller="kinematic")
+    with pytest.warns(DeprecationWarning):
+        swept = harmonav.sweep(sc, 2, seed=1, controller="kinematic")
+    assert list(swept.starts.ravel()) == list(harmonav.sweep(sc, 2, seed=1, model="kinematic").starts.ravel())
 
 
 def test_load_errors_name_the_file_the_field_and_the_line(tmp_path):
@@ -58,11 +70,11 @@ def test_load_errors_name_the_file_the_field_and_the_line(tmp_path):
 
 def test_sweep_from_a_count_and_from_an_array():
     sc = harmonav.Scenario.load(SCENARIOS / "shapes" / "mixed.toml")
-    res = harmonav.sweep(sc, 12, seed=3, controller="kinematic")
+    res = harmonav.sweep(sc, 12, seed=3, model="kinematic")
     assert res.starts.shape == (12, 2)
     assert res.outcomes.tolist() == ["reached"] * 12 and res.reached.all()
     assert np.all(res.times > 0) and res.report["reached"] == 12
-    again = harmonav.sweep(sc, res.starts[:3], controller="kinematic")
+    again = harmonav.sweep(sc, res.starts[:3], model="kinematic")
     np.testing.assert_array_equal(again.times, res.times[:3])
     with pytest.raises(ValueError, match="finite"):
         harmonav.sweep(sc, np.array([[np.nan, 0.0]]))
@@ -102,7 +114,7 @@ def test_an_invalid_start_is_an_outcome_naming_it():
     # discovery that named no start.
     sc = harmonav.Scenario.load(SCENARIOS / "shapes" / "mixed.toml")
     starts = np.array([[-4.0, 0.1], [-2.0, 1.2], [9.0, 9.0], [-4.0, -0.5]])
-    res = harmonav.sweep(sc, starts, controller="kinematic")
+    res = harmonav.sweep(sc, starts, model="kinematic")
     assert res.outcomes.tolist() == ["reached", "invalid-start", "invalid-start", "reached"]
     assert res.reached.tolist() == [True, False, False, True]
     assert np.isnan(res.times[1]) and np.isnan(res.times[2]) and res.times[0] > 0
@@ -140,7 +152,7 @@ def test_ctrl_c_stops_a_sweep_between_parts():
     t0 = time.monotonic()
     timer.start()
     with pytest.raises(KeyboardInterrupt):
-        harmonav.sweep(sc, 3000, seed=1, controller="kinematic")
+        harmonav.sweep(sc, 3000, seed=1, model="kinematic")
     elapsed = time.monotonic() - t0
     timer.join()
     assert elapsed < 5.0, f"interrupted after {elapsed:.1f} s"

@@ -9,9 +9,9 @@ use harmonav_scenario::{Model, Prepared, Scenario};
 
 use crate::error::CliError;
 
-/// `--controller`: overrides the scenario's robot model.
+/// `--model` (alias `--controller`): overrides the scenario's robot model (`[robot] model`).
 #[derive(Clone, Copy, ValueEnum)]
-pub enum Controller {
+pub enum ModelArg {
     /// `ẋ = u` under the kinematic law.
     Kinematic,
     /// `m ẍ = f` under the dynamic law.
@@ -68,11 +68,11 @@ pub enum PhysicsArg {
     Rapier,
 }
 
-/// The model `--controller` asks for, if any.
-pub fn model(c: Option<Controller>) -> Option<Model> {
+/// The model `--model` asks for, if any.
+pub fn model(c: Option<ModelArg>) -> Option<Model> {
     c.map(|c| match c {
-        Controller::Kinematic => Model::Kinematic,
-        Controller::Dynamic => Model::Dynamic,
+        ModelArg::Kinematic => Model::Kinematic,
+        ModelArg::Dynamic => Model::Dynamic,
     })
 }
 

@@ -22,7 +22,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-use crate::args::{Controller, DampingArg, KArg, PhysicsArg, load};
+use crate::args::{DampingArg, KArg, ModelArg, PhysicsArg, load};
 use crate::error::CliError;
 use crate::text::{escape, escape_lines, out};
 
@@ -43,8 +43,8 @@ enum Command {
     Run {
         scenario: PathBuf,
         /// Override the scenario's robot model (the file's `[expect]` then does not apply).
-        #[arg(long)]
-        controller: Option<Controller>,
+        #[arg(long = "model", visible_alias = "controller")]
+        controller: Option<ModelArg>,
         /// The integrator: the built-in one or the rapier2d cross-check.
         #[arg(long, default_value = "builtin")]
         physics: PhysicsArg,
@@ -95,8 +95,8 @@ enum Command {
         starts: usize,
         #[arg(long, default_value_t = 1)]
         seed: u64,
-        #[arg(long)]
-        controller: Option<Controller>,
+        #[arg(long = "model", visible_alias = "controller")]
+        controller: Option<ModelArg>,
         /// Override the scenario's `[field] k` policy.
         #[arg(long = "k", value_name = "POLICY")]
         k: Option<KArg>,

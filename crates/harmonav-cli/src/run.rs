@@ -7,7 +7,7 @@ use harmonav_scenario::Prepared;
 use harmonav_sim::physics::{Physics, simulate_observed};
 use harmonav_sim::summary::Summary;
 
-use crate::args::{Controller, PhysicsArg, model};
+use crate::args::{ModelArg, PhysicsArg, model};
 use crate::error::CliError;
 use crate::text::{out, print_json};
 
@@ -15,8 +15,8 @@ use crate::text::{out, print_json};
 pub struct RunArgs<'a> {
     /// The scenario file (named in errors).
     pub path: &'a Path,
-    /// `--controller`.
-    pub controller: Option<Controller>,
+    /// `--model` (alias `--controller`).
+    pub controller: Option<ModelArg>,
     /// `--physics`.
     pub physics: PhysicsArg,
     /// `--out`.

@@ -3,7 +3,7 @@
 use harmonav_scenario::Prepared;
 use harmonav_sim::sweep::{Report, check_count, random_starts, sweep};
 
-use crate::args::{Controller, model};
+use crate::args::{ModelArg, model};
 use crate::error::CliError;
 use crate::text::{out, print_json};
 
@@ -13,7 +13,7 @@ pub fn cmd_sweep(
     prepared: &Prepared,
     starts: usize,
     seed: u64,
-    controller: Option<Controller>,
+    controller: Option<ModelArg>,
     json: bool,
 ) -> Result<bool, CliError> {
     check_count(starts)?;

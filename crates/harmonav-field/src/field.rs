@@ -298,7 +298,24 @@ impl Field {
     }
 }
 
-/// `Θ = sigma(phi)`, `∇Θ = sigma'(phi)·J_Phiᵀ∇phi_k` and the direction at `h = Phi(x)`.
+impl FieldEval {
+    /// `Θ = sigma(phi)`, `∇Θ = sigma'(phi)·J_Phiᵀ∇phi_k` and the direction at `h = Phi(x)`,
+    /// from `phi = phi_k(h)`, `g = ∇phi_k(h)` and `J_Phi(x)`: the chain rule of every
+    /// navigation function `sigma ∘ phi_k ∘ Phi` (star worlds here, floor plans in
+    /// harmonav-floorplan). The direction is taken from `J_Phiᵀ∇phi_k` scaled, so that it
+    /// survives the underflow of `sigma'`.
+    #[must_use]
+    pub fn from_pullback(
+        h: Vector2<f64>,
+        jacobian: &Matrix2<f64>,
+        phi: f64,
+        g: Vector2<f64>,
+    ) -> Self {
+        finish(h, jacobian, phi, g)
+    }
+}
+
+/// [`FieldEval::from_pullback`].
 fn finish(h: Vector2<f64>, jacobian: &Matrix2<f64>, phi: f64, g: Vector2<f64>) -> FieldEval {
     let gx = jacobian.transpose() * g;
     // Guard: normalise a scaled copy so that |gx| neither overflows nor underflows.

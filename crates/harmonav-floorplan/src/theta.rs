@@ -3,9 +3,9 @@
 use std::sync::Arc;
 
 use harmonav_field::{FieldError, FieldEval, KPolicy};
-use harmonav_potential::{PointWorld, Singularity, sigma_and_prime};
+use harmonav_potential::{PointWorld, Singularity};
 use harmonav_transform::StarShape;
-use nalgebra::{Matrix2, Vector2};
+use nalgebra::Vector2;
 
 use crate::compose::{FloorTransform, NotFree};
 use crate::plan::{FloorError, FloorMap};
@@ -136,7 +136,7 @@ impl FloorField {
                 });
             }
         };
-        Ok(finish(m.h, &m.jacobian, phi, g))
+        Ok(FieldEval::from_pullback(m.h, &m.jacobian, phi, g))
     }
 
     /// `c_δ`, the level of `Θ` below which the continuous law's sublevel set stays inside
@@ -198,25 +198,5 @@ impl FloorField {
     #[must_use]
     pub fn destination_stiffness(&self) -> f64 {
         self.stiffness
-    }
-}
-
-/// `Θ = sigma(phi)`, `∇Θ = sigma'(phi)·J_Phiᵀ∇phi_k`, and the direction (from `J_Phiᵀ∇phi_k`
-/// scaled, so that it survives the underflow of `sigma'`), as `harmonav_field::Field::eval`.
-fn finish(h: Vector2<f64>, jacobian: &Matrix2<f64>, phi: f64, g: Vector2<f64>) -> FieldEval {
-    let gx = jacobian.transpose() * g;
-    // Guard: normalise a scaled copy so that |gx| neither overflows nor underflows.
-    let scale = gx.x.abs().max(gx.y.abs());
-    let direction = (scale > 0.0 && scale.is_finite()).then(|| {
-        let s = gx / scale;
-        -s / s.norm()
-    });
-    let (value, slope) = sigma_and_prime(phi);
-    FieldEval {
-        value,
-        gradient: slope * gx,
-        direction,
-        h,
-        phi,
     }
 }

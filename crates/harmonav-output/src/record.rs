@@ -75,7 +75,8 @@ pub struct HarmonavState {
     pub speed: f64,
     /// `Θ(x)` over the known obstacles.
     pub theta: f64,
-    /// `V = μΘ + ½m|ẋ|²` (dynamic law).
+    /// `V = μΨ + ½m|ẋ|²` (dynamic law; `Ψ` its potential under the damping policy, `Θ`
+    /// itself under `"paper"`).
     pub energy: Option<f64>,
     /// The damping `λ` in force (dynamic law).
     pub lambda: Option<f64>,

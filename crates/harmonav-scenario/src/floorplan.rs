@@ -37,7 +37,7 @@ use harmonav_transform::random::Rng;
 use nalgebra::Vector2;
 use serde::Deserialize;
 
-use crate::scenario::{MAX_FILE_BYTES, Model, ScenarioError, ShapeSpec, build_shape};
+use crate::scenario::{Model, ScenarioError, ShapeSpec, build_shape};
 
 /// The folder of floor-plan scenarios under `scenarios/`.
 pub const FLOORPLANS: &str = "floorplans";
@@ -214,24 +214,7 @@ impl FloorScenario {
     /// A [`ScenarioError`] naming the file, the field (`floor_plan.holes[1]`, `robot.start`,
     /// `obstacles[0]`, …), the line where the parser gives it, and the problem.
     pub fn load(path: &Path) -> Result<FloorPrepared, ScenarioError> {
-        use std::io::Read;
-        let cannot = |e: std::io::Error| err(path, "", None, format!("cannot read the file: {e}"));
-        let mut bytes = Vec::new();
-        std::fs::File::open(path)
-            .map_err(cannot)?
-            .take(MAX_FILE_BYTES + 1)
-            .read_to_end(&mut bytes)
-            .map_err(cannot)?;
-        if bytes.len() as u64 > MAX_FILE_BYTES {
-            return Err(err(
-                path,
-                "",
-                None,
-                format!("the file exceeds {MAX_FILE_BYTES} bytes"),
-            ));
-        }
-        let text = String::from_utf8(bytes)
-            .map_err(|e| err(path, "", None, format!("the file is not UTF-8 text: {e}")))?;
+        let text = crate::scenario::read_text(path)?;
         Self::parse(path, &text)?.prepare(path)
     }
 

@@ -337,24 +337,7 @@ impl Scenario {
     /// Reads and validates a scenario file (at most [`MAX_FILE_BYTES`]: a device or a huge file
     /// is refused instead of read forever).
     pub fn load(path: &Path) -> Result<Prepared, ScenarioError> {
-        use std::io::Read;
-        let cannot = |e: std::io::Error| err(path, "", None, format!("cannot read the file: {e}"));
-        let mut bytes = Vec::new();
-        std::fs::File::open(path)
-            .map_err(cannot)?
-            .take(MAX_FILE_BYTES + 1)
-            .read_to_end(&mut bytes)
-            .map_err(cannot)?;
-        if bytes.len() as u64 > MAX_FILE_BYTES {
-            return Err(err(
-                path,
-                "",
-                None,
-                format!("the file is larger than {} MiB", MAX_FILE_BYTES >> 20),
-            ));
-        }
-        let text = String::from_utf8(bytes)
-            .map_err(|e| err(path, "", None, format!("the file is not UTF-8 text: {e}")))?;
+        let text = read_text(path)?;
         Self::parse(path, &text)?.prepare(path)
     }
 
@@ -730,6 +713,30 @@ impl Prepared {
     pub fn margin(&self) -> f64 {
         self.scenario.robot.margin
     }
+}
+
+/// The text of a scenario file (at most [`MAX_FILE_BYTES`]: a device or a huge file is refused
+/// instead of read forever), or the error naming the file.
+pub fn read_text(path: &Path) -> Result<String, ScenarioError> {
+    use std::io::Read;
+    let cannot = |e: std::io::Error| err(path, "", None, format!("cannot read the file: {e}"));
+    let mut bytes = Vec::new();
+    std::fs::File::open(path)
+        .map_err(cannot)?
+        .take(MAX_FILE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(cannot)?;
+    if bytes.len() as u64 > MAX_FILE_BYTES {
+        return Err(err(
+            path,
+            "",
+            None,
+            format!("the file is larger than {} MiB", MAX_FILE_BYTES >> 20),
+        ));
+    }
+    let text = String::from_utf8(bytes)
+        .map_err(|e| err(path, "", None, format!("the file is not UTF-8 text: {e}")))?;
+    Ok(text)
 }
 
 fn err(path: &Path, field: &str, line: Option<usize>, problem: String) -> ScenarioError {

@@ -137,6 +137,14 @@ pub enum Check {
         /// Largest distance between the rapier and the built-in positions at equal times, m.
         max_deviation: f64,
     },
+    /// [`Kind::PhysicsDeviation`] (informational): the energy rapier's own corrections added
+    /// to a step beyond the semi-implicit Euler step of the law's force (its speculative
+    /// contacts and position update), the largest relative to `V`. The energy monitor
+    /// allows for it as the integrator's, not the law's (`rapier.rs`).
+    PhysicsEngineEnergy {
+        /// Largest `(V(rapier's step) − V(Euler's step)) / V`, 0 if none.
+        largest_rise: f64,
+    },
     /// `[expect] reached`.
     ExpectReached {
         /// The file's value.
@@ -182,7 +190,9 @@ impl Check {
             Self::StepCollapsed { .. } => Kind::Integrated,
             Self::LeftFreeSpace { .. } => Kind::StayedInFreeSpace,
             Self::PhysicsContacts { .. } => Kind::PhysicsNoContact,
-            Self::PhysicsDeviation { .. } => Kind::PhysicsDeviation,
+            Self::PhysicsDeviation { .. } | Self::PhysicsEngineEnergy { .. } => {
+                Kind::PhysicsDeviation
+            }
             Self::ExpectReached { .. }
             | Self::ExpectDiscoveryOrder { .. }
             | Self::ExpectDampingSwitched { .. }
@@ -205,6 +215,7 @@ impl Check {
             Self::LeftFreeSpace { .. } => "stayed-in-free-space",
             Self::PhysicsContacts { .. } => "physics-no-contact",
             Self::PhysicsDeviation { .. } => "physics-deviation",
+            Self::PhysicsEngineEnergy { .. } => "physics-engine-energy",
             Self::ExpectReached { .. } => "expect.reached",
             Self::ExpectDiscoveryOrder { .. } => "expect.discovery-order",
             Self::ExpectDampingSwitched { .. } => "expect.damping-switched",
@@ -298,6 +309,11 @@ impl std::fmt::Display for Check {
             Self::PhysicsDeviation { max_deviation } => write!(
                 f,
                 "largest deviation from the built-in path {max_deviation:.4} m"
+            ),
+            Self::PhysicsEngineEnergy { largest_rise } => write!(
+                f,
+                "largest relative energy rapier's corrections added to a step {largest_rise:.1e} \
+                 (the integrator's, allowed by the energy monitor)"
             ),
             Self::ExpectReached { expected, got }
             | Self::ExpectDampingSwitched { expected, got } => {

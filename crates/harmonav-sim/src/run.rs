@@ -1,8 +1,9 @@
-//! Running a scenario: the integrator with discovery events, and the guarantee monitors.
+//! The built-in integrator: it advances the state between the driver's calls
+//! (`driver.rs`: sensing, recording, stopping, the monitors).
 //!
 //! Both robot models are integrated with the Bogacki–Shampine 3(2) pair and step-size
 //! control (`sim.dt` is the largest step and the recording interval). The dynamic law is stiff
-//! near walls (`|∇Θ|` grows without bound, maths.md §4 pitfall B), so a step any of whose stages
+//! near walls (`|∇Ψ|` grows without bound, maths.md §4 pitfall B), so a step any of whose stages
 //! leaves the free space is rejected and retried smaller. After each accepted step the sector
 //! is checked against the unknown obstacles; a discovery is located within the step by
 //! bisection on the cubic Hermite interpolant of the step, the state is cut there, and only

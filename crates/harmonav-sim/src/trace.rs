@@ -17,9 +17,10 @@ pub struct Sample {
     pub v: [f64; 2],
     /// `Θ(x)`.
     pub theta: f64,
-    /// `V = μΘ + ½m|ẋ|²` (dynamic model).
+    /// `V = μΨ + ½m|ẋ|²` (dynamic law; `Ψ` its potential under the damping policy, `Θ`
+    /// itself under `"paper"`).
     pub energy: Option<f64>,
-    /// `k = n + 1`.
+    /// `k` in force (its policy: the summary's `k_policy`; `n + 1` under `"paper"`).
     pub k: f64,
     /// Damping `λ` in force (dynamic model).
     pub lambda: Option<f64>,

@@ -9,8 +9,10 @@ use harmonav_floorplan::{FloorError, FloorField, FloorMap, NotFree};
 use harmonav_transform::StarShape;
 use nalgebra::Vector2;
 
+use crate::error::NavError;
 use crate::hold::{self, Band, Command, Mode};
-use crate::navigator::{Controller, Evaluation, Law, NavError, controller, finite};
+use crate::law::Law;
+use crate::navigator::{Controller, Evaluation, controller, finite, finite_lambda_c, recovering};
 use crate::options::{HoldPolicy, Options};
 use crate::space::Space;
 
@@ -96,13 +98,10 @@ impl FloorNavigator {
         };
         // Guard: λ_c (eq. critdamp) from the floor's goal stiffness, checked once.
         if let Controller::Dynamic(law) = &nav.controller {
-            let lambda_c = law.lambda_c_for(nav.field.destination_stiffness(), 0.0);
-            if !lambda_c.is_finite() {
-                return Err(NavError::InvalidOption {
-                    field: "mu",
-                    value: law.mu(),
-                });
-            }
+            finite_lambda_c(
+                law,
+                law.lambda_c_for(nav.field.destination_stiffness(), 0.0),
+            )?;
         }
         Ok(nav)
     }
@@ -115,17 +114,7 @@ impl FloorNavigator {
     /// contains the robot's last position grown by `radius` ([`NavError::ContainsRobot`]); it
     /// overlaps another, contains the goal or reaches the boundary layer ([`NavError::Floor`]).
     pub fn add_obstacle(&mut self, shape: StarShape) -> Result<usize, NavError> {
-        let inflation = self.options.radius + self.options.margin;
-        let grown = shape.offset(inflation).map_err(NavError::Shape)?;
-        let inner = if self.options.margin > 0.0 {
-            Some(shape.offset(self.options.radius).map_err(NavError::Shape)?)
-        } else {
-            None
-        };
-        let body = inner.as_ref().unwrap_or(&grown);
-        if self.last.is_some_and(|(x, _)| body.contains(x)) {
-            return Err(NavError::ContainsRobot);
-        }
+        let (grown, inner) = self.options.grow(&shape, self.last.map(|(x, _)| x))?;
         let field = self.field.with_obstacle(grown).map_err(NavError::Floor)?;
         self.field = field;
         self.inner.extend(inner);
@@ -211,20 +200,14 @@ impl FloorNavigator {
             return Err(error);
         }
         let length = to_edge + 0.5 * room;
-        let h = self.period;
-        let value = match &self.controller {
-            Controller::Kinematic(law) => {
-                (length / h).min(law.gain() * std::f64::consts::SQRT_2) * dir
-            }
-            Controller::Dynamic(law) => {
-                let next = (length / h).min(0.5 * law.speed_bound()) * dir;
-                (law.mass() / h) * (next - v)
-            }
-        };
-        Ok(Command {
-            value,
-            mode: Mode::Recovering(band),
-        })
+        Ok(recovering(
+            &self.controller,
+            band,
+            dir,
+            length,
+            self.period,
+            v,
+        ))
     }
 
     /// The continuous law at `(x, ẋ)` without the hold and without remembering the state.

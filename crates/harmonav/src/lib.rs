@@ -48,11 +48,15 @@
 #![warn(missing_docs)]
 
 pub mod checks;
+mod error;
 mod floor;
 mod hold;
+mod law;
 mod navigator;
 mod options;
+mod ranges;
 mod scan;
+mod scanning;
 mod space;
 
 pub use harmonav_control as control;
@@ -63,6 +67,7 @@ pub use harmonav_potential as potential;
 pub use harmonav_sensing as sensing;
 pub use harmonav_transform as transform;
 
+pub use error::NavError;
 pub use floor::FloorNavigator;
 pub use harmonav_control::{DampingPolicy, SpeedPolicy};
 pub use harmonav_field::KPolicy;
@@ -72,13 +77,15 @@ pub use hold::{
     BLIND, Band, CHORD_AFTER_HALVINGS, CHORD_SUBSTEPS, Command, DYNAMIC_FRACTION,
     KINEMATIC_FRACTION, MAX_HALVINGS, MAX_TRACE_BALLS, Mode, SPEED_SLACK,
 };
+pub use law::Law;
 pub use nalgebra::Vector2;
-pub use navigator::{Controller, Evaluation, Law, NavError, Navigator};
+pub use navigator::{Controller, Evaluation, Navigator};
 pub use options::{
     DEFAULT_DYNAMIC_PERIOD, DEFAULT_KINEMATIC_PERIOD, HoldPolicy, MIN_APERTURE_DEG, Options,
     PARAMETER_RANGE, UnknownHoldPolicy,
 };
-pub use scan::{LaserScan, Perceived, Pose, ScanOptions, ScanUpdate};
+pub use scan::{LaserScan, Perceived, Pose};
+pub use scanning::{ScanOptions, ScanUpdate};
 
 /// The README's code compiles and runs (checked by `cargo test --doc`).
 #[doc = include_str!("../../../README.md")]

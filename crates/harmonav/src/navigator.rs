@@ -4,207 +4,53 @@
 
 use std::sync::Arc;
 
-use harmonav_control::{ControlError, Damping, Dynamic, Kinematic};
+use harmonav_control::{Damping, Dynamic, Kinematic};
 use harmonav_field::{Field, FieldError, FieldEval};
-use harmonav_sensing::SensorError;
-use harmonav_transform::{ShapeError, StarShape, Workspace, WorldError};
+use harmonav_transform::{StarShape, Workspace, WorldError};
 use nalgebra::Vector2;
 
+use crate::error::NavError;
 use crate::hold::{self, Band, Command, Mode};
-use crate::options::{HoldPolicy, MIN_APERTURE_DEG, Options, PARAMETER_RANGE, in_range};
-use crate::scan::ScanState;
+use crate::law::Law;
+use crate::options::{HoldPolicy, Options, in_range};
+use crate::scanning::ScanState;
 
-/// The robot model and its law.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Law {
-    /// `ẋ = u` under eq. `kinctrl` with the speed of [`Options::speed`]: `u = −s(x)∇Θ/|∇Θ|`,
-    /// `s = K√(2Θ)` (`"paper"`) or `min(v_max, √(2a|x − x_d|))` with a linear core at the goal
-    /// (`"auto"`, the default; `v_max` from [`Options::v_max`], default `K√2`; `docs/maths.md`
-    /// §6); [`Navigator::command`] returns the velocity `u`.
-    Kinematic {
-        /// `K > 0`.
-        gain: f64,
-    },
-    /// `mẍ = f` under eq. `dynctrllocal`, `f = −μ∇Ψ − λẋ` with the damping of
-    /// [`Options::damping`]; [`Navigator::command`] returns the force `f`.
-    Dynamic {
-        /// `m > 0`, kg.
-        mass: f64,
-        /// `μ > 0`: the speed bound is `√(2μ/m)`.
-        mu: f64,
-    },
-}
-
-impl Law {
-    /// The kinematic law with gain `K` (speed at most `v_max`, by default `K√2`).
-    pub fn kinematic(gain: f64) -> Self {
-        Self::Kinematic { gain }
-    }
-
-    /// The dynamic law for mass `m` and gain `μ`.
-    pub fn dynamic(mass: f64, mu: f64) -> Self {
-        Self::Dynamic { mass, mu }
-    }
-}
-
-/// Why a navigator call failed. A failed call leaves the navigator as it was.
-#[derive(Clone, Debug, PartialEq)]
-#[non_exhaustive]
-pub enum NavError {
-    /// A parameter is not valid (`field` names it).
-    InvalidOption {
-        /// The parameter.
-        field: &'static str,
-        /// Its value.
-        value: f64,
-    },
-    /// The sensor is not valid.
-    Sensor(SensorError),
-    /// A shape could not be grown by `radius + margin`.
-    Shape(ShapeError),
-    /// A coordinate is not finite (`what`: "position", "velocity", "goal").
-    NotFinite {
-        /// Which input.
-        what: &'static str,
-    },
-    /// The goal lies in a grown obstacle or outside the shrunk boundary.
-    GoalNotFree,
-    /// The position passed to [`Navigator::command`] lies in known obstacle `obstacle` grown by
-    /// `radius` alone: the robot's disc overlaps the true shape (indices in the order of
-    /// [`Navigator::add_obstacle`]). From [`Navigator::evaluate`] and [`Navigator::theta`]: in
-    /// the obstacle grown by `radius + margin`. Inside the margin band alone `command` recovers
-    /// ([`Mode::Recovering`]).
-    InObstacle {
-        /// The obstacle.
-        obstacle: usize,
-    },
-    /// The position lies on or outside the boundary shrunk by `radius` (from `command`; by
-    /// `radius + margin` from `evaluate` and `theta`).
-    OutsideBoundary,
-    /// The added obstacle (grown) overlaps or touches known obstacle `obstacle`.
-    Overlap {
-        /// The known obstacle.
-        obstacle: usize,
-    },
-    /// The added obstacle (grown) is not strictly inside the (shrunk) boundary.
-    CrossesBoundary,
-    /// The added obstacle (grown) contains the goal.
-    ContainsGoal,
-    /// The added obstacle, grown by `radius` alone, contains the robot's last commanded
-    /// position: the robot's disc would overlap it. (Grown by `radius + margin` it may contain
-    /// the robot: the next command then leads out of the margin band.)
-    ContainsRobot,
-    /// The command came out non-finite (a guard: not expected within the validated ranges;
-    /// reported rather than returned as NaN).
-    NonFiniteCommand,
-    /// The navigation function could not be built over the obstacles (not expected for a
-    /// validated workspace; reported rather than hidden).
-    Field(FieldError),
-    /// [`Navigator::observe_scan`]: the scan, the pose or the scan options are not valid, the
-    /// sensor lies in a known shape, or a fit could not be built (the perception crate's
-    /// typed error).
-    Perception(harmonav_perception::PerceptionError),
-    /// [`Navigator::observe_scan`]: a new or grown perceived shape (grown by `radius +
-    /// margin`) overlaps known obstacle `obstacle` and no star about a common kernel point
-    /// holds both: the world as perceived is not a star world.
-    NotStarWorld {
-        /// The known obstacle (index before the scan); `None` when it is another shape fitted
-        /// from the same scan.
-        obstacle: Option<usize>,
-    },
-    /// A floor plan's navigation function could not be built, or a sensed obstacle does not
-    /// fit in it ([`crate::FloorNavigator`]).
-    Floor(harmonav_floorplan::FloorError),
-    /// The position lies in a floor plan's boundary layer: closer than `δ` to a wall, where
-    /// the discrete harmonic map is not certified ([`crate::FloorNavigator`]).
-    BoundaryLayer,
-}
-
-/// What an [`NavError::InvalidOption`] field must be.
-fn expected(field: &str) -> String {
-    let (lo, hi) = PARAMETER_RANGE;
-    match field {
-        "radius" | "margin" => format!(
-            "must be finite and in [0, {:e}] m",
-            harmonav_transform::MAX_LENGTH
-        ),
-        "sensor_aperture_deg" => format!("must be in [{MIN_APERTURE_DEG:e}, 360] degrees"),
-        "d_min" => "must come out finite and positive (eq. dmin)".to_string(),
-        "range_noise" => "must be finite and in [0, 10] m".to_string(),
-        "growth_threshold" => "must be finite and in (0, 10] m".to_string(),
-        "max_obstacle_depth" => "must be finite and in (0, 100] m".to_string(),
-        "jump_distance" => "must be finite and in [0, 100] m".to_string(),
-        "order" => "must be an integer from 1 to 16".to_string(),
-        "check_spacing" => "must be finite and in [1e-4, max_obstacle_depth/4] m".to_string(),
-        _ => format!("must be finite and in [{lo:e}, {hi:e}]"),
-    }
-}
-
-impl std::fmt::Display for NavError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Self::InvalidOption { field, value } => {
-                write!(f, "`{field}`: {}, got {value:e}", expected(field))
-            }
-            Self::Sensor(e) => write!(f, "sensor: {e}"),
-            Self::Shape(e) => write!(f, "growing the shape by radius + margin: {e}"),
-            Self::NotFinite { what } => write!(f, "the {what} is not finite"),
-            Self::GoalNotFree => write!(
-                f,
-                "the goal is not in the free space (inside a grown obstacle, or within \
-                 radius + margin of the boundary)"
-            ),
-            Self::InObstacle { obstacle } => {
-                write!(f, "the position lies inside known obstacle {obstacle}")
-            }
-            Self::OutsideBoundary => {
-                write!(f, "the position lies on or outside the workspace boundary")
-            }
-            Self::Overlap { obstacle } => write!(
-                f,
-                "the new obstacle overlaps known obstacle {obstacle} (grown by radius + margin)"
-            ),
-            Self::CrossesBoundary => write!(
-                f,
-                "the new obstacle is not strictly inside the workspace boundary (grown by \
-                 radius + margin)"
-            ),
-            Self::ContainsGoal => write!(f, "the new obstacle contains the goal"),
-            Self::ContainsRobot => {
-                write!(f, "the new obstacle contains the robot's last position")
-            }
-            Self::NonFiniteCommand => write!(f, "the command came out non-finite"),
-            Self::Field(e) => write!(f, "the navigation function: {e}"),
-            Self::Perception(e) => write!(f, "scan: {e}"),
-            Self::NotStarWorld {
-                obstacle: Some(obstacle),
-            } => write!(
-                f,
-                "the world as perceived is not a star world: a perceived shape overlaps known \
-                 obstacle {obstacle} (grown by radius + margin)"
-            ),
-            Self::NotStarWorld { obstacle: None } => write!(
-                f,
-                "the world as perceived is not a star world: two shapes fitted from the scan \
-                 overlap"
-            ),
-            Self::Floor(e) => write!(f, "the floor plan: {e}"),
-            Self::BoundaryLayer => write!(
-                f,
-                "the position lies in the floor plan's boundary layer (closer than δ to a wall)"
-            ),
+/// The command that leads a robot at velocity `v` out of the margin band `band`: `length`
+/// along the unit direction `dir` within one control period `h`, at most the kinematic law's
+/// top speed `v_max`, or (dynamic law) the force whose semi-implicit step gives `v⁺` along
+/// the way out at most half the speed bound `√(2μ/m)`, `f = (m/h)(v⁺ − v)`.
+pub(crate) fn recovering(
+    controller: &Controller,
+    band: Band,
+    dir: Vector2<f64>,
+    length: f64,
+    h: f64,
+    v: Vector2<f64>,
+) -> Command {
+    let value = match controller {
+        Controller::Kinematic(law) => (length / h).min(law.v_max()) * dir,
+        Controller::Dynamic(law) => {
+            let next = (length / h).min(0.5 * law.speed_bound()) * dir;
+            (law.mass() / h) * (next - v)
         }
+    };
+    Command {
+        value,
+        mode: Mode::Recovering(band),
     }
 }
 
-impl std::error::Error for NavError {}
-
-impl From<ControlError> for NavError {
-    fn from(e: ControlError) -> Self {
-        Self::InvalidOption {
-            field: e.field,
-            value: e.value,
-        }
+/// Guard: `λ_c = 2√(m μ s)` (eq. `critdamp`, `s` the goal stiffness) must be finite for the
+/// dynamic law's damping; a `μ` that overflows it is refused once, at construction, rather
+/// than met at every command.
+pub(crate) fn finite_lambda_c(law: &Dynamic, lambda_c: f64) -> Result<(), NavError> {
+    if lambda_c.is_finite() {
+        Ok(())
+    } else {
+        Err(NavError::InvalidOption {
+            field: "mu",
+            value: law.mu(),
+        })
     }
 }
 
@@ -324,7 +170,7 @@ impl Navigator {
         } else {
             None
         };
-        let scan = ScanState::new(boundary, &options)?;
+        let scan = ScanState::new(boundary, &options.scan, options.rho_min)?;
         let ws = Workspace::new(shrunk, Vec::new(), goal).map_err(|_| NavError::GoalNotFree)?;
         let field = Field::all_known_with(Arc::new(ws), options.k).map_err(NavError::Field)?;
         let nav = Self {
@@ -342,13 +188,7 @@ impl Navigator {
         // Guard: λ_c (eq. critdamp) overflowed for m = μ = 1e308; within the ranges it is
         // finite, and this checks it once rather than at every command.
         if let Controller::Dynamic(law) = &nav.controller {
-            let lambda_c = law.lambda_c(&nav.field);
-            if !lambda_c.is_finite() {
-                return Err(NavError::InvalidOption {
-                    field: "mu",
-                    value: law.mu(),
-                });
-            }
+            finite_lambda_c(law, law.lambda_c(&nav.field))?;
         }
         Ok(nav)
     }
@@ -365,17 +205,7 @@ impl Navigator {
     /// crosses the boundary, or contains the goal; the shape grown by `radius` alone contains
     /// the robot's last commanded position; the shape cannot be grown.
     pub fn add_obstacle(&mut self, shape: StarShape) -> Result<usize, NavError> {
-        let inflation = self.options.radius + self.options.margin;
-        let grown = shape.offset(inflation).map_err(NavError::Shape)?;
-        let inner = if self.options.margin > 0.0 {
-            Some(shape.offset(self.options.radius).map_err(NavError::Shape)?)
-        } else {
-            None
-        };
-        let body = inner.as_ref().unwrap_or(&grown);
-        if self.last.is_some_and(|(x, _)| body.contains(x)) {
-            return Err(NavError::ContainsRobot);
-        }
+        let (grown, inner) = self.options.grow(&shape, self.last.map(|(x, _)| x))?;
         let ws = self
             .field
             .workspace()
@@ -475,22 +305,14 @@ impl Navigator {
         let Some((dir, length)) = hold::way_out(ws, band, x, self.options.margin) else {
             return Err(error);
         };
-        let h = self.period;
-        let value = match &self.controller {
-            Controller::Kinematic(law) => {
-                // At most the law's top speed v_max.
-                (length / h).min(law.v_max()) * dir
-            }
-            Controller::Dynamic(law) => {
-                // v⁺ along the way out, at most half the speed bound; v += h f/m gives it.
-                let next = (length / h).min(0.5 * law.speed_bound()) * dir;
-                (law.mass() / h) * (next - v)
-            }
-        };
-        Ok(Command {
-            value,
-            mode: Mode::Recovering(band),
-        })
+        Ok(recovering(
+            &self.controller,
+            band,
+            dir,
+            length,
+            self.period,
+            v,
+        ))
     }
 
     /// The continuous law at the state `(x, ẋ)` with what it is made of (`Θ`, `∇Θ`, the

@@ -4,22 +4,13 @@
 use harmonav_control::{DampingPolicy, SpeedPolicy};
 use harmonav_field::KPolicy;
 use harmonav_sensing::Sector;
-use harmonav_transform::MAX_LENGTH;
+use harmonav_transform::{MAX_LENGTH, StarShape};
+use nalgebra::Vector2;
 
-use crate::navigator::{Law, NavError};
-use crate::scan::ScanOptions;
-
-/// The range of the physical parameters: the law's gain `K`, mass `m` and `μ`, the sensor's
-/// range and `ρ_min`, and the control period `h`. Outside it the closed loop cannot be
-/// evaluated in `f64`: `m = 5e-324` makes the speed bound `√(2μ/m)` infinite, `ρ_min = 5e-324`
-/// makes `d_min` (eq. `dmin`) and with it the switched damping `(m/d_min)|ẋ(T_n)|` overflow,
-/// and `m = μ = 1e308` overflows `λ_c = 2√(mμs)` (eq. `critdamp`). Scenario files use the
-/// same range.
-pub const PARAMETER_RANGE: (f64, f64) = (1e-9, 1e9);
-
-/// The smallest sensor aperture, degrees: below it `r sin(θ/2)` of `d_min` (eq. `dmin`)
-/// underflows towards 0 (at 1e-320° the dynamic law returned `[-inf, nan]`).
-pub const MIN_APERTURE_DEG: f64 = 1e-3;
+use crate::error::NavError;
+use crate::law::Law;
+pub use crate::ranges::{MIN_APERTURE_DEG, PARAMETER_RANGE};
+use crate::scanning::ScanOptions;
 
 /// The control period assumed for [`Law::Kinematic`] when none is given: 100 Hz, s.
 pub const DEFAULT_KINEMATIC_PERIOD: f64 = 0.01;
@@ -294,6 +285,35 @@ impl Options {
         self.scan.validate(self.rho_min)?;
         in_range("control_period", self.period_for(law))?;
         Ok(())
+    }
+}
+
+impl Options {
+    /// A perceived obstacle as a navigator keeps it: `shape` grown by `radius + margin` (what
+    /// `Θ` is built on), and, with a margin, grown by `radius` alone (the robot's body must
+    /// not already overlap it). The one place the shapes are grown.
+    ///
+    /// # Errors
+    /// The shape cannot be grown ([`NavError::Shape`]); the body contains the robot's last
+    /// position `last` ([`NavError::ContainsRobot`]).
+    pub(crate) fn grow(
+        &self,
+        shape: &StarShape,
+        last: Option<Vector2<f64>>,
+    ) -> Result<(StarShape, Option<StarShape>), NavError> {
+        let grown = shape
+            .offset(self.radius + self.margin)
+            .map_err(NavError::Shape)?;
+        let inner = if self.margin > 0.0 {
+            Some(shape.offset(self.radius).map_err(NavError::Shape)?)
+        } else {
+            None
+        };
+        let body = inner.as_ref().unwrap_or(&grown);
+        if last.is_some_and(|x| body.contains(x)) {
+            return Err(NavError::ContainsRobot);
+        }
+        Ok((grown, inner))
     }
 }
 

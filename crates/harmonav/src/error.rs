@@ -1,0 +1,170 @@
+//! Why a navigator call failed ([`NavError`]): typed, and a failed call leaves the navigator
+//! as it was.
+
+use harmonav_control::ControlError;
+use harmonav_field::FieldError;
+use harmonav_sensing::SensorError;
+use harmonav_transform::ShapeError;
+
+use crate::ranges::{MIN_APERTURE_DEG, PARAMETER_RANGE};
+
+/// Why a navigator call failed. A failed call leaves the navigator as it was.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum NavError {
+    /// A parameter is not valid (`field` names it).
+    InvalidOption {
+        /// The parameter.
+        field: &'static str,
+        /// Its value.
+        value: f64,
+    },
+    /// The sensor is not valid.
+    Sensor(SensorError),
+    /// A shape could not be grown by `radius + margin`.
+    Shape(ShapeError),
+    /// A coordinate is not finite (`what`: "position", "velocity", "goal").
+    NotFinite {
+        /// Which input.
+        what: &'static str,
+    },
+    /// The goal lies in a grown obstacle or outside the shrunk boundary.
+    GoalNotFree,
+    /// The position passed to [`crate::Navigator::command`] lies in known obstacle `obstacle` grown by
+    /// `radius` alone: the robot's disc overlaps the true shape (indices in the order of
+    /// [`crate::Navigator::add_obstacle`]). From [`crate::Navigator::evaluate`] and [`crate::Navigator::theta`]: in
+    /// the obstacle grown by `radius + margin`. Inside the margin band alone `command` recovers
+    /// ([`crate::Mode::Recovering`]).
+    InObstacle {
+        /// The obstacle.
+        obstacle: usize,
+    },
+    /// The position lies on or outside the boundary shrunk by `radius` (from `command`; by
+    /// `radius + margin` from `evaluate` and `theta`).
+    OutsideBoundary,
+    /// The added obstacle (grown) overlaps or touches known obstacle `obstacle`.
+    Overlap {
+        /// The known obstacle.
+        obstacle: usize,
+    },
+    /// The added obstacle (grown) is not strictly inside the (shrunk) boundary.
+    CrossesBoundary,
+    /// The added obstacle (grown) contains the goal.
+    ContainsGoal,
+    /// The added obstacle, grown by `radius` alone, contains the robot's last commanded
+    /// position: the robot's disc would overlap it. (Grown by `radius + margin` it may contain
+    /// the robot: the next command then leads out of the margin band.)
+    ContainsRobot,
+    /// The command came out non-finite (a guard: not expected within the validated ranges;
+    /// reported rather than returned as NaN).
+    NonFiniteCommand,
+    /// The navigation function could not be built over the obstacles (not expected for a
+    /// validated workspace; reported rather than hidden).
+    Field(FieldError),
+    /// [`crate::Navigator::observe_scan`]: the scan, the pose or the scan options are not valid, the
+    /// sensor lies in a known shape, or a fit could not be built (the perception crate's
+    /// typed error).
+    Perception(harmonav_perception::PerceptionError),
+    /// [`crate::Navigator::observe_scan`]: a new or grown perceived shape (grown by `radius +
+    /// margin`) overlaps known obstacle `obstacle` and no star about a common kernel point
+    /// holds both: the world as perceived is not a star world.
+    NotStarWorld {
+        /// The known obstacle (index before the scan); `None` when it is another shape fitted
+        /// from the same scan.
+        obstacle: Option<usize>,
+    },
+    /// A floor plan's navigation function could not be built, or a sensed obstacle does not
+    /// fit in it ([`crate::FloorNavigator`]).
+    Floor(harmonav_floorplan::FloorError),
+    /// The position lies in a floor plan's boundary layer: closer than `δ` to a wall, where
+    /// the discrete harmonic map is not certified ([`crate::FloorNavigator`]).
+    BoundaryLayer,
+}
+
+/// What an [`NavError::InvalidOption`] field must be.
+fn expected(field: &str) -> String {
+    let (lo, hi) = PARAMETER_RANGE;
+    match field {
+        "radius" | "margin" => format!(
+            "must be finite and in [0, {:e}] m",
+            harmonav_transform::MAX_LENGTH
+        ),
+        "sensor_aperture_deg" => format!("must be in [{MIN_APERTURE_DEG:e}, 360] degrees"),
+        "d_min" => "must come out finite and positive (eq. dmin)".to_string(),
+        "range_noise" => "must be finite and in [0, 10] m".to_string(),
+        "growth_threshold" => "must be finite and in (0, 10] m".to_string(),
+        "max_obstacle_depth" => "must be finite and in (0, 100] m".to_string(),
+        "jump_distance" => "must be finite and in [0, 100] m".to_string(),
+        "order" => "must be an integer from 1 to 16".to_string(),
+        "check_spacing" => "must be finite and in [1e-4, max_obstacle_depth/4] m".to_string(),
+        _ => format!("must be finite and in [{lo:e}, {hi:e}]"),
+    }
+}
+
+impl std::fmt::Display for NavError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::InvalidOption { field, value } => {
+                write!(f, "`{field}`: {}, got {value:e}", expected(field))
+            }
+            Self::Sensor(e) => write!(f, "sensor: {e}"),
+            Self::Shape(e) => write!(f, "growing the shape by radius + margin: {e}"),
+            Self::NotFinite { what } => write!(f, "the {what} is not finite"),
+            Self::GoalNotFree => write!(
+                f,
+                "the goal is not in the free space (inside a grown obstacle, or within \
+                 radius + margin of the boundary)"
+            ),
+            Self::InObstacle { obstacle } => {
+                write!(f, "the position lies inside known obstacle {obstacle}")
+            }
+            Self::OutsideBoundary => {
+                write!(f, "the position lies on or outside the workspace boundary")
+            }
+            Self::Overlap { obstacle } => write!(
+                f,
+                "the new obstacle overlaps known obstacle {obstacle} (grown by radius + margin)"
+            ),
+            Self::CrossesBoundary => write!(
+                f,
+                "the new obstacle is not strictly inside the workspace boundary (grown by \
+                 radius + margin)"
+            ),
+            Self::ContainsGoal => write!(f, "the new obstacle contains the goal"),
+            Self::ContainsRobot => {
+                write!(f, "the new obstacle contains the robot's last position")
+            }
+            Self::NonFiniteCommand => write!(f, "the command came out non-finite"),
+            Self::Field(e) => write!(f, "the navigation function: {e}"),
+            Self::Perception(e) => write!(f, "scan: {e}"),
+            Self::NotStarWorld {
+                obstacle: Some(obstacle),
+            } => write!(
+                f,
+                "the world as perceived is not a star world: a perceived shape overlaps known \
+                 obstacle {obstacle} (grown by radius + margin)"
+            ),
+            Self::NotStarWorld { obstacle: None } => write!(
+                f,
+                "the world as perceived is not a star world: two shapes fitted from the scan \
+                 overlap"
+            ),
+            Self::Floor(e) => write!(f, "the floor plan: {e}"),
+            Self::BoundaryLayer => write!(
+                f,
+                "the position lies in the floor plan's boundary layer (closer than δ to a wall)"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for NavError {}
+
+impl From<ControlError> for NavError {
+    fn from(e: ControlError) -> Self {
+        Self::InvalidOption {
+            field: e.field,
+            value: e.value,
+        }
+    }
+}
