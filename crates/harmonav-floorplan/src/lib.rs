@@ -52,8 +52,10 @@
 
 pub mod compose;
 pub mod plan;
+pub mod ros_map;
 pub mod theta;
 
 pub use compose::{FloorMapped, FloorTransform, NotFree, Part};
 pub use plan::{FloorError, FloorMap, FloorOptions};
+pub use ros_map::{Cell, MapError, MapMode, MapOptions, MapOutline, MapPoint, MapProblem, RosMap};
 pub use theta::FloorField;
