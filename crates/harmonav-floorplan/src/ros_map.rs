@@ -499,7 +499,8 @@ impl RosMap {
             .map_err(|e| self.error(MapProblem::Floor(e)))?;
         for (point, x) in [(MapPoint::Goal, goal), (MapPoint::Start, start)] {
             let clearance = floor.clearance(x);
-            if !(clearance >= 0.0) {
+            // NaN (a point the walls' query cannot place) is refused like a negative clearance.
+            if clearance.is_nan() || clearance < 0.0 {
                 return Err(self.error(MapProblem::NotCertified { point, clearance }));
             }
         }
