@@ -12,44 +12,51 @@ fn v(x: f64, y: f64) -> Vector2<f64> {
     Vector2::new(x, y)
 }
 
-/// Measures the suite's maps (run with `--ignored --nocapture`).
+/// Measures the suite's maps (run with `--ignored --nocapture`; `HARMONAV_CERTIFY_BUDGET`
+/// sets the certificate's cell budget, 150 000 by default): pixels, vertices, elements, build
+/// and certificate times, the verdict and the sampled extremes.
 #[test]
 #[ignore]
 fn measure_suite_maps() {
-    let dir = scratch("measure");
+    let budget = std::env::var("HARMONAV_CERTIFY_BUDGET")
+        .ok()
+        .and_then(|b| b.parse().ok())
+        .unwrap_or(150_000);
     for m in suite() {
-        let y = write_map(&dir, m.name, &m.img, m.res, m.origin);
+        let y = suite_dir().join(format!("{}.yaml", m.name));
         let map = RosMap::load(&y).unwrap();
-        let opts = MapOptions::new(FloorOptions::new(0.25, 0.2));
+        let o = opts();
         let (s, g) = (v(m.start[0], m.start[1]), v(m.goal[0], m.goal[1]));
-        let o = map.outline(s, g, &opts).unwrap();
-        let fs = map.free_space(s, g, &opts).unwrap();
+        let out = map.outline(s, g, &o).unwrap();
+        let fs = map.free_space(s, g, &o).unwrap();
         let t = Instant::now();
-        let floor = map.to_floor_map(s, g, &opts);
-        let el = t.elapsed();
-        match floor {
-            Ok(f) => {
-                let t = Instant::now();
-                let c = f.certify(150_000);
-                println!(
-                    "{}: {}x{} px, outline {} + {:?} vertices, area {:.3} (px {:.3}); free space {} vertices {} holes; N = {}, build {:.2?}; certify {:.2?}: {:?}",
-                    m.name,
-                    m.img.w,
-                    m.img.h,
-                    o.outer.len(),
-                    o.holes.iter().map(Vec::len).collect::<Vec<_>>(),
-                    o.area,
-                    o.free_pixels as f64 * m.res * m.res,
-                    fs.outer.len() + fs.holes.iter().map(Vec::len).sum::<usize>(),
-                    fs.holes.len(),
-                    f.map().elements().len(),
-                    el,
-                    t.elapsed(),
-                    c.map(|c| (c.verdict, c.certified_area, c.undecided_area))
-                );
-            }
-            Err(e) => println!("{}: {e}", m.name),
-        }
+        let f = map.to_floor_map(s, g, &o).unwrap();
+        let build = t.elapsed();
+        let t = Instant::now();
+        let c = f.certify(budget).unwrap();
+        println!(
+            "{}: {}×{} px, {} free px ({:.3} m²), outline area {:.3} m², {} vertices / {} holes; \
+             opened {} vertices / {} holes; N = {}, build {:.2?}; certify ({budget}) {:.2?}: \
+             {:?}, certified {:.2} m², undecided {:.2} m², sampled min det J {:.2e}, max |H| {:.4}",
+            m.name,
+            m.img.w,
+            m.img.h,
+            out.free_pixels,
+            out.free_pixels as f64 * m.res * m.res,
+            out.area,
+            out.outer.len() + out.holes.iter().map(Vec::len).sum::<usize>(),
+            out.holes.len(),
+            fs.outer.len() + fs.holes.iter().map(Vec::len).sum::<usize>(),
+            fs.holes.len(),
+            f.map().elements().len(),
+            build,
+            t.elapsed(),
+            c.verdict,
+            c.certified_area,
+            c.undecided_area,
+            c.extremes.min_det,
+            c.extremes.max_norm,
+        );
     }
 }
 
@@ -138,6 +145,28 @@ fn pgm_round_trip_area_orientation_and_y_flip() {
             assert!(p.x > 0.9 && p.x < 1.6 && p.y > 2.2 && p.y < 2.9, "{p:?}");
         }
     }
+    // The simplification moves the outline by at most a pixel: every vertex of either ring is
+    // within `res` of the other ring (docs/maths.md §13.1).
+    let ring = |r: &[Vector2<f64>]| {
+        let mut ls = geo::LineString::from(
+            r.iter().map(|p| geo::Coord { x: p.x, y: p.y }).collect::<Vec<_>>(),
+        );
+        ls.close();
+        ls
+    };
+    o.simplify = 0.0;
+    let raw = map.outline(start, goal, &o).unwrap();
+    o.simplify = 0.5;
+    let simple = map.outline(start, goal, &o).unwrap();
+    assert!(simple.outer.len() < raw.outer.len(), "something was simplified");
+    let far = |a: &[Vector2<f64>], b: &[Vector2<f64>]| {
+        let b = ring(b);
+        a.iter()
+            .map(|p| geo::Distance::distance(&geo::Euclidean, &geo::Point::new(p.x, p.y), &b))
+            .fold(0.0, f64::max)
+    };
+    let d = far(&raw.outer, &simple.outer).max(far(&simple.outer, &raw.outer));
+    assert!(d <= res + 1e-12, "vertex-to-ring distance {d}");
     // The pixels themselves: the top-left free pixel (1, 1) sits at high y.
     assert_eq!(map.pixel_at(v(-1.0 + 0.15, 2.0 + 2.85)), Some([1, 1]));
     assert_eq!(map.cell(1, 1), Some(harmonav_floorplan::Cell::Free));
