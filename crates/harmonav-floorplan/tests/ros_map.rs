@@ -149,7 +149,9 @@ fn pgm_round_trip_area_orientation_and_y_flip() {
     // within `res` of the other ring (docs/maths.md §13.1).
     let ring = |r: &[Vector2<f64>]| {
         let mut ls = geo::LineString::from(
-            r.iter().map(|p| geo::Coord { x: p.x, y: p.y }).collect::<Vec<_>>(),
+            r.iter()
+                .map(|p| geo::Coord { x: p.x, y: p.y })
+                .collect::<Vec<_>>(),
         );
         ls.close();
         ls
@@ -158,7 +160,10 @@ fn pgm_round_trip_area_orientation_and_y_flip() {
     let raw = map.outline(start, goal, &o).unwrap();
     o.simplify = 0.5;
     let simple = map.outline(start, goal, &o).unwrap();
-    assert!(simple.outer.len() < raw.outer.len(), "something was simplified");
+    assert!(
+        simple.outer.len() < raw.outer.len(),
+        "something was simplified"
+    );
     let far = |a: &[Vector2<f64>], b: &[Vector2<f64>]| {
         let b = ring(b);
         a.iter()
