@@ -617,3 +617,22 @@ fn suite_maps_are_committed_and_build() {
         assert!(floor.clearance(s) >= 0.0 && floor.clearance(g) >= 0.0);
     }
 }
+
+/// A floor plan that `FloorMap::new` refuses (here: elements so small that the mesh exceeds
+/// its cap) is surfaced as `MapProblem::Floor`, with the YAML file named.
+#[test]
+fn floor_map_errors_are_surfaced_with_the_file() {
+    let m = office();
+    let y = suite_dir().join("office.yaml");
+    let tiny = MapOptions::new(FloorOptions::new(0.005, 0.2));
+    let e = harmonav_floorplan::FloorMap::from_ros_map(
+        &y,
+        v(m.start[0], m.start[1]),
+        v(m.goal[0], m.goal[1]),
+        &tiny,
+    )
+    .unwrap_err();
+    assert!(matches!(e.problem, MapProblem::Floor(_)), "{e}");
+    assert_eq!(e.file, y);
+    assert!(e.to_string().contains("office.yaml"), "{e}");
+}
