@@ -26,10 +26,16 @@
 //! - [`FloorMap`], [`FloorOptions`], typed [`FloorError`]: walls, `H`, `δ`, wall distances
 //!   (parry), the certificate;
 //! - [`FloorTransform`] (`nav_transform` → [`FloorMapped`], [`Part`], [`NotFree`]);
-//! - [`FloorField`]: `Θ`, `∇Θ`, the direction, `k`, the destination stiffness.
+//! - [`FloorField`]: `Θ`, `∇Θ`, the direction, `k`, the destination stiffness;
+//! - [`RosMap`] (`load`, `outline`, `free_space`, `to_floor_map`), [`FloorMap::from_ros_map`],
+//!   [`MapOptions`], [`MapOutline`], [`Cell`], [`MapMode`], typed [`MapError`]
+//!   ([`MapProblem`], [`MapPoint`]): ROS map_server occupancy grids (YAML + PGM/PNG) to floor
+//!   plans, map_server's conventions, marching squares and geo's simplification and buffer
+//!   (docs/maths.md §13.1).
 //!
 //! **Invariant:** knows polygons, star shapes, the harmonic map and `phi_k`; nothing of
-//! robots' laws, sensing, time or files. Star worlds keep their own exact construction
+//! robots' laws, sensing or time. The only files it reads are ROS maps ([`RosMap::load`]),
+//! by the path it is given. Star worlds keep their own exact construction
 //! (harmonav-field); nothing here changes it.
 //!
 //! ```
@@ -52,8 +58,10 @@
 
 pub mod compose;
 pub mod plan;
+pub mod ros_map;
 pub mod theta;
 
 pub use compose::{FloorMapped, FloorTransform, NotFree, Part};
 pub use plan::{FloorError, FloorMap, FloorOptions};
+pub use ros_map::{Cell, MapError, MapMode, MapOptions, MapOutline, MapPoint, MapProblem, RosMap};
 pub use theta::FloorField;

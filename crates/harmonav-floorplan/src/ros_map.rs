@@ -1,0 +1,525 @@
+//! ROS map_server occupancy grids (a YAML file and its PGM or PNG image) to floor plans
+//! (issue 25, part 3; docs/maths.md §13.1).
+//!
+//! ```text
+//! YAML + image ─→ cells (map_server's p, thresholds; unknown = occupied)
+//!   ─→ occupied specks ≤ speck_pixels removed ─→ the goal's 4-connected free component
+//!   ─→ marching squares (contour) ─→ Visvalingam–Whyatt, topology-preserving (geo)
+//!   ─→ opening by the robot's disc ρ = max(radius + margin, δ) (geo Buffer ∩ the outline)
+//!   ─→ FloorMap::new (shrink by radius + margin − δ, H, W_δ)
+//! ```
+//!
+//! **Conventions (map_server's, followed exactly).** `image` is relative to the YAML file's
+//! folder (or absolute). Row 0 is the top of the image. `origin = [x, y, yaw]` is the pose of
+//! the lower-left corner of the lower-left pixel: pixel (column `c`, row `r`) covers, in the
+//! map frame, `[c·res, (c+1)·res] × [(H−1−r)·res, (H−r)·res]`, and a map-frame point `l` is the
+//! world point `o + R(yaw)·l` (yaw counter-clockwise; supported, not refused: a rotation is
+//! exact and map_server documents its meaning). `p = (255 − x)/255`, or `x/255` with `negate`,
+//! `x` the mean of the colour channels; `p > occupied_thresh` occupied, `p < free_thresh`
+//! free, else unknown, and **unknown counts as occupied** (see [`Cell`] for `scale` and `raw`).
+
+mod error;
+mod grid;
+mod outline;
+mod yaml;
+
+use std::io::Cursor;
+use std::path::{Path, PathBuf};
+
+use geo::{Coord, Point};
+use image::{ImageReader, Limits};
+use nalgebra::{Matrix2, Vector2};
+
+pub use error::{MapError, MapPoint, MapProblem};
+
+use crate::{FloorMap, FloorOptions};
+
+/// The largest image side accepted (pixels): 4096 px is 205 m at 0.05 m/pixel; the grid and
+/// its labels take about 13 bytes per pixel (≈ 220 MB at the cap).
+pub const MAX_SIDE: u32 = 4096;
+
+/// map_server's `mode` key.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum MapMode {
+    /// Three classes by the thresholds (the default).
+    Trinary,
+    /// Graded occupancy between the thresholds; transparent pixels unknown.
+    Scale,
+    /// The pixel value is the occupancy itself (0–100; above: unknown).
+    Raw,
+}
+
+impl MapMode {
+    /// `"trinary"`, `"scale"` or `"raw"`, as in the YAML file.
+    #[must_use]
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::Trinary => "trinary",
+            Self::Scale => "scale",
+            Self::Raw => "raw",
+        }
+    }
+}
+
+/// One pixel's class. With `x` the mean of its colour channels and
+/// `p = (255 − x)/255` (`x/255` with `negate`):
+///
+/// - `trinary`: `p > occupied_thresh` → `Occupied`, `p < free_thresh` → `Free`, else
+///   `Unknown`;
+/// - `scale`: a pixel with alpha below 255 → `Unknown`; otherwise as trinary, except that
+///   between the thresholds (map_server's graded occupancy 1–99) → `Occupied`;
+/// - `raw`: `x` is the occupancy: 0 → `Free`, 1–100 → `Occupied`, above → `Unknown`
+///   (`negate` does not apply).
+///
+/// Ties are not free (`p = free_thresh`). Only `Free` is free space: `Unknown` counts as
+/// occupied.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Cell {
+    /// Free space.
+    Free,
+    /// A wall or obstacle.
+    Occupied,
+    /// Not observed; treated as occupied.
+    Unknown,
+}
+
+impl Cell {
+    /// `"free"`, `"occupied"` or `"unknown"`.
+    #[must_use]
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::Free => "free",
+            Self::Occupied => "occupied",
+            Self::Unknown => "unknown",
+        }
+    }
+}
+
+/// Occupied islands of at most this many pixels are taken for sensor noise and dropped
+/// ([`MapOptions::speck_pixels`]): 2 pixels, 0.005 m² at 0.05 m/pixel.
+pub const DEFAULT_SPECK_PIXELS: usize = 2;
+
+/// The simplification's tolerance, in square pixels ([`MapOptions::simplify`]).
+pub const DEFAULT_SIMPLIFY: f64 = 0.5;
+
+/// Options of [`RosMap::to_floor_map`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MapOptions {
+    /// The floor plan's elements and the robot's clearance (`radius + margin`).
+    pub floor: FloorOptions,
+    /// Occupied islands (8-connected non-free pixels not touching the image's edge) of at most
+    /// this many pixels become free: SLAM's salt noise. `0` keeps every island. An island
+    /// dropped is an obstacle the guarantee does not see: keep this below the smallest real
+    /// obstacle. Free islands not 4-connected to the goal's pixel are all dropped (unreachable).
+    pub speck_pixels: usize,
+    /// The Visvalingam–Whyatt tolerance in square pixels: a vertex goes while the triangle it
+    /// makes with its neighbours is smaller than `simplify · res²`. Each removal changes the
+    /// area by less than that (docs/maths.md §13.1 bounds the total). `0` keeps every vertex.
+    pub simplify: f64,
+}
+
+impl MapOptions {
+    /// The floor options with the default speck size ([`DEFAULT_SPECK_PIXELS`]) and
+    /// simplification ([`DEFAULT_SIMPLIFY`]).
+    #[must_use]
+    pub fn new(floor: FloorOptions) -> Self {
+        Self {
+            floor,
+            speck_pixels: DEFAULT_SPECK_PIXELS,
+            simplify: DEFAULT_SIMPLIFY,
+        }
+    }
+}
+
+/// The free space of a map as a polygon with holes, in world coordinates: the rings as
+/// [`FloorMap::new`] takes them (outer counter-clockwise, holes clockwise, no repeated closing
+/// vertex).
+#[derive(Clone, Debug, PartialEq)]
+pub struct MapOutline {
+    /// The outer ring (counter-clockwise).
+    pub outer: Vec<Vector2<f64>>,
+    /// The holes (clockwise).
+    pub holes: Vec<Vec<Vector2<f64>>>,
+    /// Free pixels in the goal's component, after the specks.
+    pub free_pixels: usize,
+    /// The enclosed area, holes subtracted (m²).
+    pub area: f64,
+}
+
+/// A ROS map_server map: its YAML keys and its pixels' classes ([`RosMap::load`]).
+#[derive(Clone, Debug)]
+pub struct RosMap {
+    yaml_path: PathBuf,
+    image_path: PathBuf,
+    resolution: f64,
+    origin: [f64; 3],
+    negate: bool,
+    occupied_thresh: f64,
+    free_thresh: f64,
+    mode: MapMode,
+    width: usize,
+    height: usize,
+    cells: Vec<Cell>,
+}
+
+fn read(path: &Path) -> Result<Vec<u8>, MapError> {
+    std::fs::read(path).map_err(|e| MapError::new(path, MapProblem::Read(e.to_string())))
+}
+
+impl RosMap {
+    /// Reads the YAML file at `yaml_path` and the image it names (relative to the YAML file's
+    /// folder unless absolute; PGM or PNG, told by its content), and classifies every pixel
+    /// ([`Cell`]).
+    ///
+    /// # Errors
+    /// A [`MapError`] naming the file: [`MapProblem::Read`] (missing file), [`MapProblem::Yaml`],
+    /// [`MapProblem::MissingField`], [`MapProblem::InvalidField`], [`MapProblem::Resolution`],
+    /// [`MapProblem::Threshold`], [`MapProblem::ThresholdOrder`] for the YAML file;
+    /// [`MapProblem::Read`], [`MapProblem::Image`] (truncated or not an image) and
+    /// [`MapProblem::ImageSize`] for the image.
+    pub fn load(yaml_path: impl AsRef<Path>) -> Result<Self, MapError> {
+        let yaml_path = yaml_path.as_ref();
+        let bytes = read(yaml_path)?;
+        let text = String::from_utf8(bytes)
+            .map_err(|_| MapError::new(yaml_path, MapProblem::Yaml("not UTF-8 text".into())))?;
+        let keys = yaml::parse(&text).map_err(|p| MapError::new(yaml_path, p))?;
+        let image_path = yaml_path
+            .parent()
+            .unwrap_or(Path::new(""))
+            .join(&keys.image);
+        let bytes = read(&image_path)?;
+        let image_error = |p| MapError::new(&image_path, p);
+        let mut reader = ImageReader::new(Cursor::new(bytes))
+            .with_guessed_format()
+            .map_err(|e| image_error(MapProblem::Image(e.to_string())))?;
+        let mut limits = Limits::default();
+        limits.max_image_width = Some(MAX_SIDE);
+        limits.max_image_height = Some(MAX_SIDE);
+        reader.limits(limits);
+        let img = reader
+            .decode()
+            .map_err(|e| image_error(MapProblem::Image(e.to_string())))?;
+        let (w, h) = (img.width(), img.height());
+        if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE {
+            return Err(image_error(MapProblem::ImageSize {
+                width: w,
+                height: h,
+            }));
+        }
+        let cells = grid::cells(
+            &img,
+            keys.negate,
+            keys.occupied_thresh,
+            keys.free_thresh,
+            keys.mode,
+        );
+        Ok(Self {
+            yaml_path: yaml_path.to_path_buf(),
+            image_path,
+            resolution: keys.resolution,
+            origin: keys.origin,
+            negate: keys.negate,
+            occupied_thresh: keys.occupied_thresh,
+            free_thresh: keys.free_thresh,
+            mode: keys.mode,
+            width: w as usize,
+            height: h as usize,
+            cells,
+        })
+    }
+
+    /// The YAML file's path, as given to [`RosMap::load`].
+    #[must_use]
+    pub fn yaml_path(&self) -> &Path {
+        &self.yaml_path
+    }
+
+    /// The image file's path (the YAML's `image`, joined to the YAML file's folder).
+    #[must_use]
+    pub fn image_path(&self) -> &Path {
+        &self.image_path
+    }
+
+    /// `resolution` (m/pixel).
+    #[must_use]
+    pub fn resolution(&self) -> f64 {
+        self.resolution
+    }
+
+    /// `origin = [x, y, yaw]`: the pose of the lower-left corner of the image (m, m, rad).
+    #[must_use]
+    pub fn origin(&self) -> [f64; 3] {
+        self.origin
+    }
+
+    /// `negate`.
+    #[must_use]
+    pub fn negate(&self) -> bool {
+        self.negate
+    }
+
+    /// `(free_thresh, occupied_thresh)`.
+    #[must_use]
+    pub fn thresholds(&self) -> (f64, f64) {
+        (self.free_thresh, self.occupied_thresh)
+    }
+
+    /// `mode`.
+    #[must_use]
+    pub fn mode(&self) -> MapMode {
+        self.mode
+    }
+
+    /// `(width, height)` in pixels.
+    #[must_use]
+    pub fn size(&self) -> (usize, usize) {
+        (self.width, self.height)
+    }
+
+    /// The class of pixel (`column`, `row`), row 0 at the top; `None` outside the image.
+    #[must_use]
+    pub fn cell(&self, column: usize, row: usize) -> Option<Cell> {
+        (column < self.width && row < self.height).then(|| self.cells[row * self.width + column])
+    }
+
+    /// How many pixels are free (before specks and components).
+    #[must_use]
+    pub fn free_count(&self) -> usize {
+        self.cells.iter().filter(|&&c| c == Cell::Free).count()
+    }
+
+    fn rotation(&self) -> Matrix2<f64> {
+        let (s, c) = self.origin[2].sin_cos();
+        Matrix2::new(c, -s, s, c)
+    }
+
+    /// The world point of a map-frame point `l` (metres from the image's lower-left corner):
+    /// `o + R(yaw)·l`.
+    #[must_use]
+    pub fn to_world(&self, l: Vector2<f64>) -> Vector2<f64> {
+        Vector2::new(self.origin[0], self.origin[1]) + self.rotation() * l
+    }
+
+    /// The map-frame point of a world point `w`: `R(−yaw)·(w − o)`.
+    #[must_use]
+    pub fn to_map_frame(&self, w: Vector2<f64>) -> Vector2<f64> {
+        self.rotation().transpose() * (w - Vector2::new(self.origin[0], self.origin[1]))
+    }
+
+    /// The pixel (column, row; row 0 at the top) holding the world point `w`, `None` outside
+    /// the image (a point on the image's right or top edge is outside; a non-finite point too).
+    #[must_use]
+    pub fn pixel_at(&self, w: Vector2<f64>) -> Option<[usize; 2]> {
+        let l = self.to_map_frame(w) / self.resolution;
+        let (cx, cy) = (l.x.floor(), l.y.floor());
+        #[allow(clippy::cast_precision_loss)] // sides ≤ MAX_SIDE
+        let (wf, hf) = (self.width as f64, self.height as f64);
+        if !(cx >= 0.0 && cy >= 0.0 && cx < wf && cy < hf) {
+            return None;
+        }
+        #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)] // in [0, side)
+        let (c, yrow) = (cx as usize, cy as usize);
+        Some([c, self.height - 1 - yrow])
+    }
+
+    fn error(&self, problem: MapProblem) -> MapError {
+        MapError::new(&self.yaml_path, problem)
+    }
+
+    /// The free pixel holding `x`, or why not.
+    fn free_pixel(&self, point: MapPoint, x: Vector2<f64>) -> Result<usize, MapError> {
+        if !(x.x.is_finite() && x.y.is_finite()) {
+            return Err(self.error(MapProblem::NonFinitePoint(point)));
+        }
+        let at = [x.x, x.y];
+        let pixel = self
+            .pixel_at(x)
+            .ok_or_else(|| self.error(MapProblem::OutsideImage { point, at }))?;
+        let i = pixel[1] * self.width + pixel[0];
+        match self.cells[i] {
+            Cell::Free => Ok(i),
+            cell => Err(self.error(MapProblem::NotFree {
+                point,
+                at,
+                cell,
+                pixel,
+            })),
+        }
+    }
+
+    /// The goal's free component, the start checked against it: `(mask, pixels)`.
+    fn component(
+        &self,
+        start: Vector2<f64>,
+        goal: Vector2<f64>,
+        options: &MapOptions,
+    ) -> Result<(Vec<bool>, usize), MapError> {
+        let g = self.free_pixel(MapPoint::Goal, goal)?;
+        let s = self.free_pixel(MapPoint::Start, start)?;
+        let (mask, label) = grid::goal_component(
+            &self.cells,
+            self.width,
+            self.height,
+            options.speck_pixels,
+            g,
+        );
+        if label[s] != label[g] {
+            return Err(self.error(MapProblem::Unreachable));
+        }
+        let n = mask.iter().filter(|&&f| f).count();
+        Ok((mask, n))
+    }
+
+    fn to_outline(&self, poly: &geo::Polygon<f64>, free_pixels: usize) -> MapOutline {
+        let (outer, holes) = outline::rings(poly);
+        let world = |r: Vec<Coord<f64>>| -> Vec<Vector2<f64>> {
+            r.into_iter()
+                .map(|c| self.to_world(Vector2::new(c.x, c.y)))
+                .collect()
+        };
+        MapOutline {
+            outer: world(outer),
+            holes: holes.into_iter().map(world).collect(),
+            free_pixels,
+            area: outline::area(poly),
+        }
+    }
+
+    /// The goal component's outline in the map frame, simplified.
+    fn traced(
+        &self,
+        start: Vector2<f64>,
+        goal: Vector2<f64>,
+        options: &MapOptions,
+    ) -> Result<(geo::Polygon<f64>, usize), MapError> {
+        let (mask, n) = self.component(start, goal, options)?;
+        let res = self.resolution;
+        let mp = outline::trace(&mask, self.width, self.height, res)
+            .map_err(|e| self.error(MapProblem::Outline(e)))?;
+        // Select by the goal pixel's centre: the goal itself may sit in a corner that
+        // marching squares cut off.
+        let g = self.pixel_at(goal).unwrap_or([0, 0]);
+        #[allow(clippy::cast_precision_loss)] // sides ≤ MAX_SIDE
+        let centre = Point::new(
+            (g[0] as f64 + 0.5) * res,
+            (self.height - g[1]) as f64 * res - 0.5 * res,
+        );
+        let poly = outline::containing(mp, centre).ok_or_else(|| {
+            self.error(MapProblem::Outline(
+                "no ring of marching squares holds the goal's pixel".into(),
+            ))
+        })?;
+        let eps = options.simplify.max(0.0) * res * res;
+        Ok((outline::simplify(&poly, eps), n))
+    }
+
+    /// The outline of the free pixels 4-connected to the goal's (after the specks), by marching
+    /// squares and simplified, without the robot: its area is the free pixels' count × res²
+    /// to within the bound of docs/maths.md §13.1.
+    ///
+    /// # Errors
+    /// [`MapProblem::NonFinitePoint`], [`MapProblem::OutsideImage`], [`MapProblem::NotFree`]
+    /// for the start or goal, [`MapProblem::Unreachable`], [`MapProblem::Outline`].
+    pub fn outline(
+        &self,
+        start: Vector2<f64>,
+        goal: Vector2<f64>,
+        options: &MapOptions,
+    ) -> Result<MapOutline, MapError> {
+        let (poly, n) = self.traced(start, goal, options)?;
+        Ok(self.to_outline(&poly, n))
+    }
+
+    /// The radius of the robot-disc opening: `ρ = max(radius + margin, δ)`, `δ` =
+    /// `max_element` (the certified region `W_δ` is the free space eroded by `ρ`, §13).
+    #[must_use]
+    pub fn opening_radius(options: &MapOptions) -> f64 {
+        options.floor.clearance.max(options.floor.max_element)
+    }
+
+    /// The free space the floor plan is built on: [`RosMap::outline`] opened by the robot's
+    /// disc of radius `ρ` ([`RosMap::opening_radius`]), `(C ⊕ ρ) ∩ outline` with `C` the goal's
+    /// component of `outline ⊖ ρ` (geo `Buffer`), and simplified again. Walls only grow; the
+    /// parts no robot of that clearance reaches (dead-end slits, gaps beside pillars) are
+    /// walls, and holes it cannot pass around join the outer ring.
+    ///
+    /// # Errors
+    /// Those of [`RosMap::outline`], and [`MapProblem::TooNarrow`] when the goal is closer
+    /// than `ρ` to a wall or the start is not in the goal's component of `outline ⊖ ρ`.
+    pub fn free_space(
+        &self,
+        start: Vector2<f64>,
+        goal: Vector2<f64>,
+        options: &MapOptions,
+    ) -> Result<MapOutline, MapError> {
+        let (poly, n) = self.traced(start, goal, options)?;
+        let rho = Self::opening_radius(options);
+        if !(rho.is_finite() && rho > 0.0) {
+            return Err(
+                self.error(MapProblem::Floor(crate::FloorError::InvalidOption {
+                    field: "max_element",
+                    value: options.floor.max_element,
+                })),
+            );
+        }
+        let local = |x: Vector2<f64>| {
+            let l = self.to_map_frame(x);
+            Point::new(l.x, l.y)
+        };
+        let opened = outline::open(&poly, rho, local(goal), local(start)).map_err(|cut| {
+            self.error(MapProblem::TooNarrow {
+                point: match cut {
+                    outline::Cut::Goal => MapPoint::Goal,
+                    outline::Cut::Start => MapPoint::Start,
+                },
+                clearance: rho,
+            })
+        })?;
+        let eps = options.simplify.max(0.0) * self.resolution * self.resolution;
+        Ok(self.to_outline(&outline::simplify(&opened, eps), n))
+    }
+
+    /// The floor plan of this map for a robot going from `start` to `goal` (world
+    /// coordinates): [`RosMap::free_space`] handed to [`FloorMap::new`] with
+    /// `options.floor`, and both points checked to lie in its certified region `W_δ`.
+    ///
+    /// # Errors
+    /// Those of [`RosMap::free_space`]; [`MapProblem::Floor`] when [`FloorMap::new`] refuses
+    /// the polygon ([`crate::FloorError::TooNarrow`]: a passage narrower than the robot, too
+    /// many vertices or elements, …); [`MapProblem::NotCertified`] when the start or the goal
+    /// lies in the boundary layer.
+    pub fn to_floor_map(
+        &self,
+        start: Vector2<f64>,
+        goal: Vector2<f64>,
+        options: &MapOptions,
+    ) -> Result<FloorMap, MapError> {
+        let space = self.free_space(start, goal, options)?;
+        let floor = FloorMap::new(space.outer, space.holes, &options.floor)
+            .map_err(|e| self.error(MapProblem::Floor(e)))?;
+        for (point, x) in [(MapPoint::Goal, goal), (MapPoint::Start, start)] {
+            let clearance = floor.clearance(x);
+            // NaN (a point the walls' query cannot place) is refused like a negative clearance.
+            if clearance.is_nan() || clearance < 0.0 {
+                return Err(self.error(MapProblem::NotCertified { point, clearance }));
+            }
+        }
+        Ok(floor)
+    }
+}
+
+impl FloorMap {
+    /// The floor plan of the ROS map_server map at `yaml_path` for a robot going from `start`
+    /// to `goal` (world coordinates): [`RosMap::load`] then [`RosMap::to_floor_map`].
+    ///
+    /// # Errors
+    /// [`MapError`], naming the file and the problem.
+    pub fn from_ros_map(
+        yaml_path: impl AsRef<Path>,
+        start: Vector2<f64>,
+        goal: Vector2<f64>,
+        options: &MapOptions,
+    ) -> Result<Self, MapError> {
+        RosMap::load(yaml_path)?.to_floor_map(start, goal, options)
+    }
+}

@@ -1,0 +1,252 @@
+//! [`MapError`]: what went wrong with a ROS map, and in which file.
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use crate::FloorError;
+
+use super::Cell;
+
+/// Which of the two points given with the map.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum MapPoint {
+    /// The robot's start.
+    Start,
+    /// The goal `x_d`.
+    Goal,
+}
+
+impl MapPoint {
+    /// `"start"` or `"goal"` (for JSON and messages).
+    #[must_use]
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::Start => "start",
+            Self::Goal => "goal",
+        }
+    }
+}
+
+impl fmt::Display for MapPoint {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// A ROS map that could not be read or turned into a floor plan: the file ([`MapError::file`],
+/// the YAML file or the image) and the problem. Its `Display` is `"<file>: <problem>"`, for a
+/// CLI to print as it is.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MapError {
+    /// The file the problem is in: the YAML file for its keys, the start, the goal and the
+    /// floor plan built from the map; the image file for the pixels.
+    pub file: PathBuf,
+    /// What went wrong.
+    pub problem: MapProblem,
+}
+
+impl MapError {
+    pub(crate) fn new(file: &Path, problem: MapProblem) -> Self {
+        Self {
+            file: file.to_path_buf(),
+            problem,
+        }
+    }
+}
+
+impl fmt::Display for MapError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: {}", self.file.display(), self.problem)
+    }
+}
+
+impl std::error::Error for MapError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match &self.problem {
+            MapProblem::Floor(e) => Some(e),
+            _ => None,
+        }
+    }
+}
+
+/// What went wrong with a ROS map ([`MapError`] adds the file).
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum MapProblem {
+    /// The file could not be read (missing, a folder, no permission): the OS's message.
+    Read(String),
+    /// The YAML file is not valid YAML, or is not a mapping of keys.
+    Yaml(String),
+    /// A required key is missing (`field` names it).
+    MissingField {
+        /// The key.
+        field: &'static str,
+    },
+    /// A key has a value of the wrong type or form.
+    InvalidField {
+        /// The key.
+        field: &'static str,
+        /// What it must be.
+        expected: &'static str,
+        /// What was found (as written in the file, abridged).
+        found: String,
+    },
+    /// `resolution` is not a finite positive number of metres per pixel.
+    Resolution(f64),
+    /// A threshold is not a finite number in `[0, 1]`.
+    Threshold {
+        /// `free_thresh` or `occupied_thresh`.
+        field: &'static str,
+        /// Its value.
+        value: f64,
+    },
+    /// `free_thresh ≥ occupied_thresh`: no pixel could be both below the one and not above the
+    /// other as map_server's three classes need.
+    ThresholdOrder {
+        /// `free_thresh`.
+        free: f64,
+        /// `occupied_thresh`.
+        occupied: f64,
+    },
+    /// The image could not be decoded: truncated, not a PGM or PNG, or an unsupported variant
+    /// (the decoder's message).
+    Image(String),
+    /// The image has no pixels, or more than [`super::MAX_SIDE`] on a side.
+    ImageSize {
+        /// Width in pixels.
+        width: u32,
+        /// Height in pixels.
+        height: u32,
+    },
+    /// A start or goal coordinate is not finite.
+    NonFinitePoint(MapPoint),
+    /// The point lies outside the image.
+    OutsideImage {
+        /// Which point.
+        point: MapPoint,
+        /// Its world coordinates.
+        at: [f64; 2],
+    },
+    /// The point lies in an occupied or unknown pixel (unknown counts as occupied).
+    NotFree {
+        /// Which point.
+        point: MapPoint,
+        /// Its world coordinates.
+        at: [f64; 2],
+        /// The pixel's class.
+        cell: Cell,
+        /// The pixel (column, row; row 0 at the top of the image).
+        pixel: [usize; 2],
+    },
+    /// The start's free pixels are not connected to the goal's (4-connected): the goal cannot
+    /// be reached from it.
+    Unreachable,
+    /// The robot cannot get from the start to the goal: every free path passes a gap narrower
+    /// than `2 × clearance` (the robot's diameter plus its margins), or the point itself is
+    /// closer than `clearance` to a wall.
+    TooNarrow {
+        /// The point that is cut off (`Goal`: the goal itself is too close to a wall).
+        point: MapPoint,
+        /// The clearance the robot needs, `max(radius + margin, δ)` (m).
+        clearance: f64,
+    },
+    /// The outline could not be made into a valid polygon with holes (a geometry step failed;
+    /// the message says which).
+    Outline(String),
+    /// The floor plan built from the outline was refused ([`FloorError`]: e.g. `TooNarrow`,
+    /// a passage narrower than the robot; too many elements).
+    Floor(FloorError),
+    /// The point is in the floor plan but not in its certified region `W_δ`.
+    NotCertified {
+        /// Which point.
+        point: MapPoint,
+        /// `sd(x) − δ` (m, negative).
+        clearance: f64,
+    },
+}
+
+impl fmt::Display for MapProblem {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Read(e) => write!(f, "cannot read the file: {e}"),
+            Self::Yaml(e) => write!(f, "not a valid map_server YAML file: {e}"),
+            Self::MissingField { field } => write!(f, "the key `{field}` is missing"),
+            Self::InvalidField {
+                field,
+                expected,
+                found,
+            } => write!(f, "`{field}` must be {expected}, found `{found}`"),
+            Self::Resolution(r) => write!(
+                f,
+                "`resolution` must be a finite positive number of metres per pixel, found {r}"
+            ),
+            Self::Threshold { field, value } => {
+                write!(f, "`{field}` must be a number in [0, 1], found {value}")
+            }
+            Self::ThresholdOrder { free, occupied } => write!(
+                f,
+                "`free_thresh` ({free}) must be less than `occupied_thresh` ({occupied})"
+            ),
+            Self::Image(e) => write!(
+                f,
+                "the image cannot be decoded (truncated, or not a PGM or PNG?): {e}"
+            ),
+            Self::ImageSize { width, height } => write!(
+                f,
+                "the image is {width} × {height} pixels; it must have pixels and at most {} on \
+                 a side",
+                super::MAX_SIDE
+            ),
+            Self::NonFinitePoint(p) => write!(f, "the {p} has a NaN or infinite coordinate"),
+            Self::OutsideImage { point, at } => write!(
+                f,
+                "the {point} ({}, {}) lies outside the map's image",
+                at[0], at[1]
+            ),
+            Self::NotFree {
+                point,
+                at,
+                cell,
+                pixel,
+            } => write!(
+                f,
+                "the {point} ({}, {}) lies in {} pixel (column {}, row {} from the top)",
+                at[0],
+                at[1],
+                match cell {
+                    Cell::Free => "a free",
+                    Cell::Occupied => "an occupied",
+                    Cell::Unknown => "an unknown (counted as occupied)",
+                },
+                pixel[0],
+                pixel[1]
+            ),
+            Self::Unreachable => write!(
+                f,
+                "the goal is unreachable from the start: they lie in different free areas of \
+                 the map"
+            ),
+            Self::TooNarrow { point, clearance } => match point {
+                MapPoint::Goal => write!(
+                    f,
+                    "the goal is closer than the robot's clearance {clearance} m (radius + \
+                     margin, at least δ) to a wall"
+                ),
+                MapPoint::Start => write!(
+                    f,
+                    "the robot cannot get from the start to the goal: a passage narrower than \
+                     the robot (it needs {clearance} m to each side: radius + margin, at least \
+                     δ), or the start is that close to a wall"
+                ),
+            },
+            Self::Outline(e) => write!(f, "the map's outline is not a valid polygon: {e}"),
+            Self::Floor(e) => write!(f, "{e}"),
+            Self::NotCertified { point, clearance } => write!(
+                f,
+                "the {point} is {:.4} m inside the boundary layer of the floor plan (not in the \
+                 certified region)",
+                -clearance
+            ),
+        }
+    }
+}

@@ -1,0 +1,164 @@
+//! The free component's outline: marching squares (`contour`), the topology-preserving
+//! simplification and the robot-disc opening (`geo`). Everything here is in the map's own
+//! frame: metres from the lower-left corner of the image, `x` along the columns, `y` up.
+
+use contour::ContourBuilder;
+use geo::orient::{Direction, Orient};
+use geo::{
+    Area, BooleanOps, Buffer, Contains, Coord, LineString, MultiPolygon, Point, Polygon,
+    SimplifyVwPreserve, Validation,
+};
+
+/// How many times the simplification is retried with half the tolerance when its result is not
+/// a valid polygon (geo's Visvalingam–Whyatt variant preserves the topology of each ring but
+/// does not promise a valid polygon); after that the outline is kept unsimplified.
+const SIMPLIFY_RETRIES: usize = 4;
+
+/// The outline of the `true` pixels of `mask` (`width × height`, row 0 at the top): marching
+/// squares at level ½ on the 0/1 indicator sampled at the pixel centres, with a one-pixel
+/// occupied border so every ring closes. Pixel (column `c`, row `r`) covers
+/// `[c·res, (c+1)·res] × [(height−1−r)·res, (height−r)·res]` (map_server: row 0 is the top).
+/// The rings run along the pixel edges, except at corners: a convex corner of the free pixels
+/// is cut by the diagonal (−1/8 pixel), a concave one filled (+1/8). Diagonal-only neighbours
+/// are apart (contour's saddle rule separates the high corners), which matches the free pixels'
+/// 4-connectivity.
+pub(crate) fn trace(
+    mask: &[bool],
+    width: usize,
+    height: usize,
+    res: f64,
+) -> Result<MultiPolygon<f64>, String> {
+    let (w, h) = (width + 2, height + 2);
+    let mut values = vec![0.0; w * h];
+    for (i, _) in mask.iter().enumerate().filter(|(_, f)| **f) {
+        let (c, r) = (i % width, i / width);
+        // Grid row j counts upward from the padded bottom row.
+        let j = height - r;
+        values[j * w + c + 1] = 1.0;
+    }
+    let contours = ContourBuilder::new(w, h, false)
+        .x_origin(-res)
+        .y_origin(-res)
+        .x_step(res)
+        .y_step(res)
+        .contours(&values, &[0.5])
+        .map_err(|e| format!("marching squares: {e:?}"))?;
+    let mut out = Vec::new();
+    for c in contours {
+        out.extend(c.into_inner().0);
+    }
+    Ok(MultiPolygon(out))
+}
+
+/// The polygon of `mp` that contains `p`, if any.
+pub(crate) fn containing(mp: MultiPolygon<f64>, p: Point<f64>) -> Option<Polygon<f64>> {
+    mp.0.into_iter().find(|poly| poly.contains(&p))
+}
+
+/// Visvalingam–Whyatt with topology preservation (geo's `SimplifyVwPreserve`): a vertex is
+/// removed while the triangle it makes with its neighbours has an area below `epsilon` (m²),
+/// each removal changing the enclosed area by that triangle's area, so
+/// `|ΔA| ≤ (vertices removed)·epsilon`. Holes that would end with fewer than 3 distinct
+/// vertices are kept as they were. If the result is not a valid polygon the tolerance is halved
+/// ([`SIMPLIFY_RETRIES`] times), then the polygon is returned unsimplified.
+pub(crate) fn simplify(poly: &Polygon<f64>, epsilon: f64) -> Polygon<f64> {
+    let mut eps = epsilon;
+    for _ in 0..=SIMPLIFY_RETRIES {
+        if eps <= 0.0 {
+            break;
+        }
+        let s = poly.simplify_vw_preserve(eps);
+        if s.is_valid() && s.interiors().len() == poly.interiors().len() {
+            return s;
+        }
+        eps *= 0.5;
+    }
+    poly.clone()
+}
+
+/// Why the opening failed.
+#[derive(Debug)]
+pub(crate) enum Cut {
+    /// The goal is closer than `rho` to the walls.
+    Goal,
+    /// The start is not in the goal's component of the eroded free space.
+    Start,
+}
+
+/// The opening of `poly` by a disc of radius `rho`, restricted to the goal's component:
+///
+/// ```text
+/// C = component of (poly ⊖ rho) holding the goal,    open = (C ⊕ rho) ∩ poly
+/// ```
+///
+/// `C` is where the robot's centre may go (every point of it has clearance `rho`); `open` is
+/// the area its disc sweeps, so it leaves out the dead-end slits, the gaps between a pillar and
+/// a wall, and the corners that no disc of radius `rho` reaches (walls only grow; the
+/// intersection keeps the polygonal arcs of the two buffers inside `poly`). Holes that the
+/// robot cannot pass around merge into the outer ring. `geo::Buffer` with round joins.
+pub(crate) fn open(
+    poly: &Polygon<f64>,
+    rho: f64,
+    goal: Point<f64>,
+    start: Point<f64>,
+) -> Result<Polygon<f64>, Cut> {
+    let eroded = poly.buffer(-rho);
+    let c = containing(eroded, goal).ok_or(Cut::Goal)?;
+    if !c.contains(&start) {
+        return Err(Cut::Start);
+    }
+    let swept = c.buffer(rho);
+    let open = swept.intersection(poly);
+    // The goal's part (the intersection may leave slivers elsewhere, never the goal's).
+    let part = containing(open, goal).ok_or(Cut::Goal)?;
+    Ok(part)
+}
+
+/// The rings of `poly` as [`crate::FloorMap::new`] takes them: the outer ring
+/// counter-clockwise, each hole clockwise (geo's `orient`), without the repeated closing vertex.
+pub(crate) fn rings(poly: &Polygon<f64>) -> (Vec<Coord<f64>>, Vec<Vec<Coord<f64>>>) {
+    let p = poly.orient(Direction::Default);
+    let open = |ls: &LineString<f64>| {
+        let mut v = ls.0.clone();
+        if v.len() > 1 && v.first() == v.last() {
+            v.pop();
+        }
+        v
+    };
+    (open(p.exterior()), p.interiors().iter().map(open).collect())
+}
+
+/// The enclosed area (holes subtracted), m².
+pub(crate) fn area(poly: &Polygon<f64>) -> f64 {
+    poly.unsigned_area()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// One free pixel in a 3 × 3 image: a diamond about the centre pixel's centre, half a
+    /// pixel across each way, area ½ pixel.
+    #[test]
+    fn one_pixel_is_a_diamond_about_its_centre() {
+        let mut mask = vec![false; 9];
+        mask[4] = true;
+        let mp = trace(&mask, 3, 3, 1.0).unwrap();
+        assert_eq!(mp.0.len(), 1);
+        let poly = &mp.0[0];
+        assert!((poly.unsigned_area() - 0.5).abs() < 1e-12);
+        for c in &poly.exterior().0 {
+            assert!((c.x - 1.5).abs() + (c.y - 1.5).abs() - 0.5 < 1e-12, "{c:?}");
+        }
+    }
+
+    /// The top-left pixel lands at the top left (high y).
+    #[test]
+    fn row_zero_is_the_top() {
+        let mut mask = vec![false; 6]; // 3 wide, 2 high
+        mask[0] = true;
+        let mp = trace(&mask, 3, 2, 0.5).unwrap();
+        let c = geo::Centroid::centroid(&mp.0[0]).unwrap();
+        assert!((c.x() - 0.25).abs() < 1e-12 && (c.y() - 0.75).abs() < 1e-12);
+    }
+}
