@@ -6,13 +6,12 @@
 //! median of repeated batches:
 //!
 //! - `many_theta_ns_m{M}_{direct,indexed}`: one `Field::eval` (`Θ`, `∇Θ`) at a free point;
-//! - `many_command_ns_m{M}_{direct,indexed}`: one `Navigator::command` (kinematic law, the
-//!   default hold) at a free point;
+//! - `many_command_ns_m{M}`: one `Navigator::command` (kinematic law, the default hold) at a
+//!   free point (the navigator's workspace is always indexed: its API has no lookup);
 //! - `many_workspace_us_m{M}_{direct,indexed}`: `Workspace::new` over the M shapes;
 //! - `many_field_us_m{M}_{direct,indexed}`: `Field::all_known` on that workspace;
-//! - `many_add_obstacle_us_m{M}_{direct,indexed}`: one `Navigator::add_obstacle` with M − 1
-//!   obstacles known;
-//! - `many_census_ms_m{M}_{direct,indexed}`: `Field::census` (M = 100, 300, 1 000, 2 000).
+//! - `many_add_obstacle_us_m{M}`: one `Navigator::add_obstacle` with M − 1 obstacles known;
+//! - `many_census_ms_m{M}_{direct,indexed}`: one `Field::census` (one run).
 
 use std::hint::black_box;
 use std::sync::Arc;
@@ -20,7 +19,7 @@ use std::time::Instant;
 
 use harmonav::{Law, Navigator, Options};
 use harmonav_field::Field;
-use harmonav_transform::Workspace;
+use harmonav_transform::{Lookup, Workspace};
 use harmonav_transform::random::{self, Kind, Rng, Scattered};
 
 use crate::bench::median_ns;
@@ -46,7 +45,7 @@ fn free_points(ws: &Workspace) -> Vec<harmonav_potential::Vector2<f64>> {
         .collect()
 }
 
-/// Times `f` once (for the slow builds), µs, median of `samples`.
+/// The median of `samples` runs of `f`, µs.
 fn median_us(samples: usize, mut f: impl FnMut()) -> f64 {
     median_ns(samples, 1e3, &mut f)
 }
@@ -55,40 +54,49 @@ fn median_us(samples: usize, mut f: impl FnMut()) -> f64 {
 pub fn figures(put: &mut dyn FnMut(&str, f64)) {
     for m in COUNTS {
         let w = world(m);
+        let samples = if m >= 1000 { 5 } else { 11 };
+        for (name, lookup) in [("direct", Lookup::Direct), ("indexed", Lookup::Indexed)] {
+            let build = || {
+                Workspace::with_lookup(w.boundary.clone(), w.obstacles.clone(), w.goal, lookup)
+            };
+            put(
+                &format!("many_workspace_us_m{m}_{name}"),
+                median_us(samples, || {
+                    black_box(build()).ok();
+                }),
+            );
+            let ws = Arc::new(build().expect("valid benchmark world"));
+            put(
+                &format!("many_field_us_m{m}_{name}"),
+                median_us(samples, || {
+                    black_box(Field::all_known(ws.clone())).ok();
+                }),
+            );
+            let field = Field::all_known(ws.clone()).expect("valid benchmark field");
+            let pts = free_points(&ws);
+            let reps = (20_000 / m).max(2);
+            put(
+                &format!("many_theta_ns_m{m}_{name}"),
+                median_ns(11, (reps * pts.len()) as f64, || {
+                    for _ in 0..reps {
+                        for &x in &pts {
+                            let _ = black_box(field.eval(black_box(x)));
+                        }
+                    }
+                }),
+            );
+            let t = Instant::now();
+            let census = black_box(field.census());
+            put(
+                &format!("many_census_ms_m{m}_{name}"),
+                t.elapsed().as_secs_f64() * 1e3,
+            );
+            put(&format!("many_census_saddles_m{m}"), census.saddles as f64);
+        }
+        // The navigator builds its workspace itself (always indexed: its API has no lookup).
         let ws = Workspace::new(w.boundary.clone(), w.obstacles.clone(), w.goal)
             .expect("valid benchmark world");
-        let samples = if m >= 1000 { 5 } else { 11 };
-        put(
-            &format!("many_workspace_us_m{m}_direct"),
-            median_us(samples, || {
-                black_box(Workspace::new(
-                    w.boundary.clone(),
-                    w.obstacles.clone(),
-                    w.goal,
-                ))
-                .ok();
-            }),
-        );
-        let ws = Arc::new(ws);
-        put(
-            &format!("many_field_us_m{m}_direct"),
-            median_us(samples, || {
-                black_box(Field::all_known(ws.clone())).ok();
-            }),
-        );
-        let field = Field::all_known(ws.clone()).expect("valid benchmark field");
         let pts = free_points(&ws);
-        let reps = (20_000 / m).max(2);
-        put(
-            &format!("many_theta_ns_m{m}_direct"),
-            median_ns(11, (reps * pts.len()) as f64, || {
-                for _ in 0..reps {
-                    for &x in &pts {
-                        let _ = black_box(field.eval(black_box(x)));
-                    }
-                }
-            }),
-        );
         let mut nav = Navigator::new(
             w.boundary.clone(),
             w.goal,
@@ -111,14 +119,11 @@ pub fn figures(put: &mut dyn FnMut(&str, f64)) {
             })
             .collect();
         times.sort_by(f64::total_cmp);
-        put(
-            &format!("many_add_obstacle_us_m{m}_direct"),
-            times[times.len() / 2],
-        );
+        put(&format!("many_add_obstacle_us_m{m}"), times[times.len() / 2]);
         let mut nav = copies.swap_remove(0);
         let reps = (2_000 / m).max(1);
         put(
-            &format!("many_command_ns_m{m}_direct"),
+            &format!("many_command_ns_m{m}"),
             median_ns(11, (reps * pts.len()) as f64, || {
                 for _ in 0..reps {
                     for &x in &pts {
@@ -128,18 +133,5 @@ pub fn figures(put: &mut dyn FnMut(&str, f64)) {
                 }
             }),
         );
-    }
-    for m in [100, 300, 1000] {
-        let w = world(m);
-        let ws = Workspace::new(w.boundary.clone(), w.obstacles.clone(), w.goal)
-            .expect("valid benchmark world");
-        let field = Field::all_known(Arc::new(ws)).expect("valid benchmark field");
-        let t = Instant::now();
-        let census = black_box(field.census());
-        put(
-            &format!("many_census_ms_m{m}_direct"),
-            t.elapsed().as_secs_f64() * 1e3,
-        );
-        put(&format!("many_census_saddles_m{m}"), census.saddles as f64);
     }
 }

@@ -56,12 +56,28 @@ impl PointWorld {
             if *p == destination {
                 return Err(PotentialError::ObstacleAtDestination { index: i });
             }
-            if let Some(j) = obstacles[..i].iter().position(|q| q == p) {
-                return Err(PotentialError::DuplicateObstacle {
-                    first: j,
-                    second: i,
-                });
+        }
+        // Duplicates by sorting (O(M log M); was a scan of every earlier point): the reported
+        // pair is the direct scan's, the smallest `second` with an equal earlier point and its
+        // first occurrence (`==` on finite coordinates: −0 equals 0).
+        let mut order: Vec<usize> = (0..obstacles.len()).collect();
+        let key = |i: &usize| (obstacles[*i].x + 0.0, obstacles[*i].y + 0.0, *i);
+        order.sort_unstable_by(|a, b| {
+            let (a, b) = (key(a), key(b));
+            a.0.total_cmp(&b.0)
+                .then(a.1.total_cmp(&b.1))
+                .then(a.2.cmp(&b.2))
+        });
+        let mut worst: Option<(usize, usize)> = None;
+        for run in order.chunk_by(|&a, &b| obstacles[a] == obstacles[b]) {
+            if let [first, second, ..] = *run
+                && worst.is_none_or(|(_, s)| second < s)
+            {
+                worst = Some((first, second));
             }
+        }
+        if let Some((first, second)) = worst {
+            return Err(PotentialError::DuplicateObstacle { first, second });
         }
         let k = obstacles.len() as f64 + 1.0;
         Ok(Self {
