@@ -7,7 +7,9 @@
 //! be too, and the caller applies the same exact test the direct loop applies. Answers built
 //! on it are therefore the direct loop's, bit for bit, as long as the caller combines them in
 //! an order-free way (a minimum, the lowest index that passes a test); the tests compare both
-//! on seeded worlds. parry's types stay inside this module.
+//! on seeded worlds. parry's types stay inside this module. A query allocates nothing unless
+//! the tree is deeper than 32 levels (parry's traversal stack then spills to the heap; the
+//! binned build of 1 000 leaves is far shallower).
 
 use nalgebra::Vector2;
 use parry2d_f64::bounding_volume::Aabb;
