@@ -19,8 +19,8 @@ use std::time::Instant;
 
 use harmonav::{Law, Navigator, Options};
 use harmonav_field::Field;
-use harmonav_transform::{Lookup, Workspace};
 use harmonav_transform::random::{self, Kind, Rng, Scattered};
+use harmonav_transform::{Lookup, Workspace};
 
 use crate::bench::median_ns;
 
@@ -56,9 +56,8 @@ pub fn figures(put: &mut dyn FnMut(&str, f64)) {
         let w = world(m);
         let samples = if m >= 1000 { 5 } else { 11 };
         for (name, lookup) in [("direct", Lookup::Direct), ("indexed", Lookup::Indexed)] {
-            let build = || {
-                Workspace::with_lookup(w.boundary.clone(), w.obstacles.clone(), w.goal, lookup)
-            };
+            let build =
+                || Workspace::with_lookup(w.boundary.clone(), w.obstacles.clone(), w.goal, lookup);
             put(
                 &format!("many_workspace_us_m{m}_{name}"),
                 median_us(samples, || {
@@ -119,7 +118,10 @@ pub fn figures(put: &mut dyn FnMut(&str, f64)) {
             })
             .collect();
         times.sort_by(f64::total_cmp);
-        put(&format!("many_add_obstacle_us_m{m}"), times[times.len() / 2]);
+        put(
+            &format!("many_add_obstacle_us_m{m}"),
+            times[times.len() / 2],
+        );
         let mut nav = copies.swap_remove(0);
         let reps = (2_000 / m).max(1);
         put(
