@@ -9,8 +9,9 @@ use harmonav_floorplan::{FloorError, FloorField, FloorMap, NotFree};
 use harmonav_transform::StarShape;
 use nalgebra::Vector2;
 
+use crate::certified::{self, Band};
 use crate::error::NavError;
-use crate::hold::{self, Band, Command, Mode};
+use crate::hold::{self, Command, Mode};
 use crate::law::Law;
 use crate::navigator::{Controller, Evaluation, controller, finite, finite_lambda_c, recovering};
 use crate::options::{HoldPolicy, Options};
@@ -188,7 +189,7 @@ impl FloorNavigator {
             .obstacles()
             .nth(i)
             .ok_or(error.clone())?;
-        let (dir, rho) = hold::ray(grown, x).ok_or(error.clone())?;
+        let (dir, rho) = certified::ray(grown, x).ok_or(error.clone())?;
         let to_edge = (grown.radius_along(dir).0 - rho).max(0.0);
         let edge = x + to_edge * dir;
         let band = Band::Obstacle(i);

@@ -9,8 +9,9 @@ use harmonav_field::{Field, FieldError, FieldEval};
 use harmonav_transform::{StarShape, Workspace, WorldError};
 use nalgebra::Vector2;
 
+use crate::certified::{self, Band};
 use crate::error::NavError;
-use crate::hold::{self, Band, Command, Mode};
+use crate::hold::{self, Command, Mode};
 use crate::law::Law;
 use crate::options::{HoldPolicy, Options, in_range};
 use crate::scanning::ScanState;
@@ -398,7 +399,7 @@ impl Navigator {
         if !x.iter().all(|c| c.is_finite()) {
             return f64::NEG_INFINITY;
         }
-        hold::clearance(self.field.workspace(), x, f64::INFINITY, None)
+        certified::clearance(self.field.workspace(), x, f64::INFINITY, None)
     }
 
     /// The options in use.
