@@ -142,7 +142,7 @@ impl PointWorld {
     ///
     /// Numerical guard: the obstacle sum `Σ ln|h_i|²` is taken from the exact split
     /// `|h_i|² = m_i·2^{e_i}`, `m_i ∈ [1, 2)` (the bits of the `f64`), as
-    /// `Σ_blocks ln Π m_i + (Σ e_i)·ln 2`: one logarithm per [`PRODUCT_BLOCK`] = 512 factors
+    /// `Σ_blocks ln Π m_i + (Σ e_i)·ln 2`: one logarithm per `PRODUCT_BLOCK` = 512 factors
     /// instead of one per factor, and no overflow whatever the distances (a block's product
     /// is below `2^512`). The branch-free loop tracks the smallest and largest factor and, if
     /// one is not a normal `f64`, the call falls back to the guarded sum of logarithms of

@@ -319,8 +319,8 @@ impl FloorScenario {
                 }
                 // Relative to the scenario file, as `image` is to the YAML file in map_server.
                 let yaml = path.parent().unwrap_or(Path::new("")).join(map);
-                FloorMap::from_ros_map(&yaml, v(r.start), v(r.goal), &map_options).map_err(
-                    |e| match &e.problem {
+                FloorMap::from_ros_map(&yaml, v(r.start), v(r.goal), &map_options).map_err(|e| {
+                    match &e.problem {
                         MapProblem::Floor(fe) => floor_error(fe.clone()),
                         // A problem of the start or the goal names that field; the map's
                         // own message names the map file.
@@ -337,8 +337,8 @@ impl FloorScenario {
                         ),
                         MapProblem::Unreachable => f("robot.goal", e.to_string()),
                         _ => f("floor_plan.map", e.to_string()),
-                    },
-                )?
+                    }
+                })?
             }
             None if plan.speck_pixels.is_some() || plan.simplify.is_some() => {
                 return Err(f(
