@@ -221,7 +221,7 @@ fn ring_field(e: &DomainError) -> String {
 }
 
 impl FloorScenario {
-    /// Reads, parses and validates a floor-plan scenario (at most [`MAX_FILE_BYTES`]).
+    /// Reads, parses and validates a floor-plan scenario (at most [`crate::MAX_FILE_BYTES`]).
     ///
     /// # Errors
     /// A [`ScenarioError`] naming the file, the field (`floor_plan.holes[1]`, `robot.start`,
