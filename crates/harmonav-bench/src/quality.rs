@@ -16,7 +16,6 @@ use nalgebra::Vector2;
 use harmonav_scenario::{
     ControllerSpec, FieldSpec, Model, Prepared, RobotSpec, Scenario, SensorSpec, ShapeSpec, SimSpec,
 };
-use harmonav_sim::guarantee;
 use harmonav_sim::pool::parallel_map;
 use harmonav_sim::run::run;
 use harmonav_sim::shortest::of_scenario;
@@ -310,10 +309,7 @@ pub fn measure(prepared: &Prepared, shortest: f64) -> Result<Measured, String> {
     }
     Ok(Measured {
         reached: s.reached,
-        guarantees_held: s
-            .guarantees
-            .iter()
-            .all(|g| g.passed || g.kind() == guarantee::Kind::ReachedGoal),
+        guarantees_held: s.safe(),
         collisions: s.collisions,
         path_ratio: path_length(&r) / shortest,
         time: s.time_s,

@@ -31,8 +31,8 @@ pub(crate) struct End {
     pub steps: usize,
     /// Rejected integration steps.
     pub rejected: usize,
-    /// The integrator's name in the summary (`builtin`, `rapier`).
-    pub physics: &'static str,
+    /// The integrator.
+    pub physics: crate::summary::Physics,
 }
 
 /// Guarantee monitors, fed every accepted state.
@@ -308,10 +308,10 @@ impl Monitor {
         Summary {
             name: sc.name.clone(),
             model,
-            physics: physics.into(),
-            k_policy: prepared.k_policy().as_str(),
+            physics,
+            k_policy: prepared.k_policy(),
             damping: match nav.controller() {
-                Controller::Dynamic(law) => Some(law.damping_policy().as_str()),
+                Controller::Dynamic(law) => Some(law.damping_policy()),
                 Controller::Kinematic(_) => None,
             },
             reached,

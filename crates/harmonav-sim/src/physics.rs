@@ -1,37 +1,11 @@
 //! Which integrator moves the robot ([`Physics`]), and the run with the scenario's warnings
 //! ([`simulate`]): what the CLI, the bindings and `cargo xtask verify` call.
 
-use harmonav_scenario::{Model, Prepared};
-use serde::{Deserialize, Serialize};
-
 use crate::run::run_observed;
+pub use crate::summary::Physics;
 use crate::summary::{Run, RunError};
 use crate::trace::Event;
-
-/// Which integrator moves the robot.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Physics {
-    /// The built-in adaptive integrator ([`crate::run::run`]).
-    #[default]
-    Builtin,
-    /// rapier2d, cross-checked against a built-in run of the same model (`rapier::run_rapier`;
-    /// needs the crate's feature `rapier`, else [`RunError::NoRapier`]).
-    Rapier,
-}
-
-impl std::str::FromStr for Physics {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s {
-            "builtin" => Ok(Self::Builtin),
-            "rapier" => Ok(Self::Rapier),
-            other => Err(format!(
-                "unknown physics \"{other}\": expected \"builtin\" or \"rapier\""
-            )),
-        }
-    }
-}
+use harmonav_scenario::{Model, Prepared};
 
 /// Runs the scenario with `model` (or the file's) under `physics`: the built-in run, or the
 /// rapier run with the built-in run as the reference of its deviation guarantee, with the

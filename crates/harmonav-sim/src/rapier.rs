@@ -18,7 +18,7 @@ use rapier2d_f64::prelude::{ColliderBuilder, PhysicsWorld, RigidBodyBuilder, Vec
 use crate::driver::Driver;
 use crate::guarantee::{Check, FreeSpaceLoss, Guarantee};
 use crate::monitor::End;
-use crate::summary::{Run, RunError};
+use crate::summary::{Physics, Run, RunError};
 use crate::trace::{Event, Sample};
 use crate::trajectory::Keep;
 
@@ -259,7 +259,7 @@ pub(crate) fn rapier_observed(
         final_distance: (x - prepared.truth.goal()).norm(),
         steps,
         rejected: 0,
-        physics: "rapier",
+        physics: Physics::Rapier,
     });
     summary.physics_contacts = Some(contacts);
     summary.guarantees.push(Guarantee::new(

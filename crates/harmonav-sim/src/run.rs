@@ -17,7 +17,7 @@ use crate::closed_loop::ClosedLoop;
 use crate::driver::Driver;
 use crate::guarantee::{Check, FreeSpaceLoss, Guarantee};
 use crate::monitor::End;
-use crate::summary::{Run, RunError};
+use crate::summary::{Physics, Run, RunError};
 use crate::trace::Event;
 use crate::trajectory::Keep;
 
@@ -214,7 +214,7 @@ pub fn run_observed(
         final_distance: (pos(&y) - prepared.truth.goal()).norm(),
         steps,
         rejected,
-        physics: "builtin",
+        physics: Physics::Builtin,
     }))
 }
 

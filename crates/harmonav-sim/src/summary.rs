@@ -2,14 +2,41 @@
 //! states, and why a run could not start ([`RunError`]).
 
 use harmonav::NavError;
+use harmonav_control::DampingPolicy;
 use harmonav_field::FieldError;
+use harmonav_field::KPolicy;
 use harmonav_scenario::Model;
-use serde::Serialize;
+use serde::{Deserialize, Serialize, Serializer};
 
-use crate::guarantee::Guarantee;
+use crate::guarantee::{Guarantee, Kind};
 use crate::outcome::Outcome;
 use crate::trace::{Discovery, Sample};
 use crate::warning::Warning;
+
+/// Which integrator moves the robot.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Physics {
+    /// The built-in adaptive integrator ([`crate::run::run`]).
+    #[default]
+    Builtin,
+    /// rapier2d, cross-checked against a built-in run of the same model (`rapier::run_rapier`;
+    /// needs the crate's feature `rapier`, else [`RunError::NoRapier`]).
+    Rapier,
+}
+
+impl std::str::FromStr for Physics {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "builtin" => Ok(Self::Builtin),
+            "rapier" => Ok(Self::Rapier),
+            other => Err(format!(
+                "unknown physics \"{other}\": expected \"builtin\" or \"rapier\""
+            )),
+        }
+    }
+}
 
 /// The summary of a run (`summary.json`).
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -18,12 +45,15 @@ pub struct Summary {
     pub name: String,
     /// `kinematic` or `dynamic`.
     pub model: Model,
-    /// `builtin` (or `rapier`).
-    pub physics: String,
-    /// The `k` policy (`"paper"` or `"auto"`).
-    pub k_policy: &'static str,
-    /// The damping policy of the dynamic law (`None` for the kinematic model).
-    pub damping: Option<&'static str>,
+    /// The integrator that moved the robot (`"builtin"` or `"rapier"` in the file).
+    pub physics: Physics,
+    /// The `k` policy (by its name in the file: `"paper"` or `"auto"`).
+    #[serde(serialize_with = "by_name")]
+    pub k_policy: KPolicy,
+    /// The damping policy of the dynamic law that ran (by its name; `None` for the
+    /// kinematic model).
+    #[serde(serialize_with = "by_name_if_any")]
+    pub damping: Option<DampingPolicy>,
     /// Goal reached within tolerance and time.
     pub reached: bool,
     /// Time at the end of the run, s.
@@ -65,6 +95,36 @@ impl Summary {
     /// Whether every guarantee held.
     pub fn all_passed(&self) -> bool {
         self.guarantees.iter().all(|g| g.passed)
+    }
+
+    /// Whether the run was safe: every guarantee but arrival held (no collision, inside the
+    /// workspace, the speed bound, `V` non-increasing, no overshoot, …). The one "safe"
+    /// predicate of the workspace: the quality benchmark, verify and the tests ask it here.
+    pub fn safe(&self) -> bool {
+        self.first_unsafe().is_none()
+    }
+
+    /// The first guarantee other than arrival that failed (`None` when [`Self::safe`]).
+    pub fn first_unsafe(&self) -> Option<&Guarantee> {
+        self.guarantees
+            .iter()
+            .find(|g| !g.passed && g.kind() != Kind::ReachedGoal)
+    }
+}
+
+/// A policy by its name in the scenario file (`KPolicy`, `DampingPolicy` print their names).
+fn by_name<S: Serializer, T: std::fmt::Display>(policy: &T, s: S) -> Result<S::Ok, S::Error> {
+    s.collect_str(policy)
+}
+
+/// [`by_name`] for an optional policy: `null` when there is none.
+fn by_name_if_any<S: Serializer, T: std::fmt::Display>(
+    policy: &Option<T>,
+    s: S,
+) -> Result<S::Ok, S::Error> {
+    match policy {
+        Some(p) => s.collect_str(p),
+        None => s.serialize_none(),
     }
 }
 

@@ -391,8 +391,22 @@ fn runs_are_deterministic_and_the_kinematic_run_keeps_every_guarantee() {
     assert_eq!(ja, jb, "two runs differ");
     assert_eq!(a.samples, b.samples);
     let s = &a.summary;
-    assert!(s.reached && s.all_passed(), "{ja}");
+    assert!(s.reached && s.all_passed() && s.safe(), "{ja}");
     assert!(s.min_clearance > 0.0 && s.collisions == 0);
+    // The typed policy fields keep summary.json's names (a contract: readers key on them).
+    let v: serde_json::Value = serde_json::from_str(&ja).unwrap();
+    assert_eq!(
+        (&v["physics"], &v["k_policy"], &v["damping"], &v["model"]),
+        (
+            &serde_json::json!("builtin"),
+            &serde_json::json!("auto"),
+            &serde_json::Value::Null,
+            &serde_json::json!("kinematic")
+        )
+    );
+    let dynamic = run(&prepared, Some(Model::Dynamic)).unwrap().summary;
+    let v = serde_json::to_value(&dynamic).unwrap();
+    assert_eq!(v["damping"], serde_json::json!("auto"), "{v}");
     assert!(!s.discoveries.is_empty());
     // Samples on the dt grid (plus discovery instants and the end).
     let dt = prepared.scenario.sim.dt;

@@ -232,31 +232,32 @@ impl NavTransform {
         self.bands.iter().map(|b| b.shape.centre())
     }
 
+    /// The answer of the first slot (in order) for which `answer` is `Some`, among the slots
+    /// whose reach could hold `p`: the direct loop stops at the first; the index visits only
+    /// the slots whose reach holds `p` and keeps the lowest that answers, which is the same
+    /// slot (every slot it skips would answer `None`).
+    fn first_slot<T>(&self, p: Vector2<f64>, answer: impl Fn(usize) -> Option<T>) -> Option<T> {
+        if self.lookup == Lookup::Direct || self.bands.len() < INDEX_MIN {
+            return (0..self.bands.len()).find_map(answer);
+        }
+        let mut first: Option<(usize, T)> = None;
+        self.reaches.near(p, 0.0, |slot| {
+            if first.as_ref().is_none_or(|(s, _)| slot < *s)
+                && let Some(a) = answer(slot)
+            {
+                first = Some((slot, a));
+            }
+        });
+        first.map(|(_, a)| a)
+    }
+
     /// `Phi(x)` with its Jacobian (definition `NavTran`); errors if `x` is not in the free
     /// space of the known obstacles. Allocation-free.
     pub fn nav_transform(&self, x: Vector2<f64>) -> Result<Mapped, NotFree> {
         // The first slot (in order) whose band or obstacle holds x: the direct loop stops at
         // it; the index tests only the slots whose reach could hold x and keeps the lowest
         // that answers, which is the same slot (every slot it skips fails the reach test).
-        let mut first: Option<(usize, Result<Mapped, NotFree>)> = None;
-        match self.lookup {
-            _ if self.lookup == Lookup::Direct || self.bands.len() < INDEX_MIN => {
-                for slot in 0..self.bands.len() {
-                    if let Some(answer) = self.in_band(slot, x) {
-                        first = Some((slot, answer));
-                        break;
-                    }
-                }
-            }
-            _ => self.reaches.near(x, 0.0, |slot| {
-                if first.as_ref().is_none_or(|(s, _)| slot < *s)
-                    && let Some(answer) = self.in_band(slot, x)
-                {
-                    first = Some((slot, answer));
-                }
-            }),
-        }
-        if let Some((_, answer)) = first {
+        if let Some(answer) = self.first_slot(x, |slot| self.in_band(slot, x)) {
             return answer;
         }
         self.outside_bands(x)
@@ -368,25 +369,7 @@ impl NavTransform {
     pub fn inverse(&self, h: Vector2<f64>) -> Option<Vector2<f64>> {
         // The first band in order that holds h (its ν < R + ε ≤ max R + ε: only slots whose
         // reach holds h can), as in `nav_transform`.
-        let mut first: Option<(usize, Option<Vector2<f64>>)> = None;
-        match self.lookup {
-            _ if self.lookup == Lookup::Direct || self.bands.len() < INDEX_MIN => {
-                for slot in 0..self.bands.len() {
-                    if let Some(answer) = self.band_inverse(slot, h) {
-                        first = Some((slot, answer));
-                        break;
-                    }
-                }
-            }
-            _ => self.reaches.near(h, 0.0, |slot| {
-                if first.as_ref().is_none_or(|(s, _)| slot < *s)
-                    && let Some(answer) = self.band_inverse(slot, h)
-                {
-                    first = Some((slot, answer));
-                }
-            }),
-        }
-        if let Some((_, answer)) = first {
+        if let Some(answer) = self.first_slot(h, |slot| self.band_inverse(slot, h)) {
             return answer;
         }
         let c0 = self.outer_centre();

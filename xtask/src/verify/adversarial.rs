@@ -6,7 +6,6 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use harmonav_scenario::{ADVERSARIAL, Scenario};
-use harmonav_sim::guarantee::Kind;
 use harmonav_sim::physics::{Physics, simulate};
 use harmonav_sim::sweep::{random_starts, sweep};
 use serde::Deserialize;
@@ -82,12 +81,9 @@ pub fn checks() -> Vec<Check> {
     }
 }
 
-/// The safety guarantees (everything but arrival and the informational ones) all held.
-fn safe(guarantees: &[harmonav_sim::guarantee::Guarantee]) -> Result<(), String> {
-    match guarantees
-        .iter()
-        .find(|g| !g.passed && g.kind() != Kind::ReachedGoal)
-    {
+/// The safety guarantees (everything but arrival) all held ([`Summary::safe`]).
+fn safe(s: &harmonav_sim::summary::Summary) -> Result<(), String> {
+    match s.first_unsafe() {
         Some(g) => Err(format!("{} failed: {}", g.name(), g.detail())),
         None => Ok(()),
     }
@@ -127,7 +123,7 @@ fn run_case(case: &Case) -> Outcome {
             };
             let r = simulate(&prepared, None, physics).map_err(|e| e.to_string())?;
             let s = &r.summary;
-            safe(&s.guarantees)?;
+            safe(s)?;
             let warned = case
                 .warning
                 .as_ref()
