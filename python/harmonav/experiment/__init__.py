@@ -15,7 +15,7 @@ bar): ``pip install './python[experiment]'``; the Ray engine ``'./python[ray]'``
 
 from .plan import CONFIG_COLUMNS, RESULT_COLUMNS, Plan
 from .records import manifest, read_records
-from .report import report
+from .reporting import report
 from .runner import RunSummary, run
 from .spec import Spec, SpecError, load_spec
 

@@ -40,7 +40,7 @@ def main(argv=None) -> int:
             from .runner import main_run
 
             return main_run(args)
-        from .report import main_report
+        from .reporting import main_report
 
         return main_report(args)
     except SpecError as e:

@@ -200,11 +200,28 @@ def rows_to_table(rows: List[Dict[str, Any]]):
     arrays = {}
     for k in names:
         values = [r.get(k) for r in rows]
-        if k == "warnings":
-            arrays[k] = pa.array(values, type=pa.list_(pa.string()))
-        else:
-            arrays[k] = pa.array(values)
+        arrays[k] = pa.array(values, type=_arrow_type(pa, k, values))
     return pa.table(arrays)
+
+
+def _arrow_type(pa, name: str, values: List[Any]):
+    """The column's type from its Python values (bool, int64, float64 — an int among floats is
+    a float —, string, null), given to pyarrow so that it does not infer it: its inference tries
+    to import optional modules on every call, a millisecond per task."""
+    if name == "warnings":
+        return pa.list_(pa.string())
+    kinds = {type(v) for v in values if v is not None}
+    if not kinds:
+        return pa.null()
+    if kinds == {bool}:
+        return pa.bool_()
+    if kinds == {int}:
+        return pa.int64()
+    if kinds <= {int, float}:
+        return pa.float64()
+    if kinds == {str}:
+        return pa.string()
+    raise TypeError(f"column {name}: values of types {sorted(t.__name__ for t in kinds)}")
 
 
 def execute(task: Task):

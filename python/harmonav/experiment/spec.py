@@ -288,11 +288,11 @@ def _seeds(c: _Checker, value: Any) -> List[int]:
         for key in ("first", "count"):
             if key not in t:
                 raise c.fail(f"worlds.seeds.{key}", "required")
-        first = c.integer(t["first"], "worlds.seeds.first", 0, 2**63)
+        first = c.integer(t["first"], "worlds.seeds.first", 0, 2**63 - 10**7)
         count = c.integer(t["count"], "worlds.seeds.count", 1, 10**7)
         return list(range(first, first + count))
     seeds = [
-        c.integer(v, f"worlds.seeds[{i}]", 0, 2**64 - 1)
+        c.integer(v, f"worlds.seeds[{i}]", 0, 2**63 - 1)
         for i, v in enumerate(c.nonempty_list(value, "worlds.seeds"))
     ]
     return seeds
@@ -315,7 +315,7 @@ def _starts(c: _Checker, value: Any) -> Starts:
             raise c.fail("starts.points", f"{len(pts)} points; at most {MAX_STARTS}")
         return Starts(points=tuple(pts))
     count = c.integer(t["random"], "starts.random", 1, MAX_STARTS)
-    seed = c.integer(t.get("seed", 0), "starts.seed", 0, 2**64 - 1)
+    seed = c.integer(t.get("seed", 0), "starts.seed", 0, 2**63 - 1)
     return Starts(random=count, seed=seed)
 
 

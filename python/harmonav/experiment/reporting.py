@@ -290,7 +290,10 @@ def plot(all_cells: Sequence[Cell], folder: Path) -> List[Path]:
         height = 1.2 + 0.32 * len(all_cells)
         fig, ax = plt.subplots(figsize=(8.0, height))
         shown = [v if v else [math.nan] for v in values]
-        ax.boxplot(shown, vert=False, whis=(0, 90), showfliers=False)
+        try:  # matplotlib ≥ 3.10
+            ax.boxplot(shown, orientation="horizontal", whis=(0, 90), showfliers=False)
+        except TypeError:
+            ax.boxplot(shown, vert=False, whis=(0, 90), showfliers=False)
         ax.set_yticks(range(1, len(labels) + 1), labels, fontsize=7)
         ax.invert_yaxis()
         ax.set_xlabel(xlabel + " (runs that arrived; whiskers: min and p90)")
