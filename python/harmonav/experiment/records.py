@@ -36,8 +36,10 @@ def _fsync_dir(path: Path) -> None:
         os.close(fd)
 
 
-def write_atomically(path: Path, write) -> None:
-    """``write(tmp)`` then rename ``tmp`` to ``path``: the file is whole or absent."""
+def write_atomically(path: Path, write, durable_name: bool = False) -> None:
+    """``write(tmp)``, flushed to disk, then renamed to ``path``: the file is whole or absent,
+    even after a crash. ``durable_name`` also flushes the folder, so that the rename itself
+    survives a crash; a part does without (a lost rename only means its task runs again)."""
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     try:
         write(tmp)
@@ -47,7 +49,8 @@ def write_atomically(path: Path, write) -> None:
     finally:
         if tmp.exists():
             tmp.unlink()
-    _fsync_dir(path.parent)
+    if durable_name:
+        _fsync_dir(path.parent)
 
 
 def write_part(out: Path, task: int, table) -> Path:
@@ -83,15 +86,24 @@ def prepare_out(out: Path, spec: Spec, tasks: int) -> Set[int]:
                 f"--out {out} holds the records of another experiment ({old.get('name')!r}, "
                 "another spec or harmonav version): give another --out, or remove it",
             )
-    elif out.exists() and any(out.iterdir()):
+    elif out.exists() and (
+        any(p.name not in ("spec.toml", PARTS) and not p.name.startswith(".") for p in out.iterdir())
+        or written_tasks(out)
+    ):
+        # Only what a runner killed before its manifest was written may be there: spec.toml,
+        # an empty parts/ and temporary files. Parts without a manifest are nobody's.
         raise SpecError(
             str(spec.path), "", f"--out {out} exists and is not an experiment folder (no {MANIFEST})"
         )
     (out / PARTS).mkdir(parents=True, exist_ok=True)
     if not path.exists():
+        # spec.toml first (rewritten: a runner killed here may have left another spec's copy),
+        # then the manifest, whose presence says the folder is this experiment's.
         text = spec.path.read_text(encoding="utf-8")
         write_atomically(out / "spec.toml", lambda tmp: tmp.write_text(text, encoding="utf-8"))
-        write_atomically(path, lambda tmp: tmp.write_text(json.dumps(manifest, indent=2) + "\n"))
+        write_atomically(
+            path, lambda tmp: tmp.write_text(json.dumps(manifest, indent=2) + "\n"), True
+        )
     for stale in (out / PARTS).glob(".part-*.tmp"):
         stale.unlink()  # a part whose writer was killed: never renamed, never read
     return written_tasks(out)

@@ -140,11 +140,16 @@ def cells(table) -> List[Cell]:
     for r in rows:
         key = _cell_key(r)
         for i, v in enumerate(key):
-            order[i].setdefault(v, len(order[i]))
+            # A policy is ordered among its law's policies (speed or damping).
+            order[i].setdefault((key[2], v) if i == 3 else v, len(order[i]))
         grouped.setdefault(key, []).append(r)
+
+    def rank(k: Tuple, i: int) -> int:
+        return order[i][(k[2], k[3]) if i == 3 else k[i]]
+
     # world, M, law, sensing, k, margin, policy, physics, max time
     sort = (0, 1, 2, 5, 4, 6, 3, 7, 8)
-    keys = sorted(grouped, key=lambda k: tuple(order[i][k[i]] for i in sort))
+    keys = sorted(grouped, key=lambda k: tuple(rank(k, i) for i in sort))
     out = []
     for key in keys:
         runs = grouped[key]
