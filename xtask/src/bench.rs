@@ -18,6 +18,9 @@ use harmonav_scenario::Model;
 
 use crate::quality;
 
+#[path = "bench_many.rs"]
+mod many;
+
 pub struct Options {
     json: bool,
     numpy: bool,
@@ -151,6 +154,9 @@ pub fn run(options: &Options) -> ExitCode {
             put(&format!("observe_scan_event_us_{beams}"), event);
         }
     }
+    if wants("many") {
+        many::figures(&mut put);
+    }
     if wants("montecarlo_runs_per_s") {
         put("montecarlo_runs_per_s", montecarlo_runs_per_s());
     }
@@ -243,7 +249,7 @@ fn setup(m: usize, n: usize) -> (PointWorld, Vec<f64>, Vec<f64>) {
 }
 
 /// Median over `samples` runs of `f`, each run timed as a whole, divided by `per_run`.
-fn median_ns(samples: usize, per_run: f64, mut f: impl FnMut()) -> f64 {
+pub(crate) fn median_ns(samples: usize, per_run: f64, mut f: impl FnMut()) -> f64 {
     f(); // warm up
     let mut times: Vec<f64> = (0..samples)
         .map(|_| {

@@ -40,57 +40,12 @@ pub enum DampingPolicy {
     Auto,
 }
 
-impl DampingPolicy {
-    /// Every policy, for reports and sweeps.
-    pub const ALL: [DampingPolicy; 3] = [
-        DampingPolicy::Paper,
-        DampingPolicy::Shaped,
-        DampingPolicy::Auto,
-    ];
-
-    /// The name used in scenario files, the CLI and JSON (`"paper"`, `"shaped"`, `"auto"`).
-    #[must_use]
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Self::Paper => "paper",
-            Self::Shaped => "shaped",
-            Self::Auto => "auto",
-        }
-    }
-}
-
-impl std::fmt::Display for DampingPolicy {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.as_str())
-    }
-}
-
-/// A name that is not a [`DampingPolicy`].
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct UnknownDampingPolicy(pub String);
-
-impl std::fmt::Display for UnknownDampingPolicy {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "unknown damping policy \"{}\": expected \"paper\", \"shaped\" or \"auto\"",
-            self.0
-        )
-    }
-}
-
-impl std::error::Error for UnknownDampingPolicy {}
-
-impl std::str::FromStr for DampingPolicy {
-    type Err = UnknownDampingPolicy;
-
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        Self::ALL
-            .into_iter()
-            .find(|p| p.as_str() == s)
-            .ok_or_else(|| UnknownDampingPolicy(s.to_string()))
-    }
-}
+harmonav_potential::named_policy!(
+    DampingPolicy,
+    UnknownDampingPolicy,
+    "damping policy",
+    [Paper => "paper", Shaped => "shaped", Auto => "auto"]
+);
 
 /// Which branch of the damping is in force.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -16,6 +16,10 @@
 //!   it; the default [`DampingPolicy::Auto`] does the same on `Θ_s = sigma(phi − s)`, free of
 //!   the world's scale ([`Dynamic::scale_shift`]).
 //!
+//! [`checks`] measures the laws' properties (corollary `critdamp` at the goal, eq.
+//! `totalenergy` and corollary `boundedvel` along the closed loop, eq. `kinctrl`'s decrease of
+//! `Θ`) for this crate's tests and `cargo xtask verify`.
+//!
 //! ```
 //! use std::sync::Arc;
 //! use harmonav_control::{Branch, DampingPolicy, Dynamic, Kinematic, SpeedPolicy};
@@ -53,6 +57,7 @@
 
 #![warn(missing_docs)]
 
+pub mod checks;
 mod damping;
 mod laws;
 mod speed;

@@ -44,52 +44,12 @@ pub enum SpeedPolicy {
     Auto,
 }
 
-impl SpeedPolicy {
-    /// Every policy, for reports and sweeps.
-    pub const ALL: [SpeedPolicy; 2] = [SpeedPolicy::Paper, SpeedPolicy::Auto];
-
-    /// The name used in scenario files, the CLI and JSON (`"paper"`, `"auto"`).
-    #[must_use]
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Self::Paper => "paper",
-            Self::Auto => "auto",
-        }
-    }
-}
-
-impl std::fmt::Display for SpeedPolicy {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.as_str())
-    }
-}
-
-/// A name that is not a [`SpeedPolicy`].
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct UnknownSpeedPolicy(pub String);
-
-impl std::fmt::Display for UnknownSpeedPolicy {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "unknown speed policy \"{}\": expected \"paper\" or \"auto\"",
-            self.0
-        )
-    }
-}
-
-impl std::error::Error for UnknownSpeedPolicy {}
-
-impl std::str::FromStr for SpeedPolicy {
-    type Err = UnknownSpeedPolicy;
-
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        Self::ALL
-            .into_iter()
-            .find(|p| p.as_str() == s)
-            .ok_or_else(|| UnknownSpeedPolicy(s.to_string()))
-    }
-}
+harmonav_potential::named_policy!(
+    SpeedPolicy,
+    UnknownSpeedPolicy,
+    "speed policy",
+    [Paper => "paper", Auto => "auto"]
+);
 
 #[cfg(test)]
 mod tests {

@@ -2,11 +2,11 @@
 
 use std::sync::Arc;
 
+use harmonav_control::checks::{energy_run, goal_damping, theta_rate};
 use harmonav_control::{
     BRAKING_TIME, Branch, DampingPolicy, Dynamic, Kinematic, SpeedPolicy, UPHILL_GAIN,
 };
 use harmonav_field::Field;
-use harmonav_potential::checks::fd_jacobian;
 use harmonav_transform::random::{self, Kind, Rng};
 use harmonav_transform::{StarShape, Workspace};
 use nalgebra::{Matrix2, Matrix4, Vector2};
@@ -22,7 +22,8 @@ fn world(seed: u64) -> (Field, Rng) {
 
 /// Corollary critdamp: the closed loop linearised at the goal, with the Hessian of the law's
 /// potential (Θ, or Ψ under "auto") taken by finite differences of its gradient (independent of
-/// the closed form), has damping ratio 1: a double real eigenvalue per direction.
+/// the closed form, `checks::goal_damping`), has damping ratio 1: a double real eigenvalue per
+/// direction.
 #[test]
 fn critical_damping_at_the_goal() {
     for seed in 0..40 {
@@ -30,23 +31,19 @@ fn critical_damping_at_the_goal() {
         let law = Dynamic::new(1.0 + seed as f64 * 0.1, 10.0, 0.05)
             .unwrap()
             .with_damping(DampingPolicy::ALL[seed as usize % 3]);
-        let xd = field.workspace().destination();
-        let h = 1e-5;
-        let g = |x: Vector2<f64>| law.potential(&field, &field.eval(x).unwrap()).gradient;
-        let hess = fd_jacobian(g, xd, h);
-        let (m, mu, lc) = (law.mass(), law.mu(), law.lambda_c(&field));
-        for eig in hess.symmetric_eigenvalues().iter() {
-            let zeta = lc / (2.0 * (m * mu * eig).sqrt());
-            assert!(
-                (zeta - 1.0).abs() < 1e-6,
-                "seed {seed}: damping ratio {zeta}"
-            );
-        }
+        let g = goal_damping(&field, &law).unwrap();
+        assert!(
+            g.worst_deviation() < 1e-6,
+            "seed {seed}: damping ratios {:?}",
+            g.zeta
+        );
         // The 4×4 closed-loop matrix has the double eigenvalue −λ_c/(2m).
+        let (m, mu, lc) = (law.mass(), law.mu(), g.lambda_c);
         let mut a = Matrix4::zeros();
         a.fixed_view_mut::<2, 2>(0, 2)
             .copy_from(&Matrix2::identity());
-        a.fixed_view_mut::<2, 2>(2, 0).copy_from(&(-mu / m * hess));
+        a.fixed_view_mut::<2, 2>(2, 0)
+            .copy_from(&(-mu / m * g.hessian));
         a.fixed_view_mut::<2, 2>(2, 2)
             .copy_from(&(-lc / m * Matrix2::identity()));
         let target = -lc / (2.0 * m);
@@ -60,49 +57,27 @@ fn critical_damping_at_the_goal() {
 }
 
 /// Eq. (totalenergy): between discoveries V = μΘ + ½m|ẋ|² does not increase along the closed
-/// loop (V̇ = −λ|ẋ|²), and the speed stays below √(2μ/m), under either damping policy.
+/// loop (V̇ = −λ|ẋ|², RK4 by `checks::energy_run`), and the speed stays below √(2μ/m), under
+/// every damping policy.
 #[test]
 fn energy_decreases_and_speed_is_bounded() {
     for seed in 0..20 {
         let (field, mut rng) = world(100 + seed);
         let policy = DampingPolicy::ALL[seed as usize % 3];
         let law = Dynamic::new(1.0, 10.0, 0.05).unwrap().with_damping(policy);
-        let mut x = random::free_point(&mut rng, field.workspace(), 0.2);
-        let mut v = Vector2::zeros();
-        let accel = |x: Vector2<f64>, v: Vector2<f64>| {
-            let e = field.eval(x).unwrap();
-            law.force(&field, &e, v, &law.damping(&field, &e, v, 0.0)) / law.mass()
-        };
-        let energy =
-            |x: Vector2<f64>, v: Vector2<f64>| law.energy(&field, &field.eval(x).unwrap(), v);
-        let mut last = energy(x, v);
-        let dt = 1e-3;
-        for _ in 0..3000 {
-            // Classical RK4 on (x, v).
-            let (k1x, k1v) = (v, accel(x, v));
-            let (k2x, k2v) = (
-                v + 0.5 * dt * k1v,
-                accel(x + 0.5 * dt * k1x, v + 0.5 * dt * k1v),
-            );
-            let (k3x, k3v) = (
-                v + 0.5 * dt * k2v,
-                accel(x + 0.5 * dt * k2x, v + 0.5 * dt * k2v),
-            );
-            let (k4x, k4v) = (v + dt * k3v, accel(x + dt * k3x, v + dt * k3v));
-            x += dt / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x);
-            v += dt / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
-            let now = energy(x, v);
-            assert!(
-                now <= last + 1e-9 * last.max(1e-3),
-                "seed {seed} ({policy}): V rose from {last} to {now}"
-            );
-            assert!(v.norm() < law.speed_bound());
-            last = now;
-        }
+        let start = random::free_point(&mut rng, field.workspace(), 0.2);
+        let run = energy_run(&field, &law, start, 1e-3, 3000).unwrap();
+        assert!(
+            run.worst_rise <= 1e-9,
+            "seed {seed} ({policy}): V rose by {:e} of itself",
+            run.worst_rise
+        );
+        assert!(run.max_speed < law.speed_bound(), "{}", run.max_speed);
     }
 }
 
-/// Eq. (kinctrl): dΘ/dt = ∇Θ·u = −K√(2Θ)|∇Θ| ≤ 0, also by a finite step along u.
+/// Eq. (kinctrl): dΘ/dt = ∇Θ·u = −K√(2Θ)|∇Θ| ≤ 0 (`checks::theta_rate`), also by a finite
+/// step along u.
 #[test]
 fn kinematic_law_decreases_theta() {
     let law = Kinematic::new(1.5).unwrap().with_speed(SpeedPolicy::Paper);
@@ -110,17 +85,14 @@ fn kinematic_law_decreases_theta() {
         let (field, mut rng) = world(200 + seed);
         for _ in 0..20 {
             let x = random::free_point(&mut rng, field.workspace(), 0.05);
-            let e = field.eval(x).unwrap();
-            let to_goal = (x - field.workspace().destination()).norm();
-            let u = law.velocity(&e, to_goal);
-            let rate = e.gradient.dot(&u);
-            let expected = -1.5 * (2.0 * e.value).sqrt() * e.gradient.norm();
-            assert!(rate <= 0.0 && (rate - expected).abs() <= 1e-12 * expected.abs().max(1e-300));
+            let r = theta_rate(&field, &law, x).unwrap();
+            assert!(r.rate <= 0.0 && r.relative_error() <= 1e-12, "{r:?}");
             let dt = 1e-7;
-            let fd = (field.eval(x + dt * u).unwrap().value - e.value) / dt;
+            let fd = (field.eval(x + dt * r.velocity).unwrap().value - r.eval.value) / dt;
             assert!(
-                (fd - rate).abs() <= 1e-4 * rate.abs() + 1e-12,
-                "fd {fd} vs {rate}"
+                (fd - r.rate).abs() <= 1e-4 * r.rate.abs() + 1e-12,
+                "fd {fd} vs {}",
+                r.rate
             );
         }
         // At the goal the command is zero.

@@ -109,10 +109,19 @@ impl Field {
         known: impl IntoIterator<Item = usize>,
         policy: KPolicy,
     ) -> Result<Self, FieldError> {
+        // First occurrences, in order: O(n) with a seen-flag per obstacle (was O(n²)).
+        let mut seen = vec![false; workspace.obstacles().len()];
         let mut ids: Vec<usize> = Vec::new();
         for i in known {
-            if !ids.contains(&i) {
-                ids.push(i);
+            match seen.get_mut(i) {
+                Some(s) if *s => {}
+                Some(s) => {
+                    *s = true;
+                    ids.push(i);
+                }
+                // Out of range: `build` reports it (NoSuchObstacle); keep the first of each.
+                None if !ids.contains(&i) => ids.push(i),
+                None => {}
             }
         }
         let (transform, world) = build(&workspace, &ids, policy)?;

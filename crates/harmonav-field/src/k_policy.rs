@@ -55,9 +55,6 @@ pub fn layer_ratio(ws: &Workspace, transform: &NavTransform) -> f64 {
 }
 
 impl KPolicy {
-    /// Every policy, for reports and sweeps.
-    pub const ALL: [KPolicy; 2] = [KPolicy::Paper, KPolicy::Auto];
-
     /// `k` for `n` known obstacles whose [`layer_ratio`] is `layer`; always `> n`. A `layer`
     /// that is not finite is ignored (the `n` term alone).
     #[must_use]
@@ -76,49 +73,14 @@ impl KPolicy {
     pub fn k(self, n: usize) -> f64 {
         self.k_for(n, 0.0)
     }
-
-    /// The name used in scenario files, the CLI and JSON (`"paper"`, `"auto"`).
-    #[must_use]
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Self::Paper => "paper",
-            Self::Auto => "auto",
-        }
-    }
 }
 
-impl std::fmt::Display for KPolicy {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.as_str())
-    }
-}
-
-/// A name that is not a [`KPolicy`].
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct UnknownKPolicy(pub String);
-
-impl std::fmt::Display for UnknownKPolicy {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "unknown k policy \"{}\": expected \"paper\" or \"auto\"",
-            self.0
-        )
-    }
-}
-
-impl std::error::Error for UnknownKPolicy {}
-
-impl std::str::FromStr for KPolicy {
-    type Err = UnknownKPolicy;
-
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        Self::ALL
-            .into_iter()
-            .find(|p| p.as_str() == s)
-            .ok_or_else(|| UnknownKPolicy(s.to_string()))
-    }
-}
+harmonav_potential::named_policy!(
+    KPolicy,
+    UnknownKPolicy,
+    "k policy",
+    [Paper => "paper", Auto => "auto"]
+);
 
 #[cfg(test)]
 mod tests {

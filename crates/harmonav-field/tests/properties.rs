@@ -2,10 +2,10 @@
 
 use std::sync::Arc;
 
+use harmonav_field::checks::{self, near_boundaries};
 use harmonav_field::{CriticalType, Field, KPolicy};
-use harmonav_potential::checks::{fd_gradient, fd_jacobian};
+use harmonav_transform::Active;
 use harmonav_transform::random::{self, Kind, Rng};
-use harmonav_transform::{Active, Workspace};
 use nalgebra::Vector2;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
@@ -38,24 +38,11 @@ fn world_with(seed: u64, policy: KPolicy) -> (Field, Rng) {
     )
 }
 
-/// Points at distance `d` outside each known obstacle boundary and inside the outer boundary.
-fn near_boundaries(ws: &Workspace, th: f64, d: f64) -> Vec<Vector2<f64>> {
-    let u = Vector2::new(th.cos(), th.sin());
-    let mut pts: Vec<_> = ws
-        .obstacles()
-        .iter()
-        .map(|o| o.centre() + (o.radius(th).0 + d) * u)
-        .collect();
-    let b = ws.boundary();
-    pts.push(b.centre() + (b.radius(th).0 - d) * u);
-    pts
-}
-
 proptest! {
     #![proptest_config(config(2500))]
 
     /// det J_Phi > 0 at random free points and within 1e-9 of every boundary; Phi⁻¹∘Phi = id
-    /// (hence Phi injective on the samples); Θ finite in [0, 1].
+    /// (hence Phi injective on the samples); Θ finite in [0, 1] (`checks::{sample, round_trip}`).
     #[test]
     fn phi_is_a_diffeomorphism_on_samples(seed in any::<u64>(), th in -3.1..3.1f64) {
         let (field, mut rng) = world(seed);
@@ -64,37 +51,29 @@ proptest! {
         let n_near = near.len();
         let mut pts = near;
         pts.extend((0..8).map(|_| random::free_point(&mut rng, ws, 1e-3)));
+        let fail = |e: checks::Failure| TestCaseError::fail(e.to_string());
         for (i, x) in pts.into_iter().enumerate() {
-            let m = field.transform().nav_transform(x).map_err(|e| TestCaseError::fail(format!("{e:?} at {x:?}")))?;
-            let det = m.jacobian.determinant();
-            prop_assert!(det > 0.0 && det.is_finite(), "det J = {det} at {x:?}");
-            // Round trip: 1e-9 from a boundary h = P_i + ν u with ν ~ 1e-9 carries only
-            // ~7 significant digits of u (pitfall C), so the check is for interior samples.
+            let s = checks::sample(&field, x).map_err(fail)?;
+            prop_assert!(s.orientation_preserving(), "det J = {} at {x:?}", s.det);
+            prop_assert!(s.is_sound(), "{:?} at {x:?}", s.eval);
+            // Round trip: for interior samples only (see `checks::round_trip`).
             if i >= n_near {
-                let back = field.transform().inverse(m.h).unwrap();
-                prop_assert!((back - x).norm() <= 1e-8 * (1.0 + x.norm()), "round trip {x:?} → {back:?}");
+                let trip = checks::round_trip(&field, x).map_err(fail)?;
+                prop_assert!(trip <= 1e-8 * (1.0 + x.norm()), "round trip {x:?}: {trip:e}");
             }
-            let e = field.eval(x).unwrap();
-            prop_assert!((0.0..=1.0).contains(&e.value) && e.phi.is_finite());
-            prop_assert!(e.gradient.iter().all(|g| g.is_finite()));
-            prop_assert!(e.direction.is_some_and(|d| (d.norm() - 1.0).abs() < 1e-12));
         }
     }
 
-    /// J_Phi and ∇Θ against central differences at random free points.
+    /// J_Phi and ∇Θ against central differences at random free points (`checks::fd_errors`).
     #[test]
     fn jacobian_and_gradient_match_finite_differences(seed in any::<u64>()) {
         let (field, mut rng) = world(seed);
         for _ in 0..4 {
             let x = random::free_point(&mut rng, field.workspace(), 0.02);
+            let fd = checks::fd_errors(&field, x).map_err(|e| TestCaseError::fail(e.to_string()))?;
+            prop_assert!(fd.jacobian <= 1e-5, "J − FD: {:e} of |J| at {x:?}", fd.jacobian);
+            prop_assert!(fd.gradient <= 1e-5 * fd.gradient_norm + 1e-9, "∇Θ − FD: {:e}, |∇Θ| = {:e}", fd.gradient, fd.gradient_norm);
             let m = field.transform().nav_transform(x).unwrap();
-            let h = 1e-7;
-            let fd = fd_jacobian(|y| field.transform().nav_transform(y).unwrap().h, x, h);
-            prop_assert!((m.jacobian - fd).norm() <= 1e-5 * m.jacobian.norm(), "J = {}, fd = {fd}", m.jacobian);
-            let e = field.eval(x).unwrap();
-            let v = |y: Vector2<f64>| field.eval(y).unwrap().value;
-            let g = fd_gradient(v, x, h);
-            prop_assert!((e.gradient - g).norm() <= 1e-5 * e.gradient.norm() + 1e-9, "∇Θ = {:?}, fd = {g:?}", e.gradient);
             if matches!(m.active, Active::Identity) {
                 prop_assert_eq!(m.h, x);
             }
@@ -102,27 +81,24 @@ proptest! {
     }
 
     /// Θ(x_d) = 0; Θ → 1 at every obstacle boundary and at the outer boundary, under both k
-    /// policies. At an obstacle `phi_k = logit Θ` grows as `−(2/k)·ln δ` (δ the distance), so
-    /// with the paper's `k = n + 1` Θ is above 0.85 at 1e-12, with `k = "auto"` it gets there
-    /// only much closer (docs/maths.md §8).
+    /// policies (`checks::limits`). At an obstacle `phi_k = logit Θ` grows as `−(2/k)·ln δ` (δ
+    /// the distance), so with the paper's `k = n + 1` Θ is above 0.85 at 1e-12, with
+    /// `k = "auto"` it gets there only much closer (docs/maths.md §8).
     #[test]
     fn theta_is_zero_at_the_goal_and_one_on_the_boundaries(seed in any::<u64>(), th in -3.1..3.1f64) {
         for policy in KPolicy::ALL {
             let (field, _) = world_with(seed, policy);
-            let ws = field.workspace();
-            prop_assert_eq!(field.eval(ws.destination()).unwrap().value, 0.0);
-            let far = near_boundaries(ws, th, 1e-3);
-            let mid = near_boundaries(ws, th, 1e-6);
-            let near = near_boundaries(ws, th, 1e-12);
-            for (i, ((a, b), c)) in far.iter().zip(&mid).zip(&near).enumerate() {
-                let (ea, eb, ec) = (field.eval(*a).unwrap(), field.eval(*b).unwrap(), field.eval(*c).unwrap());
-                let (va, vb, vc) = (ea.value, eb.value, ec.value);
-                prop_assert!(va < vb && vb < vc, "{policy}: not increasing towards the boundary: {va} {vb} {vc}");
+            let fail = |e: checks::Failure| TestCaseError::fail(e.to_string());
+            let outer = checks::limits(&field, th, 1e-3, 1e-6).map_err(fail)?;
+            let inner = checks::limits(&field, th, 1e-6, 1e-12).map_err(fail)?;
+            prop_assert_eq!(outer.at_goal, 0.0);
+            for (a, b) in outer.approaches.iter().zip(&inner.approaches) {
+                let (va, vb, vc) = (a.theta_far, b.theta_far, b.theta_near);
+                prop_assert!(a.rises() && b.rises(), "{policy}: not increasing towards the boundary: {va} {vb} {vc}");
                 if policy == KPolicy::Paper {
                     prop_assert!(vc > 0.85, "Θ = {vc} at 1e-12 from a boundary");
                 }
-                if i < ws.obstacles().len() {
-                    let rise = (ec.phi - eb.phi) / (2.0 / field.k() * 1e6f64.ln());
+                if let Some(rise) = b.rise {
                     prop_assert!((rise - 1.0).abs() < 1e-2, "{policy}: phi_k rose {rise} × (2/k)·ln 1e6");
                 }
             }
@@ -130,18 +106,17 @@ proptest! {
     }
 
     /// theorem isNF: the critical points of Θ are the destination (a minimum) and M saddles
-    /// (pulled back from the point world), each a zero of ∇Θ with index −1 (winding number of
-    /// the descent direction along a small circle).
+    /// (pulled back from the point world), each a zero of ∇Θ (`checks::critical_points`) with
+    /// index −1 (winding number of the descent direction along a small circle).
     #[test]
     fn critical_points_are_one_minimum_and_m_saddles(seed in any::<u64>()) {
         let (field, _) = world(seed);
+        let census = checks::critical_points(&field).map_err(|e| TestCaseError::fail(e.to_string()))?;
+        prop_assert_eq!(census.saddles, census.obstacles);
+        prop_assert_eq!(census.minimum, field.workspace().destination());
+        prop_assert!(census.worst_gradient_ratio < 1e-4, "|∇Θ| at a saddle: {:e} of its value nearby", census.worst_gradient_ratio);
         let cps = field.critical_points();
-        let m = field.known().len();
-        let saddles: usize = cps.iter().filter_map(|c| c.point_world.map(|p| p.multiplicity)).sum();
-        prop_assert_eq!(saddles, m);
-        prop_assert_eq!(cps[0].x, field.workspace().destination());
         for c in &cps[1..] {
-            let e = field.eval(c.x).map_err(|e| TestCaseError::fail(format!("{e} at {:?}", c.x)))?;
             let r = 1e-4;
             let mut turn = 0.0;
             let n = 256;
@@ -160,7 +135,7 @@ proptest! {
                 prev = next;
             }
             let index = (turn / std::f64::consts::TAU).round() as i64;
-            prop_assert_eq!(index, -(c.point_world.unwrap().multiplicity as i64), "at {:?}, Θ = {}", c.x, e.value);
+            prop_assert_eq!(index, -(c.point_world.unwrap().multiplicity as i64), "at {:?}", c.x);
         }
     }
 }

@@ -13,7 +13,7 @@
 use nalgebra::Vector2;
 
 use crate::error::PotentialError;
-use crate::world::PointWorld;
+use crate::world::{PRODUCT_BLOCK, PointWorld, split};
 
 /// Number of query points per chunk: the accumulators (2 × 64 f64 = 1 KiB) stay in L1.
 pub const CHUNK: usize = 64;
@@ -133,9 +133,9 @@ impl BatchGradient {
 
 impl PointWorld {
     /// [`PointWorld::phi_and_grad`] (without an exact offset) at many points: `out[n]` is
-    /// `Some((phi_k, ∇phi_k))` at `hs[n]` where the one-logarithm fast path applies, bit for
+    /// `Some((phi_k, ∇phi_k))` at `hs[n]` where the fast path (one logarithm per 512 factors) applies, bit for
     /// bit what `phi_and_grad(hs[n], None)` returns, and `None` where it does not (a factor
-    /// `|h − P_i|²` outside `[1/B, B]`, `h` at or extremely near `P_d`, or a non-finite `h`):
+    /// `|h − P_i|²` that is not a normal `f64`, `h` at or extremely near `P_d`, or a non-finite `h`):
     /// the caller then takes the guarded scalar path for that point.
     ///
     /// Points are processed in chunks of [`CHUNK`] in structure-of-arrays form with the
@@ -154,7 +154,6 @@ impl PointWorld {
                 lengths: [hs.len(), hs.len(), out.len(), out.len()],
             });
         }
-        let bound = self.product_bound();
         let (k, k2) = (self.k(), 2.0 / self.k());
         let d = self.destination();
         for (hs, out) in hs.chunks(CHUNK).zip(out.chunks_mut(CHUNK)) {
@@ -167,27 +166,39 @@ impl PointWorld {
             }
             let mut gx = [0.0f64; CHUNK];
             let mut gy = [0.0f64; CHUNK];
-            let mut prod = [1.0f64; CHUNK];
+            let mut ln_prod = [0.0f64; CHUNK];
+            let mut exponent = [0i64; CHUNK];
             let mut lo = [f64::INFINITY; CHUNK];
             let mut hi = [0.0f64; CHUNK];
-            for p in self.obstacles() {
-                for i in 0..CHUNK {
-                    let (vx, vy) = (hx[i] - p.x, hy[i] - p.y);
-                    let r2 = vx * vx + vy * vy;
-                    let inv = 1.0 / r2;
-                    gx[i] += vx * inv;
-                    gy[i] += vy * inv;
-                    prod[i] *= r2;
-                    lo[i] = lo[i].min(r2);
-                    hi[i] = hi[i].max(r2);
+            // The blocks, the split and the order of the sums are those of `phi_and_grad`.
+            for block in self.obstacles().chunks(PRODUCT_BLOCK) {
+                let mut prod = [1.0f64; CHUNK];
+                for p in block {
+                    for i in 0..CHUNK {
+                        let (vx, vy) = (hx[i] - p.x, hy[i] - p.y);
+                        let r2 = vx * vx + vy * vy;
+                        let inv = 1.0 / r2;
+                        gx[i] += vx * inv;
+                        gy[i] += vy * inv;
+                        let (m, e) = split(r2);
+                        prod[i] *= m;
+                        exponent[i] += e;
+                        lo[i] = lo[i].min(r2);
+                        hi[i] = hi[i].max(r2);
+                    }
+                }
+                for i in 0..len {
+                    ln_prod[i] += prod[i].ln();
                 }
             }
             for i in 0..len {
                 let (vx, vy) = (hx[i] - d.x, hy[i] - d.y);
                 let rd2 = vx * vx + vy * vy;
-                // The guard of `phi_and_grad`: every factor in [1/B, B] and |h − P_d|² normal.
-                out[i] = (lo[i] >= bound.recip() && hi[i] <= bound && rd2.is_normal()).then(|| {
-                    let phi = rd2.ln() - prod[i].ln() / k;
+                // The guard of `phi_and_grad`: every factor and |h − P_d|² normal.
+                let normal = lo[i] >= f64::MIN_POSITIVE && hi[i] <= f64::MAX;
+                out[i] = (normal && rd2.is_normal()).then(|| {
+                    let ln_sum = ln_prod[i] + exponent[i] as f64 * std::f64::consts::LN_2;
+                    let phi = rd2.ln() - ln_sum / k;
                     let g = Vector2::new(2.0 * vx / rd2 - k2 * gx[i], 2.0 * vy / rd2 - k2 * gy[i]);
                     (phi, g)
                 });

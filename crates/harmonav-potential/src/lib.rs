@@ -49,6 +49,7 @@ pub mod batch;
 pub mod checks;
 pub mod critical;
 mod error;
+pub mod named;
 pub mod sigma;
 pub mod terms;
 pub mod world;

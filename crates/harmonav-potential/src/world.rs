@@ -16,8 +16,24 @@ pub struct PointWorld {
     destination: Vector2<f64>,
     obstacles: Vec<Vector2<f64>>,
     k: f64,
-    /// `B = 10^{300/M}`: a product of `M` factors in `[1/B, B]` stays finite and normal.
-    product_bound: f64,
+}
+
+/// The obstacle terms of the fast path are multiplied in blocks of this many mantissas
+/// (each in `[1, 2)`, so a block's product is below `2^512`: finite), one logarithm a block.
+pub(crate) const PRODUCT_BLOCK: usize = 512;
+
+/// `|v|² = m·2^e` with `m ∈ [1, 2)`, exactly, for a normal `|v|²` (the bits of the `f64`: no
+/// rounding). For 0, a subnormal, `∞` or NaN the pair is meaningless; the callers check that
+/// every factor was normal before they use it.
+#[inline(always)]
+pub(crate) fn split(r2: f64) -> (f64, i64) {
+    const MANTISSA: u64 = (1 << 52) - 1;
+    const ONE: u64 = 1023 << 52;
+    let bits = r2.to_bits();
+    (
+        f64::from_bits((bits & MANTISSA) | ONE),
+        ((bits >> 52) & 0x7ff) as i64 - 1023,
+    )
 }
 
 impl PointWorld {
@@ -40,20 +56,34 @@ impl PointWorld {
             if *p == destination {
                 return Err(PotentialError::ObstacleAtDestination { index: i });
             }
-            if let Some(j) = obstacles[..i].iter().position(|q| q == p) {
-                return Err(PotentialError::DuplicateObstacle {
-                    first: j,
-                    second: i,
-                });
+        }
+        // Duplicates by sorting (O(M log M); was a scan of every earlier point): the reported
+        // pair is the direct scan's, the smallest `second` with an equal earlier point and its
+        // first occurrence (`==` on finite coordinates: −0 equals 0).
+        let mut order: Vec<usize> = (0..obstacles.len()).collect();
+        let key = |i: &usize| (obstacles[*i].x + 0.0, obstacles[*i].y + 0.0, *i);
+        order.sort_unstable_by(|a, b| {
+            let (a, b) = (key(a), key(b));
+            a.0.total_cmp(&b.0)
+                .then(a.1.total_cmp(&b.1))
+                .then(a.2.cmp(&b.2))
+        });
+        let mut worst: Option<(usize, usize)> = None;
+        for run in order.chunk_by(|&a, &b| obstacles[a] == obstacles[b]) {
+            if let [first, second, ..] = *run
+                && worst.is_none_or(|(_, s)| second < s)
+            {
+                worst = Some((first, second));
             }
         }
+        if let Some((first, second)) = worst {
+            return Err(PotentialError::DuplicateObstacle { first, second });
+        }
         let k = obstacles.len() as f64 + 1.0;
-        let product_bound = 10f64.powf(300.0 / obstacles.len().max(1) as f64).min(1e150);
         Ok(Self {
             destination,
             obstacles,
             k,
-            product_bound,
         })
     }
 
@@ -104,23 +134,24 @@ impl PointWorld {
         ln_norm2(h - self.destination) - obstacles / self.k
     }
 
-    /// `B = 10^{300/M}` (at most 1e150): the fast path of [`Self::phi_and_grad`] multiplies
-    /// factors `|h − P_i|²` in `[1/B, B]` only, so that their product stays a normal `f64`.
-    pub(crate) fn product_bound(&self) -> f64 {
-        self.product_bound
-    }
-
     /// `phi_k(h)` and `∇phi_k(h)` together (eq. `gradient`), for the per-step hot path.
     ///
     /// `exact` optionally gives the offset `h − P_i` of one obstacle point exactly, for when
     /// `h` was formed as `P_i + ν u` with tiny `ν` (maths.md §4, pitfall C: subtracting `P_i`
     /// again would lose the direction).
     ///
-    /// Numerical guard: the obstacle sum `Σ ln|h_i|²` is taken as the logarithm of the product
-    /// of the `|h_i|²` (one logarithm instead of `M`), which is safe when every factor lies in
-    /// `[1/B, B]` with `B = 10^{300/M}`; the branch-free loop tracks the smallest and largest
-    /// factor and, if one is outside, the call falls back to the guarded sum of logarithms of
-    /// [`Self::phi_k`] and [`Self::grad_phi_k`]. Agrees with them to rounding (tested).
+    /// Numerical guard: the obstacle sum `Σ ln|h_i|²` is taken from the exact split
+    /// `|h_i|² = m_i·2^{e_i}`, `m_i ∈ [1, 2)` (the bits of the `f64`), as
+    /// `Σ_blocks ln Π m_i + (Σ e_i)·ln 2`: one logarithm per `PRODUCT_BLOCK` = 512 factors
+    /// instead of one per factor, and no overflow whatever the distances (a block's product
+    /// is below `2^512`). The branch-free loop tracks the smallest and largest factor and, if
+    /// one is not a normal `f64`, the call falls back to the guarded sum of logarithms of
+    /// [`Self::phi_k`] and [`Self::grad_phi_k`]. Agrees with them to rounding: each block's
+    /// product carries a relative error of at most `512·ε/2`, so `|Δ ln_sum| ≤ M·ε/2 +
+    /// ε·|Σ e_i|·ln 2` (tested, docs/maths.md §14). Before (until 2026-12), one product of
+    /// the `|h_i|²` themselves was taken only while every factor lay in `[10^{−300/M},
+    /// 10^{300/M}]`: at `M = 1 000` in a 100 m world that is `[0.5, 2]`, never met, and every
+    /// call paid `M` logarithms (12 µs).
     pub fn phi_and_grad(
         &self,
         h: Vector2<f64>,
@@ -130,32 +161,46 @@ impl PointWorld {
             Some((j, _)) => (&self.obstacles[..j], &self.obstacles[j + 1..]),
             None => (&self.obstacles[..], &self.obstacles[..0]),
         };
-        let (mut gx, mut gy, mut prod) = (0.0, 0.0, 1.0f64);
+        let (mut gx, mut gy, mut ln_prod, mut exponent) = (0.0, 0.0, 0.0, 0i64);
         let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
-        for p in before.iter().chain(after) {
-            let (vx, vy) = (h.x - p.x, h.y - p.y);
-            let r2 = vx * vx + vy * vy;
-            let inv = 1.0 / r2;
-            gx += vx * inv;
-            gy += vy * inv;
-            prod *= r2;
-            lo = lo.min(r2);
-            hi = hi.max(r2);
+        for block in before
+            .chunks(PRODUCT_BLOCK)
+            .chain(after.chunks(PRODUCT_BLOCK))
+        {
+            let mut prod = 1.0f64;
+            for p in block {
+                let (vx, vy) = (h.x - p.x, h.y - p.y);
+                let r2 = vx * vx + vy * vy;
+                let inv = 1.0 / r2;
+                gx += vx * inv;
+                gy += vy * inv;
+                let (m, e) = split(r2);
+                prod *= m;
+                exponent += e;
+                lo = lo.min(r2);
+                hi = hi.max(r2);
+            }
+            ln_prod += prod.ln();
         }
         if let Some((_, v)) = exact {
             let r2 = v.norm_squared();
             gx += v.x / r2;
             gy += v.y / r2;
-            prod *= r2;
+            let (m, e) = split(r2);
+            ln_prod += m.ln();
+            exponent += e;
             lo = lo.min(r2);
             hi = hi.max(r2);
         }
         let vd = h - self.destination;
         let rd2 = vd.norm_squared();
-        if !(lo >= self.product_bound.recip() && hi <= self.product_bound && rd2.is_normal()) {
+        // Guard: the split is exact only for normal factors (and 1/r2 finite); else the sum of
+        // guarded logarithms.
+        if !(lo >= f64::MIN_POSITIVE && hi <= f64::MAX && rd2.is_normal()) {
             return self.phi_and_grad_guarded(h, exact);
         }
-        let phi = rd2.ln() - prod.ln() / self.k;
+        let ln_sum = ln_prod + exponent as f64 * std::f64::consts::LN_2;
+        let phi = rd2.ln() - ln_sum / self.k;
         let k2 = 2.0 / self.k;
         Ok((
             phi,

@@ -194,3 +194,51 @@ fn extreme_scales_stay_finite() {
         assert!(w.varphi(h) > 0.0 && w.varphi(h) <= 1.0);
     }
 }
+
+/// The fast path's split product (`|h_i|² = m_i·2^{e_i}`, one logarithm per 512 factors) at
+/// many points far apart: 1 100 points in a disc of radius 50 (three blocks, factors from 1e-6
+/// to 1e4, where the old single product left its range and every call took `M` logarithms)
+/// agrees with the sum of logarithms of `phi_k` within the bound of `phi_and_grad`'s docs,
+/// `4ε(M + Σ|ln|h_i|²|)/k + 4ε|ln|h_d|²|`, also with one offset given exactly.
+#[test]
+fn split_product_agrees_with_the_sum_of_logarithms_at_many_points() {
+    let n = 1100;
+    let pts: Vec<Vector2<f64>> = (0..n)
+        .map(|i| {
+            let (r, a) = (
+                50.0 * ((i as f64 + 0.5) / n as f64).sqrt(),
+                2.399963 * i as f64,
+            );
+            Vector2::new(r * a.cos(), r * a.sin())
+        })
+        .collect();
+    let w = PointWorld::new(Vector2::new(40.0, 0.3), pts.clone())
+        .unwrap()
+        .with_k(6.0 * (n as f64 + 1.0))
+        .unwrap();
+    let eps = f64::EPSILON;
+    for j in 0..200 {
+        let a = 0.77 * j as f64;
+        let h = Vector2::new(45.0 * a.cos(), 45.0 * (1.3 * a).sin()) * (j as f64 / 200.0);
+        let bound = |h: Vector2<f64>| {
+            let logs: f64 = pts.iter().map(|p| (h - p).norm_squared().ln().abs()).sum();
+            4.0 * eps * (n as f64 + logs) / w.k()
+                + 4.0 * eps * (h - w.destination()).norm_squared().ln().abs()
+        };
+        let (phi, g) = w.phi_and_grad(h, None).unwrap();
+        assert!(
+            (phi - w.phi_k(h)).abs() <= bound(h),
+            "{j}: {phi} vs {}",
+            w.phi_k(h)
+        );
+        assert!((g - w.grad_phi_k(h).unwrap()).norm() <= 1e-12 * g.norm().max(1e-3));
+        // 1e-3 from point 7, that offset given exactly.
+        let v = Vector2::new(6e-4, -8e-4);
+        let (phi, _) = w.phi_and_grad(pts[7] + v, Some((7, v))).unwrap();
+        let direct = w.phi_k(pts[7] + v);
+        assert!(
+            (phi - direct).abs() <= bound(pts[7] + v) + 1e-12,
+            "{j}: {phi} vs {direct}"
+        );
+    }
+}

@@ -31,7 +31,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use harmonav::{FloorMap, FloorOptions, StarShape};
-use harmonav_floorplan::FloorError;
+use harmonav_floorplan::{FloorError, MapOptions, MapPoint, MapProblem};
 use harmonav_harmonic::{DomainError, RingId, SolveError};
 use harmonav_transform::random::Rng;
 use nalgebra::Vector2;
@@ -45,15 +45,28 @@ pub const FLOORPLANS: &str = "floorplans";
 /// Most seeded starts of one file.
 pub const MAX_STARTS: usize = 64;
 
-/// `[floor_plan]`.
+/// `[floor_plan]`: the walls as rings (`outer`, `holes`), or a ROS map_server map (`map`).
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FloorPlanSpec {
-    /// The outer ring (either orientation; no repeated closing vertex needed).
+    /// The outer ring (either orientation; no repeated closing vertex needed); empty with
+    /// `map`.
+    #[serde(default)]
     pub outer: Vec<[f64; 2]>,
     /// The holes, each a ring.
     #[serde(default)]
     pub holes: Vec<Vec<[f64; 2]>>,
+    /// A ROS map_server map (its YAML file, relative to the scenario file) instead of rings:
+    /// the free component of the goal, outlined, simplified and opened by the robot's disc
+    /// (`harmonav_floorplan::RosMap`, docs/maths.md §13.1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub map: Option<PathBuf>,
+    /// With `map`: occupied islands of at most this many pixels are dropped (default 2).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub speck_pixels: Option<usize>,
+    /// With `map`: the simplification tolerance in square pixels (default 0.5).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub simplify: Option<f64>,
     /// The longest boundary element `h`, m.
     #[serde(default = "default_element")]
     pub max_element: f64,
@@ -208,7 +221,7 @@ fn ring_field(e: &DomainError) -> String {
 }
 
 impl FloorScenario {
-    /// Reads, parses and validates a floor-plan scenario (at most [`MAX_FILE_BYTES`]).
+    /// Reads, parses and validates a floor-plan scenario (at most [`crate::MAX_FILE_BYTES`]).
     ///
     /// # Errors
     /// A [`ScenarioError`] naming the file, the field (`floor_plan.holes[1]`, `robot.start`,
@@ -275,20 +288,74 @@ impl FloorScenario {
                 build_shape(o).map_err(|(sub, p)| f(&format!("obstacles[{i}].{sub}"), p))?;
             obstacles.push(shape);
         }
-        let outer = self.floor_plan.outer.iter().copied().map(v).collect();
-        let holes = self
-            .floor_plan
-            .holes
-            .iter()
-            .map(|ring| ring.iter().copied().map(v).collect())
-            .collect();
+        let plan = &self.floor_plan;
         let clock = std::time::Instant::now();
         let options = FloorOptions::new(h, r.radius + r.margin);
-        let floor = FloorMap::new(outer, holes, &options).map_err(|e| match &e {
+        let floor_error = |e: FloorError| match &e {
             FloorError::Domain(d) => f(&ring_field(d), d.to_string()),
             FloorError::Solve(SolveError::Mesh(m)) => f("floor_plan.max_element", m.to_string()),
             _ => f("floor_plan", e.to_string()),
-        })?;
+        };
+        let floor = match &plan.map {
+            Some(_) if !(plan.outer.is_empty() && plan.holes.is_empty()) => {
+                return Err(f(
+                    "floor_plan.map",
+                    "give the walls either as a map or as rings (outer, holes), not both".into(),
+                ));
+            }
+            Some(map) => {
+                let mut map_options = MapOptions::new(options);
+                if let Some(n) = plan.speck_pixels {
+                    map_options.speck_pixels = n;
+                }
+                if let Some(t) = plan.simplify {
+                    if !(t.is_finite() && t >= 0.0) {
+                        return Err(f(
+                            "floor_plan.simplify",
+                            format!("must be finite and ≥ 0 (square pixels), got {t:e}"),
+                        ));
+                    }
+                    map_options.simplify = t;
+                }
+                // Relative to the scenario file, as `image` is to the YAML file in map_server.
+                let yaml = path.parent().unwrap_or(Path::new("")).join(map);
+                FloorMap::from_ros_map(&yaml, v(r.start), v(r.goal), &map_options).map_err(|e| {
+                    match &e.problem {
+                        MapProblem::Floor(fe) => floor_error(fe.clone()),
+                        // A problem of the start or the goal names that field; the map's
+                        // own message names the map file.
+                        MapProblem::NonFinitePoint(point)
+                        | MapProblem::OutsideImage { point, .. }
+                        | MapProblem::NotFree { point, .. }
+                        | MapProblem::TooNarrow { point, .. }
+                        | MapProblem::NotCertified { point, .. } => f(
+                            match point {
+                                MapPoint::Start => "robot.start",
+                                MapPoint::Goal => "robot.goal",
+                            },
+                            e.to_string(),
+                        ),
+                        MapProblem::Unreachable => f("robot.goal", e.to_string()),
+                        _ => f("floor_plan.map", e.to_string()),
+                    }
+                })?
+            }
+            None if plan.speck_pixels.is_some() || plan.simplify.is_some() => {
+                return Err(f(
+                    "floor_plan",
+                    "speck_pixels and simplify apply to a map (floor_plan.map) only".into(),
+                ));
+            }
+            None => {
+                let outer = plan.outer.iter().copied().map(v).collect();
+                let holes = plan
+                    .holes
+                    .iter()
+                    .map(|ring| ring.iter().copied().map(v).collect())
+                    .collect();
+                FloorMap::new(outer, holes, &options).map_err(floor_error)?
+            }
+        };
         let setup_seconds = clock.elapsed().as_secs_f64();
         let floor = Arc::new(floor);
         let delta = floor.delta();

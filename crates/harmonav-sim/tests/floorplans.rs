@@ -114,3 +114,49 @@ fn bad_floor_plans_name_the_file_field_and_problem() {
     .unwrap_err();
     assert!(e.line.is_some() && e.problem.contains("speed"), "{e}");
 }
+
+/// `[floor_plan] map`: a ROS map_server map relative to the scenario file; its problems name
+/// `floor_plan.map` (or the start or goal they are about) and the map file.
+#[test]
+fn map_floor_plans_load_and_their_errors_name_the_field_and_the_map() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenarios")
+        .join(FLOORPLANS);
+    let scenario = dir.join("bad.toml");
+    let text = |plan: &str, start: &str| {
+        format!(
+            "name = \"x\"\n[floor_plan]\n{plan}\nmax_element = 0.4\n[robot]\nmodel = \
+             \"kinematic\"\nstart = {start}\ngoal = [11.2, 7.2]\nradius = 0.1\nmargin = 0.1\n"
+        )
+    };
+    let load = |t: String| FloorScenario::parse(&scenario, &t).and_then(|s| s.prepare(&scenario));
+    let map = "map = \"maps/warehouse.yaml\"";
+    let p = load(text(map, "[0.6, 0.6]")).unwrap();
+    assert!(p.floor.map().elements().len() > 100 && p.floor.delta() == 0.4);
+    let e = load(text("map = \"maps/missing.yaml\"", "[0.6, 0.6]")).unwrap_err();
+    assert_eq!(e.field, "floor_plan.map", "{e}");
+    assert!(e.problem.contains("missing.yaml"), "{e}");
+    // The start in a shelf: the field is the start, the message names the map.
+    let e = load(text(map, "[2.5, 1.9]")).unwrap_err();
+    assert_eq!(e.field, "robot.start", "{e}");
+    assert!(e.problem.contains("warehouse.yaml"), "{e}");
+    let e = load(text(
+        &format!("{map}\nouter = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]]"),
+        "[0.6, 0.6]",
+    ))
+    .unwrap_err();
+    assert_eq!(e.field, "floor_plan.map", "{e}");
+    let e = load(text(
+        "outer = [[0.0, 0.0], [12.0, 0.0], [12.0, 8.0], [0.0, 8.0]]\nsimplify = 1.0",
+        "[0.6, 0.6]",
+    ))
+    .unwrap_err();
+    assert_eq!(e.field, "floor_plan", "{e}");
+    // The measured limits (scenarios/floorplans/limits/) stay valid files.
+    for file in std::fs::read_dir(dir.join("limits")).unwrap() {
+        let file = file.unwrap().path();
+        if file.extension().is_some_and(|e| e == "toml") {
+            FloorScenario::load(&file).unwrap_or_else(|e| panic!("{e}"));
+        }
+    }
+}

@@ -14,6 +14,9 @@
 //! - [`NavTransform`]: `Phi`, `J_Phi` and `Phi⁻¹`, with band widths and the outer stretch gain
 //!   chosen automatically; built from [`radial::obstacle_map`] and [`radial::outer_map`],
 //!   which keep the polar angle and increase strictly in `ρ` (`det J = ν_ρ·ν/ρ > 0`);
+//! - [`index`]: a bounding-volume hierarchy over the obstacles' bounding discs (parry2d-f64's
+//!   `Bvh`), so that `Phi`, the pair checks and the widths test only the obstacles near a
+//!   point ([`Lookup`]; the direct loops give the same answers, bit for bit);
 //! - [`random`]: seeded random valid worlds for tests and benchmarks.
 //!
 //! This crate knows nothing of `phi_k`, sensing or time.
@@ -40,6 +43,7 @@
 
 mod distance;
 mod error;
+pub mod index;
 pub mod nav;
 pub mod outline;
 pub mod radial;
@@ -49,6 +53,7 @@ pub mod smooth;
 pub mod workspace;
 
 pub use error::ShapeError;
+pub use index::{DiscIndex, Lookup};
 pub use nav::{Active, Mapped, NavTransform, NotFree};
 pub use outline::{DISTANCE_TOLERANCE, MAX_OUTLINE_VERTICES};
 pub use shape::{MAX_ANGLE, MAX_HARMONIC, MAX_LENGTH, StarShape};

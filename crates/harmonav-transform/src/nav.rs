@@ -2,6 +2,7 @@
 
 use nalgebra::{Matrix2, Vector2};
 
+use crate::index::{DiscIndex, INDEX_MIN, Lookup, pad};
 use crate::radial::{Radial, obstacle_map, outer_map};
 use crate::shape::StarShape;
 use crate::workspace::{Workspace, WorldError};
@@ -77,6 +78,10 @@ pub struct NavTransform {
     bands: Vec<Band>,
     /// `[c_x, c_y, (max R + ε)²]` per band, contiguous for the per-step scan.
     reach: Vec<[f64; 3]>,
+    /// The discs `(c_i, max R_i + ε_i)` that hold the bands, indexed (slot order).
+    reaches: DiscIndex,
+    /// How the band of a point is found (the workspace's).
+    lookup: Lookup,
     outer: StarShape,
     /// The centre of the outer map when it is not the boundary's own: the destination, for an
     /// ellipse boundary ([`NavTransform::outer_centre`]).
@@ -98,14 +103,29 @@ impl NavTransform {
         if let Some(&obstacle) = known.iter().find(|&&i| i >= ws.obstacles().len()) {
             return Err(WorldError::NoSuchObstacle { obstacle });
         }
+        let lookup = ws.lookup();
+        // The known obstacles' bounding discs, slot order: the widths' neighbour search.
+        let discs = match lookup {
+            Lookup::Direct => DiscIndex::default(),
+            Lookup::Indexed => DiscIndex::new(known.iter().map(|&i| {
+                let o = &ws.obstacles()[i];
+                (o.centre(), o.radius_bounds().1)
+            })),
+        };
+        let mut slot_of = vec![usize::MAX; ws.obstacles().len()];
+        for (slot, &i) in known.iter().enumerate() {
+            slot_of[i] = slot;
+        }
         let mut bands = Vec::with_capacity(known.len());
-        for &i in known {
-            let mut d = ws.to_boundary(i).min(2.0 * ws.goal_to_obstacle(i));
-            for &j in known {
-                if j != i {
-                    d = d.min(ws.between(i, j));
-                }
-            }
+        for (slot, &i) in known.iter().enumerate() {
+            let start = ws.to_boundary(i).min(2.0 * ws.goal_to_obstacle(i));
+            let d = match lookup {
+                Lookup::Direct => known
+                    .iter()
+                    .filter(|&&j| j != i)
+                    .fold(start, |d, &j| d.min(ws.between(i, j))),
+                Lookup::Indexed => nearest_gap(ws, &discs, known, &slot_of, slot, start),
+            };
             let shape = ws.obstacles()[i].clone();
             let eps = WIDTH_FACTOR * d;
             bands.push(Band { shape, eps });
@@ -135,10 +155,20 @@ impl NavTransform {
                 [c.x, c.y, r * r]
             })
             .collect();
+        let reaches = match lookup {
+            Lookup::Direct => DiscIndex::default(),
+            Lookup::Indexed => DiscIndex::new(
+                bands
+                    .iter()
+                    .map(|b| (b.shape.centre(), b.shape.radius_bounds().1 + b.eps)),
+            ),
+        };
         Self {
             known: known.to_vec(),
             bands,
             reach,
+            reaches,
+            lookup,
             outer,
             about,
             eps0,
@@ -205,33 +235,86 @@ impl NavTransform {
     /// `Phi(x)` with its Jacobian (definition `NavTran`); errors if `x` is not in the free
     /// space of the known obstacles. Allocation-free.
     pub fn nav_transform(&self, x: Vector2<f64>) -> Result<Mapped, NotFree> {
-        for (slot, &[cx, cy, reach2]) in self.reach.iter().enumerate() {
-            let (dx, dy) = (x.x - cx, x.y - cy);
-            let rho2 = dx * dx + dy * dy;
-            if rho2 >= reach2 {
-                continue;
+        // The first slot (in order) whose band or obstacle holds x: the direct loop stops at
+        // it; the index tests only the slots whose reach could hold x and keeps the lowest
+        // that answers, which is the same slot (every slot it skips fails the reach test).
+        let mut first: Option<(usize, Result<Mapped, NotFree>)> = None;
+        match self.lookup {
+            _ if self.lookup == Lookup::Direct || self.bands.len() < INDEX_MIN => {
+                for slot in 0..self.bands.len() {
+                    if let Some(answer) = self.in_band(slot, x) {
+                        first = Some((slot, answer));
+                        break;
+                    }
+                }
             }
-            let band = &self.bands[slot];
-            let v = Vector2::new(dx, dy);
-            let rho = rho2.sqrt();
-            if rho == 0.0 {
-                return Err(NotFree::Obstacle(slot));
-            }
-            let u = v / rho;
-            let (r, dr) = band.shape.radius_along(u);
-            if rho <= r {
-                return Err(NotFree::Obstacle(slot));
-            }
-            if rho < r + band.eps {
-                let m = obstacle_map(rho, r, dr, band.eps);
-                let offset = m.nu * u;
-                return Ok(Mapped {
-                    h: band.shape.centre() + offset,
-                    jacobian: m.jacobian(u, rho),
-                    active: Active::Obstacle { slot, offset },
-                });
-            }
+            _ => self.reaches.near(x, 0.0, |slot| {
+                if first.as_ref().is_none_or(|(s, _)| slot < *s)
+                    && let Some(answer) = self.in_band(slot, x)
+                {
+                    first = Some((slot, answer));
+                }
+            }),
         }
+        if let Some((_, answer)) = first {
+            return answer;
+        }
+        self.outside_bands(x)
+    }
+
+    /// Band `slot`'s answer at `x`: inside its obstacle, `Phi` in its band, or `None` (`x` is
+    /// beyond its reach or its band).
+    fn in_band(&self, slot: usize, x: Vector2<f64>) -> Option<Result<Mapped, NotFree>> {
+        let [cx, cy, reach2] = self.reach[slot];
+        let (dx, dy) = (x.x - cx, x.y - cy);
+        let rho2 = dx * dx + dy * dy;
+        if rho2 >= reach2 {
+            return None;
+        }
+        let band = &self.bands[slot];
+        let v = Vector2::new(dx, dy);
+        let rho = rho2.sqrt();
+        if rho == 0.0 {
+            return Some(Err(NotFree::Obstacle(slot)));
+        }
+        let u = v / rho;
+        let (r, dr) = band.shape.radius_along(u);
+        if rho <= r {
+            return Some(Err(NotFree::Obstacle(slot)));
+        }
+        if rho < r + band.eps {
+            let m = obstacle_map(rho, r, dr, band.eps);
+            let offset = m.nu * u;
+            return Some(Ok(Mapped {
+                h: band.shape.centre() + offset,
+                jacobian: m.jacobian(u, rho),
+                active: Active::Obstacle { slot, offset },
+            }));
+        }
+        None
+    }
+
+    /// Band `slot`'s inverse at `h`: `Some(None)` at its point `P_i`, `Some(Some(x))` if `h`
+    /// lies in its image (`ν < R + ε`), `None` otherwise.
+    fn band_inverse(&self, slot: usize, h: Vector2<f64>) -> Option<Option<Vector2<f64>>> {
+        let band = &self.bands[slot];
+        let v = h - band.shape.centre();
+        let nu = v.norm();
+        if nu == 0.0 {
+            return Some(None);
+        }
+        let (r, dr) = band.shape.radius(v.y.atan2(v.x));
+        if nu < r + band.eps {
+            let rho = bisect(r, r + band.eps, nu, |rho| {
+                obstacle_map(rho, r, dr, band.eps).nu
+            });
+            return Some(Some(band.shape.centre() + rho * v / nu));
+        }
+        None
+    }
+
+    /// `Phi(x)` for a point in no obstacle band: the outer band or the identity.
+    fn outside_bands(&self, x: Vector2<f64>) -> Result<Mapped, NotFree> {
         let v = x - self.outer_centre();
         let rho2 = v.norm_squared();
         if rho2 > self.inner2 {
@@ -283,19 +366,28 @@ impl NavTransform {
     /// `Phi⁻¹(h)` by bisection on `ν` along the ray (each band map increases strictly in `ρ`);
     /// `None` if `h` is an obstacle point `P_i`. Accurate to ~1e-14 relative.
     pub fn inverse(&self, h: Vector2<f64>) -> Option<Vector2<f64>> {
-        for band in &self.bands {
-            let v = h - band.shape.centre();
-            let nu = v.norm();
-            if nu == 0.0 {
-                return None;
+        // The first band in order that holds h (its ν < R + ε ≤ max R + ε: only slots whose
+        // reach holds h can), as in `nav_transform`.
+        let mut first: Option<(usize, Option<Vector2<f64>>)> = None;
+        match self.lookup {
+            _ if self.lookup == Lookup::Direct || self.bands.len() < INDEX_MIN => {
+                for slot in 0..self.bands.len() {
+                    if let Some(answer) = self.band_inverse(slot, h) {
+                        first = Some((slot, answer));
+                        break;
+                    }
+                }
             }
-            let (r, dr) = band.shape.radius(v.y.atan2(v.x));
-            if nu < r + band.eps {
-                let rho = bisect(r, r + band.eps, nu, |rho| {
-                    obstacle_map(rho, r, dr, band.eps).nu
-                });
-                return Some(band.shape.centre() + rho * v / nu);
-            }
+            _ => self.reaches.near(h, 0.0, |slot| {
+                if first.as_ref().is_none_or(|(s, _)| slot < *s)
+                    && let Some(answer) = self.band_inverse(slot, h)
+                {
+                    first = Some((slot, answer));
+                }
+            }),
+        }
+        if let Some((_, answer)) = first {
+            return answer;
         }
         let c0 = self.outer_centre();
         let v = h - c0;
@@ -313,6 +405,41 @@ impl NavTransform {
         }
         Some(h)
     }
+}
+
+/// The smallest `d(O_i, O_j)` over the known `j ≠ i` (`i` = `known[slot]`) and `start`, as
+/// the direct fold computes it: the near pairs from the workspace's cache, the far ones (whose
+/// gap is `|c_i − c_j| − R_i − R_j`, at least the distance from `c_i` to `j`'s box less `R_i`)
+/// by a pruned search of the known discs.
+fn nearest_gap(
+    ws: &Workspace,
+    discs: &DiscIndex,
+    known: &[usize],
+    slot_of: &[usize],
+    slot: usize,
+    start: f64,
+) -> f64 {
+    let i = known[slot];
+    let near = ws.near_pairs(i);
+    let mut best = start;
+    for &(j, d) in near {
+        if slot_of[j] != usize::MAX {
+            best = best.min(d);
+        }
+    }
+    let o = &ws.obstacles()[i];
+    let (c, r) = (o.centre(), o.radius_bounds().1);
+    let slack = 2.0 * pad(c, r);
+    discs.min_cost(
+        c,
+        best,
+        |d| d - r - slack,
+        |s| {
+            let j = known[s];
+            let is_near = near.binary_search_by_key(&j, |&(j, _)| j).is_ok();
+            (j != i && !is_near).then(|| ws.between(i, j))
+        },
+    )
 }
 
 /// Solves `f(ρ) = target` for increasing `f` on `[lo, hi]` by bisection.

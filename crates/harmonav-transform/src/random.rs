@@ -153,6 +153,84 @@ pub fn workspace(rng: &mut Rng, m: usize, kinds: &[Kind], outer: Kind, gap: f64)
     }
 }
 
+/// A large random world ([`scattered`]): a disc boundary, obstacles, a start and a goal.
+#[derive(Clone, Debug)]
+pub struct Scattered {
+    /// The outer boundary, a disc of the requested radius about the origin.
+    pub boundary: StarShape,
+    /// The obstacles, at least the requested gap apart and from the boundary.
+    pub obstacles: Vec<StarShape>,
+    /// `(−0.8 R, 0.013 R)`: off the axis through the goal (off a saddle's stable manifold).
+    pub start: Vector2<f64>,
+    /// `(0.8 R, 0)`.
+    pub goal: Vector2<f64>,
+}
+
+/// A random world of `m` obstacles in a disc of radius `radius` (the building-sized worlds of
+/// the many-obstacle benchmarks and tests): sizes 0.3–0.8 and random kinds from `kinds`,
+/// at least `gap` apart and from the boundary, none within 1 of the start or the goal. A
+/// candidate is tested only against the obstacles of the neighbouring cells of a uniform grid,
+/// so 1 000 obstacles take milliseconds, not the `O(M²)` pair tests of [`workspace`]. `None` if
+/// fewer than `m` fit in `200·m` tries (the disc is too small for them).
+pub fn scattered(
+    rng: &mut Rng,
+    radius: f64,
+    m: usize,
+    kinds: &[Kind],
+    gap: f64,
+) -> Option<Scattered> {
+    let boundary = StarShape::circle(Vector2::zeros(), radius).ok()?;
+    let (start, goal) = (
+        Vector2::new(-0.8 * radius, 0.013 * radius),
+        Vector2::new(0.8 * radius, 0.0),
+    );
+    // A star of size 0.8 reaches at most 0.8·(1 + 3·0.17) < 1.25 from its centre, so two
+    // obstacles more than a cell apart (2·1.25 + gap) are apart by more than `gap`.
+    let cell = 2.5 + gap;
+    let n = (2.0 * radius / cell).ceil().max(1.0) as usize;
+    let slot = |p: Vector2<f64>| {
+        let f = |v: f64| (((v + radius) / cell).floor().max(0.0) as usize).min(n - 1);
+        (f(p.x), f(p.y))
+    };
+    let mut grid: Vec<Vec<usize>> = vec![Vec::new(); n * n];
+    let mut obstacles: Vec<StarShape> = Vec::with_capacity(m);
+    let mut tries = 0;
+    while obstacles.len() < m {
+        tries += 1;
+        if tries > 200 * m.max(1) {
+            return None;
+        }
+        let c = rng.point(radius);
+        let kind = kinds[rng.below(kinds.len())];
+        let size = rng.uniform(0.3, 0.8);
+        if c.norm() + 1.25 + gap >= radius || (c - start).norm() < 2.25 || (c - goal).norm() < 2.25
+        {
+            continue;
+        }
+        let o = shape(rng, kind, c, size);
+        let (i, j) = slot(c);
+        let near = (i.saturating_sub(1)..=(i + 1).min(n - 1))
+            .flat_map(|a| (j.saturating_sub(1)..=(j + 1).min(n - 1)).map(move |b| a * n + b));
+        let clear = o.clearance_inside(&boundary) > gap
+            && near.into_iter().all(|g| {
+                grid[g].iter().all(|&q| {
+                    let p = &obstacles[q];
+                    apart(p, &o, gap) && !p.contains(c) && !o.contains(p.centre())
+                })
+            });
+        if clear {
+            grid[i * n + j].push(obstacles.len());
+            obstacles.push(o);
+        }
+    }
+    Some(Scattered {
+        boundary,
+        obstacles,
+        start,
+        goal,
+    })
+}
+
 /// Whether `a` and `b` are more than `gap` apart: their bounding discs first (most pairs), the
 /// outline query ([`StarShape::distance_to`]) for the near ones.
 fn apart(a: &StarShape, b: &StarShape, gap: f64) -> bool {

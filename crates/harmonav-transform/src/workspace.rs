@@ -4,6 +4,7 @@
 use nalgebra::Vector2;
 
 use crate::error::ShapeError;
+use crate::index::{DiscIndex, Lookup};
 use crate::shape::StarShape;
 
 /// Why a workspace or a point in it is not valid (indices are obstacle indices).
@@ -115,8 +116,14 @@ pub struct Workspace {
     boundary: StarShape,
     obstacles: Vec<StarShape>,
     destination: Vector2<f64>,
-    /// `d(O_i, O_j)`, row-major `M × M` (diagonal `∞`).
-    between: Vec<f64>,
+    /// `d(O_i, O_j)` of the near pairs (those [`separation`] measures on the outlines), sorted
+    /// by `j`, per obstacle `i`; a far pair's gap is its bounding discs' ([`separation`]),
+    /// computed when asked. `O(M)` memory instead of the `M × M` table of before.
+    near: Vec<Vec<(usize, f64)>>,
+    /// The obstacles' bounding discs `(c_i, max R_i)`, indexed.
+    index: DiscIndex,
+    /// How the queries over the obstacles are answered.
+    lookup: Lookup,
     /// `d(O_i, ∂O_0)`.
     to_boundary: Vec<f64>,
     /// `d(x_d, O_i)`.
@@ -139,6 +146,20 @@ impl Workspace {
         obstacles: Vec<StarShape>,
         destination: Vector2<f64>,
     ) -> Result<Self, WorldError> {
+        Self::with_lookup(boundary, obstacles, destination, Lookup::default())
+    }
+
+    /// [`Self::new`] with the queries over the obstacles answered by `lookup` (the same
+    /// workspace, the same errors, bit for bit: [`Lookup`]). With [`Lookup::Indexed`] the pair
+    /// checks test only the pairs whose bounding discs the index cannot rule out (`O(M log M)`
+    /// for obstacles of bounded size instead of `M(M − 1)/2` pairs), and so do every later
+    /// query of this workspace, its [`Self::with_obstacle`] and its [`crate::NavTransform`]s.
+    pub fn with_lookup(
+        boundary: StarShape,
+        obstacles: Vec<StarShape>,
+        destination: Vector2<f64>,
+        lookup: Lookup,
+    ) -> Result<Self, WorldError> {
         let m = obstacles.len();
         let mut to_boundary = Vec::with_capacity(m);
         for (i, o) in obstacles.iter().enumerate() {
@@ -148,22 +169,50 @@ impl Workspace {
             }
             to_boundary.push(d);
         }
-        let mut between = vec![f64::INFINITY; m * m];
+        let index = DiscIndex::new(obstacles.iter().map(|o| (o.centre(), o.radius_bounds().1)));
+        let r_max = obstacles
+            .iter()
+            .map(|o| o.radius_bounds().1)
+            .fold(0.0, f64::max);
+        let mut near = vec![Vec::new(); m];
+        let mut candidates = Vec::new();
         for i in 0..m {
-            for j in 0..i {
-                let d = separation(&obstacles[i], &obstacles[j]).ok_or(WorldError::Overlap {
-                    first: j,
-                    second: i,
-                })?;
-                between[i * m + j] = d;
-                between[j * m + i] = d;
+            // The pairs (i, j < i) in the order of j, as the direct loop meets them; only a near
+            // pair can fail.
+            candidates.clear();
+            match lookup {
+                Lookup::Direct => candidates.extend(0..i),
+                Lookup::Indexed => {
+                    let o = &obstacles[i];
+                    index.near(o.centre(), near_reach(o, r_max), |j| {
+                        if j < i {
+                            candidates.push(j);
+                        }
+                    });
+                    candidates.sort_unstable();
+                }
             }
+            for &j in &candidates {
+                if let Some(d) = measured(&obstacles[i], &obstacles[j]) {
+                    let d = d.ok_or(WorldError::Overlap {
+                        first: j,
+                        second: i,
+                    })?;
+                    near[i].push((j, d));
+                    near[j].push((i, d));
+                }
+            }
+        }
+        for row in &mut near {
+            row.sort_unstable_by_key(|&(j, _)| j);
         }
         let mut ws = Self {
             boundary,
             obstacles,
             destination,
-            between,
+            near,
+            index,
+            lookup,
             to_boundary,
             goal_to_obstacle: Vec::new(),
             goal_to_boundary: 0.0,
@@ -191,12 +240,33 @@ impl Workspace {
         if to_boundary <= 0.0 || !self.boundary.contains(obstacle.centre()) {
             return Err(WorldError::OutsideBoundary { obstacle: m });
         }
-        let mut row = Vec::with_capacity(m);
-        for (j, o) in self.obstacles.iter().enumerate() {
-            row.push(separation(&obstacle, o).ok_or(WorldError::Overlap {
-                first: j,
-                second: m,
-            })?);
+        let r_max = self
+            .obstacles
+            .iter()
+            .map(|o| o.radius_bounds().1)
+            .fold(obstacle.radius_bounds().1, f64::max);
+        let mut candidates = Vec::new();
+        match self.lookup {
+            Lookup::Direct => candidates.extend(0..m),
+            Lookup::Indexed => {
+                self.index
+                    .near(obstacle.centre(), near_reach(&obstacle, r_max), |j| {
+                        candidates.push(j)
+                    });
+                candidates.sort_unstable();
+            }
+        }
+        let mut row = Vec::new();
+        for &j in &candidates {
+            if let Some(d) = measured(&obstacle, &self.obstacles[j]) {
+                row.push((
+                    j,
+                    d.ok_or(WorldError::Overlap {
+                        first: j,
+                        second: m,
+                    })?,
+                ));
+            }
         }
         if obstacle.contains(self.destination) {
             return Err(WorldError::InObstacle {
@@ -205,16 +275,14 @@ impl Workspace {
             });
         }
         let goal = obstacle.signed_distance(self.destination);
-        let n = m + 1;
-        let mut between = vec![f64::INFINITY; n * n];
-        for i in 0..m {
-            between[i * n..i * n + m].copy_from_slice(&self.between[i * m..(i + 1) * m]);
-            between[i * n + m] = row[i];
-            between[m * n + i] = row[i];
-        }
         let mut ws = self.clone();
+        for &(j, d) in &row {
+            // Rows stay sorted: m is the largest index.
+            ws.near[j].push((m, d));
+        }
+        ws.near.push(row);
+        ws.index.push(obstacle.centre(), obstacle.radius_bounds().1);
         ws.obstacles.push(obstacle);
-        ws.between = between;
         ws.to_boundary.push(to_boundary);
         ws.goal_to_obstacle.push(goal);
         Ok(ws)
@@ -286,8 +354,38 @@ impl Workspace {
         self.destination
     }
 
+    /// `d(O_i, O_j)` as [`Self::new`] measured it (`∞` for `i = j`): a near pair's from the
+    /// cache, a far pair's bounding-disc gap recomputed (the same expression, so the same
+    /// bits).
     pub(crate) fn between(&self, i: usize, j: usize) -> f64 {
-        self.between[i * self.obstacles.len() + j]
+        if i == j {
+            return f64::INFINITY;
+        }
+        let (a, b) = (i.max(j), i.min(j));
+        match far_gap(&self.obstacles[a], &self.obstacles[b]) {
+            Some(d) => d,
+            None => self.near[i]
+                .binary_search_by_key(&j, |&(j, _)| j)
+                .map_or(f64::NAN, |k| self.near[i][k].1),
+        }
+    }
+
+    /// The near pairs of obstacle `i` (`j`, `d(O_i, O_j)`), sorted by `j`: every pair whose
+    /// gap is not its bounding discs'.
+    pub(crate) fn near_pairs(&self, i: usize) -> &[(usize, f64)] {
+        &self.near[i]
+    }
+
+    /// How the queries over the obstacles are answered.
+    #[must_use]
+    pub fn lookup(&self) -> Lookup {
+        self.lookup
+    }
+
+    /// The index of the obstacles' bounding discs `(c_i, max R_i)`, leaf `i` obstacle `i`.
+    #[must_use]
+    pub fn index(&self) -> &DiscIndex {
+        &self.index
     }
 
     pub(crate) fn to_boundary(&self, i: usize) -> f64 {
@@ -303,18 +401,32 @@ impl Workspace {
     }
 }
 
-/// The distance between two obstacles, `None` if they overlap or touch. Bounding circles first:
-/// only near pairs need the outline query ([`StarShape::distance_to`]); a pair whose bounding
-/// circles are apart by more than half their centre distance gets that gap as a lower bound.
-fn separation(a: &StarShape, b: &StarShape) -> Option<f64> {
-    let (ca, cb) = (a.centre(), b.centre());
-    let lower = (ca - cb).norm() - a.radius_bounds().1 - b.radius_bounds().1;
-    let d = if lower > 0.0 && lower > 0.5 * (ca - cb).norm() {
-        lower
-    } else {
-        a.distance_to(b)
-    };
-    (d > 0.0 && !a.contains(cb) && !b.contains(ca)).then_some(d)
+/// The gap of two obstacles whose bounding circles are apart by more than half their centre
+/// distance: that gap, a lower bound of the distance; `None` for a near pair. `a` is the
+/// obstacle of the larger index (the order of the subtractions is part of the value).
+fn far_gap(a: &StarShape, b: &StarShape) -> Option<f64> {
+    let n = (a.centre() - b.centre()).norm();
+    let lower = n - a.radius_bounds().1 - b.radius_bounds().1;
+    (lower > 0.0 && lower > 0.5 * n).then_some(lower)
+}
+
+/// The distance of a near pair measured on the outlines ([`StarShape::distance_to`]):
+/// `Some(Some(d))`, `Some(None)` if they overlap or touch; `None` for a far pair
+/// ([`far_gap`], never overlapping). `a` is the obstacle of the larger index.
+fn measured(a: &StarShape, b: &StarShape) -> Option<Option<f64>> {
+    if far_gap(a, b).is_some() {
+        return None;
+    }
+    let d = a.distance_to(b);
+    Some((d > 0.0 && !a.contains(b.centre()) && !b.contains(a.centre())).then_some(d))
+}
+
+/// The reach of a query about `o`'s centre that meets every obstacle (bounding radius at most
+/// `r_max`) forming a near pair with it: a near pair has `|c_a − c_b| ≤ 2(R_a + R_b)` (the
+/// negation of [`far_gap`]'s test), so the other's bounding disc comes within `2R_a + R_b ≤
+/// 2R_a + r_max` of `c_a`; padded by `2⁻²⁰` of it against rounding.
+fn near_reach(o: &StarShape, r_max: f64) -> f64 {
+    (2.0 * o.radius_bounds().1 + r_max) * (1.0 + 2f64.powi(-20))
 }
 
 #[cfg(test)]

@@ -9,10 +9,13 @@ use harmonav_floorplan::{FloorError, FloorField, FloorMap, NotFree};
 use harmonav_transform::StarShape;
 use nalgebra::Vector2;
 
+use crate::certified::{self, Band};
 use crate::error::NavError;
-use crate::hold::{self, Band, Command, Mode};
+use crate::hold::{self, Command, Mode};
 use crate::law::Law;
-use crate::navigator::{Controller, Evaluation, controller, finite, finite_lambda_c, recovering};
+use crate::navigator::{
+    Controller, Evaluation, controller, finite, finite_lambda_c, finite_state, recovering,
+};
 use crate::options::{HoldPolicy, Options};
 use crate::space::Space;
 
@@ -188,7 +191,7 @@ impl FloorNavigator {
             .obstacles()
             .nth(i)
             .ok_or(error.clone())?;
-        let (dir, rho) = hold::ray(grown, x).ok_or(error.clone())?;
+        let (dir, rho) = certified::ray(grown, x).ok_or(error.clone())?;
         let to_edge = (grown.radius_along(dir).0 - rho).max(0.0);
         let edge = x + to_edge * dir;
         let band = Band::Obstacle(i);
@@ -215,11 +218,7 @@ impl FloorNavigator {
     /// # Errors
     /// As [`FloorNavigator::command`], with the sensed obstacles grown by `radius + margin`.
     pub fn evaluate(&self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Evaluation, NavError> {
-        finite(x, "position")?;
-        finite(v, "velocity")?;
-        if !v.norm().is_finite() {
-            return Err(NavError::NotFinite { what: "velocity" });
-        }
+        finite_state(x, v)?;
         let e = self.eval(x)?;
         let (command, damping) = match &self.controller {
             Controller::Kinematic(law) => (

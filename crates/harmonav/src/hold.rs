@@ -2,15 +2,17 @@
 //! by construction ([`crate::HoldPolicy::Auto`], `docs/maths.md` §10), and the way back out of
 //! the margin band.
 //!
-//! Everything here rests on one certified quantity, the clearance `d(x)`: a lower bound on the
-//! distance from `x` to the nearest known grown obstacle and to the shrunk boundary. The ball
-//! `B(x, d(x))` lies in the free space, so a motion that stays in it cannot collide.
+//! Everything here rests on one certified quantity, the clearance `d(x)` (`certified.rs`, or a
+//! floor plan's through [`crate::space`]): a lower bound on the distance from `x` to the
+//! nearest known grown obstacle and to the shrunk boundary. The ball `B(x, d(x))` lies in the
+//! free space, so a motion that stays in it cannot collide.
 
 use harmonav_control::{Damping, Dynamic, Kinematic};
 use harmonav_field::FieldEval;
-use harmonav_transform::{StarShape, Workspace};
+use harmonav_transform::Workspace;
 use nalgebra::Vector2;
 
+use crate::certified::{BLIND, Band, clearance, ray};
 use crate::space::Space;
 
 /// How a command was formed ([`Command::mode`]).
@@ -46,16 +48,6 @@ impl Mode {
     }
 }
 
-/// Where a recovering robot is.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Band {
-    /// In the margin band of known obstacle `i` (indices in the order of
-    /// [`crate::Navigator::add_obstacle`]).
-    Obstacle(usize),
-    /// In the margin band along the workspace boundary.
-    Boundary,
-}
-
 /// The command to hold for one control period, and how it was formed.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Command {
@@ -81,47 +73,6 @@ pub const MAX_HALVINGS: u32 = 40;
 /// `v⁺` is kept below `(1 − SPEED_SLACK)·√(2μ/m)`, strictly under the bound of corollary
 /// `boundedvel`.
 pub const SPEED_SLACK: f64 = 1e-6;
-
-/// A certified lower bound on the signed distance from `x` to `shape` (negative inside):
-/// [`StarShape::signed_distance_bounds`].
-pub(crate) fn lower(shape: &StarShape, x: Vector2<f64>) -> f64 {
-    shape.signed_distance_bounds(x).0
-}
-
-/// A certified upper bound on the signed distance from `x` to `shape`.
-fn upper(shape: &StarShape, x: Vector2<f64>) -> f64 {
-    shape.signed_distance_bounds(x).1
-}
-
-/// The certified clearance `d(x)`, clipped at `need`: `min(need, d̲(x))` with `d̲(x)` a lower
-/// bound on the distance from `x` to every grown obstacle of `ws` (but `except`) and to its
-/// boundary. A shape is queried exactly only when its bounding disc could come within `need`
-/// (`|x − c| − max R` for an obstacle, `min R − |x − c|` inside the boundary, both exact
-/// lower bounds), so the usual far-from-everything call costs a few multiplications a shape.
-pub(crate) fn clearance(ws: &Workspace, x: Vector2<f64>, need: f64, except: Option<Band>) -> f64 {
-    let mut best = need;
-    if except != Some(Band::Boundary) {
-        let b = ws.boundary();
-        let cheap = b.radius_bounds().0 - (x - b.centre()).norm();
-        if cheap < best {
-            best = best.min(-upper(b, x));
-        }
-    }
-    for (i, o) in ws.obstacles().iter().enumerate() {
-        if except == Some(Band::Obstacle(i)) {
-            continue;
-        }
-        let cheap = (x - o.centre()).norm() - o.radius_bounds().1;
-        if cheap < best {
-            best = best.min(lower(o, x));
-        }
-    }
-    best
-}
-
-/// A certified clearance at or below this (m) cannot carry a step: the tracing stops, and the
-/// hold leads out of the blind layer ([`Mode::Recovering`]) instead.
-pub const BLIND: f64 = 1e-12;
 
 /// The most balls of the sphere tracing that certifies a step free (`docs/maths.md` §10).
 pub const MAX_TRACE_BALLS: usize = 64;
@@ -153,56 +104,6 @@ pub(crate) fn free_length(
         t += d;
     }
     t
-}
-
-/// The unit direction `u` of the ray from `shape`'s centre through `x`, and `ρ = |x − c|`;
-/// `None` at the centre (or for a NaN `x`), where the ray is undefined.
-pub(crate) fn ray(shape: &StarShape, x: Vector2<f64>) -> Option<(Vector2<f64>, f64)> {
-    let radial = x - shape.centre();
-    let rho = radial.norm();
-    (rho > 0.0).then(|| (radial / rho, rho))
-}
-
-/// The width of the layer along a shape in which its certified distance bounds cannot prove
-/// a free point free: twice the certified width `τ` of [`StarShape::signed_distance_bounds`]
-/// plus its rounding allowance (`64ε` of the coordinates' size, twice).
-pub(crate) fn blind_layer(shape: &StarShape, x: Vector2<f64>) -> f64 {
-    let size = x.amax() + shape.centre().amax() + shape.radius_bounds().1;
-    2.0 * shape.distance_tolerance() + 256.0 * f64::EPSILON * size
-}
-
-/// The way out of the blind layer: at a free point `x` where the certified clearance is not
-/// positive (within [`blind_layer`] of a shape that is not a circle, whose distance bounds are
-/// `τ` wide), the shape with the lowest bound is the one in the way. Every shape is star-shaped
-/// about its centre `c`, so the ray from `c` through `x` (towards `c` for the boundary) moves
-/// away from it: its points beyond `x` are outside the obstacle (inside the boundary), exactly,
-/// by the radial function. Returns that shape, the unit direction and the length to go: the
-/// layer's width, at most half the certified clearance from every other shape, and at most
-/// `most`.
-pub(crate) fn escape(
-    ws: &Workspace,
-    x: Vector2<f64>,
-    most: f64,
-) -> Option<(Band, Vector2<f64>, f64)> {
-    let mut worst = (Band::Boundary, -upper(ws.boundary(), x));
-    for (i, o) in ws.obstacles().iter().enumerate() {
-        let cheap = (x - o.centre()).norm() - o.radius_bounds().1;
-        if cheap < worst.1 {
-            let d = lower(o, x);
-            if d < worst.1 {
-                worst = (Band::Obstacle(i), d);
-            }
-        }
-    }
-    let (band, shape, outward) = match worst.0 {
-        Band::Obstacle(i) => (worst.0, &ws.obstacles()[i], true),
-        Band::Boundary => (worst.0, ws.boundary(), false),
-    };
-    let (u, _) = ray(shape, x)?;
-    let dir = if outward { u } else { -u };
-    let others = clearance(ws, x, 2.0 * most, Some(band)).max(0.0);
-    let length = blind_layer(shape, x).min(0.5 * others).min(most);
-    (length > 0.0).then_some((band, dir, length))
 }
 
 /// The sub-steps of the kinematic hold's chord through a stiff valley (`docs/maths.md` §10).

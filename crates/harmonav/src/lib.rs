@@ -47,6 +47,7 @@
 
 #![warn(missing_docs)]
 
+mod certified;
 pub mod checks;
 mod error;
 mod floor;
@@ -67,6 +68,7 @@ pub use harmonav_potential as potential;
 pub use harmonav_sensing as sensing;
 pub use harmonav_transform as transform;
 
+pub use certified::{BLIND, Band, CANDIDATES};
 pub use error::NavError;
 pub use floor::FloorNavigator;
 pub use harmonav_control::{DampingPolicy, SpeedPolicy};
@@ -74,8 +76,8 @@ pub use harmonav_field::KPolicy;
 pub use harmonav_floorplan::{FloorError, FloorMap, FloorOptions};
 pub use harmonav_transform::{ShapeError, StarShape};
 pub use hold::{
-    BLIND, Band, CHORD_AFTER_HALVINGS, CHORD_SUBSTEPS, Command, DYNAMIC_FRACTION,
-    KINEMATIC_FRACTION, MAX_HALVINGS, MAX_TRACE_BALLS, Mode, SPEED_SLACK,
+    CHORD_AFTER_HALVINGS, CHORD_SUBSTEPS, Command, DYNAMIC_FRACTION, KINEMATIC_FRACTION,
+    MAX_HALVINGS, MAX_TRACE_BALLS, Mode, SPEED_SLACK,
 };
 pub use law::Law;
 pub use nalgebra::Vector2;

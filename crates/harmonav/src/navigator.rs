@@ -9,8 +9,9 @@ use harmonav_field::{Field, FieldError, FieldEval};
 use harmonav_transform::{StarShape, Workspace, WorldError};
 use nalgebra::Vector2;
 
+use crate::certified::{self, Band};
 use crate::error::NavError;
-use crate::hold::{self, Band, Command, Mode};
+use crate::hold::{self, Command, Mode};
 use crate::law::Law;
 use crate::options::{HoldPolicy, Options, in_range};
 use crate::scanning::ScanState;
@@ -139,6 +140,20 @@ fn not_free(e: FieldError) -> NavError {
     }
 }
 
+/// The state `(x, ẋ)` a law may be evaluated at: finite coordinates, and a finite `|ẋ|`.
+/// Guard: components of 1.5e308 are finite but `|ẋ|` overflows, and with it `|ẋ(T_n)|` at the
+/// next discovery and the damping `(m/d_min)|ẋ(T_n)|` (eq. `dissipationfun`).
+pub(crate) fn finite_state(x: Vector2<f64>, v: Vector2<f64>) -> Result<(), NavError> {
+    finite(x, "position")?;
+    finite(v, "velocity")?;
+    if v.norm().is_finite() {
+        Ok(())
+    } else {
+        Err(NavError::NotFinite { what: "velocity" })
+    }
+}
+
+/// `v` with finite coordinates, else [`NavError::NotFinite`] naming `what`.
 pub(crate) fn finite(v: Vector2<f64>, what: &'static str) -> Result<(), NavError> {
     if v.iter().all(|c| c.is_finite()) {
         Ok(())
@@ -322,13 +337,7 @@ impl Navigator {
     /// Errors: `x` or `ẋ` not finite, `x` inside a known obstacle grown by `radius + margin`
     /// or outside the boundary shrunk by it.
     pub fn evaluate(&self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Evaluation, NavError> {
-        finite(x, "position")?;
-        finite(v, "velocity")?;
-        // Guard: components of 1.5e308 are finite but |ẋ| overflows, and with it |ẋ(T_n)| at
-        // the next discovery and the damping (m/d_min)|ẋ(T_n)| (eq. dissipationfun).
-        if !v.norm().is_finite() {
-            return Err(NavError::NotFinite { what: "velocity" });
-        }
+        finite_state(x, v)?;
         let e = self.field.eval(x).map_err(not_free)?;
         let (command, damping) = match &self.controller {
             Controller::Kinematic(law) => (law.velocity(&e, (x - self.goal).norm()), None),
@@ -398,7 +407,7 @@ impl Navigator {
         if !x.iter().all(|c| c.is_finite()) {
             return f64::NEG_INFINITY;
         }
-        hold::clearance(self.field.workspace(), x, f64::INFINITY, None)
+        certified::clearance(self.field.workspace(), x, f64::INFINITY, None)
     }
 
     /// The options in use.

@@ -39,52 +39,12 @@ pub enum HoldPolicy {
     Auto,
 }
 
-impl HoldPolicy {
-    /// Every policy, for reports and sweeps.
-    pub const ALL: [HoldPolicy; 2] = [HoldPolicy::Paper, HoldPolicy::Auto];
-
-    /// The name used in scenario files, the CLI and JSON (`"paper"`, `"auto"`).
-    #[must_use]
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Self::Paper => "paper",
-            Self::Auto => "auto",
-        }
-    }
-}
-
-impl std::fmt::Display for HoldPolicy {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.as_str())
-    }
-}
-
-/// A name that is not a [`HoldPolicy`].
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct UnknownHoldPolicy(pub String);
-
-impl std::fmt::Display for UnknownHoldPolicy {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "unknown hold policy \"{}\": expected \"paper\" or \"auto\"",
-            self.0
-        )
-    }
-}
-
-impl std::error::Error for UnknownHoldPolicy {}
-
-impl std::str::FromStr for HoldPolicy {
-    type Err = UnknownHoldPolicy;
-
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        Self::ALL
-            .into_iter()
-            .find(|p| p.as_str() == s)
-            .ok_or_else(|| UnknownHoldPolicy(s.to_string()))
-    }
-}
+harmonav_potential::named_policy!(
+    HoldPolicy,
+    UnknownHoldPolicy,
+    "hold policy",
+    [Paper => "paper", Auto => "auto"]
+);
 
 /// The navigator's settings, all with defaults (`Options::default()`).
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -7,7 +7,7 @@ use harmonav_field::{Field, FieldError, FieldEval};
 use harmonav_floorplan::FloorField;
 use nalgebra::Vector2;
 
-use crate::hold::{self, Band};
+use crate::certified::{self, Band};
 
 /// The hold's view of a navigation function over its free space (`docs/maths.md` §10).
 pub(crate) trait Space {
@@ -48,11 +48,11 @@ impl Space for Field {
     }
 
     fn clearance(&self, x: Vector2<f64>, need: f64, except: Option<Band>) -> f64 {
-        hold::clearance(self.workspace(), x, need, except)
+        certified::clearance(self.workspace(), x, need, except)
     }
 
     fn escape(&self, x: Vector2<f64>, most: f64) -> Option<(Band, Vector2<f64>, f64)> {
-        hold::escape(self.workspace(), x, most)
+        certified::escape(self.workspace(), x, most)
     }
 
     fn scale_shift(&self, law: &Dynamic) -> f64 {
@@ -84,7 +84,7 @@ impl Space for FloorField {
             }
             let cheap = (x - o.centre()).norm() - o.radius_bounds().1;
             if cheap < best {
-                best = best.min(hold::lower(o, x));
+                best = best.min(certified::lower(o, x));
             }
         }
         best
@@ -114,7 +114,7 @@ impl Space for FloorField {
     fn escape(&self, x: Vector2<f64>, most: f64) -> Option<(Band, Vector2<f64>, f64)> {
         let mut worst: Option<(usize, f64)> = None;
         for (i, o) in self.transform().obstacles().enumerate() {
-            let d = hold::lower(o, x);
+            let d = certified::lower(o, x);
             if worst.is_none_or(|(_, w)| d < w) {
                 worst = Some((i, d));
             }
@@ -124,10 +124,10 @@ impl Space for FloorField {
             return None;
         }
         let shape = self.transform().obstacles().nth(i)?;
-        let (dir, _) = hold::ray(shape, x)?;
+        let (dir, _) = certified::ray(shape, x)?;
         let band = Band::Obstacle(i);
         let others = self.clearance(x, 2.0 * most, Some(band)).max(0.0);
-        let length = hold::blind_layer(shape, x).min(0.5 * others).min(most);
+        let length = certified::blind_layer(shape, x).min(0.5 * others).min(most);
         (length > 0.0).then_some((band, dir, length))
     }
 }

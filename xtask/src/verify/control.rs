@@ -1,13 +1,13 @@
-//! Guarantee checks of the sensing sector and the control laws.
+//! Guarantee checks of the sensing sector and the control laws: runners over
+//! `harmonav_control::checks`, which the crate's tests assert on.
 
 use std::sync::Arc;
 
+use harmonav_control::checks::{energy_run, goal_damping, theta_rate};
 use harmonav_control::{DampingPolicy, Dynamic, Kinematic, SpeedPolicy};
 use harmonav_field::Field;
-use harmonav_potential::checks::fd_jacobian;
 use harmonav_sensing::Sector;
 use harmonav_transform::random::{self, Kind, Rng};
-use nalgebra::Vector2;
 
 use super::{Check, Outcome, outcome};
 
@@ -32,7 +32,8 @@ fn world(seed: u64) -> (Field, Rng) {
     )
 }
 
-/// Eq. (dmin) for the paper's sector (r = 1 m, θ = 60°, ρ_min = 0.05 m) and θ ≥ π.
+/// Eq. (dmin) for the paper's sector (r = 1 m, θ = 60°, ρ_min = 0.05 m) and θ ≥ π: a closed
+/// form against `Sector::d_min` (harmonav-sensing, whose tests check the same on more angles).
 fn d_min() -> Outcome {
     let s = Sector::new(1.0, 60f64.to_radians()).map_err(|e| e.to_string())?;
     let d = s.d_min(0.05);
@@ -47,7 +48,7 @@ fn d_min() -> Outcome {
 }
 
 /// Corollary critdamp with the finite-difference Hessian at the goal of the potential each
-/// damping policy descends (Θ, or Ψ under "auto"): ζ = 1.
+/// damping policy descends (Θ, or Ψ under "auto"): ζ = 1 (`checks::goal_damping`).
 fn critical_damping() -> Outcome {
     let mut worst = 0.0f64;
     for seed in 0..200u64 {
@@ -55,19 +56,8 @@ fn critical_damping() -> Outcome {
         let law = Dynamic::new(1.0, 10.0, 0.05)
             .map_err(|e| e.to_string())?
             .with_damping(DampingPolicy::ALL[seed as usize % 3]);
-        let xd = field.workspace().destination();
-        let h = 1e-5;
-        let g = |x: Vector2<f64>| {
-            field
-                .eval(x)
-                .map(|e| law.potential(&field, &e).gradient)
-                .unwrap_or(Vector2::zeros())
-        };
-        let hess = fd_jacobian(g, xd, h);
-        for eig in hess.symmetric_eigenvalues().iter() {
-            let zeta = law.lambda_c(&field) / (2.0 * (law.mass() * law.mu() * eig).sqrt());
-            worst = worst.max((zeta - 1.0).abs());
-        }
+        let g = goal_damping(&field, &law).map_err(|e| format!("seed {seed}: {e}"))?;
+        worst = worst.max(g.worst_deviation());
     }
     outcome(
         worst < 1e-6,
@@ -78,44 +68,19 @@ fn critical_damping() -> Outcome {
 }
 
 /// Eq. (totalenergy) and corollary boundedvel along the closed loop from rest (global field,
-/// RK4, 4000 steps of 1 ms), under every damping policy: V never rises, |ẋ| < √(2μ/m).
+/// RK4, 4000 steps of 1 ms), under every damping policy: V never rises, |ẋ| < √(2μ/m)
+/// (`checks::energy_run`).
 fn energy() -> Outcome {
     let (mut max_speed, mut worst_rise) = (0.0f64, 0.0f64);
     let base = Dynamic::new(1.0, 10.0, 0.05).map_err(|e| e.to_string())?;
     for seed in 0..30u64 {
         let law = base.with_damping(DampingPolicy::ALL[seed as usize % 3]);
         let (field, mut rng) = world(6000 + seed);
-        let mut x = random::free_point(&mut rng, field.workspace(), 0.2);
-        let mut v = Vector2::zeros();
-        let eval = |x: Vector2<f64>| {
-            field
-                .eval(x)
-                .map_err(|e| format!("seed {seed}: {e} at {x:?}"))
-        };
-        let accel = |x: Vector2<f64>, v: Vector2<f64>| -> Result<Vector2<f64>, String> {
-            let e = eval(x)?;
-            Ok(law.force(&field, &e, v, &law.damping(&field, &e, v, 0.0)) / law.mass())
-        };
-        let mut last = law.energy(&field, &eval(x)?, v);
-        let dt = 1e-3;
-        for _ in 0..4000 {
-            let (k1x, k1v) = (v, accel(x, v)?);
-            let (k2x, k2v) = (
-                v + 0.5 * dt * k1v,
-                accel(x + 0.5 * dt * k1x, v + 0.5 * dt * k1v)?,
-            );
-            let (k3x, k3v) = (
-                v + 0.5 * dt * k2v,
-                accel(x + 0.5 * dt * k2x, v + 0.5 * dt * k2v)?,
-            );
-            let (k4x, k4v) = (v + dt * k3v, accel(x + dt * k3x, v + dt * k3v)?);
-            x += dt / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x);
-            v += dt / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
-            let now = law.energy(&field, &eval(x)?, v);
-            worst_rise = worst_rise.max((now - last) / last.max(1e-12));
-            max_speed = max_speed.max(v.norm());
-            last = now;
-        }
+        let start = random::free_point(&mut rng, field.workspace(), 0.2);
+        let run =
+            energy_run(&field, &law, start, 1e-3, 4000).map_err(|e| format!("seed {seed}: {e}"))?;
+        worst_rise = worst_rise.max(run.worst_rise);
+        max_speed = max_speed.max(run.max_speed);
     }
     let bound = base.speed_bound();
     outcome(
@@ -127,7 +92,8 @@ fn energy() -> Outcome {
 }
 
 /// Eq. (kinctrl): dΘ/dt = ∇Θ·u = −K√(2Θ)|∇Θ| ≤ 0 at random free points (the paper's speed
-/// policy; every policy has the same direction, `harmonav-control`'s tests).
+/// policy; every policy has the same direction, `harmonav-control`'s tests;
+/// `checks::theta_rate`).
 fn kinematic() -> Outcome {
     let law = Kinematic::new(1.0)
         .map_err(|e| e.to_string())?
@@ -138,14 +104,11 @@ fn kinematic() -> Outcome {
         let (field, mut rng) = world(7000 + seed);
         for _ in 0..50 {
             let x = random::free_point(&mut rng, field.workspace(), 1e-3);
-            let e = field.eval(x).map_err(|e| e.to_string())?;
-            let to_goal = (x - field.workspace().destination()).norm();
-            let rate = e.gradient.dot(&law.velocity(&e, to_goal));
-            let expected = -(2.0 * e.value).sqrt() * e.gradient.norm();
-            if rate > 0.0 {
-                return Err(format!("seed {seed}: dΘ/dt = {rate} > 0 at {x:?}"));
+            let r = theta_rate(&field, &law, x).map_err(|e| format!("seed {seed}: {e}"))?;
+            if r.rate > 0.0 {
+                return Err(format!("seed {seed}: dΘ/dt = {} > 0 at {x:?}", r.rate));
             }
-            worst = worst.max((rate - expected).abs() / expected.abs().max(1e-300));
+            worst = worst.max(r.relative_error());
             n += 1;
         }
     }

@@ -1,13 +1,13 @@
 //! Guarantee checks of the navigation transformation and `Θ` (`harmonav-transform`,
-//! `harmonav-field`) on seeded random worlds of all four shapes.
+//! `harmonav-field`) on seeded random worlds of all four shapes: runners over
+//! `harmonav_field::checks`, which the crate's tests assert on.
 
 use std::sync::Arc;
 
-use harmonav_field::descent::{Ending, FollowOptions, follow};
+use harmonav_field::checks::{self, near_boundaries};
+use harmonav_field::descent::FollowOptions;
 use harmonav_field::{Field, KPolicy};
-use harmonav_potential::checks::{fd_gradient, fd_jacobian};
 use harmonav_transform::random::{self, Kind, Rng};
-use nalgebra::Vector2;
 
 use super::{Check, Outcome, outcome};
 
@@ -42,56 +42,34 @@ fn world_with(seed: u64, m: usize, policy: KPolicy) -> (Field, Rng) {
 }
 
 /// det J > 0 (including 1e-9 from every boundary), round trip Phi⁻¹∘Phi, J and ∇Θ against
-/// central differences.
+/// central differences (`checks::{sample, round_trip, fd_errors}`).
 fn diffeomorphism() -> Outcome {
     let (mut min_det, mut worst_j, mut worst_g, mut worst_trip, mut samples) =
         (f64::INFINITY, 0.0f64, 0.0f64, 0.0f64, 0);
     for seed in 0..300u64 {
         let (field, mut rng) = world(1000 + seed, 1 + (seed as usize) % 8);
         let ws = field.workspace();
-        let t = field.transform();
         for s in 0..60 {
             let th = rng.uniform(-3.1, 3.1);
             let x = if s % 3 == 0 {
                 // 1e-9 outside an obstacle or inside the outer boundary.
-                let n = ws.obstacles().len();
-                let i = rng.below(n + 1);
-                let u = Vector2::new(th.cos(), th.sin());
-                if i < n {
-                    let o = &ws.obstacles()[i];
-                    o.centre() + (o.radius(th).0 + 1e-9) * u
-                } else {
-                    let b = ws.boundary();
-                    b.centre() + (b.radius(th).0 - 1e-9) * u
-                }
+                near_boundaries(ws, th, 1e-9)[rng.below(ws.obstacles().len() + 1)]
             } else {
                 random::free_point(&mut rng, ws, 1e-3)
             };
-            let m = t
-                .nav_transform(x)
-                .map_err(|e| format!("seed {seed}: {e:?} at {x:?}"))?;
-            let det = m.jacobian.determinant();
-            if !(det > 0.0 && det.is_finite()) {
-                return Err(format!("seed {seed}: det J = {det} at {x:?}"));
+            let at = |e: checks::Failure| format!("seed {seed}: {e}");
+            let sample = checks::sample(&field, x).map_err(at)?;
+            if !sample.orientation_preserving() {
+                return Err(format!("seed {seed}: det J = {} at {x:?}", sample.det));
             }
-            min_det = min_det.min(det);
+            min_det = min_det.min(sample.det);
             samples += 1;
             if s % 3 != 0 {
-                let back = t.inverse(m.h).ok_or("inverse failed")?;
-                worst_trip = worst_trip.max((back - x).norm());
-                let h = 1e-7;
-                let map =
-                    |y: Vector2<f64>| t.nav_transform(y).map(|m| m.h).unwrap_or(Vector2::zeros());
-                let fd = fd_jacobian(map, x, h);
-                let err = (m.jacobian.column(0) - fd.column(0))
-                    .norm()
-                    .max((m.jacobian.column(1) - fd.column(1)).norm());
-                worst_j = worst_j.max(err / m.jacobian.norm());
-                let v = |y: Vector2<f64>| field.eval(y).map(|e| e.value).unwrap_or(f64::NAN);
-                let g = field.eval(x).map_err(|e| e.to_string())?.gradient;
-                let fd = fd_gradient(v, x, h);
-                if g.norm() > 1e-6 {
-                    worst_g = worst_g.max((g - fd).norm() / g.norm());
+                worst_trip = worst_trip.max(checks::round_trip(&field, x).map_err(at)?);
+                let fd = checks::fd_errors(&field, x).map_err(at)?;
+                worst_j = worst_j.max(fd.jacobian);
+                if fd.gradient_norm > 1e-6 {
+                    worst_g = worst_g.max(fd.gradient / fd.gradient_norm);
                 }
             }
         }
@@ -132,75 +110,52 @@ fn limits() -> Outcome {
     .into())
 }
 
-/// Θ ∈ [0, 1] at free points, `Θ(x_d) = 0`, the lowest Θ at 1e-12 from a boundary, and the
-/// worst relative error of the rise of `phi_k = ln(Θ/(1 − Θ))` from 1e-9 to 1e-12 off an
-/// obstacle against its closed form `(2/k)·ln 1e3` (`|h_i| = ν ∝ δ` at the band's inner edge,
-/// every other term constant): `1 − Θ` falls as `δ^{2Θ/k}`.
+/// Θ sound at free points (`checks::sample`), `Θ(x_d) = 0`, the lowest Θ at 1e-12 from a
+/// boundary, and the worst relative error of the rise of `phi_k` from 1e-9 to 1e-12 off an
+/// obstacle against its closed form `(2/k)·ln 1e3` (`checks::limits`).
 fn limits_under(policy: KPolicy) -> Result<(f64, f64), String> {
     let mut lowest_near = f64::INFINITY;
     let mut worst_exponent = 0.0f64;
     for seed in 0..300u64 {
         let (field, mut rng) = world_with(2000 + seed, 1 + (seed as usize) % 8, policy);
-        let ws = field.workspace();
-        if field.eval(ws.destination()).map(|e| e.value) != Ok(0.0) {
-            return Err(format!("seed {seed}: Θ(x_d) ≠ 0"));
-        }
+        let at = |e: checks::Failure| format!("seed {seed}: {e}");
         for _ in 0..50 {
-            let x = random::free_point(&mut rng, ws, 1e-6);
-            let e = field
-                .eval(x)
-                .map_err(|e| format!("seed {seed}: {e} at {x:?}"))?;
-            if !((0.0..=1.0).contains(&e.value)
-                && e.gradient.iter().all(|g| g.is_finite())
-                && e.direction.is_some())
-            {
-                return Err(format!("seed {seed}: bad evaluation {e:?} at {x:?}"));
+            let x = random::free_point(&mut rng, field.workspace(), 1e-6);
+            let s = checks::sample(&field, x).map_err(at)?;
+            if !s.is_sound() {
+                return Err(format!("seed {seed}: bad evaluation {:?} at {x:?}", s.eval));
             }
         }
-        let th = rng.uniform(-3.1, 3.1);
-        let u = Vector2::new(th.cos(), th.sin());
-        let b = ws.boundary();
-        let eval = |x| field.eval(x).map_err(|e| e.to_string());
-        for o in ws.obstacles() {
-            let at = |d: f64| o.centre() + (o.radius(th).0 + d) * u;
-            let (near, far) = (eval(at(1e-12))?, eval(at(1e-9))?);
-            lowest_near = lowest_near.min(near.value);
-            // phi_k = logit Θ rises by (1/k)·ln(|h_i,far|²/|h_i,near|²) = (2/k)·ln 1e3.
-            let rise = (near.phi - far.phi) / (2.0 / field.k() * 1e3f64.ln());
-            worst_exponent = worst_exponent.max((rise - 1.0).abs());
+        let limits = checks::limits(&field, rng.uniform(-3.1, 3.1), 1e-9, 1e-12).map_err(at)?;
+        if limits.at_goal != 0.0 {
+            return Err(format!("seed {seed}: Θ(x_d) = {} ≠ 0", limits.at_goal));
         }
-        lowest_near = lowest_near.min(eval(b.centre() + (b.radius(th).0 - 1e-12) * u)?.value);
+        for a in &limits.approaches {
+            lowest_near = lowest_near.min(a.theta_near);
+            if let Some(rise) = a.rise {
+                worst_exponent = worst_exponent.max((rise - 1.0).abs());
+            }
+        }
     }
     Ok((lowest_near, worst_exponent))
 }
 
-/// Theorem isNF: exactly one minimum (x_d) and M saddles, each a zero of ∇Θ.
+/// Theorem isNF: exactly one minimum (x_d) and M saddles, each a zero of ∇Θ
+/// (`checks::critical_points`).
 fn census() -> Outcome {
     let mut total = 0;
     let mut worst = 0.0f64;
     for seed in 0..300u64 {
         let (field, _) = world(3000 + seed, 1 + (seed as usize) % 10);
-        let cps = field.critical_points();
-        let m = field.known().len();
-        let saddles: usize = cps
-            .iter()
-            .filter_map(|c| c.point_world.map(|p| p.multiplicity))
-            .sum();
-        if saddles != m {
-            return Err(format!("seed {seed}: {saddles} saddles for M = {m}"));
+        let c = checks::critical_points(&field).map_err(|e| format!("seed {seed}: {e}"))?;
+        if c.saddles != c.obstacles {
+            return Err(format!(
+                "seed {seed}: {} saddles for M = {}",
+                c.saddles, c.obstacles
+            ));
         }
-        for c in &cps[1..] {
-            let e = field
-                .eval(c.x)
-                .map_err(|e| format!("seed {seed}: {e} at {:?}", c.x))?;
-            // |J_Phiᵀ∇phi_k| at the pulled-back point, relative to its size 1e-3 away.
-            let probe = field
-                .eval(c.x + Vector2::new(1e-3, 0.0))
-                .map_err(|e| e.to_string())?;
-            let ratio = e.gradient.norm() / probe.gradient.norm().max(1e-300);
-            worst = worst.max(ratio);
-        }
-        total += m;
+        worst = worst.max(c.worst_gradient_ratio);
+        total += c.obstacles;
     }
     outcome(
         worst < 1e-4,
@@ -212,34 +167,24 @@ fn census() -> Outcome {
 
 /// Following −∇Θ/|∇Θ| (unit speed, `descent::follow`: the Rosenbrock W-method 2(3) with
 /// error control) from 1000 seeded random starts in a 6-obstacle world with `k` from the
-/// default policy: ≥ 99.9 % arrive within 100 s, no collision.
+/// default policy: ≥ 99.9 % arrive within 100 s, no collision (`checks::convergence`).
 fn convergence(kinds: &[Kind], outer: Kind, seed: u64) -> Outcome {
     let mut rng = Rng::new(seed);
     let ws = Arc::new(random::workspace(&mut rng, 6, kinds, outer, 0.2));
     let field = Field::all_known(ws.clone()).map_err(|e| e.to_string())?;
-    let (mut reached, mut collisions) = (0, 0);
-    let mut times = Vec::new();
-    let starts = 1000;
-    for _ in 0..starts {
-        let x = random::free_point(&mut rng, &ws, 1e-3);
-        let d = follow(&field, x, &FollowOptions::default());
-        if !d.collision_free {
-            collisions += 1;
-        }
-        if d.ending == Ending::Reached {
-            reached += 1;
-            times.push(d.time);
-        }
-    }
-    times.sort_by(f64::total_cmp);
-    let median = times.get(times.len() / 2).copied().unwrap_or(f64::NAN);
-    let max = times.last().copied().unwrap_or(f64::NAN);
+    let starts = (0..1000).map(|_| random::free_point(&mut rng, &ws, 1e-3));
+    let c = checks::convergence(&field, starts, &FollowOptions::default());
     outcome(
-        reached * 1000 >= starts * 999 && collisions == 0,
+        c.reached * 1000 >= c.starts * 999 && c.collisions == 0,
         format!(
-            "{reached}/{starts} reached in ≤ 100 s (median {median:.2} s, max {max:.2} s), {collisions} collisions, k = {} (policy \"{}\", M = {})",
+            "{}/{} reached in ≤ 100 s (median {:.2} s, max {:.2} s), {} collisions, k = {} (policy \"{}\", M = {})",
+            c.reached,
+            c.starts,
+            c.median(),
+            c.slowest(),
+            c.collisions,
             field.k(),
-            harmonav_field::KPolicy::default(),
+            KPolicy::default(),
             ws.obstacles().len()
         ),
     )
