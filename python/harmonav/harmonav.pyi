@@ -268,8 +268,9 @@ def sweep(
 
 # A run configuration of ``run_batch``: ``generator="quality"`` with ``obstacles`` and ``seed``,
 # or ``scenario`` (a path naming the file) with optional ``scenario_text``; the overrides
-# ``law``, ``k``, ``damping``, ``speed``, ``sensing``, ``margin``, ``max_time``, ``physics``
-# (None: the world's own); ``start`` ``[x, y]`` with ``start_index``.
+# ``model`` (the robot model, the spec's ``law``), ``k``, ``damping``, ``speed``, ``sensing``,
+# ``margin``, ``max_time``, ``physics`` (None: the world's own); ``start`` ``[x, y]`` with
+# ``start_index``. A record's ``effective`` is the configuration as run.
 _RunConfig = Dict[str, Any]
 
 def run_batch(

@@ -60,7 +60,8 @@ enum WorldSource {
 #[derive(Clone, Debug, PartialEq)]
 struct Config {
     world: WorldSource,
-    law: Option<Model>,
+    /// The robot model (the spec's `law`; `harmonav run --model`).
+    model: Option<Model>,
     k: Option<KPolicy>,
     damping: Option<DampingPolicy>,
     speed: Option<SpeedPolicy>,
@@ -80,7 +81,7 @@ const KEYS: [&str; 15] = [
     "seed",
     "scenario",
     "scenario_text",
-    "law",
+    "model",
     "k",
     "damping",
     "speed",
@@ -158,13 +159,13 @@ fn config(dict: &Bound<'_, PyDict>) -> Result<Config, String> {
         (Some(_), Some(_)) => return Err("give generator or scenario, not both".into()),
         (None, None) => return Err("no world: give generator or scenario".into()),
     };
-    let law = match item::<String>(dict, "law")?.as_deref() {
+    let model = match item::<String>(dict, "model")?.as_deref() {
         None => None,
         Some("kinematic") => Some(Model::Kinematic),
         Some("dynamic") => Some(Model::Dynamic),
         Some(other) => {
             return Err(format!(
-                "law: unknown law \"{other}\": expected \"kinematic\" or \"dynamic\""
+                "model: unknown model \"{other}\": expected \"kinematic\" or \"dynamic\""
             ));
         }
     };
@@ -190,7 +191,7 @@ fn config(dict: &Bound<'_, PyDict>) -> Result<Config, String> {
     }
     Ok(Config {
         world,
-        law,
+        model,
         k: named(dict, "k")?,
         damping: named(dict, "damping")?,
         speed: named(dict, "speed")?,
@@ -210,7 +211,7 @@ fn preparation_key(c: &Config) -> String {
     format!(
         "{:?}",
         (
-            &c.world, c.law, c.k, c.damping, c.speed, c.sensing, c.margin, c.max_time
+            &c.world, c.model, c.k, c.damping, c.speed, c.sensing, c.margin, c.max_time
         )
     )
 }
@@ -230,7 +231,7 @@ fn prepare(c: &Config) -> Result<Prepared, String> {
                 obstacles: *obstacles,
                 sensing: c.sensing.unwrap_or(SensingKind::Global),
                 k: c.k.unwrap_or_default(),
-                model: c.law.unwrap_or(Model::Kinematic),
+                model: c.model.unwrap_or(Model::Kinematic),
                 damping: c.damping.unwrap_or_default(),
                 speed: c.speed.unwrap_or_default(),
                 margin,
@@ -329,7 +330,7 @@ fn overshoot(run: &Run, goal: Vector2<f64>) -> f64 {
 /// law, speed for the dynamic one).
 #[derive(Clone, Debug)]
 struct Effective {
-    law: &'static str,
+    model: &'static str,
     k: &'static str,
     damping: Option<&'static str>,
     speed: Option<&'static str>,
@@ -345,7 +346,7 @@ impl Effective {
         let s = &p.scenario;
         let kinematic = model.unwrap_or(s.robot.model) == Model::Kinematic;
         Self {
-            law: if kinematic { "kinematic" } else { "dynamic" },
+            model: if kinematic { "kinematic" } else { "dynamic" },
             k: s.field.k.as_str(),
             damping: (!kinematic).then(|| s.controller.damping.as_str()),
             speed: kinematic.then(|| s.controller.speed.as_str()),
@@ -380,14 +381,14 @@ fn run_one(c: &Config, prepared: &Prepared) -> Result<Ran, String> {
             return Ok(Ran::Invalid(
                 outcome,
                 [x, y],
-                Effective::of(prepared, c.law),
+                Effective::of(prepared, c.model),
             ));
         }
         p.scenario.robot.start = [x, y];
     }
     // The law as `harmonav run --model` gives it: the file's `[expect]` describes a run of
     // the file's own model, and is not applied to the other.
-    let run = simulate(&p, c.law, c.physics).map_err(|e| e.to_string())?;
+    let run = simulate(&p, c.model, c.physics).map_err(|e| e.to_string())?;
     let shortest = if c.shortest {
         of_scenario(&p).ok().map(|s| s.length)
     } else {
@@ -421,7 +422,7 @@ fn run_one(c: &Config, prepared: &Prepared) -> Result<Ran, String> {
             warnings: s.warnings.iter().map(|w| w.to_string()).collect(),
             start: p.scenario.robot.start,
         }),
-        Effective::of(&p, c.law),
+        Effective::of(&p, c.model),
     ))
 }
 
@@ -469,9 +470,10 @@ fn configs(runs: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Result<Config, S
 ///
 /// A configuration is a dict with `generator = "quality"`, `obstacles`, `seed` (a world of the
 /// motion-quality benchmark) or `scenario` (a file's path, which names it in errors) and
-/// optionally `scenario_text` (its text: then the file is not read); the overrides `law`
-/// (`"kinematic"`, `"dynamic"`), `k`, `damping`, `speed` (policy names), `sensing`
-/// (`"global"`, `"sector"`: the file's sensor, or the paper's 1 m, 60°), `margin`, `max_time`
+/// optionally `scenario_text` (its text: then the file is not read); the overrides `model`
+/// (`"kinematic"`, `"dynamic"`: the robot model, the spec's `law`), `k`, `damping`, `speed`
+/// (policy names), `sensing` (`"global"`, `"sector"`: the file's sensor, or the paper's 1 m,
+/// 60°), `margin`, `max_time`
 /// (`None` or absent: the world's own; a quality world's defaults are the benchmark's), and
 /// `start` (`[x, y]`, with `start_index` naming it) and `physics` (`"builtin"`, `"rapier"`).
 ///
@@ -483,7 +485,9 @@ fn configs(runs: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Result<Config, S
 /// `collisions`, `discoveries`, `steps`, `rejected_steps`, `recorded_states`, `overshoot`,
 /// `guarantees_held` (every monitor but arrival and the file's `[expect]`), `all_passed`,
 /// `k_policy`, `guarantees` (summary.json's list: `name`, `passed`, `detail`, `measured`),
-/// `warnings`, `start` and `version` (this package's). The same configuration gives the same
+/// `warnings`, `start`, `version` (this package's) and `effective` (the configuration as run,
+/// the world's own values filling the gaps: `model`, `k`, `damping`, `speed`, `sensing`,
+/// `margin`, `max_time`, `obstacles`). The same configuration gives the same
 /// record, bit for bit, on any thread count and in any batch.
 #[pyfunction]
 #[pyo3(signature = (runs, threads=1, shortest=true))]
@@ -595,7 +599,7 @@ fn record<'py>(py: Python<'py>, r: Result<Ran, String>) -> PyResult<Bound<'py, P
 fn effective_items(d: &Bound<'_, PyDict>, e: &Effective) -> PyResult<()> {
     let py = d.py();
     let c = PyDict::new(py);
-    c.set_item("law", e.law)?;
+    c.set_item("model", e.model)?;
     c.set_item("k", e.k)?;
     c.set_item("damping", e.damping)?;
     c.set_item("speed", e.speed)?;

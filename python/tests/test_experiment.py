@@ -170,17 +170,17 @@ def test_a_failing_run_is_a_record_with_its_error_and_the_batch_goes_on(mixed_pa
     text = mixed_path.read_text()
     runs = [
         {"generator": "quality", "obstacles": 6, "seed": 1},
-        {"generator": "quality", "obstacles": 6, "seed": 1, "law": "dinamic"},
+        {"generator": "quality", "obstacles": 6, "seed": 1, "model": "dinamic"},
         {"scenario": "broken.toml", "scenario_text": text.replace("radius = 0.5", "radius = -0.5", 1)},
         {"generator": "quality", "obstacles": 6, "seed": 1, "colour": "red"},
         {"generator": "quality", "obstacles": 6, "seed": 1, "margin": 0.5},
         {"scenario": str(mixed_path), "start": [100.0, 0.0], "start_index": 7},
-        {"scenario": str(mixed_path), "law": "kinematic"},
+        {"scenario": str(mixed_path), "model": "kinematic"},
     ]
     records = harmonav.run_batch(runs, threads=2)
     assert len(records) == len(runs)
     assert records[0]["error"] is None and records[0]["reached"] is True
-    assert "law" in records[1]["error"] and "dinamic" in records[1]["error"]
+    assert "model" in records[1]["error"] and "dinamic" in records[1]["error"]
     assert "broken.toml" in records[2]["error"] and "obstacles[0]" in records[2]["error"]
     assert "colour" in records[3]["error"]
     assert "margin" in records[4]["error"]
@@ -195,14 +195,14 @@ def test_a_record_is_the_run_that_harmonav_run_makes(mixed_path):
     """The same library call: every number of summary.json and every guarantee agree."""
     for model in ("kinematic", "dynamic"):
         summary = harmonav.Scenario.load(mixed_path).run(model=model).summary
-        (record,) = harmonav.run_batch([{"scenario": str(mixed_path), "law": model}])
+        (record,) = harmonav.run_batch([{"scenario": str(mixed_path), "model": model}])
         assert record["error"] is None
         for key in ("reached", "time_s", "path_length", "min_clearance", "collisions",
                     "max_speed", "steps", "rejected_steps", "recorded_states", "final_distance"):
             assert record[key] == summary[key], key
         assert record["outcome"] == summary["outcome"]["kind"]
         assert record["guarantees"] == summary["guarantees"]
-        assert record["effective"]["law"] == model
+        assert record["effective"]["model"] == model
         length, _ = harmonav.Scenario.load(mixed_path).shortest_path()
         assert record["shortest_length"] == length
         assert record["path_over_shortest"] == summary["path_length"] / length

@@ -18,7 +18,7 @@ from typing import Any, Dict, Iterator, List, Optional, Sequence
 
 import harmonav
 
-from .spec import Spec
+from .spec import RUN_KEYS, Spec, run_config
 
 #: The configuration columns, first in every record (``docs/experiments.md``).
 CONFIG_COLUMNS = (
@@ -120,8 +120,7 @@ class Plan:
         s_count, c_count = self.per_world, len(self.cells)
         w, c, s = i // (c_count * s_count), (i // s_count) % c_count, i % s_count
         world, cell = self.spec.worlds[w], self.cells[c]
-        config = dict(world.config)
-        config.update({k: v for k, v in cell.items() if v is not None})
+        config = run_config(world.config, cell)
         columns: Dict[str, Any] = {
             "experiment": self.spec.name,
             "run": i,
@@ -164,8 +163,9 @@ def _flatten(columns: Dict[str, Any], record: Dict[str, Any]) -> Dict[str, Any]:
     row.update(columns)
     effective = record.pop("effective", None) or {}
     for key in ("law", "k", "damping", "speed", "sensing", "margin", "max_time", "obstacles"):
-        if key in effective:
-            row[key] = effective[key]
+        name = RUN_KEYS.get(key, key)
+        if name in effective:
+            row[key] = effective[name]
     if row["physics"] is None:
         row["physics"] = "builtin"
     start = record.pop("start", None)
