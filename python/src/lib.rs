@@ -7,6 +7,7 @@
 //! in a batch evaluation give NaN rows (`Field.eval`) and `False` in `Field.free`.
 
 mod convert;
+mod experiment;
 mod field;
 mod navigator;
 mod scenario;
@@ -31,5 +32,8 @@ fn harmonav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<scenario::RunResult>()?;
     m.add_class::<scenario::SweepResult>()?;
     m.add_function(wrap_pyfunction!(scenario::sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(experiment::run_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(experiment::random_start_points, m)?)?;
+    m.add_function(wrap_pyfunction!(experiment::check_run_config, m)?)?;
     Ok(())
 }

@@ -154,7 +154,7 @@ def test_star_harmonic_orders_are_capped_at_1000(harmonics, words):
 
 def test_the_harmonic_cap_is_stated_and_order_1000_is_accepted():
     assert "1000" in harmonav.star.__doc__
-    stub = (REPO / "python" / "harmonav.pyi").read_text()
+    stub = (REPO / "python" / "harmonav" / "harmonav.pyi").read_text()
     star_stub = stub[stub.index("def star(") :].split("\n\n")[0]
     assert "1000" in star_stub, star_stub
     top = harmonav.star([0, 0], 0.5, [(1000, 1e-5, 0.0), (np.int64(7), 0.01, 0.0)])

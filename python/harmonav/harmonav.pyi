@@ -265,3 +265,27 @@ def sweep(
     outside the free space is the outcome ``"invalid-start"`` (its report failure names
     ``starts[i]``), not an error. Ctrl-C stops the sweep within a part of two starts per core
     (``KeyboardInterrupt``)."""
+
+# A run configuration of ``run_batch``: ``generator="quality"`` with ``obstacles`` and ``seed``,
+# or ``scenario`` (a path naming the file) with optional ``scenario_text``; the overrides
+# ``model`` (the robot model, the spec's ``law``), ``k``, ``damping``, ``speed``, ``sensing``,
+# ``margin``, ``max_time``, ``physics`` (None: the world's own); ``start`` ``[x, y]`` with
+# ``start_index``. A record's ``effective`` is the configuration as run.
+_RunConfig = Dict[str, Any]
+
+def run_batch(
+    runs: List[_RunConfig], threads: int = 1, shortest: bool = True
+) -> List[Dict[str, Any]]:
+    """Runs every configuration through ``harmonav run``'s library call on ``threads`` threads
+    (0: every core) without the GIL: one record per run, in order. A run that cannot be made (a
+    bad configuration, a world the scenario layer refuses, a run error, a panic) is a record with
+    its ``error``; a start outside the free space has the outcome ``"invalid-start"``. The same
+    configuration gives the same record, bit for bit (docs/experiments.md lists the keys)."""
+
+def check_run_config(config: _RunConfig, prepare: bool = False) -> None:
+    """Checks a run configuration as ``run_batch`` reads it (with ``prepare``, also its world
+    with its overrides, through the scenario layer); raises ``ValueError`` naming the key."""
+
+def random_start_points(config: _RunConfig, count: int, seed: int) -> List[List[float]]:
+    """``count`` seeded free starts in the world of ``config``, as ``harmonav sweep --starts
+    count --seed seed`` draws them."""

@@ -1,0 +1,9 @@
+"""harmonav: provably correct robot navigation with the harmonic navigation functions of
+Loizou & Rimon, ``Θ = σ∘φ_k∘Φ``, computed in Rust (the extension module
+``harmonav.harmonav``, whose every name is re-exported here) with NumPy arrays in and out.
+
+``harmonav.experiment`` runs declarative studies (TOML specs) on every local core or on a Ray
+cluster, with Parquet records (docs/experiments.md)."""
+
+from .harmonav import *  # noqa: F401,F403  (the extension's names are the package's)
+from .harmonav import __version__  # noqa: F401

@@ -1,0 +1,442 @@
+"""The experiment spec (TOML, docs/experiments.md): worlds, starts, the grid of runs, what to
+measure and the engine, validated as a scenario file is: every problem is a ``SpecError``
+naming the file, the field and what is wrong, and unknown keys are refused.
+
+Values that the Rust side knows (law, policy and physics names, the quality worlds' limits, a
+scenario file's validity) are checked by the Rust side itself (``harmonav.check_run_config``,
+``harmonav.Scenario.load``), so the spec cannot drift from the scenario layer."""
+
+from __future__ import annotations
+
+import glob as _glob
+import hashlib
+import itertools
+import json
+import math
+import os
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Dict, List, Optional, Sequence, Tuple
+
+try:  # Python 3.11+
+    import tomllib as _toml
+except ModuleNotFoundError:  # pragma: no cover - Python 3.9, 3.10
+    try:
+        import tomli as _toml  # type: ignore[no-redef]
+    except ModuleNotFoundError:
+        _toml = None  # type: ignore[assignment]
+
+import harmonav
+
+#: The grid's keys, in the order a run's configuration lists them.
+GRID_KEYS = ("law", "k", "damping", "speed", "sensing", "margin", "max_time", "physics")
+
+#: A grid key under its name in ``harmonav.run_batch``'s configurations, where it differs: the
+#: spec (and the records) say ``law`` as the issue does, the Python API says ``model`` as
+#: ``Scenario.run(model=…)`` and ``harmonav run --model`` do.
+RUN_KEYS = {"law": "model"}
+
+
+def run_config(world_config: Dict[str, Any], cell: Dict[str, Any]) -> Dict[str, Any]:
+    """The ``run_batch`` configuration of ``cell`` (grid keys, ``None``: the world's own) on a
+    world (its configuration)."""
+    config = dict(world_config)
+    config.update({RUN_KEYS.get(k, k): v for k, v in cell.items() if v is not None})
+    return config
+#: Most starts per world (as ``harmonav sweep --starts``).
+MAX_STARTS = 1_000_000
+#: Most runs in one experiment (a guard against a typo, not a memory limit: runs are
+#: generated task by task).
+MAX_RUNS = 10**9
+#: Runs per task when the spec gives none: large enough that a task's overhead (a Ray task
+#: costs about a millisecond) is small against runs of ≥ 10 ms, small enough that parts are
+#: written often and the last tasks share the cores.
+DEFAULT_TASK_RUNS = 16
+
+
+class SpecError(ValueError):
+    """A problem with an experiment spec: ``file``, ``field`` (a path such as
+    ``grid.law[1]``, empty for the whole file), ``line`` (where the TOML parser gives it) and
+    ``problem``. ``str()`` reads ``file[:line]: `field`: problem``, as a scenario error does."""
+
+    def __init__(self, file: str, field: str, problem: str, line: Optional[int] = None):
+        self.file, self.field, self.problem, self.line = str(file), field, problem, line
+        where = self.file + (f":{line}" if line is not None else "")
+        super().__init__(f"{where}: `{field}`: {problem}" if field else f"{where}: {problem}")
+
+
+@dataclass(frozen=True)
+class World:
+    """One world: its label (the records' ``world``), the columns that say where it comes
+    from, and the part of a run configuration that names it (``harmonav.run_batch``)."""
+
+    label: str
+    generator: Optional[str]
+    scenario: Optional[str]
+    seed: Optional[int]
+    config: Dict[str, Any] = field(hash=False)
+
+
+@dataclass(frozen=True)
+class Starts:
+    """Several starts per world: ``random`` seeded free starts (``seed``), as
+    ``harmonav sweep --starts random --seed seed`` draws them, or the same ``points`` in every
+    world."""
+
+    random: Optional[int] = None
+    seed: int = 0
+    points: Optional[Tuple[Tuple[float, float], ...]] = None
+
+    @property
+    def count(self) -> int:
+        return self.random if self.random is not None else len(self.points or ())
+
+
+@dataclass(frozen=True)
+class Engine:
+    """Where the tasks run: ``kind`` ``"local"`` (every core, or ``workers``) or ``"ray"``
+    (``address`` joins a running cluster; none starts a local one of ``workers`` CPUs, every
+    core by default); ``task_runs`` runs per task."""
+
+    kind: str = "local"
+    address: Optional[str] = None
+    workers: int = 0
+    task_runs: int = DEFAULT_TASK_RUNS
+
+
+@dataclass(frozen=True)
+class Spec:
+    """A validated experiment spec. ``cells`` are the grid's distinct run configurations
+    (overrides of the worlds' scenarios; ``None``: the world's own value), in grid order."""
+
+    path: Path
+    name: str
+    description: str
+    worlds: Tuple[World, ...]
+    starts: Optional[Starts]
+    cells: Tuple[Dict[str, Any], ...]
+    shortest: bool
+    engine: Engine
+    digest: str
+
+    @property
+    def runs(self) -> int:
+        per_world = self.starts.count if self.starts is not None else 1
+        return len(self.worlds) * len(self.cells) * per_world
+
+
+def _line(message: str) -> Optional[int]:
+    m = re.search(r"line (\d+)", message)
+    return int(m.group(1)) if m else None
+
+
+class _Checker:
+    """Typed reads of the parsed TOML, each error naming the file and the field."""
+
+    def __init__(self, path: Path):
+        self.path = path
+
+    def fail(self, field: str, problem: str) -> SpecError:
+        return SpecError(str(self.path), field, problem)
+
+    def table(self, value: Any, field: str, keys: Sequence[str]) -> Dict[str, Any]:
+        if not isinstance(value, dict):
+            raise self.fail(field, f"must be a table, got {_kind(value)}")
+        for k in value:
+            if k not in keys:
+                raise self.fail(
+                    f"{field}.{k}" if field else k,
+                    f"unknown key; expected one of {', '.join(keys)}",
+                )
+        return value
+
+    def string(self, value: Any, field: str) -> str:
+        if not isinstance(value, str):
+            raise self.fail(field, f"must be a string, got {_kind(value)}")
+        return value
+
+    def integer(self, value: Any, field: str, lo: int, hi: int) -> int:
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise self.fail(field, f"must be an integer, got {_kind(value)}")
+        if not lo <= value <= hi:
+            raise self.fail(field, f"must be in [{lo}, {hi}], got {value}")
+        return value
+
+    def number(self, value: Any, field: str) -> float:
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise self.fail(field, f"must be a number, got {_kind(value)}")
+        if not math.isfinite(value):
+            raise self.fail(field, f"must be finite, got {value}")
+        return float(value)
+
+    def boolean(self, value: Any, field: str) -> bool:
+        if not isinstance(value, bool):
+            raise self.fail(field, f"must be true or false, got {_kind(value)}")
+        return value
+
+    def nonempty_list(self, value: Any, field: str) -> List[Any]:
+        if not isinstance(value, list):
+            raise self.fail(field, f"must be a list, got {_kind(value)}")
+        if not value:
+            raise self.fail(field, "must not be empty")
+        return value
+
+
+def _kind(value: Any) -> str:
+    return {
+        bool: "a boolean",
+        int: "an integer",
+        float: "a number",
+        str: "a string",
+        list: "a list",
+        dict: "a table",
+    }.get(type(value), type(value).__name__)
+
+
+def load_spec(path: "os.PathLike[str] | str") -> Spec:
+    """Reads and validates the experiment spec at ``path``; raises ``SpecError``."""
+    path = Path(path)
+    if _toml is None:  # pragma: no cover
+        raise SpecError(str(path), "", "reading TOML needs Python 3.11 or `pip install tomli`")
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as e:
+        raise SpecError(str(path), "", f"cannot be read: {e}") from None
+    try:
+        doc = _toml.loads(text)
+    except _toml.TOMLDecodeError as e:
+        raise SpecError(str(path), "", f"not valid TOML: {e}", _line(str(e))) from None
+    return _validate(path, doc)
+
+
+def _validate(path: Path, doc: Dict[str, Any]) -> Spec:
+    c = _Checker(path)
+    c.table(doc, "", ["name", "description", "worlds", "starts", "grid", "measure", "engine"])
+    if "name" not in doc:
+        raise c.fail("name", "required")
+    name = c.string(doc["name"], "name")
+    if not name or not re.fullmatch(r"[A-Za-z0-9._-]+", name):
+        raise c.fail("name", f"must be letters, digits, '.', '_' or '-', got {name!r}")
+    description = c.string(doc.get("description", ""), "description")
+    if "worlds" not in doc:
+        raise c.fail("worlds", "required")
+    worlds = _worlds(c, doc["worlds"])
+    starts = _starts(c, doc["starts"]) if "starts" in doc else None
+    cells = _grid(c, doc.get("grid", {}))
+    measure = c.table(doc.get("measure", {}), "measure", ["shortest"])
+    shortest = c.boolean(measure.get("shortest", True), "measure.shortest")
+    engine = _engine(c, doc.get("engine", {}))
+    _check_cells(c, worlds, cells)
+    per_world = starts.count if starts is not None else 1
+    runs = len(worlds) * len(cells) * per_world
+    if runs > MAX_RUNS:
+        raise c.fail("", f"{runs} runs; an experiment has at most {MAX_RUNS}")
+    digest = _digest(name, worlds, starts, cells, shortest, engine.task_runs)
+    return Spec(path, name, description, worlds, starts, cells, shortest, engine, digest)
+
+
+def _worlds(c: _Checker, value: Any) -> Tuple[World, ...]:
+    w = c.table(value, "worlds", ["generator", "obstacles", "seeds", "scenarios"])
+    if ("generator" in w) == ("scenarios" in w):
+        raise c.fail("worlds", "give either generator (with obstacles and seeds) or scenarios")
+    if "generator" in w:
+        gen = c.string(w["generator"], "worlds.generator")
+        if gen != "quality":
+            raise c.fail("worlds.generator", f'unknown generator "{gen}": expected "quality"')
+        for key in ("obstacles", "seeds"):
+            if key not in w:
+                raise c.fail(f"worlds.{key}", 'required by generator = "quality"')
+        counts = [
+            c.integer(v, f"worlds.obstacles[{i}]", 1, 10**6)
+            for i, v in enumerate(c.nonempty_list(w["obstacles"], "worlds.obstacles"))
+        ]
+        seeds = _seeds(c, w["seeds"])
+        out = []
+        for m in counts:
+            for s in seeds:
+                config = {"generator": "quality", "obstacles": m, "seed": s}
+                out.append(World(f"quality-m{m}-seed{s}", "quality", None, s, config))
+        return _unique(c, out, "worlds")
+    for key in ("obstacles", "seeds"):
+        if key in w:
+            raise c.fail(f"worlds.{key}", "belongs with generator, not with scenarios")
+    base = c.path.parent
+    out = []
+    for i, pattern in enumerate(c.nonempty_list(w["scenarios"], "worlds.scenarios")):
+        f = f"worlds.scenarios[{i}]"
+        pattern = c.string(pattern, f)
+        full = pattern if os.path.isabs(pattern) else str(base / pattern)
+        files = sorted(_glob.glob(full, recursive=True))
+        if not files:
+            raise c.fail(f, f"{pattern!r} matches no file (relative to {base})")
+        for file in files:
+            try:
+                harmonav.Scenario.load(file)
+            except ValueError as e:
+                raise c.fail(f, f"{e}") from None
+            try:
+                text = Path(file).read_text(encoding="utf-8")
+            except OSError as e:  # pragma: no cover - it was just loaded
+                raise c.fail(f, f"{file}: {e}") from None
+            label = os.path.relpath(file, base)
+            config = {"scenario": label, "scenario_text": text}
+            out.append(World(label, None, label, None, config))
+    return _unique(c, out, "worlds.scenarios")
+
+
+def _unique(c: _Checker, worlds: List[World], field: str) -> Tuple[World, ...]:
+    seen = set()
+    for w in worlds:
+        if w.label in seen:
+            raise c.fail(field, f"the world {w.label} is given twice")
+        seen.add(w.label)
+    return tuple(worlds)
+
+
+def _seeds(c: _Checker, value: Any) -> List[int]:
+    """A list of seeds, or ``{ first = 1, count = 24 }``."""
+    if isinstance(value, dict):
+        t = c.table(value, "worlds.seeds", ["first", "count"])
+        for key in ("first", "count"):
+            if key not in t:
+                raise c.fail(f"worlds.seeds.{key}", "required")
+        first = c.integer(t["first"], "worlds.seeds.first", 0, 2**63 - 10**7)
+        count = c.integer(t["count"], "worlds.seeds.count", 1, 10**7)
+        return list(range(first, first + count))
+    seeds = [
+        c.integer(v, f"worlds.seeds[{i}]", 0, 2**63 - 1)
+        for i, v in enumerate(c.nonempty_list(value, "worlds.seeds"))
+    ]
+    return seeds
+
+
+def _starts(c: _Checker, value: Any) -> Starts:
+    t = c.table(value, "starts", ["random", "seed", "points"])
+    if ("random" in t) == ("points" in t):
+        raise c.fail("starts", "give either random (a count, with seed) or points")
+    if "points" in t:
+        if "seed" in t:
+            raise c.fail("starts.seed", "belongs with random, not with points")
+        pts = []
+        for i, p in enumerate(c.nonempty_list(t["points"], "starts.points")):
+            f = f"starts.points[{i}]"
+            if not isinstance(p, list) or len(p) != 2:
+                raise c.fail(f, "must be a point [x, y]")
+            pts.append((c.number(p[0], f + "[0]"), c.number(p[1], f + "[1]")))
+        if len(pts) > MAX_STARTS:
+            raise c.fail("starts.points", f"{len(pts)} points; at most {MAX_STARTS}")
+        return Starts(points=tuple(pts))
+    count = c.integer(t["random"], "starts.random", 1, MAX_STARTS)
+    seed = c.integer(t.get("seed", 0), "starts.seed", 0, 2**63 - 1)
+    return Starts(random=count, seed=seed)
+
+
+def _grid(c: _Checker, value: Any) -> Tuple[Dict[str, Any], ...]:
+    """The runs' configurations: the product of each ``[grid]`` table's lists (an array of
+    tables ``[[grid]]`` is the union of their products), each value checked by the Rust side,
+    the law's irrelevant policy dropped (damping for the kinematic law, speed for the dynamic
+    one), duplicates removed in order."""
+    tables = value if isinstance(value, list) else [value]
+    if isinstance(value, list) and not value:
+        raise c.fail("grid", "must not be empty")
+    cells: List[Dict[str, Any]] = []
+    seen = set()
+    for ti, table in enumerate(tables):
+        where = f"grid[{ti}]" if isinstance(value, list) else "grid"
+        t = c.table(table, where, list(GRID_KEYS))
+        axes: List[List[Tuple[str, Any]]] = []
+        for key in GRID_KEYS:
+            if key not in t:
+                continue
+            raw = t[key] if isinstance(t[key], list) else [t[key]]
+            if not raw:
+                raise c.fail(f"{where}.{key}", "must not be empty")
+            values = []
+            for i, v in enumerate(raw):
+                f = f"{where}.{key}[{i}]" if isinstance(t[key], list) else f"{where}.{key}"
+                values.append((key, _grid_value(c, key, v, f)))
+            axes.append(values)
+        for combo in itertools.product(*axes):
+            cell = {key: None for key in GRID_KEYS}
+            cell.update(dict(combo))
+            if cell["law"] == "kinematic":
+                cell["damping"] = None
+            elif cell["law"] == "dynamic":
+                cell["speed"] = None
+            key = tuple(cell[k] for k in GRID_KEYS)
+            if key not in seen:
+                seen.add(key)
+                cells.append(cell)
+    return tuple(cells)
+
+
+def _grid_value(c: _Checker, key: str, v: Any, field: str) -> Any:
+    if key in ("margin", "max_time"):
+        x = c.number(v, field)
+        if key == "margin" and x < 0:
+            raise c.fail(field, f"must be ≥ 0, got {x}")
+        if key == "max_time" and x <= 0:
+            raise c.fail(field, f"must be > 0, got {x}")
+        v = x
+    else:
+        v = c.string(v, field)
+    # The Rust side parses the names (and every other value) exactly as the runs will.
+    probe = run_config({"generator": "quality", "obstacles": 1, "seed": 0}, {key: v})
+    try:
+        harmonav.check_run_config(probe)
+    except ValueError as e:
+        raise c.fail(field, str(e).split(": ", 1)[-1]) from None
+    return v
+
+
+def _engine(c: _Checker, value: Any) -> Engine:
+    t = c.table(value, "engine", ["kind", "address", "workers", "task_runs"])
+    kind = c.string(t.get("kind", "local"), "engine.kind")
+    if kind not in ("local", "ray"):
+        raise c.fail("engine.kind", f'unknown engine "{kind}": expected "local" or "ray"')
+    address = t.get("address")
+    if address is not None:
+        address = c.string(address, "engine.address")
+        if kind != "ray":
+            raise c.fail("engine.address", 'belongs with kind = "ray"')
+    workers = c.integer(t.get("workers", 0), "engine.workers", 0, 1 << 16)
+    task_runs = c.integer(t.get("task_runs", DEFAULT_TASK_RUNS), "engine.task_runs", 1, 10**6)
+    return Engine(kind, address, workers, task_runs)
+
+
+def _check_cells(c: _Checker, worlds: Sequence[World], cells: Sequence[Dict[str, Any]]) -> None:
+    """Prepares every cell on the first world (and every world under the first cell), so that a
+    margin too large for a world or a policy a file cannot take is a spec error, not a column of
+    failed runs."""
+    first_world, first_cell = worlds[0], cells[0]
+    pairs = [(first_world, cell) for cell in cells]
+    # A generated world of each obstacle count (the generator makes every seed valid for the
+    # margins it takes), every scenario file.
+    counts = {first_world.config.get("obstacles")}
+    for w in worlds[1:]:
+        if w.generator is None or w.config["obstacles"] not in counts:
+            counts.add(w.config.get("obstacles"))
+            pairs.append((w, first_cell))
+    for world, cell in pairs:
+        config = run_config(world.config, cell)
+        try:
+            harmonav.check_run_config(config, prepare=True)
+        except ValueError as e:
+            given = ", ".join(f"{k} = {v!r}" for k, v in cell.items() if v is not None)
+            raise c.fail("grid", f"({given or 'the world as written'}) on {world.label}: {e}") from None
+
+
+def _digest(name, worlds, starts, cells, shortest, task_runs) -> str:
+    """What identifies an experiment's records (a resumed run must have the same): everything
+    but the engine's kind, address and workers."""
+    doc = {
+        "name": name,
+        "worlds": [w.config for w in worlds],
+        "starts": None if starts is None else [starts.random, starts.seed, starts.points],
+        "cells": list(cells),
+        "shortest": shortest,
+        "task_runs": task_runs,
+        "version": harmonav.__version__,
+    }
+    return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()

@@ -1,0 +1,420 @@
+"""harmonav.experiment (issue 28): the spec's errors, the batch call against the calls it must
+agree with (`Scenario.run`, `sweep`), the records bit for bit across runs, thread counts and
+engines (Ray on a local 2-CPU cluster), an interrupted experiment resumed, and the report."""
+
+import json
+import os
+import signal
+import struct
+import subprocess
+import sys
+import textwrap
+import time
+
+import numpy as np
+import pytest
+
+import harmonav
+
+pa = pytest.importorskip("pyarrow")
+import pyarrow.parquet as pq  # noqa: E402
+from harmonav import experiment  # noqa: E402
+from harmonav.experiment import SpecError, load_spec, read_records  # noqa: E402
+
+from conftest import REPO, SCENARIOS  # noqa: E402
+
+EXAMPLES = REPO / "examples" / "experiments"
+
+
+def write(tmp_path, text, name="spec.toml"):
+    path = tmp_path / name
+    path.write_text(textwrap.dedent(text))
+    return path
+
+
+SMALL = """
+    name = "small"
+    [worlds]
+    generator = "quality"
+    obstacles = [6]
+    seeds = [1, 2, 3]
+    [grid]
+    law = ["kinematic", "dynamic"]
+    k = ["auto", "paper"]
+    sensing = ["global", "sector"]
+    [engine]
+    task_runs = 5
+"""
+
+
+# ---------------------------------------------------------------------------------------------
+# The spec
+
+
+GOOD_WORLDS = '[worlds]\ngenerator = "quality"\nobstacles = [6]\nseeds = [1]\n'
+
+
+@pytest.mark.parametrize(
+    "text, field, words",
+    [
+        ('name = "x"\nworlds = = 1\n', "", ["TOML", "spec.toml:2:"]),
+        (GOOD_WORLDS, "name", ["required"]),
+        ('name = "a b"\n' + GOOD_WORLDS, "name", ["letters"]),
+        ('name = "x"\nseed = 3\n' + GOOD_WORLDS, "seed", ["unknown key"]),
+        ('name = "x"\n', "worlds", ["required"]),
+        ('name = "x"\n[worlds]\ngenerator = "maze"\nobstacles = [6]\nseeds = [1]\n',
+         "worlds.generator", ["maze", "quality"]),
+        ('name = "x"\n[worlds]\ngenerator = "quality"\nseeds = [1]\n', "worlds.obstacles",
+         ["required"]),
+        ('name = "x"\n[worlds]\ngenerator = "quality"\nobstacles = []\nseeds = [1]\n',
+         "worlds.obstacles", ["empty"]),
+        ('name = "x"\n[worlds]\ngenerator = "quality"\nobstacles = [6, "12"]\nseeds = [1]\n',
+         "worlds.obstacles[1]", ["integer", "string"]),
+        ('name = "x"\n[worlds]\ngenerator = "quality"\nobstacles = [6]\nseeds = [-1]\n',
+         "worlds.seeds[0]", ["[0,"]),
+        ('name = "x"\n[worlds]\nscenarios = ["nowhere/*.toml"]\n', "worlds.scenarios[0]",
+         ["matches no file"]),
+        ('name = "x"\n[worlds]\ngenerator = "quality"\nscenarios = ["a.toml"]\n', "worlds",
+         ["either"]),
+        ('name = "x"\n' + GOOD_WORLDS + '[grid]\nlaw = ["kinematic", "dinamic"]\n',
+         "grid.law[1]", ["dinamic", "kinematic"]),
+        ('name = "x"\n' + GOOD_WORLDS + '[grid]\nk = ["auto", "pape"]\n', "grid.k[1]",
+         ["pape"]),
+        ('name = "x"\n' + GOOD_WORLDS + '[grid]\ndamping = "none"\n', "grid.damping",
+         ["none"]),
+        ('name = "x"\n' + GOOD_WORLDS + '[grid]\nsensing = ["lidar"]\n', "grid.sensing[0]",
+         ["lidar", "sector"]),
+        ('name = "x"\n' + GOOD_WORLDS + '[grid]\nmargin = [-0.1]\n', "grid.margin[0]", ["≥ 0"]),
+        ('name = "x"\n' + GOOD_WORLDS + '[grid]\nmax_time = [0]\n', "grid.max_time[0]", ["> 0"]),
+        ('name = "x"\n' + GOOD_WORLDS + '[grid]\nlaws = ["kinematic"]\n', "grid.laws",
+         ["unknown key"]),
+        # The quality worlds are built for margins up to 0.1 m: the Rust side says so.
+        ('name = "x"\n' + GOOD_WORLDS + '[grid]\nmargin = [0.0, 0.5]\n', "grid",
+         ["margin", "0.1"]),
+        ('name = "x"\n' + GOOD_WORLDS + '[starts]\nrandom = 0\n', "starts.random", ["[1,"]),
+        ('name = "x"\n' + GOOD_WORLDS + '[starts]\npoints = [[1, 2, 3]]\n', "starts.points[0]",
+         ["[x, y]"]),
+        ('name = "x"\n' + GOOD_WORLDS + '[starts]\nrandom = 3\npoints = [[1, 2]]\n', "starts",
+         ["either"]),
+        ('name = "x"\n' + GOOD_WORLDS + '[measure]\nshortest = "yes"\n', "measure.shortest",
+         ["true or false"]),
+        ('name = "x"\n' + GOOD_WORLDS + '[engine]\nkind = "dask"\n', "engine.kind",
+         ["dask", "ray"]),
+        ('name = "x"\n' + GOOD_WORLDS + '[engine]\naddress = "auto"\n', "engine.address",
+         ["ray"]),
+        ('name = "x"\n' + GOOD_WORLDS + '[engine]\ntask_runs = 0\n', "engine.task_runs",
+         ["[1,"]),
+    ],
+)
+def test_a_bad_spec_names_the_file_the_field_and_the_problem(tmp_path, text, field, words):
+    path = write(tmp_path, text)
+    with pytest.raises(SpecError) as err:
+        load_spec(path)
+    e = err.value
+    assert e.file == str(path) and e.field == field, (e.file, e.field, str(e))
+    assert str(e).startswith(str(path)), str(e)
+    for w in words:
+        assert w in str(e), str(e)
+
+
+def test_a_bad_scenario_file_is_a_spec_error_with_the_scenario_layers_message(tmp_path):
+    (tmp_path / "worlds").mkdir()
+    bad = tmp_path / "worlds" / "bad.toml"
+    bad.write_text((SCENARIOS / "shapes" / "mixed.toml").read_text().replace("radius = 0.5", "radius = -0.5", 1))
+    path = write(tmp_path, 'name = "x"\n[worlds]\nscenarios = ["worlds/*.toml"]\n')
+    with pytest.raises(SpecError) as err:
+        load_spec(path)
+    assert err.value.field == "worlds.scenarios[0]"
+    assert "bad.toml" in str(err.value) and "obstacles[0]" in str(err.value), str(err.value)
+
+
+def test_the_grid_is_the_product_without_the_laws_irrelevant_policies(tmp_path):
+    spec = load_spec(write(tmp_path, """
+        name = "g"
+        [worlds]
+        generator = "quality"
+        obstacles = [6, 12]
+        seeds = { first = 3, count = 2 }
+        [grid]
+        law = ["kinematic", "dynamic"]
+        speed = ["paper", "auto"]
+        damping = ["paper", "auto"]
+        margin = [0, 0.1]
+    """))
+    assert [w.label for w in spec.worlds] == [
+        "quality-m6-seed3", "quality-m6-seed4", "quality-m12-seed3", "quality-m12-seed4"]
+    # 2 laws × 2 own policies × 2 margins: the kinematic law ignores damping, the dynamic speed.
+    assert len(spec.cells) == 8 and spec.runs == 32
+    for c in spec.cells:
+        assert (c["law"] == "kinematic") == (c["damping"] is None)
+        assert (c["law"] == "dynamic") == (c["speed"] is None)
+        assert isinstance(c["margin"], float)
+
+
+def test_the_example_specs_are_valid():
+    names = set()
+    for path in sorted(EXAMPLES.glob("*.toml")):
+        spec = load_spec(path)
+        names.add(spec.name)
+        assert spec.runs > 0
+    assert {"quality-small", "quality", "montecarlo-small", "sweep-mixed"} <= names
+    assert load_spec(EXAMPLES / "quality-small.toml").runs == 64
+    assert load_spec(EXAMPLES / "quality.toml").runs == 3 * 30 * 24
+
+
+# ---------------------------------------------------------------------------------------------
+# The batch call
+
+
+def test_a_failing_run_is_a_record_with_its_error_and_the_batch_goes_on(mixed_path):
+    text = mixed_path.read_text()
+    runs = [
+        {"generator": "quality", "obstacles": 6, "seed": 1},
+        {"generator": "quality", "obstacles": 6, "seed": 1, "model": "dinamic"},
+        {"scenario": "broken.toml", "scenario_text": text.replace("radius = 0.5", "radius = -0.5", 1)},
+        {"generator": "quality", "obstacles": 6, "seed": 1, "colour": "red"},
+        {"generator": "quality", "obstacles": 6, "seed": 1, "margin": 0.5},
+        {"scenario": str(mixed_path), "start": [100.0, 0.0], "start_index": 7},
+        {"scenario": str(mixed_path), "model": "kinematic"},
+    ]
+    records = harmonav.run_batch(runs, threads=2)
+    assert len(records) == len(runs)
+    assert records[0]["error"] is None and records[0]["reached"] is True
+    assert "model" in records[1]["error"] and "dinamic" in records[1]["error"]
+    assert "broken.toml" in records[2]["error"] and "obstacles[0]" in records[2]["error"]
+    assert "colour" in records[3]["error"]
+    assert "margin" in records[4]["error"]
+    # A start outside the free space is the sweep's outcome, not an error.
+    assert records[5]["error"] is None and records[5]["outcome"] == "invalid-start"
+    assert "starts[7]" in records[5]["outcome_detail"]
+    assert records[6]["error"] is None and records[6]["outcome"] == "reached"
+    assert all(r["version"] == harmonav.__version__ for r in records)
+
+
+def test_a_record_is_the_run_that_harmonav_run_makes(mixed_path):
+    """The same library call: every number of summary.json and every guarantee agree."""
+    for model in ("kinematic", "dynamic"):
+        summary = harmonav.Scenario.load(mixed_path).run(model=model).summary
+        (record,) = harmonav.run_batch([{"scenario": str(mixed_path), "model": model}])
+        assert record["error"] is None
+        for key in ("reached", "time_s", "path_length", "min_clearance", "collisions",
+                    "max_speed", "steps", "rejected_steps", "recorded_states", "final_distance"):
+            assert record[key] == summary[key], key
+        assert record["outcome"] == summary["outcome"]["kind"]
+        assert record["guarantees"] == summary["guarantees"]
+        assert record["effective"]["model"] == model
+        length, _ = harmonav.Scenario.load(mixed_path).shortest_path()
+        assert record["shortest_length"] == length
+        assert record["path_over_shortest"] == summary["path_length"] / length
+
+
+def test_the_runner_and_the_sweep_agree_run_for_run(tmp_path):
+    """sweep-mixed.toml holds the runs of `harmonav sweep mixed.toml --starts 200 --seed 0
+    --model kinematic`; 24 of them here, through the runner and through `sweep`."""
+    spec_text = (EXAMPLES / "sweep-mixed.toml").read_text().replace("random = 200", "random = 24")
+    spec_text = spec_text.replace("../../scenarios", str(SCENARIOS))
+    spec = load_spec(write(tmp_path, spec_text))
+    experiment.run(spec, tmp_path / "out", workers=2, progress=False)
+    records = read_records(tmp_path / "out").to_pylist()
+    swept = harmonav.sweep(harmonav.Scenario.load(SCENARIOS / "shapes" / "mixed.toml"), 24,
+                           seed=0, model="kinematic")
+    assert [(r["start_x"], r["start_y"]) for r in records] == [tuple(p) for p in swept.starts]
+    assert [r["outcome"] for r in records] == list(swept.outcomes)
+    for r, t in zip(records, swept.times):
+        if r["reached"]:
+            assert r["time_s"] == t
+
+
+def test_random_starts_are_the_sweeps(mixed_path):
+    starts = harmonav.random_start_points({"scenario": str(mixed_path)}, 50, 3)
+    swept = harmonav.sweep(harmonav.Scenario.load(mixed_path), 50, seed=3)
+    np.testing.assert_array_equal(np.array(starts), swept.starts)
+
+
+# ---------------------------------------------------------------------------------------------
+# Records: bit for bit
+
+
+def bits(table):
+    """Every value of `table`, floats by their bit patterns (NaN equal to itself)."""
+    out = {}
+    for name in table.column_names:
+        values = table.column(name).to_pylist()
+        out[name] = [struct.pack("<d", v) if isinstance(v, float) else v for v in values]
+    return out
+
+
+def test_records_are_the_same_across_runs_and_thread_counts(tmp_path):
+    spec = load_spec(write(tmp_path, SMALL))
+    experiment.run(spec, tmp_path / "a", workers=2, progress=False)
+    experiment.run(spec, tmp_path / "b", workers=1, progress=False)
+    a, b = read_records(tmp_path / "a"), read_records(tmp_path / "b")
+    assert a.num_rows == spec.runs == 3 * 2 * 2 * 2
+    assert a.column("run").to_pylist() == list(range(spec.runs))
+    assert bits(a) == bits(b)
+    # And one batch call on two threads gives the records the tasks gave.
+    plan = experiment.Plan(spec)
+    configs = [plan.run(i)[1] for i in range(spec.runs)]
+    batch = harmonav.run_batch(configs, threads=2)
+    assert [r["time_s"] for r in batch] == a.column("time_s").to_pylist()
+    assert [r["steps"] for r in batch] == a.column("steps").to_pylist()
+
+
+def test_records_carry_the_configuration_the_outcome_and_every_guarantee(tmp_path):
+    spec = load_spec(write(tmp_path, SMALL))
+    experiment.run(spec, tmp_path / "out", progress=False)
+    t = read_records(tmp_path / "out")
+    for column in experiment.CONFIG_COLUMNS + experiment.RESULT_COLUMNS:
+        assert column in t.column_names, column
+    rows = t.to_pylist()
+    assert {r["law"] for r in rows} == {"kinematic", "dynamic"}
+    assert {r["sensing"] for r in rows} == {"global", "sector"}
+    assert all(r["obstacles"] == 6 and r["margin"] == 0.0 and r["error"] is None for r in rows)
+    assert all((r["damping"] is None) == (r["law"] == "kinematic") for r in rows)
+    for r in rows:
+        assert r["guarantee.no-collision.passed"] is True
+        assert r["guarantee.no-collision.min_clearance"] == r["min_clearance"]
+        assert r["guarantee.reached-goal.passed"] == r["reached"]
+        if r["law"] == "dynamic":
+            assert r["guarantee.speed-below-bound.max_speed"] == r["max_speed"]
+        else:
+            assert r["guarantee.speed-below-bound.passed"] is None
+        # An arrived run ends within the goal tolerance (0.01 m) of the goal: its path is at
+        # least the shortest path less that (and the outline's chord error, ~1e-5 m).
+        if r["reached"]:
+            assert r["path_length"] >= r["shortest_length"] - 0.01 - 1e-4
+            assert r["path_over_shortest"] == r["path_length"] / r["shortest_length"]
+
+
+def ray_or_skip():
+    try:
+        import ray  # noqa: F401
+    except ImportError:
+        if os.environ.get("HARMONAV_REQUIRE_RAY"):
+            raise
+        pytest.skip("ray is not installed (pip install './python[ray]')")
+
+
+def test_the_ray_engine_gives_the_local_engines_records_bit_for_bit(tmp_path):
+    ray_or_skip()
+    spec = load_spec(write(tmp_path, SMALL))
+    experiment.run(spec, tmp_path / "local", engine="local", progress=False)
+    summary = experiment.run(spec, tmp_path / "ray", engine="ray", workers=2, progress=False)
+    assert summary.ran == summary.tasks == 5
+    local, remote = read_records(tmp_path / "local"), read_records(tmp_path / "ray")
+    assert local.schema == remote.schema
+    assert bits(local) == bits(remote)
+
+
+# ---------------------------------------------------------------------------------------------
+# Interrupted, resumed
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGKILL])
+def test_an_interrupted_experiment_resumes_to_the_same_records(tmp_path, sig):
+    """The runner is interrupted once some parts are written — Ctrl-C (it exits with 130) or
+    SIGKILL (no clean-up at all) — and the same command resumes from the parts. The records
+    equal an uninterrupted experiment's, and no part is half-written."""
+    spec = write(tmp_path, """
+        name = "resume"
+        [worlds]
+        generator = "quality"
+        obstacles = [6]
+        seeds = { first = 1, count = 12 }
+        [grid]
+        law = ["kinematic", "dynamic"]
+        sensing = ["global", "sector"]
+        [engine]
+        task_runs = 2
+        workers = 2
+    """)
+    tasks = load_spec(spec).runs // 2
+    out = tmp_path / "interrupted"
+    command = [sys.executable, "-m", "harmonav.experiment", "run", str(spec), "--out", str(out),
+               "--no-progress"]
+    proc = subprocess.Popen(command, cwd=tmp_path, stderr=subprocess.PIPE, text=True)
+    parts = out / "parts"
+    try:
+        while proc.poll() is None and len(list(parts.glob("part-*.parquet"))) < 3:
+            time.sleep(0.01)
+    finally:
+        proc.send_signal(sig)
+        _, stderr = proc.communicate()
+    if sig == signal.SIGINT:
+        assert proc.returncode == 130 and "resume" in stderr, (proc.returncode, stderr)
+    before = sorted(p.name for p in parts.glob("part-*.parquet"))
+    assert 3 <= len(before) < tasks, len(before)
+    for p in parts.glob("part-*.parquet"):
+        pq.read_table(p)  # whole
+    resumed = subprocess.run(command, cwd=tmp_path, capture_output=True, text=True)
+    assert resumed.returncode == 0, resumed.stderr
+    assert f"{len(before)} tasks already written" in resumed.stderr, resumed.stderr
+    experiment.run(spec, tmp_path / "whole", progress=False)
+    assert bits(read_records(out)) == bits(read_records(tmp_path / "whole"))
+    assert not list(parts.glob(".*tmp"))
+
+
+def test_a_folder_of_another_experiment_is_refused(tmp_path):
+    spec = write(tmp_path, SMALL)
+    experiment.run(spec, tmp_path / "out", progress=False)
+    other = write(tmp_path, SMALL.replace("seeds = [1, 2, 3]", "seeds = [1, 2]"), "other.toml")
+    with pytest.raises(SpecError, match="another experiment"):
+        experiment.run(other, tmp_path / "out", progress=False)
+    # The same spec again: nothing to do, the records are kept.
+    again = experiment.run(spec, tmp_path / "out", progress=False)
+    assert again.ran == 0 and again.resumed == again.tasks
+
+
+# ---------------------------------------------------------------------------------------------
+# The report
+
+
+def test_the_report_prints_the_quality_table_of_the_records(tmp_path):
+    spec = load_spec(write(tmp_path, SMALL))
+    experiment.run(spec, tmp_path / "out", progress=False)
+    text = experiment.report(tmp_path / "out")
+    records = read_records(tmp_path / "out").to_pylist()
+    rows = [line for line in text.splitlines() if line.startswith("| ") and "---" not in line]
+    header, cells = rows[0], rows[1:]
+    assert header.startswith("| law | damping or speed | k | sensing | margin | M | arrived")
+    assert len(cells) == 8
+    for line in cells:
+        law, policy, k, sensing, margin, m, arrived = [c.strip() for c in line.split("|")[1:8]]
+        mine = [r for r in records if r["law"] == law.lower() and r["k"] == k
+                and r["sensing"] == sensing]
+        assert arrived == f"{sum(r['reached'] for r in mine)}/{len(mine)}"
+        assert m == "6" and margin == "0"
+        if law == "Kinematic":
+            assert policy == "auto" and line.split("|")[12].strip() == "—"
+    assert f"{spec.runs} runs:" in text
+
+
+def test_the_report_draws_the_distributions(tmp_path):
+    pytest.importorskip("matplotlib")
+    spec = load_spec(write(tmp_path, SMALL))
+    experiment.run(spec, tmp_path / "out", progress=False)
+    experiment.report(tmp_path / "out", plots=tmp_path / "plots")
+    for name in ("path_over_shortest.svg", "time_s.svg"):
+        svg = (tmp_path / "plots" / name).read_text()
+        assert "<svg" in svg and "M=6, dynamic auto, k paper, sector" in svg
+
+
+def test_the_command_line_runs_and_reports(tmp_path):
+    spec = write(tmp_path, SMALL)
+    run = subprocess.run([sys.executable, "-m", "harmonav.experiment", "run", str(spec),
+                          "--out", str(tmp_path / "out")], capture_output=True, text=True,
+                         cwd=tmp_path)
+    assert run.returncode == 0, run.stderr
+    report = subprocess.run([sys.executable, "-m", "harmonav.experiment", "report",
+                             str(tmp_path / "out"), "--no-plots"], capture_output=True,
+                            text=True, cwd=tmp_path)
+    assert report.returncode == 0, report.stderr
+    assert "| Dynamic | auto | paper | sector | 0 | 6 |" in report.stdout
+    bad = write(tmp_path, SMALL.replace('law = ["kinematic", "dynamic"]', 'law = ["fast"]'), "bad.toml")
+    refused = subprocess.run([sys.executable, "-m", "harmonav.experiment", "run", str(bad),
+                              "--out", str(tmp_path / "bad")], capture_output=True, text=True,
+                             cwd=tmp_path)
+    assert refused.returncode == 2 and "grid.law[0]" in refused.stderr, refused.stderr
+    assert not (tmp_path / "bad").exists()
+    manifest = json.loads((tmp_path / "out" / "experiment.json").read_text())
+    assert manifest["runs"] == 24 and manifest["tasks"] == 5
