@@ -7,10 +7,9 @@
 //! The bindings convert and delegate: the worlds are `harmonav_bench::quality::world` or a
 //! scenario file's text, the overrides are the scenario's own fields, the start the sweep's
 //! (`sweep::start_problem`, then `robot.start`), the reference path `shortest::of_scenario`.
-//! Two measurements are made here from what a run returns, and belong in a crate (the report
-//! says so): `overshoot` (`harmonav_bench::quality::measure` computes it inside and does not
-//! expose it) and `guarantees_held` (the same rule as quality's, with the file's `[expect]`
-//! entries left out as they are not monitors of the law).
+//! The overshoot is the benchmark's (`harmonav_bench::quality::overshoot`); `guarantees_held`
+//! is `harmonav_sim::summary::Summary::safe`'s rule with the file's `[expect]` entries also left out, as they are
+//! not monitors of the law.
 
 use std::collections::BTreeMap;
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -25,7 +24,6 @@ use harmonav_sim::outcome::Outcome;
 use harmonav_sim::physics::{Physics, simulate};
 use harmonav_sim::pool::parallel_map;
 use harmonav_sim::shortest::of_scenario;
-use harmonav_sim::summary::Run;
 use harmonav_sim::sweep::{random_starts, start_problem};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
@@ -308,23 +306,6 @@ struct Measured {
     start: [f64; 2],
 }
 
-/// The largest distance the robot moved away from the goal after its closest approach in the
-/// last tenth of the kept states (`harmonav_bench::quality::measure`'s overshoot, which is not
-/// exposed there).
-fn overshoot(run: &Run, goal: Vector2<f64>) -> f64 {
-    let dist: Vec<f64> = run
-        .samples
-        .iter()
-        .map(|x| (Vector2::from(x.x) - goal).norm())
-        .collect();
-    let (mut closest, mut rise) = (f64::INFINITY, 0.0_f64);
-    for &d in &dist[dist.len() * 9 / 10..] {
-        closest = closest.min(d);
-        rise = rise.max(d - closest);
-    }
-    rise
-}
-
 /// The configuration a run had once its world's own values filled the gaps (the records'
 /// configuration columns): the law's irrelevant policy is `None` (damping for the kinematic
 /// law, speed for the dynamic one).
@@ -411,13 +392,13 @@ fn run_one(c: &Config, prepared: &Prepared) -> Result<Ran, String> {
             steps: s.steps,
             rejected_steps: s.rejected_steps,
             recorded_states: s.recorded_states,
-            overshoot: overshoot(&run, p.truth.workspace.destination()),
+            overshoot: quality::overshoot(&run, p.truth.workspace.destination()),
             guarantees_held: s
                 .guarantees
                 .iter()
                 .all(|g| g.passed || matches!(g.kind(), Kind::ReachedGoal | Kind::Expect)),
             all_passed: s.all_passed(),
-            k_policy: s.k_policy,
+            k_policy: s.k_policy.as_str(),
             guarantees: serde_json::to_string(&s.guarantees).map_err(|e| e.to_string())?,
             warnings: s.warnings.iter().map(|w| w.to_string()).collect(),
             start: p.scenario.robot.start,
