@@ -233,11 +233,14 @@ class Scenario:
         shapes (independent of ``Θ``)."""
     def run(
         self,
-        controller: Optional[str] = None,
+        model: Optional[str] = None,
         physics: str = "builtin",
         out: Optional[Union[str, PathLike[str]]] = None,
+        *,
+        controller: Optional[str] = None,
     ) -> RunResult:
-        """Runs the scenario without the GIL. ``out``, a folder, receives summary.json,
+        """Runs the scenario without the GIL, with ``model`` (``"kinematic"`` or ``"dynamic"``;
+        None: the file's; ``controller`` is its deprecated old name). ``out``, a folder, receives summary.json,
         run.mcap and the figures as one set (a kinematic run removes a stale speed.svg and
         energy.svg there). ``out`` is checked before the run: an empty path, a path below a
         file, a dangling or looping link, an unwritable folder, a path too long or a folder
@@ -258,6 +261,8 @@ def sweep(
     scenario: Scenario,
     starts: Union[int, _Points],
     seed: int = 0,
+    model: Optional[str] = None,
+    *,
     controller: Optional[str] = None,
 ) -> SweepResult:
     """Many starts with every obstacle known, in parallel: a count of seeded random starts or an

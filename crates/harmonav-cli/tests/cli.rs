@@ -28,7 +28,7 @@ fn run_json_has_the_documented_keys_and_exit_code_zero() {
     let (code, out, err) = harmonav(&[
         "run",
         &scenario("shapes/mixed.toml"),
-        "--controller",
+        "--model",
         "kinematic",
         "--json",
     ]);

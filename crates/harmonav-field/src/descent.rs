@@ -7,15 +7,15 @@ use nalgebra::{Matrix2, Vector2};
 use crate::field::Field;
 
 /// Stall detection of [`follow`]: over each stretch of this much path (= time at unit speed)
-/// the net displacement must exceed [`STALL_RATIO`] times it. A descent of Θ cannot turn back
+/// the net displacement must exceed [`CHATTER_RATIO`] times it. A descent of Θ cannot turn back
 /// on itself, so only chatter about a critical point fails the test: in the stiff outer band a
 /// path can be squeezed onto a saddle's stable manifold and lose the direction across the valley
 /// floor in rounding next to the saddle (1 in 10⁴ random starts of the 20-obstacle study); it
 /// would otherwise chatter there until `max_time`.
-pub const STALL_WINDOW: f64 = 0.1;
+pub const CHATTER_PATH: f64 = 0.1;
 
-/// See [`STALL_WINDOW`].
-pub const STALL_RATIO: f64 = 1e-3;
+/// See [`CHATTER_PATH`].
+pub const CHATTER_RATIO: f64 = 1e-3;
 
 /// Settings of [`follow`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -53,7 +53,7 @@ pub enum Ending {
     /// `max_time` elapsed.
     TimedOut,
     /// Stopped at a critical point: the direction is undefined there, or the path chatters
-    /// about it (see [`STALL_WINDOW`]).
+    /// about it (see [`CHATTER_PATH`]).
     Stuck,
     /// The step size collapsed with every retry leaving the free space.
     StepCollapsed,
@@ -155,8 +155,8 @@ pub fn follow(field: &Field, start: Vector2<f64>, options: &FollowOptions) -> De
     while options.max_time - t > 1e-12 * options.max_time.max(1.0)
         && steps + rejected < options.max_attempts
     {
-        if t - window.0 >= STALL_WINDOW {
-            if (x - window.1).norm() < STALL_RATIO * (t - window.0) {
+        if t - window.0 >= CHATTER_PATH {
+            if (x - window.1).norm() < CHATTER_RATIO * (t - window.0) {
                 return end(Ending::Stuck, t, x, steps, rejected, collision_free);
             }
             window = (t, x);

@@ -562,7 +562,7 @@ impl<'p> Stream<'p> {
 
 /// harmonav's state at `s`. `damping` is the file's damping policy: it labels the states of
 /// the dynamic law (those with an energy), whatever the file's own robot model (a kinematic
-/// file run with `--controller dynamic` runs the dynamic law), and is empty for the kinematic.
+/// file run with `--model dynamic` runs the dynamic law), and is empty for the kinematic.
 fn state(s: &Sample, k_policy: &str, damping: &str) -> HarmonavState {
     let damping = if s.energy.is_some() { damping } else { "" };
     HarmonavState {

@@ -32,6 +32,9 @@ pub enum Kind {
     PhysicsNoContact,
     /// How far the rapier path strayed from the built-in one (informational; always holds).
     PhysicsDeviation,
+    /// The energy rapier's own corrections added beyond the semi-implicit Euler step
+    /// (informational; always holds).
+    PhysicsEngineEnergy,
     /// An `[expect]` entry of the scenario file.
     Expect,
 }
@@ -137,7 +140,7 @@ pub enum Check {
         /// Largest distance between the rapier and the built-in positions at equal times, m.
         max_deviation: f64,
     },
-    /// [`Kind::PhysicsDeviation`] (informational): the energy rapier's own corrections added
+    /// [`Kind::PhysicsEngineEnergy`] (informational): the energy rapier's own corrections added
     /// to a step beyond the semi-implicit Euler step of the law's force (its speculative
     /// contacts and position update), the largest relative to `V`. The energy monitor
     /// allows for it as the integrator's, not the law's (`rapier.rs`).
@@ -190,9 +193,8 @@ impl Check {
             Self::StepCollapsed { .. } => Kind::Integrated,
             Self::LeftFreeSpace { .. } => Kind::StayedInFreeSpace,
             Self::PhysicsContacts { .. } => Kind::PhysicsNoContact,
-            Self::PhysicsDeviation { .. } | Self::PhysicsEngineEnergy { .. } => {
-                Kind::PhysicsDeviation
-            }
+            Self::PhysicsDeviation { .. } => Kind::PhysicsDeviation,
+            Self::PhysicsEngineEnergy { .. } => Kind::PhysicsEngineEnergy,
             Self::ExpectReached { .. }
             | Self::ExpectDiscoveryOrder { .. }
             | Self::ExpectDampingSwitched { .. }

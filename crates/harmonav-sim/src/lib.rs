@@ -4,7 +4,9 @@
 //! [`harmonav::Navigator`] driven against the scenario's truth ([`harmonav_scenario`]), every
 //! guarantee judged online, and the run's [`summary::Summary`].
 //!
-//! The path of a run is a straight line through the modules, each entered once:
+//! The path of a run goes down through the modules in this order (`preflight` also starts a
+//! `closed_loop` to find the warnings before the run, and the built-in integrator evaluates
+//! the `closed_loop`'s right-hand side directly between the driver's calls):
 //!
 //! ```text
 //! physics::simulate → preflight (warnings) → run | rapier (the integrator)
@@ -12,8 +14,9 @@
 //!     → closed_loop (Navigator against the Truth) → monitor (guarantees) → summary
 //! ```
 //!
-//! Leaves every module may use: [`trace`] (samples, discoveries, events), [`guarantee`],
-//! [`outcome`], [`warning`], [`trajectory`]. Studies: [`sweep`] (many starts, typed outcomes)
+//! The shared types below the loop, in their own order (each uses only those before it):
+//! [`warning`] and [`guarantee`], then [`trace`] (samples, discoveries, events) and
+//! [`outcome`], then [`trajectory`]. Studies: [`sweep`] (many starts, typed outcomes)
 //! on the one thread pool [`pool`], and [`shortest`] (the independent shortest path of "path
 //! over shortest"). [`floor`] is the loop of the floor-plan scenarios.
 //!

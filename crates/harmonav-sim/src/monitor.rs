@@ -265,7 +265,7 @@ impl Monitor {
             guarantees.push(self.approach.judge());
         }
         // `[expect]` describes a run of the file's own robot model; a run with the other model
-        // (`harmonav run --controller …`) is judged on the guarantees alone.
+        // (`harmonav run --model …`) is judged on the guarantees alone.
         let expect = if model == sc.robot.model {
             sc.expect.clone().unwrap_or_default()
         } else {

@@ -1,6 +1,7 @@
 //! What a run produces as it goes: the recorded states ([`Sample`]), the discoveries
-//! ([`Discovery`]) and the events an observer is handed in time order ([`Event`]). A leaf:
-//! every other module of the closed loop may use it, it uses none of them.
+//! ([`Discovery`]) and the events an observer is handed in time order ([`Event`]). Below the
+//! loop: every module of the closed loop may use it; it uses only [`crate::warning`] (the
+//! events carry warnings).
 
 use serde::Serialize;
 

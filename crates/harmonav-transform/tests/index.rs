@@ -105,7 +105,8 @@ fn indexed_pair_checks_report_the_direct_loops_errors() {
         a.widths().collect::<Vec<_>>(),
         b.widths().collect::<Vec<_>>()
     );
-    // A new obstacle that overlaps two known ones names the first, as the direct loop does.
+    // A new obstacle that overlaps a known one names it, with the index as with the direct loop
+    // (the ordering of two overlaps is not exercised here).
     let (p, q) = (&w.obstacles[3], &w.obstacles[90]);
     for (first, o) in [(3, p), (90, q)] {
         let over = StarShape::circle(o.centre(), 0.2).unwrap();
