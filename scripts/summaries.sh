@@ -22,7 +22,8 @@ find scenarios -name '*.toml' -not -path '*/adversarial/*' -not -path '*/long/*'
     for run in kinematic dynamic rapier; do
         case $run in
             rapier) args=(--physics rapier) ;;
-            *) args=(--model "$run") ;;
+            # --controller: the old name, which binaries from before the split also accept.
+            *) args=(--controller "$run") ;;
         esac
         rm -rf "$tmp/run"
         # A run may fail its guarantees (exit 1) and still write its summary: keep going. The
