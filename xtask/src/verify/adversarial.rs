@@ -81,7 +81,7 @@ pub fn checks() -> Vec<Check> {
     }
 }
 
-/// The safety guarantees (everything but arrival) all held ([`Summary::safe`]).
+/// The safety guarantees (everything but arrival) all held ([`harmonav_sim::summary::Summary::safe`]).
 fn safe(s: &harmonav_sim::summary::Summary) -> Result<(), String> {
     match s.first_unsafe() {
         Some(g) => Err(format!("{} failed: {}", g.name(), g.detail())),
