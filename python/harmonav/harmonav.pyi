@@ -248,6 +248,46 @@ class Scenario:
         the run raises ``OSError`` whose ``result`` is the ``RunResult`` (and ``summary`` its
         summary); the previous outputs stay whole."""
 
+class FloorRunResult:
+    """The result of ``FloorPlan.run``: ``summary`` (the dict of its summary.json) and ``x``,
+    the kept positions (N, 2) from the start to the end."""
+
+    summary: Dict[str, Any]
+    x: npt.NDArray[np.float64]
+
+class FloorPlan:
+    """A floor-plan file (``[floor_plan]``: a polygon with holes, or a ROS map), its harmonic
+    map solved on load (docs/maths.md §13)."""
+
+    @staticmethod
+    def load(path: Union[str, PathLike[str]]) -> FloorPlan:
+        """Reads the file and solves its map without the GIL. Raises ``ValueError`` naming the
+        file, the field and the problem."""
+    @property
+    def name(self) -> str: ...
+    @property
+    def path(self) -> str: ...
+    @property
+    def starts(self) -> npt.NDArray[np.float64]:
+        """``robot.start``, then the file's seeded ``[starts]``: (N, 2)."""
+    @property
+    def elements(self) -> int:
+        """The boundary elements of the harmonic map."""
+    @property
+    def delta(self) -> float:
+        """``δ``: the boundary layer's width outside the certified region, m."""
+    def run(
+        self,
+        model: Optional[str] = None,
+        start: Optional[_Point] = None,
+        out: Optional[Union[str, PathLike[str]]] = None,
+    ) -> FloorRunResult:
+        """Runs the loop from ``start`` (default ``robot.start``) under ``model`` without the
+        GIL and judges every guarantee (as ``harmonav run`` on the file). ``out``, a folder,
+        receives summary.json and trajectory.svg as one set; it is checked before the run
+        (``ValueError``), and a failure to write after it raises ``OSError`` whose ``result``
+        is the ``FloorRunResult``."""
+
 class SweepResult:
     """The result of ``sweep``."""
 

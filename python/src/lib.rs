@@ -1,5 +1,5 @@
 //! Python bindings of harmonav (module `harmonav`): shapes, `Θ` evaluated in batches over
-//! NumPy arrays, the online `Navigator`, scenario runs and sweeps. Every call wraps the Rust
+//! NumPy arrays, the online `Navigator`, scenario runs and sweeps, floor-plan runs. Every call wraps the Rust
 //! API of the `harmonav` facade and `harmonav-sim`; nothing here re-implements the maths.
 //!
 //! Errors: bad arguments raise `ValueError` (with the Rust error's message, which names the
@@ -9,6 +9,7 @@
 mod convert;
 mod experiment;
 mod field;
+mod floorplan;
 mod navigator;
 mod scenario;
 mod shapes;
@@ -32,6 +33,8 @@ fn harmonav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<scenario::RunResult>()?;
     m.add_class::<scenario::SweepResult>()?;
     m.add_function(wrap_pyfunction!(scenario::sweep, m)?)?;
+    m.add_class::<floorplan::FloorPlan>()?;
+    m.add_class::<floorplan::FloorRunResult>()?;
     m.add_function(wrap_pyfunction!(experiment::run_batch, m)?)?;
     m.add_function(wrap_pyfunction!(experiment::random_start_points, m)?)?;
     m.add_function(wrap_pyfunction!(experiment::check_run_config, m)?)?;

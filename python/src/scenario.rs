@@ -26,7 +26,11 @@ pub struct Scenario {
 /// The robot model asked for by `model=` (the facade's and the scenario file's name), or by
 /// the old keyword `controller=`, kept as a deprecated alias (a `DeprecationWarning`; both at
 /// once is an error).
-fn model(py: Python<'_>, model: Option<&str>, controller: Option<&str>) -> PyResult<Option<Model>> {
+pub fn model(
+    py: Python<'_>,
+    model: Option<&str>,
+    controller: Option<&str>,
+) -> PyResult<Option<Model>> {
     let name = match (model, controller) {
         (Some(_), Some(_)) => {
             return Err(value_error(
@@ -56,7 +60,10 @@ fn model(py: Python<'_>, model: Option<&str>, controller: Option<&str>) -> PyRes
 
 /// A JSON-serialisable Rust value as a Python object (through `json.loads`), so that the keys
 /// are exactly those of the files the CLI writes.
-fn to_python<'py>(py: Python<'py>, value: &impl serde::Serialize) -> PyResult<Bound<'py, PyAny>> {
+pub fn to_python<'py>(
+    py: Python<'py>,
+    value: &impl serde::Serialize,
+) -> PyResult<Bound<'py, PyAny>> {
     let text = serde_json::to_string(value).map_err(value_error)?;
     py.import("json")?.call_method1("loads", (text,))
 }

@@ -5,6 +5,7 @@ use std::path::PathBuf;
 
 use harmonav_field::FieldError;
 use harmonav_output::atomic::OutputError;
+use harmonav_rs::NavError;
 use harmonav_scenario::ScenarioError;
 use harmonav_sim::summary::RunError;
 use harmonav_sim::sweep::SweepError;
@@ -38,6 +39,20 @@ pub enum CliError {
     Sweep(SweepError),
     /// The JSON output could not be made.
     Json(serde_json::Error),
+    /// An option of star worlds given with a floor-plan file.
+    NotForFloorPlans {
+        /// The scenario file.
+        scenario: PathBuf,
+        /// The option (`--physics rapier`, `--k`, `--damping`, or a command).
+        option: &'static str,
+    },
+    /// The navigator of a floor plan could not be built or refused an obstacle.
+    Navigator {
+        /// The scenario file.
+        scenario: PathBuf,
+        /// Why.
+        error: NavError,
+    },
 }
 
 impl std::fmt::Display for CliError {
@@ -61,6 +76,14 @@ impl std::fmt::Display for CliError {
             }
             Self::Sweep(e) => write!(f, "{e}"),
             Self::Json(e) => write!(f, "cannot write the JSON output: {e}"),
+            Self::NotForFloorPlans { scenario, option } => write!(
+                f,
+                "{}: {option} is for star worlds; a floor plan (a `[floor_plan]` file) runs \
+                 the built-in loop under the `auto` policies, and supports `run`, `eval` and \
+                 `check` (docs/maths.md §13)",
+                scenario.display()
+            ),
+            Self::Navigator { scenario, error } => write!(f, "{}: {error}", scenario.display()),
         }
     }
 }

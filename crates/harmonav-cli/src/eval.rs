@@ -1,6 +1,6 @@
 //! `harmonav eval`: the navigation function (all obstacles known) at points.
 
-use harmonav_field::FieldError;
+use harmonav_field::{FieldError, FieldEval};
 use harmonav_scenario::Prepared;
 use nalgebra::Vector2;
 use serde_json::{Value, json};
@@ -20,12 +20,14 @@ fn parse_point(s: &str) -> Result<Vector2<f64>, CliError> {
     }
 }
 
+/// `X,Y` for each `--at` argument.
+pub fn parse_points(at: &[String]) -> Result<Vec<Vector2<f64>>, CliError> {
+    at.iter().map(|s| parse_point(s)).collect()
+}
+
 /// Evaluates `Θ` at each `--at` point; a point outside the free space is a row with an error.
 pub fn cmd_eval(prepared: &Prepared, at: &[String], json: bool) -> Result<bool, CliError> {
-    let points = at
-        .iter()
-        .map(|s| parse_point(s))
-        .collect::<Result<Vec<_>, _>>()?;
+    let points = parse_points(at)?;
     let field = prepared.global_field()?;
     let why = |err: FieldError| match err {
         FieldError::InObstacle { obstacle } => {
@@ -37,6 +39,14 @@ pub fn cmd_eval(prepared: &Prepared, at: &[String], json: bool) -> Result<bool, 
         .iter()
         .map(|&x| (x, field.eval(x).map_err(why)))
         .collect();
+    print_rows(&rows, json)
+}
+
+/// Prints the rows of `eval`: `Θ`, `phi`, `h` and `∇Θ` at each point, or why there is none.
+pub fn print_rows(
+    rows: &[(Vector2<f64>, Result<FieldEval, String>)],
+    json: bool,
+) -> Result<bool, CliError> {
     if json {
         let rows: Vec<Value> = rows
             .iter()
@@ -57,7 +67,7 @@ pub fn cmd_eval(prepared: &Prepared, at: &[String], json: bool) -> Result<bool, 
         "phi",
         "Θ"
     );
-    for (x, r) in &rows {
+    for (x, r) in rows {
         match r {
             Err(error) => out!("{:>10.4} {:>10.4}  error: {error}", x.x, x.y),
             Ok(e) => out!(

@@ -5,7 +5,7 @@
 //! complete, and no staging folder).
 //!
 //! One file per command, each a thin call into harmonav-sim: [`run`], [`eval`], [`census`],
-//! [`sweep`] (`check` is the load alone); the options they share and the loading of the
+//! [`sweep`] (`check` is the load alone); floor-plan files (`[floor_plan]`) go to [`floor`]; the options they share and the loading of the
 //! scenario in [`args`], the errors in [`error`], the terminal output (control characters
 //! escaped) in [`text`].
 
@@ -13,6 +13,7 @@ mod args;
 mod census;
 mod error;
 mod eval;
+mod floor;
 mod run;
 mod sweep;
 mod text;
@@ -21,6 +22,8 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
+
+use harmonav_scenario::floorplan::FileKind;
 
 use crate::args::{DampingArg, KArg, ModelArg, PhysicsArg, load};
 use crate::error::CliError;
@@ -144,6 +147,13 @@ fn main() -> ExitCode {
 
 /// Runs one command: `Ok(false)` when a guarantee failed (or a start did not arrive).
 fn dispatch(command: Command) -> Result<bool, CliError> {
+    // A floor plan (a `[floor_plan]` table) has its own loader and loop.
+    let floor_plan = |path: &std::path::Path| -> Result<bool, CliError> {
+        if path == std::path::Path::new("-") {
+            return Err(CliError::Stdin);
+        }
+        Ok(FileKind::of(path)? == FileKind::FloorPlan)
+    };
     match command {
         Command::Run {
             scenario,
@@ -161,6 +171,10 @@ fn dispatch(command: Command) -> Result<bool, CliError> {
                 out: out.as_deref(),
                 json,
             };
+            if floor_plan(&scenario)? {
+                let given = [("--k", k.is_some()), ("--damping", damping.is_some())];
+                return floor::cmd_run_floor(&floor::load_floor(&scenario, &given)?, &args);
+            }
             run::cmd_run(&load(&scenario, k, damping)?, &args)
         }
         Command::Eval {
@@ -168,8 +182,20 @@ fn dispatch(command: Command) -> Result<bool, CliError> {
             at,
             k,
             json,
-        } => eval::cmd_eval(&load(&scenario, k, None)?, &at, json),
+        } => {
+            if floor_plan(&scenario)? {
+                let floor = floor::load_floor(&scenario, &[("--k", k.is_some())])?;
+                return floor::cmd_eval_floor(&floor, &at, json);
+            }
+            eval::cmd_eval(&load(&scenario, k, None)?, &at, json)
+        }
         Command::Census { scenario, k, json } => {
+            if floor_plan(&scenario)? {
+                return Err(CliError::NotForFloorPlans {
+                    scenario,
+                    option: "`census`",
+                });
+            }
             census::cmd_census(&load(&scenario, k, None)?, json)
         }
         Command::Sweep {
@@ -180,16 +206,29 @@ fn dispatch(command: Command) -> Result<bool, CliError> {
             k,
             damping,
             json,
-        } => sweep::cmd_sweep(
-            &load(&scenario, k, damping)?,
-            starts,
-            seed,
-            controller,
-            json,
-        ),
-        Command::Check { scenario } => load(&scenario, None, None).map(|_| {
-            out!("ok");
-            true
-        }),
+        } => {
+            if floor_plan(&scenario)? {
+                return Err(CliError::NotForFloorPlans {
+                    scenario,
+                    option: "`sweep`",
+                });
+            }
+            sweep::cmd_sweep(
+                &load(&scenario, k, damping)?,
+                starts,
+                seed,
+                controller,
+                json,
+            )
+        }
+        Command::Check { scenario } => {
+            if floor_plan(&scenario)? {
+                return Ok(floor::cmd_check_floor(&floor::load_floor(&scenario, &[])?));
+            }
+            load(&scenario, None, None).map(|_| {
+                out!("ok");
+                true
+            })
+        }
     }
 }

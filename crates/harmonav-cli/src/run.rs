@@ -4,6 +4,7 @@ use std::path::Path;
 
 use harmonav_output::set::Outputs;
 use harmonav_scenario::Prepared;
+use harmonav_sim::guarantee::Guarantee;
 use harmonav_sim::physics::{Physics, simulate_observed};
 use harmonav_sim::summary::Summary;
 
@@ -107,13 +108,13 @@ fn print_summary(s: &Summary) {
         }
         out!("  discoveries: {}", d.join(", "));
     }
-    let width = s
-        .guarantees
-        .iter()
-        .map(|g| g.name().len())
-        .max()
-        .unwrap_or(0);
-    for g in &s.guarantees {
+    print_guarantees(&s.guarantees);
+}
+
+/// The guarantees as a table: name, `pass` or `FAIL`, what was measured.
+pub fn print_guarantees(guarantees: &[Guarantee]) {
+    let width = guarantees.iter().map(|g| g.name().len()).max().unwrap_or(0);
+    for g in guarantees {
         out!(
             "  {:width$}  {}  {}",
             g.name(),

@@ -29,11 +29,11 @@ pub const LEVELS: [f64; 9] = [0.1, 0.2, 0.3, 0.5, 0.7, 0.9, 0.97, 0.99, 0.999];
 /// Cells per side of the grid the level sets are traced on.
 const LEVEL_CELLS: usize = 240;
 
-const FONT: &str = "sans-serif";
-const PATH: RGBColor = RGBColor(217, 72, 15);
-const KNOWN: RGBColor = RGBColor(176, 32, 32);
+pub(crate) const FONT: &str = "sans-serif";
+pub(crate) const PATH: RGBColor = RGBColor(217, 72, 15);
+pub(crate) const KNOWN: RGBColor = RGBColor(176, 32, 32);
 const SECTOR: RGBColor = RGBColor(59, 125, 216);
-const GOAL: RGBColor = RGBColor(43, 138, 62);
+pub(crate) const GOAL: RGBColor = RGBColor(43, 138, 62);
 
 /// A plotters error as text.
 pub fn err(e: impl std::fmt::Debug) -> String {
@@ -143,7 +143,7 @@ pub fn draw_level_lines(chart: &mut Plane<'_, '_>, grid: &ThetaGrid) -> Result<(
 /// from the last kept one's (`to_px`: the chart's backend coordinates). The SVG backend
 /// draws at whole pixels, so nothing visible is dropped, and a line over 10⁵ states becomes
 /// at most a few thousand vertices.
-fn drawable(
+pub(crate) fn drawable(
     points: impl IntoIterator<Item = (f64, f64)>,
     to_px: impl Fn(&(f64, f64)) -> (i32, i32),
 ) -> Vec<(f64, f64)> {
@@ -280,7 +280,7 @@ pub const LABEL_ALL_UP_TO: usize = 20;
 
 /// The pixel box `(left, top, right, bottom)` of `text` centred at `at`, at `size` px: 0.6 em
 /// per character (no font metrics in an SVG-only build), one em high.
-fn label_box(at: (i32, i32), text: &str, size: i32) -> (i32, i32, i32, i32) {
+pub(crate) fn label_box(at: (i32, i32), text: &str, size: i32) -> (i32, i32, i32, i32) {
     let w = (0.6 * f64::from(size) * text.chars().count() as f64).ceil() as i32;
     (
         at.0 - w / 2,
@@ -292,7 +292,9 @@ fn label_box(at: (i32, i32), text: &str, size: i32) -> (i32, i32, i32, i32) {
 
 /// The labels to draw, in the order offered: each one whose box (with 2 px to spare) overlaps
 /// no box already placed.
-fn place_labels(wanted: impl IntoIterator<Item = (usize, (i32, i32, i32, i32))>) -> Vec<usize> {
+pub(crate) fn place_labels(
+    wanted: impl IntoIterator<Item = (usize, (i32, i32, i32, i32))>,
+) -> Vec<usize> {
     let mut placed: Vec<(i32, i32, i32, i32)> = Vec::new();
     let mut kept = Vec::new();
     for (i, b) in wanted {

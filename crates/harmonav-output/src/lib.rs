@@ -2,8 +2,8 @@
 //!
 //! What a run leaves on disk: the MCAP recording for Foxglove ([`record`]: the official
 //! Foxglove schemas through the `foxglove` crate, streamed during a run of any length), the
-//! SVG figures ([`figures`], plotters), the level sets of `Θ` they share ([`levels`],
-//! marching squares), the shapes as drawn ([`drawing`]), and output folders checked before a
+//! SVG figures ([`figures`], plotters), a floor-plan run's figure and outputs ([`floor`]), the
+//! level sets of `Θ` they share ([`levels`], marching squares), the shapes as drawn ([`drawing`]), and output folders checked before a
 //! run and written as one set, atomically ([`atomic`], [`set`]).
 //!
 //! Equations held here: none of the paper's; `Θ` is sampled on a grid (`levels`) and drawn.
@@ -17,6 +17,7 @@
 pub mod atomic;
 pub mod drawing;
 pub mod figures;
+pub mod floor;
 pub mod levels;
 pub mod record;
 pub mod set;

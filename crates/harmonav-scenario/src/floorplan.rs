@@ -433,3 +433,33 @@ impl FloorScenario {
         })
     }
 }
+
+/// The two formats a scenario file may be written in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FileKind {
+    /// A star world ([`crate::Scenario`]: `[workspace]`, star `[[obstacles]]`).
+    Star,
+    /// A floor plan ([`FloorScenario`]: a `[floor_plan]` table).
+    FloorPlan,
+}
+
+impl FileKind {
+    /// The format of the file at `path`: a floor plan when its top level has a `[floor_plan]`
+    /// table, a star world otherwise (text that is not TOML is a star world too, so that its
+    /// loader reports the parse error with its line).
+    ///
+    /// # Errors
+    /// The file cannot be read ([`crate::scenario::read_text`]).
+    pub fn of(path: &Path) -> Result<Self, ScenarioError> {
+        Ok(Self::of_text(&crate::scenario::read_text(path)?))
+    }
+
+    /// The format of scenario text (see [`FileKind::of`]).
+    #[must_use]
+    pub fn of_text(text: &str) -> Self {
+        match toml::from_str::<toml::Table>(text) {
+            Ok(table) if table.contains_key("floor_plan") => Self::FloorPlan,
+            _ => Self::Star,
+        }
+    }
+}

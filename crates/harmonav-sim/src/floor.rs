@@ -1,13 +1,20 @@
 //! The floor-plan loop (issue 25, `docs/maths.md` §13): the user's loop around a
 //! [`harmonav::FloorNavigator`] on a [`FloorPrepared`] scenario, with its monitors (no
-//! collision with the true walls and obstacles, never leaving, arrival within a stated
-//! threshold), and the map's certificate.
+//! collision with the true walls and obstacles, at the states and along the steps, never
+//! leaving, staying in the certified region, arrival within a stated threshold), its
+//! [`FloorSummary`] (`harmonav run` on a floor plan), and the map's certificate.
 
 use harmonav::{FloorNavigator, Law, NavError, Options};
 use harmonav_harmonic::Certificate;
-use harmonav_scenario::Model;
 use harmonav_scenario::floorplan::FloorPrepared;
+use harmonav_scenario::{Model, ShapeSpec};
 use nalgebra::Vector2;
+use serde::Serialize;
+
+use crate::guarantee::{Check, Guarantee};
+use crate::monitor::MARGIN_TOLERANCE;
+use crate::trace::Discovery;
+use crate::trajectory::{Keep, Trajectory};
 
 /// How a floor-plan run ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -50,25 +57,53 @@ pub struct FloorRun {
     pub wall_clearance: f64,
     /// The smallest clearance of the robot's disc from a true obstacle, m (∞ with none).
     pub obstacle_clearance: f64,
+    /// A lower bound on the disc's clearance from the true walls and obstacles along every
+    /// held step, not only at the states: the clearance `c` is 1-Lipschitz, so a step of
+    /// length `L` from `c₀` to `c₁` keeps at least `(c₀ + c₁ − L)/2`, m.
+    pub swept_clearance: f64,
     /// The smallest certified clearance to the boundary layer (`sd − δ`) seen, m.
     pub layer_clearance: f64,
     /// `|x − x_d|` at the end, m.
     pub final_distance: f64,
     /// Path length, m.
     pub path: f64,
+    /// The largest speed `|ẋ|`, m/s.
+    pub max_speed: f64,
     /// Obstacles sensed and added.
     pub sensed: usize,
+    /// The sensed obstacles in order: name, index, time, and the robot's position then (the
+    /// sensing is a disc of radius `sim.sensor_range`: no axis).
+    pub discoveries: Vec<Discovery>,
+    /// `k` at the end (holes plus sensed obstacles, under the navigator's `k` policy).
+    pub k: f64,
     /// Commands issued.
     pub commands: usize,
+    /// The positions kept for figures, in time order: every state while they fit in
+    /// [`crate::trajectory::MAX_KEPT_STATES`], then an even decimation (`Trajectory`), with
+    /// the discoveries and the last state always kept.
+    pub positions: Vec<[f64; 2]>,
     /// The navigator's error, if it refused.
     pub error: Option<NavError>,
+}
+
+/// The name of the `i`-th obstacle of a floor-plan file: its `name`, or `obstacles[i]`.
+#[must_use]
+pub fn obstacle_name(prepared: &FloorPrepared, i: usize) -> String {
+    let named = prepared.scenario.obstacles.get(i).and_then(|o| match o {
+        ShapeSpec::Circle { name, .. }
+        | ShapeSpec::Ellipse { name, .. }
+        | ShapeSpec::Polygon { name, .. }
+        | ShapeSpec::Star { name, .. } => name.clone(),
+    });
+    named.unwrap_or_else(|| format!("obstacles[{i}]"))
 }
 
 /// Runs the user's loop from `start` under `model` (the file's by default): at every period
 /// `h` the robot senses the true obstacles within `sim.sensor_range` (added once, grown by the
 /// navigator), asks [`FloorNavigator::command`], and holds it — `x += h·u` (kinematic), or
 /// `v += h·f/m, x += h·v` (dynamic, semi-implicit Euler). The monitors use the true walls and
-/// shapes only.
+/// shapes only, at every state and (by the Lipschitz bound of [`FloorRun::swept_clearance`])
+/// along every step.
 ///
 /// # Errors
 /// The navigator could not be built (a message naming the parameter).
@@ -91,18 +126,26 @@ pub fn run(
     let floor = &prepared.floor;
     let (mut x, mut vel) = (start, Vector2::zeros());
     let mut known = vec![false; prepared.obstacles.len()];
+    let mut kept = Trajectory::default();
     let mut out = FloorRun {
         ending: FloorEnding::TimedOut,
         time: 0.0,
         wall_clearance: f64::INFINITY,
         obstacle_clearance: f64::INFINITY,
+        swept_clearance: f64::INFINITY,
         layer_clearance: f64::INFINITY,
         final_distance: (x - goal).norm(),
         path: 0.0,
+        max_speed: 0.0,
         sensed: 0,
+        discoveries: Vec::new(),
+        k: nav.k(),
         commands: 0,
+        positions: Vec::new(),
         error: None,
     };
+    // The disc's clearance at the previous state and the length of the step since.
+    let mut last: Option<(f64, f64)> = None;
     for n in 0..=steps {
         out.time = n as f64 * h;
         // Monitors on the truth.
@@ -110,10 +153,18 @@ pub fn run(
             out.ending = FloorEnding::Left;
             break;
         }
-        out.wall_clearance = out.wall_clearance.min(floor.wall_distance(x) - r.radius);
+        let wall = floor.wall_distance(x) - r.radius;
+        let obstacle = prepared
+            .obstacles
+            .iter()
+            .map(|o| o.signed_distance(x) - r.radius)
+            .fold(f64::INFINITY, f64::min);
+        out.wall_clearance = out.wall_clearance.min(wall);
+        out.obstacle_clearance = out.obstacle_clearance.min(obstacle);
         out.layer_clearance = out.layer_clearance.min(floor.clearance(x));
-        for o in &prepared.obstacles {
-            out.obstacle_clearance = out.obstacle_clearance.min(o.signed_distance(x) - r.radius);
+        let clearance = wall.min(obstacle);
+        if let Some((before, step)) = last {
+            out.swept_clearance = out.swept_clearance.min(0.5 * (before + clearance - step));
         }
         if out.wall_clearance <= 0.0 || out.obstacle_clearance <= 0.0 {
             out.ending = FloorEnding::Collision;
@@ -128,13 +179,26 @@ pub fn run(
             break;
         }
         // Perception: a true obstacle within range of the robot's disc becomes known.
-        for (o, seen) in prepared.obstacles.iter().zip(&mut known) {
+        let mut discovered = false;
+        for (i, (o, seen)) in prepared.obstacles.iter().zip(&mut known).enumerate() {
             if !*seen && o.signed_distance(x) - r.radius < sim.sensor_range {
                 nav.add_obstacle(o.clone())?;
                 *seen = true;
+                discovered = true;
                 out.sensed += 1;
+                out.discoveries.push(Discovery {
+                    obstacle: obstacle_name(prepared, i),
+                    index: i,
+                    time_s: out.time,
+                    position: [x.x, x.y],
+                    axis: [0.0; 2],
+                });
             }
         }
+        kept.push(
+            [x.x, x.y],
+            if discovered { Keep::Pinned } else { Keep::Grid },
+        );
         let c = match nav.command(x, vel) {
             Ok(c) => c,
             Err(e) => {
@@ -154,10 +218,170 @@ pub fn run(
                 x + h * vel
             }
         };
-        out.path += (next - x).norm();
+        out.max_speed = out.max_speed.max(vel.norm());
+        let step = (next - x).norm();
+        out.path += step;
+        last = Some((clearance, step));
         x = next;
     }
+    kept.push([x.x, x.y], Keep::Pinned);
+    out.positions = kept.into_samples();
+    out.k = nav.k();
     Ok(out)
+}
+
+/// The judgement of a floor-plan run (`harmonav run` on a `[floor_plan]` file, its
+/// `summary.json`): what was measured and each guarantee with its verdict.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FloorSummary {
+    /// The scenario's name.
+    pub name: String,
+    /// The robot model that ran.
+    pub model: Model,
+    /// The start.
+    pub start: [f64; 2],
+    /// The goal.
+    pub goal: [f64; 2],
+    /// Within `sim.arrival` of the goal.
+    pub reached: bool,
+    /// How the run ended ([`FloorEnding::as_str`]).
+    pub outcome: &'static str,
+    /// The navigator's refusal, if it refused.
+    pub error: Option<String>,
+    /// Simulated time, s.
+    pub time_s: f64,
+    /// `|x − x_d|` at the end, m.
+    pub final_distance: f64,
+    /// Path length, m.
+    pub path_length: f64,
+    /// Largest speed, m/s.
+    pub max_speed: f64,
+    /// `√(2μ/m)` (dynamic law), m/s.
+    pub speed_bound: Option<f64>,
+    /// The robot disc's smallest clearance from the true walls and obstacles at the states, m.
+    pub min_clearance: f64,
+    /// The same along every held step (the Lipschitz bound of [`FloorRun::swept_clearance`]).
+    pub swept_clearance: f64,
+    /// The smallest `sd − δ` (the certified region's edge is at 0), m.
+    pub layer_clearance: f64,
+    /// `δ`, the boundary layer's width, m.
+    pub delta: f64,
+    /// Boundary elements of the harmonic map.
+    pub elements: usize,
+    /// Seconds spent meshing and solving the harmonic map.
+    pub setup_s: f64,
+    /// `k` at the end.
+    pub k: f64,
+    /// Commands issued (one per control period).
+    pub commands: usize,
+    /// The obstacles sensed, in order.
+    pub discoveries: Vec<Discovery>,
+    /// Every guarantee with what its monitor measured.
+    pub guarantees: Vec<Guarantee>,
+}
+
+impl FloorSummary {
+    /// The summary of `run`, the run of `model` (the file's by default) from `start`.
+    #[must_use]
+    pub fn new(
+        prepared: &FloorPrepared,
+        model: Option<Model>,
+        start: Vector2<f64>,
+        run: &FloorRun,
+    ) -> Self {
+        let sc = &prepared.scenario;
+        let r = &sc.robot;
+        let model = model.unwrap_or(r.model);
+        let speed_bound = (model == Model::Dynamic).then(|| (2.0 * r.mu / r.mass).sqrt());
+        let min_clearance = run.wall_clearance.min(run.obstacle_clearance);
+        let reached = run.ending == FloorEnding::Reached;
+        let mut guarantees = vec![
+            Guarantee::new(
+                Check::ReachedGoal {
+                    final_distance: run.final_distance,
+                    tolerance: sc.sim.arrival,
+                    time_s: run.time,
+                    max_time_s: sc.sim.max_time,
+                },
+                reached,
+            ),
+            Guarantee::new(
+                Check::NoCollision {
+                    min_clearance,
+                    margin: r.margin,
+                },
+                min_clearance > 0.0 && min_clearance >= r.margin - MARGIN_TOLERANCE,
+            ),
+            Guarantee::new(
+                Check::NoCollisionBetweenStates {
+                    swept_clearance: run.swept_clearance,
+                },
+                run.swept_clearance > 0.0,
+            ),
+            Guarantee::new(
+                Check::StayedInWorkspace {
+                    min_boundary_distance: run.wall_clearance,
+                },
+                run.wall_clearance > 0.0 && run.ending != FloorEnding::Left,
+            ),
+            Guarantee::new(
+                Check::StayedInCertifiedRegion {
+                    min_layer_clearance: run.layer_clearance,
+                    delta: prepared.floor.delta(),
+                },
+                run.layer_clearance >= 0.0 && run.ending != FloorEnding::Left,
+            ),
+            Guarantee::new(
+                Check::Discoveries {
+                    discoveries: run
+                        .discoveries
+                        .iter()
+                        .map(|d| (d.obstacle.clone(), d.time_s))
+                        .collect(),
+                },
+                true,
+            ),
+        ];
+        if let Some(bound) = speed_bound {
+            guarantees.push(Guarantee::new(
+                Check::SpeedBelowBound {
+                    max_speed: run.max_speed,
+                    bound,
+                },
+                run.max_speed < bound,
+            ));
+        }
+        Self {
+            name: sc.name.clone(),
+            model,
+            start: [start.x, start.y],
+            goal: r.goal,
+            reached,
+            outcome: run.ending.as_str(),
+            error: run.error.as_ref().map(ToString::to_string),
+            time_s: run.time,
+            final_distance: run.final_distance,
+            path_length: run.path,
+            max_speed: run.max_speed,
+            speed_bound,
+            min_clearance,
+            swept_clearance: run.swept_clearance,
+            layer_clearance: run.layer_clearance,
+            delta: prepared.floor.delta(),
+            elements: prepared.floor.map().elements().len(),
+            setup_s: prepared.setup_seconds,
+            k: run.k,
+            commands: run.commands,
+            discoveries: run.discoveries.clone(),
+            guarantees,
+        }
+    }
+
+    /// Whether every guarantee held, arrival included.
+    #[must_use]
+    pub fn all_passed(&self) -> bool {
+        self.guarantees.iter().all(|g| g.passed)
+    }
 }
 
 /// The certificate of the scenario's map on `W_δ` ([`harmonav::FloorMap::certify`]) with at most

@@ -37,6 +37,11 @@ pub enum Kind {
     PhysicsEngineEnergy,
     /// An `[expect]` entry of the scenario file.
     Expect,
+    /// A floor plan: the robot stayed in the certified region `W_δ` of the harmonic map.
+    StayedInCertifiedRegion,
+    /// A floor plan: the robot's disc stayed clear of the truth along every held step, not
+    /// only at the states.
+    NoCollisionBetweenStates,
 }
 
 /// Why the robot lost the free space of its known obstacles.
@@ -148,6 +153,22 @@ pub enum Check {
         /// Largest `(V(rapier's step) − V(Euler's step)) / V`, 0 if none.
         largest_rise: f64,
     },
+    /// [`Kind::StayedInCertifiedRegion`] (floor plans, docs/maths.md §13): the smallest
+    /// `sd(x) − δ` over the states, `sd` the signed distance to the shrunk walls `∂W_s`.
+    StayedInCertifiedRegion {
+        /// Smallest `sd − δ`, m (`≥ 0` holds).
+        min_layer_clearance: f64,
+        /// `δ`, m.
+        delta: f64,
+    },
+    /// [`Kind::NoCollisionBetweenStates`] (floor plans): a lower bound on the robot disc's
+    /// clearance from the true walls and obstacles along every straight step between two
+    /// states. The clearance `c` is 1-Lipschitz, so on a step of length `L` from `c₀` to `c₁`
+    /// it is at least `(c₀ + c₁ − L)/2`.
+    NoCollisionBetweenStates {
+        /// The smallest such bound over the run, m (`> 0` holds).
+        swept_clearance: f64,
+    },
     /// `[expect] reached`.
     ExpectReached {
         /// The file's value.
@@ -199,6 +220,8 @@ impl Check {
             | Self::ExpectDiscoveryOrder { .. }
             | Self::ExpectDampingSwitched { .. }
             | Self::ExpectMaxSpeedBelow { .. } => Kind::Expect,
+            Self::StayedInCertifiedRegion { .. } => Kind::StayedInCertifiedRegion,
+            Self::NoCollisionBetweenStates { .. } => Kind::NoCollisionBetweenStates,
         }
     }
 
@@ -222,6 +245,8 @@ impl Check {
             Self::ExpectDiscoveryOrder { .. } => "expect.discovery-order",
             Self::ExpectDampingSwitched { .. } => "expect.damping-switched",
             Self::ExpectMaxSpeedBelow { .. } => "expect.max-speed-below",
+            Self::StayedInCertifiedRegion { .. } => "stayed-in-certified-region",
+            Self::NoCollisionBetweenStates { .. } => "no-collision-between-states",
         }
     }
 }
@@ -327,6 +352,17 @@ impl std::fmt::Display for Check {
             Self::ExpectMaxSpeedBelow { max_speed, limit } => {
                 write!(f, "max speed {max_speed:.3} m/s, limit {limit} m/s")
             }
+            Self::StayedInCertifiedRegion {
+                min_layer_clearance,
+                delta,
+            } => write!(
+                f,
+                "min distance beyond the boundary layer {min_layer_clearance:.4} m (δ = {delta} m)"
+            ),
+            Self::NoCollisionBetweenStates { swept_clearance } => write!(
+                f,
+                "clearance ≥ {swept_clearance:.4} m along every held step (1-Lipschitz bound)"
+            ),
         }
     }
 }

@@ -29,11 +29,12 @@ pub enum Keep {
     Pinned,
 }
 
-/// The kept states of a run, in time order (see the module's doc).
+/// The kept states of a run, in time order (see the module's doc): [`Sample`]s by default,
+/// or any state type `T` (the floor-plan loop keeps its positions, `crate::floor`).
 #[derive(Clone, Debug)]
-pub struct Trajectory {
+pub struct Trajectory<T = Sample> {
     /// `(state, pinned)` in time order.
-    kept: Vec<(Sample, bool)>,
+    kept: Vec<(T, bool)>,
     /// Grid states kept in a row of `stride` (a power of two).
     stride: usize,
     /// Grid states offered so far.
@@ -43,13 +44,13 @@ pub struct Trajectory {
     capacity: usize,
 }
 
-impl Default for Trajectory {
+impl<T> Default for Trajectory<T> {
     fn default() -> Self {
         Self::with_capacity(MAX_KEPT_STATES)
     }
 }
 
-impl Trajectory {
+impl<T> Trajectory<T> {
     /// An empty trajectory that keeps at most `capacity` grid states (at least 2).
     pub fn with_capacity(capacity: usize) -> Self {
         Self {
@@ -62,7 +63,7 @@ impl Trajectory {
     }
 
     /// Offers a state; a grid state is kept if its index is a multiple of the stride.
-    pub fn push(&mut self, s: Sample, keep: Keep) {
+    pub fn push(&mut self, s: T, keep: Keep) {
         match keep {
             Keep::Pinned => self.kept.push((s, true)),
             Keep::Grid => {
@@ -104,7 +105,7 @@ impl Trajectory {
     }
 
     /// The kept states, in time order.
-    pub fn into_samples(self) -> Vec<Sample> {
+    pub fn into_samples(self) -> Vec<T> {
         self.kept.into_iter().map(|(s, _)| s).collect()
     }
 }

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use harmonav_scenario::Model;
 use harmonav_scenario::floorplan::{FLOORPLANS, FloorScenario};
-use harmonav_sim::floor::{FloorEnding, run};
+use harmonav_sim::floor::{FloorEnding, FloorSummary, run};
 
 fn files() -> Vec<PathBuf> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -42,6 +42,25 @@ fn every_floor_plan_start_arrives_under_both_laws() {
                 assert_eq!(r.ending, FloorEnding::Reached, "{r:?}");
                 assert!(r.wall_clearance > 0.0 && r.obstacle_clearance > 0.0);
                 assert!(r.layer_clearance >= 0.0, "left W_δ: {r:?}");
+                // The swept bound: below the clearance at the states, by at most half of
+                // the longest step (`h·max_speed`, h = 0.01 s kinematic, 0.001 s dynamic).
+                let states = r.wall_clearance.min(r.obstacle_clearance);
+                let h = if model == Model::Kinematic {
+                    0.01
+                } else {
+                    0.001
+                };
+                assert!(
+                    r.swept_clearance <= states
+                        && r.swept_clearance >= states - 0.5 * h * r.max_speed - 1e-12,
+                    "swept {} against {states}",
+                    r.swept_clearance
+                );
+                // The kept path runs from the start to the end, and the summary judges it.
+                assert_eq!(r.positions.first(), Some(&[start.x, start.y]));
+                let summary = FloorSummary::new(&p, Some(model), start, &r);
+                assert!(summary.all_passed(), "{:?}", summary.guarantees);
+                assert_eq!(summary.discoveries.len(), r.sensed);
             }
         }
     }

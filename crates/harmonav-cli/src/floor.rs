@@ -1,0 +1,150 @@
+//! `run`, `eval` and `check` on a floor-plan file (a `[floor_plan]` table, issue 25): the
+//! user's loop around a `FloorNavigator` (`harmonav_sim::floor`), its summary and outputs
+//! (`harmonav_output::floor`). The star-world options that have no meaning on a floor plan
+//! (`--physics rapier`, `--k`, `--damping`) are refused by name.
+
+use std::path::Path;
+
+use harmonav_field::FieldError;
+use harmonav_output::floor::write_floor_outputs;
+use harmonav_output::set::check_output_dir;
+use harmonav_rs::{FloorNavigator, Law, Options};
+use harmonav_scenario::floorplan::{FloorPrepared, FloorScenario};
+use harmonav_sim::floor::{FloorSummary, obstacle_name, run};
+use nalgebra::Vector2;
+
+use crate::args::{PhysicsArg, model};
+use crate::error::CliError;
+use crate::eval::{parse_points, print_rows};
+use crate::run::{RunArgs, print_guarantees};
+use crate::text::{out, print_json};
+
+/// Loads a floor-plan file (meshing and solving its harmonic map), refusing the star-world
+/// options the command was given (`given`: each option's name, whether it was given).
+pub fn load_floor(path: &Path, given: &[(&'static str, bool)]) -> Result<FloorPrepared, CliError> {
+    if let Some((option, _)) = given.iter().find(|(_, g)| *g) {
+        return Err(CliError::NotForFloorPlans {
+            scenario: path.to_path_buf(),
+            option,
+        });
+    }
+    Ok(FloorScenario::load(path)?)
+}
+
+/// `harmonav check` on a floor plan: the file loads and its map is solved.
+pub fn cmd_check_floor(prepared: &FloorPrepared) -> bool {
+    out!(
+        "ok: floor plan, {} boundary elements, {} holes, δ = {} m, solved in {:.2} s",
+        prepared.floor.map().elements().len(),
+        prepared.floor.walls().holes().len(),
+        prepared.floor.delta(),
+        prepared.setup_seconds
+    );
+    true
+}
+
+/// `harmonav run` on a floor plan: the file's start under its model (or `--model`), every
+/// guarantee of [`FloorSummary`] judged, the summary printed (or as JSON), and with `--out`
+/// the folder checked before the run and `summary.json` and `trajectory.svg` written as one
+/// set after it. `Ok(false)` when a guarantee failed.
+pub fn cmd_run_floor(prepared: &FloorPrepared, args: &RunArgs<'_>) -> Result<bool, CliError> {
+    if args.physics == PhysicsArg::Rapier {
+        return Err(CliError::NotForFloorPlans {
+            scenario: args.path.to_path_buf(),
+            option: "--physics rapier",
+        });
+    }
+    if let Some(dir) = args.out {
+        check_output_dir(dir).map_err(CliError::Out)?;
+    }
+    let model = model(args.controller);
+    let start = prepared.starts[0];
+    let result = run(prepared, model, start).map_err(|error| CliError::Navigator {
+        scenario: args.path.to_path_buf(),
+        error,
+    })?;
+    let summary = FloorSummary::new(prepared, model, start, &result);
+    let written = args
+        .out
+        .map(|dir| write_floor_outputs(dir, prepared, &summary, &result).map(|_| dir));
+    if args.json {
+        print_json(&summary)?;
+    } else {
+        print_floor_summary(&summary);
+        if let Some(Ok(dir)) = written {
+            out!("  outputs in {}", dir.display());
+        }
+    }
+    if let Some(Err(e)) = written {
+        return Err(CliError::Write(e));
+    }
+    Ok(summary.all_passed())
+}
+
+fn print_floor_summary(s: &FloorSummary) {
+    out!(
+        "{} ({:?} model, floor plan of {} elements, δ = {} m): {}",
+        s.name,
+        s.model,
+        s.elements,
+        s.delta,
+        if s.reached {
+            "goal reached"
+        } else {
+            "goal NOT reached"
+        }
+    );
+    out!(
+        "  time {:.3} s, final distance {:.2e} m, min clearance {:.4} m, max speed {:.3} m/s{}",
+        s.time_s,
+        s.final_distance,
+        s.min_clearance,
+        s.max_speed,
+        s.speed_bound
+            .map_or(String::new(), |b| format!(" (bound {b:.3})"))
+    );
+    if !s.reached {
+        out!("  outcome: {}", s.outcome);
+    }
+    if let Some(e) = &s.error {
+        out!("  the navigator refused: {e}");
+    }
+    print_guarantees(&s.guarantees);
+}
+
+/// `harmonav eval` on a floor plan: `Θ` with every obstacle known (grown by radius + margin,
+/// as the navigator grows them) at each `--at` point; a point outside the certified region or
+/// inside an obstacle is a row with the reason.
+pub fn cmd_eval_floor(
+    prepared: &FloorPrepared,
+    at: &[String],
+    json: bool,
+) -> Result<bool, CliError> {
+    let points = parse_points(at)?;
+    let r = &prepared.scenario.robot;
+    let navigator_error = |error| CliError::Navigator {
+        scenario: prepared.path.clone(),
+        error,
+    };
+    let mut nav = FloorNavigator::new(
+        prepared.floor.clone(),
+        Vector2::from(r.goal),
+        Law::kinematic(r.gain),
+        Options::default().with_robot(r.radius, r.margin),
+    )
+    .map_err(navigator_error)?;
+    for o in &prepared.obstacles {
+        nav.add_obstacle(o.clone()).map_err(navigator_error)?;
+    }
+    let why = |err: FieldError| match err {
+        FieldError::InObstacle { obstacle } => {
+            format!("inside obstacle {}", obstacle_name(prepared, obstacle))
+        }
+        err => err.to_string(),
+    };
+    let rows: Vec<_> = points
+        .iter()
+        .map(|&x| (x, nav.field().eval(x).map_err(why)))
+        .collect();
+    print_rows(&rows, json)
+}

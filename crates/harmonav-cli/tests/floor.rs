@@ -1,0 +1,218 @@
+//! `harmonav run | eval | check` on floor-plan files (`[floor_plan]`, issue 25): the summary's
+//! guarantees, the output set, `Θ` against finite differences, and the star-world options
+//! refused by name.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn harmonav(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_harmonav"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn floorplan(name: &str) -> String {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenarios/floorplans")
+        .join(name)
+        .to_string_lossy()
+        .into_owned()
+}
+
+fn scratch(tag: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("harmonav-cli-floor-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn guarantee<'a>(v: &'a serde_json::Value, name: &str) -> &'a serde_json::Value {
+    v["guarantees"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|g| g["name"] == name)
+        .unwrap_or_else(|| panic!("no guarantee {name} in {v}"))
+}
+
+#[test]
+fn a_floor_plan_runs_with_every_guarantee_judged_and_writes_one_output_set() {
+    let dir = scratch("out");
+    // A stale recording of an earlier star-world run in the folder: the set replaces it.
+    std::fs::write(dir.join("run.mcap"), b"stale").unwrap();
+    let (code, out, err) = harmonav(&[
+        "run",
+        &floorplan("l-room.toml"),
+        "--model",
+        "kinematic",
+        "--json",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}\n{out}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["reached"], true);
+    assert_eq!(v["outcome"], "reached");
+    assert_eq!(v["model"], "kinematic");
+    assert_eq!(v["speed_bound"], serde_json::Value::Null);
+    for name in [
+        "reached-goal",
+        "no-collision",
+        "no-collision-between-states",
+        "stayed-in-workspace",
+        "stayed-in-certified-region",
+        "discoveries",
+    ] {
+        assert_eq!(guarantee(&v, name)["passed"], true, "{name}: {v}");
+    }
+    // The swept bound lies below the clearance at the states, by at most half a step.
+    let (swept, states) = (
+        v["swept_clearance"].as_f64().unwrap(),
+        v["min_clearance"].as_f64().unwrap(),
+    );
+    let step = 0.01 * v["max_speed"].as_f64().unwrap();
+    assert!(
+        swept <= states && swept >= states - 0.5 * step - 1e-12,
+        "{swept} {states}"
+    );
+    assert!(states >= 0.1 - 1e-6, "the margin: {states}");
+    // The sensed obstacles of the file, in the order met along the lower arm.
+    let names: Vec<&str> = v["discoveries"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|d| d["obstacle"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["box", "bin"]);
+    // The set: the summary as printed, the figure, and no stale recording.
+    let written: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(written, v);
+    let svg = std::fs::read_to_string(dir.join("trajectory.svg")).unwrap();
+    assert!(
+        svg.starts_with("<svg") && svg.contains("<polyline"),
+        "{}",
+        &svg[..200]
+    );
+    assert!(
+        svg.contains("box") && svg.contains("bin"),
+        "the discovered names"
+    );
+    assert!(!dir.join("run.mcap").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn the_dynamic_law_on_a_floor_plan_is_judged_against_its_speed_bound() {
+    let (code, out, err) = harmonav(&["run", &floorplan("u-trap.toml"), "--model", "dynamic"]);
+    assert_eq!(code, 0, "{err}\n{out}");
+    assert!(out.contains("goal reached"), "{out}");
+    assert!(out.contains("speed-below-bound"), "{out}");
+    assert!(out.contains("stayed-in-certified-region"), "{out}");
+}
+
+#[test]
+fn a_floor_plan_run_that_does_not_arrive_exits_with_one() {
+    let dir = scratch("short");
+    let text = std::fs::read_to_string(floorplan("l-room.toml"))
+        .unwrap()
+        .replace("max_time = 240.0", "max_time = 1.0");
+    let file = dir.join("short.toml");
+    std::fs::write(&file, text).unwrap();
+    let (code, out, err) = harmonav(&["run", file.to_str().unwrap(), "--json"]);
+    assert_eq!(code, 1, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["outcome"], "timed_out");
+    assert_eq!(guarantee(&v, "reached-goal")["passed"], false);
+    assert_eq!(guarantee(&v, "no-collision")["passed"], true);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn eval_on_a_floor_plan_agrees_with_finite_differences_and_names_bad_points() {
+    let file = floorplan("l-room.toml");
+    let h = 1e-5;
+    let (x, y) = (1.0, 3.0);
+    let at = |dx: f64, dy: f64| format!("{},{}", x + dx, y + dy);
+    let points = [
+        at(0.0, 0.0),
+        at(h, 0.0),
+        at(-h, 0.0),
+        at(0.0, h),
+        at(0.0, -h),
+        "1.0,4.0".to_string(), // inside the pillar (a hole of the plan)
+        "3.5,0.9".to_string(), // inside the box
+    ];
+    let mut args = vec!["eval", file.as_str(), "--json"];
+    for p in &points {
+        args.push("--at");
+        args.push(p);
+    }
+    let (code, out, err) = harmonav(&args);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let value = |i: usize| v[i]["value"].as_f64().unwrap();
+    assert!(value(0) > 0.0 && value(0) < 1.0, "{v}");
+    let fd = [
+        (value(1) - value(2)) / (2.0 * h),
+        (value(3) - value(4)) / (2.0 * h),
+    ];
+    let grad = [
+        v[0]["grad"][0].as_f64().unwrap(),
+        v[0]["grad"][1].as_f64().unwrap(),
+    ];
+    let norm = grad[0].hypot(grad[1]);
+    assert!(norm > 0.0);
+    for (g, f) in grad.iter().zip(fd) {
+        assert!((g - f).abs() <= 1e-4 * norm, "∇Θ {grad:?} against {fd:?}");
+    }
+    assert!(v[5]["error"].is_string(), "{v}");
+    assert_eq!(v[6]["error"], "inside obstacle box");
+}
+
+#[test]
+fn check_solves_the_map_and_star_world_options_are_refused_by_name() {
+    let file = floorplan("u-trap.toml");
+    let (code, out, err) = harmonav(&["check", &file]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.starts_with("ok: floor plan, "), "{out}");
+    for (args, option) in [
+        (
+            vec!["run", &file, "--physics", "rapier"],
+            "--physics rapier",
+        ),
+        (vec!["run", &file, "--k", "paper"], "--k"),
+        (vec!["run", &file, "--damping", "paper"], "--damping"),
+        (vec!["eval", &file, "--at", "1,2", "--k", "auto"], "--k"),
+        (vec!["census", &file], "`census`"),
+        (vec!["sweep", &file, "--starts", "2"], "`sweep`"),
+    ] {
+        let (code, out, err) = harmonav(&args);
+        assert_eq!(code, 2, "{args:?}: {out}");
+        assert!(
+            err.contains(&format!("{option} is for star worlds")) && err.contains("u-trap.toml"),
+            "{args:?}: {err}"
+        );
+    }
+    // A bad floor plan is named by its field, as every scenario error is.
+    let dir = scratch("bad");
+    let bad = dir.join("bad.toml");
+    let text = std::fs::read_to_string(&file)
+        .unwrap()
+        .replace("start = [1.0, 2.1]", "start = [4.8, 2.5]");
+    std::fs::write(&bad, text).unwrap();
+    let (code, _, err) = harmonav(&["run", bad.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("robot.start") && err.contains("bad.toml"),
+        "{err}"
+    );
+    assert!(Path::new(&bad).exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -1,0 +1,144 @@
+//! Floor-plan files (`[floor_plan]`, issue 25): loading (the harmonic map is solved then,
+//! without the GIL) and runs of the user's loop around a `FloorNavigator`, judged as
+//! `harmonav run` judges them (`harmonav_sim::floor`).
+
+use std::path::PathBuf;
+
+use harmonav_output::floor::write_floor_outputs;
+use harmonav_output::set::check_output_dir;
+use harmonav_scenario::floorplan::{FloorPrepared, FloorScenario};
+use harmonav_sim::floor::{FloorSummary, run};
+use numpy::{PyArray2, PyUntypedArrayMethods};
+use pyo3::exceptions::PyOSError;
+use pyo3::prelude::*;
+
+use crate::convert::{point_like, rows2, value_error};
+use crate::scenario::{model, to_python};
+
+/// A floor-plan file: a polygon with holes (or a ROS map) as the known walls and star
+/// obstacles sensed online inside it, its harmonic map solved on load.
+#[pyclass(module = "harmonav", frozen)]
+pub struct FloorPlan {
+    prepared: FloorPrepared,
+}
+
+#[pymethods]
+impl FloorPlan {
+    /// Loads and validates `path` and solves its harmonic map, without the GIL. Raises
+    /// `ValueError` naming the file, the field and the problem.
+    #[staticmethod]
+    fn load(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
+        let prepared = py
+            .detach(|| FloorScenario::load(&path))
+            .map_err(value_error)?;
+        Ok(Self { prepared })
+    }
+
+    /// The scenario's `name`.
+    #[getter]
+    fn name(&self) -> &str {
+        &self.prepared.scenario.name
+    }
+
+    /// The file it was loaded from.
+    #[getter]
+    fn path(&self) -> String {
+        self.prepared.path.display().to_string()
+    }
+
+    /// `robot.start`, then the file's seeded `[starts]`: an (N, 2) array.
+    #[getter]
+    fn starts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let s = &self.prepared.starts;
+        rows2(py, s.iter().flat_map(|p| [p.x, p.y]).collect(), s.len())
+    }
+
+    /// The boundary elements of the harmonic map.
+    #[getter]
+    fn elements(&self) -> usize {
+        self.prepared.floor.map().elements().len()
+    }
+
+    /// `δ`, the width of the boundary layer outside the certified region `W_δ`, m.
+    #[getter]
+    fn delta(&self) -> f64 {
+        self.prepared.floor.delta()
+    }
+
+    /// Runs the loop from `start` (default `robot.start`) under `model` (`"kinematic"` or
+    /// `"dynamic"`; None: the file's), without the GIL, and judges every guarantee. `out`, a
+    /// folder, receives summary.json and trajectory.svg as one set; it is checked before the
+    /// run (`ValueError`, nothing run), and a failure to write after it raises `OSError` whose
+    /// `result` is the `FloorRunResult`.
+    #[pyo3(signature = (model=None, start=None, out=None))]
+    fn run(
+        &self,
+        py: Python<'_>,
+        model: Option<&str>,
+        start: Option<&Bound<'_, PyAny>>,
+        out: Option<PathBuf>,
+    ) -> PyResult<FloorRunResult> {
+        let model = self::model(py, model, None)?;
+        let start = match start {
+            Some(p) => point_like(p, "start")?,
+            None => self.prepared.starts[0],
+        };
+        if let Some(dir) = &out {
+            py.detach(|| check_output_dir(dir))
+                .map_err(|e| value_error(format!("out: {e}; nothing was run")))?;
+        }
+        let prepared = &self.prepared;
+        let result = py
+            .detach(|| run(prepared, model, start))
+            .map_err(|e| value_error(format!("{}: {e}", prepared.path.display())))?;
+        let summary = FloorSummary::new(prepared, model, start, &result);
+        let n = result.positions.len();
+        let flat = result.positions.iter().flatten().copied().collect();
+        let value = FloorRunResult {
+            summary: to_python(py, &summary)?.unbind(),
+            x: rows2(py, flat, n)?.unbind(),
+        };
+        if let Some(dir) = &out
+            && let Err(e) = py.detach(|| write_floor_outputs(dir, prepared, &summary, &result))
+        {
+            let err = PyOSError::new_err(format!(
+                "out: the outputs were not written: {e} (the run's result is this error's \
+                 `result`)"
+            ));
+            err.value(py).setattr("result", Py::new(py, value)?)?;
+            return Err(err);
+        }
+        Ok(value)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "FloorPlan({:?}, {}, {} elements)",
+            self.prepared.scenario.name,
+            self.prepared.path.display(),
+            self.elements()
+        )
+    }
+}
+
+/// The result of `FloorPlan.run`: `summary` (the dict of its summary.json: `reached`,
+/// `outcome`, `time_s`, `min_clearance`, `swept_clearance`, `layer_clearance`, `guarantees`,
+/// …) and `x`, the kept positions (N, 2) from the start to the end.
+#[pyclass(module = "harmonav", frozen, get_all)]
+pub struct FloorRunResult {
+    summary: Py<PyAny>,
+    x: Py<PyArray2<f64>>,
+}
+
+#[pymethods]
+impl FloorRunResult {
+    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+        let summary = self.summary.bind(py);
+        Ok(format!(
+            "FloorRunResult(reached={}, time_s={}, points={})",
+            summary.get_item("reached")?,
+            summary.get_item("time_s")?,
+            self.x.bind(py).len()
+        ))
+    }
+}

@@ -1,0 +1,59 @@
+"""Floor-plan files from Python (issue 25): ``FloorPlan.load`` solves the map, ``run`` judges
+every guarantee as ``harmonav run`` does, and ``out`` writes the same set."""
+
+import json
+import os
+import pathlib
+
+import numpy as np
+import pytest
+
+import harmonav
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+L_ROOM = ROOT / "scenarios" / "floorplans" / "l-room.toml"
+
+
+def test_a_floor_plan_runs_from_python_with_every_guarantee_judged(tmp_path):
+    plan = harmonav.FloorPlan.load(L_ROOM)
+    assert plan.name == "floorplan-l-room"
+    assert plan.starts.shape == (7, 2)  # robot.start and the six seeded starts
+    np.testing.assert_array_equal(plan.starts[0], [1.0, 5.4])
+    assert plan.elements > 100 and plan.delta > 0.0
+    result = plan.run(model="kinematic", out=tmp_path)
+    s = result.summary
+    assert s["reached"] and s["outcome"] == "reached"
+    names = {g["name"]: g["passed"] for g in s["guarantees"]}
+    assert all(names.values()), names
+    assert {"stayed-in-certified-region", "no-collision-between-states"} <= names.keys()
+    # The kept path starts at the start and ends within the arrival threshold of the goal.
+    np.testing.assert_array_equal(result.x[0], plan.starts[0])
+    assert np.linalg.norm(result.x[-1] - np.array(s["goal"])) < 0.05
+    # Its length is the summary's path length (every state kept in a run this short).
+    steps = np.linalg.norm(np.diff(result.x, axis=0), axis=1).sum()
+    assert steps == pytest.approx(s["path_length"], rel=1e-9)
+    assert json.loads((tmp_path / "summary.json").read_text()) == s
+    assert (tmp_path / "trajectory.svg").read_text().startswith("<svg")
+
+
+def test_a_floor_plan_run_from_another_start_and_bad_input():
+    plan = harmonav.FloorPlan.load(L_ROOM)
+    start = plan.starts[3]
+    result = plan.run(model="dynamic", start=start)
+    assert result.summary["start"] == list(start)
+    assert result.summary["speed_bound"] == pytest.approx(2.0)
+    with pytest.raises(ValueError, match="unknown model"):
+        plan.run(model="teleport")
+    with pytest.raises(ValueError, match="start"):
+        plan.run(start=[np.nan, 1.0])
+    with pytest.raises(ValueError, match="out:"):
+        plan.run(out="")
+
+
+def test_a_bad_floor_plan_is_named(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text(L_ROOM.read_text().replace("start = [1.0, 5.4]", "start = [4.0, 4.0]"))
+    with pytest.raises(ValueError, match=r"bad\.toml.*robot\.start"):
+        harmonav.FloorPlan.load(bad)
+    with pytest.raises(ValueError, match="cannot read"):
+        harmonav.FloorPlan.load(os.fspath(tmp_path / "missing.toml"))
