@@ -72,6 +72,9 @@ GOOD_WORLDS = '[worlds]\ngenerator = "quality"\nobstacles = [6]\nseeds = [1]\n'
          "worlds.obstacles[1]", ["integer", "string"]),
         ('name = "x"\n[worlds]\ngenerator = "quality"\nobstacles = [6]\nseeds = [-1]\n',
          "worlds.seeds[0]", ["[0,"]),
+        # A count the generator cannot place is the world's problem, not the grid's.
+        ('name = "x"\n[worlds]\ngenerator = "quality"\nobstacles = [6, 100]\nseeds = [1]\n',
+         "worlds.obstacles", ["quality-m100-seed1"]),
         ('name = "x"\n[worlds]\nscenarios = ["nowhere/*.toml"]\n', "worlds.scenarios[0]",
          ["matches no file"]),
         ('name = "x"\n[worlds]\ngenerator = "quality"\nscenarios = ["a.toml"]\n', "worlds",

@@ -16,7 +16,7 @@ use nalgebra::Vector2;
 use crate::args::{PhysicsArg, model};
 use crate::error::CliError;
 use crate::eval::{parse_points, print_rows};
-use crate::run::{RunArgs, print_guarantees};
+use crate::run::{RunArgs, print_guarantees, print_head};
 use crate::text::{out, print_json};
 
 /// Loads a floor-plan file (meshing and solving its harmonic map), refusing the star-world
@@ -82,30 +82,16 @@ pub fn cmd_run_floor(prepared: &FloorPrepared, args: &RunArgs<'_>) -> Result<boo
 }
 
 fn print_floor_summary(s: &FloorSummary) {
-    out!(
-        "{} ({:?} model, floor plan of {} elements, δ = {} m): {}",
-        s.name,
-        s.model,
-        s.elements,
-        s.delta,
-        if s.reached {
-            "goal reached"
-        } else {
-            "goal NOT reached"
-        }
+    print_head(
+        &format!(
+            "{} ({:?} model, floor plan of {} elements, δ = {} m)",
+            s.name, s.model, s.elements, s.delta
+        ),
+        s.reached,
+        [s.time_s, s.final_distance, s.min_clearance, s.max_speed],
+        s.speed_bound,
+        &s.outcome,
     );
-    out!(
-        "  time {:.3} s, final distance {:.2e} m, min clearance {:.4} m, max speed {:.3} m/s{}",
-        s.time_s,
-        s.final_distance,
-        s.min_clearance,
-        s.max_speed,
-        s.speed_bound
-            .map_or(String::new(), |b| format!(" (bound {b:.3})"))
-    );
-    if !s.reached {
-        out!("  outcome: {}", s.outcome);
-    }
     if let Some(e) = &s.error {
         out!("  the navigator refused: {e}");
     }

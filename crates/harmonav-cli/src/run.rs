@@ -67,30 +67,43 @@ pub fn cmd_run(prepared: &Prepared, args: &RunArgs<'_>) -> Result<bool, CliError
     Ok(result.summary.all_passed())
 }
 
-fn print_summary(s: &Summary) {
+/// The first lines of a run's summary: `title: goal reached` (or not), the motion
+/// `[time_s, final_distance, min_clearance, max_speed]` with the speed bound if any, and the
+/// outcome of a run that did not arrive.
+pub fn print_head(
+    title: &str,
+    reached: bool,
+    motion: [f64; 4],
+    speed_bound: Option<f64>,
+    outcome: &dyn std::fmt::Display,
+) {
     out!(
-        "{} ({:?} model, {} physics): {}",
-        s.name,
-        s.model,
-        s.physics,
-        if s.reached {
+        "{title}: {}",
+        if reached {
             "goal reached"
         } else {
             "goal NOT reached"
         }
     );
+    let [time_s, final_distance, min_clearance, max_speed] = motion;
     out!(
-        "  time {:.3} s, final distance {:.2e} m, min clearance {:.4} m, max speed {:.3} m/s{}",
-        s.time_s,
-        s.final_distance,
-        s.min_clearance,
-        s.max_speed,
-        s.speed_bound
-            .map_or(String::new(), |b| format!(" (bound {b:.3})"))
+        "  time {time_s:.3} s, final distance {final_distance:.2e} m, min clearance \
+         {min_clearance:.4} m, max speed {max_speed:.3} m/s{}",
+        speed_bound.map_or(String::new(), |b| format!(" (bound {b:.3})"))
     );
-    if !s.reached {
-        out!("  outcome: {}", s.outcome);
+    if !reached {
+        out!("  outcome: {outcome}");
     }
+}
+
+fn print_summary(s: &Summary) {
+    print_head(
+        &format!("{} ({:?} model, {} physics)", s.name, s.model, s.physics),
+        s.reached,
+        [s.time_s, s.final_distance, s.min_clearance, s.max_speed],
+        s.speed_bound,
+        &s.outcome,
+    );
     for w in &s.warnings {
         out!("  warning: {w}");
     }

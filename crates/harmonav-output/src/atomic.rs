@@ -1,7 +1,7 @@
 //! Output files that appear whole or not at all: written under a temporary name unique to this
 //! process and call, then renamed into place (a rename within one directory is atomic), and
 //! output *sets* ([`StagedDir`]): written into a fresh folder inside the output folder, then
-//! moved into place together. [`check_output_dir`] finds every problem of an output folder
+//! moved into place together. [`check_output_names`] finds every problem of an output folder
 //! before anything is computed for it (an empty path, a path below a file, a dangling or
 //! looping symbolic link, a folder that cannot be written, a path longer than `PATH_MAX`, an
 //! output name taken by a folder); [`OutputError`] says which.
@@ -360,7 +360,7 @@ pub const MAX_SYMLINK_HOPS: usize = 40;
 /// the way dangles or loops), something can be created in it (or in its nearest existing
 /// parent: a probe folder is created and removed), and none of `names` in it is a folder.
 /// A `dir` that does not exist yet is not created.
-pub fn check_output_dir(dir: &Path, names: &[&str]) -> Result<(), OutputError> {
+pub fn check_output_names(dir: &Path, names: &[&str]) -> Result<(), OutputError> {
     let bytes = dir.as_os_str().len();
     if bytes == 0 {
         return Err(OutputError::EmptyPath);
@@ -635,7 +635,7 @@ mod tests {
         let unwritable = unwritable(&d);
         let before = names_deep(&d);
         let check = |path: PathBuf, expected: &dyn Fn(&OutputError) -> bool, words: &str| {
-            let e = check_output_dir(&path, &names).expect_err(&path.display().to_string());
+            let e = check_output_names(&path, &names).expect_err(&path.display().to_string());
             assert!(expected(&e), "{}: {e:?}", path.display());
             let message = e.to_string();
             assert!(message.contains(words), "{}: {message}", path.display());
@@ -700,7 +700,7 @@ mod tests {
         }
         // What may take a set: an existing folder, one to create, a link to a folder.
         for ok in [d.clone(), d.join("new/deeper"), d.join("linked")] {
-            check_output_dir(&ok, &names).unwrap_or_else(|e| panic!("{}: {e}", ok.display()));
+            check_output_names(&ok, &names).unwrap_or_else(|e| panic!("{}: {e}", ok.display()));
         }
         assert_eq!(names_deep(&d), before, "a check changes nothing");
         assert_eq!(std::fs::read_to_string(&file).unwrap(), "keep");

@@ -31,7 +31,7 @@ const LEVEL_CELLS: usize = 240;
 
 pub(crate) const FONT: &str = "sans-serif";
 pub(crate) const PATH: RGBColor = RGBColor(217, 72, 15);
-pub(crate) const KNOWN: RGBColor = RGBColor(176, 32, 32);
+const KNOWN: RGBColor = RGBColor(176, 32, 32);
 const SECTOR: RGBColor = RGBColor(59, 125, 216);
 pub(crate) const GOAL: RGBColor = RGBColor(43, 138, 62);
 
@@ -50,6 +50,23 @@ pub fn draw_path(
         .draw_series(std::iter::once(PathElement::new(points, style)))
         .map(|_| ())
         .map_err(err)
+}
+
+/// Draws an obstacle, filled: red if the robot discovered it (`known`), grey if not.
+pub(crate) fn draw_obstacle(
+    chart: &mut Plane<'_, '_>,
+    shape: &harmonav_transform::StarShape,
+    known: bool,
+) -> Result<(), String> {
+    let (fill, stroke) = if known {
+        (RGBColor(241, 192, 192), KNOWN)
+    } else {
+        (RGBColor(208, 208, 208), RGBColor(102, 102, 102))
+    };
+    chart
+        .draw_series(std::iter::once(Polygon::new(outline(shape), fill.filled())))
+        .map_err(err)?;
+    draw_path(chart, outline(shape), stroke.stroke_width(1))
 }
 
 /// The sector `S_{r,θ}` at `pole` along `axis` as a closed polygon.
@@ -222,15 +239,7 @@ pub fn trajectory_svg(prepared: &Prepared, run: &Run) -> Result<String, String> 
             }
         }
         for (i, o) in truth.obstacles.iter().enumerate() {
-            let (fill, stroke) = if known.contains(&i) {
-                (RGBColor(241, 192, 192), KNOWN)
-            } else {
-                (RGBColor(208, 208, 208), RGBColor(102, 102, 102))
-            };
-            chart
-                .draw_series(std::iter::once(Polygon::new(outline(o), fill.filled())))
-                .map_err(err)?;
-            draw_path(&mut chart, outline(o), stroke.stroke_width(1))?;
+            draw_obstacle(&mut chart, o, known.contains(&i))?;
         }
         let path = drawable(run.samples.iter().map(|p| (p.x[0], p.x[1])), |p| {
             chart.backend_coord(p)

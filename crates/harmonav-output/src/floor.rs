@@ -14,9 +14,10 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use crate::atomic::{OutputError, StagedDir};
-use crate::drawing::{outline, xy};
+use crate::drawing::xy;
 use crate::figures::{
-    FONT, GOAL, KNOWN, PATH, draw_level_lines, draw_path, drawable, err, place_labels, plane,
+    FONT, GOAL, PATH, draw_level_lines, draw_obstacle, draw_path, drawable, err, place_labels,
+    plane,
 };
 use crate::levels::ThetaGrid;
 use crate::set::{OUTPUT_FILES, check_output_dir};
@@ -108,15 +109,7 @@ pub fn floor_trajectory_svg(
         draw_path(&mut chart, ring(walls.outer()), BLACK.stroke_width(2))?;
         let known: Vec<usize> = run.discoveries.iter().map(|d| d.index).collect();
         for (i, o) in prepared.obstacles.iter().enumerate() {
-            let (fill, stroke) = if known.contains(&i) {
-                (RGBColor(241, 192, 192), KNOWN)
-            } else {
-                (RGBColor(208, 208, 208), RGBColor(102, 102, 102))
-            };
-            chart
-                .draw_series([Polygon::new(outline(o), fill.filled())])
-                .map_err(err)?;
-            draw_path(&mut chart, outline(o), stroke.stroke_width(1))?;
+            draw_obstacle(&mut chart, o, known.contains(&i))?;
         }
         let path = drawable(run.positions.iter().map(|p| (p[0], p[1])), |p| {
             chart.backend_coord(p)

@@ -25,11 +25,11 @@ pub const OUTPUT_FILES: [&str; 5] = [
 ];
 
 /// Checks that `dir` can take the outputs, before a run that would otherwise fail only at its
-/// end, and changes nothing: [`crate::atomic::check_output_dir`] for [`OUTPUT_FILES`] (an empty
+/// end, and changes nothing: [`crate::atomic::check_output_names`] for [`OUTPUT_FILES`] (an empty
 /// path, a path below a file, a dangling or looping link, an unwritable folder, a path too
 /// long, an output name taken by a folder are refused).
 pub fn check_output_dir(dir: &Path) -> Result<(), OutputError> {
-    crate::atomic::check_output_dir(dir, &OUTPUT_FILES)
+    crate::atomic::check_output_names(dir, &OUTPUT_FILES)
 }
 
 /// Writes `run.mcap`, `trajectory.svg`, (dynamic runs) `speed.svg` and `energy.svg`, and

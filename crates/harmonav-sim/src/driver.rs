@@ -4,16 +4,18 @@
 //! `rapier.rs`, rapier's fixed step) only advances the state between the driver's
 //! calls.
 
+use harmonav::{Evaluation, Navigator};
 use harmonav_scenario::{Model, Prepared};
 use nalgebra::Vector2;
 
 use crate::closed_loop::ClosedLoop;
 use crate::guarantee::Guarantee;
-use crate::monitor::{End, Recorder};
+use crate::monitor::{End, EnergyError, Recorder};
 use crate::outcome::rested_too_long;
 use crate::summary::{Run, RunError};
 use crate::trace::{Discovery, Event, Sample};
 use crate::trajectory::Keep;
+use crate::warning::Warning;
 
 /// Accepted steps at rest, each cut by the error control below half of `sim.dt`, after which
 /// a kinematic run is stopped as stalled (the stall rule of `driver.rs`, for every
@@ -28,11 +30,23 @@ struct Rest {
     chattering: usize,
 }
 
+/// Whether a run looks for the scenario's [`Warning`]s before its first state
+/// ([`crate::preflight::check`]): [`crate::physics::simulate`] does; [`crate::run::run`] alone
+/// (a sweep's many runs, the benchmark's) and the reference run of a rapier cross-check skip
+/// them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Warnings {
+    /// Look for them, hand them to the observer first and put them in the summary.
+    Find,
+    /// Skip them.
+    Skip,
+}
+
 /// A run in progress: the closed loop, the monitors and the kept trajectory, and what ended
-/// it so far.
+/// it so far. The integrators reach the closed loop only through it.
 pub(crate) struct Driver<'a, 'o> {
     /// The robot's navigator against the truth.
-    pub lp: ClosedLoop<'a>,
+    lp: ClosedLoop<'a>,
     rec: Recorder<'o>,
     prepared: &'a Prepared,
     discoveries: Vec<Discovery>,
@@ -41,23 +55,44 @@ pub(crate) struct Driver<'a, 'o> {
     /// The integrator's bound on the state error of one recorded state (m), from which
     /// [`Driver::sample`] bounds the energy's ([`ClosedLoop::sample`]).
     state_error: f64,
+    /// The scenario's warnings (empty under [`Warnings::Skip`]).
+    warnings: Vec<Warning>,
 }
 
 impl<'a, 'o> Driver<'a, 'o> {
-    /// The run of `prepared` with `model` (or the file's) at the start, with the obstacles
-    /// known at `t = 0` handed to `observer`. `period`: the control period of a fixed-step
-    /// integrator (the navigator holds each command for it). `state_error`: see
-    /// [`Driver::sample`].
+    /// The run of `prepared` with `model` (or the file's) at the start: the scenario's
+    /// warnings (under [`Warnings::Find`]), then the obstacles known at `t = 0`, handed to
+    /// `observer`. `period`: the control period of a fixed-step integrator (the navigator
+    /// holds each command for it). `state_error`: see [`Driver::sample`].
     pub fn start(
         prepared: &'a Prepared,
         model: Option<Model>,
         period: Option<f64>,
         state_error: f64,
+        warnings: Warnings,
         observer: &'o mut dyn FnMut(Event<'_>),
     ) -> Result<Self, RunError> {
         let (lp, discoveries) = ClosedLoop::start(prepared, model, period)?;
+        let warnings = match warnings {
+            Warnings::Find => crate::preflight::check(prepared, lp.nav.field()),
+            Warnings::Skip => Vec::new(),
+        };
+        for w in &warnings {
+            observer(Event::Warning(w));
+        }
         let sim = &prepared.scenario.sim;
-        let mut rec = Recorder::new(prepared.truth.goal(), sim.goal_tolerance, observer);
+        // A fixed-step integrator (a control period) carries the drift of each interval on the
+        // state that ends it; the built-in one bounds the error of each state.
+        let energy_error = match period {
+            Some(_) => EnergyError::PerInterval,
+            None => EnergyError::PerState,
+        };
+        let mut rec = Recorder::new(
+            prepared.truth.goal(),
+            sim.goal_tolerance,
+            energy_error,
+            observer,
+        );
         rec.discovered(&discoveries);
         Ok(Self {
             lp,
@@ -71,7 +106,32 @@ impl<'a, 'o> Driver<'a, 'o> {
                 chattering: 0,
             },
             state_error,
+            warnings,
         })
+    }
+
+    /// The robot model that runs.
+    #[cfg_attr(not(feature = "rapier"), allow(dead_code))]
+    pub fn model(&self) -> Model {
+        self.lp.model
+    }
+
+    /// The robot's navigator (what it knows).
+    pub fn nav(&self) -> &Navigator {
+        &self.lp.nav
+    }
+
+    /// The robot's navigator, to ask a held command of (`Navigator::command` keeps its
+    /// sampled-data state).
+    #[cfg_attr(not(feature = "rapier"), allow(dead_code))]
+    pub fn nav_mut(&mut self) -> &mut Navigator {
+        &mut self.lp.nav
+    }
+
+    /// The law's continuous evaluation at `(x, ẋ)` ([`ClosedLoop::eval`]); `None` outside the
+    /// free space of the known obstacles.
+    pub fn eval(&self, x: Vector2<f64>, v: Vector2<f64>) -> Option<Evaluation> {
+        self.lp.eval(x, v)
     }
 
     /// Whether the robot at `x` is within the goal tolerance.
@@ -173,7 +233,7 @@ impl<'a, 'o> Driver<'a, 'o> {
     /// kept states. `physics` names the integrator in the summary.
     pub fn finish(self, end: End) -> Run {
         let (monitor, samples) = self.rec.into_parts();
-        let summary = monitor.finish(
+        let mut summary = monitor.finish(
             self.prepared,
             self.lp.model,
             &self.lp.nav,
@@ -181,6 +241,7 @@ impl<'a, 'o> Driver<'a, 'o> {
             self.discoveries,
             self.aborted,
         );
+        summary.warnings = self.warnings;
         Run { summary, samples }
     }
 }

@@ -4,13 +4,13 @@
 //! [`harmonav::Navigator`] driven against the scenario's truth ([`harmonav_scenario`]), every
 //! guarantee judged online, and the run's [`summary::Summary`].
 //!
-//! The path of a run goes down through the modules in this order (`preflight` also starts a
-//! `closed_loop` to find the warnings before the run, and the built-in integrator evaluates
-//! the `closed_loop`'s right-hand side directly between the driver's calls):
+//! The path of a run goes down through the modules in this order, each entered once: the
+//! integrators reach the closed loop only through the driver, and the driver asks
+//! `preflight` for the warnings on the field its loop starts with.
 //!
 //! ```text
-//! physics::simulate → preflight (warnings) → run | rapier (the integrator)
-//!   → driver (start, sensing, recording, the stall rule, the end)
+//! physics::simulate → run | rapier (the integrator: advances the state)
+//!   → driver (start, the warnings from preflight, sensing, recording, the stall rule, the end)
 //!     → closed_loop (Navigator against the Truth) → monitor (guarantees) → summary
 //! ```
 //!

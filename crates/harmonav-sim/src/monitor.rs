@@ -35,6 +35,18 @@ pub(crate) struct End {
     pub physics: crate::summary::Physics,
 }
 
+/// What a state's [`Sample::energy_tolerance`] bounds, by the integrator's own error model.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum EnergyError {
+    /// The error of `V` at each state (the built-in integrator's local error bound): a rise
+    /// from one judged state to the next may be the sum of both states' errors.
+    PerState,
+    /// The energy error of the steps since the previous judged state (a fixed-step
+    /// integrator's drift, rapier's semi-implicit Euler step), carried by the later state
+    /// alone: the allowance of a rise is that state's tolerance, not the sum of two.
+    PerInterval,
+}
+
 /// Guarantee monitors, fed every accepted state.
 pub(crate) struct Monitor {
     min_clearance: f64,
@@ -48,6 +60,8 @@ pub(crate) struct Monitor {
     /// The largest relative rise of `V` between consecutive states, tolerance included.
     energy_rise_raw: f64,
     last_energy: Option<(f64, f64)>,
+    /// What [`Sample::energy_tolerance`] bounds.
+    energy_error: EnergyError,
     /// Set by the integrator when it stopped a run that had come to rest away from the goal:
     /// since when.
     stalled_since: Option<f64>,
@@ -111,8 +125,9 @@ impl Approach {
 }
 
 impl Monitor {
-    /// Monitors for a run whose goal tolerance is `tolerance`.
-    pub(crate) fn new(tolerance: f64) -> Self {
+    /// Monitors for a run whose goal tolerance is `tolerance`, its states' energy tolerances
+    /// bounding `energy_error`.
+    pub(crate) fn new(tolerance: f64, energy_error: EnergyError) -> Self {
         Self {
             min_clearance: f64::INFINITY,
             min_boundary: f64::INFINITY,
@@ -122,6 +137,7 @@ impl Monitor {
             energy_rise: 0.0,
             energy_rise_raw: 0.0,
             last_energy: None,
+            energy_error,
             stalled_since: None,
             rest: Rest::new(tolerance),
             approach: Approach::default(),
@@ -174,7 +190,11 @@ impl Monitor {
             if let (Some((last, tol)), false) = (self.last_energy, discovered) {
                 // Guard: V is positive away from the goal; at the goal both are ~0.
                 let scale = last.max(1e-12);
-                let excess = v - last - (tol + s.energy_tolerance);
+                let allowance = match self.energy_error {
+                    EnergyError::PerState => tol + s.energy_tolerance,
+                    EnergyError::PerInterval => s.energy_tolerance,
+                };
+                let excess = v - last - allowance;
                 self.energy_rise = self.energy_rise.max(excess / scale);
                 self.energy_rise_raw = self.energy_rise_raw.max((v - last) / scale);
             }
@@ -360,11 +380,16 @@ pub(crate) struct Recorder<'o> {
 }
 
 impl<'o> Recorder<'o> {
-    /// A recorder for a run to `goal` (tolerance `tolerance`); every recorded state also goes
-    /// to `observer`.
-    pub fn new(goal: Vector2<f64>, tolerance: f64, observer: &'o mut dyn FnMut(Event<'_>)) -> Self {
+    /// A recorder for a run to `goal` (tolerance `tolerance`, energy tolerances bounding
+    /// `energy_error`); every recorded state also goes to `observer`.
+    pub fn new(
+        goal: Vector2<f64>,
+        tolerance: f64,
+        energy_error: EnergyError,
+        observer: &'o mut dyn FnMut(Event<'_>),
+    ) -> Self {
         Self {
-            monitor: Monitor::new(tolerance),
+            monitor: Monitor::new(tolerance, energy_error),
             kept: Trajectory::default(),
             observer,
             goal,
@@ -408,6 +433,51 @@ impl<'o> Recorder<'o> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn state(t: f64, energy: f64, energy_tolerance: f64) -> Sample {
+        Sample {
+            t,
+            x: [1.0, 0.0],
+            v: [0.0; 2],
+            theta: 0.5,
+            energy: Some(energy),
+            k: 2.0,
+            lambda: Some(1.0),
+            energy_tolerance,
+            critical: true,
+        }
+    }
+
+    /// A fixed-step integrator's tolerance is the drift of the interval it ends: a rise of 1.5
+    /// times that drift is beyond it, though within the sum of two states' tolerances (the
+    /// allowance that counted the previous interval's drift twice).
+    #[test]
+    fn an_interval_drift_is_allowed_once() {
+        let truth = harmonav_scenario::Scenario::parse(
+            std::path::Path::new("w.toml"),
+            "name = \"w\"\n[workspace]\ntype = \"circle\"\ncenter = [0.0, 0.0]\nradius = 5.0\n\
+             [robot]\nmodel = \"dynamic\"\nstart = [-3.0, 0.0]\ngoal = [3.0, 0.0]\n",
+        )
+        .unwrap()
+        .prepare(std::path::Path::new("w.toml"))
+        .unwrap()
+        .truth;
+        let drift = 1e-3;
+        let rises = |energy_error| {
+            let mut m = Monitor::new(0.01, energy_error);
+            m.observe(&state(0.0, 1.0, drift), false, &truth);
+            m.observe(&state(0.1, 1.0 + 1.5 * drift, drift), false, &truth);
+            m.energy_rise
+        };
+        assert!(
+            rises(EnergyError::PerInterval) > 0.0,
+            "beyond the interval's drift"
+        );
+        assert!(
+            rises(EnergyError::PerState) <= 0.0,
+            "within two states' errors"
+        );
+    }
 
     #[test]
     fn the_last_approach_restarts_at_a_discovery_and_keeps_its_first_side() {

@@ -1,15 +1,17 @@
 //! Which integrator moves the robot ([`Physics`]), and the run with the scenario's warnings
 //! ([`simulate`]): what the CLI, the bindings and `cargo xtask verify` call.
 
-use crate::run::run_observed;
+use crate::driver::{Driver, Warnings};
+use crate::run::integrate;
 pub use crate::summary::Physics;
 use crate::summary::{Run, RunError};
 use crate::trace::Event;
+use crate::warning::Warning;
 use harmonav_scenario::{Model, Prepared};
 
 /// Runs the scenario with `model` (or the file's) under `physics`: the built-in run, or the
 /// rapier run with the built-in run as the reference of its deviation guarantee, with the
-/// scenario's warnings ([`crate::preflight::check`]).
+/// scenario's warnings ([`warnings`]).
 pub fn simulate(
     prepared: &Prepared,
     model: Option<Model>,
@@ -27,21 +29,38 @@ pub fn simulate_observed(
     physics: Physics,
     observer: &mut dyn FnMut(Event<'_>),
 ) -> Result<Run, RunError> {
-    let warnings = crate::preflight::check(prepared, model)?;
-    for w in &warnings {
-        observer(Event::Warning(w));
-    }
-    let mut result = match physics {
-        Physics::Builtin => run_observed(prepared, model, observer)?,
+    match physics {
+        Physics::Builtin => integrate(prepared, model, Warnings::Find, observer),
         #[cfg(feature = "rapier")]
         Physics::Rapier => {
             use crate::rapier::{Drive, rapier_observed};
-            let builtin = run_observed(prepared, model, &mut |_| {})?;
-            rapier_observed(prepared, model, Drive::Law, Some(&builtin), observer)?.0
+            let builtin = integrate(prepared, model, Warnings::Skip, &mut |_| {})?;
+            let (run, _) = rapier_observed(
+                prepared,
+                model,
+                Drive::Law,
+                Some(&builtin),
+                Warnings::Find,
+                observer,
+            )?;
+            Ok(run)
         }
         #[cfg(not(feature = "rapier"))]
-        Physics::Rapier => return Err(RunError::NoRapier),
-    };
-    result.summary.warnings = warnings;
-    Ok(result)
+        Physics::Rapier => Err(RunError::NoRapier),
+    }
+}
+
+/// The warnings a run of `prepared` with `model` (or the file's) would start with: what
+/// [`crate::preflight::check`] finds on the field the robot knows at `t = 0`.
+///
+/// # Errors
+/// The run could not start ([`RunError`]).
+pub fn warnings(prepared: &Prepared, model: Option<Model>) -> Result<Vec<Warning>, RunError> {
+    let mut found = Vec::new();
+    Driver::start(prepared, model, None, 0.0, Warnings::Find, &mut |e| {
+        if let Event::Warning(w) = e {
+            found.push(w.clone());
+        }
+    })?;
+    Ok(found)
 }

@@ -1,24 +1,24 @@
 //! The checks made before a run ([`check`]): the [`Warning`]s about a scenario that its
-//! verdict alone would not explain.
+//! verdict alone would not explain. The driver asks them of the field the robot starts with
+//! (`driver.rs`), so a run's path goes through this module once, before its first state.
 
+use harmonav_field::Field;
 use harmonav_field::descent::{Ending, FollowOptions, follow};
-use harmonav_scenario::{Model, Prepared};
+use harmonav_scenario::Prepared;
 use nalgebra::Vector2;
 
-use crate::closed_loop::ClosedLoop;
 use crate::outcome::StallPoint;
-use crate::summary::RunError;
 use crate::warning::{TOLERANCE_SHARE, Warning};
 
 /// Step attempts of the descent that looks for a saddle ahead of the start: a bound on the
 /// warning's cost (a normal descent takes a few hundred).
 pub const DESCENT_ATTEMPTS: usize = 20_000;
 
-/// The warnings for a run of `prepared` with `model` (or the file's).
-pub fn check(prepared: &Prepared, model: Option<Model>) -> Result<Vec<Warning>, RunError> {
+/// The warnings for a run of `prepared` whose robot starts knowing `field` (its `Θ` over the
+/// obstacles known at `t = 0`); `crate::physics::warnings` asks them for a model.
+#[must_use]
+pub fn check(prepared: &Prepared, field: &Field) -> Vec<Warning> {
     let sc = &prepared.scenario;
-    let (lp, _) = ClosedLoop::start(prepared, model, None)?;
-    let field = lp.nav.field();
     let start = Vector2::from(sc.robot.start);
     let goal = prepared.truth.goal();
     let tol = sc.sim.goal_tolerance;
@@ -33,7 +33,7 @@ pub fn check(prepared: &Prepared, model: Option<Model>) -> Result<Vec<Warning>, 
         });
     }
     if (start - goal).norm() < tol {
-        return Ok(warnings);
+        return warnings;
     }
     match field.eval(start) {
         Ok(e) if e.direction.is_none() => warnings.push(Warning::StartAtCriticalPoint),
@@ -56,5 +56,5 @@ pub fn check(prepared: &Prepared, model: Option<Model>) -> Result<Vec<Warning>, 
         }
         Err(_) => {}
     }
-    Ok(warnings)
+    warnings
 }

@@ -15,7 +15,7 @@ use harmonav_transform::StarShape;
 use nalgebra::Vector2;
 use rapier2d_f64::prelude::{ColliderBuilder, PhysicsWorld, RigidBodyBuilder, Vector};
 
-use crate::driver::Driver;
+use crate::driver::{Driver, Warnings};
 use crate::guarantee::{Check, FreeSpaceLoss, Guarantee};
 use crate::monitor::End;
 use crate::summary::{Physics, Run, RunError};
@@ -80,15 +80,17 @@ pub fn run_rapier(
     drive: Drive,
     builtin: Option<&Run>,
 ) -> Result<(Run, RapierReport), RunError> {
-    rapier_observed(prepared, model, drive, builtin, &mut |_| {})
+    rapier_observed(prepared, model, drive, builtin, Warnings::Skip, &mut |_| {})
 }
 
-/// [`run_rapier`], handing every recorded state to `observer`.
+/// [`run_rapier`], with the scenario's warnings or without ([`Warnings`]), handing every
+/// recorded state to `observer`.
 pub(crate) fn rapier_observed(
     prepared: &Prepared,
     model: Option<Model>,
     drive: Drive,
     builtin: Option<&Run>,
+    warnings: Warnings,
     observer: &mut dyn FnMut(Event<'_>),
 ) -> Result<(Run, RapierReport), RunError> {
     let sc = &prepared.scenario;
@@ -98,8 +100,8 @@ pub(crate) fn rapier_observed(
     let h = sc.sim.dt / substeps as f64;
     // Semi-implicit Euler at a fixed step has no error estimate: the energy's allowance is
     // relative (`sample` below), not from a state error.
-    let mut d = Driver::start(prepared, model, Some(h), 0.0, observer)?;
-    let model = d.lp.model;
+    let mut d = Driver::start(prepared, model, Some(h), 0.0, warnings, observer)?;
+    let model = d.model();
     let start = prepared.start();
 
     let mut world = PhysicsWorld {
@@ -159,7 +161,7 @@ pub(crate) fn rapier_observed(
     };
     loop {
         let (x, vel) = state(&world);
-        if d.lp.eval(x, vel).is_none() {
+        if d.eval(x, vel).is_none() {
             // Only a controller other than the law gets here: record and stop.
             d.abort(Guarantee::failed(Check::LeftFreeSpace {
                 time_s: t,
@@ -193,10 +195,10 @@ pub(crate) fn rapier_observed(
             break;
         }
         let command = match &drive {
-            Drive::Law => d.lp.nav.command(x, vel)?.value,
+            Drive::Law => d.nav_mut().command(x, vel)?.value,
             Drive::Custom(f) => {
-                let e = d.lp.nav.field().eval(x)?;
-                f(d.lp.nav.field(), &e, x, vel)
+                let e = d.nav().field().eval(x)?;
+                f(d.nav().field(), &e, x, vel)
             }
         };
         let body = &mut world.bodies[robot];
@@ -212,7 +214,7 @@ pub(crate) fn rapier_observed(
         world.step();
         steps += 1;
         t = steps as f64 * h;
-        if let (Controller::Dynamic(law), Some(p0)) = (d.lp.nav.controller(), before) {
+        if let (Controller::Dynamic(law), Some(p0)) = (d.nav().controller(), before) {
             // The law's semi-implicit Euler step, and the step rapier made.
             let ve = vel + h * command / law.mass();
             let xe = x + h * ve;
@@ -293,11 +295,11 @@ pub(crate) fn rapier_observed(
 /// `Ψ` and `∇Ψ` of the dynamic law at `(x, ẋ)` (`None` for the kinematic law or outside the
 /// free space).
 fn potential(d: &Driver, x: Vector2<f64>, v: Vector2<f64>) -> Option<Potential> {
-    let Controller::Dynamic(law) = d.lp.nav.controller() else {
+    let Controller::Dynamic(law) = d.nav().controller() else {
         return None;
     };
-    let e = d.lp.eval(x, v)?;
-    Some(law.potential(d.lp.nav.field(), &e.field))
+    let e = d.eval(x, v)?;
+    Some(law.potential(d.nav().field(), &e.field))
 }
 
 /// **rapier's error model**: how much one semi-implicit Euler step of length `h` changes

@@ -13,8 +13,7 @@ use harmonav::{Controller, Evaluation};
 use harmonav_scenario::{Model, Prepared, Truth};
 use nalgebra::Vector2;
 
-use crate::closed_loop::ClosedLoop;
-use crate::driver::Driver;
+use crate::driver::{Driver, Warnings};
 use crate::guarantee::{Check, FreeSpaceLoss, Guarantee};
 use crate::monitor::End;
 use crate::summary::{Physics, Run, RunError};
@@ -59,10 +58,10 @@ fn hermite(y0: &State, d0: &State, y1: &State, d1: &State, h: f64, s: f64) -> St
 
 /// `ẏ` of the closed loop at `y` with the law's evaluation; `None` outside the free space of
 /// the known obstacles.
-fn rhs(lp: &ClosedLoop, y: &State) -> Option<(State, Evaluation)> {
+fn rhs(d: &Driver, y: &State) -> Option<(State, Evaluation)> {
     let (x, v) = (pos(y), vel(y));
-    let e = lp.eval(x, v)?;
-    let dy = match lp.nav.controller() {
+    let e = d.eval(x, v)?;
+    let dy = match d.nav().controller() {
         Controller::Kinematic(_) => [e.command.x, e.command.y, 0.0, 0.0],
         Controller::Dynamic(law) => {
             let a = e.command / law.mass();
@@ -85,9 +84,19 @@ pub fn run_observed(
     model: Option<Model>,
     observer: &mut dyn FnMut(Event<'_>),
 ) -> Result<Run, RunError> {
+    integrate(prepared, model, Warnings::Skip, observer)
+}
+
+/// The built-in run, with the scenario's warnings or without ([`Warnings`]).
+pub(crate) fn integrate(
+    prepared: &Prepared,
+    model: Option<Model>,
+    warnings: Warnings,
+    observer: &mut dyn FnMut(Event<'_>),
+) -> Result<Run, RunError> {
     let sc = &prepared.scenario;
     let step_tol = step_tolerance(&prepared.truth);
-    let mut d = Driver::start(prepared, model, None, step_tol, observer)?;
+    let mut d = Driver::start(prepared, model, None, step_tol, warnings, observer)?;
     let start = prepared.start();
     let mut y: State = [start.x, start.y, 0.0, 0.0];
 
@@ -97,7 +106,7 @@ pub fn run_observed(
     let (mut steps, mut rejected) = (0usize, 0usize);
     d.record(d.sample(t, pos(&y), vel(&y)), Keep::Pinned, false);
     let mut next_record = dt;
-    let (mut k1, _) = rhs(&d.lp, &y).ok_or(RunError::StartNotFree)?;
+    let (mut k1, _) = rhs(&d, &y).ok_or(RunError::StartNotFree)?;
     let mut reached = d.arrived(pos(&y));
     while !reached && t < max_time {
         h = h.min(dt).min(max_time - t);
@@ -112,16 +121,16 @@ pub fn run_observed(
             }
             break;
         }
-        let lp = &d.lp;
+        let dr = &d;
         let stages = (|| {
-            let (k2, _) = rhs(lp, &axpy(&y, h, &[(0.5, &k1)]))?;
-            let (k3, _) = rhs(lp, &axpy(&y, h, &[(0.75, &k2)]))?;
+            let (k2, _) = rhs(dr, &axpy(&y, h, &[(0.5, &k1)]))?;
+            let (k3, _) = rhs(dr, &axpy(&y, h, &[(0.75, &k2)]))?;
             let y1 = axpy(
                 &y,
                 h,
                 &[(2.0 / 9.0, &k1), (1.0 / 3.0, &k2), (4.0 / 9.0, &k3)],
             );
-            let (k4, _) = rhs(lp, &y1)?;
+            let (k4, _) = rhs(dr, &y1)?;
             let e = axpy(
                 &[0.0; 4],
                 h,
@@ -184,7 +193,7 @@ pub fn run_observed(
             }
         }
         // Θ, k and λ change here; the next step starts from the new right-hand side.
-        let Some((k_next, _)) = rhs(&d.lp, &y) else {
+        let Some((k_next, _)) = rhs(&d, &y) else {
             d.abort(Guarantee::failed(Check::LeftFreeSpace {
                 time_s: t,
                 position: [y[0], y[1]],

@@ -25,10 +25,12 @@ pub struct Sample {
     pub k: f64,
     /// Damping `λ` in force (dynamic model).
     pub lambda: Option<f64>,
-    /// How much `V` may differ from the exact solution's at this state through integration
-    /// error alone (dynamic model), by the integrator's own error model: the built-in one's
-    /// local error bound ([`crate::run::step_tolerance`]) times the sensitivity `μ|∇Ψ| + m|ẋ|`
-    /// of `V` to the state, times a safety factor of 10; rapier's, see `rapier.rs`.
+    /// How much `V` may differ from the exact solution's through integration error alone
+    /// (dynamic model), by the integrator's own error model: for the built-in one, the error
+    /// at this state, its local error bound ([`crate::run::step_tolerance`]) times the
+    /// sensitivity `μ|∇Ψ| + m|ẋ|` of `V` to the state, times a safety factor of 10 (a rise
+    /// between two states may use both states' errors); for rapier, the energy error of the
+    /// fixed steps since the previous recorded state (`rapier.rs`), allowed once.
     #[serde(skip)]
     pub energy_tolerance: f64,
     /// Whether the damping is in its `V < μ` branch, critical at the goal (`λ_c` under the

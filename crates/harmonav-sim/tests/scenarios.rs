@@ -824,7 +824,7 @@ fn the_readme_format_example_holds_its_own_expectations() {
 /// the saddle itself, and a start on the saddle's stable manifold each draw theirs.
 #[test]
 fn warnings_name_what_the_verdict_alone_would_not_explain() {
-    use harmonav_sim::preflight::check;
+    use harmonav_sim::physics::warnings as check;
     use harmonav_sim::warning::Warning;
     for file in scenario_files() {
         let p = Scenario::load(&file).unwrap();

@@ -423,6 +423,13 @@ def _check_cells(c: _Checker, worlds: Sequence[World], cells: Sequence[Dict[str,
         try:
             harmonav.check_run_config(config, prepare=True)
         except ValueError as e:
+            # The world's own fault when it fails as written too, whatever the grid asks (a
+            # generator that cannot place that many obstacles): named under worlds.
+            try:
+                harmonav.check_run_config(run_config(world.config, {}), prepare=True)
+            except ValueError:
+                field = "worlds.obstacles" if world.generator is not None else "worlds.scenarios"
+                raise c.fail(field, f"{world.label}: {e}") from None
             given = ", ".join(f"{k} = {v!r}" for k, v in cell.items() if v is not None)
             raise c.fail("grid", f"({given or 'the world as written'}) on {world.label}: {e}") from None
 

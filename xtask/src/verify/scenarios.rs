@@ -9,12 +9,10 @@ use harmonav_field::Field;
 use harmonav_field::descent::{Ending, FollowOptions, follow};
 use harmonav_output::set::{Outputs, write_outputs};
 use harmonav_scenario::{Model, Scenario};
-use harmonav_sim::guarantee::Guarantee;
 use harmonav_sim::guarantee::Kind;
-use harmonav_sim::physics::{Physics, simulate_observed};
+use harmonav_sim::guarantee::{Check as Measured, Guarantee};
+use harmonav_sim::physics::{Physics, simulate, simulate_observed};
 use harmonav_sim::pool::parallel_map;
-use harmonav_sim::rapier::{Drive, run_rapier};
-use harmonav_sim::run::run;
 use harmonav_sim::summary::Summary;
 use harmonav_sim::trace::Event;
 use harmonav_sim::trajectory::MAX_KEPT_STATES;
@@ -44,9 +42,12 @@ pub fn checks() -> Vec<Check> {
         let name = rel
             .to_string_lossy()
             .replace(std::path::MAIN_SEPARATOR, "/");
-        for physics in ["builtin", "rapier"] {
+        for physics in [Physics::Builtin, Physics::Rapier] {
             let (file, row) = (file.clone(), name.clone());
-            let out = root().join("target/verify").join(&name).join(physics);
+            let out = root()
+                .join("target/verify")
+                .join(&name)
+                .join(physics.as_str());
             checks.push(Check::new(
                 format!("scenario.{name}.{physics}"),
                 move || scenario(&file, &row, physics, &out),
@@ -123,7 +124,7 @@ fn other_model(file: &Path, name: &str) -> Outcome {
         .as_ref()
         .and_then(|e| e.other_model_reached)
         == Some(false);
-    let r = run(&prepared, Some(model)).map_err(|e| e.to_string())?;
+    let r = simulate(&prepared, Some(model), Physics::Builtin).map_err(|e| e.to_string())?;
     let s = &r.summary;
     let policies = match s.damping {
         Some(d) => format!("k = {}, damping = {d}", s.k_policy),
@@ -263,21 +264,16 @@ fn judge(
 }
 
 /// Runs one scenario with its own robot model; every guarantee (and `[expect]`) must hold.
-fn scenario(file: &Path, name: &str, physics: &str, out: &Path) -> Outcome {
+fn scenario(file: &Path, name: &str, physics: Physics, out: &Path) -> Outcome {
     let prepared = Scenario::load(file).map_err(|e| e.to_string())?;
-    let builtin = run(&prepared, None).map_err(|e| e.to_string())?;
-    let (r, extra) = if physics == "rapier" {
-        let (r, report) =
-            run_rapier(&prepared, None, Drive::Law, Some(&builtin)).map_err(|e| e.to_string())?;
-        (
-            r,
-            format!(
-                ", {} contacts, deviation {:.3} m",
-                report.contacts, report.max_deviation
-            ),
-        )
-    } else {
-        (builtin, String::new())
+    // The one library entry of `harmonav run` (rapier: with the built-in run as the reference
+    // of its deviation).
+    let r = simulate(&prepared, None, physics).map_err(|e| e.to_string())?;
+    let extra = match (r.summary.physics_contacts, deviation(&r.summary)) {
+        (Some(contacts), Some(deviation)) => {
+            format!(", {contacts} contacts, deviation {deviation:.3} m")
+        }
+        _ => String::new(),
     };
     write_outputs(out, &prepared, &r).map_err(|e| e.to_string())?;
     let s = &r.summary;
@@ -291,6 +287,14 @@ fn scenario(file: &Path, name: &str, physics: &str, out: &Path) -> Outcome {
         s.discoveries.len()
     );
     judge(format!("{name}.{physics}"), s, detail, |_| true)
+}
+
+/// The rapier run's largest deviation from the built-in path, from its guarantee.
+fn deviation(s: &Summary) -> Option<f64> {
+    s.guarantees.iter().find_map(|g| match g.check {
+        Measured::PhysicsDeviation { max_deviation } => Some(max_deviation),
+        _ => None,
+    })
 }
 
 /// [`STARTS`] seeded random starts in a 20-obstacle mixed-shape world, global sensing, the
@@ -344,7 +348,7 @@ mod tests {
     #[test]
     fn matrix_cells_tell_pass_fail_unrequired_and_absent_apart() {
         let prepared = Scenario::load(&root().join("scenarios/shapes/mixed.toml")).unwrap();
-        let mut s = run(&prepared, None).unwrap().summary;
+        let mut s = simulate(&prepared, None, Physics::Builtin).unwrap().summary;
         let all = |_: &Guarantee| true;
         let not_arrival = |g: &Guarantee| g.kind() != Kind::ReachedGoal;
         assert_eq!(cell(&s, &[Kind::NoCollision], &all), "ok");
