@@ -31,6 +31,10 @@ pub enum Verdict {
     /// A limit of the paper's choices, stated in the scenario's `[expect]` and observed as stated
     /// (reported apart from the passes).
     Limit(String),
+    /// Every guarantee held, but a benchmark target of an open issue is not met yet: what was
+    /// measured against the target (reported apart from the passes, never as one; a check of
+    /// this kind still fails on a lost guarantee or on a regression past its guard).
+    Target(String),
 }
 
 impl From<String> for Verdict {
@@ -186,7 +190,7 @@ pub fn run(only: Option<&str>) -> ExitCode {
     });
     let width = checks.iter().map(|c| c.name.len()).max().unwrap_or(0);
     println!("{:width$}  result  time    measured", "guarantee");
-    let (mut passed, mut limits, mut failed) = (0, 0, 0);
+    let (mut passed, mut limits, mut targets, mut failed) = (0, 0, 0, 0);
     for (check, slot) in checks.iter().zip(&results) {
         let (outcome, secs) = slot
             .lock()
@@ -202,6 +206,10 @@ pub fn run(only: Option<&str>) -> ExitCode {
                 limits += 1;
                 ("LIMIT", d)
             }
+            Ok(Verdict::Target(d)) => {
+                targets += 1;
+                ("TARGET", d)
+            }
             Err(d) => {
                 failed += 1;
                 ("FAIL", d)
@@ -214,7 +222,8 @@ pub fn run(only: Option<&str>) -> ExitCode {
         println!("\n{matrix}");
     }
     println!(
-        "verify: {passed} passed, {limits} limits of the paper's law as stated, {failed} failed ({:.1} s)",
+        "verify: {passed} passed, {limits} limits of the paper's law as stated, {targets} targets \
+         not met yet, {failed} failed ({:.1} s)",
         started.elapsed().as_secs_f64()
     );
     if failed == 0 {

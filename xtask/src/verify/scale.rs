@@ -7,18 +7,101 @@
 //! and times scaled by `α`: `T(α)/α` must equal `T(1)`, and every guarantee must hold. The
 //! negative control is `"shaped"`, the default until 2026-12, whose `Θ` saturates in the larger
 //! worlds: its `T(α)/α` must grow, or the check would not see the defect it guards against.
-//! The time against the kinematic law is reported, not judged (docs/benchmarks.md).
+//! The time against the kinematic law is reported there, not judged.
+//!
+//! `scale.dynamic-over-kinematic` flies every file of `scenarios/scale/` (20–100 m worlds, up to
+//! 1 000 obstacles) under both laws (built-in integrator, default policies) and measures the
+//! dynamic law's time over the kinematic law's, against issue 27's targets (median ≤ 1.5,
+//! p90 ≤ 2.0). Every run must arrive with every guarantee, and the worst ratio must stay below
+//! [`RATIO_GUARD`]; a target not met is reported as such ([`super::Verdict::Target`]).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-use harmonav_scenario::Scenario;
+use harmonav_scenario::{Model, Scenario};
+use harmonav_sim::physics::{Physics, simulate};
 use harmonav_sim::run::run;
 use harmonav_sim::summary::Summary;
 
-use super::{Check, Outcome, outcome};
+use super::{Check, Outcome, Verdict, outcome};
 
 pub fn checks() -> Vec<Check> {
-    vec![Check::new("dynamic.scale-free", scale_free).early()]
+    vec![
+        Check::new("dynamic.scale-free", scale_free).early(),
+        Check::new("scale.dynamic-over-kinematic", dynamic_over_kinematic).early(),
+    ]
+}
+
+/// Issue 27's targets for the dynamic law's time over the kinematic law's, in the same world and
+/// sensing: the median and the 90th percentile over the scale suite.
+const RATIO_TARGETS: (f64, f64) = (1.5, 2.0);
+
+/// A regression guard: the worst ratio of the suite when the check was written was 4.0
+/// (`many-1000-sector`, 2026-12-02); past this bound the check fails.
+const RATIO_GUARD: f64 = 5.0;
+
+/// The `q`-quantile of `values` by the nearest rank (`values` not empty).
+fn quantile(values: &[f64], q: f64) -> f64 {
+    let mut sorted = values.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let rank = ((q * sorted.len() as f64).ceil() as usize).clamp(1, sorted.len());
+    sorted[rank - 1]
+}
+
+fn dynamic_over_kinematic() -> Outcome {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenarios/scale");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .map_err(|e| format!("{}: {e}", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    files.sort();
+    let (mut ratios, mut report) = (Vec::new(), Vec::new());
+    for file in &files {
+        let name = file
+            .file_stem()
+            .map_or(String::new(), |s| s.to_string_lossy().into_owned());
+        let prepared = Scenario::load(file).map_err(|e| e.to_string())?;
+        let mut time = [0.0; 2];
+        for (slot, model) in [Model::Kinematic, Model::Dynamic].into_iter().enumerate() {
+            let s = simulate(&prepared, Some(model), Physics::Builtin)
+                .map_err(|e| format!("{name}: {e}"))?
+                .summary;
+            if !(s.reached && s.all_passed()) {
+                return Err(format!("{name}, {model:?}: {}", s.outcome));
+            }
+            time[slot] = s.time_s;
+        }
+        let ratio = time[1] / time[0];
+        ratios.push(ratio);
+        report.push(format!("{name} {ratio:.2}"));
+    }
+    if ratios.is_empty() {
+        return Err(format!("no scenario in {}", dir.display()));
+    }
+    let (median, p90, worst) = (
+        quantile(&ratios, 0.5),
+        quantile(&ratios, 0.9),
+        quantile(&ratios, 1.0),
+    );
+    let detail = format!(
+        "{} worlds, both laws arrive with every guarantee; dynamic/kinematic time: {}; median \
+         {median:.2} (target ≤ {}), p90 {p90:.2} (target ≤ {}), worst {worst:.2} (guard < \
+         {RATIO_GUARD})",
+        ratios.len(),
+        report.join(", "),
+        RATIO_TARGETS.0,
+        RATIO_TARGETS.1,
+    );
+    if worst >= RATIO_GUARD {
+        return Err(format!("{detail}: past the regression guard"));
+    }
+    if median <= RATIO_TARGETS.0 && p90 <= RATIO_TARGETS.1 {
+        Ok(Verdict::Held(detail))
+    } else {
+        Ok(Verdict::Target(format!(
+            "{detail}; issue 27's targets not met"
+        )))
+    }
 }
 
 /// The six discs `(x, y, r)` of the world at `α = 1` (a seeded world of the benchmark's kind).
@@ -118,4 +201,19 @@ fn scale_free() -> Outcome {
             100.0 * control
         ),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::quantile;
+
+    #[test]
+    fn quantiles_by_the_nearest_rank() {
+        let v = [8.0, 1.0, 7.0, 2.0, 6.0, 3.0, 5.0, 4.0];
+        assert_eq!(quantile(&v, 0.5), 4.0);
+        assert_eq!(quantile(&v, 0.9), 8.0);
+        assert_eq!(quantile(&v, 1.0), 8.0);
+        assert_eq!(quantile(&v, 0.0), 1.0);
+        assert_eq!(quantile(&[2.5], 0.9), 2.5);
+    }
 }

@@ -141,7 +141,7 @@ fn other_model(file: &Path, name: &str) -> Outcome {
     if !limit {
         return judge(row, s, detail, |_| true);
     }
-    let (Verdict::Held(d) | Verdict::Limit(d)) =
+    let (Verdict::Held(d) | Verdict::Limit(d) | Verdict::Target(d)) =
         judge(row, s, detail, |g| g.kind() != Kind::ReachedGoal)?;
     if s.reached {
         return Err(format!(
