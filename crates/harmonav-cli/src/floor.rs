@@ -8,10 +8,8 @@ use std::path::Path;
 use harmonav_field::FieldError;
 use harmonav_output::floor::write_floor_outputs;
 use harmonav_output::set::check_output_dir;
-use harmonav_rs::{FloorNavigator, Law, Options};
 use harmonav_scenario::floorplan::{FloorPrepared, FloorScenario};
-use harmonav_sim::floor::{FloorSummary, obstacle_name, run};
-use nalgebra::Vector2;
+use harmonav_sim::floor::{FloorSummary, navigator, obstacle_name, run};
 
 use crate::args::{PhysicsArg, model};
 use crate::error::CliError;
@@ -107,18 +105,11 @@ pub fn cmd_eval_floor(
     json: bool,
 ) -> Result<bool, CliError> {
     let points = parse_points(at)?;
-    let r = &prepared.scenario.robot;
     let navigator_error = |error| CliError::Navigator {
         scenario: prepared.path.clone(),
         error,
     };
-    let mut nav = FloorNavigator::new(
-        prepared.floor.clone(),
-        Vector2::from(r.goal),
-        Law::kinematic(r.gain),
-        Options::default().with_robot(r.radius, r.margin),
-    )
-    .map_err(navigator_error)?;
+    let mut nav = navigator(prepared, None).map_err(navigator_error)?;
     for o in &prepared.obstacles {
         nav.add_obstacle(o.clone()).map_err(navigator_error)?;
     }

@@ -6,9 +6,8 @@
 
 use std::path::{Path, PathBuf};
 
-use harmonav::{FloorNavigator, Law, Options};
 use harmonav_scenario::floorplan::FloorPrepared;
-use harmonav_sim::floor::{FloorRun, FloorSummary};
+use harmonav_sim::floor::{FloorRun, FloorSummary, navigator};
 use nalgebra::Vector2;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
@@ -55,14 +54,7 @@ pub fn floor_trajectory_svg(
     let half = 0.52 * (hi - lo).max();
     // Θ as the robot knew it at the end: the walls and the obstacles it had sensed, grown by
     // radius + margin as the navigator grows them; NaN (no line) outside the certified region.
-    let r = &prepared.scenario.robot;
-    let mut nav = FloorNavigator::new(
-        floor.clone(),
-        Vector2::from(r.goal),
-        Law::kinematic(r.gain),
-        Options::default().with_robot(r.radius, r.margin),
-    )
-    .map_err(|e| e.to_string())?;
+    let mut nav = navigator(prepared, None).map_err(|e| e.to_string())?;
     for d in &run.discoveries {
         nav.add_obstacle(prepared.obstacles[d.index].clone())
             .map_err(|e| e.to_string())?;

@@ -97,6 +97,19 @@ pub enum ShapeSpec {
     },
 }
 
+impl ShapeSpec {
+    /// The obstacle's `name`, if the file gives one.
+    #[must_use]
+    pub fn name(&self) -> Option<&str> {
+        match self {
+            Self::Circle { name, .. }
+            | Self::Ellipse { name, .. }
+            | Self::Polygon { name, .. }
+            | Self::Star { name, .. } => name.as_deref(),
+        }
+    }
+}
+
 /// The robot model.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -400,7 +413,7 @@ impl Scenario {
                 ))
             }
         };
-        if let Some(n) = shape_name(&self.workspace) {
+        if let Some(n) = self.workspace.name() {
             return Err(f(
                 "workspace.name",
                 format!("the workspace boundary takes no name (got \"{n}\")"),
@@ -419,7 +432,8 @@ impl Scenario {
         for (i, o) in self.obstacles.iter().enumerate() {
             true_obstacles
                 .push(build_shape(o).map_err(|e| f(&format!("obstacles[{i}].{}", e.0), e.1))?);
-            let name = shape_name(o)
+            let name = o
+                .name()
                 .map(str::to_string)
                 .unwrap_or_else(|| format!("O{}", i + 1));
             if names.contains(&name) {
@@ -745,15 +759,6 @@ fn err(path: &Path, field: &str, line: Option<usize>, problem: String) -> Scenar
         field: field.to_string(),
         line,
         problem,
-    }
-}
-
-fn shape_name(s: &ShapeSpec) -> Option<&str> {
-    match s {
-        ShapeSpec::Circle { name, .. }
-        | ShapeSpec::Ellipse { name, .. }
-        | ShapeSpec::Polygon { name, .. }
-        | ShapeSpec::Star { name, .. } => name.as_deref(),
     }
 }
 

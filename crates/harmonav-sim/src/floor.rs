@@ -4,7 +4,7 @@
 //! leaving, staying in the certified region, arrival within a stated threshold), its
 //! [`FloorSummary`] (`harmonav run` on a floor plan), and the map's certificate.
 
-use harmonav::{FloorNavigator, Law, NavError, Options};
+use harmonav::{Controller, FloorNavigator, Law, NavError, Options};
 use harmonav_harmonic::Certificate;
 use harmonav_scenario::floorplan::FloorPrepared;
 use harmonav_scenario::{Model, ShapeSpec};
@@ -89,13 +89,29 @@ pub struct FloorRun {
 /// The name of the `i`-th obstacle of a floor-plan file: its `name`, or `obstacles[i]`.
 #[must_use]
 pub fn obstacle_name(prepared: &FloorPrepared, i: usize) -> String {
-    let named = prepared.scenario.obstacles.get(i).and_then(|o| match o {
-        ShapeSpec::Circle { name, .. }
-        | ShapeSpec::Ellipse { name, .. }
-        | ShapeSpec::Polygon { name, .. }
-        | ShapeSpec::Star { name, .. } => name.clone(),
-    });
-    named.unwrap_or_else(|| format!("obstacles[{i}]"))
+    match prepared.scenario.obstacles.get(i).and_then(ShapeSpec::name) {
+        Some(name) => name.to_string(),
+        None => format!("obstacles[{i}]"),
+    }
+}
+
+/// The file's robot as a [`FloorNavigator`] on its map, under `model`'s law (the file's by
+/// default), knowing no obstacle yet: the navigator of [`run`], and of the CLI's `eval` and the
+/// figure's level sets (for `Θ` the law does not matter).
+///
+/// # Errors
+/// The navigator could not be built (a message naming the parameter).
+pub fn navigator(
+    prepared: &FloorPrepared,
+    model: Option<Model>,
+) -> Result<FloorNavigator, NavError> {
+    let r = &prepared.scenario.robot;
+    let law = match model.unwrap_or(r.model) {
+        Model::Kinematic => Law::kinematic(r.gain),
+        Model::Dynamic => Law::dynamic(r.mass, r.mu),
+    };
+    let options = Options::default().with_robot(r.radius, r.margin);
+    FloorNavigator::new(prepared.floor.clone(), Vector2::from(r.goal), law, options)
 }
 
 /// Runs the user's loop from `start` under `model` (the file's by default): at every period
@@ -113,13 +129,8 @@ pub fn run(
     start: Vector2<f64>,
 ) -> Result<FloorRun, NavError> {
     let r = &prepared.scenario.robot;
-    let law = match model.unwrap_or(r.model) {
-        Model::Kinematic => Law::kinematic(r.gain),
-        Model::Dynamic => Law::dynamic(r.mass, r.mu),
-    };
-    let options = Options::default().with_robot(r.radius, r.margin);
     let goal = Vector2::from(r.goal);
-    let mut nav = FloorNavigator::new(prepared.floor.clone(), goal, law, options)?;
+    let mut nav = navigator(prepared, model)?;
     let h = nav.control_period();
     let sim = prepared.scenario.sim;
     let steps = (sim.max_time / h).ceil() as usize;
@@ -208,13 +219,13 @@ pub fn run(
             }
         };
         out.commands += 1;
-        let next = match &law {
-            Law::Kinematic { .. } => {
+        let next = match nav.controller() {
+            Controller::Kinematic(_) => {
                 vel = c.value;
                 x + h * c.value
             }
-            Law::Dynamic { mass, .. } => {
-                vel += h * c.value / *mass;
+            Controller::Dynamic(law) => {
+                vel += h * c.value / law.mass();
                 x + h * vel
             }
         };
