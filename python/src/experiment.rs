@@ -264,11 +264,10 @@ fn prepare(c: &Config) -> Result<Prepared, String> {
         Some(SensingKind::Global) => scenario.sensor = None,
         Some(SensingKind::Sector) if scenario.sensor.is_some() => {}
         Some(SensingKind::Sector) => {
-            scenario.sensor = Some(SensorSpec {
-                range: PAPER_SECTOR.0,
-                aperture_deg: PAPER_SECTOR.1,
-                rho_min: None,
-            });
+            scenario.sensor = Some(SensorSpec::sector(
+                PAPER_SECTOR.0,
+                PAPER_SECTOR.1,
+            ));
         }
     }
     if let Some(m) = c.margin {

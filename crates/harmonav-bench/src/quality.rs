@@ -239,11 +239,7 @@ impl World {
                 radius: 0.0,
                 margin: cell.margin,
             },
-            sensor: (cell.sensing == SensingKind::Sector).then_some(SensorSpec {
-                range: 1.0,
-                aperture_deg: 60.0,
-                rho_min: None,
-            }),
+            sensor: (cell.sensing == SensingKind::Sector).then_some(SensorSpec::sector(1.0, 60.0)),
             field: FieldSpec { k: cell.k },
             controller: ControllerSpec {
                 damping: cell.damping,

@@ -10,13 +10,12 @@
 use std::f64::consts::TAU;
 
 use harmonav_field::Field;
-use harmonav_sensing::Sensing;
 use nalgebra::Vector2;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use harmonav_scenario::Prepared;
+use harmonav_scenario::{Prepared, Sensor};
 use harmonav_sim::summary::Run;
 use harmonav_sim::trace::Discovery;
 
@@ -208,13 +207,23 @@ pub fn trajectory_svg(prepared: &Prepared, run: &Run) -> Result<String, String> 
         },
         s.time_s
     );
-    let known: Vec<usize> = s.discoveries.iter().map(|d| d.index).collect();
-    let field = Field::with_policy(
-        truth.workspace.clone(),
-        known.iter().copied(),
-        prepared.k_policy(),
-    )
-    .map_err(|e| e.to_string())?;
+    let perceived = perceived_at_end(run);
+    let known: Vec<usize> = match perceived {
+        // A lidar's: the true obstacles a perceived shape holds the centre of.
+        Some(p) => (0..truth.obstacles.len())
+            .filter(|&i| p.iter().any(|q| q.contains(truth.obstacles[i].centre())))
+            .collect(),
+        None => s.discoveries.iter().map(|d| d.index).collect(),
+    };
+    let field = match perceived {
+        Some(p) => perceived_field(prepared, p)?,
+        None => Field::with_policy(
+            truth.workspace.clone(),
+            known.iter().copied(),
+            prepared.k_policy(),
+        )
+        .map_err(|e| e.to_string())?,
+    };
     let mut out = String::new();
     {
         let root = SVGBackend::with_string(&mut out, (720, 800)).into_drawing_area();
@@ -229,7 +238,7 @@ pub fn trajectory_svg(prepared: &Prepared, run: &Run) -> Result<String, String> 
             .map_err(err)?;
         draw_levels(&mut chart, &field, c, half)?;
         draw_path(&mut chart, outline(b), BLACK.stroke_width(2))?;
-        if let Sensing::Sector(sector) = truth.sensing {
+        if let Sensor::Sector(sector) = truth.sensor {
             for (pole, axis) in sector_poses(run) {
                 let poly = sector_polygon(pole, axis, sector.range(), sector.aperture());
                 chart
@@ -240,6 +249,9 @@ pub fn trajectory_svg(prepared: &Prepared, run: &Run) -> Result<String, String> 
         }
         for (i, o) in truth.obstacles.iter().enumerate() {
             draw_obstacle(&mut chart, o, known.contains(&i))?;
+        }
+        for p in perceived.unwrap_or_default() {
+            draw_path(&mut chart, outline(p), PERCEIVED.stroke_width(2))?;
         }
         let path = drawable(run.samples.iter().map(|p| (p.x[0], p.x[1])), |p| {
             chart.backend_coord(p)
@@ -276,11 +288,38 @@ pub fn trajectory_svg(prepared: &Prepared, run: &Run) -> Result<String, String> 
                 )))
                 .map_err(err)?;
         }
-        let sector = matches!(truth.sensing, Sensing::Sector(_)) && !sector_poses(run).is_empty();
+        let sector = matches!(truth.sensor, Sensor::Sector(_)) && !sector_poses(run).is_empty();
         draw_legend(&legend, sector)?;
         root.present().map_err(err)?;
     }
     Ok(out)
+}
+
+/// The colour of a perceived shape's outline (a lidar's, over the true obstacles).
+pub const PERCEIVED: RGBColor = RGBColor(25, 190, 215);
+
+/// The shapes a lidar's navigator perceived at the end of `run` (`None`: no lidar, or it
+/// perceived nothing).
+fn perceived_at_end(run: &Run) -> Option<&[harmonav_transform::StarShape]> {
+    run.scan_events.last().and_then(|r| r.perceived.as_deref())
+}
+
+/// `Θ` of the `perceived` shapes, each grown by the robot's radius and margin as the navigator
+/// holds it.
+pub(crate) fn perceived_field(
+    prepared: &Prepared,
+    perceived: &[harmonav_transform::StarShape],
+) -> Result<Field, String> {
+    let truth = &prepared.truth;
+    let grown = perceived
+        .iter()
+        .map(|p| p.offset(truth.radius + truth.margin))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| e.to_string())?;
+    let ws =
+        harmonav_transform::Workspace::new(truth.workspace.boundary().clone(), grown, truth.goal())
+            .map_err(|e| e.to_string())?;
+    Field::all_known_with(std::sync::Arc::new(ws), prepared.k_policy()).map_err(|e| e.to_string())
 }
 
 /// Worlds of at most this many obstacles name every one on `trajectory.svg`; larger ones name

@@ -12,6 +12,15 @@
 //! | `/robot/path` | `foxglove.SceneUpdate` | the path, one new line entity per [`PATH_PERIOD`] of simulated time (entities accumulate: the size is linear in the run's length) |
 //! | `/log` | `foxglove.Log` | the scenario's warnings, discoveries and damping switches |
 //! | `/harmonav/state` | `harmonavstate.HarmonavState` ([`HarmonavState`], Protobuf derived from the struct) | t, x, ẋ, speed, Θ, V, λ, k, the policies |
+//!
+//! A run with a simulated lidar (`[sensor] type = "lidar"`) adds [`LIDAR_TOPICS`], and its
+//! `/theta` grids are those of the obstacles as perceived (grown by the robot's radius and
+//! margin), at `t = 0` and each event:
+//!
+//! | topic | schema | content |
+//! |---|---|---|
+//! | `/scan` | `foxglove.LaserScan` | every scan as the navigator got it, in the `world` frame at the sensor's pose (`+∞`: no return, NaN: a dropout) |
+//! | `/perceived` | `foxglove.SceneUpdate` | the perceived shapes (cyan, not grown), replaced at each event (the true ones stay on `/scene`) |
 
 use std::fs::File;
 use std::io::BufWriter;
@@ -19,18 +28,19 @@ use std::path::Path;
 use std::sync::Arc;
 
 use foxglove::messages::{
-    Color, FrameTransform, Grid, LinePrimitive, Log, PackedElementField, Point3, Pose, PoseInFrame,
-    Quaternion, SceneEntity, SceneUpdate, SpherePrimitive, Timestamp, Vector2 as FVector2, Vector3,
-    line_primitive, log, packed_element_field::NumericType,
+    Color, FrameTransform, Grid, LaserScan as FoxScan, LinePrimitive, Log, PackedElementField,
+    Point3, Pose, PoseInFrame, Quaternion, SceneEntity, SceneEntityDeletion, SceneUpdate,
+    SpherePrimitive, Timestamp, Vector2 as FVector2, Vector3, line_primitive, log,
+    packed_element_field::NumericType, scene_entity_deletion,
 };
 use foxglove::{Channel, Context, Encode, McapCompression, McapWriteOptions};
 use harmonav_field::{Field, FieldError};
-use harmonav_sensing::Sensing;
 use nalgebra::Vector2;
 
-use harmonav_scenario::Prepared;
+use harmonav_scenario::{Prepared, Sensor};
 use harmonav_sim::summary::Run;
-use harmonav_sim::trace::{Discovery, Event, Sample};
+use harmonav_sim::trace::{Discovery, Event, Sample, ScanRecord};
+use harmonav_transform::StarShape;
 
 use crate::atomic::AtomicFile;
 use crate::drawing::closed_outline;
@@ -47,6 +57,9 @@ pub const TOPICS: [&str; 8] = [
     "/log",
     "/harmonav/state",
 ];
+
+/// The topics a run with a simulated lidar adds, in the order of the table above.
+pub const LIDAR_TOPICS: [&str; 2] = ["/scan", "/perceived"];
 
 /// Cells along each side of the `/theta` grid.
 pub const GRID_CELLS: u32 = 160;
@@ -147,6 +160,9 @@ fn yaw_quaternion(yaw: f64) -> Quaternion {
     }
 }
 
+/// The colour of a perceived shape (cyan).
+const PERCEIVED: [f64; 4] = [0.1, 0.75, 0.85, 1.0];
+
 fn line(
     points: impl Iterator<Item = Vector2<f64>>,
     rgba: [f64; 4],
@@ -222,8 +238,19 @@ fn scene(prepared: &Prepared, known: &[usize], t: f64) -> SceneUpdate {
 fn theta_grid(prepared: &Prepared, known: &[usize], t: f64) -> Result<Grid, FieldError> {
     let ws = prepared.truth.workspace.clone();
     let field = Field::with_policy(ws, known.iter().copied(), prepared.k_policy())?;
+    field_grid(prepared, &field, t)
+}
+
+/// `Θ` of the obstacles as perceived ([`crate::figures::perceived_field`]).
+fn perceived_grid(prepared: &Prepared, perceived: &[StarShape], t: f64) -> Result<Grid, String> {
+    let field = crate::figures::perceived_field(prepared, perceived)?;
+    field_grid(prepared, &field, t).map_err(|e| e.to_string())
+}
+
+/// `Θ` of `field` on the grid of [`theta_grid`].
+fn field_grid(prepared: &Prepared, field: &Field, t: f64) -> Result<Grid, FieldError> {
     let b = &prepared.truth.boundary;
-    let grid = ThetaGrid::sample(&field, b.centre(), b.radius_bounds().1, GRID_CELLS as usize)?;
+    let grid = ThetaGrid::sample(field, b.centre(), b.radius_bounds().1, GRID_CELLS as usize)?;
     let data: Vec<u8> = grid
         .values
         .iter()
@@ -251,7 +278,7 @@ fn theta_grid(prepared: &Prepared, known: &[usize], t: f64) -> Result<Grid, Fiel
 
 /// The sector in the robot's frame (its axis along the robot's x axis).
 fn sector(prepared: &Prepared) -> Option<SceneUpdate> {
-    let Sensing::Sector(sec) = prepared.truth.sensing else {
+    let Sensor::Sector(sec) = prepared.truth.sensor else {
         return None;
     };
     let mut pts = vec![Vector2::zeros()];
@@ -292,11 +319,14 @@ struct Channels {
     path: Channel<SceneUpdate>,
     log: Channel<Log>,
     state: Channel<HarmonavState>,
+    scan: Channel<FoxScan>,
+    perceived: Channel<SceneUpdate>,
 }
 
 impl Channels {
     fn new(ctx: &Arc<Context>) -> Self {
         let [scene, theta, pose, tf, sector, path, log, state] = TOPICS;
+        let [scan, perceived] = LIDAR_TOPICS;
         Self {
             scene: ctx.channel_builder(scene).build(),
             theta: ctx.channel_builder(theta).build(),
@@ -306,6 +336,8 @@ impl Channels {
             path: ctx.channel_builder(path).build(),
             log: ctx.channel_builder(log).build(),
             state: ctx.channel_builder(state).build(),
+            scan: ctx.channel_builder(scan).build(),
+            perceived: ctx.channel_builder(perceived).build(),
         }
     }
 }
@@ -330,27 +362,38 @@ pub fn write_mcap(path: &Path, prepared: &Prepared, run: &Run) -> Result<(), Rec
     stream.finish()
 }
 
-/// Hands `run`'s warnings, discoveries and kept states to `observer` in the order
-/// `harmonav_sim::run::run_observed` would have (a discovery after the states before its time).
+/// Hands `run`'s warnings, discoveries, scan events and kept states to `observer` in the
+/// order `harmonav_sim::run::run_observed` would have (a discovery or a scan event after the
+/// states before its time). Of a lidar's scans only the events were kept
+/// ([`Run::scan_events`]).
 pub fn replay(run: &Run, observer: &mut dyn FnMut(Event<'_>)) {
     for w in &run.summary.warnings {
         observer(Event::Warning(w));
     }
     let mut discoveries = run.summary.discoveries.iter().peekable();
+    let mut scans = run.scan_events.iter().peekable();
     let mut previous: Option<f64> = None;
     for s in &run.samples {
-        // Those at the start come first; a later one between its two recorded sides.
+        // Discoveries at the start come first; a later one, and every scan event, between
+        // its two recorded sides.
         let due = |d: &&Discovery| {
             d.time_s < s.t || (d.time_s == s.t && (d.time_s == 0.0 || previous == Some(s.t)))
         };
         while let Some(d) = discoveries.next_if(due) {
             observer(Event::Discovery(d));
         }
+        let due = |r: &&ScanRecord| r.time_s < s.t || (r.time_s == s.t && previous == Some(s.t));
+        while let Some(r) = scans.next_if(due) {
+            observer(Event::Scan(r));
+        }
         observer(Event::State(s));
         previous = Some(s.t);
     }
     for d in discoveries {
         observer(Event::Discovery(d));
+    }
+    for r in scans {
+        observer(Event::Scan(r));
     }
 }
 
@@ -435,7 +478,64 @@ impl<'p> Stream<'p> {
                 self.pending.push(d.clone());
             }
             Event::State(s) => self.state(s),
+            Event::Scan(r) => self.scan(r),
         }
+    }
+
+    /// A lidar scan: `/scan`, and at an event the perceived shapes on `/perceived` and their
+    /// `Θ` on `/theta`.
+    fn scan(&mut self, r: &ScanRecord) {
+        let (t, ch) = (r.time_s, &self.ch);
+        let n = r.scan.ranges.len();
+        ch.scan.log_with_time(
+            &FoxScan {
+                timestamp: stamp(t),
+                frame_id: "world".into(),
+                pose: Some(pose(r.pose.position(), r.pose.yaw)),
+                start_angle: r.scan.angle_min,
+                end_angle: r.scan.angle_min + n.saturating_sub(1) as f64 * r.scan.angle_increment,
+                ranges: r.scan.ranges.clone(),
+                intensities: Vec::new(),
+            },
+            nanos(t),
+        );
+        let Some(perceived) = &r.perceived else {
+            return;
+        };
+        let entities = perceived
+            .iter()
+            .enumerate()
+            .map(|(i, p)| {
+                let id = format!("P{}", i + 1);
+                entity(
+                    t,
+                    "world",
+                    &id,
+                    vec![line(closed_outline(p), PERCEIVED, 0.03)],
+                )
+            })
+            .collect();
+        ch.perceived.log_with_time(
+            &SceneUpdate {
+                deletions: vec![SceneEntityDeletion {
+                    timestamp: stamp(t),
+                    r#type: scene_entity_deletion::Type::All as i32,
+                    id: String::new(),
+                }],
+                entities,
+            },
+            nanos(t),
+        );
+        match perceived_grid(self.prepared, perceived, t) {
+            Ok(grid) => ch.theta.log_with_time(&grid, nanos(t)),
+            Err(e) => {
+                let e = RecordError(format!("the Θ grid at t = {t}: {e}"));
+                self.error.get_or_insert(e);
+            }
+        }
+        let text = format!("scan at t = {t:.3} s: {} perceived shapes", perceived.len());
+        ch.log
+            .log_with_time(&log_message(t, log::Level::Info, text), nanos(t));
     }
 
     /// A recorded state: the scene and `Θ` grid first if the known set changed (and at the

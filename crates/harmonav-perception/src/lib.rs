@@ -12,8 +12,9 @@
 //! - [`Perception::explained`]: hits within the noise bound of a known shape or of the known
 //!   boundary are dropped (eq. explained);
 //! - [`fit_segment`]: the conservative star of a segment (eqs. sagitta, region, fit, certify);
-//! - [`merge`]: two overlapping perceived shapes become one star about a common kernel point
-//!   (eq. kernel), or [`PerceptionError::NotStarWorld`];
+//! - [`merge`]: two overlapping perceived shapes become one star that contains both: the
+//!   union itself about a common kernel point (eq. kernel), otherwise its radial hull about
+//!   the point that gives the least area (eq. hull);
 //! - [`Perception::observe`]: all of it, all or nothing;
 //! - [`sim::Lidar`]: a seeded simulated lidar for tests.
 //!

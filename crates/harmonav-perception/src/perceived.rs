@@ -282,19 +282,28 @@ pub fn certified_star(
 /// Why two overlapping perceived shapes could not be merged.
 #[derive(Clone, Debug, PartialEq)]
 pub enum MergeFailure {
-    /// No candidate point lies in the kernel of both (eq. kernel).
-    NoCommonKernel,
     /// The merged star could not be built.
     Shape(ShapeError),
 }
 
-/// The merge of two overlapping perceived shapes into one star about a common kernel point
-/// `p` (both star-shaped about `p`, eq. kernel, so the union is star-shaped about `p` and its
-/// radial function is `max(R_A, R_B)` about `p`). Candidates: the two centres and seven points
-/// evenly between them; the one nearest their midpoint is kept. The merged star is
-/// [`certified_star`] over the boundary covers of both shapes (eq. certify, so it contains
-/// `A ∪ B`), less the samples more than `h` inside the other shape (they are not on `∂(A ∪
-/// B)`, nor within `h/2` of it).
+/// The merge of two overlapping perceived shapes `A`, `B` into one star `M ⊃ A ∪ B`:
+/// [`certified_star`] about a point `p` over the boundary covers of both shapes, less the
+/// samples more than `h` inside the other shape (they are not on `∂(A ∪ B)`, nor within `h/2`
+/// of it). Eq. certify puts every point of `∂(A ∪ B)` inside `M`, and that is enough for any
+/// `p` (eq. hull): a point `y ∈ A ∪ B` lies on the ray from `p` before the ray's last point
+/// `z` of the closed, bounded `A ∪ B`, which is a boundary point, so in `M`; `M` is star-shaped
+/// about `p`, so `[p, z] ⊂ M` holds `y`.
+///
+/// ```text
+/// R_M(θ) ≥ sup { ρ : p + ρ u(θ) ∈ A ∪ B }        (the radial hull of A ∪ B about p)   (eq. hull)
+/// ```
+///
+/// Candidates for `p`: the two centres and seven points evenly between them. A point of both
+/// kernels (eq. kernel) makes the hull the union itself (`max(R_A, R_B)` about `p`): the one
+/// nearest the midpoint is kept. When there is none (two bow ties touching at their tips), the
+/// hull also fills the union's shadows about `p`: every candidate is tried and the merged star
+/// of least area is kept, so two overlapping shapes always merge (issue 26: a merge instead of
+/// "not a star world").
 pub fn merge(
     a: &Perceived,
     b: &Perceived,
@@ -302,14 +311,9 @@ pub fn merge(
     order: u32,
 ) -> Result<(Perceived, Certification), MergeFailure> {
     let (ca, cb) = (a.centre(), b.centre());
-    let p = (0..=8)
-        .map(|k| ca + (cb - ca) * (k as f64 / 8.0))
-        .filter(|&p| a.star_about(p) && b.star_about(p))
-        .min_by(|p, q| {
-            let mid = 0.5 * (ca + cb);
-            (p - mid).norm().total_cmp(&(q - mid).norm())
-        })
-        .ok_or(MergeFailure::NoCommonKernel)?;
+    let mid = 0.5 * (ca + cb);
+    let candidates: Vec<Vector2<f64>> =
+        (0..=8).map(|k| ca + (cb - ca) * (k as f64 / 8.0)).collect();
     let mut samples: Vec<Vector2<f64>> = a
         .boundary_cover(h)
         .into_iter()
@@ -320,5 +324,20 @@ pub fn merge(
             .into_iter()
             .filter(|&x| a.shape.signed_distance_bounds(x).1 >= -h),
     );
-    certified_star(p, &samples, h, order).map_err(MergeFailure::Shape)
+    let kernel = candidates
+        .iter()
+        .copied()
+        .filter(|&p| a.star_about(p) && b.star_about(p))
+        .min_by(|p, q| (p - mid).norm().total_cmp(&(q - mid).norm()));
+    if let Some(p) = kernel {
+        return certified_star(p, &samples, h, order).map_err(MergeFailure::Shape);
+    }
+    let mut best: Option<(Perceived, Certification)> = None;
+    for p in candidates {
+        let merged = certified_star(p, &samples, h, order).map_err(MergeFailure::Shape)?;
+        if best.as_ref().is_none_or(|b| merged.0.area() < b.0.area()) {
+            best = Some(merged);
+        }
+    }
+    Ok(best.expect("nine candidates"))
 }

@@ -35,10 +35,15 @@ pub struct Options {
     /// outside every known shape. With `ε_g > 0` the hits that cause growth are `ε_x` apart,
     /// so a bounded region sees finitely many growths (docs/maths.md §12.6).
     pub growth_threshold: f64,
+    /// `g`, m: shapes closer than this merge ([`merge`]), not only overlapping ones. A
+    /// navigator that grows every shape by `r` (the robot's radius and margin) sets `2r`, so
+    /// that the grown shapes stay disjoint too. Default 0.
+    pub merge_gap: f64,
 }
 
 impl Default for Options {
-    /// `ε = 0.02`, `D = 1`, `ρ_min = 0.05`, `d0 = 0.1`, order 6, `h = 0.01`, `ε_g = 0.02`.
+    /// `ε = 0.02`, `D = 1`, `ρ_min = 0.05`, `d0 = 0.1`, order 6, `h = 0.01`, `ε_g = 0.02`,
+    /// `g = 0`.
     fn default() -> Self {
         Self {
             range_noise: 0.02,
@@ -48,13 +53,14 @@ impl Default for Options {
             order: 6,
             check_spacing: 0.01,
             growth_threshold: 0.02,
+            merge_gap: 0.0,
         }
     }
 }
 
 impl Options {
     /// Errors unless `0 ≤ ε ≤ 10`, `0 < D ≤ 100`, `0 < ρ_min ≤ 1e3`, `0 ≤ d0 ≤ 100`,
-    /// `1 ≤ order ≤ 16`, `1e-4 ≤ h ≤ D/4`, `0 < ε_g ≤ 10` (finite, m). `h` bounds the cover's size, `~2πD/h`
+    /// `1 ≤ order ≤ 16`, `1e-4 ≤ h ≤ D/4`, `0 < ε_g ≤ 10`, `0 ≤ g ≤ 100` (finite, m). `h` bounds the cover's size, `~2πD/h`
     /// samples per disc of `K`.
     pub fn validate(&self) -> Result<(), PerceptionError> {
         let check = |field: &'static str, v: f64, lo: f64, hi: f64, open_lo: bool| {
@@ -84,6 +90,7 @@ impl Options {
             false,
         )?;
         check("growth_threshold", self.growth_threshold, 0.0, 10.0, true)?;
+        check("merge_gap", self.merge_gap, 0.0, 100.0, false)?;
         Ok(())
     }
 
@@ -128,7 +135,7 @@ pub enum PerceptionError {
         inside: Option<Known>,
     },
     /// A fit overlaps a shape it cannot be merged with: a map obstacle (exact shapes are not
-    /// replaced), or a perceived shape with no common kernel point.
+    /// replaced). Perceived shapes always merge ([`merge`], eq. hull).
     NotStarWorld {
         /// The shape the fit overlaps.
         with: Known,
@@ -152,8 +159,8 @@ impl fmt::Display for PerceptionError {
             }
             Self::NotStarWorld { with } => write!(
                 f,
-                "the world as perceived is not a star world: a fitted shape overlaps {with:?} \
-                 and no star about a common kernel point contains both"
+                "the world as perceived is not a star world: a fitted shape overlaps {with:?}, \
+                 whose exact shape cannot be merged with it"
             ),
             Self::Shape(e) => write!(f, "{e}"),
         }
@@ -275,9 +282,10 @@ impl Perception {
     /// 3. segments the rest ([`segment`], eq. jump);
     /// 4. fits each segment ([`fit_in_scan`]; segments wider than `D + 2ε` are reported in
     ///    [`Observation::unfitted`]);
-    /// 5. merges each fit with every perceived shape it overlaps ([`merge`]), repeatedly, so
-    ///    that the perceived shapes stay disjoint; a fit overlapping a map obstacle, or a
-    ///    perceived shape with no common kernel point, is [`PerceptionError::NotStarWorld`].
+    /// 5. merges each fit with every perceived shape it overlaps or comes within
+    ///    [`Options::merge_gap`] of ([`merge`]), repeatedly, so that the perceived shapes stay
+    ///    disjoint (and `merge_gap` apart); a fit overlapping a map obstacle is
+    ///    [`PerceptionError::NotStarWorld`].
     ///
     /// A perceived shape is only ever replaced by a merge that contains it: shapes only grow.
     pub fn observe(
@@ -338,20 +346,12 @@ impl Perception {
             };
             let mut current = fit.perceived;
             let mut origin = Origin::New;
-            while let Some(j) = shapes
-                .iter()
-                .position(|(other, _)| current.shape().distance_to(other.shape()) <= 0.0)
-            {
+            while let Some(j) = shapes.iter().position(|(other, _)| {
+                current.shape().distance_to(other.shape()) <= self.options.merge_gap
+            }) {
                 let (other, other_origin) = shapes.remove(j);
-                let with = match other_origin {
-                    Origin::Old(i) | Origin::Grown(i) => Known::Perceived(i),
-                    Origin::New => Known::Fit,
-                };
                 current = match merge(&current, &other, h, params.order) {
                     Ok((merged, _)) => merged,
-                    Err(MergeFailure::NoCommonKernel) => {
-                        return Err(PerceptionError::NotStarWorld { with });
-                    }
                     Err(MergeFailure::Shape(e)) => return Err(PerceptionError::Shape(e)),
                 };
                 origin = match (origin, other_origin) {

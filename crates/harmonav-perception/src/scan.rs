@@ -7,7 +7,7 @@
 //! | reading | class | meaning |
 //! |---|---|---|
 //! | `range_min ≤ r < range_max` | [`Reading::Hit`] | a return: the true first hit is within `range_noise` of `r` |
-//! | `+∞`, or finite `r ≥ range_max` | [`Reading::NoReturn`] | free-space evidence along the beam up to `range_max` |
+//! | `+∞`, or finite `r ≥ range_max` | [`Reading::NoReturn`] | free-space evidence along the beam up to `range_max − ε` (A1: a true hit in the last `ε` may read `≥ range_max`) |
 //! | `−∞` | [`Reading::TooClose`] | something nearer than `range_min`; no usable point |
 //! | NaN, or finite `r < range_min` | [`Reading::Invalid`] | no information |
 
@@ -81,7 +81,7 @@ pub struct LaserScan {
 pub enum Reading {
     /// A return at this range, m.
     Hit(f64),
-    /// No return within `range_max`: the beam is free up to `range_max`.
+    /// No return within `range_max`: the beam is free up to `range_max − ε` ([`LaserScan::free_until`]).
     NoReturn,
     /// `−∞`: something nearer than `range_min`.
     TooClose,
@@ -241,13 +241,14 @@ impl LaserScan {
     }
 
     /// How far along beam `i` the scan shows free space, m: up to `r − ε` for a hit of range `r`
-    /// with noise bound `ε` (the true first hit is at `≥ r − ε`), `range_max` for a no-return,
-    /// 0 otherwise.
+    /// with noise bound `ε` (the true first hit is at `≥ r − ε`), `range_max − ε` for a
+    /// no-return (under A1 a true hit in the last `ε` of the range may read `≥ range_max`), 0
+    /// otherwise.
     #[must_use]
     pub fn free_until(&self, i: usize, range_noise: f64) -> f64 {
         match self.reading(i) {
             Reading::Hit(r) => (r - range_noise).max(0.0),
-            Reading::NoReturn => self.range_max,
+            Reading::NoReturn => (self.range_max - range_noise).max(0.0),
             Reading::TooClose | Reading::Invalid => 0.0,
         }
     }

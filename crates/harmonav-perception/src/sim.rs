@@ -72,6 +72,26 @@ impl Lidar {
         (best <= self.range_max).then_some(best)
     }
 
+    /// The obstacle (its position in `obstacles`) that the noise-free ray along the unit
+    /// direction `u` from `s` hits first, and the range, if within `range_max` and not behind
+    /// the `boundary` (which is marched only up to the hit).
+    #[must_use]
+    pub fn first_obstacle_hit<'a>(
+        &self,
+        s: Vector2<f64>,
+        u: Vector2<f64>,
+        obstacles: impl IntoIterator<Item = &'a StarShape>,
+        boundary: Option<&StarShape>,
+    ) -> Option<(usize, f64)> {
+        let (i, t) = obstacles
+            .into_iter()
+            .enumerate()
+            .filter_map(|(i, o)| o.ray_hit(s, u, self.range_max).map(|t| (i, t)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))?;
+        let blocked = boundary.is_some_and(|b| exit(b, s, u, t).is_some());
+        (!blocked).then_some((i, t))
+    }
+
     /// One scan from `pose` of the truth (`obstacles`, and the `boundary` the sensor is inside).
     #[must_use]
     pub fn scan(

@@ -274,17 +274,41 @@ fn merge_contains_both_about_a_common_kernel_point() {
 }
 
 #[test]
-fn merge_without_a_common_kernel_point_is_refused() {
+fn merge_without_a_common_kernel_point_takes_the_radial_hull() {
     // Two bow ties (R = 0.3 + 0.25 cos 2θ, waist 0.05) overlapping only at their tips: no
     // common kernel point among the candidates between their centres.
     let a = Perceived::new(Vector2::new(0.0, 0.0), 0.3, vec![(2, 0.25, 0.0)]).unwrap();
     let b = Perceived::new(Vector2::new(1.05, 0.0), 0.3, vec![(2, 0.25, 0.0)]).unwrap();
     assert!(a.shape().distance_to(b.shape()) <= 0.0, "they overlap");
-    assert!(!a.star_about(Vector2::new(0.525, 0.0)));
-    assert_eq!(
-        merge(&a, &b, 0.01, 6).unwrap_err(),
-        harmonav_perception::MergeFailure::NoCommonKernel
+    let between = (0..=8).map(|k| Vector2::new(1.05 * k as f64 / 8.0, 0.0));
+    assert!(
+        between
+            .clone()
+            .all(|p| !(a.star_about(p) && b.star_about(p)))
     );
+    let (m, _) = merge(&a, &b, 0.01, 6).unwrap();
+    // It contains both, boundary and interior (eq. hull), on fine covers and a grid.
+    for x in a
+        .boundary_cover(0.002)
+        .into_iter()
+        .chain(b.boundary_cover(0.002))
+    {
+        assert!(m.shape().contains(x), "{x:?} outside the merge");
+    }
+    for i in 0..200 {
+        for j in 0..80 {
+            let x = Vector2::new(-0.6 + 2.3 * i as f64 / 199.0, -0.6 + 1.2 * j as f64 / 79.0);
+            if a.shape().contains(x) || b.shape().contains(x) {
+                assert!(m.shape().contains(x), "{x:?} outside the merge");
+            }
+        }
+    }
+    // Of the nine candidates, the least area: no larger than the one about the midpoint.
+    let mut samples = a.boundary_cover(0.01);
+    samples.extend(b.boundary_cover(0.01));
+    let (about_mid, _) =
+        harmonav_perception::certified_star(Vector2::new(0.525, 0.0), &samples, 0.01, 6).unwrap();
+    assert!(m.area() <= about_mid.area() * (1.0 + 1e-9));
 }
 
 #[test]

@@ -9,12 +9,13 @@ use std::path::{Path, PathBuf};
 use harmonav::MIN_APERTURE_DEG;
 use harmonav_control::{DampingPolicy, SpeedPolicy};
 use harmonav_field::{Field, FieldError, KPolicy};
-use harmonav_sensing::{Sector, Sensing};
+use harmonav_sensing::Sector;
 use harmonav_transform::{RobotWorldError, StarShape, Workspace, WorldError};
 
 use nalgebra::Vector2;
 
-use crate::truth::Truth;
+use crate::lidar::{self, SensorKind};
+use crate::truth::{Sensor, Truth};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 /// A problem with a scenario file.
@@ -168,18 +169,76 @@ fn ser_policy<S: Serializer, P: std::fmt::Display>(p: &P, s: S) -> Result<S::Ok,
     s.collect_str(p)
 }
 
-/// `[sensor]` (omit the table for global sensing).
+/// `[sensor]` (omit the table for global sensing): the paper's sector (`type = "sector"`, the
+/// default) or a simulated lidar (`type = "lidar"`, module [`crate::lidar`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SensorSpec {
-    /// Range `r`.
+    /// `"sector"` or `"lidar"`.
+    #[serde(rename = "type", default)]
+    pub kind: SensorKind,
+    /// Range `r`, m (a lidar's `range_max`).
     pub range: f64,
-    /// Aperture `θ`, degrees, in (0, 360].
+    /// Aperture `θ`, degrees, in (0, 360]; default 360.
+    #[serde(default = "full_turn")]
     pub aperture_deg: f64,
-    /// A-priori minimum curvature radius of the obstacles for `d_min` (eq. `dmin`); default:
-    /// the smallest `rho_min` of the scenario's obstacles.
+    /// A-priori minimum curvature radius of the obstacles for `d_min` (eq. `dmin`) and a
+    /// lidar's fits; default: the smallest `rho_min` of the scenario's obstacles.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rho_min: Option<f64>,
+    /// Lidar: beams per scan (default [`crate::lidar::DEFAULT_BEAMS`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub beams: Option<usize>,
+    /// Lidar: scans per second, Hz (default [`crate::lidar::DEFAULT_RATE_HZ`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rate_hz: Option<f64>,
+    /// Lidar: the half-width of its uniform range noise, m, which is also the noise bound `ε`
+    /// the navigator is told (default [`crate::lidar::DEFAULT_RANGE_NOISE`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub range_noise: Option<f64>,
+    /// Lidar: the fraction of beams that return nothing (NaN), in [0, 1) (default 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dropout: Option<f64>,
+    /// Lidar: the seed of its noise and dropouts (default 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub seed: Option<u64>,
+    /// Lidar: the depth prior `D`, m (A3: how far an obstacle may reach behind its seen
+    /// surface); default: the largest true obstacle's diameter.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_obstacle_depth: Option<f64>,
+}
+
+fn full_turn() -> f64 {
+    360.0
+}
+
+impl SensorSpec {
+    /// The paper's sector of range `r` (m) and aperture `θ` (degrees), `rho_min` from the
+    /// obstacles.
+    #[must_use]
+    pub fn sector(range: f64, aperture_deg: f64) -> Self {
+        Self {
+            kind: SensorKind::Sector,
+            range,
+            aperture_deg,
+            rho_min: None,
+            beams: None,
+            rate_hz: None,
+            range_noise: None,
+            dropout: None,
+            seed: None,
+            max_obstacle_depth: None,
+        }
+    }
+
+    /// A simulated 360° lidar of range `r` (m), every other field at its default.
+    #[must_use]
+    pub fn lidar(range: f64) -> Self {
+        Self {
+            kind: SensorKind::Lidar,
+            ..Self::sector(range, 360.0)
+        }
+    }
 }
 
 /// `[controller]`.
@@ -632,14 +691,30 @@ impl Scenario {
             ),
         })?;
         workspace.check_free(start, "start").map_err(world_error)?;
+        let lidar = self
+            .sensor
+            .as_ref()
+            .is_some_and(|s| s.kind == SensorKind::Lidar);
+        // A lidar's fits bound the true surface it scans (A2, A4), the sector's d_min the grown
+        // shapes the navigator holds: a lidar takes the smaller of the two.
         let rho_default = workspace
             .obstacles()
             .iter()
+            .chain(if lidar { &true_obstacles[..] } else { &[] })
             .map(StarShape::rho_min)
             .fold(f64::INFINITY, f64::min);
-        let (sensing, rho_min) = match &self.sensor {
-            None => (Sensing::Global, rho_default),
+        let (sensor, rho_min) = match &self.sensor {
+            None => (Sensor::Global, rho_default),
             Some(spec) => {
+                if spec.kind == SensorKind::Sector {
+                    let given = lidar::lidar_only_fields(spec).into_iter().find(|f| f.1);
+                    if let Some((name, _)) = given {
+                        return Err(f(
+                            &format!("sensor.{name}"),
+                            "only a lidar takes it (sensor.type = \"lidar\")".into(),
+                        ));
+                    }
+                }
                 // Below a thousandth of a degree the sector's d_min (eq. dmin) underflows.
                 if !(spec.aperture_deg.is_finite() && spec.aperture_deg >= MIN_APERTURE_DEG) {
                     return Err(f(
@@ -677,7 +752,13 @@ impl Scenario {
                         format!("must be finite and in [{lo:e}, {hi:e}] m{from}, got {rho:e}"),
                     ));
                 }
-                (Sensing::Sector(sector), rho)
+                match spec.kind {
+                    SensorKind::Sector => (Sensor::Sector(sector), rho),
+                    SensorKind::Lidar => (
+                        Sensor::Lidar(lidar::prepare(path, spec, &true_obstacles)?),
+                        rho,
+                    ),
+                }
             }
         };
         let (radius, margin) = (self.robot.radius, self.robot.margin);
@@ -688,7 +769,7 @@ impl Scenario {
                 obstacles: true_obstacles,
                 names,
                 workspace: std::sync::Arc::new(workspace),
-                sensing,
+                sensor,
                 rho_min,
                 radius,
                 margin,
@@ -753,7 +834,7 @@ pub fn read_text(path: &Path) -> Result<String, ScenarioError> {
     Ok(text)
 }
 
-fn err(path: &Path, field: &str, line: Option<usize>, problem: String) -> ScenarioError {
+pub(crate) fn err(path: &Path, field: &str, line: Option<usize>, problem: String) -> ScenarioError {
     ScenarioError {
         file: path.to_path_buf(),
         field: field.to_string(),

@@ -4,9 +4,44 @@
 
 use std::sync::Arc;
 
-use harmonav_sensing::Sensing;
+use harmonav_sensing::{Sector, Sensing};
+
+use crate::lidar::LidarSensor;
 use harmonav_transform::{StarShape, Workspace};
 use nalgebra::Vector2;
+
+/// How the robot perceives the true obstacles (`[sensor]`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Sensor {
+    /// All obstacles are known at `t = 0` (no `[sensor]` table).
+    Global,
+    /// The paper's sector: an obstacle's exact shape becomes known at first sight.
+    Sector(Sector),
+    /// A simulated lidar: the navigator gets scans only, and perceives shapes from them.
+    Lidar(LidarSensor),
+}
+
+impl Sensor {
+    /// How exact shapes are discovered: `None` under a lidar (no exact shape is ever handed
+    /// over).
+    #[must_use]
+    pub fn exact(&self) -> Option<Sensing> {
+        match *self {
+            Self::Global => Some(Sensing::Global),
+            Self::Sector(s) => Some(Sensing::Sector(s)),
+            Self::Lidar(_) => None,
+        }
+    }
+
+    /// The lidar, if the robot has one.
+    #[must_use]
+    pub fn lidar(&self) -> Option<&LidarSensor> {
+        match self {
+            Self::Lidar(l) => Some(l),
+            _ => None,
+        }
+    }
+}
 
 /// The truth of a scenario.
 #[derive(Clone, Debug)]
@@ -20,8 +55,8 @@ pub struct Truth {
     /// The configuration space: every shape grown by `radius + margin`, with the goal. The
     /// sector detects these shapes (the robot's centre must keep off them).
     pub workspace: Arc<Workspace>,
-    /// How obstacles are discovered.
-    pub sensing: Sensing,
+    /// How the robot perceives the obstacles.
+    pub sensor: Sensor,
     /// `rho_min` for `d_min`.
     pub rho_min: f64,
     /// Robot radius, m.
@@ -37,9 +72,10 @@ impl Truth {
     }
 
     /// Obstacles (indices into [`Self::obstacles`]) that are not yet `known` and that the sector
-    /// sees from `x` along `axis` (none under global sensing, where all are known at `t = 0`).
+    /// sees from `x` along `axis` (none under global sensing, where all are known at `t = 0`,
+    /// and none under a lidar, which hands over scans instead).
     pub fn sees(&self, x: Vector2<f64>, axis: Vector2<f64>, known: &[usize]) -> Vec<usize> {
-        let Sensing::Sector(sector) = self.sensing else {
+        let Sensor::Sector(sector) = self.sensor else {
             return Vec::new();
         };
         let grown = self.workspace.obstacles();

@@ -5,15 +5,16 @@
 //! (`driver.rs`) does the rest.
 
 use harmonav::control::Branch;
-use harmonav::{Controller, Evaluation, Law, Navigator, Options};
-use harmonav_sensing::{Sensing, axis, initially_known};
+use harmonav::{Controller, Evaluation, Law, NavError, Navigator, Options};
+use harmonav_sensing::{axis, initially_known};
 use nalgebra::Vector2;
 
-use harmonav_scenario::{Model, Prepared, Truth};
+use harmonav_scenario::{Model, Prepared, Sensor, Truth};
 
 use crate::guarantee::{Check, FreeSpaceLoss, Guarantee};
+use crate::scanner::Scanner;
 use crate::summary::RunError;
-use crate::trace::{Discovery, Sample};
+use crate::trace::{Discovery, Sample, ScanRecord};
 
 /// The closed loop of one robot model in one world.
 pub(crate) struct ClosedLoop<'a> {
@@ -23,6 +24,8 @@ pub(crate) struct ClosedLoop<'a> {
     /// The truth index of each obstacle the navigator knows, in the order it learnt them.
     pub known: Vec<usize>,
     pub truth: &'a Truth,
+    /// The lidar, when the robot perceives by scans (`[sensor] type = "lidar"`).
+    pub scanner: Option<Scanner>,
 }
 
 impl<'a> ClosedLoop<'a> {
@@ -57,11 +60,15 @@ impl<'a> ClosedLoop<'a> {
         }
         // Global sensing never switches λ on a discovery after t = 0: the default sensor's
         // d_min serves. Without obstacles no curvature bound is needed either.
-        if let (Sensing::Sector(_), Some(spec)) = (truth.sensing, &sc.sensor) {
-            options = options.with_sensor(spec.range, spec.aperture_deg);
-            if truth.rho_min.is_finite() {
-                options = options.with_rho_min(truth.rho_min);
+        match (truth.sensor, &sc.sensor) {
+            (Sensor::Sector(_), Some(spec)) => {
+                options = options.with_sensor(spec.range, spec.aperture_deg);
+                if truth.rho_min.is_finite() {
+                    options = options.with_rho_min(truth.rho_min);
+                }
             }
+            (Sensor::Lidar(lidar), _) => options = lidar.options(options, truth.rho_min),
+            _ => {}
         }
         let nav = Navigator::new(truth.boundary.clone(), truth.goal(), law, options)?;
         let mut lp = Self {
@@ -69,17 +76,16 @@ impl<'a> ClosedLoop<'a> {
             nav,
             known: Vec::new(),
             truth,
+            scanner: truth.sensor.lidar().copied().map(Scanner::new),
+        };
+        let Some(sensing) = truth.sensor.exact() else {
+            // A lidar's first scan, at t = 0, is the driver's.
+            return Ok((lp, Vec::new()));
         };
         let start = prepared.start();
         let global = prepared.global_field()?;
         let first_axis = global.eval(start).ok().and_then(|e| e.direction);
-        let known = initially_known(
-            &truth.workspace,
-            start,
-            &truth.sensing,
-            truth.rho_min,
-            first_axis,
-        );
+        let known = initially_known(&truth.workspace, start, &sensing, truth.rho_min, first_axis);
         let mut discoveries = Vec::new();
         let at_start = (start, Vector2::zeros());
         lp.discover(0.0, &known, at_start, first_axis, &mut discoveries)
@@ -159,6 +165,25 @@ impl<'a> ClosedLoop<'a> {
             });
         }
         Ok(())
+    }
+
+    /// The lidar's scan at `t` from `(x, ẋ)`, heading along the sector's axis there (`+x` when
+    /// there is none), handed to the navigator (its discovery state is the state of its last
+    /// command, here). `None` without a lidar; `Some(Err)`: the navigator refused the scan,
+    /// and is unchanged.
+    pub fn scan(
+        &mut self,
+        t: f64,
+        x: Vector2<f64>,
+        v: Vector2<f64>,
+    ) -> Option<Result<ScanRecord, NavError>> {
+        let yaw = self.axis(x, v).map_or(0.0, |a| a.y.atan2(a.x));
+        let scanner = self.scanner.as_mut()?;
+        Some(
+            self.nav
+                .command(x, v)
+                .and_then(|_| scanner.scan(&mut self.nav, self.truth, t, x, yaw)),
+        )
     }
 
     /// The recorded state at `t`. `state_error`: the integrator's bound on the error of the

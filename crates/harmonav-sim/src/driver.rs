@@ -13,7 +13,7 @@ use crate::guarantee::Guarantee;
 use crate::monitor::{End, EnergyError, Recorder};
 use crate::outcome::rested_too_long;
 use crate::summary::{Run, RunError};
-use crate::trace::{Discovery, Event, Sample};
+use crate::trace::{Discovery, Event, Sample, ScanRecord};
 use crate::trajectory::Keep;
 use crate::warning::Warning;
 
@@ -57,6 +57,8 @@ pub(crate) struct Driver<'a, 'o> {
     state_error: f64,
     /// The scenario's warnings (empty under [`Warnings::Skip`]).
     warnings: Vec<Warning>,
+    /// A lidar's scans that changed the obstacles.
+    scan_events: Vec<ScanRecord>,
 }
 
 impl<'a, 'o> Driver<'a, 'o> {
@@ -107,6 +109,7 @@ impl<'a, 'o> Driver<'a, 'o> {
             },
             state_error,
             warnings,
+            scan_events: Vec::new(),
         })
     }
 
@@ -184,6 +187,40 @@ impl<'a, 'o> Driver<'a, 'o> {
         }
     }
 
+    /// The time of the lidar's next scan, s (`None` without a lidar): a fixed-step integrator
+    /// scans at the first step at or after it ([`Driver::scan_due`]), the built-in one lands on
+    /// it.
+    pub fn next_scan(&self) -> Option<f64> {
+        self.lp.scanner.as_ref().map(|s| s.next())
+    }
+
+    /// Whether a lidar scan is due at `t`.
+    pub fn scan_due(&self, t: f64) -> bool {
+        self.lp.scanner.as_ref().is_some_and(|s| s.due(t))
+    }
+
+    /// The lidar's scan at `t` from `(x, ẋ)`, observed by the navigator and handed to the
+    /// observer. `Some(true)`: it changed the obstacles (an event: `Θ`, `k` and the damping
+    /// state changed, as at a discovery; `pre`, the state just before, is recorded first as
+    /// a discovery's first side); `Some(false)`: nothing changed, or no lidar; `None`: the
+    /// navigator refused it, and the run must stop (the guarantee `scans-accepted` is lost).
+    pub fn scan(&mut self, t: f64, x: Vector2<f64>, v: Vector2<f64>) -> Option<bool> {
+        let pre = self.sample(t, x, v);
+        let record = match self.lp.scan(t, x, v)? {
+            Ok(record) => record,
+            Err(_) => return None,
+        };
+        let changed = record.perceived.is_some();
+        if changed && self.rec.last_time() != Some(t) {
+            self.record(pre, Keep::Pinned, false);
+        }
+        self.rec.scanned(&record);
+        if changed {
+            self.scan_events.push(record);
+        }
+        Some(changed)
+    }
+
     /// A guarantee lost on the way (a step-size collapse, the free space left): the run stops.
     pub fn abort(&mut self, lost: Guarantee) {
         self.aborted = Some(lost);
@@ -233,15 +270,28 @@ impl<'a, 'o> Driver<'a, 'o> {
     /// kept states. `physics` names the integrator in the summary.
     pub fn finish(self, end: End) -> Run {
         let (monitor, samples) = self.rec.into_parts();
+        let (perception, mut later) = match &self.lp.scanner {
+            Some(s) => {
+                let (report, checks) = s.judge(&self.lp.nav, &self.prepared.truth);
+                (Some(report), checks)
+            }
+            None => (None, Vec::new()),
+        };
+        later.extend(self.aborted);
         let mut summary = monitor.finish(
             self.prepared,
             self.lp.model,
             &self.lp.nav,
             end,
             self.discoveries,
-            self.aborted,
+            later,
         );
         summary.warnings = self.warnings;
-        Run { summary, samples }
+        summary.perception = perception;
+        Run {
+            summary,
+            samples,
+            scan_events: self.scan_events,
+        }
     }
 }

@@ -42,6 +42,13 @@ pub enum Kind {
     /// A floor plan: the robot's disc stayed clear of the truth along every held step, not
     /// only at the states.
     NoCollisionBetweenStates,
+    /// A lidar: after every scan, the true boundary points the sensor sees lie in a perceived
+    /// shape.
+    PerceivedCoversTruth,
+    /// A lidar: the perceived shapes only grow.
+    PerceivedOnlyGrows,
+    /// A lidar: the navigator accepted every scan.
+    ScansAccepted,
 }
 
 /// Why the robot lost the free space of its known obstacles.
@@ -169,6 +176,33 @@ pub enum Check {
         /// The smallest such bound over the run, m (`> 0` holds).
         swept_clearance: f64,
     },
+    /// [`Kind::PerceivedCoversTruth`] (`[sensor] type = "lidar"`): after every scan,
+    /// noise-free rays ten times denser than the lidar's beams, cast from the same pose, hit
+    /// `seen_points` true boundary points; `uncovered_points` of them lay outside every
+    /// perceived shape (`0` holds).
+    PerceivedCoversTruth {
+        /// True boundary points seen, over all scans.
+        seen_points: usize,
+        /// Of those, outside every perceived shape.
+        uncovered_points: usize,
+    },
+    /// [`Kind::PerceivedOnlyGrows`]: boundary points of a perceived shape outside every
+    /// perceived shape after an event (`0` holds).
+    PerceivedOnlyGrows {
+        /// Such points, over all events.
+        shrunk_points: usize,
+    },
+    /// [`Kind::ScansAccepted`]: the navigator observed every scan, or refused one (the run
+    /// stops there: the robot cannot go on with what it saw).
+    ScansAccepted {
+        /// Scans observed.
+        scans: usize,
+        /// When a scan was refused, s.
+        refused_at_s: Option<f64>,
+        /// The navigator's refusal.
+        #[serde(skip)]
+        error: Option<NavError>,
+    },
     /// `[expect] reached`.
     ExpectReached {
         /// The file's value.
@@ -222,6 +256,9 @@ impl Check {
             | Self::ExpectMaxSpeedBelow { .. } => Kind::Expect,
             Self::StayedInCertifiedRegion { .. } => Kind::StayedInCertifiedRegion,
             Self::NoCollisionBetweenStates { .. } => Kind::NoCollisionBetweenStates,
+            Self::PerceivedCoversTruth { .. } => Kind::PerceivedCoversTruth,
+            Self::PerceivedOnlyGrows { .. } => Kind::PerceivedOnlyGrows,
+            Self::ScansAccepted { .. } => Kind::ScansAccepted,
         }
     }
 
@@ -247,6 +284,9 @@ impl Check {
             Self::ExpectMaxSpeedBelow { .. } => "expect.max-speed-below",
             Self::StayedInCertifiedRegion { .. } => "stayed-in-certified-region",
             Self::NoCollisionBetweenStates { .. } => "no-collision-between-states",
+            Self::PerceivedCoversTruth { .. } => "perceived-covers-seen-truth",
+            Self::PerceivedOnlyGrows { .. } => "perceived-shapes-only-grow",
+            Self::ScansAccepted { .. } => "scans-accepted",
         }
     }
 }
@@ -363,6 +403,33 @@ impl std::fmt::Display for Check {
                 f,
                 "clearance ≥ {swept_clearance:.4} m along every held step (1-Lipschitz bound)"
             ),
+            Self::PerceivedCoversTruth {
+                seen_points,
+                uncovered_points,
+            } => write!(
+                f,
+                "{uncovered_points} of {seen_points} true boundary points seen by rays ten times \
+                 denser than the beams lay outside every perceived shape"
+            ),
+            Self::PerceivedOnlyGrows { shrunk_points } => write!(
+                f,
+                "{shrunk_points} boundary points of a perceived shape outside every later one"
+            ),
+            Self::ScansAccepted {
+                scans,
+                refused_at_s: Some(t),
+                error,
+            } => {
+                write!(
+                    f,
+                    "{scans} scans observed; the scan at t = {t:.3} s was refused"
+                )?;
+                match error {
+                    Some(e) => write!(f, ": {e}"),
+                    None => Ok(()),
+                }
+            }
+            Self::ScansAccepted { scans, .. } => write!(f, "{scans} scans observed"),
         }
     }
 }

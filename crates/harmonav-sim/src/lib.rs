@@ -69,6 +69,7 @@ pub mod preflight;
 #[cfg(feature = "rapier")]
 pub mod rapier;
 pub mod run;
+mod scanner;
 pub mod shortest;
 pub mod summary;
 pub mod sweep;
@@ -78,3 +79,4 @@ pub mod warning;
 
 pub use driver::STALL_STEPS;
 pub use monitor::MARGIN_TOLERANCE;
+pub use scanner::DENSE;

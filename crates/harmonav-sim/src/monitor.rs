@@ -10,7 +10,7 @@ use nalgebra::Vector2;
 use crate::guarantee::{Check, Guarantee};
 use crate::outcome::{Outcome, Rest};
 use crate::summary::Summary;
-use crate::trace::{Discovery, Event, Sample};
+use crate::trace::{Discovery, Event, Sample, ScanRecord};
 use crate::trajectory::{Keep, Trajectory};
 
 /// How far below `robot.margin` the measured clearance may fall and still pass: the offset
@@ -203,7 +203,8 @@ impl Monitor {
     }
 
     /// The summary of the run of `model` that ended at `end`, `nav` the robot's navigator
-    /// then; `aborted`: a guarantee lost on the way.
+    /// then; `later`: the guarantees judged elsewhere (a lidar's perception, a guarantee lost
+    /// on the way), appended before the outcome is found.
     pub(crate) fn finish(
         self,
         prepared: &Prepared,
@@ -211,7 +212,7 @@ impl Monitor {
         nav: &Navigator,
         end: End,
         discoveries: Vec<Discovery>,
-        aborted: Option<Guarantee>,
+        later: Vec<Guarantee>,
     ) -> Summary {
         let End {
             reached,
@@ -321,8 +322,9 @@ impl Monitor {
                 self.max_speed < limit,
             ));
         }
-        // A guarantee lost on the way (a step-size collapse, the free space left).
-        guarantees.extend(aborted);
+        // A lidar's perception, then a guarantee lost on the way (a step-size collapse, the
+        // free space left).
+        guarantees.extend(later);
         let outcome = Outcome::of(&guarantees, reached, t, &self.rest, self.stalled_since)
             .classify_stall(nav.field(), sc.sim.goal_tolerance);
         Summary {
@@ -350,6 +352,7 @@ impl Monitor {
             recorded_states: self.recorded,
             steps,
             rejected_steps: rejected,
+            perception: None,
         }
     }
 }
@@ -410,6 +413,11 @@ impl<'o> Recorder<'o> {
         (self.observer)(Event::State(&s));
         self.last_t = Some(s.t);
         self.kept.push(s, keep);
+    }
+
+    /// A lidar scan, for the observer.
+    pub fn scanned(&mut self, scan: &ScanRecord) {
+        (self.observer)(Event::Scan(scan));
     }
 
     /// Obstacles that became known, for the observer.

@@ -53,6 +53,12 @@ pub enum Outcome {
         /// When, s.
         time: f64,
     },
+    /// A lidar's scan was refused by the navigator at `time` s (the world as perceived is not
+    /// a star world, or a perceived shape would cover the robot or the goal): the run stopped.
+    ScanRefused {
+        /// When, s.
+        time: f64,
+    },
     /// A sweep's start `starts[index]` is not in the free space, so it was not run (sweeps
     /// only: a scenario's own start is checked when the file is loaded).
     InvalidStart {
@@ -123,6 +129,8 @@ impl Outcome {
             Self::Reached { time }
         } else if failed(Kind::Integrated) {
             Self::StepCollapsed { time }
+        } else if failed(Kind::ScansAccepted) {
+            Self::ScanRefused { time }
         } else if let Some(since) =
             stalled_since.or_else(|| rest.since().filter(|&since| rested_too_long(since, time)))
         {
@@ -158,7 +166,8 @@ impl Outcome {
     }
 
     /// The name of the outcome, as in the JSON's `"kind"`: `reached`, `collision`,
-    /// `left-workspace`, `stalled`, `timed-out`, `step-collapsed` or `invalid-start`.
+    /// `left-workspace`, `stalled`, `timed-out`, `step-collapsed`, `scan-refused` or
+    /// `invalid-start`.
     pub fn kind(&self) -> &'static str {
         match self {
             Self::Reached { .. } => "reached",
@@ -167,6 +176,7 @@ impl Outcome {
             Self::Stalled { .. } => "stalled",
             Self::TimedOut { .. } => "timed-out",
             Self::StepCollapsed { .. } => "step-collapsed",
+            Self::ScanRefused { .. } => "scan-refused",
             Self::InvalidStart { .. } => "invalid-start",
         }
     }
@@ -177,7 +187,8 @@ impl Outcome {
             Self::Reached { time }
             | Self::Stalled { time, .. }
             | Self::TimedOut { time }
-            | Self::StepCollapsed { time } => Some(*time),
+            | Self::StepCollapsed { time }
+            | Self::ScanRefused { time } => Some(*time),
             Self::Collision | Self::LeftWorkspace | Self::InvalidStart { .. } => None,
         }
     }
@@ -200,6 +211,7 @@ impl std::fmt::Display for Outcome {
             ),
             Self::TimedOut { time } => write!(f, "not reached within {time:.2} s"),
             Self::StepCollapsed { time } => write!(f, "step size collapsed at t = {time:.2} s"),
+            Self::ScanRefused { time } => write!(f, "a scan was refused at t = {time:.2} s"),
             Self::InvalidStart { index, problem } => {
                 write!(f, "not run: starts[{index}] {problem}")
             }

@@ -180,13 +180,20 @@ pub(crate) fn rapier_observed(
         if reached || t >= sc.sim.max_time {
             break;
         }
-        // Sensing: discoveries at step granularity.
+        // Sensing: discoveries at step granularity, a lidar's scans at the first step at or
+        // after each scan time.
         let found = d.sees(x, vel);
-        let discovered = !found.is_empty();
-        if discovered {
-            if !d.discover(t, &found, x, vel) {
-                break;
+        let mut discovered = !found.is_empty();
+        if discovered && !d.discover(t, &found, x, vel) {
+            break;
+        }
+        if d.scan_due(t) {
+            match d.scan(t, x, vel) {
+                None => break,
+                Some(changed) => discovered |= changed,
             }
+        }
+        if discovered {
             // The state right after a discovery, with the new Θ, k and λ: the switch of eq.
             // `dissipationfun` may last only a few milliseconds.
             d.record(sample(&d, t, x, vel, &mut drift), Keep::Pinned, true);
@@ -255,6 +262,7 @@ pub(crate) fn rapier_observed(
     let Run {
         mut summary,
         samples,
+        scan_events,
     } = d.finish(End {
         reached,
         time: t,
@@ -284,7 +292,11 @@ pub(crate) fn rapier_observed(
         ));
     }
     Ok((
-        Run { summary, samples },
+        Run {
+            summary,
+            samples,
+            scan_events,
+        },
         RapierReport {
             contacts,
             max_deviation,

@@ -109,7 +109,30 @@ pub(crate) fn integrate(
     let (mut k1, _) = rhs(&d, &y).ok_or(RunError::StartNotFree)?;
     let mut reached = d.arrived(pos(&y));
     while !reached && t < max_time {
+        // A lidar scans at t = n / rate_hz; the steps land on those times.
+        if d.scan_due(t) {
+            match d.scan(t, pos(&y), vel(&y)) {
+                None => break,
+                Some(false) => {}
+                Some(true) => {
+                    let Some((k_next, _)) = rhs(&d, &y) else {
+                        d.abort(Guarantee::failed(Check::LeftFreeSpace {
+                            time_s: t,
+                            position: [y[0], y[1]],
+                            reason: FreeSpaceLoss::Left,
+                        }));
+                        break;
+                    };
+                    k1 = k_next;
+                    d.record(d.sample(t, pos(&y), vel(&y)), Keep::Pinned, true);
+                    d.at_rest(t, pos(&y), false, true, false);
+                }
+            }
+        }
         h = h.min(dt).min(max_time - t);
+        if let Some(next) = d.next_scan() {
+            h = h.min(next - t);
+        }
         if h < 1e-14 {
             if max_time - t >= 1e-14 {
                 // Step-size collapse: the run cannot go on, and must not pass as a mere

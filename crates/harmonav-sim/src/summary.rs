@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize, Serializer};
 
 use crate::guarantee::{Guarantee, Kind};
 use crate::outcome::Outcome;
-use crate::trace::{Discovery, Sample};
+use crate::trace::{Discovery, Sample, ScanRecord};
 use crate::warning::Warning;
 
 /// Which integrator moves the robot.
@@ -102,6 +102,9 @@ pub struct Summary {
     pub steps: usize,
     /// Rejected integration steps.
     pub rejected_steps: usize,
+    /// What a lidar's perception did (`[sensor] type = "lidar"`; absent otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub perception: Option<PerceptionReport>,
 }
 
 impl Summary {
@@ -142,6 +145,40 @@ fn by_name_if_any<S: Serializer, T: std::fmt::Display>(
     }
 }
 
+/// What the lidar perception did over a run and how it compares with the truth
+/// (`summary.json`'s `perception`).
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct PerceptionReport {
+    /// Scans the navigator observed.
+    pub scans: usize,
+    /// Scans that changed the obstacles.
+    pub events: usize,
+    /// Perceived shapes at the end.
+    pub perceived: usize,
+    /// True boundary points the coverage check's rays saw, over all scans.
+    pub seen_points: usize,
+    /// Of those, points outside every perceived shape (`0`: the perceived shapes covered the
+    /// seen truth).
+    pub uncovered_points: usize,
+    /// Segments of unexplained hits wider than `D + 2ε` that no fit covers, over all scans
+    /// (`ScanUpdate::unfitted`): the world broke the depth prior A3 there (an obstacle wider
+    /// than `D`, or two obstacles in one segment), and the truth they saw is not perceived.
+    pub unfitted_segments: usize,
+    /// The smallest depth of a covered seen truth point inside the perceived shape that holds
+    /// it deepest, m: how tight the fits are on the seen faces (a fit shrunk by more than this
+    /// would leave seen truth uncovered). `None`: no point covered.
+    pub min_cover_depth: Option<f64>,
+    /// Boundary points of a perceived shape outside every later one, over all events (`0`:
+    /// the shapes only grew).
+    pub shrunk_points: usize,
+    /// The smallest clearance from the robot's centre to a changed obstacle (grown by radius
+    /// and margin) at an event, m.
+    pub min_event_clearance: Option<f64>,
+    /// Perceived area over the true area of the obstacles a perceived shape holds the centre
+    /// of, at the end (`None`: none).
+    pub conservatism: Option<f64>,
+}
+
 /// A run: the summary and the recorded trajectory.
 #[derive(Clone, Debug)]
 pub struct Run {
@@ -152,6 +189,9 @@ pub struct Run {
     /// of them ([`crate::trajectory`]). The monitors judged every state, and
     /// [`crate::run::run_observed`] hands every one to its observer.
     pub samples: Vec<Sample>,
+    /// A lidar's scans that changed the obstacles (events), with the perceived shapes after
+    /// each; every scan went to the observer.
+    pub scan_events: Vec<ScanRecord>,
 }
 
 /// Why a run could not start or go on (the run's guarantees are judged only on a run that

@@ -2,7 +2,7 @@
 
 use std::ops::Range;
 
-use harmonav_sensing::Sensing;
+use harmonav_scenario::Sensor;
 use harmonav_transform::WorldError;
 use harmonav_transform::random::{self, Rng};
 use nalgebra::Vector2;
@@ -111,7 +111,7 @@ fn one(
     }
     let mut p = prepared.clone();
     p.scenario.robot.start = [x.x, x.y];
-    p.truth.sensing = Sensing::Global;
+    p.truth.sensor = Sensor::Global;
     match run(&p, Some(model)) {
         Ok(r) => Ok(r.summary.outcome),
         Err(error) => Err(SweepError::Run {
@@ -236,6 +236,10 @@ impl Report {
     }
 }
 
+fn is_zero(n: &usize) -> bool {
+    *n == 0
+}
+
 /// Counts of a sweep's outcomes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 pub struct Counts {
@@ -251,6 +255,9 @@ pub struct Counts {
     pub timed_out: usize,
     /// Step-size collapse.
     pub step_collapsed: usize,
+    /// A lidar's scan refused (left out of the JSON when 0: a sweep senses globally).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub scan_refused: usize,
     /// Starts outside the free space, not run.
     pub invalid_starts: usize,
 }
@@ -267,6 +274,7 @@ impl Counts {
                 Outcome::Stalled { .. } => c.stalled += 1,
                 Outcome::TimedOut { .. } => c.timed_out += 1,
                 Outcome::StepCollapsed { .. } => c.step_collapsed += 1,
+                Outcome::ScanRefused { .. } => c.scan_refused += 1,
                 Outcome::InvalidStart { .. } => c.invalid_starts += 1,
             }
         }
@@ -307,9 +315,12 @@ mod tests {
                 stalled: 1,
                 timed_out: 1,
                 step_collapsed: 1,
+                scan_refused: 0,
                 invalid_starts: 1,
             }
         );
+        let refused = Counts::of(&[Outcome::ScanRefused { time: 1.0 }]);
+        assert_eq!((refused.scan_refused, refused.reached), (1, 0));
         assert_eq!(outcomes[3].to_string(), "left the workspace");
         assert!(outcomes[0].reached() && !outcomes[2].reached());
         let starts: Vec<_> = (0..8).map(|i| Vector2::new(i as f64, 0.0)).collect();

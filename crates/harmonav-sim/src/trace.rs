@@ -3,6 +3,7 @@
 //! loop: every module of the closed loop may use it; it uses only [`crate::warning`] (the
 //! events carry warnings).
 
+use harmonav::{LaserScan, Pose, StarShape};
 use serde::Serialize;
 
 use crate::warning::Warning;
@@ -67,4 +68,21 @@ pub enum Event<'a> {
     /// A recorded state (a discovery's first side comes before its [`Event::Discovery`], the
     /// second after).
     State(&'a Sample),
+    /// A lidar scan (`[sensor] type = "lidar"`), after the navigator observed it (a scan that
+    /// changed the obstacles comes between the two sides of its state, as a discovery does).
+    Scan(&'a ScanRecord),
+}
+
+/// One scan of a simulated lidar, as the navigator got it and what it made of it.
+#[derive(Clone, Debug)]
+pub struct ScanRecord {
+    /// Time, s.
+    pub time_s: f64,
+    /// The sensor's pose (the robot's centre; heading: the sector's axis).
+    pub pose: Pose,
+    /// The scan as the navigator got it (noise, dropouts, `+∞` for no return).
+    pub scan: LaserScan,
+    /// When the scan changed the obstacles (an event): the perceived shapes after it, not
+    /// grown by the robot's radius and margin. `None`: nothing changed.
+    pub perceived: Option<Vec<StarShape>>,
 }

@@ -469,11 +469,10 @@ fn dynamic_run_keeps_the_speed_bound_and_arrives_without_overshoot() {
 #[test]
 fn the_damping_switch_engages_after_a_discovery_and_brakes_within_d_min() {
     use harmonav_control::DampingPolicy;
-    use harmonav_sensing::Sensing;
     let file =
         Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/hard/lambda-switch.toml");
     let base = Scenario::load(&file).unwrap();
-    let Sensing::Sector(sector) = base.truth.sensing else {
+    let harmonav_scenario::Sensor::Sector(sector) = base.truth.sensor else {
         panic!("the file has a sector")
     };
     let d_min = sector.d_min(base.truth.rho_min);

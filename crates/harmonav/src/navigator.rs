@@ -185,7 +185,12 @@ impl Navigator {
         } else {
             None
         };
-        let scan = ScanState::new(boundary, &options.scan, options.rho_min)?;
+        let scan = ScanState::new(
+            boundary,
+            &options.scan,
+            options.rho_min,
+            options.radius + options.margin,
+        )?;
         let ws = Workspace::new(shrunk, Vec::new(), goal).map_err(|_| NavError::GoalNotFree)?;
         let field = Field::all_known_with(Arc::new(ws), options.k).map_err(NavError::Field)?;
         let nav = Self {

@@ -94,9 +94,9 @@ impl Navigator {
             if !is_new && obs.grown.binary_search(&p).is_err() {
                 continue;
             }
-            let grown = shape.shape().offset(inflation).map_err(NavError::Shape)?;
+            let grown = grow(shape.shape(), inflation)?;
             let body = if with_margin {
-                Some(shape.shape().offset(radius).map_err(NavError::Shape)?)
+                Some(grow(shape.shape(), radius)?)
             } else {
                 None
             };
@@ -168,4 +168,14 @@ impl Navigator {
             e => NavError::Perception(e),
         }
     }
+}
+
+/// `shape ⊕ B(r)`, the shape grown by `r` ([`StarShape::offset`]); when the offset is not star-
+/// shaped about the centre (a merged radial hull with deep bays, `harmonav_perception::merge`),
+/// the disc `B(c, R_max + r)`, which contains it: a perceived shape is a conservative bound, and
+/// so is its growth.
+fn grow(shape: &StarShape, r: f64) -> Result<StarShape, NavError> {
+    shape.offset(r).or_else(|_| {
+        StarShape::circle(shape.centre(), shape.radius_bounds().1 + r).map_err(NavError::Shape)
+    })
 }

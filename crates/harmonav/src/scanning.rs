@@ -50,9 +50,12 @@ impl Default for ScanOptions {
 }
 
 impl ScanOptions {
-    /// The perception crate's options, with the fits' `ρ_min = min(rho_min, 1e3)`.
+    /// The perception crate's options, with the fits' `ρ_min = min(rho_min, 1e3)` and the merge
+    /// gap `2·inflation` (`inflation`: the robot's radius and margin, by which the navigator
+    /// grows every perceived shape; shapes closer than twice that merge, so that the grown
+    /// shapes stay disjoint).
     #[must_use]
-    pub fn perception(&self, rho_min: f64) -> harmonav_perception::Options {
+    pub fn perception(&self, rho_min: f64, inflation: f64) -> harmonav_perception::Options {
         harmonav_perception::Options {
             range_noise: self.range_noise,
             max_obstacle_depth: self.max_obstacle_depth,
@@ -61,6 +64,7 @@ impl ScanOptions {
             order: self.order,
             check_spacing: self.check_spacing,
             growth_threshold: self.growth_threshold,
+            merge_gap: 2.0 * inflation,
         }
     }
 
@@ -68,7 +72,9 @@ impl ScanOptions {
     /// `0 < D ≤ 100`, `0 < ε_g ≤ 10`, `0 ≤ d0 ≤ 100`, `1 ≤ order ≤ 16`, `1e-4 ≤ h ≤ D/4`
     /// (finite, m; `harmonav_perception::Options::validate`).
     pub fn validate(&self, rho_min: f64) -> Result<(), NavError> {
-        self.perception(rho_min).validate().map_err(option_error)
+        self.perception(rho_min, 0.0)
+            .validate()
+            .map_err(option_error)
     }
 }
 
@@ -129,9 +135,14 @@ impl ScanState {
         boundary: StarShape,
         options: &ScanOptions,
         rho_min: f64,
+        inflation: f64,
     ) -> Result<Self, NavError> {
-        let perception = Perception::new(options.perception(rho_min), Some(boundary), Vec::new())
-            .map_err(option_error)?;
+        let perception = Perception::new(
+            options.perception(rho_min, inflation),
+            Some(boundary),
+            Vec::new(),
+        )
+        .map_err(option_error)?;
         Ok(Self {
             perception,
             slots: Vec::new(),

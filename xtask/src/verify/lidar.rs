@@ -4,10 +4,18 @@
 //! `Navigator::observe_scan`, both laws; and the negative control with a depth prior smaller
 //! than the obstacles.
 
-use harmonav::Law;
-use harmonav::checks::lidar::{LidarReport, LidarSuite};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
 
-use super::{Check, Outcome, outcome};
+use harmonav::checks::lidar::{LidarReport, LidarSuite};
+use harmonav::{Law, NavError};
+use harmonav_scenario::{Model, Prepared, Scenario, SensorKind, SensorSpec};
+use harmonav_sim::guarantee::{Check as Measured, Kind};
+use harmonav_sim::physics::{Physics, simulate};
+use harmonav_sim::pool::parallel_map;
+use harmonav_sim::summary::Summary;
+
+use super::{Check, Outcome, Verdict, outcome};
 
 /// The arrival each suite must show. Below 1 because a conservative shape may cover the goal
 /// (the unseen side is closed up to `D` = 1 m behind what was seen; the scan is then refused
@@ -40,6 +48,153 @@ pub fn checks() -> Vec<Check> {
         })
         .early(),
     ]
+}
+
+/// The range of the 360° lidar a suite world is rerun with, beyond its depth prior `D`, m: the
+/// navigator's `d_min` comes from `range − D` (docs/maths.md §12.6).
+pub const RERUN_RANGE_BEYOND_DEPTH: f64 = 3.0;
+
+/// `file` with its sensor replaced by a 360° lidar of the defaults (360 beams at 10 Hz, ±2 cm
+/// noise, the depth prior the largest true diameter `D`) and range `D +`
+/// [`RERUN_RANGE_BEYOND_DEPTH`]; `[expect]` dropped (it describes the file's own sensor). `None`
+/// for a file that already has a lidar.
+pub fn with_lidar(file: &Path) -> Result<Option<Prepared>, String> {
+    let text = std::fs::read_to_string(file).map_err(|e| format!("{}: {e}", file.display()))?;
+    let mut sc = Scenario::parse(file, &text).map_err(|e| e.to_string())?;
+    if sc
+        .sensor
+        .as_ref()
+        .is_some_and(|s| s.kind == SensorKind::Lidar)
+    {
+        return Ok(None);
+    }
+    sc.expect = None;
+    // First with a range beyond any depth, to learn the default D from the truth.
+    sc.sensor = Some(SensorSpec::lidar(1e6));
+    let probe = sc.clone().prepare(file).map_err(|e| e.to_string())?;
+    let depth = probe
+        .truth
+        .sensor
+        .lidar()
+        .map_or(1.0, |l| l.scan.max_obstacle_depth);
+    sc.sensor = Some(SensorSpec::lidar(depth + RERUN_RANGE_BEYOND_DEPTH));
+    sc.prepare(file).map(Some).map_err(|e| e.to_string())
+}
+
+/// Every suite file (`files`, each with its name) rerun with a 360° lidar ([`with_lidar`])
+/// under both laws, as one check (the issue's "both laws arrive in every world of
+/// `scenarios/` rerun with a 360° lidar"). It fails on any lost guarantee of safety
+/// ([`safe_but_refused`]: collision, workspace, `Θ`, speed, energy, overshoot, the seen truth
+/// covered, shapes only growing). Runs that stay safe but do not arrive (a refused scan, the
+/// paper's damping creeping) make it a [`Verdict::Target`], with the count by reason.
+pub fn rerun_checks(files: Vec<(PathBuf, String)>) -> Vec<Check> {
+    vec![Check::new("lidar-rerun.scenarios", move || rerun_all(&files)).early()]
+}
+
+/// Whether every guarantee held but arrival and the acceptance of every scan.
+fn safe_but_refused(s: &Summary) -> bool {
+    s.guarantees
+        .iter()
+        .all(|g| g.passed || matches!(g.kind(), Kind::ReachedGoal | Kind::ScansAccepted))
+}
+
+fn rerun_all(files: &[(PathBuf, String)]) -> Outcome {
+    let mut runs: Vec<(String, Model, Prepared)> = Vec::new();
+    for (file, name) in files {
+        if let Some(p) = with_lidar(file)? {
+            for model in [Model::Kinematic, Model::Dynamic] {
+                runs.push((name.clone(), model, p.clone()));
+            }
+        }
+    }
+    let threads = std::thread::available_parallelism().map_or(1, usize::from);
+    let summaries = parallel_map(&runs, threads, |(_, model, p)| {
+        simulate(p, Some(*model), Physics::Builtin).map(|r| r.summary)
+    });
+    let mut unsafe_runs = Vec::new();
+    let mut reasons: BTreeMap<String, usize> = BTreeMap::new();
+    let (mut arrived, mut seen, mut uncovered) = (0, 0, 0);
+    for ((name, model, _), s) in runs.iter().zip(summaries) {
+        let s = s.map_err(|e| format!("{name} ({model:?}): {e}"))?;
+        let p = s.perception.clone().unwrap_or_default();
+        (seen, uncovered) = (seen + p.seen_points, uncovered + p.uncovered_points);
+        if !safe_but_refused(&s) {
+            unsafe_runs.push(format!("{name} ({model:?}): {}", perception_line(&s)));
+        }
+        if s.reached {
+            arrived += 1;
+            continue;
+        }
+        let refused = s.guarantees.iter().find_map(|g| match &g.check {
+            Measured::ScansAccepted { error: Some(e), .. } => Some(e),
+            _ => None,
+        });
+        let reason = match refused {
+            Some(e) => format!("refused ({})", refusal(e)),
+            None => s.outcome.kind().to_string(),
+        };
+        *reasons.entry(reason).or_default() += 1;
+    }
+    let detail = format!(
+        "{arrived}/{} runs arrived ({} worlds × 2 laws); not arrived: {}; {} unsafe; {uncovered} \
+         of {seen} seen truth points uncovered",
+        runs.len(),
+        runs.len() / 2,
+        reasons
+            .iter()
+            .map(|(r, n)| format!("{n} {r}"))
+            .collect::<Vec<_>>()
+            .join(", "),
+        unsafe_runs.len()
+    );
+    if let Some(first) = unsafe_runs.first() {
+        return Err(format!("{detail}; first: {first}"));
+    }
+    if arrived == runs.len() {
+        Ok(Verdict::Held(detail))
+    } else {
+        Ok(Verdict::Target(detail))
+    }
+}
+
+/// A refused scan's reason in a few words.
+fn refusal(e: &NavError) -> &'static str {
+    match e {
+        NavError::ContainsRobot => "a shape over the robot",
+        NavError::ContainsGoal => "a shape over the goal",
+        NavError::CrossesBoundary => "a shape across the wall",
+        NavError::NotStarWorld { .. } => "not a star world",
+        _ => "another error",
+    }
+}
+
+/// A lidar run in one line: its outcome, the failed guarantees, and the perception's counts.
+pub fn perception_line(s: &Summary) -> String {
+    let failed: Vec<String> = s
+        .guarantees
+        .iter()
+        .filter(|g| !g.passed)
+        .map(|g| format!("{} ({})", g.name(), g.detail()))
+        .collect();
+    let p = s.perception.clone().unwrap_or_default();
+    format!(
+        "{}{}, {} scans, {} events, {} shapes, {}/{} seen truth points uncovered, {} unfitted \
+         segments, perceived/true area {}, clearance {:.3} m",
+        s.outcome,
+        if failed.is_empty() {
+            String::new()
+        } else {
+            format!(" [FAILED: {}]", failed.join(", "))
+        },
+        p.scans,
+        p.events,
+        p.perceived,
+        p.uncovered_points,
+        p.seen_points,
+        p.unfitted_segments,
+        p.conservatism.map_or("-".into(), |c| format!("{c:.1}")),
+        s.min_clearance
+    )
 }
 
 fn summary(r: &LidarReport) -> String {

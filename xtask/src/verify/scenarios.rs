@@ -34,6 +34,7 @@ fn scenario_files() -> Vec<PathBuf> {
 
 pub fn checks() -> Vec<Check> {
     let mut checks: Vec<Check> = Vec::new();
+    let mut named = Vec::new();
     for file in scenario_files() {
         let rel = file
             .strip_prefix(root().join("scenarios"))
@@ -54,11 +55,13 @@ pub fn checks() -> Vec<Check> {
             ));
         }
         let row = name.clone();
+        named.push((file.clone(), name.clone()));
         checks.push(Check::new(
             format!("scenario.{name}.other-model"),
             move || other_model(&file, &row),
         ));
     }
+    checks.extend(super::lidar::rerun_checks(named));
     let long = root().join("scenarios").join(harmonav_scenario::LONG);
     for file in harmonav_scenario::scenario_files(&long).unwrap_or_default() {
         let name = file

@@ -1,0 +1,236 @@
+//! `[sensor] type = "lidar"`: a simulated planar lidar as the robot's only perception
+//! (issue 26, docs/maths.md §12.6). The scenario's obstacles are the truth: the lidar casts its
+//! beams against them, and the robot's navigator gets the scans alone
+//! ([`harmonav::Navigator::observe_scan`]). The workspace boundary is a known map wall.
+//!
+//! The priors the perceived shapes' containment rests on (A1–A4 of `harmonav_perception`)
+//! are taken from the truth unless the file gives them, so that a run judges the
+//! implementation, not a prior the world breaks:
+//! - `ε` (A1) is the lidar's own noise bound `range_noise`;
+//! - `D` (A3, `max_obstacle_depth`) defaults to the largest true obstacle's diameter;
+//! - `ρ_min` (A2, A4, `sensor.rho_min`) defaults to the true obstacles' smallest curvature
+//!   radius, as for the sector.
+
+use std::f64::consts::TAU;
+use std::path::Path;
+
+use harmonav::perception::sim::Lidar;
+use harmonav::{Options, ScanOptions};
+use harmonav_transform::StarShape;
+use serde::{Deserialize, Serialize};
+
+use crate::scenario::{ScenarioError, SensorSpec, err};
+
+/// `sensor.type`: how the robot perceives the obstacles.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SensorKind {
+    /// The paper's symmetric sector (eq. `sensing`): an obstacle's exact shape becomes known
+    /// the first time any point of it enters the sector. The default.
+    #[default]
+    Sector,
+    /// A simulated lidar: the navigator gets range scans only.
+    Lidar,
+}
+
+/// The beams of a lidar when `sensor.beams` is not given (a 1° resolution over a full turn).
+pub const DEFAULT_BEAMS: usize = 360;
+/// The scan rate when `sensor.rate_hz` is not given, Hz (a common 2-D lidar rate).
+pub const DEFAULT_RATE_HZ: f64 = 10.0;
+/// The range noise bound when `sensor.range_noise` is not given, m (a common 2-D lidar's
+/// ±2 cm).
+pub const DEFAULT_RANGE_NOISE: f64 = 0.02;
+/// The closest return, m (returns closer than this read `range_min`).
+pub const RANGE_MIN: f64 = 0.05;
+/// At most this many beams per scan.
+pub const MAX_BEAMS: usize = 100_000;
+/// The depth prior `D` when the world has no obstacle and the file gives none, m.
+pub const DEFAULT_DEPTH_NO_OBSTACLE: f64 = 1.0;
+/// The default `D` is the largest true diameter times this (the outline's vertices lie on
+/// the curve, so their spread can only fall short of the diameter).
+const DEPTH_SLACK: f64 = 1.01;
+
+/// A validated simulated lidar: what the truth casts and what the navigator is told.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LidarSensor {
+    /// The beams as cast (the truth's noise and dropouts).
+    pub lidar: Lidar,
+    /// The aperture, degrees (the navigator's sector for `d_min`).
+    pub aperture_deg: f64,
+    /// Scans per second, Hz: a scan at every `t = n / rate_hz`.
+    pub rate_hz: f64,
+    /// The seed of the noise and the dropouts.
+    pub seed: u64,
+    /// The priors handed to the navigator: `ε = range_noise`, `D = max_obstacle_depth`.
+    pub scan: ScanOptions,
+}
+
+impl LidarSensor {
+    /// The scan period `1 / rate_hz`, s.
+    #[must_use]
+    pub fn period(&self) -> f64 {
+        1.0 / self.rate_hz
+    }
+
+    /// The navigator's options for this lidar: a sector of range `r − D` (a first fit may
+    /// reach `D` in front of the truth, so `d_min` is taken from what is left, docs/maths.md
+    /// §12.6) and the lidar's aperture, the curvature prior `rho_min` (when finite) and the scan
+    /// priors.
+    #[must_use]
+    pub fn options(&self, options: Options, rho_min: f64) -> Options {
+        let options = options
+            .with_sensor(
+                self.lidar.range_max - self.scan.max_obstacle_depth,
+                self.aperture_deg,
+            )
+            .with_scan(self.scan);
+        if rho_min.is_finite() {
+            options.with_rho_min(rho_min)
+        } else {
+            options
+        }
+    }
+}
+
+/// The lidar of `spec` (`sensor.type = "lidar"`) in a world of the true `obstacles`, or the
+/// first problem, naming its field of `path`.
+pub(crate) fn prepare(
+    path: &Path,
+    spec: &SensorSpec,
+    obstacles: &[StarShape],
+) -> Result<LidarSensor, ScenarioError> {
+    let f = |field: &str, problem: String| err(path, &format!("sensor.{field}"), None, problem);
+    let beams = spec.beams.unwrap_or(DEFAULT_BEAMS);
+    if !(2..=MAX_BEAMS).contains(&beams) {
+        return Err(f(
+            "beams",
+            format!("must be in [2, {MAX_BEAMS}], got {beams}"),
+        ));
+    }
+    let rate_hz = spec.rate_hz.unwrap_or(DEFAULT_RATE_HZ);
+    if !(rate_hz.is_finite() && rate_hz > 0.0 && rate_hz <= 1e4) {
+        return Err(f(
+            "rate_hz",
+            format!("must be in (0, 1e4] Hz, got {rate_hz:e}"),
+        ));
+    }
+    let noise = spec.range_noise.unwrap_or(DEFAULT_RANGE_NOISE);
+    if !(noise.is_finite() && noise >= 0.0 && noise < 0.5 * spec.range) {
+        return Err(f(
+            "range_noise",
+            format!(
+                "must be finite, ≥ 0 and below half of sensor.range ({}), got {noise:e}",
+                spec.range
+            ),
+        ));
+    }
+    let dropout = spec.dropout.unwrap_or(0.0);
+    if !(0.0..1.0).contains(&dropout) {
+        return Err(f("dropout", format!("must be in [0, 1), got {dropout:e}")));
+    }
+    if spec.range <= RANGE_MIN {
+        return Err(f(
+            "range",
+            format!(
+                "a lidar's range must exceed its closest return {RANGE_MIN} m, got {:e}",
+                spec.range
+            ),
+        ));
+    }
+    let (depth, from) = match spec.max_obstacle_depth {
+        Some(d) => (d, ""),
+        None if obstacles.is_empty() => (DEFAULT_DEPTH_NO_OBSTACLE, " (the default)"),
+        None => (
+            DEPTH_SLACK * obstacles.iter().map(diameter).fold(0.0, f64::max),
+            " (the largest obstacle's diameter, as none is given)",
+        ),
+    };
+    if !(depth.is_finite() && depth > 0.0 && depth < spec.range) {
+        return Err(f(
+            "max_obstacle_depth",
+            format!(
+                "must be positive and below sensor.range = {} m (d_min is taken from range − \
+                 depth), got {depth:e} m{from}",
+                spec.range
+            ),
+        ));
+    }
+    let aperture = spec.aperture_deg.to_radians();
+    Ok(LidarSensor {
+        lidar: Lidar {
+            beams,
+            aperture: if spec.aperture_deg >= 360.0 {
+                TAU
+            } else {
+                aperture
+            },
+            range_min: RANGE_MIN,
+            range_max: spec.range,
+            noise,
+            dropout,
+        },
+        aperture_deg: spec.aperture_deg,
+        rate_hz,
+        seed: spec.seed.unwrap_or(0),
+        scan: ScanOptions {
+            range_noise: noise,
+            max_obstacle_depth: depth,
+            ..ScanOptions::default()
+        },
+    })
+}
+
+/// The fields only a lidar takes, with whether `spec` gives each: a sector given one is an
+/// error that names it.
+pub(crate) fn lidar_only_fields(spec: &SensorSpec) -> [(&'static str, bool); 6] {
+    [
+        ("beams", spec.beams.is_some()),
+        ("rate_hz", spec.rate_hz.is_some()),
+        ("range_noise", spec.range_noise.is_some()),
+        ("dropout", spec.dropout.is_some()),
+        ("seed", spec.seed.is_some()),
+        ("max_obstacle_depth", spec.max_obstacle_depth.is_some()),
+    ]
+}
+
+/// The diameter of `shape`'s display outline, m: the largest width over 720 directions,
+/// divided by `cos(π/720)` (the true diameter's direction is within `π/720` of one of them).
+fn diameter(shape: &StarShape) -> f64 {
+    let points: Vec<_> = shape.outline().collect();
+    let n = 720;
+    let widest = (0..n)
+        .map(|i| {
+            let a = std::f64::consts::PI * i as f64 / n as f64;
+            let (s, c) = a.sin_cos();
+            let (lo, hi) = points
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                    let t = c * p.x + s * p.y;
+                    (lo.min(t), hi.max(t))
+                });
+            hi - lo
+        })
+        .fold(0.0, f64::max);
+    widest / (std::f64::consts::PI / (2.0 * n as f64)).cos()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Vector2;
+
+    /// A disc's diameter, an ellipse's major axis.
+    #[test]
+    fn diameter_of_known_shapes() {
+        let disc = StarShape::circle(Vector2::new(1.0, 2.0), 0.7).unwrap();
+        assert!((diameter(&disc) - 1.4).abs() < 1e-4, "{}", diameter(&disc));
+        let ellipse = StarShape::ellipse(Vector2::zeros(), [2.0, 0.5], 0.3).unwrap();
+        assert!(
+            (diameter(&ellipse) - 4.0).abs() < 1e-3,
+            "{}",
+            diameter(&ellipse)
+        );
+        // An upper bound, never short.
+        assert!(diameter(&disc) >= 1.4 - 1e-9);
+    }
+}

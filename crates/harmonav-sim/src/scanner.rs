@@ -1,0 +1,299 @@
+//! The simulated lidar in the closed loop (`[sensor] type = "lidar"`, issue 26; docs/maths.md
+//! §12.6): at every `t = n / rate_hz` it casts the scenario's beams against the true shapes
+//! (seeded noise and dropouts, `harmonav_perception::sim::Lidar`), hands the scan to the
+//! robot's navigator ([`Navigator::observe_scan`], its only perception) and judges what the
+//! navigator perceived against the truth:
+//!
+//! - **covers the seen truth**: after each scan, `DENSE` times as many noise-free rays as the
+//!   lidar's beams, from the same pose over the same aperture, find the true boundary points
+//!   the sensor sees; each must lie in a perceived shape;
+//! - **only grows**: at each event, points of every earlier perceived shape's boundary must
+//!   lie in a perceived shape after it.
+
+use std::f64::consts::TAU;
+
+use harmonav::perception::sim::Lidar;
+use harmonav::{NavError, Navigator, Pose, StarShape};
+use harmonav_scenario::{LidarSensor, Truth};
+use harmonav_transform::random::Rng;
+use nalgebra::Vector2;
+
+use crate::guarantee::{Check, Guarantee};
+use crate::summary::PerceptionReport;
+use crate::trace::ScanRecord;
+
+/// The coverage check casts this many noise-free rays per beam of the lidar.
+pub const DENSE: usize = 10;
+
+/// Boundary samples per earlier perceived shape in the growth check.
+const GROWTH_SAMPLES: usize = 64;
+
+/// How far outside every later perceived shape a point of an earlier one's boundary may be,
+/// m: the refined distance's rounding (the point lies on the boundary of the same, unchanged
+/// shape).
+const GROWTH_TOLERANCE: f64 = 1e-9;
+
+/// A scan is due at `t` once `t` is within this relative distance of its time (the
+/// integrators land on it up to rounding).
+const DUE: f64 = 1e-9;
+
+/// The lidar of a run, its seeded noise, and the running judgement.
+pub(crate) struct Scanner {
+    sensor: LidarSensor,
+    rng: Rng,
+    /// Scans taken; the next is due at `taken / rate_hz`.
+    taken: u64,
+    /// The perceived shapes after the last event.
+    previous: Vec<StarShape>,
+    report: PerceptionReport,
+    /// The refused scan that stopped the run: when, and the navigator's error.
+    refusal: Option<(f64, NavError)>,
+}
+
+impl Scanner {
+    /// The lidar `sensor` before its first scan (due at `t = 0`).
+    pub fn new(sensor: LidarSensor) -> Self {
+        Self {
+            sensor,
+            rng: Rng::new(0x5CA0_0000 ^ sensor.seed),
+            taken: 0,
+            previous: Vec::new(),
+            report: PerceptionReport::default(),
+            refusal: None,
+        }
+    }
+
+    /// The time of the next scan, s.
+    pub fn next(&self) -> f64 {
+        self.taken as f64 * self.sensor.period()
+    }
+
+    /// Whether a scan is due at `t`.
+    pub fn due(&self, t: f64) -> bool {
+        let next = self.next();
+        t >= next - DUE * next.max(1.0)
+    }
+
+    /// Scans the truth from `x` with heading `yaw` at `t` and hands the scan to `nav`. On
+    /// success the record of the scan; on a refusal the navigator's error (`nav` unchanged).
+    pub fn scan(
+        &mut self,
+        nav: &mut Navigator,
+        truth: &Truth,
+        t: f64,
+        x: Vector2<f64>,
+        yaw: f64,
+    ) -> Result<ScanRecord, NavError> {
+        let pose = Pose::new(x.x, x.y, yaw);
+        let lidar = self.sensor.lidar;
+        let scan = lidar.scan(
+            &pose,
+            &truth.obstacles,
+            Some(&truth.boundary),
+            &mut self.rng,
+        );
+        self.taken += 1;
+        let update = nav.observe_scan(pose, &scan).inspect_err(|e| {
+            self.refusal = Some((t, e.clone()));
+        })?;
+        self.report.scans += 1;
+        self.report.unfitted_segments += update.unfitted;
+        let now: Vec<StarShape> = nav.perceived().map(|(_, p)| p.shape().clone()).collect();
+        let c = coverage(&lidar, &pose, truth, &now);
+        self.report.seen_points += c.seen;
+        self.report.uncovered_points += c.uncovered;
+        if c.seen > c.uncovered {
+            let d = self.report.min_cover_depth.get_or_insert(c.min_depth);
+            *d = d.min(c.min_depth);
+        }
+        let perceived = update.changed().then(|| {
+            self.report.events += 1;
+            if let Some(c) = update.event_clearance {
+                let m = self.report.min_event_clearance.get_or_insert(c);
+                *m = m.min(c);
+            }
+            self.report.shrunk_points += shrunk(&self.previous, &now);
+            self.previous.clone_from(&now);
+            now
+        });
+        Ok(ScanRecord {
+            time_s: t,
+            pose,
+            scan,
+            perceived,
+        })
+    }
+
+    /// The judgement at the end of the run, `nav` the navigator then: the report and the
+    /// guarantees [`Kind::PerceivedCoversTruth`](crate::guarantee::Kind::PerceivedCoversTruth),
+    /// [`Kind::PerceivedOnlyGrows`](crate::guarantee::Kind::PerceivedOnlyGrows) and
+    /// [`Kind::ScansAccepted`](crate::guarantee::Kind::ScansAccepted).
+    pub fn judge(&self, nav: &Navigator, truth: &Truth) -> (PerceptionReport, Vec<Guarantee>) {
+        let r = self.report(nav, truth);
+        let guarantees = vec![
+            Guarantee::new(
+                Check::PerceivedCoversTruth {
+                    seen_points: r.seen_points,
+                    uncovered_points: r.uncovered_points,
+                },
+                r.uncovered_points == 0,
+            ),
+            Guarantee::new(
+                Check::PerceivedOnlyGrows {
+                    shrunk_points: r.shrunk_points,
+                },
+                r.shrunk_points == 0,
+            ),
+            Guarantee::new(
+                Check::ScansAccepted {
+                    scans: r.scans,
+                    refused_at_s: self.refusal.as_ref().map(|r| r.0),
+                    error: self.refusal.as_ref().map(|r| r.1.clone()),
+                },
+                self.refusal.is_none(),
+            ),
+        ];
+        (r, guarantees)
+    }
+
+    /// The report at the end of the run, `nav` the navigator then.
+    fn report(&self, nav: &Navigator, truth: &Truth) -> PerceptionReport {
+        let perceived: Vec<_> = nav.perceived().map(|(_, p)| p).collect();
+        let seen: f64 = truth
+            .obstacles
+            .iter()
+            .filter(|o| perceived.iter().any(|p| p.shape().contains(o.centre())))
+            .map(polygon_area)
+            .sum();
+        let area: f64 = perceived.iter().map(|p| p.area()).sum();
+        PerceptionReport {
+            perceived: perceived.len(),
+            conservatism: (seen > 0.0).then(|| area / seen),
+            ..self.report.clone()
+        }
+    }
+}
+
+/// What the coverage check found at one pose.
+struct Coverage {
+    /// True boundary points seen.
+    seen: usize,
+    /// Of those, outside every perceived shape.
+    uncovered: usize,
+    /// The smallest depth of a covered one inside the perceived shape that holds it deepest,
+    /// m (`+∞`: none covered).
+    min_depth: f64,
+}
+
+/// The coverage check at `pose`: the true boundary points that [`DENSE`] noise-free rays per
+/// beam of `lidar` hit first (within `range_max − noise`, the reach at which every true hit
+/// reads as a return under A1, and not behind the boundary), how many of them lie outside
+/// every shape of `perceived`, and how deep the others lie.
+fn coverage(lidar: &Lidar, pose: &Pose, truth: &Truth, perceived: &[StarShape]) -> Coverage {
+    let s = pose.position();
+    let lidar = Lidar {
+        range_max: lidar.range_max - lidar.noise,
+        ..*lidar
+    };
+    let lidar = &lidar;
+    // Only the obstacles whose bounding disc the range reaches.
+    let near: Vec<&StarShape> = truth
+        .obstacles
+        .iter()
+        .filter(|o| (o.centre() - s).norm() - o.radius_bounds().1 <= lidar.range_max)
+        .collect();
+    let mut c = Coverage {
+        seen: 0,
+        uncovered: 0,
+        min_depth: f64::INFINITY,
+    };
+    if near.is_empty() {
+        return c;
+    }
+    let (angle_min, increment) = lidar.angles();
+    let full = (lidar.aperture - TAU).abs() < 1e-12;
+    let rays = if full {
+        lidar.beams * DENSE
+    } else {
+        (lidar.beams - 1) * DENSE + 1
+    };
+    let step = increment / DENSE as f64;
+    for i in 0..rays {
+        let a = pose.yaw + angle_min + i as f64 * step;
+        let u = Vector2::new(a.cos(), a.sin());
+        let boundary = Some(&truth.boundary);
+        if let Some((_, t)) = lidar.first_obstacle_hit(s, u, near.iter().copied(), boundary) {
+            c.seen += 1;
+            let p = s + t * u;
+            let depth = perceived
+                .iter()
+                .filter(|q| q.contains(p))
+                .map(|q| -q.signed_distance(p))
+                .fold(f64::NEG_INFINITY, f64::max);
+            if depth == f64::NEG_INFINITY {
+                c.uncovered += 1;
+            } else {
+                c.min_depth = c.min_depth.min(depth);
+            }
+        }
+    }
+    c
+}
+
+/// The growth check: the points of [`GROWTH_SAMPLES`] on each boundary of `before` that lie
+/// more than [`GROWTH_TOLERANCE`] outside every shape of `after`.
+fn shrunk(before: &[StarShape], after: &[StarShape]) -> usize {
+    before
+        .iter()
+        .flat_map(|s| {
+            (0..GROWTH_SAMPLES)
+                .map(move |j| s.boundary_point(TAU * j as f64 / GROWTH_SAMPLES as f64))
+        })
+        .filter(|&p| {
+            !after
+                .iter()
+                .any(|s| s.signed_distance(p) <= GROWTH_TOLERANCE)
+        })
+        .count()
+}
+
+/// The area of `shape`'s display outline (shoelace), m².
+fn polygon_area(shape: &StarShape) -> f64 {
+    let pts: Vec<_> = shape.outline().collect();
+    let n = pts.len();
+    0.5 * (0..n)
+        .map(|i| {
+            let (p, q) = (pts[i], pts[(i + 1) % n]);
+            p.x * q.y - q.x * p.y
+        })
+        .sum::<f64>()
+        .abs()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A disc's outline area is πr² within the polygon's shortfall; a shape that shrinks is
+    /// caught, one that grows is not.
+    #[test]
+    fn area_and_growth_checks() {
+        let small = StarShape::circle(Vector2::new(1.0, 0.0), 0.5).unwrap();
+        let large = StarShape::circle(Vector2::new(1.0, 0.0), 0.6).unwrap();
+        let a = polygon_area(&small);
+        assert!((a - std::f64::consts::PI * 0.25).abs() < 1e-4, "{a}");
+        assert_eq!(
+            shrunk(std::slice::from_ref(&small), std::slice::from_ref(&large)),
+            0
+        );
+        assert_eq!(
+            shrunk(std::slice::from_ref(&large), std::slice::from_ref(&small)),
+            GROWTH_SAMPLES
+        );
+        // The same shape again: every point lies on it, none outside.
+        assert_eq!(
+            shrunk(std::slice::from_ref(&small), std::slice::from_ref(&small)),
+            0
+        );
+    }
+}
