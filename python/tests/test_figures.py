@@ -15,20 +15,30 @@ from conftest import REPO, SCENARIOS
 SVG = "{http://www.w3.org/2000/svg}"
 
 
+def scale(root):
+    """User units per shown pixel: the plane figures are drawn at 4× their size (a `viewBox`
+    4× the `width`, so that lines keep sub-pixel coordinates); 1 without a `viewBox`."""
+    view_box, width = root.get("viewBox"), root.get("width")
+    if view_box is None or width is None:
+        return 1.0
+    return float(view_box.split()[2]) / float(width)
+
+
 def texts(path):
-    """(x, y, anchor, dy, font size, text) of every unrotated text element."""
+    """(x, y, anchor, dy, font size, text) of every unrotated text element, in shown pixels."""
     root = ET.parse(path).getroot()
+    s = scale(root)
     out = []
     for t in root.iter(f"{SVG}text"):
         if "transform" in t.attrib:
             continue
         out.append(
             (
-                float(t.get("x")),
-                float(t.get("y")),
+                float(t.get("x")) / s,
+                float(t.get("y")) / s,
                 t.get("text-anchor", "start"),
                 t.get("dy", "0"),
-                float(t.get("font-size", "12")),
+                float(t.get("font-size", "12")) / s,
                 (t.text or "").strip(),
             )
         )
@@ -124,9 +134,9 @@ def test_the_documentation_figures(path):
 
 
 def test_the_checks_catch_overlapping_labels_and_odd_ticks(tmp_path):
-    def svg(body):
+    def svg(body, size=""):
         path = tmp_path / "f.svg"
-        path.write_text(f'<svg xmlns="http://www.w3.org/2000/svg">{body}</svg>')
+        path.write_text(f'<svg {size} xmlns="http://www.w3.org/2000/svg">{body}</svg>')
         return path
 
     def label(x, y, text, anchor="middle"):
@@ -136,6 +146,12 @@ def test_the_checks_catch_overlapping_labels_and_odd_ticks(tmp_path):
     check(svg(ticks))
     with pytest.raises(AssertionError, match="overlaps"):
         check(svg(ticks + label(205, 302, "O3") + label(210, 303, "O4")))
+    # Drawn at 4×: two names 1.5 shown pixels apart (6 user units) still overlap, and the
+    # ticks 25 shown pixels apart do not.
+    fine = 'width="100" height="100" viewBox="0 0 400 400"'
+    check(svg(ticks, fine))
+    with pytest.raises(AssertionError, match="overlaps"):
+        check(svg(ticks + label(205, 302, "O3") + label(211, 303, "O4"), fine))
     odd = "".join(label(100 * i, 300, f"{1.23 * i:.2f}") for i in range(4))
     with pytest.raises(AssertionError, match="step"):
         check(svg(odd))

@@ -18,9 +18,10 @@ use std::sync::Arc;
 use harmonav_field::Field;
 use harmonav_field::descent::{FollowOptions, follow};
 use harmonav_output::atomic::write_atomically;
+use harmonav_output::canvas::Scale;
 use harmonav_output::drawing::{outline, xy};
 use harmonav_output::figures::{
-    Plane, draw_level_lines, draw_path, energy_svg, err, plane, speed_svg, trajectory_svg,
+    LEVELS, Plane, draw_level_lines, draw_path, energy_svg, err, plane, speed_svg, trajectory_svg,
 };
 use harmonav_output::levels::ThetaGrid;
 use harmonav_scenario::Scenario;
@@ -98,8 +99,8 @@ fn two_panels(
     let root = SVGBackend::with_string(out, (1000, 520)).into_drawing_area();
     root.fill(&WHITE).map_err(err)?;
     let (l, r) = root.split_horizontally(500);
-    let mut left = plane(&l, titles[0], Vector2::zeros(), 6.0)?;
-    let mut right = plane(&r, titles[1], Vector2::zeros(), 9.0)?;
+    let mut left = plane(&l, titles[0], Vector2::zeros(), 6.0, Scale::ONE)?;
+    let mut right = plane(&r, titles[1], Vector2::zeros(), 9.0, Scale::ONE)?;
     draw(&mut left, &mut right)?;
     root.present().map_err(err)
 }
@@ -243,8 +244,8 @@ fn nav_transform_figures() -> Result<Vec<String>, String> {
             "level sets of σ∘φ_k in the point world",
         ],
         |left, right| {
-            draw_level_lines(left, &theta)?;
-            draw_level_lines(right, &varphi)?;
+            draw_level_lines(left, &theta.level_lines(&LEVELS), Scale::ONE)?;
+            draw_level_lines(right, &varphi.level_lines(&LEVELS), Scale::ONE)?;
             draw_world(left, right, &ws)
         },
     )?;

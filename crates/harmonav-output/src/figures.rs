@@ -3,7 +3,10 @@
 //! - `trajectory.svg`: the workspace, the obstacles (discovered ones red; named only where a
 //!   name overlaps no other, and in worlds of more than [`LABEL_ALL_UP_TO`] only the
 //!   discovered), the level sets of `Θ` for the final known world, the sector at each
-//!   discovery, the path, start and goal, and a legend strip with the value of each level;
+//!   discovery, the path, start and goal, and a legend strip with the value of each level.
+//!   Drawn at [`Scale::FINE`] ([`crate::canvas`]): the path and the level lines keep a
+//!   quarter of a pixel, and the level lines' vertices lie on the level sets
+//!   ([`ThetaGrid::refined_level_lines`]);
 //! - `speed.svg`: `|ẋ|` against time with the bound `√(2μ/m)` and the discoveries marked;
 //! - `energy.svg` (dynamic law): `V(t)` and `λ(t)`.
 
@@ -19,14 +22,19 @@ use harmonav_scenario::{Prepared, Sensor};
 use harmonav_sim::summary::Run;
 use harmonav_sim::trace::Discovery;
 
+use crate::canvas::{Scale, scaled_svg};
 use crate::drawing::{outline, xy};
-use crate::levels::ThetaGrid;
+use crate::levels::{LevelLine, ThetaGrid};
 
 /// The levels of `Θ` drawn on the figures (denser towards 1, where the obstacles shape them).
 pub const LEVELS: [f64; 9] = [0.1, 0.2, 0.3, 0.5, 0.7, 0.9, 0.97, 0.99, 0.999];
 
-/// Cells per side of the grid the level sets are traced on.
+/// Cells per side of the grid the level sets are traced on (their vertices are then moved
+/// onto the level sets: [`ThetaGrid::refined_level_lines`]).
 const LEVEL_CELLS: usize = 240;
+
+/// The nominal size of a plane figure's chart, px (the legend strip goes below it).
+pub(crate) const CHART: (u32, u32) = (720, 740);
 
 pub(crate) const FONT: &str = "sans-serif";
 pub(crate) const PATH: RGBColor = RGBColor(217, 72, 15);
@@ -51,21 +59,27 @@ pub fn draw_path(
         .map_err(err)
 }
 
+/// The fill and stroke of an obstacle: red if the robot discovered it (`known`), grey if not.
+fn obstacle_colors(known: bool) -> (RGBColor, RGBColor) {
+    if known {
+        (RGBColor(241, 192, 192), KNOWN)
+    } else {
+        (RGBColor(208, 208, 208), RGBColor(102, 102, 102))
+    }
+}
+
 /// Draws an obstacle, filled: red if the robot discovered it (`known`), grey if not.
 pub(crate) fn draw_obstacle(
     chart: &mut Plane<'_, '_>,
     shape: &harmonav_transform::StarShape,
     known: bool,
+    s: Scale,
 ) -> Result<(), String> {
-    let (fill, stroke) = if known {
-        (RGBColor(241, 192, 192), KNOWN)
-    } else {
-        (RGBColor(208, 208, 208), RGBColor(102, 102, 102))
-    };
+    let (fill, stroke) = obstacle_colors(known);
     chart
         .draw_series(std::iter::once(Polygon::new(outline(shape), fill.filled())))
         .map_err(err)?;
-    draw_path(chart, outline(shape), stroke.stroke_width(1))
+    draw_path(chart, outline(shape), s.stroke(stroke, 1))
 }
 
 /// The sector `S_{r,θ}` at `pole` along `axis` as a closed polygon.
@@ -101,18 +115,20 @@ pub type Plane<'a, 'b> = ChartContext<
     Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
 >;
 
-/// A square chart of `[c − half, c + half]²` on `area`, with round ticks and axis titles.
+/// A square chart of `[c − half, c + half]²` on `area`, with round ticks and axis titles, its
+/// margins, fonts, ticks and axes `s` times their nominal size (`area` drawn at `s`).
 pub fn plane<'a, 'b>(
     area: &'a DrawingArea<SVGBackend<'b>, Shift>,
     title: &str,
     c: Vector2<f64>,
     half: f64,
+    s: Scale,
 ) -> Result<Plane<'a, 'b>, String> {
     let mut chart = ChartBuilder::on(area)
-        .caption(title, (FONT, 16))
-        .margin(8)
-        .x_label_area_size(32)
-        .y_label_area_size(40)
+        .caption(title, s.font(16))
+        .margin(s.px(8))
+        .x_label_area_size(s.px(32))
+        .y_label_area_size(s.px(40))
         .build_cartesian_2d(c.x - half..c.x + half, c.y - half..c.y + half)
         .map_err(err)?;
     chart
@@ -122,27 +138,28 @@ pub fn plane<'a, 'b>(
         .y_labels(7)
         .x_desc("x (m)")
         .y_desc("y (m)")
-        .label_style((FONT, 12))
+        .label_style(s.font(12))
+        .axis_style(s.stroke(BLACK, 1))
+        .set_all_tick_mark_size(s.px(5))
         .draw()
         .map_err(err)?;
     Ok(chart)
 }
 
-/// Draws the level sets of `Θ` of `field` over the chart's square.
-fn draw_levels(
-    chart: &mut Plane<'_, '_>,
-    field: &Field,
-    c: Vector2<f64>,
-    half: f64,
-) -> Result<(), String> {
+/// The [`LEVELS`] of `Θ` of `field` over the square `[c − half, c + half]²`, on the level sets.
+fn field_levels(field: &Field, c: Vector2<f64>, half: f64) -> Result<Vec<LevelLine>, String> {
     let grid = ThetaGrid::sample(field, c, half, LEVEL_CELLS).map_err(|e| e.to_string())?;
-    draw_level_lines(chart, &grid)
+    Ok(grid.refined_level_lines(&LEVELS, |p| field.eval(p).ok().map(|e| e.value)))
 }
 
-/// Draws the [`LEVELS`] of `grid` (blue near 0, orange near 1).
-pub fn draw_level_lines(chart: &mut Plane<'_, '_>, grid: &ThetaGrid) -> Result<(), String> {
-    for level in grid.level_lines(&LEVELS) {
-        let style = level_color(level.value).stroke_width(1);
+/// Draws the level lines `levels` (blue near 0, orange near 1), one nominal pixel wide.
+pub fn draw_level_lines(
+    chart: &mut Plane<'_, '_>,
+    levels: &[LevelLine],
+    s: Scale,
+) -> Result<(), String> {
+    for level in levels {
+        let style = s.stroke(level_color(level.value), 1);
         chart
             .draw_series(
                 level
@@ -180,6 +197,53 @@ pub(crate) fn drawable(
     kept
 }
 
+/// Draws the path through `points` (one vertex per backend pixel: [`drawable`]), the start
+/// and the goal.
+pub(crate) fn draw_run(
+    chart: &mut Plane<'_, '_>,
+    points: impl IntoIterator<Item = (f64, f64)>,
+    start: (f64, f64),
+    goal: (f64, f64),
+    s: Scale,
+) -> Result<(), String> {
+    let path = drawable(points, |p| chart.backend_coord(p));
+    chart
+        .draw_series(LineSeries::new(path, s.stroke(PATH, 2)))
+        .map_err(err)?;
+    chart
+        .draw_series([
+            Circle::new(start, s.px(5), BLACK.filled()),
+            Circle::new(goal, s.px(6), GOAL.filled()),
+        ])
+        .map_err(err)?;
+    Ok(())
+}
+
+/// Draws each name of `names` centred at its point, in order, where it overlaps no name
+/// already drawn ([`place_labels`]).
+pub(crate) fn draw_names(
+    chart: &mut Plane<'_, '_>,
+    names: &[(&str, (f64, f64))],
+    s: Scale,
+) -> Result<(), String> {
+    let style = TextStyle::from(s.font(12)).pos(Pos::new(HPos::Center, VPos::Center));
+    let wanted = names
+        .iter()
+        .enumerate()
+        .map(|(k, (name, at))| (k, label_box(chart.backend_coord(at), name, s.px(12))));
+    for k in place_labels(wanted, s.px(2)) {
+        let (name, at) = names[k];
+        chart
+            .draw_series(std::iter::once(Text::new(
+                name.to_string(),
+                at,
+                style.clone(),
+            )))
+            .map_err(err)?;
+    }
+    Ok(())
+}
+
 /// The poses at which the sector is drawn: at each discovery, with its axis.
 fn sector_poses(run: &Run) -> Vec<(Vector2<f64>, Vector2<f64>)> {
     run.summary
@@ -190,23 +254,23 @@ fn sector_poses(run: &Run) -> Vec<(Vector2<f64>, Vector2<f64>)> {
         .collect()
 }
 
+/// The title of a plane figure: the run's name, law and outcome.
+pub(crate) fn run_title(name: &str, model: impl std::fmt::Debug, reached: bool, t: f64) -> String {
+    let outcome = if reached {
+        "goal reached"
+    } else {
+        "goal NOT reached"
+    };
+    format!("{name} — {model:?} law, {outcome} ({t:.2} s)")
+}
+
 /// `trajectory.svg` of `run`.
 pub fn trajectory_svg(prepared: &Prepared, run: &Run) -> Result<String, String> {
     let truth = &prepared.truth;
     let s = &run.summary;
     let b = &truth.boundary;
     let (c, half) = (b.centre(), 1.04 * b.radius_bounds().1);
-    let title = format!(
-        "{} — {:?} law, {} ({:.2} s)",
-        s.name,
-        s.model,
-        if s.reached {
-            "goal reached"
-        } else {
-            "goal NOT reached"
-        },
-        s.time_s
-    );
+    let title = run_title(&s.name, s.model, s.reached, s.time_s);
     let perceived = perceived_at_end(run);
     let known: Vec<usize> = match perceived {
         // A lidar's: the true obstacles a perceived shape holds the centre of.
@@ -224,75 +288,65 @@ pub fn trajectory_svg(prepared: &Prepared, run: &Run) -> Result<String, String> 
         )
         .map_err(|e| e.to_string())?,
     };
-    let mut out = String::new();
-    {
-        let root = SVGBackend::with_string(&mut out, (720, 800)).into_drawing_area();
-        root.fill(&WHITE).map_err(err)?;
-        let (top, legend) = root.split_vertically(740);
-        let mut chart = plane(&top, &title, c, half)?;
+    let levels = field_levels(&field, c, half)?;
+    let sectors = match truth.sensor {
+        Sensor::Sector(sector) => sector_poses(run)
+            .into_iter()
+            .map(|(pole, axis)| sector_polygon(pole, axis, sector.range(), sector.aperture()))
+            .collect(),
+        _ => Vec::new(),
+    };
+    let sc = Scale::FINE;
+    scaled_svg((CHART.0, CHART.1 + 60), sc, |root| {
+        let (top, legend) = root.split_vertically(sc.px(CHART.1 as i32));
+        let mut chart = plane(&top, &title, c, half, sc)?;
         chart
             .draw_series(std::iter::once(Polygon::new(
                 outline(b),
                 RGBColor(250, 250, 250).filled(),
             )))
             .map_err(err)?;
-        draw_levels(&mut chart, &field, c, half)?;
-        draw_path(&mut chart, outline(b), BLACK.stroke_width(2))?;
-        if let Sensor::Sector(sector) = truth.sensor {
-            for (pole, axis) in sector_poses(run) {
-                let poly = sector_polygon(pole, axis, sector.range(), sector.aperture());
-                chart
-                    .draw_series([Polygon::new(poly.clone(), SECTOR.mix(0.12).filled())])
-                    .map_err(err)?;
-                draw_path(&mut chart, poly, SECTOR.mix(0.6).stroke_width(1))?;
-            }
+        draw_level_lines(&mut chart, &levels, sc)?;
+        draw_path(&mut chart, outline(b), sc.stroke(BLACK, 2))?;
+        for poly in &sectors {
+            chart
+                .draw_series([Polygon::new(poly.clone(), SECTOR.mix(0.12).filled())])
+                .map_err(err)?;
+            draw_path(&mut chart, poly.clone(), sc.stroke(SECTOR.mix(0.6), 1))?;
         }
         for (i, o) in truth.obstacles.iter().enumerate() {
-            draw_obstacle(&mut chart, o, known.contains(&i))?;
+            draw_obstacle(&mut chart, o, known.contains(&i), sc)?;
         }
         for p in perceived.unwrap_or_default() {
-            draw_path(&mut chart, outline(p), PERCEIVED.stroke_width(2))?;
+            draw_path(&mut chart, outline(p), sc.stroke(PERCEIVED, 2))?;
         }
-        let path = drawable(run.samples.iter().map(|p| (p.x[0], p.x[1])), |p| {
-            chart.backend_coord(p)
-        });
-        chart
-            .draw_series(LineSeries::new(path, PATH.stroke_width(2)))
-            .map_err(err)?;
         let start = run.samples.first().map_or((0.0, 0.0), |p| (p.x[0], p.x[1]));
-        chart
-            .draw_series([
-                Circle::new(start, 5, BLACK.filled()),
-                Circle::new(xy(truth.goal()), 6, GOAL.filled()),
-            ])
-            .map_err(err)?;
+        let points = run.samples.iter().map(|p| (p.x[0], p.x[1]));
+        draw_run(&mut chart, points, start, xy(truth.goal()), sc)?;
         // The names: the discovered obstacles (every one in a world of at most
         // LABEL_ALL_UP_TO), each only where it overlaps no name already placed.
-        let candidates: Vec<usize> = if truth.obstacles.len() <= LABEL_ALL_UP_TO {
+        let named: Vec<usize> = if truth.obstacles.len() <= LABEL_ALL_UP_TO {
             (0..truth.obstacles.len()).collect()
         } else {
             known.clone()
         };
-        let style =
-            TextStyle::from((FONT, 12).into_font()).pos(Pos::new(HPos::Center, VPos::Center));
-        let wanted = candidates.iter().map(|&i| {
-            let at = chart.backend_coord(&xy(truth.obstacles[i].centre()));
-            (i, label_box(at, &truth.names[i], 12))
-        });
-        for i in place_labels(wanted) {
-            chart
-                .draw_series(std::iter::once(Text::new(
-                    truth.names[i].clone(),
-                    xy(truth.obstacles[i].centre()),
-                    style.clone(),
-                )))
-                .map_err(err)?;
+        let names: Vec<(&str, (f64, f64))> = named
+            .iter()
+            .map(|&i| (truth.names[i].as_str(), xy(truth.obstacles[i].centre())))
+            .collect();
+        draw_names(&mut chart, &names, sc)?;
+        let mut keys = run_keys();
+        if !sectors.is_empty() {
+            keys.push((
+                "sector at a discovery",
+                Key::Patch(RGBColor(231, 239, 250), SECTOR),
+            ));
         }
-        let sector = matches!(truth.sensor, Sensor::Sector(_)) && !sector_poses(run).is_empty();
-        draw_legend(&legend, sector)?;
-        root.present().map_err(err)?;
-    }
-    Ok(out)
+        if perceived.is_some() {
+            keys.push(("perceived (lidar)", Key::Line(PERCEIVED, 2)));
+        }
+        draw_legend(&legend, &keys, None, sc)
+    })
 }
 
 /// The colour of a perceived shape's outline (a lidar's, over the true obstacles).
@@ -338,16 +392,17 @@ pub(crate) fn label_box(at: (i32, i32), text: &str, size: i32) -> (i32, i32, i32
     )
 }
 
-/// The labels to draw, in the order offered: each one whose box (with 2 px to spare) overlaps
-/// no box already placed.
+/// The labels to draw, in the order offered: each one whose box (with `spare` px to spare)
+/// overlaps no box already placed.
 pub(crate) fn place_labels(
     wanted: impl IntoIterator<Item = (usize, (i32, i32, i32, i32))>,
+    spare: i32,
 ) -> Vec<usize> {
     let mut placed: Vec<(i32, i32, i32, i32)> = Vec::new();
     let mut kept = Vec::new();
     for (i, b) in wanted {
         let clear = |p: &(i32, i32, i32, i32)| {
-            b.2 + 2 <= p.0 || p.2 + 2 <= b.0 || b.3 + 2 <= p.1 || p.3 + 2 <= b.1
+            b.2 + spare <= p.0 || p.2 + spare <= b.0 || b.3 + spare <= p.1 || p.3 + spare <= b.1
         };
         if placed.iter().all(clear) {
             placed.push(b);
@@ -357,83 +412,87 @@ pub(crate) fn place_labels(
     kept
 }
 
-/// The legend strip under `trajectory.svg`'s plane: the markers of the start, the goal, the
-/// path, the obstacles (discovered and not), the sector if drawn, and the colour of each level
-/// of `Θ` with its value. Laid out left to right at fixed widths, so no text overlaps another.
-fn draw_legend(area: &DrawingArea<SVGBackend<'_>, Shift>, sector: bool) -> Result<(), String> {
-    let text = |s: &str, x: i32, y: i32| {
-        Text::new(
-            s.to_string(),
-            (x, y),
-            TextStyle::from((FONT, 12).into_font()).pos(Pos::new(HPos::Left, VPos::Center)),
-        )
+/// The marker of an entry of a legend.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Key {
+    /// A filled disc of this colour and radius (nominal px): the start, the goal.
+    Dot(RGBColor, i32),
+    /// A line of this colour and width (nominal px): the path, an edge.
+    Line(RGBColor, u32),
+    /// A square of this fill and outline: an obstacle, a wall, a sector.
+    Patch(RGBColor, RGBColor),
+}
+
+/// The legend's entries that every plane figure of a run has: the start, the goal, the path,
+/// and the obstacles, discovered and not.
+pub(crate) fn run_keys() -> Vec<(&'static str, Key)> {
+    let (known, unknown) = (obstacle_colors(true), obstacle_colors(false));
+    vec![
+        ("start", Key::Dot(BLACK, 5)),
+        ("goal", Key::Dot(GOAL, 6)),
+        ("path", Key::Line(PATH, 2)),
+        ("discovered", Key::Patch(known.0, known.1)),
+        ("not discovered", Key::Patch(unknown.0, unknown.1)),
+    ]
+}
+
+/// Draws `key`'s marker in the 16 px wide slot at `(x, y)` (nominal px, `y` its middle).
+fn draw_key(
+    area: &DrawingArea<SVGBackend<'_>, Shift>,
+    key: Key,
+    (x, y): (i32, i32),
+    s: Scale,
+) -> Result<(), String> {
+    let at = |dx: i32, dy: i32| (s.px(x + dx), s.px(y + dy));
+    match key {
+        Key::Dot(color, r) => area.draw(&Circle::new(at(8, 0), s.px(r), color.filled())),
+        Key::Line(color, w) => area.draw(&PathElement::new(
+            vec![at(0, 0), at(16, 0)],
+            s.stroke(color, w),
+        )),
+        Key::Patch(fill, stroke) => {
+            let corners = [at(2, -6), at(14, 6)];
+            area.draw(&Rectangle::new(corners, fill.filled()))
+                .and_then(|()| area.draw(&Rectangle::new(corners, s.stroke(stroke, 1))))
+        }
+    }
+    .map_err(err)
+}
+
+/// The legend strip under a plane figure's chart, laid out left to right at fixed widths so
+/// that no text overlaps another: `keys` on the first row, the colour of each level of `Θ`
+/// with its value on the second, and `note` (if any) on the third.
+pub(crate) fn draw_legend(
+    area: &DrawingArea<SVGBackend<'_>, Shift>,
+    keys: &[(&str, Key)],
+    note: Option<&str>,
+    s: Scale,
+) -> Result<(), String> {
+    let style = TextStyle::from(s.font(12)).pos(Pos::new(HPos::Left, VPos::Center));
+    let text = |t: &str, x: i32, y: i32| {
+        area.draw(&Text::new(t.to_string(), (s.px(x), s.px(y)), style.clone()))
+            .map_err(err)
     };
+    let width = |t: &str| (0.6 * 12.0 * t.chars().count() as f64).ceil() as i32;
     let mut x = 48;
-    let row = 14;
-    let mut item = |label: &str, draw: &dyn Fn(i32) -> Result<(), String>| -> Result<(), String> {
-        draw(x)?;
-        area.draw(&text(label, x + 20, row)).map_err(err)?;
-        x += 20 + (0.6 * 12.0 * label.chars().count() as f64).ceil() as i32 + 18;
-        Ok(())
-    };
-    let dot = |color: RGBColor, r: i32| {
-        move |x: i32| {
-            area.draw(&Circle::new((x + 8, row), r, color.filled()))
-                .map_err(err)
-        }
-    };
-    let bar = |color: RGBColor, w: u32| {
-        move |x: i32| {
-            area.draw(&PathElement::new(
-                vec![(x, row), (x + 16, row)],
-                color.stroke_width(w),
-            ))
-            .map_err(err)
-        }
-    };
-    let patch = |fill: RGBColor, stroke: RGBColor| {
-        move |x: i32| {
-            area.draw(&Rectangle::new(
-                [(x + 2, row - 6), (x + 14, row + 6)],
-                fill.filled(),
-            ))
-            .map_err(err)?;
-            area.draw(&Rectangle::new(
-                [(x + 2, row - 6), (x + 14, row + 6)],
-                stroke,
-            ))
-            .map_err(err)
-        }
-    };
-    item("start", &dot(BLACK, 5))?;
-    item("goal", &dot(GOAL, 6))?;
-    item("path", &bar(PATH, 2))?;
-    item("discovered", &patch(RGBColor(241, 192, 192), KNOWN))?;
-    item(
-        "not discovered",
-        &patch(RGBColor(208, 208, 208), RGBColor(102, 102, 102)),
-    )?;
-    if sector {
-        item(
-            "sector at a discovery",
-            &patch(RGBColor(231, 239, 250), SECTOR),
-        )?;
+    for &(label, key) in keys {
+        draw_key(area, key, (x, 14), s)?;
+        text(label, x + 20, 14)?;
+        x += 20 + width(label) + 18;
     }
     // The level sets: a coloured bar and its value each.
-    let (mut x, row) = (48, 38);
-    area.draw(&text("Θ levels:", x, row)).map_err(err)?;
-    x += 80;
+    text("Θ levels:", 48, 38)?;
+    x = 128;
     for v in LEVELS {
-        area.draw(&PathElement::new(
-            vec![(x, row), (x + 14, row)],
-            level_color(v).stroke_width(3),
-        ))
-        .map_err(err)?;
+        draw_key(area, Key::Line(level_color(v), 3), (x, 38), s)?;
         let label = format!("{v}");
-        area.draw(&text(&label, x + 18, row)).map_err(err)?;
-        x += 18 + (0.6 * 12.0 * label.chars().count() as f64).ceil() as i32 + 14;
+        text(&label, x + 20, 38)?;
+        x += 20 + width(&label) + 12;
     }
-    Ok(())
+    match note {
+        Some(note) => text(note, 48, 62),
+        None => Ok(()),
+    }
 }
 
 /// Discovery labels for a time axis: discoveries at the same time share one label, and labels
@@ -635,10 +694,10 @@ mod tests {
             (2, label_box((130, 100), "O3", 12)),
             (3, label_box((100, 200), "O4", 12)),
         ];
-        assert_eq!(place_labels(wanted), vec![0, 2, 3]);
+        assert_eq!(place_labels(wanted, 2), vec![0, 2, 3]);
         // 600 names on one spot: one is drawn.
         let crowd = (0..600).map(|i| (i, label_box((300, 300), &format!("O{i}"), 12)));
-        assert_eq!(place_labels(crowd).len(), 1);
+        assert_eq!(place_labels(crowd, 2).len(), 1);
     }
 
     #[test]
@@ -653,5 +712,75 @@ mod tests {
         assert!(kept.len() <= 102, "{}", kept.len());
         let pixels: std::collections::BTreeSet<_> = kept.iter().map(px).collect();
         assert_eq!(pixels.len(), 101);
+    }
+
+    /// The vertices of the polylines of `svg` stroked in `color` (`#RRGGBB`), in nominal px.
+    fn polylines(svg: &str, color: &str, s: Scale) -> Vec<Vec<(f64, f64)>> {
+        let stroke = format!("stroke=\"{color}\"");
+        svg.split("<polyline")
+            .skip(1)
+            .filter(|e| e.contains(&stroke))
+            .map(|e| {
+                let points = e.split("points=\"").nth(1).unwrap().split('"').next();
+                let scale = f64::from(s.0);
+                points
+                    .unwrap()
+                    .split_whitespace()
+                    .map(|xy| {
+                        let (x, y) = xy.split_once(',').unwrap();
+                        (
+                            x.parse::<f64>().unwrap() / scale,
+                            y.parse::<f64>().unwrap() / scale,
+                        )
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// The largest distance of `points` from their least-squares line `y = a + b x`.
+    fn off_line(points: &[(f64, f64)]) -> f64 {
+        let n = points.len() as f64;
+        let (mx, my) = points
+            .iter()
+            .fold((0.0, 0.0), |(x, y), p| (x + p.0 / n, y + p.1 / n));
+        let (sxy, sxx) = points.iter().fold((0.0, 0.0), |(xy, xx), p| {
+            (xy + (p.0 - mx) * (p.1 - my), xx + (p.0 - mx).powi(2))
+        });
+        let b = sxy / sxx;
+        points
+            .iter()
+            .map(|p| ((p.1 - my) - b * (p.0 - mx)).abs() / b.hypot(1.0))
+            .fold(0.0, f64::max)
+    }
+
+    /// A straight path across a plane figure, drawn at [`Scale::FINE`]: its vertices have
+    /// sub-pixel coordinates, all within a fifth of a pixel of one line. Drawn at one backend
+    /// pixel per pixel (plotters' own drawing), they stair-step up to half a pixel off it.
+    #[test]
+    fn a_straight_path_is_drawn_without_stair_steps() {
+        let path = |s: Scale| {
+            let svg = scaled_svg((400, 400), s, |root| {
+                let mut chart = plane(root, "a line", Vector2::zeros(), 5.0, s)?;
+                let line = (0..=10_000).map(|k| {
+                    let t = f64::from(k) * 1e-4;
+                    (-4.0 + 8.0 * t, -3.0 + 6.3 * t)
+                });
+                draw_run(&mut chart, line, (-4.0, -3.0), (4.0, 3.3), s)
+            })
+            .unwrap();
+            assert!(svg.starts_with(r#"<svg width="400" height="400""#), "{svg}");
+            let lines = polylines(&svg, "#D9480F", s);
+            assert_eq!(lines.len(), 1);
+            lines[0].clone()
+        };
+        let fine = path(Scale::FINE);
+        assert!(fine.len() > 300, "{} vertices", fine.len());
+        assert!(
+            fine.iter()
+                .any(|p| p.0.fract() != 0.0 && p.1.fract() != 0.0)
+        );
+        assert!(off_line(&fine) < 0.2, "{} px off the line", off_line(&fine));
+        assert!(off_line(&path(Scale::ONE)) > 0.3, "plotters' own drawing");
     }
 }

@@ -10,20 +10,21 @@ use harmonav_scenario::floorplan::FloorPrepared;
 use harmonav_sim::floor::{FloorRun, FloorSummary, navigator};
 use nalgebra::Vector2;
 use plotters::prelude::*;
-use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use crate::atomic::{OutputError, StagedDir};
+use crate::canvas::{Scale, scaled_svg};
 use crate::drawing::xy;
 use crate::figures::{
-    FONT, GOAL, PATH, draw_level_lines, draw_obstacle, draw_path, drawable, err, place_labels,
-    plane,
+    CHART, Key, LEVELS, draw_legend, draw_level_lines, draw_names, draw_obstacle, draw_path,
+    draw_run, err, plane, run_keys, run_title,
 };
 use crate::levels::ThetaGrid;
 use crate::set::{OUTPUT_FILES, check_output_dir};
 
 /// Cells per side of the grid the level sets are traced on. Each `Θ` on a floor plan is an
 /// `O(N)` sum over the boundary elements (≈ 50 µs at N = 1 000), so the grid is coarser than a
-/// star world's: 160² cells take about a second.
+/// star world's: 160² cells take about a second (the level lines' vertices, moved onto the
+/// level sets with a few evaluations each, add less than half of that in the rooms tried).
 const FLOOR_LEVEL_CELLS: usize = 160;
 
 const WALL_FILL: RGBColor = RGBColor(120, 120, 120);
@@ -39,6 +40,8 @@ fn ring(points: &[Vector2<f64>]) -> Vec<(f64, f64)> {
 }
 
 /// `trajectory.svg` of a floor-plan run: `summary` and `run` from the same run of `prepared`.
+/// Drawn like a star world's ([`crate::figures::trajectory_svg`]: at [`Scale::FINE`], the
+/// level lines on the level sets, the same path, markers, names and legend).
 ///
 /// # Errors
 /// A drawing error, or a navigator that cannot be rebuilt for the level sets, as text.
@@ -59,94 +62,76 @@ pub fn floor_trajectory_svg(
         nav.add_obstacle(prepared.obstacles[d.index].clone())
             .map_err(|e| e.to_string())?;
     }
-    let grid = ThetaGrid::from_fn(c, half, FLOOR_LEVEL_CELLS, |p| nav.theta(p).ok());
-    let title = format!(
-        "{} — {:?} law, {} ({:.2} s)",
-        summary.name,
+    let theta = |p| nav.theta(p).ok();
+    let grid = ThetaGrid::from_fn(c, half, FLOOR_LEVEL_CELLS, theta);
+    let levels = grid.refined_level_lines(&LEVELS, theta);
+    let title = run_title(
+        &summary.name,
         summary.model,
-        if summary.reached {
-            "goal reached"
-        } else {
-            "goal NOT reached"
-        },
-        summary.time_s
+        summary.reached,
+        summary.time_s,
     );
-    let mut out = String::new();
-    {
-        let root = SVGBackend::with_string(&mut out, (720, 770)).into_drawing_area();
-        root.fill(&WHITE).map_err(err)?;
-        let (top, legend) = root.split_vertically(740);
-        let mut chart = plane(&top, &title, c, half)?;
+    let known: Vec<usize> = run.discoveries.iter().map(|d| d.index).collect();
+    let note = format!(
+        "certified region: δ = {} m inside the grey lines; {} boundary elements",
+        summary.delta, summary.elements
+    );
+    let sc = Scale::FINE;
+    scaled_svg((CHART.0, CHART.1 + 76), sc, |root| {
+        let (top, legend) = root.split_vertically(sc.px(CHART.1 as i32));
+        let mut chart = plane(&top, &title, c, half, sc)?;
         chart
             .draw_series([Polygon::new(
                 ring(walls.outer()),
                 RGBColor(250, 250, 250).filled(),
             )])
             .map_err(err)?;
-        draw_level_lines(&mut chart, &grid)?;
+        draw_level_lines(&mut chart, &levels, sc)?;
         // The certified region's outer edge: the shrunk walls ∂W_s (W_δ lies δ inside them).
-        for hole in floor.domain().holes() {
-            draw_path(&mut chart, ring(hole), EDGE.stroke_width(1))?;
+        let domain = floor.domain();
+        for edge in domain
+            .holes()
+            .iter()
+            .map(Vec::as_slice)
+            .chain([domain.outer()])
+        {
+            draw_path(&mut chart, ring(edge), sc.stroke(EDGE, 1))?;
         }
-        draw_path(
-            &mut chart,
-            ring(floor.domain().outer()),
-            EDGE.stroke_width(1),
-        )?;
         for hole in walls.holes() {
             chart
                 .draw_series([Polygon::new(ring(hole), WALL_FILL.filled())])
                 .map_err(err)?;
         }
-        draw_path(&mut chart, ring(walls.outer()), BLACK.stroke_width(2))?;
-        let known: Vec<usize> = run.discoveries.iter().map(|d| d.index).collect();
+        draw_path(&mut chart, ring(walls.outer()), sc.stroke(BLACK, 2))?;
         for (i, o) in prepared.obstacles.iter().enumerate() {
-            draw_obstacle(&mut chart, o, known.contains(&i))?;
+            draw_obstacle(&mut chart, o, known.contains(&i), sc)?;
         }
-        let path = drawable(run.positions.iter().map(|p| (p[0], p[1])), |p| {
-            chart.backend_coord(p)
-        });
-        chart
-            .draw_series(LineSeries::new(path, PATH.stroke_width(2)))
-            .map_err(err)?;
-        chart
-            .draw_series([
-                Circle::new((summary.start[0], summary.start[1]), 5, BLACK.filled()),
-                Circle::new((summary.goal[0], summary.goal[1]), 6, GOAL.filled()),
-            ])
-            .map_err(err)?;
+        let points = run.positions.iter().map(|p| (p[0], p[1]));
+        let (start, goal) = (summary.start, summary.goal);
+        draw_run(
+            &mut chart,
+            points,
+            (start[0], start[1]),
+            (goal[0], goal[1]),
+            sc,
+        )?;
         // The discovered obstacles' names, each only where it overlaps no name already placed.
-        let style =
-            TextStyle::from((FONT, 12).into_font()).pos(Pos::new(HPos::Center, VPos::Center));
-        let wanted = run.discoveries.iter().enumerate().map(|(j, d)| {
-            let at = chart.backend_coord(&xy(prepared.obstacles[d.index].centre()));
-            (j, crate::figures::label_box(at, &d.obstacle, 12))
-        });
-        for j in place_labels(wanted) {
-            let d = &run.discoveries[j];
-            chart
-                .draw_series([Text::new(
-                    d.obstacle.clone(),
+        let names: Vec<(&str, (f64, f64))> = run
+            .discoveries
+            .iter()
+            .map(|d| {
+                (
+                    d.obstacle.as_str(),
                     xy(prepared.obstacles[d.index].centre()),
-                    style.clone(),
-                )])
-                .map_err(err)?;
-        }
-        let note = format!(
-            "walls: black, filled grey; certified region: δ = {} m inside the grey lines; \
-             {} elements; Θ levels as on star worlds",
-            summary.delta, summary.elements
-        );
-        legend
-            .draw(&Text::new(
-                note,
-                (48, 14),
-                TextStyle::from((FONT, 12).into_font()).pos(Pos::new(HPos::Left, VPos::Center)),
-            ))
-            .map_err(err)?;
-        root.present().map_err(err)?;
-    }
-    Ok(out)
+                )
+            })
+            .collect();
+        draw_names(&mut chart, &names, sc)?;
+        let mut keys = run_keys();
+        keys.push(("walls", Key::Patch(WALL_FILL, BLACK)));
+        keys.push(("certified edge", Key::Line(EDGE, 1)));
+        draw_legend(&legend, &keys, Some(&note), sc)
+    })
 }
 
 /// Writes `trajectory.svg` and `summary.json` of a floor-plan run into `dir` as one set

@@ -3,8 +3,10 @@
 //! What a run leaves on disk: the MCAP recording for Foxglove ([`record`]: the official
 //! Foxglove schemas through the `foxglove` crate, streamed during a run of any length), the
 //! SVG figures ([`figures`], plotters), a floor-plan run's figure and outputs ([`floor`]), the
-//! level sets of `Θ` they share ([`levels`], marching squares), the shapes as drawn ([`drawing`]), and output folders checked before a
-//! run and written as one set, atomically ([`atomic`], [`set`]).
+//! level sets of `Θ` they share ([`levels`], marching squares, vertices moved onto the level
+//! sets), the figures drawn at a multiple of their size so that lines keep sub-pixel
+//! coordinates ([`canvas`]), the shapes as drawn ([`drawing`]), and output folders checked
+//! before a run and written as one set, atomically ([`atomic`], [`set`]).
 //!
 //! Equations held here: none of the paper's; `Θ` is sampled on a grid (`levels`) and drawn.
 //!
@@ -15,6 +17,7 @@
 #![warn(missing_docs)]
 
 pub mod atomic;
+pub mod canvas;
 pub mod drawing;
 pub mod figures;
 pub mod floor;

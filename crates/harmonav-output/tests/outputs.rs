@@ -215,6 +215,30 @@ fn outputs_are_written_and_figures_show_the_run() {
     // The level sets of Θ: one path per level line, in the levels' colours.
     let level_paths = svg.matches("<polyline").count();
     assert!(level_paths > 20, "{level_paths} polylines");
+    // Drawn at 4× and shown at 720 px (plotters' SVG backend writes whole pixels): the path's
+    // vertices keep a quarter of a pixel.
+    assert!(
+        svg.starts_with(r#"<svg width="720" height="800" viewBox="0 0 2880 3200""#),
+        "{}",
+        &svg[..120]
+    );
+    let path = svg
+        .split("<polyline")
+        .filter(|e| e.contains(r##"stroke="#D9480F""##))
+        .max_by_key(|e| e.len())
+        .unwrap();
+    let quarters = path
+        .split("points=\"")
+        .nth(1)
+        .unwrap()
+        .split(|c: char| c == ',' || c.is_whitespace())
+        .filter_map(|v| v.parse::<i64>().ok())
+        .filter(|v| v % 4 != 0)
+        .count();
+    assert!(
+        quarters > 100,
+        "{quarters} sub-pixel coordinates in the path"
+    );
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary["reached"], true);
