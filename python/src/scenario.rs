@@ -3,9 +3,9 @@
 
 use std::path::PathBuf;
 
-use harmonav_output::set::{check_output_dir, write_outputs};
+use harmonav_output::set::Outputs;
 use harmonav_scenario::{Model, Prepared, Scenario as RsScenario};
-use harmonav_sim::physics::{Physics, simulate};
+use harmonav_sim::physics::{Physics, simulate_observed};
 use harmonav_sim::summary::Run;
 use harmonav_sim::sweep::{Report, check_count, random_starts, sweep_part};
 use numpy::{PyArray1, PyArray2, PyUntypedArrayMethods};
@@ -120,18 +120,29 @@ impl Scenario {
     ) -> PyResult<RunResult> {
         let model = self::model(py, model, controller)?;
         let physics: Physics = policy(physics)?;
-        if let Some(dir) = &out {
-            py.detach(|| check_output_dir(dir))
-                .map_err(|e| value_error(format!("out: {e}; nothing was run")))?;
-        }
         let prepared = &self.prepared;
-        let run = py
-            .detach(|| simulate(prepared, model, physics))
-            .map_err(|e| value_error(format!("{}: {e}", self.path.display())))?;
+        // As `harmonav run --out`: the folder checked first, the recording streamed during the
+        // run (every event of it, a lidar's every scan), the set completed after it.
+        let (run, written) = py.detach(|| {
+            let mut outputs = match &out {
+                Some(dir) => Some(
+                    Outputs::begin(dir, prepared)
+                        .map_err(|e| format!("out: {e}; nothing was run"))?,
+                ),
+                None => None,
+            };
+            let run = simulate_observed(prepared, model, physics, &mut |e| {
+                if let Some(o) = outputs.as_mut() {
+                    o.observe(e);
+                }
+            })
+            .map_err(|e| format!("{}: {e}", self.path.display()))?;
+            let written = outputs.map(|o| o.finish(&run));
+            Ok::<_, String>((run, written))
+        })
+        .map_err(value_error)?;
         let result = RunResult::new(py, &run)?;
-        if let Some(dir) = &out
-            && let Err(e) = py.detach(|| write_outputs(dir, prepared, &run))
-        {
+        if let Some(Err(e)) = written {
             let err = PyOSError::new_err(format!(
                 "out: the outputs were not written: {e} (the run's result is this error's \
                  `result`)"

@@ -33,3 +33,30 @@ def test_every_message_decodes_from_the_files_own_schemas(tmp_path):
     values = memoryview(grid.data).cast("f")
     assert len(values) == grid.column_count * (len(grid.data) // grid.row_stride)
     assert any(math.isnan(v) for v in values) and all(0.0 <= v <= 1.0 for v in values if not math.isnan(v))
+
+
+def test_a_lidar_run_records_every_scan_and_the_perceived_shapes(tmp_path):
+    """`[sensor] type = "lidar"`: every scan on /scan (foxglove.LaserScan, the beams as the
+    navigator got them), the perceived shapes on /perceived at each event, and the summary's
+    perception table with its three guarantees."""
+    res = harmonav.Scenario.load(SCENARIOS / "lidar" / "paper-world.toml").run(out=tmp_path)
+    s = res.summary
+    p = s["perception"]
+    assert s["reached"] and all(g["passed"] for g in s["guarantees"])
+    names = {g["name"] for g in s["guarantees"]}
+    assert {"perceived-covers-seen-truth", "perceived-shapes-only-grow", "scans-accepted"} <= names
+    assert p["uncovered_points"] == 0 and p["seen_points"] > 1000 and p["events"] >= 1
+    counts, beams = {}, set()
+    with open(tmp_path / "run.mcap", "rb") as f:
+        reader = mcap_reader.make_reader(f, decoder_factories=[decoder.DecoderFactory()])
+        for schema, channel, message, decoded in reader.iter_decoded_messages():
+            counts[channel.topic] = counts.get(channel.topic, 0) + 1
+            if channel.topic == "/scan":
+                assert schema.name == "foxglove.LaserScan"
+                beams.add(len(decoded.ranges))
+                assert decoded.end_angle > decoded.start_angle
+            if channel.topic == "/perceived":
+                assert len(decoded.entities) >= 1 and decoded.deletions
+    assert counts["/scan"] == p["scans"] and counts["/perceived"] == p["events"]
+    assert beams == {360}
+    assert not s["discoveries"], "a lidar hands over no exact shape"
