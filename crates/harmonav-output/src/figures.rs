@@ -367,7 +367,7 @@ pub(crate) fn perceived_field(
     let truth = &prepared.truth;
     let grown = perceived
         .iter()
-        .map(|p| p.offset(truth.radius + truth.margin))
+        .map(|p| harmonav::grow_perceived(p, truth.radius + truth.margin))
         .collect::<Result<Vec<_>, _>>()
         .map_err(|e| e.to_string())?;
     let ws =

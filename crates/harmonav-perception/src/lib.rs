@@ -30,7 +30,7 @@
 //! T_i = triangle(s, p_i − κ_i u_i, p_{i+1} − κ_i u_{i+1}),  κ_i = e_i / min(u_i·n_i, u_{i+1}·n_i)
 //! e_i = ε + ρ_min − √(ρ_min² − c_i²/4),   c_i = |p_{i+1} − p_i| + 2ε                 (eq. sagitta)
 //! H_a = the side of the line of beam j_a holding the hits, j_a the first beam outward of
-//!       the first hit whose free part (r_j − ε, or range_max) covers its chord of K    (eq. side)
+//!       the first hit whose free part (r_j − ε, or range_max − ε) covers its chord of K    (eq. side)
 //! E_a = triangle(s, s + τ u_a, s + τ u_{j_a}),  τ = r_a − ε − sag(2w) − w,
 //!       w = 2 r_a sin(∠(u_a, u_{j_a})/2), only when w < 2ρ_min                      (eq. end)
 //! ```

@@ -298,9 +298,10 @@ pub enum MergeFailure {
 /// R_M(θ) ≥ sup { ρ : p + ρ u(θ) ∈ A ∪ B }        (the radial hull of A ∪ B about p)   (eq. hull)
 /// ```
 ///
-/// Candidates for `p`: the two centres and seven points evenly between them. A point of both
-/// kernels (eq. kernel) makes the hull the union itself (`max(R_A, R_B)` about `p`): the one
-/// nearest the midpoint is kept. When there is none (two bow ties touching at their tips), the
+/// Candidates for `p`: the two centres and seven points evenly between them. For overlapping
+/// shapes a point of both kernels (eq. kernel) makes the hull the union itself (`max(R_A,
+/// R_B)` about `p`; shapes merged across a gap, `Options::merge_gap`, also get the gap's
+/// shadow): the one nearest the midpoint is kept. When there is none (two bow ties touching at their tips), the
 /// hull also fills the union's shadows about `p`: every candidate is tried and the merged star
 /// of least area is kept, so two overlapping shapes always merge (issue 26: a merge instead of
 /// "not a star world").

@@ -35,9 +35,11 @@ pub struct Options {
     /// outside every known shape. With `ε_g > 0` the hits that cause growth are `ε_x` apart,
     /// so a bounded region sees finitely many growths (docs/maths.md §12.6).
     pub growth_threshold: f64,
-    /// `g`, m: shapes closer than this merge ([`merge`]), not only overlapping ones. A
-    /// navigator that grows every shape by `r` (the robot's radius and margin) sets `2r`, so
-    /// that the grown shapes stay disjoint too. Default 0.
+    /// `g`, m: shapes closer than this merge ([`merge`]), not only overlapping ones (by the
+    /// certified distance, which may exceed the true one by its bracket). A navigator that grows
+    /// every shape by `r` (the robot's radius and margin) sets `2r`, so that the grown shapes
+    /// are not refused as overlapping in most cases; where they still are (the bracket, or a
+    /// disc fallback of the growth), the scan is refused, never an overlap accepted. Default 0.
     pub merge_gap: f64,
 }
 

@@ -179,11 +179,11 @@ impl<'a> ClosedLoop<'a> {
     ) -> Option<Result<ScanRecord, NavError>> {
         let yaw = self.axis(x, v).map_or(0.0, |a| a.y.atan2(a.x));
         let scanner = self.scanner.as_mut()?;
-        Some(
-            self.nav
-                .command(x, v)
-                .and_then(|_| scanner.scan(&mut self.nav, self.truth, t, x, yaw)),
-        )
+        if let Err(e) = self.nav.command(x, v) {
+            scanner.refuse(t, e.clone());
+            return Some(Err(e));
+        }
+        Some(scanner.scan(&mut self.nav, self.truth, t, x, yaw))
     }
 
     /// The recorded state at `t`. `state_error`: the integrator's bound on the error of the

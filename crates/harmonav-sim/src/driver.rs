@@ -199,13 +199,15 @@ impl<'a, 'o> Driver<'a, 'o> {
         self.lp.scanner.as_ref().is_some_and(|s| s.due(t))
     }
 
-    /// The lidar's scan at `t` from `(x, ẋ)`, observed by the navigator and handed to the
+    /// The lidar's scan at `pre.t` from `(x, ẋ)`, observed by the navigator and handed to the
     /// observer. `Some(true)`: it changed the obstacles (an event: `Θ`, `k` and the damping
-    /// state changed, as at a discovery; `pre`, the state just before, is recorded first as
-    /// a discovery's first side); `Some(false)`: nothing changed, or no lidar; `None`: the
-    /// navigator refused it, and the run must stop (the guarantee `scans-accepted` is lost).
-    pub fn scan(&mut self, t: f64, x: Vector2<f64>, v: Vector2<f64>) -> Option<bool> {
-        let pre = self.sample(t, x, v);
+    /// state changed, as at a discovery; `pre`, the state just before as the integrator
+    /// samples it, with its own energy tolerance, is recorded first as a discovery's first
+    /// side, unless a state was recorded at `t` already); `Some(false)`: nothing changed, or no
+    /// lidar; `None`: the navigator refused it, and the run must stop (the guarantee
+    /// `scans-accepted` is lost).
+    pub fn scan(&mut self, pre: Sample, x: Vector2<f64>, v: Vector2<f64>) -> Option<bool> {
+        let t = pre.t;
         let record = match self.lp.scan(t, x, v)? {
             Ok(record) => record,
             Err(_) => return None,

@@ -188,9 +188,16 @@ pub(crate) fn rapier_observed(
             break;
         }
         if d.scan_due(t) {
-            match d.scan(t, x, vel) {
+            // The side before an event carries the drift since the last recorded state.
+            let mut pre = d.sample(t, x, vel);
+            pre.energy_tolerance = drift;
+            match d.scan(pre, x, vel) {
                 None => break,
-                Some(changed) => discovered |= changed,
+                Some(false) => {}
+                Some(true) => {
+                    drift = 0.0;
+                    discovered = true;
+                }
             }
         }
         if discovered {

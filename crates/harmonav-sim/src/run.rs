@@ -111,7 +111,8 @@ pub(crate) fn integrate(
     while !reached && t < max_time {
         // A lidar scans at t = n / rate_hz; the steps land on those times.
         if d.scan_due(t) {
-            match d.scan(t, pos(&y), vel(&y)) {
+            let pre = d.sample(t, pos(&y), vel(&y));
+            match d.scan(pre, pos(&y), vel(&y)) {
                 None => break,
                 Some(false) => {}
                 Some(true) => {

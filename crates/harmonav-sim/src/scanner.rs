@@ -92,7 +92,10 @@ impl Scanner {
             Some(&truth.boundary),
             &mut self.rng,
         );
-        self.taken += 1;
+        // The next scan is the first `n / rate_hz` after `t` (a fixed step longer than the
+        // period skips the scans it stepped over instead of falling behind).
+        let rate = self.sensor.rate_hz;
+        self.taken = (self.taken + 1).max((t * rate + DUE).floor() as u64 + 1);
         let update = nav.observe_scan(pose, &scan).inspect_err(|e| {
             self.refusal = Some((t, e.clone()));
         })?;
@@ -122,6 +125,12 @@ impl Scanner {
             scan,
             perceived,
         })
+    }
+
+    /// The run stops at `t` because the navigator could not take a scan there (its command
+    /// failed): the guarantee `scans-accepted` is lost.
+    pub fn refuse(&mut self, t: f64, error: NavError) {
+        self.refusal = Some((t, error));
     }
 
     /// The judgement at the end of the run, `nav` the navigator then: the report and the

@@ -121,11 +121,12 @@ impl Summary {
         self.first_unsafe().is_none()
     }
 
-    /// The first guarantee other than arrival that failed (`None` when [`Self::safe`]).
+    /// The first guarantee other than arrival (and a lidar's `scans-accepted`: a refused scan
+    /// stops the robot, it does not endanger it) that failed (`None` when [`Self::safe`]).
     pub fn first_unsafe(&self) -> Option<&Guarantee> {
         self.guarantees
             .iter()
-            .find(|g| !g.passed && g.kind() != Kind::ReachedGoal)
+            .find(|g| !g.passed && !matches!(g.kind(), Kind::ReachedGoal | Kind::ScansAccepted))
     }
 }
 

@@ -9,9 +9,10 @@
 //! spaced in time at the stride `s = 2^⌈log₂(N/C)⌉`, and its memory never exceeds
 //! `C · size_of::<Sample>()` (≈ 11 MB), plus the pinned states.
 //!
-//! **Pinned states** are never dropped: both sides of each discovery (`Θ`, `k` and `λ` jump
-//! there), the arrival and the last state. There are at most `2M + 2` of them for `M`
-//! obstacles, so they do not grow with the run's length.
+//! **Pinned states** are never dropped: both sides of each discovery and of each lidar event
+//! (`Θ`, `k` and `λ` jump there), the arrival and the last state. There are at most `2M + 2`
+//! of them for `M` obstacles under a sector, so they do not grow with the run's length; a
+//! lidar's events are finitely many in a bounded world (docs/maths.md §12.6), two states each.
 
 use crate::trace::Sample;
 

@@ -1,7 +1,7 @@
 //! `[sensor] type = "lidar"` (issue 26): the navigator gets scans only, and every run judges
 //! the perceived shapes against the truth. The suite files must arrive with every guarantee;
-//! the negative control (the navigator told there is no noise while the lidar is noisy) must
-//! lose `perceived-covers-seen-truth`.
+//! the negative control (a depth prior below the obstacles' diameter) must lose
+//! `perceived-covers-seen-truth`.
 
 use std::path::{Path, PathBuf};
 
@@ -134,7 +134,9 @@ fn lidar_runs_are_deterministic_and_seeded() {
 #[test]
 fn a_refused_scan_stops_the_run() {
     let text = std::fs::read_to_string(file("lidar/paper-world.toml")).unwrap();
-    let text = text.replace("seed = 1\n", "seed = 1\nmax_obstacle_depth = 2.9\n");
+    let text = text
+        .replace("seed = 1\n", "seed = 1\nmax_obstacle_depth = 2.9\n")
+        .replace("[expect]\nreached = true\n", "");
     let path = Path::new("refused.toml");
     let p = Scenario::parse(path, &text).unwrap().prepare(path).unwrap();
     let r = simulate(&p, None, Physics::Builtin).unwrap();
@@ -142,8 +144,9 @@ fn a_refused_scan_stops_the_run() {
     assert!(!s.reached);
     assert_eq!(s.outcome.kind(), "scan-refused", "{:?}", s.outcome);
     assert!(!guarantee(s, Kind::ScansAccepted));
-    // Refusing is not a collision: the robot kept clear of the truth.
+    // Refusing is not a collision: the robot kept clear of the truth, and the run is safe.
     assert!(guarantee(s, Kind::NoCollision));
+    assert!(s.safe(), "{:?}", s.first_unsafe());
 }
 
 /// Bad `[sensor]` tables name the field and the problem.
@@ -189,5 +192,57 @@ fn bad_lidar_tables_name_the_field() {
             .expect_err(to);
         assert!(e.field.starts_with(field), "{to}: {e}");
         assert!(e.to_string().contains("bad.toml"), "{e}");
+    }
+}
+
+/// Every scan is handed to the observer at its time: `t = n / rate_hz` exactly (to rounding)
+/// with the built-in integrator, which lands its steps there, and at the first fixed step at
+/// or after it with rapier; none skipped, none doubled. A scan that changed the obstacles
+/// comes between two recorded states at its time.
+#[test]
+fn scans_come_at_their_times_with_both_integrators() {
+    use harmonav_sim::physics::simulate_observed;
+    use harmonav_sim::trace::Event;
+    let p = load("lidar/mixed-dynamic.toml");
+    let Sensor::Lidar(l) = p.truth.sensor else {
+        panic!("a lidar")
+    };
+    let period = l.period();
+    let mut physics = vec![(Physics::Builtin, 1e-9)];
+    if cfg!(feature = "rapier") {
+        // rapier's fixed step: sim.dt = 0.01 s in substeps of at most 1 ms.
+        physics.push((Physics::Rapier, 1e-3 + 1e-9));
+    }
+    for (physics, late) in physics {
+        let mut times = Vec::new();
+        let mut states: Vec<f64> = Vec::new();
+        let mut events = Vec::new();
+        let run = simulate_observed(&p, None, physics, &mut |e| match e {
+            Event::Scan(r) => {
+                times.push(r.time_s);
+                if r.perceived.is_some() {
+                    events.push((r.time_s, states.len()));
+                }
+            }
+            Event::State(s) => states.push(s.t),
+            _ => {}
+        })
+        .unwrap();
+        assert!(run.summary.reached, "{physics:?}");
+        for (n, t) in times.iter().enumerate() {
+            let due = n as f64 * period;
+            assert!(
+                *t >= due - 1e-9 && *t <= due + late,
+                "{physics:?}: scan {n} at {t}, due at {due}"
+            );
+        }
+        assert_eq!(times.len(), run.summary.perception.unwrap().scans);
+        for (t, i) in events {
+            assert!(
+                i >= 1 && states[i - 1] == t,
+                "{physics:?}: a side before {t}"
+            );
+            assert_eq!(states.get(i), Some(&t), "{physics:?}: a side after {t}");
+        }
     }
 }

@@ -44,7 +44,9 @@ impl Navigator {
     /// [`NavError::Perception`] for a scan or pose that is not valid (empty, non-finite angles,
     /// `angle_increment ≤ 0`, bad range limits, overlapping beams), a sensor inside a known
     /// shape or outside the boundary; [`NavError::NotStarWorld`] when a new or grown shape
-    /// overlaps a known one (raw, or grown by `radius + margin`) with no common kernel point;
+    /// overlaps an exact shape of [`Navigator::add_obstacle`], or when the grown shapes overlap
+    /// where the certified distances could not tell them apart (perceived shapes themselves
+    /// always merge);
     /// [`NavError::ContainsRobot`] when a changed shape grown by `radius` contains the pose;
     /// [`NavError::ContainsGoal`]; [`NavError::CrossesBoundary`].
     pub fn observe_scan(&mut self, pose: Pose, scan: &LaserScan) -> Result<ScanUpdate, NavError> {
@@ -94,9 +96,9 @@ impl Navigator {
             if !is_new && obs.grown.binary_search(&p).is_err() {
                 continue;
             }
-            let grown = grow(shape.shape(), inflation)?;
+            let grown = grow_perceived(shape.shape(), inflation)?;
             let body = if with_margin {
-                Some(grow(shape.shape(), radius)?)
+                Some(grow_perceived(shape.shape(), radius)?)
             } else {
                 None
             };
@@ -170,11 +172,12 @@ impl Navigator {
     }
 }
 
-/// `shape ⊕ B(r)`, the shape grown by `r` ([`StarShape::offset`]); when the offset is not star-
-/// shaped about the centre (a merged radial hull with deep bays, `harmonav_perception::merge`),
-/// the disc `B(c, R_max + r)`, which contains it: a perceived shape is a conservative bound, and
-/// so is its growth.
-fn grow(shape: &StarShape, r: f64) -> Result<StarShape, NavError> {
+/// A perceived shape as the navigator holds it: `shape ⊕ B(r)`, grown by `r` (the robot's
+/// radius and margin; [`StarShape::offset`]); when the offset is not star-shaped about the
+/// centre (a merged radial hull with deep bays, `harmonav_perception::merge`), the disc
+/// `B(c, R_max + r)`, which contains it (`R_max` bounds the shape's radius from above): a
+/// perceived shape is a conservative bound, and so is its growth.
+pub fn grow_perceived(shape: &StarShape, r: f64) -> Result<StarShape, NavError> {
     shape.offset(r).or_else(|_| {
         StarShape::circle(shape.centre(), shape.radius_bounds().1 + r).map_err(NavError::Shape)
     })

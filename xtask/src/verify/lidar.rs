@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use harmonav::checks::lidar::{LidarReport, LidarSuite};
 use harmonav::{Law, NavError};
 use harmonav_scenario::{Model, Prepared, Scenario, SensorKind, SensorSpec};
-use harmonav_sim::guarantee::{Check as Measured, Kind};
+use harmonav_sim::guarantee::Check as Measured;
 use harmonav_sim::physics::{Physics, simulate};
 use harmonav_sim::pool::parallel_map;
 use harmonav_sim::summary::Summary;
@@ -84,18 +84,11 @@ pub fn with_lidar(file: &Path) -> Result<Option<Prepared>, String> {
 /// Every suite file (`files`, each with its name) rerun with a 360° lidar ([`with_lidar`])
 /// under both laws, as one check (the issue's "both laws arrive in every world of
 /// `scenarios/` rerun with a 360° lidar"). It fails on any lost guarantee of safety
-/// ([`safe_but_refused`]: collision, workspace, `Θ`, speed, energy, overshoot, the seen truth
+/// ([`Summary::safe`]: collision, workspace, `Θ`, speed, energy, overshoot, the seen truth
 /// covered, shapes only growing). Runs that stay safe but do not arrive (a refused scan, the
 /// paper's damping creeping) make it a [`Verdict::Target`], with the count by reason.
 pub fn rerun_checks(files: Vec<(PathBuf, String)>) -> Vec<Check> {
     vec![Check::new("lidar-rerun.scenarios", move || rerun_all(&files)).early()]
-}
-
-/// Whether every guarantee held but arrival and the acceptance of every scan.
-fn safe_but_refused(s: &Summary) -> bool {
-    s.guarantees
-        .iter()
-        .all(|g| g.passed || matches!(g.kind(), Kind::ReachedGoal | Kind::ScansAccepted))
 }
 
 fn rerun_all(files: &[(PathBuf, String)]) -> Outcome {
@@ -118,7 +111,7 @@ fn rerun_all(files: &[(PathBuf, String)]) -> Outcome {
         let s = s.map_err(|e| format!("{name} ({model:?}): {e}"))?;
         let p = s.perception.clone().unwrap_or_default();
         (seen, uncovered) = (seen + p.seen_points, uncovered + p.uncovered_points);
-        if !safe_but_refused(&s) {
+        if !s.safe() {
             unsafe_runs.push(format!("{name} ({model:?}): {}", perception_line(&s)));
         }
         if s.reached {
