@@ -8,6 +8,14 @@
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+/// The figures' font family.
+pub(crate) const FONT: &str = "sans-serif";
+
+/// A plotters error as text.
+pub fn err(e: impl std::fmt::Debug) -> String {
+    format!("drawing a figure: {e:?}")
+}
+
 /// Backend pixels per nominal pixel of a figure.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Scale(pub u32);
@@ -35,7 +43,7 @@ impl Scale {
 
     /// The figures' sans-serif font at `size` nominal pixels.
     pub fn font(self, size: u32) -> FontDesc<'static> {
-        (crate::figures::FONT, f64::from(self.size(size))).into_font()
+        (FONT, f64::from(self.size(size))).into_font()
     }
 }
 
@@ -54,9 +62,9 @@ pub fn scaled_svg(
     let mut out = String::new();
     {
         let root = SVGBackend::with_string(&mut out, big).into_drawing_area();
-        root.fill(&WHITE).map_err(crate::figures::err)?;
+        root.fill(&WHITE).map_err(err)?;
         draw(&root)?;
-        root.present().map_err(crate::figures::err)?;
+        root.present().map_err(err)?;
     }
     Ok(nominal_size(&out, big, size))
 }
@@ -76,7 +84,7 @@ mod tests {
     fn a_scaled_figure_shows_at_its_nominal_size_with_the_large_view_box() {
         let svg = scaled_svg((100, 50), Scale::FINE, |area| {
             area.draw(&Circle::new((200, 100), 20, BLACK.filled()))
-                .map_err(crate::figures::err)
+                .map_err(err)
         })
         .unwrap();
         assert!(

@@ -22,7 +22,8 @@ use harmonav_scenario::{Prepared, Sensor};
 use harmonav_sim::summary::Run;
 use harmonav_sim::trace::Discovery;
 
-use crate::canvas::{Scale, scaled_svg};
+pub use crate::canvas::err;
+use crate::canvas::{FONT, Scale, scaled_svg};
 use crate::drawing::{outline, xy};
 use crate::levels::{LevelLine, ThetaGrid};
 
@@ -36,16 +37,10 @@ const LEVEL_CELLS: usize = 240;
 /// The nominal size of a plane figure's chart, px (the legend strip goes below it).
 pub(crate) const CHART: (u32, u32) = (720, 740);
 
-pub(crate) const FONT: &str = "sans-serif";
 pub(crate) const PATH: RGBColor = RGBColor(217, 72, 15);
 const KNOWN: RGBColor = RGBColor(176, 32, 32);
 const SECTOR: RGBColor = RGBColor(59, 125, 216);
 pub(crate) const GOAL: RGBColor = RGBColor(43, 138, 62);
-
-/// A plotters error as text.
-pub fn err(e: impl std::fmt::Debug) -> String {
-    format!("drawing a figure: {e:?}")
-}
 
 /// Draws the polyline `points` with `style` on `chart`.
 pub fn draw_path(

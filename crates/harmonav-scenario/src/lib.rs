@@ -48,16 +48,16 @@
 #![warn(missing_docs)]
 
 pub mod floorplan;
-pub mod lidar;
 pub mod scenario;
+pub mod sensor;
 pub mod suites;
 pub mod truth;
 
-pub use lidar::{LidarSensor, SensorKind};
 pub use scenario::{
     ControllerSpec, ExpectSpec, FieldSpec, MAX_FILE_BYTES, MAX_OBSTACLES, MAX_RECORDED_STATES,
-    Model, PARAMETER_RANGE, Prepared, RobotSpec, Scenario, ScenarioError, SensorSpec, ShapeSpec,
-    SimSpec, build_shape,
+    Model, PARAMETER_RANGE, Prepared, RobotSpec, Scenario, ScenarioError, ShapeSpec, SimSpec,
+    build_shape,
 };
+pub use sensor::{LidarSensor, SensorKind, SensorSpec};
 pub use suites::{ADVERSARIAL, LONG, scenario_files};
 pub use truth::{Sensor, Truth};

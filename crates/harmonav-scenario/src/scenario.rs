@@ -14,7 +14,7 @@ use harmonav_transform::{RobotWorldError, StarShape, Workspace, WorldError};
 
 use nalgebra::Vector2;
 
-use crate::lidar::{self, SensorKind};
+use crate::sensor::{self, SensorKind, SensorSpec};
 use crate::truth::{Sensor, Truth};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
@@ -167,78 +167,6 @@ where
 
 fn ser_policy<S: Serializer, P: std::fmt::Display>(p: &P, s: S) -> Result<S::Ok, S::Error> {
     s.collect_str(p)
-}
-
-/// `[sensor]` (omit the table for global sensing): the paper's sector (`type = "sector"`, the
-/// default) or a simulated lidar (`type = "lidar"`, module [`crate::lidar`]).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SensorSpec {
-    /// `"sector"` or `"lidar"`.
-    #[serde(rename = "type", default)]
-    pub kind: SensorKind,
-    /// Range `r`, m (a lidar's `range_max`).
-    pub range: f64,
-    /// Aperture `θ`, degrees, in (0, 360]; default 360.
-    #[serde(default = "full_turn")]
-    pub aperture_deg: f64,
-    /// A-priori minimum curvature radius of the obstacles for `d_min` (eq. `dmin`) and a
-    /// lidar's fits; default: the smallest `rho_min` of the scenario's obstacles.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub rho_min: Option<f64>,
-    /// Lidar: beams per scan (default [`crate::lidar::DEFAULT_BEAMS`]).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub beams: Option<usize>,
-    /// Lidar: scans per second, Hz (default [`crate::lidar::DEFAULT_RATE_HZ`]).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub rate_hz: Option<f64>,
-    /// Lidar: the half-width of its uniform range noise, m, which is also the noise bound `ε`
-    /// the navigator is told (default [`crate::lidar::DEFAULT_RANGE_NOISE`]).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub range_noise: Option<f64>,
-    /// Lidar: the fraction of beams that return nothing (NaN), in [0, 1) (default 0).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub dropout: Option<f64>,
-    /// Lidar: the seed of its noise and dropouts (default 0).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub seed: Option<u64>,
-    /// Lidar: the depth prior `D`, m (A3: how far an obstacle may reach behind its seen
-    /// surface); default: the largest true obstacle's diameter.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub max_obstacle_depth: Option<f64>,
-}
-
-fn full_turn() -> f64 {
-    360.0
-}
-
-impl SensorSpec {
-    /// The paper's sector of range `r` (m) and aperture `θ` (degrees), `rho_min` from the
-    /// obstacles.
-    #[must_use]
-    pub fn sector(range: f64, aperture_deg: f64) -> Self {
-        Self {
-            kind: SensorKind::Sector,
-            range,
-            aperture_deg,
-            rho_min: None,
-            beams: None,
-            rate_hz: None,
-            range_noise: None,
-            dropout: None,
-            seed: None,
-            max_obstacle_depth: None,
-        }
-    }
-
-    /// A simulated 360° lidar of range `r` (m), every other field at its default.
-    #[must_use]
-    pub fn lidar(range: f64) -> Self {
-        Self {
-            kind: SensorKind::Lidar,
-            ..Self::sector(range, 360.0)
-        }
-    }
 }
 
 /// `[controller]`.
@@ -703,64 +631,67 @@ impl Scenario {
             .chain(if lidar { &true_obstacles[..] } else { &[] })
             .map(StarShape::rho_min)
             .fold(f64::INFINITY, f64::min);
-        let (sensor, rho_min) = match &self.sensor {
-            None => (Sensor::Global, rho_default),
-            Some(spec) => {
-                if spec.kind == SensorKind::Sector {
-                    let given = lidar::lidar_only_fields(spec).into_iter().find(|f| f.1);
-                    if let Some((name, _)) = given {
+        let (sensor, rho_min) =
+            match &self.sensor {
+                None => (Sensor::Global, rho_default),
+                Some(spec) => {
+                    if spec.kind == SensorKind::Sector {
+                        let given = sensor::lidar_only_fields(spec).into_iter().find(|f| f.1);
+                        if let Some((name, _)) = given {
+                            return Err(f(
+                                &format!("sensor.{name}"),
+                                "only a lidar takes it (sensor.type = \"lidar\")".into(),
+                            ));
+                        }
+                    }
+                    // Below a thousandth of a degree the sector's d_min (eq. dmin) underflows.
+                    if !(spec.aperture_deg.is_finite() && spec.aperture_deg >= MIN_APERTURE_DEG) {
                         return Err(f(
-                            &format!("sensor.{name}"),
-                            "only a lidar takes it (sensor.type = \"lidar\")".into(),
+                            "sensor.aperture_deg",
+                            format!(
+                                "must be in (0, 360] and at least {MIN_APERTURE_DEG}°, got {:e}",
+                                spec.aperture_deg
+                            ),
                         ));
                     }
-                }
-                // Below a thousandth of a degree the sector's d_min (eq. dmin) underflows.
-                if !(spec.aperture_deg.is_finite() && spec.aperture_deg >= MIN_APERTURE_DEG) {
-                    return Err(f(
-                        "sensor.aperture_deg",
-                        format!(
-                            "must be in (0, 360] and at least {MIN_APERTURE_DEG}°, got {:e}",
-                            spec.aperture_deg
+                    in_range("sensor.range", spec.range)?;
+                    let sector = Sector::new(spec.range, spec.aperture_deg.to_radians()).map_err(
+                        |e| match e {
+                            harmonav_sensing::SensorError::Range(v) => f(
+                                "sensor.range",
+                                format!("must be finite and positive, got {v:e}"),
+                            ),
+                            harmonav_sensing::SensorError::Aperture(_) => f(
+                                "sensor.aperture_deg",
+                                format!("must be in (0, 360], got {:e}", spec.aperture_deg),
+                            ),
+                        },
+                    )?;
+                    let rho = spec.rho_min.unwrap_or(rho_default);
+                    let no_bound_needed = spec.rho_min.is_none() && self.obstacles.is_empty();
+                    let (lo, hi) = PARAMETER_RANGE;
+                    if !(no_bound_needed || rho.is_finite() && (lo..=hi).contains(&rho)) {
+                        let from = if spec.rho_min.is_some() {
+                            ""
+                        } else {
+                            " (the obstacles' smallest curvature radius, as none is given)"
+                        };
+                        return Err(f(
+                            "sensor.rho_min",
+                            format!("must be finite and in [{lo:e}, {hi:e}] m{from}, got {rho:e}"),
+                        ));
+                    }
+                    match spec.kind {
+                        SensorKind::Sector => (Sensor::Sector(sector), rho),
+                        SensorKind::Lidar => (
+                            Sensor::Lidar(sensor::prepare(spec, &true_obstacles).map_err(
+                                |(field, problem)| f(&format!("sensor.{field}"), problem),
+                            )?),
+                            rho,
                         ),
-                    ));
+                    }
                 }
-                in_range("sensor.range", spec.range)?;
-                let sector = Sector::new(spec.range, spec.aperture_deg.to_radians()).map_err(
-                    |e| match e {
-                        harmonav_sensing::SensorError::Range(v) => f(
-                            "sensor.range",
-                            format!("must be finite and positive, got {v:e}"),
-                        ),
-                        harmonav_sensing::SensorError::Aperture(_) => f(
-                            "sensor.aperture_deg",
-                            format!("must be in (0, 360], got {:e}", spec.aperture_deg),
-                        ),
-                    },
-                )?;
-                let rho = spec.rho_min.unwrap_or(rho_default);
-                let no_bound_needed = spec.rho_min.is_none() && self.obstacles.is_empty();
-                let (lo, hi) = PARAMETER_RANGE;
-                if !(no_bound_needed || rho.is_finite() && (lo..=hi).contains(&rho)) {
-                    let from = if spec.rho_min.is_some() {
-                        ""
-                    } else {
-                        " (the obstacles' smallest curvature radius, as none is given)"
-                    };
-                    return Err(f(
-                        "sensor.rho_min",
-                        format!("must be finite and in [{lo:e}, {hi:e}] m{from}, got {rho:e}"),
-                    ));
-                }
-                match spec.kind {
-                    SensorKind::Sector => (Sensor::Sector(sector), rho),
-                    SensorKind::Lidar => (
-                        Sensor::Lidar(lidar::prepare(path, spec, &true_obstacles)?),
-                        rho,
-                    ),
-                }
-            }
-        };
+            };
         let (radius, margin) = (self.robot.radius, self.robot.margin);
         Ok(Prepared {
             scenario: self,
@@ -834,7 +765,7 @@ pub fn read_text(path: &Path) -> Result<String, ScenarioError> {
     Ok(text)
 }
 
-pub(crate) fn err(path: &Path, field: &str, line: Option<usize>, problem: String) -> ScenarioError {
+fn err(path: &Path, field: &str, line: Option<usize>, problem: String) -> ScenarioError {
     ScenarioError {
         file: path.to_path_buf(),
         field: field.to_string(),

@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use harmonav_sensing::{Sector, Sensing};
 
-use crate::lidar::LidarSensor;
+use crate::sensor::LidarSensor;
 use harmonav_transform::{StarShape, Workspace};
 use nalgebra::Vector2;
 

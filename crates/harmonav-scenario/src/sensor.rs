@@ -1,3 +1,5 @@
+//! `[sensor]`: the paper's sector or a simulated lidar ([`SensorSpec`]).
+//!
 //! `[sensor] type = "lidar"`: a simulated planar lidar as the robot's only perception
 //! (issue 26, docs/maths.md §12.6). The scenario's obstacles are the truth: the lidar casts its
 //! beams against them, and the robot's navigator gets the scans alone
@@ -12,14 +14,83 @@
 //!   radius, as for the sector.
 
 use std::f64::consts::TAU;
-use std::path::Path;
 
 use harmonav::perception::sim::Lidar;
 use harmonav::{Options, ScanOptions};
 use harmonav_transform::StarShape;
 use serde::{Deserialize, Serialize};
 
-use crate::scenario::{ScenarioError, SensorSpec, err};
+/// `[sensor]` (omit the table for global sensing): the paper's sector (`type = "sector"`, the
+/// default) or a simulated lidar (`type = "lidar"`, below).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SensorSpec {
+    /// `"sector"` or `"lidar"`.
+    #[serde(rename = "type", default)]
+    pub kind: SensorKind,
+    /// Range `r`, m (a lidar's `range_max`).
+    pub range: f64,
+    /// Aperture `θ`, degrees, in (0, 360]; default 360.
+    #[serde(default = "full_turn")]
+    pub aperture_deg: f64,
+    /// A-priori minimum curvature radius of the obstacles for `d_min` (eq. `dmin`) and a
+    /// lidar's fits; default: the smallest `rho_min` of the scenario's obstacles.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rho_min: Option<f64>,
+    /// Lidar: beams per scan (default [`DEFAULT_BEAMS`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub beams: Option<usize>,
+    /// Lidar: scans per second, Hz (default [`DEFAULT_RATE_HZ`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rate_hz: Option<f64>,
+    /// Lidar: the half-width of its uniform range noise, m, which is also the noise bound `ε`
+    /// the navigator is told (default [`DEFAULT_RANGE_NOISE`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub range_noise: Option<f64>,
+    /// Lidar: the fraction of beams that return nothing (NaN), in [0, 1) (default 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dropout: Option<f64>,
+    /// Lidar: the seed of its noise and dropouts (default 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub seed: Option<u64>,
+    /// Lidar: the depth prior `D`, m (A3: how far an obstacle may reach behind its seen
+    /// surface); default: the largest true obstacle's diameter.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_obstacle_depth: Option<f64>,
+}
+
+fn full_turn() -> f64 {
+    360.0
+}
+
+impl SensorSpec {
+    /// The paper's sector of range `r` (m) and aperture `θ` (degrees), `rho_min` from the
+    /// obstacles.
+    #[must_use]
+    pub fn sector(range: f64, aperture_deg: f64) -> Self {
+        Self {
+            kind: SensorKind::Sector,
+            range,
+            aperture_deg,
+            rho_min: None,
+            beams: None,
+            rate_hz: None,
+            range_noise: None,
+            dropout: None,
+            seed: None,
+            max_obstacle_depth: None,
+        }
+    }
+
+    /// A simulated 360° lidar of range `r` (m), every other field at its default.
+    #[must_use]
+    pub fn lidar(range: f64) -> Self {
+        Self {
+            kind: SensorKind::Lidar,
+            ..Self::sector(range, 360.0)
+        }
+    }
+}
 
 /// `sensor.type`: how the robot perceives the obstacles.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -93,13 +164,12 @@ impl LidarSensor {
 }
 
 /// The lidar of `spec` (`sensor.type = "lidar"`) in a world of the true `obstacles`, or the
-/// first problem, naming its field of `path`.
+/// first problem: the field of `[sensor]` and what is wrong.
 pub(crate) fn prepare(
-    path: &Path,
     spec: &SensorSpec,
     obstacles: &[StarShape],
-) -> Result<LidarSensor, ScenarioError> {
-    let f = |field: &str, problem: String| err(path, &format!("sensor.{field}"), None, problem);
+) -> Result<LidarSensor, (&'static str, String)> {
+    let f = |field: &'static str, problem: String| (field, problem);
     let beams = spec.beams.unwrap_or(DEFAULT_BEAMS);
     if !(2..=MAX_BEAMS).contains(&beams) {
         return Err(f(
