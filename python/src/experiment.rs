@@ -264,10 +264,7 @@ fn prepare(c: &Config) -> Result<Prepared, String> {
         Some(SensingKind::Global) => scenario.sensor = None,
         Some(SensingKind::Sector) if scenario.sensor.is_some() => {}
         Some(SensingKind::Sector) => {
-            scenario.sensor = Some(SensorSpec::sector(
-                PAPER_SECTOR.0,
-                PAPER_SECTOR.1,
-            ));
+            scenario.sensor = Some(SensorSpec::sector(PAPER_SECTOR.0, PAPER_SECTOR.1));
         }
     }
     if let Some(m) = c.margin {

@@ -123,24 +123,25 @@ impl Scenario {
         let prepared = &self.prepared;
         // As `harmonav run --out`: the folder checked first, the recording streamed during the
         // run (every event of it, a lidar's every scan), the set completed after it.
-        let (run, written) = py.detach(|| {
-            let mut outputs = match &out {
-                Some(dir) => Some(
-                    Outputs::begin(dir, prepared)
-                        .map_err(|e| format!("out: {e}; nothing was run"))?,
-                ),
-                None => None,
-            };
-            let run = simulate_observed(prepared, model, physics, &mut |e| {
-                if let Some(o) = outputs.as_mut() {
-                    o.observe(e);
-                }
+        let (run, written) = py
+            .detach(|| {
+                let mut outputs = match &out {
+                    Some(dir) => Some(
+                        Outputs::begin(dir, prepared)
+                            .map_err(|e| format!("out: {e}; nothing was run"))?,
+                    ),
+                    None => None,
+                };
+                let run = simulate_observed(prepared, model, physics, &mut |e| {
+                    if let Some(o) = outputs.as_mut() {
+                        o.observe(e);
+                    }
+                })
+                .map_err(|e| format!("{}: {e}", self.path.display()))?;
+                let written = outputs.map(|o| o.finish(&run));
+                Ok::<_, String>((run, written))
             })
-            .map_err(|e| format!("{}: {e}", self.path.display()))?;
-            let written = outputs.map(|o| o.finish(&run));
-            Ok::<_, String>((run, written))
-        })
-        .map_err(value_error)?;
+            .map_err(value_error)?;
         let result = RunResult::new(py, &run)?;
         if let Some(Err(e)) = written {
             let err = PyOSError::new_err(format!(
