@@ -17,13 +17,13 @@
 //! line. The fit is [`certified_star`] about a centre behind the visible arc over a cover of
 //! `∂Y` (eq. certify), so it contains `Y`.
 
-use std::f64::consts::TAU;
+use std::f64::consts::{PI, TAU};
 
 use harmonav_transform::ShapeError;
 use nalgebra::Vector2;
 
 use crate::perceived::{Certification, Perceived, certified_star};
-use crate::scan::{LaserScan, Pose};
+use crate::scan::{LaserScan, Pose, Reading};
 use crate::segment::{Segment, hit_point};
 
 /// How many beams outward from each end of a segment are searched for a side cut (eq. side).
@@ -487,14 +487,64 @@ fn centre(s: Vector2<f64>, points: &[Vector2<f64>], region: &Region) -> Vector2<
         .unwrap_or(mean + 0.5 * exit * u)
 }
 
+/// The radius of a disc about the sensor that the scan shows free (eq. free): every point
+/// of an obstacle (a union of discs of radius `ρ_min`, A4) is at least this far from the
+/// sensor. `0` unless the scan covers a full turn.
+///
+/// ```text
+/// ρ_s = min over consecutive valid beams i, j (Δ apart) of  f cos(Δ/2) − sag(2 f sin(Δ/2)),
+/// f = min(f_i, f_j, 0.999·ρ_min / sin(Δ/2))                                           (eq. free)
+/// ```
+///
+/// (`f_i` = [`LaserScan::free_until`]; a beam with no information is skipped, which widens
+/// `Δ`.) *Why.* The beams `[s, s + f u_i]`, `[s, s + f u_j]` are free (A1), and the chord
+/// between their ends is `c = 2f sin(Δ/2) < 2ρ_min` long. A disc of radius `ρ_min` of the
+/// obstacle that reached into the triangle `(s, s + f u_i, s + f u_j)` meets neither beam nor
+/// `s`, cannot lie inside it (its inradius is below `c/2 < ρ_min`), so it crosses the chord, and
+/// the part of it inside lies within `sag(c)` of the chord's line, which is `f cos(Δ/2)` from
+/// `s`.
+#[must_use]
+pub fn free_radius(scan: &LaserScan, range_noise: f64, rho_min: f64) -> f64 {
+    if !scan.full_turn() {
+        return 0.0;
+    }
+    let n = scan.ranges.len();
+    let valid: Vec<usize> = (0..n)
+        .filter(|&i| matches!(scan.reading(i), Reading::Hit(_) | Reading::NoReturn))
+        .collect();
+    if valid.len() < 3 {
+        return 0.0;
+    }
+    let mut radius = f64::INFINITY;
+    for (k, &i) in valid.iter().enumerate() {
+        let j = valid[(k + 1) % valid.len()];
+        let gap = (j + n - i) % n;
+        let delta = gap as f64 * scan.angle_increment;
+        if delta >= 0.5 * PI {
+            return 0.0;
+        }
+        let half = (0.5 * delta).sin();
+        let f = scan
+            .free_until(i, range_noise)
+            .min(scan.free_until(j, range_noise))
+            .min(0.999 * rho_min / half);
+        let reach = f * (0.5 * delta).cos() - sagitta(2.0 * f * half, rho_min);
+        radius = radius.min(reach);
+    }
+    radius.max(0.0)
+}
+
 /// Eq. region and its certified star for one segment: hits `points` in angular order with their
-/// beam directions `dirs`, seen from `s`.
+/// beam directions `dirs`, seen from `s`. `free`: the radius of a disc about `s` that the scan
+/// shows free ([`free_radius`], 0 for none): the star then contains `Y \ B(s, free)`, which
+/// holds the obstacle as `Y` does, and is cut back from the sensor where its order allows.
 pub fn fit_segment(
     s: Vector2<f64>,
     points: &[Vector2<f64>],
     dirs: &[Vector2<f64>],
     sides: &[Vec<(Vector2<f64>, f64)>; 2],
     params: &FitParams,
+    free: f64,
 ) -> Result<Fit, FitFailure> {
     assert!(!points.is_empty() && points.len() == dirs.len());
     let limit = params.max_obstacle_depth + 2.0 * params.range_noise;
@@ -503,7 +553,20 @@ pub fn fit_segment(
         return Err(FitFailure::WiderThanDepth { span: w, limit });
     }
     let region = region(s, points, dirs, sides, params);
-    let samples = cover(&region, params.check_spacing);
+    let h = params.check_spacing;
+    let mut samples = cover(&region, h);
+    if free > h {
+        // A cover of ∂(Y \ B(s, free)) ⊂ (∂Y \ B) ∪ (∂B ∩ Y): the samples of ∂Y not more than
+        // h/2 inside the disc (every point of ∂Y outside it has one within h/2), and the disc's
+        // circle at spacing h where it comes within h of Y.
+        samples.retain(|x| (x - s).norm() >= free - 0.5 * h);
+        let count = ((TAU * free / h).ceil() as usize).max(8);
+        samples.extend((0..count).filter_map(|j| {
+            let t = TAU * j as f64 / count as f64;
+            let x = s + free * Vector2::new(t.cos(), t.sin());
+            (region.near_k(x, h) && !region.deep_in_cut(x, h)).then_some(x)
+        }));
+    }
     let c = centre(s, points, &region);
     let (perceived, certification) =
         certified_star(c, &samples, params.check_spacing, params.order)
@@ -564,5 +627,6 @@ pub fn fit_in_scan(
         .collect();
     let dirs: Vec<Vector2<f64>> = seg.beams.iter().map(|&i| scan.direction(pose, i)).collect();
     let sides = side_beams(scan, pose, seg, params.range_noise);
-    fit_segment(pose.position(), &points, &dirs, &sides, params)
+    let free = free_radius(scan, params.range_noise, params.rho_min);
+    fit_segment(pose.position(), &points, &dirs, &sides, params, free)
 }

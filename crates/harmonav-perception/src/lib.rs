@@ -100,7 +100,8 @@ pub mod segment;
 pub mod sim;
 
 pub use fit::{
-    Fit, FitFailure, FitParams, SIDE_BEAMS, fit_in_scan, fit_segment, sagitta, side_beams,
+    Fit, FitFailure, FitParams, SIDE_BEAMS, fit_in_scan, fit_segment, free_radius, sagitta,
+    side_beams,
 };
 pub use perceived::{Certification, MergeFailure, Perceived, certified_star, merge};
 pub use perception::{Known, Observation, Options, Perception, PerceptionError};

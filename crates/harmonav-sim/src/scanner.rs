@@ -12,8 +12,9 @@
 
 use std::f64::consts::TAU;
 
+use harmonav::perception::Reading;
 use harmonav::perception::sim::Lidar;
-use harmonav::{NavError, Navigator, Pose, StarShape};
+use harmonav::{LaserScan, NavError, Navigator, Pose, StarShape};
 use harmonav_scenario::{LidarSensor, Truth};
 use harmonav_transform::random::Rng;
 use nalgebra::Vector2;
@@ -102,7 +103,7 @@ impl Scanner {
         self.report.scans += 1;
         self.report.unfitted_segments += update.unfitted;
         let now: Vec<StarShape> = nav.perceived().map(|(_, p)| p.shape().clone()).collect();
-        let c = coverage(&lidar, &pose, truth, &now);
+        let c = coverage(&lidar, &pose, &scan, truth, &now);
         self.report.seen_points += c.seen;
         self.report.uncovered_points += c.uncovered;
         if c.seen > c.uncovered {
@@ -196,15 +197,19 @@ struct Coverage {
 
 /// The coverage check at `pose`: the true boundary points that [`DENSE`] noise-free rays per
 /// beam of `lidar` hit first (within `range_max − noise`, the reach at which every true hit
-/// reads as a return under A1, and not behind the boundary), how many of them lie outside
-/// every shape of `perceived`, and how deep the others lie.
-fn coverage(lidar: &Lidar, pose: &Pose, truth: &Truth, perceived: &[StarShape]) -> Coverage {
+/// reads as a return under A1, and not behind the boundary) on an obstacle that a return of
+/// `scan` hit (the perception's claim is about the obstacles its beams saw, all of each: an
+/// obstacle seen only through a gap narrower than the beams, or behind dropouts, is not one),
+/// how many of them lie outside every shape of `perceived`, and how deep the others lie.
+fn coverage(
+    lidar: &Lidar,
+    pose: &Pose,
+    scan: &LaserScan,
+    truth: &Truth,
+    perceived: &[StarShape],
+) -> Coverage {
     let s = pose.position();
-    let lidar = Lidar {
-        range_max: lidar.range_max - lidar.noise,
-        ..*lidar
-    };
-    let lidar = &lidar;
+    let boundary = Some(&truth.boundary);
     // Only the obstacles whose bounding disc the range reaches.
     let near: Vec<&StarShape> = truth
         .obstacles
@@ -219,6 +224,20 @@ fn coverage(lidar: &Lidar, pose: &Pose, truth: &Truth, perceived: &[StarShape]) 
     if near.is_empty() {
         return c;
     }
+    // The obstacles the scan's returns hit (noise-free along their beams).
+    let mut hit = vec![false; near.len()];
+    for i in 0..scan.ranges.len() {
+        if matches!(scan.reading(i), Reading::Hit(_))
+            && let Some((k, _)) =
+                lidar.first_obstacle_hit(s, scan.direction(pose, i), near.iter().copied(), boundary)
+        {
+            hit[k] = true;
+        }
+    }
+    let lidar = &Lidar {
+        range_max: lidar.range_max - lidar.noise,
+        ..*lidar
+    };
     let (angle_min, increment) = lidar.angles();
     let full = (lidar.aperture - TAU).abs() < 1e-12;
     let rays = if full {
@@ -230,8 +249,8 @@ fn coverage(lidar: &Lidar, pose: &Pose, truth: &Truth, perceived: &[StarShape]) 
     for i in 0..rays {
         let a = pose.yaw + angle_min + i as f64 * step;
         let u = Vector2::new(a.cos(), a.sin());
-        let boundary = Some(&truth.boundary);
-        if let Some((_, t)) = lidar.first_obstacle_hit(s, u, near.iter().copied(), boundary) {
+        let first = lidar.first_obstacle_hit(s, u, near.iter().copied(), boundary);
+        if let Some((_, t)) = first.filter(|(k, _)| hit[*k]) {
             c.seen += 1;
             let p = s + t * u;
             let depth = perceived

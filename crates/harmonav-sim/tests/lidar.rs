@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use harmonav_scenario::{Model, Prepared, Scenario, Sensor};
+use harmonav_scenario::{Prepared, Scenario, Sensor};
 use harmonav_sim::guarantee::Kind;
 use harmonav_sim::physics::{Physics, simulate};
 use harmonav_sim::run::run;
@@ -68,6 +68,7 @@ fn lidar_suite_files_arrive_with_every_guarantee() {
 #[cfg(feature = "rapier")]
 #[test]
 fn lidar_runs_in_rapier_touch_nothing() {
+    use harmonav_scenario::Model;
     let p = load("lidar/paper-world.toml");
     let r = simulate(&p, Some(Model::Kinematic), Physics::Rapier).unwrap();
     let s = &r.summary;

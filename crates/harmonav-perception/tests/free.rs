@@ -1,0 +1,120 @@
+//! Eq. free: the disc about the sensor that a full-turn scan shows free. Over seeded random
+//! truths it never reaches an obstacle (the claim), it is nearly as large as the true distance
+//! (not vacuous), and the fits then leave the sensor out where they used to hold it.
+
+mod common;
+
+use harmonav_perception::{fit_in_scan, fit_segment, free_radius, hit_point, segment, side_beams};
+use harmonav_transform::random::Rng;
+
+const TRIALS: u64 = 200;
+
+/// `ρ_s` is at most the true distance from the sensor to the obstacle, and within the noise
+/// bound, the sagitta and two beam spacings of it.
+#[test]
+fn the_free_disc_never_reaches_the_truth() {
+    let mut slack = Vec::new();
+    for seed in 0..TRIALS {
+        let t = common::trial(seed, 0.02);
+        let mut rng = Rng::new(seed ^ 0xF4EE);
+        let scan = t
+            .lidar
+            .scan(&t.pose, std::slice::from_ref(&t.truth), None, &mut rng);
+        let free = free_radius(&scan, t.options.range_noise, t.options.rho_min);
+        let truth = t.truth.signed_distance(t.pose.position());
+        assert!(free <= truth, "seed {seed}: free {free} > distance {truth}");
+        slack.push(truth - free);
+    }
+    slack.sort_by(f64::total_cmp);
+    let median = slack[slack.len() / 2];
+    // Measured: the median shortfall is the noise bound plus a few mm.
+    assert!(median < 0.05, "median shortfall {median} m");
+}
+
+/// Without the noise bound (`ε = 0` while the lidar is ±2 cm noisy) the disc reaches into the
+/// truth in some trials: the bound in `free_until` is what keeps it out.
+#[test]
+fn without_the_noise_bound_the_free_disc_reaches_the_truth() {
+    let mut reached = 0;
+    for seed in 0..TRIALS {
+        let mut t = common::trial(seed, 0.02);
+        t.lidar.noise = 0.02;
+        let mut rng = Rng::new(seed ^ 0xF4EE);
+        let scan = t
+            .lidar
+            .scan(&t.pose, std::slice::from_ref(&t.truth), None, &mut rng);
+        let free = free_radius(&scan, 0.0, t.options.rho_min);
+        if free > t.truth.signed_distance(t.pose.position()) {
+            reached += 1;
+        }
+    }
+    // Measured: 7 of 200 (the closest beam must read short by more than the geometric slack).
+    assert!(reached >= 3, "only {reached} of {TRIALS}");
+}
+
+/// A sensor within the depth prior of what it sees: the fit without the free disc holds the
+/// sensor (its region `Y` does: the sensor is the triangles' apex), the fit with it does not,
+/// and both contain the truth.
+#[test]
+fn the_free_disc_keeps_the_sensor_out_of_the_fit() {
+    let (mut held_before, mut held_after, mut fits) = (0, 0, 0);
+    for seed in 0..TRIALS {
+        let mut t = common::trial(seed, 0.02);
+        // Closer than the depth prior: the robot 0.2–0.6 m from the obstacle.
+        let c = t.truth.centre();
+        let dir = (t.pose.position() - c).normalize();
+        let d = t.truth.radius_bounds().1 + Rng::new(seed).uniform(0.2, 0.6);
+        let s = c + d * dir;
+        t.pose = harmonav_perception::Pose::new(s.x, s.y, t.pose.yaw);
+        if t.options.max_obstacle_depth < d {
+            continue;
+        }
+        let mut rng = Rng::new(seed ^ 0xF4EE);
+        let scan = t
+            .lidar
+            .scan(&t.pose, std::slice::from_ref(&t.truth), None, &mut rng);
+        let p = t.options;
+        let usable: Vec<bool> = (0..scan.ranges.len())
+            .map(|i| hit_point(&scan, &t.pose, i).is_some())
+            .collect();
+        for seg in segment(&scan, &t.pose, &usable, p.jump_distance) {
+            let params = harmonav_perception::FitParams {
+                range_noise: p.range_noise,
+                max_obstacle_depth: p.max_obstacle_depth,
+                rho_min: p.rho_min,
+                order: p.order,
+                check_spacing: p.check_spacing,
+            };
+            let Ok(after) = fit_in_scan(&scan, &t.pose, &seg, &params) else {
+                continue;
+            };
+            let points: Vec<_> = seg
+                .beams
+                .iter()
+                .map(|&i| hit_point(&scan, &t.pose, i).unwrap())
+                .collect();
+            let dirs: Vec<_> = seg
+                .beams
+                .iter()
+                .map(|&i| scan.direction(&t.pose, i))
+                .collect();
+            let sides = side_beams(&scan, &t.pose, &seg, p.range_noise);
+            let before = fit_segment(s, &points, &dirs, &sides, &params, 0.0).unwrap();
+            fits += 1;
+            held_before += usize::from(before.perceived.shape().contains(s));
+            held_after += usize::from(after.perceived.shape().contains(s));
+            for x in common::truth_points(&t.truth) {
+                assert!(
+                    after.perceived.shape().contains(x),
+                    "seed {seed}: truth outside"
+                );
+            }
+        }
+    }
+    println!("sensor inside {held_before} fits before, {held_after} after, of {fits}");
+    assert!(fits > 20, "{fits} fits");
+    assert!(
+        held_after * 4 < held_before.max(1),
+        "the sensor inside {held_before} fits before, {held_after} after (of {fits})"
+    );
+}
