@@ -71,6 +71,21 @@ fn rhs(d: &Driver, y: &State) -> Option<(State, Evaluation)> {
     Some((dy, e))
 }
 
+/// `ẏ` at `y` after `Θ`, `k` and `λ` may have changed (a step's end, a discovery, a scan
+/// event); `None` when `y` is outside the known free space, and the guarantee
+/// `stayed-in-free-space` is lost (the run must stop).
+fn rhs_after_event(d: &mut Driver, t: f64, y: &State) -> Option<State> {
+    let next = rhs(d, y).map(|(dy, _)| dy);
+    if next.is_none() {
+        d.abort(Guarantee::failed(Check::LeftFreeSpace {
+            time_s: t,
+            position: [y[0], y[1]],
+            reason: FreeSpaceLoss::Left,
+        }));
+    }
+    next
+}
+
 /// Runs a prepared scenario with the built-in integrator; `model` overrides the file's robot
 /// model.
 pub fn run(prepared: &Prepared, model: Option<Model>) -> Result<Run, RunError> {
@@ -116,12 +131,7 @@ pub(crate) fn integrate(
                 None => break,
                 Some(false) => {}
                 Some(true) => {
-                    let Some((k_next, _)) = rhs(&d, &y) else {
-                        d.abort(Guarantee::failed(Check::LeftFreeSpace {
-                            time_s: t,
-                            position: [y[0], y[1]],
-                            reason: FreeSpaceLoss::Left,
-                        }));
+                    let Some(k_next) = rhs_after_event(&mut d, t, &y) else {
                         break;
                     };
                     k1 = k_next;
@@ -217,12 +227,7 @@ pub(crate) fn integrate(
             }
         }
         // Θ, k and λ change here; the next step starts from the new right-hand side.
-        let Some((k_next, _)) = rhs(&d, &y) else {
-            d.abort(Guarantee::failed(Check::LeftFreeSpace {
-                time_s: t,
-                position: [y[0], y[1]],
-                reason: FreeSpaceLoss::Left,
-            }));
+        let Some(k_next) = rhs_after_event(&mut d, t, &y) else {
             break;
         };
         k1 = k_next;
