@@ -1,5 +1,5 @@
 //! The simulated lidar in the closed loop (`[sensor] type = "lidar"`, issue 26; docs/maths.md
-//! §12.6): at every `t = n / rate_hz` it casts the scenario's beams against the true shapes
+//! §12.7): at every `t = n / rate_hz` it casts the scenario's beams against the true shapes
 //! (seeded noise and dropouts, `harmonav_perception::sim::Lidar`), hands the scan to the
 //! robot's navigator ([`Navigator::observe_scan`], its only perception) and judges what the
 //! navigator perceived against the truth:
