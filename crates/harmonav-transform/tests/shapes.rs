@@ -57,6 +57,16 @@ fn closed_forms() {
         "{}",
         s.rho_min()
     );
+    // Areas: πab; the square 4 less four corners of (4 − π)·0.2²; π(r0² + a²/2) for the star.
+    let pi = std::f64::consts::PI;
+    assert!((e.area() - pi * 2.0 * 0.5).abs() < 1e-12, "{}", e.area());
+    let square = 4.0 - (4.0 - pi) * 0.04;
+    assert!((p.area() - square).abs() < 1e-4 * square, "{}", p.area());
+    assert!(
+        (s.area() - pi * (1.0 + 0.5 * 0.01)).abs() < 1e-12,
+        "{}",
+        s.area()
+    );
 }
 
 #[test]

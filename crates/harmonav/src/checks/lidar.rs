@@ -320,20 +320,13 @@ pub fn fly_lidar(
     }
     for o in &world.obstacles {
         if nav.perceived().any(|(_, p)| p.shape().contains(o.centre())) {
-            seen += area(o);
+            seen += o.area();
         }
     }
     if seen > 0.0 {
         f.conservatism = perceived / seen;
     }
     Ok(f)
-}
-
-/// The area of a star, m²: `½∮R² dθ` on 1024 directions.
-fn area(s: &StarShape) -> f64 {
-    let n = 1024;
-    let c = s.centre();
-    samples(s, n).map(|p| (p - c).norm_squared()).sum::<f64>() * 0.5 * TAU / n as f64
 }
 
 /// What [`LidarSuite::run`] measured.
