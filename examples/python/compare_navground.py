@@ -17,17 +17,18 @@ disc workspace of radius 5 m.
   non-disc shapes as 1024 line segments of their outlines, the wall as 256),  an omnidirectional robot with
   1 m/s top speed, 100 Hz steps, and arrival within 0.05 m (its target tolerance).
 
-Reported per method: arrival within 120 s, runs with a collision (the clearance to a true
-shape, less the radius, at or below 0) and the closest clearance over all runs, path length over the shortest path (the median over the
-arrivals, from harmonav's visibility-graph shortest path around the grown shapes), time to
-the goal (median over arrivals), and the cost of one command, timed from Python for both
+Each run is a record of harmonav's study table, printed by `harmonav.study_table` (the one
+tabulation of `cargo xtask quality` and `harmonav.experiment report`): arrival within 120 s,
+harmonav's guarantee monitors (navground has
+none: 0), runs with a collision (the clearance to a true shape, less the radius, at or below 0),
+path length over the shortest path (harmonav's visibility-graph shortest path around the grown
+shapes) and time to the goal over the arrivals (median, p90, max), the closest clearance, the
+integrator's steps (harmonav), and the cost of one command, timed from Python for both
 (`Navigator.command` with every obstacle known, `Behavior.compute_cmd`).
 """
 
 import argparse
-import math
 import pathlib
-import statistics
 import sys
 import tempfile
 import time
@@ -187,6 +188,7 @@ def path_length(x):
 
 
 def run_harmonav(world, tmp, law, k, damping, world_shapes, v_max=None):
+    """One harmonav run as a record of the study table (``harmonav.study_table``)."""
     suffix = "" if v_max is None else f"-vmax{v_max}"
     path = pathlib.Path(tmp) / f'{world["name"]}-{law}-{k}{suffix}.toml'
     path.write_text(toml(world, law, k, damping, v_max))
@@ -206,16 +208,16 @@ def run_harmonav(world, tmp, law, k, damping, world_shapes, v_max=None):
     for x, v in states:
         nav.command(x, v)
     cost = (time.perf_counter() - t0) / len(states) * 1e6
-    return {
-        "reached": bool(s["reached"]),
-        "clearance": float(clearance(world_shapes, res.x).min()),
-        "ratio": path_length(res.x) / shortest,
-        "time": s["time_s"],
-        "cost_us": cost,
-    }
+    policy = damping if v_max is None else f"{damping}, v_max {v_max:g} m/s"
+    held = all(g["passed"] for g in s["guarantees"] if g["name"] != "reached-goal")
+    return record(world, law, policy, k, "sector", bool(s["reached"]),
+                  clearance(world_shapes, res.x).min(), path_length(res.x) / shortest,
+                  s["time_s"], cost, held, steps=s["steps"] + s["rejected_steps"])
 
 
 def run_navground(world, kind, world_shapes, shortest):
+    """One navground run as a record: it has no guarantee monitors (``guarantees_held`` is
+    False) and no integrator steps."""
     b = core.Behavior.make_type(kind)
     b.kinematics = core.kinematics.OmnidirectionalKinematics(max_speed=1.0)
     b.radius = ROBOT_RADIUS
@@ -246,13 +248,24 @@ def run_navground(world, kind, world_shapes, shortest):
             reached = True
             break
     x = np.array(xs)
+    # navground stops within its 0.05 m tolerance: count the rest of the way as travelled.
+    ratio = (path_length(x) + np.linalg.norm(x[-1] - world["goal"])) / shortest
+    return record(world, "navground", kind, None, "global", reached, clearance(world_shapes, x).min(),
+                  ratio, (len(xs) - 1) * dt, spent / (len(xs) - 1) * 1e6, False)
+
+
+def record(world, law, policy, k, sensing, reached, closest, ratio, t, cost_us, held, steps=None):
+    """A row of the study table: a collision is a clearance (to a true shape, less the radius) at
+    or below 0."""
+    collision = bool(closest <= 0.0)
     return {
-        "reached": reached,
-        "clearance": float(clearance(world_shapes, x).min()),
-        # navground stops within its 0.05 m tolerance: count the rest of the way as travelled.
-        "ratio": (path_length(x) + np.linalg.norm(x[-1] - world["goal"])) / shortest,
-        "time": (len(xs) - 1) * dt,
-        "cost_us": spent / (len(xs) - 1) * 1e6,
+        "world": world["name"], "generator": "compare_navground",
+        "obstacles": len(world["obstacles"]), "law": law,
+        "damping" if law == "dynamic" else "speed": policy, "k": k, "sensing": sensing,
+        "margin": 0.0, "physics": "builtin", "max_time": MAX_TIME, "error": None,
+        "reached": reached, "time_s": t, "path_over_shortest": ratio,
+        "min_clearance": float(closest), "collisions": int(collision), "overshoot": None,
+        "steps": steps, "guarantees_held": held, "command_us": cost_us,
     }
 
 
@@ -260,53 +273,31 @@ def run_navground(world, kind, world_shapes, shortest):
 
 
 def study(worlds):
-    rows = {name: [] for name, *_ in HARMONAV}
-    rows.update({f"navground {kind}": [] for kind in NAVGROUND})
+    """The records of every method in ``worlds``."""
+    rows = []
     with tempfile.TemporaryDirectory() as tmp:
         for world in worlds:
             world_shapes = shapes(world)
-            shortest = None
-            for name, law, k, damping, v_max in HARMONAV:
-                r = run_harmonav(world, tmp, law, k, damping, world_shapes, v_max)
-                rows[name].append(r)
+            for _, law, k, damping, v_max in HARMONAV:
+                rows.append(run_harmonav(world, tmp, law, k, damping, world_shapes, v_max))
             path = pathlib.Path(tmp) / f'{world["name"]}-kinematic-auto.toml'
             shortest, _ = harmonav.Scenario.load(path).shortest_path()
             for kind in NAVGROUND:
-                rows[f"navground {kind}"].append(run_navground(world, kind, world_shapes, shortest))
+                rows.append(run_navground(world, kind, world_shapes, shortest))
     return rows
 
 
-def summary(runs):
-    for r in runs:
-        r["collision"] = r["clearance"] <= 0.0
-    arrived = [r for r in runs if r["reached"] and not r["collision"]]
-    med = lambda key: statistics.median(r[key] for r in arrived) if arrived else math.nan  # noqa: E731
-    return {
-        "arrived": f"{sum(r['reached'] for r in runs)}/{len(runs)}",
-        "collisions": sum(r["collision"] for r in runs),
-        "clearance_mm": 1e3 * min(r["clearance"] for r in runs),
-        "path/shortest": med("ratio"),
-        "time_s": med("time"),
-        "cost_us": statistics.median(r["cost_us"] for r in runs),
-    }
-
-
 def table(title, rows, markdown):
-    head = ["method", "arrived", "collisions", "closest (mm)", "path/shortest (median)", "time s (median)", "µs per command"]
-    lines = [f"### {title}" if markdown else f"== {title}"]
-    if markdown:
-        lines += ["", "| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
-    for name, runs in rows.items():
-        s = summary(runs)
-        cells = [name, s["arrived"], str(s["collisions"]), f'{s["clearance_mm"]:.1f}', f'{s["path/shortest"]:.2f}', f'{s["time_s"]:.1f}', f'{s["cost_us"]:.1f}']
-        lines.append("| " + " | ".join(cells) + " |" if markdown else "  ".join(f"{c:>28}" if i == 0 else f"{c:>10}" for i, c in enumerate(cells)))
-    return "\n".join(lines) + "\n"
+    """The study table of ``rows`` (``harmonav.study_table``: the one tabulation of harmonav's
+    studies, the table of ``cargo xtask quality``), with its title."""
+    text = harmonav.study_table(rows)
+    return (f"### {title}\n\n" if markdown else f"== {title}\n") + text
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--worlds", type=int, default=20, help="seeded disc worlds per size (6 and 12 discs)")
-    ap.add_argument("--markdown", action="store_true", help="print Markdown tables")
+    ap.add_argument("--markdown", action="store_true", help="print a blank line after each title")
     args = ap.parse_args()
     for m in (6, 12):
         worlds = [disc_world(m, seed) for seed in range(args.worlds)]

@@ -334,3 +334,16 @@ def check_run_config(config: _RunConfig, prepare: bool = False) -> None:
 def random_start_points(config: _RunConfig, count: int, seed: int) -> List[List[float]]:
     """``count`` seeded free starts in the world of ``config``, as ``harmonav sweep --starts
     count --seed seed`` draws them."""
+
+def study_table(rows: List[Dict[str, Any]]) -> str:
+    """The Markdown table of an experiment's records (a list of row dicts with the report's
+    columns; a missing column or ``None`` is a value the run does not have), as ``cargo xtask
+    quality`` prints it: ``harmonav_bench::table::table``, the one tabulation of the project."""
+
+def study_cells(rows: List[Dict[str, Any]]) -> List[Dict[str, Any]]:
+    """The cells of the records ``rows`` in the table's order: each a dict of the cell's
+    ``world`` (None for generated worlds), ``obstacles``, ``law``, ``policy``, ``k``,
+    ``sensing``, ``margin``, ``physics``, ``max_time``, its ``runs``, ``errors``, ``reached``,
+    ``guarantees_held``, ``collisions``, ``ratio``, ``time``, ``steps`` (median, p90, max),
+    ``min_clearance``, ``overshoot``, and the ``ratios`` and ``arrived_times`` of the runs that
+    arrived."""

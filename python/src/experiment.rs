@@ -19,6 +19,7 @@ use harmonav_bench::quality::{self, Cell, MAX_MARGIN, SensingKind};
 use harmonav_rs::{DampingPolicy, KPolicy, SpeedPolicy, Vector2};
 use harmonav_scenario::scenario::read_text;
 use harmonav_scenario::{Model, Prepared, Scenario, SensorSpec};
+use harmonav_sim::descent::descend;
 use harmonav_sim::guarantee::Kind;
 use harmonav_sim::outcome::Outcome;
 use harmonav_sim::physics::{Physics, simulate};
@@ -60,6 +61,10 @@ struct Config {
     world: WorldSource,
     /// The robot model (the spec's `law`; `harmonav run --model`).
     model: Option<Model>,
+    /// The spec's `law = "descent"`: the normalised descent of `Θ` with every obstacle known
+    /// (`harmonav_sim::descent::descend`, verify's Monte-Carlo) instead of a closed-loop run;
+    /// `model` is then the kinematic one, whose flow line it follows.
+    descent: bool,
     k: Option<KPolicy>,
     damping: Option<DampingPolicy>,
     speed: Option<SpeedPolicy>,
@@ -92,7 +97,7 @@ const KEYS: [&str; 15] = [
 ];
 
 /// An optional item of `dict`, extracted, with errors naming the key.
-fn item<'py, T>(dict: &Bound<'py, PyDict>, key: &str) -> Result<Option<T>, String>
+pub(crate) fn item<'py, T>(dict: &Bound<'py, PyDict>, key: &str) -> Result<Option<T>, String>
 where
     T: for<'a> FromPyObject<'a, 'py>,
     for<'a> <T as FromPyObject<'a, 'py>>::Error: Into<PyErr>,
@@ -157,16 +162,26 @@ fn config(dict: &Bound<'_, PyDict>) -> Result<Config, String> {
         (Some(_), Some(_)) => return Err("give generator or scenario, not both".into()),
         (None, None) => return Err("no world: give generator or scenario".into()),
     };
-    let model = match item::<String>(dict, "model")?.as_deref() {
-        None => None,
-        Some("kinematic") => Some(Model::Kinematic),
-        Some("dynamic") => Some(Model::Dynamic),
+    let (model, descent) = match item::<String>(dict, "model")?.as_deref() {
+        None => (None, false),
+        Some("kinematic") => (Some(Model::Kinematic), false),
+        Some("dynamic") => (Some(Model::Dynamic), false),
+        Some("descent") => (Some(Model::Kinematic), true),
         Some(other) => {
             return Err(format!(
-                "model: unknown model \"{other}\": expected \"kinematic\" or \"dynamic\""
+                "model: unknown model \"{other}\": expected \"kinematic\", \"dynamic\" or \
+                 \"descent\""
             ));
         }
     };
+    let physics: Physics = named(dict, "physics")?.unwrap_or_default();
+    if descent && physics != Physics::Builtin {
+        return Err(format!(
+            "physics: \"{}\" with model \"descent\": a descent is integrated by its own \
+             method (harmonav_field::descent::follow), not by a physics engine",
+            physics.as_str()
+        ));
+    }
     let sensing = match item::<String>(dict, "sensing")?.as_deref() {
         None => None,
         Some("global") => Some(SensingKind::Global),
@@ -190,6 +205,7 @@ fn config(dict: &Bound<'_, PyDict>) -> Result<Config, String> {
     Ok(Config {
         world,
         model,
+        descent,
         k: named(dict, "k")?,
         damping: named(dict, "damping")?,
         speed: named(dict, "speed")?,
@@ -198,7 +214,7 @@ fn config(dict: &Bound<'_, PyDict>) -> Result<Config, String> {
         max_time: finite("max_time", item(dict, "max_time")?)?,
         start,
         start_index: item(dict, "start_index")?.unwrap_or(0),
-        physics: named(dict, "physics")?.unwrap_or_default(),
+        physics,
         shortest: true,
     })
 }
@@ -318,15 +334,19 @@ struct Effective {
 }
 
 impl Effective {
-    /// The configuration of a run of `model` (the file's when `None`) on `p`.
-    fn of(p: &Prepared, model: Option<Model>) -> Self {
+    /// The configuration of the run `c` on `p` (the file's model when `c` gives none).
+    fn of(p: &Prepared, c: &Config) -> Self {
         let s = &p.scenario;
-        let kinematic = model.unwrap_or(s.robot.model) == Model::Kinematic;
+        let kinematic = c.model.unwrap_or(s.robot.model) == Model::Kinematic;
         Self {
-            model: if kinematic { "kinematic" } else { "dynamic" },
+            model: match (c.descent, kinematic) {
+                (true, _) => "descent",
+                (false, true) => Model::Kinematic.as_str(),
+                (false, false) => Model::Dynamic.as_str(),
+            },
             k: s.field.k.as_str(),
             damping: (!kinematic).then(|| s.controller.damping.as_str()),
-            speed: kinematic.then(|| s.controller.speed.as_str()),
+            speed: (kinematic && !c.descent).then(|| s.controller.speed.as_str()),
             sensing: if s.sensor.is_some() {
                 "sector"
             } else {
@@ -355,13 +375,12 @@ fn run_one(c: &Config, prepared: &Prepared) -> Result<Ran, String> {
                 index: c.start_index,
                 problem,
             };
-            return Ok(Ran::Invalid(
-                outcome,
-                [x, y],
-                Effective::of(prepared, c.model),
-            ));
+            return Ok(Ran::Invalid(outcome, [x, y], Effective::of(prepared, c)));
         }
         p.scenario.robot.start = [x, y];
+    }
+    if c.descent {
+        return descent_run(c, &p);
     }
     // The law as `harmonav run --model` gives it: the file's `[expect]` describes a run of
     // the file's own model, and is not applied to the other.
@@ -399,7 +418,49 @@ fn run_one(c: &Config, prepared: &Prepared) -> Result<Ran, String> {
             warnings: s.warnings.iter().map(|w| w.to_string()).collect(),
             start: p.scenario.robot.start,
         }),
-        Effective::of(&p, c.model),
+        Effective::of(&p, c),
+    ))
+}
+
+/// The descent of `c` from `p`'s start (`harmonav_sim::descent::descend`), as a record: its
+/// time is its path length (unit speed), its collisions 0 or 1; it has no monitors, so no
+/// guarantees, no clearance (NaN) and no overshoot.
+fn descent_run(c: &Config, p: &Prepared) -> Result<Ran, String> {
+    let start = p.scenario.robot.start;
+    let r = descend(p, Vector2::from(start)).map_err(|e| e.to_string())?;
+    let d = &r.descent;
+    let reached = matches!(r.outcome, Outcome::Reached { .. });
+    let collision_free = r.outcome != Outcome::Collision;
+    let shortest = if c.shortest {
+        of_scenario(p).ok().map(|s| s.length)
+    } else {
+        None
+    };
+    Ok(Ran::Run(
+        Box::new(Measured {
+            reached,
+            outcome: r.outcome.clone(),
+            time_s: d.time,
+            final_distance: (d.end - p.truth.workspace.destination()).norm(),
+            path_length: d.time,
+            shortest,
+            min_clearance: f64::NAN,
+            max_speed: 1.0,
+            speed_bound: None,
+            collisions: usize::from(!collision_free),
+            discoveries: 0,
+            steps: d.steps,
+            rejected_steps: d.rejected,
+            recorded_states: 0,
+            overshoot: 0.0,
+            guarantees_held: collision_free,
+            all_passed: collision_free && reached,
+            k_policy: p.k_policy().as_str(),
+            guarantees: "[]".to_string(),
+            warnings: Vec::new(),
+            start,
+        }),
+        Effective::of(p, c),
     ))
 }
 
@@ -448,7 +509,8 @@ fn configs(runs: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Result<Config, S
 /// A configuration is a dict with `generator = "quality"`, `obstacles`, `seed` (a world of the
 /// motion-quality benchmark) or `scenario` (a file's path, which names it in errors) and
 /// optionally `scenario_text` (its text: then the file is not read); the overrides `model`
-/// (`"kinematic"`, `"dynamic"`: the robot model, the spec's `law`), `k`, `damping`, `speed`
+/// (`"kinematic"`, `"dynamic"`: the robot model, the spec's `law`; `"descent"`: the normalised
+/// descent of `Θ` with every obstacle known, `harmonav_sim::descent::descend`), `k`, `damping`, `speed`
 /// (policy names), `sensing` (`"global"`, `"sector"`: the file's sensor, or the paper's 1 m,
 /// 60°), `margin`, `max_time`
 /// (`None` or absent: the world's own; a quality world's defaults are the benchmark's), and

@@ -11,6 +11,7 @@ mod experiment;
 mod field;
 mod floorplan;
 mod navigator;
+mod report;
 mod scenario;
 mod shapes;
 
@@ -38,5 +39,7 @@ fn harmonav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(experiment::run_batch, m)?)?;
     m.add_function(wrap_pyfunction!(experiment::random_start_points, m)?)?;
     m.add_function(wrap_pyfunction!(experiment::check_run_config, m)?)?;
+    m.add_function(wrap_pyfunction!(report::study_table, m)?)?;
+    m.add_function(wrap_pyfunction!(report::study_cells, m)?)?;
     Ok(())
 }

@@ -160,13 +160,41 @@ def test_the_example_specs_are_valid():
         spec = load_spec(path)
         names.add(spec.name)
         assert spec.runs > 0
-    assert {"quality-small", "quality", "montecarlo-small", "sweep-mixed"} <= names
+    assert {"quality-small", "quality", "montecarlo-small", "montecarlo", "sweep-mixed"} <= names
     assert load_spec(EXAMPLES / "quality-small.toml").runs == 64
     assert load_spec(EXAMPLES / "quality.toml").runs == 3 * 30 * 24
 
 
 # ---------------------------------------------------------------------------------------------
 # The batch call
+
+
+def test_a_descent_is_the_flow_line_of_theta_no_shorter_than_the_shortest_path():
+    # verify's Monte-Carlo world (examples/experiments/montecarlo.toml): the runner's
+    # law = "descent" calls harmonav_sim::descent::descend, the function verify calls.
+    world = {"generator": "quality", "obstacles": 20, "seed": 20, "sensing": "global"}
+    starts = harmonav.random_start_points(world, 12, 20)
+    runs = [dict(world, model="descent", start=p, start_index=i) for i, p in enumerate(starts)]
+    records = harmonav.run_batch(runs, threads=2)
+    assert len(records) == 12
+    for r in records:
+        assert r["error"] is None, r["error"]
+        assert r["effective"]["model"] == "descent"
+        assert r["effective"]["speed"] is None and r["effective"]["damping"] is None
+        assert r["reached"] and r["outcome"] == "reached" and r["collisions"] == 0
+        assert r["final_distance"] <= 0.01
+        # A path from the start to within the tolerance of the goal in the free space is no
+        # shorter than the shortest one, less the tolerance.
+        assert r["path_length"] >= r["shortest_length"] - 0.01 - 1e-9
+        assert r["time_s"] == r["path_length"] and r["max_speed"] == 1.0
+    # The kinematic law at unit speed follows the same flow line: the same length, within the
+    # two integrators' tolerances (the law's path stops at the same goal tolerance).
+    law = harmonav.run_batch([dict(runs[0], model="kinematic", speed="paper")])[0]
+    assert law["reached"]
+    assert abs(law["path_length"] - records[0]["path_length"]) < 0.02 * records[0]["path_length"]
+    bad = harmonav.run_batch([dict(runs[0], physics="rapier")])[0]
+    assert "physics" in bad["error"] and "descent" in bad["error"]
+
 
 
 def test_a_failing_run_is_a_record_with_its_error_and_the_batch_goes_on(mixed_path):

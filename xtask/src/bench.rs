@@ -170,11 +170,11 @@ pub fn run(options: &Options) -> ExitCode {
             quality::WORLDS,
         );
         let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
-        match harmonav_bench::quality::run_plan(&plan, threads) {
+        match harmonav_bench::quality::run_cells(&plan, threads) {
             Ok(stats) => {
                 quality::figures(&stats, &mut put);
                 if !options.json {
-                    print!("{}", quality::table(&stats));
+                    print!("{}", harmonav_bench::table::table(&stats));
                 }
             }
             Err(e) => {

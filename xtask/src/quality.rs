@@ -1,7 +1,8 @@
 //! The motion-quality benchmark (`harmonav_sim::quality`): the plan that `cargo xtask bench`
 //! and `cargo xtask verify` run, its Markdown table and its JSON figures.
 
-use harmonav_bench::quality::{Cell, CellStats, Plan, SensingKind, time_ratio};
+use harmonav_bench::quality::{Cell, Plan, SensingKind};
+use harmonav_bench::table::{CellStats, REFERENCE_SPEED, kinematic_twin, time_ratio};
 use harmonav_control::{DampingPolicy, SpeedPolicy};
 use harmonav_field::KPolicy;
 use harmonav_scenario::Model;
@@ -92,81 +93,10 @@ pub fn plan(models: &[Model], policies: &[KPolicy], laws: LawPolicies<'_>, world
     }
 }
 
-fn fmt3(v: [f64; 3], digits: usize) -> String {
-    format!("{:.digits$} / {:.digits$} / {:.digits$}", v[0], v[1], v[2])
-}
-
-/// The speed policy of the kinematic law that the dynamic law's time is compared with (the
-/// table's "time / kinematic" and the target of `cargo xtask verify`): the paper's `K√(2Θ)`,
-/// the reference the targets were set against (issue 12) before the kinematic law's default
-/// speed became `"auto"`, which is 1.6× faster (`docs/benchmarks.md`).
-pub const REFERENCE_SPEED: SpeedPolicy = SpeedPolicy::Paper;
-
-/// The kinematic cell under the speed policy `speed` of the same worlds, sensing, `k` and
-/// margin as `cell`, if `stats` has it.
-pub fn kinematic_twin<'a>(
-    stats: &'a [CellStats],
-    cell: &Cell,
-    speed: SpeedPolicy,
-) -> Option<&'a CellStats> {
-    stats.iter().find(|s| {
-        s.cell.model == Model::Kinematic
-            && s.cell.speed == speed
-            && (s.cell.obstacles, s.cell.sensing, s.cell.k, s.cell.margin)
-                == (cell.obstacles, cell.sensing, cell.k, cell.margin)
-    })
-}
-
-/// Per-world time over the kinematic law's in the same world (median / p90 / max), or `—`.
-fn time_ratio_text(stats: &[CellStats], s: &CellStats) -> String {
-    match (
-        s.cell.model,
-        kinematic_twin(stats, &s.cell, REFERENCE_SPEED),
-    ) {
-        (Model::Dynamic, Some(k)) => fmt3(time_ratio(s, k), 2),
-        _ => "—".to_string(),
-    }
-}
-
-/// The Markdown table of `stats`.
-pub fn table(stats: &[CellStats]) -> String {
-    let mut out = String::from(
-        "| law | damping or speed | k | sensing | margin | M | arrived | guarantees held | collisions | path/shortest median / p90 / max | time to goal median / p90 / max (s) | time / kinematic (paper speed) median / p90 / max | min clearance (m) | overshoot (m) | steps median / p90 / max |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
-    );
-    for s in stats {
-        let c = &s.cell;
-        out.push_str(&format!(
-            "| {:?} | {} | {} | {} | {} | {} | {}/{} | {}/{} | {} | {} | {} | {} | {:.4} | {:.1e} | {} |\n",
-            c.model,
-            match c.model {
-                Model::Dynamic => c.damping.as_str(),
-                Model::Kinematic => c.speed.as_str(),
-            },
-            c.k,
-            c.sensing.as_str(),
-            c.margin,
-            c.obstacles,
-            s.reached,
-            s.runs,
-            s.guarantees_held,
-            s.runs,
-            s.collisions,
-            fmt3(s.ratio, 3),
-            fmt3(s.time, 1),
-            time_ratio_text(stats, s),
-            s.min_clearance,
-            s.overshoot,
-            fmt3(s.steps, 0),
-        ));
-    }
-    out
-}
-
 /// The JSON figures of `stats`: `quality.<cell key>.<figure>`.
 pub fn figures(stats: &[CellStats], mut put: impl FnMut(&str, f64)) {
     for s in stats {
-        let key = format!("quality.{}", s.cell.key());
+        let key = format!("quality.{}", s.key.figure_key());
         put(
             &format!("{key}.arrival_rate"),
             s.reached as f64 / s.runs as f64,
@@ -176,18 +106,18 @@ pub fn figures(stats: &[CellStats], mut put: impl FnMut(&str, f64)) {
         put(&format!("{key}.path_ratio_p90"), s.ratio[1]);
         put(&format!("{key}.path_ratio_max"), s.ratio[2]);
         put(&format!("{key}.time_median_s"), s.time[0]);
-        if let (Model::Dynamic, Some(k)) = (
-            s.cell.model,
-            kinematic_twin(stats, &s.cell, REFERENCE_SPEED),
+        if let (true, Some(k)) = (
+            s.key.is_dynamic(),
+            kinematic_twin(stats, &s.key, REFERENCE_SPEED),
         ) {
             let r = time_ratio(s, k);
             put(&format!("{key}.time_over_kinematic_median"), r[0]);
             put(&format!("{key}.time_over_kinematic_p90"), r[1]);
             put(&format!("{key}.overshoot_m"), s.overshoot);
         }
-        if let (Model::Dynamic, Some(k)) = (
-            s.cell.model,
-            kinematic_twin(stats, &s.cell, SpeedPolicy::Auto),
+        if let (true, Some(k)) = (
+            s.key.is_dynamic(),
+            kinematic_twin(stats, &s.key, SpeedPolicy::Auto),
         ) {
             let r = time_ratio(s, k);
             put(
@@ -226,9 +156,9 @@ pub fn run(args: &[String]) -> std::process::ExitCode {
     }
     let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
     let plan = plan(&models, &KPolicy::ALL, LawPolicies::ALL, worlds);
-    match harmonav_bench::quality::run_plan(&plan, threads) {
+    match harmonav_bench::quality::run_cells(&plan, threads) {
         Ok(stats) => {
-            print!("{}", table(&stats));
+            print!("{}", harmonav_bench::table::table(&stats));
             std::process::ExitCode::SUCCESS
         }
         Err(e) => {

@@ -21,6 +21,8 @@ use harmonav_sim::run::run;
 use harmonav_sim::shortest::of_scenario;
 use harmonav_sim::summary::Run;
 
+use crate::table::{self, CellKey, CellStats, Record};
+
 /// Workspace radius, m.
 pub const WORKSPACE_RADIUS: f64 = 5.0;
 /// Smallest distance between two obstacles and from an obstacle to the wall, m.
@@ -87,29 +89,42 @@ pub struct Cell {
 }
 
 impl Cell {
-    /// A key for JSON figures: `kinematic.auto.global.m12`, `dynamic.auto.global.m12` under the
-    /// default speed and damping, `kinematic-speed-paper.auto.global.m12` and
-    /// `dynamic-damping-paper.auto.global.m12` under the paper's (with `.margin0.1` when a
-    /// margin is set).
+    /// The key of the JSON figures and of the scenario's name ([`CellKey::figure_key`]).
     pub fn key(&self) -> String {
-        let model = match (self.model, self.damping) {
-            (Model::Kinematic, _) if self.speed == SpeedPolicy::default() => {
-                "kinematic".to_string()
-            }
-            (Model::Kinematic, _) => format!("kinematic-speed-{}", self.speed),
-            (Model::Dynamic, d) if d == DampingPolicy::default() => "dynamic".to_string(),
-            (Model::Dynamic, d) => format!("dynamic-damping-{d}"),
-        };
-        let mut key = format!(
-            "{model}.{}.{}.m{}",
-            self.k.as_str(),
-            self.sensing.as_str(),
-            self.obstacles
-        );
-        if self.margin > 0.0 {
-            key.push_str(&format!(".margin{}", self.margin));
+        self.table_key().figure_key()
+    }
+
+    /// The cell's key in the study tables ([`crate::table`]).
+    pub fn table_key(&self) -> CellKey {
+        CellKey::of(&self.record("", &Measured::default()))
+    }
+
+    /// The record of one run of this cell in the world named `world` (a generated world).
+    pub fn record(&self, world: &str, m: &Measured) -> Record {
+        Record {
+            world: world.to_string(),
+            generated: true,
+            obstacles: Some(self.obstacles as u64),
+            law: Some(self.model.as_str().to_string()),
+            damping: Some(self.damping.as_str().to_string()),
+            speed: Some(self.speed.as_str().to_string()),
+            k: Some(self.k.as_str().to_string()),
+            sensing: Some(self.sensing.as_str().to_string()),
+            margin: Some(self.margin),
+            physics: Some("builtin".to_string()),
+            max_time: None,
+            start_index: None,
+            error: None,
+            reached: m.reached,
+            time_s: Some(m.time),
+            path_over_shortest: Some(m.path_ratio),
+            min_clearance: Some(m.min_clearance),
+            collisions: Some(m.collisions as u64),
+            overshoot: Some(m.overshoot),
+            steps: Some(m.steps as u64),
+            guarantees_held: m.guarantees_held,
+            command_us: None,
         }
-        key
     }
 }
 
@@ -219,6 +234,12 @@ pub fn world(m: usize, seed: u64) -> World {
 }
 
 impl World {
+    /// The world's name in the records of a study: `quality-m{m}-seed{seed}` (as
+    /// `harmonav.experiment` names the generated worlds).
+    pub fn name(&self, m: usize) -> String {
+        format!("quality-m{m}-seed{}", self.seed)
+    }
+
     /// The scenario of this world for one cell (dynamic law: m = 1 kg, μ = 10; both laws with
     /// `sim.max_time` = `max_time`).
     pub fn scenario(&self, cell: &Cell, max_time: f64) -> Scenario {
@@ -256,7 +277,7 @@ impl World {
 }
 
 /// What one run measured.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Measured {
     /// Goal reached.
     pub reached: bool,
@@ -321,82 +342,6 @@ pub fn measure(prepared: &Prepared, shortest: f64) -> Result<Measured, String> {
     })
 }
 
-/// The statistics of one cell over its worlds.
-#[derive(Clone, Debug, PartialEq)]
-pub struct CellStats {
-    /// The cell.
-    pub cell: Cell,
-    /// Runs.
-    pub runs: usize,
-    /// Runs that reached the goal.
-    pub reached: usize,
-    /// Runs in which every guarantee monitor except arrival held.
-    pub guarantees_held: usize,
-    /// Recorded states in collision, summed.
-    pub collisions: usize,
-    /// Path / shortest over the runs that arrived: median, 90th percentile, max.
-    pub ratio: [f64; 3],
-    /// Time to goal over the runs that arrived: median, 90th percentile, max.
-    pub time: [f64; 3],
-    /// Smallest clearance of all runs.
-    pub min_clearance: f64,
-    /// Largest overshoot of all runs.
-    pub overshoot: f64,
-    /// Integration steps (accepted and rejected) per run: median, 90th percentile, max.
-    pub steps: [f64; 3],
-    /// Time to goal in each world, in seed order (`None`: did not arrive), for comparisons
-    /// between cells on the same worlds ([`time_ratio`]).
-    pub times: Vec<Option<f64>>,
-}
-
-/// Median, 90th percentile (nearest rank) and maximum; NaN for no values.
-pub fn quantiles(values: &[f64]) -> [f64; 3] {
-    let mut v = values.to_vec();
-    v.sort_by(f64::total_cmp);
-    if v.is_empty() {
-        return [f64::NAN; 3];
-    }
-    let rank = |q: f64| v[((q * v.len() as f64).ceil() as usize).clamp(1, v.len()) - 1];
-    [rank(0.5), rank(0.9), v[v.len() - 1]]
-}
-
-impl CellStats {
-    /// Summarises the runs of `cell`.
-    pub fn new(cell: Cell, runs: &[Measured]) -> Self {
-        let arrived: Vec<&Measured> = runs.iter().filter(|m| m.reached).collect();
-        Self {
-            cell,
-            runs: runs.len(),
-            reached: arrived.len(),
-            guarantees_held: runs.iter().filter(|m| m.guarantees_held).count(),
-            collisions: runs.iter().map(|m| m.collisions).sum(),
-            ratio: quantiles(&arrived.iter().map(|m| m.path_ratio).collect::<Vec<_>>()),
-            time: quantiles(&arrived.iter().map(|m| m.time).collect::<Vec<_>>()),
-            min_clearance: runs
-                .iter()
-                .map(|m| m.min_clearance)
-                .fold(f64::INFINITY, f64::min),
-            overshoot: runs.iter().map(|m| m.overshoot).fold(0.0, f64::max),
-            steps: quantiles(&runs.iter().map(|m| m.steps as f64).collect::<Vec<_>>()),
-            times: runs.iter().map(|m| m.reached.then_some(m.time)).collect(),
-        }
-    }
-}
-
-/// The time of `cell` over the time of `reference` in each world both ran: median, 90th
-/// percentile and maximum. A world that `cell` did not finish counts as `+∞` (so arrival
-/// failures show in the quantiles instead of vanishing); one that `reference` did not finish is
-/// left out.
-pub fn time_ratio(cell: &CellStats, reference: &CellStats) -> [f64; 3] {
-    let ratios: Vec<f64> = cell
-        .times
-        .iter()
-        .zip(&reference.times)
-        .filter_map(|(t, r)| Some(t.unwrap_or(f64::INFINITY) / (*r)?))
-        .collect();
-    quantiles(&ratios)
-}
-
 /// What the benchmark runs.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Plan {
@@ -410,9 +355,10 @@ pub struct Plan {
     pub max_time: f64,
 }
 
-/// Runs `plan` on `threads` threads; the statistics of each cell, in plan order. Deterministic:
-/// the threads only share out the runs.
-pub fn run_plan(plan: &Plan, threads: usize) -> Result<Vec<CellStats>, String> {
+/// Runs `plan` on `threads` threads: the record of each run ([`Cell::record`]), in plan order
+/// (obstacle count, cell, world). Deterministic: the threads only share out the runs. A run
+/// that cannot be made fails the plan.
+pub fn run_plan(plan: &Plan, threads: usize) -> Result<Vec<Record>, String> {
     let mut jobs: Vec<(Cell, usize)> = Vec::new();
     for &m in &plan.obstacle_counts {
         for cell in &plan.cells {
@@ -445,12 +391,17 @@ pub fn run_plan(plan: &Plan, threads: usize) -> Result<Vec<CellStats>, String> {
             .prepare(path)
             .map_err(|e| e.to_string())?;
         let shortest = of_scenario(&prepared).map_err(|e| e.to_string())?;
-        measure(&prepared, shortest.length)
+        let m = measure(&prepared, shortest.length)?;
+        Ok(Record {
+            max_time: Some(plan.max_time),
+            ..cell.record(&world.name(cell.obstacles), &m)
+        })
     });
-    let mut out = Vec::new();
-    for (i, chunk) in results.chunks(plan.worlds).enumerate() {
-        let runs = chunk.iter().cloned().collect::<Result<Vec<_>, _>>()?;
-        out.push(CellStats::new(jobs[i * plan.worlds].0, &runs));
-    }
-    Ok(out)
+    results.into_iter().collect()
+}
+
+/// The statistics of each cell of `plan` ([`table::cells`] of [`run_plan`]'s records), in plan
+/// order.
+pub fn run_cells(plan: &Plan, threads: usize) -> Result<Vec<CellStats>, String> {
+    Ok(table::cells(&run_plan(plan, threads)?))
 }

@@ -521,13 +521,14 @@ fn text_width(text: &str) -> i32 {
 /// A named, coloured time series `(t, value)`.
 type Series<'a> = (&'a str, RGBColor, Vec<(f64, f64)>);
 
-/// A time series chart on `area` with discovery markers.
+/// A time series chart on `area` (drawn at `s`) with discovery markers.
 fn time_chart(
     area: &DrawingArea<SVGBackend<'_>, Shift>,
     title: &str,
     y_desc: &str,
     series: &[Series<'_>],
     discoveries: &[Discovery],
+    s: Scale,
 ) -> Result<(), String> {
     let t_end = series
         .iter()
@@ -542,10 +543,10 @@ fn time_chart(
         .max(1e-9)
         * 1.25;
     let mut chart = ChartBuilder::on(area)
-        .caption(title, (FONT, 16))
-        .margin(8)
-        .x_label_area_size(32)
-        .y_label_area_size(50)
+        .caption(title, s.font(16))
+        .margin(s.size(8))
+        .x_label_area_size(s.size(32))
+        .y_label_area_size(s.size(50))
         .build_cartesian_2d(0.0..t_end, 0.0..y_max)
         .map_err(err)?;
     chart
@@ -556,7 +557,7 @@ fn time_chart(
         .y_labels(6)
         .x_desc("t (s)")
         .y_desc(y_desc)
-        .label_style((FONT, 12))
+        .label_style(s.font(12))
         .draw()
         .map_err(err)?;
     // Discovery markers, labels on rows so that none overlaps another.
@@ -565,11 +566,11 @@ fn time_chart(
         draw_path(
             &mut chart,
             vec![(t, 0.0), (t, y_max)],
-            RGBColor(150, 150, 150).stroke_width(1),
+            s.stroke(RGBColor(150, 150, 150), 1),
         )?;
         let (px, _) = chart.backend_coord(&(t, y_max));
-        let w = text_width(&label);
-        let row = match rows.iter().position(|&right| px > right + 4) {
+        let w = s.px(text_width(&label));
+        let row = match rows.iter().position(|&right| px > right + s.px(4)) {
             Some(r) => r,
             None => {
                 rows.push(i32::MIN);
@@ -582,7 +583,7 @@ fn time_chart(
             .draw_series(std::iter::once(Text::new(
                 label,
                 (t, y),
-                (FONT, 11).into_font().color(&RGBColor(90, 90, 90)),
+                s.font(11).color(&RGBColor(90, 90, 90)),
             )))
             .map_err(err)?;
     }
@@ -590,11 +591,11 @@ fn time_chart(
         let color = *color;
         let points = drawable(points.iter().copied(), |p| chart.backend_coord(p));
         chart
-            .draw_series(LineSeries::new(points, color.stroke_width(2)))
+            .draw_series(LineSeries::new(points, s.stroke(color, 2)))
             .map_err(err)?
             .label(*name)
             .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
+                PathElement::new(vec![(x, y), (x + s.px(18), y)], s.stroke(color, 2))
             });
     }
     chart
@@ -602,7 +603,7 @@ fn time_chart(
         .position(SeriesLabelPosition::MiddleLeft)
         .background_style(WHITE.mix(0.85))
         .border_style(RGBColor(180, 180, 180))
-        .label_font((FONT, 12))
+        .label_font(s.font(12))
         .draw()
         .map_err(err)?;
     Ok(())
@@ -621,21 +622,17 @@ pub fn speed_svg(run: &Run) -> Result<String, String> {
     if let Some(bound) = run.summary.speed_bound {
         series.push(("√(2μ/m)", KNOWN, vec![(0.0, bound), (t_end, bound)]));
     }
-    let mut out = String::new();
-    {
-        let root = SVGBackend::with_string(&mut out, (760, 360)).into_drawing_area();
-        root.fill(&WHITE).map_err(err)?;
-        let title = format!("{}: speed", run.summary.name);
+    let title = format!("{}: speed", run.summary.name);
+    scaled_svg((760, 360), Scale::FINE, |root| {
         time_chart(
-            &root,
+            root,
             &title,
             "speed (m/s)",
             &series,
             &run.summary.discoveries,
-        )?;
-        root.present().map_err(err)?;
-    }
-    Ok(out)
+            Scale::FINE,
+        )
+    })
 }
 
 /// `energy.svg` (dynamic law): `V(t) = μΘ + ½m|ẋ|²` (eq. `totalenergy`) and the damping
@@ -651,11 +648,9 @@ pub fn energy_svg(run: &Run) -> Result<String, String> {
         .iter()
         .filter_map(|s| s.lambda.map(|l| (s.t, l)))
         .collect();
-    let mut out = String::new();
-    {
-        let root = SVGBackend::with_string(&mut out, (760, 620)).into_drawing_area();
-        root.fill(&WHITE).map_err(err)?;
-        let (top, bottom) = root.split_vertically(310);
+    let s = Scale::FINE;
+    scaled_svg((760, 620), s, |root| {
+        let (top, bottom) = root.split_vertically(s.px(310));
         let d = &run.summary.discoveries;
         time_chart(
             &top,
@@ -663,6 +658,7 @@ pub fn energy_svg(run: &Run) -> Result<String, String> {
             "V (J)",
             &[("V", PATH, energy)],
             d,
+            s,
         )?;
         time_chart(
             &bottom,
@@ -670,10 +666,9 @@ pub fn energy_svg(run: &Run) -> Result<String, String> {
             "λ (kg/s)",
             &[("λ", SECTOR, lambda)],
             d,
-        )?;
-        root.present().map_err(err)?;
-    }
-    Ok(out)
+            s,
+        )
+    })
 }
 
 #[cfg(test)]

@@ -183,7 +183,22 @@ fn outputs_are_written_and_figures_show_the_run() {
     // A dynamic run first: its speed and energy figures must not outlive it.
     let dynamic = run(&prepared, Some(Model::Dynamic)).unwrap();
     write_outputs(&dir, &prepared, &dynamic).unwrap();
-    assert!(dir.join("speed.svg").exists() && dir.join("energy.svg").exists());
+    // Drawn at 4× and shown at their nominal size, as the plane figures are: no stair steps.
+    for (name, size) in [("speed.svg", (760, 360)), ("energy.svg", (760, 620))] {
+        let svg = std::fs::read_to_string(dir.join(name)).unwrap();
+        let head = format!(
+            "<svg width=\"{}\" height=\"{}\" viewBox=\"0 0 {} {}\"",
+            size.0,
+            size.1,
+            4 * size.0,
+            4 * size.1
+        );
+        assert!(
+            svg.starts_with(&head),
+            "{name}: {}",
+            &svg[..120.min(svg.len())]
+        );
+    }
     let r = run(&prepared, Some(Model::Kinematic)).unwrap();
     let files = write_outputs(&dir, &prepared, &r).unwrap();
     let names: Vec<_> = files

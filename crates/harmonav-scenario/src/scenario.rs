@@ -121,6 +121,16 @@ pub enum Model {
     Dynamic,
 }
 
+impl Model {
+    /// `"kinematic"` or `"dynamic"`, as the scenario file spells it.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            Self::Kinematic => "kinematic",
+            Self::Dynamic => "dynamic",
+        }
+    }
+}
+
 /// `[robot]`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -17,8 +17,9 @@
 //! The shared types below the loop, in their own order (each uses only those before it):
 //! [`warning`] and [`guarantee`], then [`trace`] (samples, discoveries, events) and
 //! [`outcome`], then [`trajectory`]. Studies: [`sweep`] (many starts, typed outcomes)
-//! on the one thread pool [`pool`], and [`shortest`] (the independent shortest path of "path
-//! over shortest"). [`floor`] is the loop of the floor-plan scenarios.
+//! on the one thread pool [`pool`], [`shortest`] (the independent shortest path of "path
+//! over shortest"), and [`descent`] (the normalised descent of `Θ` judged as a run: the
+//! convergence study's one entry). [`floor`] is the loop of the floor-plan scenarios.
 //!
 //! Equations held here: the closed loops `ẋ = u` (eq. `holint`) and `m ẍ = f` (eq.
 //! `dynmodel`) integrated by Bogacki–Shampine 3(2) with step control ([`run`]); the
@@ -58,6 +59,7 @@
 #![warn(missing_docs)]
 
 mod closed_loop;
+pub mod descent;
 mod driver;
 pub mod floor;
 pub mod guarantee;

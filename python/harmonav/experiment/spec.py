@@ -336,7 +336,7 @@ def _grid(c: _Checker, value: Any) -> Tuple[Dict[str, Any], ...]:
     """The runs' configurations: the product of each ``[grid]`` table's lists (an array of
     tables ``[[grid]]`` is the union of their products), each value checked by the Rust side,
     the law's irrelevant policy dropped (damping for the kinematic law, speed for the dynamic
-    one), duplicates removed in order."""
+    one, both for the descent), duplicates removed in order."""
     tables = value if isinstance(value, list) else [value]
     if isinstance(value, list) and not value:
         raise c.fail("grid", "must not be empty")
@@ -364,6 +364,8 @@ def _grid(c: _Checker, value: Any) -> Tuple[Dict[str, Any], ...]:
                 cell["damping"] = None
             elif cell["law"] == "dynamic":
                 cell["speed"] = None
+            elif cell["law"] == "descent":  # the flow line of Θ: no policy of either law
+                cell["damping"] = cell["speed"] = None
             key = tuple(cell[k] for k in GRID_KEYS)
             if key not in seen:
                 seen.add(key)

@@ -6,15 +6,16 @@
 //! - dynamic law under the default policies: every run arrives with every guarantee held (no
 //!   overshoot, `V` never rises, the speed bound, no collision), path median ≤ 1.15, time to
 //!   goal over the kinematic law's (under the paper's speed `K√(2Θ)`, the reference of these
-//!   targets: `crate::quality::REFERENCE_SPEED`) in the same world median ≤ 1.5 and p90 ≤ 2.5.
+//!   targets: `harmonav_bench::table::REFERENCE_SPEED`) in the same world median ≤ 1.5 and p90 ≤ 2.5.
 
-use harmonav_bench::quality::{CellStats, run_plan, time_ratio};
+use harmonav_bench::quality::run_cells;
+use harmonav_bench::table::{CellStats, REFERENCE_SPEED, kinematic_twin, time_ratio};
 use harmonav_field::KPolicy;
 use harmonav_scenario::Model;
 use harmonav_sim::MARGIN_TOLERANCE;
 
 use super::{Check, Outcome, outcome};
-use crate::quality::{LawPolicies, REFERENCE_SPEED, WORLDS, kinematic_twin, plan};
+use crate::quality::{LawPolicies, WORLDS, plan};
 use harmonav_control::DampingPolicy;
 
 /// Path / shortest targets of the default policy: median and 90th percentile.
@@ -44,7 +45,7 @@ pub fn checks() -> Vec<Check> {
 
 /// The dynamic law under the default `k` and damping policies against the targets above.
 fn dynamic() -> Outcome {
-    let stats = run_plan(
+    let stats = run_cells(
         &plan(
             &[Model::Kinematic, Model::Dynamic],
             &[KPolicy::default()],
@@ -58,8 +59,8 @@ fn dynamic() -> Outcome {
     )?;
     let mut failures = Vec::new();
     let (mut worst_median, mut worst_p90, mut worst_path) = (0.0f64, 0.0f64, 0.0f64);
-    for s in stats.iter().filter(|s| s.cell.model == Model::Dynamic) {
-        let key = s.cell.key();
+    for s in stats.iter().filter(|s| s.key.is_dynamic()) {
+        let key = s.key.figure_key();
         if s.reached < s.runs || s.guarantees_held < s.runs || s.collisions > 0 {
             failures.push(format!(
                 "{key}: {}/{} arrived, {}/{} held every guarantee, {} collisions",
@@ -67,7 +68,7 @@ fn dynamic() -> Outcome {
             ));
         }
         let twin =
-            kinematic_twin(&stats, &s.cell, REFERENCE_SPEED).ok_or("no kinematic twin cell")?;
+            kinematic_twin(&stats, &s.key, REFERENCE_SPEED).ok_or("no kinematic twin cell")?;
         let ratio = time_ratio(s, twin);
         worst_median = worst_median.max(ratio[0]);
         worst_p90 = worst_p90.max(ratio[1]);
@@ -79,7 +80,7 @@ fn dynamic() -> Outcome {
                 s.ratio[0], ratio[0], ratio[1]
             ));
         }
-        if s.min_clearance < s.cell.margin - MARGIN_TOLERANCE {
+        if s.min_clearance < s.key.margin.unwrap_or(0.0) - MARGIN_TOLERANCE {
             failures.push(format!(
                 "{key}: clearance {:.4} m below the margin",
                 s.min_clearance
@@ -102,20 +103,20 @@ fn dynamic() -> Outcome {
 }
 
 fn quality(policy: KPolicy) -> Outcome {
-    let stats = run_plan(
+    let stats = run_cells(
         &plan(&[Model::Kinematic], &[policy], LawPolicies::DEFAULT, WORLDS),
         1,
     )?;
     let mut failures = Vec::new();
     for s in &stats {
-        let key = s.cell.key();
+        let key = s.key.figure_key();
         if s.reached < s.runs || s.guarantees_held < s.runs || s.collisions > 0 {
             failures.push(format!(
                 "{key}: {}/{} arrived, {}/{} held every guarantee, {} collisions",
                 s.reached, s.runs, s.guarantees_held, s.runs, s.collisions
             ));
         }
-        if s.min_clearance < s.cell.margin - MARGIN_TOLERANCE {
+        if s.min_clearance < s.key.margin.unwrap_or(0.0) - MARGIN_TOLERANCE {
             failures.push(format!(
                 "{key}: clearance {:.4} m below the margin",
                 s.min_clearance

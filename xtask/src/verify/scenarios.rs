@@ -3,10 +3,8 @@
 //! `target/verify/`.
 
 use std::path::{Path, PathBuf};
-use std::sync::{Arc, Mutex};
+use std::sync::Mutex;
 
-use harmonav_field::Field;
-use harmonav_field::descent::{Ending, FollowOptions, follow};
 use harmonav_output::set::{Outputs, write_outputs};
 use harmonav_scenario::{Model, Scenario};
 use harmonav_sim::guarantee::Kind;
@@ -14,9 +12,9 @@ use harmonav_sim::guarantee::{Check as Measured, Guarantee};
 use harmonav_sim::physics::{Physics, simulate, simulate_observed};
 use harmonav_sim::pool::parallel_map;
 use harmonav_sim::summary::Summary;
+use harmonav_sim::sweep::random_starts;
 use harmonav_sim::trace::Event;
 use harmonav_sim::trajectory::MAX_KEPT_STATES;
-use harmonav_transform::random::{self, Kind as Shape, Rng};
 
 use super::{Check, Outcome, Progress, Verdict, outcome};
 
@@ -300,46 +298,69 @@ fn deviation(s: &Summary) -> Option<f64> {
     })
 }
 
-/// [`STARTS`] seeded random starts in a 20-obstacle mixed-shape world, global sensing, the
-/// normalised descent: the fraction that converges, no collision.
+/// The world of the Monte-Carlo study: the motion-quality benchmark's 20-obstacle world of
+/// seed 20 (the four shape kinds), global sensing, the default `k` policy, no margin; its
+/// starts are drawn with seed 20. `examples/experiments/montecarlo.toml` is the same study as
+/// an experiment spec: the same world and starts through the same call (`descent::descend`).
+const MONTECARLO_WORLD: (usize, u64) = (20, 20);
+
+/// [`STARTS`] seeded random free starts in [`MONTECARLO_WORLD`], each followed by the
+/// normalised descent of `Θ` (`harmonav_sim::descent::descend`): at least 99.9 % reach the
+/// goal, none collides.
 fn montecarlo() -> Outcome {
-    let kinds = [Shape::Circle, Shape::Ellipse, Shape::Polygon, Shape::Star];
-    let mut rng = Rng::new(20);
-    let ws = Arc::new(random::workspace(&mut rng, 20, &kinds, Shape::Star, 0.1));
-    let field = Field::all_known(ws.clone()).map_err(|e| e.to_string())?;
-    let starts: Vec<_> = (0..STARTS)
-        .map(|_| random::free_point(&mut rng, &ws, 1e-3))
-        .collect();
-    let options = FollowOptions::default();
+    use harmonav_bench::quality::{Cell, SensingKind, world};
+    use harmonav_sim::descent::descend;
+    use harmonav_sim::outcome::Outcome as Ended;
+
+    let (m, seed) = MONTECARLO_WORLD;
+    let cell = Cell {
+        obstacles: m,
+        sensing: SensingKind::Global,
+        k: Default::default(),
+        model: Model::Kinematic,
+        damping: Default::default(),
+        speed: Default::default(),
+        margin: 0.0,
+    };
+    let prepared = world(m, seed)
+        .scenario(&cell, 120.0)
+        .prepare(Path::new("<quality world: 20 obstacles, seed 20>"))
+        .map_err(|e| e.to_string())?;
+    let starts = random_starts(&prepared, STARTS, seed).map_err(|e| e.to_string())?;
     let workers = std::thread::available_parallelism()
         .map_or(2, |n| n.get())
         .clamp(1, 2);
     // Starts are handed out one at a time: the slow ones (along the outer wall) cluster.
     let progress = Progress::new("montecarlo", starts.len());
-    let results: Vec<(Ending, bool, f64)> = parallel_map(&starts, workers, |&x| {
-        let d = follow(&field, x, &options);
+    let results = parallel_map(&starts, workers, |&x| {
+        let r = descend(&prepared, x);
         progress.tick();
-        (d.ending, d.collision_free, d.time)
+        r
     });
-    let ended = |e: Ending| results.iter().filter(|r| r.0 == e).count();
-    let reached = ended(Ending::Reached);
-    let (stuck, timed_out) = (ended(Ending::Stuck), ended(Ending::TimedOut));
-    let collisions = results.iter().filter(|r| !r.1).count();
-    let mut times: Vec<f64> = results
+    let runs = results
+        .into_iter()
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| e.to_string())?;
+    let count = |f: fn(&Ended) -> bool| runs.iter().filter(|r| f(&r.outcome)).count();
+    let reached = count(|o| matches!(o, Ended::Reached { .. }));
+    let stalled = count(|o| matches!(o, Ended::Stalled { .. }));
+    let timed_out = count(|o| matches!(o, Ended::TimedOut { .. }));
+    let collisions = count(|o| matches!(o, Ended::Collision));
+    let mut times: Vec<f64> = runs
         .iter()
-        .filter(|r| r.0 == Ending::Reached)
-        .map(|r| r.2)
+        .filter(|r| matches!(r.outcome, Ended::Reached { .. }))
+        .map(|r| r.descent.time)
         .collect();
     times.sort_by(f64::total_cmp);
     let median = times.get(times.len() / 2).copied().unwrap_or(f64::NAN);
     outcome(
-        collisions == 0 && reached * 1000 >= results.len() * 999,
+        collisions == 0 && reached * 1000 >= runs.len() * 999,
         format!(
-            "{reached}/{} reached ({:.2} %), {stuck} stalled at a saddle, {timed_out} timed out, \
-             median {median:.2} s, {collisions} collisions, k = {}",
-            results.len(),
-            100.0 * reached as f64 / results.len() as f64,
-            field.k()
+            "{reached}/{} reached ({:.2} %), {stalled} stalled, {timed_out} timed out, \
+             median path {median:.2} m, {collisions} collisions, k = {}",
+            runs.len(),
+            100.0 * reached as f64 / runs.len() as f64,
+            runs.first().map_or(f64::NAN, |r| r.k)
         ),
     )
 }
