@@ -28,6 +28,7 @@ integrator's steps (harmonav), and the cost of one command, timed from Python fo
 """
 
 import argparse
+import json
 import pathlib
 import sys
 import tempfile
@@ -298,12 +299,20 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--worlds", type=int, default=20, help="seeded disc worlds per size (6 and 12 discs)")
     ap.add_argument("--markdown", action="store_true", help="print a blank line after each title")
+    ap.add_argument("--records", type=pathlib.Path, help="also write every run's record to this JSON file")
     args = ap.parse_args()
+    records = []
     for m in (6, 12):
         worlds = [disc_world(m, seed) for seed in range(args.worlds)]
-        print(table(f"{args.worlds} seeded worlds of {m} discs", study(worlds), args.markdown))
+        rows = study(worlds)
+        records += rows
+        print(table(f"{args.worlds} seeded worlds of {m} discs", rows, args.markdown))
     for world in (concave_star_world(), dense_cluster_world()):
-        print(table(f"hard world: {world['name']}", study([world]), args.markdown))
+        rows = study([world])
+        records += rows
+        print(table(f"hard world: {world['name']}", rows, args.markdown))
+    if args.records:
+        args.records.write_text(json.dumps(records, indent=1))
 
 
 if __name__ == "__main__":
