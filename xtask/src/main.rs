@@ -33,6 +33,7 @@ fn main() -> ExitCode {
         Some("verify") if args.len() == 3 && args[1] == "--only" => verify::run(Some(&args[2])),
         Some("figures") if args.len() == 1 => figures::run(),
         Some("quality") => quality::run(&args[1..]),
+        Some("scale") => verify::scale::experiment(&args[1..]),
         Some("bench") => match bench::Options::parse(&args[1..]) {
             Ok(options) => bench::run(&options),
             Err(message) => usage_error(&message),

@@ -201,11 +201,14 @@ pub fn figures(stats: &[CellStats], mut put: impl FnMut(&str, f64)) {
     }
 }
 
-/// `cargo xtask quality [--worlds N] [--kinematic-only | --dynamic-only]`: prints the table (an experiment
-/// runner; the figures themselves are in `cargo xtask bench --json`).
+/// `cargo xtask quality [--worlds N] [--kinematic-only | --dynamic-only | --compare D1,D2…]`:
+/// prints the table (an experiment runner; the figures themselves are in
+/// `cargo xtask bench --json`). `--compare` runs the default `k` only: the dynamic law under
+/// the damping policies `D1, D2, …` and the kinematic law at [`REFERENCE_SPEED`].
 pub fn run(args: &[String]) -> std::process::ExitCode {
     let mut worlds = WORLDS;
     let mut models = vec![Model::Kinematic, Model::Dynamic];
+    let mut compare: Option<Vec<DampingPolicy>> = None;
     let mut it = args.iter();
     while let Some(a) = it.next() {
         match a.as_str() {
@@ -218,6 +221,16 @@ pub fn run(args: &[String]) -> std::process::ExitCode {
             },
             "--kinematic-only" => models = vec![Model::Kinematic],
             "--dynamic-only" => models = vec![Model::Dynamic],
+            "--compare" => match it
+                .next()
+                .map(|v| v.split(',').map(str::parse).collect::<Result<Vec<_>, _>>())
+            {
+                Some(Ok(d)) if !d.is_empty() => compare = Some(d),
+                _ => {
+                    eprintln!("xtask quality: --compare takes damping policies, e.g. auto,fast");
+                    return std::process::ExitCode::from(2);
+                }
+            },
             other => {
                 eprintln!("xtask quality: unknown option `{other}`");
                 return std::process::ExitCode::from(2);
@@ -225,7 +238,20 @@ pub fn run(args: &[String]) -> std::process::ExitCode {
         }
     }
     let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
-    let plan = plan(&models, &KPolicy::ALL, LawPolicies::ALL, worlds);
+    // `--compare`: the default `k` only, the dynamic law under the policies asked for and the
+    // kinematic law at the reference speed (the twin of the time ratios and of verify's targets).
+    let plan = match &compare {
+        Some(dampings) => plan(
+            &[Model::Kinematic, Model::Dynamic],
+            &[KPolicy::default()],
+            LawPolicies {
+                dampings,
+                speeds: &[REFERENCE_SPEED],
+            },
+            worlds,
+        ),
+        None => plan(&models, &KPolicy::ALL, LawPolicies::ALL, worlds),
+    };
     match harmonav_bench::quality::run_plan(&plan, threads) {
         Ok(stats) => {
             print!("{}", table(&stats));
