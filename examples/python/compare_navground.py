@@ -30,6 +30,7 @@ integrator's steps (harmonav), and the cost of one command, timed from Python fo
 import argparse
 import json
 import pathlib
+import statistics
 import sys
 import tempfile
 import time
@@ -295,6 +296,20 @@ def table(title, rows, markdown):
     return (f"### {title}\n\n" if markdown else f"== {title}\n") + text
 
 
+def against_hl(rows):
+    """Issue 27's measure: the kinematic default's time at HL's top speed (1 m/s) over HL's, in
+    each world both arrived in; median and max over the worlds."""
+    time = lambda law, speed: {  # noqa: E731
+        r["world"]: r["time_s"] for r in rows if r["law"] == law and r.get("speed") == speed and r["reached"]
+    }
+    mine, hl = time("kinematic", "auto, v_max 1 m/s"), time("navground", "HL")
+    ratios = sorted(mine[w] / hl[w] for w in mine if w in hl)
+    if not ratios:
+        return "kinematic default at 1 m/s over navground HL: no world where both arrived"
+    return (f"kinematic default at 1 m/s over navground HL, per world ({len(ratios)} worlds): "
+            f"median {statistics.median(ratios):.3f}, max {ratios[-1]:.3f}")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--worlds", type=int, default=20, help="seeded disc worlds per size (6 and 12 discs)")
@@ -307,6 +322,7 @@ def main():
         rows = study(worlds)
         records += rows
         print(table(f"{args.worlds} seeded worlds of {m} discs", rows, args.markdown))
+        print(against_hl(rows) + "\n")
     for world in (concave_star_world(), dense_cluster_world()):
         rows = study([world])
         records += rows

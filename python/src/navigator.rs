@@ -25,8 +25,9 @@ use crate::shapes::{Shape, from_perceived};
 /// - `law="dynamic"`: the force `f = −μ∇Ψ − λẋ` (eq. `dynctrllocal`; `Ψ = Θ` and `λ` of
 ///   eq. `dissipationfun` under `damping="paper"`; `Ψ = 1 − √(1 − Θ)` and a damping critical at
 ///   the goal under `damping="shaped"`; the same on `Θ` made free of the world's scale under
-///   `damping="auto"`, the default, `docs/maths.md` §9), for a robot of mass `mass`; its speed
-///   stays below `√(2μ/m)`.
+///   `damping="auto"`, the default; a goal bowl in metres and a ramp as long as the world under
+///   the research policy `damping="fast"`, `docs/maths.md` §9), for a robot of mass `mass`; its
+///   speed stays below `√(2μ/m)`.
 ///
 /// `sensor=(range_m, aperture_deg)` sets `d_min` (eq. `dmin`); `radius` and `margin` (m) grow
 /// every obstacle and shrink the boundary; `k` is `"auto"` or `"paper"`.

@@ -5,6 +5,8 @@
 //! - `cargo xtask bench [--json] [--numpy] [--portable] [--only PREFIX]` re-runs itself in release mode and prints the
 //!   benchmark figures (one JSON object with `--json`).
 //! - `cargo xtask figures` regenerates the documentation figures in `docs/figures/`.
+//! - `cargo xtask quality` and `cargo xtask scale` print experiment tables (the motion-quality
+//!   benchmark; the scale suite under several damping policies).
 
 mod bench;
 mod figures;
@@ -24,7 +26,9 @@ const USAGE: &str =
              --numpy   also time a NumPy implementation of eq. (gradient) (needs python3 + numpy)
              --portable  compile for the baseline target instead of this machine's CPU
              --only P  only the figures whose names start with P (e.g. field_eval, quality)
-  figures  regenerate the documentation figures in docs/figures/";
+  figures  regenerate the documentation figures in docs/figures/
+  quality  [--worlds N] [--kinematic-only | --dynamic-only | --compare D1,D2] the motion-quality table
+  scale    [--damping D1,D2 | --trace FILE MODEL DAMPING] the scale suite, dynamic/kinematic time";
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -33,6 +37,7 @@ fn main() -> ExitCode {
         Some("verify") if args.len() == 3 && args[1] == "--only" => verify::run(Some(&args[2])),
         Some("figures") if args.len() == 1 => figures::run(),
         Some("quality") => quality::run(&args[1..]),
+        Some("scale") => verify::scale::experiment(&args[1..]),
         Some("bench") => match bench::Options::parse(&args[1..]) {
             Ok(options) => bench::run(&options),
             Err(message) => usage_error(&message),

@@ -24,9 +24,16 @@ pub struct LawPolicies<'a> {
 }
 
 impl LawPolicies<'static> {
-    /// Every damping and speed policy.
+    /// The policies of the table in docs/benchmarks.md (and of
+    /// `examples/experiments/quality.toml`): every speed policy, and the damping policies
+    /// `"paper"`, `"shaped"` and `"auto"`. `"fast"` (docs/maths.md §9 part 4) is compared on its
+    /// own with `--compare auto,fast`.
     pub const ALL: Self = Self {
-        dampings: &DampingPolicy::ALL,
+        dampings: &[
+            DampingPolicy::Paper,
+            DampingPolicy::Shaped,
+            DampingPolicy::Auto,
+        ],
         speeds: &SpeedPolicy::ALL,
     };
 
@@ -131,11 +138,14 @@ pub fn figures(stats: &[CellStats], mut put: impl FnMut(&str, f64)) {
     }
 }
 
-/// `cargo xtask quality [--worlds N] [--kinematic-only | --dynamic-only]`: prints the table (an experiment
-/// runner; the figures themselves are in `cargo xtask bench --json`).
+/// `cargo xtask quality [--worlds N] [--kinematic-only | --dynamic-only | --compare D1,D2…]`:
+/// prints the table (an experiment runner; the figures themselves are in
+/// `cargo xtask bench --json`). `--compare` runs the default `k` only: the dynamic law under
+/// the damping policies `D1, D2, …` and the kinematic law at [`REFERENCE_SPEED`].
 pub fn run(args: &[String]) -> std::process::ExitCode {
     let mut worlds = WORLDS;
     let mut models = vec![Model::Kinematic, Model::Dynamic];
+    let mut compare: Option<Vec<DampingPolicy>> = None;
     let mut it = args.iter();
     while let Some(a) = it.next() {
         match a.as_str() {
@@ -148,6 +158,16 @@ pub fn run(args: &[String]) -> std::process::ExitCode {
             },
             "--kinematic-only" => models = vec![Model::Kinematic],
             "--dynamic-only" => models = vec![Model::Dynamic],
+            "--compare" => match it
+                .next()
+                .map(|v| v.split(',').map(str::parse).collect::<Result<Vec<_>, _>>())
+            {
+                Some(Ok(d)) if !d.is_empty() => compare = Some(d),
+                _ => {
+                    eprintln!("xtask quality: --compare takes damping policies, e.g. auto,fast");
+                    return std::process::ExitCode::from(2);
+                }
+            },
             other => {
                 eprintln!("xtask quality: unknown option `{other}`");
                 return std::process::ExitCode::from(2);
@@ -155,7 +175,20 @@ pub fn run(args: &[String]) -> std::process::ExitCode {
         }
     }
     let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
-    let plan = plan(&models, &KPolicy::ALL, LawPolicies::ALL, worlds);
+    // `--compare`: the default `k` only, the dynamic law under the policies asked for and the
+    // kinematic law at the reference speed (the twin of the time ratios and of verify's targets).
+    let plan = match &compare {
+        Some(dampings) => plan(
+            &[Model::Kinematic, Model::Dynamic],
+            &[KPolicy::default()],
+            LawPolicies {
+                dampings,
+                speeds: &[REFERENCE_SPEED],
+            },
+            worlds,
+        ),
+        None => plan(&models, &KPolicy::ALL, LawPolicies::ALL, worlds),
+    };
     match harmonav_bench::quality::run_cells(&plan, threads) {
         Ok(stats) => {
             print!("{}", harmonav_bench::table::table(&stats));

@@ -9,7 +9,7 @@ mod lidar;
 mod navigator;
 mod potential;
 mod quality;
-mod scale;
+pub(crate) mod scale;
 mod scenarios;
 mod transform;
 

@@ -47,6 +47,9 @@ pub enum DampingArg {
     /// The default: "shaped" on Θ made free of the world's scale, so the robot is as quick in
     /// a 100 m world as in a 5 m one (docs/maths.md §9).
     Auto,
+    /// A research policy: a goal bowl a braking distance wide and a ramp as long as the world
+    /// (docs/maths.md §9, "fast").
+    Fast,
 }
 
 impl From<DampingArg> for DampingPolicy {
@@ -55,6 +58,7 @@ impl From<DampingArg> for DampingPolicy {
             DampingArg::Paper => DampingPolicy::Paper,
             DampingArg::Shaped => DampingPolicy::Shaped,
             DampingArg::Auto => DampingPolicy::Auto,
+            DampingArg::Fast => DampingPolicy::Fast,
         }
     }
 }

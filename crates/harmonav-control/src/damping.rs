@@ -38,13 +38,19 @@ pub enum DampingPolicy {
     /// on the size of the world. In worlds of radius `ρ_ref` = 5 m it is `"shaped"`.
     #[default]
     Auto,
+    /// A research policy (issue 27, `docs/maths.md` §9, "fast"), not the default: the law
+    /// descends `Ψ = w·q/(q + L) + (1 − w)·q/√(q² + L_A²)`, `q = √(r̃² + b²) − b`,
+    /// `r̃ = √(2e^{phi}/σ)` (`|x − x_d|` near the goal, in metres): a goal bowl a braking
+    /// distance wide and a ramp linear in `q` out to `L_A` = twice the world's radius, with
+    /// `"auto"`'s damping `λ(x) = 2√(mμ)|∇√(2Ψ)|` and uphill brake (`Dynamic::potential_for`).
+    Fast,
 }
 
 harmonav_potential::named_policy!(
     DampingPolicy,
     UnknownDampingPolicy,
     "damping policy",
-    [Paper => "paper", Shaped => "shaped", Auto => "auto"]
+    [Paper => "paper", Shaped => "shaped", Auto => "auto", Fast => "fast"]
 );
 
 /// Which branch of the damping is in force.

@@ -152,6 +152,57 @@ pub const REFERENCE_RADIUS: f64 = 5.0;
 /// on the motion-quality benchmark (`docs/maths.md` §9: 16, 64 and 256 were measured).
 pub const UPHILL_GAIN: f64 = 64.0;
 
+/// `w` of [`DampingPolicy::Fast`]: the share of `Ψ` held by the goal bowl `B = q/(q + L)`;
+/// the rest is the ramp `A = q/√(q² + L_A²)` ([`Dynamic::potential_for`]).
+pub const FAST_BOWL_WEIGHT: f64 = 0.25;
+
+/// `b` of [`DampingPolicy::Fast`], m: the radius of the bowl's quadratic core,
+/// `q = √(r̃² + b²) − b ≈ r̃²/(2b)` within it and `≈ r̃ − b` beyond.
+pub const FAST_BOWL_CORE: f64 = 0.1;
+
+/// `L` of [`DampingPolicy::Fast`], m: the bowl `B = q/(q + L)` is half full at `q = L`. Where
+/// the bowl dominates, the terminal speed of the damping `λ(x) = 2√(mμ)|∇√(2Ψ)|`,
+/// `½√(μ/m)·√(2Ψ) ≈ √(μwq/(2mL))`, is the profile of a constant deceleration `μw/(4mL)`
+/// (2.5 m/s² at `μ = 10`, `m = 1`).
+pub const FAST_BRAKING_LENGTH: f64 = 0.25;
+
+/// `κ` of [`DampingPolicy::Fast`]: the ramp `A = q/√(q² + L_A²)` is linear in `q` out to
+/// `L_A = κ·ρ`, `ρ` the outer boundary's largest radius, and pulls with the force
+/// `μ(1 − w)/L_A` there.
+pub const FAST_RAMP: f64 = 2.0;
+
+/// `(w, b, L, κ)` of [`DampingPolicy::Fast`].
+const FAST: (f64, f64, f64, f64) = (
+    FAST_BOWL_WEIGHT,
+    FAST_BOWL_CORE,
+    FAST_BRAKING_LENGTH,
+    FAST_RAMP,
+);
+
+/// The shaping of [`DampingPolicy::Fast`] as a function of `ℓ = ln r̃²`: `(Ψ, ln dΨ/dℓ)` with
+/// `Ψ = w·q/(q + L) + (1 − w)·q/√(q² + L_A²)`, `q = √(r̃² + b²) − b`.
+///
+/// `dΨ/dℓ = r̃²/(2√(r̃² + b²))·(w·L/(q + L)² + (1 − w)·L_A²/(q² + L_A²)^{3/2})`, returned as its
+/// logarithm `ℓ − ln 2 − ln√(r̃² + b²) + ln(…)`, finite for every finite `ℓ` (`ℓ` itself stands
+/// for `ln r̃²`, exact where `r̃²` underflows at the goal). Guards: `q` is
+/// `r̃·(r̃/(√(r̃² + b²) + b))` (no cancellation for `r̃ ≪ b`, no overflow of `r̃²`; the roots are
+/// `hypot`); where `r̃ = e^{ℓ/2}` overflows (`ℓ > 1419`, far past saturation) `Ψ = 1` and
+/// `ln dΨ/dℓ = −∞`; where the bracket underflows (`q ≳ 1e154`) its logarithm is `−∞` too.
+fn fast_shape(ell: f64, (w, b, l, l_ramp): (f64, f64, f64, f64)) -> (f64, f64) {
+    let r = (0.5 * ell).exp();
+    if !r.is_finite() {
+        return (1.0, f64::NEG_INFINITY);
+    }
+    let root = r.hypot(b);
+    let q = r * (r / (root + b));
+    let ramp_root = q.hypot(l_ramp);
+    let value = w * q / (q + l) + (1.0 - w) * q / ramp_root;
+    let slope_q = w * l / ((q + l) * (q + l))
+        + (1.0 - w) * (l_ramp / ramp_root) * (l_ramp / ramp_root) / ramp_root;
+    let ln_slope = ell - std::f64::consts::LN_2 - root.ln() + slope_q.ln();
+    (value, ln_slope)
+}
+
 /// The potential a [`Dynamic`] law descends, `Ψ`, and its gradient.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Potential {
@@ -211,9 +262,14 @@ impl Dynamic {
     /// scales `Phi` by `α` and adds `(1 − n/k)·ln α²` to `phi_k` (its `ln|h − P_d|²` term
     /// gains `ln α²`, each of the `n` terms `−(1/k)·ln|h − P_i|²` loses `ln α²/k`), which `s`
     /// takes away. `s` is constant between discoveries, so `Ψ` is a fixed function there and
-    /// `V̇ ≤ 0` holds; 0 under the other policies.
+    /// `V̇ ≤ 0` holds. Under [`DampingPolicy::Fast`] it is `ln ρ²` (ρ in metres), which sets the
+    /// length `L_A = κρ` of its ramp ([`Dynamic::potential_for`]); 0 under the other policies.
     pub fn scale_shift(&self, field: &Field) -> f64 {
         match self.policy {
+            DampingPolicy::Fast => {
+                let rho = field.workspace().boundary().radius_bounds().1;
+                rho.powi(2).ln()
+            }
             DampingPolicy::Auto => {
                 let n = field.known().len() as f64;
                 let rho = field.workspace().boundary().radius_bounds().1;
@@ -225,7 +281,8 @@ impl Dynamic {
 
     /// The potential the law descends, with its gradient: `Θ` under [`DampingPolicy::Paper`];
     /// `Ψ = 1 − √(1 − Θ)` under [`DampingPolicy::Shaped`] (`docs/maths.md` §9); the same on
-    /// `Θ_s = sigma(phi − s)` ([`Dynamic::scale_shift`]) under [`DampingPolicy::Auto`].
+    /// `Θ_s = sigma(phi − s)` ([`Dynamic::scale_shift`]) under [`DampingPolicy::Auto`]; the
+    /// bowl and ramp of [`Dynamic::potential_for`] under [`DampingPolicy::Fast`].
     /// `Ψ = g(Θ)` with `g` smooth and increasing on `[0, 1)`, `g(0) = 0`, `g(1) = 1` (also
     /// `Θ ↦ Θ_s = sigma(logit Θ − s)` is), so `Ψ` is a navigation function with the critical
     /// points of `Θ`; near the goal `Ψ ≈ Θ_s/2 ≈ e^{−s}Θ/2`, near the walls and the outer
@@ -239,19 +296,66 @@ impl Dynamic {
     /// `sigma'(phi)` underflows, `phi ≳ 745`, within ~1e-300 m of a wall, `∇Θ` has underflowed
     /// too and `∇Ψ = 0`, as under the paper's law).
     pub fn potential(&self, field: &Field, eval: &FieldEval) -> Potential {
-        self.potential_for(self.scale_shift(field), eval)
+        self.potential_for(
+            (field.destination_stiffness(), self.scale_shift(field)),
+            eval,
+        )
     }
 
-    /// [`Dynamic::potential`] for the scale shift `shift` (the [`Dynamic::scale_shift`] of the
-    /// field that made `eval`; 0 for a `Θ` that is free of the world's scale already, such as
-    /// a floor plan's, whose harmonic map goes onto the unit disk).
-    pub fn potential_for(&self, shift: f64, eval: &FieldEval) -> Potential {
+    /// [`Dynamic::potential`] for the destination stiffness `sigma` (the smallest eigenvalue of
+    /// `H(Θ)(x_d)`, `Field::destination_stiffness`) and the scale shift `shift` (the
+    /// [`Dynamic::scale_shift`] of the field that made `eval`; 0 for a `Θ` that is free of the
+    /// world's scale already, such as a floor plan's, whose harmonic map goes onto the unit
+    /// disk). `sigma` serves [`DampingPolicy::Fast`] only.
+    ///
+    /// Under [`DampingPolicy::Fast`] (`docs/maths.md` §9, "fast"),
+    ///
+    /// ```text
+    /// Ψ = w·q/(q + L) + (1 − w)·q/√(q² + L_A²),   q = √(r̃² + b²) − b,
+    /// r̃² = e^{phi − c} = (2/σ)·Θ/(1 − Θ),          c = ln(σ/2),   L_A = κρ = κ·e^{shift/2},
+    /// ```
+    ///
+    /// (`w, b, L, κ` = [`FAST_BOWL_WEIGHT`], [`FAST_BOWL_CORE`], [`FAST_BRAKING_LENGTH`],
+    /// [`FAST_RAMP`]; `ρ` the outer radius, [`Dynamic::scale_shift`]). Near the goal
+    /// `Θ ≈ e^{phi} ≈ ½σ|x − x_d|²`, so `r̃ → |x − x_d|`: a length in metres (`r̃(αx) = α·r̃(x)`
+    /// in a world scaled by `α`). The first term is a goal bowl a braking distance wide, the
+    /// second a ramp linear in `q` out to `L_A`, twice the world's radius. `r̃` is a smooth
+    /// increasing function of `Θ` and `Ψ` of `r̃`, so `Ψ = g(Θ)` with `g` smooth and strictly
+    /// increasing on `[0, 1)`, `g(0) = 0`, `g(1) = 1` (`1 − Ψ ≈ wL/r̃ ∝ √(1 − Θ)` at the walls,
+    /// as under `"shaped"`): a navigation function with the critical points of `Θ`. Its gradient
+    /// is `(dΨ/dℓ)·∇phi`, `ℓ = phi − c`, `∇phi = ∇Θ/sigma'(phi)`. On a floor plan (`shift = 0`)
+    /// `L_A = κ` m.
+    ///
+    /// Numerical guards of `"fast"`: `(dΨ/dℓ)/sigma'(phi)` is one exponential of a sum of
+    /// logarithms (`fast_shape`, `ln_sigma_prime`), finite for every finite `phi` (at the goal,
+    /// `phi → −∞`, `dΨ/dℓ` vanishes and `1/sigma'` blows up, and the sum is their finite ratio;
+    /// at saturation it is `~e^{phi/2}`, finite up to `phi ≈ 1400`, where `∇Θ` has long
+    /// underflowed); where `∇Θ = 0` (the goal, or `phi ≳ 745`) `∇Ψ = 0`.
+    pub fn potential_for(&self, (sigma_d, shift): (f64, f64), eval: &FieldEval) -> Potential {
         if self.policy == DampingPolicy::Paper {
             return Potential {
                 value: eval.value,
                 gradient: eval.gradient,
             };
         }
+        if self.policy != DampingPolicy::Fast {
+            return self.shaped_potential(shift, eval);
+        }
+        let (w, b, l, kappa) = FAST;
+        let c = (0.5 * sigma_d).ln();
+        let (value, ln_slope) = fast_shape(eval.phi - c, (w, b, l, kappa * (0.5 * shift).exp()));
+        let gradient = if eval.gradient == Vector2::zeros() {
+            Vector2::zeros()
+        } else {
+            eval.gradient * (ln_slope - ln_sigma_prime(eval.phi)).exp()
+        };
+        Potential { value, gradient }
+    }
+
+    /// `Ψ = 1 − √(1 − Θ_s)` on `Θ_s = sigma(phi − s)`, `s = shift` under
+    /// [`DampingPolicy::Auto`] and 0 under [`DampingPolicy::Shaped`] (the guards of
+    /// [`Dynamic::potential`]).
+    fn shaped_potential(&self, shift: f64, eval: &FieldEval) -> Potential {
         let s = if self.policy == DampingPolicy::Auto {
             shift
         } else {
@@ -297,7 +401,9 @@ impl Dynamic {
     /// (`Field::destination_stiffness`, `2/Π|P_d − P_i|^{2/k}`, the exponent established in
     /// `docs/maths.md` §2) under the paper's policy, `s/2` for `Ψ ≈ Θ/2` under `"shaped"`, and
     /// `e^{−s_c}·s/2` for `Ψ ≈ Θ_s/2 ≈ e^{−s_c}Θ/2` under `"auto"` (`s_c` the
-    /// [`Dynamic::scale_shift`]: `sigma(phi − s_c) ≈ e^{phi − s_c}` as `phi → −∞`).
+    /// [`Dynamic::scale_shift`]: `sigma(phi − s_c) ≈ e^{phi − s_c}` as `phi → −∞`), and
+    /// `(w/L + (1 − w)/L_A)/b` under `"fast"`, whatever the world
+    /// (`Ψ ≈ (w/L + (1 − w)/L_A)·q`, `q ≈ r̃²/(2b)`, `r̃² ≈ |x − x_d|²`).
     pub fn goal_stiffness(&self, field: &Field) -> f64 {
         self.goal_stiffness_for(field.destination_stiffness(), self.scale_shift(field))
     }
@@ -310,6 +416,12 @@ impl Dynamic {
             DampingPolicy::Paper => s,
             DampingPolicy::Shaped => 0.5 * s,
             DampingPolicy::Auto => 0.5 * s * (-shift).exp(),
+            DampingPolicy::Fast => {
+                // Ψ ≈ (w/L + (1 − w)/L_A)·q, q ≈ r̃²/(2b), r̃² ≈ xᵀH(Θ)x/σ: H(Ψ) = that·H(Θ)/(bσ).
+                let _ = s;
+                let (w, b, l, kappa) = FAST;
+                (w / l + (1.0 - w) / (kappa * (0.5 * shift).exp())) / b
+            }
         }
     }
 
@@ -335,12 +447,8 @@ impl Dynamic {
     /// Numerical guard: at the goal (`Ψ = 0`, or so close that `Ψ` underflows) the ratio is
     /// `0/0`; its limit `λ_c` is returned instead.
     pub fn lambda_auto(&self, field: &Field, eval: &FieldEval) -> f64 {
-        let shift = self.scale_shift(field);
-        self.lambda_auto_at(
-            field.destination_stiffness(),
-            shift,
-            &self.potential_for(shift, eval),
-        )
+        let (s, shift) = (field.destination_stiffness(), self.scale_shift(field));
+        self.lambda_auto_at(s, shift, &self.potential_for((s, shift), eval))
     }
 
     /// [`Dynamic::lambda_auto`] from a potential already evaluated (`s`: the field's
@@ -390,10 +498,10 @@ impl Dynamic {
         speed_at_discovery: f64,
     ) -> Damping {
         // Ψ once per call: it serves both λ(x) and V.
-        let p = self.potential_for(shift, eval);
+        let p = self.potential_for((s, shift), eval);
         let (own, uphill) = match self.policy {
             DampingPolicy::Paper => (self.lambda_c_for(s, shift), 0.0),
-            DampingPolicy::Shaped | DampingPolicy::Auto => {
+            DampingPolicy::Shaped | DampingPolicy::Auto | DampingPolicy::Fast => {
                 let l = self.lambda_auto_at(s, shift, &p);
                 (l, UPHILL_GAIN * l)
             }
@@ -409,7 +517,9 @@ impl Dynamic {
         Damping {
             lambda: match self.policy {
                 DampingPolicy::Paper => switched,
-                DampingPolicy::Shaped | DampingPolicy::Auto => switched.max(own),
+                DampingPolicy::Shaped | DampingPolicy::Auto | DampingPolicy::Fast => {
+                    switched.max(own)
+                }
             },
             uphill,
             branch: Branch::Switched,
@@ -429,18 +539,20 @@ impl Dynamic {
         velocity: Vector2<f64>,
         d: &Damping,
     ) -> Vector2<f64> {
-        self.force_for(self.scale_shift(field), eval, velocity, d)
+        let calibration = (field.destination_stiffness(), self.scale_shift(field));
+        self.force_for(calibration, eval, velocity, d)
     }
 
-    /// [`Dynamic::force`] for the scale shift `shift` ([`Dynamic::potential_for`]).
+    /// [`Dynamic::force`] for the destination stiffness and scale shift `(sigma, shift)` of
+    /// [`Dynamic::potential_for`].
     pub fn force_for(
         &self,
-        shift: f64,
+        calibration: (f64, f64),
         eval: &FieldEval,
         velocity: Vector2<f64>,
         d: &Damping,
     ) -> Vector2<f64> {
-        let g = self.potential_for(shift, eval).gradient;
+        let g = self.potential_for(calibration, eval).gradient;
         let f = -self.mu * g - d.lambda * velocity;
         let n = g / g.norm();
         let climb = velocity.dot(&n);

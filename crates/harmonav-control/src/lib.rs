@@ -63,5 +63,8 @@ mod laws;
 mod speed;
 
 pub use damping::{Branch, Damping, DampingPolicy, UnknownDampingPolicy};
-pub use laws::{ControlError, Dynamic, Kinematic, Potential, REFERENCE_RADIUS, UPHILL_GAIN};
+pub use laws::{
+    ControlError, Dynamic, FAST_BOWL_CORE, FAST_BOWL_WEIGHT, FAST_BRAKING_LENGTH, FAST_RAMP,
+    Kinematic, Potential, REFERENCE_RADIUS, UPHILL_GAIN,
+};
 pub use speed::{BRAKING_TIME, LINEAR_CORE, SpeedPolicy, UnknownSpeedPolicy};

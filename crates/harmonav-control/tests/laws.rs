@@ -30,7 +30,7 @@ fn critical_damping_at_the_goal() {
         let (field, _) = world(seed);
         let law = Dynamic::new(1.0 + seed as f64 * 0.1, 10.0, 0.05)
             .unwrap()
-            .with_damping(DampingPolicy::ALL[seed as usize % 3]);
+            .with_damping(DampingPolicy::ALL[seed as usize % DampingPolicy::ALL.len()]);
         let g = goal_damping(&field, &law).unwrap();
         assert!(
             g.worst_deviation() < 1e-6,
@@ -63,7 +63,7 @@ fn critical_damping_at_the_goal() {
 fn energy_decreases_and_speed_is_bounded() {
     for seed in 0..20 {
         let (field, mut rng) = world(100 + seed);
-        let policy = DampingPolicy::ALL[seed as usize % 3];
+        let policy = DampingPolicy::ALL[seed as usize % DampingPolicy::ALL.len()];
         let law = Dynamic::new(1.0, 10.0, 0.05).unwrap().with_damping(policy);
         let start = random::free_point(&mut rng, field.workspace(), 0.2);
         let run = energy_run(&field, &law, start, 1e-3, 3000).unwrap();
@@ -566,5 +566,160 @@ fn auto_potential_is_free_of_the_worlds_scale() {
     for x in points {
         let e = base.eval(x).unwrap();
         assert_eq!(auto.potential(&base, &e), shaped.potential(&base, &e));
+    }
+}
+
+/// `"fast"`: `∇Ψ` against central differences of `Ψ` in random worlds, at random free points
+/// and at points 1 cm to 1 µm from the goal (the bowl's core) and in the scaled worlds
+/// (1 mm to 10 km), where its goal bowl is in metres.
+#[test]
+fn fast_potential_gradient_matches_finite_differences() {
+    let fast = Dynamic::new(1.0, 10.0, 0.05)
+        .unwrap()
+        .with_damping(DampingPolicy::Fast);
+    let check = |field: &Field, x: Vector2<f64>, h: f64| {
+        let p = fast.potential(field, &field.eval(x).unwrap());
+        assert!(
+            p.value.is_finite() && (0.0..1.0).contains(&p.value),
+            "{p:?}"
+        );
+        let psi = |d: Vector2<f64>| fast.potential(field, &field.eval(x + d).unwrap()).value;
+        let fd = Vector2::new(
+            psi(Vector2::new(h, 0.0)) - psi(Vector2::new(-h, 0.0)),
+            psi(Vector2::new(0.0, h)) - psi(Vector2::new(0.0, -h)),
+        ) / (2.0 * h);
+        assert!(
+            (fd - p.gradient).norm() <= 1e-5 * p.gradient.norm() + 1e-12,
+            "x = {x:?}: {fd:?} vs {:?}",
+            p.gradient
+        );
+    };
+    for seed in 0..30 {
+        let (field, mut rng) = world(1300 + seed);
+        for _ in 0..10 {
+            let x = random::free_point(&mut rng, field.workspace(), 0.05);
+            check(&field, x, 1e-6);
+        }
+        let xd = field.workspace().destination();
+        for r in [1e-2, 1e-4, 1e-6] {
+            check(&field, xd + Vector2::new(0.6 * r, 0.8 * r), 1e-3 * r);
+        }
+    }
+    for alpha in [1e-3, 1.0, 20.0, 1e4] {
+        let field = scaled_world(alpha);
+        for x in [
+            Vector2::new(-4.0, 0.1),
+            Vector2::new(2.0, 2.0),
+            Vector2::new(3.9, 0.0),
+        ] {
+            check(&field, alpha * x, 1e-6 * alpha);
+        }
+    }
+}
+
+/// `"fast"`: `Ψ = g(Θ)` with `g` strictly increasing from `g(0) = 0` to `g(1) = 1`, and finite
+/// with a finite gradient from the goal (`phi = −∞`) to far past saturation (`phi = 1e300`),
+/// where it must not produce a NaN. The evaluations are synthetic: `Θ = sigma(phi)` and
+/// `∇Θ = sigma'(phi)·e_x`, so `∇Ψ = g'(Θ)·∇Θ`, which is also checked against the slope of `g`.
+#[test]
+fn fast_shaping_is_strictly_increasing_and_finite_from_the_goal_to_saturation() {
+    use harmonav_field::FieldEval;
+    use harmonav_potential::{sigma, sigma_prime};
+    let fast = Dynamic::new(1.0, 10.0, 0.05)
+        .unwrap()
+        .with_damping(DampingPolicy::Fast);
+    let eval = |phi: f64| FieldEval {
+        value: sigma(phi),
+        gradient: Vector2::new(sigma_prime(phi), 0.0),
+        direction: Some(Vector2::new(-1.0, 0.0)),
+        h: Vector2::zeros(),
+        phi,
+    };
+    for (sigma_d, shift) in [(1.0, 0.0), (0.02, 3.0), (50.0, -2.0)] {
+        let psi = |phi: f64| fast.potential_for((sigma_d, shift), &eval(phi));
+        assert_eq!(psi(f64::NEG_INFINITY).value, 0.0);
+        assert_eq!(psi(f64::NEG_INFINITY).gradient, Vector2::zeros());
+        for phi in [800.0, 1e4, 1e300, f64::INFINITY] {
+            let p = psi(phi);
+            assert!((p.value - 1.0).abs() < 1e-12, "phi {phi}: {p:?}");
+            assert!(p.gradient.iter().all(|c| c.is_finite()), "phi {phi}: {p:?}");
+        }
+        let mut last = psi(-800.0);
+        let mut phi = -800.0;
+        while phi < 800.0 {
+            phi += 0.25;
+            let p = psi(phi);
+            assert!(p.value.is_finite() && p.gradient.iter().all(|c| c.is_finite()));
+            // Non-decreasing to rounding (the two terms' sum may lose an ulp where Ψ ≈ 1).
+            assert!(
+                p.value >= last.value - 4.0 * f64::EPSILON,
+                "phi {phi}: {} < {}",
+                p.value,
+                last.value
+            );
+            // Strictly, wherever the values are apart from rounding.
+            if (-60.0..40.0).contains(&phi) {
+                assert!(
+                    p.value > last.value,
+                    "phi {phi}: {} ≤ {}",
+                    p.value,
+                    last.value
+                );
+                // ∇Ψ = g'(Θ)∇Θ with g' > 0: along +e_x, and equal to the slope dΨ/dphi.
+                // (Central differences of step 1e-4: truncation ~1e-8 relative, rounding
+                // ~1e-12 absolute.)
+                let d = 1e-4;
+                let slope = (psi(phi + d).value - psi(phi - d).value) / (2.0 * d);
+                assert!(p.gradient.x > 0.0 && p.gradient.y == 0.0);
+                assert!(
+                    (p.gradient.x - slope).abs() <= 1e-6 * slope + 1e-11,
+                    "phi {phi}: {} vs {slope}",
+                    p.gradient.x
+                );
+            }
+            last = p;
+        }
+    }
+}
+
+/// `"fast"`: the bowl is in metres. Near the goal `Ψ ≈ ½H|x − x_d|²` with
+/// `H = w/(bL) + (1 − w)·½σe^{−s}` (`Dynamic::goal_stiffness`) in worlds of 5 mm to 50 km, so the
+/// critical damping `2√(mμH)` is the policy's `λ(x)` in the limit (damping ratio 1; the
+/// finite-difference check of every policy is `critical_damping_at_the_goal`).
+#[test]
+fn fast_bowl_is_in_metres_and_critically_damped_at_the_goal() {
+    let fast = Dynamic::new(2.0, 10.0, 0.05)
+        .unwrap()
+        .with_damping(DampingPolicy::Fast);
+    for alpha in [1e-3, 1.0, 20.0, 1e4] {
+        let field = scaled_world(alpha);
+        let xd = field.workspace().destination();
+        let h = fast.goal_stiffness(&field);
+        let r = 1e-6 * alpha.min(1.0);
+        let e = field.eval(xd + Vector2::new(0.0, r)).unwrap();
+        let p = fast.potential(&field, &e);
+        assert!(
+            (p.value / (0.5 * h * r * r) - 1.0).abs() < 1e-3,
+            "α = {alpha}"
+        );
+        let lambda = fast.lambda_auto(&field, &e);
+        let lc = fast.lambda_c(&field);
+        assert!(
+            (lambda / lc - 1.0).abs() < 1e-3,
+            "α = {alpha}: {lambda} vs {lc}"
+        );
+        assert!((lc - 2.0 * (2.0 * 10.0 * h).sqrt()).abs() < 1e-12 * lc);
+        // The bowl's part does not depend on the world: at α ≥ 1 it dominates H.
+        if alpha >= 1.0 {
+            let (w, b, l) = (
+                harmonav_control::FAST_BOWL_WEIGHT,
+                harmonav_control::FAST_BOWL_CORE,
+                harmonav_control::FAST_BRAKING_LENGTH,
+            );
+            assert!(
+                h >= w / (b * l) && h < 1.5 * w / (b * l),
+                "α = {alpha}: {h}"
+            );
+        }
     }
 }

@@ -23,7 +23,7 @@ use harmonav_sim::summary::Run;
 use harmonav_sim::trace::Discovery;
 
 pub use crate::canvas::err;
-use crate::canvas::{FONT, Scale, scaled_svg};
+use crate::canvas::{Scale, scaled_svg};
 use crate::drawing::{outline, xy};
 use crate::levels::{LevelLine, ThetaGrid};
 

@@ -245,7 +245,7 @@ fn margin_policy_and_limit_errors_name_the_field_and_the_reason() {
         "[sensor]",
         "[controller]\ndamping = \"critical\"\n[sensor]",
         "controller.damping",
-        "unknown damping policy \"critical\": expected \"paper\", \"shaped\" or \"auto\"",
+        "unknown damping policy \"critical\": expected \"paper\", \"shaped\", \"auto\" or \"fast\"",
         None,
     );
     check(
@@ -463,8 +463,8 @@ fn dynamic_run_keeps_the_speed_bound_and_arrives_without_overshoot() {
 
 /// Eq. dissipationfun's switch (scenarios/hard/lambda-switch.toml), under both damping policies:
 /// wherever a recorded state has `V ≥ μ`, the damping is switched and at least
-/// `(m/d_min)|ẋ(T_n)|`, exactly that under "paper"; with "auto" the discovery does lift `V` to
-/// μ and the switch is recorded; and the stopping-distance argument holds: the robot ends the
+/// `(m/d_min)|ẋ(T_n)|`, exactly that under "paper"; with "auto" and "fast" the discovery does
+/// lift `V` to μ and the switch is recorded; and the stopping-distance argument holds: the robot ends the
 /// switched interval within `d_min` of where it began, never touching the disc.
 #[test]
 fn the_damping_switch_engages_after_a_discovery_and_brakes_within_d_min() {
@@ -514,8 +514,11 @@ fn the_damping_switch_engages_after_a_discovery_and_brakes_within_d_min() {
                 _ => assert!(lambda >= floor, "{lambda} < {floor}"),
             }
         }
-        if policy == DampingPolicy::Auto {
-            assert!(!switched.is_empty(), "the discovery did not lift V to μ");
+        if matches!(policy, DampingPolicy::Auto | DampingPolicy::Fast) {
+            assert!(
+                !switched.is_empty(),
+                "{policy}: the discovery did not lift V to μ"
+            );
             assert!(r.samples.iter().any(|x| !x.critical && x.t == t_n));
             let last = r.samples.iter().rfind(|x| !x.critical).unwrap();
             let travelled = (Vector2::from(last.x) - Vector2::from(at_discovery.x)).norm();

@@ -229,7 +229,7 @@ impl FloorNavigator {
                 // A floor plan's Θ is free of the world's scale already: no shift.
                 let s = self.field.destination_stiffness();
                 let d = law.damping_for((s, 0.0), &e, v, self.speed_at_discovery);
-                (law.force_for(0.0, &e, v, &d), Some(d))
+                (law.force_for((s, 0.0), &e, v, &d), Some(d))
             }
         };
         Ok(Evaluation {

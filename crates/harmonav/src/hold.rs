@@ -268,7 +268,7 @@ pub(crate) fn dynamic(
     h: f64,
 ) -> Command {
     let m = law.mass();
-    let g = law.potential_for(space.scale_shift(law), e).gradient;
+    let g = law.potential_for(space.calibration(law), e).gradient;
     let w = v - (h * law.mu() / m) * g;
     let a = 1.0 + h * d.lambda / m;
     let mut next = w / a;

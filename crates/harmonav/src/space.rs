@@ -28,14 +28,11 @@ pub(crate) trait Space {
         let _ = (x, reach);
         u
     }
-    /// The scale shift of the dynamic law's potential on this space
-    /// (`Dynamic::potential_for`): `Dynamic::scale_shift` of a star world's field; 0 on a floor
-    /// plan, whose `Θ` is free of the world's scale already (its harmonic map goes onto the
-    /// unit disk).
-    fn scale_shift(&self, law: &Dynamic) -> f64 {
-        let _ = law;
-        0.0
-    }
+    /// The destination stiffness of `Θ` (the smallest eigenvalue of `H(Θ)(x_d)`) and the scale
+    /// shift of the dynamic law's potential on this space (`Dynamic::potential_for`):
+    /// `Dynamic::scale_shift` of a star world's field; 0 on a floor plan, whose `Θ` is free of
+    /// the world's scale already (its harmonic map goes onto the unit disk).
+    fn calibration(&self, law: &Dynamic) -> (f64, f64);
 }
 
 impl Space for Field {
@@ -55,8 +52,8 @@ impl Space for Field {
         certified::escape(self.workspace(), x, most)
     }
 
-    fn scale_shift(&self, law: &Dynamic) -> f64 {
-        law.scale_shift(self)
+    fn calibration(&self, law: &Dynamic) -> (f64, f64) {
+        (self.destination_stiffness(), law.scale_shift(self))
     }
 }
 
@@ -106,6 +103,11 @@ impl Space for FloorField {
         };
         let into = u.dot(&n);
         if into > 0.0 { u - into * n } else { u }
+    }
+
+    fn calibration(&self, law: &Dynamic) -> (f64, f64) {
+        let _ = law;
+        (self.destination_stiffness(), 0.0)
     }
 
     /// Only a sensed obstacle has a blind layer (the walls' distances are exact to rounding):

@@ -55,7 +55,7 @@ fn critical_damping() -> Outcome {
         let (field, _) = world(5000 + seed);
         let law = Dynamic::new(1.0, 10.0, 0.05)
             .map_err(|e| e.to_string())?
-            .with_damping(DampingPolicy::ALL[seed as usize % 3]);
+            .with_damping(DampingPolicy::ALL[seed as usize % DampingPolicy::ALL.len()]);
         let g = goal_damping(&field, &law).map_err(|e| format!("seed {seed}: {e}"))?;
         worst = worst.max(g.worst_deviation());
     }
@@ -74,7 +74,7 @@ fn energy() -> Outcome {
     let (mut max_speed, mut worst_rise) = (0.0f64, 0.0f64);
     let base = Dynamic::new(1.0, 10.0, 0.05).map_err(|e| e.to_string())?;
     for seed in 0..30u64 {
-        let law = base.with_damping(DampingPolicy::ALL[seed as usize % 3]);
+        let law = base.with_damping(DampingPolicy::ALL[seed as usize % DampingPolicy::ALL.len()]);
         let (field, mut rng) = world(6000 + seed);
         let start = random::free_point(&mut rng, field.workspace(), 0.2);
         let run =

@@ -17,6 +17,7 @@
 
 use std::path::{Path, PathBuf};
 
+use harmonav_control::DampingPolicy;
 use harmonav_scenario::{Model, Scenario};
 use harmonav_sim::physics::{Physics, simulate};
 use harmonav_sim::run::run;
@@ -47,7 +48,22 @@ fn quantile(values: &[f64], q: f64) -> f64 {
     sorted[rank - 1]
 }
 
-fn dynamic_over_kinematic() -> Outcome {
+/// One file of the scale suite flown under both laws: the kinematic time and, per damping
+/// policy, the dynamic time (`None`: the file's own policy).
+pub struct SuiteRow {
+    /// The file's stem.
+    pub name: String,
+    /// The kinematic law's time to goal, s.
+    pub kinematic: f64,
+    /// The dynamic law's time to goal under each policy asked for, s, or why the run failed
+    /// (not arrived, or a guarantee broken).
+    pub dynamic: Vec<Result<f64, String>>,
+}
+
+/// Flies every file of `scenarios/scale/` under the kinematic law (the file's policies) and
+/// under the dynamic law with each of `dampings` (`None`: the file's own). Every kinematic run
+/// must arrive with every guarantee held; a dynamic run that does not is reported in its row.
+pub fn suite(dampings: &[Option<DampingPolicy>]) -> Result<Vec<SuiteRow>, String> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenarios/scale");
     let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
         .map_err(|e| format!("{}: {e}", dir.display()))?
@@ -55,29 +71,54 @@ fn dynamic_over_kinematic() -> Outcome {
         .filter(|p| p.extension().is_some_and(|e| e == "toml"))
         .collect();
     files.sort();
-    let (mut ratios, mut report) = (Vec::new(), Vec::new());
+    if files.is_empty() {
+        return Err(format!("no scenario in {}", dir.display()));
+    }
+    let mut rows = Vec::new();
     for file in &files {
         let name = file
             .file_stem()
             .map_or(String::new(), |s| s.to_string_lossy().into_owned());
         let prepared = Scenario::load(file).map_err(|e| e.to_string())?;
-        let mut time = [0.0; 2];
-        for (slot, model) in [Model::Kinematic, Model::Dynamic].into_iter().enumerate() {
-            let s = simulate(&prepared, Some(model), Physics::Builtin)
+        let fly = |prepared: &harmonav_scenario::Prepared, model| {
+            let s = simulate(prepared, Some(model), Physics::Builtin)
                 .map_err(|e| format!("{name}: {e}"))?
                 .summary;
-            if !(s.reached && s.all_passed()) {
-                return Err(format!("{name}, {model:?}: {}", s.outcome));
+            if s.reached && s.all_passed() {
+                Ok(s.time_s)
+            } else {
+                Err(format!("{name}, {model:?}: {}", s.outcome))
             }
-            time[slot] = s.time_s;
+        };
+        let kinematic = fly(&prepared, Model::Kinematic)?;
+        let mut dynamic = Vec::new();
+        for &damping in dampings {
+            let mut p = prepared.clone();
+            if let Some(d) = damping {
+                p.scenario.controller.damping = d;
+            }
+            dynamic.push(fly(&p, Model::Dynamic));
         }
-        let ratio = time[1] / time[0];
-        ratios.push(ratio);
-        report.push(format!("{name} {ratio:.2}"));
+        rows.push(SuiteRow {
+            name,
+            kinematic,
+            dynamic,
+        });
     }
-    if ratios.is_empty() {
-        return Err(format!("no scenario in {}", dir.display()));
+    Ok(rows)
+}
+
+fn dynamic_over_kinematic() -> Outcome {
+    let rows = suite(&[None])?;
+    let mut ratios = Vec::new();
+    for r in &rows {
+        ratios.push(r.dynamic[0].clone()? / r.kinematic);
     }
+    let report: Vec<String> = rows
+        .iter()
+        .zip(&ratios)
+        .map(|(r, ratio)| format!("{} {ratio:.2}", r.name))
+        .collect();
     let (median, p90, worst) = (
         quantile(&ratios, 0.5),
         quantile(&ratios, 0.9),
@@ -102,6 +143,81 @@ fn dynamic_over_kinematic() -> Outcome {
             "{detail}; issue 27's targets not met"
         )))
     }
+}
+
+/// `cargo xtask scale [--damping NAME,NAME…]`: the scale suite under both laws, one column of
+/// dynamic/kinematic time ratios per damping policy (default: every policy but `"paper"`),
+/// with their median and p90 (an experiment runner; the check is
+/// `scale.dynamic-over-kinematic`).
+pub fn experiment(args: &[String]) -> std::process::ExitCode {
+    let mut dampings = vec![
+        DampingPolicy::Shaped,
+        DampingPolicy::Auto,
+        DampingPolicy::Fast,
+    ];
+    match args {
+        [] => {}
+        [flag, file, model, damping] if flag == "--trace" => {
+            return trace(Path::new(file), model, damping);
+        }
+        [flag, names] if flag == "--damping" => {
+            match names
+                .split(',')
+                .map(str::parse)
+                .collect::<Result<Vec<_>, _>>()
+            {
+                Ok(d) => dampings = d,
+                Err(e) => {
+                    eprintln!("xtask scale: {e}");
+                    return std::process::ExitCode::from(2);
+                }
+            }
+        }
+        _ => {
+            eprintln!("xtask scale: usage: cargo xtask scale [--damping NAME,NAME…]");
+            return std::process::ExitCode::from(2);
+        }
+    }
+    let asked: Vec<Option<DampingPolicy>> = dampings.iter().copied().map(Some).collect();
+    let rows = match suite(&asked) {
+        Ok(rows) => rows,
+        Err(e) => {
+            eprintln!("xtask scale: {e}");
+            return std::process::ExitCode::FAILURE;
+        }
+    };
+    let mut head = String::from("| world | kinematic (s) |");
+    for d in &dampings {
+        head += &format!(" {} (s) | ratio |", d.as_str());
+    }
+    println!("{head}\n|---|---|{}", "---|---|".repeat(dampings.len()));
+    for r in &rows {
+        let mut line = format!("| {} | {:.1} |", r.name, r.kinematic);
+        for t in &r.dynamic {
+            match t {
+                Ok(t) => line += &format!(" {t:.1} | {:.2} |", t / r.kinematic),
+                Err(e) => line += &format!(" {e} | — |"),
+            }
+        }
+        println!("{line}");
+    }
+    let mut median = String::from("| median | |");
+    let mut p90 = String::from("| p90 | |");
+    for i in 0..dampings.len() {
+        // A run that failed counts as an infinite ratio.
+        let ratios: Vec<f64> = rows
+            .iter()
+            .map(|r| {
+                r.dynamic[i]
+                    .as_ref()
+                    .map_or(f64::INFINITY, |t| t / r.kinematic)
+            })
+            .collect();
+        median += &format!(" | {:.2} |", quantile(&ratios, 0.5));
+        p90 += &format!(" | {:.2} |", quantile(&ratios, 0.9));
+    }
+    println!("{median}\n{p90}");
+    std::process::ExitCode::SUCCESS
 }
 
 /// The six discs `(x, y, r)` of the world at `α = 1` (a seeded world of the benchmark's kind).
@@ -201,6 +317,53 @@ fn scale_free() -> Outcome {
             100.0 * control
         ),
     )
+}
+
+/// `cargo xtask scale --trace FILE MODEL DAMPING`: every recorded state about every 0.25 s of
+/// one run (time, distance to the goal, speed, `Θ`, `V`, `λ`), to see where a law spends its
+/// time.
+fn trace(file: &Path, model: &str, damping: &str) -> std::process::ExitCode {
+    let go = || -> Result<(), String> {
+        let mut prepared = Scenario::load(file).map_err(|e| e.to_string())?;
+        prepared.scenario.controller.damping = damping.parse().map_err(|e| format!("{e}"))?;
+        let model = if model == "dynamic" {
+            Model::Dynamic
+        } else {
+            Model::Kinematic
+        };
+        let run = simulate(&prepared, Some(model), Physics::Builtin).map_err(|e| e.to_string())?;
+        let goal = prepared.scenario.robot.goal;
+        let mut next = 0.0;
+        println!("t dist speed theta V lambda");
+        for s in &run.samples {
+            if s.t >= next {
+                next = s.t + 0.25;
+                let d = ((s.x[0] - goal[0]).powi(2) + (s.x[1] - goal[1]).powi(2)).sqrt();
+                println!(
+                    "{:.2} {d:.3} {:.3} {:.4} {:.4} {:.3}",
+                    s.t,
+                    s.v[0].hypot(s.v[1]),
+                    s.theta,
+                    s.energy.unwrap_or(f64::NAN),
+                    s.lambda.unwrap_or(f64::NAN)
+                );
+            }
+        }
+        println!(
+            "{}: {:.2} s, {}",
+            run.summary.outcome,
+            run.summary.time_s,
+            run.summary.all_passed()
+        );
+        Ok(())
+    };
+    match go() {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("xtask scale: {e}");
+            std::process::ExitCode::FAILURE
+        }
+    }
 }
 
 #[cfg(test)]
