@@ -18,7 +18,8 @@
 //! [`warning`] and [`guarantee`], then [`trace`] (samples, discoveries, events) and
 //! [`outcome`], then [`trajectory`]. Studies: [`sweep`] (many starts, typed outcomes)
 //! on the one thread pool [`pool`], and [`shortest`] (the independent shortest path of "path
-//! over shortest"). [`floor`] is the loop of the floor-plan scenarios.
+//! over shortest"). [`floor`] is the loop of the floor-plan scenarios; `rapier::floor` flies it
+//! in rapier with the walls as colliders, and [`physics::simulate_floor`] runs either.
 //!
 //! Equations held here: the closed loops `ẋ = u` (eq. `holint`) and `m ẍ = f` (eq.
 //! `dynmodel`) integrated by Bogacki–Shampine 3(2) with step control ([`run`]); the
