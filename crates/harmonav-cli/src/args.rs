@@ -6,6 +6,7 @@ use clap::ValueEnum;
 use harmonav_control::DampingPolicy;
 use harmonav_field::KPolicy;
 use harmonav_scenario::{Model, Prepared, Scenario};
+use harmonav_sim::physics::Physics;
 
 use crate::error::CliError;
 
@@ -70,6 +71,15 @@ pub enum PhysicsArg {
     Builtin,
     /// The rapier2d cross-check.
     Rapier,
+}
+
+impl From<PhysicsArg> for Physics {
+    fn from(p: PhysicsArg) -> Self {
+        match p {
+            PhysicsArg::Builtin => Physics::Builtin,
+            PhysicsArg::Rapier => Physics::Rapier,
+        }
+    }
 }
 
 /// The model `--model` asks for, if any.

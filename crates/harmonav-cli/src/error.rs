@@ -46,6 +46,11 @@ pub enum CliError {
         /// The option (`--physics rapier`, `--k`, `--damping`, or a command).
         option: &'static str,
     },
+    /// `sweep` on a star world without `--starts`.
+    StartsRequired {
+        /// The scenario file.
+        scenario: PathBuf,
+    },
     /// The navigator of a floor plan could not be built or refused an obstacle.
     Navigator {
         /// The scenario file.
@@ -79,8 +84,14 @@ impl std::fmt::Display for CliError {
             Self::NotForFloorPlans { scenario, option } => write!(
                 f,
                 "{}: {option} is for star worlds; a floor plan (a `[floor_plan]` file) runs \
-                 the built-in loop under the `auto` policies, and supports `run`, `eval` and \
-                 `check` (docs/maths.md §13)",
+                 its loop under the `auto` policies, and supports `run` (built-in or rapier), \
+                 `eval`, `sweep` and `check` (docs/maths.md §13)",
+                scenario.display()
+            ),
+            Self::StartsRequired { scenario } => write!(
+                f,
+                "{}: `sweep` on a star world needs --starts N (seeded random starts); a floor \
+                 plan sweeps the starts of its file",
                 scenario.display()
             ),
             Self::Navigator { scenario, error } => write!(f, "{}: {error}", scenario.display()),

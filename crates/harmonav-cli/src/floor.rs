@@ -1,17 +1,20 @@
 //! `run`, `eval` and `check` on a floor-plan file (a `[floor_plan]` table, issue 25): the
-//! user's loop around a `FloorNavigator` (`harmonav_sim::floor`), its summary and outputs
-//! (`harmonav_output::floor`). The star-world options that have no meaning on a floor plan
-//! (`--physics rapier`, `--k`, `--damping`) are refused by name.
+//! user's loop around a `FloorNavigator` (`harmonav_sim::floor`), built-in or in rapier
+//! (`harmonav_sim::physics::simulate_floor`), its summary and outputs
+//! (`harmonav_output::floor`); and the loading that `sweep` shares. The star-world options that
+//! have no meaning on a floor plan (`--k`, `--damping`, `census`) are refused by name.
 
 use std::path::Path;
 
 use harmonav_field::FieldError;
 use harmonav_output::floor::write_floor_outputs;
 use harmonav_output::set::check_output_dir;
-use harmonav_scenario::floorplan::{FloorPrepared, FloorScenario};
-use harmonav_sim::floor::{FloorSummary, navigator, obstacle_name, run};
+use harmonav_scenario::floorplan::{FloorPrepared, FloorScenario, StartsSpec};
+use harmonav_scenario::scenario::read_text;
+use harmonav_sim::floor::{FloorSummary, navigator, obstacle_name};
+use harmonav_sim::physics::simulate_floor;
 
-use crate::args::{PhysicsArg, model};
+use crate::args::model;
 use crate::error::CliError;
 use crate::eval::{parse_points, print_rows};
 use crate::run::{RunArgs, print_guarantees, print_head};
@@ -20,13 +23,32 @@ use crate::text::{out, print_json};
 /// Loads a floor-plan file (meshing and solving its harmonic map), refusing the star-world
 /// options the command was given (`given`: each option's name, whether it was given).
 pub fn load_floor(path: &Path, given: &[(&'static str, bool)]) -> Result<FloorPrepared, CliError> {
+    load_floor_starts(path, given, None, None)
+}
+
+/// [`load_floor`], with `--starts` and `--seed` (`sweep`) overriding the file's `[starts]`
+/// count and seed when given.
+pub fn load_floor_starts(
+    path: &Path,
+    given: &[(&'static str, bool)],
+    count: Option<usize>,
+    seed: Option<u64>,
+) -> Result<FloorPrepared, CliError> {
     if let Some((option, _)) = given.iter().find(|(_, g)| *g) {
         return Err(CliError::NotForFloorPlans {
             scenario: path.to_path_buf(),
             option,
         });
     }
-    Ok(FloorScenario::load(path)?)
+    let mut scenario = FloorScenario::parse(path, &read_text(path)?)?;
+    if count.is_some() || seed.is_some() {
+        let file = scenario.starts.unwrap_or(StartsSpec { count: 0, seed: 1 });
+        scenario.starts = Some(StartsSpec {
+            count: count.unwrap_or(file.count),
+            seed: seed.unwrap_or(file.seed),
+        });
+    }
+    Ok(scenario.prepare(path)?)
 }
 
 /// `harmonav check` on a floor plan: the file loads and its map is solved.
@@ -46,20 +68,16 @@ pub fn cmd_check_floor(prepared: &FloorPrepared) -> bool {
 /// the folder checked before the run and `summary.json` and `trajectory.svg` written as one
 /// set after it. `Ok(false)` when a guarantee failed.
 pub fn cmd_run_floor(prepared: &FloorPrepared, args: &RunArgs<'_>) -> Result<bool, CliError> {
-    if args.physics == PhysicsArg::Rapier {
-        return Err(CliError::NotForFloorPlans {
-            scenario: args.path.to_path_buf(),
-            option: "--physics rapier",
-        });
-    }
     if let Some(dir) = args.out {
         check_output_dir(dir).map_err(CliError::Out)?;
     }
     let model = model(args.controller);
     let start = prepared.starts[0];
-    let result = run(prepared, model, start).map_err(|error| CliError::Navigator {
-        scenario: args.path.to_path_buf(),
-        error,
+    let result = simulate_floor(prepared, model, start, args.physics.into()).map_err(|error| {
+        CliError::Run {
+            scenario: args.path.to_path_buf(),
+            error,
+        }
     })?;
     let summary = FloorSummary::new(prepared, model, start, &result);
     let written = args
@@ -82,8 +100,8 @@ pub fn cmd_run_floor(prepared: &FloorPrepared, args: &RunArgs<'_>) -> Result<boo
 fn print_floor_summary(s: &FloorSummary) {
     print_head(
         &format!(
-            "{} ({:?} model, floor plan of {} elements, δ = {} m)",
-            s.name, s.model, s.elements, s.delta
+            "{} ({:?} model, {} physics, floor plan of {} elements, δ = {} m)",
+            s.name, s.model, s.physics, s.elements, s.delta
         ),
         s.reached,
         [s.time_s, s.final_distance, s.min_clearance, s.max_speed],

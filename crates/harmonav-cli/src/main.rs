@@ -5,9 +5,10 @@
 //! complete, and no staging folder).
 //!
 //! One file per command, each a thin call into harmonav-sim: [`run`], [`eval`], [`census`],
-//! [`sweep`] (`check` is the load alone); floor-plan files (`[floor_plan]`) go to [`floor`]; the options they share and the loading of the
-//! scenario in [`args`], the errors in [`error`], the terminal output (control characters
-//! escaped) in [`text`].
+//! [`sweep`] (`check` is the load alone); floor-plan files (`[floor_plan]`) go to [`floor`]
+//! (`run`, `eval`, `check`) and [`sweep`] (`cmd_sweep_floor`); the options they share and the
+//! loading of the scenario in [`args`], the errors in [`error`], the terminal output (control
+//! characters escaped) in [`text`].
 
 mod args;
 mod census;
@@ -48,7 +49,8 @@ enum Command {
         /// Override the scenario's robot model (the file's `[expect]` then does not apply).
         #[arg(long = "model", visible_alias = "controller")]
         controller: Option<ModelArg>,
-        /// The integrator: the built-in one or the rapier2d cross-check.
+        /// The integrator: the built-in one or the rapier2d cross-check (star worlds and floor
+        /// plans).
         #[arg(long, default_value = "builtin")]
         physics: PhysicsArg,
         /// Write summary.json, run.mcap, trajectory.svg (and speed.svg, energy.svg) here; checked
@@ -91,13 +93,17 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// Follow the law from random starts (global sensing), in parallel.
+    /// Follow the law from random starts (global sensing), in parallel; on a floor plan, from
+    /// every start of the file (`robot.start` and its `[starts]`).
     Sweep {
         scenario: PathBuf,
+        /// How many seeded random starts (required for a star world; on a floor plan it
+        /// overrides `[starts] count`).
         #[arg(long)]
-        starts: usize,
-        #[arg(long, default_value_t = 1)]
-        seed: u64,
+        starts: Option<usize>,
+        /// The starts' seed (default 1; on a floor plan it overrides `[starts] seed`).
+        #[arg(long)]
+        seed: Option<u64>,
         #[arg(long = "model", visible_alias = "controller")]
         controller: Option<ModelArg>,
         /// Override the scenario's `[field] k` policy.
@@ -208,15 +214,17 @@ fn dispatch(command: Command) -> Result<bool, CliError> {
             json,
         } => {
             if floor_plan(&scenario)? {
-                return Err(CliError::NotForFloorPlans {
-                    scenario,
-                    option: "`sweep`",
-                });
+                let given = [("--k", k.is_some()), ("--damping", damping.is_some())];
+                let floor = floor::load_floor_starts(&scenario, &given, starts, seed)?;
+                return sweep::cmd_sweep_floor(&floor, controller, json);
             }
+            let starts = starts.ok_or(CliError::StartsRequired {
+                scenario: scenario.clone(),
+            })?;
             sweep::cmd_sweep(
                 &load(&scenario, k, damping)?,
                 starts,
-                seed,
+                seed.unwrap_or(1),
                 controller,
                 json,
             )

@@ -5,7 +5,7 @@ use std::path::Path;
 use harmonav_output::set::Outputs;
 use harmonav_scenario::Prepared;
 use harmonav_sim::guarantee::Guarantee;
-use harmonav_sim::physics::{Physics, simulate_observed};
+use harmonav_sim::physics::simulate_observed;
 use harmonav_sim::summary::Summary;
 
 use crate::args::{ModelArg, PhysicsArg, model};
@@ -36,15 +36,16 @@ pub fn cmd_run(prepared: &Prepared, args: &RunArgs<'_>) -> Result<bool, CliError
         Some(dir) => Some(Outputs::begin(dir, prepared).map_err(CliError::Out)?),
         None => None,
     };
-    let physics = match args.physics {
-        PhysicsArg::Builtin => Physics::Builtin,
-        PhysicsArg::Rapier => Physics::Rapier,
-    };
-    let result = simulate_observed(prepared, model(args.controller), physics, &mut |e| {
-        if let Some(o) = outputs.as_mut() {
-            o.observe(e);
-        }
-    })
+    let result = simulate_observed(
+        prepared,
+        model(args.controller),
+        args.physics.into(),
+        &mut |e| {
+            if let Some(o) = outputs.as_mut() {
+                o.observe(e);
+            }
+        },
+    )
     .map_err(|error| CliError::Run {
         scenario: args.path.to_path_buf(),
         error,

@@ -1,11 +1,17 @@
-//! `harmonav sweep`: the law from seeded random starts (global sensing), in parallel.
+//! `harmonav sweep`: the law from seeded random starts (global sensing), in parallel; on a
+//! floor plan, from every start of the file. Both print the same [`Report`].
 
 use harmonav_scenario::Prepared;
-use harmonav_sim::sweep::{Report, check_count, random_starts, sweep};
+use harmonav_scenario::floorplan::FloorPrepared;
+use harmonav_sim::sweep::{Report, check_count, random_starts, sweep, sweep_floor};
 
 use crate::args::{ModelArg, model};
 use crate::error::CliError;
 use crate::text::{out, print_json};
+
+fn threads() -> usize {
+    std::thread::available_parallelism().map_or(2, |n| n.get())
+}
 
 /// Runs `starts` seeded random starts and reports their outcomes (a start outside the free
 /// space is one of them, named `starts[i]`). `Ok(false)` when a start did not arrive.
@@ -18,19 +24,40 @@ pub fn cmd_sweep(
 ) -> Result<bool, CliError> {
     check_count(starts)?;
     let points = random_starts(prepared, starts, seed)?;
-    let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
     let model = model(controller).unwrap_or(prepared.scenario.robot.model);
-    let outcomes = sweep(prepared, &points, model, threads)?;
-    let report = Report::of(&points, &outcomes);
+    let outcomes = sweep(prepared, &points, model, threads())?;
+    print_report(&Report::of(&points, &outcomes), json)
+}
+
+/// Runs every start of a floor plan (its `robot.start`, then its seeded `[starts]`) by the
+/// built-in floor loop and reports their outcomes as [`cmd_sweep`] does. `Ok(false)` when a
+/// start did not arrive.
+pub fn cmd_sweep_floor(
+    prepared: &FloorPrepared,
+    controller: Option<ModelArg>,
+    json: bool,
+) -> Result<bool, CliError> {
+    let model = model(controller).unwrap_or(prepared.scenario.robot.model);
+    let outcomes = sweep_floor(prepared, model, threads())?;
+    print_report(&Report::of(&prepared.starts, &outcomes), json)
+}
+
+/// The report as JSON, or its counts on one line and a line per start that did not arrive.
+fn print_report(report: &Report, json: bool) -> Result<bool, CliError> {
     if json {
-        print_json(&report)?;
+        print_json(report)?;
     } else {
         let counts = &report.counts;
+        let refused = match counts.command_refused {
+            0 => String::new(),
+            n => format!(", {n} commands refused"),
+        };
         out!(
-            "{} of {starts} starts reached the goal; {} collisions, {} left the workspace, {} \
-             stalled, {} timed out, {} step collapses, {} invalid starts; median {:.2} s, max \
-             {:.2} s",
+            "{} of {} starts reached the goal; {} collisions, {} left the workspace, {} \
+             stalled, {} timed out, {} step collapses{refused}, {} invalid starts; median \
+             {:.2} s, max {:.2} s",
             counts.reached,
+            report.starts,
             counts.collisions,
             counts.left_workspace,
             counts.stalled,

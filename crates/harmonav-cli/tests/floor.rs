@@ -1,6 +1,6 @@
-//! `harmonav run | eval | check` on floor-plan files (`[floor_plan]`, issue 25): the summary's
-//! guarantees, the output set, `Θ` against finite differences, and the star-world options
-//! refused by name.
+//! `harmonav run | eval | sweep | check` on floor-plan files (`[floor_plan]`, issue 25): the
+//! summary's guarantees (built-in and rapier), the output set, `Θ` against finite differences,
+//! the sweep over the file's starts, and the star-world options refused by name.
 
 use std::path::{Path, PathBuf};
 
@@ -174,15 +174,11 @@ fn check_solves_the_map_and_star_world_options_are_refused_by_name() {
     assert_eq!(code, 0, "{err}");
     assert!(out.starts_with("ok: floor plan, "), "{out}");
     for (args, option) in [
-        (
-            vec!["run", &file, "--physics", "rapier"],
-            "--physics rapier",
-        ),
         (vec!["run", &file, "--k", "paper"], "--k"),
         (vec!["run", &file, "--damping", "paper"], "--damping"),
         (vec!["eval", &file, "--at", "1,2", "--k", "auto"], "--k"),
         (vec!["census", &file], "`census`"),
-        (vec!["sweep", &file, "--starts", "2"], "`sweep`"),
+        (vec!["sweep", &file, "--damping", "shaped"], "--damping"),
     ] {
         let (code, out, err) = harmonav(&args);
         assert_eq!(code, 2, "{args:?}: {out}");
@@ -206,4 +202,79 @@ fn check_solves_the_map_and_star_world_options_are_refused_by_name() {
     );
     assert!(Path::new(&bad).exists());
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `--physics rapier` on a floor plan: the walls are rapier colliders, the summary says which
+/// integrator ran and carries rapier's checks (no contact event, the deviation from the
+/// built-in run) besides every guarantee of the built-in loop.
+#[test]
+fn a_floor_plan_runs_in_rapier_with_no_contact() {
+    let (code, out, err) = harmonav(&[
+        "run",
+        &floorplan("u-trap.toml"),
+        "--physics",
+        "rapier",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}\n{out}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["physics"], "rapier");
+    assert_eq!(v["physics_contacts"], 0);
+    assert_eq!(v["reached"], true);
+    for name in [
+        "reached-goal",
+        "no-collision",
+        "no-collision-between-states",
+        "stayed-in-certified-region",
+        "physics-no-contact",
+        "physics-deviation",
+    ] {
+        assert_eq!(guarantee(&v, name)["passed"], true, "{name}: {v}");
+    }
+    let deviation = guarantee(&v, "physics-deviation")["measured"]["max_deviation"]
+        .as_f64()
+        .unwrap();
+    assert!(deviation < 1e-3, "{deviation}");
+    // The built-in run says so, and has no contact count.
+    let (code, out, err) = harmonav(&["run", &floorplan("u-trap.toml"), "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["physics"], "builtin");
+    assert_eq!(v["physics_contacts"], serde_json::Value::Null);
+}
+
+/// `sweep` on a floor plan runs the file's starts (`robot.start` and `[starts]`; `--starts`
+/// and `--seed` override the count and seed) and prints the star world's report.
+#[test]
+fn sweep_on_a_floor_plan_runs_the_files_starts() {
+    let file = floorplan("u-trap.toml");
+    let (code, out, err) = harmonav(&["sweep", &file, "--starts", "2", "--json"]);
+    assert_eq!(code, 0, "{err}\n{out}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["starts"], 3, "robot.start and 2 seeded: {v}");
+    assert_eq!(v["reached"], 3, "{v}");
+    assert_eq!(v["collisions"], 0);
+    assert!(v["failures"].as_array().unwrap().is_empty(), "{v}");
+    assert!(v["median_time_s"].as_f64().unwrap() > 0.0);
+    let (code, out, err) = harmonav(&["sweep", &file, "--starts", "1"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.starts_with("2 of 2 starts reached the goal"), "{out}");
+    // More seeded starts than a floor-plan file takes: named by its field.
+    let (code, _, err) = harmonav(&["sweep", &file, "--starts", "65"]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("starts.count") && err.contains("u-trap.toml"),
+        "{err}"
+    );
+    // A star world still needs --starts.
+    let star = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenarios/shapes/mixed.toml")
+        .to_string_lossy()
+        .into_owned();
+    let (code, _, err) = harmonav(&["sweep", &star]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("--starts") && err.contains("mixed.toml"),
+        "{err}"
+    );
 }

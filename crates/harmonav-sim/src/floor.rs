@@ -13,6 +13,7 @@ use serde::Serialize;
 
 use crate::guarantee::{Check, Guarantee};
 use crate::monitor::MARGIN_TOLERANCE;
+use crate::summary::Physics;
 use crate::trace::Discovery;
 use crate::trajectory::{Keep, Trajectory};
 
@@ -84,6 +85,13 @@ pub struct FloorRun {
     pub positions: Vec<[f64; 2]>,
     /// The navigator's error, if it refused.
     pub error: Option<NavError>,
+    /// The integrator that moved the robot.
+    pub physics: Physics,
+    /// rapier's contact events between the robot and the walls or obstacles (rapier runs).
+    pub contacts: Option<usize>,
+    /// The largest distance from the built-in run's state at the same time, m (rapier runs
+    /// given a built-in run as reference).
+    pub max_deviation: Option<f64>,
 }
 
 /// The name of the `i`-th obstacle of a floor-plan file: its `name`, or `obstacles[i]`.
@@ -117,9 +125,9 @@ pub fn navigator(
 /// Runs the user's loop from `start` under `model` (the file's by default): at every period
 /// `h` the robot senses the true obstacles within `sim.sensor_range` (added once, grown by the
 /// navigator), asks [`FloorNavigator::command`], and holds it — `x += h·u` (kinematic), or
-/// `v += h·f/m, x += h·v` (dynamic, semi-implicit Euler). The monitors use the true walls and
-/// shapes only, at every state and (by the Lipschitz bound of [`FloorRun::swept_clearance`])
-/// along every step.
+/// `v += h·f/m, x += h·v` (dynamic, semi-implicit Euler; `Held::euler`). The monitors use
+/// the true walls and shapes only, at every state and (by the Lipschitz bound of
+/// [`FloorRun::swept_clearance`]) along every step.
 ///
 /// # Errors
 /// The navigator could not be built (a message naming the parameter).
@@ -127,6 +135,74 @@ pub fn run(
     prepared: &FloorPrepared,
     model: Option<Model>,
     start: Vector2<f64>,
+) -> Result<FloorRun, NavError> {
+    fly(prepared, model, start, None, &mut |held| held.euler())
+}
+
+/// [`run`], with every state at the control period (the start first): the reference of a
+/// rapier run's deviation (`harmonav_sim::rapier::run_floor_rapier`).
+///
+/// # Errors
+/// The navigator could not be built (a message naming the parameter).
+pub fn run_with_states(
+    prepared: &FloorPrepared,
+    model: Option<Model>,
+    start: Vector2<f64>,
+) -> Result<(FloorRun, Vec<Vector2<f64>>), NavError> {
+    let mut states = vec![start];
+    let run = fly(prepared, model, start, None, &mut |held| {
+        let (x, v) = held.euler();
+        states.push(x);
+        (x, v)
+    })?;
+    Ok((run, states))
+}
+
+/// A controller other than the law on a floor plan: `(navigator, x, ẋ) → command` (the
+/// velocity for the kinematic model, the force for the dynamic one).
+pub type FloorLaw<'a> = &'a dyn Fn(&FloorNavigator, Vector2<f64>, Vector2<f64>) -> Vector2<f64>;
+
+/// A position and a velocity.
+pub(crate) type State = (Vector2<f64>, Vector2<f64>);
+
+/// One control period of the loop: the state at its start, the command held over it, the
+/// law and the period. An integrator (`hold` of [`fly`]) returns the state at its end.
+pub(crate) struct Held<'a> {
+    /// The law (the model, and the dynamic law's mass).
+    pub controller: &'a Controller,
+    /// The control period, s.
+    pub h: f64,
+    /// Position at the period's start.
+    pub x: Vector2<f64>,
+    /// Velocity at the period's start.
+    pub v: Vector2<f64>,
+    /// The command held: velocity (kinematic) or force (dynamic).
+    pub command: Vector2<f64>,
+}
+
+impl Held<'_> {
+    /// The built-in step: `x += h·u` (kinematic, `ẋ = u`), or `v += h·f/m, x += h·v` (dynamic,
+    /// semi-implicit Euler). Returns the position and velocity at the period's end.
+    #[must_use]
+    pub(crate) fn euler(&self) -> State {
+        match self.controller {
+            Controller::Kinematic(_) => (self.x + self.h * self.command, self.command),
+            Controller::Dynamic(law) => {
+                let v = self.v + self.h * self.command / law.mass();
+                (self.x + self.h * v, v)
+            }
+        }
+    }
+}
+
+/// The loop of [`run`] with its integrator `hold` (the built-in step, or rapier's) and, with
+/// `custom`, a controller other than the law.
+pub(crate) fn fly(
+    prepared: &FloorPrepared,
+    model: Option<Model>,
+    start: Vector2<f64>,
+    custom: Option<FloorLaw<'_>>,
+    hold: &mut dyn FnMut(&Held) -> State,
 ) -> Result<FloorRun, NavError> {
     let r = &prepared.scenario.robot;
     let goal = Vector2::from(r.goal);
@@ -154,13 +230,16 @@ pub fn run(
         commands: 0,
         positions: Vec::new(),
         error: None,
+        physics: Physics::Builtin,
+        contacts: None,
+        max_deviation: None,
     };
     // The disc's clearance at the previous state and the length of the step since.
     let mut last: Option<(f64, f64)> = None;
     for n in 0..=steps {
         out.time = n as f64 * h;
         // Monitors on the truth.
-        if !floor.domain().contains(x) {
+        if !floor.walls().contains(x) {
             out.ending = FloorEnding::Left;
             break;
         }
@@ -210,25 +289,26 @@ pub fn run(
             [x.x, x.y],
             if discovered { Keep::Pinned } else { Keep::Grid },
         );
-        let c = match nav.command(x, vel) {
-            Ok(c) => c,
-            Err(e) => {
-                out.ending = FloorEnding::Refused;
-                out.error = Some(e);
-                break;
-            }
+        let command = match custom {
+            Some(law) => law(&nav, x, vel),
+            None => match nav.command(x, vel) {
+                Ok(c) => c.value,
+                Err(e) => {
+                    out.ending = FloorEnding::Refused;
+                    out.error = Some(e);
+                    break;
+                }
+            },
         };
         out.commands += 1;
-        let next = match nav.controller() {
-            Controller::Kinematic(_) => {
-                vel = c.value;
-                x + h * c.value
-            }
-            Controller::Dynamic(law) => {
-                vel += h * c.value / law.mass();
-                x + h * vel
-            }
-        };
+        let next;
+        (next, vel) = hold(&Held {
+            controller: nav.controller(),
+            h,
+            x,
+            v: vel,
+            command,
+        });
         out.max_speed = out.max_speed.max(vel.norm());
         let step = (next - x).norm();
         out.path += step;
@@ -249,6 +329,11 @@ pub struct FloorSummary {
     pub name: String,
     /// The robot model that ran.
     pub model: Model,
+    /// The integrator that moved the robot.
+    pub physics: Physics,
+    /// rapier's contact events (`null` for the built-in integrator), as in a star world's
+    /// summary.
+    pub physics_contacts: Option<usize>,
     /// The start.
     pub start: [f64; 2],
     /// The goal.
@@ -362,9 +447,25 @@ impl FloorSummary {
                 run.max_speed < bound,
             ));
         }
+        // rapier's own checks, as in a star world (`crate::rapier`): no contact event, and
+        // the deviation from the built-in run (measured, not judged).
+        if let Some(contacts) = run.contacts {
+            guarantees.push(Guarantee::new(
+                Check::PhysicsContacts { contacts },
+                contacts == 0,
+            ));
+        }
+        if let Some(max_deviation) = run.max_deviation {
+            guarantees.push(Guarantee::new(
+                Check::PhysicsDeviation { max_deviation },
+                true,
+            ));
+        }
         Self {
             name: sc.name.clone(),
             model,
+            physics: run.physics,
+            physics_contacts: run.contacts,
             start: [start.x, start.y],
             goal: r.goal,
             reached,

@@ -19,7 +19,9 @@
 //! [`outcome`], then [`trajectory`]. Studies: [`sweep`] (many starts, typed outcomes)
 //! on the one thread pool [`pool`], [`shortest`] (the independent shortest path of "path
 //! over shortest"), and [`descent`] (the normalised descent of `Θ` judged as a run: the
-//! convergence study's one entry). [`floor`] is the loop of the floor-plan scenarios.
+//! convergence study's one entry). [`floor`] is the loop of the floor-plan scenarios;
+//! `rapier::floor` flies it in rapier with the walls as colliders, and
+//! [`physics::simulate_floor`] runs either.
 //!
 //! Equations held here: the closed loops `ẋ = u` (eq. `holint`) and `m ẍ = f` (eq.
 //! `dynmodel`) integrated by Bogacki–Shampine 3(2) with step control ([`run`]); the

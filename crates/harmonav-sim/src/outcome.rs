@@ -1,6 +1,7 @@
 //! How a run ended ([`Outcome`]), from its typed guarantees: reached, collision, left the
-//! workspace, stalled at a saddle, timed out, step-size collapse; and, for a sweep's start
-//! outside the free space, an invalid start ([`StartProblem`]). The sweep counts these.
+//! workspace, stalled at a saddle, timed out, step-size collapse, a scan or (on a floor plan) a
+//! command refused; and, for a sweep's start outside the free space, an invalid start
+//! ([`StartProblem`]). The sweep counts these.
 
 use harmonav_field::Field;
 use nalgebra::Vector2;
@@ -58,6 +59,14 @@ pub enum Outcome {
     ScanRefused {
         /// When, s.
         time: f64,
+    },
+    /// The navigator refused a command at `time` s (a floor plan's robot in the walls' boundary
+    /// layer, `NavError::BoundaryLayer`): the run stopped.
+    CommandRefused {
+        /// When, s.
+        time: f64,
+        /// The navigator's error, in words.
+        reason: String,
     },
     /// A sweep's start `starts[index]` is not in the free space, so it was not run (sweeps
     /// only: a scenario's own start is checked when the file is loaded).
@@ -166,8 +175,8 @@ impl Outcome {
     }
 
     /// The name of the outcome, as in the JSON's `"kind"`: `reached`, `collision`,
-    /// `left-workspace`, `stalled`, `timed-out`, `step-collapsed`, `scan-refused` or
-    /// `invalid-start`.
+    /// `left-workspace`, `stalled`, `timed-out`, `step-collapsed`, `scan-refused`,
+    /// `command-refused` or `invalid-start`.
     pub fn kind(&self) -> &'static str {
         match self {
             Self::Reached { .. } => "reached",
@@ -177,6 +186,7 @@ impl Outcome {
             Self::TimedOut { .. } => "timed-out",
             Self::StepCollapsed { .. } => "step-collapsed",
             Self::ScanRefused { .. } => "scan-refused",
+            Self::CommandRefused { .. } => "command-refused",
             Self::InvalidStart { .. } => "invalid-start",
         }
     }
@@ -188,7 +198,8 @@ impl Outcome {
             | Self::Stalled { time, .. }
             | Self::TimedOut { time }
             | Self::StepCollapsed { time }
-            | Self::ScanRefused { time } => Some(*time),
+            | Self::ScanRefused { time }
+            | Self::CommandRefused { time, .. } => Some(*time),
             Self::Collision | Self::LeftWorkspace | Self::InvalidStart { .. } => None,
         }
     }
@@ -212,6 +223,12 @@ impl std::fmt::Display for Outcome {
             Self::TimedOut { time } => write!(f, "not reached within {time:.2} s"),
             Self::StepCollapsed { time } => write!(f, "step size collapsed at t = {time:.2} s"),
             Self::ScanRefused { time } => write!(f, "a scan was refused at t = {time:.2} s"),
+            Self::CommandRefused { time, reason } => {
+                write!(
+                    f,
+                    "the navigator refused a command at t = {time:.2} s: {reason}"
+                )
+            }
             Self::InvalidStart { index, problem } => {
                 write!(f, "not run: starts[{index}] {problem}")
             }

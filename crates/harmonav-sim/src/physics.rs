@@ -1,5 +1,6 @@
 //! Which integrator moves the robot ([`Physics`]), and the run with the scenario's warnings
-//! ([`simulate`]): what the CLI, the bindings and `cargo xtask verify` call.
+//! ([`simulate`]), or of a floor plan ([`simulate_floor`]): what the CLI, the bindings and
+//! `cargo xtask verify` call.
 
 use crate::driver::{Driver, Warnings};
 use crate::run::integrate;
@@ -7,7 +8,11 @@ pub use crate::summary::Physics;
 use crate::summary::{Run, RunError};
 use crate::trace::Event;
 use crate::warning::Warning;
+use harmonav_scenario::floorplan::FloorPrepared;
 use harmonav_scenario::{Model, Prepared};
+use nalgebra::Vector2;
+
+use crate::floor::{self, FloorRun};
 
 /// Runs the scenario with `model` (or the file's) under `physics`: the built-in run, or the
 /// rapier run with the built-in run as the reference of its deviation guarantee, with the
@@ -43,6 +48,34 @@ pub fn simulate_observed(
                 Warnings::Find,
                 observer,
             )?;
+            Ok(run)
+        }
+        #[cfg(not(feature = "rapier"))]
+        Physics::Rapier => Err(RunError::NoRapier),
+    }
+}
+
+/// Runs a floor plan from `start` with `model` (or the file's) under `physics`: the built-in
+/// loop ([`crate::floor::run`]), or its rapier cross-check with the built-in run as the
+/// reference of its deviation (`rapier::run_floor_rapier`), as [`simulate`] does in a star
+/// world.
+///
+/// # Errors
+/// The navigator could not be built ([`RunError::Navigator`]), or rapier was asked of a build
+/// without it ([`RunError::NoRapier`]).
+pub fn simulate_floor(
+    prepared: &FloorPrepared,
+    model: Option<Model>,
+    start: Vector2<f64>,
+    physics: Physics,
+) -> Result<FloorRun, RunError> {
+    match physics {
+        Physics::Builtin => Ok(floor::run(prepared, model, start)?),
+        #[cfg(feature = "rapier")]
+        Physics::Rapier => {
+            use crate::rapier::{Drive, run_floor_rapier};
+            let (_, states) = floor::run_with_states(prepared, model, start)?;
+            let (run, _) = run_floor_rapier(prepared, model, start, Drive::Law, Some(&states))?;
             Ok(run)
         }
         #[cfg(not(feature = "rapier"))]

@@ -4,16 +4,11 @@
 //! the control law — its velocity for the kinematic model, a force for the dynamic one. It
 //! reports the contact events and the largest deviation from the built-in trajectory.
 
-use std::collections::BTreeSet;
-use std::f64::consts::TAU;
-
 use harmonav::Controller;
 use harmonav::control::{Dynamic, Potential};
 use harmonav_field::{Field, FieldEval};
 use harmonav_scenario::{Model, Prepared};
-use harmonav_transform::StarShape;
 use nalgebra::Vector2;
-use rapier2d_f64::prelude::{ColliderBuilder, PhysicsWorld, RigidBodyBuilder, Vector};
 
 use crate::driver::{Driver, Warnings};
 use crate::guarantee::{Check, FreeSpaceLoss, Guarantee};
@@ -22,26 +17,24 @@ use crate::summary::{Physics, Run, RunError};
 use crate::trace::{Event, Sample};
 use crate::trajectory::Keep;
 
+mod engine;
+pub mod floor;
+
+use engine::{Engine, star};
+pub use floor::{FloorLaw, run_floor_rapier};
+
 /// A controller other than the law: `(field, eval, x, ẋ) → command`.
 pub type CustomLaw<'a> = &'a dyn Fn(&Field, &FieldEval, Vector2<f64>, Vector2<f64>) -> Vector2<f64>;
 
-/// A command source for the rapier robot: the velocity (kinematic) or force (dynamic) to apply
-/// given the field evaluation, position and velocity. [`Drive::Law`] is the paper's law;
-/// tests use [`Drive::Custom`] to drive a deliberately broken controller.
-pub enum Drive<'a> {
+/// A command source for the rapier robot: the velocity (kinematic) or force (dynamic) to apply.
+/// [`Drive::Law`] is the paper's law; tests use [`Drive::Custom`] to drive a deliberately
+/// broken controller: a [`CustomLaw`] in a star world, a [`FloorLaw`] on a floor plan.
+pub enum Drive<C> {
     /// The kinematic or dynamic law of the scenario.
     Law,
-    /// Any other controller: `(field, eval, x, ẋ) → command`.
-    Custom(CustomLaw<'a>),
+    /// Any other controller.
+    Custom(C),
 }
-
-/// rapier's ball touches a wall when the exact distance from its centre to the true shape is
-/// at most its radius plus this (m). rapier's active contact pairs also hold speculative
-/// contacts within its prediction distance (they were counted at 0.5–1 mm of clearance); those
-/// are not counted. A point robot is a ball of 1 mm in rapier, so its contact events happen at
-/// a true clearance of up to 1 mm: a margin of the engine, not a collision, which the
-/// no-collision monitor judges on the true clearance.
-const TOUCH: f64 = 1e-6;
 
 /// What the rapier run adds to the summary.
 #[derive(Clone, Debug, PartialEq)]
@@ -52,32 +45,12 @@ pub struct RapierReport {
     pub max_deviation: f64,
 }
 
-fn v(p: Vector2<f64>) -> Vector {
-    Vector::new(p.x, p.y)
-}
-
-/// A static collider for `shape`: an exact ball for a circular obstacle, otherwise (and always
-/// for the workspace boundary, which the robot is inside) a closed polyline through the true
-/// boundary.
-fn collider(shape: &StarShape, obstacle: bool) -> ColliderBuilder {
-    let (lo, hi) = shape.radius_bounds();
-    if obstacle && (hi - lo).abs() <= 1e-12 * hi {
-        return ColliderBuilder::ball(hi).translation(v(shape.centre()));
-    }
-    let n = 720u32;
-    let pts: Vec<Vector> = (0..n)
-        .map(|i| v(shape.boundary_point(TAU * i as f64 / n as f64)))
-        .collect();
-    let idx: Vec<[u32; 2]> = (0..n).map(|i| [i, (i + 1) % n]).collect();
-    ColliderBuilder::polyline(pts, Some(idx))
-}
-
 /// Runs the scenario in rapier with `drive`; `builtin` (a built-in run of the same model) is
 /// the reference for the deviation.
 pub fn run_rapier(
     prepared: &Prepared,
     model: Option<Model>,
-    drive: Drive,
+    drive: Drive<CustomLaw<'_>>,
     builtin: Option<&Run>,
 ) -> Result<(Run, RapierReport), RunError> {
     rapier_observed(prepared, model, drive, builtin, Warnings::Skip, &mut |_| {})
@@ -88,7 +61,7 @@ pub fn run_rapier(
 pub(crate) fn rapier_observed(
     prepared: &Prepared,
     model: Option<Model>,
-    drive: Drive,
+    drive: Drive<CustomLaw<'_>>,
     builtin: Option<&Run>,
     warnings: Warnings,
     observer: &mut dyn FnMut(Event<'_>),
@@ -104,51 +77,20 @@ pub(crate) fn rapier_observed(
     let model = d.model();
     let start = prepared.start();
 
-    let mut world = PhysicsWorld {
-        gravity: Vector::new(0.0, 0.0),
-        ..PhysicsWorld::default()
-    };
-    world.integration_parameters.dt = h;
-    let mut walls = Vec::new();
-    for o in &truth.obstacles {
-        walls.push(world.insert(RigidBodyBuilder::fixed(), collider(o, true)).1);
-    }
-    walls.push(
-        world
-            .insert(RigidBodyBuilder::fixed(), collider(&truth.boundary, false))
-            .1,
-    );
-    let radius = sc.robot.radius.max(1e-3);
-    let (robot, robot_collider) = world.insert(
-        RigidBodyBuilder::dynamic()
-            .translation(v(start))
-            .linear_damping(0.0)
-            .can_sleep(false)
-            .ccd_enabled(true),
-        ColliderBuilder::ball(radius)
-            .density(sc.robot.mass / (std::f64::consts::PI * radius * radius)),
-    );
-
-    // Walls the robot's ball already reaches at the start (a point robot is a 1 mm ball in
-    // rapier, and a start may lie closer than that): touching them is not a contact event.
+    // The walls: the obstacles, then the boundary; the exact gap from `x` to each.
     let gap_to = |i: usize, x: Vector2<f64>| match truth.obstacles.get(i) {
         Some(o) => o.signed_distance(x),
         None => -truth.boundary.signed_distance(x),
     };
-    let mut touching: BTreeSet<usize> = (0..walls.len())
-        .filter(|&i| gap_to(i, start) <= radius + TOUCH)
-        .collect();
-    let mut contacts = 0;
+    let walls = truth
+        .obstacles
+        .iter()
+        .map(|o| star(o, true))
+        .chain([star(&truth.boundary, false)]);
+    let mut engine = Engine::new(h, walls, (start, sc.robot.radius, sc.robot.mass), &gap_to);
     let mut t = 0.0;
     let mut steps = 0;
     let mut reached = false;
-    let state = |world: &PhysicsWorld| {
-        let b = &world.bodies[robot];
-        (
-            Vector2::new(b.translation().x, b.translation().y),
-            Vector2::new(b.linvel().x, b.linvel().y),
-        )
-    };
     // The energy error of the steps since the last recorded state (dynamic law), which the
     // state recorded next carries as its tolerance ([`euler_energy_error`]).
     let mut drift = 0.0;
@@ -160,7 +102,7 @@ pub(crate) fn rapier_observed(
         s
     };
     loop {
-        let (x, vel) = state(&world);
+        let (x, vel) = engine.state();
         if d.eval(x, vel).is_none() {
             // Only a controller other than the law gets here: record and stop.
             d.abort(Guarantee::failed(Check::LeftFreeSpace {
@@ -215,57 +157,30 @@ pub(crate) fn rapier_observed(
                 f(d.nav().field(), &e, x, vel)
             }
         };
-        let body = &mut world.bodies[robot];
-        match model {
-            Model::Kinematic => body.set_linvel(v(command), true),
-            Model::Dynamic => {
-                body.reset_forces(true);
-                body.add_force(v(command), true);
-            }
-        }
+        engine.drive(model, command);
         // Ψ and ∇Ψ at the step's start, under the field the command was made with.
         let before = potential(&d, x, vel);
-        world.step();
+        engine.step(&gap_to);
         steps += 1;
         t = steps as f64 * h;
         if let (Controller::Dynamic(law), Some(p0)) = (d.nav().controller(), before) {
             // The law's semi-implicit Euler step, and the step rapier made.
             let ve = vel + h * command / law.mass();
             let xe = x + h * ve;
-            let (x1, v1) = state(&world);
+            let (x1, v1) = engine.state();
             if let (Some(pe), Some(p1)) = (potential(&d, xe, ve), potential(&d, x1, v1)) {
                 drift += euler_energy_error(law, h, (&p0, pe.value), (x, xe), (vel, ve), command);
                 let energy = |p: &Potential, v: Vector2<f64>| {
                     law.mu() * p.value + 0.5 * law.mass() * v.norm_squared()
                 };
-                let engine = energy(&p1, v1) - energy(&pe, ve);
-                drift += engine.max(0.0);
-                engine_rise = engine_rise.max(engine / energy(&p0, vel).max(1e-300));
+                let rise = energy(&p1, v1) - energy(&pe, ve);
+                drift += rise.max(0.0);
+                engine_rise = engine_rise.max(rise / energy(&p0, vel).max(1e-300));
             }
         }
-        // Contact events: robot–wall pairs that started touching in this step.
-        // rapier's active pairs include speculative contacts within its prediction distance;
-        // a pair counts as touching only if the ball is also within TOUCH of that wall by the
-        // exact signed distance of the true shape (see TOUCH).
-        let (x_new, _) = state(&world);
-        let now: BTreeSet<usize> = world
-            .narrow_phase
-            .contact_pairs_with(robot_collider)
-            .filter(|p| p.has_any_active_contact())
-            .map(|p| {
-                if p.collider1 == robot_collider {
-                    p.collider2
-                } else {
-                    p.collider1
-                }
-            })
-            .filter_map(|c| walls.iter().position(|w| *w == c))
-            .filter(|&i| gap_to(i, x_new) <= radius + TOUCH)
-            .collect();
-        contacts += now.difference(&touching).count();
-        touching = now;
     }
-    let (x, _) = state(&world);
+    let (x, _) = engine.state();
+    let contacts = engine.contacts();
     let Run {
         mut summary,
         samples,

@@ -1,4 +1,5 @@
-//! Many starts in one world (global sensing), in parallel: the outcome of each, typed.
+//! Many starts in one world (global sensing), in parallel: the outcome of each, typed; and
+//! every start of a floor plan ([`sweep_floor`]).
 
 use std::ops::Range;
 
@@ -8,8 +9,11 @@ use harmonav_transform::random::{self, Rng};
 use nalgebra::Vector2;
 use serde::Serialize;
 
+use harmonav_scenario::floorplan::FloorPrepared;
 use harmonav_scenario::{Model, Prepared};
 
+use crate::floor::{self, FloorEnding, FloorRun, FloorSummary};
+use crate::guarantee::Kind;
 pub use crate::outcome::{Outcome, StartProblem};
 use crate::pool::parallel_map;
 use crate::run::run;
@@ -154,6 +158,64 @@ pub fn sweep_part(
         .collect()
 }
 
+/// The outcome of each start of a floor plan (`harmonav sweep` on a `[floor_plan]` file):
+/// `prepared.starts` (its `robot.start`, then the seeded `[starts]`, each in `W_δ` by
+/// construction), in order, under `model` by the built-in floor loop ([`floor::run`], the
+/// file's own sensing), on `threads` threads. Each run is judged from its guarantees as a star
+/// world's is ([`Outcome::of`]): a failed `no-collision` is a collision, a failed
+/// `stayed-in-workspace` a departure, then arrival, a refused command
+/// ([`Outcome::CommandRefused`]) or the time budget. Errors: as [`sweep`] (a navigator that
+/// cannot be built names the start).
+pub fn sweep_floor(
+    prepared: &FloorPrepared,
+    model: Model,
+    threads: usize,
+) -> Result<Vec<Outcome>, SweepError> {
+    let starts = &prepared.starts;
+    check_count(starts.len())?;
+    let indexed: Vec<(usize, Vector2<f64>)> = starts.iter().copied().enumerate().collect();
+    parallel_map(&indexed, threads, |&(index, x)| {
+        let run = floor::run(prepared, Some(model), x).map_err(|e| SweepError::Run {
+            index,
+            start: [x.x, x.y],
+            error: RunError::Navigator(e),
+        })?;
+        Ok(floor_outcome(
+            &FloorSummary::new(prepared, Some(model), x, &run),
+            &run,
+        ))
+    })
+    .into_iter()
+    .collect()
+}
+
+/// A floor-plan run's [`Outcome`], in the order of [`Outcome::of`].
+fn floor_outcome(summary: &FloorSummary, run: &FloorRun) -> Outcome {
+    let failed = |kind: Kind| {
+        summary
+            .guarantees
+            .iter()
+            .any(|g| g.kind() == kind && !g.passed)
+    };
+    if failed(Kind::NoCollision) || run.ending == FloorEnding::Collision {
+        Outcome::Collision
+    } else if failed(Kind::StayedInWorkspace) || run.ending == FloorEnding::Left {
+        Outcome::LeftWorkspace
+    } else if run.ending == FloorEnding::Reached {
+        Outcome::Reached { time: run.time }
+    } else if run.ending == FloorEnding::Refused {
+        Outcome::CommandRefused {
+            time: run.time,
+            reason: run
+                .error
+                .as_ref()
+                .map_or_else(String::new, ToString::to_string),
+        }
+    } else {
+        Outcome::TimedOut { time: run.time }
+    }
+}
+
 /// `count` seeded random starts in the free space of the scenario's true (grown) obstacles,
 /// each at least 1 mm (or a thousandth of the workspace's size, if smaller) from every
 /// boundary: the same starts for the same seed on every machine. Errors: no start or more
@@ -258,6 +320,9 @@ pub struct Counts {
     /// A lidar's scan refused (left out of the JSON when 0: a sweep senses globally).
     #[serde(skip_serializing_if = "is_zero")]
     pub scan_refused: usize,
+    /// A command refused by a floor plan's navigator (left out of the JSON when 0).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub command_refused: usize,
     /// Starts outside the free space, not run.
     pub invalid_starts: usize,
 }
@@ -275,6 +340,7 @@ impl Counts {
                 Outcome::TimedOut { .. } => c.timed_out += 1,
                 Outcome::StepCollapsed { .. } => c.step_collapsed += 1,
                 Outcome::ScanRefused { .. } => c.scan_refused += 1,
+                Outcome::CommandRefused { .. } => c.command_refused += 1,
                 Outcome::InvalidStart { .. } => c.invalid_starts += 1,
             }
         }
@@ -316,11 +382,32 @@ mod tests {
                 timed_out: 1,
                 step_collapsed: 1,
                 scan_refused: 0,
+                command_refused: 0,
                 invalid_starts: 1,
             }
         );
         let refused = Counts::of(&[Outcome::ScanRefused { time: 1.0 }]);
         assert_eq!((refused.scan_refused, refused.reached), (1, 0));
+        let command = Outcome::CommandRefused {
+            time: 2.0,
+            reason: "in the boundary layer".into(),
+        };
+        assert_eq!(
+            Counts::of(std::slice::from_ref(&command)).command_refused,
+            1
+        );
+        assert_eq!(command.kind(), "command-refused");
+        assert_eq!(command.time(), Some(2.0));
+        assert!(
+            command
+                .to_string()
+                .ends_with("at t = 2.00 s: in the boundary layer")
+        );
+        let json = serde_json::to_value(Counts::of(&outcomes)).unwrap();
+        assert!(
+            json.get("command_refused").is_none(),
+            "left out when 0: {json}"
+        );
         assert_eq!(outcomes[3].to_string(), "left the workspace");
         assert!(outcomes[0].reached() && !outcomes[2].reached());
         let starts: Vec<_> = (0..8).map(|i| Vector2::new(i as f64, 0.0)).collect();

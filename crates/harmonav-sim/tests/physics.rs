@@ -1,5 +1,6 @@
 //! The rapier2d cross-check: zero contacts under the law, contacts (and a failing monitor)
-//! under a deliberately broken controller, and agreement with the built-in integrator.
+//! under a deliberately broken controller, and agreement with the built-in integrator; in star
+//! worlds and on floor plans.
 
 // The cross-check needs the feature `rapier` (on in the workspace through the CLI and xtask).
 #![cfg(feature = "rapier")]
@@ -7,8 +8,9 @@
 use std::path::Path;
 
 use harmonav_scenario::{Model, Scenario};
+use harmonav_sim::floor::{FloorEnding, FloorSummary, run_with_states};
 use harmonav_sim::guarantee::Kind;
-use harmonav_sim::rapier::{Drive, run_rapier};
+use harmonav_sim::rapier::{Drive, run_floor_rapier, run_rapier};
 use harmonav_sim::run::run;
 use nalgebra::Vector2;
 
@@ -176,4 +178,90 @@ fn a_controller_that_pumps_energy_in_fails_the_energy_monitor_in_rapier() {
     let (r, _) = run_rapier(&prepared, None, Drive::Custom(&pump), None).unwrap();
     let g = energy_guarantee(&r);
     assert!(!g.passed, "{g:?}");
+}
+
+fn u_trap() -> harmonav_scenario::floorplan::FloorPrepared {
+    harmonav_scenario::floorplan::FloorScenario::load(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/floorplans/u-trap.toml"),
+    )
+    .unwrap()
+}
+
+/// Issue 25: the floor plan's walls as rapier colliders (the true rings, not the shrunk
+/// `W_s`). The u-trap from its own start under both laws: no contact event, every guarantee
+/// of the built-in loop on the states rapier made, and the path of the built-in run (the
+/// kinematic command is a velocity held over the period, exactly the built-in step; the
+/// dynamic one a force over 1 ms steps, rapier's semi-implicit Euler).
+#[test]
+fn a_floor_plan_flown_in_rapier_makes_no_contact_under_both_laws() {
+    let p = u_trap();
+    let start = p.starts[0];
+    for model in [Model::Kinematic, Model::Dynamic] {
+        let (builtin, states) = run_with_states(&p, Some(model), start).unwrap();
+        assert_eq!(states.len(), builtin.commands + 1);
+        let (r, report) =
+            run_floor_rapier(&p, Some(model), start, Drive::Law, Some(&states)).unwrap();
+        let summary = FloorSummary::new(&p, Some(model), start, &r);
+        eprintln!(
+            "{model:?}: {} in {:.2} s, contacts {}, deviation {:.2e} m, clearance {:.4} m",
+            r.ending.as_str(),
+            r.time,
+            report.contacts,
+            report.max_deviation,
+            summary.min_clearance
+        );
+        assert_eq!(report.contacts, 0);
+        assert_eq!(r.ending, FloorEnding::Reached);
+        assert!(summary.all_passed(), "{:?}", summary.guarantees);
+        assert_eq!(summary.physics_contacts, Some(0));
+        for kind in [Kind::PhysicsNoContact, Kind::PhysicsDeviation] {
+            assert!(summary.guarantees.iter().any(|g| g.kind() == kind));
+        }
+        assert!(report.max_deviation < 0.01, "{}", report.max_deviation);
+        assert_eq!(r.max_deviation, Some(report.max_deviation));
+    }
+}
+
+/// The negative control: a controller that drives at unit speed into the back wall of the U
+/// (through its pocket), ignoring `Θ`, makes rapier report contact events, and the monitors
+/// fail the run.
+#[test]
+fn a_controller_driving_into_a_floor_plan_wall_makes_contacts() {
+    let mut p = u_trap();
+    p.scenario.sim.max_time = 6.0;
+    let start = p.starts[0];
+    // The back of the U's pocket is the wall x = 4.5 between y = 1.8 and 3.2.
+    let target = Vector2::new(4.75, 2.5);
+    let straight =
+        |_: &harmonav::FloorNavigator, x: Vector2<f64>, _: Vector2<f64>| (target - x).normalize();
+    let (r, report) = run_floor_rapier(
+        &p,
+        Some(Model::Kinematic),
+        start,
+        Drive::Custom(&straight),
+        None,
+    )
+    .unwrap();
+    eprintln!(
+        "{}: contacts {}, wall clearance {:.4} m at {:.2} s",
+        r.ending.as_str(),
+        report.contacts,
+        r.wall_clearance,
+        r.time
+    );
+    assert!(report.contacts > 0, "no contact reported: {r:?}");
+    let summary = FloorSummary::new(&p, Some(Model::Kinematic), start, &r);
+    assert!(!summary.all_passed());
+    for kind in [Kind::PhysicsNoContact, Kind::NoCollision] {
+        assert!(
+            summary
+                .guarantees
+                .iter()
+                .any(|g| g.kind() == kind && !g.passed),
+            "{kind:?}: {:?}",
+            summary.guarantees
+        );
+    }
+    // No reference was given: the deviation is not judged.
+    assert_eq!(r.max_deviation, None);
 }

@@ -1,13 +1,16 @@
 //! The floor-plan suite (`scenarios/floorplans/`, issue 25; docs/maths.md §13): every start
 //! of each file (its `robot.start` and the seeded `[starts]`) flown under both laws in the
-//! user's loop around `harmonav::FloorNavigator` (`harmonav_sim::floorplan::run`), and the
+//! user's loop around `harmonav::FloorNavigator` (`harmonav_sim::floor::run`), built-in and in
+//! rapier with the walls as colliders (`harmonav_sim::physics::simulate_floor`), and the
 //! Lipschitz certificate of `det J_H > 0`, `|H| < 1` on `W_δ` for each map.
 
 use std::path::{Path, PathBuf};
 
 use harmonav_scenario::Model;
 use harmonav_scenario::floorplan::{FLOORPLANS, FloorScenario};
-use harmonav_sim::floor::{FloorEnding, certificate, run};
+use harmonav_sim::floor::{FloorEnding, FloorSummary, certificate};
+use harmonav_sim::guarantee::Kind;
+use harmonav_sim::physics::{Physics, simulate_floor};
 
 use super::{Check, Outcome, outcome};
 
@@ -37,10 +40,20 @@ pub fn checks() -> Vec<Check> {
             .file_stem()
             .map_or(String::new(), |s| s.to_string_lossy().into_owned());
         for (law, model) in [("kinematic", Model::Kinematic), ("dynamic", Model::Dynamic)] {
-            let file = file.clone();
-            all.push(
-                Check::new(format!("floorplan.{name}.{law}"), move || fly(&file, model)).early(),
-            );
+            for physics in [Physics::Builtin, Physics::Rapier] {
+                let file = file.clone();
+                // The built-in runs keep their names; the rapier ones add `.rapier`.
+                let suffix = match physics {
+                    Physics::Builtin => String::new(),
+                    Physics::Rapier => ".rapier".to_string(),
+                };
+                all.push(
+                    Check::new(format!("floorplan.{name}.{law}{suffix}"), move || {
+                        fly(&file, model, physics)
+                    })
+                    .early(),
+                );
+            }
         }
         all.push(
             Check::new(format!("floorplan.{name}.certificate"), move || {
@@ -53,8 +66,10 @@ pub fn checks() -> Vec<Check> {
 }
 
 /// Every start arrives within the file's `sim.arrival`, with no collision with the true walls
-/// and obstacles, never leaving the plan, and never entering the boundary layer.
-fn fly(file: &Path, model: Model) -> Outcome {
+/// and obstacles, never leaving the plan, never entering the boundary layer, and every
+/// guarantee of its summary held; under rapier (the walls as colliders, the built-in run as the
+/// reference of the deviation) also with no contact event.
+fn fly(file: &Path, model: Model, physics: Physics) -> Outcome {
     let p = FloorScenario::load(file).map_err(|e| e.to_string())?;
     let field = harmonav::floorplan::FloorField::new(
         p.floor.clone(),
@@ -72,8 +87,20 @@ fn fly(file: &Path, model: Model) -> Outcome {
     let (mut reached, mut bad) = (0, Vec::new());
     let (mut walls, mut obstacles, mut layer, mut slowest) =
         (f64::INFINITY, f64::INFINITY, f64::INFINITY, 0.0_f64);
+    let (mut contacts, mut deviation) = (0, 0.0_f64);
     for &start in &p.starts {
-        let r = run(&p, Some(model), start).map_err(|e| e.to_string())?;
+        let r = simulate_floor(&p, Some(model), start, physics).map_err(|e| e.to_string())?;
+        contacts += r.contacts.unwrap_or(0);
+        deviation = deviation.max(r.max_deviation.unwrap_or(0.0));
+        let summary = FloorSummary::new(&p, Some(model), start, &r);
+        // Arrival is reported with the ending below.
+        if let Some(g) = summary
+            .guarantees
+            .iter()
+            .find(|g| !g.passed && g.kind() != Kind::ReachedGoal)
+        {
+            bad.push(format!("{start:?}: {} failed: {}", g.name(), g.detail()));
+        }
         walls = walls.min(r.wall_clearance);
         obstacles = obstacles.min(r.obstacle_clearance);
         layer = layer.min(r.layer_clearance);
@@ -91,12 +118,18 @@ fn fly(file: &Path, model: Model) -> Outcome {
         }
     }
     let n = p.starts.len();
+    let rapier = match physics {
+        Physics::Builtin => String::new(),
+        Physics::Rapier => format!(
+            "; rapier: {contacts} contacts, max deviation from the built-in path {deviation:.1e} m"
+        ),
+    };
     outcome(
-        bad.is_empty() && walls > 0.0 && obstacles > 0.0 && layer >= 0.0,
+        bad.is_empty() && walls > 0.0 && obstacles > 0.0 && layer >= 0.0 && contacts == 0,
         format!(
             "{reached}/{n} within {} m (slowest {slowest:.1} s), 0 collisions: wall clearance \
-             {walls:.3} m, obstacles {obstacles:.3} m, layer {layer:.1e} m; {below}/{n} starts \
-             below c_δ = {level:.3e}; N = {}, δ = {} m, setup {:.2} s{}",
+             {walls:.3} m, obstacles {obstacles:.3} m, layer {layer:.1e} m{rapier}; {below}/{n} \
+             starts below c_δ = {level:.3e}; N = {}, δ = {} m, setup {:.2} s{}",
             p.scenario.sim.arrival,
             p.floor.map().elements().len(),
             p.floor.delta(),
