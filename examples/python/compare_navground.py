@@ -24,7 +24,11 @@ none: 0), runs with a collision (the clearance to a true shape, less the radius,
 path length over the shortest path (harmonav's visibility-graph shortest path around the grown
 shapes) and time to the goal over the arrivals (median, p90, max), the closest clearance, the
 integrator's steps (harmonav), and the cost of one command, timed from Python for both
-(`Navigator.command` with every obstacle known, `Behavior.compute_cmd`).
+(`Navigator.command` with every obstacle known, `Behavior.compute_cmd`). The path and time
+quantiles are over every run that arrived, one that collided on the way included (ORCA's).
+The dynamic law's "time / kinematic (paper speed)" needs a kinematic run with its `k` under the
+paper's speed: only the paper's own rows have one, so "dynamic, default" shows "—". Under each
+disc table: issue 27's measure, the kinematic default at 1 m/s over HL per world.
 """
 
 import argparse

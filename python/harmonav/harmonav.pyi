@@ -345,5 +345,6 @@ def study_cells(rows: List[Dict[str, Any]]) -> List[Dict[str, Any]]:
     ``world`` (None for generated worlds), ``obstacles``, ``law``, ``policy``, ``k``,
     ``sensing``, ``margin``, ``physics``, ``max_time``, its ``runs``, ``errors``, ``reached``,
     ``guarantees_held``, ``collisions``, ``ratio``, ``time``, ``steps`` (median, p90, max),
-    ``min_clearance``, ``overshoot``, and the ``ratios`` and ``arrived_times`` of the runs that
-    arrived."""
+    ``min_clearance``, ``overshoot``, ``command_us`` (median, p90, max of the cost of one
+    command, NaN where no run measured it), and the ``ratios`` and ``arrived_times`` of the
+    runs that arrived."""

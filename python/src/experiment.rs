@@ -192,6 +192,11 @@ fn config(dict: &Bound<'_, PyDict>) -> Result<Config, String> {
             ));
         }
     };
+    if descent && sensing == Some(SensingKind::Sector) {
+        return Err("sensing: \"sector\" with model \"descent\": a descent follows Θ with \
+                    every obstacle known (global sensing)"
+            .into());
+    }
     let finite = |key: &str, v: Option<f64>| match v {
         Some(x) if !x.is_finite() => Err(format!("{key}: must be finite, got {x}")),
         v => Ok(v),
@@ -347,7 +352,8 @@ impl Effective {
             k: s.field.k.as_str(),
             damping: (!kinematic).then(|| s.controller.damping.as_str()),
             speed: (kinematic && !c.descent).then(|| s.controller.speed.as_str()),
-            sensing: if s.sensor.is_some() {
+            // A descent knows every obstacle, whatever the file's sensor.
+            sensing: if s.sensor.is_some() && !c.descent {
                 "sector"
             } else {
                 "global"
@@ -423,8 +429,9 @@ fn run_one(c: &Config, prepared: &Prepared) -> Result<Ran, String> {
 }
 
 /// The descent of `c` from `p`'s start (`harmonav_sim::descent::descend`), as a record: its
-/// time is its path length (unit speed), its collisions 0 or 1; it has no monitors, so no
-/// guarantees, no clearance (NaN) and no overshoot.
+/// time is its path length (unit speed). Its one monitor is the free space at every accepted
+/// point (`follow`'s `collision_free`): `collisions` is 0 or 1 and `guarantees_held` says
+/// whether it held; it has no summary guarantees, no clearance (NaN) and no overshoot.
 fn descent_run(c: &Config, p: &Prepared) -> Result<Ran, String> {
     let start = p.scenario.robot.start;
     let r = descend(p, Vector2::from(start)).map_err(|e| e.to_string())?;

@@ -88,8 +88,8 @@ pub fn study_table(rows: &Bound<'_, PyAny>) -> PyResult<String> {
 /// dict each with the cell's `world` (`None` for generated worlds), `obstacles`, `law`,
 /// `policy`, `k`, `sensing`, `margin`, `physics`, `max_time`, and its `runs`, `errors`,
 /// `reached`, `guarantees_held`, `collisions`, `ratio`, `time`, `steps` (median, p90, max),
-/// `min_clearance`, `overshoot`, and the per-run `ratios` and `arrived_times` of the runs that
-/// arrived.
+/// `min_clearance`, `overshoot`, `command_us` (median, p90, max; NaN where no run measured
+/// it), and the per-run `ratios` and `arrived_times` of the runs that arrived.
 #[pyfunction]
 pub fn study_cells<'py>(py: Python<'py>, rows: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyList>> {
     let out = PyList::empty(py);

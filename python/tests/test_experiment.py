@@ -194,6 +194,8 @@ def test_a_descent_is_the_flow_line_of_theta_no_shorter_than_the_shortest_path()
     assert abs(law["path_length"] - records[0]["path_length"]) < 0.02 * records[0]["path_length"]
     bad = harmonav.run_batch([dict(runs[0], physics="rapier")])[0]
     assert "physics" in bad["error"] and "descent" in bad["error"]
+    blind = harmonav.run_batch([dict(runs[0], sensing="sector")])[0]
+    assert "sensing" in blind["error"] and "descent" in blind["error"]
 
 
 

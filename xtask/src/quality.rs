@@ -174,6 +174,13 @@ pub fn run(args: &[String]) -> std::process::ExitCode {
             }
         }
     }
+    if compare.is_some() && models.len() == 1 {
+        eprintln!(
+            "xtask quality: --compare runs both laws (the kinematic one is the time ratios' \
+             reference); leave out --kinematic-only / --dynamic-only"
+        );
+        return std::process::ExitCode::from(2);
+    }
     let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
     // `--compare`: the default `k` only, the dynamic law under the policies asked for and the
     // kinematic law at the reference speed (the twin of the time ratios and of verify's targets).

@@ -200,7 +200,7 @@ pub struct CellStats {
     pub ratio: [f64; 3],
     /// Time to goal over the runs that arrived: median, 90th percentile, max.
     pub time: [f64; 3],
-    /// Smallest clearance of all runs (`+∞` for none).
+    /// Smallest clearance of all runs (`+∞` when no run measured one; printed `—`).
     pub min_clearance: f64,
     /// Largest overshoot of all runs.
     pub overshoot: f64,
@@ -232,9 +232,12 @@ impl CellStats {
     /// Summarises the runs `runs` of the cell `key`.
     pub fn new(key: CellKey, runs: &[&Record]) -> Self {
         let arrived: Vec<&&Record> = runs.iter().filter(|r| r.reached).collect();
+        // A NaN measure is one the run does not have (no shortest path, no clearance of a
+        // descent), as `None` is: it is left out, never sorted in as a value.
         let ratios: Vec<f64> = arrived
             .iter()
             .filter_map(|r| r.path_over_shortest)
+            .filter(|x| !x.is_nan())
             .collect();
         let arrived_times: Vec<f64> = arrived.iter().filter_map(|r| r.time_s).collect();
         let steps: Vec<f64> = runs
@@ -444,7 +447,11 @@ pub fn table(cells: &[CellStats]) -> String {
             fmt3(c.ratio, 3),
             fmt3(c.time, 1),
             ratio,
-            fixed(c.min_clearance, 4),
+            if c.min_clearance.is_finite() {
+                fixed(c.min_clearance, 4)
+            } else {
+                "—".to_string()
+            },
             format!("{:.1e}", c.overshoot),
             fmt3(c.steps, 0),
         ]);

@@ -38,6 +38,8 @@ fn quantiles_are_nearest_rank() {
     assert_eq!(quantiles(&v), [5.0, 9.0, 10.0]);
     assert_eq!(quantiles(&[3.0]), [3.0; 3]);
     assert_eq!(quantiles(&[2.0, 1.0]), [1.0, 2.0, 2.0]);
+    let v = [8.0, 1.0, 7.0, 2.0, 6.0, 3.0, 5.0, 4.0];
+    assert_eq!(quantiles(&v), [4.0, 8.0, 8.0]);
     assert!(quantiles(&[]).iter().all(|x| x.is_nan()));
 }
 
@@ -127,6 +129,24 @@ fn the_table_prints_each_cell_and_the_columns_that_vary() {
          | 10.0 / 10.0 / 10.0 | — | 0.0100 | 0.0e0 | 100 / 100 / 100 |"
     );
     assert!(lines[3].contains("| 1.30 / 1.30 / 1.30 |"), "{}", lines[3]);
+
+    // A NaN measure is a missing one: a run without a shortest path or a clearance (a
+    // descent) leaves the others' quantiles as they are, and no clearance at all prints `—`.
+    let mut no_shortest = records[0].clone();
+    no_shortest.path_over_shortest = Some(f64::NAN);
+    no_shortest.min_clearance = Some(f64::NAN);
+    no_shortest.world = "b".to_string();
+    let c = cells(&[records[0].clone(), no_shortest.clone()]);
+    assert_eq!(c[0].ratio, [1.1; 3]);
+    assert_eq!(c[0].min_clearance, 0.01);
+    let text = table(&cells(&[no_shortest]));
+    assert!(
+        text.lines()
+            .nth(2)
+            .unwrap()
+            .contains("| NaN / NaN / NaN | 10.0 / 10.0 / 10.0 | — | — |"),
+        "{text}"
+    );
 
     // A scenario file, a second physics and a failed run add their columns.
     let mut file = run("scenarios/x.toml", "kinematic", "global", 10.0, true);

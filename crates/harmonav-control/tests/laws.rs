@@ -683,7 +683,7 @@ fn fast_shaping_is_strictly_increasing_and_finite_from_the_goal_to_saturation() 
 }
 
 /// `"fast"`: the bowl is in metres. Near the goal `Ψ ≈ ½H|x − x_d|²` with
-/// `H = w/(bL) + (1 − w)·½σe^{−s}` (`Dynamic::goal_stiffness`) in worlds of 5 mm to 50 km, so the
+/// `H = (w/L + (1 − w)/L_A)/b` (`Dynamic::goal_stiffness`) in worlds of 5 mm to 50 km, so the
 /// critical damping `2√(mμH)` is the policy's `λ(x)` in the limit (damping ratio 1; the
 /// finite-difference check of every policy is `critical_damping_at_the_goal`).
 #[test]

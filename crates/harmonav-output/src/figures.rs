@@ -551,13 +551,16 @@ fn time_chart(
         .map_err(err)?;
     chart
         .configure_mesh()
-        .light_line_style(WHITE)
+        .light_line_style(s.stroke(WHITE, 1))
+        .bold_line_style(s.stroke(BLACK.mix(0.2), 1))
         .disable_x_mesh()
         .x_labels(8)
         .y_labels(6)
         .x_desc("t (s)")
         .y_desc(y_desc)
         .label_style(s.font(12))
+        .axis_style(s.stroke(BLACK, 1))
+        .set_all_tick_mark_size(s.px(5))
         .draw()
         .map_err(err)?;
     // Discovery markers, labels on rows so that none overlaps another.
@@ -602,7 +605,9 @@ fn time_chart(
         .configure_series_labels()
         .position(SeriesLabelPosition::MiddleLeft)
         .background_style(WHITE.mix(0.85))
-        .border_style(RGBColor(180, 180, 180))
+        .border_style(s.stroke(RGBColor(180, 180, 180), 1))
+        .margin(s.size(10))
+        .legend_area_size(s.size(30))
         .label_font(s.font(12))
         .draw()
         .map_err(err)?;

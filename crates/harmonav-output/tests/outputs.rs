@@ -198,6 +198,12 @@ fn outputs_are_written_and_figures_show_the_run() {
             "{name}: {}",
             &svg[..120.min(svg.len())]
         );
+        // Every stroke is scaled with the figure: none is thinner than one nominal pixel (4
+        // backend pixels), so none was left at plotters' 1× default.
+        for w in svg.split("stroke-width=\"").skip(1) {
+            let w: f64 = w.split('"').next().unwrap().parse().unwrap();
+            assert!(w == 0.0 || w >= 4.0, "{name}: a stroke {w} px wide at 4×");
+        }
     }
     let r = run(&prepared, Some(Model::Kinematic)).unwrap();
     let files = write_outputs(&dir, &prepared, &r).unwrap();

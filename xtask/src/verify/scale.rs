@@ -17,6 +17,7 @@
 
 use std::path::{Path, PathBuf};
 
+use harmonav_bench::table::quantiles;
 use harmonav_control::DampingPolicy;
 use harmonav_scenario::{Model, Scenario};
 use harmonav_sim::physics::{Physics, simulate};
@@ -39,14 +40,6 @@ const RATIO_TARGETS: (f64, f64) = (1.5, 2.0);
 /// A regression guard: the worst ratio of the suite when the check was written was 4.0
 /// (`many-1000-sector`, 2026-12-02); past this bound the check fails.
 const RATIO_GUARD: f64 = 5.0;
-
-/// The `q`-quantile of `values` by the nearest rank (`values` not empty).
-fn quantile(values: &[f64], q: f64) -> f64 {
-    let mut sorted = values.to_vec();
-    sorted.sort_by(f64::total_cmp);
-    let rank = ((q * sorted.len() as f64).ceil() as usize).clamp(1, sorted.len());
-    sorted[rank - 1]
-}
 
 /// One file of the scale suite flown under both laws: the kinematic time and, per damping
 /// policy, the dynamic time (`None`: the file's own policy).
@@ -119,11 +112,7 @@ fn dynamic_over_kinematic() -> Outcome {
         .zip(&ratios)
         .map(|(r, ratio)| format!("{} {ratio:.2}", r.name))
         .collect();
-    let (median, p90, worst) = (
-        quantile(&ratios, 0.5),
-        quantile(&ratios, 0.9),
-        quantile(&ratios, 1.0),
-    );
+    let [median, p90, worst] = quantiles(&ratios);
     let detail = format!(
         "{} worlds, both laws arrive with every guarantee; dynamic/kinematic time: {}; median \
          {median:.2} (target ≤ {}), p90 {p90:.2} (target ≤ {}), worst {worst:.2} (guard < \
@@ -213,8 +202,9 @@ pub fn experiment(args: &[String]) -> std::process::ExitCode {
                     .map_or(f64::INFINITY, |t| t / r.kinematic)
             })
             .collect();
-        median += &format!(" | {:.2} |", quantile(&ratios, 0.5));
-        p90 += &format!(" | {:.2} |", quantile(&ratios, 0.9));
+        let [m, p, _] = quantiles(&ratios);
+        median += &format!(" | {m:.2} |");
+        p90 += &format!(" | {p:.2} |");
     }
     println!("{median}\n{p90}");
     std::process::ExitCode::SUCCESS
@@ -326,10 +316,14 @@ fn trace(file: &Path, model: &str, damping: &str) -> std::process::ExitCode {
     let go = || -> Result<(), String> {
         let mut prepared = Scenario::load(file).map_err(|e| e.to_string())?;
         prepared.scenario.controller.damping = damping.parse().map_err(|e| format!("{e}"))?;
-        let model = if model == "dynamic" {
-            Model::Dynamic
-        } else {
-            Model::Kinematic
+        let model = match model {
+            "dynamic" => Model::Dynamic,
+            "kinematic" => Model::Kinematic,
+            other => {
+                return Err(format!(
+                    "MODEL: unknown model \"{other}\": expected \"kinematic\" or \"dynamic\""
+                ));
+            }
         };
         let run = simulate(&prepared, Some(model), Physics::Builtin).map_err(|e| e.to_string())?;
         let goal = prepared.scenario.robot.goal;
@@ -363,20 +357,5 @@ fn trace(file: &Path, model: &str, damping: &str) -> std::process::ExitCode {
             eprintln!("xtask scale: {e}");
             std::process::ExitCode::FAILURE
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::quantile;
-
-    #[test]
-    fn quantiles_by_the_nearest_rank() {
-        let v = [8.0, 1.0, 7.0, 2.0, 6.0, 3.0, 5.0, 4.0];
-        assert_eq!(quantile(&v, 0.5), 4.0);
-        assert_eq!(quantile(&v, 0.9), 8.0);
-        assert_eq!(quantile(&v, 1.0), 8.0);
-        assert_eq!(quantile(&v, 0.0), 1.0);
-        assert_eq!(quantile(&[2.5], 0.9), 2.5);
     }
 }

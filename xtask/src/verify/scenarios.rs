@@ -345,6 +345,7 @@ fn montecarlo() -> Outcome {
     let reached = count(|o| matches!(o, Ended::Reached { .. }));
     let stalled = count(|o| matches!(o, Ended::Stalled { .. }));
     let timed_out = count(|o| matches!(o, Ended::TimedOut { .. }));
+    let collapsed = count(|o| matches!(o, Ended::StepCollapsed { .. }));
     let collisions = count(|o| matches!(o, Ended::Collision));
     let mut times: Vec<f64> = runs
         .iter()
@@ -357,7 +358,8 @@ fn montecarlo() -> Outcome {
         collisions == 0 && reached * 1000 >= runs.len() * 999,
         format!(
             "{reached}/{} reached ({:.2} %), {stalled} stalled, {timed_out} timed out, \
-             median path {median:.2} m, {collisions} collisions, k = {}",
+             {collapsed} step collapses, median path {median:.2} m, {collisions} collisions, \
+             k = {}",
             runs.len(),
             100.0 * reached as f64 / runs.len() as f64,
             runs.first().map_or(f64::NAN, |r| r.k)
