@@ -193,9 +193,11 @@ fn config(dict: &Bound<'_, PyDict>) -> Result<Config, String> {
         }
     };
     if descent && sensing == Some(SensingKind::Sector) {
-        return Err("sensing: \"sector\" with model \"descent\": a descent follows Θ with \
+        return Err(
+            "sensing: \"sector\" with model \"descent\": a descent follows Θ with \
                     every obstacle known (global sensing)"
-            .into());
+                .into(),
+        );
     }
     let finite = |key: &str, v: Option<f64>| match v {
         Some(x) if !x.is_finite() => Err(format!("{key}: must be finite, got {x}")),
