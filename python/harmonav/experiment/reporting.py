@@ -129,9 +129,10 @@ def report(out: "os.PathLike[str] | str", plots: Optional["os.PathLike[str] | st
     """The report of the experiment in ``out``: the summary and the table, as text; with
     ``plots`` (a folder) also the distributions as SVG files there."""
     table = read_records(out, COLUMNS)
-    text = summary_text(table) + "\n" + table_text(table)
+    rows = table.to_pylist()  # once: the table and the plots read the same rows
+    text = summary_text(table) + "\n" + study_table(rows)
     if plots is not None:
-        for p in plot(cells(table), Path(plots)):
+        for p in plot(study_cells(rows), Path(plots)):
             text += f"\nwrote {p}"
         text += "\n"
     return text
