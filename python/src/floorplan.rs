@@ -7,12 +7,13 @@ use std::path::PathBuf;
 use harmonav_output::floor::write_floor_outputs;
 use harmonav_output::set::check_output_dir;
 use harmonav_scenario::floorplan::{FloorPrepared, FloorScenario};
-use harmonav_sim::floor::{FloorSummary, run};
+use harmonav_sim::floor::FloorSummary;
+use harmonav_sim::physics::{Physics, simulate_floor};
 use numpy::{PyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::PyOSError;
 use pyo3::prelude::*;
 
-use crate::convert::{point_like, rows2, value_error};
+use crate::convert::{point_like, policy, rows2, value_error};
 use crate::scenario::{model, to_python};
 
 /// A floor-plan file: a polygon with holes (or a ROS map) as the known walls and star
@@ -66,19 +67,22 @@ impl FloorPlan {
     }
 
     /// Runs the loop from `start` (default `robot.start`) under `model` (`"kinematic"` or
-    /// `"dynamic"`; None: the file's), without the GIL, and judges every guarantee. `out`, a
-    /// folder, receives summary.json and trajectory.svg as one set; it is checked before the
-    /// run (`ValueError`, nothing run), and a failure to write after it raises `OSError` whose
-    /// `result` is the `FloorRunResult`.
-    #[pyo3(signature = (model=None, start=None, out=None))]
+    /// `"dynamic"`; None: the file's), without the GIL, and judges every guarantee. `physics`
+    /// is `"builtin"` or `"rapier"` (the walls as colliders, cross-checked against a built-in
+    /// run: `harmonav run --physics rapier`). `out`, a folder, receives summary.json and
+    /// trajectory.svg as one set; it is checked before the run (`ValueError`, nothing run), and
+    /// a failure to write after it raises `OSError` whose `result` is the `FloorRunResult`.
+    #[pyo3(signature = (model=None, start=None, out=None, physics="builtin"))]
     fn run(
         &self,
         py: Python<'_>,
         model: Option<&str>,
         start: Option<&Bound<'_, PyAny>>,
         out: Option<PathBuf>,
+        physics: &str,
     ) -> PyResult<FloorRunResult> {
         let model = self::model(py, model, None)?;
+        let physics: Physics = policy(physics)?;
         let start = match start {
             Some(p) => point_like(p, "start")?,
             None => self.prepared.starts[0],
@@ -89,7 +93,7 @@ impl FloorPlan {
         }
         let prepared = &self.prepared;
         let result = py
-            .detach(|| run(prepared, model, start))
+            .detach(|| simulate_floor(prepared, model, start, physics))
             .map_err(|e| value_error(format!("{}: {e}", prepared.path.display())))?;
         let summary = FloorSummary::new(prepared, model, start, &result);
         let n = result.positions.len();

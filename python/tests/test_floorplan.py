@@ -36,6 +36,16 @@ def test_a_floor_plan_runs_from_python_with_every_guarantee_judged(tmp_path):
     assert (tmp_path / "trajectory.svg").read_text().startswith("<svg")
 
 
+def test_a_floor_plan_flies_in_rapier_with_the_walls_as_colliders():
+    plan = harmonav.FloorPlan.load(ROOT / "scenarios" / "floorplans" / "u-trap.toml")
+    s = plan.run(model="kinematic", physics="rapier").summary
+    assert s["reached"] and s["physics"] == "rapier" and s["physics_contacts"] == 0
+    names = {g["name"]: g["passed"] for g in s["guarantees"]}
+    assert names.get("physics-no-contact") is True and all(names.values()), names
+    with pytest.raises(ValueError, match="physics"):
+        plan.run(physics="bullet")
+
+
 def test_a_floor_plan_run_from_another_start_and_bad_input():
     plan = harmonav.FloorPlan.load(L_ROOM)
     start = plan.starts[3]
