@@ -418,7 +418,6 @@ impl Dynamic {
             DampingPolicy::Auto => 0.5 * s * (-shift).exp(),
             DampingPolicy::Fast => {
                 // Ψ ≈ (w/L + (1 − w)/L_A)·q, q ≈ r̃²/(2b), r̃² ≈ xᵀH(Θ)x/σ: H(Ψ) = that·H(Θ)/(bσ).
-                let _ = s;
                 let (w, b, l, kappa) = FAST;
                 (w / l + (1.0 - w) / (kappa * (0.5 * shift).exp())) / b
             }
