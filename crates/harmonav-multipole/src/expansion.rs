@@ -1,0 +1,218 @@
+//! The expansions and their translations (Greengard & Rokhlin 1987, *A fast algorithm for
+//! particle simulations*, Lemmas 2.3–2.5), **scaled** by the box width `w` so that no power of a
+//! coordinate over- or underflows whatever the world's size:
+//!
+//! ```text
+//! multipole about c:  F(z) = Q log(z − c) + Σ_{m=1..p} ã_m (w/(z − c))^m       (eq. mp)
+//! local about c:      F(z) = Σ_{m=0..p} b̃_m ((z − c)/w)^m                       (eq. loc)
+//! ```
+//!
+//! `F(z) = Σ_j q_j G_j(z)` with `G_j(z) = log(z − z_j)` (a point) or `∫_{[A,B]} log(z − s)|ds|`
+//! (a segment of uniform density). Only `Re F`, `F'` and `F''` are meaningful: the imaginary part
+//! of `F` depends on the branch of each logarithm, and no caller uses it.
+//!
+//! Coefficient arrays have `p + 1` entries; entry 0 of a multipole is `Q` (the total charge).
+
+use nalgebra::Complex;
+
+/// A complex number in f64.
+pub type C64 = Complex<f64>;
+
+const ZERO: C64 = C64::new(0.0, 0.0);
+const ONE: C64 = C64::new(1.0, 0.0);
+
+/// Pascal's triangle up to row `n`, `binom[n][k] = C(n, k)` (exact in f64 up to `n = 56`,
+/// correctly rounded above: the translations use rows up to `2p`).
+pub(crate) fn pascal(n: usize) -> Vec<Vec<f64>> {
+    let mut rows: Vec<Vec<f64>> = Vec::with_capacity(n + 1);
+    for i in 0..=n {
+        let mut row = vec![1.0; i + 1];
+        for k in 1..i {
+            row[k] = rows[i - 1][k - 1] + rows[i - 1][k];
+        }
+        rows.push(row);
+    }
+    rows
+}
+
+/// P2M of a point charge `q` at `z0`, added to `a` (box centre `c`, width `w`):
+/// `Q += q`, `ã_m −= q ((z0 − c)/w)^m / m` (eq. mp).
+pub(crate) fn p2m_point(a: &mut [C64], q: f64, z0: C64, c: C64, w: f64) {
+    a[0] += q;
+    let t = (z0 - c) / w;
+    let mut power = ONE;
+    for (m, am) in a.iter_mut().enumerate().skip(1) {
+        power *= t;
+        *am -= power * (q / m as f64);
+    }
+}
+
+/// P2M of a segment `[A, B]` of uniform density `q` (charge `q·L`):
+/// `ã_m −= (q/m)·∫_{[A,B]} ((s − c)/w)^m |ds| = (q/m)·L·S_m/(m + 1)`, where
+/// `S_m = Σ_{i=0..m} β^i α^{m−i}` (`α = (A − c)/w`, `β = (B − c)/w`) is `(β^{m+1} − α^{m+1})/(β − α)`
+/// summed without the cancellation of that difference: `S_m = β S_{m−1} + α^m`.
+pub(crate) fn p2m_segment(a: &mut [C64], q: f64, ends: (C64, C64), c: C64, w: f64) {
+    let (alpha, beta) = ((ends.0 - c) / w, (ends.1 - c) / w);
+    let length = (ends.1 - ends.0).norm();
+    a[0] += q * length;
+    let (mut s, mut alpha_m) = (ONE, ONE);
+    for (m, am) in a.iter_mut().enumerate().skip(1) {
+        alpha_m *= alpha;
+        s = beta * s + alpha_m;
+        *am -= s * (q * length / (m as f64 * (m as f64 + 1.0)));
+    }
+}
+
+/// M2M (Lemma 2.3): the multipole `child` of a box of width `w/2` centred at `c + d` shifted to
+/// its parent of width `w` centred at `c` and added to `parent`; `d̃ = d/w`:
+/// `b̃_l = −Q d̃^l / l + Σ_{k=1..l} ã_k 2^{−k} d̃^{l−k} C(l−1, k−1)`.
+pub(crate) fn m2m(parent: &mut [C64], child: &[C64], d: C64, binom: &[Vec<f64>]) {
+    let p = child.len() - 1;
+    let q = child[0];
+    parent[0] += q;
+    // Child coefficients in the parent's scale: ã_k 2^{−k}.
+    let mut scaled = [ZERO; MAX_TERMS];
+    let mut half = 1.0;
+    for k in 1..=p {
+        half *= 0.5;
+        scaled[k] = child[k] * half;
+    }
+    let mut dpow = [ONE; MAX_TERMS];
+    for l in 1..=p {
+        dpow[l] = dpow[l - 1] * d;
+    }
+    for l in 1..=p {
+        let mut acc = -q * dpow[l] / l as f64;
+        for k in 1..=l {
+            acc += scaled[k] * dpow[l - k] * binom[l - 1][k - 1];
+        }
+        parent[l] += acc;
+    }
+}
+
+/// M2L (Lemma 2.4): the multipole `source` (width `w`, centre `c_s`) as a local expansion about
+/// `c_t` (width `w`), added to `local`; `z̃0 = (c_s − c_t)/w`, `|z̃0| ≥ 2`:
+/// `b̃_0 = Q log(−z0) + Σ_k ã_k (−1)^k / z̃0^k`,
+/// `b̃_l = −Q/(l z̃0^l) + z̃0^{−l} Σ_k ã_k (−1)^k C(l+k−1, k−1) / z̃0^k`.
+pub(crate) fn m2l(local: &mut [C64], source: &[C64], z0: C64, w: f64, binom: &[Vec<f64>]) {
+    let p = source.len() - 1;
+    let q = source[0];
+    let zt = z0 / w;
+    let inv = ONE / zt;
+    // s_k = ã_k (−1)^k / z̃0^k.
+    let mut s = [ZERO; MAX_TERMS];
+    let mut ipow = ONE;
+    for k in 1..=p {
+        ipow *= -inv;
+        s[k] = source[k] * ipow;
+    }
+    let mut b0 = q * (-z0).ln();
+    for sk in &s[1..=p] {
+        b0 += sk;
+    }
+    local[0] += b0;
+    let mut lpow = ONE;
+    for l in 1..=p {
+        lpow *= inv;
+        let row = &binom[l - 1..];
+        let mut acc = ZERO;
+        for k in 1..=p {
+            acc += s[k] * row[k][k - 1];
+        }
+        local[l] += lpow * (acc - q / l as f64);
+    }
+}
+
+/// L2L (Lemma 2.5): the local `parent` (width `w`, centre `c`) re-expanded about its child's
+/// centre `c + d` (width `w/2`) and added to `child`; `d̃ = d/w`:
+/// `b̃'_l = 2^{−l} Σ_{k≥l} b̃_k C(k, l) d̃^{k−l}`.
+pub(crate) fn l2l(child: &mut [C64], parent: &[C64], d: C64, binom: &[Vec<f64>]) {
+    let p = parent.len() - 1;
+    let mut dpow = [ONE; MAX_TERMS];
+    for l in 1..=p {
+        dpow[l] = dpow[l - 1] * d;
+    }
+    let mut half = 1.0;
+    for l in 0..=p {
+        let mut acc = ZERO;
+        for k in l..=p {
+            acc += parent[k] * dpow[k - l] * binom[k][l];
+        }
+        child[l] += acc * half;
+        half *= 0.5;
+    }
+}
+
+/// P2L of a point charge `q` at `z0` into the local expansion about `c` (width `w`), for `z0`
+/// outside the disc of the expansion: `log(z − z0) = log(c − z0) + log(1 + (z − c)/(c − z0))`,
+/// so `b̃_0 += q log(c − z0)` and `b̃_m += q (−1)^{m+1} (w/(c − z0))^m / m`.
+pub(crate) fn p2l_point(local: &mut [C64], q: f64, z0: C64, c: C64, w: f64) {
+    let v = c - z0;
+    local[0] += v.ln() * q;
+    let t = -C64::new(w, 0.0) / v;
+    let mut power = -ONE;
+    for (m, bm) in local.iter_mut().enumerate().skip(1) {
+        power *= t;
+        *bm += power * (q / m as f64);
+    }
+}
+
+/// The three values of an expansion at a point: `Re F`, `F'` and `F''`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Values {
+    /// `Re F(z)`.
+    pub value: f64,
+    /// `F'(z)`.
+    pub d1: C64,
+    /// `F''(z)` (zero when not asked for).
+    pub d2: C64,
+}
+
+/// Eq. loc at `z`: `ζ = (z − c)/w`, Horner for `F`, `F' = (1/w) Σ m b̃_m ζ^{m−1}` and
+/// `F'' = (1/w²) Σ m(m−1) b̃_m ζ^{m−2}`.
+pub(crate) fn eval_local<const SECOND: bool>(b: &[C64], z: C64, c: C64, w: f64) -> Values {
+    let zeta = (z - c) / w;
+    let p = b.len() - 1;
+    let (mut f, mut f1, mut f2) = (b[p], ZERO, ZERO);
+    for m in (0..p).rev() {
+        if SECOND {
+            f2 = f2 * zeta + f1 * 2.0;
+        }
+        f1 = f1 * zeta + f;
+        f = f * zeta + b[m];
+    }
+    Values {
+        value: f.re,
+        d1: f1 / w,
+        d2: if SECOND { f2 / (w * w) } else { ZERO },
+    }
+}
+
+/// Eq. mp at `z` (outside the box's disc): with `t = w/(z − c)`,
+/// `F = Q log(z − c) + Σ ã_m t^m`, `F' = (Q − Σ m ã_m t^m)/(z − c)`,
+/// `F'' = (−Q + Σ m(m+1) ã_m t^m)/(z − c)²`.
+pub(crate) fn eval_multipole<const SECOND: bool>(a: &[C64], z: C64, c: C64, w: f64) -> Values {
+    let v = z - c;
+    let t = C64::new(w, 0.0) / v;
+    let q = a[0];
+    let (mut s0, mut s1, mut s2) = (ZERO, ZERO, ZERO);
+    let mut power = ONE;
+    for (m, am) in a.iter().enumerate().skip(1) {
+        power *= t;
+        let term = am * power;
+        s0 += term;
+        s1 += term * m as f64;
+        if SECOND {
+            s2 += term * (m as f64 * (m as f64 + 1.0));
+        }
+    }
+    let inv = ONE / v;
+    Values {
+        value: (q * v.ln() + s0).re,
+        d1: (q - s1) * inv,
+        d2: if SECOND { (s2 - q) * inv * inv } else { ZERO },
+    }
+}
+
+/// The largest expansion order plus one that the fixed-size scratch arrays hold.
+pub(crate) const MAX_TERMS: usize = 97;

@@ -1,0 +1,666 @@
+//! The uniform quadtree: pieces, the upward and downward passes, evaluation and insertion.
+
+use crate::expansion::{
+    C64, MAX_TERMS, Values, eval_local, eval_multipole, l2l, m2l, m2m, p2l_point, p2m_point,
+    p2m_segment, pascal,
+};
+
+/// A source: a point charge or a segment of uniform density.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Source {
+    /// `G(z) = log(z − z_0)`.
+    Point(C64),
+    /// `G(z) = ∫_{[A,B]} log(z − s)|ds|`: charge `q·|B − A|` for a weight `q`.
+    Segment(C64, C64),
+}
+
+/// The geometry of a [`Piece`]: a point, or the part of a segment inside one leaf.
+pub type Shape = Source;
+
+/// A source, or the part of a segment source inside one leaf box, as the near-field closure of
+/// [`Fmm::eval`] receives it: the caller evaluates its exact kernel on `shape` with the weights
+/// of source `source`. The pieces of one segment add up to the segment (the integral is
+/// additive).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Piece {
+    /// The index of the source (as given to [`Fmm::new`] or numbered by [`Fmm::push_point`]).
+    pub source: usize,
+    /// The point, or the sub-segment.
+    pub shape: Shape,
+}
+
+/// Options of [`Fmm::new`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Options {
+    /// The absolute error of `Re F` per unit of absolute charge (`|ΔRe F| ≤ tol·A`); sets the
+    /// order `p = ⌈ln(tol)/ln 0.55⌉ + 2`. In `[1e-15, 1e-2]`; default `1e-13`.
+    pub tolerance: f64,
+    /// The number of pieces per occupied leaf the depth aims at (the depth grows while the mean
+    /// is larger). Default 8.
+    pub leaf_size: usize,
+    /// The deepest leaf level (`4^L` leaves, each with `C(p + 1)` local coefficients). In
+    /// `[2, 8]`; default 6.
+    pub max_level: u32,
+    /// A region the evaluations will come from (lower-left and upper-right corners); the root
+    /// box covers it and the sources, so evaluations there take the leaves' local expansions.
+    pub region: Option<(C64, C64)>,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Self {
+            tolerance: 1e-13,
+            leaf_size: 8,
+            max_level: 6,
+            region: None,
+        }
+    }
+}
+
+/// Why an [`Fmm`] could not be built or a point not added.
+#[derive(Clone, Debug, PartialEq)]
+pub enum FmmError {
+    /// `sources` and `weights` differ in length.
+    LengthMismatch {
+        /// `sources.len()`.
+        sources: usize,
+        /// `weights.len()`.
+        weights: usize,
+    },
+    /// A coordinate or a weight is not finite.
+    NotFinite {
+        /// The source's index.
+        source: usize,
+    },
+    /// An option is out of its range.
+    BadOption {
+        /// The option's name.
+        name: &'static str,
+        /// Its allowed range.
+        range: &'static str,
+    },
+    /// [`Fmm::push_point`]: the point lies outside the root box; rebuild with it.
+    OutsideRoot,
+}
+
+impl std::fmt::Display for FmmError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::LengthMismatch { sources, weights } => write!(
+                f,
+                "{sources} sources but {weights} weights: one weight per source"
+            ),
+            Self::NotFinite { source } => {
+                write!(
+                    f,
+                    "source {source} has a coordinate or a weight that is not finite"
+                )
+            }
+            Self::BadOption { name, range } => write!(f, "option `{name}` must lie in {range}"),
+            Self::OutsideRoot => write!(f, "the point lies outside the multipole tree's root box"),
+        }
+    }
+}
+
+impl std::error::Error for FmmError {}
+
+/// The Barnes–Hut acceptance ratio outside the root box: a box's multipole serves `z` when the
+/// disc about its centre that holds its pieces (radius `w/√2`) is at most `ρ` of the distance.
+const RHO_OUTSIDE: f64 = 0.5;
+
+/// Fast multipole sums over a fixed set of sources in `C` channels (see the crate docs).
+#[derive(Clone, Debug)]
+pub struct Fmm<const C: usize> {
+    p: usize,
+    levels: u32,
+    origin: C64,
+    side: f64,
+    /// The pieces, grouped by leaf (row-major leaf order).
+    pieces: Vec<Piece>,
+    weights: Vec<[f64; C]>,
+    /// `leaf_start[i]..leaf_start[i + 1]` are leaf `i`'s pieces.
+    leaf_start: Vec<usize>,
+    /// Per level `l`: `4^l` boxes × `C` channels × `p + 1` coefficients.
+    multipoles: Vec<Vec<C64>>,
+    /// Per level: the number of pieces under each box.
+    counts: Vec<Vec<usize>>,
+    /// The leaves' local expansions: `4^L × C × (p + 1)`.
+    locals: Vec<C64>,
+    sources: usize,
+}
+
+impl<const C: usize> Fmm<C> {
+    /// Builds the tree over `sources` with one `[f64; C]` of weights each.
+    ///
+    /// Errors: [`FmmError::LengthMismatch`], [`FmmError::NotFinite`],
+    /// [`FmmError::BadOption`]. No sources is allowed (every sum is then 0).
+    pub fn new(
+        sources: &[Source],
+        weights: &[[f64; C]],
+        options: &Options,
+    ) -> Result<Self, FmmError> {
+        if sources.len() != weights.len() {
+            return Err(FmmError::LengthMismatch {
+                sources: sources.len(),
+                weights: weights.len(),
+            });
+        }
+        if !(1e-15..=1e-2).contains(&options.tolerance) {
+            return Err(FmmError::BadOption {
+                name: "tolerance",
+                range: "[1e-15, 1e-2]",
+            });
+        }
+        if !(2..=8).contains(&options.max_level) {
+            return Err(FmmError::BadOption {
+                name: "max_level",
+                range: "[2, 8]",
+            });
+        }
+        if options.leaf_size == 0 {
+            return Err(FmmError::BadOption {
+                name: "leaf_size",
+                range: "[1, ∞)",
+            });
+        }
+        let finite = |z: C64| z.re.is_finite() && z.im.is_finite();
+        for (j, (s, w)) in sources.iter().zip(weights).enumerate() {
+            let ok = match s {
+                Source::Point(z) => finite(*z),
+                Source::Segment(a, b) => finite(*a) && finite(*b),
+            } && w.iter().all(|x| x.is_finite());
+            if !ok {
+                return Err(FmmError::NotFinite { source: j });
+            }
+        }
+        if let Some((lo, hi)) = options.region
+            && !(finite(lo) && finite(hi))
+        {
+            return Err(FmmError::BadOption {
+                name: "region",
+                range: "finite corners",
+            });
+        }
+        let p = order(options.tolerance);
+        let (origin, side) = root_box(sources, options.region);
+        let levels = depth(sources, origin, side, options);
+        let mut fmm = Self {
+            p,
+            levels,
+            origin,
+            side,
+            pieces: Vec::new(),
+            weights: weights.to_vec(),
+            leaf_start: Vec::new(),
+            multipoles: Vec::new(),
+            counts: Vec::new(),
+            locals: Vec::new(),
+            sources: sources.len(),
+        };
+        fmm.cut(sources);
+        fmm.upward();
+        fmm.downward();
+        Ok(fmm)
+    }
+
+    /// The expansion order `p`.
+    pub fn order(&self) -> usize {
+        self.p
+    }
+
+    /// The leaf level `L` (`4^L` leaves).
+    pub fn levels(&self) -> u32 {
+        self.levels
+    }
+
+    /// The width of a leaf box.
+    pub fn leaf_width(&self) -> f64 {
+        self.width(self.levels)
+    }
+
+    /// The number of sources.
+    pub fn len(&self) -> usize {
+        self.sources
+    }
+
+    /// Whether there are no sources.
+    pub fn is_empty(&self) -> bool {
+        self.sources == 0
+    }
+
+    /// `Re F_c(z)` and `F'_c(z)` for each channel, the far field from the expansions; `near` is
+    /// called once for each piece the expansions leave out, and the caller adds its exact kernel
+    /// for it (the pieces of the 3 × 3 leaves about `z`, or of the leaves a walk outside the
+    /// root box reaches). `F''` is left at zero; see [`Self::eval2`].
+    pub fn eval(&self, z: C64, near: impl FnMut(&Piece)) -> [Values; C] {
+        self.eval_with::<false>(z, near)
+    }
+
+    /// [`Self::eval`] with `F''_c(z)` too.
+    pub fn eval2(&self, z: C64, near: impl FnMut(&Piece)) -> [Values; C] {
+        self.eval_with::<true>(z, near)
+    }
+
+    /// Adds a point source with its weights, numbered `self.len()` (before the call), without a
+    /// rebuild: its P2L into every leaf outside its 3 × 3 neighbourhood, its P2M into its
+    /// ancestors. Errors: [`FmmError::NotFinite`], [`FmmError::OutsideRoot`] (the tree is then
+    /// unchanged).
+    pub fn push_point(&mut self, z: C64, w: [f64; C]) -> Result<usize, FmmError> {
+        if !(z.re.is_finite() && z.im.is_finite() && w.iter().all(|x| x.is_finite())) {
+            return Err(FmmError::NotFinite {
+                source: self.sources,
+            });
+        }
+        let leaf = self.leaf_of(z).ok_or(FmmError::OutsideRoot)?;
+        let index = self.sources;
+        let n = 1usize << self.levels;
+        let at = self.leaf_start[leaf + 1];
+        self.pieces.insert(
+            at,
+            Piece {
+                source: index,
+                shape: Source::Point(z),
+            },
+        );
+        for s in &mut self.leaf_start[leaf + 1..] {
+            *s += 1;
+        }
+        self.weights.push(w);
+        self.sources += 1;
+        let terms = self.p + 1;
+        // P2M into the leaf and its ancestors.
+        let (mut ix, mut iy) = (leaf % n, leaf / n);
+        for l in (0..=self.levels).rev() {
+            let nl = 1usize << l;
+            let b = iy * nl + ix;
+            let (c, width) = (self.centre(l, ix, iy), self.width(l));
+            for (ch, q) in w.iter().enumerate() {
+                let start = (b * C + ch) * terms;
+                p2m_point(
+                    &mut self.multipoles[l as usize][start..start + terms],
+                    *q,
+                    z,
+                    c,
+                    width,
+                );
+            }
+            self.counts[l as usize][b] += 1;
+            ix /= 2;
+            iy /= 2;
+        }
+        // P2L into every far leaf.
+        let (lx, ly) = (leaf % n, leaf / n);
+        let width = self.width(self.levels);
+        for jy in 0..n {
+            for jx in 0..n {
+                if jx.abs_diff(lx) <= 1 && jy.abs_diff(ly) <= 1 {
+                    continue;
+                }
+                let c = self.centre(self.levels, jx, jy);
+                let b = jy * n + jx;
+                for (ch, q) in w.iter().enumerate() {
+                    let start = (b * C + ch) * terms;
+                    p2l_point(&mut self.locals[start..start + terms], *q, z, c, width);
+                }
+            }
+        }
+        Ok(index)
+    }
+
+    fn width(&self, level: u32) -> f64 {
+        self.side / (1u64 << level) as f64
+    }
+
+    fn centre(&self, level: u32, ix: usize, iy: usize) -> C64 {
+        let w = self.width(level);
+        self.origin + C64::new((ix as f64 + 0.5) * w, (iy as f64 + 0.5) * w)
+    }
+
+    /// The leaf holding `z` (the closed root box; the top and right edges belong to the last
+    /// leaves), or `None` outside it.
+    fn leaf_of(&self, z: C64) -> Option<usize> {
+        let n = 1usize << self.levels;
+        let (u, v) = (
+            (z.re - self.origin.re) / self.side,
+            (z.im - self.origin.im) / self.side,
+        );
+        if !((0.0..=1.0).contains(&u) && (0.0..=1.0).contains(&v)) {
+            return None;
+        }
+        let cell = |t: f64| ((t * n as f64) as usize).min(n - 1);
+        Some(cell(v) * n + cell(u))
+    }
+
+    /// Cuts the sources into pieces at the leaf grid lines and groups them by leaf.
+    fn cut(&mut self, sources: &[Source]) {
+        let n = 1usize << self.levels;
+        let w = self.width(self.levels);
+        let mut tagged: Vec<(usize, Piece)> = Vec::with_capacity(sources.len());
+        let leaf = |fmm: &Self, z: C64| fmm.leaf_of(z).expect("the root box holds every source");
+        for (j, s) in sources.iter().enumerate() {
+            match *s {
+                Source::Point(z) => tagged.push((
+                    leaf(self, z),
+                    Piece {
+                        source: j,
+                        shape: *s,
+                    },
+                )),
+                Source::Segment(a, b) => {
+                    let mut ts = vec![0.0, 1.0];
+                    for (lo, hi, o) in [(a.re, b.re, self.origin.re), (a.im, b.im, self.origin.im)]
+                    {
+                        if lo == hi {
+                            continue;
+                        }
+                        let (x0, x1) = (lo.min(hi), lo.max(hi));
+                        let first = ((x0 - o) / w).floor() as i64 + 1;
+                        let last = ((x1 - o) / w).ceil() as i64 - 1;
+                        for i in first..=last {
+                            let t = (o + i as f64 * w - lo) / (hi - lo);
+                            if t > 0.0 && t < 1.0 {
+                                ts.push(t);
+                            }
+                        }
+                    }
+                    ts.sort_by(f64::total_cmp);
+                    ts.dedup();
+                    for pair in ts.windows(2) {
+                        let (p0, p1) = (a + (b - a) * pair[0], a + (b - a) * pair[1]);
+                        if p0 == p1 {
+                            continue;
+                        }
+                        tagged.push((
+                            leaf(self, (p0 + p1) * 0.5),
+                            Piece {
+                                source: j,
+                                shape: Source::Segment(p0, p1),
+                            },
+                        ));
+                    }
+                }
+            }
+        }
+        tagged.sort_by_key(|(leaf, _)| *leaf);
+        self.leaf_start = vec![0; n * n + 1];
+        for (leaf, _) in &tagged {
+            self.leaf_start[leaf + 1] += 1;
+        }
+        for i in 0..n * n {
+            self.leaf_start[i + 1] += self.leaf_start[i];
+        }
+        self.pieces = tagged.into_iter().map(|(_, p)| p).collect();
+    }
+
+    /// P2M at the leaves, M2M up to the root.
+    fn upward(&mut self) {
+        let terms = self.p + 1;
+        let binom = pascal(2 * self.p);
+        self.multipoles = (0..=self.levels)
+            .map(|l| vec![C64::new(0.0, 0.0); (1usize << (2 * l)) * C * terms])
+            .collect();
+        self.counts = (0..=self.levels)
+            .map(|l| vec![0; 1usize << (2 * l)])
+            .collect();
+        let n = 1usize << self.levels;
+        let w = self.width(self.levels);
+        let top = self.levels as usize;
+        for leaf in 0..n * n {
+            let c = self.centre(self.levels, leaf % n, leaf / n);
+            for piece in &self.pieces[self.leaf_start[leaf]..self.leaf_start[leaf + 1]] {
+                let q = self.weights[piece.source];
+                for (ch, qc) in q.iter().enumerate() {
+                    let start = (leaf * C + ch) * terms;
+                    let a = &mut self.multipoles[top][start..start + terms];
+                    match piece.shape {
+                        Source::Point(z) => p2m_point(a, *qc, z, c, w),
+                        Source::Segment(s0, s1) => p2m_segment(a, *qc, (s0, s1), c, w),
+                    }
+                }
+                self.counts[top][leaf] += 1;
+            }
+        }
+        let mut multipoles = std::mem::take(&mut self.multipoles);
+        for l in (0..self.levels).rev() {
+            let (nl, wl) = (1usize << l, self.width(l));
+            let (upper, lower) = multipoles.split_at_mut(l as usize + 1);
+            let (parent_level, child_level) = (&mut upper[l as usize], &lower[0]);
+            for iy in 0..nl {
+                for ix in 0..nl {
+                    let parent = iy * nl + ix;
+                    let c = self.centre(l, ix, iy);
+                    for (cx, cy) in children(ix, iy) {
+                        let child = cy * 2 * nl + cx;
+                        let count = self.counts[l as usize + 1][child];
+                        if count == 0 {
+                            continue;
+                        }
+                        self.counts[l as usize][parent] += count;
+                        let d = (self.centre(l + 1, cx, cy) - c) / wl;
+                        for ch in 0..C {
+                            let ps = (parent * C + ch) * terms;
+                            let cs = (child * C + ch) * terms;
+                            m2m(
+                                &mut parent_level[ps..ps + terms],
+                                &child_level[cs..cs + terms],
+                                d,
+                                &binom,
+                            );
+                        }
+                    }
+                }
+            }
+        }
+        self.multipoles = multipoles;
+    }
+
+    /// M2L over each box's interaction list and L2L down to the leaves.
+    fn downward(&mut self) {
+        let terms = self.p + 1;
+        let binom = pascal(2 * self.p);
+        let mut parent_locals = vec![C64::new(0.0, 0.0); C * terms];
+        let mut parent_n = 1usize;
+        for l in 1..=self.levels {
+            let (nl, wl) = (1usize << l, self.width(l));
+            let mut locals = vec![C64::new(0.0, 0.0); nl * nl * C * terms];
+            for iy in 0..nl {
+                for ix in 0..nl {
+                    let b = iy * nl + ix;
+                    let c = self.centre(l, ix, iy);
+                    let out = &mut locals[b * C * terms..(b + 1) * C * terms];
+                    // L2L from the parent.
+                    let (px, py) = (ix / 2, iy / 2);
+                    let parent = py * parent_n + px;
+                    let d = (c - self.centre(l - 1, px, py)) / self.width(l - 1);
+                    for ch in 0..C {
+                        let ps = (parent * C + ch) * terms;
+                        l2l(
+                            &mut out[ch * terms..(ch + 1) * terms],
+                            &parent_locals[ps..ps + terms],
+                            d,
+                            &binom,
+                        );
+                    }
+                    // M2L: the children of the parent's neighbours that are not adjacent.
+                    for (sx, sy) in interaction_list(ix, iy, nl) {
+                        let s = sy * nl + sx;
+                        if self.counts[l as usize][s] == 0 {
+                            continue;
+                        }
+                        let z0 = self.centre(l, sx, sy) - c;
+                        for ch in 0..C {
+                            let ss = (s * C + ch) * terms;
+                            m2l(
+                                &mut out[ch * terms..(ch + 1) * terms],
+                                &self.multipoles[l as usize][ss..ss + terms],
+                                z0,
+                                wl,
+                                &binom,
+                            );
+                        }
+                    }
+                }
+            }
+            parent_locals = locals;
+            parent_n = nl;
+        }
+        self.locals = parent_locals;
+    }
+
+    fn eval_with<const SECOND: bool>(&self, z: C64, mut near: impl FnMut(&Piece)) -> [Values; C] {
+        let terms = self.p + 1;
+        let mut out = [Values::default(); C];
+        match self.leaf_of(z) {
+            Some(leaf) => {
+                let n = 1usize << self.levels;
+                let (ix, iy) = (leaf % n, leaf / n);
+                let (c, w) = (self.centre(self.levels, ix, iy), self.width(self.levels));
+                for (ch, o) in out.iter_mut().enumerate() {
+                    let start = (leaf * C + ch) * terms;
+                    *o = eval_local::<SECOND>(&self.locals[start..start + terms], z, c, w);
+                }
+                for jy in iy.saturating_sub(1)..=(iy + 1).min(n - 1) {
+                    let row = jy * n;
+                    let (from, to) = (ix.saturating_sub(1), (ix + 1).min(n - 1));
+                    for piece in
+                        &self.pieces[self.leaf_start[row + from]..self.leaf_start[row + to + 1]]
+                    {
+                        near(piece);
+                    }
+                }
+            }
+            None => self.walk::<SECOND>(z, &mut out, &mut near),
+        }
+        out
+    }
+
+    /// Barnes–Hut outside the root box: a box's multipole when `w/√2 ≤ ρ|z − c|`.
+    fn walk<const SECOND: bool>(
+        &self,
+        z: C64,
+        out: &mut [Values; C],
+        near: &mut impl FnMut(&Piece),
+    ) {
+        let terms = self.p + 1;
+        let mut stack = vec![(0u32, 0usize, 0usize)];
+        while let Some((l, ix, iy)) = stack.pop() {
+            let nl = 1usize << l;
+            let b = iy * nl + ix;
+            if self.counts[l as usize][b] == 0 {
+                continue;
+            }
+            let (c, w) = (self.centre(l, ix, iy), self.width(l));
+            if w * std::f64::consts::FRAC_1_SQRT_2 <= RHO_OUTSIDE * (z - c).norm() {
+                for (ch, o) in out.iter_mut().enumerate() {
+                    let start = (b * C + ch) * terms;
+                    let v = eval_multipole::<SECOND>(
+                        &self.multipoles[l as usize][start..start + terms],
+                        z,
+                        c,
+                        w,
+                    );
+                    o.value += v.value;
+                    o.d1 += v.d1;
+                    o.d2 += v.d2;
+                }
+            } else if l == self.levels {
+                for piece in &self.pieces[self.leaf_start[b]..self.leaf_start[b + 1]] {
+                    near(piece);
+                }
+            } else {
+                stack.extend(children(ix, iy).map(|(cx, cy)| (l + 1, cx, cy)));
+            }
+        }
+    }
+}
+
+/// `p = ⌈ln(tol)/ln 0.55⌉ + 2`, at most `MAX_TERMS − 1`.
+fn order(tolerance: f64) -> usize {
+    let p = (tolerance.ln() / 0.55f64.ln()).ceil() as usize + 2;
+    p.clamp(4, MAX_TERMS - 1)
+}
+
+/// The root square: the bounding box of the sources and the region, squared, with a relative
+/// pad of `1e-9` (and an absolute floor for a single point) so every source lies strictly inside.
+fn root_box(sources: &[Source], region: Option<(C64, C64)>) -> (C64, f64) {
+    let (mut lo, mut hi) = (
+        C64::new(f64::INFINITY, f64::INFINITY),
+        C64::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
+    );
+    let mut grow = |z: C64| {
+        lo = C64::new(lo.re.min(z.re), lo.im.min(z.im));
+        hi = C64::new(hi.re.max(z.re), hi.im.max(z.im));
+    };
+    for s in sources {
+        match *s {
+            Source::Point(z) => grow(z),
+            Source::Segment(a, b) => {
+                grow(a);
+                grow(b);
+            }
+        }
+    }
+    if let Some((a, b)) = region {
+        grow(a);
+        grow(b);
+    }
+    if !lo.re.is_finite() {
+        return (C64::new(-1.0, -1.0), 2.0);
+    }
+    let centre = (lo + hi) * 0.5;
+    let extent = (hi.re - lo.re).max(hi.im - lo.im);
+    let scale = centre.re.abs().max(centre.im.abs()).max(extent);
+    let side = (extent * (1.0 + 1e-9))
+        .max(scale * 1e-9)
+        .max(f64::MIN_POSITIVE);
+    (centre - C64::new(side * 0.5, side * 0.5), side)
+}
+
+/// The leaf level: from 2, deeper while the mean number of sources per occupied leaf (by each
+/// source's centre) exceeds `leaf_size`, up to `max_level`.
+fn depth(sources: &[Source], origin: C64, side: f64, options: &Options) -> u32 {
+    let centres: Vec<C64> = sources
+        .iter()
+        .map(|s| match *s {
+            Source::Point(z) => z,
+            Source::Segment(a, b) => (a + b) * 0.5,
+        })
+        .collect();
+    let mut level = 2;
+    while level < options.max_level {
+        let n = 1usize << level;
+        let mut cells: Vec<usize> = centres
+            .iter()
+            .map(|z| {
+                let cell = |t: f64| ((t * n as f64) as usize).min(n - 1);
+                cell((z.im - origin.im) / side) * n + cell((z.re - origin.re) / side)
+            })
+            .collect();
+        cells.sort_unstable();
+        cells.dedup();
+        if centres.len() <= options.leaf_size * cells.len().max(1) {
+            break;
+        }
+        level += 1;
+    }
+    level
+}
+
+fn children(ix: usize, iy: usize) -> impl Iterator<Item = (usize, usize)> {
+    [(0, 0), (1, 0), (0, 1), (1, 1)]
+        .into_iter()
+        .map(move |(dx, dy)| (2 * ix + dx, 2 * iy + dy))
+}
+
+/// The children of the parent's neighbours (the parent included) that are not adjacent to
+/// `(ix, iy)`, on an `nl × nl` grid.
+fn interaction_list(ix: usize, iy: usize, nl: usize) -> impl Iterator<Item = (usize, usize)> {
+    let (px, py) = (ix / 2, iy / 2);
+    let np = nl / 2;
+    let xs = px.saturating_sub(1)..=(px + 1).min(np.saturating_sub(1));
+    xs.flat_map(move |qx| {
+        (py.saturating_sub(1)..=(py + 1).min(np.saturating_sub(1)))
+            .flat_map(move |qy| children(qx, qy))
+    })
+    .filter(move |(sx, sy)| sx.abs_diff(ix) > 1 || sy.abs_diff(iy) > 1)
+}

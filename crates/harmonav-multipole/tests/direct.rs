@@ -1,0 +1,407 @@
+//! The fast sums against the direct sums (independent closed forms), inside and outside the
+//! root box, for points and segments, at scales from 1e-3 to 1e6; insertion; bad input.
+
+use harmonav_multipole::{C64, Fmm, FmmError, Options, Piece, Source, Values};
+
+/// A small deterministic generator (SplitMix64), so the tests need no dependency.
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn point(&mut self, origin: C64, size: f64) -> C64 {
+        origin + C64::new(self.next() * size, self.next() * size)
+    }
+}
+
+/// `Re G`, `G'` and `G''` of one source, from closed forms independent of the expansions.
+fn kernel(shape: &Source, z: C64) -> Values {
+    match *shape {
+        Source::Point(z0) => {
+            let v = z - z0;
+            Values {
+                value: v.norm().ln(),
+                d1: 1.0 / v,
+                d2: -1.0 / (v * v),
+            }
+        }
+        Source::Segment(a, b) if (z - (a + b) * 0.5).norm() > 2.0 * (b - a).norm() => {
+            // Far from the segment the closed form cancels (`(xo ± h) ln r±²`, relative error
+            // `ε|z| ln|z|/L`): 20-point Gauss–Legendre of a smooth integrand instead.
+            let (length, mut out) = ((b - a).norm(), Values::default());
+            for (x, weight) in gauss_legendre(20) {
+                let s = (a + b) * 0.5 + (b - a) * (0.5 * x);
+                let v = z - s;
+                let w = 0.5 * length * weight;
+                out.value += w * v.norm().ln();
+                out.d1 += w / v;
+                out.d2 -= w / (v * v);
+            }
+            out
+        }
+        Source::Segment(a, b) => {
+            let length = (b - a).norm();
+            let u = (b - a) / length;
+            let local = (z - (a + b) * 0.5) * u.conj();
+            let (xo, yo, h) = (local.re, local.im, length / 2.0);
+            let (rp, rm) = ((xo + h).powi(2) + yo * yo, (xo - h).powi(2) + yo * yo);
+            let theta = (2.0 * h * yo).atan2((xo - h) * (xo + h) + yo * yo);
+            let w = (xo + h) * rp.ln() - (xo - h) * rm.ln() - 4.0 * h + 2.0 * yo * theta;
+            Values {
+                value: 0.5 * w,
+                d1: ((z - a) / (z - b)).ln() / u,
+                d2: (1.0 / (z - a) - 1.0 / (z - b)) / u,
+            }
+        }
+    }
+}
+
+/// Nodes and weights of `n`-point Gauss–Legendre on `[−1, 1]` (Newton on `P_n`).
+fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
+    (1..=n)
+        .map(|i| {
+            let mut x = (std::f64::consts::PI * (i as f64 - 0.25) / (n as f64 + 0.5)).cos();
+            let mut dp = 0.0;
+            for _ in 0..100 {
+                let (mut p0, mut p1) = (1.0, x);
+                for k in 2..=n {
+                    let p2 = ((2 * k - 1) as f64 * x * p1 - (k - 1) as f64 * p0) / k as f64;
+                    p0 = p1;
+                    p1 = p2;
+                }
+                dp = n as f64 * (x * p1 - p0) / (x * x - 1.0);
+                let step = p1 / dp;
+                x -= step;
+                if step.abs() < 1e-16 {
+                    break;
+                }
+            }
+            (x, 2.0 / ((1.0 - x * x) * dp * dp))
+        })
+        .collect()
+}
+
+fn direct<const C: usize>(sources: &[Source], weights: &[[f64; C]], z: C64) -> [Values; C] {
+    let mut out = [Values::default(); C];
+    for (s, w) in sources.iter().zip(weights) {
+        let g = kernel(s, z);
+        for (o, q) in out.iter_mut().zip(w) {
+            o.value += q * g.value;
+            o.d1 += g.d1 * *q;
+            o.d2 += g.d2 * *q;
+        }
+    }
+    out
+}
+
+fn fast<const C: usize>(fmm: &Fmm<C>, weights: &[[f64; C]], z: C64) -> [Values; C] {
+    let mut out = fmm.eval2(z, |_| {});
+    let mut near = [Values::default(); C];
+    fmm.eval2(z, |piece: &Piece| {
+        let g = kernel(&piece.shape, z);
+        for (o, q) in near.iter_mut().zip(&weights[piece.source]) {
+            o.value += q * g.value;
+            o.d1 += g.d1 * *q;
+            o.d2 += g.d2 * *q;
+        }
+    });
+    for (o, n) in out.iter_mut().zip(near) {
+        o.value += n.value;
+        o.d1 += n.d1;
+        o.d2 += n.d2;
+    }
+    out
+}
+
+/// The absolute charge `A = Σ |q|·(1 or L)` of channel `ch`.
+fn charge<const C: usize>(sources: &[Source], weights: &[[f64; C]], ch: usize) -> f64 {
+    sources
+        .iter()
+        .zip(weights)
+        .map(|(s, w)| {
+            w[ch].abs()
+                * match s {
+                    Source::Point(_) => 1.0,
+                    Source::Segment(a, b) => (b - a).norm(),
+                }
+        })
+        .sum()
+}
+
+/// The largest errors over `targets`, in units of `A` (value) and `A/w_leaf` (derivatives).
+fn worst<const C: usize>(
+    sources: &[Source],
+    weights: &[[f64; C]],
+    fmm: &Fmm<C>,
+    targets: &[C64],
+) -> (f64, f64, f64) {
+    let w = fmm.leaf_width();
+    let (mut e0, mut e1, mut e2) = (0.0f64, 0.0f64, 0.0f64);
+    for &z in targets {
+        let (d, f) = (direct(sources, weights, z), fast(fmm, weights, z));
+        for ch in 0..C {
+            let a = charge(sources, weights, ch);
+            e0 = e0.max((d[ch].value - f[ch].value).abs() / a);
+            e1 = e1.max((d[ch].d1 - f[ch].d1).norm() * w / a);
+            e2 = e2.max((d[ch].d2 - f[ch].d2).norm() * w * w / a);
+        }
+    }
+    (e0, e1, e2)
+}
+
+fn random_points(rng: &mut Rng, n: usize, origin: C64, size: f64) -> (Vec<Source>, Vec<[f64; 2]>) {
+    let sources = (0..n)
+        .map(|_| Source::Point(rng.point(origin, size)))
+        .collect();
+    let weights = (0..n).map(|_| [2.0 * rng.next() - 1.0, 1.0]).collect();
+    (sources, weights)
+}
+
+/// Closed polygons (a ring and a few holes) cut into `per_side` segments per side: the shape
+/// of a floor plan's boundary elements.
+fn rings(rng: &mut Rng, origin: C64, size: f64, per_side: usize) -> (Vec<Source>, Vec<[f64; 2]>) {
+    let mut sources = Vec::new();
+    let mut polygon = |centre: C64, radius: f64, sides: usize| {
+        let corners: Vec<C64> = (0..sides)
+            .map(|i| {
+                let angle = std::f64::consts::TAU * i as f64 / sides as f64;
+                centre + C64::from_polar(radius * (0.6 + 0.4 * rng.next()), angle)
+            })
+            .collect();
+        for i in 0..sides {
+            let (a, b) = (corners[i], corners[(i + 1) % sides]);
+            for k in 0..per_side {
+                let t0 = k as f64 / per_side as f64;
+                let t1 = (k + 1) as f64 / per_side as f64;
+                sources.push(Source::Segment(a + (b - a) * t0, a + (b - a) * t1));
+            }
+        }
+    };
+    let centre = origin + C64::new(size / 2.0, size / 2.0);
+    polygon(centre, size / 2.0, 12);
+    for i in 0..4 {
+        let offset = C64::from_polar(size / 4.0, 1.0 + i as f64 * 1.57);
+        polygon(centre + offset, size / 14.0, 5);
+    }
+    let mut rng2 = Rng(99);
+    let weights = sources
+        .iter()
+        .map(|_| [2.0 * rng2.next() - 1.0, rng2.next()])
+        .collect();
+    (sources, weights)
+}
+
+const TOL: f64 = 1e-13;
+
+#[test]
+fn points_match_the_direct_sum_at_every_scale() {
+    for (seed, scale) in [(1u64, 1e-3), (2, 1.0), (3, 1e6)] {
+        let mut rng = Rng(seed);
+        let origin = C64::new(-0.3 * scale, 5.0 * scale);
+        let (sources, weights) = random_points(&mut rng, 1500, origin, scale);
+        let fmm = Fmm::new(&sources, &weights, &Options::default()).unwrap();
+        assert!(fmm.levels() >= 3, "the test must exercise M2L and L2L");
+        let targets: Vec<C64> = (0..300).map(|_| rng.point(origin, scale)).collect();
+        let (e0, e1, e2) = worst(&sources, &weights, &fmm, &targets);
+        assert!(
+            e0 <= TOL && e1 <= 10.0 * TOL && e2 <= 100.0 * TOL,
+            "scale {scale}: {e0:e} {e1:e} {e2:e}"
+        );
+    }
+}
+
+#[test]
+fn segments_match_the_closed_form_with_pieces_cut_at_the_leaves() {
+    for (seed, scale) in [(4u64, 1e-3), (5, 20.0), (6, 1e6)] {
+        let mut rng = Rng(seed);
+        let origin = C64::new(3.0 * scale, -2.0 * scale);
+        let (sources, weights) = rings(&mut rng, origin, scale, 25);
+        let fmm = Fmm::new(&sources, &weights, &Options::default()).unwrap();
+        assert!(fmm.levels() >= 3);
+        // Targets everywhere, including within a hair of the segments (where the near field
+        // decides and the pieces must add up to their segment).
+        let mut targets: Vec<C64> = (0..200).map(|_| rng.point(origin, scale)).collect();
+        for s in sources.iter().step_by(37) {
+            if let Source::Segment(a, b) = *s {
+                let n = (b - a) * C64::new(0.0, 1.0) / (b - a).norm();
+                targets.push((a + b) * 0.5 + n * (1e-7 * scale));
+            }
+        }
+        let (e0, e1, e2) = worst(&sources, &weights, &fmm, &targets);
+        assert!(
+            e0 <= TOL && e1 <= 10.0 * TOL && e2 <= 100.0 * TOL,
+            "scale {scale}: {e0:e} {e1:e} {e2:e}"
+        );
+    }
+}
+
+#[test]
+fn sources_packed_at_leaf_corners_stay_within_the_tolerance() {
+    // The worst case of the separation: every source at a corner of its leaf box, every
+    // target at the opposite corner of a box two leaves away.
+    let probe = Fmm::<1>::new(
+        &[
+            Source::Point(C64::new(0.0, 0.0)),
+            Source::Point(C64::new(1.0, 1.0)),
+        ],
+        &[[1.0], [1.0]],
+        &Options {
+            max_level: 5,
+            leaf_size: 1,
+            ..Options::default()
+        },
+    )
+    .unwrap();
+    let w = probe.leaf_width();
+    let mut sources = vec![
+        Source::Point(C64::new(0.0, 0.0)),
+        Source::Point(C64::new(1.0, 1.0)),
+    ];
+    let mut targets = Vec::new();
+    for i in 0..32 {
+        for j in 0..32 {
+            let corner = C64::new(i as f64 * w, j as f64 * w);
+            if (i + j) % 3 == 0 {
+                sources.push(Source::Point(corner + C64::new(1e-12, 1e-12)));
+            } else if (i * 7 + j) % 11 == 0 {
+                targets.push(corner + C64::new(w * 0.999, w * 0.999));
+            }
+        }
+    }
+    let weights = vec![[1.0]; sources.len()];
+    let fmm = Fmm::new(
+        &sources,
+        &weights,
+        &Options {
+            max_level: 5,
+            leaf_size: 1,
+            ..Options::default()
+        },
+    )
+    .unwrap();
+    let (e0, e1, _) = worst(&sources, &weights, &fmm, &targets);
+    assert!(e0 <= TOL && e1 <= 10.0 * TOL, "{e0:e} {e1:e}");
+}
+
+#[test]
+fn outside_the_root_box_the_walk_matches_the_direct_sum() {
+    let mut rng = Rng(7);
+    let origin = C64::new(0.0, 0.0);
+    let (sources, weights) = rings(&mut rng, origin, 10.0, 10);
+    let fmm = Fmm::new(&sources, &weights, &Options::default()).unwrap();
+    let mut targets = Vec::new();
+    for k in 0..60 {
+        let r = 7.2 * (1.0 + k as f64 * 0.7);
+        targets.push(C64::new(5.0, 5.0) + C64::from_polar(r, k as f64));
+    }
+    let (e0, e1, e2) = worst(&sources, &weights, &fmm, &targets);
+    assert!(
+        e0 <= TOL && e1 <= 10.0 * TOL && e2 <= 100.0 * TOL,
+        "{e0:e} {e1:e} {e2:e}"
+    );
+}
+
+#[test]
+fn a_pushed_point_counts_as_if_built_with_it() {
+    let mut rng = Rng(8);
+    let origin = C64::new(-5.0, -5.0);
+    let (sources, weights) = random_points(&mut rng, 800, origin, 10.0);
+    let mut fmm = Fmm::new(
+        &sources[..400],
+        &weights[..400],
+        &Options {
+            region: Some((origin, origin + C64::new(10.0, 10.0))),
+            ..Options::default()
+        },
+    )
+    .unwrap();
+    for (s, w) in sources[400..].iter().zip(&weights[400..]) {
+        let Source::Point(z) = *s else { unreachable!() };
+        fmm.push_point(z, *w).unwrap();
+    }
+    assert_eq!(fmm.len(), 800);
+    let targets: Vec<C64> = (0..200).map(|_| rng.point(origin, 10.0)).collect();
+    let (e0, e1, _) = worst(&sources, &weights, &fmm, &targets);
+    assert!(e0 <= TOL && e1 <= 10.0 * TOL, "{e0:e} {e1:e}");
+    // Outside the root box: refused, and nothing changed.
+    let before = fast(&fmm, &weights, C64::new(0.1, 0.2));
+    assert_eq!(
+        fmm.push_point(C64::new(50.0, 0.0), [1.0, 1.0]),
+        Err(FmmError::OutsideRoot)
+    );
+    assert_eq!(fmm.len(), 800);
+    assert_eq!(fast(&fmm, &weights, C64::new(0.1, 0.2)), before);
+}
+
+#[test]
+fn a_loose_tolerance_shows_its_error_negative_control() {
+    // The same comparison must see the truncation when the order is low: the checks above can
+    // fail.
+    let mut rng = Rng(9);
+    let (sources, weights) = random_points(&mut rng, 1500, C64::new(0.0, 0.0), 1.0);
+    let targets: Vec<C64> = (0..300)
+        .map(|_| rng.point(C64::new(0.0, 0.0), 1.0))
+        .collect();
+    let loose = Fmm::new(
+        &sources,
+        &weights,
+        &Options {
+            tolerance: 1e-3,
+            ..Options::default()
+        },
+    )
+    .unwrap();
+    let (e0, _, _) = worst(&sources, &weights, &loose, &targets);
+    assert!(e0 > 1e-9 && e0 <= 1e-3, "{e0:e}");
+}
+
+#[test]
+fn bad_input_is_a_typed_error() {
+    let s = [
+        Source::Point(C64::new(0.0, 0.0)),
+        Source::Point(C64::new(f64::NAN, 0.0)),
+    ];
+    assert_eq!(
+        Fmm::<1>::new(&s, &[[1.0]], &Options::default()).unwrap_err(),
+        FmmError::LengthMismatch {
+            sources: 2,
+            weights: 1
+        }
+    );
+    assert_eq!(
+        Fmm::<1>::new(&s, &[[1.0], [1.0]], &Options::default()).unwrap_err(),
+        FmmError::NotFinite { source: 1 }
+    );
+    let ok = [Source::Point(C64::new(0.0, 0.0))];
+    assert_eq!(
+        Fmm::<1>::new(&ok, &[[f64::INFINITY]], &Options::default()).unwrap_err(),
+        FmmError::NotFinite { source: 0 }
+    );
+    for options in [
+        Options {
+            tolerance: 0.5,
+            ..Options::default()
+        },
+        Options {
+            max_level: 1,
+            ..Options::default()
+        },
+        Options {
+            leaf_size: 0,
+            ..Options::default()
+        },
+    ] {
+        assert!(matches!(
+            Fmm::<1>::new(&ok, &[[1.0]], &options).unwrap_err(),
+            FmmError::BadOption { .. }
+        ));
+    }
+    // No sources: every sum is zero, and evaluation anywhere is finite.
+    let empty = Fmm::<1>::new(&[], &[], &Options::default()).unwrap();
+    let v = empty.eval(C64::new(3.0, 4.0), |_| panic!("no pieces"));
+    assert_eq!(v[0], Values::default());
+}
