@@ -6,6 +6,7 @@
 //! median of repeated batches:
 //!
 //! - `many_theta_ns_m{M}_{direct,indexed}`: one `Field::eval` (`Θ`, `∇Θ`) at a free point;
+//!   `..._direct_sum`: the same without the point world's multipole tree (docs/maths.md §15);
 //! - `many_command_ns_m{M}`: one `Navigator::command` (kinematic law, the default hold) at a
 //!   free point (the navigator's workspace is always indexed: its API has no lookup);
 //! - `many_workspace_us_m{M}_{direct,indexed}`: `Workspace::new` over the M shapes;
@@ -80,6 +81,18 @@ pub fn figures(put: &mut dyn FnMut(&str, f64)) {
                     for _ in 0..reps {
                         for &x in &pts {
                             let _ = black_box(field.eval(black_box(x)));
+                        }
+                    }
+                }),
+            );
+            // The point world's sum without its multipole tree, side by side (§15).
+            let direct_sum = field.clone().without_far_field();
+            put(
+                &format!("many_theta_ns_m{m}_{name}_direct_sum"),
+                median_ns(11, (reps * pts.len()) as f64, || {
+                    for _ in 0..reps {
+                        for &x in &pts {
+                            let _ = black_box(direct_sum.eval(black_box(x)));
                         }
                     }
                 }),

@@ -124,7 +124,7 @@ impl Field {
                 None => {}
             }
         }
-        let (transform, world) = build(&workspace, &ids, policy)?;
+        let (transform, world) = build(&workspace, &ids, policy, None)?;
         let stiffness = world.destination_stiffness();
         Ok(Self {
             workspace,
@@ -146,6 +146,36 @@ impl Field {
         Self::with_policy(workspace, 0..n, policy)
     }
 
+    /// [`Self::all_known_with`] on `workspace`, a workspace that extends this field's by
+    /// obstacles appended after its own (`Workspace::with_obstacle`, as a discovery of
+    /// `Navigator::add_obstacle` makes it): the same field, but the point world's multipole
+    /// tree (from [`harmonav_potential::far::FAR_MIN`] obstacles on) is extended rather than
+    /// rebuilt (`PointWorld::new_after`).
+    pub fn all_known_after(
+        &self,
+        workspace: Arc<Workspace>,
+        policy: KPolicy,
+    ) -> Result<Self, FieldError> {
+        let ids: Vec<usize> = (0..workspace.obstacles().len()).collect();
+        let (transform, world) = build(&workspace, &ids, policy, Some(&self.world))?;
+        let stiffness = world.destination_stiffness();
+        Ok(Self {
+            workspace,
+            transform,
+            world,
+            stiffness,
+            policy,
+        })
+    }
+
+    /// This field with the point world summed directly at every point
+    /// ([`PointWorld::without_far_field`]): the reference of the multipole path.
+    #[must_use]
+    pub fn without_far_field(mut self) -> Self {
+        self.world = self.world.without_far_field();
+        self
+    }
+
     /// Eq. (`phiseq`): obstacle `id` becomes known; `k` becomes the policy's value for `n + 1`
     /// known obstacles and `Phi` is rebuilt with new widths. Returns `false` if it was already
     /// known (obstacles are never forgotten, assumption `objpers`). On error the field is
@@ -156,7 +186,7 @@ impl Field {
         }
         let mut ids = self.transform.known().to_vec();
         ids.push(id);
-        let (transform, world) = build(&self.workspace, &ids, self.policy)?;
+        let (transform, world) = build(&self.workspace, &ids, self.policy, Some(&self.world))?;
         self.transform = transform;
         self.stiffness = world.destination_stiffness();
         self.world = world;
@@ -343,10 +373,13 @@ fn finish(h: Vector2<f64>, jacobian: &Matrix2<f64>, phi: f64, g: Vector2<f64>) -
     }
 }
 
+/// `Phi` and the point world over `known`; the point world reuses `previous`'s multipole tree
+/// when its points are the first of the new ones (`PointWorld::new_after`).
 fn build(
     ws: &Workspace,
     known: &[usize],
     policy: KPolicy,
+    previous: Option<&PointWorld>,
 ) -> Result<(NavTransform, PointWorld), FieldError> {
     // The bands do not depend on k; the layer rule of KPolicy::Auto depends on the bands.
     let transform = NavTransform::new(ws, known, 0.0)?;
@@ -356,7 +389,11 @@ fn build(
         let o = ws.obstacles().get(obstacle);
         points.push(o.ok_or(WorldError::NoSuchObstacle { obstacle })?.centre());
     }
-    let world = PointWorld::new(ws.destination(), points)?.with_k(k)?;
+    let world = match previous {
+        Some(previous) => PointWorld::new_after(previous, ws.destination(), points)?,
+        None => PointWorld::new(ws.destination(), points)?,
+    }
+    .with_k(k)?;
     // The potential supplies the radius of its far-field valley, which Phi's outer band holds.
     let c0 = transform.outer_centre();
     let transform = transform.with_valley_radius(world.valley_radius(c0))?;

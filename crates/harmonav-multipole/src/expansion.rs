@@ -90,37 +90,75 @@ pub(crate) fn m2m(parent: &mut [C64], child: &[C64], d: C64, binom: &[Vec<f64>])
     }
 }
 
+/// The binomials of M2L laid out flat, `m2l_table(p)[l·(p + 1) + k] = C(l + k − 1, k − 1)` for
+/// `l, k ∈ 1..=p` (contiguous in `k`, so [`m2l`]'s inner sums vectorise).
+pub(crate) fn m2l_table(p: usize) -> Vec<f64> {
+    let binom = pascal(2 * p);
+    let mut table = vec![0.0; (p + 1) * (p + 1)];
+    for l in 1..=p {
+        for k in 1..=p {
+            table[l * (p + 1) + k] = binom[l + k - 1][k - 1];
+        }
+    }
+    table
+}
+
 /// M2L (Lemma 2.4): the multipole `source` (width `w`, centre `c_s`) as a local expansion about
 /// `c_t` (width `w`), added to `local`; `z̃0 = (c_s − c_t)/w`, `|z̃0| ≥ 2`:
 /// `b̃_0 = Q log(−z0) + Σ_k ã_k (−1)^k / z̃0^k`,
-/// `b̃_l = −Q/(l z̃0^l) + z̃0^{−l} Σ_k ã_k (−1)^k C(l+k−1, k−1) / z̃0^k`.
-pub(crate) fn m2l(local: &mut [C64], source: &[C64], z0: C64, w: f64, binom: &[Vec<f64>]) {
+/// `b̃_l = −Q/(l z̃0^l) + z̃0^{−l} Σ_k ã_k (−1)^k C(l+k−1, k−1) / z̃0^k`
+/// (`table` from [`m2l_table`]).
+pub(crate) fn m2l(local: &mut [C64], source: &[C64], z0: C64, w: f64, table: &[f64]) {
     let p = source.len() - 1;
     let q = source[0];
     let zt = z0 / w;
     let inv = ONE / zt;
-    // s_k = ã_k (−1)^k / z̃0^k.
-    let mut s = [ZERO; MAX_TERMS];
+    // s_k = ã_k (−1)^k / z̃0^k, split into real and imaginary parts for the inner sums.
+    let (mut s_re, mut s_im) = ([0.0; MAX_TERMS], [0.0; MAX_TERMS]);
     let mut ipow = ONE;
+    let mut b0 = q * (-z0).ln();
     for k in 1..=p {
         ipow *= -inv;
-        s[k] = source[k] * ipow;
-    }
-    let mut b0 = q * (-z0).ln();
-    for sk in &s[1..=p] {
+        let sk = source[k] * ipow;
+        (s_re[k], s_im[k]) = (sk.re, sk.im);
         b0 += sk;
     }
     local[0] += b0;
     let mut lpow = ONE;
     for l in 1..=p {
         lpow *= inv;
-        let row = &binom[l - 1..];
-        let mut acc = ZERO;
-        for k in 1..=p {
-            acc += s[k] * row[k][k - 1];
-        }
-        local[l] += lpow * (acc - q / l as f64);
+        let row = &table[l * (p + 1) + 1..(l + 1) * (p + 1)];
+        let (re, im) = dot2(row, &s_re[1..=p], &s_im[1..=p]);
+        local[l] += lpow * (C64::new(re, im) - q / l as f64);
     }
+}
+
+/// `(Σ t_k a_k, Σ t_k b_k)` with four independent partial sums per result, so the additions
+/// do not wait on each other (a single running sum is latency-bound: floating-point addition
+/// cannot be reordered by the compiler) and the lanes vectorise.
+#[inline(always)]
+fn dot2(t: &[f64], a: &[f64], b: &[f64]) -> (f64, f64) {
+    let (mut ra, mut rb) = ([0.0f64; 4], [0.0f64; 4]);
+    let n = t.len() / 4 * 4;
+    for ((t, a), b) in t[..n]
+        .chunks_exact(4)
+        .zip(a[..n].chunks_exact(4))
+        .zip(b[..n].chunks_exact(4))
+    {
+        for i in 0..4 {
+            ra[i] += t[i] * a[i];
+            rb[i] += t[i] * b[i];
+        }
+    }
+    let (mut sa, mut sb) = (
+        (ra[0] + ra[1]) + (ra[2] + ra[3]),
+        (rb[0] + rb[1]) + (rb[2] + rb[3]),
+    );
+    for i in n..t.len() {
+        sa += t[i] * a[i];
+        sb += t[i] * b[i];
+    }
+    (sa, sb)
 }
 
 /// L2L (Lemma 2.5): the local `parent` (width `w`, centre `c`) re-expanded about its child's

@@ -1,8 +1,8 @@
 //! The uniform quadtree: pieces, the upward and downward passes, evaluation and insertion.
 
 use crate::expansion::{
-    C64, MAX_TERMS, Values, eval_local, eval_multipole, l2l, m2l, m2m, p2l_point, p2m_point,
-    p2m_segment, pascal,
+    C64, MAX_TERMS, Values, eval_local, eval_multipole, l2l, m2l, m2l_table, m2m, p2l_point,
+    p2m_point, p2m_segment, pascal,
 };
 
 /// A source: a point charge or a segment of uniform density.
@@ -458,6 +458,7 @@ impl<const C: usize> Fmm<C> {
     fn downward(&mut self) {
         let terms = self.p + 1;
         let binom = pascal(2 * self.p);
+        let table = m2l_table(self.p);
         let mut parent_locals = vec![C64::new(0.0, 0.0); C * terms];
         let mut parent_n = 1usize;
         for l in 1..=self.levels {
@@ -495,7 +496,7 @@ impl<const C: usize> Fmm<C> {
                                 &self.multipoles[l as usize][ss..ss + terms],
                                 z0,
                                 wl,
-                                &binom,
+                                &table,
                             );
                         }
                     }

@@ -140,7 +140,8 @@ impl PointWorld {
     ///
     /// Points are processed in chunks of [`CHUNK`] in structure-of-arrays form with the
     /// obstacle loop outside, so the compiler vectorises across points (the scalar path is
-    /// latency-bound on its running product). No allocation.
+    /// latency-bound on its running product). No allocation. A world with a far field
+    /// ([`PointWorld::has_far_field`]) takes [`PointWorld::phi_and_grad`] point by point.
     ///
     /// Errors: [`PotentialError::LengthMismatch`] if `out` is not as long as `hs` (nothing is
     /// written).
@@ -153,6 +154,14 @@ impl PointWorld {
             return Err(PotentialError::LengthMismatch {
                 lengths: [hs.len(), hs.len(), out.len(), out.len()],
             });
+        }
+        if self.has_far_field() {
+            // A large world: each point through the multipole path, the same numbers as
+            // `phi_and_grad` (the kernel below would be `O(M)` a point).
+            for (h, o) in hs.iter().zip(out.iter_mut()) {
+                *o = self.phi_and_grad(*h, None).ok();
+            }
+            return Ok(());
         }
         let (k, k2) = (self.k(), 2.0 / self.k());
         let d = self.destination();

@@ -16,6 +16,21 @@
 //! The roots are found with the Aberth–Ehrlich iteration, evaluating the logarithmic
 //! derivative `N'/N = F'/F + 1/(z − d) + Σ 1/(z − p_i)` from the points directly, never
 //! through the (ill-conditioned) monomial coefficients.
+//!
+//! **Large worlds** (a point world with a multipole tree, `M ≥ far::FAR_MIN`; docs/maths.md
+//! §15): the sums `Σ 1/(z − p_i)` and `Σ 1/(z − p_i)²` come from the tree (near points exact),
+//! and the iteration starts from the first-order roots next to each point instead of a circle,
+//!
+//! ```text
+//! F(z) = 0  ⇔  (1/k)/(z − p_j) = G_j(z),   G_j(z) = 1/(z − d) − (1/k) Σ_{i≠j} 1/(z − p_i),
+//! z_j⁰ = p_j + 1/(k G_j(p_j))                                          (eq. census-start)
+//! ```
+//!
+//! which needs a few sweeps where the circle needs about a hundred. Aberth's fixed points do
+//! not depend on the start (any distinct starts converge to the `M` roots together; a start
+//! that is not finite, or farther than the world's scale, is put back on the circle). The
+//! repulsion `Σ_{l≠j} 1/(z_j − z_l)` stays direct; each root is polished by Newton on the
+//! direct `F`, so the roots carry the direct sums' rounding whatever the tree's tolerance.
 
 use nalgebra::{Complex, Vector2};
 
@@ -64,7 +79,25 @@ impl PointWorld {
         let p: Vec<C> = self.obstacles().iter().map(|&v| to_c(v)).collect();
         let k = self.k();
         let scale = length_scale(d, &p);
-        let roots = aberth(d, &p, k, scale);
+        let start = circle(d, &p, scale);
+        let roots = match self.far_field() {
+            Some(far) => {
+                let sums = |z: C, skip: Option<usize>| {
+                    let (mut s1, mut s2) = (C::new(0.0, 0.0), C::new(0.0, 0.0));
+                    let (f1, f2) = far.reciprocal_sums(z, |i| {
+                        if Some(i) != skip {
+                            let r = (z - p[i]).inv();
+                            s1 += r;
+                            s2 += r * r;
+                        }
+                    });
+                    (s1 + f1, s2 + f2)
+                };
+                let start = first_order(d, &p, k, scale, start, |j| sums(p[j], Some(j)).0);
+                aberth(d, &p, k, scale, start, |z| sums(z, None))
+            }
+            None => aberth(d, &p, k, scale, start, |z| direct_sums(z, &p)),
+        };
         cluster(self, d, &p, k, scale, &roots)
     }
 }
@@ -85,14 +118,23 @@ fn f_and_df(z: C, d: C, p: &[C], k: f64) -> (C, C) {
     (rd - s1 / k, -rd * rd + s2 / k)
 }
 
-/// `N'(z)/N(z)` from `N = F·(z − d)·P`.
-fn log_derivative(z: C, d: C, p: &[C], k: f64) -> C {
-    let (f, df) = f_and_df(z, d, p, k);
-    let mut s = (z - d).inv();
+/// `(Σ 1/(z − p_i), Σ 1/(z − p_i)²)`, directly.
+fn direct_sums(z: C, p: &[C]) -> (C, C) {
+    let (mut s1, mut s2) = (C::new(0.0, 0.0), C::new(0.0, 0.0));
     for &pi in p {
-        s += (z - pi).inv();
+        let r = (z - pi).inv();
+        s1 += r;
+        s2 += r * r;
     }
-    df / f + s
+    (s1, s2)
+}
+
+/// `N'(z)/N(z)` from `N = F·(z − d)·P`, with `(s1, s2) = (Σ 1/(z − p_i), Σ 1/(z − p_i)²)`:
+/// `F = 1/(z − d) − s1/k`, `F' = −1/(z − d)² + s2/k`, `N'/N = F'/F + 1/(z − d) + s1`.
+fn log_derivative(z: C, d: C, k: f64, (s1, s2): (C, C)) -> C {
+    let rd = (z - d).inv();
+    let (f, df) = (rd - s1 / k, -rd * rd + s2 / k);
+    df / f + rd + s1
 }
 
 fn length_scale(d: C, p: &[C]) -> f64 {
@@ -103,21 +145,53 @@ fn length_scale(d: C, p: &[C]) -> f64 {
         .max(f64::MIN_POSITIVE)
 }
 
-/// Aberth–Ehrlich iteration for the `M` roots of `N`.
-fn aberth(d: C, p: &[C], k: f64, scale: f64) -> Vec<C> {
+/// The starts on a circle enclosing the points, rotated off any symmetry axis.
+fn circle(d: C, p: &[C], scale: f64) -> Vec<C> {
     let m = p.len();
     let centre = p.iter().fold(d, |a, &b| a + b) / (m as f64 + 1.0);
-    // Start on a circle enclosing the points, rotated off any symmetry axis.
-    let mut z: Vec<C> = (0..m)
+    (0..m)
         .map(|j| {
             let a = 0.4 + std::f64::consts::TAU * j as f64 / m as f64;
             centre + C::from_polar(1.3 * scale, a)
         })
-        .collect();
+        .collect()
+}
+
+/// Eq. census-start: `z_j⁰ = p_j + 1/(k G_j(p_j))` with `others(j) = Σ_{i≠j} 1/(p_j − p_i)`;
+/// the circle's start where that is not finite or lies farther than `scale` from `p_j`.
+fn first_order(
+    d: C,
+    p: &[C],
+    k: f64,
+    scale: f64,
+    circle: Vec<C>,
+    others: impl Fn(usize) -> C,
+) -> Vec<C> {
+    circle
+        .into_iter()
+        .enumerate()
+        .map(|(j, fallback)| {
+            let g = (p[j] - d).inv() - others(j) / k;
+            let step = (g * k).inv();
+            let z = p[j] + step;
+            if z.re.is_finite() && z.im.is_finite() && step.norm() <= scale && z != p[j] {
+                z
+            } else {
+                fallback
+            }
+        })
+        .collect()
+}
+
+/// Aberth–Ehrlich iteration for the `M` roots of `N` from `start`, with `sums(z) = (Σ 1/(z −
+/// p_i), Σ 1/(z − p_i)²)`.
+fn aberth(d: C, p: &[C], k: f64, scale: f64, start: Vec<C>, sums: impl Fn(C) -> (C, C)) -> Vec<C> {
+    let m = p.len();
+    let mut z = start;
     for _ in 0..2000 {
         let mut worst = 0.0f64;
         for j in 0..m {
-            let ratio = log_derivative(z[j], d, p, k);
+            let ratio = log_derivative(z[j], d, k, sums(z[j]));
             let mut repulse = C::new(0.0, 0.0);
             for (l, &zl) in z.iter().enumerate() {
                 if l != j {
@@ -210,4 +284,42 @@ fn cluster(
             .then(a.position.y.total_cmp(&b.position.y))
     });
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The large-world census (tree sums, first-order starts) finds the same saddles as the
+    /// direct iteration from the circle, in a world just above `FAR_MIN` and a spiral.
+    #[test]
+    fn the_tree_census_finds_the_direct_census_roots() {
+        for world in [
+            crate::arrangements::golden_spiral(crate::far::FAR_MIN + 72),
+            crate::arrangements::golden_spiral(300)
+                .with_k(450.0)
+                .unwrap(),
+        ] {
+            assert!(world.has_far_field());
+            let fast = world.critical_points();
+            let d = to_c(world.destination());
+            let p: Vec<C> = world.obstacles().iter().map(|&v| to_c(v)).collect();
+            let (k, scale) = (world.k(), length_scale(d, &p));
+            let roots = aberth(d, &p, k, scale, circle(d, &p, scale), |z| {
+                direct_sums(z, &p)
+            });
+            let direct = cluster(&world, d, &p, k, scale, &roots);
+            assert_eq!(fast.len(), direct.len());
+            assert_eq!(fast.len(), p.len(), "M simple saddles");
+            for (a, b) in fast.iter().zip(&direct) {
+                assert!(
+                    (a.position - b.position).norm() <= 1e-9 * scale,
+                    "{:?} against {:?}",
+                    a.position,
+                    b.position
+                );
+                assert_eq!(a.kind, CriticalKind::Saddle);
+            }
+        }
+    }
 }

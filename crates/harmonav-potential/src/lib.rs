@@ -16,7 +16,7 @@
 //! navigation function with values in `[0, 1]`.
 //!
 //! This crate knows nothing of obstacle shapes, transformations or robots: it depends on
-//! nalgebra only.
+//! nalgebra and harmonav-multipole (our own, nalgebra only) alone.
 //!
 //! ```
 //! use harmonav_potential::{PointWorld, Vector2};
@@ -38,6 +38,8 @@
 //! - [`world`]: [`PointWorld`] with `phi_k`, `∇phi_k`, `H(phi_k)`, `varphi`, `∇varphi`,
 //!   `H(varphi)` and the destination Hessian (eq. `destphik2`, with the corrected exponent);
 //! - [`batch`]: the structure-of-arrays gradient kernel for many query points;
+//! - [`far`]: the obstacle sum of the hot path by fast multipoles from [`far::FAR_MIN`] points
+//!   on (harmonav-multipole; docs/maths.md §15);
 //! - [`critical`]: the critical points of `phi_k` as polynomial roots (a census);
 //! - [`arrangements`]: the symmetric non-Morse arrangement of proposition `Morse`, and the
 //!   deterministic golden-spiral world the benchmarks time.
@@ -49,6 +51,7 @@ pub mod batch;
 pub mod checks;
 pub mod critical;
 mod error;
+pub mod far;
 pub mod named;
 pub mod sigma;
 pub mod terms;

@@ -4,6 +4,7 @@
 use nalgebra::{Matrix2, Vector2};
 
 use crate::error::{PotentialError, Singularity};
+use crate::far::{FAR_MIN, FarField};
 use crate::sigma::{ln_sigma_prime, sigma, sigma_prime};
 use crate::terms::{hess_ln_norm2, ln_norm2, reciprocal, unit};
 
@@ -11,11 +12,25 @@ use crate::terms::{hess_ln_norm2, ln_norm2, reciprocal, unit};
 ///
 /// Invariants (checked by the constructors): all points finite, the obstacle points distinct
 /// and different from `P_d`, and `k` finite with `k > M` (lemma `attactive`).
-#[derive(Clone, Debug, PartialEq)]
+///
+/// With [`FAR_MIN`](crate::far::FAR_MIN) obstacle points or more, the hot path
+/// [`Self::phi_and_grad`] sums the far points by multipoles (`crate::far`, docs/maths.md §15);
+/// every other method sums them directly.
+#[derive(Clone, Debug)]
 pub struct PointWorld {
     destination: Vector2<f64>,
     obstacles: Vec<Vector2<f64>>,
     k: f64,
+    /// The multipole tree over `obstacles` (derived from them: not part of equality).
+    far: Option<FarField>,
+}
+
+impl PartialEq for PointWorld {
+    fn eq(&self, other: &Self) -> bool {
+        self.destination == other.destination
+            && self.obstacles == other.obstacles
+            && self.k == other.k
+    }
 }
 
 /// The obstacle terms of the fast path are multiplied in blocks of this many mantissas
@@ -36,6 +51,44 @@ pub(crate) fn split(r2: f64) -> (f64, i64) {
     )
 }
 
+/// The invariants of [`PointWorld::new`]: finite points, none at the destination, no two equal.
+fn check(destination: Vector2<f64>, obstacles: &[Vector2<f64>]) -> Result<(), PotentialError> {
+    if !(destination.x.is_finite() && destination.y.is_finite()) {
+        return Err(PotentialError::NonFinite { index: None });
+    }
+    for (i, p) in obstacles.iter().enumerate() {
+        if !(p.x.is_finite() && p.y.is_finite()) {
+            return Err(PotentialError::NonFinite { index: Some(i) });
+        }
+        if *p == destination {
+            return Err(PotentialError::ObstacleAtDestination { index: i });
+        }
+    }
+    // Duplicates by sorting (O(M log M); was a scan of every earlier point): the reported
+    // pair is the direct scan's, the smallest `second` with an equal earlier point and its
+    // first occurrence (`==` on finite coordinates: −0 equals 0).
+    let mut order: Vec<usize> = (0..obstacles.len()).collect();
+    let key = |i: &usize| (obstacles[*i].x + 0.0, obstacles[*i].y + 0.0, *i);
+    order.sort_unstable_by(|a, b| {
+        let (a, b) = (key(a), key(b));
+        a.0.total_cmp(&b.0)
+            .then(a.1.total_cmp(&b.1))
+            .then(a.2.cmp(&b.2))
+    });
+    let mut worst: Option<(usize, usize)> = None;
+    for run in order.chunk_by(|&a, &b| obstacles[a] == obstacles[b]) {
+        if let [first, second, ..] = *run
+            && worst.is_none_or(|(_, s)| second < s)
+        {
+            worst = Some((first, second));
+        }
+    }
+    match worst {
+        Some((first, second)) => Err(PotentialError::DuplicateObstacle { first, second }),
+        None => Ok(()),
+    }
+}
+
 impl PointWorld {
     /// A point world with the paper's default `k = M + 1`.
     ///
@@ -46,45 +99,47 @@ impl PointWorld {
         obstacles: impl Into<Vec<Vector2<f64>>>,
     ) -> Result<Self, PotentialError> {
         let obstacles = obstacles.into();
-        if !(destination.x.is_finite() && destination.y.is_finite()) {
-            return Err(PotentialError::NonFinite { index: None });
-        }
-        for (i, p) in obstacles.iter().enumerate() {
-            if !(p.x.is_finite() && p.y.is_finite()) {
-                return Err(PotentialError::NonFinite { index: Some(i) });
-            }
-            if *p == destination {
-                return Err(PotentialError::ObstacleAtDestination { index: i });
-            }
-        }
-        // Duplicates by sorting (O(M log M); was a scan of every earlier point): the reported
-        // pair is the direct scan's, the smallest `second` with an equal earlier point and its
-        // first occurrence (`==` on finite coordinates: −0 equals 0).
-        let mut order: Vec<usize> = (0..obstacles.len()).collect();
-        let key = |i: &usize| (obstacles[*i].x + 0.0, obstacles[*i].y + 0.0, *i);
-        order.sort_unstable_by(|a, b| {
-            let (a, b) = (key(a), key(b));
-            a.0.total_cmp(&b.0)
-                .then(a.1.total_cmp(&b.1))
-                .then(a.2.cmp(&b.2))
-        });
-        let mut worst: Option<(usize, usize)> = None;
-        for run in order.chunk_by(|&a, &b| obstacles[a] == obstacles[b]) {
-            if let [first, second, ..] = *run
-                && worst.is_none_or(|(_, s)| second < s)
-            {
-                worst = Some((first, second));
-            }
-        }
-        if let Some((first, second)) = worst {
-            return Err(PotentialError::DuplicateObstacle { first, second });
-        }
-        let k = obstacles.len() as f64 + 1.0;
+        check(destination, &obstacles)?;
+        let far = (obstacles.len() >= FAR_MIN).then(|| FarField::new(&obstacles));
         Ok(Self {
             destination,
+            k: obstacles.len() as f64 + 1.0,
             obstacles,
-            k,
+            far,
         })
+    }
+
+    /// [`Self::new`], reusing the multipole tree of `previous` when it has one, the same
+    /// destination, and its obstacle points are the first ones of `obstacles`: the new points
+    /// are pushed into a copy of its tree (`O(4^L p)` each) instead of a rebuild. This is what a
+    /// discovery does (`Navigator::add_obstacle` at `M = 1 000`: tens of µs, not a rebuild of
+    /// tens of ms). The result equals `Self::new(destination, obstacles)`, `k = M + 1`.
+    ///
+    /// Errors: those of [`Self::new`].
+    pub fn new_after(
+        previous: &PointWorld,
+        destination: Vector2<f64>,
+        obstacles: impl Into<Vec<Vector2<f64>>>,
+    ) -> Result<Self, PotentialError> {
+        let obstacles = obstacles.into();
+        let old = previous.obstacles.len();
+        match &previous.far {
+            Some(far)
+                if previous.destination == destination
+                    && obstacles.len() > old
+                    && obstacles.starts_with(&previous.obstacles) =>
+            {
+                check(destination, &obstacles)?;
+                let far = far.extended(&obstacles, &obstacles[old..]);
+                Ok(Self {
+                    destination,
+                    k: obstacles.len() as f64 + 1.0,
+                    obstacles,
+                    far: Some(far),
+                })
+            }
+            _ => Self::new(destination, obstacles),
+        }
     }
 
     /// The same world with another `k`. Lemma `attactive`: `phi_k → +∞` far away iff `k > M`,
@@ -157,6 +212,11 @@ impl PointWorld {
         h: Vector2<f64>,
         exact: Option<(usize, Vector2<f64>)>,
     ) -> Result<(f64, Vector2<f64>), Singularity> {
+        if let Some(far) = &self.far
+            && let Some(result) = self.phi_and_grad_far(far, h, exact)
+        {
+            return result;
+        }
         let (before, after) = match exact {
             Some((j, _)) => (&self.obstacles[..j], &self.obstacles[j + 1..]),
             None => (&self.obstacles[..], &self.obstacles[..0]),
@@ -206,6 +266,84 @@ impl PointWorld {
             phi,
             Vector2::new(2.0 * vd.x / rd2 - k2 * gx, 2.0 * vd.y / rd2 - k2 * gy),
         ))
+    }
+
+    /// [`Self::phi_and_grad`] with the far points from the multipole tree (`crate::far`, eq.
+    /// far): the near points by the same split product (blocks of [`PRODUCT_BLOCK`]) and guard,
+    /// `exact` applied to its point. `None` when the exact offset's point is not among the near
+    /// ones (then the direct sum), or `h` is not finite.
+    fn phi_and_grad_far(
+        &self,
+        far: &FarField,
+        h: Vector2<f64>,
+        exact: Option<(usize, Vector2<f64>)>,
+    ) -> Option<Result<(f64, Vector2<f64>), Singularity>> {
+        if !(h.x.is_finite() && h.y.is_finite()) {
+            return None;
+        }
+        let (mut gx, mut gy, mut ln_prod, mut exponent) = (0.0, 0.0, 0.0, 0i64);
+        let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+        let (mut prod, mut in_block, mut seen_exact) = (1.0f64, 0usize, exact.is_none());
+        let (far_sum, far_grad) = far.eval(h, |i| {
+            let (vx, vy) = match exact {
+                Some((j, v)) if j == i => {
+                    seen_exact = true;
+                    (v.x, v.y)
+                }
+                _ => (h.x - self.obstacles[i].x, h.y - self.obstacles[i].y),
+            };
+            let r2 = vx * vx + vy * vy;
+            gx += vx / r2;
+            gy += vy / r2;
+            let (m, e) = split(r2);
+            prod *= m;
+            exponent += e;
+            lo = lo.min(r2);
+            hi = hi.max(r2);
+            in_block += 1;
+            if in_block == PRODUCT_BLOCK {
+                ln_prod += prod.ln();
+                (prod, in_block) = (1.0, 0);
+            }
+        });
+        if !seen_exact {
+            return None;
+        }
+        ln_prod += prod.ln();
+        let vd = h - self.destination;
+        let rd2 = vd.norm_squared();
+        // Guard: as the direct path (the split is exact only for normal factors).
+        if !(lo >= f64::MIN_POSITIVE && hi <= f64::MAX && rd2.is_normal()) {
+            return Some(self.phi_and_grad_guarded(h, exact));
+        }
+        let ln_sum = ln_prod + exponent as f64 * std::f64::consts::LN_2 + far_sum;
+        let (gx, gy) = (gx + far_grad.x, gy + far_grad.y);
+        let phi = rd2.ln() - ln_sum / self.k;
+        let k2 = 2.0 / self.k;
+        Some(Ok((
+            phi,
+            Vector2::new(2.0 * vd.x / rd2 - k2 * gx, 2.0 * vd.y / rd2 - k2 * gy),
+        )))
+    }
+
+    /// The same world with the multipole tree dropped: [`Self::phi_and_grad`] then sums every
+    /// point directly (the reference of the multipole path, timed side by side with it by
+    /// `cargo xtask bench --only many`).
+    #[must_use]
+    pub fn without_far_field(mut self) -> Self {
+        self.far = None;
+        self
+    }
+
+    /// The multipole tree, if the world has one (the census uses it, `crate::critical`).
+    pub(crate) fn far_field(&self) -> Option<&FarField> {
+        self.far.as_ref()
+    }
+
+    /// Whether [`Self::phi_and_grad`] sums the far points by multipoles (from
+    /// [`FAR_MIN`](crate::far::FAR_MIN) points on).
+    pub fn has_far_field(&self) -> bool {
+        self.far.is_some()
     }
 
     /// The guarded slow path of [`Self::phi_and_grad`]: a sum of logarithms.

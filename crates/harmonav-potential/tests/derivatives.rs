@@ -212,17 +212,29 @@ fn split_product_agrees_with_the_sum_of_logarithms_at_many_points() {
             Vector2::new(r * a.cos(), r * a.sin())
         })
         .collect();
-    let w = PointWorld::new(Vector2::new(40.0, 0.3), pts.clone())
+    let world = PointWorld::new(Vector2::new(40.0, 0.3), pts.clone())
         .unwrap()
         .with_k(6.0 * (n as f64 + 1.0))
         .unwrap();
+    // The split product (the direct hot path), then the multipole path with its tolerance
+    // (`far::TOLERANCE` per far point in the sum) on top.
+    for (w, far) in [
+        (world.clone().without_far_field(), 0.0),
+        (world, 2.0 * harmonav_potential::far::TOLERANCE * n as f64),
+    ] {
+        check_split_product(&w, &pts, far);
+    }
+}
+
+fn check_split_product(w: &PointWorld, pts: &[Vector2<f64>], far: f64) {
+    let n = pts.len();
     let eps = f64::EPSILON;
     for j in 0..200 {
         let a = 0.77 * j as f64;
         let h = Vector2::new(45.0 * a.cos(), 45.0 * (1.3 * a).sin()) * (j as f64 / 200.0);
         let bound = |h: Vector2<f64>| {
             let logs: f64 = pts.iter().map(|p| (h - p).norm_squared().ln().abs()).sum();
-            4.0 * eps * (n as f64 + logs) / w.k()
+            (4.0 * eps * (n as f64 + logs) + far) / w.k()
                 + 4.0 * eps * (h - w.destination()).norm_squared().ln().abs()
         };
         let (phi, g) = w.phi_and_grad(h, None).unwrap();

@@ -17,7 +17,6 @@
 
 use std::sync::Arc;
 
-use harmonav_field::Field;
 use harmonav_perception::{Known, PerceptionError};
 use harmonav_transform::{StarShape, Workspace, WorldError};
 
@@ -132,7 +131,10 @@ impl Navigator {
             WorldError::InObstacle { .. } => NavError::ContainsGoal,
             _ => NavError::CrossesBoundary,
         })?;
-        let field = Field::all_known_with(Arc::new(ws), self.options.k).map_err(NavError::Field)?;
+        let field = self
+            .field
+            .all_known_after(Arc::new(ws), self.options.k)
+            .map_err(NavError::Field)?;
         self.field = field;
         self.inner = inner;
         self.speed_at_discovery = self.last.map_or(0.0, |(_, v)| v.norm());
