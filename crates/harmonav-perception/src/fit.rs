@@ -22,6 +22,7 @@ use std::f64::consts::{PI, TAU};
 use harmonav_transform::ShapeError;
 use nalgebra::Vector2;
 
+use crate::free::FreeSpace;
 use crate::perceived::{Certification, Perceived, certified_star};
 use crate::scan::{LaserScan, Pose, Reading};
 use crate::segment::{Segment, hit_point};
@@ -75,6 +76,9 @@ pub struct Fit {
     pub cut_wedges: usize,
     /// Side cuts (eq. side), 0 to 2.
     pub side_cuts: usize,
+    /// Samples of the boundary of the free set `R` (eqs. freefan, wallgap) the star was
+    /// certified over.
+    pub free_samples: usize,
     /// How the star was certified.
     pub certification: Certification,
 }
@@ -535,18 +539,24 @@ pub fn free_radius(scan: &LaserScan, range_noise: f64, rho_min: f64) -> f64 {
 }
 
 /// Eq. region and its certified star for one segment: hits `points` in angular order with their
-/// beam directions `dirs`, seen from `s`. `free`: the radius of a disc about `s` that the scan
-/// shows free ([`free_radius`], 0 for none): the star then contains `Y \ B(s, free)`, which
-/// holds the obstacle as `Y` does, and is cut back from the sensor where its order allows.
+/// beam directions `dirs`, seen from `s`. `free`: what the scan shows free and the wall prior
+/// (eqs. freefan, wallgap; [`FreeSpace::none`] for nothing): the star then contains `Y \ R`,
+/// which holds the obstacle as `Y` does (`crate::free` module docs), and is cut back from what
+/// was seen free where its order allows.
 pub fn fit_segment(
     s: Vector2<f64>,
     points: &[Vector2<f64>],
     dirs: &[Vector2<f64>],
     sides: &[Vec<(Vector2<f64>, f64)>; 2],
     params: &FitParams,
-    free: f64,
+    free: &FreeSpace,
 ) -> Result<Fit, FitFailure> {
-    assert!(!points.is_empty() && points.len() == dirs.len());
+    if points.is_empty() || points.len() != dirs.len() {
+        return Err(FitFailure::Shape(ShapeError::Invalid {
+            field: "points",
+            problem: "a segment needs at least one hit and one beam direction per hit".into(),
+        }));
+    }
     let limit = params.max_obstacle_depth + 2.0 * params.range_noise;
     let w = span(points);
     if w > limit {
@@ -555,18 +565,16 @@ pub fn fit_segment(
     let region = region(s, points, dirs, sides, params);
     let h = params.check_spacing;
     let mut samples = cover(&region, h);
-    if free > h {
-        // A cover of ∂(Y \ B(s, free)) ⊂ (∂Y \ B) ∪ (∂B ∩ Y): the samples of ∂Y not more than
-        // h/2 inside the disc (every point of ∂Y outside it has one within h/2), and the disc's
-        // circle at spacing h where it comes within h of Y.
-        samples.retain(|x| (x - s).norm() >= free - 0.5 * h);
-        let count = ((TAU * free / h).ceil() as usize).max(8);
-        samples.extend((0..count).filter_map(|j| {
-            let t = TAU * j as f64 / count as f64;
-            let x = s + free * Vector2::new(t.cos(), t.sin());
-            (region.near_k(x, h) && !region.deep_in_cut(x, h)).then_some(x)
-        }));
-    }
+    // A cover of ∂(Y \ R) ⊂ (∂Y \ R) ∪ (∂R ∩ Y): the samples of ∂Y whose ball of radius h/2
+    // is not inside R (every point of ∂Y outside R has one within h/2), and the samples of ∂R at
+    // spacing h within h of Y (crate::free module docs).
+    samples.retain(|x| !free.contains_ball(*x, 0.5 * h));
+    let before = samples.len();
+    samples.extend(
+        free.boundary_samples(h, region.discs[0], region.radius, |x| {
+            region.near_k(x, h) && !region.deep_in_cut(x, h) && !free.contains_ball(x, 0.5 * h)
+        }),
+    );
     let c = centre(s, points, &region);
     let (perceived, certification) =
         certified_star(c, &samples, params.check_spacing, params.order)
@@ -574,6 +582,7 @@ pub fn fit_segment(
     Ok(Fit {
         cut_wedges: region.cuts.iter().map(|p| (p.len() - 1) / 2).sum(),
         side_cuts: region.planes.len(),
+        free_samples: samples.len() - before,
         region,
         perceived,
         certification,
@@ -613,12 +622,15 @@ pub fn side_beams(
     ]
 }
 
-/// Eq. region and its star for segment `seg` of `scan` taken at `pose`.
+/// Eq. region and its star for segment `seg` of `scan` taken at `pose`, leaving out what
+/// `free` shows free (eqs. freefan, wallgap; build it once per scan with
+/// [`FreeSpace::of_scan`]).
 pub fn fit_in_scan(
     scan: &LaserScan,
     pose: &Pose,
     seg: &Segment,
     params: &FitParams,
+    free: &FreeSpace,
 ) -> Result<Fit, FitFailure> {
     let points: Vec<Vector2<f64>> = seg
         .beams
@@ -627,6 +639,5 @@ pub fn fit_in_scan(
         .collect();
     let dirs: Vec<Vector2<f64>> = seg.beams.iter().map(|&i| scan.direction(pose, i)).collect();
     let sides = side_beams(scan, pose, seg, params.range_noise);
-    let free = free_radius(scan, params.range_noise, params.rho_min);
     fit_segment(pose.position(), &points, &dirs, &sides, params, free)
 }
