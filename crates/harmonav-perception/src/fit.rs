@@ -17,14 +17,14 @@
 //! line. The fit is [`certified_star`] about a centre behind the visible arc over a cover of
 //! `∂Y` (eq. certify), so it contains `Y`.
 
-use std::f64::consts::{PI, TAU};
+use std::f64::consts::TAU;
 
 use harmonav_transform::ShapeError;
 use nalgebra::Vector2;
 
-use crate::free::FreeSpace;
+use crate::free::{FreeSpace, sagitta};
 use crate::perceived::{Certification, Perceived, certified_star};
-use crate::scan::{LaserScan, Pose, Reading};
+use crate::scan::{LaserScan, Pose};
 use crate::segment::{Segment, hit_point};
 
 /// How many beams outward from each end of a segment are searched for a side cut (eq. side).
@@ -50,19 +50,6 @@ pub struct FitParams {
     pub order: u32,
     /// `h`, m: spacing of the cover of `∂Y` (eq. certify).
     pub check_spacing: f64,
-}
-
-/// Eq. sagitta: the largest distance between a chord of length `c` and an arc of curvature
-/// radius `≥ ρ` on it that turns by less than `π`, `ρ − √(ρ² − c²/4)`, computed as
-/// `(c²/4)/(ρ + √(ρ² − c²/4))` (no cancellation for `c ≪ ρ`). `∞` when `c > 2ρ` (no bound).
-#[must_use]
-pub fn sagitta(c: f64, rho: f64) -> f64 {
-    let q = 0.25 * c * c;
-    if c > 2.0 * rho {
-        f64::INFINITY
-    } else {
-        q / (rho + (rho * rho - q).max(0.0).sqrt())
-    }
 }
 
 /// A fitted segment.
@@ -489,53 +476,6 @@ fn centre(s: Vector2<f64>, points: &[Vector2<f64>], region: &Region) -> Vector2<
         .map(|f| mean + f * exit * u)
         .find(|&c| !region.deep_in_cut(c, 0.0))
         .unwrap_or(mean + 0.5 * exit * u)
-}
-
-/// The radius of a disc about the sensor that the scan shows free (eq. free): every point
-/// of an obstacle (a union of discs of radius `ρ_min`, A4) is at least this far from the
-/// sensor. `0` unless the scan covers a full turn.
-///
-/// ```text
-/// ρ_s = min over consecutive valid beams i, j (Δ apart) of  f cos(Δ/2) − sag(2 f sin(Δ/2)),
-/// f = min(f_i, f_j, 0.999·ρ_min / sin(Δ/2))                                           (eq. free)
-/// ```
-///
-/// (`f_i` = [`LaserScan::free_until`]; a beam with no information is skipped, which widens
-/// `Δ`.) *Why.* The beams `[s, s + f u_i]`, `[s, s + f u_j]` are free (A1), and the chord
-/// between their ends is `c = 2f sin(Δ/2) < 2ρ_min` long. A disc of radius `ρ_min` of the
-/// obstacle that reached into the triangle `(s, s + f u_i, s + f u_j)` meets neither beam nor
-/// `s`, cannot lie inside it (its inradius is below `c/2 < ρ_min`), so it crosses the chord, and
-/// the part of it inside lies within `sag(c)` of the chord's line, which is `f cos(Δ/2)` from
-/// `s`.
-#[must_use]
-pub fn free_radius(scan: &LaserScan, range_noise: f64, rho_min: f64) -> f64 {
-    if !scan.full_turn() {
-        return 0.0;
-    }
-    let n = scan.ranges.len();
-    let valid: Vec<usize> = (0..n)
-        .filter(|&i| matches!(scan.reading(i), Reading::Hit(_) | Reading::NoReturn))
-        .collect();
-    if valid.len() < 3 {
-        return 0.0;
-    }
-    let mut radius = f64::INFINITY;
-    for (k, &i) in valid.iter().enumerate() {
-        let j = valid[(k + 1) % valid.len()];
-        let gap = (j + n - i) % n;
-        let delta = gap as f64 * scan.angle_increment;
-        if delta >= 0.5 * PI {
-            return 0.0;
-        }
-        let half = (0.5 * delta).sin();
-        let f = scan
-            .free_until(i, range_noise)
-            .min(scan.free_until(j, range_noise))
-            .min(0.999 * rho_min / half);
-        let reach = f * (0.5 * delta).cos() - sagitta(2.0 * f * half, rho_min);
-        radius = radius.min(reach);
-    }
-    radius.max(0.0)
 }
 
 /// Eq. region and its certified star for one segment: hits `points` in angular order with their

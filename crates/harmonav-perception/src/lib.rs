@@ -102,11 +102,8 @@ pub mod scan;
 pub mod segment;
 pub mod sim;
 
-pub use fit::{
-    Fit, FitFailure, FitParams, SIDE_BEAMS, fit_in_scan, fit_segment, free_radius, sagitta,
-    side_beams,
-};
-pub use free::{FreeEvidence, FreeSpace, WallPrior};
+pub use fit::{Fit, FitFailure, FitParams, SIDE_BEAMS, fit_in_scan, fit_segment, side_beams};
+pub use free::{FreeEvidence, FreeSpace, WallPrior, free_radius, sagitta};
 pub use perceived::{Certification, MergeFailure, Perceived, certified_star, merge};
 pub use perception::{Known, Observation, Options, Perception, PerceptionError};
 pub use scan::{LaserScan, MAX_BEAMS, Pose, Reading, ScanError};
