@@ -17,13 +17,14 @@
 //! line. The fit is [`certified_star`] about a centre behind the visible arc over a cover of
 //! `∂Y` (eq. certify), so it contains `Y`.
 
-use std::f64::consts::{PI, TAU};
+use std::f64::consts::TAU;
 
 use harmonav_transform::ShapeError;
 use nalgebra::Vector2;
 
+use crate::free::{FreeSpace, sagitta};
 use crate::perceived::{Certification, Perceived, certified_star};
-use crate::scan::{LaserScan, Pose, Reading};
+use crate::scan::{LaserScan, Pose};
 use crate::segment::{Segment, hit_point};
 
 /// How many beams outward from each end of a segment are searched for a side cut (eq. side).
@@ -51,19 +52,6 @@ pub struct FitParams {
     pub check_spacing: f64,
 }
 
-/// Eq. sagitta: the largest distance between a chord of length `c` and an arc of curvature
-/// radius `≥ ρ` on it that turns by less than `π`, `ρ − √(ρ² − c²/4)`, computed as
-/// `(c²/4)/(ρ + √(ρ² − c²/4))` (no cancellation for `c ≪ ρ`). `∞` when `c > 2ρ` (no bound).
-#[must_use]
-pub fn sagitta(c: f64, rho: f64) -> f64 {
-    let q = 0.25 * c * c;
-    if c > 2.0 * rho {
-        f64::INFINITY
-    } else {
-        q / (rho + (rho * rho - q).max(0.0).sqrt())
-    }
-}
-
 /// A fitted segment.
 #[derive(Clone, Debug)]
 pub struct Fit {
@@ -75,6 +63,9 @@ pub struct Fit {
     pub cut_wedges: usize,
     /// Side cuts (eq. side), 0 to 2.
     pub side_cuts: usize,
+    /// Samples of the boundary of the free set `R` (eqs. freefan, wallgap) the star was
+    /// certified over.
+    pub free_samples: usize,
     /// How the star was certified.
     pub certification: Certification,
 }
@@ -487,66 +478,25 @@ fn centre(s: Vector2<f64>, points: &[Vector2<f64>], region: &Region) -> Vector2<
         .unwrap_or(mean + 0.5 * exit * u)
 }
 
-/// The radius of a disc about the sensor that the scan shows free (eq. free): every point
-/// of an obstacle (a union of discs of radius `ρ_min`, A4) is at least this far from the
-/// sensor. `0` unless the scan covers a full turn.
-///
-/// ```text
-/// ρ_s = min over consecutive valid beams i, j (Δ apart) of  f cos(Δ/2) − sag(2 f sin(Δ/2)),
-/// f = min(f_i, f_j, 0.999·ρ_min / sin(Δ/2))                                           (eq. free)
-/// ```
-///
-/// (`f_i` = [`LaserScan::free_until`]; a beam with no information is skipped, which widens
-/// `Δ`.) *Why.* The beams `[s, s + f u_i]`, `[s, s + f u_j]` are free (A1), and the chord
-/// between their ends is `c = 2f sin(Δ/2) < 2ρ_min` long. A disc of radius `ρ_min` of the
-/// obstacle that reached into the triangle `(s, s + f u_i, s + f u_j)` meets neither beam nor
-/// `s`, cannot lie inside it (its inradius is below `c/2 < ρ_min`), so it crosses the chord, and
-/// the part of it inside lies within `sag(c)` of the chord's line, which is `f cos(Δ/2)` from
-/// `s`.
-#[must_use]
-pub fn free_radius(scan: &LaserScan, range_noise: f64, rho_min: f64) -> f64 {
-    if !scan.full_turn() {
-        return 0.0;
-    }
-    let n = scan.ranges.len();
-    let valid: Vec<usize> = (0..n)
-        .filter(|&i| matches!(scan.reading(i), Reading::Hit(_) | Reading::NoReturn))
-        .collect();
-    if valid.len() < 3 {
-        return 0.0;
-    }
-    let mut radius = f64::INFINITY;
-    for (k, &i) in valid.iter().enumerate() {
-        let j = valid[(k + 1) % valid.len()];
-        let gap = (j + n - i) % n;
-        let delta = gap as f64 * scan.angle_increment;
-        if delta >= 0.5 * PI {
-            return 0.0;
-        }
-        let half = (0.5 * delta).sin();
-        let f = scan
-            .free_until(i, range_noise)
-            .min(scan.free_until(j, range_noise))
-            .min(0.999 * rho_min / half);
-        let reach = f * (0.5 * delta).cos() - sagitta(2.0 * f * half, rho_min);
-        radius = radius.min(reach);
-    }
-    radius.max(0.0)
-}
-
 /// Eq. region and its certified star for one segment: hits `points` in angular order with their
-/// beam directions `dirs`, seen from `s`. `free`: the radius of a disc about `s` that the scan
-/// shows free ([`free_radius`], 0 for none): the star then contains `Y \ B(s, free)`, which
-/// holds the obstacle as `Y` does, and is cut back from the sensor where its order allows.
+/// beam directions `dirs`, seen from `s`. `free`: what the scan shows free and the wall prior
+/// (eqs. freefan, wallgap; [`FreeSpace::none`] for nothing): the star then contains `Y \ R`,
+/// which holds the obstacle as `Y` does (`crate::free` module docs), and is cut back from what
+/// was seen free where its order allows.
 pub fn fit_segment(
     s: Vector2<f64>,
     points: &[Vector2<f64>],
     dirs: &[Vector2<f64>],
     sides: &[Vec<(Vector2<f64>, f64)>; 2],
     params: &FitParams,
-    free: f64,
+    free: &FreeSpace,
 ) -> Result<Fit, FitFailure> {
-    assert!(!points.is_empty() && points.len() == dirs.len());
+    if points.is_empty() || points.len() != dirs.len() {
+        return Err(FitFailure::Shape(ShapeError::Invalid {
+            field: "points",
+            problem: "a segment needs at least one hit and one beam direction per hit".into(),
+        }));
+    }
     let limit = params.max_obstacle_depth + 2.0 * params.range_noise;
     let w = span(points);
     if w > limit {
@@ -555,18 +505,16 @@ pub fn fit_segment(
     let region = region(s, points, dirs, sides, params);
     let h = params.check_spacing;
     let mut samples = cover(&region, h);
-    if free > h {
-        // A cover of ∂(Y \ B(s, free)) ⊂ (∂Y \ B) ∪ (∂B ∩ Y): the samples of ∂Y not more than
-        // h/2 inside the disc (every point of ∂Y outside it has one within h/2), and the disc's
-        // circle at spacing h where it comes within h of Y.
-        samples.retain(|x| (x - s).norm() >= free - 0.5 * h);
-        let count = ((TAU * free / h).ceil() as usize).max(8);
-        samples.extend((0..count).filter_map(|j| {
-            let t = TAU * j as f64 / count as f64;
-            let x = s + free * Vector2::new(t.cos(), t.sin());
-            (region.near_k(x, h) && !region.deep_in_cut(x, h)).then_some(x)
-        }));
-    }
+    // A cover of ∂(Y \ R) ⊂ (∂Y \ R) ∪ (∂R ∩ Y): the samples of ∂Y whose ball of radius h/2
+    // is not inside R (every point of ∂Y outside R has one within h/2), and the samples of ∂R at
+    // spacing h within h of Y (crate::free module docs).
+    samples.retain(|x| !free.contains_ball(*x, 0.5 * h));
+    let before = samples.len();
+    samples.extend(
+        free.boundary_samples(h, region.discs[0], region.radius, |x| {
+            region.near_k(x, h) && !region.deep_in_cut(x, h) && !free.contains_ball(x, 0.5 * h)
+        }),
+    );
     let c = centre(s, points, &region);
     let (perceived, certification) =
         certified_star(c, &samples, params.check_spacing, params.order)
@@ -574,6 +522,7 @@ pub fn fit_segment(
     Ok(Fit {
         cut_wedges: region.cuts.iter().map(|p| (p.len() - 1) / 2).sum(),
         side_cuts: region.planes.len(),
+        free_samples: samples.len() - before,
         region,
         perceived,
         certification,
@@ -613,12 +562,15 @@ pub fn side_beams(
     ]
 }
 
-/// Eq. region and its star for segment `seg` of `scan` taken at `pose`.
+/// Eq. region and its star for segment `seg` of `scan` taken at `pose`, leaving out what
+/// `free` shows free (eqs. freefan, wallgap; build it once per scan with
+/// [`FreeSpace::of_scan`]).
 pub fn fit_in_scan(
     scan: &LaserScan,
     pose: &Pose,
     seg: &Segment,
     params: &FitParams,
+    free: &FreeSpace,
 ) -> Result<Fit, FitFailure> {
     let points: Vec<Vector2<f64>> = seg
         .beams
@@ -627,6 +579,5 @@ pub fn fit_in_scan(
         .collect();
     let dirs: Vec<Vector2<f64>> = seg.beams.iter().map(|&i| scan.direction(pose, i)).collect();
     let sides = side_beams(scan, pose, seg, params.range_noise);
-    let free = free_radius(scan, params.range_noise, params.rho_min);
     fit_segment(pose.position(), &points, &dirs, &sides, params, free)
 }

@@ -12,6 +12,8 @@
 //! - [`Perception::explained`]: hits within the noise bound of a known shape or of the known
 //!   boundary are dropped (eq. explained);
 //! - [`fit_segment`]: the conservative star of a segment (eqs. sagitta, region, fit, certify);
+//! - [`FreeSpace`]: what the scan shows free (eq. freefan) and the wall prior (eq. wallgap),
+//!   left out of each fit's region;
 //! - [`merge`]: two overlapping perceived shapes become one star that contains both: the
 //!   union itself about a common kernel point (eq. kernel), otherwise its radial hull about
 //!   the point that gives the least area (eq. hull);
@@ -93,16 +95,15 @@
 #![warn(missing_docs)]
 
 pub mod fit;
+pub mod free;
 pub mod perceived;
 pub mod perception;
 pub mod scan;
 pub mod segment;
 pub mod sim;
 
-pub use fit::{
-    Fit, FitFailure, FitParams, SIDE_BEAMS, fit_in_scan, fit_segment, free_radius, sagitta,
-    side_beams,
-};
+pub use fit::{Fit, FitFailure, FitParams, SIDE_BEAMS, fit_in_scan, fit_segment, side_beams};
+pub use free::{FreeEvidence, FreeSpace, WallPrior, free_radius, sagitta};
 pub use perceived::{Certification, MergeFailure, Perceived, certified_star, merge};
 pub use perception::{Known, Observation, Options, Perception, PerceptionError};
 pub use scan::{LaserScan, MAX_BEAMS, Pose, Reading, ScanError};

@@ -7,6 +7,7 @@ use harmonav_transform::{ShapeError, StarShape};
 use nalgebra::Vector2;
 
 use crate::fit::{FitFailure, FitParams, fit_in_scan};
+use crate::free::{FreeEvidence, FreeSpace, WallPrior};
 use crate::perceived::{MergeFailure, Perceived, merge};
 use crate::scan::{LaserScan, Pose, ScanError};
 use crate::segment::{Segment, hit_point, segment};
@@ -41,11 +42,19 @@ pub struct Options {
     /// are not refused as overlapping in most cases; where they still are (the bracket, or a
     /// disc fallback of the growth), the scan is refused, never an overlap accepted. Default 0.
     pub merge_gap: f64,
+    /// `g_w`, m: the wall prior (eq. wallgap, `crate::free`): every unknown obstacle keeps at
+    /// least this distance from the known boundary, so a fit may leave out what lies nearer
+    /// the wall. An assumption the containment guarantee then rests on, like `D`. Default 0
+    /// (no prior).
+    pub wall_gap: f64,
+    /// Which of the scan's free evidence the fits leave out (eq. free's disc, the default, or
+    /// eq. freefan's fan; `crate::free`).
+    pub free_evidence: FreeEvidence,
 }
 
 impl Default for Options {
     /// `ε = 0.02`, `D = 1`, `ρ_min = 0.05`, `d0 = 0.1`, order 6, `h = 0.01`, `ε_g = 0.02`,
-    /// `g = 0`.
+    /// `g = 0`, `g_w = 0`, eq. free's disc.
     fn default() -> Self {
         Self {
             range_noise: 0.02,
@@ -56,13 +65,15 @@ impl Default for Options {
             check_spacing: 0.01,
             growth_threshold: 0.02,
             merge_gap: 0.0,
+            wall_gap: 0.0,
+            free_evidence: FreeEvidence::Disc,
         }
     }
 }
 
 impl Options {
     /// Errors unless `0 ≤ ε ≤ 10`, `0 < D ≤ 100`, `0 < ρ_min ≤ 1e3`, `0 ≤ d0 ≤ 100`,
-    /// `1 ≤ order ≤ 16`, `1e-4 ≤ h ≤ D/4`, `0 < ε_g ≤ 10`, `0 ≤ g ≤ 100` (finite, m). `h` bounds the cover's size, `~2πD/h`
+    /// `1 ≤ order ≤ 16`, `1e-4 ≤ h ≤ D/4`, `0 < ε_g ≤ 10`, `0 ≤ g ≤ 100`, `0 ≤ g_w ≤ 100` (finite, m). `h` bounds the cover's size, `~2πD/h`
     /// samples per disc of `K`.
     pub fn validate(&self) -> Result<(), PerceptionError> {
         let check = |field: &'static str, v: f64, lo: f64, hi: f64, open_lo: bool| {
@@ -93,6 +104,7 @@ impl Options {
         )?;
         check("growth_threshold", self.growth_threshold, 0.0, 10.0, true)?;
         check("merge_gap", self.merge_gap, 0.0, 100.0, false)?;
+        check("wall_gap", self.wall_gap, 0.0, 100.0, false)?;
         Ok(())
     }
 
@@ -283,7 +295,8 @@ impl Perception {
     /// 2. drops the hits explained by known shapes (eq. explained);
     /// 3. segments the rest ([`segment`], eq. jump);
     /// 4. fits each segment ([`fit_in_scan`]; segments wider than `D + 2ε` are reported in
-    ///    [`Observation::unfitted`]);
+    ///    [`Observation::unfitted`]), leaving out of each region what the scan shows free and,
+    ///    with [`Options::wall_gap`], what lies nearer the wall (eqs. freefan, wallgap);
     /// 5. merges each fit with every perceived shape it overlaps or comes within
     ///    [`Options::merge_gap`] of ([`merge`]), repeatedly, so that the perceived shapes stay
     ///    disjoint (and `merge_gap` apart); a fit overlapping a map obstacle is
@@ -329,6 +342,19 @@ impl Perception {
         obs.segments = segment(scan, &pose, &usable, self.options.jump_distance);
         let params = self.options.fit_params();
         let h = self.options.check_spacing;
+        let wall = self
+            .boundary
+            .as_ref()
+            .and_then(|b| WallPrior::new(b, self.options.wall_gap));
+        let free = FreeSpace::of_kind(
+            self.options.free_evidence,
+            scan,
+            &pose,
+            params.range_noise,
+            params.rho_min,
+            h,
+        )
+        .with_wall(wall);
         // Work on a copy: the update is all or nothing.
         let mut shapes: Vec<(Perceived, Origin)> = self
             .perceived
@@ -338,7 +364,7 @@ impl Perception {
             .map(|(i, p)| (p, Origin::Old(i)))
             .collect();
         for (k, seg) in obs.segments.iter().enumerate() {
-            let fit = match fit_in_scan(scan, &pose, seg, &params) {
+            let fit = match fit_in_scan(scan, &pose, seg, &params, &free) {
                 Ok(fit) => fit,
                 Err(e @ FitFailure::WiderThanDepth { .. }) => {
                     obs.unfitted.push((k, e));

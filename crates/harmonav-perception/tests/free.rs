@@ -1,10 +1,14 @@
-//! Eq. free: the disc about the sensor that a full-turn scan shows free. Over seeded random
-//! truths it never reaches an obstacle (the claim), it is nearly as large as the true distance
-//! (not vacuous), and the fits then leave the sensor out where they used to hold it.
+//! Eq. free: the disc about the sensor that a full-turn scan shows free, and eq. freefan: the
+//! fan of free triangles between neighbouring beams. Over seeded random truths neither reaches
+//! an obstacle (the claim), each with a negative control; the disc is nearly as large as the
+//! true distance (not vacuous), and the fits then leave the sensor out where they used to hold
+//! it.
 
 mod common;
 
-use harmonav_perception::{fit_in_scan, fit_segment, free_radius, hit_point, segment, side_beams};
+use harmonav_perception::{
+    FreeSpace, fit_in_scan, fit_segment, free_radius, hit_point, segment, side_beams,
+};
 use harmonav_transform::random::Rng;
 
 const TRIALS: u64 = 200;
@@ -52,9 +56,9 @@ fn without_the_noise_bound_the_free_disc_reaches_the_truth() {
     assert!(reached >= 3, "only {reached} of {TRIALS}");
 }
 
-/// A sensor within the depth prior of what it sees: the fit without the free disc holds the
-/// sensor (its region `Y` does: the sensor is the triangles' apex), the fit with it does not,
-/// and both contain the truth.
+/// A sensor within the depth prior of what it sees: the fit without free evidence holds the
+/// sensor (its region `Y` does: the sensor is the triangles' apex), the fit with the free fan
+/// of eq. freefan (which holds eq. free's disc) does not, and both contain the truth.
 #[test]
 fn the_free_disc_keeps_the_sensor_out_of_the_fit() {
     let (mut held_before, mut held_after, mut fits) = (0, 0, 0);
@@ -85,7 +89,8 @@ fn the_free_disc_keeps_the_sensor_out_of_the_fit() {
                 order: p.order,
                 check_spacing: p.check_spacing,
             };
-            let Ok(after) = fit_in_scan(&scan, &t.pose, &seg, &params) else {
+            let free = FreeSpace::of_scan(&scan, &t.pose, p.range_noise, p.rho_min);
+            let Ok(after) = fit_in_scan(&scan, &t.pose, &seg, &params, &free) else {
                 continue;
             };
             let points: Vec<_> = seg
@@ -99,7 +104,8 @@ fn the_free_disc_keeps_the_sensor_out_of_the_fit() {
                 .map(|&i| scan.direction(&t.pose, i))
                 .collect();
             let sides = side_beams(&scan, &t.pose, &seg, p.range_noise);
-            let before = fit_segment(s, &points, &dirs, &sides, &params, 0.0).unwrap();
+            let before =
+                fit_segment(s, &points, &dirs, &sides, &params, &FreeSpace::none(s)).unwrap();
             fits += 1;
             held_before += usize::from(before.perceived.shape().contains(s));
             held_after += usize::from(after.perceived.shape().contains(s));
@@ -116,5 +122,77 @@ fn the_free_disc_keeps_the_sensor_out_of_the_fit() {
     assert!(
         held_after * 4 < held_before.max(1),
         "the sensor inside {held_before} fits before, {held_after} after (of {fits})"
+    );
+}
+
+/// The free fan of eq. freefan (`FreeSpace::of_scan`) over seeded random truths: no point of
+/// the true obstacle (2 048 boundary points, inside and on it) lies in it. The lidar's range
+/// ends across the obstacle in a third of the trials, so no-returns border it too.
+#[test]
+fn the_free_fan_never_reaches_the_truth() {
+    let mut inside = 0usize;
+    for seed in 0..TRIALS {
+        let mut t = common::trial(seed, 0.02);
+        t.lidar.noise = Rng::new(seed ^ 0x5EED).uniform(0.0, 0.02);
+        let s = t.pose.position();
+        if seed % 3 == 0 {
+            // The range ends within the obstacle's depth.
+            t.lidar.range_max = t.truth.signed_distance(s) + 0.5 * t.truth.radius_bounds().0;
+        }
+        let mut rng = Rng::new(seed ^ 0xF4EE);
+        let scan = t
+            .lidar
+            .scan(&t.pose, std::slice::from_ref(&t.truth), None, &mut rng);
+        let free = FreeSpace::of_scan(&scan, &t.pose, t.options.range_noise, t.options.rho_min);
+        assert!(free.wedges() > 0, "seed {seed}: no free wedge");
+        for x in common::truth_points(&t.truth) {
+            assert!(
+                !free.fan_contains(x),
+                "seed {seed}: truth point {x:?} in the fan"
+            );
+        }
+        // And points just inside the truth, along its boundary.
+        let c = t.truth.centre();
+        for x in common::truth_points(&t.truth) {
+            let y = c + 0.98 * (x - c);
+            inside += usize::from(free.fan_contains(y));
+        }
+    }
+    assert_eq!(inside, 0, "{inside} points inside the truth in the fan");
+}
+
+/// The negative control of the fan: told there is no noise (`ε = 0`) while the lidar reads up
+/// to 2 cm short, or with no sagitta (`ρ_min` enormous) on a curved truth, the fan reaches into
+/// the truth in some trials: the noise bound and the sagitta are what keep it out.
+#[test]
+fn without_the_noise_bound_or_the_sagitta_the_fan_reaches_the_truth() {
+    let (mut noise_hits, mut sag_hits) = (0, 0);
+    for seed in 0..TRIALS {
+        let mut t = common::trial(seed, 0.02);
+        t.lidar.noise = 0.02;
+        let mut rng = Rng::new(seed ^ 0xF4EE);
+        let scan = t
+            .lidar
+            .scan(&t.pose, std::slice::from_ref(&t.truth), None, &mut rng);
+        let truth = common::truth_points(&t.truth);
+        let no_noise = FreeSpace::of_scan(&scan, &t.pose, 0.0, t.options.rho_min);
+        noise_hits += usize::from(truth.iter().any(|&x| no_noise.fan_contains(x)));
+        // A noise-free scan: only the sagitta keeps the chords off the curved truth.
+        t.lidar.noise = 0.0;
+        let mut rng = Rng::new(seed ^ 0xF4EE);
+        let exact = t
+            .lidar
+            .scan(&t.pose, std::slice::from_ref(&t.truth), None, &mut rng);
+        let no_sag = FreeSpace::of_scan(&exact, &t.pose, 0.0, 1e3);
+        sag_hits += usize::from(truth.iter().any(|&x| no_sag.fan_contains(x)));
+    }
+    println!("fan in the truth: {noise_hits} of {TRIALS} without ε, {sag_hits} without sag");
+    assert!(
+        noise_hits * 4 >= TRIALS as usize,
+        "only {noise_hits} of {TRIALS} without ε"
+    );
+    assert!(
+        sag_hits * 4 >= TRIALS as usize,
+        "only {sag_hits} of {TRIALS} without sag"
     );
 }

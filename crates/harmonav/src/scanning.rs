@@ -32,10 +32,17 @@ pub struct ScanOptions {
     /// `h`, m: the spacing of the certification cover (eq. certify); a fit is about `1.5h`
     /// larger than the region it must contain. Default 0.01.
     pub check_spacing: f64,
+    /// `g_w`, m, the wall prior (eq. wallgap, docs/maths.md §12.7): every unknown obstacle keeps
+    /// at least this distance from the workspace boundary, so a fit leaves out what lies
+    /// nearer the wall. An assumption the containment guarantee then rests on. Default 0 (none).
+    pub wall_gap: f64,
+    /// Which of the scan's free evidence the fits leave out: eq. free's disc (the default) or
+    /// the whole free fan of eq. freefan (docs/maths.md §12.7).
+    pub free_evidence: harmonav_perception::FreeEvidence,
 }
 
 impl Default for ScanOptions {
-    /// `ε = 0.02`, `D = 1`, `ε_g = 0.02`, `d0 = 0.1`, order 6, `h = 0.01` (m).
+    /// `ε = 0.02`, `D = 1`, `ε_g = 0.02`, `d0 = 0.1`, order 6, `h = 0.01`, `g_w = 0` (m).
     fn default() -> Self {
         let p = harmonav_perception::Options::default();
         Self {
@@ -45,6 +52,8 @@ impl Default for ScanOptions {
             jump_distance: p.jump_distance,
             order: p.order,
             check_spacing: p.check_spacing,
+            wall_gap: p.wall_gap,
+            free_evidence: p.free_evidence,
         }
     }
 }
@@ -65,12 +74,14 @@ impl ScanOptions {
             check_spacing: self.check_spacing,
             growth_threshold: self.growth_threshold,
             merge_gap: 2.0 * inflation,
+            wall_gap: self.wall_gap,
+            free_evidence: self.free_evidence,
         }
     }
 
     /// Errors ([`NavError::InvalidOption`], naming the field) unless `0 ≤ ε ≤ 10`,
-    /// `0 < D ≤ 100`, `0 < ε_g ≤ 10`, `0 ≤ d0 ≤ 100`, `1 ≤ order ≤ 16`, `1e-4 ≤ h ≤ D/4`
-    /// (finite, m; `harmonav_perception::Options::validate`).
+    /// `0 < D ≤ 100`, `0 < ε_g ≤ 10`, `0 ≤ d0 ≤ 100`, `1 ≤ order ≤ 16`, `1e-4 ≤ h ≤ D/4`,
+    /// `0 ≤ g_w ≤ 100` (finite, m; `harmonav_perception::Options::validate`).
     pub fn validate(&self, rho_min: f64) -> Result<(), NavError> {
         self.perception(rho_min, 0.0)
             .validate()

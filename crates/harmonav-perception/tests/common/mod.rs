@@ -6,7 +6,7 @@ use std::f64::consts::TAU;
 
 use harmonav_perception::sim::Lidar;
 use harmonav_perception::{
-    Fit, FitFailure, LaserScan, Options, Pose, fit_in_scan, hit_point, segment,
+    Fit, FitFailure, FreeSpace, LaserScan, Options, Pose, fit_in_scan, hit_point, segment,
 };
 use harmonav_transform::StarShape;
 use harmonav_transform::random::{self, Kind, Rng};
@@ -88,9 +88,10 @@ pub fn fits(scan: &LaserScan, pose: &Pose, options: &Options) -> Vec<Result<Fit,
         order: options.order,
         check_spacing: options.check_spacing,
     };
+    let free = FreeSpace::of_scan(scan, pose, options.range_noise, options.rho_min);
     segment(scan, pose, &usable, options.jump_distance)
         .iter()
-        .map(|seg| fit_in_scan(scan, pose, seg, &params))
+        .map(|seg| fit_in_scan(scan, pose, seg, &params, &free))
         .collect()
 }
 
