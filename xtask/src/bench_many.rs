@@ -12,7 +12,8 @@
 //! - `many_workspace_us_m{M}_{direct,indexed}`: `Workspace::new` over the M shapes;
 //! - `many_field_us_m{M}_{direct,indexed}`: `Field::all_known` on that workspace;
 //! - `many_add_obstacle_us_m{M}`: one `Navigator::add_obstacle` with M − 1 obstacles known;
-//! - `many_census_ms_m{M}_{direct,indexed}`: one `Field::census` (one run).
+//! - `many_census_ms_m{M}_{direct,indexed}`: one `Field::census` (one run); and
+//!   `many_census_ms_m2000` (indexed), issue 27's census target, with its saddle count.
 
 use std::hint::black_box;
 use std::sync::Arc;
@@ -51,8 +52,12 @@ fn median_us(samples: usize, mut f: impl FnMut()) -> f64 {
     median_ns(samples, 1e3, &mut f)
 }
 
+/// The obstacle count of issue 27's census target (≤ 2 s).
+const CENSUS_COUNT: usize = 2000;
+
 /// Every figure of this module, through `put(name, value)`.
 pub fn figures(put: &mut dyn FnMut(&str, f64)) {
+    census_figure(put);
     for m in COUNTS {
         let w = world(m);
         let samples = if m >= 1000 { 5 } else { 11 };
@@ -149,4 +154,23 @@ pub fn figures(put: &mut dyn FnMut(&str, f64)) {
             }),
         );
     }
+}
+
+/// `many_census_ms_m2000`: one `Field::census` of a world of [`CENSUS_COUNT`] obstacles (issue
+/// 27's target: at most 2 s), and its saddle count (each of the `M` saddles must be found).
+fn census_figure(put: &mut dyn FnMut(&str, f64)) {
+    let w = world(CENSUS_COUNT);
+    let ws = Workspace::new(w.boundary.clone(), w.obstacles.clone(), w.goal)
+        .expect("valid benchmark world");
+    let field = Field::all_known(Arc::new(ws)).expect("valid benchmark field");
+    let t = Instant::now();
+    let census = black_box(field.census());
+    put(
+        &format!("many_census_ms_m{CENSUS_COUNT}"),
+        t.elapsed().as_secs_f64() * 1e3,
+    );
+    put(
+        &format!("many_census_saddles_m{CENSUS_COUNT}"),
+        census.saddles as f64,
+    );
 }
