@@ -642,11 +642,17 @@ fn floor_map_errors_are_surfaced_with_the_file() {
 /// half, a tenth and a hundredth of an element from the walls; `Θ` and its direction follow.
 #[test]
 fn far_field_matches_the_direct_sum_on_the_suite_maps() {
-    let o = MapOptions::new(FloorOptions::new(0.1, 0.2));
     for m in suite() {
         let (s, g) = (v(m.start[0], m.start[1]), v(m.goal[0], m.goal[1]));
         let map = RosMap::load(suite_dir().join(format!("{}.yaml", m.name))).unwrap();
-        let floor = map.to_floor_map(s, g, &o).unwrap();
+        // h = 0.1 m, or the first of 0.15 and 0.2 m within MAX_ELEMENTS (the warehouse).
+        let floor = [0.1, 0.15, 0.2]
+            .into_iter()
+            .find_map(|h| {
+                map.to_floor_map(s, g, &MapOptions::new(FloorOptions::new(h, 0.2)))
+                    .ok()
+            })
+            .unwrap();
         let fast = floor
             .clone()
             .with_far_field(Some(harmonav_harmonic::FAR_FIELD_TOLERANCE))
@@ -709,6 +715,8 @@ fn far_field_matches_the_direct_sum_on_the_suite_maps() {
             }
         }
         println!("{}: worst |ΔΘ|, |Δ direction| {worst_theta:.1e}", m.name);
-        assert!(worst_theta <= 1e-9, "{}: {worst_theta:e}", m.name);
+        // Θ = σ(φ_k(S(H))): S stretches the disk's rim to infinity, so near the walls a 1e-14
+        // change of H moves Θ's inputs by more; measured ≤ 4e-12.
+        assert!(worst_theta <= 1e-10, "{}: {worst_theta:e}", m.name);
     }
 }
