@@ -18,6 +18,8 @@ use harmonav_scenario::Model;
 
 use crate::quality;
 
+#[path = "bench_harmonic.rs"]
+mod harmonic;
 #[path = "bench_many.rs"]
 mod many;
 
@@ -156,6 +158,12 @@ pub fn run(options: &Options) -> ExitCode {
     }
     if wants("many") {
         many::figures(&mut put);
+    }
+    if wants("harmonic")
+        && let Err(e) = harmonic::figures(&mut put)
+    {
+        eprintln!("xtask bench: the harmonic-map benchmark failed: {e}");
+        return ExitCode::FAILURE;
     }
     if wants("montecarlo_runs_per_s") {
         put("montecarlo_runs_per_s", montecarlo_runs_per_s());

@@ -398,6 +398,19 @@ impl FloorMap {
         })
     }
 
+    /// The same floor with `H`'s far field of tolerance `tol` (`Some`) or without one
+    /// (`None`: the direct `O(N)` sum), as [`HarmonicMap::with_far_field`]; [`FloorMap::new`]
+    /// leaves [`HarmonicMap::new`]'s choice (the far field from
+    /// [`harmonav_harmonic::FAR_FIELD_MIN_ELEMENTS`] elements). `H` itself is unchanged (the two
+    /// paths agree to about 1e-14, docs/maths.md §11), and so are `δ` and `r_δ`.
+    ///
+    /// # Errors
+    /// [`FloorError::Solve`] for a tolerance outside `[1e-15, 1e-2]`.
+    pub fn with_far_field(mut self, tolerance: Option<f64>) -> Result<Self, FloorError> {
+        self.map = self.map.with_far_field(tolerance)?;
+        Ok(self)
+    }
+
     /// The harmonic map `H`.
     #[must_use]
     pub fn map(&self) -> &HarmonicMap {

@@ -28,24 +28,50 @@ pub(crate) struct Local {
     pub singular: bool,
 }
 
-/// The closed form of the module docs.
+/// The closed form of the module docs: [`interval`] on `[−a, a]` (bit for bit the same
+/// arithmetic: `xo − (−a) = xo + a`, `(a − (−a))·yo = 2a·yo`).
 #[inline]
 pub(crate) fn element(xo: f64, yo: f64, a: f64) -> Local {
-    let p = xo + a;
-    let m = xo - a;
+    let (l, at_start, at_end) = interval(xo, yo, -a, a);
+    Local {
+        singular: at_start || at_end,
+        ..l
+    }
+}
+
+/// The single layer of the part `[t₀, t₁]` of an element (local abscissae, `t₀ < t₁`), the same
+/// closed form with its own ends:
+///
+/// ```text
+/// W = (xo − t₀)·ln r₀² − (xo − t₁)·ln r₁² − 2(t₁ − t₀) + 2·yo·θ,
+/// r_i² = (xo − t_i)² + yo²,   θ = atan2((t₁ − t₀)·yo, (xo − t₀)(xo − t₁) + yo²),
+/// ∂W/∂xo = ln(r₀² / r₁²),   ∂W/∂yo = 2θ.
+/// ```
+///
+/// The far-field evaluation (`crate::map`) adds it over the pieces of the elements the multipole
+/// tree cuts at its leaf lines. Returns the local values (`singular` unset) and whether the point
+/// is the start, resp. the end, of `[t₀, t₁]` (`r_i = 0`, where `0·ln 0 := 0`): at a cut inside
+/// an element the two pieces' `ln r²` are `+ln 0` and `−ln 0`, and dropping both is their exact
+/// sum, so only an element's own end points are singular.
+#[inline]
+pub(crate) fn interval(xo: f64, yo: f64, t0: f64, t1: f64) -> (Local, bool, bool) {
+    let p = xo - t0;
+    let m = xo - t1;
     let y2 = yo * yo;
     let rp = p * p + y2;
     let rm = m * m + y2;
-    // 0·ln 0 := 0: the term (xo ± a)·ln r±² vanishes at the end point itself.
+    // 0·ln 0 := 0: the term (xo − t_i)·ln r_i² vanishes at the end point itself.
     let lp = if rp > 0.0 { rp.ln() } else { 0.0 };
     let lm = if rm > 0.0 { rm.ln() } else { 0.0 };
-    let theta = (2.0 * a * yo).atan2(p * m + y2);
-    Local {
-        w: p * lp - m * lm - 4.0 * a + 2.0 * yo * theta,
+    let length = t1 - t0;
+    let theta = (length * yo).atan2(p * m + y2);
+    let local = Local {
+        w: p * lp - m * lm - 2.0 * length + 2.0 * yo * theta,
         gx: lp - lm,
         gy: 2.0 * theta,
-        singular: rp == 0.0 || rm == 0.0,
-    }
+        singular: false,
+    };
+    (local, rp == 0.0, rm == 0.0)
 }
 
 #[cfg(test)]
@@ -106,6 +132,39 @@ mod tests {
         assert!((l.gy - 2.0 * std::f64::consts::PI).abs() < 1e-8);
         let below = element(0.0, -1e-9, 0.5);
         assert!((below.gy + 2.0 * std::f64::consts::PI).abs() < 1e-8);
+    }
+
+    #[test]
+    fn pieces_add_up_to_the_element_also_at_a_cut() {
+        let a = 0.4;
+        for &(xo, yo) in &[
+            (0.1, 0.2),
+            (-0.7, 0.05),
+            (0.13, 0.0),
+            (0.13, 1e-9),
+            (2.0, -1.0),
+        ] {
+            let whole = element(xo, yo, a);
+            let (l, _, _) = interval(xo, yo, -a, 0.13);
+            let (r, _, _) = interval(xo, yo, 0.13, a);
+            let scale = whole.w.abs().max(1.0);
+            assert!((l.w + r.w - whole.w).abs() < 1e-14 * scale, "{xo} {yo}");
+            assert!((l.gx + r.gx - whole.gx).abs() < 1e-12, "{xo} {yo}");
+            if (xo, yo) != (0.13, 0.0) {
+                // On the element at the cut itself the normal derivative is the jump (one-sided
+                // for the whole element, 0 for the two pieces): only off it must they agree.
+                assert!((l.gy + r.gy - whole.gy).abs() < 1e-12, "{xo} {yo}");
+            }
+        }
+        // Bit for bit the element on [−a, a].
+        let (l, s, e) = interval(0.3, -0.2, -a, a);
+        assert_eq!(
+            Local {
+                singular: s || e,
+                ..l
+            },
+            element(0.3, -0.2, a)
+        );
     }
 
     #[test]

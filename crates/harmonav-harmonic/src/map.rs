@@ -33,8 +33,11 @@
 //! coordinates are also normalised (`z = (x − x̄)/D`, diameter 1, so the capacity is at most ½),
 //! which keeps the matrix entries `O(1)` whatever the units.
 
+use std::time::{Duration, Instant};
+
 use faer::Mat;
 use faer::linalg::solvers::Solve;
+use harmonav_multipole::{C64, Fmm, Options as FmmOptions, Piece, Source};
 use nalgebra::{Matrix2, Vector2};
 
 use crate::domain::{Domain, RingId};
@@ -44,6 +47,47 @@ use crate::mesh::{self, Element, MeshError, MeshOptions};
 /// Largest relative residual `‖A x − b‖∞ / (‖A‖∞‖x‖∞ + ‖b‖∞)` accepted from the LU solve;
 /// measured values are about 1e-16.
 pub const MAX_SOLVE_RESIDUAL: f64 = 1e-10;
+
+/// Fewest elements for which [`HarmonicMap::new`] builds the far field ([`HarmonicMap::eval`]
+/// then costs `O(p + near)` instead of `O(N)`). Below it the far field is less than 3× faster
+/// per point while its tree costs about twice the solve (release, `N` = 280: 2.4 against 6.3 µs,
+/// tree 8 ms, solve 4 ms; docs/benchmarks.md, "Harmonic map cost").
+pub const FAR_FIELD_MIN_ELEMENTS: usize = 400;
+
+/// The multipole tolerance of the far field: `|ΔH| ≤ tol·A`, `A = Σ_j 2|k_j||E_j|` (normalised
+/// units, both components; [`HarmonicMap::far_field_bound`]). `1e-15` gives the expansion order
+/// `p = 60`.
+pub const FAR_FIELD_TOLERANCE: f64 = 1e-15;
+
+/// The far field's deepest leaf level `L` (`4^L` leaves). Measured at N ≈ 2 000 (pillared
+/// room, dev profile): `L = 6` builds in 0.33 s and evaluates in 1.8 µs, `L = 5` in 0.13 s and
+/// 2–3 µs, `L = 4` in 0.06 s and 8–12 µs; the error is the same (rounding, ~1e-14).
+const FAR_FIELD_MAX_LEVEL: u32 = 5;
+
+/// Pieces' ends within this (normalised units, `|z| ≤ 1`) of an element's end are that end:
+/// the multipole tree computes the last piece's end as `A + (B − A)·1`, an ulp or so from `B`.
+const SNAP: f64 = 16.0 * f64::EPSILON;
+
+/// Where [`HarmonicMap::new`]'s time went (wall clock, this thread).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SetupCost {
+    /// Meshing ([`mesh::mesh`]).
+    pub mesh: Duration,
+    /// The `(N + M + 1)²` closed-form matrix entries and the right-hand sides.
+    pub assembly: Duration,
+    /// The LU factorisation, the solve of both right-hand sides and the residual check.
+    pub factor: Duration,
+    /// The far field's multipole tree (zero without one).
+    pub far_field: Duration,
+}
+
+impl SetupCost {
+    /// The sum of the parts.
+    #[must_use]
+    pub fn total(&self) -> Duration {
+        self.mesh + self.assembly + self.factor + self.far_field
+    }
+}
 
 /// Why a harmonic map cannot be built.
 #[derive(Clone, Debug, PartialEq)]
@@ -57,6 +101,12 @@ pub enum SolveError {
         /// The relative residual (infinite when the solution was not finite).
         residual: f64,
     },
+    /// The far field's multipole tree refused its options ([`HarmonicMap::with_far_field`]: a
+    /// tolerance outside `[1e-15, 1e-2]`).
+    FarField {
+        /// The multipole crate's reason.
+        reason: String,
+    },
 }
 
 impl std::fmt::Display for SolveError {
@@ -67,6 +117,7 @@ impl std::fmt::Display for SolveError {
                 f,
                 "the boundary-element system is numerically singular (relative residual {residual:e})"
             ),
+            Self::FarField { reason } => write!(f, "the far field cannot be built: {reason}"),
         }
     }
 }
@@ -156,6 +207,30 @@ pub struct HarmonicMap {
     constant: Vector2<f64>,
     punctures: Vec<Vector2<f64>>,
     solve_residual: f64,
+    /// The multipole tree of the single layers with weights `(2k^u_j, 2k^v_j)` (normalised
+    /// units), when [`HarmonicMap::eval`] uses it.
+    far: Option<Box<FarField>>,
+    cost: SetupCost,
+}
+
+/// The far field: the tree and its bound `tol·A`, `A = Σ_j 2|k_j||E_j|` (the larger
+/// component's).
+#[derive(Clone, Debug)]
+struct FarField {
+    fmm: Fmm<2>,
+    bound: f64,
+}
+
+/// The near pieces' sums: `u, v` and their normalised gradients.
+#[derive(Default)]
+struct Near {
+    u: f64,
+    v: f64,
+    ux: f64,
+    uy: f64,
+    vx: f64,
+    vy: f64,
+    singular: bool,
 }
 
 /// Data that several evaluations share: the value, Jacobian and (for the certificate) the
@@ -175,7 +250,13 @@ impl HarmonicMap {
     /// [`SolveError::Mesh`] for bad options or too many elements, [`SolveError::Singular`] when
     /// the solve fails its residual check.
     pub fn new(domain: &Domain, options: &MeshOptions) -> Result<Self, SolveError> {
+        let clock = Instant::now();
         let elements = mesh::mesh(domain, options)?;
+        let mut cost = SetupCost {
+            mesh: clock.elapsed(),
+            ..SetupCost::default()
+        };
+        let clock = Instant::now();
         let (lower, upper) = domain.bounding_box();
         let centre = (lower + upper) * 0.5;
         let scale = domain.diameter();
@@ -277,9 +358,12 @@ impl HarmonicMap {
                 0.0
             }
         });
+        cost.assembly = clock.elapsed();
+        let clock = Instant::now();
         let lu = a.partial_piv_lu();
         let x = lu.solve(&b);
         let residual = relative_residual(&a, &x, &b);
+        cost.factor = clock.elapsed();
         // NaN (a non-finite solution) fails this test too.
         if residual.is_nan() || residual > MAX_SOLVE_RESIDUAL {
             return Err(SolveError::Singular { residual });
@@ -292,7 +376,7 @@ impl HarmonicMap {
             .map(|i| Vector2::new(x[(n + i, 0)], x[(n + i, 1)]))
             .collect();
         let constant = Vector2::new(x[(size - 1, 0)], x[(size - 1, 1)]);
-        Ok(Self {
+        let map = Self {
             domain: domain.clone(),
             elements,
             panels,
@@ -303,21 +387,192 @@ impl HarmonicMap {
             constant,
             punctures,
             solve_residual: residual,
-        })
+            far: None,
+            cost,
+        };
+        if n >= FAR_FIELD_MIN_ELEMENTS {
+            map.with_far_field(Some(FAR_FIELD_TOLERANCE))
+        } else {
+            Ok(map)
+        }
     }
 
-    /// `H(x)` and its exact Jacobian, `O(N)`: per element two logarithms and one `atan2`
-    /// (`crate::kernel`), `J_H = [Σ k^u_j ∇W_j; Σ k^v_j ∇W_j] / D`. Defined everywhere off the
-    /// element end points; it is the harmonic map on the free space (inside a hole it is the
-    /// single layer's harmonic continuation, which means nothing). Within about half an element
-    /// of the boundary it may fold or leave the disk (docs/maths.md §11): certify with
-    /// [`crate::certify`].
+    /// The same map with a far field of tolerance `tol` (`Some(tol)`) or without one (`None`),
+    /// whatever `N` ([`HarmonicMap::new`] takes [`FAR_FIELD_TOLERANCE`] from
+    /// [`FAR_FIELD_MIN_ELEMENTS`] elements). The far field is a fast multipole tree
+    /// (harmonav-multipole) of the single layers,
+    ///
+    /// ```text
+    /// u = Re Σ_j 2k^u_j G_j(z) + c_u,   G_j(z) = ∫_{E_j} log(z − s)|ds|,   W_j = 2 Re G_j,
+    /// ```
+    ///
+    /// (likewise `v`), built in `O(N p + 4^L p²)`; its truncation error is at most `tol·A`
+    /// ([`HarmonicMap::far_field_bound`]).
+    ///
+    /// # Errors
+    /// [`SolveError::FarField`] for a tolerance outside `[1e-15, 1e-2]`.
+    pub fn with_far_field(mut self, tolerance: Option<f64>) -> Result<Self, SolveError> {
+        self.far = None;
+        self.cost.far_field = Duration::ZERO;
+        let Some(tolerance) = tolerance else {
+            return Ok(self);
+        };
+        let clock = Instant::now();
+        let mut sources = Vec::with_capacity(self.panels.len());
+        let mut weights = Vec::with_capacity(self.panels.len());
+        let (mut au, mut av) = (0.0, 0.0);
+        for p in &self.panels {
+            let c = C64::new(p.centre[0], p.centre[1]);
+            let t = C64::new(p.tangent[0], p.tangent[1]);
+            sources.push(Source::Segment(c - t * p.half, c + t * p.half));
+            weights.push([2.0 * p.ku, 2.0 * p.kv]);
+            au += 4.0 * p.half * p.ku.abs();
+            av += 4.0 * p.half * p.kv.abs();
+        }
+        let options = FmmOptions {
+            tolerance,
+            max_level: FAR_FIELD_MAX_LEVEL,
+            ..FmmOptions::default()
+        };
+        let fmm = Fmm::new(&sources, &weights, &options).map_err(|e| SolveError::FarField {
+            reason: e.to_string(),
+        })?;
+        self.far = Some(Box::new(FarField {
+            fmm,
+            bound: tolerance * au.max(av),
+        }));
+        self.cost.far_field = clock.elapsed();
+        Ok(self)
+    }
+
+    /// The far field's expansion order `p` and leaf level `L` (`4^L` leaves), `None` without one.
+    #[must_use]
+    pub fn far_field_levels(&self) -> Option<(usize, u32)> {
+        self.far.as_ref().map(|f| (f.fmm.order(), f.fmm.levels()))
+    }
+
+    /// Whether [`HarmonicMap::eval`] takes the far field.
+    #[must_use]
+    pub fn has_far_field(&self) -> bool {
+        self.far.is_some()
+    }
+
+    /// The far field's stated error bound on `H` (unit-disk units), `tol·A` with
+    /// `A = max(Σ_j 2|k^u_j||E_j|, Σ_j 2|k^v_j||E_j|)` (normalised lengths; harmonav-multipole's
+    /// `|ΔRe F| ≤ tol·A`); `None` without a far field. It bounds the truncation only: the
+    /// rounding of the sums (about 1e-14, docs/maths.md §11) comes on top, in both paths.
+    #[must_use]
+    pub fn far_field_bound(&self) -> Option<f64> {
+        self.far.as_ref().map(|f| f.bound)
+    }
+
+    /// Where [`HarmonicMap::new`]'s time went (mesh, assembly, LU, far field).
+    #[must_use]
+    pub fn setup_cost(&self) -> SetupCost {
+        self.cost
+    }
+
+    /// `H(x)` and its exact Jacobian. With the far field ([`HarmonicMap::has_far_field`]) in
+    /// `O(p + near)`: the multipole tree's local expansion for the elements beyond the 3 × 3
+    /// leaves about `x` (`u = Re F_u + c_u`, `∇u = (Re F'_u, −Im F'_u)/D`), and the closed form of
+    /// `crate::kernel` on each near piece (an element, or its part inside one leaf). Without it
+    /// [`HarmonicMap::eval_direct`]. The two differ by the far field's truncation
+    /// ([`HarmonicMap::far_field_bound`]) plus the rounding of both sums: measured ≤ 1.5e-13 of
+    /// the map's scale on the test plans, tested ≤ 1e-12 (docs/maths.md §11).
+    ///
+    /// Defined everywhere off the element end points; it is the harmonic map on the free space
+    /// (inside a hole it is the single layer's harmonic continuation, which means nothing).
+    /// Within about half an element of the boundary it may fold or leave the disk
+    /// (docs/maths.md §11): certify with [`crate::certify`].
     ///
     /// # Errors
     /// [`EvalError::NonFinite`] for a NaN or infinite point, [`EvalError::AtElementEnd`] at an
     /// element's end point.
     pub fn eval(&self, x: Vector2<f64>) -> Result<MapEval, EvalError> {
+        match &self.far {
+            Some(far) => self.eval_far(&far.fmm, x),
+            None => self.eval_direct(x),
+        }
+    }
+
+    /// `H(x)` and its exact Jacobian by the direct sum, `O(N)`: per element two logarithms and
+    /// one `atan2` (`crate::kernel`), `J_H = [Σ k^u_j ∇W_j; Σ k^v_j ∇W_j] / D`. Errors as
+    /// [`HarmonicMap::eval`].
+    ///
+    /// # Errors
+    /// [`EvalError::NonFinite`], [`EvalError::AtElementEnd`].
+    pub fn eval_direct(&self, x: Vector2<f64>) -> Result<MapEval, EvalError> {
         self.eval_bounded(x, None).map(|b| b.eval)
+    }
+
+    /// The far-field path of [`HarmonicMap::eval`].
+    fn eval_far(&self, fmm: &Fmm<2>, x: Vector2<f64>) -> Result<MapEval, EvalError> {
+        if !(x.x.is_finite() && x.y.is_finite()) {
+            return Err(EvalError::NonFinite);
+        }
+        let z = (x - self.centre) / self.scale;
+        let mut near = Near::default();
+        let [fu, fv] = fmm.eval(C64::new(z.x, z.y), |piece| {
+            self.add_piece(&mut near, z, piece)
+        });
+        if near.singular {
+            return Err(EvalError::AtElementEnd);
+        }
+        let s = self.scale;
+        // ∇Re F = (Re F', −Im F').
+        Ok(MapEval {
+            value: Vector2::new(fu.value + near.u, fv.value + near.v) + self.constant,
+            jacobian: Matrix2::new(
+                (fu.d1.re + near.ux) / s,
+                (near.uy - fu.d1.im) / s,
+                (fv.d1.re + near.vx) / s,
+                (near.vy - fv.d1.im) / s,
+            ),
+        })
+    }
+
+    /// Adds one near piece (normalised point `z`): `crate::kernel::interval` on the piece's
+    /// span `[t₀, t₁]` along its element, in the element's own frame (the direct sum's local
+    /// coordinates, so that the element's end points are decided exactly as there).
+    fn add_piece(&self, near: &mut Near, z: Vector2<f64>, piece: &Piece) {
+        let Some(p) = self.panels.get(piece.source) else {
+            return;
+        };
+        let Source::Segment(s0, s1) = piece.shape else {
+            return;
+        };
+        let (tx, ty) = (p.tangent[0], p.tangent[1]);
+        let dx = z.x - p.centre[0];
+        let dy = z.y - p.centre[1];
+        let xo = dx * tx + dy * ty;
+        let yo = -dx * ty + dy * tx;
+        let along = |s: C64| {
+            let t = (s.re - p.centre[0]) * tx + (s.im - p.centre[1]) * ty;
+            if (t + p.half).abs() <= SNAP {
+                -p.half
+            } else if (t - p.half).abs() <= SNAP {
+                p.half
+            } else {
+                t
+            }
+        };
+        let (t0, t1) = (along(s0), along(s1));
+        // A piece shorter than the snap (a cut an ulp from an end) carries nothing.
+        if t1 <= t0 {
+            return;
+        }
+        let (l, at_start, at_end) = kernel::interval(xo, yo, t0, t1);
+        if (at_start && t0 == -p.half) || (at_end && t1 == p.half) {
+            near.singular = true;
+        }
+        let gx = l.gx * tx - l.gy * ty;
+        let gy = l.gx * ty + l.gy * tx;
+        near.u += p.ku * l.w;
+        near.v += p.kv * l.w;
+        near.ux += p.ku * gx;
+        near.uy += p.ku * gy;
+        near.vx += p.kv * gx;
+        near.vy += p.kv * gy;
     }
 
     /// [`HarmonicMap::eval`], plus (with `rho = Some(r)`, world units) bounds of `‖∇²u‖₂` and

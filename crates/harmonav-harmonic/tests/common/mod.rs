@@ -136,3 +136,42 @@ pub fn winding(points: &[Vector2<f64>], q: Vector2<f64>) -> f64 {
     }
     total / std::f64::consts::TAU
 }
+
+/// A 10 × 6 room with eight 0.6 m square pillars in two rows: the benchmark world of the
+/// far field (`N` set by the element length).
+pub fn pillared_room() -> Domain {
+    let pillars = (0..8)
+        .map(|i| {
+            let (col, row) = ((i % 4) as f64, (i / 4) as f64);
+            square(v(1.75 + 2.15 * col, 2.0 + 2.0 * row), 0.3, false)
+        })
+        .collect();
+    Domain::new(
+        vec![v(0.0, 0.0), v(10.0, 0.0), v(10.0, 6.0), v(0.0, 6.0)],
+        pillars,
+    )
+    .unwrap()
+}
+
+/// The dense samples of the far-field agreement: a grid of spacing `s` in the free space, and
+/// along every `stride`-th element points a fraction `f ∈ {0.5, 0.1, 0.01}` of its length off
+/// it on the free side, at its midpoint and a quarter from each end, plus 1e-3 of its length
+/// from its start along the bisector-free side.
+pub fn dense_samples(map: &HarmonicMap, s: f64, stride: usize) -> Vec<Vector2<f64>> {
+    let mut out = grid(map.domain(), s, 0.0);
+    for e in map.elements().iter().step_by(stride.max(1)) {
+        let d = e.b - e.a;
+        let len = d.norm();
+        // The free side is on the left (outer ring counter-clockwise, holes clockwise).
+        let normal = v(-d.y, d.x) / len;
+        for along in [0.25, 0.5, 0.75, 1e-3] {
+            for f in [0.5, 0.1, 0.01] {
+                let p = e.a + d * along + normal * (f * len);
+                if map.domain().contains(p) {
+                    out.push(p);
+                }
+            }
+        }
+    }
+    out
+}
