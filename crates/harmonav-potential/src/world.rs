@@ -13,7 +13,7 @@ use crate::terms::{hess_ln_norm2, ln_norm2, reciprocal, unit};
 /// Invariants (checked by the constructors): all points finite, the obstacle points distinct
 /// and different from `P_d`, and `k` finite with `k > M` (lemma `attactive`).
 ///
-/// With [`FAR_MIN`](crate::far::FAR_MIN) obstacle points or more, the hot path
+/// With [`FAR_MIN`] obstacle points or more, the hot path
 /// [`Self::phi_and_grad`] sums the far points by multipoles (`crate::far`, docs/maths.md §15);
 /// every other method sums them directly.
 #[derive(Clone, Debug)]
@@ -341,7 +341,7 @@ impl PointWorld {
     }
 
     /// Whether [`Self::phi_and_grad`] sums the far points by multipoles (from
-    /// [`FAR_MIN`](crate::far::FAR_MIN) points on).
+    /// [`FAR_MIN`] points on).
     pub fn has_far_field(&self) -> bool {
         self.far.is_some()
     }
