@@ -187,7 +187,9 @@ pub(crate) fn l2l(child: &mut [C64], parent: &[C64], d: C64, binom: &[Vec<f64>])
 pub(crate) fn p2l_point(local: &mut [C64], q: f64, z0: C64, c: C64, w: f64) {
     let v = c - z0;
     local[0] += v.ln() * q;
-    let t = -C64::new(w, 0.0) / v;
+    // `w/v` as `1/(v/w)`: a complex quotient goes through `|v|²`, which overflows for
+    // coordinates beyond about 1e154; `v/w` is a real division.
+    let t = -(v / w).inv();
     let mut power = -ONE;
     for (m, bm) in local.iter_mut().enumerate().skip(1) {
         power *= t;
@@ -231,7 +233,8 @@ pub(crate) fn eval_local<const SECOND: bool>(b: &[C64], z: C64, c: C64, w: f64) 
 /// `F'' = (−Q + Σ m(m+1) ã_m t^m)/(z − c)²`.
 pub(crate) fn eval_multipole<const SECOND: bool>(a: &[C64], z: C64, c: C64, w: f64) -> Values {
     let v = z - c;
-    let t = C64::new(w, 0.0) / v;
+    // `w/v` as `1/(v/w)` (see `p2l_point`), and `1/v = t/w` below.
+    let t = (v / w).inv();
     let q = a[0];
     let (mut s0, mut s1, mut s2) = (ZERO, ZERO, ZERO);
     let mut power = ONE;
@@ -244,7 +247,7 @@ pub(crate) fn eval_multipole<const SECOND: bool>(a: &[C64], z: C64, c: C64, w: f
             s2 += term * (m as f64 * (m as f64 + 1.0));
         }
     }
-    let inv = ONE / v;
+    let inv = t / w;
     Values {
         value: (q * v.ln() + s0).re,
         d1: (q - s1) * inv,

@@ -30,7 +30,7 @@
 //! **Accuracy** ([`Options::tolerance`]): truncation at order `p` leaves an error of order
 //! `A·ρ^p` with `A = Σ_j |q_j|·(1 or L_j)` the absolute charge and `ρ ≈ 0.55` the worst ratio of
 //! the uniform method; `p` is chosen from the tolerance as `⌈ln(tol)/ln 0.55⌉ + 2`
-//! (`tol = 1e-13` gives `p = 52`). Tested against the direct sums (`tests/direct.rs`):
+//! (`tol = 1e-13` gives `p = 53`). Tested against the direct sums (`tests/direct.rs`):
 //! `|ΔRe F| ≤ tol·A` and `|ΔF'| ≤ tol·A/w_leaf` on random and adversarial (corner-packed)
 //! sources, at scales from 1e-3 to 1e6.
 //!

@@ -81,6 +81,8 @@ pub enum FmmError {
     },
     /// [`Fmm::push_point`]: the point lies outside the root box; rebuild with it.
     OutsideRoot,
+    /// The sources (and region) span more than an `f64` holds: no root box.
+    TooLarge,
 }
 
 impl std::fmt::Display for FmmError {
@@ -98,6 +100,7 @@ impl std::fmt::Display for FmmError {
             }
             Self::BadOption { name, range } => write!(f, "option `{name}` must lie in {range}"),
             Self::OutsideRoot => write!(f, "the point lies outside the multipole tree's root box"),
+            Self::TooLarge => write!(f, "the sources span more than an f64 holds"),
         }
     }
 }
@@ -183,6 +186,10 @@ impl<const C: usize> Fmm<C> {
         }
         let p = order(options.tolerance);
         let (origin, side) = root_box(sources, options.region);
+        // Coordinates spanning more than f64 can hold (about ±9e307) have no box.
+        if !(side.is_finite() && origin.re.is_finite() && origin.im.is_finite()) {
+            return Err(FmmError::TooLarge);
+        }
         let levels = depth(sources, origin, side, options);
         let mut fmm = Self {
             p,
@@ -608,8 +615,9 @@ fn root_box(sources: &[Source], region: Option<(C64, C64)>) -> (C64, f64) {
     if !lo.re.is_finite() {
         return (C64::new(-1.0, -1.0), 2.0);
     }
-    let centre = (lo + hi) * 0.5;
-    let extent = (hi.re - lo.re).max(hi.im - lo.im);
+    // Halves first: `lo + hi` and `hi − lo` overflow for coordinates near ±f64::MAX.
+    let centre = lo * 0.5 + hi * 0.5;
+    let extent = (hi.re * 0.5 - lo.re * 0.5).max(hi.im * 0.5 - lo.im * 0.5) * 2.0;
     let scale = centre.re.abs().max(centre.im.abs()).max(extent);
     let side = (extent * (1.0 + 1e-9))
         .max(scale * 1e-9)
@@ -618,7 +626,8 @@ fn root_box(sources: &[Source], region: Option<(C64, C64)>) -> (C64, f64) {
 }
 
 /// The leaf level: from 2, deeper while the mean number of sources per occupied leaf (by each
-/// source's centre) exceeds `leaf_size`, up to `max_level`.
+/// source's centre) exceeds `leaf_size` and a level separates more of them than the one
+/// before, up to `max_level`.
 fn depth(sources: &[Source], origin: C64, side: f64, options: &Options) -> u32 {
     let centres: Vec<C64> = sources
         .iter()
@@ -627,7 +636,7 @@ fn depth(sources: &[Source], origin: C64, side: f64, options: &Options) -> u32 {
             Source::Segment(a, b) => (a + b) * 0.5,
         })
         .collect();
-    let mut level = 2;
+    let (mut level, mut occupied_before) = (2, 0);
     while level < options.max_level {
         let n = 1usize << level;
         let mut cells: Vec<usize> = centres
@@ -639,9 +648,14 @@ fn depth(sources: &[Source], origin: C64, side: f64, options: &Options) -> u32 {
             .collect();
         cells.sort_unstable();
         cells.dedup();
-        if centres.len() <= options.leaf_size * cells.len().max(1) {
+        // Deep enough, or refining no longer separates the sources (coincident ones would
+        // otherwise drive the tree to `max_level` and its `4^L` local expansions).
+        if centres.len() <= options.leaf_size * cells.len().max(1)
+            || (level > 2 && cells.len() == occupied_before)
+        {
             break;
         }
+        occupied_before = cells.len();
         level += 1;
     }
     level

@@ -23,10 +23,13 @@ fn kernel(shape: &Source, z: C64) -> Values {
     match *shape {
         Source::Point(z0) => {
             let v = z - z0;
+            // `1/v` through `(v/|v|)`, so that it neither under- nor overflows at 1e±200.
+            let r = v.norm();
+            let d1 = (v / r).inv() / r;
             Values {
-                value: v.norm().ln(),
-                d1: 1.0 / v,
-                d2: -1.0 / (v * v),
+                value: r.ln(),
+                d1,
+                d2: -(d1 * d1),
             }
         }
         Source::Segment(a, b) if (z - (a + b) * 0.5).norm() > 2.0 * (b - a).norm() => {
@@ -404,4 +407,104 @@ fn bad_input_is_a_typed_error() {
     let empty = Fmm::<1>::new(&[], &[], &Options::default()).unwrap();
     let v = empty.eval(C64::new(3.0, 4.0), |_| panic!("no pieces"));
     assert_eq!(v[0], Values::default());
+}
+
+#[test]
+fn segments_along_and_across_grid_lines_add_up() {
+    // Segments on a leaf grid line, through leaf corners, of zero length and crossing at a
+    // shallow angle: the cut pieces must still add up to their segments.
+    let probe = Fmm::<1>::new(
+        &[
+            Source::Point(C64::new(0.0, 0.0)),
+            Source::Point(C64::new(8.0, 8.0)),
+        ],
+        &[[1.0], [1.0]],
+        &Options {
+            max_level: 3,
+            leaf_size: 1,
+            ..Options::default()
+        },
+    )
+    .unwrap();
+    let w = probe.leaf_width();
+    let mut sources = vec![
+        Source::Point(C64::new(0.0, 0.0)),
+        Source::Point(C64::new(8.0, 8.0)),
+    ];
+    for i in 1..7 {
+        let x = i as f64 * w;
+        sources.push(Source::Segment(C64::new(x, 0.5), C64::new(x, 7.5)));
+        sources.push(Source::Segment(C64::new(0.0, x), C64::new(8.0, x)));
+        sources.push(Source::Segment(C64::new(x, x), C64::new(x + w, x + w)));
+        sources.push(Source::Segment(
+            C64::new(0.2, x + 1e-12),
+            C64::new(7.9, x + 3e-3),
+        ));
+        sources.push(Source::Segment(C64::new(x, 1.0), C64::new(x, 1.0)));
+    }
+    let weights: Vec<[f64; 1]> = (0..sources.len()).map(|i| [1.0 + (i % 3) as f64]).collect();
+    let options = Options {
+        max_level: 3,
+        leaf_size: 1,
+        ..Options::default()
+    };
+    let fmm = Fmm::new(&sources, &weights, &options).unwrap();
+    assert_eq!(fmm.levels(), 3);
+    let mut rng = Rng(10);
+    let targets: Vec<C64> = (0..200)
+        .map(|_| rng.point(C64::new(0.0, 0.0), 8.0) + C64::new(0.013, 0.007))
+        .collect();
+    let (e0, e1, e2) = worst(&sources, &weights, &fmm, &targets);
+    assert!(
+        e0 <= TOL && e1 <= 10.0 * TOL && e2 <= 100.0 * TOL,
+        "{e0:e} {e1:e} {e2:e}"
+    );
+}
+
+#[test]
+fn extreme_coordinates_stay_finite_or_are_refused() {
+    // A world at 1e200: quotients are real divisions and reciprocals, never through |v|².
+    for scale in [1e-200, 1e200] {
+        let mut rng = Rng(11);
+        let origin = C64::new(scale, -scale);
+        let (sources, weights) = random_points(&mut rng, 300, origin, scale);
+        let mut fmm = Fmm::new(
+            &sources[..200],
+            &weights[..200],
+            &Options {
+                region: Some((origin, origin + C64::new(scale, scale))),
+                ..Options::default()
+            },
+        )
+        .unwrap();
+        for (s, w) in sources[200..].iter().zip(&weights[200..]) {
+            let Source::Point(z) = *s else { unreachable!() };
+            fmm.push_point(z, *w).unwrap();
+        }
+        let mut targets: Vec<C64> = (0..50).map(|_| rng.point(origin, scale)).collect();
+        targets.push(origin + C64::new(30.0 * scale, 5.0 * scale));
+        // The logarithms are about ln(scale) = ±460 here: the direct sum's own worst-case
+        // rounding, `N·ε·|ln|` per unit charge, is allowed on top of the tolerance.
+        let rounding = sources.len() as f64 * f64::EPSILON * scale.ln().abs();
+        let (e0, e1, _) = worst(&sources, &weights, &fmm, &targets);
+        assert!(
+            e0 <= TOL + rounding && e1 <= 10.0 * TOL,
+            "scale {scale:e}: {e0:e} {e1:e}"
+        );
+    }
+    // Sources spanning more than an f64 holds: a typed error, not a panic.
+    let huge = [
+        Source::Point(C64::new(-1e308, 0.0)),
+        Source::Point(C64::new(1e308, 1.0)),
+    ];
+    assert_eq!(
+        Fmm::<1>::new(&huge, &[[1.0], [1.0]], &Options::default()).unwrap_err(),
+        FmmError::TooLarge
+    );
+    // Coincident sources do not drive the tree to its deepest level.
+    let same = vec![Source::Point(C64::new(0.5, 0.5)); 100];
+    let mut with_one = same.clone();
+    with_one.push(Source::Point(C64::new(0.0, 0.0)));
+    let fmm = Fmm::<1>::new(&with_one, &vec![[1.0]; 101], &Options::default()).unwrap();
+    assert!(fmm.levels() <= 3, "{}", fmm.levels());
 }

@@ -157,9 +157,16 @@ impl PointWorld {
         }
         if self.has_far_field() {
             // A large world: each point through the multipole path, the same numbers as
-            // `phi_and_grad` (the kernel below would be `O(M)` a point).
+            // `phi_and_grad` (the kernel below would be `O(M)` a point);
+            // `None` where that path would not apply (the guard, a non-finite h), as below.
             for (h, o) in hs.iter().zip(out.iter_mut()) {
-                *o = self.phi_and_grad(*h, None).ok();
+                *o = match self
+                    .far_field()
+                    .map(|far| self.phi_and_grad_far(far, *h, None))
+                {
+                    Some(crate::world::FarPath::Value(v)) => Some(v),
+                    _ => None,
+                };
             }
             return Ok(());
         }

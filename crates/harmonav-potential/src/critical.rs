@@ -26,9 +26,10 @@
 //! z_j⁰ = p_j + 1/(k G_j(p_j))                                          (eq. census-start)
 //! ```
 //!
-//! which needs a few sweeps where the circle needs about a hundred. Aberth's fixed points do
-//! not depend on the start (any distinct starts converge to the `M` roots together; a start
-//! that is not finite, or farther than the world's scale, is put back on the circle). The
+//! which needs a few sweeps where the circle needs about a hundred. The iteration is run from
+//! distinct starts away from the points (a start that is not finite, farther than the world's
+//! scale, or nearer another point than to its own is put back on the circle, and a root whose
+//! step is singular is nudged off); the tests compare its roots with the direct census's. The
 //! repulsion `Σ_{l≠j} 1/(z_j − z_l)` stays direct; each root is polished by Newton on the
 //! direct `F`, so the roots carry the direct sums' rounding whatever the tree's tolerance.
 
@@ -93,7 +94,17 @@ impl PointWorld {
                     });
                     (s1 + f1, s2 + f2)
                 };
-                let start = first_order(d, &p, k, scale, start, |j| sums(p[j], Some(j)).0);
+                // A start nearer another point than to its own would sit on (or round onto)
+                // that point, where every sum is singular: such a start goes on the circle.
+                let clear = |j: usize, z: C| {
+                    let mut clear = true;
+                    far.reciprocal_sums(z, |i| {
+                        clear &= i == j || (z - p[i]).norm() > 0.5 * (z - p[j]).norm();
+                    });
+                    clear
+                };
+                let others = |j: usize| sums(p[j], Some(j)).0;
+                let start = first_order(d, &p, k, scale, start, others, clear);
                 aberth(d, &p, k, scale, start, |z| sums(z, None))
             }
             None => aberth(d, &p, k, scale, start, |z| direct_sums(z, &p)),
@@ -158,7 +169,10 @@ fn circle(d: C, p: &[C], scale: f64) -> Vec<C> {
 }
 
 /// Eq. census-start: `z_j⁰ = p_j + 1/(k G_j(p_j))` with `others(j) = Σ_{i≠j} 1/(p_j − p_i)`;
-/// the circle's start where that is not finite or lies farther than `scale` from `p_j`.
+/// the circle's start where that is not finite, lies farther than `scale` from `p_j`, or is
+/// not `clear(j, z)` (nearer another point than half its distance to `p_j`: two points
+/// `δ` apart put each other's start `O(δ²k/L)` from the other point, exactly on it below
+/// `δ ≈ √(ulp·L/k)`).
 fn first_order(
     d: C,
     p: &[C],
@@ -166,6 +180,7 @@ fn first_order(
     scale: f64,
     circle: Vec<C>,
     others: impl Fn(usize) -> C,
+    clear: impl Fn(usize, C) -> bool,
 ) -> Vec<C> {
     circle
         .into_iter()
@@ -174,7 +189,12 @@ fn first_order(
             let g = (p[j] - d).inv() - others(j) / k;
             let step = (g * k).inv();
             let z = p[j] + step;
-            if z.re.is_finite() && z.im.is_finite() && step.norm() <= scale && z != p[j] {
+            if z.re.is_finite()
+                && z.im.is_finite()
+                && step.norm() <= scale
+                && z != p[j]
+                && clear(j, z)
+            {
                 z
             } else {
                 fallback
@@ -188,6 +208,7 @@ fn first_order(
 fn aberth(d: C, p: &[C], k: f64, scale: f64, start: Vec<C>, sums: impl Fn(C) -> (C, C)) -> Vec<C> {
     let m = p.len();
     let mut z = start;
+    let mut history: Vec<f64> = Vec::new();
     for _ in 0..2000 {
         let mut worst = 0.0f64;
         for j in 0..m {
@@ -202,11 +223,25 @@ fn aberth(d: C, p: &[C], k: f64, scale: f64, start: Vec<C>, sums: impl Fn(C) -> 
             if w.re.is_finite() && w.im.is_finite() {
                 z[j] -= w;
                 worst = worst.max(w.norm());
+            } else {
+                // On a point or another root (every sum singular there): step off it, by a
+                // fixed small amount in a direction of its own, and let the iteration go on.
+                let angle = 0.4 + j as f64;
+                z[j] += C::from_polar(1e-8 * scale, angle);
+                worst = f64::INFINITY;
             }
         }
-        if worst <= 1e-15 * scale {
+        // Converged, or stalled at the rounding noise of `F`: the largest update no longer
+        // halves over eight sweeps while below 1e-9 of the scale (a far-field root of a small
+        // `k − M` settles near 1e-12 of its own distance and never meets 1e-15·scale; a
+        // multiple root converges linearly, faster than that). Each simple root is polished
+        // by Newton on the direct `F` afterwards (`cluster`).
+        let stalled =
+            history.len() >= 8 && worst <= 1e-9 * scale && worst > 0.5 * history[history.len() - 8];
+        if worst <= 1e-15 * scale || stalled {
             break;
         }
+        history.push(worst);
     }
     z
 }
@@ -292,13 +327,26 @@ mod tests {
 
     /// The large-world census (tree sums, first-order starts) finds the same saddles as the
     /// direct iteration from the circle, in a world just above `FAR_MIN` and a spiral.
+    /// The spiral of `m` points with a point added `δ` from point 37 (a close pair).
+    fn with_close_pair(m: usize, delta: f64) -> PointWorld {
+        let spiral = crate::arrangements::golden_spiral(m);
+        let mut points = spiral.obstacles().to_vec();
+        points.push(points[37] + Vector2::new(delta, 0.3 * delta));
+        PointWorld::new(spiral.destination(), points).unwrap()
+    }
+
     #[test]
     fn the_tree_census_finds_the_direct_census_roots() {
         for world in [
+            // k = M + 1 (the paper's): a far-field root that stalls at rounding noise.
             crate::arrangements::golden_spiral(crate::far::FAR_MIN + 72),
             crate::arrangements::golden_spiral(300)
                 .with_k(450.0)
                 .unwrap(),
+            // Close pairs: first-order starts that would land on the other point.
+            with_close_pair(200, 1e-9).with_k(1_000.0).unwrap(),
+            with_close_pair(200, 1e-12).with_k(1_000.0).unwrap(),
+            with_close_pair(200, 1e-4).with_k(1_000.0).unwrap(),
         ] {
             assert!(world.has_far_field());
             let fast = world.critical_points();
@@ -319,6 +367,8 @@ mod tests {
                     b.position
                 );
                 assert_eq!(a.kind, CriticalKind::Saddle);
+                assert!(a.eigenvalues.iter().all(|e| e.is_finite()));
+                assert!(p.iter().all(|&q| q != C::new(a.position.x, a.position.y)));
             }
         }
     }

@@ -14,7 +14,7 @@
 
 use std::sync::Arc;
 
-use harmonav_multipole::{C64, Fmm, FmmError, Options, Source};
+use harmonav_multipole::{C64, Fmm, Options, Source};
 use nalgebra::Vector2;
 
 /// From this many obstacle points on, [`crate::PointWorld`] sums its far points by multipoles
@@ -30,11 +30,14 @@ pub const TOLERANCE: f64 = 1e-13;
 #[derive(Clone, Debug)]
 pub(crate) struct FarField {
     fmm: Arc<Fmm<1>>,
+    /// How many points the tree was built over (pushed ones come on top).
+    built: usize,
 }
 
 impl FarField {
-    /// The tree over `points` (all finite: checked by `PointWorld::new`).
-    pub(crate) fn new(points: &[Vector2<f64>]) -> Self {
+    /// The tree over `points` (all finite: checked by `PointWorld::new`), or `None` when they
+    /// span more than an `f64` holds (coordinates near ±1e308; the direct sum serves them).
+    pub(crate) fn new(points: &[Vector2<f64>]) -> Option<Self> {
         let sources: Vec<Source> = points
             .iter()
             .map(|p| Source::Point(C64::new(p.x, p.y)))
@@ -44,24 +47,39 @@ impl FarField {
             tolerance: TOLERANCE,
             ..Options::default()
         };
-        // Infallible here: as many weights as sources, finite points, default options in range.
-        let fmm = Fmm::new(&sources, &weights, &options)
-            .unwrap_or_else(|e| unreachable!("the far field of finite points: {e}"));
-        Self { fmm: Arc::new(fmm) }
+        let fmm = Fmm::new(&sources, &weights, &options).ok()?;
+        Some(Self {
+            fmm: Arc::new(fmm),
+            built: points.len(),
+        })
     }
 
     /// This tree with `more` points appended (numbered after the existing ones): pushed into a
-    /// copy when they fall inside the root box, otherwise rebuilt over `all`.
-    pub(crate) fn extended(&self, all: &[Vector2<f64>], more: &[Vector2<f64>]) -> Self {
+    /// copy when they fall inside the root box and the tree has fewer than twice the points it
+    /// was built over, otherwise rebuilt over `all`. The doubling rule keeps the depth right
+    /// (a push never deepens the tree, so a tree built at 128 points and pushed to 1 000 would
+    /// leave hundreds of near points per evaluation) at an amortised cost of one build.
+    pub(crate) fn extended(&self, all: &[Vector2<f64>], more: &[Vector2<f64>]) -> Option<Self> {
+        if all.len() >= 2 * self.built {
+            return Self::new(all);
+        }
         let mut fmm = (*self.fmm).clone();
         for p in more {
-            match fmm.push_point(C64::new(p.x, p.y), [1.0]) {
-                Ok(_) => {}
-                Err(FmmError::OutsideRoot) => return Self::new(all),
-                Err(e) => unreachable!("a finite point pushed: {e}"),
+            if fmm.push_point(C64::new(p.x, p.y), [1.0]).is_err() {
+                // Outside the root box (a finite point cannot fail otherwise): rebuild.
+                return Self::new(all);
             }
         }
-        Self { fmm: Arc::new(fmm) }
+        Some(Self {
+            fmm: Arc::new(fmm),
+            built: self.built,
+        })
+    }
+
+    /// How many points the tree was built over, and how many it holds.
+    #[cfg(test)]
+    pub(crate) fn counts(&self) -> (usize, usize) {
+        (self.built, self.fmm.len())
     }
 
     /// `(Σ_far 1/(z − P_i), Σ_far 1/(z − P_i)²) = (F'(z), −F''(z))` of the far points, and
@@ -79,5 +97,47 @@ impl FarField {
             .fmm
             .eval(C64::new(h.x, h.y), |piece| near(piece.source));
         (2.0 * v.value, Vector2::new(v.d1.re, -v.d1.im))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn grid(n: usize, spacing: f64) -> Vec<Vector2<f64>> {
+        (0..n * n)
+            .map(|i| {
+                Vector2::new(
+                    (i % n) as f64 * spacing,
+                    (i / n) as f64 * spacing + 0.01 * (i % 7) as f64,
+                )
+            })
+            .collect()
+    }
+
+    #[test]
+    fn points_inside_the_root_box_are_pushed_until_the_count_doubles() {
+        let all = grid(40, 1.0); // 1 600 points
+        let first = FarField::new(&all[..1_000]).unwrap();
+        // Points among the first ones (inside their root box): pushed, not rebuilt.
+        let pushed = first.extended(&all[..1_200], &all[1_000..1_200]).unwrap();
+        assert_eq!(pushed.counts(), (1_000, 1_200));
+        // Twice the built count: rebuilt (deeper).
+        let rebuilt = pushed.extended(&all[..], &all[1_200..]).unwrap();
+        assert_eq!(rebuilt.counts(), (1_600, 1_600));
+        let twice: Vec<Vector2<f64>> = grid(45, 1.0)[..2_000].to_vec();
+        assert_eq!(
+            first.extended(&twice, &twice[1_000..]).unwrap().counts(),
+            (2_000, 2_000)
+        );
+        // Outside the root box: rebuilt.
+        let mut out = all[..1_000].to_vec();
+        out.push(Vector2::new(500.0, -300.0));
+        assert_eq!(
+            first.extended(&out, &out[1_000..]).unwrap().counts(),
+            (1_001, 1_001)
+        );
+        // Coordinates beyond an f64's span: no tree.
+        assert!(FarField::new(&[Vector2::new(-1e308, 0.0), Vector2::new(1e308, 0.0)]).is_none());
     }
 }

@@ -25,6 +25,16 @@ pub struct PointWorld {
     far: Option<FarField>,
 }
 
+/// What the multipole path of `phi_and_grad` gives.
+pub(crate) enum FarPath {
+    /// `(phi_k, ∇phi_k)` by the split product of the near points and the tree.
+    Value((f64, Vector2<f64>)),
+    /// A factor or `|h − P_d|²` is not a normal `f64`: the guarded sum of logarithms.
+    Guarded,
+    /// `h` is not finite, or the exact offset's point is not near: the direct sum.
+    Direct,
+}
+
 impl PartialEq for PointWorld {
     fn eq(&self, other: &Self) -> bool {
         self.destination == other.destination
@@ -100,7 +110,9 @@ impl PointWorld {
     ) -> Result<Self, PotentialError> {
         let obstacles = obstacles.into();
         check(destination, &obstacles)?;
-        let far = (obstacles.len() >= FAR_MIN).then(|| FarField::new(&obstacles));
+        let far = (obstacles.len() >= FAR_MIN)
+            .then(|| FarField::new(&obstacles))
+            .flatten();
         Ok(Self {
             destination,
             k: obstacles.len() as f64 + 1.0,
@@ -111,7 +123,8 @@ impl PointWorld {
 
     /// [`Self::new`], reusing the multipole tree of `previous` when it has one, the same
     /// destination, and its obstacle points are the first ones of `obstacles`: the new points
-    /// are pushed into a copy of its tree (`O(4^L p)` each) instead of a rebuild. This is what a
+    /// are pushed into a copy of its tree (`O(4^L p)` each) instead of a rebuild, until the tree
+    /// holds twice the points it was built over (then it is rebuilt, deeper). This is what a
     /// discovery does (`Navigator::add_obstacle` at `M = 1 000`: tens of µs, not a rebuild of
     /// tens of ms). The result equals `Self::new(destination, obstacles)`, `k = M + 1`.
     ///
@@ -135,7 +148,7 @@ impl PointWorld {
                     destination,
                     k: obstacles.len() as f64 + 1.0,
                     obstacles,
-                    far: Some(far),
+                    far,
                 })
             }
             _ => Self::new(destination, obstacles),
@@ -212,10 +225,12 @@ impl PointWorld {
         h: Vector2<f64>,
         exact: Option<(usize, Vector2<f64>)>,
     ) -> Result<(f64, Vector2<f64>), Singularity> {
-        if let Some(far) = &self.far
-            && let Some(result) = self.phi_and_grad_far(far, h, exact)
-        {
-            return result;
+        if let Some(far) = &self.far {
+            match self.phi_and_grad_far(far, h, exact) {
+                FarPath::Value(v) => return Ok(v),
+                FarPath::Guarded => return self.phi_and_grad_guarded(h, exact),
+                FarPath::Direct => {}
+            }
         }
         let (before, after) = match exact {
             Some((j, _)) => (&self.obstacles[..j], &self.obstacles[j + 1..]),
@@ -271,15 +286,16 @@ impl PointWorld {
     /// [`Self::phi_and_grad`] with the far points from the multipole tree (`crate::far`, eq.
     /// far): the near points by the same split product (blocks of [`PRODUCT_BLOCK`]) and guard,
     /// `exact` applied to its point. `None` when the exact offset's point is not among the near
-    /// ones (then the direct sum), or `h` is not finite.
-    fn phi_and_grad_far(
+    /// ones, or `h` is not finite ([`FarPath::Direct`]: the direct sum), and
+    /// [`FarPath::Guarded`] where the split's guard fails.
+    pub(crate) fn phi_and_grad_far(
         &self,
         far: &FarField,
         h: Vector2<f64>,
         exact: Option<(usize, Vector2<f64>)>,
-    ) -> Option<Result<(f64, Vector2<f64>), Singularity>> {
+    ) -> FarPath {
         if !(h.x.is_finite() && h.y.is_finite()) {
-            return None;
+            return FarPath::Direct;
         }
         let (mut gx, mut gy, mut ln_prod, mut exponent) = (0.0, 0.0, 0.0, 0i64);
         let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
@@ -307,28 +323,29 @@ impl PointWorld {
             }
         });
         if !seen_exact {
-            return None;
+            return FarPath::Direct;
         }
         ln_prod += prod.ln();
         let vd = h - self.destination;
         let rd2 = vd.norm_squared();
         // Guard: as the direct path (the split is exact only for normal factors).
         if !(lo >= f64::MIN_POSITIVE && hi <= f64::MAX && rd2.is_normal()) {
-            return Some(self.phi_and_grad_guarded(h, exact));
+            return FarPath::Guarded;
         }
         let ln_sum = ln_prod + exponent as f64 * std::f64::consts::LN_2 + far_sum;
         let (gx, gy) = (gx + far_grad.x, gy + far_grad.y);
         let phi = rd2.ln() - ln_sum / self.k;
         let k2 = 2.0 / self.k;
-        Some(Ok((
+        FarPath::Value((
             phi,
             Vector2::new(2.0 * vd.x / rd2 - k2 * gx, 2.0 * vd.y / rd2 - k2 * gy),
-        )))
+        ))
     }
 
     /// The same world with the multipole tree dropped: [`Self::phi_and_grad`] then sums every
     /// point directly (the reference of the multipole path, timed side by side with it by
-    /// `cargo xtask bench --only many`).
+    /// `cargo xtask bench --only many`). A world made from it by [`Self::new_after`] or
+    /// [`Self::new`] gets a tree again.
     #[must_use]
     pub fn without_far_field(mut self) -> Self {
         self.far = None;

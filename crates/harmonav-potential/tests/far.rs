@@ -92,6 +92,46 @@ fn the_multipole_path_matches_the_direct_sums() {
 }
 
 #[test]
+fn an_exact_offset_whose_point_is_not_near_falls_back_to_the_direct_sum() {
+    // `exact` names point 5 while `h` is far from it: the multipole path cannot apply the
+    // offset and the direct sum must.
+    let (points, _) = scattered(1_000, 7);
+    let world = PointWorld::new(Vector2::new(0.5, 0.5), points.clone()).unwrap();
+    let h = -points[5] * 0.5 + Vector2::new(0.3, 0.1);
+    let offset = h - points[5];
+    assert!(offset.norm() > 5.0);
+    assert_close(&world, h, Some((5, offset)));
+    assert_eq!(
+        world.phi_and_grad(h, Some((5, offset))),
+        world
+            .clone()
+            .without_far_field()
+            .phi_and_grad(h, Some((5, offset)))
+    );
+}
+
+#[test]
+fn the_batch_path_says_none_where_the_fast_path_does_not_apply() {
+    let (points, _) = scattered(300, 8);
+    let world = PointWorld::new(Vector2::new(0.5, 0.5), points.clone()).unwrap();
+    let hs = [
+        Vector2::new(1.0, 2.0),
+        Vector2::new(f64::NAN, 0.0),
+        Vector2::new(1e200, 0.0),
+        points[3],
+    ];
+    let mut out = [None; 4];
+    world.phi_and_grad_many(&hs, &mut out).unwrap();
+    assert_eq!(out[0], Some(world.phi_and_grad(hs[0], None).unwrap()));
+    assert_eq!(&out[1..], &[None, None, None]);
+    // As the direct kernel does.
+    let direct = world.without_far_field();
+    let mut expected = [None; 4];
+    direct.phi_and_grad_many(&hs, &mut expected).unwrap();
+    assert_eq!(&expected[1..], &[None, None, None]);
+}
+
+#[test]
 fn the_exact_offset_is_taken_for_its_point() {
     let (points, _) = scattered(1_000, 5);
     let world = PointWorld::new(Vector2::new(0.5, 0.5), points.clone()).unwrap();
@@ -110,7 +150,12 @@ fn the_exact_offset_is_taken_for_its_point() {
 
 #[test]
 fn a_world_extended_by_new_after_evaluates_as_one_built_at_once() {
-    let (points, mut rng) = scattered(1_200, 6);
+    // The first 1 000 points span the 100 m square; the next 200 lie well inside it, so they
+    // are pushed into the first tree (a unit test of `far.rs` checks that no rebuild happens).
+    let (mut points, mut rng) = scattered(1_200, 6);
+    for p in &mut points[1_000..] {
+        *p *= 0.9;
+    }
     let d = Vector2::new(-1.0, 2.0);
     let first = PointWorld::new(d, points[..1_000].to_vec()).unwrap();
     let mut world = first.clone();
