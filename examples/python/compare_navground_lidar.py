@@ -101,7 +101,7 @@ def scenario_toml(world, law):
              "center = [0.0, 0.0]", f'radius = {world["radius"]}']
     for (cx, cy), r in world["discs"]:
         lines += ["[[obstacles]]", 'type = "circle"', f"center = [{cx!r}, {cy!r}]", f"radius = {r!r}"]
-    (sx, sy), (gx, gy) = world["start"], world["goal"]
+    (sx, sy), (gx, gy) = (map(float, world["start"]), map(float, world["goal"]))
     lines += [
         "[robot]", f'model = "{law}"', f"start = [{sx!r}, {sy!r}]", f"goal = [{gx!r}, {gy!r}]",
         "mass = 1.0", f"radius = {ROBOT_RADIUS}",
