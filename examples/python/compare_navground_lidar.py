@@ -4,7 +4,7 @@ seeded disc worlds of radius 5, 20, 50 and 100 m (issue 26, "Benchmarks"; docs/b
 
     pip install ./python "navground==0.7.*"      # navground is not a test dependency
     python examples/python/compare_navground_lidar.py [--worlds 24] [--sizes 5,20,50,100]
-        [--markdown] [--records FILE] [--no-navground]
+        [--markdown] [--records FILE] [--no-navground] [--write DIR]
 
 The worlds are those of ``examples/python/scale_worlds.py`` (discs of radius 0.3–1 m, start and
 goal at ±0.8 R, the start 1.3 % of R off the axis; the same seeds, ``1000 seed + R + M``), with
@@ -44,6 +44,7 @@ import sys
 import tempfile
 import time
 import tomllib
+from collections import Counter
 
 import numpy as np
 
@@ -147,9 +148,35 @@ def run_harmonav(world, law, tmp):
     s = sc.run().summary
     held = all(g["passed"] for g in s["guarantees"] if g["name"] not in ("reached-goal", "scans-accepted"))
     area = (s.get("perception") or {}).get("conservatism")
-    return record(world, law, "auto", s["reached"], s["outcome"]["kind"], s["min_clearance"],
-                  s["path_length"] / shortest, s["time_s"], held, s["steps"] + s["rejected_steps"],
-                  area), shortest
+    row = record(world, law, "auto", s["reached"], s["outcome"]["kind"], s["min_clearance"],
+                 s["path_length"] / shortest, s["time_s"], held, s["steps"] + s["rejected_steps"],
+                 area)
+    # Not columns of the study table: why a scan was refused, and the monitors that failed.
+    row["refusal"] = refusal_reason(s)
+    row["failed"] = [g["name"] for g in s["guarantees"]
+                     if not g["passed"] and g["name"] not in ("reached-goal", "scans-accepted")]
+    return row, shortest
+
+
+def refusal_reason(summary):
+    """The navigator's reason for the refused scan that ended the run (``None``: none), from
+    the ``scans-accepted`` monitor's detail: the text after ``was refused:``."""
+    for g in summary["guarantees"]:
+        if g["name"] == "scans-accepted" and not g["passed"]:
+            detail = g.get("detail") or ""
+            return detail.split("was refused:", 1)[-1].strip() or detail
+    return None
+
+
+def reading(rows):
+    """The lines under a table: the refusals by reason, and the runs whose monitors failed."""
+    reasons = Counter(r["refusal"] for r in rows if r.get("refusal"))
+    lines = [f"scan refusals ({sum(reasons.values())}): "
+             + ("; ".join(f"{n}× {why}" for why, n in reasons.most_common()) or "none")]
+    failed = [f'{r["world"]} {r["law"]}: {", ".join(r["failed"])}' for r in rows if r.get("failed")]
+    lines.append("guarantees failed (other than arrival and scans-accepted): "
+                 + ("; ".join(failed) or "none"))
+    return "\n".join(lines)
 
 
 def scan_geometry(core, position, angles, ranges, max_range):
@@ -242,7 +269,18 @@ def main():
     ap.add_argument("--markdown", action="store_true", help="print a blank line after each title")
     ap.add_argument("--no-navground", action="store_true", help="harmonav only")
     ap.add_argument("--records", type=pathlib.Path, help="also write every run's record to this JSON file")
+    ap.add_argument("--write", type=pathlib.Path, metavar="DIR",
+                    help="only write the harmonav scenario files into DIR (to rerun one with harmonav run)")
     args = ap.parse_args()
+    if args.write:
+        args.write.mkdir(parents=True, exist_ok=True)
+        gen = scale_worlds()
+        for radius in (int(s) for s in args.sizes.split(",")):
+            for seed in range(args.worlds):
+                world = make_world(gen, radius, SIZES[radius], seed)
+                for law in LAWS:
+                    (args.write / f'{world["name"]}-{law}.toml').write_text(scenario_toml(world, law))
+        return
     navground = not args.no_navground
     if navground:
         try:
@@ -261,6 +299,7 @@ def main():
         title = (f"{args.worlds} seeded worlds of radius {radius} m, {SIZES[radius]} discs, "
                  f"lidar range {lidar_range(radius):g} m")
         print((f"#### {title}\n\n" if args.markdown else f"== {title}\n") + harmonav.study_table(rows))
+        print(reading(rows) + "\n")
         print(f"({time.perf_counter() - t0:.0f} s)\n", flush=True)
     print(f"wall time {time.perf_counter() - begin:.0f} s")
     if args.records:
