@@ -340,8 +340,10 @@ def random_start_points(config: _RunConfig, count: int, seed: int) -> List[List[
 
 def study_table(rows: List[Dict[str, Any]]) -> str:
     """The Markdown table of an experiment's records (a list of row dicts with the report's
-    columns; a missing column or ``None`` is a value the run does not have), as ``cargo xtask
-    quality`` prints it: ``harmonav_bench::table::table``, the one tabulation of the project."""
+    columns; a missing column or ``None`` is a value the run does not have; the optional
+    ``outcome`` and ``conservatism`` add the columns "not arrived" and "perceived/true area"),
+    as ``cargo xtask quality`` prints it: ``harmonav_bench::table::table``, the one tabulation
+    of the project."""
 
 def study_cells(rows: List[Dict[str, Any]]) -> List[Dict[str, Any]]:
     """The cells of the records ``rows`` in the table's order: each a dict of the cell's
@@ -349,5 +351,7 @@ def study_cells(rows: List[Dict[str, Any]]) -> List[Dict[str, Any]]:
     ``sensing``, ``margin``, ``physics``, ``max_time``, its ``runs``, ``errors``, ``reached``,
     ``guarantees_held``, ``collisions``, ``ratio``, ``time``, ``steps`` (median, p90, max),
     ``min_clearance``, ``overshoot``, ``command_us`` (median, p90, max of the cost of one
-    command, NaN where no run measured it), and the ``ratios`` and ``arrived_times`` of the
-    runs that arrived."""
+    command, NaN where no run measured it), ``conservatism`` (median, p90, max of the perceived
+    over the true obstacle area of lidar runs, NaN where none recorded it), ``not_arrived`` (a
+    dict of outcome kind to the runs that did not arrive), and the ``ratios`` and
+    ``arrived_times`` of the runs that arrived."""

@@ -52,6 +52,8 @@ fn record(row: &Bound<'_, PyDict>) -> PyResult<Record> {
         steps,
         guarantees_held: item(row, "guarantees_held")?.unwrap_or(false),
         command_us: item(row, "command_us")?,
+        outcome: item(row, "outcome")?,
+        conservatism: item(row, "conservatism")?,
     })
 }
 
@@ -76,7 +78,9 @@ fn stats(rows: &Bound<'_, PyAny>) -> PyResult<Vec<CellStats>> {
 /// `generator`, `obstacles`, `law`, `damping`, `speed`, `k`, `sensing`, `margin`, `physics`,
 /// `max_time`, `start_index`, `error`, `reached`, `time_s`, `path_over_shortest`,
 /// `min_clearance`, `collisions`, `overshoot`, `steps`, `rejected_steps`, `guarantees_held` and
-/// optionally `command_us` (the cost of one command, µs, in a comparison of planners);
+/// optionally `command_us` (the cost of one command, µs, in a comparison of planners),
+/// `outcome` (the outcome's kind: the runs that did not arrive are counted by it) and
+/// `conservatism` (perceived over true obstacle area of a lidar run);
 /// a missing column or `None` is a value the run does not have): the table of
 /// docs/benchmarks.md, as `cargo xtask quality` prints it (`harmonav_bench::table::table`).
 #[pyfunction]
@@ -88,8 +92,9 @@ pub fn study_table(rows: &Bound<'_, PyAny>) -> PyResult<String> {
 /// dict each with the cell's `world` (`None` for generated worlds), `obstacles`, `law`,
 /// `policy`, `k`, `sensing`, `margin`, `physics`, `max_time`, and its `runs`, `errors`,
 /// `reached`, `guarantees_held`, `collisions`, `ratio`, `time`, `steps` (median, p90, max),
-/// `min_clearance`, `overshoot`, `command_us` (median, p90, max; NaN where no run measured
-/// it), and the per-run `ratios` and `arrived_times` of the runs that arrived.
+/// `min_clearance`, `overshoot`, `command_us` and `conservatism` (median, p90, max; NaN where
+/// no run measured it), `not_arrived` (a dict of outcome to runs that did not arrive), and the
+/// per-run `ratios` and `arrived_times` of the runs that arrived.
 #[pyfunction]
 pub fn study_cells<'py>(py: Python<'py>, rows: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyList>> {
     let out = PyList::empty(py);
@@ -116,6 +121,8 @@ pub fn study_cells<'py>(py: Python<'py>, rows: &Bound<'py, PyAny>) -> PyResult<B
         d.set_item("min_clearance", c.min_clearance)?;
         d.set_item("overshoot", c.overshoot)?;
         d.set_item("command_us", c.command_us)?;
+        d.set_item("conservatism", c.conservatism)?;
+        d.set_item("not_arrived", &c.not_arrived)?;
         d.set_item("ratios", &c.ratios)?;
         d.set_item("arrived_times", &c.arrived_times)?;
         out.append(d)?;

@@ -163,3 +163,30 @@ def test_copy_and_pickle_keep_the_scanned_obstacles():
     for other in (copy.copy(nav), copy.deepcopy(nav), pickle.loads(pickle.dumps(nav))):
         assert state(other) == state(nav)
         assert np.array_equal(other.command([-2.9, 0.0]), copy.copy(nav).command([-2.9, 0.0]))
+
+
+def test_the_study_table_counts_refused_scans_apart_and_shows_the_perceived_area():
+    """A lidar run's summary as a record of ``harmonav.study_table``: its outcome and its
+    perception's conservatism get their columns; a refused scan is counted as such, never as a
+    collision."""
+    from conftest import SCENARIOS
+
+    s = harmonav.Scenario.load(SCENARIOS / "lidar" / "paper-world.toml").run().summary
+    area = s["perception"]["conservatism"]
+    assert s["reached"] and area > 1.0
+
+    def row(world, reached, outcome, conservatism):
+        return {"world": world, "generator": "test", "obstacles": 6, "law": "kinematic",
+                "speed": "auto", "k": "auto", "sensing": "lidar", "margin": 0.0,
+                "reached": reached, "outcome": outcome, "time_s": s["time_s"],
+                "path_over_shortest": 1.1, "min_clearance": s["min_clearance"], "collisions": 0,
+                "guarantees_held": True, "conservatism": conservatism}
+
+    rows = [row("a", True, s["outcome"]["kind"], area), row("b", False, "scan-refused", None)]
+    lines = harmonav.study_table(rows).splitlines()
+    assert lines[0].endswith("| not arrived | perceived/true area median / p90 / max |"), lines[0]
+    assert "| 1/2 | 2/2 | 0 |" in lines[2] and "| scan-refused 1 |" in lines[2], lines[2]
+    assert lines[2].endswith(f"| {area:.2f} / {area:.2f} / {area:.2f} |"), lines[2]
+    (cell,) = harmonav.study_cells(rows)
+    assert cell["not_arrived"] == {"scan-refused": 1}
+    assert list(cell["conservatism"]) == [area] * 3

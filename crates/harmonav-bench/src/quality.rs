@@ -124,6 +124,8 @@ impl Cell {
             steps: Some(m.steps as u64),
             guarantees_held: m.guarantees_held,
             command_us: None,
+            outcome: None,
+            conservatism: None,
         }
     }
 }

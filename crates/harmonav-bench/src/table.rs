@@ -12,7 +12,10 @@
 //!   runs: median, 90th percentile and maximum ([`quantiles`], nearest rank);
 //! - the dynamic law's time over the kinematic law's under [`REFERENCE_SPEED`] in each world
 //!   and start both ran ([`time_ratio`]; a run that did not arrive counts as `+∞`);
-//! - the smallest clearance and the largest overshoot of all runs.
+//! - the smallest clearance and the largest overshoot of all runs;
+//! - when the records carry them: the outcomes of the runs that did not arrive (`stalled`,
+//!   `scan-refused`, …: a refused scan is a typed outcome, not a collision) and the perceived
+//!   over the true obstacle area of lidar runs (`summary.json`'s `perception.conservatism`).
 
 use std::collections::{BTreeMap, HashMap};
 
@@ -43,7 +46,7 @@ pub struct Record {
     pub speed: Option<String>,
     /// `k` policy.
     pub k: Option<String>,
-    /// `"global"` or `"sector"`.
+    /// `"global"`, `"sector"` or `"lidar"`.
     pub sensing: Option<String>,
     /// `robot.margin`, m.
     pub margin: Option<f64>,
@@ -74,6 +77,12 @@ pub struct Record {
     pub guarantees_held: bool,
     /// The cost of one command, µs (a comparison of planners measures it; a run does not).
     pub command_us: Option<f64>,
+    /// The run's outcome, as `summary.json`'s `outcome.kind` names it (`reached`, `stalled`,
+    /// `scan-refused`, `timed-out`, …; `None`: not recorded).
+    pub outcome: Option<String>,
+    /// Perceived over true obstacle area at the end of a lidar run (`summary.json`'s
+    /// `perception.conservatism`; `None`: no perception, or nothing perceived).
+    pub conservatism: Option<f64>,
 }
 
 /// What makes a cell: every configuration column but the world's seed and the start.
@@ -215,6 +224,12 @@ pub struct CellStats {
     pub arrived_times: Vec<f64>,
     /// Time to goal in each (world, start) (`None`: did not arrive), for [`time_ratio`].
     pub times: BTreeMap<(String, Option<i64>), Option<f64>>,
+    /// The runs that did not arrive and recorded an outcome, counted by outcome (a run
+    /// recorded as `reached` that did not arrive counts as `not-reached`).
+    pub not_arrived: BTreeMap<String, usize>,
+    /// Perceived over true area: median, 90th percentile, max over the runs that recorded it
+    /// (NaN for none).
+    pub conservatism: [f64; 3],
 }
 
 /// Median, 90th percentile (nearest rank) and maximum; NaN for no values.
@@ -245,6 +260,22 @@ impl CellStats {
             .filter_map(|r| r.steps)
             .map(|s| s as f64)
             .collect();
+        let mut not_arrived = BTreeMap::new();
+        for r in runs.iter().filter(|r| !r.reached) {
+            if let Some(outcome) = &r.outcome {
+                let name = if outcome == "reached" {
+                    "not-reached"
+                } else {
+                    outcome.as_str()
+                };
+                *not_arrived.entry(name.to_string()).or_insert(0) += 1;
+            }
+        }
+        let conservatism: Vec<f64> = runs
+            .iter()
+            .filter_map(|r| r.conservatism)
+            .filter(|x| !x.is_nan())
+            .collect();
         Self {
             key,
             runs: runs.len(),
@@ -270,6 +301,8 @@ impl CellStats {
                     ((r.world.clone(), r.start_index), t)
                 })
                 .collect(),
+            not_arrived,
+            conservatism: quantiles(&conservatism),
         }
     }
 }
@@ -384,9 +417,22 @@ guarantees held | collisions | path/shortest median / p90 / max | time to goal m
 max (s) | time / kinematic (paper speed) median / p90 / max | min clearance (m) | overshoot (m) \
 | steps median / p90 / max |";
 
+/// The outcomes of the runs that did not arrive, `scan-refused 3, stalled 1` (`—`: none).
+pub fn not_arrived_text(c: &CellStats) -> String {
+    if c.not_arrived.is_empty() {
+        return "—".to_string();
+    }
+    c.not_arrived
+        .iter()
+        .map(|(outcome, n)| format!("{outcome} {n}"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 /// The Markdown table of `cells` (docs/benchmarks.md), with a leading `world` column when a cell
-/// is a scenario file, and `physics`, `max time (s)`, `µs per command` and `errors` columns
-/// when they vary or occur.
+/// is a scenario file, and `physics`, `max time (s)`, `µs per command`, `not arrived` (the
+/// outcomes of the runs that did not arrive), `perceived/true area` and `errors` columns when
+/// they vary or occur.
 pub fn table(cells: &[CellStats]) -> String {
     let world_col = cells.iter().any(|c| c.key.world.is_some());
     let varies = |f: fn(&CellKey) -> KeyPart| {
@@ -397,6 +443,8 @@ pub fn table(cells: &[CellStats]) -> String {
     let physics_col = varies(|k| KeyPart::Text(k.physics.clone()));
     let time_col = varies(|k| KeyPart::Number(k.max_time.map(f64::to_bits)));
     let cost_col = cells.iter().any(|c| !c.command_us[0].is_nan());
+    let outcome_col = cells.iter().any(|c| !c.not_arrived.is_empty());
+    let area_col = cells.iter().any(|c| !c.conservatism[0].is_nan());
     let error_col = cells.iter().any(|c| c.errors > 0);
     let front: Vec<&str> = if world_col { vec!["world"] } else { vec![] };
     let mut back: Vec<&str> = Vec::new();
@@ -408,6 +456,12 @@ pub fn table(cells: &[CellStats]) -> String {
     }
     if cost_col {
         back.push("µs per command median / p90 / max");
+    }
+    if outcome_col {
+        back.push("not arrived");
+    }
+    if area_col {
+        back.push("perceived/true area median / p90 / max");
     }
     if error_col {
         back.push("errors");
@@ -461,6 +515,16 @@ pub fn table(cells: &[CellStats]) -> String {
         }
         if cost_col {
             row.push(fmt3(c.command_us, 1));
+        }
+        if outcome_col {
+            row.push(not_arrived_text(c));
+        }
+        if area_col {
+            row.push(if c.conservatism[0].is_nan() {
+                "—".to_string()
+            } else {
+                fmt3(c.conservatism, 2)
+            });
         }
         if error_col {
             row.push(c.errors.to_string());

@@ -3,7 +3,9 @@
 //! the table's optional columns.
 
 use harmonav::SpeedPolicy;
-use harmonav_bench::table::{CellKey, Record, cells, kinematic_twin, quantiles, table, time_ratio};
+use harmonav_bench::table::{
+    CellKey, Record, cells, kinematic_twin, not_arrived_text, quantiles, table, time_ratio,
+};
 
 fn run(world: &str, law: &str, sensing: &str, time: f64, reached: bool) -> Record {
     Record {
@@ -29,6 +31,8 @@ fn run(world: &str, law: &str, sensing: &str, time: f64, reached: bool) -> Recor
         steps: Some(time as u64 * 10),
         guarantees_held: true,
         command_us: None,
+        outcome: Some(if reached { "reached" } else { "timed-out" }.to_string()),
+        conservatism: None,
     }
 }
 
@@ -157,6 +161,7 @@ fn the_table_prints_each_cell_and_the_columns_that_vary() {
         reached: false,
         time_s: None,
         steps: None,
+        outcome: None,
         ..run("a", "kinematic", "global", 0.0, false)
     };
     let measured = Record {
@@ -179,6 +184,68 @@ fn the_table_prints_each_cell_and_the_columns_that_vary() {
         lines[3].ends_with("| rapier | NaN / NaN / NaN | 0 |"),
         "{}",
         lines[3]
+    );
+}
+
+#[test]
+fn the_outcomes_of_runs_that_did_not_arrive_and_the_perceived_area_get_their_columns() {
+    // Lidar runs: two refused scans and a stall among five runs; one run recorded no
+    // perception, one a NaN (both left out of the quantiles).
+    let outcomes = [
+        ("reached", true, Some(2.0)),
+        ("scan-refused", false, Some(4.0)),
+        ("stalled", false, Some(3.0)),
+        ("scan-refused", false, None),
+        ("reached", true, Some(f64::NAN)),
+    ];
+    let records: Vec<Record> = outcomes
+        .iter()
+        .enumerate()
+        .map(|(i, &(outcome, reached, area))| Record {
+            outcome: Some(outcome.to_string()),
+            conservatism: area,
+            sensing: Some("lidar".to_string()),
+            ..run(&format!("w{i}"), "kinematic", "lidar", 10.0, reached)
+        })
+        .collect();
+    let c = cells(&records);
+    assert_eq!(c.len(), 1);
+    assert_eq!(c[0].reached, 2);
+    assert_eq!(
+        c[0].not_arrived.iter().collect::<Vec<_>>(),
+        [
+            (&"scan-refused".to_string(), &2),
+            (&"stalled".to_string(), &1)
+        ]
+    );
+    assert_eq!(c[0].conservatism, [3.0, 4.0, 4.0]);
+    assert_eq!(not_arrived_text(&c[0]), "scan-refused 2, stalled 1");
+    let text = table(&c);
+    let lines: Vec<&str> = text.lines().collect();
+    assert!(
+        lines[0].ends_with("| not arrived | perceived/true area median / p90 / max |"),
+        "{}",
+        lines[0]
+    );
+    assert_eq!(lines[1].matches("---|").count(), 17);
+    assert!(
+        lines[2].ends_with("| scan-refused 2, stalled 1 | 3.00 / 4.00 / 4.00 |"),
+        "{}",
+        lines[2]
+    );
+
+    // A run that claims `reached` but did not arrive is told apart; a cell whose runs all
+    // arrived prints `—`; without perception there is no area column.
+    let mut odd = run("a", "dynamic", "global", 10.0, false);
+    odd.outcome = Some("reached".to_string());
+    let fine = run("a", "kinematic", "global", 10.0, true);
+    let c = cells(&[fine, odd]);
+    assert_eq!(not_arrived_text(&c[0]), "—");
+    assert_eq!(not_arrived_text(&c[1]), "not-reached 1");
+    let text = table(&c);
+    assert!(
+        text.lines().next().unwrap().ends_with("| not arrived |"),
+        "{text}"
     );
 }
 
