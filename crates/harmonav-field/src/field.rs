@@ -125,14 +125,25 @@ impl Field {
             }
         }
         let (transform, world) = build(&workspace, &ids, policy, None)?;
+        Ok(Self::from_parts(workspace, transform, world, policy))
+    }
+
+    /// The field of `Phi` and the point world built over `workspace` (the destination's
+    /// stiffness from the point world).
+    fn from_parts(
+        workspace: Arc<Workspace>,
+        transform: NavTransform,
+        world: PointWorld,
+        policy: KPolicy,
+    ) -> Self {
         let stiffness = world.destination_stiffness();
-        Ok(Self {
+        Self {
             workspace,
             transform,
             world,
             stiffness,
             policy,
-        })
+        }
     }
 
     /// The field with every obstacle known (global sensing), default policy.
@@ -158,14 +169,7 @@ impl Field {
     ) -> Result<Self, FieldError> {
         let ids: Vec<usize> = (0..workspace.obstacles().len()).collect();
         let (transform, world) = build(&workspace, &ids, policy, Some(&self.world))?;
-        let stiffness = world.destination_stiffness();
-        Ok(Self {
-            workspace,
-            transform,
-            world,
-            stiffness,
-            policy,
-        })
+        Ok(Self::from_parts(workspace, transform, world, policy))
     }
 
     /// This field with the point world summed directly at every point

@@ -200,6 +200,26 @@ fn rings(rng: &mut Rng, origin: C64, size: f64, per_side: usize) -> (Vec<Source>
 
 const TOL: f64 = 1e-13;
 
+/// The leaf width at `level` of a tree whose sources span `[0, side]²` (the root box of the
+/// tests' trees, which must then reach that level: they assert it).
+fn leaf_width(side: f64, level: u32) -> f64 {
+    let probe = Fmm::<1>::new(
+        &[
+            Source::Point(C64::new(0.0, 0.0)),
+            Source::Point(C64::new(side, side)),
+        ],
+        &[[1.0], [1.0]],
+        &Options {
+            max_level: level,
+            leaf_size: 1,
+            ..Options::default()
+        },
+    )
+    .unwrap();
+    // Two sources stop the depth early; the grid halves exactly at each level below.
+    probe.leaf_width() / f64::from(1u32 << (level - probe.levels()))
+}
+
 #[test]
 fn points_match_the_direct_sum_at_every_scale() {
     for (seed, scale) in [(1u64, 1e-3), (2, 1.0), (3, 1e6)] {
@@ -246,20 +266,7 @@ fn segments_match_the_closed_form_with_pieces_cut_at_the_leaves() {
 fn sources_packed_at_leaf_corners_stay_within_the_tolerance() {
     // The worst case of the separation: every source at a corner of its leaf box, every
     // target at the opposite corner of a box two leaves away.
-    let probe = Fmm::<1>::new(
-        &[
-            Source::Point(C64::new(0.0, 0.0)),
-            Source::Point(C64::new(1.0, 1.0)),
-        ],
-        &[[1.0], [1.0]],
-        &Options {
-            max_level: 5,
-            leaf_size: 1,
-            ..Options::default()
-        },
-    )
-    .unwrap();
-    let w = probe.leaf_width();
+    let w = leaf_width(1.0, 5);
     let mut sources = vec![
         Source::Point(C64::new(0.0, 0.0)),
         Source::Point(C64::new(1.0, 1.0)),
@@ -286,6 +293,7 @@ fn sources_packed_at_leaf_corners_stay_within_the_tolerance() {
         },
     )
     .unwrap();
+    assert_eq!(fmm.levels(), 5, "the sources must sit at leaf corners");
     let (e0, e1, _) = worst(&sources, &weights, &fmm, &targets);
     assert!(e0 <= TOL && e1 <= 10.0 * TOL, "{e0:e} {e1:e}");
 }
@@ -413,20 +421,7 @@ fn bad_input_is_a_typed_error() {
 fn segments_along_and_across_grid_lines_add_up() {
     // Segments on a leaf grid line, through leaf corners, of zero length and crossing at a
     // shallow angle: the cut pieces must still add up to their segments.
-    let probe = Fmm::<1>::new(
-        &[
-            Source::Point(C64::new(0.0, 0.0)),
-            Source::Point(C64::new(8.0, 8.0)),
-        ],
-        &[[1.0], [1.0]],
-        &Options {
-            max_level: 3,
-            leaf_size: 1,
-            ..Options::default()
-        },
-    )
-    .unwrap();
-    let w = probe.leaf_width();
+    let w = leaf_width(8.0, 3);
     let mut sources = vec![
         Source::Point(C64::new(0.0, 0.0)),
         Source::Point(C64::new(8.0, 8.0)),

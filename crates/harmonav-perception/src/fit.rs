@@ -22,7 +22,7 @@ use std::f64::consts::TAU;
 use harmonav_transform::ShapeError;
 use nalgebra::Vector2;
 
-use crate::free::{FreeSpace, sagitta};
+use crate::free::{FreeSpace, sagitta, segment_distance};
 use crate::perceived::{Certification, Perceived, certified_star};
 use crate::scan::{LaserScan, Pose};
 use crate::segment::{Segment, hit_point};
@@ -210,17 +210,6 @@ fn inside(poly: &[Vector2<f64>], x: Vector2<f64>) -> bool {
         }
     }
     odd
-}
-
-fn segment_distance(a: Vector2<f64>, b: Vector2<f64>, x: Vector2<f64>) -> f64 {
-    let ab = b - a;
-    let len2 = ab.norm_squared();
-    let t = if len2 > 0.0 {
-        ((x - a).dot(&ab) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (a + t * ab - x).norm()
 }
 
 /// The largest distance between two of the points (`O(m²)`).

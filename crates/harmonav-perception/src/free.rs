@@ -540,6 +540,7 @@ fn triangle(
     ))
 }
 
+/// The distance from `x` to the segment `[a, b]` (a point when `a = b`).
 pub(crate) fn segment_distance(a: Vector2<f64>, b: Vector2<f64>, x: Vector2<f64>) -> f64 {
     let ab = b - a;
     let len2 = ab.norm_squared();

@@ -7,7 +7,7 @@
 mod common;
 
 use harmonav_perception::{
-    FreeSpace, fit_in_scan, fit_segment, free_radius, hit_point, segment, side_beams,
+    FreeSpace, LaserScan, fit_in_scan, fit_segment, free_radius, hit_point, segment, side_beams,
 };
 use harmonav_transform::random::Rng;
 
@@ -41,12 +41,7 @@ fn the_free_disc_never_reaches_the_truth() {
 fn without_the_noise_bound_the_free_disc_reaches_the_truth() {
     let mut reached = 0;
     for seed in 0..TRIALS {
-        let mut t = common::trial(seed, 0.02);
-        t.lidar.noise = 0.02;
-        let mut rng = Rng::new(seed ^ 0xF4EE);
-        let scan = t
-            .lidar
-            .scan(&t.pose, std::slice::from_ref(&t.truth), None, &mut rng);
+        let (t, scan) = noisy_trial(seed);
         let free = free_radius(&scan, 0.0, t.options.rho_min);
         if free > t.truth.signed_distance(t.pose.position()) {
             reached += 1;
@@ -168,12 +163,7 @@ fn the_free_fan_never_reaches_the_truth() {
 fn without_the_noise_bound_or_the_sagitta_the_fan_reaches_the_truth() {
     let (mut noise_hits, mut sag_hits) = (0, 0);
     for seed in 0..TRIALS {
-        let mut t = common::trial(seed, 0.02);
-        t.lidar.noise = 0.02;
-        let mut rng = Rng::new(seed ^ 0xF4EE);
-        let scan = t
-            .lidar
-            .scan(&t.pose, std::slice::from_ref(&t.truth), None, &mut rng);
+        let (mut t, scan) = noisy_trial(seed);
         let truth = common::truth_points(&t.truth);
         let no_noise = FreeSpace::of_scan(&scan, &t.pose, 0.0, t.options.rho_min);
         noise_hits += usize::from(truth.iter().any(|&x| no_noise.fan_contains(x)));
@@ -195,4 +185,16 @@ fn without_the_noise_bound_or_the_sagitta_the_fan_reaches_the_truth() {
         sag_hits * 4 >= TRIALS as usize,
         "only {sag_hits} of {TRIALS} without sag"
     );
+}
+
+/// Trial `seed` read by a lidar that is ±2 cm noisy, and its scan: the set-up of the controls
+/// that drop the noise bound.
+fn noisy_trial(seed: u64) -> (common::Trial, LaserScan) {
+    let mut t = common::trial(seed, 0.02);
+    t.lidar.noise = 0.02;
+    let mut rng = Rng::new(seed ^ 0xF4EE);
+    let scan = t
+        .lidar
+        .scan(&t.pose, std::slice::from_ref(&t.truth), None, &mut rng);
+    (t, scan)
 }
