@@ -103,10 +103,7 @@ pub enum SolveError {
     },
     /// The far field's multipole tree refused its options ([`HarmonicMap::with_far_field`]: a
     /// tolerance outside `[1e-15, 1e-2]`).
-    FarField {
-        /// The multipole crate's reason.
-        reason: String,
-    },
+    FarField(harmonav_multipole::FmmError),
 }
 
 impl std::fmt::Display for SolveError {
@@ -117,7 +114,7 @@ impl std::fmt::Display for SolveError {
                 f,
                 "the boundary-element system is numerically singular (relative residual {residual:e})"
             ),
-            Self::FarField { reason } => write!(f, "the far field cannot be built: {reason}"),
+            Self::FarField(reason) => write!(f, "the far field cannot be built: {reason}"),
         }
     }
 }
@@ -434,9 +431,7 @@ impl HarmonicMap {
             max_level: FAR_FIELD_MAX_LEVEL,
             ..FmmOptions::default()
         };
-        let fmm = Fmm::new(&sources, &weights, &options).map_err(|e| SolveError::FarField {
-            reason: e.to_string(),
-        })?;
+        let fmm = Fmm::new(&sources, &weights, &options).map_err(SolveError::FarField)?;
         self.far = Some(Box::new(FarField {
             fmm,
             bound: tolerance * au.max(av),

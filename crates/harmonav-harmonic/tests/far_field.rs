@@ -134,7 +134,7 @@ fn the_far_field_is_chosen_by_the_element_count_and_can_be_set() {
     for bad in [0.0, 1e-16, 0.5, f64::NAN] {
         assert!(matches!(
             small.clone().with_far_field(Some(bad)),
-            Err(SolveError::FarField { .. })
+            Err(SolveError::FarField(_))
         ));
     }
 }
