@@ -107,6 +107,9 @@ impl std::fmt::Display for FmmError {
 
 impl std::error::Error for FmmError {}
 
+/// The deepest leaf level [`Options::max_level`] allows.
+const MAX_LEVEL: u32 = 8;
+
 /// The Barnes–Hut acceptance ratio outside the root box: a box's multipole serves `z` when the
 /// disc about its centre that holds its pieces (radius `w/√2`) is at most `ρ` of the distance.
 const RHO_OUTSIDE: f64 = 0.5;
@@ -154,7 +157,7 @@ impl<const C: usize> Fmm<C> {
                 range: "[1e-15, 1e-2]",
             });
         }
-        if !(2..=8).contains(&options.max_level) {
+        if !(2..=MAX_LEVEL).contains(&options.max_level) {
             return Err(FmmError::BadOption {
                 name: "max_level",
                 range: "[2, 8]",
@@ -550,8 +553,15 @@ impl<const C: usize> Fmm<C> {
         near: &mut impl FnMut(&Piece),
     ) {
         let terms = self.p + 1;
-        let mut stack = vec![(0u32, 0usize, 0usize)];
-        while let Some((l, ix, iy)) = stack.pop() {
+        // A depth-first walk on the stack, no allocation (it runs per evaluation: the point
+        // world's `h` leaves the root box near the outer boundary, which `Phi` sends far away).
+        // Each expanded box replaces itself by its 4 children, so at most `1 + 3L` boxes wait
+        // at once.
+        let mut stack = [(0u32, 0usize, 0usize); 1 + 3 * MAX_LEVEL as usize];
+        let mut len = 1;
+        while len > 0 {
+            len -= 1;
+            let (l, ix, iy) = stack[len];
             let nl = 1usize << l;
             let b = iy * nl + ix;
             if self.counts[l as usize][b] == 0 {
@@ -576,7 +586,10 @@ impl<const C: usize> Fmm<C> {
                     near(piece);
                 }
             } else {
-                stack.extend(children(ix, iy).map(|(cx, cy)| (l + 1, cx, cy)));
+                for child in children(ix, iy) {
+                    stack[len] = (l + 1, child.0, child.1);
+                    len += 1;
+                }
             }
         }
     }
