@@ -11,7 +11,10 @@
 //!   free point (the navigator's workspace is always indexed: its API has no lookup);
 //! - `many_workspace_us_m{M}_{direct,indexed}`: `Workspace::new` over the M shapes;
 //! - `many_field_us_m{M}_{direct,indexed}`: `Field::all_known` on that workspace;
-//! - `many_add_obstacle_us_m{M}`: one `Navigator::add_obstacle` with M − 1 obstacles known;
+//! - `many_add_obstacle_us_m{M}`: one `Navigator::add_obstacle` with M − 1 obstacles known
+//!   (navigators of their own); `..._clone`: the same in clones of one navigator (the first
+//!   discovery of a clone copies the shared workspace and multipole tree);
+//!   `many_add_obstacle_mean_us_m{M}`: the mean of the M − 1 discoveries from none (amortised);
 //! - `many_census_ms_m{M}_{direct,indexed}`: one `Field::census` (one run); and
 //!   `many_census_ms_m2000[_paper]` (indexed; default `k` and `k = M + 1`), issue 27's
 //!   census target, with the number of true saddles found.
@@ -115,31 +118,57 @@ pub fn figures(put: &mut dyn FnMut(&str, f64)) {
         let ws = Workspace::new(w.boundary.clone(), w.obstacles.clone(), w.goal)
             .expect("valid benchmark world");
         let pts = free_points(&ws);
-        let mut nav = Navigator::new(
-            w.boundary.clone(),
-            w.goal,
-            Law::kinematic(1.0),
-            Options::default(),
-        )
-        .expect("valid benchmark navigator");
+        let navigator = || {
+            Navigator::new(
+                w.boundary.clone(),
+                w.goal,
+                Law::kinematic(1.0),
+                Options::default(),
+            )
+            .expect("valid benchmark navigator")
+        };
+        // Every discovery from none to M in one navigator: their mean is the amortised cost
+        // (with the multipole tree's rebuilds at 128, 256, 512, … points).
+        let mut nav = navigator();
+        let t = Instant::now();
         for o in &w.obstacles[..m - 1] {
             nav.add_obstacle(o.clone())
                 .expect("valid benchmark obstacle");
         }
+        put(
+            &format!("many_add_obstacle_mean_us_m{m}"),
+            t.elapsed().as_secs_f64() * 1e6 / (m - 1) as f64,
+        );
         let last = w.obstacles[m - 1].clone();
-        let mut copies: Vec<Navigator> = (0..samples).map(|_| nav.clone()).collect();
-        let mut times: Vec<f64> = copies
-            .iter_mut()
-            .map(|n| {
-                let t = Instant::now();
-                black_box(n.add_obstacle(last.clone())).ok();
-                t.elapsed().as_nanos() as f64 / 1e3
+        let timed = |n: &mut Navigator| {
+            let t = Instant::now();
+            black_box(n.add_obstacle(last.clone())).ok();
+            t.elapsed().as_nanos() as f64 / 1e3
+        };
+        let median = |mut times: Vec<f64>| {
+            times.sort_by(f64::total_cmp);
+            times[times.len() / 2]
+        };
+        // The M-th discovery in navigators of their own (as a robot's navigator is).
+        let mut own: Vec<Navigator> = (0..samples)
+            .map(|_| {
+                let mut n = navigator();
+                for o in &w.obstacles[..m - 1] {
+                    n.add_obstacle(o.clone()).expect("valid benchmark obstacle");
+                }
+                n
             })
             .collect();
-        times.sort_by(f64::total_cmp);
         put(
             &format!("many_add_obstacle_us_m{m}"),
-            times[times.len() / 2],
+            median(own.iter_mut().map(timed).collect()),
+        );
+        // The same in clones of one navigator: a clone shares the workspace and the multipole
+        // tree, and its first discovery copies them (copy on write).
+        let mut copies: Vec<Navigator> = (0..samples).map(|_| nav.clone()).collect();
+        put(
+            &format!("many_add_obstacle_us_m{m}_clone"),
+            median(copies.iter_mut().map(timed).collect()),
         );
         let mut nav = copies.swap_remove(0);
         let reps = (2_000 / m).max(1);

@@ -4,10 +4,10 @@ use std::sync::Arc;
 
 use harmonav_potential::batch::CHUNK;
 use harmonav_potential::{CriticalPoint, PointWorld, PotentialError, Singularity, sigma_and_prime};
-use harmonav_transform::{Active, NavTransform, NotFree, Workspace, WorldError};
+use harmonav_transform::{Active, NavTransform, NotFree, StarShape, Workspace, WorldError};
 use nalgebra::{Matrix2, Vector2};
 
-use crate::k_policy::{KPolicy, layer_ratio};
+use crate::k_policy::{KPolicy, Layer};
 
 /// Why `Θ` cannot be evaluated or the field not built.
 #[derive(Clone, Debug, PartialEq)]
@@ -90,6 +90,8 @@ pub struct Field {
     stiffness: f64,
     /// How `k` follows the known obstacles.
     policy: KPolicy,
+    /// The terms of `layer_ratio`, kept for [`Field::push_obstacle`].
+    layer: Layer,
 }
 
 impl Field {
@@ -124,8 +126,8 @@ impl Field {
                 None => {}
             }
         }
-        let (transform, world) = build(&workspace, &ids, policy, None)?;
-        Ok(Self::from_parts(workspace, transform, world, policy))
+        let (transform, world, layer) = build(&workspace, &ids, policy, None)?;
+        Ok(Self::from_parts(workspace, transform, world, policy, layer))
     }
 
     /// The field of `Phi` and the point world built over `workspace` (the destination's
@@ -135,6 +137,7 @@ impl Field {
         transform: NavTransform,
         world: PointWorld,
         policy: KPolicy,
+        layer: Layer,
     ) -> Self {
         let stiffness = world.destination_stiffness();
         Self {
@@ -143,6 +146,7 @@ impl Field {
             world,
             stiffness,
             policy,
+            layer,
         }
     }
 
@@ -168,8 +172,8 @@ impl Field {
         policy: KPolicy,
     ) -> Result<Self, FieldError> {
         let ids: Vec<usize> = (0..workspace.obstacles().len()).collect();
-        let (transform, world) = build(&workspace, &ids, policy, Some(&self.world))?;
-        Ok(Self::from_parts(workspace, transform, world, policy))
+        let (transform, world, layer) = build(&workspace, &ids, policy, Some(&self.world))?;
+        Ok(Self::from_parts(workspace, transform, world, policy, layer))
     }
 
     /// This field with the point world summed directly at every point
@@ -190,11 +194,56 @@ impl Field {
         }
         let mut ids = self.transform.known().to_vec();
         ids.push(id);
-        let (transform, world) = build(&self.workspace, &ids, self.policy, Some(&self.world))?;
+        let (transform, world, layer) =
+            build(&self.workspace, &ids, self.policy, Some(&self.world))?;
         self.transform = transform;
         self.stiffness = world.destination_stiffness();
         self.world = world;
+        self.layer = layer;
         Ok(true)
+    }
+
+    /// A discovery in place: `obstacle` is added to the workspace as obstacle `M` (validated
+    /// as `Workspace::with_obstacle` validates it) and becomes known, in the next slot. The
+    /// result is the field [`Self::with_policy`] builds over that workspace with the same known
+    /// obstacles and `M` last: the same `Phi` bit for bit (the same widths `ε_i`, `ε_0`, gain
+    /// `A` and `k`: [`NavTransform::push`] narrows only the bands the new obstacle can narrow),
+    /// the same point world (its multipole sums to their tolerance, as
+    /// [`PointWorld::new_after`]'s), the same stiffness. Returns `M`.
+    ///
+    /// Cost: the new obstacle's own distances (to the boundary, the destination and its near
+    /// obstacles), a few index queries, the multipole push (`PointWorld::push`), and `O(M)`
+    /// comparisons and additions (the point world's duplicate check and valley sum, the layer
+    /// ratio when `ε_0` moves); nothing is rebuilt or copied, unless the workspace or the
+    /// multipole tree is shared with a clone of this field (then that one is copied once).
+    ///
+    /// Everything that can fail is checked before anything changes: on error the field is
+    /// unchanged. Errors: the workspace's ([`FieldError::World`]: overlap, outside the
+    /// boundary, containing the destination), a point world that cannot take the point, `k`
+    /// or the valley radius not finite (guards).
+    pub fn push_obstacle(&mut self, obstacle: StarShape) -> Result<usize, FieldError> {
+        let admitted = self.workspace.admit(obstacle)?;
+        let p = admitted.obstacle().centre();
+        let eps0 = self.transform.outer_width_with(admitted.to_boundary());
+        let term = Layer::term(&self.workspace, p);
+        let ratio = self.layer.ratio_with(term, eps0);
+        let k = self.policy.k_for(self.transform.known().len() + 1, ratio);
+        self.world.check_push(p, k)?;
+        let valley = self
+            .world
+            .valley_radius_with(p, k, self.transform.outer_centre());
+        if !(valley.is_finite() && valley >= 0.0) {
+            return Err(WorldError::InvalidValleyRadius { value: valley }.into());
+        }
+        // Commit: nothing below can fail (each error was ruled out above).
+        let ws = Arc::make_mut(&mut self.workspace);
+        let index = ws.commit(admitted)?;
+        self.transform.push(ws, index)?;
+        self.world.push(p, k)?;
+        self.transform.set_valley_radius(valley)?;
+        self.layer.push(term, eps0, ratio);
+        self.stiffness = self.world.destination_stiffness();
+        Ok(index)
     }
 
     /// The workspace.
@@ -384,10 +433,11 @@ fn build(
     known: &[usize],
     policy: KPolicy,
     previous: Option<&PointWorld>,
-) -> Result<(NavTransform, PointWorld), FieldError> {
+) -> Result<(NavTransform, PointWorld, Layer), FieldError> {
     // The bands do not depend on k; the layer rule of KPolicy::Auto depends on the bands.
     let transform = NavTransform::new(ws, known, 0.0)?;
-    let k = policy.k_for(known.len(), layer_ratio(ws, &transform));
+    let layer = Layer::new(ws, &transform);
+    let k = policy.k_for(known.len(), layer.ratio);
     let mut points = Vec::with_capacity(known.len());
     for &obstacle in known {
         let o = ws.obstacles().get(obstacle);
@@ -401,5 +451,5 @@ fn build(
     // The potential supplies the radius of its far-field valley, which Phi's outer band holds.
     let c0 = transform.outer_centre();
     let transform = transform.with_valley_radius(world.valley_radius(c0))?;
-    Ok((transform, world))
+    Ok((transform, world, layer))
 }

@@ -1,6 +1,7 @@
 //! How `k` of `phi_k` is chosen from the known world (`docs/maths.md` §8).
 
 use harmonav_transform::{NavTransform, Workspace};
+use nalgebra::Vector2;
 
 /// The rule that sets `k` of `phi_k` from the `n` known obstacles, at construction and at every
 /// discovery. Every policy gives `k > n` (lemma `attactive`), the only condition theorem `isNF`
@@ -44,14 +45,71 @@ pub const LAYER_FACTOR: f64 = 2.0;
 /// millimetres against the wall of a narrow workspace (`docs/maths.md` §8).
 #[must_use]
 pub fn layer_ratio(ws: &Workspace, transform: &NavTransform) -> f64 {
-    let eps0 = transform.outer_band().0;
-    transform
-        .points()
-        .map(|p| {
-            let room = -ws.boundary().signed_distance(p) - eps0;
-            (ws.destination() - p).norm() / room
-        })
-        .fold(0.0, f64::max)
+    Layer::new(ws, transform).ratio
+}
+
+/// [`layer_ratio`] with its terms kept, so that a discovery updates it without `M` distances
+/// to the boundary: per known point `|x_d − P_i|` and `d(P_i, ∂O_0) = −signed_distance`, and
+/// the ratio for the `ε_0` it was taken at. Every ratio is formed by the same expression
+/// as [`layer_ratio`]'s and the maximum is exact, so the result is the same bits.
+#[derive(Clone, Debug)]
+pub(crate) struct Layer {
+    /// `(|x_d − P_i|, d(P_i, ∂O_0))` per known point, slot order.
+    terms: Vec<(f64, f64)>,
+    /// `ε_0` of the ratio.
+    eps0: f64,
+    /// `max_i |x_d − P_i| / (d(P_i, ∂O_0) − ε_0)`, 0 with no point.
+    pub(crate) ratio: f64,
+}
+
+impl Layer {
+    /// The terms and the ratio of `transform`'s points in `ws`.
+    pub(crate) fn new(ws: &Workspace, transform: &NavTransform) -> Self {
+        let terms: Vec<(f64, f64)> = transform.points().map(|p| Self::term(ws, p)).collect();
+        let eps0 = transform.outer_band().0;
+        Self {
+            ratio: Self::max_ratio(&terms, eps0),
+            terms,
+            eps0,
+        }
+    }
+
+    /// `(|x_d − p|, −signed_distance(∂O_0, p))`.
+    pub(crate) fn term(ws: &Workspace, p: Vector2<f64>) -> (f64, f64) {
+        (
+            (ws.destination() - p).norm(),
+            -ws.boundary().signed_distance(p),
+        )
+    }
+
+    fn ratio_of((goal, wall): (f64, f64), eps0: f64) -> f64 {
+        goal / (wall - eps0)
+    }
+
+    fn max_ratio(terms: &[(f64, f64)], eps0: f64) -> f64 {
+        terms
+            .iter()
+            .map(|&t| Self::ratio_of(t, eps0))
+            .fold(0.0, f64::max)
+    }
+
+    /// The ratio with the point of `term` added and `ε_0 = eps0`: one new ratio if `ε_0` is
+    /// unchanged, else the maximum over the kept terms again (`M` divisions, no distance).
+    pub(crate) fn ratio_with(&self, term: (f64, f64), eps0: f64) -> f64 {
+        let old = if eps0 == self.eps0 {
+            self.ratio
+        } else {
+            Self::max_ratio(&self.terms, eps0)
+        };
+        old.max(Self::ratio_of(term, eps0))
+    }
+
+    /// Adds the point of `term`; `ratio` from [`Self::ratio_with`] for the same arguments.
+    pub(crate) fn push(&mut self, term: (f64, f64), eps0: f64, ratio: f64) {
+        self.terms.push(term);
+        self.eps0 = eps0;
+        self.ratio = ratio;
+    }
 }
 
 impl KPolicy {

@@ -76,6 +76,29 @@ impl FarField {
         })
     }
 
+    /// [`Self::extended`] in place by the last point of `all` (the tree holds the others): a
+    /// push into the tree (copied first only if shared), `true`; or, when the tree has grown to
+    /// twice the points it was built over, a rebuild over `all`, `true` if it succeeds. `false`
+    /// (the tree unusable: the caller rebuilds or drops it) when the point lies outside the
+    /// root box or the rebuild fails.
+    pub(crate) fn push(&mut self, all: &[Vector2<f64>]) -> bool {
+        let Some(p) = all.last() else {
+            return true;
+        };
+        if all.len() >= 2 * self.built {
+            return match Self::new(all) {
+                Some(far) => {
+                    *self = far;
+                    true
+                }
+                None => false,
+            };
+        }
+        Arc::make_mut(&mut self.fmm)
+            .push_point(C64::new(p.x, p.y), [1.0])
+            .is_ok()
+    }
+
     /// How many points the tree was built over, and how many it holds.
     #[cfg(test)]
     pub(crate) fn counts(&self) -> (usize, usize) {

@@ -23,6 +23,23 @@ pub struct PointWorld {
     k: f64,
     /// The multipole tree over `obstacles` (derived from them: not part of equality).
     far: Option<FarField>,
+    /// `Σ_i ln|P_d − P_i|²`, summed in order (derived: [`Self::destination_stiffness`]).
+    ln_destination: f64,
+}
+
+/// `r* = k/(k − M)·|D|`, `D = P_d − c − (1/k)·sum` with `sum = Σ_i (P_i − c)`
+/// ([`PointWorld::valley_radius`]).
+fn valley(destination: Vector2<f64>, c: Vector2<f64>, sum: Vector2<f64>, m: f64, k: f64) -> f64 {
+    let dipole = (destination - c) - sum / k;
+    k / (k - m) * dipole.norm()
+}
+
+/// `Σ_i ln|P_d − P_i|²` over `obstacles` in order, from `-0.0` (the sum that [`PointWorld::push`]
+/// continues term by term, so the same bits).
+fn ln_destination(destination: Vector2<f64>, obstacles: &[Vector2<f64>]) -> f64 {
+    obstacles
+        .iter()
+        .fold(-0.0, |s, p| s + ln_norm2(destination - p))
 }
 
 /// What the multipole path of `phi_and_grad` gives.
@@ -116,9 +133,74 @@ impl PointWorld {
         Ok(Self {
             destination,
             k: obstacles.len() as f64 + 1.0,
+            ln_destination: ln_destination(destination, &obstacles),
             obstacles,
             far,
         })
+    }
+
+    /// This world with the obstacle point `p` appended (index `M`, returned) and the parameter
+    /// `k`, in place: the world [`Self::new`]`(P_d, [P_1..P_M, p])`[`.with_k(k)`](Self::with_k)
+    /// (equal as a [`PartialEq`] world; its multipole sums to their tolerance, as
+    /// [`Self::new_after`]'s). The multipole tree, if any, takes the point by a push (`O(4^L p)`;
+    /// the tree is copied first only if another world shares it) and is rebuilt when it holds
+    /// twice the points it was built over; a world reaching [`FAR_MIN`] points gets its tree.
+    /// The duplicate check is a scan of the `M` points (comparisons only).
+    ///
+    /// Errors (the world is then unchanged): `p` not finite, at `P_d` or equal to an obstacle
+    /// point ([`PotentialError::DuplicateObstacle`], as [`Self::new`] names it), or `k` not
+    /// attractive for `M + 1` points ([`PotentialError::KNotAttractive`]).
+    pub fn push(&mut self, p: Vector2<f64>, k: f64) -> Result<usize, PotentialError> {
+        let m = self.check_push(p, k)?;
+        self.obstacles.push(p);
+        self.ln_destination += ln_norm2(self.destination - p);
+        self.k = k;
+        self.far = match self.far.take() {
+            Some(mut far) => far.push(&self.obstacles).then_some(far).or_else(|| {
+                // The push left the root box: rebuilt, as `new_after` does.
+                FarField::new(&self.obstacles)
+            }),
+            None if self.obstacles.len() >= FAR_MIN => FarField::new(&self.obstacles),
+            None => None,
+        };
+        Ok(m)
+    }
+
+    /// The checks of [`Self::push`]`(p, k)` without the push: `Ok(M)`, the index `p` would
+    /// get, or the error `push` would return.
+    pub fn check_push(&self, p: Vector2<f64>, k: f64) -> Result<usize, PotentialError> {
+        let m = self.obstacles.len();
+        if !(p.x.is_finite() && p.y.is_finite()) {
+            return Err(PotentialError::NonFinite { index: Some(m) });
+        }
+        if p == self.destination {
+            return Err(PotentialError::ObstacleAtDestination { index: m });
+        }
+        if let Some(first) = self.obstacles.iter().position(|q| *q == p) {
+            return Err(PotentialError::DuplicateObstacle { first, second: m });
+        }
+        if !(k.is_finite() && k > (m + 1) as f64) {
+            return Err(PotentialError::KNotAttractive {
+                k,
+                obstacles: m + 1,
+            });
+        }
+        Ok(m)
+    }
+
+    /// [`Self::valley_radius`] about `c` of this world with the obstacle point `p` appended and
+    /// the parameter `k`, without building it (the same sum in the same order, so the same
+    /// bits as [`Self::push`] then [`Self::valley_radius`]). `O(M)` additions.
+    #[must_use]
+    pub fn valley_radius_with(&self, p: Vector2<f64>, k: f64, c: Vector2<f64>) -> f64 {
+        let m = (self.obstacles.len() + 1) as f64;
+        let sum = self
+            .obstacles
+            .iter()
+            .chain(std::iter::once(&p))
+            .map(|q| q - c)
+            .sum::<Vector2<f64>>();
+        valley(self.destination, c, sum, m, k)
     }
 
     /// [`Self::new`], reusing the multipole tree of `previous` when it has one, the same
@@ -147,6 +229,7 @@ impl PointWorld {
                 Ok(Self {
                     destination,
                     k: obstacles.len() as f64 + 1.0,
+                    ln_destination: ln_destination(destination, &obstacles),
                     obstacles,
                     far,
                 })
@@ -509,20 +592,14 @@ impl PointWorld {
     /// `A ≥ 2r*`). Finite because `k > M`.
     pub fn valley_radius(&self, c: Vector2<f64>) -> f64 {
         let m = self.obstacles.len() as f64;
-        let dipole = (self.destination - c)
-            - self.obstacles.iter().map(|p| p - c).sum::<Vector2<f64>>() / self.k;
-        self.k / (self.k - m) * dipole.norm()
+        let sum = self.obstacles.iter().map(|p| p - c).sum::<Vector2<f64>>();
+        valley(self.destination, c, sum, m, self.k)
     }
 
     /// The scalar `2 / Π_i |P_d − P_i|^{2/k}` of [`Self::destination_hessian`]: the spring
     /// constant per unit `μ` used by the critical damping `lambda_c` (eq. `critdamp`).
     pub fn destination_stiffness(&self) -> f64 {
-        let ln_prod: f64 = self
-            .obstacles
-            .iter()
-            .map(|p| ln_norm2(self.destination - p))
-            .sum();
-        2.0 * (-ln_prod / self.k).exp()
+        2.0 * (-self.ln_destination / self.k).exp()
     }
 
     /// `2/|h_d| + (2/k) Σ_i 1/|h_i|`: the sum of the magnitudes of the terms of eq.

@@ -57,4 +57,4 @@ pub use index::{DiscIndex, Lookup};
 pub use nav::{Active, Mapped, NavTransform, NotFree};
 pub use outline::{DISTANCE_TOLERANCE, MAX_OUTLINE_VERTICES};
 pub use shape::{MAX_ANGLE, MAX_HARMONIC, MAX_LENGTH, StarShape};
-pub use workspace::{RobotWorldError, Workspace, WorldError};
+pub use workspace::{Admitted, RobotWorldError, Workspace, WorldError};

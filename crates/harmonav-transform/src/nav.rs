@@ -53,7 +53,10 @@ pub enum NotFree {
 #[derive(Clone, Debug)]
 struct Band {
     shape: StarShape,
+    /// `ε_i = f·gap`.
     eps: f64,
+    /// `min( min_j d(O_i, O_j), d(O_i, ∂O_0), 2 d(x_d, O_i) )` over the known `j ≠ i`.
+    gap: f64,
 }
 
 /// The navigation transformation for the known obstacles (`docs/maths.md` §5): obstacle `i`'s
@@ -82,6 +85,17 @@ pub struct NavTransform {
     reaches: DiscIndex,
     /// How the band of a point is found (the workspace's).
     lookup: Lookup,
+    /// The known obstacles' bounding discs `(c_i, max R_i)`, slot order (indexed lookup only):
+    /// the widths' neighbour search.
+    discs: DiscIndex,
+    /// The discs `(c_i, (max R_i + gap_i)(1 + 2⁻²⁰))` with `gap_i` as it was when slot `i` was
+    /// indexed (indexed lookup only): the slots whose width a new obstacle can narrow
+    /// ([`NavTransform::push`]).
+    narrowing: DiscIndex,
+    /// The slot of each workspace obstacle (`usize::MAX`: not known).
+    slot_of: Vec<usize>,
+    /// `min( min_i d(O_i, ∂O_0), 2 d(x_d, ∂O_0) )` over the known `i`: `ε_0 = f·d0`.
+    d0: f64,
     outer: StarShape,
     /// The centre of the outer map when it is not the boundary's own: the destination, for an
     /// ellipse boundary ([`NavTransform::outer_centre`]).
@@ -119,7 +133,7 @@ impl NavTransform {
         let mut bands = Vec::with_capacity(known.len());
         for (slot, &i) in known.iter().enumerate() {
             let start = ws.to_boundary(i).min(2.0 * ws.goal_to_obstacle(i));
-            let d = match lookup {
+            let gap = match lookup {
                 Lookup::Direct => known
                     .iter()
                     .filter(|&&j| j != i)
@@ -127,68 +141,186 @@ impl NavTransform {
                 Lookup::Indexed => nearest_gap(ws, &discs, known, &slot_of, slot, start),
             };
             let shape = ws.obstacles()[i].clone();
-            let eps = WIDTH_FACTOR * d;
-            bands.push(Band { shape, eps });
+            bands.push(Band {
+                shape,
+                eps: WIDTH_FACTOR * gap,
+                gap,
+            });
         }
+        let narrowing = match lookup {
+            Lookup::Direct => DiscIndex::default(),
+            Lookup::Indexed => DiscIndex::new(bands.iter().map(narrowing_disc)),
+        };
+        let d0 = known
+            .iter()
+            .map(|&i| ws.to_boundary(i))
+            .fold(2.0 * ws.goal_to_boundary(), f64::min);
         let outer = ws.boundary().clone();
-        let eps0 = WIDTH_FACTOR
-            * known
-                .iter()
-                .map(|&i| ws.to_boundary(i))
-                .fold(2.0 * ws.goal_to_boundary(), f64::min);
         let (r_min, r_max) = outer.radius_bounds();
         let about = (r_min < r_max
             && outer
                 .radius_about(ws.destination(), Vector2::new(1.0, 0.0))
                 .is_some())
         .then(|| ws.destination());
-        let inner = match about {
-            Some(_) => (ws.goal_to_boundary() - eps0).max(0.0),
-            None => (outer.radius_bounds().0 - eps0).max(0.0),
-        };
-        // Beyond (max R + ε) from its centre a band cannot contain the point.
-        let reach = bands
-            .iter()
-            .map(|b| {
-                let c = b.shape.centre();
-                let r = b.shape.radius_bounds().1 + b.eps;
-                [c.x, c.y, r * r]
-            })
-            .collect();
+        let reach = bands.iter().map(reach_of).collect();
         let reaches = match lookup {
             Lookup::Direct => DiscIndex::default(),
-            Lookup::Indexed => DiscIndex::new(
-                bands
-                    .iter()
-                    .map(|b| (b.shape.centre(), b.shape.radius_bounds().1 + b.eps)),
-            ),
+            Lookup::Indexed => DiscIndex::new(bands.iter().map(reach_disc)),
         };
-        Self {
+        let mut transform = Self {
             known: known.to_vec(),
             bands,
             reach,
             reaches,
             lookup,
+            discs,
+            narrowing,
+            slot_of,
+            d0,
             outer,
             about,
-            eps0,
-            gain: eps0,
-            inner2: inner * inner,
+            eps0: 0.0,
+            gain: 0.0,
+            inner2: 0.0,
+        };
+        transform.set_outer_width(ws, d0);
+        transform.with_valley_radius(valley_radius)
+    }
+
+    /// `ε_0 = f·d0` and the identity disc of the outer map that follows from it; the gain is
+    /// reset to `ε_0` (valley radius 0).
+    fn set_outer_width(&mut self, ws: &Workspace, d0: f64) {
+        self.d0 = d0;
+        self.eps0 = WIDTH_FACTOR * d0;
+        let inner = match self.about {
+            Some(_) => (ws.goal_to_boundary() - self.eps0).max(0.0),
+            None => (self.outer.radius_bounds().0 - self.eps0).max(0.0),
+        };
+        self.inner2 = inner * inner;
+        self.gain = self.eps0;
+    }
+
+    /// Obstacle `i` of `ws` becomes known, in the next slot: the same transformation as
+    /// [`Self::new`]`(ws, known ++ [i], 0)`, bit for bit (the same widths, reaches, `ε_0`
+    /// and gain `A = ε_0`; set the valley radius afterwards), without rebuilding the others.
+    /// `ws` must be the workspace this transformation was built on, or that workspace with
+    /// obstacles appended ([`Workspace::push_obstacle`]).
+    ///
+    /// Only the widths that the new obstacle narrows change. Slot `j`'s width is
+    /// `ε_j = f·gap_j`, `gap_j = min(start_j, min_{k known} d(O_j, O_k))` with `start_j =
+    /// min(d(O_j, ∂O_0), 2 d(x_d, O_j))` fixed by the workspace: a new known obstacle `i` adds
+    /// one term, so `gap_j' = min(gap_j, d(O_j, O_i))` (a minimum of the same numbers as the
+    /// rebuild's, so the same bits) and `ε_j` changes iff `d(O_j, O_i) < gap_j`. Those `j` are
+    /// found without a scan: a near pair's `d` is in `i`'s row of the workspace; a far pair's is
+    /// `|c_i − c_j| − R_i − R_j` ([`Workspace`]'s bounding-disc gap), below `gap_j` only if
+    /// `|c_i − c_j| < R_i + R_j + gap_j`, i.e. only if `c_i` comes within `R_i` of the disc
+    /// `(c_j, R_j + gap_j)`. Gaps only shrink, so the disc indexed when slot `j` was added
+    /// (padded by `2⁻²⁰` of itself against rounding) holds the current one, and the query of
+    /// that index about `c_i` with reach `R_i(1 + 2⁻²⁰)` reports every such `j` (and maybe
+    /// others, whose minimum does not move). `ε_0 = f·min(d0, d(O_i, ∂O_0))` likewise.
+    ///
+    /// The reach index keeps a narrowed band's former (larger) disc: it only prunes, and the
+    /// exact test on `reach` decides, as in [`Self::nav_transform`].
+    ///
+    /// Errors: [`WorldError::NoSuchObstacle`] if `i` is not an obstacle of `ws` or is known
+    /// already (nothing changes).
+    pub fn push(&mut self, ws: &Workspace, i: usize) -> Result<(), WorldError> {
+        self.push_with(ws, i, true)
+    }
+
+    /// [`Self::push`]; `narrow = false` leaves the other widths as they were (wrong: the test
+    /// that the incremental transformation equals a rebuilt one must detect it).
+    #[doc(hidden)]
+    pub fn push_with(&mut self, ws: &Workspace, i: usize, narrow: bool) -> Result<(), WorldError> {
+        let m = ws.obstacles().len();
+        if i >= m || self.slot_of.get(i).is_some_and(|&s| s != usize::MAX) {
+            return Err(WorldError::NoSuchObstacle { obstacle: i });
         }
-        .with_valley_radius(valley_radius)
+        self.slot_of.resize(m, usize::MAX);
+        let slot = self.known.len();
+        self.slot_of[i] = slot;
+        self.known.push(i);
+        let o = &ws.obstacles()[i];
+        let start = ws.to_boundary(i).min(2.0 * ws.goal_to_obstacle(i));
+        let gap = match self.lookup {
+            Lookup::Direct => self.known[..slot]
+                .iter()
+                .fold(start, |d, &j| d.min(ws.between(i, j))),
+            Lookup::Indexed => {
+                self.discs.push(o.centre(), o.radius_bounds().1);
+                nearest_gap(ws, &self.discs, &self.known, &self.slot_of, slot, start)
+            }
+        };
+        // The slots whose gap the new obstacle may narrow (a superset; the minimum decides).
+        let mut candidates = Vec::new();
+        if narrow {
+            match self.lookup {
+                Lookup::Direct => candidates.extend(0..slot),
+                Lookup::Indexed => {
+                    for &(j, _) in ws.near_pairs(i) {
+                        if let Some(&s) = self.slot_of.get(j)
+                            && s != usize::MAX
+                            && s != slot
+                        {
+                            candidates.push(s);
+                        }
+                    }
+                    let reach = o.radius_bounds().1 * (1.0 + 2f64.powi(-20));
+                    self.narrowing
+                        .near(o.centre(), reach, |s| candidates.push(s));
+                }
+            }
+        }
+        for s in candidates {
+            let d = ws.between(i, self.known[s]);
+            let band = &mut self.bands[s];
+            if d < band.gap {
+                band.gap = d;
+                band.eps = WIDTH_FACTOR * d;
+                self.reach[s] = reach_of(band);
+            }
+        }
+        let band = Band {
+            shape: o.clone(),
+            eps: WIDTH_FACTOR * gap,
+            gap,
+        };
+        self.reach.push(reach_of(&band));
+        if self.lookup == Lookup::Indexed {
+            let (c, r) = reach_disc(&band);
+            self.reaches.push(c, r);
+            let (c, r) = narrowing_disc(&band);
+            self.narrowing.push(c, r);
+        }
+        self.bands.push(band);
+        self.set_outer_width(ws, self.d0.min(ws.to_boundary(i)));
+        Ok(())
+    }
+
+    /// `ε_0` once an obstacle of clearance `d(O_i, ∂O_0) = to_boundary` becomes known
+    /// ([`Self::push`]), without pushing it: `f·min(d0, to_boundary)`.
+    #[must_use]
+    pub fn outer_width_with(&self, to_boundary: f64) -> f64 {
+        WIDTH_FACTOR * self.d0.min(to_boundary)
     }
 
     /// The same transformation with the stretch gain `A = max(ε_0, 2 r*)` for the valley
     /// radius `r* = valley_radius` (the bands do not depend on it). Errors: a `valley_radius`
     /// that is negative or not finite.
     pub fn with_valley_radius(mut self, valley_radius: f64) -> Result<Self, WorldError> {
+        self.set_valley_radius(valley_radius)?;
+        Ok(self)
+    }
+
+    /// [`Self::with_valley_radius`] in place (unchanged on error).
+    pub fn set_valley_radius(&mut self, valley_radius: f64) -> Result<(), WorldError> {
         if !(valley_radius.is_finite() && valley_radius >= 0.0) {
             return Err(WorldError::InvalidValleyRadius {
                 value: valley_radius,
             });
         }
         self.gain = self.eps0.max(2.0 * valley_radius);
-        Ok(self)
+        Ok(())
     }
 
     /// The known obstacles (indices into the workspace), in the order of their bands.
@@ -433,6 +565,25 @@ fn nearest_gap(
             (j != i && !is_near).then(|| ws.between(i, j))
         },
     )
+}
+
+/// `[c_x, c_y, (max R + ε)²]`: beyond `max R + ε` from its centre a band cannot hold a point.
+fn reach_of(b: &Band) -> [f64; 3] {
+    let c = b.shape.centre();
+    let r = b.shape.radius_bounds().1 + b.eps;
+    [c.x, c.y, r * r]
+}
+
+/// The disc `(c_i, max R_i + ε_i)` that holds band `i`.
+fn reach_disc(b: &Band) -> (Vector2<f64>, f64) {
+    (b.shape.centre(), b.shape.radius_bounds().1 + b.eps)
+}
+
+/// The disc `(c_i, (max R_i + gap_i)(1 + 2⁻²⁰))`: a far obstacle narrows band `i` only if its
+/// bounding disc reaches into it ([`NavTransform::push`]).
+fn narrowing_disc(b: &Band) -> (Vector2<f64>, f64) {
+    let r = b.shape.radius_bounds().1 + b.gap;
+    (b.shape.centre(), r * (1.0 + 2f64.powi(-20)))
 }
 
 /// Solves `f(ρ) = target` for increasing `f` on `[lo, hi]` by bisection.

@@ -130,6 +130,46 @@ pub struct Workspace {
     goal_to_obstacle: Vec<f64>,
     /// `d(x_d, ∂O_0)`.
     goal_to_boundary: f64,
+    /// `max_i max R_i` (0 with no obstacle): the reach of the near-pair queries.
+    r_max: f64,
+}
+
+/// An obstacle [`Workspace::admit`] validated as obstacle `M` of a workspace, with the
+/// distances it measured, for [`Workspace::commit`].
+#[derive(Clone, Debug)]
+pub struct Admitted {
+    /// The obstacle.
+    obstacle: StarShape,
+    /// Its index `M`.
+    index: usize,
+    /// Its near pairs `(j, d(O_M, O_j))`, sorted by `j`.
+    row: Vec<(usize, f64)>,
+    /// `d(O_M, ∂O_0)`.
+    to_boundary: f64,
+    /// `d(x_d, O_M)` (signed).
+    goal: f64,
+    /// `max R` over the obstacles with it.
+    r_max: f64,
+}
+
+impl Admitted {
+    /// The admitted obstacle `O_M`.
+    #[must_use]
+    pub fn obstacle(&self) -> &StarShape {
+        &self.obstacle
+    }
+
+    /// Its index `M` in the workspace.
+    #[must_use]
+    pub fn index(&self) -> usize {
+        self.index
+    }
+
+    /// Its certified clearance `d(O_M, ∂O_0)` ([`StarShape::clearance_inside`]).
+    #[must_use]
+    pub fn to_boundary(&self) -> f64 {
+        self.to_boundary
+    }
 }
 
 impl Workspace {
@@ -216,6 +256,7 @@ impl Workspace {
             to_boundary,
             goal_to_obstacle: Vec::new(),
             goal_to_boundary: 0.0,
+            r_max,
         };
         ws.check_free(destination, "destination")?;
         ws.goal_to_obstacle = ws
@@ -229,22 +270,46 @@ impl Workspace {
 
     /// This workspace with `obstacle` added as obstacle `M + 1` (index `M`), validated against
     /// the boundary, the known obstacles and the destination as in [`Self::new`], and the cached
-    /// distances extended by its row alone: `O(M)` distance queries instead of `O(M²)`. Used
-    /// when obstacles become known one at a time.
+    /// distances extended by its row alone: the distance queries of the obstacles near it
+    /// (found by the index) instead of `O(M²)`. Used when obstacles become known one at a time;
+    /// [`Self::push_obstacle`] does the same in place, without the copy of the `M` obstacles.
     ///
     /// Errors: the obstacle overlaps or touches obstacle `first` ([`WorldError::Overlap`] with
     /// `second = M`), is not strictly inside the boundary, or contains the destination.
     pub fn with_obstacle(&self, obstacle: StarShape) -> Result<Self, WorldError> {
+        let admitted = self.admit(obstacle)?;
+        let mut ws = self.clone();
+        ws.commit(admitted)?;
+        Ok(ws)
+    }
+
+    /// [`Self::with_obstacle`] in place: `obstacle` becomes obstacle `M + 1` (index `M`, which
+    /// is returned). Its row is measured and validated first and only then appended (with its
+    /// distance to each near obstacle added to that obstacle's row), so on error the workspace
+    /// is unchanged. Cost: the new obstacle's own distances (to the boundary, the destination
+    /// and its near obstacles) and `O(log M)` for the index; nothing is copied.
+    ///
+    /// Errors: those of [`Self::with_obstacle`].
+    pub fn push_obstacle(&mut self, obstacle: StarShape) -> Result<usize, WorldError> {
+        let admitted = self.admit(obstacle)?;
+        self.commit(admitted)
+    }
+
+    /// The first half of [`Self::push_obstacle`]: `obstacle` validated as obstacle `M` and its
+    /// cached distances measured (its clearance `d(O_M, ∂O_0)`, its near pairs `d(O_M, O_j)`:
+    /// the index's candidates within reach, each measured on the outlines, and its signed
+    /// distance to `x_d`), without changing the workspace. A caller that has more to check
+    /// before a discovery takes effect (`Field::push_obstacle`) checks it between this and
+    /// [`Self::commit`].
+    ///
+    /// Errors: those of [`Self::with_obstacle`].
+    pub fn admit(&self, obstacle: StarShape) -> Result<Admitted, WorldError> {
         let m = self.obstacles.len();
         let to_boundary = obstacle.clearance_inside(&self.boundary);
         if to_boundary <= 0.0 || !self.boundary.contains(obstacle.centre()) {
             return Err(WorldError::OutsideBoundary { obstacle: m });
         }
-        let r_max = self
-            .obstacles
-            .iter()
-            .map(|o| o.radius_bounds().1)
-            .fold(obstacle.radius_bounds().1, f64::max);
+        let r_max = self.r_max.max(obstacle.radius_bounds().1);
         let mut candidates = Vec::new();
         match self.lookup {
             Lookup::Direct => candidates.extend(0..m),
@@ -274,18 +339,42 @@ impl Workspace {
                 obstacle: m,
             });
         }
-        let goal = obstacle.signed_distance(self.destination);
-        let mut ws = self.clone();
-        for &(j, d) in &row {
-            // Rows stay sorted: m is the largest index.
-            ws.near[j].push((m, d));
+        Ok(Admitted {
+            index: m,
+            row,
+            to_boundary,
+            goal: obstacle.signed_distance(self.destination),
+            r_max,
+            obstacle,
+        })
+    }
+
+    /// The second half of [`Self::push_obstacle`]: appends the obstacle that [`Self::admit`]
+    /// admitted, with what it measured, and returns its index `M`.
+    ///
+    /// Errors: [`WorldError::NoSuchObstacle`] (nothing changes) if the workspace has gained or
+    /// lost obstacles since the admission (the admission is then stale). An admission must be
+    /// committed to the workspace that made it.
+    pub fn commit(&mut self, admitted: Admitted) -> Result<usize, WorldError> {
+        let m = self.obstacles.len();
+        if admitted.index != m {
+            return Err(WorldError::NoSuchObstacle {
+                obstacle: admitted.index,
+            });
         }
-        ws.near.push(row);
-        ws.index.push(obstacle.centre(), obstacle.radius_bounds().1);
-        ws.obstacles.push(obstacle);
-        ws.to_boundary.push(to_boundary);
-        ws.goal_to_obstacle.push(goal);
-        Ok(ws)
+        let obstacle = admitted.obstacle;
+        for &(j, d) in &admitted.row {
+            // Rows stay sorted: m is the largest index.
+            self.near[j].push((m, d));
+        }
+        self.near.push(admitted.row);
+        self.index
+            .push(obstacle.centre(), obstacle.radius_bounds().1);
+        self.obstacles.push(obstacle);
+        self.to_boundary.push(admitted.to_boundary);
+        self.goal_to_obstacle.push(admitted.goal);
+        self.r_max = admitted.r_max;
+        Ok(m)
     }
 
     /// The workspace of a disc robot of radius `robot_radius` (configuration space): every

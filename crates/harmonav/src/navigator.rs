@@ -226,20 +226,15 @@ impl Navigator {
     /// the robot's last commanded position; the shape cannot be grown.
     pub fn add_obstacle(&mut self, shape: StarShape) -> Result<usize, NavError> {
         let (grown, inner) = self.options.grow(&shape, self.last.map(|(x, _)| x))?;
-        let ws = self
-            .field
-            .workspace()
-            .with_obstacle(grown)
-            .map_err(|e| match e {
-                WorldError::Overlap { first, .. } => NavError::Overlap { obstacle: first },
-                WorldError::InObstacle { .. } => NavError::ContainsGoal,
-                _ => NavError::CrossesBoundary,
-            })?;
-        let field = self
-            .field
-            .all_known_after(Arc::new(ws), self.options.k)
-            .map_err(NavError::Field)?;
-        self.field = field;
+        // In place, validated before anything changes (`Field::push_obstacle`).
+        self.field.push_obstacle(grown).map_err(|e| match e {
+            FieldError::World(WorldError::Overlap { first, .. }) => {
+                NavError::Overlap { obstacle: first }
+            }
+            FieldError::World(WorldError::InObstacle { .. }) => NavError::ContainsGoal,
+            FieldError::World(WorldError::OutsideBoundary { .. }) => NavError::CrossesBoundary,
+            e => NavError::Field(e),
+        })?;
         self.inner.extend(inner);
         self.speed_at_discovery = self.last.map_or(0.0, |(_, v)| v.norm());
         let index = self.field.known().len() - 1;
