@@ -9,8 +9,9 @@
 //!   and out-of-range readings classified as ROS does (REP 117);
 //! - [`segment()`]: the ordered scan split at range jumps (eq. jump), ends [`End::Occluded`]
 //!   beside a closer return;
-//! - [`Perception::explained`]: hits within the noise bound of a known shape or of the known
-//!   boundary are dropped (eq. explained);
+//! - [`Perception::explained`]: hits within the noise bound of the known boundary or a map
+//!   obstacle, or of a perceived shape near the hits it was fitted to, are dropped (eqs.
+//!   explained, attribution);
 //! - [`fit_segment`]: the conservative star of a segment (eqs. sagitta, region, fit, certify);
 //! - [`FreeSpace`]: what the scan shows free (eq. freefan) and the wall prior (eq. wallgap),
 //!   left out of each fit's region;
@@ -84,11 +85,20 @@
 //!
 //! ## Explained hits, growth and disjointness
 //!
-//! A hit within `ε_x = max(ε, ε_g)` ([`Options::growth_threshold`]) of a known shape (map
-//! obstacle or perceived) or of the known boundary is attributed to it (eq. explained). This
-//! keeps repeated scans of a perceived obstacle from growing it (its true surface is inside it,
-//! so the hits are within `ε`) and makes growth events finitely many (`ε_g > 0`); it also
-//! assumes that an unknown obstacle does not come within `ε + ε_x` of a known one. A fit that
+//! A hit within `ε_x = max(ε, ε_g)` ([`Options::growth_threshold`]) of a map obstacle or of the
+//! known boundary is attributed to it (eq. explained), which assumes that an unknown obstacle
+//! does not come within `ε + ε_x` of an exact one. A perceived shape explains less: it holds its
+//! obstacle and also, on its unseen side closed `D` behind, empty room where a neighbour out of
+//! view may stand. So a segment is dropped only when one perceived shape `P` is within `ε_x` of
+//! every hit and some hit lies within `d_ev` ([`Options::evidence_radius`]) of the hits `P` was
+//! fitted to (eq. attribution), under
+//!
+//! - **(A5) separation.** Two obstacles stay more than `d_ev + 2ε` apart.
+//!
+//! Then the segment is on `P`'s obstacle, which `P` holds; any other segment with a hit that no
+//! shape explains is fitted whole. This keeps repeated scans of a perceived obstacle from growing
+//! it and makes growth events finitely many (`ε_g > 0`: event hits are `min(ε_x − τ, d_ev/2)`
+//! apart, docs/maths.md §12.8). A fit that
 //! overlaps a perceived shape is merged with it ([`merge`]): the merged star contains both (eq.
 //! certify over both boundaries), so perceived shapes only grow and stay disjoint.
 

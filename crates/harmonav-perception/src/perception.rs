@@ -32,9 +32,11 @@ pub struct Options {
     /// larger than the region it contains.
     pub check_spacing: f64,
     /// `ε_g`, m: the growth threshold. A hit is explained (eq. explained) when it lies within
-    /// `ε_x = max(ε, ε_g)` of a known shape, so a shape grows only for a hit more than `ε_x`
-    /// outside every known shape. With `ε_g > 0` the hits that cause growth are `ε_x` apart,
-    /// so a bounded region sees finitely many growths (docs/maths.md §12.6).
+    /// `ε_x = max(ε, ε_g)` of a known shape (and, for a perceived shape, within the evidence
+    /// radius of a hit it was fitted to), so a shape grows only for a hit more than `ε_x`
+    /// outside it or away from its evidence. With `ε_g > 0` the hits that cause growth are
+    /// `min(ε_x, d_ev/2)` apart, so a bounded region sees finitely many growths (docs/maths.md
+    /// §12.6).
     pub growth_threshold: f64,
     /// `g`, m: shapes closer than this merge ([`merge`]), not only overlapping ones (by the
     /// certified distance, which may exceed the true one by its bracket). A navigator that grows
@@ -50,6 +52,10 @@ pub struct Options {
     /// Which of the scan's free evidence the fits leave out (eq. free's disc, the default, or
     /// eq. freefan's fan; `crate::free`).
     pub free_evidence: FreeEvidence,
+    /// `d_ev`, m, of eq. attribution ([`Options::evidence_radius`]); `None` (the default) for
+    /// `max(d0 + 2ε, h)`. (A5) then asks obstacles to stay `d_ev + 2ε` apart: a larger value
+    /// is a stronger assumption.
+    pub evidence: Option<f64>,
 }
 
 impl Default for Options {
@@ -67,13 +73,15 @@ impl Default for Options {
             merge_gap: 0.0,
             wall_gap: 0.0,
             free_evidence: FreeEvidence::Disc,
+            evidence: None,
         }
     }
 }
 
 impl Options {
     /// Errors unless `0 ≤ ε ≤ 10`, `0 < D ≤ 100`, `0 < ρ_min ≤ 1e3`, `0 ≤ d0 ≤ 100`,
-    /// `1 ≤ order ≤ 16`, `1e-4 ≤ h ≤ D/4`, `0 < ε_g ≤ 10`, `0 ≤ g ≤ 100`, `0 ≤ g_w ≤ 100` (finite, m). `h` bounds the cover's size, `~2πD/h`
+    /// `1 ≤ order ≤ 16`, `1e-4 ≤ h ≤ D/4`, `0 < ε_g ≤ 10`, `0 ≤ g ≤ 100`, `0 ≤ g_w ≤ 100`,
+    /// `0 < d_ev ≤ 1e3` when given (finite, m). `h` bounds the cover's size, `~2πD/h`
     /// samples per disc of `K`.
     pub fn validate(&self) -> Result<(), PerceptionError> {
         let check = |field: &'static str, v: f64, lo: f64, hi: f64, open_lo: bool| {
@@ -105,7 +113,21 @@ impl Options {
         check("growth_threshold", self.growth_threshold, 0.0, 10.0, true)?;
         check("merge_gap", self.merge_gap, 0.0, 100.0, false)?;
         check("wall_gap", self.wall_gap, 0.0, 100.0, false)?;
+        if let Some(d) = self.evidence {
+            check("evidence", d, 0.0, 1e3, true)?;
+        }
         Ok(())
+    }
+
+    /// `d_ev`, m: [`Options::evidence`], by default `max(d0 + 2ε, h)`; the evidence radius of
+    /// eq. explained. A hit is attributed to
+    /// a perceived shape only within `d_ev` of a hit that shape was fitted to; (A5) asks that two
+    /// obstacles stay more than `d_ev + 2ε` apart (the segmentation of eq. jump already joins
+    /// obstacles nearer than `d0`).
+    #[must_use]
+    pub fn evidence_radius(&self) -> f64 {
+        self.evidence
+            .unwrap_or((self.jump_distance + 2.0 * self.range_noise).max(self.check_spacing))
     }
 
     fn fit_params(&self) -> FitParams {
@@ -216,6 +238,29 @@ pub struct Perception {
     boundary: Option<StarShape>,
     map: Vec<StarShape>,
     perceived: Vec<Perceived>,
+    /// For each perceived shape, the hits it was fitted to (thinned to `d_ev/2` apart): the
+    /// evidence of eq. explained.
+    evidence: Vec<Vec<Vector2<f64>>>,
+}
+
+/// Who explains a hit (eq. explained).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Explanation {
+    /// The known boundary or a map obstacle (exact shapes): the hit is dropped.
+    Map,
+    /// A perceived shape, near a hit it was fitted to.
+    Perceived,
+    /// Nothing: the hit's segment is fitted.
+    None,
+}
+
+/// Adds the points of `new` that lie more than `spacing` from every point of `evidence`.
+fn thin_into(evidence: &mut Vec<Vector2<f64>>, new: &[Vector2<f64>], spacing: f64) {
+    for &p in new {
+        if evidence.iter().all(|e| (e - p).norm() > spacing) {
+            evidence.push(p);
+        }
+    }
 }
 
 impl Perception {
@@ -232,6 +277,7 @@ impl Perception {
             boundary,
             map,
             perceived: Vec::new(),
+            evidence: Vec::new(),
         })
     }
 
@@ -263,17 +309,27 @@ impl Perception {
 
     /// Whether hit `p` is explained by a known shape within `ε_x = max(ε, ε_g)` (the noise
     /// bound or the growth threshold, [`Options::growth_threshold`]; certified bounds of
-    /// `StarShape::signed_distance_bounds`):
+    /// `StarShape::signed_distance_bounds`), and, for a perceived shape `P`, near its
+    /// evidence `E_P` (the hits it was fitted to; `d_ev` of [`Options::evidence_radius`]):
     ///
     /// ```text
-    /// obstacle S (map or perceived):  hi_S(p) ≤ ε_x    (p is within ε_x outside S, or inside)
-    /// boundary B:                     lo_B(p) ≥ −ε_x   (p is within ε_x inside B, or beyond)
+    /// map obstacle S (exact):  hi_S(p) ≤ ε_x    (p is within ε_x outside S, or inside)
+    /// boundary B:              lo_B(p) ≥ −ε_x   (p is within ε_x inside B, or beyond)
+    /// perceived P:             hi_P(p) ≤ ε_x  and  min_{e ∈ E_P} |p − e| ≤ d_ev      (eq. explained)
     /// ```
     ///
-    /// (eq. explained). Quick rejects by the bounding discs `|p − c| > max R + ε_x` and
-    /// `|p − c_B| < min R_B − ε_x`.
+    /// A hit inside a perceived shape proves only that *some* obstacle is there: the shape's
+    /// unseen side, closed `D` behind what it saw, may reach over a neighbour that was out of
+    /// view. Near the shape's evidence, under (A5), the hit is on the obstacle the shape was
+    /// fitted to, which it contains. Quick rejects by the bounding discs `|p − c| > max R + ε_x`
+    /// and `|p − c_B| < min R_B − ε_x`.
     #[must_use]
     pub fn explained(&self, p: Vector2<f64>) -> bool {
+        self.explanation(p) != Explanation::None
+    }
+
+    /// Eq. explained, saying by what.
+    fn explanation(&self, p: Vector2<f64>) -> Explanation {
         let eps = self.options.range_noise.max(self.options.growth_threshold);
         let near = |s: &StarShape| {
             (p - s.centre()).norm() <= s.radius_bounds().1 + eps
@@ -283,18 +339,60 @@ impl Perception {
             && (p - b.centre()).norm() >= b.radius_bounds().0 - eps
             && b.signed_distance_bounds(p).0 >= -eps
         {
-            return true;
+            return Explanation::Map;
         }
-        self.map.iter().any(near) || self.perceived.iter().any(|s| near(s.shape()))
+        if self.map.iter().any(near) {
+            return Explanation::Map;
+        }
+        let d_ev = self.options.evidence_radius();
+        let by_perceived = self
+            .perceived
+            .iter()
+            .zip(&self.evidence)
+            .any(|(s, e)| near(s.shape()) && e.iter().any(|e| (e - p).norm() <= d_ev));
+        if by_perceived {
+            Explanation::Perceived
+        } else {
+            Explanation::None
+        }
+    }
+
+    /// The perceived shape that a segment's `hits` (one obstacle, (A2)) lie on: the first `P`
+    /// with `hi_P(p) ≤ ε_x` for every hit and `|p − e| ≤ d_ev` for some hit `p` and some `e`
+    /// of its evidence `E_P`:
+    ///
+    /// ```text
+    /// ∀p: hi_P(p) ≤ ε_x   and   ∃p, e ∈ E_P: |p − e| ≤ d_ev                    (eq. attribution)
+    /// ```
+    ///
+    /// Under (A5) the hit near `E_P` lies on the obstacle of that evidence, which `P` holds, and
+    /// under (A2) so does the whole segment.
+    fn attribution(&self, hits: &[Vector2<f64>]) -> Option<usize> {
+        let eps = self.options.range_noise.max(self.options.growth_threshold);
+        let d_ev = self.options.evidence_radius();
+        self.perceived
+            .iter()
+            .zip(&self.evidence)
+            .position(|(s, e)| {
+                let s = s.shape();
+                hits.iter().all(|&p| {
+                    (p - s.centre()).norm() <= s.radius_bounds().1 + eps
+                        && s.signed_distance_bounds(p).1 <= eps
+                }) && hits
+                    .iter()
+                    .any(|p| e.iter().any(|e| (e - p).norm() <= d_ev))
+            })
     }
 
     /// Updates the perceived shapes from one scan taken at `pose`:
     ///
     /// 1. checks the scan and pose ([`LaserScan::validate`], [`Pose::validate`]; the sensor
     ///    must not lie in a known shape or outside the boundary);
-    /// 2. drops the hits explained by known shapes (eq. explained);
-    /// 3. segments the rest ([`segment`], eq. jump);
-    /// 4. fits each segment ([`fit_in_scan`]; segments wider than `D + 2ε` are reported in
+    /// 2. drops the hits explained by the boundary or a map obstacle (eq. explained);
+    /// 3. segments the rest ([`segment`], eq. jump), and keeps the segments that hold a hit no
+    ///    perceived shape explains (eq. explained);
+    /// 4. fits each whole segment kept ([`fit_in_scan`]; a fit inside the perceived shape of
+    ///    its hits (certified) only adds them to its evidence; segments wider than `D + 2ε` are reported in
     ///    [`Observation::unfitted`]), leaving out of each region what the scan shows free and,
     ///    with [`Options::wall_gap`], what lies nearer the wall (eqs. freefan, wallgap);
     /// 5. merges each fit with every perceived shape it overlaps or comes within
@@ -329,17 +427,41 @@ impl Perception {
         let n = scan.ranges.len();
         let mut obs = Observation::default();
         let mut usable = vec![false; n];
-        for (i, flag) in usable.iter_mut().enumerate() {
+        let mut unexplained = vec![false; n];
+        for i in 0..n {
             if let Some(p) = hit_point(scan, &pose, i) {
                 obs.hits += 1;
-                if self.explained(p) {
-                    obs.explained += 1;
-                } else {
-                    *flag = true;
+                match self.explanation(p) {
+                    Explanation::Map => obs.explained += 1,
+                    Explanation::Perceived => usable[i] = true,
+                    Explanation::None => (usable[i], unexplained[i]) = (true, true),
                 }
             }
         }
-        obs.segments = segment(scan, &pose, &usable, self.options.jump_distance);
+        // Eq. attribution: a segment (one obstacle, under (A2)) with a hit near the evidence
+        // of a perceived shape `P` and every hit within `ε_x` of `P` is on `P`'s obstacle
+        // (A5), which `P` holds: it is dropped whole and its hits join `P`'s evidence. Any
+        // other segment with a hit that no shape explains is fitted whole (its neighbours on
+        // the same obstacle make its `K` tight).
+        let d_ev = self.options.evidence_radius();
+        let mut attributed: Vec<(usize, Vec<Vector2<f64>>)> = Vec::new();
+        obs.segments = segment(scan, &pose, &usable, self.options.jump_distance)
+            .into_iter()
+            .filter(|seg| {
+                let hits: Vec<Vector2<f64>> = seg
+                    .beams
+                    .iter()
+                    .filter_map(|&i| hit_point(scan, &pose, i))
+                    .collect();
+                if let Some(j) = self.attribution(&hits) {
+                    attributed.push((j, hits));
+                } else if seg.beams.iter().any(|&i| unexplained[i]) {
+                    return true;
+                }
+                obs.explained += seg.beams.len();
+                false
+            })
+            .collect();
         let params = self.options.fit_params();
         let h = self.options.check_spacing;
         let wall = self
@@ -356,14 +478,23 @@ impl Perception {
         )
         .with_wall(wall);
         // Work on a copy: the update is all or nothing.
-        let mut shapes: Vec<(Perceived, Origin)> = self
+        let mut shapes: Vec<(Perceived, Origin, Vec<Vector2<f64>>)> = self
             .perceived
             .iter()
             .cloned()
+            .zip(self.evidence.iter().cloned())
             .enumerate()
-            .map(|(i, p)| (p, Origin::Old(i)))
+            .map(|(i, (p, e))| (p, Origin::Old(i), e))
             .collect();
+        for (j, hits) in &attributed {
+            thin_into(&mut shapes[*j].2, hits, 0.5 * d_ev);
+        }
         for (k, seg) in obs.segments.iter().enumerate() {
+            let hits: Vec<Vector2<f64>> = seg
+                .beams
+                .iter()
+                .filter_map(|&i| hit_point(scan, &pose, i))
+                .collect();
             let fit = match fit_in_scan(scan, &pose, seg, &params, &free) {
                 Ok(fit) => fit,
                 Err(e @ FitFailure::WiderThanDepth { .. }) => {
@@ -372,12 +503,25 @@ impl Perception {
                 }
                 Err(FitFailure::Shape(e)) => return Err(PerceptionError::Shape(e)),
             };
+            // A fit that a shape already holds (certified over the fit's boundary cover, eq.
+            // certify) adds its hits to that shape's evidence and changes nothing else.
+            if let Some((_, _, evidence)) = shapes
+                .iter_mut()
+                .find(|(other, _, _)| holds(other, &fit.perceived, h))
+            {
+                thin_into(evidence, &hits, 0.5 * d_ev);
+                continue;
+            }
             let mut current = fit.perceived;
             let mut origin = Origin::New;
-            while let Some(j) = shapes.iter().position(|(other, _)| {
+            let mut evidence = Vec::new();
+            thin_into(&mut evidence, &hits, 0.5 * d_ev);
+            while let Some(j) = shapes.iter().position(|(other, _, _)| {
                 current.shape().distance_to(other.shape()) <= self.options.merge_gap
             }) {
-                let (other, other_origin) = shapes.remove(j);
+                let (other, other_origin, other_evidence) = shapes.remove(j);
+                let fresh = std::mem::replace(&mut evidence, other_evidence);
+                thin_into(&mut evidence, &fresh, 0.5 * d_ev);
                 current = match merge(&current, &other, h, params.order) {
                     Ok((merged, _)) => merged,
                     Err(MergeFailure::Shape(e)) => return Err(PerceptionError::Shape(e)),
@@ -401,34 +545,46 @@ impl Perception {
                     with: Known::Map(i),
                 });
             }
-            shapes.push((current, origin));
+            shapes.push((current, origin, evidence));
         }
         // Keep old shapes in their order (grown ones in place of the lowest index they
         // absorbed), new ones after.
-        let mut ordered: Vec<(usize, Perceived, Origin)> = shapes
+        let mut ordered: Vec<(usize, Perceived, Origin, Vec<Vector2<f64>>)> = shapes
             .into_iter()
-            .map(|(p, o)| {
+            .map(|(p, o, e)| {
                 let key = match o {
                     Origin::Old(i) | Origin::Grown(i) => i,
                     Origin::New => usize::MAX,
                 };
-                (key, p, o)
+                (key, p, o, e)
             })
             .collect();
         ordered.sort_by_key(|t| t.0);
         self.perceived = Vec::with_capacity(ordered.len());
-        for (idx, (_, p, o)) in ordered.into_iter().enumerate() {
+        self.evidence = Vec::with_capacity(ordered.len());
+        for (idx, (_, p, o, e)) in ordered.into_iter().enumerate() {
             match o {
                 Origin::New => obs.added.push(idx),
                 Origin::Grown(_) => obs.grown.push(idx),
                 Origin::Old(_) => {}
             }
             self.perceived.push(p);
+            self.evidence.push(e);
         }
         obs.absorbed.sort_unstable();
         obs.absorbed.dedup();
         Ok(obs)
     }
+}
+
+/// Whether `outer` holds `inner`: every sample of `inner`'s boundary cover (every boundary
+/// point within `h/2` of one) lies at least `h/2` inside `outer` (certified), so `∂inner ⊂ outer`
+/// and, `outer` being a star, `inner ⊂ outer` (eq. certify).
+fn holds(outer: &Perceived, inner: &Perceived, h: f64) -> bool {
+    inner
+        .boundary_cover(h)
+        .into_iter()
+        .all(|x| outer.shape().signed_distance_bounds(x).1 <= -0.5 * h)
 }
 
 /// Where a shape of the update's working list comes from.

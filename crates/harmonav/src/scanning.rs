@@ -39,6 +39,10 @@ pub struct ScanOptions {
     /// Which of the scan's free evidence the fits leave out: eq. free's disc (the default) or
     /// the whole free fan of eq. freefan (docs/maths.md §12.7).
     pub free_evidence: harmonav_perception::FreeEvidence,
+    /// `d_ev`, m, of eq. attribution (docs/maths.md §12.8): a hit is put down to a perceived
+    /// shape only within `d_ev` of a hit that shape was fitted to, assuming (A5) that two
+    /// obstacles stay `d_ev + 2ε` apart. `None` (the default): `max(d0 + 2ε, h)`.
+    pub evidence: Option<f64>,
 }
 
 impl Default for ScanOptions {
@@ -54,6 +58,7 @@ impl Default for ScanOptions {
             check_spacing: p.check_spacing,
             wall_gap: p.wall_gap,
             free_evidence: p.free_evidence,
+            evidence: p.evidence,
         }
     }
 }
@@ -76,6 +81,7 @@ impl ScanOptions {
             merge_gap: 2.0 * inflation,
             wall_gap: self.wall_gap,
             free_evidence: self.free_evidence,
+            evidence: self.evidence,
         }
     }
 
