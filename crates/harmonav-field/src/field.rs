@@ -214,8 +214,10 @@ impl Field {
     /// Cost: the new obstacle's own distances (to the boundary, the destination and its near
     /// obstacles), a few index queries, the multipole push (`PointWorld::push`), and `O(M)`
     /// comparisons and additions (the point world's duplicate check and valley sum, the layer
-    /// ratio when `ε_0` moves); nothing is rebuilt or copied, unless the workspace or the
-    /// multipole tree is shared with a clone of this field (then that one is copied once).
+    /// ratio when `ε_0` moves). Nothing is copied unless the workspace or the multipole tree is
+    /// shared with a clone of this field (then that one is copied once); the multipole tree is
+    /// built when `M` reaches `FAR_MIN` and rebuilt when it doubles (docs/maths.md §15), so
+    /// those discoveries cost a tree build (milliseconds at `M` = 1 000, docs/benchmarks.md).
     ///
     /// Everything that can fail is checked before anything changes: on error the field is
     /// unchanged. Errors: the workspace's ([`FieldError::World`]: overlap, outside the

@@ -35,8 +35,8 @@ pub struct Options {
     /// `ε_x = max(ε, ε_g)` of a known shape (and, for a perceived shape, within the evidence
     /// radius of a hit it was fitted to), so a shape grows only for a hit more than `ε_x`
     /// outside it or away from its evidence. With `ε_g > 0` the hits that cause growth are
-    /// `min(ε_x, d_ev/2)` apart, so a bounded region sees finitely many growths (docs/maths.md
-    /// §12.6).
+    /// `min(ε_x − τ, d_ev/2)` apart (`τ` the certified distance's bracket), so a bounded region
+    /// sees finitely many growths (docs/maths.md §12.8).
     pub growth_threshold: f64,
     /// `g`, m: shapes closer than this merge ([`merge`]), not only overlapping ones (by the
     /// certified distance, which may exceed the true one by its bracket). A navigator that grows
@@ -52,8 +52,8 @@ pub struct Options {
     /// Which of the scan's free evidence the fits leave out (eq. free's disc, the default, or
     /// eq. freefan's fan; `crate::free`).
     pub free_evidence: FreeEvidence,
-    /// `d_ev`, m, of eq. attribution ([`Options::evidence_radius`]); `None` (the default) for
-    /// `max(d0 + 2ε, h)`. (A5) then asks obstacles to stay `d_ev + 2ε` apart: a larger value
+    /// `d_ev`, m, of eq. attribution ([`Options::evidence_radius`]; at least `h`); `None` (the
+    /// default) for `max(d0 + 2ε, h)`. (A5) then asks obstacles to stay `d_ev + 2ε` apart: a larger value
     /// is a stronger assumption.
     pub evidence: Option<f64>,
 }
@@ -81,7 +81,7 @@ impl Default for Options {
 impl Options {
     /// Errors unless `0 ≤ ε ≤ 10`, `0 < D ≤ 100`, `0 < ρ_min ≤ 1e3`, `0 ≤ d0 ≤ 100`,
     /// `1 ≤ order ≤ 16`, `1e-4 ≤ h ≤ D/4`, `0 < ε_g ≤ 10`, `0 ≤ g ≤ 100`, `0 ≤ g_w ≤ 100`,
-    /// `0 < d_ev ≤ 1e3` when given (finite, m). `h` bounds the cover's size, `~2πD/h`
+    /// `h ≤ d_ev ≤ 1e3` when given (finite, m). `h` bounds the cover's size, `~2πD/h`
     /// samples per disc of `K`.
     pub fn validate(&self) -> Result<(), PerceptionError> {
         let check = |field: &'static str, v: f64, lo: f64, hi: f64, open_lo: bool| {
@@ -114,7 +114,9 @@ impl Options {
         check("merge_gap", self.merge_gap, 0.0, 100.0, false)?;
         check("wall_gap", self.wall_gap, 0.0, 100.0, false)?;
         if let Some(d) = self.evidence {
-            check("evidence", d, 0.0, 1e3, true)?;
+            // At least `h`: the evidence is thinned to `d_ev/2`, and a finer one would keep
+            // nearly every hit.
+            check("evidence", d, self.check_spacing, 1e3, false)?;
         }
         Ok(())
     }
@@ -216,9 +218,11 @@ impl From<ScanError> for PerceptionError {
 pub struct Observation {
     /// Hits (returns in `[range_min, range_max)`).
     pub hits: usize,
-    /// Hits dropped as explained by a known shape.
+    /// Hits dropped: explained by the boundary or a map obstacle (eq. explained), or in a
+    /// segment a perceived shape explains (eq. attribution).
     pub explained: usize,
-    /// The segments of the unexplained hits.
+    /// The segments fitted: runs of hits the boundary and the map do not explain, each with a
+    /// hit that no perceived shape explains and not put down to one shape whole.
     pub segments: Vec<Segment>,
     /// Indices (into [`Perception::perceived`] after the update) of new shapes.
     pub added: Vec<usize>,
@@ -389,8 +393,9 @@ impl Perception {
     /// 1. checks the scan and pose ([`LaserScan::validate`], [`Pose::validate`]; the sensor
     ///    must not lie in a known shape or outside the boundary);
     /// 2. drops the hits explained by the boundary or a map obstacle (eq. explained);
-    /// 3. segments the rest ([`segment`], eq. jump), and keeps the segments that hold a hit no
-    ///    perceived shape explains (eq. explained);
+    /// 3. segments the rest ([`segment`], eq. jump); a segment one perceived shape explains
+    ///    (eq. attribution) is dropped and its hits join that shape's evidence, and of the
+    ///    others those that hold a hit no perceived shape explains are kept;
     /// 4. fits each whole segment kept ([`fit_in_scan`]; a fit inside the perceived shape of
     ///    its hits (certified) only adds them to its evidence; segments wider than `D + 2ε` are reported in
     ///    [`Observation::unfitted`]), leaving out of each region what the scan shows free and,

@@ -64,7 +64,8 @@ pub fn hit_point(scan: &LaserScan, pose: &Pose, i: usize) -> Option<Vector2<f64>
     }
 }
 
-/// Splits the usable hits (`usable[i]`: beam `i` is a hit not explained by a known shape) into
+/// Splits the usable hits (`usable[i]`: beam `i` is a hit the caller keeps; `Perception`
+/// keeps those the boundary and the map obstacles do not explain) into
 /// segments by eq. jump with `d0 = jump_distance`. The scan must be valid
 /// ([`LaserScan::validate`]) and `usable.len()` must equal the number of beams.
 #[must_use]

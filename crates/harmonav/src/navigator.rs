@@ -227,7 +227,7 @@ impl Navigator {
     pub fn add_obstacle(&mut self, shape: StarShape) -> Result<usize, NavError> {
         let (grown, inner) = self.options.grow(&shape, self.last.map(|(x, _)| x))?;
         // In place, validated before anything changes (`Field::push_obstacle`).
-        self.field.push_obstacle(grown).map_err(|e| match e {
+        let index = self.field.push_obstacle(grown).map_err(|e| match e {
             FieldError::World(WorldError::Overlap { first, .. }) => {
                 NavError::Overlap { obstacle: first }
             }
@@ -237,7 +237,6 @@ impl Navigator {
         })?;
         self.inner.extend(inner);
         self.speed_at_discovery = self.last.map_or(0.0, |(_, v)| v.norm());
-        let index = self.field.known().len() - 1;
         self.scan.add_exact(shape, index);
         Ok(index)
     }

@@ -7,13 +7,15 @@
 //! of `add_obstacle` (the perception's map: their hits are explained, a fit that overlaps one is
 //! refused) and the perceived shapes, each with its index among [`Navigator::obstacles`].
 //!
-//! **The event rule.** A hit is dropped when it lies within `ε_x = max(ε, ε_g)` of a known
+//! **The event rule.** A hit is dropped when it lies within `ε_x = max(ε, ε_g)` of an exact
 //! shape or the boundary (eq. explained; `ε` = [`crate::ScanOptions::range_noise`], `ε_g` =
-//! [`crate::ScanOptions::growth_threshold`]). Only the remaining hits are fitted, so a shape grows only
-//! for a hit more than `ε_x` outside every known shape, and a new fit must contain that hit.
-//! The hits of successive events are therefore `ε_x` apart, and a robot whose lidar sees a
-//! bounded region `A` causes at most `area(A ⊕ B(ε_x/2)) / (π ε_x²/4)` events (a packing
-//! bound; docs/maths.md §12.6).
+//! [`crate::ScanOptions::growth_threshold`]); a segment of hits is dropped when one perceived
+//! shape is within `ε_x` of all of them and within `d_ev` ([`crate::ScanOptions::evidence`]) of
+//! the hits it was fitted to (eq. attribution, docs/maths.md §12.8). Other segments are fitted,
+//! so an event needs a hit that no shape explains: more than `ε_x` outside, or more than
+//! `d_ev` from the evidence of, every shape. The hits of successive events are therefore
+//! `min(ε_x, d_ev/2)` apart (less the distance bracket), and a robot whose lidar sees a bounded
+//! region causes finitely many events (a packing bound; docs/maths.md §12.6, §12.8).
 
 use std::sync::Arc;
 
@@ -28,8 +30,9 @@ use crate::scanning::{ScanState, ScanUpdate};
 
 impl Navigator {
     /// Observes one scan taken from `pose` (the sensor at the robot's centre, heading `yaw`):
-    /// drops the hits that known shapes or the boundary explain within `max(ε, ε_g)` (eq.
-    /// explained), fits conservative stars to the rest, merges fits with the perceived shapes
+    /// drops the hits that exact shapes or the boundary explain within `max(ε, ε_g)` and the
+    /// segments a perceived shape explains (eqs. explained, attribution), fits conservative
+    /// stars to the rest, merges fits with the perceived shapes
     /// they overlap (shapes only grow), and hands every new or grown shape to the field grown
     /// by `radius + margin` (docs/maths.md §12). A change is an event, handled as a discovery
     /// of [`Navigator::add_obstacle`]: `k`, `Φ` and the dynamic law's `|ẋ(T_n)|` (the speed of
@@ -60,7 +63,9 @@ impl Navigator {
             ..ScanUpdate::default()
         };
         if obs.added.is_empty() && obs.grown.is_empty() {
-            // Nothing absorbed either (an absorption is a growth): the same shapes.
+            // Nothing absorbed either (an absorption is a growth): the same shapes, and the
+            // field stands; the perception keeps the evidence the scan added (eq. attribution).
+            self.scan.perception = perception;
             return Ok(update);
         }
         let old_slots = &self.scan.slots;

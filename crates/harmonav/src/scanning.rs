@@ -22,8 +22,9 @@ pub struct ScanOptions {
     /// scan saw (implied by `diameter ≤ D`); how far the unseen side is closed. Default 1.
     pub max_obstacle_depth: f64,
     /// `ε_g`, m: a shape grows (or a new one is fitted) only for a hit more than
-    /// `max(ε, ε_g)` outside every known shape, so that events are finitely many. Default
-    /// 0.02.
+    /// `max(ε, ε_g)` outside every known shape, or more than `d_ev` ([`ScanOptions::evidence`])
+    /// from the hits of every perceived shape within `max(ε, ε_g)` of it (eq. attribution), so
+    /// that events are finitely many. Default 0.02.
     pub growth_threshold: f64,
     /// `d0`, m, of eq. jump (segmentation `|p_{i+1} − p_i| > d0 + r·Δθ`). Default 0.1.
     pub jump_distance: f64,
