@@ -132,6 +132,12 @@ impl Options {
             .unwrap_or((self.jump_distance + 2.0 * self.range_noise).max(self.check_spacing))
     }
 
+    /// `ε_x = max(ε, ε_g)`, m: how far outside a known shape a hit may lie and still be
+    /// explained by it (eqs. explained, attribution).
+    fn explained_band(&self) -> f64 {
+        self.range_noise.max(self.growth_threshold)
+    }
+
     fn fit_params(&self) -> FitParams {
         FitParams {
             range_noise: self.range_noise,
@@ -258,6 +264,17 @@ enum Explanation {
     None,
 }
 
+/// Whether `p` lies within `eps` outside `s`, or inside (certified: `hi_S(p) ≤ eps`), after the
+/// quick reject by the bounding disc `|p − c| > max R + eps`.
+fn within(s: &StarShape, p: Vector2<f64>, eps: f64) -> bool {
+    (p - s.centre()).norm() <= s.radius_bounds().1 + eps && s.signed_distance_bounds(p).1 <= eps
+}
+
+/// Whether `p` lies within `d_ev` of a point of `evidence`.
+fn near_evidence(evidence: &[Vector2<f64>], p: Vector2<f64>, d_ev: f64) -> bool {
+    evidence.iter().any(|e| (e - p).norm() <= d_ev)
+}
+
 /// Adds the points of `new` that lie more than `spacing` from every point of `evidence`.
 fn thin_into(evidence: &mut Vec<Vector2<f64>>, new: &[Vector2<f64>], spacing: f64) {
     for &p in new {
@@ -334,11 +351,8 @@ impl Perception {
 
     /// Eq. explained, saying by what.
     fn explanation(&self, p: Vector2<f64>) -> Explanation {
-        let eps = self.options.range_noise.max(self.options.growth_threshold);
-        let near = |s: &StarShape| {
-            (p - s.centre()).norm() <= s.radius_bounds().1 + eps
-                && s.signed_distance_bounds(p).1 <= eps
-        };
+        let eps = self.options.explained_band();
+        let near = |s: &StarShape| within(s, p, eps);
         if let Some(b) = &self.boundary
             && (p - b.centre()).norm() >= b.radius_bounds().0 - eps
             && b.signed_distance_bounds(p).0 >= -eps
@@ -353,7 +367,7 @@ impl Perception {
             .perceived
             .iter()
             .zip(&self.evidence)
-            .any(|(s, e)| near(s.shape()) && e.iter().any(|e| (e - p).norm() <= d_ev));
+            .any(|(s, e)| near(s.shape()) && near_evidence(e, p, d_ev));
         if by_perceived {
             Explanation::Perceived
         } else {
@@ -372,19 +386,14 @@ impl Perception {
     /// Under (A5) the hit near `E_P` lies on the obstacle of that evidence, which `P` holds, and
     /// under (A2) so does the whole segment.
     fn attribution(&self, hits: &[Vector2<f64>]) -> Option<usize> {
-        let eps = self.options.range_noise.max(self.options.growth_threshold);
+        let eps = self.options.explained_band();
         let d_ev = self.options.evidence_radius();
         self.perceived
             .iter()
             .zip(&self.evidence)
             .position(|(s, e)| {
-                let s = s.shape();
-                hits.iter().all(|&p| {
-                    (p - s.centre()).norm() <= s.radius_bounds().1 + eps
-                        && s.signed_distance_bounds(p).1 <= eps
-                }) && hits
-                    .iter()
-                    .any(|p| e.iter().any(|e| (e - p).norm() <= d_ev))
+                hits.iter().all(|&p| within(s.shape(), p, eps))
+                    && hits.iter().any(|&p| near_evidence(e, p, d_ev))
             })
     }
 
