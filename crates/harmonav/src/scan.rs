@@ -49,7 +49,9 @@ impl Navigator {
     /// overlaps an exact shape of [`Navigator::add_obstacle`], or when the grown shapes overlap
     /// where the certified distances could not tell them apart (perceived shapes themselves
     /// always merge);
-    /// [`NavError::ContainsRobot`] when a changed shape grown by `radius` contains the pose;
+    /// [`NavError::ContainsRobot`] when a changed shape grown by `radius` contains the pose,
+    /// or its growth by `radius + margin` holds the pose `margin` or more outside that (a disc
+    /// fallback of [`grow_perceived`], thicker than the margin band one recovers through);
     /// [`NavError::ContainsGoal`]; [`NavError::CrossesBoundary`].
     pub fn observe_scan(&mut self, pose: Pose, scan: &LaserScan) -> Result<ScanUpdate, NavError> {
         let mut perception = self.scan.perception.clone();
@@ -107,6 +109,16 @@ impl Navigator {
                 None
             };
             if body.as_ref().unwrap_or(&grown).contains(x) {
+                return Err(NavError::ContainsRobot);
+            }
+            // The margin band `grown \ body`, where the next command leads out
+            // (`Mode::Recovering`), is `margin` thick when `grown` is the body's offset; the disc
+            // of `grow_perceived`'s fallback reaches farther, and a robot there would be deep in
+            // an obstacle of the new field, with no band to recover through.
+            if let Some(b) = &body
+                && grown.contains(x)
+                && b.signed_distance(x) >= self.options.margin
+            {
                 return Err(NavError::ContainsRobot);
             }
             event_clearance = event_clearance.min(grown.signed_distance(x));

@@ -107,7 +107,7 @@ fn rerun_all(files: &[(PathBuf, String)]) -> Outcome {
         simulate(p, Some(*model), Physics::Builtin).map(|r| r.summary)
     });
     let mut unsafe_runs = Vec::new();
-    let mut reasons: BTreeMap<String, usize> = BTreeMap::new();
+    let mut reasons: BTreeMap<String, Vec<String>> = BTreeMap::new();
     let (mut arrived, mut seen, mut uncovered) = (0, 0, 0);
     for ((name, model, _), s) in runs.iter().zip(summaries) {
         let s = s.map_err(|e| format!("{name} ({model:?}): {e}"))?;
@@ -128,7 +128,14 @@ fn rerun_all(files: &[(PathBuf, String)]) -> Outcome {
             Some(e) => format!("refused ({})", refusal(e)),
             None => s.outcome.kind().to_string(),
         };
-        *reasons.entry(reason).or_default() += 1;
+        let law = match model {
+            Model::Kinematic => "kinematic",
+            Model::Dynamic => "dynamic",
+        };
+        reasons
+            .entry(reason)
+            .or_default()
+            .push(format!("{name} {law}"));
     }
     let detail = format!(
         "{arrived}/{} runs arrived ({} worlds × 2 laws); not arrived: {}; {} unsafe; {uncovered} \
@@ -137,7 +144,7 @@ fn rerun_all(files: &[(PathBuf, String)]) -> Outcome {
         runs.len() / 2,
         reasons
             .iter()
-            .map(|(r, n)| format!("{n} {r}"))
+            .map(|(r, runs)| format!("{} {r} [{}]", runs.len(), runs.join(", ")))
             .collect::<Vec<_>>()
             .join(", "),
         unsafe_runs.len()
