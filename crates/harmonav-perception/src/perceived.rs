@@ -170,7 +170,8 @@ pub struct Certification {
 ///
 /// ```text
 /// g_j = max { |x − c| + h/2 : x ∈ samples, angle(x − c) in bin j }   (512 bins)   (eq. fit)
-/// a_n, b_n = discrete Fourier coefficients of g (n ≤ order), R̃ their sum
+/// R̃ = a Fourier sum of order ≤ `order` (the least-squares sum of g, or a smoothed envelope
+///     of g: the candidate of least area, `tightest_candidate`)
 /// r0 = a_0 + max_j (g_j − R̃(θ_j))⁺ + L1·π/512          (R ≥ g on every bin: |R'| ≤ L1)
 /// ```
 ///
@@ -215,32 +216,7 @@ pub fn certified_star(
             .find(|v| v.is_finite());
         g[j] = left.unwrap_or(0.0).max(right.unwrap_or(0.0));
     }
-    let theta = |j: usize| -PI + (j as f64 + 0.5) * TAU / BINS as f64;
-    let a0 = g.iter().sum::<f64>() / BINS as f64;
-    let mut harmonics = Vec::with_capacity(order as usize);
-    for n in 1..=order {
-        let (mut a, mut b) = (0.0, 0.0);
-        for (j, gj) in g.iter().enumerate() {
-            let t = n as f64 * theta(j);
-            a += gj * t.cos();
-            b += gj * t.sin();
-        }
-        harmonics.push((n, 2.0 * a / BINS as f64, 2.0 * b / BINS as f64));
-    }
-    let (sum_c, l1, _) = sums(&harmonics);
-    let short = (0..BINS)
-        .map(|j| {
-            let t = theta(j);
-            let r = a0
-                + harmonics
-                    .iter()
-                    .map(|&(n, a, b)| a * (n as f64 * t).cos() + b * (n as f64 * t).sin())
-                    .sum::<f64>();
-            g[j] - r
-        })
-        .fold(0.0f64, f64::max);
-    // The least r0 that keeps R > 0 with room: R ≥ r0 − Σ|c_n|.
-    let mut r0 = (a0 + short + l1 * PI / BINS as f64).max(sum_c + 0.5 * h);
+    let (mut r0, harmonics, sum_c, l1) = tightest_candidate(&g, order, h);
     let failure = |shape: &StarShape| -> f64 {
         samples
             .iter()
@@ -277,6 +253,113 @@ pub fn certified_star(
             disc_fallback: true,
         },
     ))
+}
+
+/// The direction of bin `j`, rad.
+fn theta(j: usize) -> f64 {
+    -PI + (j as f64 + 0.5) * TAU / BINS as f64
+}
+
+/// `a_0` and the harmonics `n ≤ order` of the binned function `f`, each multiplied by `w_n`.
+fn fourier(f: &[f64; BINS], order: u32, w: impl Fn(u32) -> f64) -> (f64, Vec<(u32, f64, f64)>) {
+    let a0 = f.iter().sum::<f64>() / BINS as f64;
+    let harmonics = (1..=order)
+        .map(|n| {
+            let (mut a, mut b) = (0.0, 0.0);
+            for (j, fj) in f.iter().enumerate() {
+                let t = f64::from(n) * theta(j);
+                a += fj * t.cos();
+                b += fj * t.sin();
+            }
+            let k = 2.0 * w(n) / BINS as f64;
+            (n, k * a, k * b)
+        })
+        .collect();
+    (a0, harmonics)
+}
+
+/// The normalised Jackson kernel of degree `≤ order`, `J(t) ∝ (sin(mt/2)/sin(t/2))⁴`,
+/// `m = ⌊order/2⌋ + 1`, by its Fourier weights `ĵ_n` (`ĵ_0 = 1`; exact on the bins, `J` being a
+/// trigonometric polynomial of degree `2m − 2 < BINS`), and `m`.
+fn jackson(order: u32) -> (Vec<f64>, u32) {
+    let m = order / 2 + 1;
+    let kernel: Vec<f64> = (0..BINS)
+        .map(|j| {
+            let t = TAU * j as f64 / BINS as f64;
+            let s = (0.5 * t).sin();
+            if s.abs() < 1e-12 {
+                f64::from(m).powi(4)
+            } else {
+                ((0.5 * f64::from(m) * t).sin() / s).powi(4)
+            }
+        })
+        .collect();
+    let mass: f64 = kernel.iter().sum();
+    let weights = (0..=order)
+        .map(|n| {
+            kernel
+                .iter()
+                .enumerate()
+                .map(|(j, k)| k * (f64::from(n) * TAU * j as f64 / BINS as f64).cos())
+                .sum::<f64>()
+                / mass
+        })
+        .collect();
+    (weights, m)
+}
+
+/// Of eq. fit's candidates, the one of least `Σ_j R(θ_j)²` (the area, to the bins) once raised to
+/// `R ≥ g` on every bin: `(r0, harmonics, Σ|c_n|, L1)`.
+///
+/// ```text
+/// least squares:  R̃ = the partial sum of g of order `order`                      (eq. fit)
+/// smoothed:       R̃ = J ∗ G_w,  G_w(θ) = max { g(φ) : |φ − θ| ≤ w },  w ∈ {0, π/2m, π/m, 2π/m}
+/// ```
+///
+/// `J` is the Jackson kernel ([`jackson`]), non-negative with most of its mass within `±π/m`,
+/// so `J ∗ G_w ≥ g` but for the kernel's tail: the raise `max(g − R̃)⁺` that follows is
+/// small, where the least-squares sum undershoots every peak of `g` (Gibbs) and its raise
+/// lifts every direction, the robot's side of a merged shape included. Any candidate is
+/// sound: eq. certify decides containment ([`certified_star`]); this only picks the tightest.
+fn tightest_candidate(
+    g: &[f64; BINS],
+    order: u32,
+    h: f64,
+) -> (f64, Vec<(u32, f64, f64)>, f64, f64) {
+    let (weights, m) = jackson(order);
+    let mut candidates = vec![fourier(g, order, |_| 1.0)];
+    for window in [0.0, 0.5, 1.0, 2.0] {
+        let w = (window * PI / f64::from(m) / (TAU / BINS as f64)).round() as usize;
+        let mut dilated = *g;
+        if w > 0 {
+            for (j, d) in dilated.iter_mut().enumerate() {
+                *d = (0..=2 * w)
+                    .map(|k| g[(j + BINS + k - w) % BINS])
+                    .fold(f64::NEG_INFINITY, f64::max);
+            }
+        }
+        candidates.push(fourier(&dilated, order, |n| weights[n as usize]));
+    }
+    candidates
+        .into_iter()
+        .map(|(a0, harmonics)| {
+            let (sum_c, l1, _) = sums(&harmonics);
+            let radius = |j: usize| {
+                let t = theta(j);
+                a0 + harmonics
+                    .iter()
+                    .map(|&(n, a, b)| a * (f64::from(n) * t).cos() + b * (f64::from(n) * t).sin())
+                    .sum::<f64>()
+            };
+            let short = (0..BINS).map(|j| g[j] - radius(j)).fold(0.0f64, f64::max);
+            // The least r0 that keeps R > 0 with room: R ≥ r0 − Σ|c_n|.
+            let r0 = (a0 + short + l1 * PI / BINS as f64).max(sum_c + 0.5 * h);
+            let area: f64 = (0..BINS).map(|j| (radius(j) - a0 + r0).powi(2)).sum();
+            (area, (r0, harmonics, sum_c, l1))
+        })
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, c)| c)
+        .expect("five candidates")
 }
 
 /// Why two overlapping perceived shapes could not be merged.

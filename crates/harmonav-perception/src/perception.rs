@@ -353,9 +353,13 @@ impl Perception {
     fn explanation(&self, p: Vector2<f64>) -> Explanation {
         let eps = self.options.explained_band();
         let near = |s: &StarShape| within(s, p, eps);
+        // Under the wall prior (eq. wallgap) a hit `p` whose true point `p*` (`|p − p*| ≤ ε`,
+        // A1) is nearer the wall than `g_w` lies on the wall: no unknown obstacle comes that
+        // near. So a hit within `g_w − ε` of the wall is explained, as one within `ε_x` is.
+        let wall = eps.max(self.options.wall_gap - self.options.range_noise);
         if let Some(b) = &self.boundary
-            && (p - b.centre()).norm() >= b.radius_bounds().0 - eps
-            && b.signed_distance_bounds(p).0 >= -eps
+            && (p - b.centre()).norm() >= b.radius_bounds().0 - wall
+            && b.signed_distance_bounds(p).0 >= -wall
         {
             return Explanation::Map;
         }

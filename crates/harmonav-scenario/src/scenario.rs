@@ -641,67 +641,68 @@ impl Scenario {
             .chain(if lidar { &true_obstacles[..] } else { &[] })
             .map(StarShape::rho_min)
             .fold(f64::INFINITY, f64::min);
-        let (sensor, rho_min) =
-            match &self.sensor {
-                None => (Sensor::Global, rho_default),
-                Some(spec) => {
-                    if spec.kind == SensorKind::Sector {
-                        let given = sensor::lidar_only_fields(spec).into_iter().find(|f| f.1);
-                        if let Some((name, _)) = given {
-                            return Err(f(
-                                &format!("sensor.{name}"),
-                                "only a lidar takes it (sensor.type = \"lidar\")".into(),
-                            ));
-                        }
-                    }
-                    // Below a thousandth of a degree the sector's d_min (eq. dmin) underflows.
-                    if !(spec.aperture_deg.is_finite() && spec.aperture_deg >= MIN_APERTURE_DEG) {
+        let (sensor, rho_min) = match &self.sensor {
+            None => (Sensor::Global, rho_default),
+            Some(spec) => {
+                if spec.kind == SensorKind::Sector {
+                    let given = sensor::lidar_only_fields(spec).into_iter().find(|f| f.1);
+                    if let Some((name, _)) = given {
                         return Err(f(
-                            "sensor.aperture_deg",
-                            format!(
-                                "must be in (0, 360] and at least {MIN_APERTURE_DEG}°, got {:e}",
-                                spec.aperture_deg
-                            ),
+                            &format!("sensor.{name}"),
+                            "only a lidar takes it (sensor.type = \"lidar\")".into(),
                         ));
-                    }
-                    in_range("sensor.range", spec.range)?;
-                    let sector = Sector::new(spec.range, spec.aperture_deg.to_radians()).map_err(
-                        |e| match e {
-                            harmonav_sensing::SensorError::Range(v) => f(
-                                "sensor.range",
-                                format!("must be finite and positive, got {v:e}"),
-                            ),
-                            harmonav_sensing::SensorError::Aperture(_) => f(
-                                "sensor.aperture_deg",
-                                format!("must be in (0, 360], got {:e}", spec.aperture_deg),
-                            ),
-                        },
-                    )?;
-                    let rho = spec.rho_min.unwrap_or(rho_default);
-                    let no_bound_needed = spec.rho_min.is_none() && self.obstacles.is_empty();
-                    let (lo, hi) = PARAMETER_RANGE;
-                    if !(no_bound_needed || rho.is_finite() && (lo..=hi).contains(&rho)) {
-                        let from = if spec.rho_min.is_some() {
-                            ""
-                        } else {
-                            " (the obstacles' smallest curvature radius, as none is given)"
-                        };
-                        return Err(f(
-                            "sensor.rho_min",
-                            format!("must be finite and in [{lo:e}, {hi:e}] m{from}, got {rho:e}"),
-                        ));
-                    }
-                    match spec.kind {
-                        SensorKind::Sector => (Sensor::Sector(sector), rho),
-                        SensorKind::Lidar => (
-                            Sensor::Lidar(sensor::prepare(spec, &true_obstacles).map_err(
-                                |(field, problem)| f(&format!("sensor.{field}"), problem),
-                            )?),
-                            rho,
-                        ),
                     }
                 }
-            };
+                // Below a thousandth of a degree the sector's d_min (eq. dmin) underflows.
+                if !(spec.aperture_deg.is_finite() && spec.aperture_deg >= MIN_APERTURE_DEG) {
+                    return Err(f(
+                        "sensor.aperture_deg",
+                        format!(
+                            "must be in (0, 360] and at least {MIN_APERTURE_DEG}°, got {:e}",
+                            spec.aperture_deg
+                        ),
+                    ));
+                }
+                in_range("sensor.range", spec.range)?;
+                let sector = Sector::new(spec.range, spec.aperture_deg.to_radians()).map_err(
+                    |e| match e {
+                        harmonav_sensing::SensorError::Range(v) => f(
+                            "sensor.range",
+                            format!("must be finite and positive, got {v:e}"),
+                        ),
+                        harmonav_sensing::SensorError::Aperture(_) => f(
+                            "sensor.aperture_deg",
+                            format!("must be in (0, 360], got {:e}", spec.aperture_deg),
+                        ),
+                    },
+                )?;
+                let rho = spec.rho_min.unwrap_or(rho_default);
+                let no_bound_needed = spec.rho_min.is_none() && self.obstacles.is_empty();
+                let (lo, hi) = PARAMETER_RANGE;
+                if !(no_bound_needed || rho.is_finite() && (lo..=hi).contains(&rho)) {
+                    let from = if spec.rho_min.is_some() {
+                        ""
+                    } else {
+                        " (the obstacles' smallest curvature radius, as none is given)"
+                    };
+                    return Err(f(
+                        "sensor.rho_min",
+                        format!("must be finite and in [{lo:e}, {hi:e}] m{from}, got {rho:e}"),
+                    ));
+                }
+                match spec.kind {
+                    SensorKind::Sector => (Sensor::Sector(sector), rho),
+                    SensorKind::Lidar => (
+                        Sensor::Lidar(
+                            sensor::prepare(spec, &true_boundary, &true_obstacles).map_err(
+                                |(field, problem)| f(&format!("sensor.{field}"), problem),
+                            )?,
+                        ),
+                        rho,
+                    ),
+                }
+            }
+        };
         let (radius, margin) = (self.robot.radius, self.robot.margin);
         Ok(Prepared {
             scenario: self,

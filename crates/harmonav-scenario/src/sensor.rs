@@ -11,7 +11,9 @@
 //! - `ε` (A1) is the lidar's own noise bound `range_noise`;
 //! - `D` (A3, `max_obstacle_depth`) defaults to the largest true obstacle's diameter;
 //! - `ρ_min` (A2, A4, `sensor.rho_min`) defaults to the true obstacles' smallest curvature
-//!   radius, as for the sector.
+//!   radius, as for the sector;
+//! - `g_w` (the wall prior, eq. wallgap, `sensor.wall_gap`) defaults to 0.99 of the smallest
+//!   distance from a true obstacle to the workspace boundary.
 
 use std::f64::consts::TAU;
 
@@ -57,6 +59,11 @@ pub struct SensorSpec {
     /// surface); default: the largest true obstacle's diameter.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_obstacle_depth: Option<f64>,
+    /// Lidar: the wall prior `g_w`, m (eq. wallgap: every unknown obstacle keeps this far from
+    /// the workspace boundary, so a fit may leave out what lies nearer the wall); default:
+    /// 0.99 of the smallest distance from a true obstacle to the boundary (0 without one).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wall_gap: Option<f64>,
 }
 
 fn full_turn() -> f64 {
@@ -79,6 +86,7 @@ impl SensorSpec {
             dropout: None,
             seed: None,
             max_obstacle_depth: None,
+            wall_gap: None,
         }
     }
 
@@ -121,6 +129,10 @@ pub const DEFAULT_DEPTH_NO_OBSTACLE: f64 = 1.0;
 /// the curve, so their spread can only fall short of the diameter).
 const DEPTH_SLACK: f64 = 1.01;
 
+/// The default wall prior's share of the true obstacles' smallest distance to the boundary
+/// (below it, so that the prior holds with room).
+const WALL_GAP_SLACK: f64 = 0.99;
+
 /// A validated simulated lidar: what the truth casts and what the navigator is told.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LidarSensor {
@@ -132,7 +144,8 @@ pub struct LidarSensor {
     pub rate_hz: f64,
     /// The seed of the noise and the dropouts.
     pub seed: u64,
-    /// The priors handed to the navigator: `ε = range_noise`, `D = max_obstacle_depth`.
+    /// The priors handed to the navigator: `ε = range_noise`, `D = max_obstacle_depth`,
+    /// `g_w = wall_gap`.
     pub scan: ScanOptions,
 }
 
@@ -167,6 +180,7 @@ impl LidarSensor {
 /// first problem: the field of `[sensor]` and what is wrong.
 pub(crate) fn prepare(
     spec: &SensorSpec,
+    boundary: &StarShape,
     obstacles: &[StarShape],
 ) -> Result<LidarSensor, (&'static str, String)> {
     let f = |field: &'static str, problem: String| (field, problem);
@@ -225,6 +239,16 @@ pub(crate) fn prepare(
             ),
         ));
     }
+    let wall_gap = match spec.wall_gap {
+        Some(g) if !(g.is_finite() && (0.0..=100.0).contains(&g)) => {
+            return Err(f(
+                "wall_gap",
+                format!("must be finite and in [0, 100] m, got {g:e}"),
+            ));
+        }
+        Some(g) => g,
+        None => WALL_GAP_SLACK * wall_distance(boundary, obstacles).min(100.0),
+    };
     let aperture = spec.aperture_deg.to_radians();
     Ok(LidarSensor {
         lidar: Lidar {
@@ -245,6 +269,7 @@ pub(crate) fn prepare(
         scan: ScanOptions {
             range_noise: noise,
             max_obstacle_depth: depth,
+            wall_gap,
             ..ScanOptions::default()
         },
     })
@@ -252,7 +277,7 @@ pub(crate) fn prepare(
 
 /// The fields only a lidar takes, with whether `spec` gives each: a sector given one is an
 /// error that names it.
-pub(crate) fn lidar_only_fields(spec: &SensorSpec) -> [(&'static str, bool); 6] {
+pub(crate) fn lidar_only_fields(spec: &SensorSpec) -> [(&'static str, bool); 7] {
     [
         ("beams", spec.beams.is_some()),
         ("rate_hz", spec.rate_hz.is_some()),
@@ -260,7 +285,24 @@ pub(crate) fn lidar_only_fields(spec: &SensorSpec) -> [(&'static str, bool); 6] 
         ("dropout", spec.dropout.is_some()),
         ("seed", spec.seed.is_some()),
         ("max_obstacle_depth", spec.max_obstacle_depth.is_some()),
+        ("wall_gap", spec.wall_gap.is_some()),
     ]
+}
+
+/// The smallest distance from a point of the obstacles' display outlines to the boundary
+/// (certified from below: `−hi` of the boundary's signed distance bounds), m; 0 without
+/// obstacles (no prior).
+fn wall_distance(boundary: &StarShape, obstacles: &[StarShape]) -> f64 {
+    let nearest = obstacles
+        .iter()
+        .flat_map(StarShape::outline)
+        .map(|x| -boundary.signed_distance_bounds(x).1)
+        .fold(f64::INFINITY, f64::min);
+    if nearest.is_finite() {
+        nearest.max(0.0)
+    } else {
+        0.0
+    }
 }
 
 /// The diameter of `shape`'s display outline, m: the largest width over 720 directions,

@@ -105,6 +105,41 @@ fn a_depth_prior_below_the_truth_fails_the_coverage_check() {
     assert!(!r.summary.safe());
 }
 
+/// The wall prior `g_w` defaults to the truth's: 0.99 of the smallest distance from a true
+/// obstacle to the boundary (the paper's world: discs in a circle of radius 5 m); a file's
+/// `wall_gap` replaces it.
+#[test]
+fn the_wall_prior_defaults_to_the_truths_gap() {
+    let p = load("lidar/paper-world.toml");
+    let Sensor::Lidar(l) = &p.truth.sensor else {
+        panic!("a lidar")
+    };
+    let gap = p
+        .truth
+        .obstacles
+        .iter()
+        .map(|o| 5.0 - o.centre().norm() - o.radius_bounds().1)
+        .fold(f64::INFINITY, f64::min);
+    assert!(gap > 0.5, "{gap}");
+    assert!(
+        (l.scan.wall_gap - 0.99 * gap).abs() < 1e-3,
+        "{} against {gap}",
+        l.scan.wall_gap
+    );
+    let text = std::fs::read_to_string(file("lidar/paper-world.toml"))
+        .unwrap()
+        .replacen("seed = 1", "seed = 1\nwall_gap = 0.25", 1);
+    let path = file("lidar/paper-world.toml");
+    let p = Scenario::parse(&path, &text)
+        .unwrap()
+        .prepare(&path)
+        .unwrap();
+    let Sensor::Lidar(l) = &p.truth.sensor else {
+        panic!("a lidar")
+    };
+    assert_eq!(l.scan.wall_gap, 0.25);
+}
+
 /// How tight the fits are on the seen faces, pinned so that a looser fit is noticed: the
 /// smallest depth of a seen truth point inside its perceived shape, in the paper's world.
 #[test]
@@ -179,6 +214,8 @@ fn bad_lidar_tables_name_the_field() {
             "seed = 1\nmax_obstacle_depth = 0.0",
             "sensor.max_obstacle_depth",
         ),
+        ("seed = 1", "seed = 1\nwall_gap = -0.1", "sensor.wall_gap"),
+        ("seed = 1", "seed = 1\nwall_gap = inf", "sensor.wall_gap"),
         ("range = 3.0", "range = 0.01", "sensor.range"),
         // A lidar's fields on a sector.
         ("type = \"lidar\"", "type = \"sector\"", "sensor.beams"),
