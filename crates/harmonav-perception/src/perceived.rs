@@ -260,17 +260,33 @@ fn theta(j: usize) -> f64 {
     -PI + (j as f64 + 0.5) * TAU / BINS as f64
 }
 
-/// `a_0` and the harmonics `n ≤ order` of the binned function `f`, each multiplied by `w_n`.
-fn fourier(f: &[f64; BINS], order: u32, w: impl Fn(u32) -> f64) -> (f64, Vec<(u32, f64, f64)>) {
-    let a0 = f.iter().sum::<f64>() / BINS as f64;
-    let harmonics = (1..=order)
+/// `(cos nθ_j, sin nθ_j)` for `n = 1..=order` (row `n − 1`) at the bins' directions.
+fn basis(order: u32) -> Vec<Vec<(f64, f64)>> {
+    (1..=order)
         .map(|n| {
-            let (mut a, mut b) = (0.0, 0.0);
-            for (j, fj) in f.iter().enumerate() {
-                let t = f64::from(n) * theta(j);
-                a += fj * t.cos();
-                b += fj * t.sin();
-            }
+            (0..BINS)
+                .map(|j| (f64::from(n) * theta(j)).sin_cos())
+                .map(|(s, c)| (c, s))
+                .collect()
+        })
+        .collect()
+}
+
+/// `a_0` and the harmonics `n ≤ order` of the binned function `f` (`basis` of that order),
+/// each multiplied by `w_n`.
+fn fourier(
+    f: &[f64; BINS],
+    basis: &[Vec<(f64, f64)>],
+    w: impl Fn(u32) -> f64,
+) -> (f64, Vec<(u32, f64, f64)>) {
+    let a0 = f.iter().sum::<f64>() / BINS as f64;
+    let harmonics = (1u32..)
+        .zip(basis)
+        .map(|(n, row)| {
+            let (a, b) = f
+                .iter()
+                .zip(row)
+                .fold((0.0, 0.0), |(a, b), (fj, &(c, s))| (a + fj * c, b + fj * s));
             let k = 2.0 * w(n) / BINS as f64;
             (n, k * a, k * b)
         })
@@ -327,7 +343,8 @@ fn tightest_candidate(
     h: f64,
 ) -> (f64, Vec<(u32, f64, f64)>, f64, f64) {
     let (weights, m) = jackson(order);
-    let mut candidates = vec![fourier(g, order, |_| 1.0)];
+    let basis = basis(order);
+    let mut candidates = vec![fourier(g, &basis, |_| 1.0)];
     for window in [0.0, 0.5, 1.0, 2.0] {
         let w = (window * PI / f64::from(m) / (TAU / BINS as f64)).round() as usize;
         let mut dilated = *g;
@@ -338,17 +355,17 @@ fn tightest_candidate(
                     .fold(f64::NEG_INFINITY, f64::max);
             }
         }
-        candidates.push(fourier(&dilated, order, |n| weights[n as usize]));
+        candidates.push(fourier(&dilated, &basis, |n| weights[n as usize]));
     }
     candidates
         .into_iter()
         .map(|(a0, harmonics)| {
             let (sum_c, l1, _) = sums(&harmonics);
             let radius = |j: usize| {
-                let t = theta(j);
                 a0 + harmonics
                     .iter()
-                    .map(|&(n, a, b)| a * (f64::from(n) * t).cos() + b * (f64::from(n) * t).sin())
+                    .zip(&basis)
+                    .map(|(&(_, a, b), row)| a * row[j].0 + b * row[j].1)
                     .sum::<f64>()
             };
             let short = (0..BINS).map(|j| g[j] - radius(j)).fold(0.0f64, f64::max);
