@@ -1,6 +1,8 @@
 //! A validated workspace: the outer boundary, the (true) obstacles and the destination, with
 //! every distance the navigation transformation needs computed once.
 
+use std::sync::atomic::{AtomicU64, Ordering};
+
 use nalgebra::Vector2;
 
 use crate::error::ShapeError;
@@ -48,6 +50,10 @@ pub enum WorldError {
         /// The value.
         value: f64,
     },
+    /// [`Workspace::commit`] was given an [`Admitted`] made by [`Workspace::admit`] on a
+    /// workspace in another state (another workspace, or this one before a change): its
+    /// measured distances do not describe this one.
+    StaleAdmission,
 }
 
 impl std::fmt::Display for WorldError {
@@ -70,6 +76,10 @@ impl std::fmt::Display for WorldError {
             Self::InvalidValleyRadius { value } => write!(
                 f,
                 "the far-field valley radius must be finite and non-negative, got {value:e}"
+            ),
+            Self::StaleAdmission => write!(
+                f,
+                "the obstacle was admitted by a workspace in another state; admit it again"
             ),
         }
     }
@@ -132,6 +142,16 @@ pub struct Workspace {
     goal_to_boundary: f64,
     /// `max_i max R_i` (0 with no obstacle): the reach of the near-pair queries.
     r_max: f64,
+    /// The state's token ([`fresh_stamp`]): new at construction and at every change, copied by
+    /// a clone (the same state), recorded by [`Workspace::admit`] and checked by
+    /// [`Workspace::commit`].
+    stamp: u64,
+}
+
+/// A token no workspace state has had before in this process.
+fn fresh_stamp() -> u64 {
+    static NEXT: AtomicU64 = AtomicU64::new(0);
+    NEXT.fetch_add(1, Ordering::Relaxed)
 }
 
 /// An obstacle [`Workspace::admit`] validated as obstacle `M` of a workspace, with the
@@ -150,6 +170,8 @@ pub struct Admitted {
     goal: f64,
     /// `max R` over the obstacles with it.
     r_max: f64,
+    /// The admitting workspace's state token.
+    stamp: u64,
 }
 
 impl Admitted {
@@ -257,6 +279,7 @@ impl Workspace {
             goal_to_obstacle: Vec::new(),
             goal_to_boundary: 0.0,
             r_max,
+            stamp: fresh_stamp(),
         };
         ws.check_free(destination, "destination")?;
         ws.goal_to_obstacle = ws
@@ -346,22 +369,22 @@ impl Workspace {
             goal: obstacle.signed_distance(self.destination),
             r_max,
             obstacle,
+            stamp: self.stamp,
         })
     }
 
     /// The second half of [`Self::push_obstacle`]: appends the obstacle that [`Self::admit`]
     /// admitted, with what it measured, and returns its index `M`.
     ///
-    /// Errors: [`WorldError::NoSuchObstacle`] (nothing changes) if the workspace has gained or
-    /// lost obstacles since the admission (the admission is then stale). An admission must be
-    /// committed to the workspace that made it.
+    /// Errors: [`WorldError::StaleAdmission`] (nothing changes) unless the workspace is in the
+    /// state that admitted the obstacle (the same workspace unchanged since, or a clone of it):
+    /// the admission's distances were measured against that state's obstacles.
     pub fn commit(&mut self, admitted: Admitted) -> Result<usize, WorldError> {
         let m = self.obstacles.len();
-        if admitted.index != m {
-            return Err(WorldError::NoSuchObstacle {
-                obstacle: admitted.index,
-            });
+        if admitted.stamp != self.stamp {
+            return Err(WorldError::StaleAdmission);
         }
+        debug_assert_eq!(admitted.index, m, "one state, one obstacle count");
         let obstacle = admitted.obstacle;
         for &(j, d) in &admitted.row {
             // Rows stay sorted: m is the largest index.
@@ -374,6 +397,7 @@ impl Workspace {
         self.to_boundary.push(admitted.to_boundary);
         self.goal_to_obstacle.push(admitted.goal);
         self.r_max = admitted.r_max;
+        self.stamp = fresh_stamp();
         Ok(m)
     }
 

@@ -136,3 +136,30 @@ fn a_rejected_obstacle_leaves_the_workspace_unchanged() {
     assert!(phi.push(&ws, 100).is_err());
     assert_eq!(difference(&phi, &b, &xs), None);
 }
+
+/// An admission commits only to the state that admitted it: the same workspace (or a clone of
+/// it) unchanged since. Another workspace with as many obstacles, or this one after another
+/// commit, refuses it (`StaleAdmission`) and is left as it was; before the state token, an
+/// admission measured against other obstacles was appended with their distances.
+#[test]
+fn a_stale_admission_is_refused() {
+    use harmonav_transform::WorldError;
+    let w = world();
+    let ws = Workspace::new(w.boundary.clone(), w.obstacles[..100].to_vec(), w.goal).unwrap();
+    let other = Workspace::new(w.boundary.clone(), w.obstacles[1..101].to_vec(), w.goal).unwrap();
+    let admitted = ws.admit(w.obstacles[120].clone()).unwrap();
+    // Another workspace in the same count of obstacles.
+    let mut elsewhere = other.clone();
+    assert_eq!(
+        elsewhere.commit(admitted.clone()),
+        Err(WorldError::StaleAdmission)
+    );
+    assert_eq!(elsewhere.obstacles().len(), 100);
+    // A clone of the admitting state takes it, and then no longer takes a second admission
+    // made before that commit.
+    let second = ws.admit(w.obstacles[121].clone()).unwrap();
+    let mut copy = ws.clone();
+    assert_eq!(copy.commit(admitted), Ok(100));
+    assert_eq!(copy.commit(second), Err(WorldError::StaleAdmission));
+    assert_eq!(copy.obstacles().len(), 101);
+}
