@@ -77,26 +77,28 @@ impl FarField {
     }
 
     /// [`Self::extended`] in place by the last point of `all` (the tree holds the others): a
-    /// push into the tree (copied first only if shared), `true`; or, when the tree has grown to
-    /// twice the points it was built over, a rebuild over `all`, `true` if it succeeds. `false`
-    /// (the tree unusable: the caller rebuilds or drops it) when the point lies outside the
-    /// root box or the rebuild fails.
+    /// push into the tree (copied first only if shared); or, when the tree has grown to twice
+    /// the points it was built over or the point lies outside the root box, one rebuild over
+    /// `all`. `false` (the tree unusable: the caller drops it and sums directly) only when that
+    /// rebuild fails.
     pub(crate) fn push(&mut self, all: &[Vector2<f64>]) -> bool {
         let Some(p) = all.last() else {
             return true;
         };
-        if all.len() >= 2 * self.built {
-            return match Self::new(all) {
-                Some(far) => {
-                    *self = far;
-                    true
-                }
-                None => false,
-            };
+        if all.len() < 2 * self.built
+            && Arc::make_mut(&mut self.fmm)
+                .push_point(C64::new(p.x, p.y), [1.0])
+                .is_ok()
+        {
+            return true;
         }
-        Arc::make_mut(&mut self.fmm)
-            .push_point(C64::new(p.x, p.y), [1.0])
-            .is_ok()
+        match Self::new(all) {
+            Some(far) => {
+                *self = far;
+                true
+            }
+            None => false,
+        }
     }
 
     /// How many points the tree was built over, and how many it holds.
@@ -162,5 +164,15 @@ mod tests {
         );
         // Coordinates beyond an f64's span: no tree.
         assert!(FarField::new(&[Vector2::new(-1e308, 0.0), Vector2::new(1e308, 0.0)]).is_none());
+        // In place: a point inside is pushed, one outside rebuilds the tree once, and a
+        // rebuild that cannot be made reports the tree unusable.
+        let mut tree = first.clone();
+        assert!(tree.push(&all[..1_001]));
+        assert_eq!(tree.counts(), (1_000, 1_001));
+        let mut tree = first.clone();
+        assert!(tree.push(&out));
+        assert_eq!(tree.counts(), (1_001, 1_001));
+        let beyond = [Vector2::new(-1e308, 0.0), Vector2::new(1e308, 0.0)];
+        assert!(!FarField::new(&beyond[..1]).unwrap().push(&beyond));
     }
 }

@@ -156,10 +156,8 @@ impl PointWorld {
         self.ln_destination += ln_norm2(self.destination - p);
         self.k = k;
         self.far = match self.far.take() {
-            Some(mut far) => far.push(&self.obstacles).then_some(far).or_else(|| {
-                // The push left the root box: rebuilt, as `new_after` does.
-                FarField::new(&self.obstacles)
-            }),
+            // Pushed, or rebuilt once (doubled, or outside the root box), as `new_after` does.
+            Some(mut far) => far.push(&self.obstacles).then_some(far),
             None if self.obstacles.len() >= FAR_MIN => FarField::new(&self.obstacles),
             None => None,
         };
