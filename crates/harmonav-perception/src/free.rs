@@ -120,9 +120,9 @@ pub enum FreeEvidence {
     /// loop keeps every seen truth point covered with it (docs/maths.md §12.7).
     #[default]
     Disc,
-    /// The whole free fan of eq. freefan. Sound on its own (`tests/free.rs`), but its tighter
-    /// shapes expose the explained-hit rule's assumption in closed loop (docs/maths.md §12.7):
-    /// not yet the default.
+    /// The whole free fan of eq. freefan. Sound on its own (`tests/free.rs`) and, since eq.
+    /// attribution, in closed loop (docs/maths.md §12.9: no seen truth point uncovered in the
+    /// suites and the lidar benchmark); not the default, as its arrivals are mixed there.
     Fan,
 }
 
