@@ -333,10 +333,11 @@ fn jackson(order: u32) -> (Vec<f64>, u32) {
 /// ```
 ///
 /// `J` is the Jackson kernel ([`jackson`]), non-negative with most of its mass within `±π/m`,
-/// so `J ∗ G_w ≥ g` but for the kernel's tail: the raise `max(g − R̃)⁺` that follows is
-/// small, where the least-squares sum undershoots every peak of `g` (Gibbs) and its raise
-/// lifts every direction, the robot's side of a merged shape included. Any candidate is
-/// sound: eq. certify decides containment ([`certified_star`]); this only picks the tightest.
+/// so for `w > 0`, `J ∗ G_w ≥ g` but for the kernel's tail (`w = 0` is plain smoothing): the
+/// raise `max(g − R̃)⁺` that follows is small, where the least-squares sum undershoots every
+/// peak of `g` (Gibbs) and its raise lifts every direction, the robot's side of a merged shape
+/// included. Any candidate is sound: eq. certify decides containment ([`certified_star`]);
+/// this only picks the tightest (before certification, which may raise it further).
 fn tightest_candidate(
     g: &[f64; BINS],
     order: u32,

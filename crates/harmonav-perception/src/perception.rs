@@ -335,7 +335,8 @@ impl Perception {
     ///
     /// ```text
     /// map obstacle S (exact):  hi_S(p) ≤ ε_x    (p is within ε_x outside S, or inside)
-    /// boundary B:              lo_B(p) ≥ −ε_x   (p is within ε_x inside B, or beyond)
+    /// boundary B:              lo_B(p) ≥ −ε_x  or  lo_B(p) > −(g_w − ε)   (within ε_x of the
+    ///                          wall, or nearer than the wall prior allows an obstacle, eq. wallgap)
     /// perceived P:             hi_P(p) ≤ ε_x  and  min_{e ∈ E_P} |p − e| ≤ d_ev      (eq. explained)
     /// ```
     ///
@@ -343,7 +344,7 @@ impl Perception {
     /// unseen side, closed `D` behind what it saw, may reach over a neighbour that was out of
     /// view. Near the shape's evidence, under (A5), the hit is on the obstacle the shape was
     /// fitted to, which it contains. Quick rejects by the bounding discs `|p − c| > max R + ε_x`
-    /// and `|p − c_B| < min R_B − ε_x`.
+    /// and `|p − c_B| < min R_B − max(ε_x, g_w − ε)`.
     #[must_use]
     pub fn explained(&self, p: Vector2<f64>) -> bool {
         self.explanation(p) != Explanation::None
@@ -355,11 +356,12 @@ impl Perception {
         let near = |s: &StarShape| within(s, p, eps);
         // Under the wall prior (eq. wallgap) a hit `p` whose true point `p*` (`|p − p*| ≤ ε`,
         // A1) is nearer the wall than `g_w` lies on the wall: no unknown obstacle comes that
-        // near. So a hit within `g_w − ε` of the wall is explained, as one within `ε_x` is.
-        let wall = eps.max(self.options.wall_gap - self.options.range_noise);
+        // near. So a hit less than `g_w − ε` from the wall is explained, as one within `ε_x` is.
+        let prior = self.options.wall_gap - self.options.range_noise;
         if let Some(b) = &self.boundary
-            && (p - b.centre()).norm() >= b.radius_bounds().0 - wall
-            && b.signed_distance_bounds(p).0 >= -wall
+            && (p - b.centre()).norm() >= b.radius_bounds().0 - eps.max(prior)
+            && let lo = b.signed_distance_bounds(p).0
+            && (lo >= -eps || lo > -prior)
         {
             return Explanation::Map;
         }

@@ -246,6 +246,17 @@ pub(crate) fn prepare(
                 format!("must be finite and in [0, 100] m, got {g:e}"),
             ));
         }
+        Some(g) if g >= boundary.radius_bounds().0 => {
+            return Err(f(
+                "wall_gap",
+                format!(
+                    "must be below the workspace's smallest radius {:e} m (no obstacle could \
+                     keep that far from the wall, and every hit would count as the wall's), \
+                     got {g:e}",
+                    boundary.radius_bounds().0
+                ),
+            ));
+        }
         Some(g) => g,
         None => WALL_GAP_SLACK * wall_distance(boundary, obstacles).min(100.0),
     };
@@ -289,14 +300,13 @@ pub(crate) fn lidar_only_fields(spec: &SensorSpec) -> [(&'static str, bool); 7] 
     ]
 }
 
-/// The smallest distance from a point of the obstacles' display outlines to the boundary
-/// (certified from below: `−hi` of the boundary's signed distance bounds), m; 0 without
-/// obstacles (no prior).
+/// The smallest certified clearance of a true obstacle inside the boundary
+/// ([`StarShape::clearance_inside`], a lower bound of the true distance to the shapes' distance
+/// tolerances), m; 0 without obstacles (no prior).
 fn wall_distance(boundary: &StarShape, obstacles: &[StarShape]) -> f64 {
     let nearest = obstacles
         .iter()
-        .flat_map(StarShape::outline)
-        .map(|x| -boundary.signed_distance_bounds(x).1)
+        .map(|o| o.clearance_inside(boundary))
         .fold(f64::INFINITY, f64::min);
     if nearest.is_finite() {
         nearest.max(0.0)

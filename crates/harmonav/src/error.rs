@@ -53,7 +53,8 @@ pub enum NavError {
     ContainsGoal,
     /// The added obstacle, grown by `radius` alone, contains the robot's last commanded
     /// position: the robot's disc would overlap it. (Grown by `radius + margin` it may contain
-    /// the robot: the next command then leads out of the margin band.)
+    /// the robot within its margin band: the next command then leads out. A scan's growth that
+    /// holds the robot farther out, past the band, is refused too: `Navigator::observe_scan`.)
     ContainsRobot,
     /// The command came out non-finite (a guard: not expected within the validated ranges;
     /// reported rather than returned as NaN).

@@ -8,8 +8,9 @@
 //! refused) and the perceived shapes, each with its index among [`Navigator::obstacles`].
 //!
 //! **The event rule.** A hit is dropped when it lies within `ε_x = max(ε, ε_g)` of an exact
-//! shape or the boundary (eq. explained; `ε` = [`crate::ScanOptions::range_noise`], `ε_g` =
-//! [`crate::ScanOptions::growth_threshold`]); a segment of hits is dropped when one perceived
+//! shape or the boundary, or less than `g_w − ε` from the boundary (eq. explained; `ε` =
+//! [`crate::ScanOptions::range_noise`], `ε_g` = [`crate::ScanOptions::growth_threshold`], `g_w` =
+//! [`crate::ScanOptions::wall_gap`]); a segment of hits is dropped when one perceived
 //! shape is within `ε_x` of all of them and within `d_ev` ([`crate::ScanOptions::evidence`]) of
 //! the hits it was fitted to (eq. attribution, docs/maths.md §12.8). Other segments are fitted,
 //! so an event needs a hit that no shape explains: more than `ε_x` outside, or more than
@@ -21,6 +22,7 @@ use std::sync::Arc;
 
 use harmonav_perception::{Known, PerceptionError};
 use harmonav_transform::{StarShape, Workspace, WorldError};
+use nalgebra::Vector2;
 
 pub use harmonav_perception::{LaserScan, Perceived, Pose};
 
@@ -30,7 +32,8 @@ use crate::scanning::{ScanState, ScanUpdate};
 
 impl Navigator {
     /// Observes one scan taken from `pose` (the sensor at the robot's centre, heading `yaw`):
-    /// drops the hits that exact shapes or the boundary explain within `max(ε, ε_g)` and the
+    /// drops the hits that exact shapes or the boundary explain within `max(ε, ε_g)` (the
+    /// boundary also less than `g_w − ε` away, under the wall prior) and the
     /// segments a perceived shape explains (eqs. explained, attribution), fits conservative
     /// stars to the rest, merges fits with the perceived shapes
     /// they overlap (shapes only grow), and hands every new or grown shape to the field grown
@@ -108,17 +111,7 @@ impl Navigator {
             } else {
                 None
             };
-            if body.as_ref().unwrap_or(&grown).contains(x) {
-                return Err(NavError::ContainsRobot);
-            }
-            // The margin band `grown \ body`, where the next command leads out
-            // (`Mode::Recovering`), is `margin` thick when `grown` is the body's offset; the disc
-            // of `grow_perceived`'s fallback reaches farther, and a robot there would be deep in
-            // an obstacle of the new field, with no band to recover through.
-            if let Some(b) = &body
-                && grown.contains(x)
-                && b.signed_distance(x) >= self.options.margin
-            {
+            if holds_robot(&grown, body.as_ref(), x, self.options.margin) {
                 return Err(NavError::ContainsRobot);
             }
             event_clearance = event_clearance.min(grown.signed_distance(x));
@@ -191,6 +184,20 @@ impl Navigator {
     }
 }
 
+/// Whether a changed shape, grown by `radius + margin` (`grown`) and by `radius` alone
+/// (`body`, `None` without a margin), refuses the event for the robot at `x`: `x` in the body
+/// (the robot's disc would overlap the shape), or in `grown` but `margin` or more outside the
+/// body. The margin band `grown \ body`, where the next command leads out
+/// (`Mode::Recovering`), is `margin` thick when `grown` is the body's offset; the disc of
+/// [`grow_perceived`]'s fallback reaches farther, and a robot there would be deep in an
+/// obstacle of the new field, with no band to recover through.
+fn holds_robot(grown: &StarShape, body: Option<&StarShape>, x: Vector2<f64>, margin: f64) -> bool {
+    match body {
+        None => grown.contains(x),
+        Some(b) => b.contains(x) || (grown.contains(x) && b.signed_distance(x) >= margin),
+    }
+}
+
 /// A perceived shape as the navigator holds it: `shape ⊕ B(r)`, grown by `r` (the robot's
 /// radius and margin; [`StarShape::offset`]); when the offset is not star-shaped about the
 /// centre (a merged radial hull with deep bays, `harmonav_perception::merge`), the disc
@@ -200,4 +207,52 @@ pub fn grow_perceived(shape: &StarShape, r: f64) -> Result<StarShape, NavError> 
     shape.offset(r).or_else(|_| {
         StarShape::circle(shape.centre(), shape.radius_bounds().1 + r).map_err(NavError::Shape)
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A bow tie `R = 0.3 + 0.25 cos 2θ` (waist 0.05 m) whose offset by the margin is not
+    /// star-shaped about its centre: [`grow_perceived`] falls back to the disc of radius
+    /// `0.55 + 0.05`. A robot in the waist's bay, 0.09 m outside the body, is inside that disc,
+    /// `margin` and more beyond the band: refused. Without the second test (the body alone)
+    /// it would be accepted. A robot within the band of a true offset is not refused, and one
+    /// in the body always is.
+    #[test]
+    fn a_grown_shape_past_the_margin_band_holds_the_robot() {
+        let margin = 0.05;
+        let tie = StarShape::fourier_star(Vector2::zeros(), 0.3, &[(2, 0.25, 0.0)]).unwrap();
+        assert!(tie.offset(margin).is_err(), "the offset must fall back");
+        let grown = grow_perceived(&tie, margin).unwrap();
+        let body = grow_perceived(&tie, 0.0).unwrap();
+        let bay = Vector2::new(0.0, 0.2);
+        assert!(grown.contains(bay) && !body.contains(bay));
+        assert!(
+            body.signed_distance(bay) > margin,
+            "{}",
+            body.signed_distance(bay)
+        );
+        assert!(holds_robot(&grown, Some(&body), bay, margin));
+        // A disc: the offset is exact, and the band is `margin` thick.
+        let disc = StarShape::circle(Vector2::zeros(), 0.5).unwrap();
+        let (grown, body) = (
+            grow_perceived(&disc, margin).unwrap(),
+            grow_perceived(&disc, 0.0).unwrap(),
+        );
+        assert!(!holds_robot(
+            &grown,
+            Some(&body),
+            Vector2::new(0.53, 0.0),
+            margin
+        ));
+        assert!(holds_robot(
+            &grown,
+            Some(&body),
+            Vector2::new(0.45, 0.0),
+            margin
+        ));
+        assert!(holds_robot(&grown, None, Vector2::new(0.53, 0.0), margin));
+        assert!(!holds_robot(&grown, None, Vector2::new(0.56, 0.0), margin));
+    }
 }
