@@ -129,14 +129,10 @@ fn rerun_all(files: &[(PathBuf, String)]) -> Outcome {
             Some(e) => format!("refused ({})", refusal(e)),
             None => s.outcome.kind().to_string(),
         };
-        let law = match model {
-            Model::Kinematic => "kinematic",
-            Model::Dynamic => "dynamic",
-        };
         reasons
             .entry(reason)
             .or_default()
-            .push(format!("{name} {law}"));
+            .push(format!("{name} {}", model.as_str()));
     }
     let detail = format!(
         "{arrived}/{} runs arrived ({} worlds × 2 laws); not arrived: {}; {} unsafe; {uncovered} \
