@@ -7,7 +7,7 @@ use harmonav_transform::nav::WIDTH_FACTOR;
 use harmonav_transform::radial::{obstacle_map, outer_map};
 use nalgebra::{Matrix2, Vector2};
 
-use crate::plan::{FloorError, FloorMap};
+use crate::plan::{CentrePolicy, FloorError, FloorMap};
 
 /// Why `Phi` is not defined at a point.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -54,7 +54,7 @@ struct Band {
 /// The navigation transformation of a floor plan (docs/maths.md §13):
 ///
 /// ```text
-/// Phi = S ∘ H ∘ B,     J_Phi(x) = J_S(H(B(x))) · J_H(B(x)) · J_B(x)
+/// Phi = S ∘ M_a ∘ H ∘ B,     J_Phi(x) = J_S · J_M · J_H(B(x)) · J_B(x)
 /// ```
 ///
 /// - `B`: the star-obstacle map of the sensed obstacles (`radial::obstacle_map`, the bands of
@@ -64,6 +64,10 @@ struct Band {
 ///   bound). Each band and its obstacle lie in `W_δ`, so `B(x) ∈ W_δ`.
 /// - `H`: the harmonic map of the walls onto the unit disk ([`FloorMap`]); holes collapse to
 ///   the punctures `p_j`, solved once. Adding a sensed obstacle needs no new solve.
+/// - `M_a`: the identity under [`CentrePolicy::Solve`]; under [`CentrePolicy::Goal`] the disk
+///   automorphism `M_a(w) = (w − a)/(1 − ā w)`, `a = H(x_d)`, which puts the goal's image at 0
+///   (below, `H` stands for `M_a ∘ H`: the punctures are `M_a(p_j)`, `r_δ = min |M_a(H)|` over
+///   the edge samples).
 /// - `S`: the existing outer stretch applied to the unit circle, `radial::outer_map(|w|, 1, 0,
 ///   ε_0, A)` about 0, with
 ///   `ε_0 = clamp(max(f·min(min_i(1 − |p_i|), 2(1 − |H(x_d)|)), EDGE_BAND·(1 − r_δ)), MIN_BAND, MAX_BAND)`
@@ -82,8 +86,13 @@ pub struct FloorTransform {
     /// `H(c_i)` of each sensed obstacle's centre.
     images: Vec<Vector2<f64>>,
     goal: Vector2<f64>,
+    /// `a`: the centre of the recentring map `M_a`, `H(x_d)` (or 0 when not recentred).
+    centre: Vector2<f64>,
+    /// `M_a(H(x_d))`: 0 when recentred.
     goal_image: Vector2<f64>,
-    /// `S(p)` of every point (punctures, then `H(c_i)`).
+    /// `M_a(p_j)` of the holes' punctures.
+    punctures: Vec<Vector2<f64>>,
+    /// `S(p)` of every point (punctures, then `M_a(H(c_i))`).
     stretched: Vec<Vector2<f64>>,
     /// `S(H(x_d))`.
     goal_point: Vector2<f64>,
@@ -167,13 +176,26 @@ impl FloorTransform {
             });
         }
         let map = floor.map();
-        let goal_image = map.eval(goal).map_err(FloorError::Map)?.value;
+        let raw_goal = map.eval(goal).map_err(FloorError::Map)?.value;
+        let centre = match floor.centre_policy() {
+            CentrePolicy::Solve => Vector2::zeros(),
+            CentrePolicy::Goal => raw_goal,
+        };
+        let recentre = |w: Vector2<f64>| mobius(centre, w).0;
+        let goal_image = recentre(raw_goal);
         let mut images = Vec::with_capacity(obstacles.len());
         for o in obstacles {
-            images.push(map.eval(o.centre()).map_err(FloorError::Map)?.value);
+            images.push(recentre(
+                map.eval(o.centre()).map_err(FloorError::Map)?.value,
+            ));
         }
-        let room = map
-            .punctures()
+        let punctures: Vec<_> = map.punctures().iter().map(|&p| recentre(p)).collect();
+        let edge_radius = floor
+            .edge_images()
+            .iter()
+            .map(|&w| recentre(w).norm())
+            .fold(1.0, f64::min);
+        let room = punctures
             .iter()
             .chain(&images)
             .map(|p| 1.0 - p.norm())
@@ -185,14 +207,16 @@ impl FloorTransform {
             });
         }
         let eps0 = (WIDTH_FACTOR * room)
-            .max(EDGE_BAND * (1.0 - floor.edge_radius()))
+            .max(EDGE_BAND * (1.0 - edge_radius))
             .clamp(MIN_BAND, MAX_BAND);
         Self {
             floor,
             bands,
             images,
             goal,
+            centre,
             goal_image,
+            punctures,
             stretched: Vec::new(),
             goal_point: goal_image,
             eps0,
@@ -252,32 +276,28 @@ impl FloorTransform {
         self.goal
     }
 
-    /// `P_d = S(H(x_d))`.
+    /// `P_d = S(M_a(H(x_d)))` (0 under [`CentrePolicy::Goal`]).
     #[must_use]
     pub fn destination_point(&self) -> Vector2<f64> {
         self.goal_point
     }
 
-    /// `H(x_d)` in the disk.
+    /// `M_a(H(x_d))` in the disk (`H(x_d)` under [`CentrePolicy::Solve`], 0 under
+    /// [`CentrePolicy::Goal`]).
     #[must_use]
     pub fn destination_image(&self) -> Vector2<f64> {
         self.goal_image
     }
 
-    /// The obstacle points of the point world: `S(p_j)` of the holes' punctures, then
-    /// `S(H(c_i))` of the sensed obstacles.
+    /// The obstacle points of the point world: `S(M_a(p_j))` of the holes' punctures, then
+    /// `S(M_a(H(c_i)))` of the sensed obstacles.
     pub fn points(&self) -> impl Iterator<Item = Vector2<f64>> + '_ {
         self.stretched.iter().copied()
     }
 
-    /// The same points in the disk, before `S`: the punctures `p_j`, then `H(c_i)`.
+    /// The same points in the disk, before `S`: the punctures `M_a(p_j)`, then `M_a(H(c_i))`.
     pub fn raw_points(&self) -> impl Iterator<Item = Vector2<f64>> + '_ {
-        self.floor
-            .map()
-            .punctures()
-            .iter()
-            .chain(&self.images)
-            .copied()
+        self.punctures.iter().chain(&self.images).copied()
     }
 
     /// The number of holes `M` (the first `M` points).
@@ -302,8 +322,9 @@ impl FloorTransform {
         (self.eps0, self.gain)
     }
 
-    /// `Phi(x) = S(H(B(x)))` with `J_Phi = J_S J_H J_B` (chain rule; each factor exact:
-    /// `Radial::jacobian` for `B` and `S`, the closed-form `J_H`). `O(N + n)`, no allocation.
+    /// `Phi(x) = S(M_a(H(B(x))))` with `J_Phi = J_S J_M J_H J_B` (chain rule; each factor exact:
+    /// `Radial::jacobian` for `B` and `S`, the closed-form `J_H` and `M_a'`). `O(N + n)`, no
+    /// allocation.
     ///
     /// # Errors
     /// [`NotFree::Outside`] on or beyond a wall or at a non-finite point;
@@ -353,14 +374,31 @@ impl FloorTransform {
             .map()
             .eval(y)
             .map_err(|_| NotFree::BoundaryLayer)?;
-        let (h, js) = self.stretch(e.value).ok_or(NotFree::BoundaryLayer)?;
-        if part == Part::Harmonic && e.value.norm() > 1.0 - self.eps0 {
+        let (w, jm) = mobius(self.centre, e.value);
+        let (h, js) = self.stretch(w).ok_or(NotFree::BoundaryLayer)?;
+        if part == Part::Harmonic && w.norm() > 1.0 - self.eps0 {
             part = Part::Stretched;
         }
         Ok(FloorMapped {
             h,
-            jacobian: js * e.jacobian * jb,
+            jacobian: js * jm * e.jacobian * jb,
             part,
         })
     }
+}
+
+/// The disk automorphism `M_a(w) = (w − a)/(1 − ā w)` (complex notation, `|a| < 1`) and its
+/// Jacobian, the conformal `M_a'(w) = (1 − |a|²)/(1 − ā w)²` as a rotation-scaling matrix.
+fn mobius(a: Vector2<f64>, w: Vector2<f64>) -> (Vector2<f64>, Matrix2<f64>) {
+    // 1 − ā w
+    let dr = 1.0 - (a.x * w.x + a.y * w.y);
+    let di = -(a.x * w.y - a.y * w.x);
+    let d2 = dr * dr + di * di;
+    let (nr, ni) = (w.x - a.x, w.y - a.y);
+    let m = Vector2::new((nr * dr + ni * di) / d2, (ni * dr - nr * di) / d2);
+    // (1 − |a|²)/d² with d² the complex square (dr² − di², 2 dr di).
+    let k = (1.0 - a.norm_squared()) / (d2 * d2);
+    let (sr, si) = (dr * dr - di * di, 2.0 * dr * di);
+    let (jr, ji) = (k * sr, -k * si);
+    (m, Matrix2::new(jr, -ji, ji, jr))
 }

@@ -62,6 +62,6 @@ pub mod ros_map;
 pub mod theta;
 
 pub use compose::{FloorMapped, FloorTransform, NotFree, Part};
-pub use plan::{FloorError, FloorMap, FloorOptions};
+pub use plan::{CentrePolicy, FloorError, FloorMap, FloorOptions, UnknownCentrePolicy};
 pub use ros_map::{Cell, MapError, MapMode, MapOptions, MapOutline, MapPoint, MapProblem, RosMap};
 pub use theta::FloorField;

@@ -126,6 +126,32 @@ impl From<harmonav_potential::PotentialError> for FloorError {
     }
 }
 
+/// Where the goal's image lies in the disk (`[floor_plan] centre`, docs/maths.md §13.2).
+///
+/// - `"solve"` (the default): `H(x_d)` where the solve puts it, `Phi = S ∘ H ∘ B`.
+/// - `"goal"`: recentred by the disk automorphism `M_a(w) = (w − a)/(1 − ā w)`, `a = H(x_d)`,
+///   so that `M_a(H(x_d)) = 0`: `Phi = S ∘ M_a ∘ H ∘ B`. `M_a` is a conformal diffeomorphism of
+///   the open disk onto itself, so `M_a ∘ H` is a diffeomorphism wherever `H` is, with
+///   `det J = |M_a'|² det J_H` and `|M_a(w)| < 1 ⇔ |w| < 1`: the certificate of `H` carries over
+///   unchanged. Serpentine plans without holes (the maze of `scenarios/floorplans/`) arrive
+///   under it and not under `"solve"`; plans with holes far from the goal do worse (measured in
+///   §13.2), so it is not the default.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum CentrePolicy {
+    /// `H(x_d)` as solved.
+    #[default]
+    Solve,
+    /// `M_a ∘ H` with `a = H(x_d)`: the goal at the disk's centre.
+    Goal,
+}
+
+harmonav_potential::named_policy!(
+    CentrePolicy,
+    UnknownCentrePolicy,
+    "disk centre policy",
+    [Solve => "solve", Goal => "goal"]
+);
+
 /// Options of [`FloorMap::new`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FloorOptions {
@@ -133,16 +159,27 @@ pub struct FloorOptions {
     pub max_element: f64,
     /// The clearance the robot keeps from every wall: `radius + margin` (m, ≥ 0).
     pub clearance: f64,
+    /// Where the goal's image lies in the disk ([`CentrePolicy`]).
+    pub centre: CentrePolicy,
 }
 
 impl FloorOptions {
-    /// Elements of at most `max_element` and the clearance `radius + margin`.
+    /// Elements of at most `max_element`, the clearance `radius + margin`, and the goal's image
+    /// where the solve puts it ([`CentrePolicy::Solve`]).
     #[must_use]
     pub fn new(max_element: f64, clearance: f64) -> Self {
         Self {
             max_element,
             clearance,
+            centre: CentrePolicy::Solve,
         }
+    }
+
+    /// The same options with the centre policy `centre`.
+    #[must_use]
+    pub fn with_centre(mut self, centre: CentrePolicy) -> Self {
+        self.centre = centre;
+        self
     }
 }
 
@@ -194,6 +231,10 @@ pub struct FloorMap {
     edge: Vec<Vector2<f64>>,
     /// `min |H|` over the edge samples.
     edge_radius: f64,
+    /// `H` at the edge samples where it could be evaluated (`S`'s band after a recentring,
+    /// [`crate::FloorTransform`]).
+    edge_images: Vec<Vector2<f64>>,
+    centre: CentrePolicy,
 }
 
 /// The rings of a domain, outer first.
@@ -380,11 +421,11 @@ impl FloorMap {
         // Over every ring: near a hole the layer maps next to its puncture (the U's pocket
         // squeezes it to 2e-4), which widens S's band to MAX_BAND. Measured: taking r_δ along
         // the outer ring alone narrowed the band and the L room's far starts stalled.
-        let mut edge_radius: f64 = 1.0;
-        for &p in &edge {
-            let r = map.eval(p).map_or(1.0, |e| e.value.norm());
-            edge_radius = edge_radius.min(r);
-        }
+        let edge_images: Vec<_> = edge
+            .iter()
+            .filter_map(|&p| map.eval(p).ok().map(|e| e.value))
+            .collect();
+        let edge_radius = edge_images.iter().map(|w| w.norm()).fold(1.0, f64::min);
         Ok(Self {
             map,
             truth,
@@ -395,6 +436,8 @@ impl FloorMap {
             clearance: c,
             edge,
             edge_radius,
+            edge_images,
+            centre: options.centre,
         })
     }
 
@@ -463,6 +506,18 @@ impl FloorMap {
     #[must_use]
     pub fn edge_radius(&self) -> f64 {
         self.edge_radius
+    }
+
+    /// `H` at the samples of [`FloorMap::layer_edge`] (those where it could be evaluated).
+    #[must_use]
+    pub fn edge_images(&self) -> &[Vector2<f64>] {
+        &self.edge_images
+    }
+
+    /// Where the goal's image lies in the disk ([`CentrePolicy`]).
+    #[must_use]
+    pub fn centre_policy(&self) -> CentrePolicy {
+        self.centre
     }
 
     /// The distance from `x` to the nearest wall (parry's point query on the wall segments),

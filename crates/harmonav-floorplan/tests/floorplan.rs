@@ -3,7 +3,9 @@
 use std::sync::Arc;
 
 use harmonav_field::{FieldError, KPolicy};
-use harmonav_floorplan::{FloorError, FloorField, FloorMap, FloorOptions, NotFree, Part};
+use harmonav_floorplan::{
+    CentrePolicy, FloorError, FloorField, FloorMap, FloorOptions, NotFree, Part,
+};
 use harmonav_harmonic::{CertifyOptions, Verdict, certify};
 use harmonav_transform::StarShape;
 use nalgebra::{Matrix2, Vector2};
@@ -14,6 +16,11 @@ fn v(x: f64, y: f64) -> Vector2<f64> {
 
 /// A 6 × 4 room with a U-shaped obstacle (2 × 2, pocket 1 wide, 1.4 deep, open upward).
 fn u_trap(h: f64, clearance: f64) -> Arc<FloorMap> {
+    u_trap_centred(h, clearance, CentrePolicy::Solve)
+}
+
+/// [`u_trap`] with the centre policy `centre`.
+fn u_trap_centred(h: f64, clearance: f64, centre: CentrePolicy) -> Arc<FloorMap> {
     let room = vec![v(0.0, 0.0), v(6.0, 0.0), v(6.0, 4.0), v(0.0, 4.0)];
     let u = vec![
         v(2.0, 1.0),
@@ -25,7 +32,8 @@ fn u_trap(h: f64, clearance: f64) -> Arc<FloorMap> {
         v(2.5, 3.0),
         v(2.0, 3.0),
     ];
-    Arc::new(FloorMap::new(room, vec![u], &FloorOptions::new(h, clearance)).unwrap())
+    let options = FloorOptions::new(h, clearance).with_centre(centre);
+    Arc::new(FloorMap::new(room, vec![u], &options).unwrap())
 }
 
 /// An L-shaped room with a square pillar in one arm.
@@ -50,15 +58,33 @@ fn fd(field: &FloorField, x: Vector2<f64>, e: f64) -> Matrix2<f64> {
     Matrix2::new(dx.x, dy.x, dx.y, dy.y)
 }
 
-/// The composed Jacobian `J_S J_H J_B` agrees with central differences of `Phi` in each part:
-/// where only `H` acts, in a sensed obstacle's band (`B`), and next to the walls where `S`
-/// stretches.
+/// The composed Jacobian `J_S J_M J_H J_B` agrees with central differences of `Phi` in each
+/// part: where only `H` acts, in a sensed obstacle's band (`B`), and next to the walls where `S`
+/// stretches; under both centre policies (`M_a` the identity, or the Möbius map that puts the
+/// goal at 0, which it does).
 #[test]
 fn composed_jacobian_matches_finite_differences_in_every_part() {
-    let floor = u_trap(0.2, 0.25);
+    for centre in CentrePolicy::ALL {
+        composed_jacobian_matches_finite_differences(centre);
+    }
+}
+
+fn composed_jacobian_matches_finite_differences(centre: CentrePolicy) {
+    let floor = u_trap_centred(0.2, 0.25, centre);
     let rock = StarShape::ellipse(v(1.0, 2.0), [0.3, 0.2], 0.4).unwrap();
-    let field =
-        FloorField::with_obstacles(floor.clone(), &[rock], v(5.0, 2.0), KPolicy::Auto).unwrap();
+    let goal = v(5.0, 2.0);
+    let field = FloorField::with_obstacles(floor.clone(), &[rock], goal, KPolicy::Auto).unwrap();
+    let raw = floor.map().eval(goal).unwrap().value;
+    let image = field.transform().destination_image();
+    match centre {
+        CentrePolicy::Solve => assert_eq!(image, raw),
+        CentrePolicy::Goal => {
+            assert!(raw.norm() > 0.1, "the control: H(x_d) is not already 0");
+            assert!(image.norm() < 1e-15, "M_a(H(x_d)) = {image:?}");
+        }
+    }
+    // The punctures stay strictly inside the disk (|M_a(w)| < 1 for |w| < 1).
+    assert!(field.transform().raw_points().all(|p| p.norm() < 1.0));
     let mut seen = [false; 3];
     let mut worst: f64 = 0.0;
     for i in 0..60 {
@@ -96,7 +122,7 @@ fn composed_jacobian_matches_finite_differences_in_every_part() {
             assert!(m.jacobian.determinant() > 0.0, "det J_Phi ≤ 0 at {x:?}");
         }
     }
-    assert_eq!(seen, [true; 3], "every part sampled");
+    assert_eq!(seen, [true; 3], "every part sampled ({centre})");
     assert!(worst > 0.0);
 }
 

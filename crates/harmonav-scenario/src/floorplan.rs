@@ -8,6 +8,7 @@
 //! outer = [[0, 0], [8, 0], [8, 5], [0, 5]]      # either orientation
 //! holes = [[[3, 1], [5, 1], [5, 4], …]]          # any shape (U, L, …)
 //! max_element = 0.2                              # boundary element h (m)
+//! centre = "solve"                               # or "goal" (the goal at the disk centre)
 //! [robot]
 //! model = "kinematic"                            # or "dynamic" (mass, mu)
 //! start = [1, 2.5]
@@ -30,7 +31,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use harmonav::{FloorMap, FloorOptions, StarShape};
+use harmonav::{CentrePolicy, FloorMap, FloorOptions, StarShape};
 use harmonav_floorplan::{FloorError, MapOptions, MapPoint, MapProblem};
 use harmonav_harmonic::{DomainError, RingId, SolveError};
 use harmonav_transform::random::Rng;
@@ -70,6 +71,10 @@ pub struct FloorPlanSpec {
     /// The longest boundary element `h`, m.
     #[serde(default = "default_element")]
     pub max_element: f64,
+    /// Where the goal's image lies in the disk: `"solve"` (the default) or `"goal"` (recentred
+    /// by a disk automorphism; [`harmonav::CentrePolicy`]).
+    #[serde(default, deserialize_with = "crate::scenario::de_policy")]
+    pub centre: CentrePolicy,
 }
 
 fn default_element() -> f64 {
@@ -290,7 +295,7 @@ impl FloorScenario {
         }
         let plan = &self.floor_plan;
         let clock = std::time::Instant::now();
-        let options = FloorOptions::new(h, r.radius + r.margin);
+        let options = FloorOptions::new(h, r.radius + r.margin).with_centre(plan.centre);
         let floor_error = |e: FloorError| match &e {
             FloorError::Domain(d) => f(&ring_field(d), d.to_string()),
             FloorError::Solve(SolveError::Mesh(m)) => f("floor_plan.max_element", m.to_string()),

@@ -164,7 +164,7 @@ pub struct FieldSpec {
 }
 
 /// A policy field (`k`, `damping`, `speed`) by name; an unknown name is an error that lists the names.
-fn de_policy<'de, D, P>(d: D) -> Result<P, D::Error>
+pub(crate) fn de_policy<'de, D, P>(d: D) -> Result<P, D::Error>
 where
     D: Deserializer<'de>,
     P: std::str::FromStr,

@@ -84,6 +84,12 @@ fn bad_floor_plans_name_the_file_field_and_problem() {
     let square = "outer = [[0.0, 0.0], [4.0, 0.0], [4.0, 4.0], [0.0, 4.0]]";
     let robot = "start = [1.0, 1.0]\ngoal = [3.0, 3.0]";
     check(
+        // A parse error: the file and its line (the `centre` line) name the field.
+        &good(&format!("{square}\ncentre = \"middle\""), robot),
+        "",
+        "unknown disk centre policy \"middle\": expected \"solve\" or \"goal\"",
+    );
+    check(
         &good(square, "start = [0.05, 1.0]\ngoal = [3.0, 3.0]"),
         "robot.start",
         "not in the certified region",
@@ -178,4 +184,54 @@ fn map_floor_plans_load_and_their_errors_name_the_field_and_the_map() {
             FloorScenario::load(&file).unwrap_or_else(|e| panic!("{e}"));
         }
     }
+}
+
+/// The serpentine maze of `scenarios/floorplans/limits/map-maze.toml` (a ROS map, one ring, no
+/// holes) with elements of 0.2 m, flown by the kinematic law from the file's start for 60 s.
+/// With the goal's image at the disk's centre (`centre = "goal"`, docs/maths.md §13.2) it
+/// arrives with every guarantee; with the solve's `H(x_d)` (the default, `"solve"`) the same
+/// map stops against a wall, where the descent of `S ∘ H` runs into it: the control that shows
+/// the recentring, not the finer elements, is what makes it arrive.
+#[test]
+fn the_maze_arrives_with_the_goal_at_the_disk_centre_and_not_without() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenarios")
+        .join(FLOORPLANS);
+    let source = std::fs::read_to_string(dir.join("limits/map-maze.toml")).unwrap();
+    let yaml = dir.join("maps/maze.yaml").canonicalize().unwrap();
+    let tmp = std::env::temp_dir().join(format!("harmonav-maze-{}", std::process::id()));
+    std::fs::create_dir_all(&tmp).unwrap();
+    let mut endings = Vec::new();
+    for centre in ["goal", "solve"] {
+        let text = source
+            .replace(
+                "\"../maps/maze.yaml\"",
+                &format!("{:?}", yaml.display().to_string()),
+            )
+            .replace(
+                "max_element = 0.4",
+                &format!("max_element = 0.2\ncentre = \"{centre}\""),
+            )
+            .replace("max_time = 300.0", "max_time = 60.0");
+        assert!(text.contains("centre") && text.contains("max_time = 60.0"));
+        let file = tmp.join(format!("maze-{centre}.toml"));
+        std::fs::write(&file, text).unwrap();
+        let p = FloorScenario::load(&file).unwrap_or_else(|e| panic!("{e}"));
+        let r = run(&p, Some(Model::Kinematic), p.starts[0]).unwrap();
+        eprintln!(
+            "maze, centre = {centre}: {} in {:.1} s, {:.2} m from the goal, walls {:.3}",
+            r.ending.as_str(),
+            r.time,
+            r.final_distance,
+            r.wall_clearance
+        );
+        assert!(r.wall_clearance > 0.0 && r.layer_clearance >= 0.0, "{r:?}");
+        endings.push((r.ending, r.final_distance));
+    }
+    std::fs::remove_dir_all(&tmp).ok();
+    assert_eq!(endings[0].0, FloorEnding::Reached, "{endings:?}");
+    assert!(
+        endings[1].0 != FloorEnding::Reached && endings[1].1 > 1.0,
+        "{endings:?}"
+    );
 }

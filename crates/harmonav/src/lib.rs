@@ -73,7 +73,7 @@ pub use error::NavError;
 pub use floor::FloorNavigator;
 pub use harmonav_control::{DampingPolicy, SpeedPolicy};
 pub use harmonav_field::KPolicy;
-pub use harmonav_floorplan::{FloorError, FloorMap, FloorOptions};
+pub use harmonav_floorplan::{CentrePolicy, FloorError, FloorMap, FloorOptions};
 pub use harmonav_transform::{ShapeError, StarShape};
 pub use hold::{
     CHORD_AFTER_HALVINGS, CHORD_SUBSTEPS, Command, DYNAMIC_FRACTION, KINEMATIC_FRACTION,
