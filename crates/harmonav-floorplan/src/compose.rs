@@ -1,4 +1,5 @@
-//! [`FloorTransform`]: `Phi = S ∘ H ∘ B` on a floor plan, with its Jacobian by the chain rule.
+//! [`FloorTransform`]: `Phi = S ∘ M_a ∘ H ∘ B` on a floor plan (`M_a` the identity unless the
+//! plan recentres on the goal, [`CentrePolicy`]), with its Jacobian by the chain rule.
 
 use std::sync::Arc;
 
@@ -24,15 +25,15 @@ pub enum NotFree {
 /// Which part of `Phi` acted on a point.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Part {
-    /// `B` was the identity and `H(x)` is in `S`'s identity disc.
+    /// `B` was the identity and `M_a(H(x))` is in `S`'s identity disc.
     Harmonic,
     /// In the band of sensed obstacle `i`: `B` collapsed it towards the obstacle's centre.
     Obstacle(usize),
-    /// `H(B(x))` is in `S`'s band next to the unit circle.
+    /// `M_a(H(B(x)))` is in `S`'s band next to the unit circle.
     Stretched,
 }
 
-/// `Phi(x)`, `J_Phi(x) = J_S J_H J_B` and the part that acted.
+/// `Phi(x)`, `J_Phi(x) = J_S J_M J_H J_B` and the part that acted.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FloorMapped {
     /// `Phi(x)` in the point world.
@@ -71,19 +72,20 @@ struct Band {
 /// - `S`: the existing outer stretch applied to the unit circle, `radial::outer_map(|w|, 1, 0,
 ///   ε_0, A)` about 0, with
 ///   `ε_0 = clamp(max(f·min(min_i(1 − |p_i|), 2(1 − |H(x_d)|)), EDGE_BAND·(1 − r_δ)), MIN_BAND, MAX_BAND)`
-///   ([`EDGE_BAND`], [`MIN_BAND`], [`MAX_BAND`], `r_δ` = [`FloorMap::edge_radius`]): the band holds the image
+///   ([`EDGE_BAND`], [`MIN_BAND`], [`MAX_BAND`], `r_δ = min |M_a(H)|` over
+///   [`FloorMap::edge_images`]): the band holds the image
 ///   of `∂W_δ`, so the walls' barrier is steep where navigation stops;
 ///   `A = max(ε_0, 2r*, MIN_GAIN)` ([`MIN_GAIN`]) with `r*` the potential's valley radius
 ///   about 0 (computed on the points before `S`).
 ///
-/// The point world is `P_d = S(H(x_d))`, `P = (S(p_1) … S(p_M), S(H(c_1)) … S(H(c_n)))`,
-/// `k > M + n`.
+/// The point world is `P_d = S(M_a(H(x_d)))`, `P = (S(M_a(p_1)) … S(M_a(p_M)), S(M_a(H(c_1))) …
+/// S(M_a(H(c_n))))`, `k > M + n`.
 /// Defined on `W_δ` minus the sensed obstacles; [`NotFree::BoundaryLayer`] in the layer.
 #[derive(Clone, Debug)]
 pub struct FloorTransform {
     floor: Arc<FloorMap>,
     bands: Vec<Band>,
-    /// `H(c_i)` of each sensed obstacle's centre.
+    /// `M_a(H(c_i))` of each sensed obstacle's centre.
     images: Vec<Vector2<f64>>,
     goal: Vector2<f64>,
     /// `a`: the centre of the recentring map `M_a`, `H(x_d)` (or 0 when not recentred).
@@ -94,14 +96,14 @@ pub struct FloorTransform {
     punctures: Vec<Vector2<f64>>,
     /// `S(p)` of every point (punctures, then `M_a(H(c_i))`).
     stretched: Vec<Vector2<f64>>,
-    /// `S(H(x_d))`.
+    /// `S(M_a(H(x_d)))`.
     goal_point: Vector2<f64>,
     eps0: f64,
     gain: f64,
 }
 
-/// `S`'s band reaches `EDGE_BAND·(1 − r_δ)` into the disk, `r_δ = min |H|` on `∂W_δ`
-/// ([`FloorMap::edge_radius`]): the edge of the certified region lies in the band's outer
+/// `S`'s band reaches `EDGE_BAND·(1 − r_δ)` into the disk, `r_δ = min |M_a(H)|` on `∂W_δ`
+/// (over [`FloorMap::edge_images`]; [`FloorMap::edge_radius`] when `M_a` is the identity): the edge of the certified region lies in the band's outer
 /// half, where the stretch makes the walls' barrier steep.
 pub const EDGE_BAND: f64 = 2.0;
 
@@ -177,6 +179,15 @@ impl FloorTransform {
         }
         let map = floor.map();
         let raw_goal = map.eval(goal).map_err(FloorError::Map)?.value;
+        // Guard: `H(x_d)` strictly inside the disk (the certificate's `|H| < 1` on `W_δ`), also
+        // under `"goal"`, where `M_a` would otherwise map a goal on or beyond the circle to 0.
+        let goal_radius = raw_goal.norm();
+        if goal_radius.is_nan() || goal_radius >= 1.0 {
+            return Err(FloorError::GoalNotCertified {
+                clearance: sd_goal,
+                delta,
+            });
+        }
         let centre = match floor.centre_policy() {
             CentrePolicy::Solve => Vector2::zeros(),
             CentrePolicy::Goal => raw_goal,
@@ -390,6 +401,10 @@ impl FloorTransform {
 /// The disk automorphism `M_a(w) = (w − a)/(1 − ā w)` (complex notation, `|a| < 1`) and its
 /// Jacobian, the conformal `M_a'(w) = (1 − |a|²)/(1 − ā w)²` as a rotation-scaling matrix.
 fn mobius(a: Vector2<f64>, w: Vector2<f64>) -> (Vector2<f64>, Matrix2<f64>) {
+    if a == Vector2::zeros() {
+        // `M_0` is the identity: exact, and no `0·∞` for a non-finite `w`.
+        return (w, Matrix2::identity());
+    }
     // 1 − ā w
     let dr = 1.0 - (a.x * w.x + a.y * w.y);
     let di = -(a.x * w.y - a.y * w.x);

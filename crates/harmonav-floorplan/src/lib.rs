@@ -5,13 +5,15 @@
 //! star-shaped obstacles sensed online inside it.
 //!
 //! ```text
-//! Phi = S ∘ H ∘ B,    J_Phi = J_S · J_H · J_B,    Θ = sigma ∘ phi_k ∘ Phi
+//! Phi = S ∘ M_a ∘ H ∘ B,    J_Phi = J_S · J_M · J_H · J_B,    Θ = sigma ∘ phi_k ∘ Phi
 //! ```
 //!
 //! - `B`: the star-obstacle bands of harmonav-transform for the sensed obstacles (each
 //!   collapsed to its centre; no new solve when one is added);
 //! - `H`: the harmonic map of the walls onto the unit disk (harmonav-harmonic), holes collapsed
 //!   to their punctures, solved once;
+//! - `M_a`: the identity, or under [`CentrePolicy::Goal`] the disk automorphism that puts the
+//!   goal's image at 0 (docs/maths.md §13.2);
 //! - `S`: the outer stretch of harmonav-transform applied to the unit circle, so the walls go
 //!   to infinity;
 //! - `k` counts the holes plus the sensed obstacles.

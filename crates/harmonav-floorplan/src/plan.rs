@@ -501,8 +501,10 @@ impl FloorMap {
         &self.edge
     }
 
-    /// `r_δ = min |H|` over [`FloorMap::layer_edge`]: the stretch `S` starts inside it, so the
-    /// walls' barrier is already steep at `∂W_δ` (`docs/maths.md` §13).
+    /// `min |H|` over [`FloorMap::layer_edge`]: `r_δ` of `S`'s band when the goal is not
+    /// recentred ([`CentrePolicy::Solve`]; under [`CentrePolicy::Goal`] the transform takes
+    /// `min |M_a(H)|` over [`FloorMap::edge_images`] instead). The stretch `S` starts inside it,
+    /// so the walls' barrier is already steep at `∂W_δ` (`docs/maths.md` §13).
     #[must_use]
     pub fn edge_radius(&self) -> f64 {
         self.edge_radius

@@ -20,10 +20,10 @@ impl From<NotFree> for FieldError {
     }
 }
 
-/// `Θ(x) = sigma(phi_k(Phi(x)))` on a floor plan, `Phi = S ∘ H ∘ B` ([`FloorTransform`]),
+/// `Θ(x) = sigma(phi_k(Phi(x)))` on a floor plan, `Phi = S ∘ M_a ∘ H ∘ B` ([`FloorTransform`]),
 /// `∇Θ = sigma'(phi_k)·J_Phiᵀ ∇phi_k` (the chain rule of theorem `isNF`), over the holes and
 /// the sensed obstacles: `k = policy.k_for(M + n, layer)` with the layer ratio
-/// `max_i |H(x_d) − p_i|/(1 − |p_i|)` of the points in the disk (the star world's rule,
+/// `max_i |M_a(H(x_d)) − p_i|/(1 − |p_i|)` of the points in the disk (`p_i` after `M_a`; the star world's rule,
 /// `docs/maths.md` §8, with the unit circle as the boundary). [`FloorField::with_obstacle`] adds a sensed
 /// obstacle without a new solve of `H`.
 #[derive(Clone, Debug)]

@@ -1,8 +1,8 @@
 //! The uniform quadtree: pieces, the upward and downward passes, evaluation and insertion.
 
 use crate::expansion::{
-    C64, MAX_TERMS, Values, eval_local, eval_multipole, l2l, m2l, m2l_table, m2m, p2l_point,
-    p2m_point, p2m_segment, pascal,
+    C64, MAX_TERMS, P2L_BATCH, Values, eval_local, eval_multipole, l2l, m2l, m2l_table, m2m,
+    p2l_point_batch, p2m_point, p2m_segment, pascal,
 };
 
 /// A source: a point charge or a segment of uniform density.
@@ -298,21 +298,42 @@ impl<const C: usize> Fmm<C> {
             ix /= 2;
             iy /= 2;
         }
-        // P2L into every far leaf.
+        // P2L into every far leaf, `P2L_BATCH` leaves at a time (independent power chains).
         let (lx, ly) = (leaf % n, leaf / n);
         let width = self.width(self.levels);
-        for jy in 0..n {
-            for jx in 0..n {
-                if jx.abs_diff(lx) <= 1 && jy.abs_diff(ly) <= 1 {
-                    continue;
-                }
-                let c = self.centre(self.levels, jx, jy);
-                let b = jy * n + jx;
-                for (ch, q) in w.iter().enumerate() {
-                    let start = (b * C + ch) * terms;
-                    p2l_point(&mut self.locals[start..start + terms], *q, z, c, width);
+        for (ch, q) in w.iter().enumerate() {
+            let mut starts = [0; P2L_BATCH];
+            let mut centres = [C64::new(0.0, 0.0); P2L_BATCH];
+            let mut count = 0;
+            for jy in 0..n {
+                for jx in 0..n {
+                    if jx.abs_diff(lx) <= 1 && jy.abs_diff(ly) <= 1 {
+                        continue;
+                    }
+                    starts[count] = ((jy * n + jx) * C + ch) * terms;
+                    centres[count] = self.centre(self.levels, jx, jy);
+                    count += 1;
+                    if count == P2L_BATCH {
+                        p2l_point_batch(
+                            &mut self.locals,
+                            &starts,
+                            &centres,
+                            count,
+                            terms,
+                            (*q, z, width),
+                        );
+                        count = 0;
+                    }
                 }
             }
+            p2l_point_batch(
+                &mut self.locals,
+                &starts,
+                &centres,
+                count,
+                terms,
+                (*q, z, width),
+            );
         }
         Ok(index)
     }

@@ -163,7 +163,8 @@ pub struct FieldSpec {
     pub k: KPolicy,
 }
 
-/// A policy field (`k`, `damping`, `speed`) by name; an unknown name is an error that lists the names.
+/// A policy field (`k`, `damping`, `speed`, a floor plan's `centre`) by name; an unknown name is an
+/// error that lists the names.
 pub(crate) fn de_policy<'de, D, P>(d: D) -> Result<P, D::Error>
 where
     D: Deserializer<'de>,

@@ -364,6 +364,8 @@ pub struct FloorSummary {
     pub delta: f64,
     /// Boundary elements of the harmonic map.
     pub elements: usize,
+    /// Where the goal's image lies in the disk: `"solve"` or `"goal"` (`[floor_plan] centre`).
+    pub centre: &'static str,
     /// Seconds spent meshing and solving the harmonic map.
     pub setup_s: f64,
     /// `k` at the end.
@@ -481,6 +483,7 @@ impl FloorSummary {
             layer_clearance: run.layer_clearance,
             delta: prepared.floor.delta(),
             elements: prepared.floor.map().elements().len(),
+            centre: prepared.floor.centre_policy().as_str(),
             setup_s: prepared.setup_seconds,
             k: run.k,
             commands: run.commands,

@@ -1,5 +1,6 @@
 //! [`FloorNavigator`]: the online navigator on a floor plan (issue 25): `Θ` through
-//! `Phi = S ∘ H ∘ B` (harmonav-floorplan), both laws, the sampled-data hold, obstacles sensed
+//! `Phi = S ∘ M_a ∘ H ∘ B` (harmonav-floorplan; `M_a` the identity unless the plan recentres on
+//! its goal), both laws, the sampled-data hold, obstacles sensed
 //! online inside the plan (no new solve of `H` when one is added).
 
 use std::sync::Arc;
