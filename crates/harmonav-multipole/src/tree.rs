@@ -301,39 +301,27 @@ impl<const C: usize> Fmm<C> {
         // P2L into every far leaf, `P2L_BATCH` leaves at a time (independent power chains).
         let (lx, ly) = (leaf % n, leaf / n);
         let width = self.width(self.levels);
+        let far: Vec<usize> = (0..n * n)
+            .filter(|&b| (b % n).abs_diff(lx) > 1 || (b / n).abs_diff(ly) > 1)
+            .collect();
         for (ch, q) in w.iter().enumerate() {
-            let mut starts = [0; P2L_BATCH];
-            let mut centres = [C64::new(0.0, 0.0); P2L_BATCH];
-            let mut count = 0;
-            for jy in 0..n {
-                for jx in 0..n {
-                    if jx.abs_diff(lx) <= 1 && jy.abs_diff(ly) <= 1 {
-                        continue;
-                    }
-                    starts[count] = ((jy * n + jx) * C + ch) * terms;
-                    centres[count] = self.centre(self.levels, jx, jy);
-                    count += 1;
-                    if count == P2L_BATCH {
-                        p2l_point_batch(
-                            &mut self.locals,
-                            &starts,
-                            &centres,
-                            count,
-                            terms,
-                            (*q, z, width),
-                        );
-                        count = 0;
-                    }
+            for chunk in far.chunks(P2L_BATCH) {
+                let mut starts = [0; P2L_BATCH];
+                let mut centres = [C64::new(0.0, 0.0); P2L_BATCH];
+                for (j, &b) in chunk.iter().enumerate() {
+                    starts[j] = (b * C + ch) * terms;
+                    centres[j] = self.centre(self.levels, b % n, b / n);
                 }
+                let charge = (*q, z, width);
+                p2l_point_batch(
+                    &mut self.locals,
+                    &starts,
+                    &centres,
+                    chunk.len(),
+                    terms,
+                    charge,
+                );
             }
-            p2l_point_batch(
-                &mut self.locals,
-                &starts,
-                &centres,
-                count,
-                terms,
-                (*q, z, width),
-            );
         }
         Ok(index)
     }
