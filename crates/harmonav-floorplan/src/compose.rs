@@ -183,10 +183,7 @@ impl FloorTransform {
         // under `"goal"`, where `M_a` would otherwise map a goal on or beyond the circle to 0.
         let goal_radius = raw_goal.norm();
         if goal_radius.is_nan() || goal_radius >= 1.0 {
-            return Err(FloorError::GoalNotCertified {
-                clearance: sd_goal,
-                delta,
-            });
+            return Err(FloorError::PointOnCircle);
         }
         let centre = match floor.centre_policy() {
             CentrePolicy::Solve => Vector2::zeros(),

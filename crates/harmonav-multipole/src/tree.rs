@@ -701,3 +701,64 @@ fn interaction_list(ix: usize, iy: usize, nl: usize) -> impl Iterator<Item = (us
     })
     .filter(move |(sx, sy)| sx.abs_diff(ix) > 1 || sy.abs_diff(iy) > 1)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::expansion::p2l_point;
+
+    /// `push_point` leaves the tree's local expansions bit for bit where the leaf-by-leaf P2L
+    /// of the single form (`p2l_point` into every leaf outside the 3 × 3 about the point's
+    /// leaf, channel by channel) leaves them: two channels, weights of either sign, pushes
+    /// into corner, edge and interior leaves.
+    #[test]
+    fn the_batched_push_matches_the_single_p2l_to_the_bit() {
+        let sources: Vec<Source> = (0..400)
+            .map(|i| {
+                let (x, y) = (
+                    (i % 20) as f64 * 0.5,
+                    (i / 20) as f64 * 0.5 + 0.01 * (i % 7) as f64,
+                );
+                Source::Point(C64::new(x, y))
+            })
+            .collect();
+        let weights: Vec<[f64; 2]> = (0..400).map(|i| [1.0, 0.5 - (i % 3) as f64]).collect();
+        let built = Fmm::new(&sources, &weights, &Options::default()).unwrap();
+        assert!(built.levels >= 2, "a tree with far leaves");
+        let mut batched = built.clone();
+        let mut single = built;
+        for (z, w) in [
+            (C64::new(0.05, 0.02), [0.7, -1.3]),
+            (C64::new(9.4, 4.1), [2.5, 1.0]),
+            (C64::new(4.8, 5.2), [1.0, -0.2]),
+        ] {
+            batched.push_point(z, w).unwrap();
+            // The reference: the push without its P2L, then the P2L one leaf at a time.
+            let locals = single.locals.clone();
+            single.push_point(z, w).unwrap();
+            single.locals = locals;
+            let n = 1usize << single.levels;
+            let leaf = single.leaf_of(z).unwrap();
+            let (lx, ly) = (leaf % n, leaf / n);
+            let (terms, width) = (single.p + 1, single.width(single.levels));
+            for b in 0..n * n {
+                let (jx, jy) = (b % n, b / n);
+                if jx.abs_diff(lx) <= 1 && jy.abs_diff(ly) <= 1 {
+                    continue;
+                }
+                let c = single.centre(single.levels, jx, jy);
+                for (ch, q) in w.iter().enumerate() {
+                    let start = (b * 2 + ch) * terms;
+                    p2l_point(&mut single.locals[start..start + terms], *q, z, c, width);
+                }
+            }
+            let bits = |f: &Fmm<2>| -> Vec<(u64, u64)> {
+                f.locals
+                    .iter()
+                    .map(|c| (c.re.to_bits(), c.im.to_bits()))
+                    .collect()
+            };
+            assert_eq!(bits(&batched), bits(&single), "push at {z}");
+        }
+    }
+}
