@@ -229,8 +229,6 @@ pub struct FloorMap {
     clearance: f64,
     /// Samples of the edge `∂W_δ = {sd = δ}` of the certified region ([`FloorMap::layer_edge`]).
     edge: Vec<Vector2<f64>>,
-    /// `min |H|` over the edge samples.
-    edge_radius: f64,
     /// `H` at the edge samples where it could be evaluated (`S`'s band after a recentring,
     /// [`crate::FloorTransform`]).
     edge_images: Vec<Vector2<f64>>,
@@ -425,7 +423,6 @@ impl FloorMap {
             .iter()
             .filter_map(|&p| map.eval(p).ok().map(|e| e.value))
             .collect();
-        let edge_radius = edge_images.iter().map(|w| w.norm()).fold(1.0, f64::min);
         Ok(Self {
             map,
             truth,
@@ -435,7 +432,6 @@ impl FloorMap {
             shrink,
             clearance: c,
             edge,
-            edge_radius,
             edge_images,
             centre: options.centre,
         })
@@ -507,7 +503,10 @@ impl FloorMap {
     /// so the walls' barrier is already steep at `∂W_δ` (`docs/maths.md` §13).
     #[must_use]
     pub fn edge_radius(&self) -> f64 {
-        self.edge_radius
+        self.edge_images
+            .iter()
+            .map(|w| w.norm())
+            .fold(1.0, f64::min)
     }
 
     /// `H` at the samples of [`FloorMap::layer_edge`] (those where it could be evaluated).
