@@ -20,7 +20,7 @@ class Shape:
     """A star-shaped region ``{c + r·u : r ≤ R(θ)}``: an obstacle or a workspace boundary.
 
     Immutable. ``copy.copy``, ``copy.deepcopy`` and pickle rebuild it from the call that made it
-    (``circle``, ``ellipse``, ``polygon`` or ``star``)."""
+    (``circle``, ``ellipse``, ``polygon``, ``star`` or ``tabulated``)."""
 
     @property
     def center(self) -> npt.NDArray[np.float64]:
@@ -55,6 +55,10 @@ def star(center: _Point, radius: float, harmonics: Sequence[Sequence[float]]) ->
     """A Fourier star ``R(θ) = r0 + Σ (a_n cos nθ + b_n sin nθ)``, harmonics ``(n, a_n, b_n)``.
     Each order ``n`` is a whole number from 1 to 1000 (the cap of scenario files); a larger one
     raises ``ValueError`` naming ``harmonics[i]``."""
+
+def tabulated(center: _Point, radii: Sequence[float]) -> Shape:
+    """A tabulated star: radii ``R_i`` (at least 8, finite, positive) at ``θ_i = 2πi/G`` about
+    ``center``, monotone cubic cells in between; the form of a perceived radial hull."""
 
 class Field:
     """``Θ(x) = σ(φ_k(Φ(x)))`` with every obstacle known.

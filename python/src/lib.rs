@@ -27,6 +27,7 @@ fn harmonav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(shapes::ellipse, m)?)?;
     m.add_function(wrap_pyfunction!(shapes::polygon, m)?)?;
     m.add_function(wrap_pyfunction!(shapes::star, m)?)?;
+    m.add_function(wrap_pyfunction!(shapes::tabulated, m)?)?;
     m.add_class::<field::Field>()?;
     m.add_class::<navigator::Navigator>()?;
     m.add_class::<navigator::ScanUpdate>()?;

@@ -52,6 +52,10 @@ enum Recipe {
         radius: f64,
         harmonics: Vec<(u32, f64, f64)>,
     },
+    Tabulated {
+        center: [f64; 2],
+        radii: Vec<f64>,
+    },
 }
 
 impl Recipe {
@@ -62,6 +66,7 @@ impl Recipe {
             Self::Ellipse { .. } => "ellipse",
             Self::Polygon { .. } => "polygon",
             Self::Star { .. } => "star",
+            Self::Tabulated { .. } => "tabulated",
         }
     }
 
@@ -83,6 +88,7 @@ impl Recipe {
                 radius,
                 harmonics,
             } => (*center, *radius, harmonics.clone()).into_pyobject(py),
+            Self::Tabulated { center, radii } => (*center, radii.clone()).into_pyobject(py),
         }
     }
 }
@@ -120,6 +126,13 @@ impl std::fmt::Display for Recipe {
                 c[0],
                 c[1],
                 harmonics.len()
+            ),
+            Self::Tabulated { center: c, radii } => write!(
+                f,
+                "tabulated(center=[{}, {}], {} radii)",
+                c[0],
+                c[1],
+                radii.len()
             ),
         }
     }
@@ -333,16 +346,40 @@ pub fn star(
     )
 }
 
-/// A perceived shape (`Navigator.perceived`) as the `star(center, r0, harmonics)` it is.
+/// A tabulated star: `radii` `R_i` (at least 8, finite, positive) at the directions
+/// `θ_i = 2πi/G` about `center`, with monotone cubic cells in between (PCHIP): the form of a
+/// perceived radial hull (`Navigator.perceived`).
+#[pyfunction]
+pub fn tabulated(center: &Bound<'_, PyAny>, radii: Vec<f64>) -> PyResult<Shape> {
+    let c = point_like(center, "center")?;
+    shape(
+        StarShape::tabulated(c, &radii),
+        Recipe::Tabulated {
+            center: [c.x, c.y],
+            radii,
+        },
+    )
+}
+
+/// A perceived shape (`Navigator.perceived`) as the `tabulated(center, radii)` or
+/// `star(center, r0, harmonics)` it is.
 pub(crate) fn from_perceived(p: &harmonav_rs::Perceived) -> Shape {
     let c = p.centre();
+    let recipe = match (p.radii(), p.fourier()) {
+        (Some(radii), _) => Recipe::Tabulated {
+            center: [c.x, c.y],
+            radii: radii.to_vec(),
+        },
+        (None, Some((radius, harmonics))) => Recipe::Star {
+            center: [c.x, c.y],
+            radius,
+            harmonics: harmonics.to_vec(),
+        },
+        (None, None) => unreachable!("a perceived shape is a hull or a Fourier star"),
+    };
     Shape {
         inner: p.shape().clone(),
-        recipe: Recipe::Star {
-            center: [c.x, c.y],
-            radius: p.r0(),
-            harmonics: p.harmonics().to_vec(),
-        },
+        recipe,
     }
 }
 

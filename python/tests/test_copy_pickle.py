@@ -17,6 +17,8 @@ SHAPES = [
     harmonav.ellipse([-2.0, 1.0], [0.8, 0.3], angle_deg=30.0),
     harmonav.polygon([[0.6, 0.6], [1.6, 0.6], [1.6, 1.6], [0.6, 1.6]], 0.1),
     harmonav.star([2.5, -1.0], 0.5, [(3, 0.1, 0.0), (7, 0.01, -0.02)]),
+    harmonav.tabulated([0.0, 2.0], list(0.6 + 0.2 * np.cos(3 * np.linspace(0, 2 * np.pi, 64,
+                                                                              endpoint=False)))),
 ]
 PROBES = np.random.default_rng(7).uniform(-3, 3, size=(200, 2))
 PROTOCOLS = range(pickle.HIGHEST_PROTOCOL + 1)
@@ -45,6 +47,18 @@ def test_a_shape_pickles_as_a_call_of_its_constructor():
     the extension's internals."""
     data = pickle.dumps(SHAPES[3], protocol=0)
     assert b"harmonav" in data and b"star" in data
+
+
+def test_a_tabulated_star_of_equal_radii_is_a_disc_and_bad_radii_are_refused():
+    """`tabulated` (the form of a perceived radial hull): equal radii give the disc (the cells
+    are constant), so its distances are the circle's; too few, non-positive or non-finite radii
+    raise a ValueError naming `radii`."""
+    disc = harmonav.tabulated([0.5, -1.0], [0.7] * 32)
+    np.testing.assert_allclose(disc.signed_distance(PROBES), SHAPES[0].signed_distance(PROBES),
+                               atol=1e-4)
+    for bad in ([0.7] * 7, [0.7] * 31 + [0.0], [0.7] * 31 + [float("nan")]):
+        with pytest.raises(ValueError, match="radii"):
+            harmonav.tabulated([0.0, 0.0], bad)
 
 
 def world():

@@ -14,8 +14,8 @@
 //! (`n_i` the unit normal of the chord `p_i p_{i+1}` pointing away from the sensor.) A wedge is
 //! not cut (no `T_i`) when `c_i > 2ρ_min` (no sagitta bound), when the chord is seen at more
 //! than ~87° from its normal (`u·n < 0.05`), or when the sensor is within `e_i` of the chord's
-//! line. The fit is [`certified_star`] about a centre behind the visible arc over a cover of
-//! `∂Y` (eq. certify), so it contains `Y`.
+//! line. The fit is [`certified`] (a radial hull or a Fourier star, [`StarForm`]) about a centre
+//! behind the visible arc over a cover of `∂Y` (eq. certify), so it contains `Y`.
 
 use std::f64::consts::TAU;
 
@@ -23,7 +23,7 @@ use harmonav_transform::ShapeError;
 use nalgebra::Vector2;
 
 use crate::free::{FreeSpace, sagitta, segment_distance};
-use crate::perceived::{Certification, Perceived, certified_star};
+use crate::perceived::{Certification, Perceived, StarForm, certified};
 use crate::scan::{LaserScan, Pose};
 use crate::segment::{Segment, hit_point};
 
@@ -46,8 +46,10 @@ pub struct FitParams {
     pub max_obstacle_depth: f64,
     /// `ρ_min`, m.
     pub rho_min: f64,
-    /// Highest harmonic of the fit.
+    /// Highest harmonic of the fit (for [`StarForm::Fourier`]).
     pub order: u32,
+    /// The fit's representation.
+    pub form: StarForm,
     /// `h`, m: spacing of the cover of `∂Y` (eq. certify).
     pub check_spacing: f64,
 }
@@ -173,8 +175,8 @@ impl Region {
     }
 
     /// Whether `B(x, h)` lies in the removed set `int(cuts) ∪ {beyond a side cut}`: `x` inside
-    /// a cut polygon (or beyond a side cut whose beam carries one of its edges) and more than
-    /// `h` from the polygon's other edges. (A ball that meets no other edge can leave the
+    /// a cut polygon (or more than `h` beyond a side cut whose beam carries one of its edges)
+    /// and more than `h` from the polygon's other edges. (A ball that meets no other edge can leave the
     /// polygon only across the side cut's beam, into the removed half-plane.)
     fn deep_in_cut(&self, x: Vector2<f64>, h: f64) -> bool {
         self.cuts.iter().any(|poly| {
@@ -185,7 +187,10 @@ impl Region {
             let mut near = f64::INFINITY;
             for (a, b) in edges(poly) {
                 match on_plane(a, b) {
-                    Some(p) => beyond |= p.m.dot(&(x - p.s)) < 0.0,
+                    // Beyond by more than `h`: a point on the beam's line (where `∂Y`
+                    // runs along a side cut) or just beyond it by rounding has a ball that
+                    // reaches back into `Y`.
+                    Some(p) => beyond |= p.m.dot(&(x - p.s)) < -h,
                     None => near = near.min(segment_distance(a, b, x)),
                 }
             }
@@ -506,7 +511,7 @@ pub fn fit_segment(
     );
     let c = centre(s, points, &region);
     let (perceived, certification) =
-        certified_star(c, &samples, params.check_spacing, params.order)
+        certified(params.form, c, &samples, params.check_spacing, params.order)
             .map_err(FitFailure::Shape)?;
     Ok(Fit {
         cut_wedges: region.cuts.iter().map(|p| (p.len() - 1) / 2).sum(),

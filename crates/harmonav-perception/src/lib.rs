@@ -25,7 +25,8 @@
 //!
 //! A segment has hits `p_1..p_m` (measured ranges `r_i` along unit beams `u_i` from the sensor
 //! `s`). The true first hits are `q_i = s + r*_i u_i`. The fit is a Fourier star `F` (order
-//! [`Options::order`]) about a centre behind the visible arc, certified (eq. certify) to contain
+//! [`Options::order`]; or with [`StarForm::Hull`] the radial hull of the cover's discs) about
+//! a centre behind the visible arc, certified (eq. certify) to contain
 //!
 //! ```text
 //! Y = (K ∩ H_a ∩ H_b) \ (int(E_a ∪ T_1 ∪ … ∪ T_{m−1} ∪ E_b) ∪ free side beams)      (eq. region)
@@ -114,7 +115,10 @@ pub mod sim;
 
 pub use fit::{Fit, FitFailure, FitParams, SIDE_BEAMS, fit_in_scan, fit_segment, side_beams};
 pub use free::{FreeEvidence, FreeSpace, WallPrior, free_radius, sagitta};
-pub use perceived::{Certification, MergeFailure, Perceived, certified_star, merge};
+pub use perceived::{
+    Certification, MergeFailure, Perceived, StarForm, certified, certified_hull, certified_star,
+    merge,
+};
 pub use perception::{Known, Observation, Options, Perception, PerceptionError};
 pub use scan::{LaserScan, MAX_BEAMS, Pose, Reading, ScanError};
 pub use segment::{End, Segment, hit_point, segment};

@@ -1,4 +1,4 @@
-//! Perceived shapes: low-order Fourier stars with their coefficients, the certified
+//! Perceived shapes: radial hulls or low-order Fourier stars ([`StarForm`]), the certified
 //! construction of a star that contains a sampled region, the kernel test and the merge.
 //!
 //! **Containment by boundary samples.** Let `Y` be a bounded region and `X ⊂ ℝ²` a finite set
@@ -24,14 +24,45 @@ const BINS: usize = 512;
 /// Raise-and-recheck rounds before falling back to a disc.
 const ROUNDS: usize = 8;
 
-/// A perceived obstacle: the Fourier star `R(θ) = r0 + Σ (a_n cos nθ + b_n sin nθ)` about
-/// `centre` ([`StarShape::fourier_star`]), with its coefficients kept for the kernel test and
-/// the boundary cover.
+/// One harmonic `(n, a_n, b_n)` of a Fourier star: `a_n cos nθ + b_n sin nθ`.
+pub type Harmonic = (u32, f64, f64);
+
+/// How a perceived star is represented ([`crate::Options::form`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum StarForm {
+    /// A Fourier star of order `≤ Options::order` (eq. fit), raised until it contains its
+    /// region (the default).
+    #[default]
+    Fourier,
+    /// The radial hull of the cover's discs (eq. radialhull of
+    /// `harmonav_transform::hull`): a tabulated star that follows the region to within one
+    /// cell's turn, with no Gibbs undershoot to raise away. Opt-in: it follows merged
+    /// shapes' wedges, in front of which the kinematic law stalls (docs/maths.md §12.10).
+    Hull,
+}
+
+/// A perceived obstacle: a star about `centre` that contains what it was fitted to, either the
+/// Fourier star `R(θ) = r0 + Σ (a_n cos nθ + b_n sin nθ)` ([`StarShape::fourier_star`]) or a
+/// radial hull ([`StarShape::radial_hull`]), with the bounds of `R'` and `R''` kept for the
+/// kernel test and the boundary cover.
 #[derive(Clone, Debug)]
 pub struct Perceived {
     shape: StarShape,
-    r0: f64,
-    harmonics: Vec<(u32, f64, f64)>,
+    form: Form,
+    /// `L1 ≥ max|R'|` and `L2 ≥ max|R''|`.
+    l1: f64,
+    l2: f64,
+}
+
+#[derive(Clone, Debug)]
+enum Form {
+    Fourier {
+        r0: f64,
+        harmonics: Vec<(u32, f64, f64)>,
+    },
+    Hull {
+        radii: Vec<f64>,
+    },
 }
 
 /// `Σ|c_n|`, `L1 = Σ n|c_n|` (bounds `|R'|`) and `L2 = Σ n²|c_n|` (bounds `|R''|`),
@@ -53,11 +84,66 @@ impl Perceived {
         harmonics: Vec<(u32, f64, f64)>,
     ) -> Result<Self, ShapeError> {
         let shape = StarShape::fourier_star(centre, r0, &harmonics)?;
+        let (_, l1, l2) = sums(&harmonics);
         Ok(Self {
             shape,
-            r0,
-            harmonics,
+            form: Form::Fourier { r0, harmonics },
+            l1,
+            l2,
         })
+    }
+
+    /// The radial hull ([`StarShape::radial_hull`]) of `discs` about `centre` as a perceived
+    /// shape. `L1`, `L2` from its table's cells: `R'` at most twice the cell's secant (the
+    /// cells are monotone, with end slopes at most twice the secant), `R''` linear on each
+    /// cell, so largest at its ends.
+    fn hull(centre: Vector2<f64>, discs: &[(Vector2<f64>, f64)]) -> Result<Self, ShapeError> {
+        let radii = harmonav_transform::hull::radial_hull_radii(centre, discs)?;
+        Self::tabulated(centre, radii)
+    }
+
+    /// The tabulated star of `radii` about `centre` ([`StarShape::tabulated`]) as a perceived
+    /// shape: how a radial hull is rebuilt from its radii ([`Perceived::radii`]).
+    pub fn tabulated(centre: Vector2<f64>, radii: Vec<f64>) -> Result<Self, ShapeError> {
+        let shape = StarShape::tabulated(centre, &radii)?;
+        let g = radii.len();
+        let step = TAU / g as f64;
+        let nodes: Vec<(f64, f64)> = (0..g).map(|i| shape.radius(i as f64 * step)).collect();
+        let (mut l1, mut l2) = (0.0f64, 0.0f64);
+        for i in 0..g {
+            let ((ra, da), (rb, db)) = (nodes[i], nodes[(i + 1) % g]);
+            l1 = l1.max(da.abs()).max(2.0 * (rb - ra).abs() / step);
+            let d2a = (-6.0 * ra - 4.0 * step * da + 6.0 * rb - 2.0 * step * db) / (step * step);
+            let d2b = (6.0 * ra + 2.0 * step * da - 6.0 * rb + 4.0 * step * db) / (step * step);
+            l2 = l2.max(d2a.abs()).max(d2b.abs());
+        }
+        // The slopes are read back through the shape's own evaluation: a relative pad for
+        // its rounding.
+        Ok(Self {
+            shape,
+            form: Form::Hull { radii },
+            l1: l1 * (1.0 + 1e-9),
+            l2: l2 * (1.0 + 1e-9),
+        })
+    }
+
+    /// A radial hull's radii `R_i` at `θ_i = 2πi/G` ([`Perceived::tabulated`] rebuilds it);
+    /// `None` for a Fourier star.
+    #[must_use]
+    pub fn radii(&self) -> Option<&[f64]> {
+        match &self.form {
+            Form::Hull { radii } => Some(radii),
+            Form::Fourier { .. } => None,
+        }
+    }
+
+    /// Which representation this is.
+    #[must_use]
+    pub fn form(&self) -> StarForm {
+        match self.form {
+            Form::Fourier { .. } => StarForm::Fourier,
+            Form::Hull { .. } => StarForm::Hull,
+        }
     }
 
     /// The star shape (hand it to `Navigator::add_obstacle`, which grows it by the robot).
@@ -72,28 +158,34 @@ impl Perceived {
         self.shape.centre()
     }
 
-    /// The mean radius `r0`.
+    /// A Fourier star's mean radius `r0` and harmonics `(n, a_n, b_n)`; `None` for a hull.
     #[must_use]
-    pub fn r0(&self) -> f64 {
-        self.r0
+    pub fn fourier(&self) -> Option<(f64, &[Harmonic])> {
+        match &self.form {
+            Form::Fourier { r0, harmonics } => Some((*r0, harmonics)),
+            Form::Hull { .. } => None,
+        }
     }
 
-    /// The harmonics `(n, a_n, b_n)`.
-    #[must_use]
-    pub fn harmonics(&self) -> &[(u32, f64, f64)] {
-        &self.harmonics
-    }
-
-    /// `max R ≤ r0 + Σ|c_n|`, the certified bound the covers use.
+    /// A certified bound of `max R`, the one the covers use (`r0 + Σ|c_n|` for a Fourier star).
     fn r_max(&self) -> f64 {
-        self.r0 + sums(&self.harmonics).0
+        match &self.form {
+            Form::Fourier { r0, harmonics } => r0 + sums(harmonics).0,
+            Form::Hull { .. } => self.shape.radius_bounds().1,
+        }
     }
 
-    /// The area `½∮R² dθ = π(r0² + ½Σ|c_n|²)` (Parseval), m².
+    /// The area `½∮R² dθ`, m²: `π(r0² + ½Σ|c_n|²)` for a Fourier star (Parseval),
+    /// [`StarShape::area`] for a hull.
     #[must_use]
     pub fn area(&self) -> f64 {
-        let h: f64 = self.harmonics.iter().map(|&(_, a, b)| a * a + b * b).sum();
-        PI * (self.r0 * self.r0 + 0.5 * h)
+        match &self.form {
+            Form::Fourier { r0, harmonics } => {
+                let h: f64 = harmonics.iter().map(|&(_, a, b)| a * a + b * b).sum();
+                PI * (r0 * r0 + 0.5 * h)
+            }
+            Form::Hull { .. } => self.shape.area(),
+        }
     }
 
     /// Whether the star is star-shaped about `p` (certified): the boundary `p(θ) = c + R u`
@@ -111,7 +203,7 @@ impl Perceived {
         if !self.shape.contains(p) {
             return false;
         }
-        let (_, l1, l2) = sums(&self.harmonics);
+        let (l1, l2) = (self.l1, self.l2);
         let rmax = self.r_max();
         let c = self.centre();
         let slope = ((c - p).norm() + rmax) * (l2 + 2.0 * l1 + rmax);
@@ -145,8 +237,7 @@ impl Perceived {
     /// `|p'| = √(R² + R'²)`).
     #[must_use]
     pub fn boundary_cover(&self, h: f64) -> Vec<Vector2<f64>> {
-        let (_, l1, _) = sums(&self.harmonics);
-        let speed = self.r_max().hypot(l1);
+        let speed = self.r_max().hypot(self.l1);
         let count = ((TAU * speed / h).ceil() as usize).max(16);
         (0..count)
             .map(|j| self.shape.boundary_point(TAU * j as f64 / count as f64))
@@ -217,19 +308,13 @@ pub fn certified_star(
         g[j] = left.unwrap_or(0.0).max(right.unwrap_or(0.0));
     }
     let (mut r0, harmonics, sum_c, l1) = tightest_candidate(&g, order, h);
-    let failure = |shape: &StarShape| -> f64 {
-        samples
-            .iter()
-            .map(|&x| shape.signed_distance_bounds(x).1 + 0.5 * h)
-            .fold(f64::NEG_INFINITY, f64::max)
-    };
     for round in 0..ROUNDS {
         // A star too detailed for its outline cap cannot arise at these orders and sizes; if
         // it does, the disc below is the answer.
         let Ok(p) = Perceived::new(c, r0, harmonics.clone()) else {
             break;
         };
-        let worst = failure(p.shape());
+        let worst = uncertified(&p, samples, h);
         if worst <= 0.0 {
             return Ok((
                 p,
@@ -244,7 +329,7 @@ pub fn certified_star(
         r0 += 1.05 * worst * r_min.hypot(l1) / r_min + 1e-9 * r0;
     }
     let p = Perceived::new(c, reach + h, Vec::new())?;
-    debug_assert!(failure(p.shape()) <= 0.0);
+    debug_assert!(uncertified(&p, samples, h) <= 0.0);
     Ok((
         p,
         Certification {
@@ -253,6 +338,77 @@ pub fn certified_star(
             disc_fallback: true,
         },
     ))
+}
+
+/// The certified star of `form` about `c` for `samples` with spacing `h` ([`certified_star`]
+/// of order `order`, or [`certified_hull`]).
+pub fn certified(
+    form: StarForm,
+    c: Vector2<f64>,
+    samples: &[Vector2<f64>],
+    h: f64,
+    order: u32,
+) -> Result<(Perceived, Certification), ShapeError> {
+    match form {
+        StarForm::Fourier => certified_star(c, samples, h, order),
+        StarForm::Hull => certified_hull(c, samples, h),
+    }
+}
+
+/// The radial hull about `c` of the discs `B(x, h/2 + τ)`, `x ∈ samples`
+/// ([`StarShape::radial_hull`], eq. radialhull), checked by eq. certify.
+///
+/// The hull holds each disc exactly, so a sample lies `h/2 + τ` inside it; `τ` absorbs the
+/// bracket of the certified distance (twice the outline's chord bound `δ ≤ 5e-5·max R`):
+/// `τ = 2.5e-4·(max|x − c| + h)`, multiplied by 4 while eq. certify fails (`ROUNDS` = 8 times;
+/// then the disc `r = max|x − c| + h` about `c`, as [`certified_star`]). `raises` counts the
+/// rounds.
+pub fn certified_hull(
+    c: Vector2<f64>,
+    samples: &[Vector2<f64>],
+    h: f64,
+) -> Result<(Perceived, Certification), ShapeError> {
+    if samples.is_empty() {
+        return Err(ShapeError::Invalid {
+            field: "samples",
+            problem: "no sample to contain".into(),
+        });
+    }
+    let reach = samples.iter().map(|x| (x - c).norm()).fold(0.0, f64::max);
+    let mut pad = 2.5e-4 * (reach + h);
+    for round in 0..ROUNDS {
+        let discs: Vec<(Vector2<f64>, f64)> = samples.iter().map(|&x| (x, 0.5 * h + pad)).collect();
+        let p = Perceived::hull(c, &discs)?;
+        if uncertified(&p, samples, h) <= 0.0 {
+            return Ok((
+                p,
+                Certification {
+                    samples: samples.len(),
+                    raises: round,
+                    disc_fallback: false,
+                },
+            ));
+        }
+        pad *= 4.0;
+    }
+    let p = Perceived::new(c, reach + h, Vec::new())?;
+    debug_assert!(uncertified(&p, samples, h) <= 0.0);
+    Ok((
+        p,
+        Certification {
+            samples: samples.len(),
+            raises: ROUNDS,
+            disc_fallback: true,
+        },
+    ))
+}
+
+/// How far eq. certify fails for `p` over `samples`: `max_x hi_F(x) + h/2` (`≤ 0`: passed).
+fn uncertified(p: &Perceived, samples: &[Vector2<f64>], h: f64) -> f64 {
+    samples
+        .iter()
+        .map(|&x| p.shape().signed_distance_bounds(x).1 + 0.5 * h)
+        .fold(f64::NEG_INFINITY, f64::max)
 }
 
 /// The direction of bin `j`, rad.
@@ -426,6 +582,9 @@ pub fn merge(
             .into_iter()
             .filter(|&x| a.shape.signed_distance_bounds(x).1 >= -h),
     );
+    if a.form() == StarForm::Hull || b.form() == StarForm::Hull {
+        return merge_hulls(&candidates, &samples, h);
+    }
     let kernel = candidates
         .iter()
         .copied()
@@ -442,4 +601,32 @@ pub fn merge(
         }
     }
     Ok(best.expect("nine candidates"))
+}
+
+/// [`merge`] of hulls: the radial hull of the kept samples' discs about each candidate, the one
+/// of least area that passes eq. certify (about a common kernel point the hull is the union
+/// itself, so the least area finds one when the candidates hold it). Every candidate's hull
+/// holds both shapes (eq. hull); the area only picks.
+fn merge_hulls(
+    candidates: &[Vector2<f64>],
+    samples: &[Vector2<f64>],
+    h: f64,
+) -> Result<(Perceived, Certification), MergeFailure> {
+    let mut best: Option<(Perceived, Certification)> = None;
+    let mut last_error = None;
+    for &p in candidates {
+        match certified_hull(p, samples, h) {
+            Ok(merged) => {
+                if best.as_ref().is_none_or(|b| merged.0.area() < b.0.area()) {
+                    best = Some(merged);
+                }
+            }
+            Err(e) => last_error = Some(e),
+        }
+    }
+    match (best, last_error) {
+        (Some(b), _) => Ok(b),
+        (None, Some(e)) => Err(MergeFailure::Shape(e)),
+        (None, None) => unreachable!("nine candidates"),
+    }
 }

@@ -8,7 +8,7 @@ use nalgebra::Vector2;
 
 use crate::fit::{FitFailure, FitParams, fit_in_scan};
 use crate::free::{FreeEvidence, FreeSpace, WallPrior};
-use crate::perceived::{MergeFailure, Perceived, merge};
+use crate::perceived::{MergeFailure, Perceived, StarForm, merge};
 use crate::scan::{LaserScan, Pose, ScanError};
 use crate::segment::{Segment, hit_point, segment};
 
@@ -26,8 +26,11 @@ pub struct Options {
     pub rho_min: f64,
     /// `d0`, m, of eq. jump.
     pub jump_distance: f64,
-    /// Highest harmonic of a fit (1 to 16).
+    /// Highest harmonic of a fit (1 to 16), when `form` is [`StarForm::Fourier`].
     pub order: u32,
+    /// How perceived shapes are represented: a Fourier star of order `order` (the default) or
+    /// the radial hull of their cover (docs/maths.md §12.10).
+    pub form: StarForm,
     /// `h`, m: spacing of the certification cover (eq. certify); the fit is about `1.5h`
     /// larger than the region it contains.
     pub check_spacing: f64,
@@ -59,7 +62,8 @@ pub struct Options {
 }
 
 impl Default for Options {
-    /// `ε = 0.02`, `D = 1`, `ρ_min = 0.05`, `d0 = 0.1`, order 6, `h = 0.01`, `ε_g = 0.02`,
+    /// `ε = 0.02`, `D = 1`, `ρ_min = 0.05`, `d0 = 0.1`, Fourier stars of order 6,
+    /// `h = 0.01`, `ε_g = 0.02`,
     /// `g = 0`, `g_w = 0`, eq. free's disc.
     fn default() -> Self {
         Self {
@@ -68,6 +72,7 @@ impl Default for Options {
             rho_min: 0.05,
             jump_distance: 0.1,
             order: 6,
+            form: StarForm::Fourier,
             check_spacing: 0.01,
             growth_threshold: 0.02,
             merge_gap: 0.0,
@@ -144,6 +149,7 @@ impl Options {
             max_obstacle_depth: self.max_obstacle_depth,
             rho_min: self.rho_min,
             order: self.order,
+            form: self.form,
             check_spacing: self.check_spacing,
         }
     }

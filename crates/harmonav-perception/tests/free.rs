@@ -82,6 +82,7 @@ fn the_free_disc_keeps_the_sensor_out_of_the_fit() {
                 max_obstacle_depth: p.max_obstacle_depth,
                 rho_min: p.rho_min,
                 order: p.order,
+                form: p.form,
                 check_spacing: p.check_spacing,
             };
             let free = FreeSpace::of_scan(&scan, &t.pose, p.range_noise, p.rho_min);

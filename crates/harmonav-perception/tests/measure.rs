@@ -110,11 +110,10 @@ fn debug_one() {
     for f in common::fits(&scan, &t.pose, &t.options) {
         let f = f.unwrap();
         println!(
-            "cut {} cert {:?} r0 {:.3} h {:?} centre {:?} area ratio {:.2} worst {:.4}",
+            "cut {} cert {:?} {:?} centre {:?} area ratio {:.2} worst {:.4}",
             f.cut_wedges,
             f.certification,
-            f.perceived.r0(),
-            f.perceived.harmonics(),
+            f.perceived.fourier(),
             f.perceived.centre(),
             f.perceived.area() / common::polygon_area(&truth),
             common::worst_depth(f.perceived.shape(), &truth)

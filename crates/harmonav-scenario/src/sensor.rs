@@ -281,6 +281,9 @@ pub(crate) fn prepare(
             range_noise: noise,
             max_obstacle_depth: depth,
             wall_gap,
+            // The built-in integrator follows the continuous law, which has no value in a
+            // margin band (docs/maths.md §12.9).
+            refuse_in_band: true,
             ..ScanOptions::default()
         },
     })

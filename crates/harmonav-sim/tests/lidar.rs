@@ -105,6 +105,26 @@ fn a_depth_prior_below_the_truth_fails_the_coverage_check() {
     assert!(!r.summary.safe());
 }
 
+/// The negative control on the noise bound, in closed loop: the navigator told
+/// `ε = 0` while the lidar reads ±2 cm must leave seen truth uncovered. With radial hulls
+/// (`StarForm::Hull`, docs/maths.md §12.10) a fit stands about `h/2` in front of its region
+/// `Y`, so the cuts made without the noise bound reach into the truth and the check fails;
+/// the default Fourier stars' raise (4.4–6.7 cm on the seen faces) absorbs it.
+#[test]
+fn a_noise_bound_of_zero_fails_the_coverage_check() {
+    let mut p = load("lidar/paper-world.toml");
+    let Sensor::Lidar(l) = &mut p.truth.sensor else {
+        panic!("a lidar")
+    };
+    assert!(l.lidar.noise >= 0.02 && l.scan.range_noise >= 0.02, "{l:?}");
+    l.scan.range_noise = 0.0;
+    l.scan.form = harmonav::StarForm::Hull;
+    let r = run(&p, None).unwrap();
+    let perception = r.summary.perception.clone().unwrap();
+    assert!(perception.uncovered_points > 0, "{perception:?}");
+    assert!(!guarantee(&r.summary, Kind::PerceivedCoversTruth));
+}
+
 /// The wall prior `g_w` defaults to the truth's: 0.99 of the smallest distance from a true
 /// obstacle to the boundary (the paper's world: discs in a circle of radius 5 m); a file's
 /// `wall_gap` replaces it.

@@ -43,6 +43,7 @@
 
 mod distance;
 mod error;
+pub mod hull;
 pub mod index;
 pub mod nav;
 pub mod outline;
@@ -53,6 +54,7 @@ pub mod smooth;
 pub mod workspace;
 
 pub use error::ShapeError;
+pub use hull::HULL_CELLS;
 pub use index::{DiscIndex, Lookup};
 pub use nav::{Active, Mapped, NavTransform, NotFree};
 pub use outline::{DISTANCE_TOLERANCE, MAX_OUTLINE_VERTICES};

@@ -466,6 +466,17 @@ impl StarShape {
         Ok(shape)
     }
 
+    /// The certified outline of the distance queries.
+    pub(crate) fn certified_outline(&self) -> &Outline {
+        &self.outline
+    }
+
+    /// The same shape with `rho_min` (for eq. `dmin`) replaced.
+    pub(crate) fn with_rho_min(mut self, rho_min: f64) -> Self {
+        self.rho_min = rho_min;
+        self
+    }
+
     /// A shape without its outline yet; `radii` are the certified bounds of `R`.
     fn new(kind: Kind, centre: Vector2<f64>, radii: (f64, f64), rho_min: f64) -> Self {
         Self {
@@ -736,20 +747,37 @@ impl StarShape {
             };
             values.push(hermite(a, b, th));
         }
-        let (spans, lo, hi) = table_spans(&values);
-        if lo <= 0.0 {
-            return Err(not_star());
+        let rho = (self.rho_min + r).max(f64::MIN_POSITIVE);
+        Self::table(self.centre, values, rho, false, "robot.radius").map_err(|_| not_star())
+    }
+
+    /// The star about `centre` whose `(R, R')` are `values` on the uniform grid
+    /// `θ_i = 2πi/G` (cubic Hermite in between, [`StarShape::offset`]'s kind), with its
+    /// certified radius bounds and outline. `monotone`: every cell is monotone (the caller's
+    /// slopes guarantee it), so `R` stays between its cell's end values, the bounds. Errors on
+    /// `field` if `R` may reach 0 or the outline would need more than [`MAX_OUTLINE_VERTICES`].
+    pub(crate) fn table(
+        centre: Vector2<f64>,
+        values: Vec<(f64, f64)>,
+        rho_min: f64,
+        monotone: bool,
+        field: &'static str,
+    ) -> Result<Self, ShapeError> {
+        let (spans, mut lo, mut hi) = table_spans(&values);
+        if monotone {
+            lo = values.iter().map(|v| v.0).fold(f64::INFINITY, f64::min) * (1.0 - 1e-12);
+            hi = values.iter().map(|v| v.0).fold(0.0, f64::max) * (1.0 + 1e-12);
+        }
+        if lo.is_nan() || lo <= 0.0 {
+            return Err(ShapeError::Invalid {
+                field,
+                problem: format!("the tabulated radius R(θ) may reach {lo:.3e} ≤ 0"),
+            });
         }
         // The largest tabulated radius is a value of R, at most max R.
         let r_ref = values.iter().map(|v| v.0).fold(0.0, f64::max);
-        let rho = (self.rho_min + r).max(f64::MIN_POSITIVE);
-        Self::new(Kind::Table { values }, self.centre, (lo, hi), rho).certify(
-            &spans,
-            TAU,
-            1,
-            r_ref,
-            "robot.radius",
-        )
+        Self::new(Kind::Table { values }, centre, (lo, hi), rho_min)
+            .certify(&spans, TAU, 1, r_ref, field)
     }
 
     /// The boundary point `centre + R(θ)(cos θ, sin θ)`.

@@ -86,7 +86,7 @@ pub use options::{
     DEFAULT_DYNAMIC_PERIOD, DEFAULT_KINEMATIC_PERIOD, HoldPolicy, MIN_APERTURE_DEG, Options,
     PARAMETER_RANGE, UnknownHoldPolicy,
 };
-pub use scan::{LaserScan, Perceived, Pose, grow_perceived};
+pub use scan::{LaserScan, Perceived, Pose, StarForm, grow_perceived, grow_perceived_as};
 pub use scanning::{ScanOptions, ScanUpdate};
 
 /// The README's code compiles and runs (checked by `cargo test --doc`).

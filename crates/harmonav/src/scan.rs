@@ -24,7 +24,7 @@ use harmonav_perception::{Known, PerceptionError};
 use harmonav_transform::{StarShape, Workspace, WorldError};
 use nalgebra::Vector2;
 
-pub use harmonav_perception::{LaserScan, Perceived, Pose};
+pub use harmonav_perception::{LaserScan, Perceived, Pose, StarForm};
 
 use crate::error::NavError;
 use crate::navigator::Navigator;
@@ -105,13 +105,19 @@ impl Navigator {
             if !is_new && obs.grown.binary_search(&p).is_err() {
                 continue;
             }
-            let grown = grow_perceived(shape.shape(), inflation)?;
+            let form = self.scan.perception.options().form;
+            let grown = grow_perceived_as(shape.shape(), inflation, form)?;
             let body = if with_margin {
-                Some(grow_perceived(shape.shape(), radius)?)
+                Some(grow_perceived_as(shape.shape(), radius, form)?)
             } else {
                 None
             };
-            if holds_robot(&grown, body.as_ref(), x, self.options.margin) {
+            let band = if self.scan.refuse_in_band {
+                None
+            } else {
+                body.as_ref()
+            };
+            if holds_robot(&grown, band, x, self.options.margin) {
                 return Err(NavError::ContainsRobot);
             }
             event_clearance = event_clearance.min(grown.signed_distance(x));
@@ -152,6 +158,7 @@ impl Navigator {
             perception,
             slots,
             exact,
+            refuse_in_band: self.scan.refuse_in_band,
         };
         update.absorbed = removed;
         update.event_clearance = Some(event_clearance);
@@ -204,10 +211,31 @@ fn holds_robot(grown: &StarShape, body: Option<&StarShape>, x: Vector2<f64>, mar
 /// `B(c, R_max + r)`, which contains it (`R_max` bounds the shape's radius from above): a
 /// perceived shape is a conservative bound, and so is its growth.
 pub fn grow_perceived(shape: &StarShape, r: f64) -> Result<StarShape, NavError> {
-    shape.offset(r).or_else(|_| {
-        StarShape::circle(shape.centre(), shape.radius_bounds().1 + r).map_err(NavError::Shape)
-    })
+    grow_perceived_as(shape, r, StarForm::Fourier)
 }
+
+/// [`grow_perceived`] for shapes of `form`. Under [`StarForm::Hull`] the fallback between the
+/// offset and the disc is the radial hull of the dilation ([`StarShape::dilated_hull`]), which
+/// contains it and never folds (a hull's concave corners fold its offset). Not under the
+/// Fourier default: there the dilated hull accepted an event that left the robot in its margin
+/// band, which the simulator's continuous integrator cannot follow (`scale/many-300-sector`
+/// rerun with a lidar, docs/maths.md §12.9–12.10), where the disc refused the scan.
+pub fn grow_perceived_as(shape: &StarShape, r: f64, form: StarForm) -> Result<StarShape, NavError> {
+    let disc =
+        || StarShape::circle(shape.centre(), shape.radius_bounds().1 + r).map_err(NavError::Shape);
+    match shape.offset(r) {
+        Ok(grown) => Ok(grown),
+        Err(_) if form == StarForm::Hull => shape
+            .dilated_hull(r, GROW_SPACING * (shape.radius_bounds().1 + r))
+            .or_else(|_| disc()),
+        Err(_) => disc(),
+    }
+}
+
+/// The spacing of [`StarShape::dilated_hull`]'s discs in [`grow_perceived_as`], relative to
+/// the grown shape's size: the hull lies at most `δ + h/2` (about 0.1 % of the size) beyond
+/// the dilation, plus its shadows about the centre.
+const GROW_SPACING: f64 = 2e-3;
 
 #[cfg(test)]
 mod tests {
@@ -217,8 +245,9 @@ mod tests {
     /// star-shaped about its centre: [`grow_perceived`] falls back to the disc of radius
     /// `0.55 + 0.05`. A robot in the waist's bay, 0.09 m outside the body, is inside that disc,
     /// `margin` and more beyond the band: refused. Without the second test (the body alone)
-    /// it would be accepted. A robot within the band of a true offset is not refused, and one
-    /// in the body always is.
+    /// it would be accepted. Under [`StarForm::Hull`] the fallback is the dilated hull, which
+    /// holds the dilation (64 000 points of `∂tie ⊕ B(margin)`) and leaves the bay free. A
+    /// robot within the band of a true offset is not refused, and one in the body always is.
     #[test]
     fn a_grown_shape_past_the_margin_band_holds_the_robot() {
         let margin = 0.05;
@@ -234,6 +263,16 @@ mod tests {
             body.signed_distance(bay)
         );
         assert!(holds_robot(&grown, Some(&body), bay, margin));
+        let hull = grow_perceived_as(&tie, margin, StarForm::Hull).unwrap();
+        assert!(!hull.contains(bay) && !holds_robot(&hull, Some(&body), bay, margin));
+        for j in 0..4000 {
+            let p = tie.boundary_point(std::f64::consts::TAU * j as f64 / 4000.0);
+            for k in 0..16 {
+                let a = std::f64::consts::TAU * k as f64 / 16.0;
+                let q = p + margin * Vector2::new(a.cos(), a.sin());
+                assert!(hull.contains(q) || hull.signed_distance(q) <= 1e-9);
+            }
+        }
         // A disc: the offset is exact, and the band is `margin` thick.
         let disc = StarShape::circle(Vector2::zeros(), 0.5).unwrap();
         let (grown, body) = (

@@ -28,8 +28,16 @@ pub struct ScanOptions {
     pub growth_threshold: f64,
     /// `d0`, m, of eq. jump (segmentation `|p_{i+1} − p_i| > d0 + r·Δθ`). Default 0.1.
     pub jump_distance: f64,
-    /// Highest harmonic of a fitted Fourier star (1 to 16). Default 6.
+    /// Highest harmonic of a fitted Fourier star (1 to 16), under `form = Fourier`. Default 6.
     pub order: u32,
+    /// How perceived shapes are represented: a Fourier star of order `order` (the default) or
+    /// the radial hull of their cover (docs/maths.md §12.10).
+    pub form: harmonav_perception::StarForm,
+    /// Refuse an event that leaves the robot in a changed shape's margin band
+    /// ([`crate::NavError::ContainsRobot`]) instead of leading it out (`Mode::Recovering`).
+    /// For loops that integrate the continuous law, which has no value in the band (the
+    /// simulator's built-in integrator sets it, docs/maths.md §12.9–12.10). Default `false`.
+    pub refuse_in_band: bool,
     /// `h`, m: the spacing of the certification cover (eq. certify); a fit is about `1.5h`
     /// larger than the region it must contain. Default 0.01.
     pub check_spacing: f64,
@@ -47,7 +55,8 @@ pub struct ScanOptions {
 }
 
 impl Default for ScanOptions {
-    /// `ε = 0.02`, `D = 1`, `ε_g = 0.02`, `d0 = 0.1`, order 6, `h = 0.01`, `g_w = 0` (m).
+    /// `ε = 0.02`, `D = 1`, `ε_g = 0.02`, `d0 = 0.1`, Fourier stars of order 6,
+    /// `h = 0.01`, `g_w = 0` (m).
     fn default() -> Self {
         let p = harmonav_perception::Options::default();
         Self {
@@ -56,6 +65,8 @@ impl Default for ScanOptions {
             growth_threshold: p.growth_threshold,
             jump_distance: p.jump_distance,
             order: p.order,
+            form: p.form,
+            refuse_in_band: false,
             check_spacing: p.check_spacing,
             wall_gap: p.wall_gap,
             free_evidence: p.free_evidence,
@@ -77,6 +88,7 @@ impl ScanOptions {
             rho_min: rho_min.min(FIT_RHO_MIN_CAP),
             jump_distance: self.jump_distance,
             order: self.order,
+            form: self.form,
             check_spacing: self.check_spacing,
             growth_threshold: self.growth_threshold,
             merge_gap: 2.0 * inflation,
@@ -145,6 +157,8 @@ pub(crate) struct ScanState {
     pub(crate) slots: Vec<usize>,
     /// The index among the navigator's obstacles of each exact shape (the perception's map).
     pub(crate) exact: Vec<usize>,
+    /// [`ScanOptions::refuse_in_band`].
+    pub(crate) refuse_in_band: bool,
 }
 
 impl ScanState {
@@ -165,6 +179,7 @@ impl ScanState {
             perception,
             slots: Vec::new(),
             exact: Vec::new(),
+            refuse_in_band: options.refuse_in_band,
         })
     }
 

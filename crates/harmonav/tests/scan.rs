@@ -59,7 +59,7 @@ fn fingerprint(nav: &Navigator) -> String {
         s += &format!(" {t:?} {c:?}");
     }
     for (i, p) in nav.perceived() {
-        s += &format!(" {i}:{:?}:{}", p.centre(), p.r0());
+        s += &format!(" {i}:{:?}:{}", p.centre(), p.area());
     }
     s
 }

@@ -86,6 +86,7 @@ pub fn fits(scan: &LaserScan, pose: &Pose, options: &Options) -> Vec<Result<Fit,
         max_obstacle_depth: options.max_obstacle_depth,
         rho_min: options.rho_min,
         order: options.order,
+        form: options.form,
         check_spacing: options.check_spacing,
     };
     let free = FreeSpace::of_scan(scan, pose, options.range_noise, options.rho_min);
