@@ -389,7 +389,9 @@ fn region(
 }
 
 /// A cover of `∂Y` with spacing `h`: points of the circles of `K` within `h` of `K` and not
-/// deep in the cuts, and points of the cut polygons' edges within `h` of `K`. Every point of
+/// deep in the cuts, the corners where they meet a side cut's beam, points of each side cut's
+/// beam across `K` (all of them, including those that rounding puts just beyond the beam's
+/// line: `∂Y` runs along it), and points of the cut polygons' edges within `h` of `K`. Every point of
 /// `∂Y ⊂ (∂K \ int T) ∪ (∂T ∩ K)` lies within `h/2` of one (a point of `∂Y` on a circle has a
 /// sample within `h/2` along it, which is then within `h` of `K` and cannot have `B(x, h)`
 /// inside the cuts, which miss that point of `∂Y`).

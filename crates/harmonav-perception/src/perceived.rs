@@ -35,8 +35,8 @@ pub enum StarForm {
     #[default]
     Fourier,
     /// The radial hull of the cover's discs (eq. radialhull of
-    /// `harmonav_transform::hull`): a tabulated star that follows the region to within one
-    /// cell's turn, with no Gibbs undershoot to raise away. Opt-in: it follows merged
+    /// `harmonav_transform::hull`): a tabulated star that follows the region to within two
+    /// cells' turn, with no Gibbs undershoot to raise away. Opt-in: it follows merged
     /// shapes' wedges, in front of which the kinematic law stalls (docs/maths.md §12.10).
     Hull,
 }
@@ -328,16 +328,7 @@ pub fn certified_star(
         let r_min = (r0 - sum_c).max(1e-9);
         r0 += 1.05 * worst * r_min.hypot(l1) / r_min + 1e-9 * r0;
     }
-    let p = Perceived::new(c, reach + h, Vec::new())?;
-    debug_assert!(uncertified(&p, samples, h) <= 0.0);
-    Ok((
-        p,
-        Certification {
-            samples: samples.len(),
-            raises: ROUNDS,
-            disc_fallback: true,
-        },
-    ))
+    disc_fallback(c, samples, h, reach)
 }
 
 /// The certified star of `form` about `c` for `samples` with spacing `h` ([`certified_star`]
@@ -378,7 +369,11 @@ pub fn certified_hull(
     let mut pad = 2.5e-4 * (reach + h);
     for round in 0..ROUNDS {
         let discs: Vec<(Vector2<f64>, f64)> = samples.iter().map(|&x| (x, 0.5 * h + pad)).collect();
-        let p = Perceived::hull(c, &discs)?;
+        // A hull too detailed for its outline cap, or a centre on a disc's circle: the disc
+        // below is the answer, as for a Fourier star.
+        let Ok(p) = Perceived::hull(c, &discs) else {
+            break;
+        };
         if uncertified(&p, samples, h) <= 0.0 {
             return Ok((
                 p,
@@ -391,6 +386,17 @@ pub fn certified_hull(
         }
         pad *= 4.0;
     }
+    disc_fallback(c, samples, h, reach)
+}
+
+/// The disc `r = reach + h` about `c` (`reach = max|x − c|`), which passes eq. certify by
+/// construction: the answer after `ROUNDS` failed rounds.
+fn disc_fallback(
+    c: Vector2<f64>,
+    samples: &[Vector2<f64>],
+    h: f64,
+    reach: f64,
+) -> Result<(Perceived, Certification), ShapeError> {
     let p = Perceived::new(c, reach + h, Vec::new())?;
     debug_assert!(uncertified(&p, samples, h) <= 0.0);
     Ok((

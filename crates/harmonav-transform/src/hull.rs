@@ -25,8 +25,9 @@
 //! ray through a point of the set leaves it at a boundary point). Cells no disc reaches (the
 //! centre outside the union) take the smallest `M` of the others, so `R > 0`.
 //!
-//! Unlike a Fourier sum, the hull has no Gibbs undershoot for a raise to undo: it lies within
-//! one cell's turn of the union's own radial function, whatever the union's shape.
+//! Unlike a Fourier sum, the hull has no Gibbs undershoot for a raise to undo: on cell `i` it
+//! is at most `max(M_{i−1}, M_i, M_{i+1})`, the union's own radial function taken two cells
+//! wide, whatever the union's shape.
 
 use std::f64::consts::TAU;
 
@@ -104,8 +105,10 @@ impl StarShape {
     /// outline at most `h` apart (every boundary point lies within `δ` of the outline and
     /// within `h/2` of such a point). Contains the dilation: its boundary lies in
     /// `∂(shape) ⊕ B(r)`, inside the discs. Where [`StarShape::offset`] folds (a concave
-    /// corner sharper than `r`) this does not; it is larger by at most `δ + h/2` plus the
-    /// shadows of the dilation about the centre.
+    /// corner sharper than `r`) this does not; it is larger by at most `2δ + h/2` (the disc
+    /// centres lie on chords, up to `δ` off the curve) plus two cells' widening and the
+    /// shadows of the dilation about the centre. `ρ_min` is the smaller of the hull's sampled
+    /// one and `ρ_min + r`.
     ///
     /// Errors on `robot.radius` if `r` is negative or not finite, on `check_spacing` unless
     /// `h > 0` is finite.
@@ -132,7 +135,9 @@ impl StarShape {
             discs.extend((0..pieces).map(|j| (a + (b - a) * (j as f64 / pieces as f64), radius)));
         }
         let hull = StarShape::radial_hull(self.centre(), &discs)?;
-        Ok(hull.with_rho_min(self.rho_min() + r))
+        // The hull's own sampled ρ (its cells may bend tighter than the dilation's r + ρ).
+        let rho = hull.rho_min().min(self.rho_min() + r);
+        Ok(hull.with_rho_min(rho))
     }
 }
 
@@ -191,6 +196,11 @@ pub fn radial_hull_radii(
             }
         }
     }
+    if m.contains(&0.0) {
+        return Err(bad(
+            "the centre lies on a disc's circle (a radius of 0 about it)",
+        ));
+    }
     let floor = m
         .iter()
         .copied()
@@ -202,7 +212,9 @@ pub fn radial_hull_radii(
         .map(|i| {
             let (a, b) = (m[(i + g - 1) % g], m[i]);
             let v = a.max(b);
-            if v.is_finite() { v } else { floor }.max(floor) * lift
+            // No disc reached either cell: the floor. An exit that overflowed is +∞ and
+            // stays so, for `tabulated` to refuse.
+            if v > f64::NEG_INFINITY { v } else { floor }.max(floor) * lift
         })
         .collect();
     Ok(r)
@@ -217,7 +229,7 @@ fn table_rho_min(values: &[(f64, f64)]) -> f64 {
     let mut rho = f64::INFINITY;
     for i in 0..g {
         let ((ra, da), (rb, db)) = (values[i], values[(i + 1) % g]);
-        for q in 0..4 {
+        for q in 0..=4 {
             let t = q as f64 / 4.0;
             let r = (2.0 * t.powi(3) - 3.0 * t * t + 1.0) * ra
                 + (t.powi(3) - 2.0 * t * t + t) * step * da
@@ -287,7 +299,7 @@ mod tests {
 
     /// The hull is tight: for one disc about its own centre it is that disc to within the
     /// rounding lift, and for a disc seen from outside its table follows eq. exit to within
-    /// one cell's turn (the largest `R` is `t + ρ`, reached).
+    /// two cells' turn (the largest `R` is `t + ρ`, reached).
     #[test]
     fn the_hull_of_one_disc_is_that_disc() {
         let c = Vector2::new(0.3, -0.2);

@@ -747,8 +747,11 @@ impl StarShape {
             };
             values.push(hermite(a, b, th));
         }
+        if table_spans(&values).1 <= 0.0 {
+            return Err(not_star());
+        }
         let rho = (self.rho_min + r).max(f64::MIN_POSITIVE);
-        Self::table(self.centre, values, rho, false, "robot.radius").map_err(|_| not_star())
+        Self::table(self.centre, values, rho, false, "robot.radius")
     }
 
     /// The star about `centre` whose `(R, R')` are `values` on the uniform grid

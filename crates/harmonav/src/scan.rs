@@ -52,7 +52,8 @@ impl Navigator {
     /// overlaps an exact shape of [`Navigator::add_obstacle`], or when the grown shapes overlap
     /// where the certified distances could not tell them apart (perceived shapes themselves
     /// always merge);
-    /// [`NavError::ContainsRobot`] when a changed shape grown by `radius` contains the pose,
+    /// [`NavError::ContainsRobot`] when a changed shape grown by `radius` contains the pose
+    /// (by `radius + margin` under [`crate::ScanOptions::refuse_in_band`]),
     /// or its growth by `radius + margin` holds the pose `margin` or more outside that (a disc
     /// fallback of [`grow_perceived`], thicker than the margin band one recovers through);
     /// [`NavError::ContainsGoal`]; [`NavError::CrossesBoundary`].
