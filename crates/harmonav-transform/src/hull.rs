@@ -125,7 +125,7 @@ impl StarShape {
                 problem: format!("must be a finite h > 0, got {h}"),
             });
         }
-        let outline = self.certified_outline();
+        let outline = self.certified();
         let n = outline.len();
         let radius = r + outline.delta + 0.5 * h;
         let mut discs = Vec::with_capacity(n);

@@ -466,11 +466,6 @@ impl StarShape {
         Ok(shape)
     }
 
-    /// The certified outline of the distance queries.
-    pub(crate) fn certified_outline(&self) -> &Outline {
-        &self.outline
-    }
-
     /// The same shape with `rho_min` (for eq. `dmin`) replaced.
     pub(crate) fn with_rho_min(mut self, rho_min: f64) -> Self {
         self.rho_min = rho_min;

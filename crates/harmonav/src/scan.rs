@@ -106,14 +106,14 @@ impl Navigator {
             if !is_new && obs.grown.binary_search(&p).is_err() {
                 continue;
             }
-            let form = self.scan.perception.options().form;
+            let form = self.options.scan.form;
             let grown = grow_perceived_as(shape.shape(), inflation, form)?;
             let body = if with_margin {
                 Some(grow_perceived_as(shape.shape(), radius, form)?)
             } else {
                 None
             };
-            let band = if self.scan.refuse_in_band {
+            let band = if self.options.scan.refuse_in_band {
                 None
             } else {
                 body.as_ref()
@@ -159,7 +159,6 @@ impl Navigator {
             perception,
             slots,
             exact,
-            refuse_in_band: self.scan.refuse_in_band,
         };
         update.absorbed = removed;
         update.event_clearance = Some(event_clearance);

@@ -157,8 +157,6 @@ pub(crate) struct ScanState {
     pub(crate) slots: Vec<usize>,
     /// The index among the navigator's obstacles of each exact shape (the perception's map).
     pub(crate) exact: Vec<usize>,
-    /// [`ScanOptions::refuse_in_band`].
-    pub(crate) refuse_in_band: bool,
 }
 
 impl ScanState {
@@ -179,7 +177,6 @@ impl ScanState {
             perception,
             slots: Vec::new(),
             exact: Vec::new(),
-            refuse_in_band: options.refuse_in_band,
         })
     }
 
