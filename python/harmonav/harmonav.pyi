@@ -123,7 +123,7 @@ class Navigator:
         radius: float = 0.0,
         margin: float = 0.0,
         k: str = "auto",
-        damping: str = "auto",
+        damping: str = "governed",
         rho_min: float = 0.05,
         control_period: Optional[float] = None,
         hold: str = "auto",

@@ -25,9 +25,10 @@ use crate::shapes::{Shape, from_perceived};
 /// - `law="dynamic"`: the force `f = −μ∇Ψ − λẋ` (eq. `dynctrllocal`; `Ψ = Θ` and `λ` of
 ///   eq. `dissipationfun` under `damping="paper"`; `Ψ = 1 − √(1 − Θ)` and a damping critical at
 ///   the goal under `damping="shaped"`; the same on `Θ` made free of the world's scale under
-///   `damping="auto"`, the default; a goal bowl in metres and a ramp as long as the world under
-///   the research policy `damping="fast"`, `docs/maths.md` §9), for a robot of mass `mass`; its
-///   speed stays below `√(2μ/m)`.
+///   `damping="auto"`; a goal bowl in metres and a ramp as long as the world under the research
+///   policy `damping="fast"`; `"auto"` pulling with `4μ`, so that the robot uses its whole speed
+///   bound, with a governor that keeps it below `0.9·√(2μ/m)` under `damping="governed"`, the
+///   default, `docs/maths.md` §9), for a robot of mass `mass`; its speed stays below `√(2μ/m)`.
 ///
 /// `sensor=(range_m, aperture_deg)` sets `d_min` (eq. `dmin`); `radius` and `margin` (m) grow
 /// every obstacle and shrink the boundary; `k` is `"auto"` or `"paper"`.
@@ -282,7 +283,7 @@ fn event(entry: &Bound<'_, PyAny>, i: usize) -> PyResult<Event> {
 impl Navigator {
     #[new]
     #[pyo3(signature = (boundary, goal, law="kinematic", gain=1.0, mass=1.0, mu=10.0,
-                        sensor=(1.0, 60.0), radius=0.0, margin=0.0, k="auto", damping="auto",
+                        sensor=(1.0, 60.0), radius=0.0, margin=0.0, k="auto", damping="governed",
                         rho_min=0.05, control_period=None, hold="auto", speed="auto",
                         v_max=None, range_noise=0.02, max_obstacle_depth=1.0,
                         growth_threshold=0.02))]

@@ -25,7 +25,7 @@ def test_every_message_decodes_from_the_files_own_schemas(tmp_path):
                 grid = decoded
             if channel.topic == "/harmonav/state":
                 assert 0.0 <= decoded.theta <= 1.0 and decoded.k > 0
-                assert decoded.damping in ("paper", "auto")
+                assert decoded.damping == "governed"  # the default
     n = len(res.t)
     assert counts["/robot/pose"] == counts["/tf"] == counts["/harmonav/state"] == n
     assert counts["/scene"] >= 1 and counts["/log"] >= len(res.discoveries)

@@ -252,6 +252,12 @@ fn the_outcomes_of_runs_that_did_not_arrive_and_the_perceived_area_get_their_col
 #[test]
 fn the_figure_key_names_the_law_policy_and_cell() {
     let mut r = run("a", "dynamic", "sector", 1.0, true);
+    // "auto" is a named policy since "governed" became the default damping (2026-12-03).
+    assert_eq!(
+        CellKey::of(&r).figure_key(),
+        "dynamic-damping-auto.auto.sector.m6"
+    );
+    r.damping = Some("governed".to_string());
     assert_eq!(CellKey::of(&r).figure_key(), "dynamic.auto.sector.m6");
     r.damping = Some("paper".to_string());
     r.margin = Some(0.1);

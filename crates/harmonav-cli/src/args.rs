@@ -45,12 +45,15 @@ pub enum DampingArg {
     /// Damping critical at the goal, on the shaped potential Ψ = 1 − √(1 − Θ) (docs/maths.md
     /// §9), tuned in 5 m worlds: the default until 2026-12.
     Shaped,
-    /// The default: "shaped" on Θ made free of the world's scale, so the robot is as quick in
-    /// a 100 m world as in a 5 m one (docs/maths.md §9).
+    /// "shaped" on Θ made free of the world's scale, so the robot is as quick in a 100 m world
+    /// as in a 5 m one (docs/maths.md §9): the default until 2026-12-03.
     Auto,
     /// A research policy: a goal bowl a braking distance wide and a ramp as long as the world
     /// (docs/maths.md §9, "fast").
     Fast,
+    /// The default: "auto" with the pull 4μ, so that the robot uses the whole speed bound
+    /// √(2μ/m), and a governor that keeps it below 0.9·√(2μ/m) (docs/maths.md §9, part 5).
+    Governed,
 }
 
 impl From<DampingArg> for DampingPolicy {
@@ -60,6 +63,7 @@ impl From<DampingArg> for DampingPolicy {
             DampingArg::Shaped => DampingPolicy::Shaped,
             DampingArg::Auto => DampingPolicy::Auto,
             DampingArg::Fast => DampingPolicy::Fast,
+            DampingArg::Governed => DampingPolicy::Governed,
         }
     }
 }

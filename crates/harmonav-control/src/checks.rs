@@ -95,7 +95,7 @@ pub fn goal_damping(field: &Field, law: &Dynamic) -> Result<GoalDamping, EvalFai
     }
     let lambda_c = law.lambda_c(field);
     let eig = hessian.symmetric_eigenvalues();
-    let zeta = [0, 1].map(|i| lambda_c / (2.0 * (law.mass() * law.mu() * eig[i]).sqrt()));
+    let zeta = [0, 1].map(|i| lambda_c / (2.0 * (law.mass() * law.pull() * eig[i]).sqrt()));
     Ok(GoalDamping {
         hessian,
         lambda_c,

@@ -30,13 +30,12 @@ pub enum DampingPolicy {
     /// Tuned in worlds of radius 5 m; in larger ones `Θ` saturates over most of the world
     /// (`1 − Θ ∝ 1/|x − x_d|²` beyond a few metres) and the robot starts at almost no force.
     Shaped,
-    /// The default: [`DampingPolicy::Shaped`] on the scale-free `Θ_s = sigma(phi − s)`,
+    /// The default until 2026-12-03: [`DampingPolicy::Shaped`] on the scale-free `Θ_s = sigma(phi − s)`,
     /// `s = (1 − n/k)·ln(ρ²/ρ_ref²)` (`Dynamic::scale_shift`), instead of `Θ = sigma(phi)`.
     /// `phi_k` of a world scaled by `α` is `phi_k + (1 − n/k)·ln α²`, so `Θ_s` of every scaled
     /// copy of a world is the same function of `x/α`: the law moves through a 50 m world as
     /// through the 5 m one at 10 times the length and time scale, and its speed does not depend
     /// on the size of the world. In worlds of radius `ρ_ref` = 5 m it is `"shaped"`.
-    #[default]
     Auto,
     /// A research policy (issue 27, `docs/maths.md` §9, "fast"), not the default: the law
     /// descends `Ψ = w·q/(q + L) + (1 − w)·q/√(q² + L_A²)`, `q = √(r̃² + b²) − b`,
@@ -44,13 +43,32 @@ pub enum DampingPolicy {
     /// distance wide and a ramp linear in `q` out to `L_A` = twice the world's radius, with
     /// `"auto"`'s damping `λ(x) = 2√(mμ)|∇√(2Ψ)|` and uphill brake (`Dynamic::potential_for`).
     Fast,
+    /// The default: [`DampingPolicy::Auto`]'s `Ψ` and damping with the pull `μ_p = βμ`,
+    /// `β = 4` ([`PULL_GAIN`](crate::PULL_GAIN), [`Dynamic::pull`](crate::Dynamic::pull)):
+    /// `f = −μ_p∇Ψ − (λ(x) + λ_g)ẋ − λ_up(ẋ·n)₊n`, `λ(x) = 2√(mμ_p)|∇√(2Ψ)|`. The terminal
+    /// speed of the damping, `½√(μ_p/m)·√(2Ψ) = √(2μ/m)·√Ψ`, spans the whole speed bound of
+    /// corollary `boundedvel` instead of half of it, and the motion is `"auto"`'s in half the
+    /// time (the law is exactly time-scaled by `√(μ_p/m)`). The energy is `V = μ_pΨ + ½m|ẋ|²`,
+    /// so `V < μ_p` keeps `Ψ < 1` (no collision) but bounds the speed by `2√(2μ/m)` only; the
+    /// governor `λ_g = χ(|ẋ|/v_b)·μ_p|∇Ψ|/|ẋ|`, `v_b = √(2μ/m)`, `χ` rising smoothly from 0 at
+    /// 0.8 to 1 at 0.9 ([`GOVERNOR_BAND`](crate::GOVERNOR_BAND)), cancels the pull's power at
+    /// `0.9·v_b`, so the speed never exceeds `max(|ẋ(0)|, 0.9·v_b) < √(2μ/m)`: the bound of
+    /// corollary `boundedvel` for the user's `μ` (`docs/maths.md` §9, part 5).
+    #[default]
+    Governed,
 }
 
 harmonav_potential::named_policy!(
     DampingPolicy,
     UnknownDampingPolicy,
     "damping policy",
-    [Paper => "paper", Shaped => "shaped", Auto => "auto", Fast => "fast"]
+    [
+        Paper => "paper",
+        Shaped => "shaped",
+        Auto => "auto",
+        Fast => "fast",
+        Governed => "governed"
+    ]
 );
 
 /// Which branch of the damping is in force.
@@ -67,7 +85,7 @@ pub enum Branch {
 /// `n = ∇Ψ/|∇Ψ|` (`Dynamic::force`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Damping {
-    /// `λ ≥ 0`, kg/s.
+    /// `λ ≥ 0`, kg/s (under [`DampingPolicy::Governed`] with the governor `λ_g` added).
     pub lambda: f64,
     /// `λ_up ≥ 0`, kg/s: the extra damping of the velocity component that climbs `Ψ` (0 under
     /// the paper's policy).
@@ -85,7 +103,7 @@ mod tests {
         for p in DampingPolicy::ALL {
             assert_eq!(p.as_str().parse::<DampingPolicy>(), Ok(p));
         }
-        assert_eq!(DampingPolicy::default(), DampingPolicy::Auto);
+        assert_eq!(DampingPolicy::default(), DampingPolicy::Governed);
         let e = "critical".parse::<DampingPolicy>().unwrap_err();
         assert!(e.to_string().contains("\"critical\""), "{e}");
     }

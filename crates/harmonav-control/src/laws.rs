@@ -152,6 +152,19 @@ pub const REFERENCE_RADIUS: f64 = 5.0;
 /// on the motion-quality benchmark (`docs/maths.md` §9: 16, 64 and 256 were measured).
 pub const UPHILL_GAIN: f64 = 64.0;
 
+/// `β` of [`DampingPolicy::Governed`]: the law pulls with `μ_p = βμ` ([`Dynamic::pull`]).
+/// `"auto"`'s damping `λ(x) = 2√(mμ_p)|∇√(2Ψ)|` has the terminal speed `½√(μ_p/m)·√(2Ψ)`;
+/// `β = 4` makes it `√(2μ/m)·√Ψ`, the speed bound of corollary `boundedvel` times `√Ψ`, where
+/// `β = 1` reaches half the bound at most. The governor keeps the bound ([`GOVERNOR_BAND`]).
+pub const PULL_GAIN: f64 = 4.0;
+
+/// `(s₁, s₂)` of the governor of [`DampingPolicy::Governed`]: with `s = |ẋ|/√(2μ/m)`, the
+/// governor's damping is `λ_g = χ(s)·μ_p|∇Ψ|/|ẋ|`, `χ = 0` for `s ≤ s₁`, `χ = 1` for `s ≥ s₂`
+/// and the smoothstep `3t² − 2t³`, `t = (s − s₁)/(s₂ − s₁)`, between. For `s ≥ s₂` the damping
+/// takes at least the power `μ_p|∇Ψ||ẋ|` that the pull can add, so `d|ẋ|/dt ≤ 0` there and the
+/// speed stays below `max(|ẋ(0)|, s₂√(2μ/m))`: `s₂ < 1` leaves the integrators a margin of 10 %.
+pub const GOVERNOR_BAND: (f64, f64) = (0.8, 0.9);
+
 /// `w` of [`DampingPolicy::Fast`]: the share of `Ψ` held by the goal bowl `B = q/(q + L)`;
 /// the rest is the ramp `A = q/√(q² + L_A²)` ([`Dynamic::potential_for`]).
 pub const FAST_BOWL_WEIGHT: f64 = 0.25;
@@ -251,9 +264,45 @@ impl Dynamic {
         self.mass
     }
 
-    /// The gain `μ`.
+    /// The gain `μ` (`controller.mu`): it sets the speed bound `√(2μ/m)`.
     pub fn mu(&self) -> f64 {
         self.mu
+    }
+
+    /// The pull `μ_p` of the force `f = −μ_p∇Ψ − …` and of the energy `V = μ_pΨ + ½m|ẋ|²`:
+    /// `μ_p = βμ` ([`PULL_GAIN`]) under [`DampingPolicy::Governed`], `μ` under every other
+    /// policy. The damping `λ(x)`, `λ_c` and the switch `V ≥ μ_p` use it too, so the law under
+    /// `"governed"` is `"auto"`'s with `μ_p` for `μ`, exactly time-scaled by `√β`, plus the
+    /// governor ([`Dynamic::governor`]).
+    pub fn pull(&self) -> f64 {
+        match self.policy {
+            DampingPolicy::Governed => PULL_GAIN * self.mu,
+            _ => self.mu,
+        }
+    }
+
+    /// The governor of [`DampingPolicy::Governed`] at speed `|ẋ|` where `|∇Ψ| = slope`:
+    /// `λ_g = χ(|ẋ|/v_b)·μ_p·slope/|ẋ|`, `v_b = √(2μ/m)` ([`GOVERNOR_BAND`]); 0 under the
+    /// other policies and below `s₁·v_b`. For `|ẋ| ≥ s₂·v_b`, `λ_g|ẋ|² = μ_p|∇Ψ||ẋ|`: the
+    /// rate of change of the kinetic energy, `−μ_p∇Ψ·ẋ − (λ + λ_g)|ẋ|² − …`, is `≤ 0`, so the
+    /// ball `|ẋ| ≤ s₂·v_b` is invariant between and across discoveries (a discovery changes
+    /// `Ψ`, not `ẋ`; every other damping term only slows the robot). `λ_g ≥ 0` adds to `λ`, so
+    /// `V̇ ≤ 0` holds.
+    ///
+    /// Numerical guard: `|ẋ| ≥ s₁·v_b > 0` wherever `χ > 0`, so the quotient is finite; a
+    /// slope that is not finite gives 0 (the force is not finite either there, and the field
+    /// refuses such points first).
+    pub fn governor(&self, slope: f64, velocity: Vector2<f64>) -> f64 {
+        if self.policy != DampingPolicy::Governed || !slope.is_finite() {
+            return 0.0;
+        }
+        let speed = velocity.norm();
+        let (s1, s2) = GOVERNOR_BAND;
+        let t = ((speed / self.speed_bound() - s1) / (s2 - s1)).clamp(0.0, 1.0);
+        if t == 0.0 {
+            return 0.0;
+        }
+        t * t * (3.0 - 2.0 * t) * self.pull() * slope / speed
     }
 
     /// `s` of [`DampingPolicy::Auto`], the shift that makes `Θ_s = sigma(phi − s)` free of the
@@ -270,7 +319,7 @@ impl Dynamic {
                 let rho = field.workspace().boundary().radius_bounds().1;
                 rho.powi(2).ln()
             }
-            DampingPolicy::Auto => {
+            DampingPolicy::Auto | DampingPolicy::Governed => {
                 let n = field.known().len() as f64;
                 let rho = field.workspace().boundary().radius_bounds().1;
                 (1.0 - n / field.k()) * (rho / REFERENCE_RADIUS).powi(2).ln()
@@ -356,7 +405,7 @@ impl Dynamic {
     /// [`DampingPolicy::Auto`] and 0 under [`DampingPolicy::Shaped`] (the guards of
     /// [`Dynamic::potential`]).
     fn shaped_potential(&self, shift: f64, eval: &FieldEval) -> Potential {
-        let s = if self.policy == DampingPolicy::Auto {
+        let s = if matches!(self.policy, DampingPolicy::Auto | DampingPolicy::Governed) {
             shift
         } else {
             0.0
@@ -381,18 +430,20 @@ impl Dynamic {
         }
     }
 
-    /// Eq. (`totalenergy`): `V = μΨ + ½ m |ẋ|²` with `Ψ` the law's [`Dynamic::potential`]
-    /// (`Ψ = Θ` under the paper's policy). `V̇ = −λ|ẋ|² ≤ 0` between discoveries.
+    /// Eq. (`totalenergy`): `V = μ_pΨ + ½ m |ẋ|²` with `Ψ` the law's [`Dynamic::potential`]
+    /// (`Ψ = Θ` under the paper's policy) and `μ_p` its [`Dynamic::pull`] (`μ` but under
+    /// `"governed"`). `V̇ = −λ|ẋ|² ≤ 0` between discoveries.
     pub fn energy(&self, field: &Field, eval: &FieldEval, velocity: Vector2<f64>) -> f64 {
         self.energy_at(&self.potential(field, eval), velocity)
     }
 
     /// [`Dynamic::energy`] from a potential already evaluated.
     fn energy_at(&self, p: &Potential, velocity: Vector2<f64>) -> f64 {
-        self.mu * p.value + 0.5 * self.mass * velocity.norm_squared()
+        self.pull() * p.value + 0.5 * self.mass * velocity.norm_squared()
     }
 
-    /// Corollary `boundedvel`: `|ẋ| < √(2μ/m)`.
+    /// Corollary `boundedvel`: `|ẋ| < √(2μ/m)` (from `V < μ` where the pull is `μ`; under
+    /// [`DampingPolicy::Governed`] from the governor, [`Dynamic::governor`]).
     pub fn speed_bound(&self) -> f64 {
         (2.0 * self.mu / self.mass).sqrt()
     }
@@ -415,7 +466,7 @@ impl Dynamic {
         match self.policy {
             DampingPolicy::Paper => s,
             DampingPolicy::Shaped => 0.5 * s,
-            DampingPolicy::Auto => 0.5 * s * (-shift).exp(),
+            DampingPolicy::Auto | DampingPolicy::Governed => 0.5 * s * (-shift).exp(),
             DampingPolicy::Fast => {
                 // Ψ ≈ (w/L + (1 − w)/L_A)·q, q ≈ r̃²/(2b), r̃² ≈ xᵀH(Θ)x/σ: H(Ψ) = that·H(Θ)/(bσ).
                 let (w, b, l, kappa) = FAST;
@@ -434,7 +485,7 @@ impl Dynamic {
     /// [`Dynamic::lambda_c`] for the goal stiffness `s` and the scale shift `shift` of
     /// [`Dynamic::goal_stiffness_for`].
     pub fn lambda_c_for(&self, s: f64, shift: f64) -> f64 {
-        2.0 * (self.mass * self.mu * self.goal_stiffness_for(s, shift)).sqrt()
+        2.0 * (self.mass * self.pull() * self.goal_stiffness_for(s, shift)).sqrt()
     }
 
     /// The damping of [`DampingPolicy::Auto`] in the `V < μ` branch:
@@ -455,7 +506,7 @@ impl Dynamic {
     fn lambda_auto_at(&self, s: f64, shift: f64, p: &Potential) -> f64 {
         let ratio = p.gradient.norm() / (2.0 * p.value).sqrt();
         if p.value > 0.0 && ratio.is_finite() {
-            2.0 * (self.mass * self.mu).sqrt() * ratio
+            2.0 * (self.mass * self.pull()).sqrt() * ratio
         } else {
             self.lambda_c_for(s, shift)
         }
@@ -465,6 +516,8 @@ impl Dynamic {
     /// `speed_at_discovery = |ẋ(T_n)|` the speed at the latest discovery:
     ///
     /// - `"paper"`: `λ_c` while `V < μ`, otherwise `(m/d_min)|ẋ(T_n)|`; no uphill brake;
+    /// - `"governed"`: `"auto"`'s with the pull `μ_p` for `μ` ([`Dynamic::pull`]), plus the
+    ///   governor `λ_g` ([`Dynamic::governor`]) in both branches;
     /// - `"auto"`: `λ =` [`Dynamic::lambda_auto`] while `V < μ`, otherwise
     ///   `max(λ(x), (m/d_min)|ẋ(T_n)|)` — at least the paper's damping, so its stopping-distance
     ///   argument (eq. `solpos`) holds a fortiori; and in both branches the uphill brake
@@ -500,14 +553,18 @@ impl Dynamic {
         let p = self.potential_for((s, shift), eval);
         let (own, uphill) = match self.policy {
             DampingPolicy::Paper => (self.lambda_c_for(s, shift), 0.0),
-            DampingPolicy::Shaped | DampingPolicy::Auto | DampingPolicy::Fast => {
+            DampingPolicy::Shaped
+            | DampingPolicy::Auto
+            | DampingPolicy::Fast
+            | DampingPolicy::Governed => {
                 let l = self.lambda_auto_at(s, shift, &p);
                 (l, UPHILL_GAIN * l)
             }
         };
-        if self.energy_at(&p, velocity) < self.mu {
+        let governor = self.governor(p.gradient.norm(), velocity);
+        if self.energy_at(&p, velocity) < self.pull() {
             return Damping {
-                lambda: own,
+                lambda: own + governor,
                 uphill,
                 branch: Branch::Critical,
             };
@@ -516,9 +573,10 @@ impl Dynamic {
         Damping {
             lambda: match self.policy {
                 DampingPolicy::Paper => switched,
-                DampingPolicy::Shaped | DampingPolicy::Auto | DampingPolicy::Fast => {
-                    switched.max(own)
-                }
+                DampingPolicy::Shaped
+                | DampingPolicy::Auto
+                | DampingPolicy::Fast
+                | DampingPolicy::Governed => switched.max(own) + governor,
             },
             uphill,
             branch: Branch::Switched,
@@ -552,7 +610,7 @@ impl Dynamic {
         d: &Damping,
     ) -> Vector2<f64> {
         let g = self.potential_for(calibration, eval).gradient;
-        let f = -self.mu * g - d.lambda * velocity;
+        let f = -self.pull() * g - d.lambda * velocity;
         let n = g / g.norm();
         let climb = velocity.dot(&n);
         if d.uphill > 0.0 && climb > 0.0 && n.iter().all(|c| c.is_finite()) {

@@ -13,8 +13,11 @@
 //!   bound `√(2μ/m)` (corollary `boundedvel`). That is [`DampingPolicy::Paper`];
 //!   [`DampingPolicy::Shaped`] descends `Ψ = 1 − √(1 − Θ)` and damps with
 //!   `λ(x) = 2√(mμ)|∇Ψ|/√(2Ψ)`, which equals `λ_c` at the goal and does not over-damp far from
-//!   it; the default [`DampingPolicy::Auto`] does the same on `Θ_s = sigma(phi − s)`, free of
-//!   the world's scale ([`Dynamic::scale_shift`]).
+//!   it;
+//!   [`DampingPolicy::Auto`] does the same on `Θ_s = sigma(phi − s)`, free of the world's
+//!   scale ([`Dynamic::scale_shift`]); the default [`DampingPolicy::Governed`] is `"auto"` with
+//!   the pull `4μ` ([`Dynamic::pull`]), whose damping's terminal speed spans the whole bound
+//!   `√(2μ/m)`, and a governor that keeps the speed below `0.9·√(2μ/m)`.
 //!
 //! [`checks`] measures the laws' properties (corollary `critdamp` at the goal, eq.
 //! `totalenergy` and corollary `boundedvel` along the closed loop, eq. `kinctrl`'s decrease of
@@ -48,8 +51,9 @@
 //! let paper = law.with_damping(DampingPolicy::Paper);
 //! let d = paper.damping(&field, &eval, Vector2::zeros(), 0.0);
 //! assert_eq!((d.lambda, d.branch), (paper.lambda_c(&field), Branch::Critical)); // V < μ: λ_c
-//! let d = law.damping(&field, &eval, Vector2::zeros(), 0.0); // the default, "auto"
-//! assert_eq!(d.lambda, law.lambda_auto(&field, &eval));
+//! let d = law.damping(&field, &eval, Vector2::zeros(), 0.0); // the default, "governed"
+//! assert_eq!(d.lambda, law.lambda_auto(&field, &eval)); // the governor is off at rest
+//! assert_eq!(law.pull(), 4.0 * law.mu());
 //! let f = law.force(&field, &eval, Vector2::zeros(), &d);
 //! assert!(f.dot(&eval.gradient) < 0.0);                 // pushes downhill
 //! # Ok::<(), Box<dyn std::error::Error>>(())
@@ -65,6 +69,6 @@ mod speed;
 pub use damping::{Branch, Damping, DampingPolicy, UnknownDampingPolicy};
 pub use laws::{
     ControlError, Dynamic, FAST_BOWL_CORE, FAST_BOWL_WEIGHT, FAST_BRAKING_LENGTH, FAST_RAMP,
-    Kinematic, Potential, REFERENCE_RADIUS, UPHILL_GAIN,
+    GOVERNOR_BAND, Kinematic, PULL_GAIN, Potential, REFERENCE_RADIUS, UPHILL_GAIN,
 };
 pub use speed::{BRAKING_TIME, LINEAR_CORE, SpeedPolicy, UnknownSpeedPolicy};

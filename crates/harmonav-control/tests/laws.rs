@@ -4,7 +4,8 @@ use std::sync::Arc;
 
 use harmonav_control::checks::{energy_run, goal_damping, theta_rate};
 use harmonav_control::{
-    BRAKING_TIME, Branch, DampingPolicy, Dynamic, Kinematic, SpeedPolicy, UPHILL_GAIN,
+    BRAKING_TIME, Branch, DampingPolicy, Dynamic, GOVERNOR_BAND, Kinematic, PULL_GAIN, SpeedPolicy,
+    UPHILL_GAIN,
 };
 use harmonav_field::Field;
 use harmonav_transform::random::{self, Kind, Rng};
@@ -38,7 +39,7 @@ fn critical_damping_at_the_goal() {
             g.zeta
         );
         // The 4×4 closed-loop matrix has the double eigenvalue −λ_c/(2m).
-        let (m, mu, lc) = (law.mass(), law.mu(), g.lambda_c);
+        let (m, mu, lc) = (law.mass(), law.pull(), g.lambda_c);
         let mut a = Matrix4::zeros();
         a.fixed_view_mut::<2, 2>(0, 2)
             .copy_from(&Matrix2::identity());
@@ -314,11 +315,6 @@ fn damping_switches_on_energy() {
         .unwrap()
         .with_damping(DampingPolicy::Paper);
     let auto = paper.with_damping(DampingPolicy::Auto);
-    assert_eq!(
-        auto,
-        Dynamic::new(2.0, 10.0, 0.05).unwrap(),
-        "auto is the default"
-    );
     for _ in 0..50 {
         let x = random::free_point(&mut rng, field.workspace(), 0.05);
         let e = field.eval(x).unwrap();
@@ -402,19 +398,23 @@ fn auto_damping_is_the_gradient_of_root_two_theta_and_lambda_c_at_the_goal() {
                 root(x + Vector2::new(h, 0.0)) - root(x - Vector2::new(h, 0.0)),
                 root(x + Vector2::new(0.0, h)) - root(x - Vector2::new(0.0, h)),
             ) / (2.0 * h);
-            let want = 2.0 * (law.mass() * law.mu()).sqrt() * fd.norm();
+            // The default is "governed": "auto" with the pull μ_p for μ.
+            let want = 2.0 * (law.mass() * law.pull()).sqrt() * fd.norm();
             let got = law.lambda_auto(&field, &field.eval(x).unwrap());
             assert!(
                 (got - want).abs() <= 1e-5 * want + 1e-9,
                 "seed {seed} at {x:?}: {got} vs {want}"
             );
-            // The terminal speed μ|∇Ψ|/λ is ½√(μ/m)·√(2Ψ).
+            // The terminal speed μ_p|∇Ψ|/λ is ½√(μ_p/m)·√(2Ψ), which is √(2μ/m)·√Ψ at
+            // μ_p = 4μ: the speed bound of corollary boundedvel times √Ψ.
             let p = law.potential(&field, &field.eval(x).unwrap());
-            let terminal = law.mu() * p.gradient.norm() / got;
-            let closed = 0.5 * (law.mu() / law.mass()).sqrt() * (2.0 * p.value).sqrt();
+            let terminal = law.pull() * p.gradient.norm() / got;
+            let closed = 0.5 * (law.pull() / law.mass()).sqrt() * (2.0 * p.value).sqrt();
+            let spans = law.speed_bound() * p.value.sqrt();
             assert!(
-                (terminal - closed).abs() <= 1e-12 * closed,
-                "{terminal} vs {closed}"
+                (terminal - closed).abs() <= 1e-12 * closed
+                    && (terminal - spans).abs() <= 1e-12 * spans,
+                "{terminal} vs {closed}, {spans}"
             );
         }
         let xd = field.workspace().destination();
@@ -722,4 +722,63 @@ fn fast_bowl_is_in_metres_and_critically_damped_at_the_goal() {
             );
         }
     }
+}
+
+/// The governor of "governed" (the default; `docs/maths.md` §9, part 5): at every state whose
+/// speed is at least `s₂·√(2μ/m)` the force does no positive work, `f·ẋ ≤ 0`, so the speed
+/// cannot grow past `s₂·√(2μ/m) < √(2μ/m)` although the energy `V < μ_p = 4μ` alone allows
+/// `2√(2μ/m)`; below `s₁·√(2μ/m)` it is off and the law is exactly "auto" with `μ_p` for `μ`.
+/// Negative control: that same law without the governor does positive work at some of these
+/// states, so the check bites.
+#[test]
+fn the_governor_takes_the_power_of_the_pull_above_nine_tenths_of_the_speed_bound() {
+    let (s1, s2) = GOVERNOR_BAND;
+    let mut ungoverned_gains = 0;
+    for seed in 0..20 {
+        let (field, mut rng) = world(700 + seed);
+        let law = Dynamic::new(0.5 + 0.2 * seed as f64, 10.0, 0.05).unwrap();
+        assert_eq!(law.damping_policy(), DampingPolicy::Governed);
+        assert_eq!(law.pull(), PULL_GAIN * law.mu());
+        let bare = Dynamic::new(law.mass(), law.pull(), 0.05)
+            .unwrap()
+            .with_damping(DampingPolicy::Auto);
+        let vb = law.speed_bound();
+        for i in 0..60 {
+            let x = random::free_point(&mut rng, field.workspace(), 0.02);
+            let e = field.eval(x).unwrap();
+            let angle = rng.uniform(0.0, std::f64::consts::TAU);
+            let gradient = law.potential(&field, &e).gradient;
+            // Half the states in the governor's full band (a quarter of them downhill, where
+            // an ungoverned pull can still accelerate: below its terminal speed √(2μ/m)·√Ψ),
+            // half below it.
+            let dir = if i % 4 == 0 {
+                -gradient.normalize()
+            } else {
+                Vector2::new(angle.cos(), angle.sin())
+            };
+            let speed = if i % 2 == 0 {
+                vb * rng.uniform(s2, if i % 4 == 0 { 1.0 } else { 1.5 })
+            } else {
+                vb * rng.uniform(0.0, s1)
+            };
+            let v = speed * dir;
+            let force = |l: &Dynamic| l.force(&field, &e, v, &l.damping(&field, &e, v, 0.0));
+            let (f, f_bare) = (force(&law), force(&bare));
+            let pull = law.pull() * gradient.norm() * speed;
+            if i % 2 == 0 {
+                assert!(
+                    f.dot(&v) <= 1e-12 * pull,
+                    "seed {seed} at {x:?}, |v| = {speed}: power {} of {pull}",
+                    f.dot(&v)
+                );
+                ungoverned_gains += usize::from(f_bare.dot(&v) > 1e-9 * pull);
+            } else {
+                assert_eq!(f, f_bare, "seed {seed}: the governor acts below s₁");
+            }
+        }
+    }
+    assert!(
+        ungoverned_gains >= 5,
+        "the pull without the governor accelerated in only {ungoverned_gains} of 300 states"
+    );
 }

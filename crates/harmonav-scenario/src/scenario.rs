@@ -190,8 +190,8 @@ pub struct ControllerSpec {
     /// `μ` of the dynamic law.
     #[serde(default = "ten")]
     pub mu: f64,
-    /// `damping = "paper"` (eq. `dissipationfun`) or `"auto"` (the default), see
-    /// [`DampingPolicy`].
+    /// `damping = "paper"` (eq. `dissipationfun`), `"shaped"`, `"auto"`, `"fast"` or
+    /// `"governed"` (the default), see [`DampingPolicy`].
     #[serde(default, deserialize_with = "de_policy", serialize_with = "ser_policy")]
     pub damping: DampingPolicy,
     /// `speed = "paper"` (eq. `kinctrl`, `K√(2Θ)`) or `"auto"` (the default: full speed, then

@@ -212,7 +212,7 @@ impl<'a> ClosedLoop<'a> {
             lambda: damping.map(|d| d.lambda),
             energy_tolerance: match (dynamic, &e) {
                 (Some(law), Some(e)) => {
-                    let sensitivity = law.mu()
+                    let sensitivity = law.pull()
                         * law.potential(self.nav.field(), &e.field).gradient.norm()
                         + law.mass() * v.norm();
                     10.0 * state_error * sensitivity

@@ -171,7 +171,7 @@ pub(crate) fn rapier_observed(
             if let (Some(pe), Some(p1)) = (potential(&d, xe, ve), potential(&d, x1, v1)) {
                 drift += euler_energy_error(law, h, (&p0, pe.value), (x, xe), (vel, ve), command);
                 let energy = |p: &Potential, v: Vector2<f64>| {
-                    law.mu() * p.value + 0.5 * law.mass() * v.norm_squared()
+                    law.pull() * p.value + 0.5 * law.mass() * v.norm_squared()
                 };
                 let rise = energy(&p1, v1) - energy(&pe, ve);
                 drift += rise.max(0.0);
@@ -263,7 +263,7 @@ fn euler_energy_error(
     (v0, v1): (Vector2<f64>, Vector2<f64>),
     f: Vector2<f64>,
 ) -> f64 {
-    let (m, mu) = (law.mass(), law.mu());
+    let (m, mu) = (law.mass(), law.pull());
     let kinetic = -0.5 * h * h / m * f.norm_squared();
     let remainder = mu * (psi1 - p0.value - p0.gradient.dot(&(x1 - x0)));
     let size = mu * (p0.value.abs() + psi1.abs())

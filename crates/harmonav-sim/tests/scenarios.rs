@@ -245,7 +245,8 @@ fn margin_policy_and_limit_errors_name_the_field_and_the_reason() {
         "[sensor]",
         "[controller]\ndamping = \"critical\"\n[sensor]",
         "controller.damping",
-        "unknown damping policy \"critical\": expected \"paper\", \"shaped\", \"auto\" or \"fast\"",
+        "unknown damping policy \"critical\": expected \"paper\", \"shaped\", \"auto\", \"fast\" \
+         or \"governed\"",
         None,
     );
     check(
@@ -406,7 +407,7 @@ fn runs_are_deterministic_and_the_kinematic_run_keeps_every_guarantee() {
     );
     let dynamic = run(&prepared, Some(Model::Dynamic)).unwrap().summary;
     let v = serde_json::to_value(&dynamic).unwrap();
-    assert_eq!(v["damping"], serde_json::json!("auto"), "{v}");
+    assert_eq!(v["damping"], serde_json::json!("governed"), "{v}");
     assert!(!s.discoveries.is_empty());
     // Samples on the dt grid (plus discovery instants and the end).
     let dt = prepared.scenario.sim.dt;
@@ -463,8 +464,8 @@ fn dynamic_run_keeps_the_speed_bound_and_arrives_without_overshoot() {
 
 /// Eq. dissipationfun's switch (scenarios/hard/lambda-switch.toml), under both damping policies:
 /// wherever a recorded state has `V ≥ μ`, the damping is switched and at least
-/// `(m/d_min)|ẋ(T_n)|`, exactly that under "paper"; with "auto" and "fast" the discovery does
-/// lift `V` to μ and the switch is recorded; and the stopping-distance argument holds: the robot ends the
+/// `(m/d_min)|ẋ(T_n)|`, exactly that under "paper"; with "auto", "fast" and "governed" the
+/// discovery does lift `V` to μ (μ_p under "governed") and the switch is recorded; and the stopping-distance argument holds: the robot ends the
 /// switched interval within `d_min` of where it began, never touching the disc.
 #[test]
 fn the_damping_switch_engages_after_a_discovery_and_brakes_within_d_min() {
@@ -493,13 +494,19 @@ fn the_damping_switch_engages_after_a_discovery_and_brakes_within_d_min() {
             "{policy}: {}",
             serde_json::to_string_pretty(s).unwrap()
         );
+        // The switch is at V ≥ μ_p, the law's pull (μ = 10 in the file).
+        let pull = if policy == DampingPolicy::Governed {
+            harmonav_control::PULL_GAIN * 10.0
+        } else {
+            10.0
+        };
         let t_n = s.discoveries.last().unwrap().time_s;
         let at_discovery = r.samples.iter().find(|x| x.t == t_n).unwrap();
         let v_n = Vector2::from(at_discovery.v).norm();
         let switched: Vec<_> = r
             .samples
             .iter()
-            .filter(|x| x.energy.unwrap() >= 10.0 && x.t > 0.0)
+            .filter(|x| x.energy.unwrap() >= pull && x.t > 0.0)
             .collect();
         for x in &switched {
             assert!(
@@ -514,7 +521,10 @@ fn the_damping_switch_engages_after_a_discovery_and_brakes_within_d_min() {
                 _ => assert!(lambda >= floor, "{lambda} < {floor}"),
             }
         }
-        if matches!(policy, DampingPolicy::Auto | DampingPolicy::Fast) {
+        if matches!(
+            policy,
+            DampingPolicy::Auto | DampingPolicy::Fast | DampingPolicy::Governed
+        ) {
             assert!(
                 !switched.is_empty(),
                 "{policy}: the discovery did not lift V to μ"

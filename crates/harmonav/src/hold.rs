@@ -250,13 +250,13 @@ fn kinematic_step(
 /// step with the damping taken implicitly,
 ///
 /// ```text
-/// v⁺ = (I + hΛ/m)⁻¹ (v − hμ∇Ψ/m),     Λ = λI + λ_up·n nᵀ (n = ∇Ψ/|∇Ψ|, if (v − hμ∇Ψ/m)·n > 0)
-///    = w/a − n (w·n)(1/a − 1/(a + b)),  w = v − hμ∇Ψ/m,  a = 1 + hλ/m,  b = hλ_up/m,
+/// v⁺ = (I + hΛ/m)⁻¹ (v − hμ_p∇Ψ/m),   Λ = λI + λ_up·n nᵀ (n = ∇Ψ/|∇Ψ|, if (v − hμ_p∇Ψ/m)·n > 0)
+///    = w/a − n (w·n)(1/a − 1/(a + b)),  w = v − hμ_p∇Ψ/m,  a = 1 + hλ/m,  b = hλ_up/m,
 /// ```
 ///
 /// shortened if needed to `|v⁺| ≤ min(DYNAMIC_FRACTION·d(x)/h, (1 − SPEED_SLACK)√(2μ/m))`,
 /// and the force `f = m(v⁺ − v)/h` that produces it under `v += h f/m`. As `h → 0`,
-/// `f → −μ∇Ψ − Λv`, the continuous law of [`Dynamic::force`]. The implicit damping contracts
+/// `f → −μ_p∇Ψ − Λv`, the continuous law of [`Dynamic::force`] (`μ_p` its [`Dynamic::pull`]). The implicit damping contracts
 /// every velocity for every `h` (`|(I + hΛ/m)⁻¹| ≤ 1`), where the explicit one is stable only
 /// for `h(λ + λ_up)/m < 2`.
 pub(crate) fn dynamic(
@@ -269,7 +269,7 @@ pub(crate) fn dynamic(
 ) -> Command {
     let m = law.mass();
     let g = law.potential_for(space.calibration(law), e).gradient;
-    let w = v - (h * law.mu() / m) * g;
+    let w = v - (h * law.pull() / m) * g;
     let a = 1.0 + h * d.lambda / m;
     let mut next = w / a;
     let n = g / g.norm();

@@ -69,7 +69,7 @@ pub struct Options {
     pub scan: ScanOptions,
     /// How `k` follows the number of known obstacles (default `"auto"`).
     pub k: KPolicy,
-    /// The dynamic law's damping (default `"auto"`).
+    /// The dynamic law's damping (default `"governed"`).
     pub damping: DampingPolicy,
     /// The kinematic law's speed policy (default `"auto"`: `min(v_max, √(2a|x − x_d|))`,
     /// `docs/maths.md` §6).
