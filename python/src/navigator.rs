@@ -22,12 +22,13 @@ use crate::shapes::{Shape, from_perceived};
 ///   `v_max`): within any tolerance of the goal in finite time, and the hold never steps past
 ///   it; under `speed="paper"` `s = K√(2Θ)`, `K = gain` (`docs/maths.md` §6). `v_max` (m/s,
 ///   default `K√2`) caps both.
-/// - `law="dynamic"`: the force `f = −μ∇Ψ − λẋ` (eq. `dynctrllocal`; `Ψ = Θ` and `λ` of
+/// - `law="dynamic"`: the force `f = −μ_p∇Ψ − λẋ` (eq. `dynctrllocal`, `μ_p = μ` but under
+///   `"governed"`; `Ψ = Θ` and `λ` of
 ///   eq. `dissipationfun` under `damping="paper"`; `Ψ = 1 − √(1 − Θ)` and a damping critical at
 ///   the goal under `damping="shaped"`; the same on `Θ` made free of the world's scale under
 ///   `damping="auto"`; a goal bowl in metres and a ramp as long as the world under the research
-///   policy `damping="fast"`; `"auto"` pulling with `4μ`, so that the robot uses its whole speed
-///   bound, with a governor that keeps it below `0.9·√(2μ/m)` under `damping="governed"`, the
+///   policy `damping="fast"`; `"auto"` pulling with `4μ·max(1, ρ/5 m)` (`ρ` the boundary's
+///   largest radius), so that the robot uses its whole speed bound, with a governor that keeps it below `0.9·√(2μ/m)` under `damping="governed"`, the
 ///   default, `docs/maths.md` §9), for a robot of mass `mass`; its speed stays below `√(2μ/m)`.
 ///
 /// `sensor=(range_m, aperture_deg)` sets `d_min` (eq. `dmin`); `radius` and `margin` (m) grow

@@ -162,7 +162,7 @@ def test_the_example_specs_are_valid():
         assert spec.runs > 0
     assert {"quality-small", "quality", "montecarlo-small", "montecarlo", "sweep-mixed"} <= names
     assert load_spec(EXAMPLES / "quality-small.toml").runs == 64
-    assert load_spec(EXAMPLES / "quality.toml").runs == 3 * 30 * 24
+    assert load_spec(EXAMPLES / "quality.toml").runs == 3 * 36 * 24
 
 
 # ---------------------------------------------------------------------------------------------
@@ -429,7 +429,7 @@ def test_the_report_draws_the_distributions(tmp_path):
     experiment.report(tmp_path / "out", plots=tmp_path / "plots")
     for name in ("path_over_shortest.svg", "time_s.svg"):
         svg = (tmp_path / "plots" / name).read_text()
-        assert "<svg" in svg and "M=6, dynamic auto, k paper, sector" in svg
+        assert "<svg" in svg and "M=6, dynamic governed, k paper, sector" in svg
 
 
 def test_the_command_line_runs_and_reports(tmp_path):
@@ -442,7 +442,7 @@ def test_the_command_line_runs_and_reports(tmp_path):
                              str(tmp_path / "out"), "--no-plots"], capture_output=True,
                             text=True, cwd=tmp_path)
     assert report.returncode == 0, report.stderr
-    assert "| Dynamic | auto | paper | sector | 0 | 6 |" in report.stdout
+    assert "| Dynamic | governed | paper | sector | 0 | 6 |" in report.stdout
     bad = write(tmp_path, SMALL.replace('law = ["kinematic", "dynamic"]', 'law = ["fast"]'), "bad.toml")
     refused = subprocess.run([sys.executable, "-m", "harmonav.experiment", "run", str(bad),
                               "--out", str(tmp_path / "bad")], capture_output=True, text=True,

@@ -105,7 +105,10 @@ pub fn run(options: &Options) -> ExitCode {
         }
     }
     if wants("control_step_ns_m6") {
-        put("control_step_ns_m6", control_step_ns(DampingPolicy::Auto));
+        put(
+            "control_step_ns_m6",
+            control_step_ns(DampingPolicy::default()),
+        );
         put(
             "control_step_ns_m6_damping_paper",
             control_step_ns(DampingPolicy::Paper),

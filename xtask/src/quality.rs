@@ -26,20 +26,21 @@ pub struct LawPolicies<'a> {
 impl LawPolicies<'static> {
     /// The policies of the table in docs/benchmarks.md (and of
     /// `examples/experiments/quality.toml`): every speed policy, and the damping policies
-    /// `"paper"`, `"shaped"` and `"auto"`. `"fast"` (docs/maths.md §9 part 4) is compared on its
-    /// own with `--compare auto,fast`.
+    /// `"paper"`, `"shaped"`, `"auto"` and the default `"governed"`. `"fast"` (docs/maths.md §9
+    /// part 4) is compared on its own with `--compare auto,fast`.
     pub const ALL: Self = Self {
         dampings: &[
             DampingPolicy::Paper,
             DampingPolicy::Shaped,
             DampingPolicy::Auto,
+            DampingPolicy::Governed,
         ],
         speeds: &SpeedPolicy::ALL,
     };
 
     /// The default policies only.
     pub const DEFAULT: Self = Self {
-        dampings: &[DampingPolicy::Auto],
+        dampings: &[DampingPolicy::Governed],
         speeds: &[SpeedPolicy::Auto],
     };
 }

@@ -51,8 +51,9 @@ pub enum DampingArg {
     /// A research policy: a goal bowl a braking distance wide and a ramp as long as the world
     /// (docs/maths.md §9, "fast").
     Fast,
-    /// The default: "auto" with the pull 4μ, so that the robot uses the whole speed bound
-    /// √(2μ/m), and a governor that keeps it below 0.9·√(2μ/m) (docs/maths.md §9, part 5).
+    /// The default: "auto" with the pull 4μ·max(1, ρ/5 m) (ρ the world's radius), so that the
+    /// robot uses the whole speed bound √(2μ/m) in a world of any size, and a governor that
+    /// keeps it below 0.9·√(2μ/m) (docs/maths.md §9, part 5).
     Governed,
 }
 

@@ -53,10 +53,11 @@ pub const GOAL_FD_STEP: f64 = 1e-5;
 /// potential at `x_d` by central differences of its gradient ([`GOAL_FD_STEP`]; `Θ` under
 /// `"paper"`, `Ψ` under `"shaped"` and `"auto"`), independent of the closed form
 /// `Dynamic::goal_stiffness`, and the damping ratio of the linearised closed loop
-/// `m ẍ = −μHx − λ_c ẋ` along each eigenvector of `H`:
+/// `m ẍ = −μ_pHx − λ_c ẋ` along each eigenvector of `H` (`μ_p` the law's pull,
+/// `Dynamic::pull`: `μ` but under `"governed"`):
 ///
 /// ```text
-/// ζ_i = λ_c / (2√(m μ e_i)),      e_i the eigenvalues of H;  ζ_i = 1 is critical damping
+/// ζ_i = λ_c / (2√(m μ_p e_i)),    e_i the eigenvalues of H;  ζ_i = 1 is critical damping
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GoalDamping {
@@ -107,9 +108,10 @@ pub fn goal_damping(field: &Field, law: &Dynamic) -> Result<GoalDamping, EvalFai
 /// relative rise of an energy that has reached rounding level says nothing.
 pub const ENERGY_FLOOR: f64 = 1e-12;
 
-/// Eq. `totalenergy` (`V = μΨ + ½m|ẋ|²`, `V̇ = −λ|ẋ|² ≤ 0` between discoveries) and corollary
-/// `boundedvel` (`|ẋ| < √(2μ/m)`), measured along the closed loop `m ẍ = f(x, ẋ)`
-/// ([`Dynamic::force`], global field, no discovery) integrated by classical RK4.
+/// Eq. `totalenergy` (`V = μ_pΨ + ½m|ẋ|²`, `V̇ = −λ|ẋ|² ≤ 0` between discoveries, `μ_p` the
+/// law's `Dynamic::pull`) and corollary `boundedvel` (`|ẋ| < √(2μ/m)`), measured along the
+/// closed loop `m ẍ = f(x, ẋ)` ([`Dynamic::force`], global field, no discovery) integrated by
+/// classical RK4.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EnergyRun {
     /// The largest step-to-step rise `(V_{n+1} − V_n) / max(V_n, ENERGY_FLOOR)` (negative if
@@ -117,6 +119,10 @@ pub struct EnergyRun {
     pub worst_rise: f64,
     /// The largest speed `|ẋ_n|`, m/s.
     pub max_speed: f64,
+    /// The largest step-to-step rise `|ẋ_{n+1}| − |ẋ_n|`, m/s, over the steps that start at
+    /// `|ẋ_n| ≥ s₂·√(2μ/m)`, where the governor of `"governed"` takes the pull's whole power
+    /// (`GOVERNOR_BAND`); `−∞` if no step starts there.
+    pub worst_fast_speed_rise: f64,
     /// The state at the end, `(x, ẋ)`.
     pub end: (Vector2<f64>, Vector2<f64>),
 }
@@ -130,14 +136,28 @@ pub fn energy_run(
     dt: f64,
     steps: usize,
 ) -> Result<EnergyRun, EvalFailure> {
+    energy_run_from(field, law, (start, Vector2::zeros()), dt, steps)
+}
+
+/// [`energy_run`] from the state `(x₀, ẋ₀)` = `state`.
+pub fn energy_run_from(
+    field: &Field,
+    law: &Dynamic,
+    state: (Vector2<f64>, Vector2<f64>),
+    dt: f64,
+    steps: usize,
+) -> Result<EnergyRun, EvalFailure> {
     let accel = |x: Vector2<f64>, v: Vector2<f64>| -> Result<Vector2<f64>, EvalFailure> {
         let e = eval(field, x)?;
         Ok(law.force(field, &e, v, &law.damping(field, &e, v, 0.0)) / law.mass())
     };
-    let (mut x, mut v) = (start, Vector2::zeros());
+    let (mut x, mut v) = state;
     let mut last = law.energy(field, &eval(field, x)?, v);
-    let (mut worst_rise, mut max_speed) = (f64::NEG_INFINITY, 0.0f64);
+    let (mut worst_rise, mut max_speed) = (f64::NEG_INFINITY, v.norm());
+    let mut worst_fast_speed_rise = f64::NEG_INFINITY;
+    let governed_speed = crate::GOVERNOR_BAND.1 * law.speed_bound();
     for _ in 0..steps {
+        let speed = v.norm();
         let (k1x, k1v) = (v, accel(x, v)?);
         let (k2x, k2v) = (
             v + 0.5 * dt * k1v,
@@ -153,11 +173,15 @@ pub fn energy_run(
         let now = law.energy(field, &eval(field, x)?, v);
         worst_rise = worst(worst_rise, (now - last) / last.max(ENERGY_FLOOR));
         max_speed = worst(max_speed, v.norm());
+        if speed >= governed_speed {
+            worst_fast_speed_rise = worst(worst_fast_speed_rise, v.norm() - speed);
+        }
         last = now;
     }
     Ok(EnergyRun {
         worst_rise,
         max_speed,
+        worst_fast_speed_rise,
         end: (x, v),
     })
 }

@@ -1,11 +1,12 @@
-//! How the dynamic law `f = −μ∇Ψ − λẋ` damps, and what it descends (`docs/maths.md` §9).
+//! How the dynamic law `f = −μ_p∇Ψ − λẋ` damps, and what it descends (`docs/maths.md` §9);
+//! `μ_p` is the pull, `μ` but under [`DampingPolicy::Governed`] (`Dynamic::pull`).
 
 /// The rule that sets the damping `λ ≥ 0` of the dynamic law, and with it the navigation
 /// function `Ψ` the law descends. Every policy keeps `λ ≥ 0` and `Ψ` a navigation function with
-/// values in `[0, 1]`, so `V = μΨ + ½m|ẋ|²` has `V̇ = −λ|ẋ|² ≤ 0` between discoveries
-/// (eq. `totalenergy`): `V < μ` and with it no collision and the speed bound of corollary
-/// `boundedvel` hold under each of them. After a discovery
-/// that lifts `V` to `μ` or above, each applies at least the paper's `(m/d_min)|ẋ(T_n)|`, the
+/// values in `[0, 1]`, so `V = μ_pΨ + ½m|ẋ|²` has `V̇ = −λ|ẋ|² ≤ 0` between discoveries
+/// (eq. `totalenergy`): `V < μ_p` and with it no collision hold under each of them, and the
+/// speed bound of corollary `boundedvel` (from `V < μ` where `μ_p = μ`, from the governor under
+/// [`DampingPolicy::Governed`]). After a discovery that lifts `V` to `μ_p` or above, each applies at least the paper's `(m/d_min)|ẋ(T_n)|`, the
 /// damping whose stopping distance is `d_min` (proof of proposition 3, eq. `solpos`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 #[non_exhaustive]
@@ -43,17 +44,20 @@ pub enum DampingPolicy {
     /// distance wide and a ramp linear in `q` out to `L_A` = twice the world's radius, with
     /// `"auto"`'s damping `λ(x) = 2√(mμ)|∇√(2Ψ)|` and uphill brake (`Dynamic::potential_for`).
     Fast,
-    /// The default: [`DampingPolicy::Auto`]'s `Ψ` and damping with the pull `μ_p = βμ`,
-    /// `β = 4` ([`PULL_GAIN`](crate::PULL_GAIN), [`Dynamic::pull`](crate::Dynamic::pull)):
-    /// `f = −μ_p∇Ψ − (λ(x) + λ_g)ẋ − λ_up(ẋ·n)₊n`, `λ(x) = 2√(mμ_p)|∇√(2Ψ)|`. The terminal
-    /// speed of the damping, `½√(μ_p/m)·√(2Ψ) = √(2μ/m)·√Ψ`, spans the whole speed bound of
-    /// corollary `boundedvel` instead of half of it, and the motion is `"auto"`'s in half the
-    /// time (the law is exactly time-scaled by `√(μ_p/m)`). The energy is `V = μ_pΨ + ½m|ẋ|²`,
+    /// The default: [`DampingPolicy::Auto`]'s `Ψ` and damping with the pull
+    /// `μ_p = βμ·max(1, ρ/ρ_ref)`, `β = 4` ([`PULL_GAIN`](crate::PULL_GAIN),
+    /// [`Dynamic::pull`](crate::Dynamic::pull); `ρ` the world's radius, `ρ_ref` = 5 m):
+    /// `f = −μ_p∇Ψ − (λ(x) + λ_g)ẋ − λ_up(ẋ·n)₊n`, `λ(x) = 2√(mμ_p)|∇√(2Ψ)|`. In a world of
+    /// 5 m or less the terminal speed of the damping, `½√(μ_p/m)·√(2Ψ) = √(2μ/m)·√Ψ`, spans
+    /// the whole speed bound of corollary `boundedvel` instead of half of it, and the motion is
+    /// `"auto"`'s in half the time (the law is exactly time-scaled by `√(μ_p/m)`); in a larger
+    /// one the pull keeps the force of a 5 m world, and the governor holds the speed. The energy is `V = μ_pΨ + ½m|ẋ|²`,
     /// so `V < μ_p` keeps `Ψ < 1` (no collision) but bounds the speed by `2√(2μ/m)` only; the
     /// governor `λ_g = χ(|ẋ|/v_b)·μ_p|∇Ψ|/|ẋ|`, `v_b = √(2μ/m)`, `χ` rising smoothly from 0 at
     /// 0.8 to 1 at 0.9 ([`GOVERNOR_BAND`](crate::GOVERNOR_BAND)), cancels the pull's power at
     /// `0.9·v_b`, so the speed never exceeds `max(|ẋ(0)|, 0.9·v_b) < √(2μ/m)`: the bound of
-    /// corollary `boundedvel` for the user's `μ` (`docs/maths.md` §9, part 5).
+    /// corollary `boundedvel` for the user's `μ` (`docs/maths.md` §9, part 5). Precondition, as
+    /// in the paper (`V(0) < μ`): the robot starts below the bound, `|ẋ(0)| < √(2μ/m)`.
     #[default]
     Governed,
 }
@@ -74,10 +78,10 @@ harmonav_potential::named_policy!(
 /// Which branch of the damping is in force.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Branch {
-    /// `V < μ`: the policy's own damping (`λ_c`, or `λ(x)` under `"auto"`), critical at the
-    /// goal.
+    /// `V < μ_p`: the policy's own damping (`λ_c`, or `λ(x)` under `"auto"`), critical at
+    /// the goal.
     Critical,
-    /// `V ≥ μ` after a discovery: at least `(m/d_min)|ẋ(T_n)|` (eq. `dissipationfun`).
+    /// `V ≥ μ_p` after a discovery: at least `(m/d_min)|ẋ(T_n)|` (eq. `dissipationfun`).
     Switched,
 }
 

@@ -152,10 +152,11 @@ pub const REFERENCE_RADIUS: f64 = 5.0;
 /// on the motion-quality benchmark (`docs/maths.md` §9: 16, 64 and 256 were measured).
 pub const UPHILL_GAIN: f64 = 64.0;
 
-/// `β` of [`DampingPolicy::Governed`]: the law pulls with `μ_p = βμ` ([`Dynamic::pull`]).
-/// `"auto"`'s damping `λ(x) = 2√(mμ_p)|∇√(2Ψ)|` has the terminal speed `½√(μ_p/m)·√(2Ψ)`;
-/// `β = 4` makes it `√(2μ/m)·√Ψ`, the speed bound of corollary `boundedvel` times `√Ψ`, where
-/// `β = 1` reaches half the bound at most. The governor keeps the bound ([`GOVERNOR_BAND`]).
+/// `β` of [`DampingPolicy::Governed`]: the law pulls with `μ_p = βμ·max(1, ρ/ρ_ref)`
+/// ([`Dynamic::pull`]). `"auto"`'s damping `λ(x) = 2√(mμ_p)|∇√(2Ψ)|` has the terminal speed
+/// `½√(μ_p/m)·√(2Ψ)`; `β = 4` makes it `√(2μ/m)·√Ψ` in a world of radius `ρ_ref` or less, the
+/// speed bound of corollary `boundedvel` times `√Ψ`, where `β = 1` reaches half the bound at
+/// most. The governor keeps the bound ([`GOVERNOR_BAND`]).
 pub const PULL_GAIN: f64 = 4.0;
 
 /// `(s₁, s₂)` of the governor of [`DampingPolicy::Governed`]: with `s = |ẋ|/√(2μ/m)`, the
@@ -226,26 +227,66 @@ pub struct Potential {
 }
 
 /// Eq. (`dynctrllocal`): `f = −μ∇Θ − λ(t)ẋ` for the dynamic robot `m ẍ = f` under the paper's
-/// [`DampingPolicy`]; under the default one `f = −μ∇Ψ − λ(x)ẋ` on the shaped navigation
-/// function `Ψ = 1 − √(1 − Θ)` ([`Dynamic::potential`]).
+/// [`DampingPolicy`]; under the default one `f = −μ_p∇Ψ − λ(x)ẋ` on the shaped navigation
+/// function `Ψ = 1 − √(1 − Θ_s)` ([`Dynamic::potential`]) with the pull
+/// `μ_p = 4μ·max(1, ρ/ρ_ref)` ([`Dynamic::pull`]) and a governor that keeps the speed below `0.9·√(2μ/m)`
+/// ([`Dynamic::governor`]).
+///
+/// Precondition of the speed bound: the robot starts slower than the bound,
+/// `|ẋ(0)| < √(2μ/m)` (the paper's `V(0) < μ`); the governor never lets the speed grow above
+/// `max(|ẋ(0)|, 0.9·√(2μ/m))`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Dynamic {
     mass: f64,
     mu: f64,
     d_min: f64,
     policy: DampingPolicy,
+    world_radius: f64,
 }
 
 impl Dynamic {
     /// The law for mass `m` (`robot.mass`), gain `μ` (`controller.mu`) and the sensor's
     /// `d_min(θ)` (eq. `dmin`), with the default [`DampingPolicy`].
+    ///
+    /// Guard: `μ` must leave the pull `μ_p = βμ` ([`PULL_GAIN`]) finite, so `μ` up to
+    /// `f64::MAX/β` is accepted (`μ` beyond it is refused as not finite-and-positive).
     pub fn new(mass: f64, mu: f64, d_min: f64) -> Result<Self, ControlError> {
+        let mu = positive(mu, "controller.mu")?;
+        positive(PULL_GAIN * mu, "controller.mu").map_err(|_| ControlError {
+            field: "controller.mu",
+            value: mu,
+        })?;
         Ok(Self {
             mass: positive(mass, "robot.mass")?,
-            mu: positive(mu, "controller.mu")?,
+            mu,
             d_min: positive(d_min, "sensor (d_min)")?,
             policy: DampingPolicy::default(),
+            world_radius: REFERENCE_RADIUS,
         })
+    }
+
+    /// The same law in a world of size `ρ` (m; the outer boundary's largest radius, or a floor
+    /// plan's): under [`DampingPolicy::Governed`] the pull grows with it,
+    /// `μ_p = βμ·max(1, ρ/ρ_ref)` ([`Dynamic::pull`]). The default is `ρ_ref`
+    /// ([`REFERENCE_RADIUS`]): no growth. The navigators set it from their workspace.
+    ///
+    /// Errors: `ρ` not finite and positive, or a pull that would overflow (`world_radius`).
+    pub fn with_world_radius(self, rho: f64) -> Result<Self, ControlError> {
+        let rho = positive(rho, "world_radius")?;
+        let law = Self {
+            world_radius: rho,
+            ..self
+        };
+        positive(law.pull(), "world_radius").map_err(|_| ControlError {
+            field: "world_radius",
+            value: rho,
+        })?;
+        Ok(law)
+    }
+
+    /// The world size `ρ` of [`Dynamic::with_world_radius`], m.
+    pub fn world_radius(&self) -> f64 {
+        self.world_radius
     }
 
     /// The same law under the damping policy `policy`.
@@ -270,13 +311,20 @@ impl Dynamic {
     }
 
     /// The pull `μ_p` of the force `f = −μ_p∇Ψ − …` and of the energy `V = μ_pΨ + ½m|ẋ|²`:
-    /// `μ_p = βμ` ([`PULL_GAIN`]) under [`DampingPolicy::Governed`], `μ` under every other
+    /// `μ_p = βμ·max(1, ρ/ρ_ref)` ([`PULL_GAIN`], `ρ` the [`Dynamic::world_radius`],
+    /// `ρ_ref` = [`REFERENCE_RADIUS`]) under [`DampingPolicy::Governed`], `μ` under every other
     /// policy. The damping `λ(x)`, `λ_c` and the switch `V ≥ μ_p` use it too, so the law under
-    /// `"governed"` is `"auto"`'s with `μ_p` for `μ`, exactly time-scaled by `√β`, plus the
-    /// governor ([`Dynamic::governor`]).
+    /// `"governed"` is `"auto"`'s with `μ_p` for `μ`, exactly time-scaled by `√(μ_p/μ)`, plus
+    /// the governor ([`Dynamic::governor`]). `μ_p` is constant for a given world, so
+    /// `V̇ ≤ 0` holds as for any constant pull. `"auto"`'s `Ψ` is free of the world's scale,
+    /// `|∇Ψ| ∝ 1/ρ`, so the growth with `ρ` keeps the force `μ_p|∇Ψ|` (newtons) of a 5 m
+    /// world in any larger one: the robot accelerates from rest at the same rate in a 100 m
+    /// world as in a 5 m one (`docs/maths.md` §9, part 5).
     pub fn pull(&self) -> f64 {
         match self.policy {
-            DampingPolicy::Governed => PULL_GAIN * self.mu,
+            DampingPolicy::Governed => {
+                PULL_GAIN * self.mu * (self.world_radius / REFERENCE_RADIUS).max(1.0)
+            }
             _ => self.mu,
         }
     }
@@ -475,8 +523,9 @@ impl Dynamic {
         }
     }
 
-    /// Eq. (`critdamp`): `λ_c = 2√(m k_sp)` with the spring constant `k_sp = μ·s` of
-    /// [`Dynamic::goal_stiffness`]; under the paper's policy `2√(2μm) Π|P_d − P_i|^{−1/k}`.
+    /// Eq. (`critdamp`): `λ_c = 2√(m k_sp)` with the spring constant `k_sp = μ_p·s` of
+    /// [`Dynamic::goal_stiffness`] (`μ_p` the [`Dynamic::pull`], `μ` but under `"governed"`);
+    /// under the paper's policy `2√(2μm) Π|P_d − P_i|^{−1/k}`.
     /// Damping ratio 1 at the goal.
     pub fn lambda_c(&self, field: &Field) -> f64 {
         self.lambda_c_for(field.destination_stiffness(), self.scale_shift(field))
@@ -488,11 +537,12 @@ impl Dynamic {
         2.0 * (self.mass * self.pull() * self.goal_stiffness_for(s, shift)).sqrt()
     }
 
-    /// The damping of [`DampingPolicy::Auto`] in the `V < μ` branch:
-    /// `λ(x) = 2√(mμ)·|∇Ψ|/√(2Ψ) = 2√(mμ)·|∇√(2Ψ)|` (`docs/maths.md` §9), with `Ψ` the law's
-    /// [`Dynamic::potential`]. On a quadratic bowl `Ψ = ½s|x − x_d|²` it is `2√(mμs) = λ_c`,
-    /// the critical damping of eq. `critdamp`; away from the goal the terminal speed `μ|∇Ψ|/λ`
-    /// is `½√(μ/m)·√(2Ψ)`, where `λ_c` would over-damp wherever `|∇Ψ|` is small.
+    /// The damping of [`DampingPolicy::Auto`] in the `V < μ_p` branch:
+    /// `λ(x) = 2√(mμ_p)·|∇Ψ|/√(2Ψ) = 2√(mμ_p)·|∇√(2Ψ)|` (`docs/maths.md` §9), with `Ψ` the
+    /// law's [`Dynamic::potential`] and `μ_p` its [`Dynamic::pull`]. On a quadratic bowl
+    /// `Ψ = ½s|x − x_d|²` it is `2√(mμ_p s) = λ_c`, the critical damping of eq. `critdamp`;
+    /// away from the goal the terminal speed `μ_p|∇Ψ|/λ` is `½√(μ_p/m)·√(2Ψ)`, where `λ_c`
+    /// would over-damp wherever `|∇Ψ|` is small.
     ///
     /// Numerical guard: at the goal (`Ψ = 0`, or so close that `Ψ` underflows) the ratio is
     /// `0/0`; its limit `λ_c` is returned instead.
@@ -515,7 +565,8 @@ impl Dynamic {
     /// Eq. (`dissipationfun`) under the law's [`DampingPolicy`], at the state `(eval, ẋ)`, with
     /// `speed_at_discovery = |ẋ(T_n)|` the speed at the latest discovery:
     ///
-    /// - `"paper"`: `λ_c` while `V < μ`, otherwise `(m/d_min)|ẋ(T_n)|`; no uphill brake;
+    /// - `"paper"`: `λ_c` while `V < μ`, otherwise `(m/d_min)|ẋ(T_n)|`; no uphill brake
+    ///   (`μ` stands for the pull `μ_p` of [`Dynamic::pull`] under every policy);
     /// - `"governed"`: `"auto"`'s with the pull `μ_p` for `μ` ([`Dynamic::pull`]), plus the
     ///   governor `λ_g` ([`Dynamic::governor`]) in both branches;
     /// - `"auto"`: `λ =` [`Dynamic::lambda_auto`] while `V < μ`, otherwise
@@ -583,8 +634,9 @@ impl Dynamic {
         }
     }
 
-    /// The force `f = −μ∇Ψ − λẋ − λ_up·(ẋ·n)₊·n` with `n = ∇Ψ/|∇Ψ|` (eq. `dynctrllocal` with
-    /// the uphill brake of `"auto"`; `Ψ = Θ` and `λ_up = 0` under the paper's policy). The
+    /// The force `f = −μ_p∇Ψ − λẋ − λ_up·(ẋ·n)₊·n` with `n = ∇Ψ/|∇Ψ|` (eq. `dynctrllocal` with
+    /// the uphill brake of `"auto"`; `Ψ = Θ`, `μ_p = μ` and `λ_up = 0` under the paper's
+    /// policy; `μ_p` the [`Dynamic::pull`]). The
     /// damping force is `−Λẋ` with `Λ ⪰ 0`, so `V̇ = −λ|ẋ|² − λ_up(ẋ·n)₊² ≤ 0`. The brake acts
     /// only on the component of the velocity that climbs `Ψ` (towards an obstacle or away from
     /// the goal): the robot slides along a barrier instead of running into it and losing its

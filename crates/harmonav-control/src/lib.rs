@@ -16,7 +16,8 @@
 //!   it;
 //!   [`DampingPolicy::Auto`] does the same on `Θ_s = sigma(phi − s)`, free of the world's
 //!   scale ([`Dynamic::scale_shift`]); the default [`DampingPolicy::Governed`] is `"auto"` with
-//!   the pull `4μ` ([`Dynamic::pull`]), whose damping's terminal speed spans the whole bound
+//!   the pull `4μ·max(1, ρ/5 m)` ([`Dynamic::pull`], `ρ` the world's radius), whose damping's
+//!   terminal speed spans the whole bound
 //!   `√(2μ/m)`, and a governor that keeps the speed below `0.9·√(2μ/m)`.
 //!
 //! [`checks`] measures the laws' properties (corollary `critdamp` at the goal, eq.

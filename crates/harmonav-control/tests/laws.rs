@@ -2,7 +2,7 @@
 
 use std::sync::Arc;
 
-use harmonav_control::checks::{energy_run, goal_damping, theta_rate};
+use harmonav_control::checks::{energy_run, energy_run_from, goal_damping, theta_rate};
 use harmonav_control::{
     BRAKING_TIME, Branch, DampingPolicy, Dynamic, GOVERNOR_BAND, Kinematic, PULL_GAIN, SpeedPolicy,
     UPHILL_GAIN,
@@ -306,8 +306,8 @@ fn auto_speed_arrives_within_the_finite_time_bound_in_random_worlds() {
     assert!(tested >= 20, "{tested}");
 }
 
-/// Eq. (dissipationfun): the damping switches to (m/d_min)|ẋ(T_n)| once V ≥ μ; under "auto" it
-/// is never below that.
+/// Eq. (dissipationfun): the damping switches to (m/d_min)|ẋ(T_n)| once V ≥ μ_p (μ_p the law's
+/// pull: μ, 4μ under "governed"); under "auto" and "governed" it is never below that.
 #[test]
 fn damping_switches_on_energy() {
     let (field, mut rng) = world(7);
@@ -315,19 +315,27 @@ fn damping_switches_on_energy() {
         .unwrap()
         .with_damping(DampingPolicy::Paper);
     let auto = paper.with_damping(DampingPolicy::Auto);
+    let governed = paper.with_damping(DampingPolicy::Governed);
+    assert_eq!(governed.pull(), PULL_GAIN * 10.0);
     for _ in 0..50 {
         let x = random::free_point(&mut rng, field.workspace(), 0.05);
         let e = field.eval(x).unwrap();
-        // Speeds that put V just below and at μ: ½m|v|² = μ(1 − Ψ) ∓ ε.
-        for law in [paper, auto] {
-            let psi = law.potential(&field, &e).value;
-            let speed = |target: f64| Vector2::new((2.0 * (target - 10.0 * psi) / 2.0).sqrt(), 0.0);
-            let (below, at) = (speed(9.999), speed(10.0 + 1e-9));
-            assert!(law.energy(&field, &e, below) < 10.0 && law.energy(&field, &e, at) >= 10.0);
+        // Speeds that put V just below and at μ_p: ½m|v|² = μ_p(1 − Ψ) ∓ ε.
+        for law in [paper, auto, governed] {
+            let (psi, mu_p) = (law.potential(&field, &e).value, law.pull());
+            let speed = |target: f64| Vector2::new((2.0 * (target - mu_p * psi) / 2.0).sqrt(), 0.0);
+            let (below, at) = (speed(mu_p * 0.9999), speed(mu_p * (1.0 + 1e-10)));
+            assert!(law.energy(&field, &e, below) < mu_p && law.energy(&field, &e, at) >= mu_p);
             let d = law.damping(&field, &e, below, 3.0);
             assert_eq!(d.branch, Branch::Critical);
             let d = law.damping(&field, &e, at, 3.0);
             assert_eq!(d.branch, Branch::Switched);
+            if law == governed {
+                // The governor adds to the switched damping as to the critical one.
+                let own = law.lambda_auto(&field, &e);
+                let g = law.governor(law.potential(&field, &e).gradient.norm(), at);
+                assert_eq!(d.lambda, (2.0 / 0.05 * 3.0f64).max(own) + g);
+            }
         }
         let psi = paper.potential(&field, &e).value;
         let speed = |target: f64| Vector2::new((2.0 * (target - 10.0 * psi) / 2.0).sqrt(), 0.0);
@@ -378,6 +386,10 @@ fn damping_switches_on_energy() {
     let direct = 2.0 * (2.0 * 10.0 * 2.0f64).sqrt() * prod;
     assert!((paper.lambda_c(&field) - direct).abs() < 1e-12 * direct);
     assert!(Dynamic::new(0.0, 1.0, 1.0).is_err() && Dynamic::new(1.0, f64::NAN, 1.0).is_err());
+    // A μ whose pull 4μ would overflow is refused, naming `controller.mu`.
+    let e = Dynamic::new(1.0, f64::MAX / 2.0, 1.0).unwrap_err();
+    assert_eq!((e.field, e.value), ("controller.mu", f64::MAX / 2.0));
+    assert!(Dynamic::new(1.0, f64::MAX / 8.0, 1.0).is_ok());
     assert!(Kinematic::new(-1.0).is_err());
 }
 
@@ -388,7 +400,11 @@ fn damping_switches_on_energy() {
 fn auto_damping_is_the_gradient_of_root_two_theta_and_lambda_c_at_the_goal() {
     for seed in 0..30 {
         let (field, mut rng) = world(300 + seed);
-        let law = Dynamic::new(1.0 + 0.2 * seed as f64, 10.0, 0.05).unwrap();
+        // "auto" (pull μ) and the default "governed" (pull 4μ) on alternate seeds.
+        let policy = [DampingPolicy::Auto, DampingPolicy::Governed][seed as usize % 2];
+        let law = Dynamic::new(1.0 + 0.2 * seed as f64, 10.0, 0.05)
+            .unwrap()
+            .with_damping(policy);
         let root =
             |x: Vector2<f64>| (2.0 * law.potential(&field, &field.eval(x).unwrap()).value).sqrt();
         for _ in 0..20 {
@@ -398,7 +414,7 @@ fn auto_damping_is_the_gradient_of_root_two_theta_and_lambda_c_at_the_goal() {
                 root(x + Vector2::new(h, 0.0)) - root(x - Vector2::new(h, 0.0)),
                 root(x + Vector2::new(0.0, h)) - root(x - Vector2::new(0.0, h)),
             ) / (2.0 * h);
-            // The default is "governed": "auto" with the pull μ_p for μ.
+            // "governed" is "auto" with the pull μ_p for μ.
             let want = 2.0 * (law.mass() * law.pull()).sqrt() * fd.norm();
             let got = law.lambda_auto(&field, &field.eval(x).unwrap());
             assert!(
@@ -406,11 +422,17 @@ fn auto_damping_is_the_gradient_of_root_two_theta_and_lambda_c_at_the_goal() {
                 "seed {seed} at {x:?}: {got} vs {want}"
             );
             // The terminal speed μ_p|∇Ψ|/λ is ½√(μ_p/m)·√(2Ψ), which is √(2μ/m)·√Ψ at
-            // μ_p = 4μ: the speed bound of corollary boundedvel times √Ψ.
+            // μ_p = 4μ ("governed"): the speed bound of corollary boundedvel times √Ψ; half
+            // that under "auto".
             let p = law.potential(&field, &field.eval(x).unwrap());
             let terminal = law.pull() * p.gradient.norm() / got;
             let closed = 0.5 * (law.pull() / law.mass()).sqrt() * (2.0 * p.value).sqrt();
-            let spans = law.speed_bound() * p.value.sqrt();
+            let share = if policy == DampingPolicy::Governed {
+                1.0
+            } else {
+                0.5
+            };
+            let spans = share * law.speed_bound() * p.value.sqrt();
             assert!(
                 (terminal - closed).abs() <= 1e-12 * closed
                     && (terminal - spans).abs() <= 1e-12 * spans,
@@ -748,18 +770,19 @@ fn the_governor_takes_the_power_of_the_pull_above_nine_tenths_of_the_speed_bound
             let e = field.eval(x).unwrap();
             let angle = rng.uniform(0.0, std::f64::consts::TAU);
             let gradient = law.potential(&field, &e).gradient;
-            // Half the states in the governor's full band (a quarter of them downhill, where
-            // an ungoverned pull can still accelerate: below its terminal speed √(2μ/m)·√Ψ),
-            // half below it.
+            // Half the states at or above s₂ (half of them downhill, where an ungoverned pull
+            // can still accelerate: below its terminal speed √(2μ/m)·√Ψ), a quarter in the
+            // band (s₁, s₂) where the governor rises, a quarter below s₁.
             let dir = if i % 4 == 0 {
                 -gradient.normalize()
             } else {
                 Vector2::new(angle.cos(), angle.sin())
             };
-            let speed = if i % 2 == 0 {
-                vb * rng.uniform(s2, if i % 4 == 0 { 1.0 } else { 1.5 })
-            } else {
-                vb * rng.uniform(0.0, s1)
+            let speed = match i % 4 {
+                0 => vb * rng.uniform(s2, 1.0),
+                2 => vb * rng.uniform(s2, 1.5),
+                1 => vb * rng.uniform(0.0, s1),
+                _ => vb * rng.uniform(s1 + 1e-3, s2 - 1e-3),
             };
             let v = speed * dir;
             let force = |l: &Dynamic| l.force(&field, &e, v, &l.damping(&field, &e, v, 0.0));
@@ -772,13 +795,110 @@ fn the_governor_takes_the_power_of_the_pull_above_nine_tenths_of_the_speed_bound
                     f.dot(&v)
                 );
                 ungoverned_gains += usize::from(f_bare.dot(&v) > 1e-9 * pull);
-            } else {
+            } else if i % 4 == 1 {
                 assert_eq!(f, f_bare, "seed {seed}: the governor acts below s₁");
+            } else {
+                // In the band: λ_g = χ·μ_p|∇Ψ|/|ẋ| with 0 < χ < 1, on top of "auto"'s λ.
+                let g = law.governor(gradient.norm(), v);
+                let full = law.pull() * gradient.norm() / speed;
+                assert!(g > 0.0 && g < full, "seed {seed}: λ_g = {g} of {full}");
+                let added = law.damping(&field, &e, v, 0.0).lambda
+                    - bare.damping(&field, &e, v, 0.0).lambda;
+                assert!(
+                    (added - g).abs() <= 1e-12 * (g + added.abs()),
+                    "{added} vs {g}"
+                );
             }
         }
     }
     assert!(
         ungoverned_gains >= 5,
-        "the pull without the governor accelerated in only {ungoverned_gains} of 300 states"
+        "the pull without the governor accelerated in only {ungoverned_gains} of the 600 states at or above s₂"
     );
+}
+
+/// The governor along trajectories (`checks::energy_run_from`, RK4): from a start at or above
+/// `s₂·√(2μ/m)` the speed never rises while it is there, and `V` never rises. Two starts per
+/// world, at a point where `Ψ > 0.85` moving downhill: one at 1.2 times the bound (above the
+/// precondition `|ẋ(0)| < √(2μ/m)`: the governor still never speeds the robot up), one between
+/// `s₂·√(2μ/m)` and the terminal speed `√(2μ/m)·√Ψ` of the ungoverned pull. Negative control:
+/// from that second start the same law without the governor speeds up.
+#[test]
+fn a_governed_trajectory_never_speeds_up_above_nine_tenths_of_the_speed_bound() {
+    let s2 = GOVERNOR_BAND.1;
+    let mut bare_rises = 0;
+    for seed in 0..20 {
+        let (field, mut rng) = world(800 + seed);
+        let law = Dynamic::new(0.5 + 0.1 * seed as f64, 10.0, 0.05).unwrap();
+        let bare = Dynamic::new(law.mass(), law.pull(), 0.05)
+            .unwrap()
+            .with_damping(DampingPolicy::Auto);
+        let vb = law.speed_bound();
+        let (x, p) = (0..100_000)
+            .map(|_| random::free_point(&mut rng, field.workspace(), 0.002))
+            .map(|x| (x, law.potential(&field, &field.eval(x).unwrap())))
+            .find(|(_, p)| p.value > 0.85 && p.gradient.norm() > 0.0)
+            .expect("a point with Ψ > 0.85");
+        let down = -p.gradient.normalize();
+        let between = 0.5 * (s2 + p.value.sqrt());
+        for (start, l) in [(1.2, &law), (between, &law), (between, &bare)] {
+            let run = energy_run_from(&field, l, (x, start * vb * down), 1e-4, 300).unwrap();
+            assert!(
+                run.worst_rise <= 1e-9,
+                "seed {seed}: V rose by {:e}",
+                run.worst_rise
+            );
+            if l == &bare {
+                // (Its own s₂ is that of its bound √(2·4μ/m), so its top speed tells.)
+                bare_rises += usize::from(run.max_speed > start * vb * (1.0 + 1e-9));
+                continue;
+            }
+            assert!(
+                run.worst_fast_speed_rise <= 1e-12 * vb,
+                "seed {seed}, |ẋ(0)| = {start}·v_b: the speed rose by {:e} m/s above s₂",
+                run.worst_fast_speed_rise
+            );
+            assert!(run.max_speed <= start * vb * (1.0 + 1e-12));
+        }
+    }
+    assert!(
+        bare_rises == 20,
+        "without the governor the speed rose above s₂ in {bare_rises} of 20 worlds only"
+    );
+}
+
+/// The pull of "governed" grows with the world, `μ_p = 4μ·max(1, ρ/5 m)`, and only under
+/// "governed"; a world size or a pull that is not finite and positive is refused, naming
+/// `world_radius`, and the speed bound stays `√(2μ/m)` whatever the pull.
+#[test]
+fn the_governed_pull_grows_with_the_world_radius() {
+    let law = Dynamic::new(2.0, 10.0, 0.05).unwrap();
+    assert_eq!(law.world_radius(), harmonav_control::REFERENCE_RADIUS);
+    for (rho, want) in [
+        (1.0, 40.0),
+        (5.0, 40.0),
+        (7.5, 60.0),
+        (50.0, 400.0),
+        (500.0, 4000.0),
+    ] {
+        let grown = law.with_world_radius(rho).unwrap();
+        assert!((grown.pull() - want).abs() <= 1e-12 * want, "ρ = {rho}");
+        assert_eq!(grown.speed_bound(), law.speed_bound());
+        for policy in [
+            DampingPolicy::Paper,
+            DampingPolicy::Auto,
+            DampingPolicy::Fast,
+        ] {
+            assert_eq!(grown.with_damping(policy).pull(), 10.0);
+        }
+    }
+    for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        let e = law.with_world_radius(bad).unwrap_err();
+        assert_eq!(e.field, "world_radius");
+    }
+    let e = Dynamic::new(1.0, 1e300, 0.05)
+        .unwrap()
+        .with_world_radius(1e300)
+        .unwrap_err();
+    assert_eq!((e.field, e.value), ("world_radius", 1e300));
 }

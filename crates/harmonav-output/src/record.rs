@@ -88,7 +88,7 @@ pub struct HarmonavState {
     pub speed: f64,
     /// `Θ(x)` over the known obstacles.
     pub theta: f64,
-    /// `V = μΨ + ½m|ẋ|²` (dynamic law; `Ψ` its potential under the damping policy, `Θ`
+    /// `V = μ_pΨ + ½m|ẋ|²` (dynamic law, `μ_p` its pull; `Ψ` its potential under the damping policy, `Θ`
     /// itself under `"paper"`).
     pub energy: Option<f64>,
     /// The damping `λ` in force (dynamic law).
@@ -99,7 +99,7 @@ pub struct HarmonavState {
     pub k_policy: String,
     /// The damping policy (dynamic law; empty for the kinematic one).
     pub damping: String,
-    /// The damping is in its `V < μ` branch (dynamic law).
+    /// The damping is in its `V < μ_p` branch (dynamic law; `μ_p` the pull).
     pub damping_critical: bool,
 }
 
@@ -592,11 +592,11 @@ impl<'p> Stream<'p> {
         if s.lambda.is_some() && self.critical.is_some_and(|c| c != s.critical) {
             let text = if s.critical {
                 format!(
-                    "damping back to its critical branch (V < μ) at t = {:.3} s",
+                    "damping back to its critical branch (V < μ_p) at t = {:.3} s",
                     s.t
                 )
             } else {
-                format!("damping switched (V ≥ μ) at t = {:.3} s", s.t)
+                format!("damping switched (V ≥ μ_p) at t = {:.3} s", s.t)
             };
             ch.log
                 .log_with_time(&log_message(s.t, log::Level::Warning, text), t);

@@ -188,7 +188,8 @@ impl<'a> ClosedLoop<'a> {
 
     /// The recorded state at `t`. `state_error`: the integrator's bound on the error of the
     /// state `(x, ẋ)` (m, m/s), from which the energy's is bounded: `V` may differ from the
-    /// exact solution's by `10 · state_error · (μ|∇Ψ| + m|ẋ|)`, the state's error times the
+    /// exact solution's by `10 · state_error · (μ_p|∇Ψ| + m|ẋ|)` (`μ_p` the law's pull), the
+    /// state's error times the
     /// sensitivity of `V` to it, with a safety factor of 10 (dynamic model).
     pub fn sample(&self, t: f64, x: Vector2<f64>, v: Vector2<f64>, state_error: f64) -> Sample {
         let e = self.eval(x, v);

@@ -237,7 +237,8 @@ fn potential(d: &Driver, x: Vector2<f64>, v: Vector2<f64>) -> Option<Potential> 
 }
 
 /// **rapier's error model**: how much one semi-implicit Euler step of length `h` changes
-/// `V = μΨ + ½m|ẋ|²` beyond the work of the non-conservative force, from `(x, v)` to
+/// `V = μΨ + ½m|ẋ|²` (`μ` standing for the law's pull `μ_p`, `Dynamic::pull`) beyond the
+/// work of the non-conservative force, from `(x, v)` to
 /// `(x', v')` under the force `f` held over the step (`v' = v + h f/m`, `x' = x + h v'`,
 /// rapier's integration of a free body). Exactly, by algebra,
 ///

@@ -19,7 +19,7 @@ pub struct Sample {
     pub v: [f64; 2],
     /// `Θ(x)`.
     pub theta: f64,
-    /// `V = μΨ + ½m|ẋ|²` (dynamic law; `Ψ` its potential under the damping policy, `Θ`
+    /// `V = μ_pΨ + ½m|ẋ|²` (dynamic law, `μ_p` its pull, `Dynamic::pull`; `Ψ` its potential under the damping policy, `Θ`
     /// itself under `"paper"`).
     pub energy: Option<f64>,
     /// `k` in force (its policy: the summary's `k_policy`; `n + 1` under `"paper"`).
@@ -29,12 +29,12 @@ pub struct Sample {
     /// How much `V` may differ from the exact solution's through integration error alone
     /// (dynamic model), by the integrator's own error model: for the built-in one, the error
     /// at this state, its local error bound ([`crate::run::step_tolerance`]) times the
-    /// sensitivity `μ|∇Ψ| + m|ẋ|` of `V` to the state, times a safety factor of 10 (a rise
+    /// sensitivity `μ_p|∇Ψ| + m|ẋ|` of `V` to the state, times a safety factor of 10 (a rise
     /// between two states may use both states' errors); for rapier, the energy error of the
     /// fixed steps since the previous recorded state (`rapier.rs`), allowed once.
     #[serde(skip)]
     pub energy_tolerance: f64,
-    /// Whether the damping is in its `V < μ` branch, critical at the goal (`λ_c` under the
+    /// Whether the damping is in its `V < μ_p` branch, critical at the goal (`λ_c` under the
     /// `"paper"` policy, `λ(x)` under `"auto"`), rather than switched (dynamic model).
     pub critical: bool,
 }

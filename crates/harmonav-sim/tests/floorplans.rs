@@ -26,6 +26,12 @@ fn every_floor_plan_start_arrives_under_both_laws() {
     assert!(files.len() >= 2);
     for file in files {
         let p = FloorScenario::load(&file).unwrap();
+        // The governed pull grows with the floor: ρ = half its bounding box's diagonal.
+        let nav = harmonav_sim::floor::navigator(&p, Some(Model::Dynamic)).unwrap();
+        let harmonav::Controller::Dynamic(law) = nav.controller() else {
+            panic!("a dynamic navigator")
+        };
+        assert_eq!(law.world_radius(), 0.5 * p.floor.domain().diameter());
         for model in [Model::Kinematic, Model::Dynamic] {
             // The file's start keeps `cargo test` short; verify runs all.
             for &start in p.starts.iter().take(1) {

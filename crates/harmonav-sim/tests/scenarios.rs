@@ -463,10 +463,11 @@ fn dynamic_run_keeps_the_speed_bound_and_arrives_without_overshoot() {
 }
 
 /// Eq. dissipationfun's switch (scenarios/hard/lambda-switch.toml), under both damping policies:
-/// wherever a recorded state has `V ≥ μ`, the damping is switched and at least
+/// wherever a recorded state has `V ≥ μ_p` (the pull), the damping is switched and at least
 /// `(m/d_min)|ẋ(T_n)|`, exactly that under "paper"; with "auto", "fast" and "governed" the
-/// discovery does lift `V` to μ (μ_p under "governed") and the switch is recorded; and the stopping-distance argument holds: the robot ends the
-/// switched interval within `d_min` of where it began, never touching the disc.
+/// discovery does lift `V` to μ_p (4μ under "governed") and the switch is recorded; and the
+/// stopping-distance argument holds: the robot ends the switched interval within `d_min` of
+/// where it began, never touching the disc.
 #[test]
 fn the_damping_switch_engages_after_a_discovery_and_brakes_within_d_min() {
     use harmonav_control::DampingPolicy;
@@ -494,12 +495,11 @@ fn the_damping_switch_engages_after_a_discovery_and_brakes_within_d_min() {
             "{policy}: {}",
             serde_json::to_string_pretty(s).unwrap()
         );
-        // The switch is at V ≥ μ_p, the law's pull (μ = 10 in the file).
-        let pull = if policy == DampingPolicy::Governed {
-            harmonav_control::PULL_GAIN * 10.0
-        } else {
-            10.0
-        };
+        // The switch is at V ≥ μ_p, the law's pull (m = 1 and μ = 10 in the file).
+        let pull = harmonav_control::Dynamic::new(1.0, 10.0, d_min)
+            .unwrap()
+            .with_damping(policy)
+            .pull();
         let t_n = s.discoveries.last().unwrap().time_s;
         let at_discovery = r.samples.iter().find(|x| x.t == t_n).unwrap();
         let v_n = Vector2::from(at_discovery.v).norm();

@@ -90,6 +90,14 @@ impl FloorNavigator {
                 value: options.margin,
             });
         }
+        // The governed pull grows with the floor's size (`Dynamic::with_world_radius`): half
+        // the diagonal of its bounding box, the radius of a disc world of the same extent.
+        let controller = match controller {
+            Controller::Dynamic(law) => {
+                Controller::Dynamic(law.with_world_radius(0.5 * floor.domain().diameter())?)
+            }
+            kinematic => kinematic,
+        };
         let field = FloorField::new(floor, goal, options.k).map_err(NavError::Floor)?;
         let nav = Self {
             controller,

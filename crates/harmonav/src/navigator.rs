@@ -193,6 +193,14 @@ impl Navigator {
         )?;
         let ws = Workspace::new(shrunk, Vec::new(), goal).map_err(|_| NavError::GoalNotFree)?;
         let field = Field::all_known_with(Arc::new(ws), options.k).map_err(NavError::Field)?;
+        // The governed pull grows with the world (`Dynamic::with_world_radius`): the largest
+        // radius of the boundary the field uses, as its scale shift does.
+        let controller = match controller {
+            Controller::Dynamic(law) => Controller::Dynamic(
+                law.with_world_radius(field.workspace().boundary().radius_bounds().1)?,
+            ),
+            kinematic => kinematic,
+        };
         let nav = Self {
             controller,
             options,

@@ -222,6 +222,43 @@ fn commands_are_the_laws_on_the_known_obstacles() {
     }
 }
 
+/// The default damping's pull grows with the world, `4μ·max(1, ρ/5 m)`, `ρ` the largest radius
+/// of the boundary the field uses (the disc shrunk by `radius + margin`); the other policies
+/// keep `μ`; a kinematic navigator is unaffected.
+#[test]
+fn the_governed_pull_grows_with_the_world() {
+    let options = Options {
+        radius: 0.1,
+        margin: 0.05,
+        ..Options::default()
+    };
+    for r in [2.0, 5.0, 20.0, 100.0] {
+        let disc = StarShape::circle(Vector2::zeros(), r).unwrap();
+        let goal = Vector2::new(0.5 * r, 0.0);
+        let pull = |damping| {
+            let nav = Navigator::new(
+                disc.clone(),
+                goal,
+                Law::dynamic(2.0, 10.0),
+                options.with_damping(damping),
+            )
+            .unwrap();
+            let harmonav::Controller::Dynamic(law) = nav.controller() else {
+                panic!("a dynamic navigator")
+            };
+            assert_eq!(law.world_radius(), r - 0.15);
+            law.pull()
+        };
+        let want = 40.0 * ((r - 0.15) / 5.0).max(1.0);
+        assert!(
+            (pull(DampingPolicy::Governed) - want).abs() <= 1e-12 * want,
+            "R = {r}"
+        );
+        assert_eq!(pull(DampingPolicy::Auto), 10.0);
+        assert_eq!(pull(DampingPolicy::Paper), 10.0);
+    }
+}
+
 /// Every error is typed and leaves the navigator as it was: the next command is the same.
 #[test]
 fn errors_are_typed_and_leave_the_navigator_unchanged() {

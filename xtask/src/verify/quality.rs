@@ -39,7 +39,13 @@ pub fn checks() -> Vec<Check> {
             .early()
         })
         .collect();
-    checks.push(Check::new("quality.dynamic.auto", dynamic).early());
+    checks.push(
+        Check::new(
+            format!("quality.dynamic.{}", DampingPolicy::default()),
+            dynamic,
+        )
+        .early(),
+    );
     checks
 }
 
@@ -50,7 +56,7 @@ fn dynamic() -> Outcome {
             &[Model::Kinematic, Model::Dynamic],
             &[KPolicy::default()],
             LawPolicies {
-                dampings: &[DampingPolicy::Auto],
+                dampings: &[DampingPolicy::default()],
                 speeds: &[REFERENCE_SPEED],
             },
             WORLDS,
