@@ -98,8 +98,10 @@ class Navigator:
     distance, then a constant deceleration and a linear core (35 µm at the default ``v_max``):
     within any tolerance of the goal in finite time, and the hold never steps past it; under
     ``speed="paper"`` ``s = K√(2Θ)``, ``K = gain``. ``v_max`` (m/s, default ``K√2``) caps both.
-    ``law="dynamic"``: ``f = −μ∇Ψ − λẋ`` (eq. ``dynctrllocal``) for a robot of mass ``mass``,
-    whose speed stays below ``√(2μ/m)``.
+    ``law="dynamic"``: ``f = −μ_p∇Ψ − λẋ`` (eq. ``dynctrllocal``) for a robot of mass ``mass``,
+    whose speed stays below ``√(2μ/m)``; ``μ_p`` is ``mu`` but under the default
+    ``damping="governed"``, where it is ``4·mu·max(1, ρ/5 m)`` (``ρ`` the boundary's largest
+    radius) with a governor that keeps the speed below ``0.9·√(2μ/m)``.
 
     ``control_period`` is how long the loop holds each command; under ``hold="auto"`` every
     command is safe to hold for it (``hold="paper"``: the continuous law sampled as is).

@@ -51,7 +51,7 @@ pub const GOAL_FD_STEP: f64 = 1e-5;
 
 /// Corollary `critdamp` (critical damping at the goal), measured: the Hessian `H` of the law's
 /// potential at `x_d` by central differences of its gradient ([`GOAL_FD_STEP`]; `Θ` under
-/// `"paper"`, `Ψ` under `"shaped"` and `"auto"`), independent of the closed form
+/// `"paper"`, `Ψ` under every other policy), independent of the closed form
 /// `Dynamic::goal_stiffness`, and the damping ratio of the linearised closed loop
 /// `m ẍ = −μ_pHx − λ_c ẋ` along each eigenvector of `H` (`μ_p` the law's pull,
 /// `Dynamic::pull`: `μ` but under `"governed"`):

@@ -50,14 +50,16 @@ pub enum DampingPolicy {
     /// `f = −μ_p∇Ψ − (λ(x) + λ_g)ẋ − λ_up(ẋ·n)₊n`, `λ(x) = 2√(mμ_p)|∇√(2Ψ)|`. In a world of
     /// 5 m or less the terminal speed of the damping, `½√(μ_p/m)·√(2Ψ) = √(2μ/m)·√Ψ`, spans
     /// the whole speed bound of corollary `boundedvel` instead of half of it, and the motion is
-    /// `"auto"`'s in half the time (the law is exactly time-scaled by `√(μ_p/m)`); in a larger
-    /// one the pull keeps the force of a 5 m world, and the governor holds the speed. The energy is `V = μ_pΨ + ½m|ẋ|²`,
-    /// so `V < μ_p` keeps `Ψ < 1` (no collision) but bounds the speed by `2√(2μ/m)` only; the
-    /// governor `λ_g = χ(|ẋ|/v_b)·μ_p|∇Ψ|/|ẋ|`, `v_b = √(2μ/m)`, `χ` rising smoothly from 0 at
-    /// 0.8 to 1 at 0.9 ([`GOVERNOR_BAND`](crate::GOVERNOR_BAND)), cancels the pull's power at
-    /// `0.9·v_b`, so the speed never exceeds `max(|ẋ(0)|, 0.9·v_b) < √(2μ/m)`: the bound of
-    /// corollary `boundedvel` for the user's `μ` (`docs/maths.md` §9, part 5). Precondition, as
-    /// in the paper (`V(0) < μ`): the robot starts below the bound, `|ẋ(0)| < √(2μ/m)`.
+    /// `"auto"`'s in half the time (the law is exactly time-scaled by `√(μ_p/μ)`); in a larger
+    /// one the pull keeps the force of a 5 m world, and the governor holds the speed. The
+    /// energy is `V = μ_pΨ + ½m|ẋ|²`, so `V < μ_p` keeps `Ψ < 1` (no collision) but bounds the
+    /// speed by `√(2μ_p/m) ≥ 2√(2μ/m)` only; the governor `λ_g = χ(|ẋ|/v_b)·μ_p|∇Ψ|/|ẋ|`,
+    /// `v_b = √(2μ/m)`, `χ` rising smoothly from 0 at 0.8 to 1 at 0.9
+    /// ([`GOVERNOR_BAND`](crate::GOVERNOR_BAND)), cancels the pull's power at `0.9·v_b`, so the
+    /// speed never exceeds `max(|ẋ(0)|, 0.9·v_b) < √(2μ/m)`: the bound of corollary
+    /// `boundedvel` for the user's `μ` (`docs/maths.md` §9, part 5). Preconditions, the paper's
+    /// with `μ_p` for `μ`: `V(0) < μ_p` for no collision, and `|ẋ(0)| < √(2μ/m)` for the speed
+    /// bound (neither implies the other).
     #[default]
     Governed,
 }

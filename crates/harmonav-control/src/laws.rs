@@ -232,9 +232,9 @@ pub struct Potential {
 /// `μ_p = 4μ·max(1, ρ/ρ_ref)` ([`Dynamic::pull`]) and a governor that keeps the speed below `0.9·√(2μ/m)`
 /// ([`Dynamic::governor`]).
 ///
-/// Precondition of the speed bound: the robot starts slower than the bound,
-/// `|ẋ(0)| < √(2μ/m)` (the paper's `V(0) < μ`); the governor never lets the speed grow above
-/// `max(|ẋ(0)|, 0.9·√(2μ/m))`.
+/// Preconditions, the paper's with `μ_p` for `μ`: `V(0) < μ_p` for no collision, and
+/// `|ẋ(0)| < √(2μ/m)` for the speed bound (neither implies the other); the governor never lets
+/// the speed grow above `max(|ẋ(0)|, 0.9·√(2μ/m))`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Dynamic {
     mass: f64,
@@ -273,15 +273,20 @@ impl Dynamic {
     /// Errors: `ρ` not finite and positive, or a pull that would overflow (`world_radius`).
     pub fn with_world_radius(self, rho: f64) -> Result<Self, ControlError> {
         let rho = positive(rho, "world_radius")?;
+        // The governed pull, whatever the policy now: `with_damping` may switch to it later.
         let law = Self {
             world_radius: rho,
+            policy: DampingPolicy::Governed,
             ..self
         };
         positive(law.pull(), "world_radius").map_err(|_| ControlError {
             field: "world_radius",
             value: rho,
         })?;
-        Ok(law)
+        Ok(Self {
+            policy: self.policy,
+            ..law
+        })
     }
 
     /// The world size `ρ` of [`Dynamic::with_world_radius`], m.

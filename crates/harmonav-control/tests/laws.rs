@@ -901,4 +901,54 @@ fn the_governed_pull_grows_with_the_world_radius() {
         .with_world_radius(1e300)
         .unwrap_err();
     assert_eq!((e.field, e.value), ("world_radius", 1e300));
+    // Refused under any policy: `with_damping` could switch to "governed" afterwards.
+    let auto = Dynamic::new(1.0, 1e300, 0.05)
+        .unwrap()
+        .with_damping(DampingPolicy::Auto);
+    assert!(auto.with_world_radius(1e300).is_err());
+}
+
+/// The governor where it matters: in a large world (`ρ` = 50 m, pull `40μ`) the law from rest
+/// runs into the governor's band in the critical branch (`V < μ_p`), and the speed stays below
+/// `0.9·√(2μ/m)` (RK4 over 3 s, the integrator's 0.1 %). Negative control: the same pull
+/// without the governor ("auto" with `μ = 40μ`) exceeds the user's bound `√(2μ/m)`.
+#[test]
+fn in_a_large_world_the_governor_holds_a_robot_started_at_rest() {
+    let s2 = GOVERNOR_BAND.1;
+    let (mut governed_in_band, mut bare_over) = (0, 0);
+    for seed in 0..12 {
+        let (field, mut rng) = world(900 + seed);
+        let law = Dynamic::new(1.0, 10.0, 0.05)
+            .unwrap()
+            .with_world_radius(50.0)
+            .unwrap();
+        assert_eq!(law.pull(), 400.0);
+        let bare = Dynamic::new(1.0, law.pull(), 0.05)
+            .unwrap()
+            .with_damping(DampingPolicy::Auto);
+        let vb = law.speed_bound();
+        let start = random::free_point(&mut rng, field.workspace(), 0.2);
+        let run = energy_run(&field, &law, start, 1e-4, 30_000).unwrap();
+        assert!(
+            run.worst_rise <= 1e-9,
+            "seed {seed}: V rose by {:e}",
+            run.worst_rise
+        );
+        assert!(
+            run.max_speed <= s2 * vb * 1.001,
+            "seed {seed}: {} of the bound",
+            run.max_speed / vb
+        );
+        governed_in_band += usize::from(run.max_speed > GOVERNOR_BAND.0 * vb);
+        let free = energy_run(&field, &bare, start, 1e-4, 30_000).unwrap();
+        bare_over += usize::from(free.max_speed > vb);
+    }
+    assert!(
+        governed_in_band >= 6,
+        "the band reached in {governed_in_band} of 12"
+    );
+    assert!(
+        bare_over >= 6,
+        "without the governor over the bound in {bare_over} of 12"
+    );
 }

@@ -495,11 +495,22 @@ fn the_damping_switch_engages_after_a_discovery_and_brakes_within_d_min() {
             "{policy}: {}",
             serde_json::to_string_pretty(s).unwrap()
         );
-        // The switch is at V ≥ μ_p, the law's pull (m = 1 and μ = 10 in the file).
-        let pull = harmonav_control::Dynamic::new(1.0, 10.0, d_min)
-            .unwrap()
-            .with_damping(policy)
-            .pull();
+        // The switch is at V ≥ μ_p, the pull of a navigator built as the simulator builds it
+        // (m = 1 and μ = 10 in the file; the pull grows with the shrunk boundary's radius).
+        let truth = &prepared.truth;
+        let nav = harmonav::Navigator::new(
+            truth.boundary.clone(),
+            truth.goal(),
+            harmonav::Law::dynamic(1.0, 10.0),
+            harmonav::Options::default()
+                .with_robot(truth.radius, truth.margin)
+                .with_damping(policy),
+        )
+        .unwrap();
+        let harmonav::Controller::Dynamic(law) = nav.controller() else {
+            panic!("a dynamic navigator")
+        };
+        let pull = law.pull();
         let t_n = s.discoveries.last().unwrap().time_s;
         let at_discovery = r.samples.iter().find(|x| x.t == t_n).unwrap();
         let v_n = Vector2::from(at_discovery.v).norm();

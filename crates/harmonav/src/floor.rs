@@ -91,7 +91,8 @@ impl FloorNavigator {
             });
         }
         // The governed pull grows with the floor's size (`Dynamic::with_world_radius`): half
-        // the diagonal of its bounding box, the radius of a disc world of the same extent.
+        // the diagonal of the bounding box of `W_s` (the walls shrunk, where `H` is built), as
+        // a disc navigator takes its shrunk boundary's radius.
         let controller = match controller {
             Controller::Dynamic(law) => {
                 Controller::Dynamic(law.with_world_radius(0.5 * floor.domain().diameter())?)

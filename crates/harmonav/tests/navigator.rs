@@ -188,7 +188,9 @@ fn commands_are_the_laws_on_the_known_obstacles() {
             let d_min = options.d_min().unwrap();
             let law = Dynamic::new(2.0, 10.0, d_min)
                 .unwrap()
-                .with_damping(damping);
+                .with_damping(damping)
+                .with_world_radius(field.workspace().boundary().radius_bounds().1)
+                .unwrap();
             for _ in 0..50 {
                 let x = random::free_point(&mut rng, &ws, 0.05);
                 let v = rng.point(1.0);

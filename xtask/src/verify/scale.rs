@@ -43,9 +43,9 @@ const RATIO_TARGETS: (f64, f64) = (1.5, 2.0);
 
 /// A regression guard: the worst ratio of the suite was 4.0 under `"auto"` when the check was
 /// written (`many-1000-sector`, 2026-12-02), 2.34 under `"governed"` with the pull `4μ`, and is
-/// 1.26 under the default `"governed"` with the pull grown with the world (2026-12-03); at or
-/// past the p90 target the check fails.
-const RATIO_GUARD: f64 = 2.0;
+/// 1.26 under the default `"governed"` with the pull grown with the world (2026-12-03); past
+/// this bound the check fails (between the p90 target and it, it reports a target not met).
+const RATIO_GUARD: f64 = 2.5;
 
 /// One file of the scale suite flown under both laws: the kinematic time and, per damping
 /// policy, the dynamic time (`None`: the file's own policy).
