@@ -217,6 +217,11 @@ fn fast_shape(ell: f64, (w, b, l, l_ramp): (f64, f64, f64, f64)) -> (f64, f64) {
     (value, ln_slope)
 }
 
+/// The pull of [`DampingPolicy::Governed`], `μ_p = βμ·max(1, ρ/ρ_ref)` ([`Dynamic::pull`]).
+fn governed_pull(mu: f64, rho: f64) -> f64 {
+    PULL_GAIN * mu * (rho / REFERENCE_RADIUS).max(1.0)
+}
+
 /// The potential a [`Dynamic`] law descends, `Ψ`, and its gradient.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Potential {
@@ -274,18 +279,13 @@ impl Dynamic {
     pub fn with_world_radius(self, rho: f64) -> Result<Self, ControlError> {
         let rho = positive(rho, "world_radius")?;
         // The governed pull, whatever the policy now: `with_damping` may switch to it later.
-        let law = Self {
-            world_radius: rho,
-            policy: DampingPolicy::Governed,
-            ..self
-        };
-        positive(law.pull(), "world_radius").map_err(|_| ControlError {
+        positive(governed_pull(self.mu, rho), "world_radius").map_err(|_| ControlError {
             field: "world_radius",
             value: rho,
         })?;
         Ok(Self {
-            policy: self.policy,
-            ..law
+            world_radius: rho,
+            ..self
         })
     }
 
@@ -327,9 +327,7 @@ impl Dynamic {
     /// world as in a 5 m one (`docs/maths.md` §9, part 5).
     pub fn pull(&self) -> f64 {
         match self.policy {
-            DampingPolicy::Governed => {
-                PULL_GAIN * self.mu * (self.world_radius / REFERENCE_RADIUS).max(1.0)
-            }
+            DampingPolicy::Governed => governed_pull(self.mu, self.world_radius),
             _ => self.mu,
         }
     }

@@ -90,15 +90,10 @@ impl FloorNavigator {
                 value: options.margin,
             });
         }
-        // The governed pull grows with the floor's size (`Dynamic::with_world_radius`): half
-        // the diagonal of the bounding box of `W_s` (the walls shrunk, where `H` is built), as
-        // a disc navigator takes its shrunk boundary's radius.
-        let controller = match controller {
-            Controller::Dynamic(law) => {
-                Controller::Dynamic(law.with_world_radius(0.5 * floor.domain().diameter())?)
-            }
-            kinematic => kinematic,
-        };
+        // The governed pull grows with the floor's size: half the diagonal of the bounding box
+        // of `W_s` (the walls shrunk, where `H` is built), as a disc navigator takes its shrunk
+        // boundary's radius.
+        let controller = controller.in_world(0.5 * floor.domain().diameter())?;
         let field = FloorField::new(floor, goal, options.k).map_err(NavError::Floor)?;
         let nav = Self {
             controller,

@@ -65,6 +65,17 @@ pub enum Controller {
     Dynamic(Dynamic),
 }
 
+impl Controller {
+    /// The same controller in a world of radius `rho` (m): the dynamic law's governed pull
+    /// grows with it (`Dynamic::with_world_radius`); the kinematic law does not depend on it.
+    pub(crate) fn in_world(self, rho: f64) -> Result<Self, NavError> {
+        Ok(match self {
+            Self::Dynamic(law) => Self::Dynamic(law.with_world_radius(rho)?),
+            kinematic => kinematic,
+        })
+    }
+}
+
 /// One evaluation of the continuous law at a state, without side effects
 /// ([`Navigator::evaluate`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -193,14 +204,9 @@ impl Navigator {
         )?;
         let ws = Workspace::new(shrunk, Vec::new(), goal).map_err(|_| NavError::GoalNotFree)?;
         let field = Field::all_known_with(Arc::new(ws), options.k).map_err(NavError::Field)?;
-        // The governed pull grows with the world (`Dynamic::with_world_radius`): the largest
-        // radius of the boundary the field uses, as its scale shift does.
-        let controller = match controller {
-            Controller::Dynamic(law) => Controller::Dynamic(
-                law.with_world_radius(field.workspace().boundary().radius_bounds().1)?,
-            ),
-            kinematic => kinematic,
-        };
+        // The governed pull grows with the world: the largest radius of the boundary the
+        // field uses, as its scale shift does.
+        let controller = controller.in_world(field.workspace().boundary().radius_bounds().1)?;
         let nav = Self {
             controller,
             options,
