@@ -185,14 +185,15 @@ pub(crate) fn l2l(child: &mut [C64], parent: &[C64], d: C64, binom: &[Vec<f64>])
 ///
 /// P2L of a point charge `q` at `z0` into the local expansion about `c` (width `w`), for `z0`
 /// outside the disc of the expansion: `log(z − z0) = log(c − z0) + log(1 + (z − c)/(c − z0))`,
-/// so `b̃_0 += q log(c − z0)` and `b̃_m += q (−1)^{m+1} (w/(c − z0))^m / m`.
+/// so `b̃_0 += q ln|c − z0|` (the real part of `q log(c − z0)`: the imaginary part of `F` is
+/// not used, and `ln|·|` needs no `atan2`) and `b̃_m += q (−1)^{m+1} (w/(c − z0))^m / m`.
 #[cfg(test)]
 pub(crate) fn p2l_point(local: &mut [C64], q: f64, z0: C64, c: C64, w: f64) {
-    let v = c - z0;
-    local[0] += v.ln() * q;
-    // `w/v` as `1/(v/w)`: a complex quotient goes through `|v|²`, which overflows for
-    // coordinates beyond about 1e154; `v/w` is a real division.
-    let t = -(v / w).inv();
+    // `v/w` is a real division; `ln|v| = ln w + ½ ln|v/w|²` and `w/v = 1/(v/w)`: `|v|²` itself
+    // overflows for coordinates beyond about 1e154, `|v/w|²` (a few leaf widths) does not.
+    let v = (c - z0) / w;
+    local[0].re += q * (w.ln() + 0.5 * v.norm_sqr().ln());
+    let t = -v.inv();
     let mut power = -ONE;
     for (m, bm) in local.iter_mut().enumerate().skip(1) {
         power *= t;
@@ -218,11 +219,12 @@ pub(crate) fn p2l_point_batch(
 ) {
     let count = count.min(P2L_BATCH);
     let mut t = [ZERO; P2L_BATCH];
+    let ln_w = w.ln();
     for j in 0..count {
-        let v = centres[j] - z0;
-        locals[starts[j]] += v.ln() * q;
-        // As in `p2l_point`: `w/v` as `1/(v/w)` (no overflow through `|v|²`).
-        t[j] = -(v / w).inv();
+        // As in `p2l_point`: through `v/w`, no overflow through `|v|²`.
+        let v = (centres[j] - z0) / w;
+        locals[starts[j]].re += q * (ln_w + 0.5 * v.norm_sqr().ln());
+        t[j] = -v.inv();
     }
     let mut power = [-ONE; P2L_BATCH];
     for m in 1..terms {

@@ -278,7 +278,7 @@ impl<const C: usize> Fmm<C> {
         self.weights.push(w);
         self.sources += 1;
         let terms = self.p + 1;
-        // P2M into the leaf and its ancestors.
+        // P2M into the leaf and its ancestors (every term: a multipole serves every M2L).
         let (mut ix, mut iy) = (leaf % n, leaf / n);
         for l in (0..=self.levels).rev() {
             let nl = 1usize << l;
@@ -298,29 +298,35 @@ impl<const C: usize> Fmm<C> {
             ix /= 2;
             iy /= 2;
         }
-        // P2L into every far leaf, `P2L_BATCH` leaves at a time (independent power chains).
+        // P2L into every far leaf, ring by ring about the point's leaf (eq. push-order: each
+        // ring with its own order), `P2L_BATCH` leaves at a time (independent power chains).
         let (lx, ly) = (leaf % n, leaf / n);
         let width = self.width(self.levels);
-        let far: Vec<usize> = (0..n * n)
-            .filter(|&b| (b % n).abs_diff(lx) > 1 || (b / n).abs_diff(ly) > 1)
-            .collect();
-        for (ch, q) in w.iter().enumerate() {
-            for chunk in far.chunks(P2L_BATCH) {
-                let mut starts = [0; P2L_BATCH];
-                let mut centres = [C64::new(0.0, 0.0); P2L_BATCH];
-                for (j, &b) in chunk.iter().enumerate() {
-                    starts[j] = (b * C + ch) * terms;
-                    centres[j] = self.centre(self.levels, b % n, b / n);
+        let mut ring = Vec::with_capacity(8 * n);
+        for r in 2..n {
+            ring_leaves(n, (lx, ly), r, &mut ring);
+            if ring.is_empty() {
+                continue;
+            }
+            let terms = push_terms(self.p, r);
+            for (ch, q) in w.iter().enumerate() {
+                for chunk in ring.chunks(P2L_BATCH) {
+                    let mut starts = [0; P2L_BATCH];
+                    let mut centres = [C64::new(0.0, 0.0); P2L_BATCH];
+                    for (j, &b) in chunk.iter().enumerate() {
+                        starts[j] = (b * C + ch) * (self.p + 1);
+                        centres[j] = self.centre(self.levels, b % n, b / n);
+                    }
+                    let charge = (*q, z, width);
+                    p2l_point_batch(
+                        &mut self.locals,
+                        &starts,
+                        &centres,
+                        chunk.len(),
+                        terms,
+                        charge,
+                    );
                 }
-                let charge = (*q, z, width);
-                p2l_point_batch(
-                    &mut self.locals,
-                    &starts,
-                    &centres,
-                    chunk.len(),
-                    terms,
-                    charge,
-                );
             }
         }
         Ok(index)
@@ -604,10 +610,55 @@ impl<const C: usize> Fmm<C> {
     }
 }
 
+/// The worst separation ratio of the uniform method (M2L between boxes two widths apart):
+/// `√2/(4 − √2) ≈ 0.55`.
+const RHO_UNIFORM: f64 = 0.55;
+
 /// `p = ⌈ln(tol)/ln 0.55⌉ + 2`, at most `MAX_TERMS − 1`.
 fn order(tolerance: f64) -> usize {
-    let p = (tolerance.ln() / 0.55f64.ln()).ceil() as usize + 2;
+    let p = (tolerance.ln() / RHO_UNIFORM.ln()).ceil() as usize + 2;
     p.clamp(4, MAX_TERMS - 1)
+}
+
+/// The number of terms `P + 1` of a pushed point's P2L into a leaf `r ≥ 2` leaves away from
+/// the point's own (Chebyshev distance of the leaves; docs/maths.md §15, eq. push-order):
+///
+/// ```text
+/// ρ_r = (√2/2)/(r − 1/2),    the smallest P with ρ_r^{P+1} ≤ ρ₀^{p+1}/(p + 1),  ρ₀ = 0.55,
+/// ```
+///
+/// at most `p`. The point lies in its closed leaf box, so `|c − z₀| ≥ (r − 1/2)w` from the
+/// target leaf's centre `c`, and a target `z` in that leaf has `|z − c| ≤ (√2/2)w`: the `m`-th
+/// term of `F^{(k)}` is at most `|q| (m − 1)!/(m − k)! ρ_r^m` in units of `((√2/2)w)^{−k}`.
+/// The rule makes each dropped term of every derivative `k ≥ 0` no larger than the matching
+/// dropped term (`m + p − P`) of the uniform method at its worst ratio `ρ₀` and order `p`, so
+/// the push keeps the tree's stated truncation bound with fewer terms far away (49 terms at
+/// `r = 2`, 20 at `r = 5`, 14 at `r = 10` for `p = 53`, against 54).
+pub(crate) fn push_terms(p: usize, r: usize) -> usize {
+    let rho = std::f64::consts::FRAC_1_SQRT_2 / (r as f64 - 0.5);
+    let bound = (p + 1) as f64 * RHO_UNIFORM.ln() - ((p + 1) as f64).ln();
+    // `(P + 1) ln ρ_r ≤ bound`, both sides negative.
+    let terms = (bound / rho.ln()).ceil() as usize;
+    terms.clamp(2, p + 1)
+}
+
+/// The leaves of an `n × n` grid at Chebyshev distance exactly `r ≥ 1` from `(lx, ly)`,
+/// row-major, into `out` (cleared first).
+fn ring_leaves(n: usize, (lx, ly): (usize, usize), r: usize, out: &mut Vec<usize>) {
+    out.clear();
+    let (x0, x1) = (lx.saturating_sub(r), (lx + r).min(n - 1));
+    for jy in ly.saturating_sub(r)..=(ly + r).min(n - 1) {
+        if jy.abs_diff(ly) == r {
+            out.extend((x0..=x1).map(|jx| jy * n + jx));
+        } else {
+            out.extend(
+                [lx.checked_sub(r), Some(lx + r).filter(|&x| x < n)]
+                    .into_iter()
+                    .flatten()
+                    .map(|jx| jy * n + jx),
+            );
+        }
+    }
 }
 
 /// The root square: the bounding box of the sources and the region, squared, with a relative
@@ -708,8 +759,8 @@ mod tests {
     use crate::expansion::p2l_point;
 
     /// `push_point` leaves the tree's local expansions bit for bit where the leaf-by-leaf P2L
-    /// of the single form (`p2l_point` into every leaf outside the 3 × 3 about the point's
-    /// leaf, channel by channel) leaves them: two channels, weights of either sign, pushes
+    /// of the single form (`p2l_point` of `push_terms` terms into every leaf outside the 3 × 3
+    /// about the point's leaf, channel by channel) leaves them: two channels, weights of either sign, pushes
     /// into corner, edge and interior leaves.
     #[test]
     fn the_batched_push_matches_the_single_p2l_to_the_bit() {
@@ -740,15 +791,17 @@ mod tests {
             let n = 1usize << single.levels;
             let leaf = single.leaf_of(z).unwrap();
             let (lx, ly) = (leaf % n, leaf / n);
-            let (terms, width) = (single.p + 1, single.width(single.levels));
+            let (stride, width) = (single.p + 1, single.width(single.levels));
             for b in 0..n * n {
                 let (jx, jy) = (b % n, b / n);
-                if jx.abs_diff(lx) <= 1 && jy.abs_diff(ly) <= 1 {
+                let r = jx.abs_diff(lx).max(jy.abs_diff(ly));
+                if r <= 1 {
                     continue;
                 }
                 let c = single.centre(single.levels, jx, jy);
+                let terms = push_terms(single.p, r);
                 for (ch, q) in w.iter().enumerate() {
-                    let start = (b * 2 + ch) * terms;
+                    let start = (b * 2 + ch) * stride;
                     p2l_point(&mut single.locals[start..start + terms], *q, z, c, width);
                 }
             }
@@ -759,6 +812,61 @@ mod tests {
                     .collect()
             };
             assert_eq!(bits(&batched), bits(&single), "push at {z}");
+        }
+    }
+
+    /// Eq. push-order: the fewest terms whose first dropped term `ρ_r^{P+1}` is within the
+    /// uniform method's `ρ₀^{p+1}/(p + 1)`, for every ring and the orders of the tolerances.
+    #[test]
+    fn the_push_order_is_the_fewest_terms_within_the_uniform_bound() {
+        for tol in [1e-15, 1e-13, 1e-8, 1e-3] {
+            let p = order(tol);
+            let bound = RHO_UNIFORM.powi(p as i32 + 1) / (p + 1) as f64;
+            let mut before = p + 1;
+            for r in 2..=256 {
+                let terms = push_terms(p, r);
+                let rho = std::f64::consts::FRAC_1_SQRT_2 / (r as f64 - 0.5);
+                // At the cap (low orders, near rings) the push keeps the uniform order at a
+                // smaller ratio than `ρ₀`: within the bound too.
+                assert!(
+                    terms == p + 1 || rho.powi(terms as i32) <= bound * (1.0 + 1e-12),
+                    "tol {tol}, r {r}"
+                );
+                assert!(
+                    terms == 2 || rho.powi(terms as i32 - 1) > bound,
+                    "minimal at r {r}"
+                );
+                assert!(terms <= before, "non-increasing in r");
+                before = terms;
+            }
+        }
+        // The figures of the docs, p = 53.
+        let p = order(1e-13);
+        assert_eq!(p, 53);
+        let t: Vec<usize> = [2, 3, 5, 10].iter().map(|&r| push_terms(p, r)).collect();
+        assert_eq!(t, [49, 29, 20, 14]);
+    }
+
+    /// The rings about a leaf partition the far leaves (every leaf outside the 3 × 3 once),
+    /// at the corners, edges and inside of the grid.
+    #[test]
+    fn the_rings_partition_the_far_leaves() {
+        for n in [4, 5, 16] {
+            for (lx, ly) in [(0, 0), (n - 1, 0), (2, n - 1), (n / 2, n / 2), (1, 2)] {
+                let mut seen = vec![0; n * n];
+                let mut ring = Vec::new();
+                for r in 2..n {
+                    ring_leaves(n, (lx, ly), r, &mut ring);
+                    for &b in &ring {
+                        assert_eq!((b % n).abs_diff(lx).max((b / n).abs_diff(ly)), r);
+                        seen[b] += 1;
+                    }
+                }
+                for (b, &count) in seen.iter().enumerate() {
+                    let far = (b % n).abs_diff(lx) > 1 || (b / n).abs_diff(ly) > 1;
+                    assert_eq!(count, usize::from(far), "n {n}, leaf ({lx}, {ly}), b {b}");
+                }
+            }
         }
     }
 }

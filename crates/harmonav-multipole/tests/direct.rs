@@ -348,6 +348,81 @@ fn a_pushed_point_counts_as_if_built_with_it() {
     assert_eq!(fast(&fmm, &weights, C64::new(0.1, 0.2)), before);
 }
 
+/// A pushed point's P2L takes fewer terms in leaves farther away (eq. push-order): at the
+/// worst geometry of each ring (the point at a corner of its leaf, the targets at the target
+/// leaves' corners and centres) its truncation stays within the tree's stated tolerance. At a
+/// loose tolerance the truncation, not rounding, is what the comparison sees: the same pushes
+/// at `tol = 1e-3` show errors above `1e-9`, so the check can fail.
+#[test]
+fn pushed_points_keep_the_tolerance_at_every_ring() {
+    let side = 8.0;
+    let level = 4;
+    let w = leaf_width(side, level);
+    let mut seen = Vec::new();
+    for tol in [1e-6, 1e-3] {
+        let options = Options {
+            max_level: level,
+            leaf_size: 1,
+            tolerance: tol,
+            ..Options::default()
+        };
+        // A tree of 16 × 16 leaves over `[0, 8]²`: built over one zero charge per leaf.
+        let grid: Vec<Source> = (0..256)
+            .map(|i| {
+                let (x, y) = ((i % 16) as f64 + 0.5, (i / 16) as f64 + 0.5);
+                Source::Point(C64::new(x * w, y * w))
+            })
+            .collect();
+        let options = Options {
+            region: Some((C64::new(0.0, 0.0), C64::new(side, side))),
+            ..options
+        };
+        let mut fmm = Fmm::<1>::new(&grid, &vec![[0.0]; 256], &options).unwrap();
+        assert_eq!(fmm.levels(), level);
+        // The zero charges contribute nothing to either sum: the pushed points are the sum.
+        let (mut sources, mut weights) = (grid, vec![[0.0]; 256]);
+        for (i, &(x, y)) in [(3.0, 3.0), (9.0, 12.0), (0.0, 15.999_999)]
+            .iter()
+            .enumerate()
+        {
+            let z = C64::new(x * w, y * w);
+            let q = [1.0, -0.7, 0.4][i];
+            fmm.push_point(z, [q]).unwrap();
+            sources.push(Source::Point(z));
+            weights.push([q]);
+        }
+        let mut targets = Vec::new();
+        for j in 0..16 {
+            for i in 0..16 {
+                let o = C64::new(i as f64 * w, j as f64 * w);
+                targets.push(o + C64::new(0.5 * w, 0.5 * w));
+                targets.push(o + C64::new(w * (1.0 - 1e-9), w * (1.0 - 1e-9)));
+                targets.push(o + C64::new(w * 1e-9, w * 1e-9));
+            }
+        }
+        targets.retain(|z| {
+            sources.iter().all(|s| match s {
+                Source::Point(p) => (z - p).norm() > 1e-6 * w,
+                Source::Segment(..) => true,
+            })
+        });
+        let (e0, e1, e2) = worst(&sources, &weights, &fmm, &targets);
+        // Measured at `tol = 1e-6`: 1.4e-10, 1.6e-9, 2.0e-8 (a `push_terms` of 2 everywhere
+        // gives errors of order 0.1).
+        if tol < 1e-4 {
+            assert!(
+                e0 <= tol && e1 <= 10.0 * tol && e2 <= 100.0 * tol,
+                "tol {tol:e}: {e0:e} {e1:e} {e2:e}"
+            );
+        }
+        seen.push(e0.max(e1));
+    }
+    assert!(
+        seen[1] > 1e-9,
+        "the loose tree's truncation is visible: {seen:?}"
+    );
+}
+
 #[test]
 fn a_loose_tolerance_shows_its_error_negative_control() {
     // The same comparison must see the truncation when the order is low: the checks above can

@@ -86,10 +86,13 @@ enum Piece {
         b: Vector2<f64>,
     },
     /// A fillet: `convex` arcs (centre inside the shape) turn left, the others right.
+    /// `angles`: its start and end angle about `centre` ([`arc_angles`], set once the
+    /// polygon's pieces are all known; every point of the curve reads them).
     Arc {
         centre: Vector2<f64>,
         radius: f64,
         convex: bool,
+        angles: (f64, f64),
     },
 }
 
@@ -382,6 +385,7 @@ impl StarShape {
                 centre: centre_arc,
                 radius: rc,
                 convex,
+                angles: (0.0, 0.0),
             }));
         }
         let mut pieces = Vec::with_capacity(2 * n);
@@ -407,13 +411,25 @@ impl StarShape {
                 });
             }
         }
+        // Each arc's end angles, from its neighbours' ends (which do not read them).
+        let angles: Vec<(f64, f64)> = (0..pieces.len())
+            .map(|k| match pieces[k] {
+                Piece::Arc { .. } => arc_angles(&pieces, k),
+                Piece::Segment { .. } => (0.0, 0.0),
+            })
+            .collect();
+        for (piece, ends) in pieces.iter_mut().zip(angles) {
+            if let Piece::Arc { angles, .. } = piece {
+                *angles = ends;
+            }
+        }
         // Strict star-shapedness: the boundary turns counter-clockwise as seen from the centre.
         let mut starts = Vec::with_capacity(pieces.len());
         let mut rho_max = 0.0f64;
         for (k, piece) in pieces.iter().enumerate() {
             let (start, _) = piece_ends(piece, &pieces, k);
             for s in 0..=16 {
-                let (p, tangent) = piece_point(piece, &pieces, k, s as f64 / 16.0);
+                let (p, tangent) = piece_point(piece, s as f64 / 16.0);
                 rho_max = rho_max.max((p - centre).norm());
                 if cross(p - centre, tangent) <= 1e-12 * (p - centre).norm() {
                     return Err(ShapeError::Invalid { field: "vertices", problem: "the rounded polygon is not strictly star-shaped about its vertex centroid".into() });
@@ -441,10 +457,11 @@ impl StarShape {
                 t1: (k + 1) as f64,
                 k: match pieces[k] {
                     Piece::Segment { .. } => 0.0,
-                    Piece::Arc { radius, .. } => {
-                        let (a0, a1) = arc_angles(&pieces, k);
-                        radius * (a1 - a0) * (a1 - a0)
-                    }
+                    Piece::Arc {
+                        radius,
+                        angles: (a0, a1),
+                        ..
+                    } => radius * (a1 - a0) * (a1 - a0),
                 },
             })
             .collect();
@@ -519,7 +536,7 @@ impl StarShape {
             Kind::Polygon { pieces, .. } => {
                 let t = t.rem_euclid(pieces.len() as f64);
                 let k = (t.floor() as usize).min(pieces.len() - 1);
-                piece_point(&pieces[k], pieces, k, (t - k as f64).min(1.0)).0
+                piece_point(&pieces[k], (t - k as f64).min(1.0)).0
             }
             _ => {
                 let u = dir(t);
@@ -548,15 +565,13 @@ impl StarShape {
         if let Kind::Polygon { pieces, .. } = &self.kind {
             return pieces
                 .iter()
-                .enumerate()
-                .flat_map(|(k, piece)| {
+                .flat_map(|piece| {
                     let steps = if matches!(piece, Piece::Arc { .. }) {
                         32
                     } else {
                         1
                     };
-                    (0..steps)
-                        .map(move |i| piece_point(piece, pieces, k, i as f64 / steps as f64).0)
+                    (0..steps).map(move |i| piece_point(piece, i as f64 / steps as f64).0)
                 })
                 .collect();
         }
@@ -1093,16 +1108,16 @@ fn arc_neighbour_end(pieces: &[Piece], k: usize, forward: bool) -> Vector2<f64> 
     }
 }
 
-/// Point and counter-clockwise unit tangent at parameter `s ∈ [0, 1]` of piece `k`.
-fn piece_point(piece: &Piece, pieces: &[Piece], k: usize, s: f64) -> (Vector2<f64>, Vector2<f64>) {
+/// Point and counter-clockwise unit tangent at parameter `s ∈ [0, 1]` of a piece.
+fn piece_point(piece: &Piece, s: f64) -> (Vector2<f64>, Vector2<f64>) {
     match *piece {
         Piece::Segment { a, b } => (a + s * (b - a), (b - a).normalize()),
         Piece::Arc {
             centre,
             radius,
             convex,
+            angles: (a0, a1),
         } => {
-            let (a0, a1) = arc_angles(pieces, k);
             let a = a0 + s * (a1 - a0);
             let p = centre + radius * dir(a);
             let t = if convex { left(dir(a)) } else { -left(dir(a)) };
@@ -1150,6 +1165,7 @@ fn polygon_radius(c: Vector2<f64>, pieces: &[Piece], starts: &[f64], theta: f64)
             centre,
             radius,
             convex,
+            ..
         } => {
             let w = c - centre;
             let uw = u.dot(&w);
