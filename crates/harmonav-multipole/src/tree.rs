@@ -252,8 +252,9 @@ impl<const C: usize> Fmm<C> {
     }
 
     /// Adds a point source with its weights, numbered `self.len()` (before the call), without a
-    /// rebuild: its P2L into every leaf outside its 3 × 3 neighbourhood, its P2M into its
-    /// ancestors. Errors: [`FmmError::NotFinite`], [`FmmError::OutsideRoot`] (the tree is then
+    /// rebuild: its P2L into every leaf outside its 3 × 3 neighbourhood, with the fewest terms
+    /// per ring of leaves that keep the tree's truncation bound (docs/maths.md §15, eq.
+    /// push-order), and its P2M into its ancestors. Errors: [`FmmError::NotFinite`], [`FmmError::OutsideRoot`] (the tree is then
     /// unchanged).
     pub fn push_point(&mut self, z: C64, w: [f64; C]) -> Result<usize, FmmError> {
         if !(z.re.is_finite() && z.im.is_finite() && w.iter().all(|x| x.is_finite())) {
