@@ -324,6 +324,46 @@ pub(crate) const MAX_TERMS: usize = 97;
 mod tests {
     use super::*;
 
+    /// The odd and even power chains of eq. mp against one chain `t^m = t^{m−1}·t` (the form
+    /// before), for every order, at points from just outside the Barnes–Hut radius to far away.
+    #[test]
+    fn the_split_multipole_powers_match_one_chain() {
+        let (c, w) = (C64::new(-1.0, 2.0), 0.5);
+        for terms in 1..=MAX_TERMS {
+            let a: Vec<C64> = (0..terms)
+                .map(|m| C64::from_polar(0.9f64.powi(m as i32), 1.3 * m as f64))
+                .collect();
+            for &(r, angle) in &[(1.42, 0.3), (3.0, 2.0), (40.0, -1.0)] {
+                let z = c + C64::from_polar(r * w, angle);
+                let v = z - c;
+                let t = (v / w).inv();
+                let (mut s0, mut s1, mut s2, mut power) = (ZERO, ZERO, ZERO, ONE);
+                for (m, am) in a.iter().enumerate().skip(1) {
+                    power *= t;
+                    let term = am * power;
+                    s0 += term;
+                    s1 += term * m as f64;
+                    s2 += term * (m as f64 * (m as f64 + 1.0));
+                }
+                let (q, inv) = (a[0], t / w);
+                let got = eval_multipole::<true>(&a, z, c, w);
+                // Of order 1 (in units of 1/w, 1/w²); measured at most 1.1e-16, 5.0e-16, 9.0e-16.
+                assert!(
+                    (got.value - (q * v.ln() + s0).re).abs() <= 1e-14,
+                    "{terms} {r}"
+                );
+                assert!(
+                    (got.d1 - (q - s1) * inv).norm() * w <= 1e-14,
+                    "{terms} {r} d1"
+                );
+                assert!(
+                    (got.d2 - (s2 - q) * inv * inv).norm() * w * w <= 1e-13,
+                    "{terms} {r} d2"
+                );
+            }
+        }
+    }
+
     /// The even/odd sums of eq. loc against one Horner chain in `ζ` (the form before), for
     /// every order from 1 to 97 terms, coefficients decaying as a local
     /// expansion's do (`|b̃_m| ~ 0.7^m`), at points over the whole leaf (`|ζ| ≤ √2/2`).

@@ -34,8 +34,9 @@
 //! `|ΔRe F| ≤ tol·A` and `|ΔF'| ≤ tol·A/w_leaf` on random and adversarial (corner-packed)
 //! sources, at scales from 1e-3 to 1e6.
 //!
-//! **Adding a point** ([`Fmm::push_point`]): its P2L into every far leaf and P2M into its
-//! ancestors, `O(4^L p)`, no rebuild; a point outside the root box is refused
+//! **Adding a point** ([`Fmm::push_point`]): its P2L into every far leaf (with fewer terms in
+//! farther rings of leaves, within the same truncation bound) and P2M into its ancestors,
+//! `O(4^L)` leaves, no rebuild; a point outside the root box is refused
 //! ([`FmmError::OutsideRoot`]) and the caller rebuilds.
 
 #![warn(missing_docs)]

@@ -632,7 +632,9 @@ fn order(tolerance: f64) -> usize {
 /// target leaf's centre `c`, and a target `z` in that leaf has `|z − c| ≤ (√2/2)w`: the `m`-th
 /// term of `F^{(k)}` is at most `|q| (m − 1)!/(m − k)! ρ_r^m` in units of `((√2/2)w)^{−k}`.
 /// The rule makes each dropped term of every derivative `k ≥ 0` no larger than the matching
-/// dropped term (`m + p − P`) of the uniform method at its worst ratio `ρ₀` and order `p`, so
+/// dropped term (`m + p − P`) of the uniform method at its worst ratio `ρ₀` and order `p`
+/// (where it asks for more than `p + 1` terms, the cap keeps order `p` at `ρ_r ≤ 0.47 < ρ₀`;
+/// at least 2 terms are kept), so
 /// the push keeps the tree's stated truncation bound with fewer terms far away (49 terms at
 /// `r = 2`, 20 at `r = 5`, 14 at `r = 10` for `p = 53`, against 54).
 pub(crate) fn push_terms(p: usize, r: usize) -> usize {

@@ -142,7 +142,7 @@ impl PointWorld {
     /// This world with the obstacle point `p` appended (index `M`, returned) and the parameter
     /// `k`, in place: the world [`Self::new`]`(P_d, [P_1..P_M, p])`[`.with_k(k)`](Self::with_k)
     /// (equal as a [`PartialEq`] world; its multipole sums to their tolerance, as
-    /// [`Self::new_after`]'s). The multipole tree, if any, takes the point by a push (`O(4^L p)`;
+    /// [`Self::new_after`]'s). The multipole tree, if any, takes the point by a push (`O(4^L)` leaves;
     /// the tree is copied first only if another world shares it) and is rebuilt when it holds
     /// twice the points it was built over; a world reaching [`FAR_MIN`] points gets its tree.
     /// The duplicate check is a scan of the `M` points (comparisons only).
@@ -203,7 +203,7 @@ impl PointWorld {
 
     /// [`Self::new`], reusing the multipole tree of `previous` when it has one, the same
     /// destination, and its obstacle points are the first ones of `obstacles`: the new points
-    /// are pushed into a copy of its tree (`O(4^L p)` each) instead of a rebuild, until the tree
+    /// are pushed into a copy of its tree (`O(4^L)` leaves each) instead of a rebuild, until the tree
     /// holds twice the points it was built over (then it is rebuilt, deeper). This is the point
     /// world's share of a discovery (`Navigator::add_obstacle` at `M = 1 000`: a copy and a push
     /// of tens of µs, not a rebuild of about 15 ms). The result equals `Self::new(destination, obstacles)`, `k = M + 1`.
