@@ -20,6 +20,7 @@ use std::hint::black_box;
 use std::sync::Arc;
 use std::time::Instant;
 
+use harmonav::floorplan::Geodesic;
 use harmonav::{FloorMap, FloorNavigator, FloorOptions, Law, Options, Vector2};
 use harmonav_harmonic::{Domain, HarmonicMap, MeshOptions, mesh};
 use harmonav_transform::random::Rng;
@@ -154,6 +155,13 @@ pub fn figures(put: &mut dyn FnMut(&str, f64)) -> Result<(), String> {
         });
         let floor = floor.map_err(|e| format!("the benchmark floor: {e}"))?;
         put(&format!("harmonic_floor_ms_n{n}"), floor_ms);
+        // The kinematic law's nominal heading: one fast march over W_δ (docs/maths.md §13.3).
+        let (geodesic_ms, geodesic) = median_ms(3, || Geodesic::new(&floor, v(9.3, 5.3)));
+        put(&format!("harmonic_geodesic_ms_n{n}"), geodesic_ms);
+        put(
+            &format!("harmonic_geodesic_cell_mm_n{n}"),
+            geodesic.cell() * 1e3,
+        );
         let points = free_points(&floor, 2.0 * h);
         let direct_map = map
             .clone()

@@ -5,6 +5,7 @@ use harmonav_potential::{ln_sigma_prime, sigma};
 use nalgebra::Vector2;
 
 use crate::damping::{Branch, Damping, DampingPolicy};
+use crate::heading::{HEADING_CONE_DEG, HeadingPolicy, steer};
 use crate::speed::{BRAKING_TIME, LINEAR_CORE, SpeedPolicy};
 
 /// A controller parameter that is not finite and positive (field names follow the scenario
@@ -42,12 +43,16 @@ fn positive(value: f64, field: &'static str) -> Result<f64, ControlError> {
 /// [`SpeedPolicy::Auto`] `s = min(v_max, √(2a|x − x_d|))` (full speed, then a constant
 /// deceleration `a`, then a linear core of 35 µm at the default `v_max`: within any tolerance
 /// of the goal in finite time; `docs/maths.md` §6). Both follow the
-/// flow lines of `−∇Θ`, so both keep the paper's guarantees.
+/// flow lines of `−∇Θ`, so both keep the paper's guarantees. Given a nominal heading
+/// ([`Kinematic::velocity_toward`], on a floor plan) the default [`HeadingPolicy::Auto`]
+/// turns the direction towards it within [`HEADING_CONE_DEG`] of `−∇Θ` (`Θ` still decreases,
+/// at least `cos α` times as fast; `docs/maths.md` §13.3).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Kinematic {
     gain: f64,
     policy: SpeedPolicy,
     v_max: f64,
+    heading: HeadingPolicy,
 }
 
 impl Kinematic {
@@ -59,7 +64,19 @@ impl Kinematic {
             gain,
             policy: SpeedPolicy::default(),
             v_max: gain * std::f64::consts::SQRT_2,
+            heading: HeadingPolicy::default(),
         })
+    }
+
+    /// The same law under the heading policy `heading`.
+    #[must_use]
+    pub fn with_heading(self, heading: HeadingPolicy) -> Self {
+        Self { heading, ..self }
+    }
+
+    /// The heading policy.
+    pub fn heading_policy(&self) -> HeadingPolicy {
+        self.heading
     }
 
     /// The same law under the speed policy `policy`.
@@ -136,10 +153,28 @@ impl Kinematic {
     /// direction is undefined. Along the law `dΘ/dt = −s|∇Θ| ≤ 0` (`−K√(2Θ)|∇Θ|` under the
     /// paper's policy).
     pub fn velocity(&self, eval: &FieldEval, distance: f64) -> Vector2<f64> {
-        match eval.direction {
-            Some(d) => self.speed(eval, distance) * d,
-            None => Vector2::zeros(),
-        }
+        self.velocity_toward(eval, distance, None)
+    }
+
+    /// [`Kinematic::velocity`] with a nominal unit heading `nominal` (`None`: none here):
+    /// `u = s·d` with `d` = [`steer`]`(−∇Θ/|∇Θ|, nominal, cos α)` under
+    /// [`HeadingPolicy::Auto`] (`α` = [`HEADING_CONE_DEG`]), and `d = −∇Θ/|∇Θ|` under
+    /// [`HeadingPolicy::Paper`] or without a nominal heading. Along it
+    /// `dΘ/dt ≤ −s·cos α·|∇Θ| < 0` away from the critical points.
+    pub fn velocity_toward(
+        &self,
+        eval: &FieldEval,
+        distance: f64,
+        nominal: Option<Vector2<f64>>,
+    ) -> Vector2<f64> {
+        let Some(d) = eval.direction else {
+            return Vector2::zeros();
+        };
+        let d = match (self.heading, nominal) {
+            (HeadingPolicy::Auto, Some(g)) => steer(d, g, HEADING_CONE_DEG.to_radians().cos()),
+            _ => d,
+        };
+        self.speed(eval, distance) * d
     }
 }
 

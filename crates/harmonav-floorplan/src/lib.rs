@@ -29,6 +29,8 @@
 //!   (parry), the certificate;
 //! - [`FloorTransform`] (`nav_transform` → [`FloorMapped`], [`Part`], [`NotFree`]);
 //! - [`FloorField`]: `Θ`, `∇Θ`, the direction, `k`, the destination stiffness;
+//! - [`Geodesic`]: the shortest-path distance to the goal in `W_δ` (fast marching on a grid),
+//!   whose direction is the kinematic law's nominal heading;
 //! - [`RosMap`] (`load`, `outline`, `free_space`, `to_floor_map`), [`FloorMap::from_ros_map`],
 //!   [`MapOptions`], [`MapOutline`], [`Cell`], [`MapMode`], typed [`MapError`]
 //!   ([`MapProblem`], [`MapPoint`]): ROS map_server occupancy grids (YAML + PGM/PNG) to floor
@@ -59,11 +61,13 @@
 #![warn(missing_docs)]
 
 pub mod compose;
+pub mod geodesic;
 pub mod plan;
 pub mod ros_map;
 pub mod theta;
 
 pub use compose::{FloorMapped, FloorTransform, NotFree, Part};
+pub use geodesic::Geodesic;
 pub use plan::{CentrePolicy, FloorError, FloorMap, FloorOptions, UnknownCentrePolicy};
 pub use ros_map::{Cell, MapError, MapMode, MapOptions, MapOutline, MapPoint, MapProblem, RosMap};
-pub use theta::FloorField;
+pub use theta::{FloorField, SADDLE_GUARD};

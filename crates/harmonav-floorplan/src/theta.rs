@@ -8,7 +8,13 @@ use harmonav_transform::StarShape;
 use nalgebra::Vector2;
 
 use crate::compose::{FloorTransform, NotFree};
+use crate::geodesic::Geodesic;
 use crate::plan::{FloorError, FloorMap};
+
+/// The radius of the guard disc about a saddle `P_s` of `phi_k` in the point world, relative
+/// to the distance from `P_s` to the nearest point (`P_d` or a `P_i`): within it
+/// [`FloorField::heading`] is `None`, and the kinematic law follows `−∇Θ`.
+pub const SADDLE_GUARD: f64 = 0.05;
 
 impl From<NotFree> for FieldError {
     /// A sensed obstacle keeps its index; the boundary layer and the walls are `Outside`.
@@ -34,6 +40,12 @@ pub struct FloorField {
     /// The smallest eigenvalue of `H(Θ)(x_d) = s·J_Phiᵀ J_Phi` (at `x_d`, `Phi` is not the
     /// identity).
     stiffness: f64,
+    /// The shortest-path distance to the goal, whose direction is the kinematic law's nominal
+    /// heading ([`FloorField::with_geodesic`]).
+    geodesic: Option<Arc<Geodesic>>,
+    /// The saddles of `phi_k` and the radii of their guard discs, in the point world (built
+    /// with the geodesic distance).
+    guards: Vec<(Vector2<f64>, f64)>,
 }
 
 impl FloorField {
@@ -86,6 +98,8 @@ impl FloorField {
             world,
             policy,
             stiffness,
+            geodesic: None,
+            guards: Vec::new(),
         })
     }
 
@@ -97,12 +111,20 @@ impl FloorField {
     pub fn with_obstacle(&self, obstacle: StarShape) -> Result<Self, FloorError> {
         let mut all: Vec<StarShape> = self.transform.obstacles().cloned().collect();
         all.push(obstacle);
-        Self::with_obstacles(
+        let field = Self::with_obstacles(
             self.transform.floor().clone(),
             &all,
             self.transform.goal(),
             self.policy,
-        )
+        )?;
+        Ok(match &self.geodesic {
+            Some(geodesic) => Self {
+                geodesic: Some(geodesic.clone()),
+                ..field
+            }
+            .with_saddle_guards(),
+            None => field,
+        })
     }
 
     /// `Θ(x)`, `∇Θ(x)` and the descent direction. No allocation.
@@ -198,5 +220,59 @@ impl FloorField {
     #[must_use]
     pub fn destination_stiffness(&self) -> f64 {
         self.stiffness
+    }
+
+    /// The same field with the shortest-path distance to its goal on the walls' `W_δ`
+    /// ([`Geodesic::new`], one fast march; kept by [`FloorField::with_obstacle`]) and the
+    /// guard discs of the point world's saddles ([`SADDLE_GUARD`]).
+    #[must_use]
+    pub fn with_geodesic(self) -> Self {
+        let geodesic = Geodesic::new(self.floor(), self.transform.goal());
+        Self {
+            geodesic: Some(Arc::new(geodesic)),
+            ..self
+        }
+        .with_saddle_guards()
+    }
+
+    /// The guard discs about the saddles of the point world: centre `P_s` and radius
+    /// [`SADDLE_GUARD`] times the distance from `P_s` to the nearest of `P_d` and the `P_i`.
+    fn with_saddle_guards(self) -> Self {
+        let world = &self.world;
+        let points: Vec<Vector2<f64>> = std::iter::once(world.destination())
+            .chain(world.obstacles().iter().copied())
+            .collect();
+        let guards = world
+            .critical_points()
+            .iter()
+            .map(|c| {
+                let near = points
+                    .iter()
+                    .map(|p| (p - c.position).norm())
+                    .fold(f64::INFINITY, f64::min);
+                (c.position, SADDLE_GUARD * near)
+            })
+            .collect();
+        Self { guards, ..self }
+    }
+
+    /// The geodesic distance of [`FloorField::with_geodesic`], if built.
+    #[must_use]
+    pub fn geodesic(&self) -> Option<&Geodesic> {
+        self.geodesic.as_deref()
+    }
+
+    /// The nominal heading at `x`, whose evaluation is `e`: the shortest-path direction
+    /// [`Geodesic::heading`] if the geodesic distance is built and defined at `x`; `None`
+    /// without it, and where `Phi(x) = e.h` lies in the guard disc of a saddle of `phi_k`
+    /// (there the kinematic law is the paper's, so that a saddle attracts only the starts of
+    /// a curve: `docs/maths.md` §13.3).
+    #[must_use]
+    pub fn heading(&self, x: Vector2<f64>, e: &FieldEval) -> Option<Vector2<f64>> {
+        let geodesic = self.geodesic.as_ref()?;
+        if self.guards.iter().any(|(c, r)| (e.h - c).norm() < *r) {
+            return None;
+        }
+        geodesic.heading(x)
     }
 }

@@ -15,6 +15,7 @@
 //! goal = [4, 2.5]
 //! radius = 0.1
 //! margin = 0.1
+//! heading = "auto"                              # or "paper" (kinematic: along −∇Θ)
 //! [starts]                                       # seeded starts in W_δ, besides `start`
 //! count = 6
 //! seed = 1
@@ -31,7 +32,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use harmonav::{CentrePolicy, FloorMap, FloorOptions, StarShape};
+use harmonav::{CentrePolicy, FloorMap, FloorOptions, HeadingPolicy, StarShape};
 use harmonav_floorplan::{FloorError, MapOptions, MapPoint, MapProblem};
 use harmonav_harmonic::{DomainError, RingId, SolveError};
 use harmonav_transform::random::Rng;
@@ -106,6 +107,10 @@ pub struct FloorRobotSpec {
     /// `μ` (dynamic): the speed bound is `√(2μ/m)`.
     #[serde(default = "one")]
     pub mu: f64,
+    /// `heading = "auto"` (the default: the shortest path's direction within 60° of `−∇Θ`) or
+    /// `"paper"` (`−∇Θ`, eq. `kinctrl`), the kinematic law's [`HeadingPolicy`].
+    #[serde(default, deserialize_with = "crate::scenario::de_policy")]
+    pub heading: HeadingPolicy,
 }
 
 fn one() -> f64 {

@@ -118,7 +118,9 @@ pub fn navigator(
         Model::Kinematic => Law::kinematic(r.gain),
         Model::Dynamic => Law::dynamic(r.mass, r.mu),
     };
-    let options = Options::default().with_robot(r.radius, r.margin);
+    let options = Options::default()
+        .with_robot(r.radius, r.margin)
+        .with_heading(r.heading);
     FloorNavigator::new(prepared.floor.clone(), Vector2::from(r.goal), law, options)
 }
 

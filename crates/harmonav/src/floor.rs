@@ -5,6 +5,7 @@
 
 use std::sync::Arc;
 
+use harmonav_control::HeadingPolicy;
 use harmonav_field::{FieldError, FieldEval};
 use harmonav_floorplan::{FloorError, FloorField, FloorMap, NotFree};
 use harmonav_transform::StarShape;
@@ -95,6 +96,14 @@ impl FloorNavigator {
         // boundary's radius.
         let controller = controller.in_world(0.5 * floor.domain().diameter())?;
         let field = FloorField::new(floor, goal, options.k).map_err(NavError::Floor)?;
+        // The nominal heading of the kinematic law's default heading policy: the shortest path
+        // in the walls' W_δ (docs/maths.md §13.3).
+        let field = match &controller {
+            Controller::Kinematic(law) if law.heading_policy() == HeadingPolicy::Auto => {
+                field.with_geodesic()
+            }
+            _ => field,
+        };
         let nav = Self {
             controller,
             options,
@@ -227,7 +236,11 @@ impl FloorNavigator {
         let e = self.eval(x)?;
         let (command, damping) = match &self.controller {
             Controller::Kinematic(law) => (
-                law.velocity(&e, (x - self.field.transform().goal()).norm()),
+                law.velocity_toward(
+                    &e,
+                    (x - self.field.transform().goal()).norm(),
+                    self.field.heading(x, &e),
+                ),
                 None,
             ),
             Controller::Dynamic(law) => {

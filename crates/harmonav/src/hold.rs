@@ -142,7 +142,13 @@ pub(crate) fn kinematic(
             return single;
         };
         let to_goal = (y - field.goal()).norm();
-        let (c, _) = kinematic_step(field, y, &ey, law.velocity(&ey, to_goal), tau);
+        let (c, _) = kinematic_step(
+            field,
+            y,
+            &ey,
+            law.velocity_toward(&ey, to_goal, field.heading(y, &ey)),
+            tau,
+        );
         y += tau * c.value;
     }
     let chord = y - x;
@@ -184,6 +190,25 @@ fn kinematic_escape(
     None
 }
 
+/// `u` slid along `∂W_δ` ([`Space::slide`]) if it is still a descent direction, `u'·d > 0`
+/// (`d = −∇Θ/|∇Θ|`); otherwise `−∇Θ` at the same speed, slid. The slide keeps a descent
+/// direction only for `u ∥ −∇Θ`: a nominal heading (`HeadingPolicy::Auto`) that runs into the
+/// layer can slide into an ascent, where the halving would stop the robot.
+fn slid_descent(
+    field: &impl Space,
+    x: Vector2<f64>,
+    e: &FieldEval,
+    u: Vector2<f64>,
+    h: f64,
+) -> Vector2<f64> {
+    let speed = u.norm();
+    let slid = field.slide(x, u, h * speed);
+    match e.direction {
+        Some(d) if slid.dot(&d) <= 0.0 => field.slide(x, speed * d, h * speed),
+        _ => slid,
+    }
+}
+
 /// One straight kinematic step at `x`: the largest `s ∈ {1, ½, ¼, …}·s_0` with
 /// `phi_k(Phi(x + s h u)) < phi_k(Phi(x))`, the command `s·u`, and the number of halvings.
 /// `s_0 = 1` if the whole step is certified free ([`free_length`] `≥ h|u|`), otherwise
@@ -202,7 +227,7 @@ fn kinematic_step(
     u: Vector2<f64>,
     h: f64,
 ) -> (Command, u32) {
-    let u = field.slide(x, u, h * u.norm());
+    let u = slid_descent(field, x, e, u, h);
     let step = h * u.norm();
     if step == 0.0 {
         return (

@@ -6,7 +6,9 @@ pub enum Law {
     /// `ẋ = u` under eq. `kinctrl` with the speed of [`crate::Options::speed`]: `u = −s(x)∇Θ/|∇Θ|`,
     /// `s = K√(2Θ)` (`"paper"`) or `min(v_max, √(2a|x − x_d|))` with a linear core at the goal
     /// (`"auto"`, the default; `v_max` from [`crate::Options::v_max`], default `K√2`; `docs/maths.md`
-    /// §6); [`crate::Navigator::command`] returns the velocity `u`.
+    /// §6); [`crate::Navigator::command`] returns the velocity `u`. On a floor plan the
+    /// direction turns towards the shortest path within 60° of `−∇Θ` under the default
+    /// [`crate::Options::heading`] (`docs/maths.md` §13.3).
     Kinematic {
         /// `K > 0`.
         gain: f64,

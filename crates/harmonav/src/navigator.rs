@@ -120,7 +120,9 @@ pub(crate) fn controller(law: &Law, options: &Options) -> Result<Controller, Nav
     let d_min = options.d_min()?;
     Ok(match *law {
         Law::Kinematic { gain } => {
-            let law = Kinematic::new(in_range("gain", gain)?)?.with_speed(options.speed);
+            let law = Kinematic::new(in_range("gain", gain)?)?
+                .with_speed(options.speed)
+                .with_heading(options.heading);
             // `v_max` was range-checked by `validate`; the default K√2 is finite.
             Controller::Kinematic(match options.v_max {
                 Some(v) => law.with_v_max(v)?,

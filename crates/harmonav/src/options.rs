@@ -1,7 +1,7 @@
 //! The navigator's settings ([`Options`]), their valid ranges, and how a command is made safe
 //! to hold for the user's control period ([`HoldPolicy`]).
 
-use harmonav_control::{DampingPolicy, SpeedPolicy};
+use harmonav_control::{DampingPolicy, HeadingPolicy, SpeedPolicy};
 use harmonav_field::KPolicy;
 use harmonav_sensing::Sector;
 use harmonav_transform::{MAX_LENGTH, StarShape};
@@ -77,6 +77,9 @@ pub struct Options {
     /// The kinematic law's top speed `v_max`, m/s; `None` (the default) means `K√2`, the paper
     /// law's top speed.
     pub v_max: Option<f64>,
+    /// The kinematic law's heading policy (default `"auto"`: on a floor plan the shortest
+    /// path's direction within 60° of `−∇Θ`; `docs/maths.md` §13.3).
+    pub heading: HeadingPolicy,
     /// The period `h` for which the robot holds each command, s; `None` (the default) means
     /// [`DEFAULT_KINEMATIC_PERIOD`] (100 Hz) or [`DEFAULT_DYNAMIC_PERIOD`] (1 kHz) by law.
     pub control_period: Option<f64>,
@@ -97,6 +100,7 @@ impl Default for Options {
             damping: DampingPolicy::default(),
             speed: SpeedPolicy::default(),
             v_max: None,
+            heading: HeadingPolicy::default(),
             control_period: None,
             hold: HoldPolicy::default(),
         }
@@ -163,6 +167,12 @@ impl Options {
     #[must_use]
     pub fn with_speed(self, speed: SpeedPolicy) -> Self {
         Self { speed, ..self }
+    }
+
+    /// The heading policy of the kinematic law (ignored by the dynamic law).
+    #[must_use]
+    pub fn with_heading(self, heading: HeadingPolicy) -> Self {
+        Self { heading, ..self }
     }
 
     /// The kinematic law's top speed `v_max`, m/s, in [`PARAMETER_RANGE`] (ignored by the

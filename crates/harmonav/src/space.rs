@@ -33,6 +33,12 @@ pub(crate) trait Space {
     /// `Dynamic::scale_shift` of a star world's field; 0 on a floor plan, whose `Θ` is free of
     /// the world's scale already (its harmonic map goes onto the unit disk).
     fn calibration(&self, law: &Dynamic) -> (f64, f64);
+    /// The kinematic law's nominal heading at `x` (evaluated: `e`; `Kinematic::velocity_toward`): none in a
+    /// star world; on a floor plan the shortest-path direction, if built.
+    fn heading(&self, x: Vector2<f64>, e: &FieldEval) -> Option<Vector2<f64>> {
+        let _ = (x, e);
+        None
+    }
 }
 
 impl Space for Field {
@@ -108,6 +114,10 @@ impl Space for FloorField {
     fn calibration(&self, law: &Dynamic) -> (f64, f64) {
         let _ = law;
         (self.destination_stiffness(), 0.0)
+    }
+
+    fn heading(&self, x: Vector2<f64>, e: &FieldEval) -> Option<Vector2<f64>> {
+        FloorField::heading(self, x, e)
     }
 
     /// Only a sensed obstacle has a blind layer (the walls' distances are exact to rounding):

@@ -1,0 +1,97 @@
+//! Which way the kinematic law moves: along `−∇Θ`, or along a nominal heading kept within a
+//! cone about it (`docs/maths.md` §13.3, "The heading policy").
+
+use nalgebra::Vector2;
+
+/// `α` of [`HeadingPolicy::Auto`], degrees: the half-angle of the cone about `−∇Θ/|∇Θ|`
+/// within which the nominal heading is followed. Along the law
+/// `dΘ/dt ≤ −s·cos α·|∇Θ|`: at 60°, half the paper's rate. Chosen on the floor-plan suite, an L
+/// room and the office of `scenarios/floorplans/limits/` (`docs/maths.md` §13.3: 45°, 60°, 75°,
+/// 80° and 85° were measured; 75° stalled the office).
+pub const HEADING_CONE_DEG: f64 = 60.0;
+
+/// The rule that sets the unit direction `d(x)` of the kinematic law `u = s(x)·d(x)`.
+///
+/// Both keep the kinematic law's guarantees: `d·(−∇Θ) ≥ cos α·|∇Θ| > 0` away from the
+/// critical points, so `Θ` strictly decreases along every motion (no collision, never
+/// leaving the workspace: `Θ < 1` stays below its start) and the motion ends at a critical
+/// point of `Θ`; `docs/maths.md` §13.3 gives the almost-every-start argument for the goal.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum HeadingPolicy {
+    /// Eq. `kinctrl`: `d = −∇Θ/|∇Θ|`, the flow lines of `Θ` (the paper's law).
+    Paper,
+    /// The default: the nominal heading `g(x)` given with the evaluation (on a floor plan the
+    /// shortest-path direction, `harmonav_floorplan::Geodesic::heading`), rotated towards
+    /// `−∇Θ` until it lies within [`HEADING_CONE_DEG`] of it ([`steer`]); `−∇Θ/|∇Θ|` where
+    /// there is no nominal heading (every star world, whose flow lines are already within a few
+    /// per cent of the shortest path).
+    #[default]
+    Auto,
+}
+
+harmonav_potential::named_policy!(
+    HeadingPolicy,
+    UnknownHeadingPolicy,
+    "heading policy",
+    [Paper => "paper", Auto => "auto"]
+);
+
+/// The unit vector closest to `nominal` within the angle `α` (`cos_alpha = cos α`, `α ∈ (0,
+/// π/2)`) of the unit descent direction `descent`:
+///
+/// ```text
+///          ⎧ g                          if g·d ≥ cos α
+/// steer =  ⎨
+///          ⎩ cos α·d + sin α·t/|t|      otherwise,   t = g − (g·d)d
+/// ```
+///
+/// (`d = descent`, `g = nominal`), so `steer·d ≥ cos α` always. When `g = −d` exactly (`t =
+/// 0`, no side to turn to) it is `d`. Continuous in `g` and `d` except there.
+#[must_use]
+pub fn steer(descent: Vector2<f64>, nominal: Vector2<f64>, cos_alpha: f64) -> Vector2<f64> {
+    let c = nominal.dot(&descent);
+    if c >= cos_alpha {
+        return nominal;
+    }
+    let t = nominal - c * descent;
+    let norm = t.norm();
+    if !(norm > 0.0 && norm.is_finite()) {
+        return descent;
+    }
+    let sin_alpha = (1.0 - cos_alpha * cos_alpha).max(0.0).sqrt();
+    cos_alpha * descent + (sin_alpha / norm) * t
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip_and_unknown_names_are_rejected() {
+        for p in HeadingPolicy::ALL {
+            assert_eq!(p.as_str().parse::<HeadingPolicy>(), Ok(p));
+        }
+        assert_eq!(HeadingPolicy::default(), HeadingPolicy::Auto);
+        assert!("straight".parse::<HeadingPolicy>().is_err());
+    }
+
+    #[test]
+    fn the_steered_heading_is_the_nominal_one_inside_the_cone_and_on_its_edge_outside() {
+        let cos = HEADING_CONE_DEG.to_radians().cos();
+        let d = Vector2::new(1.0, 0.0);
+        for deg in [
+            -179.0f64, -120.0, -61.0, -59.0, -10.0, 0.0, 30.0, 59.9, 60.1, 90.0, 179.0,
+        ] {
+            let a = deg.to_radians();
+            let g = Vector2::new(a.cos(), a.sin());
+            let s = steer(d, g, cos);
+            assert!((s.norm() - 1.0).abs() < 1e-12, "{deg}");
+            let angle = s.y.atan2(s.x).to_degrees();
+            let want = deg.clamp(-HEADING_CONE_DEG, HEADING_CONE_DEG);
+            assert!((angle - want).abs() < 1e-9, "{deg}: {angle} against {want}");
+        }
+        // Exactly opposite: no side to turn to, the descent itself.
+        assert_eq!(steer(d, -d, cos), d);
+    }
+}
