@@ -7,6 +7,11 @@
 //! `nav-transform-levels.svg`: the same world with the level sets of `Θ` (left) and of
 //! `sigma∘phi_k` in the point world (right): `Phi` maps the one onto the other.
 //!
+//! `harmonic-map.svg`: the U-trap floor plan (`scenarios/floorplans/u-trap.toml`) and its image
+//! under the harmonic map `H` in the unit disk (docs/maths.md §11, §13): a grid drawn in the
+//! certified region `W_δ`, the U collapsing to its puncture, and the kinematic robot's path
+//! from the file's start under both headings (§13.3), the walls only.
+//!
 //! `paper-kinematic.svg`, `paper-dynamic.svg`, `paper-dynamic-speed.svg` and
 //! `paper-dynamic-energy.svg`: the runs of `scenarios/paper/` (the two studies of the paper,
 //! `docs/reproduction.md`), drawn by harmonav-sim's own figures.
@@ -19,7 +24,7 @@ use harmonav_field::Field;
 use harmonav_field::descent::{FollowOptions, follow};
 use harmonav_output::atomic::write_atomically;
 use harmonav_output::canvas::Scale;
-use harmonav_output::drawing::{outline, xy};
+use harmonav_output::drawing::{outline, ring, xy};
 use harmonav_output::figures::{
     LEVELS, Plane, draw_level_lines, draw_path, energy_svg, err, plane, speed_svg, trajectory_svg,
 };
@@ -33,7 +38,11 @@ use plotters::prelude::*;
 
 pub fn run() -> ExitCode {
     let mut code = ExitCode::SUCCESS;
-    for result in [nav_transform_figures(), paper_figures()] {
+    for result in [
+        nav_transform_figures(),
+        harmonic_map_figure(),
+        paper_figures(),
+    ] {
         match result {
             Ok(paths) => paths.iter().for_each(|p| println!("wrote {p}")),
             Err(e) => {
@@ -253,4 +262,164 @@ fn nav_transform_figures() -> Result<Vec<String>, String> {
         write_figure("nav-transform.svg", &grid_svg)?,
         write_figure("nav-transform-levels.svg", &levels_svg)?,
     ])
+}
+
+/// The kinematic robot's path on `floor` from `start` to `goal` at 100 Hz under `heading`
+/// (walls only), at most 60 s.
+fn floor_path(
+    floor: &Arc<harmonav::FloorMap>,
+    start: Vector2<f64>,
+    goal: Vector2<f64>,
+    (radius, margin): (f64, f64),
+    heading: harmonav::HeadingPolicy,
+) -> Result<Vec<Vector2<f64>>, String> {
+    let options = harmonav::Options::default()
+        .with_robot(radius, margin)
+        .with_heading(heading);
+    let mut nav =
+        harmonav::FloorNavigator::new(floor.clone(), goal, harmonav::Law::kinematic(1.0), options)
+            .map_err(|e| format!("the figure's navigator: {e}"))?;
+    let (mut x, mut path) = (start, vec![start]);
+    for _ in 0..6000 {
+        if (x - goal).norm() < 0.01 {
+            break;
+        }
+        let u = nav
+            .command(x, Vector2::zeros())
+            .map_err(|e| format!("the figure's path at {x:?}: {e}"))?
+            .value;
+        x += 0.01 * u;
+        path.push(x);
+    }
+    Ok(path)
+}
+
+/// `harmonic-map.svg` (module docs).
+fn harmonic_map_figure() -> Result<Vec<String>, String> {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenarios/floorplans/u-trap.toml");
+    let prepared =
+        harmonav_scenario::floorplan::FloorScenario::load(&file).map_err(|e| e.to_string())?;
+    let floor = prepared.floor.clone();
+    let map = floor.map();
+    let r = &prepared.scenario.robot;
+    let (start, goal) = (Vector2::from(r.start), Vector2::from(r.goal));
+    let blue = RGBColor(74, 122, 181);
+    let orange = RGBColor(217, 72, 15);
+    let purple = RGBColor(112, 72, 160);
+    let green = RGBColor(43, 138, 62);
+    // Grid lines in W_δ every 0.25 m, as runs of consecutive certified points.
+    let (lo, hi) = floor.walls().bounding_box();
+    let mut lines: Vec<Vec<Vector2<f64>>> = Vec::new();
+    for vertical in [false, true] {
+        let (a, b) = if vertical { (lo.x, hi.x) } else { (lo.y, hi.y) };
+        let (c, d) = if vertical { (lo.y, hi.y) } else { (lo.x, hi.x) };
+        let mut fixed = a + 0.125;
+        while fixed < b {
+            let mut run: Vec<Vector2<f64>> = Vec::new();
+            for i in 0..=600 {
+                let t = c + (d - c) * f64::from(i) / 600.0;
+                let x = if vertical {
+                    Vector2::new(fixed, t)
+                } else {
+                    Vector2::new(t, fixed)
+                };
+                if floor.clearance(x) >= 0.0 {
+                    run.push(x);
+                } else if run.len() > 1 {
+                    lines.push(std::mem::take(&mut run));
+                } else {
+                    run.clear();
+                }
+            }
+            if run.len() > 1 {
+                lines.push(run);
+            }
+            fixed += 0.25;
+        }
+    }
+    let image = |pts: &[Vector2<f64>]| -> Vec<(f64, f64)> {
+        pts.iter()
+            .filter_map(|&x| map.eval(x).ok())
+            .map(|m| xy(m.value))
+            .collect()
+    };
+    let radii = (r.radius, r.margin);
+    let auto = floor_path(&floor, start, goal, radii, harmonav::HeadingPolicy::Auto)?;
+    let paper = floor_path(&floor, start, goal, radii, harmonav::HeadingPolicy::Paper)?;
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (1100, 520)).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        let (l, rt) = root.split_horizontally(600);
+        let centre = 0.5 * (lo + hi);
+        let half = 0.5 * (hi - lo).max() + 0.2;
+        let mut left = plane(
+            &l,
+            "U-trap: W_δ's grid; start ○, goal ●; heading auto (orange), paper (purple)",
+            centre,
+            half,
+            Scale::ONE,
+        )?;
+        let mut right = plane(
+            &rt,
+            "H(W_δ) in the unit disk: the U collapses to a point",
+            Vector2::zeros(),
+            1.1,
+            Scale::ONE,
+        )?;
+        for line in &lines {
+            let pts: Vec<(f64, f64)> = line.iter().map(|&p| xy(p)).collect();
+            draw_path(&mut left, pts, blue.stroke_width(1))?;
+            draw_path(&mut right, image(line), blue.stroke_width(1))?;
+        }
+        let walls = floor.walls();
+        draw_path(&mut left, ring(walls.outer()), BLACK.stroke_width(2))?;
+        for hole in walls.holes() {
+            left.draw_series(std::iter::once(Polygon::new(
+                ring(hole),
+                RGBColor(187, 187, 187).filled(),
+            )))
+            .map_err(err)?;
+            draw_path(&mut left, ring(hole), BLACK.stroke_width(1))?;
+        }
+        let circle: Vec<(f64, f64)> = (0..=360)
+            .map(|i| {
+                let a = f64::from(i).to_radians();
+                (a.cos(), a.sin())
+            })
+            .collect();
+        draw_path(&mut right, circle, BLACK.stroke_width(2))?;
+        for (path, colour) in [(&paper, purple), (&auto, orange)] {
+            let pts: Vec<(f64, f64)> = path.iter().map(|&p| xy(p)).collect();
+            draw_path(&mut left, pts, colour.stroke_width(2))?;
+            draw_path(&mut right, image(path), colour.stroke_width(2))?;
+        }
+        for (i, &p) in map.punctures().iter().enumerate() {
+            right
+                .draw_series([Circle::new(xy(p), 4, BLACK.filled())])
+                .map_err(err)?;
+            right
+                .draw_series(std::iter::once(Text::new(
+                    format!("hole {}", i + 1),
+                    (p.x + 0.04, p.y + 0.04),
+                    ("sans-serif", 12),
+                )))
+                .map_err(err)?;
+        }
+        let image_of = |x: Vector2<f64>| map.eval(x).map(|m| m.value).map_err(|e| e.to_string());
+        let (start_image, goal_image) = (image_of(start)?, image_of(goal)?);
+        for (panel, s, g) in [
+            (&mut left, start, goal),
+            (&mut right, start_image, goal_image),
+        ] {
+            panel
+                .draw_series([Circle::new(xy(s), 5, BLACK.stroke_width(2))])
+                .map_err(err)?;
+            panel
+                .draw_series([Circle::new(xy(g), 5, green.filled())])
+                .map_err(err)?;
+        }
+        root.present().map_err(err)?;
+    }
+    Ok(vec![write_figure("harmonic-map.svg", &svg)?])
 }

@@ -6,16 +6,19 @@ use nalgebra::Vector2;
 /// `α` of [`HeadingPolicy::Auto`], degrees: the half-angle of the cone about `−∇Θ/|∇Θ|`
 /// within which the nominal heading is followed. Along the law
 /// `dΘ/dt ≤ −s·cos α·|∇Θ|`: at 60°, half the paper's rate. Chosen on the floor-plan suite, an L
-/// room and the office of `scenarios/floorplans/limits/` (`docs/maths.md` §13.3: 45°, 60°, 75°,
-/// 80° and 85° were measured; 75° stalled the office).
+/// room and the office of `scenarios/floorplans/limits/` (`docs/maths.md` §13.3: 45°, 60°, 75°
+/// and 85° on the suite, 60°, 75° and 80° in the L room; under 75° the office's runs time out).
 pub const HEADING_CONE_DEG: f64 = 60.0;
 
 /// The rule that sets the unit direction `d(x)` of the kinematic law `u = s(x)·d(x)`.
 ///
-/// Both keep the kinematic law's guarantees: `d·(−∇Θ) ≥ cos α·|∇Θ| > 0` away from the
-/// critical points, so `Θ` strictly decreases along every motion (no collision, never
-/// leaving the workspace: `Θ < 1` stays below its start) and the motion ends at a critical
-/// point of `Θ`; `docs/maths.md` §13.3 gives the almost-every-start argument for the goal.
+/// Both keep the kinematic law's safety: `d·(−∇Θ)/|∇Θ| ≥ cos α > 0` away from the critical
+/// points, so `Θ` strictly decreases along every motion (no collision, never leaving the
+/// workspace: `Θ < 1` stays below its start). Convergence: the continuous law ends at a
+/// critical point of `Θ` under both; the goal from almost every start is the paper's theorem
+/// under [`HeadingPolicy::Paper`], and under [`HeadingPolicy::Auto`] rests on an assumption
+/// stated in `docs/maths.md` §13.3 (and, on a floor plan, the held law can stop on the edge of
+/// the certified region under either policy, §13.2).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 #[non_exhaustive]
 pub enum HeadingPolicy {
@@ -24,8 +27,8 @@ pub enum HeadingPolicy {
     /// The default: the nominal heading `g(x)` given with the evaluation (on a floor plan the
     /// shortest-path direction, `harmonav_floorplan::Geodesic::heading`), rotated towards
     /// `−∇Θ` until it lies within [`HEADING_CONE_DEG`] of it ([`steer`]); `−∇Θ/|∇Θ|` where
-    /// there is no nominal heading (every star world, whose flow lines are already within a few
-    /// per cent of the shortest path).
+    /// there is no nominal heading (every star world, whose flow lines are already within 2–11 %
+    /// of the shortest path at the median, docs/benchmarks.md).
     #[default]
     Auto,
 }
@@ -38,29 +41,32 @@ harmonav_potential::named_policy!(
 );
 
 /// The unit vector closest to `nominal` within the angle `α` (`cos_alpha = cos α`, `α ∈ (0,
-/// π/2)`) of the unit descent direction `descent`:
+/// π/2)`) of the unit descent direction `descent` (both unit vectors; every caller passes
+/// them so):
 ///
 /// ```text
 ///          ⎧ g                          if g·d ≥ cos α
 /// steer =  ⎨
-///          ⎩ cos α·d + sin α·t/|t|      otherwise,   t = g − (g·d)d
+///          ⎩ cos α·d + sin α·σ·d⊥       otherwise,   d⊥ = (−d_y, d_x),  σ = sign(d × g)
 /// ```
 ///
-/// (`d = descent`, `g = nominal`), so `steer·d ≥ cos α` always. When `g = −d` exactly (`t =
-/// 0`, no side to turn to) it is `d`. Continuous in `g` and `d` except there.
+/// (`d = descent`, `g = nominal`): the edge of the cone on `g`'s side, exactly at `α` from `d`
+/// (`d⊥` is orthogonal to `d` by construction, with no division, so rounding cannot tilt it
+/// uphill), hence `steer·d ≥ cos α` to rounding. When `g` lies on `d`'s line (`d × g = 0`, so
+/// `g = −d` here, no side to turn to) or is not finite it is `d`.
 #[must_use]
 pub fn steer(descent: Vector2<f64>, nominal: Vector2<f64>, cos_alpha: f64) -> Vector2<f64> {
     let c = nominal.dot(&descent);
     if c >= cos_alpha {
         return nominal;
     }
-    let t = nominal - c * descent;
-    let norm = t.norm();
-    if !(norm > 0.0 && norm.is_finite()) {
+    let side = descent.x * nominal.y - descent.y * nominal.x;
+    if !(side != 0.0 && side.is_finite()) {
         return descent;
     }
     let sin_alpha = (1.0 - cos_alpha * cos_alpha).max(0.0).sqrt();
-    cos_alpha * descent + (sin_alpha / norm) * t
+    let perp = Vector2::new(-descent.y, descent.x);
+    cos_alpha * descent + (sin_alpha * side.signum()) * perp
 }
 
 #[cfg(test)]
@@ -93,5 +99,17 @@ mod tests {
         }
         // Exactly opposite: no side to turn to, the descent itself.
         assert_eq!(steer(d, -d, cos), d);
+        // Within rounding of opposite, on either side, for any descent: still in the cone.
+        for k in 0..2000 {
+            let a = 0.001 * f64::from(k);
+            let d = Vector2::new(a.cos(), a.sin());
+            for eps in [1e-17, -1e-17, 1e-12, -1e-12] {
+                let g = -Vector2::new((a + eps).cos(), (a + eps).sin());
+                let s = steer(d, g, cos);
+                assert!(s.dot(&d) >= cos - 1e-12 && (s.norm() - 1.0).abs() < 1e-12);
+            }
+        }
+        // A nominal heading that is not finite is ignored.
+        assert_eq!(steer(d, Vector2::new(f64::NAN, 0.0), cos), d);
     }
 }

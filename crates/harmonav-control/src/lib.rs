@@ -6,7 +6,9 @@
 //! - [`Kinematic`] (eq. `kinctrl`): `u = −K √(2Θ) ∇Θ/|∇Θ|` for `ẋ = u` under
 //!   [`SpeedPolicy::Paper`]; the default [`SpeedPolicy::Auto`] keeps the direction and moves at
 //!   `s = min(v_max, √(2a|x − x_d|))` with a linear core at the goal, arriving within any
-//!   tolerance in finite time;
+//!   tolerance in finite time; given a nominal heading (on a floor plan, the shortest path's
+//!   direction), the default [`HeadingPolicy::Auto`] turns the direction towards it within
+//!   [`HEADING_CONE_DEG`] of `−∇Θ` ([`steer`]; `docs/maths.md` §13.3);
 //! - [`Dynamic`] (eq. `dynctrllocal`): `f = −μ∇Θ − λ(t)ẋ` for `m ẍ = f`, with the critical
 //!   damping `λ_c` (eq. `critdamp`) while the energy `V = μΘ + ½m|ẋ|²` (eq. `totalenergy`)
 //!   stays below `μ`, and `(m/d_min)|ẋ(T_n)|` otherwise (eq. `dissipationfun`); the speed

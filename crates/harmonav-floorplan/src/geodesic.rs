@@ -21,9 +21,11 @@ use nalgebra::Vector2;
 
 use crate::plan::FloorMap;
 
-/// The most grid nodes [`Geodesic::new`] lays out: the cell grows beyond `δ/2` when the plan's
-/// bounding box would need more (a 100 m × 100 m plan: 0.2 m cells). 250 000 nodes take about
-/// 0.1 s (one parry distance query per node, then the march).
+/// The grid nodes [`Geodesic::new`] aims at: the cell grows beyond `δ/2` when the plan's
+/// bounding box would need more (a 100 m × 100 m plan: 0.2 m cells), but never beyond half the
+/// clearance `s + δ` that `W_δ` keeps from the walls, so a large plan for a small robot can
+/// take more. 250 000 nodes take about 0.09 s (one parry distance query per node, then the
+/// march).
 pub const MAX_NODES: usize = 250_000;
 
 /// The geodesic distance to the goal on a grid over `W_δ` (module docs).
@@ -61,15 +63,23 @@ impl Ord for Trial {
 
 impl Geodesic {
     /// `T` on `floor`'s `W_δ` (`FloorMap::clearance ≥ 0` at the node) towards `goal`, with the
-    /// cell `max(δ/2, √(box area/`[`MAX_NODES`]`))`. The nodes within two cells of the goal
-    /// start at their straight distance to it; the rest is marched. A node that no path of
-    /// free nodes joins to them keeps `+∞` (a door narrower than a cell closes on the grid:
-    /// [`Geodesic::heading`] is then `None` beyond it, and the law falls back to `−∇Θ`).
+    /// cell `min(max(δ/2, √(box area/`[`MAX_NODES`]`)), (s + δ)/2)`. The nodes within two cells
+    /// of the goal start at their straight distance to it; the rest is marched. A node that no
+    /// path of free nodes joins to them keeps `+∞`: a door narrower than a cell closes on the
+    /// grid, and beyond it [`Geodesic::heading`] points along another route if there is one,
+    /// and is `None` otherwise (the law then follows `−∇Θ`). If no node near the goal is free,
+    /// `T` is `+∞` everywhere and the heading is `None` everywhere.
     #[must_use]
     pub fn new(floor: &FloorMap, goal: Vector2<f64>) -> Self {
         let (lo, hi) = floor.domain().bounding_box();
         let size = hi - lo;
-        let cell = (0.5 * floor.delta()).max((size.x * size.y / MAX_NODES as f64).sqrt());
+        // A cell larger than half the clearance r = s + δ that W_δ keeps from the walls could
+        // join nodes across a thin wall (the march links free neighbours, the seeds take the
+        // straight distance): the cell never exceeds r/2, above MAX_NODES if need be.
+        let reach = floor.shrink() + floor.delta();
+        let cell = (0.5 * floor.delta())
+            .max((size.x * size.y / MAX_NODES as f64).sqrt())
+            .min(0.5 * reach);
         let nx = (size.x / cell).ceil() as usize + 1;
         let ny = (size.y / cell).ceil() as usize + 1;
         let origin = lo;
@@ -163,7 +173,9 @@ impl Geodesic {
     /// `x`'s fractions in it, if all four are finite.
     fn corners(&self, x: Vector2<f64>) -> Option<([f64; 4], f64, f64)> {
         let g = (x - self.origin) / self.cell;
-        if !(g.x >= 0.0 && g.y >= 0.0) {
+        // Also refuses NaN, and points beyond the grid before the casts (which saturate).
+        let (top_x, top_y) = ((self.nx - 1) as f64, (self.ny - 1) as f64);
+        if !((0.0..top_x).contains(&g.x) && (0.0..top_y).contains(&g.y)) {
             return None;
         }
         let (i, j) = (g.x.floor() as usize, g.y.floor() as usize);

@@ -265,8 +265,8 @@ impl FloorField {
     /// The nominal heading at `x`, whose evaluation is `e`: the shortest-path direction
     /// [`Geodesic::heading`] if the geodesic distance is built and defined at `x`; `None`
     /// without it, and where `Phi(x) = e.h` lies in the guard disc of a saddle of `phi_k`
-    /// (there the kinematic law is the paper's, so that a saddle attracts only the starts of
-    /// a curve: `docs/maths.md` §13.3).
+    /// (there the kinematic law is the paper's, whose saddles attract only the starts of a
+    /// null set; that this survives the heading elsewhere is assumed, `docs/maths.md` §13.3).
     #[must_use]
     pub fn heading(&self, x: Vector2<f64>, e: &FieldEval) -> Option<Vector2<f64>> {
         let geodesic = self.geodesic.as_ref()?;

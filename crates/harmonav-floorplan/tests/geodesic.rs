@@ -109,3 +109,40 @@ fn the_field_drops_the_heading_in_a_saddle_guard_disc_and_keeps_it_elsewhere() {
     };
     assert_eq!(field.heading(x, &guarded), None);
 }
+
+#[test]
+fn a_sensed_obstacle_keeps_the_geodesic_and_moves_the_saddle_guards() {
+    let room = vec![v(0.0, 0.0), v(6.0, 0.0), v(6.0, 4.0), v(0.0, 4.0)];
+    let floor = Arc::new(FloorMap::new(room, vec![], &FloorOptions::new(0.1, 0.1)).unwrap());
+    let field = FloorField::new(floor, v(5.0, 2.0), KPolicy::default())
+        .unwrap()
+        .with_geodesic();
+    // No hole: no saddle, nothing guarded.
+    assert!(field.point_world().critical_points().is_empty());
+    let box_ = harmonav_transform::StarShape::circle(v(3.0, 2.0), 0.4).unwrap();
+    let sensed = field.with_obstacle(box_).unwrap();
+    assert!(std::ptr::eq(
+        sensed.geodesic().unwrap(),
+        field.geodesic().unwrap()
+    ));
+    let saddles = sensed.point_world().critical_points();
+    assert_eq!(saddles.len(), 1);
+    let x = v(1.0, 2.6);
+    let e = sensed.eval(x).unwrap();
+    assert!(sensed.heading(x, &e).is_some());
+    let guarded = harmonav_field::FieldEval {
+        h: saddles[0].position,
+        ..e
+    };
+    assert_eq!(sensed.heading(x, &guarded), None);
+    // Outside the grid, or not finite: no heading, no panic.
+    let g = sensed.geodesic().unwrap();
+    for p in [
+        v(f64::NAN, 1.0),
+        v(1e300, 1.0),
+        v(-1e300, 2.0),
+        v(2.0, f64::INFINITY),
+    ] {
+        assert!(g.heading(p).is_none() && g.distance(p).is_none());
+    }
+}

@@ -19,3 +19,12 @@ pub fn closed_outline(shape: &StarShape) -> impl Iterator<Item = Vector2<f64>> +
 pub fn outline(shape: &StarShape) -> Vec<(f64, f64)> {
     closed_outline(shape).map(xy).collect()
 }
+
+/// A closed ring (a polygon's vertices, its first vertex again at the end) as plotters points.
+pub fn ring(points: &[Vector2<f64>]) -> Vec<(f64, f64)> {
+    points
+        .iter()
+        .chain(points.first())
+        .map(|&p| xy(p))
+        .collect()
+}

@@ -8,12 +8,11 @@ use std::path::{Path, PathBuf};
 
 use harmonav_scenario::floorplan::FloorPrepared;
 use harmonav_sim::floor::{FloorRun, FloorSummary, navigator};
-use nalgebra::Vector2;
 use plotters::prelude::*;
 
 use crate::atomic::{OutputError, StagedDir};
 use crate::canvas::{Scale, scaled_svg};
-use crate::drawing::xy;
+use crate::drawing::{ring, xy};
 use crate::figures::{
     CHART, Key, LEVELS, draw_legend, draw_level_lines, draw_names, draw_obstacle, draw_path,
     draw_run, err, plane, run_keys, run_title,
@@ -29,15 +28,6 @@ const FLOOR_LEVEL_CELLS: usize = 160;
 
 const WALL_FILL: RGBColor = RGBColor(120, 120, 120);
 const EDGE: RGBColor = RGBColor(150, 150, 150);
-
-/// A closed ring as plotters points.
-fn ring(points: &[Vector2<f64>]) -> Vec<(f64, f64)> {
-    points
-        .iter()
-        .chain(points.first())
-        .map(|&p| xy(p))
-        .collect()
-}
 
 /// `trajectory.svg` of a floor-plan run: `summary` and `run` from the same run of `prepared`.
 /// Drawn like a star world's ([`crate::figures::trajectory_svg`]: at [`Scale::FINE`], the

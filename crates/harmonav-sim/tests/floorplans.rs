@@ -152,6 +152,38 @@ fn bad_floor_plans_name_the_file_field_and_problem() {
     assert!(e.line.is_some() && e.problem.contains("speed"), "{e}");
 }
 
+/// `[robot] heading` reaches the navigator: `"auto"` (the default) builds the geodesic
+/// distance of its nominal heading, `"paper"` does not, and an unknown name is a parse error
+/// naming the policy.
+#[test]
+fn the_heading_of_a_floor_plan_file_reaches_its_navigator() {
+    let file = |robot: &str| {
+        format!(
+            "name = \"x\"\n[floor_plan]\nouter = [[0.0, 0.0], [4.0, 0.0], [4.0, 4.0], [0.0, 4.0]]\n\
+             max_element = 0.2\n[robot]\nmodel = \"kinematic\"\nstart = [1.0, 1.0]\n\
+             goal = [3.0, 3.0]\n{robot}\n"
+        )
+    };
+    for (line, built) in [
+        ("", true),
+        ("heading = \"auto\"", true),
+        ("heading = \"paper\"", false),
+    ] {
+        let prepared = FloorScenario::parse(Path::new("h.toml"), &file(line))
+            .unwrap()
+            .prepare(Path::new("h.toml"))
+            .unwrap();
+        let nav = harmonav_sim::floor::navigator(&prepared, None).unwrap();
+        assert_eq!(nav.field().geodesic().is_some(), built, "{line:?}");
+    }
+    let e = FloorScenario::parse(Path::new("h.toml"), &file("heading = \"straight\"")).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("unknown heading policy \"straight\""),
+        "{e}"
+    );
+}
+
 /// `[floor_plan] map`: a ROS map_server map relative to the scenario file; its problems name
 /// `floor_plan.map` (or the start or goal they are about) and the map file.
 #[test]

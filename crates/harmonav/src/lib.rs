@@ -6,7 +6,7 @@
 //!
 //! [`Navigator`] is the online API for a robot that does not know its map: obstacles are added
 //! as its own perception finds them, and [`Navigator::command`] returns the law's command for
-//! the current state — the velocity `u = −K√(2Θ)∇Θ/|∇Θ|` (eq. `kinctrl`) or the force
+//! the current state — the velocity `u = −s(x)∇Θ/|∇Θ|` (eq. `kinctrl` with a speed policy) or the force
 //! `f = −μ∇Ψ − λẋ` (eq. `dynctrllocal`, `docs/maths.md` §9). Every guarantee of the paper holds
 //! over the obstacles known so far: no collision, never leaving the workspace, convergence from
 //! almost every start, and for the dynamic law the speed bound `√(2μ/m)` and no overshoot.

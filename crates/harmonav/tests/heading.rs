@@ -55,7 +55,8 @@ fn the_auto_heading_goes_round_the_corner_near_the_geodesic_and_the_paper_one_do
     // (1.4, 1.4)) is at least |x − c| + |c − goal| and at most the path through the circle of
     // radius 0.25 about c (four 22.5° chords, their midpoints 0.245 from c and 0.11 from
     // (1.4, 1.4)).
-    let lower = (x - c).norm() + (c - goal).norm();
+    // (The lower bound |x − c| + |c − goal| = 3.45 m is not asserted: the clearance checked at
+    // every step implies it.)
     let r = 0.25;
     let q = |deg: f64| c + r * v(deg.to_radians().cos(), deg.to_radians().sin());
     let arc: f64 = (0..4)
@@ -64,7 +65,6 @@ fn the_auto_heading_goes_round_the_corner_near_the_geodesic_and_the_paper_one_do
     let upper = (x - q(180.0)).norm() + arc + (q(270.0) - goal).norm();
     let auto = fly(HeadingPolicy::Auto, x, goal);
     let paper = fly(HeadingPolicy::Paper, x, goal);
-    assert!(auto >= lower, "{auto} < {lower}");
     // Measured: auto 3.75 m, paper 5.09 m; the bounds 3.45 and 3.67 m.
     assert!(
         auto <= 1.05 * upper,
