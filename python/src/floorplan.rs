@@ -6,6 +6,7 @@ use std::path::PathBuf;
 
 use harmonav_output::floor::write_floor_outputs;
 use harmonav_output::set::check_output_dir;
+use harmonav_rs::HeadingPolicy;
 use harmonav_scenario::floorplan::{FloorPrepared, FloorScenario};
 use harmonav_sim::floor::FloorSummary;
 use harmonav_sim::physics::{Physics, simulate_floor};
@@ -72,7 +73,9 @@ impl FloorPlan {
     /// run: `harmonav run --physics rapier`). `out`, a folder, receives summary.json and
     /// trajectory.svg as one set; it is checked before the run (`ValueError`, nothing run), and
     /// a failure to write after it raises `OSError` whose `result` is the `FloorRunResult`.
-    #[pyo3(signature = (model=None, start=None, out=None, physics="builtin"))]
+    /// `heading` (`"auto"` or `"paper"`; None: the file's `[robot] heading`) is the kinematic
+    /// law's heading policy (docs/maths.md §13.3; the dynamic law ignores it).
+    #[pyo3(signature = (model=None, start=None, out=None, physics="builtin", heading=None))]
     fn run(
         &self,
         py: Python<'_>,
@@ -80,18 +83,29 @@ impl FloorPlan {
         start: Option<&Bound<'_, PyAny>>,
         out: Option<PathBuf>,
         physics: &str,
+        heading: Option<&str>,
     ) -> PyResult<FloorRunResult> {
         let model = self::model(py, model, None)?;
         let physics: Physics = policy(physics)?;
+        let mut chosen;
+        let prepared = match heading {
+            Some(name) => {
+                chosen = self.prepared.clone();
+                chosen.scenario.robot.heading = name
+                    .parse::<HeadingPolicy>()
+                    .map_err(|e| value_error(format!("heading: {e}")))?;
+                &chosen
+            }
+            None => &self.prepared,
+        };
         let start = match start {
             Some(p) => point_like(p, "start")?,
-            None => self.prepared.starts[0],
+            None => prepared.starts[0],
         };
         if let Some(dir) = &out {
             py.detach(|| check_output_dir(dir))
                 .map_err(|e| value_error(format!("out: {e}; nothing was run")))?;
         }
-        let prepared = &self.prepared;
         let result = py
             .detach(|| simulate_floor(prepared, model, start, physics))
             .map_err(|e| value_error(format!("{}: {e}", prepared.path.display())))?;
@@ -126,7 +140,7 @@ impl FloorPlan {
 }
 
 /// The result of `FloorPlan.run`: `summary` (the dict of its summary.json: `reached`,
-/// `outcome`, `time_s`, `min_clearance`, `swept_clearance`, `layer_clearance`, `guarantees`,
+/// `outcome`, `time_s`, `min_clearance`, `swept_clearance`, `layer_clearance`, `heading`, `guarantees`,
 /// …) and `x`, the kept positions (N, 2) from the start to the end.
 #[pyclass(module = "harmonav", frozen, get_all)]
 pub struct FloorRunResult {
