@@ -24,7 +24,7 @@ use crate::plan::FloorMap;
 /// The grid nodes [`Geodesic::new`] aims at: the cell grows beyond `δ/2` when the plan's
 /// bounding box would need more (a 100 m × 100 m plan: 0.2 m cells), but never beyond half the
 /// clearance `s + δ` that `W_δ` keeps from the walls, so a large plan for a small robot can
-/// take more. 250 000 nodes take about 0.09 s (one parry distance query per node, then the
+/// take more, up to 16 times as many (4 million nodes, about 40 MB while marching). 250 000 nodes take about 0.09 s (one parry distance query per node, then the
 /// march).
 pub const MAX_NODES: usize = 250_000;
 
@@ -63,7 +63,8 @@ impl Ord for Trial {
 
 impl Geodesic {
     /// `T` on `floor`'s `W_δ` (`FloorMap::clearance ≥ 0` at the node) towards `goal`, with the
-    /// cell `min(max(δ/2, √(box area/`[`MAX_NODES`]`)), (s + δ)/2)`. The nodes within two cells
+    /// cell `min(max(δ/2, √(box area/`[`MAX_NODES`]`)), (s + δ)/2)`, but at least
+    /// `√(box area/(16·`[`MAX_NODES`]`))`. The nodes within two cells
     /// of the goal start at their straight distance to it; the rest is marched. A node that no
     /// path of free nodes joins to them keeps `+∞`: a door narrower than a cell closes on the
     /// grid, and beyond it [`Geodesic::heading`] points along another route if there is one,
@@ -75,11 +76,15 @@ impl Geodesic {
         let size = hi - lo;
         // A cell larger than half the clearance r = s + δ that W_δ keeps from the walls could
         // join nodes across a thin wall (the march links free neighbours, the seeds take the
-        // straight distance): the cell never exceeds r/2, above MAX_NODES if need be.
+        // straight distance): the cell never exceeds r/2, above MAX_NODES if need be, but
+        // within 16·MAX_NODES (memory: a huge plan for a tiny robot gets the coarser cell, and
+        // its heading may then cut a thin wall on the grid; Θ still keeps the robot out).
         let reach = floor.shrink() + floor.delta();
+        let area = size.x * size.y;
         let cell = (0.5 * floor.delta())
-            .max((size.x * size.y / MAX_NODES as f64).sqrt())
-            .min(0.5 * reach);
+            .max((area / MAX_NODES as f64).sqrt())
+            .min(0.5 * reach)
+            .max((area / (16 * MAX_NODES) as f64).sqrt());
         let nx = (size.x / cell).ceil() as usize + 1;
         let ny = (size.y / cell).ceil() as usize + 1;
         let origin = lo;
