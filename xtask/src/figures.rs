@@ -158,6 +158,28 @@ fn draw_world(
     mark_points(right, ws)
 }
 
+/// Appends to `out` the runs of at least two consecutive points of `line` where `free` holds
+/// (a grid line cut by the obstacles).
+fn free_runs(
+    line: impl Iterator<Item = Vector2<f64>>,
+    free: impl Fn(Vector2<f64>) -> bool,
+    out: &mut Vec<Vec<Vector2<f64>>>,
+) {
+    let mut run: Vec<Vector2<f64>> = Vec::new();
+    for x in line {
+        if free(x) {
+            run.push(x);
+        } else if run.len() > 1 {
+            out.push(std::mem::take(&mut run));
+        } else {
+            run.clear();
+        }
+    }
+    if run.len() > 1 {
+        out.push(run);
+    }
+}
+
 fn nav_transform_figures() -> Result<Vec<String>, String> {
     let (ws, field) = figure_world()?;
     let t = field.transform();
@@ -169,25 +191,15 @@ fn nav_transform_figures() -> Result<Vec<String>, String> {
     for j in 0..=24 {
         let fixed = -6.0 + 0.5 * j as f64;
         for vertical in [false, true] {
-            let mut run: Vec<Vector2<f64>> = Vec::new();
-            for i in 0..=400 {
+            let line = (0..=400).map(|i| {
                 let s = -6.0 + 12.0 * i as f64 / 400.0;
-                let x = if vertical {
+                if vertical {
                     Vector2::new(fixed, s)
                 } else {
                     Vector2::new(s, fixed)
-                };
-                if free(x) {
-                    run.push(x);
-                } else if run.len() > 1 {
-                    grid_lines.push(std::mem::take(&mut run));
-                } else {
-                    run.clear();
                 }
-            }
-            if run.len() > 1 {
-                grid_lines.push(run);
-            }
+            });
+            free_runs(line, free, &mut grid_lines);
         }
     }
     let image = |pts: &[Vector2<f64>]| -> Vec<(f64, f64)> {
@@ -315,25 +327,15 @@ fn harmonic_map_figure() -> Result<Vec<String>, String> {
         let (c, d) = if vertical { (lo.y, hi.y) } else { (lo.x, hi.x) };
         let mut fixed = a + 0.125;
         while fixed < b {
-            let mut run: Vec<Vector2<f64>> = Vec::new();
-            for i in 0..=600 {
+            let line = (0..=600).map(|i| {
                 let t = c + (d - c) * f64::from(i) / 600.0;
-                let x = if vertical {
+                if vertical {
                     Vector2::new(fixed, t)
                 } else {
                     Vector2::new(t, fixed)
-                };
-                if floor.clearance(x) >= 0.0 {
-                    run.push(x);
-                } else if run.len() > 1 {
-                    lines.push(std::mem::take(&mut run));
-                } else {
-                    run.clear();
                 }
-            }
-            if run.len() > 1 {
-                lines.push(run);
-            }
+            });
+            free_runs(line, |x| floor.clearance(x) >= 0.0, &mut lines);
             fixed += 0.25;
         }
     }
