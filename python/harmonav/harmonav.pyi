@@ -288,11 +288,14 @@ class FloorPlan:
         start: Optional[_Point] = None,
         out: Optional[Union[str, PathLike[str]]] = None,
         physics: str = "builtin",
+        heading: Optional[str] = None,
     ) -> FloorRunResult:
         """Runs the loop from ``start`` (default ``robot.start``) under ``model`` without the
         GIL and judges every guarantee (as ``harmonav run`` on the file). ``physics`` is
         ``"builtin"`` or ``"rapier"`` (the walls as colliders, cross-checked against a built-in
-        run; ``harmonav run --physics rapier``). ``out``, a folder,
+        run; ``harmonav run --physics rapier``). ``heading`` (``"auto"`` or ``"paper"``; None:
+        the file's ``[robot] heading``) is the heading policy of either law (docs/maths.md
+        §13.3–13.4). ``out``, a folder,
         receives summary.json and trajectory.svg as one set; it is checked before the run
         (``ValueError``), and a failure to write after it raises ``OSError`` whose ``result``
         is the ``FloorRunResult``."""

@@ -73,8 +73,9 @@ impl FloorPlan {
     /// run: `harmonav run --physics rapier`). `out`, a folder, receives summary.json and
     /// trajectory.svg as one set; it is checked before the run (`ValueError`, nothing run), and
     /// a failure to write after it raises `OSError` whose `result` is the `FloorRunResult`.
-    /// `heading` (`"auto"` or `"paper"`; None: the file's `[robot] heading`) is the kinematic
-    /// law's heading policy (docs/maths.md §13.3; the dynamic law ignores it).
+    /// `heading` (`"auto"` or `"paper"`; None: the file's `[robot] heading`) is the heading
+    /// policy of either law (docs/maths.md §13.3: the dynamic law turns its velocity towards
+    /// the shortest path by a force that does no work).
     #[pyo3(signature = (model=None, start=None, out=None, physics="builtin", heading=None))]
     fn run(
         &self,

@@ -57,7 +57,11 @@ def test_the_heading_policy_shortens_the_kinematic_path_and_is_checked():
     for s in (auto, paper):
         assert s["reached"] and all(g["passed"] for g in s["guarantees"]), s["guarantees"]
     assert auto["path_length"] < 0.85 * paper["path_length"], (auto, paper)
-    assert plan.run(model="dynamic").summary["heading"] is None
+    # The dynamic law takes it too, as a force that does no work (§13.3).
+    dynamic = plan.run(model="dynamic").summary
+    assert dynamic["heading"] == "auto"
+    assert plan.run(model="dynamic", heading="paper").summary["heading"] == "paper"
+    assert dynamic["reached"] and all(g["passed"] for g in dynamic["guarantees"])
     with pytest.raises(ValueError, match='heading: unknown heading policy "straight"'):
         plan.run(heading="straight")
 

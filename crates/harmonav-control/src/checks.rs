@@ -147,9 +147,24 @@ pub fn energy_run_from(
     dt: f64,
     steps: usize,
 ) -> Result<EnergyRun, EvalFailure> {
+    energy_run_toward(field, law, state, |_| None, dt, steps)
+}
+
+/// [`energy_run_from`] under [`Dynamic::force_toward`] with the nominal heading `nominal(x)`:
+/// the law's gyroscopic heading force is added (`None`: none at `x`).
+pub fn energy_run_toward(
+    field: &Field,
+    law: &Dynamic,
+    state: (Vector2<f64>, Vector2<f64>),
+    nominal: impl Fn(Vector2<f64>) -> Option<Vector2<f64>>,
+    dt: f64,
+    steps: usize,
+) -> Result<EnergyRun, EvalFailure> {
+    let calibration = (field.destination_stiffness(), law.scale_shift(field));
     let accel = |x: Vector2<f64>, v: Vector2<f64>| -> Result<Vector2<f64>, EvalFailure> {
         let e = eval(field, x)?;
-        Ok(law.force(field, &e, v, &law.damping(field, &e, v, 0.0)) / law.mass())
+        let d = law.damping(field, &e, v, 0.0);
+        Ok(law.force_toward(calibration, &e, v, &d, nominal(x)) / law.mass())
     };
     let (mut x, mut v) = state;
     let mut last = law.energy(field, &eval(field, x)?, v);

@@ -69,9 +69,52 @@ pub fn steer(descent: Vector2<f64>, nominal: Vector2<f64>, cos_alpha: f64) -> Ve
     cos_alpha * descent + (sin_alpha * side.signum()) * perp
 }
 
+/// `τ` of the dynamic law's heading, s: under [`HeadingPolicy::Auto`] the gyroscopic force
+/// `f_g = m·ω·J ẋ` turns the velocity towards the steered heading `d` at the rate
+/// `ω = χ(Θ)·∠(ẋ, d)/τ` ([`turn_angle`], [`turn_fade`] `χ`; `J` the quarter turn). `f_g ⟂ ẋ`, so it does no work:
+/// `V̇ = −λ|ẋ|²` and the speed bound are the paper's (`docs/maths.md` §13.3). Chosen on the
+/// floor-plan suite and the office of `scenarios/floorplans/` (§13.3 lists the times measured).
+pub const TURN_TIME: f64 = 0.5;
+
+/// `Θ₀` of the dynamic law's heading: below `Θ = Θ₀` the turn rate fades as `Θ/Θ₀`
+/// ([`turn_fade`]), so that the heading force is `O(Θ|ẋ|) = O(|x − x_d|²|ẋ|)` at the goal: of
+/// higher order, the closed loop's linearisation there is the paper's, and with it `λ_c`'s
+/// critical damping (corollary `critdamp`).
+pub const TURN_FADE: f64 = 0.1;
+
+/// `min(1, Θ/`[`TURN_FADE`]`)` (0 for a non-finite or negative `Θ`).
+#[must_use]
+pub fn turn_fade(theta: f64) -> f64 {
+    if theta > 0.0 {
+        (theta / TURN_FADE).min(1.0)
+    } else {
+        0.0
+    }
+}
+
+/// The signed angle from `v` to `d` (`atan2(v × d, v·d)`, in `[−π, π]`); 0 when either is zero
+/// or not finite, where there is nothing to turn.
+#[must_use]
+pub fn turn_angle(v: Vector2<f64>, d: Vector2<f64>) -> f64 {
+    let a = (v.x * d.y - v.y * d.x).atan2(v.dot(&d));
+    if a.is_finite() { a } else { 0.0 }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_turn_angle_is_signed_and_zero_where_undefined() {
+        let v = Vector2::new(2.0, 0.0);
+        for deg in [-170.0f64, -90.0, -1.0, 0.0, 30.0, 120.0] {
+            let a = deg.to_radians();
+            let d = Vector2::new(a.cos(), a.sin());
+            assert!((turn_angle(v, d) - a).abs() < 1e-12, "{deg}");
+        }
+        assert_eq!(turn_angle(Vector2::zeros(), Vector2::new(0.0, 1.0)), 0.0);
+        assert_eq!(turn_angle(v, Vector2::new(f64::NAN, 1.0)), 0.0);
+    }
 
     #[test]
     fn names_round_trip_and_unknown_names_are_rejected() {

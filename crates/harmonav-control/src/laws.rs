@@ -5,7 +5,7 @@ use harmonav_potential::{ln_sigma_prime, sigma};
 use nalgebra::Vector2;
 
 use crate::damping::{Branch, Damping, DampingPolicy};
-use crate::heading::{HEADING_CONE_DEG, HeadingPolicy, steer};
+use crate::heading::{HEADING_CONE_DEG, HeadingPolicy, TURN_TIME, steer, turn_angle, turn_fade};
 use crate::speed::{BRAKING_TIME, LINEAR_CORE, SpeedPolicy};
 
 /// A controller parameter that is not finite and positive (field names follow the scenario
@@ -282,6 +282,7 @@ pub struct Dynamic {
     d_min: f64,
     policy: DampingPolicy,
     world_radius: f64,
+    heading: HeadingPolicy,
 }
 
 impl Dynamic {
@@ -302,6 +303,7 @@ impl Dynamic {
             d_min: positive(d_min, "sensor (d_min)")?,
             policy: DampingPolicy::default(),
             world_radius: REFERENCE_RADIUS,
+            heading: HeadingPolicy::default(),
         })
     }
 
@@ -338,6 +340,74 @@ impl Dynamic {
     /// The damping policy.
     pub fn damping_policy(&self) -> DampingPolicy {
         self.policy
+    }
+
+    /// The same law under the heading policy `heading` ([`Dynamic::force_toward`]).
+    #[must_use]
+    pub fn with_heading(self, heading: HeadingPolicy) -> Self {
+        Self { heading, ..self }
+    }
+
+    /// The heading policy.
+    pub fn heading_policy(&self) -> HeadingPolicy {
+        self.heading
+    }
+
+    /// The direction the velocity is turned towards at a point evaluated as `eval` with the
+    /// nominal unit heading `nominal`: [`steer`]`(−∇Θ/|∇Θ|, nominal, cos α)` under
+    /// [`HeadingPolicy::Auto`]; `None` under [`HeadingPolicy::Paper`], without a nominal
+    /// heading, and at critical points.
+    fn turn_target(&self, eval: &FieldEval, nominal: Option<Vector2<f64>>) -> Option<Vector2<f64>> {
+        match (self.heading, nominal, eval.direction) {
+            (HeadingPolicy::Auto, Some(g), Some(d)) => {
+                Some(steer(d, g, HEADING_CONE_DEG.to_radians().cos()))
+            }
+            _ => None,
+        }
+    }
+
+    /// [`Dynamic::force_for`] plus the gyroscopic heading force `f_g = m·ω·Jẋ`,
+    /// `ω = χ(Θ)·∠(ẋ, d)/τ` ([`turn_angle`], `τ` = [`TURN_TIME`], `χ` = [`turn_fade`], which
+    /// makes `f_g` of higher order at the goal, `J` the quarter turn
+    /// `(x, y) ↦ (−y, x)`, `d` the steered heading of [`HeadingPolicy::Auto`]; `f_g = 0`
+    /// without a nominal heading or under [`HeadingPolicy::Paper`]). `ẋ·f_g = 0`, so
+    /// `V̇ = −λ|ẋ|² − λ_up(ẋ·n)₊²` as without it: no collision, the speed bound and the
+    /// convergence to a critical point of `Ψ` (LaSalle: `V̇ = 0` forces `ẋ = 0`, and then
+    /// `f_g = 0`) are the paper's.
+    pub fn force_toward(
+        &self,
+        calibration: (f64, f64),
+        eval: &FieldEval,
+        velocity: Vector2<f64>,
+        d: &Damping,
+        nominal: Option<Vector2<f64>>,
+    ) -> Vector2<f64> {
+        let f = self.force_for(calibration, eval, velocity, d);
+        match self.turn_target(eval, nominal) {
+            Some(target) => {
+                let omega = turn_fade(eval.value) * turn_angle(velocity, target) / TURN_TIME;
+                f + (self.mass * omega) * Vector2::new(-velocity.y, velocity.x)
+            }
+            None => f,
+        }
+    }
+
+    /// The velocity `v` turned by the gyroscopic heading force over one held period `h`: the
+    /// exact rotation by `χ(Θ)·∠(v, d)·min(1, h/τ)` (so `|v|` is kept, and the turn never
+    /// passes `d`), `v` itself where [`Dynamic::force_toward`] adds no force.
+    pub fn turned(
+        &self,
+        eval: &FieldEval,
+        v: Vector2<f64>,
+        nominal: Option<Vector2<f64>>,
+        h: f64,
+    ) -> Vector2<f64> {
+        let Some(target) = self.turn_target(eval, nominal) else {
+            return v;
+        };
+        let a = turn_fade(eval.value) * turn_angle(v, target) * (h / TURN_TIME).min(1.0);
+        let (s, c) = a.sin_cos();
+        Vector2::new(c * v.x - s * v.y, s * v.x + c * v.y)
     }
 
     /// The mass `m`.

@@ -71,7 +71,10 @@ mod laws;
 mod speed;
 
 pub use damping::{Branch, Damping, DampingPolicy, UnknownDampingPolicy};
-pub use heading::{HEADING_CONE_DEG, HeadingPolicy, UnknownHeadingPolicy, steer};
+pub use heading::{
+    HEADING_CONE_DEG, HeadingPolicy, TURN_FADE, TURN_TIME, UnknownHeadingPolicy, steer, turn_angle,
+    turn_fade,
+};
 pub use laws::{
     ControlError, Dynamic, FAST_BOWL_CORE, FAST_BOWL_WEIGHT, FAST_BRAKING_LENGTH, FAST_RAMP,
     GOVERNOR_BAND, Kinematic, PULL_GAIN, Potential, REFERENCE_RADIUS, UPHILL_GAIN,

@@ -1,11 +1,14 @@
 //! The control laws against the properties the paper proves for them.
 
+use std::f64::consts::PI;
 use std::sync::Arc;
 
-use harmonav_control::checks::{energy_run, energy_run_from, goal_damping, theta_rate};
+use harmonav_control::checks::{
+    energy_run, energy_run_from, energy_run_toward, goal_damping, theta_rate,
+};
 use harmonav_control::{
-    BRAKING_TIME, Branch, DampingPolicy, Dynamic, GOVERNOR_BAND, Kinematic, PULL_GAIN, SpeedPolicy,
-    UPHILL_GAIN,
+    BRAKING_TIME, Branch, DampingPolicy, Dynamic, GOVERNOR_BAND, HEADING_CONE_DEG, HeadingPolicy,
+    Kinematic, PULL_GAIN, SpeedPolicy, TURN_FADE, TURN_TIME, UPHILL_GAIN, steer, turn_fade,
 };
 use harmonav_field::Field;
 use harmonav_transform::random::{self, Kind, Rng};
@@ -74,6 +77,102 @@ fn energy_decreases_and_speed_is_bounded() {
             run.worst_rise
         );
         assert!(run.max_speed < law.speed_bound(), "{}", run.max_speed);
+    }
+}
+
+/// The dynamic law's heading (`docs/maths.md` §13.3): the gyroscopic force `m·ω·Jẋ`,
+/// `ω = ∠(ẋ, d)/τ`, is perpendicular to the velocity with that magnitude; under `"paper"`, or
+/// with no nominal heading, the force is eq. `dynctrllocal`'s exactly; and the held turn keeps
+/// the speed and turns by `min(1, h/τ)` of the angle.
+#[test]
+fn the_heading_force_is_gyroscopic_and_the_held_turn_keeps_the_speed() {
+    let cos = HEADING_CONE_DEG.to_radians().cos();
+    for seed in 0..10 {
+        let (field, mut rng) = world(700 + seed);
+        let law = Dynamic::new(1.5, 10.0, 0.05).unwrap();
+        let calibration = (field.destination_stiffness(), law.scale_shift(&field));
+        let x = random::free_point(&mut rng, field.workspace(), 0.2);
+        let e = field.eval(x).unwrap();
+        let a = rng.uniform(-PI, PI);
+        let v = rng.uniform(0.1, 1.0) * Vector2::new(a.cos(), a.sin());
+        let b = rng.uniform(-PI, PI);
+        let g = Vector2::new(b.cos(), b.sin());
+        let d = law.damping(&field, &e, v, 0.0);
+        let plain = law.force_for(calibration, &e, v, &d);
+        let fg = law.force_toward(calibration, &e, v, &d, Some(g)) - plain;
+        let target = steer(e.direction.unwrap(), g, cos);
+        let angle = (v.x * target.y - v.y * target.x).atan2(v.dot(&target));
+        assert!(
+            fg.dot(&v).abs() <= 1e-12 * fg.norm() * v.norm(),
+            "seed {seed}"
+        );
+        let want = law.mass() * v.norm() * angle.abs() * turn_fade(e.value) / TURN_TIME;
+        assert!(
+            (fg.norm() - want).abs() <= 1e-12 * want.max(1.0),
+            "seed {seed}"
+        );
+        // Counter-clockwise for a positive angle.
+        assert!(angle * (v.x * fg.y - v.y * fg.x) >= 0.0, "seed {seed}");
+        assert_eq!(law.force_toward(calibration, &e, v, &d, None), plain);
+        let paper = law.with_heading(HeadingPolicy::Paper);
+        assert_eq!(paper.force_toward(calibration, &e, v, &d, Some(g)), plain);
+        for h in [0.01, 0.1, TURN_TIME, 2.0] {
+            let w = law.turned(&e, v, Some(g), h);
+            assert!((w.norm() - v.norm()).abs() <= 1e-12 * v.norm());
+            let turned = (v.x * w.y - v.y * w.x).atan2(v.dot(&w));
+            let share = turn_fade(e.value) * (h / TURN_TIME).min(1.0);
+            assert!((turned - share * angle).abs() < 1e-9, "seed {seed} h {h}");
+        }
+        assert_eq!(paper.turned(&e, v, Some(g), 0.1), v);
+        // At the goal the force fades as Θ/Θ₀ (of higher order: the linearisation of
+        // corollary critdamp is the paper's), and it is whole above Θ₀.
+        let goal = field.workspace().destination();
+        for r in [1e-1, 1e-2, 1e-3] {
+            let near = goal + Vector2::new(r, 0.0);
+            let Ok(en) = field.eval(near) else { continue };
+            let dn = law.damping(&field, &en, v, 0.0);
+            let fgn = law.force_toward(calibration, &en, v, &dn, Some(g))
+                - law.force_for(calibration, &en, v, &dn);
+            let most = law.mass() * v.norm() * PI / TURN_TIME * (en.value / TURN_FADE).min(1.0);
+            assert!(fgn.norm() <= most * (1.0 + 1e-12), "seed {seed} r {r}");
+        }
+    }
+    assert_eq!(
+        (turn_fade(0.0), turn_fade(-1.0), turn_fade(f64::NAN)),
+        (0.0, 0.0, 0.0)
+    );
+    assert_eq!((turn_fade(TURN_FADE / 4.0), turn_fade(0.5)), (0.25, 1.0));
+}
+
+/// The heading force does no work: along the closed loop with a nominal heading that always
+/// pulls across the descent (perpendicular to `x − x_d`), `V` still does not increase and the
+/// speed stays below `√(2μ/m)` (RK4, as eq. totalenergy), and the path is not the paper's.
+#[test]
+fn energy_decreases_under_the_heading_force() {
+    for seed in 0..10 {
+        let (field, mut rng) = world(800 + seed);
+        let law = Dynamic::new(1.0, 10.0, 0.05).unwrap();
+        let start = random::free_point(&mut rng, field.workspace(), 0.2);
+        let goal = field.workspace().destination();
+        let swirl = |x: Vector2<f64>| {
+            let r = x - goal;
+            (r.norm() > 0.0).then(|| Vector2::new(-r.y, r.x) / r.norm())
+        };
+        let state = (start, Vector2::zeros());
+        let run = energy_run_toward(&field, &law, state, swirl, 1e-3, 3000).unwrap();
+        // 0.3 s in, before both can have settled at the goal, the paths differ.
+        let early = energy_run_toward(&field, &law, state, swirl, 1e-3, 300).unwrap();
+        let plain = energy_run_from(&field, &law, state, 1e-3, 300).unwrap();
+        assert!(
+            run.worst_rise <= 1e-9,
+            "seed {seed}: V rose by {:e} of itself",
+            run.worst_rise
+        );
+        assert!(run.max_speed < law.speed_bound(), "{}", run.max_speed);
+        assert!(
+            (early.end.0 - plain.end.0).norm() > 1e-3,
+            "seed {seed}: no turn"
+        );
     }
 }
 

@@ -107,8 +107,9 @@ pub struct FloorRobotSpec {
     /// `μ` (dynamic): the speed bound is `√(2μ/m)`.
     #[serde(default = "one")]
     pub mu: f64,
-    /// `heading = "auto"` (the default: the shortest path's direction within 60° of `−∇Θ`) or
-    /// `"paper"` (`−∇Θ`, eq. `kinctrl`), the kinematic law's [`HeadingPolicy`].
+    /// `heading = "auto"` (the default: the shortest path's direction within 60° of `−∇Θ`; the
+    /// dynamic law turns its velocity towards it by a force that does no work) or `"paper"`
+    /// (`−∇Θ`, eqs. `kinctrl` and `dynctrllocal`), both laws' [`HeadingPolicy`].
     #[serde(default, deserialize_with = "crate::scenario::de_policy")]
     pub heading: HeadingPolicy,
 }

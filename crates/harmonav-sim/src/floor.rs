@@ -368,9 +368,8 @@ pub struct FloorSummary {
     pub elements: usize,
     /// Where the goal's image lies in the disk: `"solve"` or `"goal"` (`[floor_plan] centre`).
     pub centre: &'static str,
-    /// The kinematic law's heading policy, `"auto"` or `"paper"` (`[robot] heading`); `None`
-    /// for the dynamic law, which has none.
-    pub heading: Option<&'static str>,
+    /// The heading policy, `"auto"` or `"paper"` (`[robot] heading`), of either law.
+    pub heading: &'static str,
     /// Seconds spent meshing and solving the harmonic map.
     pub setup_s: f64,
     /// `k` at the end.
@@ -489,7 +488,7 @@ impl FloorSummary {
             delta: prepared.floor.delta(),
             elements: prepared.floor.map().elements().len(),
             centre: prepared.floor.centre_policy().as_str(),
-            heading: (model == Model::Kinematic).then(|| r.heading.as_str()),
+            heading: r.heading.as_str(),
             setup_s: prepared.setup_seconds,
             k: run.k,
             commands: run.commands,

@@ -152,8 +152,8 @@ fn bad_floor_plans_name_the_file_field_and_problem() {
     assert!(e.line.is_some() && e.problem.contains("speed"), "{e}");
 }
 
-/// `[robot] heading` reaches the navigator: `"auto"` (the default) builds the geodesic
-/// distance of its nominal heading, `"paper"` does not, and an unknown name is a parse error
+/// `[robot] heading` reaches the navigator under both laws: `"auto"` (the default) builds the
+/// geodesic distance of its nominal heading, `"paper"` does not, and an unknown name is a parse error
 /// naming the policy.
 #[test]
 fn the_heading_of_a_floor_plan_file_reaches_its_navigator() {
@@ -173,8 +173,15 @@ fn the_heading_of_a_floor_plan_file_reaches_its_navigator() {
             .unwrap()
             .prepare(Path::new("h.toml"))
             .unwrap();
-        let nav = harmonav_sim::floor::navigator(&prepared, None).unwrap();
-        assert_eq!(nav.field().geodesic().is_some(), built, "{line:?}");
+        // Both laws take the heading (the dynamic one as its gyroscopic force).
+        for model in [Model::Kinematic, Model::Dynamic] {
+            let nav = harmonav_sim::floor::navigator(&prepared, Some(model)).unwrap();
+            assert_eq!(
+                nav.field().geodesic().is_some(),
+                built,
+                "{line:?} {model:?}"
+            );
+        }
     }
     let e = FloorScenario::parse(Path::new("h.toml"), &file("heading = \"straight\"")).unwrap_err();
     assert!(
@@ -182,6 +189,47 @@ fn the_heading_of_a_floor_plan_file_reaches_its_navigator() {
             .contains("unknown heading policy \"straight\""),
         "{e}"
     );
+}
+
+/// The office (`scenarios/floorplans/map-office.toml`: rooms behind 0.9 m doors, a chair in
+/// the corridor sensed on the way, whose repulsion is a shell a centimetre thick, §13.2) from
+/// its seeded start, docs/maths.md §13.3:
+/// - the dynamic law under `"auto"` (its velocity turned towards the shortest path by the
+///   heading force) arrives within 60 s; under `"paper"` it has not by then (the control: it
+///   needs 182 s);
+/// - the kinematic law under `"paper"` arrives: before the hold slid along the sensed
+///   obstacles' bands it stopped on the chair's shell (0 of 2 starts).
+#[test]
+fn in_the_office_the_heading_force_speeds_the_dynamic_robot_and_the_slide_frees_the_chair() {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenarios")
+        .join(FLOORPLANS)
+        .join("map-office.toml");
+    let mut p = FloorScenario::load(&file).unwrap_or_else(|e| panic!("{e}"));
+    let start = p.starts[1];
+    p.scenario.sim.max_time = 60.0;
+    let mut fly = |model: Model, heading: &str| {
+        p.scenario.robot.heading = heading.parse().unwrap();
+        let r = run(&p, Some(model), start).unwrap();
+        eprintln!(
+            "office, {model:?}, heading {heading}: {} in {:.1} s, {:.2} m from the goal",
+            r.ending.as_str(),
+            r.time,
+            r.final_distance
+        );
+        assert!(r.wall_clearance > 0.0 && r.obstacle_clearance > 0.0);
+        assert!(r.layer_clearance >= 0.0, "left W_δ: {}", r.layer_clearance);
+        assert!(r.sensed >= 1, "the corridor chair sensed");
+        (r.ending, r.final_distance)
+    };
+    let auto = fly(Model::Dynamic, "auto");
+    let paper = fly(Model::Dynamic, "paper");
+    assert_eq!(auto.0, FloorEnding::Reached, "{auto:?}");
+    assert!(
+        paper.0 != FloorEnding::Reached && paper.1 > 1.0,
+        "{paper:?}"
+    );
+    assert_eq!(fly(Model::Kinematic, "paper").0, FloorEnding::Reached);
 }
 
 /// `[floor_plan] map`: a ROS map_server map relative to the scenario file; its problems name

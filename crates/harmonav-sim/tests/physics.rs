@@ -188,22 +188,28 @@ fn u_trap() -> harmonav_scenario::floorplan::FloorPrepared {
 }
 
 /// Issue 25: the floor plan's walls as rapier colliders (the true rings, not the shrunk
-/// `W_s`). The u-trap from its own start under both laws: no contact event, every guarantee
+/// `W_s`). The u-trap from its own start under both laws (the dynamic one under both
+/// headings): no contact event, every guarantee
 /// of the built-in loop on the states rapier made, and the path of the built-in run (the
 /// kinematic command is a velocity held over the period, exactly the built-in step; the
 /// dynamic one a force over 1 ms steps, rapier's semi-implicit Euler).
 #[test]
 fn a_floor_plan_flown_in_rapier_makes_no_contact_under_both_laws() {
-    let p = u_trap();
+    let mut p = u_trap();
     let start = p.starts[0];
-    for model in [Model::Kinematic, Model::Dynamic] {
+    for (model, heading) in [
+        (Model::Kinematic, "auto"),
+        (Model::Dynamic, "auto"),
+        (Model::Dynamic, "paper"),
+    ] {
+        p.scenario.robot.heading = heading.parse().unwrap();
         let (builtin, states) = run_with_states(&p, Some(model), start).unwrap();
         assert_eq!(states.len(), builtin.commands + 1);
         let (r, report) =
             run_floor_rapier(&p, Some(model), start, Drive::Law, Some(&states)).unwrap();
         let summary = FloorSummary::new(&p, Some(model), start, &r);
         eprintln!(
-            "{model:?}: {} in {:.2} s, contacts {}, deviation {:.2e} m, clearance {:.4} m",
+            "{model:?} ({heading}): {} in {:.2} s, contacts {}, deviation {:.2e} m, clearance {:.4} m",
             r.ending.as_str(),
             r.time,
             report.contacts,
@@ -217,7 +223,15 @@ fn a_floor_plan_flown_in_rapier_makes_no_contact_under_both_laws() {
         for kind in [Kind::PhysicsNoContact, Kind::PhysicsDeviation] {
             assert!(summary.guarantees.iter().any(|g| g.kind() == kind));
         }
-        assert!(report.max_deviation < 0.01, "{}", report.max_deviation);
+        // The heading force turns towards a target that jumps at the geodesic grid's cell
+        // edges (docs/maths.md §13.3), so rapier's rounding differences grow more along the
+        // dynamic path under "auto" (measured 2.2e-2 m) than along the paper's flow.
+        let most = if model == Model::Dynamic && heading == "auto" {
+            0.05
+        } else {
+            0.01
+        };
+        assert!(report.max_deviation < most, "{}", report.max_deviation);
         assert_eq!(r.max_deviation, Some(report.max_deviation));
     }
 }

@@ -96,13 +96,16 @@ impl FloorNavigator {
         // boundary's radius.
         let controller = controller.in_world(0.5 * floor.domain().diameter())?;
         let field = FloorField::new(floor, goal, options.k).map_err(NavError::Floor)?;
-        // The nominal heading of the kinematic law's default heading policy: the shortest path
-        // in the walls' W_δ (docs/maths.md §13.3).
-        let field = match &controller {
-            Controller::Kinematic(law) if law.heading_policy() == HeadingPolicy::Auto => {
-                field.with_geodesic()
-            }
-            _ => field,
+        // The nominal heading of the default heading policy, for either law: the shortest path
+        // in the walls' W_δ (docs/maths.md §13.3–13.4).
+        let heading = match &controller {
+            Controller::Kinematic(law) => law.heading_policy(),
+            Controller::Dynamic(law) => law.heading_policy(),
+        };
+        let field = if heading == HeadingPolicy::Auto {
+            field.with_geodesic()
+        } else {
+            field
         };
         let nav = Self {
             controller,
@@ -247,7 +250,8 @@ impl FloorNavigator {
                 // A floor plan's Θ is free of the world's scale already: no shift.
                 let s = self.field.destination_stiffness();
                 let d = law.damping_for((s, 0.0), &e, v, self.speed_at_discovery);
-                (law.force_for((s, 0.0), &e, v, &d), Some(d))
+                let nominal = self.field.heading(x, &e);
+                (law.force_toward((s, 0.0), &e, v, &d, nominal), Some(d))
             }
         };
         Ok(Evaluation {

@@ -279,9 +279,12 @@ fn kinematic_step(
 ///    = w/a − n (w·n)(1/a − 1/(a + b)),  w = v − hμ_p∇Ψ/m,  a = 1 + hλ/m,  b = hλ_up/m,
 /// ```
 ///
+/// turned towards the nominal heading (`Dynamic::turned`, an exact rotation: `|v⁺|` kept),
+/// slid along `∂W_δ` and the sensed obstacles' bands on a floor plan (`Space::slide`),
 /// shortened if needed to `|v⁺| ≤ min(DYNAMIC_FRACTION·d(x)/h, (1 − SPEED_SLACK)√(2μ/m))`,
 /// and the force `f = m(v⁺ − v)/h` that produces it under `v += h f/m`. As `h → 0`,
-/// `f → −μ_p∇Ψ − Λv`, the continuous law of [`Dynamic::force`] (`μ_p` its [`Dynamic::pull`]). The implicit damping contracts
+/// `f → −μ_p∇Ψ − Λv + f_g`, the continuous law of [`Dynamic::force_toward`] (`μ_p` its
+/// [`Dynamic::pull`], `f_g` the heading force, 0 in a star world). The implicit damping contracts
 /// every velocity for every `h` (`|(I + hΛ/m)⁻¹| ≤ 1`), where the explicit one is stable only
 /// for `h(λ + λ_up)/m < 2`.
 pub(crate) fn dynamic(
@@ -303,6 +306,8 @@ pub(crate) fn dynamic(
         let b = h * d.uphill / m;
         next -= n * (climb * (1.0 / a - 1.0 / (a + b)));
     }
+    // The gyroscopic heading force over the period: an exact rotation, `|v⁺|` kept.
+    next = law.turned(e, next, space.heading(x, e), h);
     next = space.slide(x, next, 2.0 * h * next.norm());
     let speed = next.norm();
     let bound = (1.0 - SPEED_SLACK) * law.speed_bound();

@@ -14,7 +14,10 @@ pub enum Law {
         gain: f64,
     },
     /// `mẍ = f` under eq. `dynctrllocal`, `f = −μ∇Ψ − λẋ` with the damping of
-    /// [`crate::Options::damping`]; [`crate::Navigator::command`] returns the force `f`.
+    /// [`crate::Options::damping`]; [`crate::Navigator::command`] returns the force `f`. On a
+    /// floor plan the default [`crate::Options::heading`] adds the gyroscopic force
+    /// `m·ω·Jẋ` that turns `ẋ` towards the shortest path and does no work
+    /// (`docs/maths.md` §13.4).
     Dynamic {
         /// `m > 0`, kg.
         mass: f64,

@@ -131,7 +131,8 @@ pub(crate) fn controller(law: &Law, options: &Options) -> Result<Controller, Nav
         }
         Law::Dynamic { mass, mu } => {
             let law = Dynamic::new(in_range("mass", mass)?, in_range("mu", mu)?, d_min)?
-                .with_damping(options.damping);
+                .with_damping(options.damping)
+                .with_heading(options.heading);
             // Guard: within the ranges √(2μ/m) ≤ √2·1e9; checked, not assumed.
             let bound = law.speed_bound();
             if !(bound.is_finite() && bound > 0.0) {

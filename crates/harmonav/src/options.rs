@@ -77,8 +77,9 @@ pub struct Options {
     /// The kinematic law's top speed `v_max`, m/s; `None` (the default) means `K√2`, the paper
     /// law's top speed.
     pub v_max: Option<f64>,
-    /// The kinematic law's heading policy (default `"auto"`: on a floor plan the shortest
-    /// path's direction within 60° of `−∇Θ`; `docs/maths.md` §13.3).
+    /// Both laws' heading policy (default `"auto"`: on a floor plan the shortest path's
+    /// direction within 60° of `−∇Θ`, followed by the kinematic law and turned towards by the
+    /// dynamic law's gyroscopic force; `docs/maths.md` §13.3–13.4).
     pub heading: HeadingPolicy,
     /// The period `h` for which the robot holds each command, s; `None` (the default) means
     /// [`DEFAULT_KINEMATIC_PERIOD`] (100 Hz) or [`DEFAULT_DYNAMIC_PERIOD`] (1 kHz) by law.
@@ -169,7 +170,7 @@ impl Options {
         Self { speed, ..self }
     }
 
-    /// The heading policy of the kinematic law (ignored by the dynamic law).
+    /// The heading policy of both laws ([`Options::heading`]).
     #[must_use]
     pub fn with_heading(self, heading: HeadingPolicy) -> Self {
         Self { heading, ..self }

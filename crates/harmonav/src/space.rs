@@ -22,8 +22,8 @@ pub(crate) trait Space {
     /// The way out of the blind layer of a shape that is not a circle (`hold::escape`).
     fn escape(&self, x: Vector2<f64>, most: f64) -> Option<(Band, Vector2<f64>, f64)>;
     /// The motion `u` the hold should certify at `x` for a step of length `reach`: `u` itself
-    /// in a star world; on a floor plan, within `reach` of the boundary layer, `u` without its
-    /// component into the layer (a projected descent along `∂W_δ`).
+    /// in a star world; on a floor plan, within `2·reach` of the boundary layer or of a sensed
+    /// obstacle, `u` without its component into it (a projected descent).
     fn slide(&self, x: Vector2<f64>, u: Vector2<f64>, reach: f64) -> Vector2<f64> {
         let _ = (x, reach);
         u
@@ -33,8 +33,9 @@ pub(crate) trait Space {
     /// `Dynamic::scale_shift` of a star world's field; 0 on a floor plan, whose `Θ` is free of
     /// the world's scale already (its harmonic map goes onto the unit disk).
     fn calibration(&self, law: &Dynamic) -> (f64, f64);
-    /// The kinematic law's nominal heading at `x` (evaluated: `e`; `Kinematic::velocity_toward`): none in a
-    /// star world; on a floor plan the shortest-path direction, if built.
+    /// The nominal heading at `x` (evaluated: `e`; `Kinematic::velocity_toward`,
+    /// `Dynamic::turned`): none in a star world; on a floor plan the shortest-path direction,
+    /// if built.
     fn heading(&self, x: Vector2<f64>, e: &FieldEval) -> Option<Vector2<f64>> {
         let _ = (x, e);
         None
@@ -93,22 +94,36 @@ impl Space for FloorField {
         best
     }
 
-    /// Projected descent on `W_δ` (`docs/maths.md` §13): where the step could reach the layer
-    /// (`sd(x) − δ < 2·reach`) and `u` points into it (`u·n > 0`, `n` the unit vector from `x`
-    /// to the nearest point of `∂W_s`), the hold certifies `u − (u·n)n` instead. For the
-    /// kinematic law `u = −c∇Θ`, so `u'·∇Θ = −c|∇Θ − (∇Θ·n)n|² ≤ 0`: still a descent
+    /// Projected descent on `W_δ` minus the sensed obstacles (`docs/maths.md` §13): where the
+    /// step could reach the layer (`sd(x) − δ < 2·reach`) and `u` points into it (`u·n > 0`,
+    /// `n` the unit vector from `x` to the nearest point of `∂W_s`), the hold certifies
+    /// `u − (u·n)n` instead; then the same for each grown sensed obstacle within `2·reach`, with
+    /// `n` the unit vector from `x` to its centre (a star shape's ray). For the kinematic law
+    /// `u = −c∇Θ`, so for any unit `n`, `u'·∇Θ = −c|∇Θ|² + c(∇Θ·n)² ≤ 0`: still a descent
     /// direction (the halving then makes `Θ` decrease). Without it the descent around a
-    /// reflex corner ran into the layer edge and stalled there (the L room: 3 of 7 starts).
+    /// reflex corner ran into the layer edge and stalled there (the L room: 3 of 7 starts),
+    /// and a robot sent round a sensed obstacle whose repulsion is a thin shell (§13.2) stopped
+    /// on it (the office: the clearance cap shortens every step that aims into the shell).
     fn slide(&self, x: Vector2<f64>, u: Vector2<f64>, reach: f64) -> Vector2<f64> {
-        let floor = self.floor();
-        if floor.clearance(x) >= 2.0 * reach {
-            return u;
-        }
-        let Some(n) = floor.toward_boundary(x) else {
-            return u;
+        let project = |u: Vector2<f64>, n: Vector2<f64>| {
+            let into = u.dot(&n);
+            if into > 0.0 { u - into * n } else { u }
         };
-        let into = u.dot(&n);
-        if into > 0.0 { u - into * n } else { u }
+        let floor = self.floor();
+        let mut u = u;
+        if floor.clearance(x) < 2.0 * reach
+            && let Some(n) = floor.toward_boundary(x)
+        {
+            u = project(u, n);
+        }
+        for o in self.transform().obstacles() {
+            let to_centre = o.centre() - x;
+            let far = to_centre.norm() - o.radius_bounds().1;
+            if far < 2.0 * reach && certified::lower(o, x) < 2.0 * reach && to_centre.norm() > 0.0 {
+                u = project(u, to_centre / to_centre.norm());
+            }
+        }
+        u
     }
 
     fn calibration(&self, law: &Dynamic) -> (f64, f64) {
