@@ -72,8 +72,8 @@ pub fn steer(descent: Vector2<f64>, nominal: Vector2<f64>, cos_alpha: f64) -> Ve
 /// `τ` of the dynamic law's heading, s: under [`HeadingPolicy::Auto`] the gyroscopic force
 /// `f_g = m·ω·J ẋ` turns the velocity towards the steered heading `d` at the rate
 /// `ω = χ(Θ)·∠(ẋ, d)/τ` ([`turn_angle`], [`turn_fade`] `χ`; `J` the quarter turn). `f_g ⟂ ẋ`, so it does no work:
-/// `V̇ = −λ|ẋ|²` and the speed bound are the paper's (`docs/maths.md` §13.3). Chosen on the
-/// floor-plan suite and the office of `scenarios/floorplans/` (§13.3 lists the times measured).
+/// `V̇ = −λ|ẋ|²` and the speed bound are the paper's (`docs/maths.md` §13.4). Chosen on the
+/// floor-plan suite, the office included (§13.4 lists the times at 0.25, 0.5 and 1 s).
 pub const TURN_TIME: f64 = 0.5;
 
 /// `Θ₀` of the dynamic law's heading: below `Θ = Θ₀` the turn rate fades as `Θ/Θ₀`

@@ -80,10 +80,10 @@ fn energy_decreases_and_speed_is_bounded() {
     }
 }
 
-/// The dynamic law's heading (`docs/maths.md` §13.3): the gyroscopic force `m·ω·Jẋ`,
-/// `ω = ∠(ẋ, d)/τ`, is perpendicular to the velocity with that magnitude; under `"paper"`, or
+/// The dynamic law's heading (`docs/maths.md` §13.4): the gyroscopic force `m·ω·Jẋ`,
+/// `ω = χ(Θ)·∠(ẋ, d)/τ`, is perpendicular to the velocity with that magnitude; under `"paper"`, or
 /// with no nominal heading, the force is eq. `dynctrllocal`'s exactly; and the held turn keeps
-/// the speed and turns by `min(1, h/τ)` of the angle.
+/// the speed and turns by `χ(Θ)·min(1, h/τ)` of the angle.
 #[test]
 fn the_heading_force_is_gyroscopic_and_the_held_turn_keeps_the_speed() {
     let cos = HEADING_CONE_DEG.to_radians().cos();

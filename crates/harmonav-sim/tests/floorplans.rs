@@ -193,7 +193,7 @@ fn the_heading_of_a_floor_plan_file_reaches_its_navigator() {
 
 /// The office (`scenarios/floorplans/map-office.toml`: rooms behind 0.9 m doors, a chair in
 /// the corridor sensed on the way, whose repulsion is a shell a centimetre thick, §13.2) from
-/// its seeded start, docs/maths.md §13.3:
+/// its seeded start, docs/maths.md §13.4:
 /// - the dynamic law under `"auto"` (its velocity turned towards the shortest path by the
 ///   heading force) arrives within 60 s; under `"paper"` it has not by then (the control: it
 ///   needs 182 s);

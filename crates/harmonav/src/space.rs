@@ -100,7 +100,9 @@ impl Space for FloorField {
     /// `u − (u·n)n` instead; then the same for each grown sensed obstacle within `2·reach`, with
     /// `n` the unit vector from `x` to its centre (a star shape's ray). For the kinematic law
     /// `u = −c∇Θ`, so for any unit `n`, `u'·∇Θ = −c|∇Θ|² + c(∇Θ·n)² ≤ 0`: still a descent
-    /// direction (the halving then makes `Θ` decrease). Without it the descent around a
+    /// direction (the halving then makes `Θ` decrease). After two or more projections (a
+    /// corner of the layer, or an obstacle beside it) that is not proved: the kinematic hold
+    /// checks it (`hold::slid_descent`) and every held step is still certified free. Without it the descent around a
     /// reflex corner ran into the layer edge and stalled there (the L room: 3 of 7 starts),
     /// and a robot sent round a sensed obstacle whose repulsion is a thin shell (§13.2) stopped
     /// on it (the office: the clearance cap shortens every step that aims into the shell).
