@@ -127,15 +127,21 @@ fn the_heading_force_is_gyroscopic_and_the_held_turn_keeps_the_speed() {
         // At the goal the force fades as Θ/Θ₀ (of higher order: the linearisation of
         // corollary critdamp is the paper's), and it is whole above Θ₀.
         let goal = field.workspace().destination();
+        let mut faded = 0;
         for r in [1e-1, 1e-2, 1e-3] {
             let near = goal + Vector2::new(r, 0.0);
             let Ok(en) = field.eval(near) else { continue };
+            faded += usize::from(en.value < TURN_FADE);
             let dn = law.damping(&field, &en, v, 0.0);
             let fgn = law.force_toward(calibration, &en, v, &dn, Some(g))
                 - law.force_for(calibration, &en, v, &dn);
             let most = law.mass() * v.norm() * PI / TURN_TIME * (en.value / TURN_FADE).min(1.0);
             assert!(fgn.norm() <= most * (1.0 + 1e-12), "seed {seed} r {r}");
         }
+        assert!(
+            faded >= 2,
+            "seed {seed}: too few points near the goal in the fade"
+        );
     }
     assert_eq!(
         (turn_fade(0.0), turn_fade(-1.0), turn_fade(f64::NAN)),

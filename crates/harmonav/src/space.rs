@@ -23,7 +23,9 @@ pub(crate) trait Space {
     fn escape(&self, x: Vector2<f64>, most: f64) -> Option<(Band, Vector2<f64>, f64)>;
     /// The motion `u` the hold should certify at `x` for a step of length `reach`: `u` itself
     /// in a star world; on a floor plan, within `2·reach` of the boundary layer or of a sensed
-    /// obstacle, `u` without its component into it (a projected descent).
+    /// obstacle, `u` without its component into it, each projected in turn (a later projection
+    /// can restore some of an earlier one's component: the hold's caps, applied after, keep
+    /// every step certified).
     fn slide(&self, x: Vector2<f64>, u: Vector2<f64>, reach: f64) -> Vector2<f64> {
         let _ = (x, reach);
         u
@@ -98,11 +100,14 @@ impl Space for FloorField {
     /// step could reach the layer (`sd(x) − δ < 2·reach`) and `u` points into it (`u·n > 0`,
     /// `n` the unit vector from `x` to the nearest point of `∂W_s`), the hold certifies
     /// `u − (u·n)n` instead; then the same for each grown sensed obstacle within `2·reach`, with
-    /// `n` the unit vector from `x` to its centre (a star shape's ray). For the kinematic law
+    /// `n` the unit vector from `x` to its centre (a star shape's ray, the normal only for a
+    /// circle). For the kinematic law
     /// `u = −c∇Θ`, so for any unit `n`, `u'·∇Θ = −c|∇Θ|² + c(∇Θ·n)² ≤ 0`: still a descent
     /// direction (the halving then makes `Θ` decrease). After two or more projections (a
     /// corner of the layer, or an obstacle beside it) that is not proved: the kinematic hold
-    /// checks it (`hold::slid_descent`) and every held step is still certified free. Without it the descent around a
+    /// checks it (`hold::slid_descent`) and every held step is still certified free. Where
+    /// `−∇Θ` points exactly at a sensed obstacle's centre the slid `u` is 0 and the hold rests
+    /// there, though it is not a critical point of `Θ` (a null set of states, unstable). Without it the descent around a
     /// reflex corner ran into the layer edge and stalled there (the L room: 3 of 7 starts),
     /// and a robot sent round a sensed obstacle whose repulsion is a thin shell (§13.2) stopped
     /// on it (the office: the clearance cap shortens every step that aims into the shell).
@@ -120,9 +125,15 @@ impl Space for FloorField {
         }
         for o in self.transform().obstacles() {
             let to_centre = o.centre() - x;
-            let far = to_centre.norm() - o.radius_bounds().1;
-            if far < 2.0 * reach && certified::lower(o, x) < 2.0 * reach && to_centre.norm() > 0.0 {
-                u = project(u, to_centre / to_centre.norm());
+            let r = to_centre.norm();
+            // Cheapest first: near the shape's bounding disc, heading towards it, then the
+            // certified distance.
+            if r > 0.0
+                && r - o.radius_bounds().1 < 2.0 * reach
+                && u.dot(&to_centre) > 0.0
+                && certified::lower(o, x) < 2.0 * reach
+            {
+                u = project(u, to_centre / r);
             }
         }
         u
