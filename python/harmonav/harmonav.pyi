@@ -282,6 +282,12 @@ class FloorPlan:
     @property
     def delta(self) -> float:
         """``δ``: the boundary layer's width outside the certified region, m."""
+    def certify_level(self) -> Dict[str, Any]:
+        """``c_δ`` certified over the walls (docs/maths.md §13.5), without the GIL: ``c_delta``
+        (a lower bound of ``Θ`` on the edge of the certified region), ``c_delta_sampled``,
+        ``phi_certified`` and ``phi_sampled`` (the same in ``phi_k``), ``evaluations``,
+        ``unresolved`` and ``starts_certified`` (one bool per row of ``starts``: ``Θ(x₀) <
+        c_δ``: the continuous law's sublevel set through it stays inside ``W_δ``)."""
     def run(
         self,
         model: Optional[str] = None,

@@ -6,13 +6,15 @@ use std::path::PathBuf;
 
 use harmonav_output::floor::write_floor_outputs;
 use harmonav_output::set::check_output_dir;
-use harmonav_rs::HeadingPolicy;
+use harmonav_rs::floorplan::{FloorField, LevelOptions};
+use harmonav_rs::{HeadingPolicy, KPolicy};
 use harmonav_scenario::floorplan::{FloorPrepared, FloorScenario};
 use harmonav_sim::floor::FloorSummary;
 use harmonav_sim::physics::{Physics, simulate_floor};
 use numpy::{PyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::PyOSError;
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 
 use crate::convert::{point_like, policy, rows2, value_error};
 use crate::scenario::{model, to_python};
@@ -128,6 +130,41 @@ impl FloorPlan {
             return Err(err);
         }
         Ok(value)
+    }
+
+    /// `c_δ` certified over the walls (docs/maths.md §13.5), without the GIL: a dict with
+    /// `c_delta` (a lower bound of `Θ` on the edge of the certified region), `c_delta_sampled`
+    /// (the least `Θ` at its samples), the same two as `phi_certified` and `phi_sampled` (in
+    /// `phi_k`, where `Θ` rounds to 1 near the walls), `evaluations`, `unresolved` (cells left
+    /// at the depth limit) and `starts_certified`, one bool per row of `starts`: `Θ(x₀) < c_δ`,
+    /// so the continuous law's sublevel set through it stays inside `W_δ` (the others run under
+    /// the hold, clear at every step).
+    fn certify_level<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let p = &self.prepared;
+        let goal = harmonav_rs::Vector2::new(p.scenario.robot.goal[0], p.scenario.robot.goal[1]);
+        let (level, starts) = py
+            .detach(|| {
+                let field = FloorField::new(p.floor.clone(), goal, KPolicy::default())?;
+                let level = p
+                    .level
+                    .unwrap_or_else(|| field.certify_layer_level(&LevelOptions::default()));
+                let starts: Vec<bool> = p
+                    .starts
+                    .iter()
+                    .map(|&x| field.eval(x).is_ok_and(|e| level.holds(e.phi)))
+                    .collect();
+                Ok::<_, harmonav_rs::floorplan::FloorError>((level, starts))
+            })
+            .map_err(|e| value_error(format!("{}: {e}", p.path.display())))?;
+        let d = PyDict::new(py);
+        d.set_item("c_delta", level.certified())?;
+        d.set_item("c_delta_sampled", level.sampled())?;
+        d.set_item("phi_certified", level.phi_certified)?;
+        d.set_item("phi_sampled", level.phi_sampled)?;
+        d.set_item("evaluations", level.evaluations)?;
+        d.set_item("unresolved", level.unresolved)?;
+        d.set_item("starts_certified", starts)?;
+        Ok(d)
     }
 
     fn __repr__(&self) -> String {

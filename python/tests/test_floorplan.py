@@ -87,3 +87,14 @@ def test_a_bad_floor_plan_is_named(tmp_path):
         harmonav.FloorPlan.load(bad)
     with pytest.raises(ValueError, match="cannot read"):
         harmonav.FloorPlan.load(os.fspath(tmp_path / "missing.toml"))
+
+
+def test_the_certified_level_bounds_the_layer_edge_and_marks_the_starts():
+    plan = harmonav.FloorPlan.load(ROOT / "scenarios" / "floorplans" / "u-trap.toml")
+    c = plan.certify_level()
+    assert 0.0 < c["c_delta"] <= c["c_delta_sampled"] < 1.0
+    assert c["phi_certified"] <= c["phi_sampled"] and c["evaluations"] > 0
+    flags = c["starts_certified"]
+    assert len(flags) == len(plan.starts)
+    # The start beside the goal lies below c_δ; the file's start, across the U, does not.
+    assert flags[1] and not flags[0], flags

@@ -9,6 +9,7 @@ use std::path::Path;
 use harmonav_field::FieldError;
 use harmonav_output::floor::write_floor_outputs;
 use harmonav_output::set::check_output_dir;
+use harmonav_rs::floorplan::LevelOptions;
 use harmonav_scenario::floorplan::{FloorPrepared, FloorScenario, StartsSpec};
 use harmonav_scenario::scenario::read_text;
 use harmonav_sim::floor::{FloorSummary, navigator, obstacle_name};
@@ -52,7 +53,12 @@ pub fn load_floor_starts(
 }
 
 /// `harmonav check` on a floor plan: the file loads and its map is solved.
-pub fn cmd_check_floor(prepared: &FloorPrepared) -> bool {
+///
+/// It also certifies `c_δ` over the walls (`FloorField::certify_layer_level`, docs/maths.md
+/// §13.5) and says which of the file's starts lie below it: from those the continuous law's
+/// sublevel set stays inside `W_δ` (convergence certified where `H`'s certificate holds); from
+/// the others the hold still keeps every step clear.
+pub fn cmd_check_floor(prepared: &FloorPrepared) -> Result<bool, CliError> {
     out!(
         "ok: floor plan, {} boundary elements, {} holes, δ = {} m, solved in {:.2} s",
         prepared.floor.map().elements().len(),
@@ -60,7 +66,44 @@ pub fn cmd_check_floor(prepared: &FloorPrepared) -> bool {
         prepared.floor.delta(),
         prepared.setup_seconds
     );
-    true
+    // The navigator's field before any obstacle is sensed: the walls alone.
+    let nav = navigator(prepared, None).map_err(|error| CliError::Navigator {
+        scenario: prepared.path.clone(),
+        error,
+    })?;
+    let field = nav.field();
+    let level = prepared
+        .level
+        .unwrap_or_else(|| field.certify_layer_level(&LevelOptions::default()));
+    let below: Vec<bool> = prepared
+        .starts
+        .iter()
+        .map(|&s| field.eval(s).is_ok_and(|e| level.holds(e.phi)))
+        .collect();
+    out!(
+        "c_δ = {:.6} certified on the edge of the certified region (sampled least Θ {:.6}, {} \
+         cells{}): {} of {} starts below it, whose sublevel sets stay inside the certified \
+         region; the others run under the hold, clear at every step",
+        level.certified(),
+        level.sampled(),
+        level.evaluations,
+        if level.unresolved > 0 {
+            format!(", {} at the depth limit", level.unresolved)
+        } else {
+            String::new()
+        },
+        below.iter().filter(|&&b| b).count(),
+        below.len()
+    );
+    for (s, b) in prepared.starts.iter().zip(&below) {
+        out!(
+            "  start ({:.3}, {:.3}): {}",
+            s.x,
+            s.y,
+            if *b { "certified" } else { "above c_δ" }
+        );
+    }
+    Ok(true)
 }
 
 /// `harmonav run` on a floor plan: the file's start under its model (or `--model`), every

@@ -231,7 +231,7 @@ fn dispatch(command: Command) -> Result<bool, CliError> {
         }
         Command::Check { scenario } => {
             if floor_plan(&scenario)? {
-                return Ok(floor::cmd_check_floor(&floor::load_floor(&scenario, &[])?));
+                return floor::cmd_check_floor(&floor::load_floor(&scenario, &[])?);
             }
             load(&scenario, None, None).map(|_| {
                 out!("ok");

@@ -173,6 +173,14 @@ fn check_solves_the_map_and_star_world_options_are_refused_by_name() {
     let (code, out, err) = harmonav(&["check", &file]);
     assert_eq!(code, 0, "{err}");
     assert!(out.starts_with("ok: floor plan, "), "{out}");
+    // c_δ certified over the walls, and each start's place against it (the start beside the
+    // goal, (5.02, 0.76), below it; the file's start across the U above it).
+    assert!(
+        out.contains("c_δ = 0.") && out.contains("of 7 starts below it"),
+        "{out}"
+    );
+    assert!(out.contains("start (1.000, 2.100): above c_δ"), "{out}");
+    assert!(out.contains("start (5.024, 0.762): certified"), "{out}");
     for (args, option) in [
         (vec!["run", &file, "--k", "paper"], "--k"),
         (vec!["run", &file, "--damping", "paper"], "--damping"),

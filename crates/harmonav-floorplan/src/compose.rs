@@ -8,6 +8,7 @@ use harmonav_transform::nav::WIDTH_FACTOR;
 use harmonav_transform::radial::{obstacle_map, outer_map};
 use nalgebra::{Matrix2, Vector2};
 
+use crate::level::{Sector, Unenclosed};
 use crate::plan::{CentrePolicy, FloorError, FloorMap};
 
 /// Why `Phi` is not defined at a point.
@@ -330,6 +331,61 @@ impl FloorTransform {
         (self.eps0, self.gain)
     }
 
+    /// An annular sector of the point world that holds `Phi(B(x, ρ))`, for a disc that meets
+    /// no sensed obstacle's band (there `B` is the identity): the enclosure of `H`
+    /// ([`harmonav_harmonic::HarmonicMap::enclosure`], `H(B(x, ρ)) ⊂ B(w, r)`), then the exact
+    /// image of that disc under `M_a` (a disc: [`mobius_disc`]), then `S`, which keeps each ray and stretches the radius monotonically (`ν_ρ ≥ 1`), so a
+    /// disc `B(w', r')` with `|w'| + r' < 1` goes into the radii
+    /// `[ν(max(|w'| − r', 0)), ν(|w'| + r')]` within `asin(r'/|w'|)` of `arg w'`
+    /// (docs/maths.md §13.5).
+    ///
+    /// # Errors
+    /// [`Unenclosed::Band`] if the disc may meet a band; [`Unenclosed::Disk`] if the bound
+    /// of `M_a(H)` reaches the unit circle (or the disc meets an element), where `S` has no
+    /// finite bound: a smaller disc may succeed.
+    pub fn enclose(&self, x: Vector2<f64>, rho: f64) -> Result<Sector, Unenclosed> {
+        if self
+            .bands
+            .iter()
+            .any(|b| (x - b.shape.centre()).norm() < b.reach2.sqrt() + rho)
+        {
+            return Err(Unenclosed::Band);
+        }
+        let e = self
+            .floor
+            .map()
+            .enclosure(x, rho)
+            .map_err(|_| Unenclosed::Disk)?;
+        let (w, r) = (e.eval.value, e.radius);
+        // Guard: the bounds below divide by 1 − |a|(|w| + r) and 1 − |w'| − r'; both must stay
+        // positive (NaN or ∞ fail the comparisons too).
+        if (w.norm() + r).partial_cmp(&1.0) != Some(std::cmp::Ordering::Less) {
+            return Err(Unenclosed::Disk);
+        }
+        let (w, r) = mobius_disc(self.centre, w, r);
+        let t = w.norm();
+        if (t + r).partial_cmp(&1.0) != Some(std::cmp::Ordering::Less) {
+            return Err(Unenclosed::Disk);
+        }
+        let nu = |t: f64| {
+            if t <= 1.0 - self.eps0 {
+                t
+            } else {
+                outer_map(t, 1.0, 0.0, self.eps0, self.gain).nu
+            }
+        };
+        let half_width = if r < t {
+            (r / t).asin()
+        } else {
+            std::f64::consts::PI
+        };
+        Ok(Sector {
+            radii: (nu((t - r).max(0.0)), nu(t + r)),
+            angle: w.y.atan2(w.x),
+            half_width,
+        })
+    }
+
     /// `Phi(x) = S(M_a(H(B(x))))` with `J_Phi = J_S J_M J_H J_B` (chain rule; each factor exact:
     /// `Radial::jacobian` for `B` and `S`, the closed-form `J_H` and `M_a'`). `O(N + n)`, no
     /// allocation.
@@ -393,6 +449,20 @@ impl FloorTransform {
             part,
         })
     }
+}
+
+/// The image `M_a(B(w, r))` of a disc inside the unit disk, exactly: a disc. The diameter of
+/// `B(w, r)` on the line through the pole `1/ā` meets the circle at right angles, so its image
+/// is a line through the image circle's centre, and the images of its two ends are opposite
+/// points of that circle. Returns the image's centre and radius (`(w, r)` when `a = 0`).
+fn mobius_disc(a: Vector2<f64>, w: Vector2<f64>, r: f64) -> (Vector2<f64>, f64) {
+    if a == Vector2::zeros() || r == 0.0 {
+        return (mobius(a, w).0, 0.0_f64.max(r));
+    }
+    let pole = a / a.norm_squared();
+    let u = (pole - w).normalize();
+    let (p, q) = (mobius(a, w + r * u).0, mobius(a, w - r * u).0);
+    (0.5 * (p + q), 0.5 * (p - q).norm())
 }
 
 /// The disk automorphism `M_a(w) = (w − a)/(1 − ā w)` (complex notation, `|a| < 1`) and its

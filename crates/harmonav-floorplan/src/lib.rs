@@ -62,12 +62,14 @@
 
 pub mod compose;
 pub mod geodesic;
+pub mod level;
 pub mod plan;
 pub mod ros_map;
 pub mod theta;
 
 pub use compose::{FloorMapped, FloorTransform, NotFree, Part};
 pub use geodesic::Geodesic;
+pub use level::{LayerLevel, LevelOptions, Sector, Unenclosed};
 pub use plan::{CentrePolicy, FloorError, FloorMap, FloorOptions, UnknownCentrePolicy};
 pub use ros_map::{Cell, MapError, MapMode, MapOptions, MapOutline, MapPoint, MapProblem, RosMap};
 pub use theta::{FloorField, SADDLE_GUARD};

@@ -491,7 +491,8 @@ impl FloorMap {
 
     /// Samples of the edge `∂W_δ` of the certified region, [`EDGE_SPACING`]`·δ` apart (the
     /// wall edges moved by `δ` into the free space and the arcs about the vertices), where
-    /// `c_δ` is measured ([`crate::FloorField::layer_level`]).
+    /// `c_δ` is sampled and its certified bound refined
+    /// ([`crate::FloorField::certify_layer_level`]).
     #[must_use]
     pub fn layer_edge(&self) -> &[Vector2<f64>] {
         &self.edge

@@ -161,29 +161,6 @@ impl FloorField {
         Ok(FieldEval::from_pullback(m.h, &m.jacobian, phi, g))
     }
 
-    /// `c_δ`, the level of `Θ` below which the continuous law's sublevel set stays inside
-    /// `W_δ` (docs/maths.md §13): the least `Θ` over the samples of `∂W_δ`
-    /// ([`FloorMap::layer_edge`], spacing `σ = EDGE_SPACING·δ`), minus the margin
-    /// `max|∇Θ|·σ/2` from the largest sampled gradient. **Sampled, not certified**: the margin
-    /// is an estimate of the Lipschitz constant, not a bound. Samples where `Θ` cannot be
-    /// evaluated (rounding at `sd = δ`) are skipped; returns `(c_δ, skipped)`.
-    #[must_use]
-    pub fn layer_level(&self) -> (f64, usize) {
-        let floor = self.floor();
-        let spacing = crate::plan::EDGE_SPACING * floor.delta();
-        let (mut least, mut slope, mut skipped) = (f64::INFINITY, 0.0_f64, 0);
-        for &p in floor.layer_edge() {
-            match self.eval(p) {
-                Ok(e) => {
-                    least = least.min(e.value);
-                    slope = slope.max(e.gradient.norm());
-                }
-                Err(_) => skipped += 1,
-            }
-        }
-        ((least - 0.5 * spacing * slope).max(0.0), skipped)
-    }
-
     /// Why `Phi` is not defined at `x`, or `None` if it is.
     #[must_use]
     pub fn locate(&self, x: Vector2<f64>) -> Option<NotFree> {

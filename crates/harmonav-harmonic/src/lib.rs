@@ -80,7 +80,7 @@ pub use certificate::{
 };
 pub use domain::{Domain, DomainError, RingId};
 pub use map::{
-    EvalError, FAR_FIELD_MIN_ELEMENTS, FAR_FIELD_TOLERANCE, HarmonicMap, MapEval, Residuals,
-    SetupCost, SolveError,
+    Enclosure, EvalError, FAR_FIELD_MIN_ELEMENTS, FAR_FIELD_TOLERANCE, HarmonicMap, MapEval,
+    Residuals, SetupCost, SolveError,
 };
 pub use mesh::{Element, MAX_ELEMENTS, MeshError, MeshOptions};

@@ -230,6 +230,16 @@ struct Near {
     singular: bool,
 }
 
+/// What [`HarmonicMap::enclosure`] gives: `H` and `J_H` at the disc's centre, and the radius
+/// of a disc about `H(x)` that holds the image of the whole disc.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Enclosure {
+    /// `H(x)` and `J_H(x)` at the centre.
+    pub eval: MapEval,
+    /// `r` with `H(B(x, ρ)) ⊂ B(H(x), r)` (infinite when the disc meets an element).
+    pub radius: f64,
+}
+
 /// Data that several evaluations share: the value, Jacobian and (for the certificate) the
 /// Hessian-norm bounds of both components over a disc of radius `rho` (normalised units).
 pub(crate) struct Bounded {
@@ -631,6 +641,34 @@ impl HarmonicMap {
                 jacobian: Matrix2::new(ux / s, uy / s, vx / s, vy / s),
             },
             hessian: [hu / (s * s), hv / (s * s)],
+        })
+    }
+
+    /// A disc that holds the image of a disc: `H(B(x, ρ)) ⊂ B(H(x), r)` with
+    ///
+    /// ```text
+    /// r = ρ‖J_H(x)‖_F + ½ρ²·√(H_u² + H_v²),   H_u ≥ sup_{B(x,ρ)} ‖∇²u‖₂, H_v likewise,
+    /// ```
+    ///
+    /// Taylor's theorem for each component, with the single-layer Hessian bounds of
+    /// `eval_bounded` (`Σ_j |k_j|·2|E_j|/(d_j − ρ)²`). Certified to rounding; it ignores
+    /// cancellation between elements, so it is loose where the elements are near. `r` is
+    /// infinite when the disc meets an element. Used to bound `Θ` over a cell
+    /// (`harmonav-floorplan`'s certified `c_δ`, docs/maths.md §13.5).
+    ///
+    /// # Errors
+    /// [`EvalError::NonFinite`] for a NaN or infinite point, [`EvalError::AtElementEnd`] at an
+    /// element's end point; a negative or NaN `rho` is [`EvalError::NonFinite`].
+    pub fn enclosure(&self, x: Vector2<f64>, rho: f64) -> Result<Enclosure, EvalError> {
+        if !(rho >= 0.0 && rho.is_finite()) {
+            return Err(EvalError::NonFinite);
+        }
+        let b = self.eval_bounded(x, Some(rho))?;
+        let [hu, hv] = b.hessian;
+        let radius = rho * b.eval.jacobian.norm() + 0.5 * rho * rho * hu.hypot(hv);
+        Ok(Enclosure {
+            eval: b.eval,
+            radius,
         })
     }
 

@@ -72,3 +72,63 @@ fn bad_options_are_typed_errors() {
         })
     ));
 }
+
+/// `H(B(x, ρ)) ⊂ B(H(x), r)`: 400 points of each disc (its rim and a spiral inside) map within
+/// `r` of `H(x)`, for discs about reflex and convex corners of the U world and in the open; the
+/// first-order part `ρ‖J_H(x)‖_F` alone is exceeded by some of them, so the curvature term is
+/// what makes it hold.
+#[test]
+fn the_enclosure_holds_the_image_of_its_disc() {
+    let d = u_world();
+    let map = HarmonicMap::new(&d, &MeshOptions::graded(0.2)).unwrap();
+    let (mut first_order_broken, mut discs) = (0, 0);
+    for &(x, y) in &[
+        (0.6, 1.25),
+        (-0.85, 1.2),
+        (0.0, 0.0),
+        (1.5, -1.5),
+        (0.0, 1.6),
+        (1.3, 0.3),
+    ] {
+        let c = v(x, y);
+        let sd = d.signed_distance(c);
+        for frac in [0.2, 0.5, 0.9] {
+            let rho = frac * sd;
+            let e = map.enclosure(c, rho).unwrap();
+            assert!(e.radius.is_finite() && e.radius > 0.0, "{e:?}");
+            let first = rho * e.eval.jacobian.norm();
+            let mut worst = 0.0_f64;
+            for i in 0..400 {
+                let t = i as f64 * 0.618_033_988_749_895 * std::f64::consts::TAU;
+                let r = if i < 200 {
+                    rho
+                } else {
+                    rho * (i - 200) as f64 / 200.0
+                };
+                let p = c + v(r * t.cos(), r * t.sin());
+                worst = worst.max((map.eval(p).unwrap().value - e.eval.value).norm());
+            }
+            assert!(
+                worst <= e.radius,
+                "disc about {c:?}, rho {rho}: |H(y) − H(x)| = {worst} > r = {}",
+                e.radius
+            );
+            discs += 1;
+            first_order_broken += usize::from(worst > first);
+        }
+    }
+    assert!(
+        first_order_broken > 0,
+        "{discs} discs, none needed the curvature term"
+    );
+    // The disc meeting an element has no finite enclosure; bad radii are typed.
+    assert!(
+        map.enclosure(v(0.0, 1.6), 1.0)
+            .unwrap()
+            .radius
+            .is_infinite()
+    );
+    for rho in [-1.0, f64::NAN, f64::INFINITY] {
+        assert!(map.enclosure(v(0.0, 0.0), rho).is_err());
+    }
+}

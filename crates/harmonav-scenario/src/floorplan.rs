@@ -9,6 +9,7 @@
 //! holes = [[[3, 1], [5, 1], [5, 4], …]]          # any shape (U, L, …)
 //! max_element = 0.2                              # boundary element h (m)
 //! centre = "solve"                               # or "goal" (the goal at the disk centre)
+//! require_certified_start = false                # true: only starts with Θ(x₀) < c_δ
 //! [robot]
 //! model = "kinematic"                            # or "dynamic" (mass, mu)
 //! start = [1, 2.5]
@@ -33,7 +34,9 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use harmonav::{CentrePolicy, FloorMap, FloorOptions, HeadingPolicy, StarShape};
-use harmonav_floorplan::{FloorError, MapOptions, MapPoint, MapProblem};
+use harmonav_floorplan::{
+    FloorError, FloorField, LayerLevel, LevelOptions, MapOptions, MapPoint, MapProblem,
+};
 use harmonav_harmonic::{DomainError, RingId, SolveError};
 use harmonav_transform::random::Rng;
 use nalgebra::Vector2;
@@ -76,6 +79,14 @@ pub struct FloorPlanSpec {
     /// by a disk automorphism; [`harmonav::CentrePolicy`]).
     #[serde(default, deserialize_with = "crate::scenario::de_policy")]
     pub centre: CentrePolicy,
+    /// Run only starts below `c_δ`, the certified least `Θ` on `∂W_δ` over the walls
+    /// (docs/maths.md §13.5): from there the continuous law's sublevel set stays inside `W_δ`,
+    /// so its convergence is certified wherever `H`'s own certificate holds on that set.
+    /// `robot.start` above it is refused with both values, and the seeded starts are drawn
+    /// below it. The default `false` runs every start of `W_δ`: the hold keeps it in `W_δ` and
+    /// clear of every obstacle at every step, but that is all that is certified above `c_δ`.
+    #[serde(default)]
+    pub require_certified_start: bool,
 }
 
 fn default_element() -> f64 {
@@ -201,6 +212,8 @@ pub struct FloorPrepared {
     pub starts: Vec<Vector2<f64>>,
     /// Seconds spent meshing and solving `H`.
     pub setup_seconds: f64,
+    /// `c_δ` over the walls, when `floor_plan.require_certified_start` asked for it.
+    pub level: Option<LayerLevel>,
 }
 
 fn err(path: &Path, field: &str, line: Option<usize>, problem: String) -> ScenarioError {
@@ -408,6 +421,34 @@ impl FloorScenario {
                 ));
             }
         }
+        // With `require_certified_start`: c_δ over the walls, and each start's phi_k below it.
+        let certified = if self.floor_plan.require_certified_start {
+            let field = FloorField::new(floor.clone(), goal, harmonav::KPolicy::default())
+                .map_err(|e| f("robot.goal", e.to_string()))?;
+            let level = field.certify_layer_level(&LevelOptions::default());
+            Some((field, level))
+        } else {
+            None
+        };
+        let below = |p: Vector2<f64>| match &certified {
+            None => Ok(()),
+            Some((field, level)) => match field.eval(p) {
+                Ok(e) if level.holds(e.phi) => Ok(()),
+                Ok(e) => Err(format!(
+                    "{p:?} has Θ = {:.6} (phi_k {:.4}), not below c_δ = {:.6} (phi_k {:.4}), the \
+                     certified least Θ on the edge of the certified region: its sublevel set reaches \
+                     that edge, so its convergence is not certified \
+                     (floor_plan.require_certified_start = true; without it the hold still keeps \
+                     every step clear)",
+                    e.value,
+                    e.phi,
+                    level.certified(),
+                    level.phi_certified
+                )),
+                Err(e) => Err(format!("{p:?}: Θ cannot be evaluated: {e}")),
+            },
+        };
+        below(start).map_err(|p| f("robot.start", p))?;
         let mut starts = vec![start];
         if let Some(spec) = self.starts {
             if spec.count > MAX_STARTS {
@@ -422,13 +463,19 @@ impl FloorScenario {
             while starts.len() < spec.count + 1 {
                 tries += 1;
                 if tries > 10_000 * (spec.count + 1) {
-                    return Err(f("starts", "no free start found in 10⁴ tries".into()));
+                    let what = if certified.is_some() {
+                        "no free start below c_δ (floor_plan.require_certified_start)"
+                    } else {
+                        "no free start"
+                    };
+                    return Err(f("starts", format!("{what} found in 10⁴ tries")));
                 }
                 let p = Vector2::new(rng.uniform(lo.x, hi.x), rng.uniform(lo.y, hi.y));
                 // Away from the goal, and from the layer by a little.
                 if (p - goal).norm() > 1.0
                     && floor.signed_distance(p) > 1.1 * delta
                     && place(p).is_ok()
+                    && below(p).is_ok()
                 {
                     starts.push(p);
                 }
@@ -441,6 +488,7 @@ impl FloorScenario {
             obstacles,
             starts,
             setup_seconds,
+            level: certified.map(|(_, level)| level),
         })
     }
 }

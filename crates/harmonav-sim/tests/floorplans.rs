@@ -152,6 +152,54 @@ fn bad_floor_plans_name_the_file_field_and_problem() {
     assert!(e.line.is_some() && e.problem.contains("speed"), "{e}");
 }
 
+/// `[floor_plan] require_certified_start`: a start above the certified `c_δ` is refused by
+/// name with both levels, one below it is run, and every seeded start is drawn below it (each
+/// checked against the level recomputed here); without the option the same far start loads.
+#[test]
+fn a_required_certificate_refuses_the_starts_above_c_delta_and_draws_the_others_below() {
+    let text = |start: &str, require: bool| {
+        format!(
+            "name = \"x\"\n[floor_plan]\nouter = [[0.0, 0.0], [6.0, 0.0], [6.0, 4.0], [0.0, 4.0]]\n\
+             holes = [[[2.0, 1.0], [4.0, 1.0], [4.0, 3.0], [3.5, 3.0], [3.5, 1.6], [2.5, 1.6], \
+             [2.5, 3.0], [2.0, 3.0]]]\nmax_element = 0.1\nrequire_certified_start = {require}\n\
+             [robot]\nmodel = \"kinematic\"\nstart = {start}\ngoal = [5.2, 2.0]\nradius = 0.1\n\
+             margin = 0.1\n[starts]\ncount = 3\nseed = 5\n"
+        )
+    };
+    check(&text("[0.6, 0.6]", true), "robot.start", "not below c_δ");
+    let path = Path::new("x.toml");
+    let far = FloorScenario::parse(path, &text("[0.6, 0.6]", false))
+        .and_then(|s| s.prepare(path))
+        .unwrap();
+    assert!(far.level.is_none());
+    let p = FloorScenario::parse(path, &text("[4.9, 2.0]", true))
+        .and_then(|s| s.prepare(path))
+        .unwrap();
+    let level = p.level.expect("the level was computed");
+    let field = harmonav::floorplan::FloorField::new(
+        p.floor.clone(),
+        nalgebra::Vector2::new(5.2, 2.0),
+        harmonav::KPolicy::default(),
+    )
+    .unwrap();
+    assert_eq!(p.starts.len(), 4);
+    for &s in &p.starts {
+        let e = field.eval(s).unwrap();
+        assert!(
+            level.holds(e.phi) && e.value < level.certified(),
+            "{s:?}: {e:?}, {level:?}"
+        );
+    }
+    // The far files' seeded starts are not all below it (so the draw is what keeps them there).
+    assert!(
+        far.starts
+            .iter()
+            .any(|&s| !level.holds(field.eval(s).unwrap().phi)),
+        "every start of the plain draw was below c_δ = {}",
+        level.certified()
+    );
+}
+
 /// `[robot] heading` reaches the navigator under both laws: `"auto"` (the default) builds the
 /// geodesic distance of its nominal heading, `"paper"` does not, and an unknown name is a parse error
 /// naming the policy.

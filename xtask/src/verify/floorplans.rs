@@ -2,7 +2,8 @@
 //! of each file (its `robot.start` and the seeded `[starts]`) flown under both laws in the
 //! user's loop around `harmonav::FloorNavigator` (`harmonav_sim::floor::run`), built-in and in
 //! rapier with the walls as colliders (`harmonav_sim::physics::simulate_floor`), and the
-//! Lipschitz certificate of `det J_H > 0`, `|H| < 1` on `W_δ` for each map.
+//! Lipschitz certificate of `det J_H > 0`, `|H| < 1` on `W_δ` for each map, with the certified
+//! level `c_δ` on `∂W_δ`.
 
 use std::path::{Path, PathBuf};
 
@@ -71,19 +72,6 @@ pub fn checks() -> Vec<Check> {
 /// reference of the deviation) also with no contact event.
 fn fly(file: &Path, model: Model, physics: Physics) -> Outcome {
     let p = FloorScenario::load(file).map_err(|e| e.to_string())?;
-    let field = harmonav::floorplan::FloorField::new(
-        p.floor.clone(),
-        nalgebra::Vector2::new(p.scenario.robot.goal[0], p.scenario.robot.goal[1]),
-        harmonav::KPolicy::default(),
-    )
-    .map_err(|e| e.to_string())?;
-    // c_δ over the walls alone (the sensed obstacles are not known at the start).
-    let (level, _) = field.layer_level();
-    let below = p
-        .starts
-        .iter()
-        .filter(|&&s| field.eval(s).is_ok_and(|e| e.value < level))
-        .count();
     let (mut reached, mut bad) = (0, Vec::new());
     let (mut walls, mut obstacles, mut layer, mut slowest) =
         (f64::INFINITY, f64::INFINITY, f64::INFINITY, 0.0_f64);
@@ -128,8 +116,7 @@ fn fly(file: &Path, model: Model, physics: Physics) -> Outcome {
         bad.is_empty() && walls > 0.0 && obstacles > 0.0 && layer >= 0.0 && contacts == 0,
         format!(
             "{reached}/{n} within {} m (slowest {slowest:.1} s), 0 collisions: wall clearance \
-             {walls:.3} m, obstacles {obstacles:.3} m, layer {layer:.1e} m{rapier}; {below}/{n} \
-             starts below c_δ = {level:.3e}; N = {}, δ = {} m, setup {:.2} s{}",
+             {walls:.3} m, obstacles {obstacles:.3} m, layer {layer:.1e} m{rapier}; N = {}, δ = {} m, setup {:.2} s{}",
             p.scenario.sim.arrival,
             p.floor.map().elements().len(),
             p.floor.delta(),
@@ -145,7 +132,9 @@ fn fly(file: &Path, model: Model, physics: Physics) -> Outcome {
 
 /// The certificate's verdict on `W_δ`: a fold or `|H| ≥ 1` fails; "undecided" (no
 /// counterexample, some area neither proven nor refuted: the U's pocket squeeze) is reported
-/// with its area, and the sampled `min det J_H` must be positive.
+/// with its area, and the sampled `min det J_H` must be positive. Then `c_δ`, certified on
+/// `∂W_δ` over the walls (it must be bounded: a cell left unbounded fails), and how many starts
+/// lie below it (docs/maths.md §13.5).
 fn certify(file: &Path) -> Outcome {
     let p = FloorScenario::load(file).map_err(|e| e.to_string())?;
     let c = certificate(&p, CERTIFY_BUDGET)?;
@@ -153,11 +142,25 @@ fn certify(file: &Path) -> Outcome {
         c.verdict,
         harmonav_harmonic::Verdict::Fold { .. } | harmonav_harmonic::Verdict::OutsideDisk { .. }
     );
+    // c_δ over the walls alone (the sensed obstacles are not known at the start).
+    let field = harmonav::floorplan::FloorField::new(
+        p.floor.clone(),
+        nalgebra::Vector2::new(p.scenario.robot.goal[0], p.scenario.robot.goal[1]),
+        harmonav::KPolicy::default(),
+    )
+    .map_err(|e| e.to_string())?;
+    let level = field.certify_layer_level(&harmonav::floorplan::LevelOptions::default());
+    let below = p
+        .starts
+        .iter()
+        .filter(|&&s| field.eval(s).is_ok_and(|e| level.holds(e.phi)))
+        .count();
     outcome(
-        !bad && c.extremes.min_det > 0.0,
+        !bad && c.extremes.min_det > 0.0 && level.phi_certified.is_finite(),
         format!(
             "{} on W_δ (δ = {} m): certified {:.2} m², undecided {:.3} m², {} evaluations, \
-             sampled min det J_H {:.1e}, max |H| {:.4}",
+             sampled min det J_H {:.1e}, max |H| {:.4}; c_δ = {:.4} certified on ∂W_δ \
+             (sampled {:.4}, {} cells, {} unresolved), {below}/{} starts below it",
             c.verdict.as_str(),
             c.delta,
             c.certified_area,
@@ -165,6 +168,11 @@ fn certify(file: &Path) -> Outcome {
             c.evaluations,
             c.extremes.min_det,
             c.extremes.max_norm,
+            level.certified(),
+            level.sampled(),
+            level.evaluations,
+            level.unresolved,
+            p.starts.len(),
         ),
     )
 }

@@ -1,0 +1,239 @@
+//! The certified level `c_δ`: a lower bound of `Θ` on the edge `∂W_δ` of the certified region,
+//! by interval bounds on a covering of `∂W_δ` (docs/maths.md §13.5).
+//!
+//! Each cell is a disc `B(x, ρ)`. [`FloorTransform::enclose`] gives an annular sector `A` of
+//! the point world that holds `Phi` of the disc; on `A`
+//!
+//! ```text
+//! phi_k ≥ ln d_min(P_d, A)² − (1/k) Σ_i ln d_max(P_i, A)²,      Θ = sigma(phi_k) ≥ sigma(that)
+//! ```
+//!
+//! (`sigma` increases), with `d_min` and `d_max` exact for a sector ([`Sector`]). Cells start
+//! on a grid of half-diagonal `δ/3`, are kept while they may meet `∂W_δ` (`|sd(x) − δ| ≤ ρ`,
+//! `sd` 1-Lipschitz) and are split in four while their bound is below the sampled least value
+//! less a tolerance, up to a depth and an evaluation budget.
+
+use harmonav_potential::sigma;
+use nalgebra::Vector2;
+
+use crate::theta::FloorField;
+
+/// An annular sector `{r·(cos t, sin t) : r ∈ [r_lo, r_hi], |t − angle| ≤ half_width}` of the
+/// point world (`half_width ≥ π`: the whole annulus).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sector {
+    /// `(r_lo, r_hi)`, `0 ≤ r_lo ≤ r_hi`.
+    pub radii: (f64, f64),
+    /// The direction of its axis, radians.
+    pub angle: f64,
+    /// Its half opening, radians.
+    pub half_width: f64,
+}
+
+/// Why [`crate::FloorTransform::enclose`] gave no sector.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Unenclosed {
+    /// The disc may meet a sensed obstacle's band, where `B` is not the identity.
+    Band,
+    /// The bound of `M_a(H)` on the disc reaches the unit circle (or the disc meets an
+    /// element): `S` has no finite bound there.
+    Disk,
+}
+
+impl Sector {
+    fn full(&self) -> bool {
+        self.half_width >= std::f64::consts::PI
+    }
+
+    /// The signed angle from the axis to `p`'s direction, in `(−π, π]`.
+    fn offset(&self, p: Vector2<f64>) -> f64 {
+        let d = p.y.atan2(p.x) - self.angle;
+        d.sin().atan2(d.cos())
+    }
+
+    /// The corner `r·(cos, sin)(angle + side·half_width)`.
+    fn corner(&self, r: f64, side: f64) -> Vector2<f64> {
+        let t = self.angle + side * self.half_width;
+        Vector2::new(r * t.cos(), r * t.sin())
+    }
+
+    /// `min_{y ∈ A} |y − p|`: along `p`'s own ray when its direction lies in the opening
+    /// (`|p − y|² = |p|² + s² − 2|p|s cos β ≥ (|p| − s)²`), else on one of the two straight
+    /// edges (on an arc the nearest point is the arc's end).
+    #[must_use]
+    pub fn min_distance(&self, p: Vector2<f64>) -> f64 {
+        let (lo, hi) = self.radii;
+        let rp = p.norm();
+        if self.full() || self.offset(p).abs() <= self.half_width {
+            return (rp - rp.clamp(lo, hi)).abs();
+        }
+        [-1.0, 1.0]
+            .into_iter()
+            .map(|side| {
+                let (a, b) = (self.corner(lo, side), self.corner(hi, side));
+                let ab = b - a;
+                let l2 = ab.norm_squared();
+                let t = if l2 > 0.0 {
+                    ((p - a).dot(&ab) / l2).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                (p - (a + t * ab)).norm()
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// `max_{y ∈ A} |y − p|`: `|y − p|` is convex, so its maximum over `A` is on the two arcs
+    /// (straight edges take theirs at the corners); on an arc of radius `R` it is `|p| + R` if
+    /// the direction of `−p` lies in the opening, else at an end.
+    #[must_use]
+    pub fn max_distance(&self, p: Vector2<f64>) -> f64 {
+        let rp = p.norm();
+        let (lo, hi) = self.radii;
+        if self.full() || (std::f64::consts::PI - self.offset(p).abs()) <= self.half_width {
+            return rp + hi;
+        }
+        [lo, hi]
+            .into_iter()
+            .flat_map(|r| [self.corner(r, -1.0), self.corner(r, 1.0)])
+            .map(|c| (c - p).norm())
+            .fold(0.0, f64::max)
+    }
+}
+
+/// Options of [`FloorField::certify_layer_level`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LevelOptions {
+    /// How many times a first cell may be split in four (default 8: cells down to `δ/768`).
+    pub max_depth: u32,
+    /// The most cells evaluated (default 400 000, about a second at `N` = 2 000).
+    pub max_evaluations: usize,
+    /// A cell is done when its bound of `phi_k` is within this of the sampled least `phi_k`
+    /// (default 0.05: `1 − Θ` within about 5 %).
+    pub tolerance: f64,
+}
+
+impl Default for LevelOptions {
+    fn default() -> Self {
+        Self {
+            max_depth: 8,
+            max_evaluations: 400_000,
+            tolerance: 0.05,
+        }
+    }
+}
+
+/// What [`FloorField::certify_layer_level`] found, in `phi_k` (log space: near the walls `Θ`
+/// is within rounding of 1, `phi_k` is not) and in `Θ = sigma(phi_k)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LayerLevel {
+    /// A lower bound of `phi_k ∘ Phi` on all of `∂W_δ` (to rounding); `−∞` when some cell
+    /// could not be bounded.
+    pub phi_certified: f64,
+    /// The least `phi_k ∘ Phi` at the samples of `∂W_δ` ([`crate::FloorMap::layer_edge`]), no
+    /// margin: an upper bound of the true least value.
+    pub phi_sampled: f64,
+    /// Cells evaluated.
+    pub evaluations: usize,
+    /// Cells left at the depth or budget limit with a bound below the sampled value less the
+    /// tolerance (their bound is in `phi_certified`).
+    pub unresolved: usize,
+}
+
+impl LayerLevel {
+    /// `c_δ = sigma(phi_certified)`, certified.
+    #[must_use]
+    pub fn certified(&self) -> f64 {
+        sigma(self.phi_certified)
+    }
+
+    /// `sigma(phi_sampled)`, the sampled least `Θ` on `∂W_δ`.
+    #[must_use]
+    pub fn sampled(&self) -> f64 {
+        sigma(self.phi_sampled)
+    }
+
+    /// Whether a start with `phi_k(Phi(x₀)) = phi` is certified: `Θ(x₀) < c_δ`, so the
+    /// continuous law's sublevel set through it stays inside `W_δ` (compared in `phi_k`, which
+    /// `sigma` orders the same way without rounding to 1).
+    #[must_use]
+    pub fn holds(&self, phi: f64) -> bool {
+        phi < self.phi_certified
+    }
+}
+
+impl FloorField {
+    /// The least `phi_k` on a sector, from below (`−∞` if it may hold `P_d`).
+    fn phi_lower(&self, a: &Sector) -> f64 {
+        let world = self.point_world();
+        let near = a.min_distance(world.destination());
+        let far: f64 = world
+            .obstacles()
+            .iter()
+            .map(|&p| a.max_distance(p).powi(2).ln())
+            .sum();
+        near.powi(2).ln() - far / world.k()
+    }
+
+    /// `c_δ` certified: a lower bound of `Θ` on `∂W_δ` by the covering of the module docs, next
+    /// to the sampled least value. With sensed obstacles the bound is of the current field (`k`
+    /// and the point world change at each discovery); their bands lie in `W_δ` at a positive
+    /// distance from `∂W_δ`, and cells that may meet them are split until they do not.
+    #[must_use]
+    pub fn certify_layer_level(&self, options: &LevelOptions) -> LayerLevel {
+        let floor = self.floor();
+        let delta = floor.delta();
+        let sampled = floor
+            .layer_edge()
+            .iter()
+            .filter_map(|&p| self.eval(p).ok())
+            .map(|e| e.phi)
+            .fold(f64::INFINITY, f64::min);
+        let target = sampled - options.tolerance;
+        let (lo, hi) = floor.map().domain().bounding_box();
+        let w0 = delta / (3.0 * std::f64::consts::SQRT_2);
+        let nx = ((hi.x - lo.x) / (2.0 * w0)).ceil().max(1.0) as usize;
+        let ny = ((hi.y - lo.y) / (2.0 * w0)).ceil().max(1.0) as usize;
+        let mut stack: Vec<(Vector2<f64>, f64, u32)> = Vec::new();
+        for i in 0..nx {
+            for j in 0..ny {
+                let c = lo + Vector2::new(2.0 * i as f64 + 1.0, 2.0 * j as f64 + 1.0) * w0;
+                stack.push((c, w0, 0));
+            }
+        }
+        let mut out = LayerLevel {
+            phi_certified: sampled,
+            phi_sampled: sampled,
+            evaluations: 0,
+            unresolved: 0,
+        };
+        while let Some((c, w, depth)) = stack.pop() {
+            let rho = w * std::f64::consts::SQRT_2;
+            let sd = floor.signed_distance(c);
+            // sd is 1-Lipschitz: a cell with |sd(c) − δ| > ρ does not meet ∂W_δ.
+            if (sd - delta).abs().partial_cmp(&rho) == Some(std::cmp::Ordering::Greater)
+                || sd.is_nan()
+            {
+                continue;
+            }
+            let can_split = depth < options.max_depth && out.evaluations < options.max_evaluations;
+            out.evaluations += 1;
+            let phi = match self.transform().enclose(c, rho) {
+                Ok(a) => self.phi_lower(&a),
+                Err(_) => f64::NEG_INFINITY,
+            };
+            if phi >= target {
+                out.phi_certified = out.phi_certified.min(phi);
+            } else if can_split {
+                let h = w / 2.0;
+                for (sx, sy) in [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)] {
+                    stack.push((c + Vector2::new(sx, sy) * h, h, depth + 1));
+                }
+            } else {
+                out.unresolved += 1;
+                out.phi_certified = out.phi_certified.min(phi);
+            }
+        }
+        out
+    }
+}
