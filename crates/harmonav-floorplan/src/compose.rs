@@ -8,8 +8,8 @@ use harmonav_transform::nav::WIDTH_FACTOR;
 use harmonav_transform::radial::{obstacle_map, outer_map};
 use nalgebra::{Matrix2, Vector2};
 
-use crate::level::{Sector, Unenclosed};
 use crate::plan::{CentrePolicy, FloorError, FloorMap};
+use crate::sector::{Sector, Unenclosed};
 
 /// Why `Phi` is not defined at a point.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -334,8 +334,10 @@ impl FloorTransform {
     /// An annular sector of the point world that holds `Phi(B(x, ρ))`, for a disc that meets
     /// no sensed obstacle's band (there `B` is the identity): the enclosure of `H`
     /// ([`harmonav_harmonic::HarmonicMap::enclosure`], `H(B(x, ρ)) ⊂ B(w, r)`), then the exact
-    /// image of that disc under `M_a` (a disc: [`mobius_disc`]), then `S`, which keeps each ray and stretches the radius monotonically (`ν_ρ ≥ 1`), so a
-    /// disc `B(w', r')` with `|w'| + r' < 1` goes into the radii
+    /// image of that disc under `M_a` (a disc: the ends of its diameter through the pole map to
+    /// opposite points of the image circle), then `S`, which keeps each ray and stretches the
+    /// radius monotonically (`ν_ρ ≥ 1`), so a disc `B(w', r')` with `|w'| + r' < 1` goes into
+    /// the radii
     /// `[ν(max(|w'| − r', 0)), ν(|w'| + r')]` within `asin(r'/|w'|)` of `arg w'`
     /// (docs/maths.md §13.5).
     ///

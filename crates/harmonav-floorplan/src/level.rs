@@ -1,7 +1,7 @@
 //! The certified level `c_δ`: a lower bound of `Θ` on the edge `∂W_δ` of the certified region,
 //! by interval bounds on a covering of `∂W_δ` (docs/maths.md §13.5).
 //!
-//! Each cell is a disc `B(x, ρ)`. [`FloorTransform::enclose`] gives an annular sector `A` of
+//! Each cell is a disc `B(x, ρ)`. [`crate::FloorTransform::enclose`] gives an annular sector `A` of
 //! the point world that holds `Phi` of the disc; on `A`
 //!
 //! ```text
@@ -16,90 +16,8 @@
 use harmonav_potential::sigma;
 use nalgebra::Vector2;
 
+use crate::sector::Sector;
 use crate::theta::FloorField;
-
-/// An annular sector `{r·(cos t, sin t) : r ∈ [r_lo, r_hi], |t − angle| ≤ half_width}` of the
-/// point world (`half_width ≥ π`: the whole annulus).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Sector {
-    /// `(r_lo, r_hi)`, `0 ≤ r_lo ≤ r_hi`.
-    pub radii: (f64, f64),
-    /// The direction of its axis, radians.
-    pub angle: f64,
-    /// Its half opening, radians.
-    pub half_width: f64,
-}
-
-/// Why [`crate::FloorTransform::enclose`] gave no sector.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Unenclosed {
-    /// The disc may meet a sensed obstacle's band, where `B` is not the identity.
-    Band,
-    /// The bound of `M_a(H)` on the disc reaches the unit circle (or the disc meets an
-    /// element): `S` has no finite bound there.
-    Disk,
-}
-
-impl Sector {
-    fn full(&self) -> bool {
-        self.half_width >= std::f64::consts::PI
-    }
-
-    /// The signed angle from the axis to `p`'s direction, in `(−π, π]`.
-    fn offset(&self, p: Vector2<f64>) -> f64 {
-        let d = p.y.atan2(p.x) - self.angle;
-        d.sin().atan2(d.cos())
-    }
-
-    /// The corner `r·(cos, sin)(angle + side·half_width)`.
-    fn corner(&self, r: f64, side: f64) -> Vector2<f64> {
-        let t = self.angle + side * self.half_width;
-        Vector2::new(r * t.cos(), r * t.sin())
-    }
-
-    /// `min_{y ∈ A} |y − p|`: along `p`'s own ray when its direction lies in the opening
-    /// (`|p − y|² = |p|² + s² − 2|p|s cos β ≥ (|p| − s)²`), else on one of the two straight
-    /// edges (on an arc the nearest point is the arc's end).
-    #[must_use]
-    pub fn min_distance(&self, p: Vector2<f64>) -> f64 {
-        let (lo, hi) = self.radii;
-        let rp = p.norm();
-        if self.full() || self.offset(p).abs() <= self.half_width {
-            return (rp - rp.clamp(lo, hi)).abs();
-        }
-        [-1.0, 1.0]
-            .into_iter()
-            .map(|side| {
-                let (a, b) = (self.corner(lo, side), self.corner(hi, side));
-                let ab = b - a;
-                let l2 = ab.norm_squared();
-                let t = if l2 > 0.0 {
-                    ((p - a).dot(&ab) / l2).clamp(0.0, 1.0)
-                } else {
-                    0.0
-                };
-                (p - (a + t * ab)).norm()
-            })
-            .fold(f64::INFINITY, f64::min)
-    }
-
-    /// `max_{y ∈ A} |y − p|`: `|y − p|` is convex, so its maximum over `A` is on the two arcs
-    /// (straight edges take theirs at the corners); on an arc of radius `R` it is `|p| + R` if
-    /// the direction of `−p` lies in the opening, else at an end.
-    #[must_use]
-    pub fn max_distance(&self, p: Vector2<f64>) -> f64 {
-        let rp = p.norm();
-        let (lo, hi) = self.radii;
-        if self.full() || (std::f64::consts::PI - self.offset(p).abs()) <= self.half_width {
-            return rp + hi;
-        }
-        [lo, hi]
-            .into_iter()
-            .flat_map(|r| [self.corner(r, -1.0), self.corner(r, 1.0)])
-            .map(|c| (c - p).norm())
-            .fold(0.0, f64::max)
-    }
-}
 
 /// Options of [`FloorField::certify_layer_level`].
 #[derive(Clone, Copy, Debug, PartialEq)]

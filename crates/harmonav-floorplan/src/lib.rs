@@ -65,11 +65,13 @@ pub mod geodesic;
 pub mod level;
 pub mod plan;
 pub mod ros_map;
+pub mod sector;
 pub mod theta;
 
 pub use compose::{FloorMapped, FloorTransform, NotFree, Part};
 pub use geodesic::Geodesic;
-pub use level::{LayerLevel, LevelOptions, Sector, Unenclosed};
+pub use level::{LayerLevel, LevelOptions};
 pub use plan::{CentrePolicy, FloorError, FloorMap, FloorOptions, UnknownCentrePolicy};
 pub use ros_map::{Cell, MapError, MapMode, MapOptions, MapOutline, MapPoint, MapProblem, RosMap};
+pub use sector::{Sector, Unenclosed};
 pub use theta::{FloorField, SADDLE_GUARD};
