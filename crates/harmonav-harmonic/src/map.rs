@@ -246,6 +246,11 @@ pub(crate) struct Bounded {
     pub eval: MapEval,
     /// `sup ‖∇²u‖₂` and `sup ‖∇²v‖₂` over the disc (world units), infinite if it meets Γ.
     pub hessian: [f64; 2],
+    /// `∇²u(x)` and `∇²v(x)` exactly (world units; zero without a disc).
+    pub hessian_at: [Matrix2<f64>; 2],
+    /// `sup |F'''|` of `u` and of `v` over the disc (`u = Re F`): bounds of the third
+    /// derivatives, `Σ_j |k_j|·4|E_j|/(d_j − ρ)³`; infinite if the disc meets Γ.
+    pub third: [f64; 2],
 }
 
 impl HarmonicMap {
@@ -602,6 +607,9 @@ impl HarmonicMap {
         let (mut u, mut v) = (0.0, 0.0);
         let (mut ux, mut uy, mut vx, mut vy) = (0.0, 0.0, 0.0, 0.0);
         let (mut hu, mut hv) = (0.0, 0.0);
+        // Σ k_j F_j''(z) of u and v as complex numbers (re, im), and the third-derivative bounds.
+        let (mut su, mut sv) = ((0.0, 0.0), (0.0, 0.0));
+        let (mut tu, mut tv) = (0.0, 0.0);
         for p in &self.panels {
             let dx = z.x - p.centre[0];
             let dy = z.y - p.centre[1];
@@ -632,15 +640,37 @@ impl HarmonicMap {
                 };
                 hu += p.ku.abs() * w;
                 hv += p.kv.abs() * w;
+                // The element's W = 2 Re G, G(z) = ∫ log(z − t) dt over [−a, a] (local
+                // z = xo + i·yo), so F = 2G has F'' = −4a/(z² − a²) and
+                // |F'''| = |4∫dt/(z − t)³| ≤ 8a/(d − ρ)³ on the disc. In world axes
+                // F''_w = F''·(t_x − i·t_y)² (d/dz_w = e^{−iα} d/dz).
+                let t3 = if gap > 0.0 {
+                    8.0 * p.half / (gap * gap * gap)
+                } else {
+                    f64::INFINITY
+                };
+                tu += p.ku.abs() * t3;
+                tv += p.kv.abs() * t3;
+                let (dr, di) = (xo * xo - yo * yo - p.half * p.half, 2.0 * xo * yo);
+                let d2 = dr * dr + di * di;
+                let (fr, fi) = (-4.0 * p.half * dr / d2, 4.0 * p.half * di / d2);
+                let (rr, ri) = (tx * tx - ty * ty, -2.0 * tx * ty);
+                let (wr, wi) = (fr * rr - fi * ri, fr * ri + fi * rr);
+                su = (su.0 + p.ku * wr, su.1 + p.ku * wi);
+                sv = (sv.0 + p.kv * wr, sv.1 + p.kv * wi);
             }
         }
         let s = self.scale;
+        // u = Re F: u_xx = Re F'', u_xy = −Im F'', u_yy = −u_xx (harmonic).
+        let hess = |(re, im): (f64, f64)| Matrix2::new(re, -im, -im, -re) / (s * s);
         Ok(Bounded {
             eval: MapEval {
                 value: Vector2::new(u, v) + self.constant,
                 jacobian: Matrix2::new(ux / s, uy / s, vx / s, vy / s),
             },
             hessian: [hu / (s * s), hv / (s * s)],
+            hessian_at: [hess(su), hess(sv)],
+            third: [tu / (s * s * s), tv / (s * s * s)],
         })
     }
 

@@ -132,3 +132,22 @@ fn the_enclosure_holds_the_image_of_its_disc() {
         assert!(map.enclosure(v(0.0, 0.0), rho).is_err());
     }
 }
+
+/// The U's pocket, where `det J_H` is 1e-9–1e-6 and the first-order bound left area undecided
+/// (docs/maths.md §11), is certified with the second-order cells, every cell of `W_δ` decided.
+#[test]
+fn the_pocket_is_certified_by_the_second_order_cells() {
+    let d = u_world();
+    let map = HarmonicMap::new(&d, &MeshOptions::graded(0.1)).unwrap();
+    let delta = map.max_element_length();
+    let opts = CertifyOptions {
+        max_evaluations: 200_000,
+        ..CertifyOptions::new(delta)
+    };
+    let c = certify(&map, &opts).unwrap();
+    assert_eq!(c.verdict, Verdict::Certified, "{c:?}");
+    assert!(
+        c.undecided_area == 0.0 && c.extremes.min_det < 1e-6,
+        "{c:?}"
+    );
+}
