@@ -61,7 +61,7 @@ pub enum Outcome {
         time: f64,
     },
     /// The navigator refused a command at `time` s (a floor plan's robot in the walls' boundary
-    /// layer, `NavError::BoundaryLayer`): the run stopped.
+    /// layer with no certified step out, `NavError::BoundaryLayer`): the run stopped.
     CommandRefused {
         /// When, s.
         time: f64,

@@ -78,7 +78,8 @@ pub enum NavError {
     /// fit in it ([`crate::FloorNavigator`]).
     Floor(harmonav_floorplan::FloorError),
     /// The position lies in a floor plan's boundary layer: closer than `δ` to a wall, where
-    /// the discrete harmonic map is not certified ([`crate::FloorNavigator`]).
+    /// the discrete harmonic map is not certified ([`crate::FloorNavigator`]: `evaluate`
+    /// always, `command` only when no step out of the layer can be certified).
     BoundaryLayer,
 }
 

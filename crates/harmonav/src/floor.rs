@@ -28,11 +28,13 @@ use crate::space::Space;
 /// `sd` the distance to the walls shrunk by `s = radius + margin − δ`: `W_δ` is the
 /// configuration space with its margin), minus the sensed obstacles grown by
 /// `radius + margin`. The hold ([`HoldPolicy::Auto`]) measures its clearance to the
-/// boundary layer, `sd(x) − δ`, so every held step stays in `W_δ`. In the layer (`radius <
-/// sd < δ`, reached only by a disturbance) [`FloorNavigator::command`] and `evaluate` return
-/// [`NavError::BoundaryLayer`]: the discrete map is not claimed a diffeomorphism there, and no
-/// command is invented (there is no way out of the walls' layer yet; the sensed obstacles'
-/// margin bands do have one, [`Mode::Recovering`]).
+/// boundary layer, `sd(x) − δ`, so every held step stays in `W_δ`. In the layer (`sd < δ`
+/// with the robot's disc clear of the walls, reached only by a disturbance) `Θ` is not used:
+/// the discrete map is not claimed a diffeomorphism there, and [`FloorNavigator::evaluate`]
+/// returns [`NavError::BoundaryLayer`]. [`FloorNavigator::command`] leads the robot out
+/// instead ([`Mode::Recovering`] with [`Band::Boundary`], as out of a sensed obstacle's margin
+/// band): straight away from the nearest wall, by a step certified clear of the walls and of
+/// the sensed obstacles (docs/maths.md §13.6).
 ///
 /// ```
 /// use std::sync::Arc;
@@ -150,7 +152,8 @@ impl FloorNavigator {
     /// # Errors
     /// (the navigator is then unchanged) `x` or `ẋ` not finite; the robot's disc overlapping a
     /// wall ([`NavError::OutsideBoundary`]) or a sensed obstacle ([`NavError::InObstacle`]);
-    /// `x` in the boundary layer ([`NavError::BoundaryLayer`]); a non-finite command.
+    /// `x` in the boundary layer with no certified way out ([`NavError::BoundaryLayer`]); a
+    /// non-finite command.
     pub fn command(&mut self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Command, NavError> {
         let command = self.held(x, v)?;
         if !command.value.iter().all(|c| c.is_finite()) {
@@ -164,6 +167,7 @@ impl FloorNavigator {
         let eval = match self.evaluate(x, v) {
             Ok(eval) => eval,
             Err(NavError::InObstacle { obstacle }) => return self.recover(x, v, obstacle),
+            Err(NavError::BoundaryLayer) => return self.leave_layer(x, v),
             Err(e) => return Err(e),
         };
         if self.options.hold == HoldPolicy::Paper {
@@ -228,6 +232,42 @@ impl FloorNavigator {
             self.period,
             v,
         ))
+    }
+
+    /// The way out of the walls' boundary layer (`sd(x) < δ`, the robot's disc clear of the
+    /// walls): along `−n`, `n` the unit vector to the nearest point of `∂W_s`, for
+    /// `δ − sd(x) + δ/4` (a quarter of `δ` into `W_δ`), halved until the segment is certified:
+    /// `sd` grows along it and, by the 1-Lipschitz chord bound `c ≥ (c(x) + c(y) − L)/2`, it
+    /// keeps the disc clear of the true walls (`c` the wall distance less the radius) and the
+    /// sensed obstacles grown by `radius + margin` (their certified distances). Held for the
+    /// period, the command moves along a prefix of that segment (its speed capped as a band's
+    /// recovery is). [`NavError::BoundaryLayer`] if no halving certifies.
+    fn leave_layer(&self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Command, NavError> {
+        let floor = self.field.floor();
+        let dir = -floor.toward_boundary(x).ok_or(NavError::BoundaryLayer)?;
+        let (sd, delta) = (floor.signed_distance(x), floor.delta());
+        let walls = |z: Vector2<f64>| floor.wall_distance(z) - self.options.radius;
+        let sensed = |z: Vector2<f64>| self.field.clearance(z, f64::INFINITY, Some(Band::Boundary));
+        let (w0, s0) = (walls(x), sensed(x));
+        let mut length = delta - sd + 0.25 * delta;
+        for _ in 0..=hold::MAX_HALVINGS {
+            let y = x + length * dir;
+            if floor.signed_distance(y) > sd
+                && w0 + walls(y) - length > 0.0
+                && s0 + sensed(y) - length > 0.0
+            {
+                return Ok(recovering(
+                    &self.controller,
+                    Band::Boundary,
+                    dir,
+                    length,
+                    self.period,
+                    v,
+                ));
+            }
+            length *= 0.5;
+        }
+        Err(NavError::BoundaryLayer)
     }
 
     /// The continuous law at `(x, ẋ)` without the hold and without remembering the state.
