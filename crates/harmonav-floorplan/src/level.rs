@@ -19,6 +19,10 @@ use nalgebra::Vector2;
 use crate::sector::Sector;
 use crate::theta::FloorField;
 
+/// How far the samples of `∂W_δ` are moved into `W_δ`, in units of `δ`
+/// ([`FloorField::layer_slide`] and the sampled value of [`FloorField::certify_layer_level`]).
+pub const EDGE_NUDGE: f64 = 1e-9;
+
 /// Options of [`FloorField::certify_layer_level`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LevelOptions {
@@ -81,6 +85,19 @@ impl LayerLevel {
 }
 
 impl FloorField {
+    /// The samples of `∂W_δ` ([`crate::FloorMap::layer_edge`]) with `n`, the unit vector
+    /// towards the nearest point of `∂W_s`, each moved `EDGE_NUDGE·δ` along `−n` into `W_δ`:
+    /// on the edge itself rounding puts most samples a hair inside the layer, where `Θ` is not
+    /// evaluated (measured: 2 907 of the U room's samples were skipped).
+    fn edge_samples(&self) -> impl Iterator<Item = (Vector2<f64>, Vector2<f64>)> + '_ {
+        let floor = self.floor();
+        let nudge = EDGE_NUDGE * floor.delta();
+        floor
+            .layer_edge()
+            .iter()
+            .filter_map(move |&p| floor.toward_boundary(p).map(|n| (p - nudge * n, n)))
+    }
+
     /// The least `phi_k` on a sector, from below (`−∞` if it may hold `P_d`).
     fn phi_lower(&self, a: &Sector) -> f64 {
         let world = self.point_world();
@@ -101,10 +118,9 @@ impl FloorField {
     pub fn certify_layer_level(&self, options: &LevelOptions) -> LayerLevel {
         let floor = self.floor();
         let delta = floor.delta();
-        let sampled = floor
-            .layer_edge()
-            .iter()
-            .filter_map(|&p| self.eval(p).ok())
+        let sampled = self
+            .edge_samples()
+            .filter_map(|(p, _)| self.eval(p).ok())
             .map(|e| e.phi)
             .fold(f64::INFINITY, f64::min);
         let target = sampled - options.tolerance;
@@ -151,6 +167,75 @@ impl FloorField {
                 out.unresolved += 1;
                 out.phi_certified = out.phi_certified.min(phi);
             }
+        }
+        out
+    }
+}
+
+/// What [`FloorField::layer_slide`] found on the samples of `∂W_δ`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LayerSlide {
+    /// Samples where `Θ` was evaluated.
+    pub samples: usize,
+    /// Of those, how many have `−∇Θ` pointing into the layer (`d·n > 0`, `n` towards the
+    /// nearest point of `∂W_s`): where the hold's projected descent slides.
+    pub into: usize,
+    /// The least `|d − (d·n)n|` over them (1 when there are none): the projected descent
+    /// rests on `∂W_δ` only where this is 0 (`−∇Θ` along the outward normal).
+    pub least_tangential: f64,
+    /// Rest points of the projected descent that attract it along the edge: between two
+    /// neighbouring samples of one straight piece of `∂W_δ`, both with `−∇Θ` into the layer,
+    /// whose tangential parts point at each other (the midpoint is given). The tangential part
+    /// is continuous, so it vanishes between them: a spurious local minimum of `Θ` on `W_δ`.
+    pub attracting: Vec<Vector2<f64>>,
+    /// The same with the tangential parts pointing apart (rest points the slide leaves).
+    pub repelling: usize,
+}
+
+impl FloorField {
+    /// The projected descent of the hold along `∂W_δ` (docs/maths.md §13.5): at each sample of
+    /// [`crate::FloorMap::layer_edge`] (in order along the edge), `d = −∇Θ/|∇Θ|` against `n`,
+    /// the unit vector towards the nearest point of `∂W_s`, and the rest points where the
+    /// tangential part `d·t` changes sign between neighbours on one straight piece. The sign
+    /// changes prove rest points (to the accuracy of `Θ`); between samples others may hide.
+    #[must_use]
+    pub fn layer_slide(&self) -> LayerSlide {
+        let mut out = LayerSlide {
+            samples: 0,
+            into: 0,
+            least_tangential: 1.0,
+            attracting: Vec::new(),
+            repelling: 0,
+        };
+        // (position, n, d·t) of the previous sample with −∇Θ into the layer.
+        let mut last: Option<(Vector2<f64>, Vector2<f64>, f64)> = None;
+        for (p, n) in self.edge_samples() {
+            let Ok(e) = self.eval(p) else {
+                last = None;
+                continue;
+            };
+            out.samples += 1;
+            let Some(d) = e.direction.filter(|d| d.dot(&n) > 0.0) else {
+                last = None;
+                continue;
+            };
+            out.into += 1;
+            let along = d.dot(&n);
+            out.least_tangential = out.least_tangential.min((d - along * n).norm());
+            let t = Vector2::new(-n.y, n.x);
+            let flow = d.dot(&t);
+            if let Some((q, m, before)) = last
+                && (m - n).norm() < 1e-9
+            {
+                // The flow at q towards p (and at p towards q) along the piece.
+                let toward = (p - q).dot(&t).signum();
+                if before * toward > 0.0 && flow * toward < 0.0 {
+                    out.attracting.push(0.5 * (p + q));
+                } else if before * toward < 0.0 && flow * toward > 0.0 {
+                    out.repelling += 1;
+                }
+            }
+            last = Some((p, n, flow));
         }
         out
     }

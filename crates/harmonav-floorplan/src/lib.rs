@@ -70,7 +70,7 @@ pub mod theta;
 
 pub use compose::{FloorMapped, FloorTransform, NotFree, Part};
 pub use geodesic::Geodesic;
-pub use level::{LayerLevel, LevelOptions};
+pub use level::{LayerLevel, LayerSlide, LevelOptions};
 pub use plan::{CentrePolicy, FloorError, FloorMap, FloorOptions, UnknownCentrePolicy};
 pub use ros_map::{Cell, MapError, MapMode, MapOptions, MapOutline, MapPoint, MapProblem, RosMap};
 pub use sector::{Sector, Unenclosed};

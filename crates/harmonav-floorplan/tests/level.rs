@@ -238,3 +238,36 @@ fn the_sector_holds_the_image_of_its_disc() {
         );
     }
 }
+
+/// A goal just behind a long bar: under the default `k` (12) the hole's barrier is a thin shell
+/// inside the layer, so below the bar `−∇Θ` points into the layer and the projected descent
+/// has attracting rest points on `∂W_δ` (spurious local minima of `Θ` on `W_δ`,
+/// docs/maths.md §13.5); with the paper's `k = n + 1 = 2` the barrier reaches `∂W_δ` and there
+/// are none; the U room has none either.
+#[test]
+fn a_thin_hole_barrier_makes_rest_points_of_the_slide_and_the_papers_k_removes_them() {
+    let room = vec![v(0.0, 0.0), v(6.0, 0.0), v(6.0, 4.0), v(0.0, 4.0)];
+    let bar = vec![v(1.0, 1.8), v(5.0, 1.8), v(5.0, 2.2), v(1.0, 2.2)];
+    let floor = Arc::new(FloorMap::new(room, vec![bar], &FloorOptions::new(0.1, 0.2)).unwrap());
+    let auto = FloorField::new(floor.clone(), v(3.0, 2.6), KPolicy::default()).unwrap();
+    let slide = auto.layer_slide();
+    assert!(auto.k() > 2.0, "k = {}", auto.k());
+    // Under the bar, towards its ends (the flow along the edge turns back there).
+    assert!(
+        slide
+            .attracting
+            .iter()
+            .any(|p| (1.0..5.0).contains(&p.x) && p.y < 1.8),
+        "{slide:?}"
+    );
+    let paper = FloorField::new(floor, v(3.0, 2.6), KPolicy::Paper).unwrap();
+    let slide = paper.layer_slide();
+    assert!(
+        slide.samples > 100 && slide.attracting.is_empty(),
+        "{slide:?}"
+    );
+    let u = FloorField::new(u_trap(CentrePolicy::Solve), v(5.2, 2.0), KPolicy::default())
+        .unwrap()
+        .layer_slide();
+    assert!(u.samples > 100 && u.attracting.is_empty(), "{u:?}");
+}

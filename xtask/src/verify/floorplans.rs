@@ -152,12 +152,14 @@ fn certify(file: &Path) -> Outcome {
         .iter()
         .filter(|&&s| field.eval(s).is_ok_and(|e| level.holds(e.phi)))
         .count();
+    let slide = field.layer_slide();
     outcome(
         !bad && c.extremes.min_det > 0.0 && level.phi_certified.is_finite(),
         format!(
             "{} on W_δ (δ = {} m): certified {:.2} m², undecided {:.3} m², {} evaluations, \
              sampled min det J_H {:.1e}, max |H| {:.4}; c_δ = {:.4} certified on ∂W_δ \
-             (sampled {:.4}, {} cells, {} unresolved), {below}/{} starts below it",
+             (sampled {:.4}, {} cells, {} unresolved), {below}/{} starts below it; −∇Θ into \
+             the layer at {}/{} edge samples, {} attracting rest points of the slide there{}",
             c.verdict.as_str(),
             c.delta,
             c.certified_area,
@@ -170,6 +172,13 @@ fn certify(file: &Path) -> Outcome {
             level.evaluations,
             level.unresolved,
             p.starts.len(),
+            slide.into,
+            slide.samples,
+            slide.attracting.len(),
+            slide.attracting.first().map_or(String::new(), |p| format!(
+                " (the first at ({:.2}, {:.2}))",
+                p.x, p.y
+            )),
         ),
     )
 }
