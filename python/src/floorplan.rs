@@ -6,8 +6,7 @@ use std::path::PathBuf;
 
 use harmonav_output::floor::write_floor_outputs;
 use harmonav_output::set::check_output_dir;
-use harmonav_rs::floorplan::{FloorField, LevelOptions};
-use harmonav_rs::{HeadingPolicy, KPolicy};
+use harmonav_rs::HeadingPolicy;
 use harmonav_scenario::floorplan::{FloorPrepared, FloorScenario};
 use harmonav_sim::floor::FloorSummary;
 use harmonav_sim::physics::{Physics, simulate_floor};
@@ -141,20 +140,8 @@ impl FloorPlan {
     /// the hold, clear at every step).
     fn certify_level<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let p = &self.prepared;
-        let goal = harmonav_rs::Vector2::new(p.scenario.robot.goal[0], p.scenario.robot.goal[1]);
         let (level, starts) = py
-            .detach(|| {
-                let field = FloorField::new(p.floor.clone(), goal, KPolicy::default())?;
-                let level = p
-                    .level
-                    .unwrap_or_else(|| field.certify_layer_level(&LevelOptions::default()));
-                let starts: Vec<bool> = p
-                    .starts
-                    .iter()
-                    .map(|&x| field.eval(x).is_ok_and(|e| level.holds(e.phi)))
-                    .collect();
-                Ok::<_, harmonav_rs::floorplan::FloorError>((level, starts))
-            })
+            .detach(|| p.start_certificates())
             .map_err(|e| value_error(format!("{}: {e}", p.path.display())))?;
         let d = PyDict::new(py);
         d.set_item("c_delta", level.certified())?;

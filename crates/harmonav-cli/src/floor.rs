@@ -9,7 +9,6 @@ use std::path::Path;
 use harmonav_field::FieldError;
 use harmonav_output::floor::write_floor_outputs;
 use harmonav_output::set::check_output_dir;
-use harmonav_rs::floorplan::LevelOptions;
 use harmonav_scenario::floorplan::{FloorPrepared, FloorScenario, StartsSpec};
 use harmonav_scenario::scenario::read_text;
 use harmonav_sim::floor::{FloorSummary, navigator, obstacle_name};
@@ -66,20 +65,12 @@ pub fn cmd_check_floor(prepared: &FloorPrepared) -> Result<bool, CliError> {
         prepared.floor.delta(),
         prepared.setup_seconds
     );
-    // The navigator's field before any obstacle is sensed: the walls alone.
-    let nav = navigator(prepared, None).map_err(|error| CliError::Navigator {
-        scenario: prepared.path.clone(),
-        error,
-    })?;
-    let field = nav.field();
-    let level = prepared
-        .level
-        .unwrap_or_else(|| field.certify_layer_level(&LevelOptions::default()));
-    let below: Vec<bool> = prepared
-        .starts
-        .iter()
-        .map(|&s| field.eval(s).is_ok_and(|e| level.holds(e.phi)))
-        .collect();
+    let (level, below) = prepared
+        .start_certificates()
+        .map_err(|e| CliError::Navigator {
+            scenario: prepared.path.clone(),
+            error: harmonav_rs::NavError::Floor(e),
+        })?;
     out!(
         "c_δ = {:.6} certified on the edge of the certified region (sampled least Θ {:.6}, {} \
          cells{}): {} of {} starts below it, whose sublevel sets stay inside the certified \

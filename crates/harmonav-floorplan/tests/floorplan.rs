@@ -1,5 +1,7 @@
 //! The composition `Phi = S ∘ H ∘ B` and `Θ` on floor plans: each property can fail.
 
+mod common;
+
 use std::sync::Arc;
 
 use harmonav_field::{FieldError, KPolicy};
@@ -21,19 +23,7 @@ fn u_trap(h: f64, clearance: f64) -> Arc<FloorMap> {
 
 /// [`u_trap`] with the centre policy `centre`.
 fn u_trap_centred(h: f64, clearance: f64, centre: CentrePolicy) -> Arc<FloorMap> {
-    let room = vec![v(0.0, 0.0), v(6.0, 0.0), v(6.0, 4.0), v(0.0, 4.0)];
-    let u = vec![
-        v(2.0, 1.0),
-        v(4.0, 1.0),
-        v(4.0, 3.0),
-        v(3.5, 3.0),
-        v(3.5, 1.6),
-        v(2.5, 1.6),
-        v(2.5, 3.0),
-        v(2.0, 3.0),
-    ];
-    let options = FloorOptions::new(h, clearance).with_centre(centre);
-    Arc::new(FloorMap::new(room, vec![u], &options).unwrap())
+    common::u_room(h, clearance, centre)
 }
 
 /// An L-shaped room with a square pillar in one arm.

@@ -2,6 +2,8 @@
 //! point of `∂W_δ` goes below, found independently of the samples it was refined against, and
 //! the exact distances of a point to an annular sector that it rests on.
 
+mod common;
+
 use std::sync::Arc;
 
 use harmonav_field::KPolicy;
@@ -13,21 +15,9 @@ fn v(x: f64, y: f64) -> Vector2<f64> {
     Vector2::new(x, y)
 }
 
-/// A 6 × 4 room with a U-shaped obstacle, its pocket open upward.
+/// The U room of `common::u_room` at `h = 0.1` m, radius + margin 0.2 m.
 fn u_trap(centre: CentrePolicy) -> Arc<FloorMap> {
-    let room = vec![v(0.0, 0.0), v(6.0, 0.0), v(6.0, 4.0), v(0.0, 4.0)];
-    let u = vec![
-        v(2.0, 1.0),
-        v(4.0, 1.0),
-        v(4.0, 3.0),
-        v(3.5, 3.0),
-        v(3.5, 1.6),
-        v(2.5, 1.6),
-        v(2.5, 3.0),
-        v(2.0, 3.0),
-    ];
-    let options = FloorOptions::new(0.1, 0.2).with_centre(centre);
-    Arc::new(FloorMap::new(room, vec![u], &options).unwrap())
+    common::u_room(0.1, 0.2, centre)
 }
 
 /// Points of `∂W_δ` found by bisection on `sd = δ` along rays from a grid of interior points

@@ -216,6 +216,28 @@ pub struct FloorPrepared {
     pub level: Option<LayerLevel>,
 }
 
+impl FloorPrepared {
+    /// `c_δ` over the walls (the level `floor_plan.require_certified_start` computed, or
+    /// certified now with [`LevelOptions::default`]; docs/maths.md §13.5) and, for each of
+    /// [`FloorPrepared::starts`], whether `Θ(x₀) < c_δ`: its sublevel set stays inside `W_δ`.
+    ///
+    /// # Errors
+    /// As [`FloorField::new`] (the file's goal was checked on loading, so not expected).
+    pub fn start_certificates(&self) -> Result<(LayerLevel, Vec<bool>), FloorError> {
+        let goal = v(self.scenario.robot.goal);
+        let field = FloorField::new(self.floor.clone(), goal, harmonav::KPolicy::default())?;
+        let level = self
+            .level
+            .unwrap_or_else(|| field.certify_layer_level(&LevelOptions::default()));
+        let below = self
+            .starts
+            .iter()
+            .map(|&x| field.eval(x).is_ok_and(|e| level.holds(e.phi)))
+            .collect();
+        Ok((level, below))
+    }
+}
+
 fn err(path: &Path, field: &str, line: Option<usize>, problem: String) -> ScenarioError {
     ScenarioError {
         file: path.to_path_buf(),

@@ -3,27 +3,19 @@
 //! nearest wall, certified clear of the walls, and goes back to the law once in `W_δ`; a disc
 //! that touches a wall still gets an error.
 
+mod common;
+
 use std::sync::Arc;
 
-use harmonav::{
-    Band, FloorMap, FloorNavigator, FloorOptions, Law, Mode, NavError, Options, Vector2,
-};
+use harmonav::{Band, FloorMap, FloorNavigator, Law, Mode, NavError, Options, Vector2};
 
 fn v(x: f64, y: f64) -> Vector2<f64> {
     Vector2::new(x, y)
 }
 
-/// An L room, `h = δ = 0.1` m, radius 0.1 m and margin 0.1 m: the walls shrunk by `s = 0.1` m.
+/// The L room of `common::l_room`: `h = δ = 0.1` m, radius 0.1 m and margin 0.1 m.
 fn floor() -> Arc<FloorMap> {
-    let room = vec![
-        v(0.0, 0.0),
-        v(4.0, 0.0),
-        v(4.0, 1.5),
-        v(1.5, 1.5),
-        v(1.5, 4.0),
-        v(0.0, 4.0),
-    ];
-    Arc::new(FloorMap::new(room, vec![], &FloorOptions::new(0.1, 0.2)).unwrap())
+    common::l_room()
 }
 
 /// Flies `law` from `start` in the layer for at most `steps` periods of `h` (the dynamic law

@@ -3,9 +3,9 @@
 //! `Θ`; both keep `Θ` decreasing and the clearance, and `"auto"` is the shorter, close to the
 //! geodesic's bounds.
 
-use std::sync::Arc;
+mod common;
 
-use harmonav::{FloorMap, FloorNavigator, FloorOptions, HeadingPolicy, Law, Options, Vector2};
+use harmonav::{FloorNavigator, HeadingPolicy, Law, Options, Vector2};
 
 fn v(x: f64, y: f64) -> Vector2<f64> {
     Vector2::new(x, y)
@@ -15,15 +15,7 @@ fn v(x: f64, y: f64) -> Vector2<f64> {
 /// and `W_s` is the walls shrunk by 0.1 m) at 100 Hz from `start` to `goal`; returns the path length, after checking at every step that
 /// `phi_k` decreased and the robot kept `radius + margin` from the walls, and that it arrived.
 fn fly(heading: HeadingPolicy, start: Vector2<f64>, goal: Vector2<f64>) -> f64 {
-    let room = vec![
-        v(0.0, 0.0),
-        v(4.0, 0.0),
-        v(4.0, 1.5),
-        v(1.5, 1.5),
-        v(1.5, 4.0),
-        v(0.0, 4.0),
-    ];
-    let floor = Arc::new(FloorMap::new(room, vec![], &FloorOptions::new(0.1, 0.2)).unwrap());
+    let floor = common::l_room();
     let options = Options::default()
         .with_robot(0.1, 0.1)
         .with_heading(heading);

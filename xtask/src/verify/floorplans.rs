@@ -140,18 +140,14 @@ fn certify(file: &Path) -> Outcome {
     let c = certificate(&p, CERTIFY_BUDGET)?;
     let bad = c.verdict != harmonav_harmonic::Verdict::Certified;
     // c_δ over the walls alone (the sensed obstacles are not known at the start).
+    let (level, certified) = p.start_certificates().map_err(|e| e.to_string())?;
+    let below = certified.iter().filter(|&&b| b).count();
     let field = harmonav::floorplan::FloorField::new(
         p.floor.clone(),
         nalgebra::Vector2::new(p.scenario.robot.goal[0], p.scenario.robot.goal[1]),
         harmonav::KPolicy::default(),
     )
     .map_err(|e| e.to_string())?;
-    let level = field.certify_layer_level(&harmonav::floorplan::LevelOptions::default());
-    let below = p
-        .starts
-        .iter()
-        .filter(|&&s| field.eval(s).is_ok_and(|e| level.holds(e.phi)))
-        .count();
     let slide = field.layer_slide();
     outcome(
         !bad && c.extremes.min_det > 0.0 && level.phi_certified.is_finite(),

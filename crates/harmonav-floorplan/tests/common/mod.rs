@@ -4,6 +4,10 @@
 #![allow(dead_code)] // each test binary uses part of it
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use harmonav_floorplan::{CentrePolicy, FloorMap, FloorOptions};
+use nalgebra::Vector2;
 
 /// map_server's colours: 254 free (map_saver writes 254), 0 occupied, 205 unknown.
 pub const FREE: u8 = 254;
@@ -252,4 +256,23 @@ pub fn suite_yaml(m: &SuiteMap) -> String {
             "mode: trinary\n"
         )
     )
+}
+
+/// A 6 × 4 room with a U-shaped hole (2 × 2, pocket 1 wide and 1.4 deep, open upward),
+/// boundary elements of at most `h`, `clearance` = radius + margin, under `centre`.
+pub fn u_room(h: f64, clearance: f64, centre: CentrePolicy) -> Arc<FloorMap> {
+    let v = Vector2::new;
+    let room = vec![v(0.0, 0.0), v(6.0, 0.0), v(6.0, 4.0), v(0.0, 4.0)];
+    let u = vec![
+        v(2.0, 1.0),
+        v(4.0, 1.0),
+        v(4.0, 3.0),
+        v(3.5, 3.0),
+        v(3.5, 1.6),
+        v(2.5, 1.6),
+        v(2.5, 3.0),
+        v(2.0, 3.0),
+    ];
+    let options = FloorOptions::new(h, clearance).with_centre(centre);
+    Arc::new(FloorMap::new(room, vec![u], &options).unwrap())
 }
