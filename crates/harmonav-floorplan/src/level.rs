@@ -207,8 +207,10 @@ impl FloorField {
             attracting: Vec::new(),
             repelling: 0,
         };
-        // (position, n, d·t) of the previous sample with −∇Θ into the layer.
+        // (position, n, d·t) of the previous sample with −∇Θ into the layer; neighbours are
+        // at most a few sample spacings apart (rings follow each other in the list).
         let mut last: Option<(Vector2<f64>, Vector2<f64>, f64)> = None;
+        let near = 4.0 * crate::plan::EDGE_SPACING * self.floor().delta();
         for (p, n) in self.edge_samples() {
             let Ok(e) = self.eval(p) else {
                 last = None;
@@ -226,6 +228,7 @@ impl FloorField {
             let flow = d.dot(&t);
             if let Some((q, m, before)) = last
                 && (m - n).norm() < 1e-9
+                && (p - q).norm() <= near
             {
                 // The flow at q towards p (and at p towards q) along the piece.
                 let toward = (p - q).dot(&t).signum();
