@@ -359,8 +359,8 @@ impl FloorTransform {
             .enclosure(x, rho)
             .map_err(|_| Unenclosed::Disk)?;
         let (w, r) = (e.eval.value, e.radius);
-        // Guard: the bounds below divide by 1 − |a|(|w| + r) and 1 − |w'| − r'; both must stay
-        // positive (NaN or ∞ fail the comparisons too).
+        // Guard: M_a's image disc needs the disc strictly inside the unit disk (the pole 1/ā
+        // outside it), and S is finite only there; NaN or ∞ fail the comparisons too.
         if (w.norm() + r).partial_cmp(&1.0) != Some(std::cmp::Ordering::Less) {
             return Err(Unenclosed::Disk);
         }
