@@ -2,6 +2,9 @@
 //! of a point to it, the last step of the certified level `c_δ` (docs/maths.md §13.5).
 
 use nalgebra::Vector2;
+use parry2d_f64::math::Vector as PVector;
+use parry2d_f64::query::PointQuery;
+use parry2d_f64::shape::Segment;
 
 /// An annular sector `{r·(cos t, sin t) : r ∈ [r_lo, r_hi], |t − angle| ≤ half_width}` of the
 /// point world (`half_width ≥ π`: the whole annulus).
@@ -52,18 +55,12 @@ impl Sector {
         if self.full() || self.offset(p).abs() <= self.half_width {
             return (rp - rp.clamp(lo, hi)).abs();
         }
+        let point = |v: Vector2<f64>| PVector::new(v.x, v.y);
         [-1.0, 1.0]
             .into_iter()
             .map(|side| {
-                let (a, b) = (self.corner(lo, side), self.corner(hi, side));
-                let ab = b - a;
-                let l2 = ab.norm_squared();
-                let t = if l2 > 0.0 {
-                    ((p - a).dot(&ab) / l2).clamp(0.0, 1.0)
-                } else {
-                    0.0
-                };
-                (p - (a + t * ab)).norm()
+                Segment::new(point(self.corner(lo, side)), point(self.corner(hi, side)))
+                    .distance_to_local_point(point(p), true)
             })
             .fold(f64::INFINITY, f64::min)
     }
