@@ -22,7 +22,7 @@ use std::f64::consts::TAU;
 use harmonav_transform::ShapeError;
 use nalgebra::Vector2;
 
-use crate::free::{FreeSpace, sagitta, segment_distance};
+use crate::free::{FreeSet, sagitta, segment_distance};
 use crate::perceived::{Certification, Perceived, StarForm, certified};
 use crate::scan::{LaserScan, Pose};
 use crate::segment::{Segment, hit_point};
@@ -476,7 +476,7 @@ fn centre(s: Vector2<f64>, points: &[Vector2<f64>], region: &Region) -> Vector2<
 
 /// Eq. region and its certified star for one segment: hits `points` in angular order with their
 /// beam directions `dirs`, seen from `s`. `free`: what the scan shows free and the wall prior
-/// (eqs. freefan, wallgap; [`FreeSpace::none`] for nothing): the star then contains `Y \ R`,
+/// (eqs. freefan, wallgap; [`crate::FreeSpace::none`] for nothing): the star then contains `Y \ R`,
 /// which holds the obstacle as `Y` does (`crate::free` module docs), and is cut back from what
 /// was seen free where its order allows.
 pub fn fit_segment(
@@ -485,7 +485,7 @@ pub fn fit_segment(
     dirs: &[Vector2<f64>],
     sides: &[Vec<(Vector2<f64>, f64)>; 2],
     params: &FitParams,
-    free: &FreeSpace,
+    free: &impl FreeSet,
 ) -> Result<Fit, FitFailure> {
     if points.is_empty() || points.len() != dirs.len() {
         return Err(FitFailure::Shape(ShapeError::Invalid {
@@ -507,7 +507,7 @@ pub fn fit_segment(
     samples.retain(|x| !free.contains_ball(*x, 0.5 * h));
     let before = samples.len();
     samples.extend(
-        free.boundary_samples(h, region.discs[0], region.radius, |x| {
+        free.boundary_samples(h, region.discs[0], region.radius, &|x| {
             region.near_k(x, h) && !region.deep_in_cut(x, h) && !free.contains_ball(x, 0.5 * h)
         }),
     );
@@ -560,13 +560,13 @@ pub fn side_beams(
 
 /// Eq. region and its star for segment `seg` of `scan` taken at `pose`, leaving out what
 /// `free` shows free (eqs. freefan, wallgap; build it once per scan with
-/// [`FreeSpace::of_scan`]).
+/// [`crate::FreeSpace::of_scan`]).
 pub fn fit_in_scan(
     scan: &LaserScan,
     pose: &Pose,
     seg: &Segment,
     params: &FitParams,
-    free: &FreeSpace,
+    free: &impl FreeSet,
 ) -> Result<Fit, FitFailure> {
     let points: Vec<Vector2<f64>> = seg
         .beams

@@ -405,6 +405,83 @@ impl FreeSpace {
     }
 }
 
+/// A set that no obstacle meets, which a fit may leave out of its region `Y` (module docs):
+/// one scan's [`FreeSpace`], or the [`FreeUnion`] of the current scan's and remembered ones'.
+/// The fit's cover needs two things of it: whether a ball lies in it, and samples of its
+/// boundary near the region.
+pub trait FreeSet {
+    /// Whether the closed ball `B(x, t)` lies in the set. Conservative: `false` when unsure.
+    fn contains_ball(&self, x: Vector2<f64>, t: f64) -> bool;
+
+    /// Points of the set's boundary at spacing at most `h` along it, within `reach` of `near`,
+    /// accepted by `keep`.
+    fn boundary_samples(
+        &self,
+        h: f64,
+        near: Vector2<f64>,
+        reach: f64,
+        keep: &dyn Fn(Vector2<f64>) -> bool,
+    ) -> Vec<Vector2<f64>>;
+}
+
+impl FreeSet for FreeSpace {
+    fn contains_ball(&self, x: Vector2<f64>, t: f64) -> bool {
+        FreeSpace::contains_ball(self, x, t)
+    }
+
+    fn boundary_samples(
+        &self,
+        h: f64,
+        near: Vector2<f64>,
+        reach: f64,
+        keep: &dyn Fn(Vector2<f64>) -> bool,
+    ) -> Vec<Vector2<f64>> {
+        FreeSpace::boundary_samples(self, h, near, reach, keep)
+    }
+}
+
+/// The union `R = R_0 ∪ R_1 ∪ … ∪ R_m` of several scans' free sets: the current scan's (with the
+/// wall prior) and those of earlier scans the perception remembers
+/// ([`crate::Options::free_memory`], docs/maths.md §12.11). Sound in a static world under (A1)
+/// for every scan: each `R_s` misses every obstacle, so their union does.
+///
+/// *The cover* (module docs, with `R` the union). `∂R ⊂ ∪ ∂R_s`, so the samples of every
+/// `∂R_s` within `h` of `Y` cover `∂R ∩ Y` at spacing `h`. A ball is reported inside `R` only
+/// when one `R_s` holds it (a ball that two of them share is missed, which only keeps more
+/// samples). A sample whose ball of radius `h/2` lies in `R` is never needed: a point of
+/// `∂(Y \ R)` within `h/2` of it would lie in the open set `R`, not in the closed `Y \ R`.
+#[derive(Clone, Copy, Debug)]
+pub struct FreeUnion<'a> {
+    /// The current scan's free set.
+    pub now: &'a FreeSpace,
+    /// The remembered scans' free sets.
+    pub past: &'a [std::sync::Arc<FreeSpace>],
+}
+
+impl FreeUnion<'_> {
+    fn members(&self) -> impl Iterator<Item = &FreeSpace> {
+        std::iter::once(self.now).chain(self.past.iter().map(AsRef::as_ref))
+    }
+}
+
+impl FreeSet for FreeUnion<'_> {
+    fn contains_ball(&self, x: Vector2<f64>, t: f64) -> bool {
+        self.members().any(|m| m.contains_ball(x, t))
+    }
+
+    fn boundary_samples(
+        &self,
+        h: f64,
+        near: Vector2<f64>,
+        reach: f64,
+        keep: &dyn Fn(Vector2<f64>) -> bool,
+    ) -> Vec<Vector2<f64>> {
+        self.members()
+            .flat_map(|m| m.boundary_samples(h, near, reach, keep))
+            .collect()
+    }
+}
+
 /// Eq. sagitta: the largest distance between a chord of length `c` and an arc of curvature
 /// radius `≥ ρ` on it that turns by less than `π`, `ρ − √(ρ² − c²/4)`, computed as
 /// `(c²/4)/(ρ + √(ρ² − c²/4))` (no cancellation for `c ≪ ρ`). `∞` when `c > 2ρ` (no bound).

@@ -114,7 +114,7 @@ pub mod segment;
 pub mod sim;
 
 pub use fit::{Fit, FitFailure, FitParams, SIDE_BEAMS, fit_in_scan, fit_segment, side_beams};
-pub use free::{FreeEvidence, FreeSpace, WallPrior, free_radius, sagitta};
+pub use free::{FreeEvidence, FreeSet, FreeSpace, FreeUnion, WallPrior, free_radius, sagitta};
 pub use perceived::{
     Certification, MergeFailure, Perceived, StarForm, certified, certified_hull, certified_star,
     merge,

@@ -2,15 +2,20 @@
 //! scan update that explains, segments, fits and merges.
 
 use std::fmt;
+use std::sync::Arc;
 
 use harmonav_transform::{ShapeError, StarShape};
 use nalgebra::Vector2;
 
 use crate::fit::{FitFailure, FitParams, fit_in_scan};
-use crate::free::{FreeEvidence, FreeSpace, WallPrior};
+use crate::free::{FreeEvidence, FreeSpace, FreeUnion, WallPrior};
 use crate::perceived::{MergeFailure, Perceived, StarForm, merge};
 use crate::scan::{LaserScan, Pose, ScanError};
 use crate::segment::{Segment, hit_point, segment};
+
+/// The most earlier scans' free evidence [`Options::free_memory`] may ask to remember: each
+/// costs its fan's edges in every fit near them.
+pub const MAX_FREE_MEMORY: usize = 256;
 
 /// The priors and parameters of perception. The containment guarantee (crate docs) holds when
 /// the truth satisfies the priors `range_noise`, `max_obstacle_depth` and `rho_min`.
@@ -55,6 +60,20 @@ pub struct Options {
     /// Which of the scan's free evidence the fits leave out (eq. free's disc, the default, or
     /// eq. freefan's fan; `crate::free`).
     pub free_evidence: FreeEvidence,
+    /// How many earlier scans' free evidence (of the kind `free_evidence`) the fits also leave
+    /// out of their regions (eq. memory, docs/maths.md §12.11): a region seen free from an
+    /// earlier pose holds no obstacle in a static world, so a segment seen at grazing incidence
+    /// now is not closed over space an earlier scan saw through. 0: the current scan only.
+    pub free_memory: usize,
+    /// `r_f`, m: a segment whose nearest hit lies farther than this from the sensor is not
+    /// fitted in this scan (deferred, [`Observation::deferred`]); its beams still count as free
+    /// evidence. Fitted later, from nearer and with the free evidence remembered meanwhile
+    /// (eq. memory), its region is tighter. A navigator then knows obstacles within `r_f` only,
+    /// so its `d_min` comes from `r_f − D` (docs/maths.md §12.11). Default `∞` (every segment).
+    pub fit_range: f64,
+    /// `s_m`, m: a scan's free evidence is remembered only when its sensor lies at least this
+    /// far from the last one remembered (the oldest is forgotten past [`Options::free_memory`]).
+    pub memory_spacing: f64,
     /// `d_ev`, m, of eq. attribution ([`Options::evidence_radius`]; at least `h`); `None` (the
     /// default) for `max(d0 + 2ε, h)`. (A5) then asks obstacles to stay `d_ev + 2ε` apart: a larger value
     /// is a stronger assumption.
@@ -64,7 +83,7 @@ pub struct Options {
 impl Default for Options {
     /// `ε = 0.02`, `D = 1`, `ρ_min = 0.05`, `d0 = 0.1`, Fourier stars of order 6,
     /// `h = 0.01`, `ε_g = 0.02`,
-    /// `g = 0`, `g_w = 0`, eq. free's disc.
+    /// `g = 0`, `g_w = 0`, eq. free's disc, no memory (`s_m = 0.25`).
     fn default() -> Self {
         Self {
             range_noise: 0.02,
@@ -78,6 +97,9 @@ impl Default for Options {
             merge_gap: 0.0,
             wall_gap: 0.0,
             free_evidence: FreeEvidence::Disc,
+            free_memory: 0,
+            fit_range: f64::INFINITY,
+            memory_spacing: 0.25,
             evidence: None,
         }
     }
@@ -86,6 +108,7 @@ impl Default for Options {
 impl Options {
     /// Errors unless `0 ≤ ε ≤ 10`, `0 < D ≤ 100`, `0 < ρ_min ≤ 1e3`, `0 ≤ d0 ≤ 100`,
     /// `1 ≤ order ≤ 16`, `1e-4 ≤ h ≤ D/4`, `0 < ε_g ≤ 10`, `0 ≤ g ≤ 100`, `0 ≤ g_w ≤ 100`,
+    /// `free_memory ≤` [`MAX_FREE_MEMORY`], `0 ≤ s_m ≤ 100`, `r_f > 0` (may be `∞`),
     /// `h ≤ d_ev ≤ 1e3` when given (finite, m). `h` bounds the cover's size, `~2πD/h`
     /// samples per disc of `K`.
     pub fn validate(&self) -> Result<(), PerceptionError> {
@@ -118,6 +141,20 @@ impl Options {
         check("growth_threshold", self.growth_threshold, 0.0, 10.0, true)?;
         check("merge_gap", self.merge_gap, 0.0, 100.0, false)?;
         check("wall_gap", self.wall_gap, 0.0, 100.0, false)?;
+        check(
+            "free_memory",
+            self.free_memory as f64,
+            0.0,
+            MAX_FREE_MEMORY as f64,
+            false,
+        )?;
+        check("memory_spacing", self.memory_spacing, 0.0, 100.0, false)?;
+        if self.fit_range.is_nan() || self.fit_range <= 0.0 {
+            return Err(PerceptionError::InvalidOption {
+                field: "fit_range",
+                value: self.fit_range,
+            });
+        }
         if let Some(d) = self.evidence {
             // At least `h`: the evidence is thinned to `d_ev/2`, and a finer one would keep
             // nearly every hit.
@@ -245,6 +282,9 @@ pub struct Observation {
     /// Segments (index into `segments`) with no fit, and why (the guarantee does not cover
     /// what they saw).
     pub unfitted: Vec<(usize, FitFailure)>,
+    /// Segments with an unexplained hit left for a later scan: every hit farther than
+    /// [`Options::fit_range`].
+    pub deferred: usize,
 }
 
 /// The perception state (see the crate docs).
@@ -257,6 +297,9 @@ pub struct Perception {
     /// For each perceived shape, the hits it was fitted to (thinned to `d_ev/2` apart): the
     /// evidence of eq. explained.
     evidence: Vec<Vec<Vector2<f64>>>,
+    /// The remembered scans' free evidence, oldest first (eq. memory; shared, so that the
+    /// navigator's copy per update is cheap).
+    memory: Vec<Arc<FreeSpace>>,
 }
 
 /// Who explains a hit (eq. explained).
@@ -305,6 +348,7 @@ impl Perception {
             map,
             perceived: Vec::new(),
             evidence: Vec::new(),
+            memory: Vec::new(),
         })
     }
 
@@ -482,6 +526,10 @@ impl Perception {
                 if let Some(j) = self.attribution(&hits) {
                     attributed.push((j, hits));
                 } else if seg.beams.iter().any(|&i| unexplained[i]) {
+                    if hits.iter().all(|p| (p - s).norm() > self.options.fit_range) {
+                        obs.deferred += 1;
+                        return false;
+                    }
                     return true;
                 }
                 obs.explained += seg.beams.len();
@@ -494,15 +542,19 @@ impl Perception {
             .boundary
             .as_ref()
             .and_then(|b| WallPrior::new(b, self.options.wall_gap));
-        let free = FreeSpace::of_kind(
+        let seen = FreeSpace::of_kind(
             self.options.free_evidence,
             scan,
             &pose,
             params.range_noise,
             params.rho_min,
             h,
-        )
-        .with_wall(wall);
+        );
+        let now = seen.clone().with_wall(wall);
+        let free = FreeUnion {
+            now: &now,
+            past: &self.memory,
+        };
         // Work on a copy: the update is all or nothing.
         let mut shapes: Vec<(Perceived, Origin, Vec<Vector2<f64>>)> = self
             .perceived
@@ -599,7 +651,32 @@ impl Perception {
         }
         obs.absorbed.sort_unstable();
         obs.absorbed.dedup();
+        self.remember(seen);
         Ok(obs)
+    }
+
+    /// Eq. memory: keeps `seen` when the options ask for a memory and its sensor lies at least
+    /// [`Options::memory_spacing`] from the last scan kept; forgets the oldest beyond
+    /// [`Options::free_memory`].
+    fn remember(&mut self, seen: FreeSpace) {
+        let keep = self.options.free_memory;
+        if keep == 0
+            || self.memory.last().is_some_and(|last| {
+                (last.sensor() - seen.sensor()).norm() < self.options.memory_spacing
+            })
+        {
+            return;
+        }
+        if self.memory.len() == keep {
+            self.memory.remove(0);
+        }
+        self.memory.push(Arc::new(seen));
+    }
+
+    /// How many earlier scans' free evidence the fits leave out (eq. memory).
+    #[must_use]
+    pub fn remembered(&self) -> usize {
+        self.memory.len()
     }
 }
 

@@ -14,9 +14,15 @@
 //!   radius, as for the sector;
 //! - `g_w` (the wall prior, eq. wallgap, `sensor.wall_gap`) defaults to 0.99 of the smallest
 //!   distance from a true obstacle to the workspace boundary.
+//!
+//! The perception's own choices default to what arrives best in the rerun of `scenarios/`
+//! (docs/maths.md §12.11): radial hulls (`sensor.shapes`), the free fan (`sensor.free`), the
+//! free evidence of 16 earlier scans (`sensor.free_memory`), and segments fitted once within
+//! `D + 0.5 m` (`sensor.fit_range`).
 
 use std::f64::consts::TAU;
 
+use harmonav::perception::perception::MAX_FREE_MEMORY;
 use harmonav::perception::sim::Lidar;
 use harmonav::{Options, ScanOptions};
 use harmonav_transform::StarShape;
@@ -64,6 +70,64 @@ pub struct SensorSpec {
     /// 0.99 of the smallest distance from a true obstacle to the boundary (0 without one).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wall_gap: Option<f64>,
+    /// Lidar: `r_f`, m: segments whose every hit lies farther are fitted from a later, nearer
+    /// scan (docs/maths.md §12.11); the navigator's `d_min` then comes from `r_f − D`. Must
+    /// exceed `D`; default `D +` [`DEFAULT_FIT_BEYOND_DEPTH`], at most `range`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fit_range: Option<f64>,
+    /// Lidar: how many earlier scans' free evidence the fits also leave out (eq. memory,
+    /// §12.11), at most `harmonav::perception::perception::MAX_FREE_MEMORY`; default
+    /// [`DEFAULT_FREE_MEMORY`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub free_memory: Option<usize>,
+    /// Lidar: which free evidence of a scan the fits leave out: `"fan"` (the default) or
+    /// `"disc"` (§12.7).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub free: Option<LidarFree>,
+    /// Lidar: the perceived shapes' form: `"hull"` (radial hulls, the default) or `"fourier"`
+    /// (order-6 Fourier stars, §12.10).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shapes: Option<LidarShapes>,
+}
+
+/// `sensor.free`: which free evidence of a scan a lidar's fits leave out of their regions.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LidarFree {
+    /// The whole free fan of eq. freefan. The default.
+    #[default]
+    Fan,
+    /// The disc about the sensor of eq. free.
+    Disc,
+}
+
+impl From<LidarFree> for harmonav::perception::FreeEvidence {
+    fn from(f: LidarFree) -> Self {
+        match f {
+            LidarFree::Fan => Self::Fan,
+            LidarFree::Disc => Self::Disc,
+        }
+    }
+}
+
+/// `sensor.shapes`: the form of a lidar's perceived shapes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LidarShapes {
+    /// Radial hulls of the fits' covers (eq. radialhull). The default.
+    #[default]
+    Hull,
+    /// Fourier stars of order 6.
+    Fourier,
+}
+
+impl From<LidarShapes> for harmonav::StarForm {
+    fn from(f: LidarShapes) -> Self {
+        match f {
+            LidarShapes::Hull => Self::Hull,
+            LidarShapes::Fourier => Self::Fourier,
+        }
+    }
 }
 
 fn full_turn() -> f64 {
@@ -87,6 +151,10 @@ impl SensorSpec {
             seed: None,
             max_obstacle_depth: None,
             wall_gap: None,
+            fit_range: None,
+            free_memory: None,
+            free: None,
+            shapes: None,
         }
     }
 
@@ -123,6 +191,13 @@ pub const DEFAULT_RANGE_NOISE: f64 = 0.02;
 pub const RANGE_MIN: f64 = 0.05;
 /// At most this many beams per scan.
 pub const MAX_BEAMS: usize = 100_000;
+/// `r_f − D` when `sensor.fit_range` is not given, m: a segment is fitted once it is within
+/// this of the sensor beyond the depth prior (docs/maths.md §12.11: 35 of 44 rerun runs arrive
+/// with 0.5 m, 33 with 1 m, 23 without the radial hulls).
+pub const DEFAULT_FIT_BEYOND_DEPTH: f64 = 0.5;
+/// How many earlier scans' free evidence a simulated lidar's fits leave out when
+/// `sensor.free_memory` is not given.
+pub const DEFAULT_FREE_MEMORY: usize = 16;
 /// The depth prior `D` when the world has no obstacle and the file gives none, m.
 pub const DEFAULT_DEPTH_NO_OBSTACLE: f64 = 1.0;
 /// The default `D` is the largest true diameter times this (the outline's vertices lie on
@@ -164,7 +239,7 @@ impl LidarSensor {
     pub fn options(&self, options: Options, rho_min: f64) -> Options {
         let options = options
             .with_sensor(
-                self.lidar.range_max - self.scan.max_obstacle_depth,
+                self.lidar.range_max.min(self.scan.fit_range) - self.scan.max_obstacle_depth,
                 self.aperture_deg,
             )
             .with_scan(self.scan);
@@ -260,6 +335,26 @@ pub(crate) fn prepare(
         Some(g) => g,
         None => WALL_GAP_SLACK * wall_distance(boundary, obstacles).min(100.0),
     };
+    let fit_range = spec
+        .fit_range
+        .unwrap_or((depth + DEFAULT_FIT_BEYOND_DEPTH).min(spec.range));
+    if !(fit_range.is_finite() && fit_range > depth && fit_range <= spec.range) {
+        return Err(f(
+            "fit_range",
+            format!(
+                "must exceed max_obstacle_depth = {depth} m (d_min is taken from fit_range − \
+                 depth) and be at most sensor.range = {} m, got {fit_range:e} m",
+                spec.range
+            ),
+        ));
+    }
+    let free_memory = spec.free_memory.unwrap_or(DEFAULT_FREE_MEMORY);
+    if free_memory > MAX_FREE_MEMORY {
+        return Err(f(
+            "free_memory",
+            format!("must be at most {MAX_FREE_MEMORY}, got {free_memory}"),
+        ));
+    }
     let aperture = spec.aperture_deg.to_radians();
     Ok(LidarSensor {
         lidar: Lidar {
@@ -284,6 +379,10 @@ pub(crate) fn prepare(
             // The built-in integrator follows the continuous law, which has no value in a
             // margin band (docs/maths.md §12.9).
             refuse_in_band: true,
+            fit_range,
+            free_memory,
+            free_evidence: spec.free.unwrap_or_default().into(),
+            form: spec.shapes.unwrap_or_default().into(),
             ..ScanOptions::default()
         },
     })
@@ -291,7 +390,7 @@ pub(crate) fn prepare(
 
 /// The fields only a lidar takes, with whether `spec` gives each: a sector given one is an
 /// error that names it.
-pub(crate) fn lidar_only_fields(spec: &SensorSpec) -> [(&'static str, bool); 7] {
+pub(crate) fn lidar_only_fields(spec: &SensorSpec) -> [(&'static str, bool); 11] {
     [
         ("beams", spec.beams.is_some()),
         ("rate_hz", spec.rate_hz.is_some()),
@@ -300,6 +399,10 @@ pub(crate) fn lidar_only_fields(spec: &SensorSpec) -> [(&'static str, bool); 7] 
         ("seed", spec.seed.is_some()),
         ("max_obstacle_depth", spec.max_obstacle_depth.is_some()),
         ("wall_gap", spec.wall_gap.is_some()),
+        ("fit_range", spec.fit_range.is_some()),
+        ("free_memory", spec.free_memory.is_some()),
+        ("free", spec.free.is_some()),
+        ("shapes", spec.shapes.is_some()),
     ]
 }
 

@@ -103,7 +103,14 @@ impl Scanner {
         self.report.scans += 1;
         self.report.unfitted_segments += update.unfitted;
         let now: Vec<StarShape> = nav.perceived().map(|(_, p)| p.shape().clone()).collect();
-        let c = coverage(&lidar, &pose, &scan, truth, &now);
+        let c = coverage(
+            &lidar,
+            &pose,
+            &scan,
+            truth,
+            &now,
+            self.sensor.scan.fit_range,
+        );
         self.report.seen_points += c.seen;
         self.report.uncovered_points += c.uncovered;
         if c.seen > c.uncovered {
@@ -207,6 +214,7 @@ fn coverage(
     scan: &LaserScan,
     truth: &Truth,
     perceived: &[StarShape],
+    fit_range: f64,
 ) -> Coverage {
     let s = pose.position();
     let boundary = Some(&truth.boundary);
@@ -227,7 +235,7 @@ fn coverage(
     // The obstacles the scan's returns hit (noise-free along their beams).
     let mut hit = vec![false; near.len()];
     for i in 0..scan.ranges.len() {
-        if matches!(scan.reading(i), Reading::Hit(_))
+        if matches!(scan.reading(i), Reading::Hit(r) if r <= fit_range)
             && let Some((k, _)) =
                 lidar.first_obstacle_hit(s, scan.direction(pose, i), near.iter().copied(), boundary)
         {

@@ -109,7 +109,8 @@ fn a_depth_prior_below_the_truth_fails_the_coverage_check() {
 /// `ε = 0` while the lidar reads ±2 cm must leave seen truth uncovered. With radial hulls
 /// (`StarForm::Hull`, docs/maths.md §12.10) a fit stands about `h/2` in front of its region
 /// `Y`, so the cuts made without the noise bound reach into the truth and the check fails;
-/// the default Fourier stars' raise (4.4–6.7 cm on the seen faces) absorbs it.
+/// the Fourier stars' raise (4.4–6.7 cm on the seen faces) absorbs it. Radial hulls are the
+/// simulator's default since §12.11; the test names them so that it keeps biting.
 #[test]
 fn a_noise_bound_of_zero_fails_the_coverage_check() {
     let mut p = load("lidar/paper-world.toml");
@@ -237,6 +238,17 @@ fn bad_lidar_tables_name_the_field() {
         ("seed = 1", "seed = 1\nwall_gap = -0.1", "sensor.wall_gap"),
         ("seed = 1", "seed = 1\nwall_gap = inf", "sensor.wall_gap"),
         ("seed = 1", "seed = 1\nwall_gap = 5.0", "sensor.wall_gap"),
+        // r_f at or below D leaves the navigator no d_min; beyond the range it means nothing.
+        ("seed = 1", "seed = 1\nfit_range = 0.3", "sensor.fit_range"),
+        ("seed = 1", "seed = 1\nfit_range = 9.0", "sensor.fit_range"),
+        ("seed = 1", "seed = 1\nfit_range = nan", "sensor.fit_range"),
+        (
+            "seed = 1",
+            "seed = 1\nfree_memory = 100000",
+            "sensor.free_memory",
+        ),
+        ("seed = 1", "seed = 1\nfree = \"cone\"", "sensor.free"),
+        ("seed = 1", "seed = 1\nshapes = \"spline\"", "sensor.shapes"),
         ("range = 3.0", "range = 0.01", "sensor.range"),
         // A lidar's fields on a sector.
         ("type = \"lidar\"", "type = \"sector\"", "sensor.beams"),

@@ -48,6 +48,16 @@ pub struct ScanOptions {
     /// Which of the scan's free evidence the fits leave out: eq. free's disc (the default) or
     /// the whole free fan of eq. freefan (docs/maths.md §12.7).
     pub free_evidence: harmonav_perception::FreeEvidence,
+    /// How many earlier scans' free evidence the fits also leave out (eq. memory,
+    /// docs/maths.md §12.11; a static world), remembered at least `memory_spacing` apart.
+    /// Default 0 (the current scan only).
+    pub free_memory: usize,
+    /// `s_m`, m: the least distance between two remembered scans' sensors. Default 0.25.
+    pub memory_spacing: f64,
+    /// `r_f`, m: segments whose every hit lies farther are left for a later scan (their beams
+    /// still count as free evidence); the navigator's sector for `d_min` should then reach
+    /// `r_f − D`, not `range − D` (docs/maths.md §12.11). Default `∞`.
+    pub fit_range: f64,
     /// `d_ev`, m, of eq. attribution (docs/maths.md §12.8): a hit is put down to a perceived
     /// shape only within `d_ev` of a hit that shape was fitted to, assuming (A5) that two
     /// obstacles stay `d_ev + 2ε` apart. `None` (the default): `max(d0 + 2ε, h)`.
@@ -70,6 +80,9 @@ impl Default for ScanOptions {
             check_spacing: p.check_spacing,
             wall_gap: p.wall_gap,
             free_evidence: p.free_evidence,
+            free_memory: p.free_memory,
+            memory_spacing: p.memory_spacing,
+            fit_range: p.fit_range,
             evidence: p.evidence,
         }
     }
@@ -94,6 +107,9 @@ impl ScanOptions {
             merge_gap: 2.0 * inflation,
             wall_gap: self.wall_gap,
             free_evidence: self.free_evidence,
+            free_memory: self.free_memory,
+            memory_spacing: self.memory_spacing,
+            fit_range: self.fit_range,
             evidence: self.evidence,
         }
     }

@@ -81,19 +81,24 @@ pub fn trial(seed: u64, noise_bound: f64) -> Trial {
 pub fn fits(scan: &LaserScan, pose: &Pose, options: &Options) -> Vec<Result<Fit, FitFailure>> {
     let n = scan.ranges.len();
     let usable: Vec<bool> = (0..n).map(|i| hit_point(scan, pose, i).is_some()).collect();
-    let params = harmonav_perception::FitParams {
+    let params = params(options);
+    let free = FreeSpace::of_scan(scan, pose, options.range_noise, options.rho_min);
+    segment(scan, pose, &usable, options.jump_distance)
+        .iter()
+        .map(|seg| fit_in_scan(scan, pose, seg, &params, &free))
+        .collect()
+}
+
+/// The fit's parameters from the perception's options.
+pub fn params(options: &Options) -> harmonav_perception::FitParams {
+    harmonav_perception::FitParams {
         range_noise: options.range_noise,
         max_obstacle_depth: options.max_obstacle_depth,
         rho_min: options.rho_min,
         order: options.order,
         form: options.form,
         check_spacing: options.check_spacing,
-    };
-    let free = FreeSpace::of_scan(scan, pose, options.range_noise, options.rho_min);
-    segment(scan, pose, &usable, options.jump_distance)
-        .iter()
-        .map(|seg| fit_in_scan(scan, pose, seg, &params, &free))
-        .collect()
+    }
 }
 
 /// Boundary points of the truth, 2048 evenly in angle about its centre.
