@@ -134,6 +134,8 @@ class Navigator:
         range_noise: float = 0.02,
         max_obstacle_depth: float = 1.0,
         growth_threshold: float = 0.02,
+        fit_range: Optional[float] = None,
+        free_memory: int = 16,
     ) -> None: ...
     def observe_scan(
         self,

@@ -37,7 +37,10 @@ use crate::shapes::{Shape, from_perceived};
 /// `observe_scan(...)` feeds it range scans instead of shapes (`docs/maths.md` §12.6), under the
 /// priors `range_noise` (m, the noise bound), `max_obstacle_depth` (m, how far an obstacle may
 /// extend behind what was seen), `growth_threshold` (m, how far outside a shape a hit must lie
-/// to grow it) and `rho_min`.
+/// to grow it) and `rho_min`; `fit_range` (m, default `None`: every segment) fits a segment only
+/// once a hit is that near, and cuts the sector of `d_min` to `fit_range − max_obstacle_depth`
+/// (`max_obstacle_depth + 0.5` is recommended, `docs/maths.md` §12.11); `free_memory` (default
+/// 16) is how many earlier scans' free space the fits leave out (a static world).
 ///
 /// `control_period` (s; default 0.01 kinematic, 0.001 dynamic) is how long your loop holds
 /// each command (`x += h·u`, or `v += h·f/m; x += h·v`): under `hold="auto"` (the default)
@@ -86,6 +89,8 @@ struct Args {
     range_noise: f64,
     max_obstacle_depth: f64,
     growth_threshold: f64,
+    fit_range: Option<f64>,
+    free_memory: usize,
 }
 
 /// A call that changed a navigator's state.
@@ -128,6 +133,8 @@ impl Args {
                 range_noise: self.range_noise,
                 max_obstacle_depth: self.max_obstacle_depth,
                 growth_threshold: self.growth_threshold,
+                fit_range: self.fit_range.unwrap_or(f64::INFINITY),
+                free_memory: self.free_memory,
                 ..ScanOptions::default()
             });
         if let Some(h) = self.control_period {
@@ -166,6 +173,8 @@ impl Args {
                 self.range_noise.into_pyobject(py)?.into_any(),
                 self.max_obstacle_depth.into_pyobject(py)?.into_any(),
                 self.growth_threshold.into_pyobject(py)?.into_any(),
+                self.fit_range.into_pyobject(py)?.into_any(),
+                self.free_memory.into_pyobject(py)?.into_any(),
             ],
         )
     }
@@ -287,7 +296,7 @@ impl Navigator {
                         sensor=(1.0, 60.0), radius=0.0, margin=0.0, k="auto", damping="governed",
                         rho_min=0.05, control_period=None, hold="auto", speed="auto",
                         v_max=None, range_noise=0.02, max_obstacle_depth=1.0,
-                        growth_threshold=0.02))]
+                        growth_threshold=0.02, fit_range=None, free_memory=16))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         boundary: &Shape,
@@ -309,6 +318,8 @@ impl Navigator {
         range_noise: f64,
         max_obstacle_depth: f64,
         growth_threshold: f64,
+        fit_range: Option<f64>,
+        free_memory: usize,
     ) -> PyResult<Self> {
         let goal = point_like(goal, "goal")?;
         let args = Args {
@@ -331,6 +342,8 @@ impl Navigator {
             range_noise,
             max_obstacle_depth,
             growth_threshold,
+            fit_range,
+            free_memory,
         };
         Ok(Self {
             inner: args.build()?,

@@ -119,7 +119,8 @@ def test_a_pickle_holds_every_constructor_argument():
         law="dynamic", gain=2.5, mass=2.0, mu=5.0, sensor=(1.5, 90.0), radius=0.1,
         margin=0.05, k="paper", damping="paper", rho_min=0.1, control_period=0.02, hold="paper",
         speed="paper", v_max=0.7,
-        range_noise=0.03, max_obstacle_depth=1.5, growth_threshold=0.04,
+        range_noise=0.03, max_obstacle_depth=1.5, growth_threshold=0.04, fit_range=2.0,
+        free_memory=3,
     )
     boundary = harmonav.circle([0, 0], 4.0)
     nav = harmonav.Navigator(boundary, [3.0, 0.0], **given)

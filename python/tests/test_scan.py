@@ -147,11 +147,28 @@ def test_a_shape_over_the_goal_is_refused():
         (dict(range_noise=-1.0), "range_noise"),
         (dict(max_obstacle_depth=0.0), "max_obstacle_depth"),
         (dict(growth_threshold=0.0), "growth_threshold"),
+        # At or below the depth prior, the sector of d_min would be empty.
+        (dict(fit_range=1.0), "fit_range"),
+        (dict(free_memory=10**6), "free_memory"),
     ],
 )
 def test_scan_options_are_checked(kw, field):
     with pytest.raises(ValueError, match=field):
         navigator(**kw)
+
+
+def test_far_segments_wait_for_a_nearer_scan():
+    """With `fit_range`, discs whose every hit lies farther are not fitted yet (the scan changes
+    nothing), and are fitted once the robot is near; without it the first scan adds them."""
+    x = np.array([-3.0, 0.0])
+    # The nearer disc's face is 1.6 m away; fit_range 1.5 m defers it.
+    near = navigator(fit_range=1.5)
+    u = observe(near, x, np.random.default_rng(1))
+    assert u.hits > 0 and not u.changed and near.obstacle_count == 0
+    u = observe(near, [-2.0, 0.0], np.random.default_rng(2))
+    assert u.changed and near.obstacle_count >= 1
+    every = navigator()
+    assert observe(every, x, np.random.default_rng(1)).changed
 
 
 def test_copy_and_pickle_keep_the_scanned_obstacles():

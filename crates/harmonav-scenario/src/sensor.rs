@@ -24,7 +24,7 @@ use std::f64::consts::TAU;
 
 use harmonav::perception::perception::MAX_FREE_MEMORY;
 use harmonav::perception::sim::Lidar;
-use harmonav::{Options, ScanOptions};
+use harmonav::{DEFAULT_FREE_MEMORY, FIT_BEYOND_DEPTH, Options, ScanOptions};
 use harmonav_transform::StarShape;
 use serde::{Deserialize, Serialize};
 
@@ -72,12 +72,12 @@ pub struct SensorSpec {
     pub wall_gap: Option<f64>,
     /// Lidar: `r_f`, m: segments whose every hit lies farther are fitted from a later, nearer
     /// scan (docs/maths.md §12.11); the navigator's `d_min` then comes from `r_f − D`. Must
-    /// exceed `D`; default `D +` [`DEFAULT_FIT_BEYOND_DEPTH`], at most `range`.
+    /// exceed `D`; default `D +` [`harmonav::FIT_BEYOND_DEPTH`], at most `range`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fit_range: Option<f64>,
     /// Lidar: how many earlier scans' free evidence the fits also leave out (eq. memory,
     /// §12.11), at most `harmonav::perception::perception::MAX_FREE_MEMORY`; default
-    /// [`DEFAULT_FREE_MEMORY`].
+    /// [`harmonav::DEFAULT_FREE_MEMORY`].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub free_memory: Option<usize>,
     /// Lidar: which free evidence of a scan the fits leave out: `"fan"` (the default) or
@@ -191,13 +191,6 @@ pub const DEFAULT_RANGE_NOISE: f64 = 0.02;
 pub const RANGE_MIN: f64 = 0.05;
 /// At most this many beams per scan.
 pub const MAX_BEAMS: usize = 100_000;
-/// `r_f − D` when `sensor.fit_range` is not given, m: a segment is fitted once it is within
-/// this of the sensor beyond the depth prior (docs/maths.md §12.11: 35 of 44 rerun runs arrive
-/// with 0.5 m, 33 with 1 m, 23 without the radial hulls).
-pub const DEFAULT_FIT_BEYOND_DEPTH: f64 = 0.5;
-/// How many earlier scans' free evidence a simulated lidar's fits leave out when
-/// `sensor.free_memory` is not given.
-pub const DEFAULT_FREE_MEMORY: usize = 16;
 /// The depth prior `D` when the world has no obstacle and the file gives none, m.
 pub const DEFAULT_DEPTH_NO_OBSTACLE: f64 = 1.0;
 /// The default `D` is the largest true diameter times this (the outline's vertices lie on
@@ -233,13 +226,13 @@ impl LidarSensor {
 
     /// The navigator's options for this lidar: a sector of range `r − D` (a first fit may
     /// reach `D` in front of the truth, so `d_min` is taken from what is left, docs/maths.md
-    /// §12.6) and the lidar's aperture, the curvature prior `rho_min` (when finite) and the scan
+    /// §12.6; `Options::d_min` cuts it to `r_f − D`) and the lidar's aperture, the curvature prior `rho_min` (when finite) and the scan
     /// priors.
     #[must_use]
     pub fn options(&self, options: Options, rho_min: f64) -> Options {
         let options = options
             .with_sensor(
-                self.lidar.range_max.min(self.scan.fit_range) - self.scan.max_obstacle_depth,
+                self.lidar.range_max - self.scan.max_obstacle_depth,
                 self.aperture_deg,
             )
             .with_scan(self.scan);
@@ -337,7 +330,7 @@ pub(crate) fn prepare(
     };
     let fit_range = spec
         .fit_range
-        .unwrap_or((depth + DEFAULT_FIT_BEYOND_DEPTH).min(spec.range));
+        .unwrap_or((depth + FIT_BEYOND_DEPTH).min(spec.range));
     if !(fit_range.is_finite() && fit_range > depth && fit_range <= spec.range) {
         return Err(f(
             "fit_range",

@@ -87,7 +87,7 @@ pub use options::{
     PARAMETER_RANGE, UnknownHoldPolicy,
 };
 pub use scan::{LaserScan, Perceived, Pose, StarForm, grow_perceived, grow_perceived_as};
-pub use scanning::{ScanOptions, ScanUpdate};
+pub use scanning::{DEFAULT_FREE_MEMORY, FIT_BEYOND_DEPTH, ScanOptions, ScanUpdate};
 
 /// The README's code compiles and runs (checked by `cargo test --doc`).
 #[doc = include_str!("../../../README.md")]

@@ -214,8 +214,25 @@ impl Options {
 
     /// `d_min(θ)` of eq. `dmin` for this sensor and `ρ_min`, after checking both against
     /// [`PARAMETER_RANGE`] and [`MIN_APERTURE_DEG`]; errors name the field.
+    ///
+    /// With a finite [`ScanOptions::fit_range`] `r_f` the sector reaches at most `r_f − D`: an
+    /// obstacle seen by scans is first known within `r_f` of the sensor, and its first fit may
+    /// reach `D` in front of it (docs/maths.md §12.6, §12.11). `r_f ≤ D` is an error naming
+    /// `fit_range`.
     pub fn d_min(&self) -> Result<f64, NavError> {
         in_range("sensor_range", self.sensor_range)?;
+        let (fit_range, depth) = (self.scan.fit_range, self.scan.max_obstacle_depth);
+        let range = if fit_range.is_finite() {
+            if fit_range <= depth {
+                return Err(NavError::InvalidOption {
+                    field: "fit_range",
+                    value: fit_range,
+                });
+            }
+            self.sensor_range.min(fit_range - depth)
+        } else {
+            self.sensor_range
+        };
         let aperture = self.sensor_aperture_deg;
         if !(aperture.is_finite() && (MIN_APERTURE_DEG..=360.0).contains(&aperture)) {
             return Err(NavError::InvalidOption {
@@ -224,8 +241,7 @@ impl Options {
             });
         }
         in_range("rho_min", self.rho_min)?;
-        let sector =
-            Sector::new(self.sensor_range, aperture.to_radians()).map_err(NavError::Sensor)?;
+        let sector = Sector::new(range, aperture.to_radians()).map_err(NavError::Sensor)?;
         let d_min = sector.d_min(self.rho_min);
         // Guard: within the ranges above d_min ≥ min(1e-9·sin(5e-4°)... , ρ_min) > 0; checked
         // rather than assumed, as every quantity derived from it divides by it.
@@ -300,5 +316,38 @@ mod tests {
         assert_eq!(HoldPolicy::default(), HoldPolicy::Auto);
         let e = "exact".parse::<HoldPolicy>().unwrap_err();
         assert!(e.to_string().contains("\"exact\""), "{e}");
+    }
+
+    /// A finite fit range cuts the sector of `d_min` to `r_f − D` (and only cuts it), and one
+    /// at or below `D` is refused by name.
+    #[test]
+    fn a_fit_range_cuts_the_sector_of_d_min() {
+        let base = Options::default().with_sensor(3.0, 360.0).with_rho_min(0.1);
+        let with_fit = |fit_range: f64| {
+            base.with_scan(ScanOptions {
+                max_obstacle_depth: 1.0,
+                fit_range,
+                ..ScanOptions::default()
+            })
+        };
+        let sector = |range: f64| {
+            Options::default()
+                .with_sensor(range, 360.0)
+                .with_rho_min(0.1)
+        };
+        assert_eq!(with_fit(1.5).d_min(), sector(0.5).d_min());
+        assert!(sector(0.5).d_min().unwrap() < base.d_min().unwrap());
+        // Beyond the sensor's own range nothing changes.
+        assert_eq!(with_fit(10.0).d_min(), base.d_min());
+        assert_eq!(with_fit(f64::INFINITY).d_min(), base.d_min());
+        for bad in [1.0, 0.5] {
+            assert!(matches!(
+                with_fit(bad).d_min(),
+                Err(NavError::InvalidOption {
+                    field: "fit_range",
+                    ..
+                })
+            ));
+        }
     }
 }

@@ -30,8 +30,8 @@ pub struct ScanOptions {
     pub jump_distance: f64,
     /// Highest harmonic of a fitted Fourier star (1 to 16), under `form = Fourier`. Default 6.
     pub order: u32,
-    /// How perceived shapes are represented: a Fourier star of order `order` (the default) or
-    /// the radial hull of their cover (docs/maths.md §12.10).
+    /// How perceived shapes are represented: the radial hull of their cover (the default,
+    /// docs/maths.md §12.10–12.11) or a Fourier star of order `order`.
     pub form: harmonav_perception::StarForm,
     /// Refuse an event that leaves the robot in a changed shape's margin band
     /// ([`crate::NavError::ContainsRobot`]) instead of leading it out (`Mode::Recovering`).
@@ -45,18 +45,19 @@ pub struct ScanOptions {
     /// at least this distance from the workspace boundary, so a fit leaves out what lies
     /// nearer the wall. An assumption the containment guarantee then rests on. Default 0 (none).
     pub wall_gap: f64,
-    /// Which of the scan's free evidence the fits leave out: eq. free's disc (the default) or
-    /// the whole free fan of eq. freefan (docs/maths.md §12.7).
+    /// Which of the scan's free evidence the fits leave out: the whole free fan of eq. freefan
+    /// (the default) or eq. free's disc (docs/maths.md §12.7, §12.11).
     pub free_evidence: harmonav_perception::FreeEvidence,
     /// How many earlier scans' free evidence the fits also leave out (eq. memory,
     /// docs/maths.md §12.11; a static world), remembered at least `memory_spacing` apart.
-    /// Default 0 (the current scan only).
+    /// Default [`DEFAULT_FREE_MEMORY`]; 0 for the current scan only.
     pub free_memory: usize,
     /// `s_m`, m: the least distance between two remembered scans' sensors. Default 0.25.
     pub memory_spacing: f64,
     /// `r_f`, m: segments whose every hit lies farther are left for a later scan (their beams
-    /// still count as free evidence); the navigator's sector for `d_min` should then reach
-    /// `r_f − D`, not `range − D` (docs/maths.md §12.11). Default `∞`.
+    /// still count as free evidence); the navigator's sector for `d_min` then reaches at most
+    /// `r_f − D` ([`crate::Options::d_min`]), so `r_f` must exceed `D` (docs/maths.md §12.11).
+    /// Default `∞`; `D +` [`FIT_BEYOND_DEPTH`] is recommended.
     pub fit_range: f64,
     /// `d_ev`, m, of eq. attribution (docs/maths.md §12.8): a hit is put down to a perceived
     /// shape only within `d_ev` of a hit that shape was fitted to, assuming (A5) that two
@@ -64,9 +65,18 @@ pub struct ScanOptions {
     pub evidence: Option<f64>,
 }
 
+/// How many earlier scans' free evidence the navigator's fits leave out by default
+/// ([`ScanOptions::free_memory`]).
+pub const DEFAULT_FREE_MEMORY: usize = 16;
+
+/// `r_f − D`, m: the recommended [`ScanOptions::fit_range`] beyond the depth prior (docs/maths.md
+/// §12.11: 35 of the 44 rerun runs arrive with 0.5 m, 33 with 1 m, 19 with none). Not a default,
+/// as `r_f` is absolute and `D` the user's; the simulator's lidar takes `D +` this.
+pub const FIT_BEYOND_DEPTH: f64 = 0.5;
+
 impl Default for ScanOptions {
-    /// `ε = 0.02`, `D = 1`, `ε_g = 0.02`, `d0 = 0.1`, Fourier stars of order 6,
-    /// `h = 0.01`, `g_w = 0` (m).
+    /// `ε = 0.02`, `D = 1`, `ε_g = 0.02`, `d0 = 0.1`, radial hulls, `h = 0.01`, `g_w = 0` (m),
+    /// the free fan, a memory of [`DEFAULT_FREE_MEMORY`] scans 0.25 m apart, `r_f = ∞`.
     fn default() -> Self {
         let p = harmonav_perception::Options::default();
         Self {
@@ -75,12 +85,15 @@ impl Default for ScanOptions {
             growth_threshold: p.growth_threshold,
             jump_distance: p.jump_distance,
             order: p.order,
-            form: p.form,
+            // The navigator's choices differ from the perception crate's own defaults: radial
+            // hulls, the free fan and a memory arrive best in closed loop (docs/maths.md
+            // §12.11: `navigator.lidar` 48, 48, 48 of 48 against 48, 44, 45).
+            form: harmonav_perception::StarForm::Hull,
             refuse_in_band: false,
             check_spacing: p.check_spacing,
             wall_gap: p.wall_gap,
-            free_evidence: p.free_evidence,
-            free_memory: p.free_memory,
+            free_evidence: harmonav_perception::FreeEvidence::Fan,
+            free_memory: DEFAULT_FREE_MEMORY,
             memory_spacing: p.memory_spacing,
             fit_range: p.fit_range,
             evidence: p.evidence,

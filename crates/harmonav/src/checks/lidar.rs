@@ -119,8 +119,9 @@ pub fn suite_lidar() -> Lidar {
 
 /// The navigator options of a lidar flight in `world`: a 360° sensor of range `r − D` (`r`
 /// the lidar's, so `d_min = r − D`: the room left when a first fit reaches `D` in front of the
-/// truth, docs/maths.md §12.6), the world's `ρ_min`, and the scan priors `range_noise` (`ε`)
-/// and `max_obstacle_depth` (`D`).
+/// truth, docs/maths.md §12.6), the world's `ρ_min`, the scan priors `range_noise` (`ε`)
+/// and `max_obstacle_depth` (`D`), and the recommended fit range `D +`
+/// [`crate::FIT_BEYOND_DEPTH`] (which cuts the sector of `d_min` to 0.5 m, §12.11).
 pub fn lidar_options(
     world: &LidarWorld,
     lidar: &Lidar,
@@ -133,6 +134,7 @@ pub fn lidar_options(
         .with_scan(ScanOptions {
             range_noise,
             max_obstacle_depth,
+            fit_range: max_obstacle_depth + crate::FIT_BEYOND_DEPTH,
             ..ScanOptions::default()
         })
 }
