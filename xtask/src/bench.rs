@@ -389,7 +389,8 @@ fn navigator_command_ns(law: harmonav::Law, hold: harmonav::HoldPolicy) -> f64 {
 /// `Navigator::observe_scan` on a scan of `beams` beams (360°, 3 m, 2 cm noise, 1 % dropouts)
 /// in lidar world 0 (`harmonav::checks::lidar`), µs: `(steady, event)`. Steady: the obstacles
 /// in view are perceived already, every hit is explained (the common case); event: the first
-/// scan of a fresh navigator, which fits, certifies and rebuilds `Θ`.
+/// scan of a fresh navigator, which fits, certifies and rebuilds `Θ`. The suite's options
+/// (radial hulls, the free fan, the memory) with every segment fitted (`fit_range = ∞`).
 fn observe_scan_us(beams: usize) -> (f64, f64) {
     use harmonav::checks::lidar::{LIDAR_WORLD_DEPTH, lidar_options, lidar_world, suite_lidar};
     use harmonav::{Law, Navigator, Pose};
@@ -398,7 +399,10 @@ fn observe_scan_us(beams: usize) -> (f64, f64) {
         beams,
         ..suite_lidar()
     };
-    let options = lidar_options(&world, &lidar, lidar.noise, LIDAR_WORLD_DEPTH);
+    let mut options = lidar_options(&world, &lidar, lidar.noise, LIDAR_WORLD_DEPTH);
+    // Every segment fitted at once, so that the first scan is an event (the suite's fit range
+    // would leave the start's far obstacles for later scans).
+    options.scan.fit_range = f64::INFINITY;
     let fresh = Navigator::new(
         world.boundary.clone(),
         world.goal,

@@ -542,15 +542,22 @@ impl Perception {
             .boundary
             .as_ref()
             .and_then(|b| WallPrior::new(b, self.options.wall_gap));
-        let seen = FreeSpace::of_kind(
-            self.options.free_evidence,
-            scan,
-            &pose,
-            params.range_noise,
-            params.rho_min,
-            h,
-        );
-        let now = seen.clone().with_wall(wall);
+        // The scan's free evidence is built only when a segment is fitted or the memory keeps
+        // it: a scan that changes nothing (the common case) costs no fan.
+        let remembered = self.remembers(s);
+        let now = if obs.segments.is_empty() && !remembered {
+            FreeSpace::none(s)
+        } else {
+            FreeSpace::of_kind(
+                self.options.free_evidence,
+                scan,
+                &pose,
+                params.range_noise,
+                params.rho_min,
+                h,
+            )
+        }
+        .with_wall(wall);
         let free = FreeUnion {
             now: &now,
             past: &self.memory,
@@ -651,26 +658,24 @@ impl Perception {
         }
         obs.absorbed.sort_unstable();
         obs.absorbed.dedup();
-        self.remember(seen);
+        if remembered {
+            if self.memory.len() == self.options.free_memory {
+                self.memory.remove(0);
+            }
+            self.memory.push(Arc::new(now));
+        }
         Ok(obs)
     }
 
-    /// Eq. memory: keeps `seen` when the options ask for a memory and its sensor lies at least
-    /// [`Options::memory_spacing`] from the last scan kept; forgets the oldest beyond
-    /// [`Options::free_memory`].
-    fn remember(&mut self, seen: FreeSpace) {
-        let keep = self.options.free_memory;
-        if keep == 0
-            || self.memory.last().is_some_and(|last| {
-                (last.sensor() - seen.sensor()).norm() < self.options.memory_spacing
-            })
-        {
-            return;
-        }
-        if self.memory.len() == keep {
-            self.memory.remove(0);
-        }
-        self.memory.push(Arc::new(seen));
+    /// Eq. memory: whether a scan taken at `s` is kept, which it is when the options ask for a
+    /// memory and `s` lies at least [`Options::memory_spacing`] from the last scan kept (the
+    /// oldest is forgotten beyond [`Options::free_memory`]).
+    fn remembers(&self, s: Vector2<f64>) -> bool {
+        self.options.free_memory > 0
+            && self
+                .memory
+                .last()
+                .is_none_or(|last| (last.sensor() - s).norm() >= self.options.memory_spacing)
     }
 
     /// How many earlier scans' free evidence the fits leave out (eq. memory).
