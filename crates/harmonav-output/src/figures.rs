@@ -354,15 +354,20 @@ fn perceived_at_end(run: &Run) -> Option<&[harmonav_transform::StarShape]> {
 }
 
 /// `Θ` of the `perceived` shapes, each grown by the robot's radius and margin as the navigator
-/// holds it.
+/// holds it (by the growth rule of the lidar's shapes: a hull's fallback is its dilated hull,
+/// where the Fourier rule's disc may cross the wall).
 pub(crate) fn perceived_field(
     prepared: &Prepared,
     perceived: &[harmonav_transform::StarShape],
 ) -> Result<Field, String> {
     let truth = &prepared.truth;
+    let form = truth
+        .sensor
+        .lidar()
+        .map_or(harmonav::StarForm::Fourier, |l| l.scan.form);
     let grown = perceived
         .iter()
-        .map(|p| harmonav::grow_perceived(p, truth.radius + truth.margin))
+        .map(|p| harmonav::grow_perceived_as(p, truth.radius + truth.margin, form))
         .collect::<Result<Vec<_>, _>>()
         .map_err(|e| e.to_string())?;
     let ws =
@@ -693,6 +698,55 @@ mod tests {
         // 600 names on one spot: one is drawn.
         let crowd = (0..600).map(|i| (i, label_box((300, 300), &format!("O{i}"), 12)));
         assert_eq!(place_labels(crowd, 2).len(), 1);
+    }
+
+    /// The field of a lidar run's perceived shapes grows them by the lidar's own rule. A bow
+    /// tie near the wall, whose offset is not star-shaped: the Fourier rule's fallback disc
+    /// crosses the wall and the field cannot be built (the figures of a 5 m benchmark world
+    /// were refused so); the hull rule's dilated hull stays inside.
+    #[test]
+    fn perceived_shapes_are_grown_by_the_lidars_rule() {
+        let text = r#"
+name = "tie"
+
+[workspace]
+type = "circle"
+center = [0.0, 0.0]
+radius = 2.0
+
+[[obstacles]]
+type = "circle"
+center = [-1.0, 0.0]
+radius = 0.2
+
+[robot]
+model = "kinematic"
+start = [0.0, 1.0]
+goal = [0.0, -1.0]
+radius = 0.05
+
+[sensor]
+type = "lidar"
+range = 1.5
+"#;
+        let path = std::path::Path::new("tie.toml");
+        let mut prepared = harmonav_scenario::Scenario::parse(path, text)
+            .unwrap()
+            .prepare(path)
+            .unwrap();
+        let tie = harmonav_transform::StarShape::fourier_star(
+            nalgebra::Vector2::new(1.45, 0.0),
+            0.3,
+            &[(2, -0.25, 0.0)],
+        )
+        .unwrap();
+        assert!(tie.offset(0.05).is_err(), "the offset must fall back");
+        assert!(perceived_field(&prepared, std::slice::from_ref(&tie)).is_ok());
+        let harmonav_scenario::Sensor::Lidar(l) = &mut prepared.truth.sensor else {
+            panic!("a lidar")
+        };
+        l.scan.form = harmonav::StarForm::Fourier;
+        assert!(perceived_field(&prepared, std::slice::from_ref(&tie)).is_err());
     }
 
     #[test]

@@ -216,8 +216,8 @@ pub fn grow_perceived(shape: &StarShape, r: f64) -> Result<StarShape, NavError> 
 
 /// [`grow_perceived`] for shapes of `form`. Under [`StarForm::Hull`] the fallback between the
 /// offset and the disc is the radial hull of the dilation ([`StarShape::dilated_hull`]), which
-/// contains it and never folds (a hull's concave corners fold its offset). Not under the
-/// Fourier default: there the dilated hull accepted an event that left the robot in its margin
+/// contains it and never folds (a hull's concave corners fold its offset). Not for Fourier
+/// stars (the form before docs/maths.md §12.11): there the dilated hull accepted an event that left the robot in its margin
 /// band, which the simulator's continuous integrator cannot follow (`scale/many-300-sector`
 /// rerun with a lidar, docs/maths.md §12.9–12.10), where the disc refused the scan.
 pub fn grow_perceived_as(shape: &StarShape, r: f64, form: StarForm) -> Result<StarShape, NavError> {
