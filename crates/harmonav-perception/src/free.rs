@@ -38,8 +38,8 @@
 //!
 //! **How a fit uses them.** With `R = Φ ∪ (ℝ² \ B(c_W, R_W − g_w))` open and `O ∩ R = ∅`, the
 //! fit certifies its star over a cover of `∂(Y \ R) ⊂ (∂Y \ R) ∪ (∂R ∩ Y)`: the samples of
-//! `∂Y` whose ball of radius `h/2` is not inside `R` ([`FreeSpace::contains_ball`]), and the
-//! samples of `∂R` at spacing `h` within `h` of `Y` ([`FreeSpace::boundary_samples`]). Every
+//! `∂Y` whose ball of radius `h/2` is not inside `R` ([`FreeSet::contains_ball`]), and the
+//! samples of `∂R` at spacing `h` within `h` of `Y` ([`FreeSet::boundary_samples`]). Every
 //! point of `∂(Y \ R)` is then within `h/2` of a sample, so eq. certify gives `Y \ R ⊂ F`, and
 //! `O ⊂ Y \ R`: the claim `O ⊂ F` stands.
 
@@ -233,19 +233,6 @@ impl FreeSpace {
         self.fan_contains_ball(x, 0.0)
     }
 
-    /// Whether the closed ball `B(x, t)` lies in `R` (module docs): in the free fan (every
-    /// wedge over the ball's angular span about `s` holds it strictly inside its chord line,
-    /// with no gap between them), in eq. free's disc (`|x − s| + t < ρ_s`), or outside the wall
-    /// prior's disc (`|x − c_W| − t > R_W − g_w`).
-    /// Conservative: `false` when unsure.
-    #[must_use]
-    pub fn contains_ball(&self, x: Vector2<f64>, t: f64) -> bool {
-        self.wall
-            .is_some_and(|w| (x - w.centre).norm() - t > w.radius)
-            || (x - self.s).norm() + t < self.disc
-            || self.fan_contains_ball(x, t)
-    }
-
     fn fan_contains_ball(&self, x: Vector2<f64>, t: f64) -> bool {
         if self.wedges.is_empty() {
             return false;
@@ -339,15 +326,54 @@ impl FreeSpace {
         edges
     }
 
-    /// Points of `∂R` (module docs) at spacing at most `h` along it, within `reach` of `near`
-    /// (a cheap bound on where the region lies) and accepted by `keep`: the fan's edges, eq.
-    /// free's circle and the wall prior's circle.
-    pub fn boundary_samples(
+    /// How many wedges the fan has (for reports and tests).
+    #[must_use]
+    pub fn wedges(&self) -> usize {
+        self.wedges.len()
+    }
+}
+
+/// A set that no obstacle meets, which a fit may leave out of its region `Y` (module docs):
+/// one scan's [`FreeSpace`], or the [`FreeUnion`] of the current scan's and remembered ones'.
+/// The fit's cover needs two things of it: whether a ball lies in it, and samples of its
+/// boundary near the region.
+pub trait FreeSet {
+    /// Whether the closed ball `B(x, t)` lies in the set. Conservative: `false` when unsure.
+    fn contains_ball(&self, x: Vector2<f64>, t: f64) -> bool;
+
+    /// Points of the set's boundary at spacing at most `h` along it, within `reach` of `near`,
+    /// accepted by `keep`.
+    fn boundary_samples(
         &self,
         h: f64,
         near: Vector2<f64>,
         reach: f64,
-        keep: impl Fn(Vector2<f64>) -> bool,
+        keep: &dyn Fn(Vector2<f64>) -> bool,
+    ) -> Vec<Vector2<f64>>;
+}
+
+impl FreeSet for FreeSpace {
+    /// Whether the closed ball `B(x, t)` lies in `R` (module docs): in the free fan (every
+    /// wedge over the ball's angular span about `s` holds it strictly inside its chord line,
+    /// with no gap between them), in eq. free's disc (`|x − s| + t < ρ_s`), or outside the wall
+    /// prior's disc (`|x − c_W| − t > R_W − g_w`).
+    /// Conservative: `false` when unsure.
+    fn contains_ball(&self, x: Vector2<f64>, t: f64) -> bool {
+        self.wall
+            .is_some_and(|w| (x - w.centre).norm() - t > w.radius)
+            || (x - self.s).norm() + t < self.disc
+            || self.fan_contains_ball(x, t)
+    }
+
+    /// Points of `∂R` (module docs) at spacing at most `h` along it, within `reach` of `near`
+    /// (a cheap bound on where the region lies) and accepted by `keep`: the fan's edges, eq.
+    /// free's circle and the wall prior's circle.
+    fn boundary_samples(
+        &self,
+        h: f64,
+        near: Vector2<f64>,
+        reach: f64,
+        keep: &dyn Fn(Vector2<f64>) -> bool,
     ) -> Vec<Vector2<f64>> {
         let mut out = Vec::new();
         for &(a, b) in &self.edges {
@@ -396,47 +422,6 @@ impl FreeSpace {
             }
         }
         out
-    }
-
-    /// How many wedges the fan has (for reports and tests).
-    #[must_use]
-    pub fn wedges(&self) -> usize {
-        self.wedges.len()
-    }
-}
-
-/// A set that no obstacle meets, which a fit may leave out of its region `Y` (module docs):
-/// one scan's [`FreeSpace`], or the [`FreeUnion`] of the current scan's and remembered ones'.
-/// The fit's cover needs two things of it: whether a ball lies in it, and samples of its
-/// boundary near the region.
-pub trait FreeSet {
-    /// Whether the closed ball `B(x, t)` lies in the set. Conservative: `false` when unsure.
-    fn contains_ball(&self, x: Vector2<f64>, t: f64) -> bool;
-
-    /// Points of the set's boundary at spacing at most `h` along it, within `reach` of `near`,
-    /// accepted by `keep`.
-    fn boundary_samples(
-        &self,
-        h: f64,
-        near: Vector2<f64>,
-        reach: f64,
-        keep: &dyn Fn(Vector2<f64>) -> bool,
-    ) -> Vec<Vector2<f64>>;
-}
-
-impl FreeSet for FreeSpace {
-    fn contains_ball(&self, x: Vector2<f64>, t: f64) -> bool {
-        FreeSpace::contains_ball(self, x, t)
-    }
-
-    fn boundary_samples(
-        &self,
-        h: f64,
-        near: Vector2<f64>,
-        reach: f64,
-        keep: &dyn Fn(Vector2<f64>) -> bool,
-    ) -> Vec<Vector2<f64>> {
-        FreeSpace::boundary_samples(self, h, near, reach, keep)
     }
 }
 
