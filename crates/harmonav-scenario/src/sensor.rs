@@ -226,8 +226,8 @@ impl LidarSensor {
 
     /// The navigator's options for this lidar: a sector of range `r − D` (a first fit may
     /// reach `D` in front of the truth, so `d_min` is taken from what is left, docs/maths.md
-    /// §12.6; `Options::d_min` cuts it to `r_f − D`) and the lidar's aperture, the curvature prior `rho_min` (when finite) and the scan
-    /// priors.
+    /// §12.6; `Options::d_min` cuts it to `r_f − D`) and the lidar's aperture, the curvature
+    /// prior `rho_min` (when finite) and the scan priors.
     #[must_use]
     pub fn options(&self, options: Options, rho_min: f64) -> Options {
         let options = options

@@ -205,7 +205,8 @@ struct Coverage {
 /// The coverage check at `pose`: the true boundary points that [`DENSE`] noise-free rays per
 /// beam of `lidar` hit first (within `range_max − noise`, the reach at which every true hit
 /// reads as a return under A1, and not behind the boundary) on an obstacle that a return of
-/// `scan` hit (the perception's claim is about the obstacles its beams saw, all of each: an
+/// `scan` within `fit_range` hit (farther segments are left for a later scan, docs/maths.md
+/// §12.11) (the perception's claim is about the obstacles its beams saw, all of each: an
 /// obstacle seen only through a gap narrower than the beams, or behind dropouts, is not one),
 /// how many of them lie outside every shape of `perceived`, and how deep the others lie.
 fn coverage(
