@@ -129,7 +129,10 @@ impl ScanOptions {
 
     /// Errors ([`NavError::InvalidOption`], naming the field) unless `0 ≤ ε ≤ 10`,
     /// `0 < D ≤ 100`, `0 < ε_g ≤ 10`, `0 ≤ d0 ≤ 100`, `1 ≤ order ≤ 16`, `1e-4 ≤ h ≤ D/4`,
-    /// `0 ≤ g_w ≤ 100` (finite, m; `harmonav_perception::Options::validate`).
+    /// `0 ≤ g_w ≤ 100`, `0 ≤ s_m ≤ 100` (finite, m), `free_memory ≤`
+    /// [`harmonav_perception::perception::MAX_FREE_MEMORY`], `r_f > 0` (may be
+    /// `∞`; `harmonav_perception::Options::validate`). `r_f > D` is checked with the sensor,
+    /// by [`crate::Options::d_min`].
     pub fn validate(&self, rho_min: f64) -> Result<(), NavError> {
         self.perception(rho_min, 0.0)
             .validate()
