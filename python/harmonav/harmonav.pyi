@@ -106,6 +106,12 @@ class Navigator:
     ``control_period`` is how long the loop holds each command; under ``hold="auto"`` every
     command is safe to hold for it (``hold="paper"``: the continuous law sampled as is).
 
+    Fed by ``observe_scan``, the perception remembers the free space of its last
+    ``free_memory`` scans (default 16; a static world), and with ``fit_range`` (m, default
+    ``None``) fits a segment only once a hit is that near, which cuts the sector of ``d_min``
+    to ``fit_range − max_obstacle_depth``; ``max_obstacle_depth + 0.5`` is recommended
+    (docs/maths.md §12.11).
+
     Invalid parameters raise ``ValueError`` naming them (the ranges of scenario files), and so
     do parameters whose derived quantities (``d_min``, the speed bound, ``λ_c``) are not finite.
     ``copy.copy``, ``copy.deepcopy`` and pickle give an independent navigator with the same
