@@ -165,8 +165,8 @@ impl FloorPlan {
 }
 
 /// The result of `FloorPlan.run`: `summary` (the dict of its summary.json: `reached`,
-/// `outcome`, `time_s`, `min_clearance`, `swept_clearance`, `layer_clearance`, `heading`, `guarantees`,
-/// …) and `x`, the kept positions (N, 2) from the start to the end.
+/// `outcome`, `time_s`, `min_clearance`, `swept_clearance`, `layer_clearance`, `heading`, `escapes`,
+/// `guarantees`, …) and `x`, the kept positions (N, 2) from the start to the end.
 #[pyclass(module = "harmonav", frozen, get_all)]
 pub struct FloorRunResult {
     summary: Py<PyAny>,

@@ -66,6 +66,21 @@ def test_the_heading_policy_shortens_the_kinematic_path_and_is_checked():
         plan.run(heading="straight")
 
 
+def test_the_escape_frees_a_start_held_at_a_rest_point_of_the_slide():
+    # docs/maths.md §13.7: from the file's start, in the aisle below a shelf row, the hold
+    # presses the robot against the edge of the certified region at a local minimum of Θ
+    # there; under "auto" it escapes along the shortest path and arrives (25.0 s when
+    # measured), along the flow lines of Θ ("paper", no shortest path, no escape) it stays.
+    plan = harmonav.FloorPlan.load(ROOT / "scenarios" / "floorplans" / "map-warehouse-starts.toml")
+    auto = plan.run(model="kinematic").summary
+    assert auto["reached"] and auto["escapes"] >= 1, auto
+    assert all(g["passed"] for g in auto["guarantees"]), auto["guarantees"]
+    paper = plan.run(model="kinematic", heading="paper").summary
+    assert not paper["reached"] and paper["escapes"] == 0 and paper["final_distance"] > 1.0
+    names = {g["name"]: g["passed"] for g in paper["guarantees"]}
+    assert names["no-collision"] and names["stayed-in-certified-region"], names
+
+
 def test_a_floor_plan_run_from_another_start_and_bad_input():
     plan = harmonav.FloorPlan.load(L_ROOM)
     start = plan.starts[3]

@@ -174,6 +174,42 @@ impl Geodesic {
         (norm > 0.0 && norm.is_finite()).then(|| g / norm)
     }
 
+    /// The nominal heading at `x` also within a cell of the edge of `W_δ`, where
+    /// [`Geodesic::heading`] is `None`: there, the unit vector towards the reached node `q`
+    /// between half a cell and two cells from `x` that minimises `|q − x| + T(q)` (a look-ahead
+    /// of one segment on the grid's distance: `T(x) ≤ |q − x| + T(q)` for every `q` seen from
+    /// `x`). The nearest nodes are left out: each node is a local minimum of
+    /// `min_q (|q − x| + T(q))` over all `q`, so a robot that steps towards them comes back.
+    /// `None` if no such node is reached.
+    #[must_use]
+    pub fn heading_near(&self, x: Vector2<f64>) -> Option<Vector2<f64>> {
+        if let Some(d) = self.heading(x) {
+            return Some(d);
+        }
+        let g = (x - self.origin) / self.cell;
+        if !(g.x.is_finite() && g.y.is_finite()) {
+            return None;
+        }
+        let (ci, cj) = (g.x.round(), g.y.round());
+        let mut best: Option<(f64, Vector2<f64>)> = None;
+        for dj in -2..=2 {
+            for di in -2..=2 {
+                let (i, j) = (ci + f64::from(di), cj + f64::from(dj));
+                if i < 0.0 || j < 0.0 || i >= self.nx as f64 || j >= self.ny as f64 {
+                    continue;
+                }
+                let t = self.time[j as usize * self.nx + i as usize];
+                let to = self.origin + self.cell * Vector2::new(i, j) - x;
+                let r = to.norm();
+                let cost = r + t;
+                if t.is_finite() && r >= 0.5 * self.cell && best.is_none_or(|(c, _)| cost < c) {
+                    best = Some((cost, to / r));
+                }
+            }
+        }
+        best.map(|(_, d)| d)
+    }
+
     /// The four node values of `x`'s cell (`(i, j)`, `(i+1, j)`, `(i, j+1)`, `(i+1, j+1)`) and
     /// `x`'s fractions in it, if all four are finite.
     fn corners(&self, x: Vector2<f64>) -> Option<([f64; 4], f64, f64)> {

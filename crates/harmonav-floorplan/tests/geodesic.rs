@@ -47,6 +47,45 @@ fn in_a_convex_room_the_distance_is_the_straight_one_and_the_heading_points_at_t
 }
 
 /// An L: 4 m arms, 1.5 m wide, the reflex corner `c = (1.5, 1.5)`, `W_δ = {sd ≥ 0.1}`.
+/// Within a cell of the edge of `W_δ`, where the bilinear heading has a corner outside and is
+/// `None`, `heading_near` looks one segment ahead on the grid: in a convex room it points at
+/// the goal to within about the grid's angular resolution (`atan(1/2)` ≈ 27° between the
+/// directions to nodes two cells away, a little more from a point off the nodes: < 35°), it is the bilinear heading wherever that is defined, and a
+/// short step along it does not turn it back (the nearest nodes, each a local minimum of the
+/// look-ahead, are left out).
+#[test]
+fn near_the_edge_the_look_ahead_heading_points_at_the_goal_and_does_not_turn_back() {
+    // Slanted walls, so that the grid's nodes do not line up with them.
+    let room = vec![v(0.0, 0.0), v(6.0, 1.0), v(5.5, 4.5), v(-0.5, 3.5)];
+    let floor = FloorMap::new(room, vec![], &FloorOptions::new(0.1, 0.1)).unwrap();
+    let goal = v(3.5, 2.0);
+    let g = Geodesic::new(&floor, goal);
+    let (mut near, mut worst) = (0, 0.0_f64);
+    for &p in floor.layer_edge() {
+        // A tenth of a cell inside the edge of W_δ.
+        let Some(n) = floor.toward_boundary(p) else {
+            continue;
+        };
+        {
+            let x = p - 0.1 * g.cell() * n;
+            let d = g.heading_near(x).expect("a reached node within two cells");
+            if let Some(bilinear) = g.heading(x) {
+                assert_eq!(d, bilinear);
+                continue;
+            }
+            near += 1;
+            if (goal - x).norm() > 0.5 {
+                worst = worst.max(angle(d, goal - x));
+            }
+            let y = x + 0.2 * g.cell() * d;
+            let e = g.heading_near(y).unwrap();
+            assert!(d.dot(&e) > 0.0, "turned back from {x:?}: {d:?} then {e:?}");
+        }
+    }
+    assert!(near > 100, "{near} points without the bilinear heading");
+    assert!(worst < 35.0, "worst angle to the goal {worst}°");
+}
+
 fn l_room() -> Arc<FloorMap> {
     let room = vec![
         v(0.0, 0.0),

@@ -4,7 +4,7 @@
 //! leaving, staying in the certified region, arrival within a stated threshold), its
 //! [`FloorSummary`] (`harmonav run` on a floor plan), and the map's certificate.
 
-use harmonav::{Controller, FloorNavigator, Law, NavError, Options};
+use harmonav::{Controller, FloorNavigator, Law, Mode, NavError, Options};
 use harmonav_harmonic::Certificate;
 use harmonav_scenario::floorplan::FloorPrepared;
 use harmonav_scenario::{Model, ShapeSpec};
@@ -79,6 +79,9 @@ pub struct FloorRun {
     pub k: f64,
     /// Commands issued.
     pub commands: usize,
+    /// Escapes begun from rest points of the hold's slide ([`harmonav::Mode::Escaping`],
+    /// docs/maths.md §13.7).
+    pub escapes: usize,
     /// The positions kept for figures, in time order: every state while they fit in
     /// [`crate::trajectory::MAX_KEPT_STATES`], then an even decimation (`Trajectory`), with
     /// the discoveries and the last state always kept.
@@ -230,6 +233,7 @@ pub(crate) fn fly(
         discoveries: Vec::new(),
         k: nav.k(),
         commands: 0,
+        escapes: 0,
         positions: Vec::new(),
         error: None,
         physics: Physics::Builtin,
@@ -238,6 +242,7 @@ pub(crate) fn fly(
     };
     // The disc's clearance at the previous state and the length of the step since.
     let mut last: Option<(f64, f64)> = None;
+    let mut was_escaping = false;
     for n in 0..=steps {
         out.time = n as f64 * h;
         // Monitors on the truth.
@@ -294,7 +299,12 @@ pub(crate) fn fly(
         let command = match custom {
             Some(law) => law(&nav, x, vel),
             None => match nav.command(x, vel) {
-                Ok(c) => c.value,
+                Ok(c) => {
+                    let escaping = c.mode == Mode::Escaping;
+                    out.escapes += usize::from(escaping && !was_escaping);
+                    was_escaping = escaping;
+                    c.value
+                }
                 Err(e) => {
                     out.ending = FloorEnding::Refused;
                     out.error = Some(e);
@@ -376,6 +386,8 @@ pub struct FloorSummary {
     pub k: f64,
     /// Commands issued (one per control period).
     pub commands: usize,
+    /// Escapes begun from rest points of the hold's slide (docs/maths.md §13.7).
+    pub escapes: usize,
     /// The obstacles sensed, in order.
     pub discoveries: Vec<Discovery>,
     /// Every guarantee with what its monitor measured.
@@ -492,6 +504,7 @@ impl FloorSummary {
             setup_s: prepared.setup_seconds,
             k: run.k,
             commands: run.commands,
+            escapes: run.escapes,
             discoveries: run.discoveries.clone(),
             guarantees,
         }

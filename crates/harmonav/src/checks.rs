@@ -208,6 +208,8 @@ pub fn fly(
             Mode::Law => {}
             Mode::Capped { .. } => flight.capped += 1,
             Mode::Recovering(_) => flight.recoveries += 1,
+            // Only a floor plan's navigator escapes.
+            Mode::Escaping => {}
         }
         let c = command.value;
         integrator.advance(law, h, c, &mut x, &mut v);

@@ -16,10 +16,23 @@ use crate::error::NavError;
 use crate::hold::{self, Command, Mode};
 use crate::law::Law;
 use crate::navigator::{
-    Controller, Evaluation, controller, finite, finite_lambda_c, finite_state, recovering,
+    Controller, Evaluation, controller, finite, finite_lambda_c, finite_state, moving_along,
+    recovering,
 };
 use crate::options::{HoldPolicy, Options};
 use crate::space::Space;
+
+/// How far below the level `phi_k(x_s)` of the point `x_s` where the hold stalled an escape
+/// takes `phi_k` before the law resumes ([`Mode::Escaping`], docs/maths.md §13.7): each
+/// escape ends at least this much lower than it began, so with finitely many rest points there
+/// are finitely many escapes.
+pub const ESCAPE_DROP: f64 = 0.01;
+
+/// The hold has stalled when the robot has stayed within `δ/4` of one point (`δ` the floor's
+/// [`FloorMap::delta`]) for this long, s, within `δ/2` of the edge of the certified region
+/// (the layer or a sensed obstacle's band): the hold presses it against that edge at a rest
+/// point of its slide. An escape follows ([`Mode::Escaping`]).
+pub const ESCAPE_STALL: f64 = 2.0;
 
 /// An online navigator on a floor plan: the walls are known (a [`FloorMap`], whose harmonic
 /// map is solved once), star-shaped obstacles are added as perception finds them.
@@ -35,6 +48,13 @@ use crate::space::Space;
 /// instead ([`Mode::Recovering`] with [`Band::Boundary`], as out of a sensed obstacle's margin
 /// band): straight away from the nearest wall, by a step certified clear of the walls and of
 /// the sensed obstacles (docs/maths.md §13.6).
+///
+/// **Escapes.** Where a hole's barrier is thinner than the layer, the hold can press the robot
+/// against the edge of `W_δ` at a local minimum of `Θ` there (a rest point of its slide,
+/// [`FloorField::layer_slide`]). Under the heading policy `"auto"`, a robot that has stayed
+/// within `δ/4` of one point for [`ESCAPE_STALL`] s next to that edge follows the shortest path
+/// ([`Mode::Escaping`], each step certified free) until `phi_k` is [`ESCAPE_DROP`] below where
+/// it stalled, then the law resumes (docs/maths.md §13.7).
 ///
 /// ```
 /// use std::sync::Arc;
@@ -66,6 +86,10 @@ pub struct FloorNavigator {
     inner: Vec<StarShape>,
     speed_at_discovery: f64,
     last: Option<(Vector2<f64>, Vector2<f64>)>,
+    /// `phi_k` where the current escape began ([`Mode::Escaping`]), if escaping.
+    escape: Option<f64>,
+    /// The point the robot has stayed within `δ/4` of, and for how many periods.
+    anchor: Option<(Vector2<f64>, usize)>,
 }
 
 impl FloorNavigator {
@@ -117,6 +141,8 @@ impl FloorNavigator {
             inner: Vec::new(),
             speed_at_discovery: 0.0,
             last: None,
+            escape: None,
+            anchor: None,
         };
         // Guard: λ_c (eq. critdamp) from the floor's goal stiffness, checked once.
         if let Controller::Dynamic(law) = &nav.controller {
@@ -141,13 +167,16 @@ impl FloorNavigator {
         self.field = field;
         self.inner.extend(inner);
         self.speed_at_discovery = self.last.map_or(0.0, |(_, v)| v.norm());
+        // `phi_k` changes with `k` and the point world: the level is not comparable.
+        self.escape = None;
         Ok(self.field.transform().obstacles().count() - 1)
     }
 
     /// The command to hold for one control period at `(x, ẋ)`, as
     /// [`crate::Navigator::command`]: under [`HoldPolicy::Auto`] every held step stays in the
     /// certified clearance (to the sensed obstacles and to the boundary layer), `Θ` decreases
-    /// over each kinematic step, and the dynamic law's caps hold.
+    /// over each kinematic step of the law (not during an escape, [`Mode::Escaping`], which ends
+    /// [`ESCAPE_DROP`] below where it began), and the dynamic law's caps hold.
     ///
     /// # Errors
     /// (the navigator is then unchanged) `x` or `ẋ` not finite; the robot's disc overlapping a
@@ -155,29 +184,102 @@ impl FloorNavigator {
     /// `x` in the boundary layer with no certified way out ([`NavError::BoundaryLayer`]); a
     /// non-finite command.
     pub fn command(&mut self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Command, NavError> {
-        let command = self.held(x, v)?;
+        let radius = 0.25 * self.field.floor().delta();
+        let anchor = match self.anchor {
+            Some((a, n)) if (x - a).norm() < radius => (a, n + 1),
+            _ => (x, 0),
+        };
+        let (command, escape) = self.held(x, v, anchor.1)?;
         if !command.value.iter().all(|c| c.is_finite()) {
             return Err(NavError::NonFiniteCommand);
         }
         self.last = Some((x, v));
+        // An escape that begins moves the robot: the watch starts again.
+        self.anchor = Some(if escape.is_some() && self.escape.is_none() {
+            (x, 0)
+        } else {
+            anchor
+        });
+        self.escape = escape;
         Ok(command)
     }
 
-    fn held(&self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Command, NavError> {
+    /// The command and the escape level after it, the robot having stayed near one point for
+    /// `still` periods.
+    fn held(
+        &self,
+        x: Vector2<f64>,
+        v: Vector2<f64>,
+        still: usize,
+    ) -> Result<(Command, Option<f64>), NavError> {
         let eval = match self.evaluate(x, v) {
             Ok(eval) => eval,
-            Err(NavError::InObstacle { obstacle }) => return self.recover(x, v, obstacle),
-            Err(NavError::BoundaryLayer) => return self.leave_layer(x, v),
+            Err(NavError::InObstacle { obstacle }) => {
+                return self.recover(x, v, obstacle).map(|c| (c, None));
+            }
+            Err(NavError::BoundaryLayer) => return self.leave_layer(x, v).map(|c| (c, None)),
             Err(e) => return Err(e),
         };
         if self.options.hold == HoldPolicy::Paper {
-            return Ok(Command {
-                value: eval.command,
-                mode: Mode::Law,
-            });
+            return Ok((
+                Command {
+                    value: eval.command,
+                    mode: Mode::Law,
+                },
+                None,
+            ));
         }
+        let phi = eval.field.phi;
+        if let Some(level) = self.escape.filter(|level| phi >= level - ESCAPE_DROP)
+            && let Some(c) = self.escaping(x, v)
+        {
+            return Ok((c, Some(level)));
+        }
+        let delta = self.field.floor().delta();
+        if still as f64 * self.period >= ESCAPE_STALL
+            && self.field.clearance(x, 0.5 * delta, None) < 0.5 * delta
+            && let Some(c) = self.escaping(x, v)
+        {
+            return Ok((c, Some(phi)));
+        }
+        Ok((self.law_held(x, v, &eval), None))
+    }
+
+    /// The escape's command at `x` ([`Mode::Escaping`]): along the shortest path's direction
+    /// ([`FloorField::geodesic`], [`harmonav_floorplan::Geodesic::heading_near`]) slid along
+    /// the edge of the certified region, for the certified free length ahead (all of one period's step at the law's top speed, else
+    /// [`hold::KINEMATIC_FRACTION`] of what is free), never past the goal; `None` without the
+    /// geodesic distance, or where it is blocked (the law then stands).
+    fn escaping(&self, x: Vector2<f64>, v: Vector2<f64>) -> Option<Command> {
+        let geodesic = self.field.geodesic()?;
         let h = self.period;
-        Ok(match &self.controller {
+        let speed = match &self.controller {
+            Controller::Kinematic(law) => law.v_max(),
+            Controller::Dynamic(law) => 0.5 * law.speed_bound(),
+        };
+        let want = (h * speed).min((x - self.goal()).norm());
+        let slid = self.field.slide(x, geodesic.heading_near(x)?, want);
+        let norm = slid.norm();
+        if !(norm > 1e-3 && want > 0.0) {
+            return None;
+        }
+        let dir = slid / norm;
+        let free = hold::free_length(&self.field, x, dir, want);
+        let length = if free >= want {
+            want
+        } else {
+            hold::KINEMATIC_FRACTION * free
+        };
+        (length > 0.0).then(|| Command {
+            value: moving_along(&self.controller, dir, length, h, v),
+            mode: Mode::Escaping,
+        })
+    }
+
+    /// The law's command under the hold.
+    fn law_held(&self, x: Vector2<f64>, v: Vector2<f64>, eval: &Evaluation) -> Command {
+        let h = self.period;
+        match &self.controller {
             Controller::Dynamic(law) => {
                 let d = eval.damping.unwrap_or_else(|| {
                     law.damping_for(
@@ -192,7 +294,7 @@ impl FloorNavigator {
             Controller::Kinematic(law) => {
                 hold::kinematic(law, &self.field, x, &eval.field, eval.command, h)
             }
-        })
+        }
     }
 
     /// The way out of sensed obstacle `i`'s margin band, as [`crate::Navigator`]'s: along the

@@ -34,16 +34,23 @@ pub enum Mode {
     /// clearance is 0 (within about 1e-4 of its size); the command moves it along the shape's
     /// ray, away from it.
     Recovering(Band),
+    /// On a floor plan under the heading policy `"auto"`: the hold had stalled at a rest point
+    /// of its slide on the edge of the certified region (a local minimum of `Θ` there, not of
+    /// `Θ` itself), and the robot follows the shortest path until `phi_k` is
+    /// [`crate::ESCAPE_DROP`] below the level where it stalled (docs/maths.md §13.7).
+    Escaping,
 }
 
 impl Mode {
-    /// The name used in logs, JSON and Python (`"law"`, `"capped"`, `"recovering"`).
+    /// The name used in logs, JSON and Python (`"law"`, `"capped"`, `"recovering"`,
+    /// `"escaping"`).
     #[must_use]
     pub fn as_str(&self) -> &'static str {
         match self {
             Self::Law => "law",
             Self::Capped { .. } => "capped",
             Self::Recovering(_) => "recovering",
+            Self::Escaping => "escaping",
         }
     }
 }

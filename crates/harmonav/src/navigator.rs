@@ -28,16 +28,28 @@ pub(crate) fn recovering(
     h: f64,
     v: Vector2<f64>,
 ) -> Command {
-    let value = match controller {
+    Command {
+        value: moving_along(controller, dir, length, h, v),
+        mode: Mode::Recovering(band),
+    }
+}
+
+/// The command of [`recovering`] without its mode: the velocity `min(length/h, v_max)·dir`
+/// (kinematic), or the force `(m/h)(v⁺ − v)` with `v⁺ = min(length/h, ½√(2μ/m))·dir`
+/// (dynamic). Held for `h`, the robot moves at most `length` along `dir`.
+pub(crate) fn moving_along(
+    controller: &Controller,
+    dir: Vector2<f64>,
+    length: f64,
+    h: f64,
+    v: Vector2<f64>,
+) -> Vector2<f64> {
+    match controller {
         Controller::Kinematic(law) => (length / h).min(law.v_max()) * dir,
         Controller::Dynamic(law) => {
             let next = (length / h).min(0.5 * law.speed_bound()) * dir;
             (law.mass() / h) * (next - v)
         }
-    };
-    Command {
-        value,
-        mode: Mode::Recovering(band),
     }
 }
 

@@ -210,6 +210,7 @@ fn commands_are_the_laws_on_the_known_obstacles() {
                         assert!(c.value.norm() == 0.0 || c.value.dot(&u) > 0.0);
                     }
                     Mode::Recovering(_) => panic!("0.05 m clear of every shape"),
+                    Mode::Escaping => panic!("a star world has no escape"),
                 }
                 // The discovery speed is that of the last command before the additions: 0.
                 let d = law.damping(&field, &e, v, 0.0);

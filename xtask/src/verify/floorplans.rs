@@ -75,10 +75,11 @@ fn fly(file: &Path, model: Model, physics: Physics) -> Outcome {
     let (mut reached, mut bad) = (0, Vec::new());
     let (mut walls, mut obstacles, mut layer, mut slowest) =
         (f64::INFINITY, f64::INFINITY, f64::INFINITY, 0.0_f64);
-    let (mut contacts, mut deviation) = (0, 0.0_f64);
+    let (mut contacts, mut deviation, mut escapes) = (0, 0.0_f64, 0);
     for &start in &p.starts {
         let r = simulate_floor(&p, Some(model), start, physics).map_err(|e| e.to_string())?;
         contacts += r.contacts.unwrap_or(0);
+        escapes += r.escapes;
         deviation = deviation.max(r.max_deviation.unwrap_or(0.0));
         let summary = FloorSummary::new(&p, Some(model), start, &r);
         // Arrival is reported with the ending below.
@@ -115,8 +116,8 @@ fn fly(file: &Path, model: Model, physics: Physics) -> Outcome {
     outcome(
         bad.is_empty() && walls > 0.0 && obstacles > 0.0 && layer >= 0.0 && contacts == 0,
         format!(
-            "{reached}/{n} within {} m (slowest {slowest:.1} s), 0 collisions: wall clearance \
-             {walls:.3} m, obstacles {obstacles:.3} m, layer {layer:.1e} m{rapier}; N = {}, δ = {} m, setup {:.2} s{}",
+            "{reached}/{n} within {} m (slowest {slowest:.1} s, {escapes} escapes), 0 collisions: \
+             wall clearance {walls:.3} m, obstacles {obstacles:.3} m, layer {layer:.1e} m{rapier}; N = {}, δ = {} m, setup {:.2} s{}",
             p.scenario.sim.arrival,
             p.floor.map().elements().len(),
             p.floor.delta(),

@@ -1,0 +1,129 @@
+//! The escape from the rest points of the hold's slide (docs/maths.md §13.7): below a long
+//! bar with the goal just behind it, the default `k` makes the bar's barrier a thin shell
+//! inside the boundary layer, so the hold presses the robot against the edge of `W_δ` at a
+//! local minimum of `Θ` there. With the geodesic (`HeadingPolicy::Auto`) the navigator
+//! escapes along the shortest path and arrives; along the flow lines of `Θ` alone
+//! (`HeadingPolicy::Paper`) it stays at the rest point.
+
+use std::sync::Arc;
+
+use harmonav::{
+    ESCAPE_DROP, FloorMap, FloorNavigator, FloorOptions, HeadingPolicy, Law, Mode, Options, Vector2,
+};
+
+fn v(x: f64, y: f64) -> Vector2<f64> {
+    Vector2::new(x, y)
+}
+
+/// A 6 × 4 m room with a 4 m bar across it; `h = δ = 0.1` m, radius and margin 0.1 m.
+fn bar_room() -> Arc<FloorMap> {
+    let room = vec![v(0.0, 0.0), v(6.0, 0.0), v(6.0, 4.0), v(0.0, 4.0)];
+    let bar = vec![v(1.0, 1.8), v(5.0, 1.8), v(5.0, 2.2), v(1.0, 2.2)];
+    Arc::new(FloorMap::new(room, vec![bar], &FloorOptions::new(0.1, 0.2)).unwrap())
+}
+
+const GOAL: (f64, f64) = (3.0, 2.6);
+
+/// What a flight did.
+#[derive(Debug)]
+struct Flight {
+    arrived: bool,
+    end: Vector2<f64>,
+    /// Escapes begun, and the `phi_k` at each beginning.
+    starts: Vec<f64>,
+    /// Seconds flown.
+    time: f64,
+}
+
+/// Flies `law` from `start` for at most `seconds`, checking at every period that the disc
+/// stays clear of the walls along the step (chord bound), that `phi_k` never rises under the
+/// law, and that each escape ends `ESCAPE_DROP` below where it began.
+fn fly(law: Law, heading: HeadingPolicy, start: Vector2<f64>, seconds: f64) -> Flight {
+    let floor = bar_room();
+    let goal = v(GOAL.0, GOAL.1);
+    let options = Options::default()
+        .with_robot(0.1, 0.1)
+        .with_heading(heading);
+    let mut nav = FloorNavigator::new(floor.clone(), goal, law, options).unwrap();
+    let h = nav.control_period();
+    let (mut x, mut vel) = (start, Vector2::zeros());
+    let mut flight = Flight {
+        arrived: false,
+        end: x,
+        starts: Vec::new(),
+        time: 0.0,
+    };
+    let mut escaping = false;
+    let mut last_phi = f64::INFINITY;
+    let steps = (seconds / h).ceil() as usize;
+    for n in 0..steps {
+        if (x - goal).norm() < 0.05 {
+            flight.arrived = true;
+            flight.time = n as f64 * h;
+            break;
+        }
+        let phi = nav.field().eval(x).unwrap().phi;
+        let c = nav.command(x, vel).unwrap();
+        match (escaping, c.mode == Mode::Escaping) {
+            (false, true) => flight.starts.push(phi),
+            (true, false) => {
+                let began = *flight.starts.last().unwrap();
+                assert!(
+                    phi < began - ESCAPE_DROP,
+                    "escape ended at {phi}, began at {began}"
+                );
+            }
+            _ => {}
+        }
+        if matches!(law, Law::Kinematic { .. }) && !escaping && c.mode != Mode::Escaping {
+            assert!(phi <= last_phi + 1e-12, "phi rose under the law at {x:?}");
+        }
+        escaping = c.mode == Mode::Escaping;
+        last_phi = phi;
+        let next = match law {
+            Law::Kinematic { .. } => x + h * c.value,
+            Law::Dynamic { mass, .. } => {
+                vel += h * c.value / mass;
+                x + h * vel
+            }
+        };
+        let (c0, c1) = (
+            floor.wall_distance(x) - 0.1,
+            floor.wall_distance(next) - 0.1,
+        );
+        assert!(c0 + c1 - (next - x).norm() > 0.0, "{x:?} → {next:?}");
+        assert!(floor.clearance(next) >= 0.0, "into the layer at {next:?}");
+        x = next;
+        flight.time = (n + 1) as f64 * h;
+    }
+    flight.end = x;
+    flight
+}
+
+/// Below the bar, where the hold's slide has attracting rest points (the test
+/// `a_thin_hole_barrier_makes_rest_points_of_the_slide_and_the_papers_k_removes_them` of
+/// harmonav-floorplan finds them there): both laws escape and arrive; without the geodesic
+/// the kinematic robot stays pressed under the bar (the negative control).
+#[test]
+fn both_laws_escape_the_rest_points_below_the_bar_and_arrive() {
+    let start = v(2.0, 1.0);
+    for law in [Law::kinematic(1.0), Law::dynamic(1.0, 1.0)] {
+        let f = fly(law, HeadingPolicy::Auto, start, 60.0);
+        assert!(f.arrived && !f.starts.is_empty(), "{law:?}: {f:?}");
+    }
+    let f = fly(Law::kinematic(1.0), HeadingPolicy::Paper, start, 20.0);
+    assert!(
+        !f.arrived && f.starts.is_empty() && f.end.y < 1.8 && (1.0..5.0).contains(&f.end.x),
+        "{f:?}"
+    );
+}
+
+/// Each start the hold leaves at a rest point below the bar arrives with an escape: the
+/// kinematic law from three more starts on either side.
+#[test]
+fn kinematic_escapes_from_starts_on_both_sides_of_the_bar() {
+    for s in [v(3.0, 1.0), v(1.5, 0.5), v(4.5, 1.2)] {
+        let f = fly(Law::kinematic(1.0), HeadingPolicy::Auto, s, 40.0);
+        assert!(f.arrived && !f.starts.is_empty(), "{s:?}: {f:?}");
+    }
+}
