@@ -329,10 +329,11 @@ fn map_floor_plans_load_and_their_errors_name_the_field_and_the_map() {
 /// The serpentine maze of `scenarios/floorplans/limits/map-maze.toml` (a ROS map, one ring, no
 /// holes) with elements of 0.2 m, flown by the kinematic law from the file's start for 60 s.
 /// With the goal's image at the disk's centre (`centre = "goal"`, docs/maths.md §13.2) it
-/// arrives with every guarantee; with the solve's `H(x_d)` (the default, `"solve"`) the same
-/// map has not arrived, 2.9 m short (it stays there: 2.85 m short after the file's 300 s,
-/// docs/maths.md §13.2): the control that shows the recentring, not the finer elements, is what
-/// makes it arrive.
+/// arrives with every guarantee and no escape; with the solve's `H(x_d)` (the default,
+/// `"solve"`) the descent stalls against a wall, 2.9 m short (before the escape of
+/// docs/maths.md §13.7 it stayed there: 2.85 m short after the file's 300 s), and arrives only
+/// through an escape along the shortest path: the control that shows the recentring, not the
+/// finer elements, is what makes the descent itself arrive.
 #[test]
 fn the_maze_arrives_with_the_goal_at_the_disk_centre_and_not_without() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -360,19 +361,18 @@ fn the_maze_arrives_with_the_goal_at_the_disk_centre_and_not_without() {
         let p = FloorScenario::load(&file).unwrap_or_else(|e| panic!("{e}"));
         let r = run(&p, Some(Model::Kinematic), p.starts[0]).unwrap();
         eprintln!(
-            "maze, centre = {centre}: {} in {:.1} s, {:.2} m from the goal, walls {:.3}",
+            "maze, centre = {centre}: {} in {:.1} s, {:.2} m from the goal, walls {:.3}, {} \
+             escapes",
             r.ending.as_str(),
             r.time,
             r.final_distance,
-            r.wall_clearance
+            r.wall_clearance,
+            r.escapes
         );
         assert!(r.wall_clearance > 0.0 && r.layer_clearance >= 0.0, "{r:?}");
-        endings.push((r.ending, r.final_distance));
+        endings.push((r.ending, r.escapes));
     }
     std::fs::remove_dir_all(&tmp).ok();
-    assert_eq!(endings[0].0, FloorEnding::Reached, "{endings:?}");
-    assert!(
-        endings[1].0 != FloorEnding::Reached && endings[1].1 > 1.0,
-        "{endings:?}"
-    );
+    assert_eq!(endings[0], (FloorEnding::Reached, 0), "{endings:?}");
+    assert!(endings[1].1 >= 1, "{endings:?}");
 }

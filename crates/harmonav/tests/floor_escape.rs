@@ -5,6 +5,8 @@
 //! escapes along the shortest path and arrives; along the flow lines of `Θ` alone
 //! (`HeadingPolicy::Paper`) it stays at the rest point.
 
+mod common;
+
 use std::sync::Arc;
 
 use harmonav::{
@@ -80,18 +82,7 @@ fn fly(law: Law, heading: HeadingPolicy, start: Vector2<f64>, seconds: f64) -> F
         }
         escaping = c.mode == Mode::Escaping;
         last_phi = phi;
-        let next = match law {
-            Law::Kinematic { .. } => x + h * c.value,
-            Law::Dynamic { mass, .. } => {
-                vel += h * c.value / mass;
-                x + h * vel
-            }
-        };
-        let (c0, c1) = (
-            floor.wall_distance(x) - 0.1,
-            floor.wall_distance(next) - 0.1,
-        );
-        assert!(c0 + c1 - (next - x).norm() > 0.0, "{x:?} → {next:?}");
+        let next = common::held_step(&floor, law, h, x, &mut vel, c.value);
         assert!(floor.clearance(next) >= 0.0, "into the layer at {next:?}");
         x = next;
         flight.time = (n + 1) as f64 * h;

@@ -39,19 +39,8 @@ fn fly(law: Law, h: f64, start: Vector2<f64>, steps: usize) -> (f64, Vector2<f64
         }
         let c = nav.command(x, vel).unwrap();
         let before = floor.signed_distance(x);
-        let next = match law {
-            Law::Kinematic { .. } => x + h * c.value,
-            Law::Dynamic { mass, .. } => {
-                vel += h * c.value / mass;
-                x + h * vel
-            }
-        };
         // The disc never touches a wall: along the step, by the chord bound.
-        let (c0, c1) = (
-            floor.wall_distance(x) - 0.1,
-            floor.wall_distance(next) - 0.1,
-        );
-        assert!(c0 + c1 - (next - x).norm() > 0.0, "{x:?} → {next:?}");
+        let next = common::held_step(&floor, law, h, x, &mut vel, c.value);
         if c.mode == Mode::Recovering(Band::Boundary) {
             assert!(!left, "back in the layer at {x:?} after leaving it");
             assert!(

@@ -4,7 +4,7 @@
 
 use std::sync::Arc;
 
-use harmonav::{FloorMap, FloorOptions, Vector2};
+use harmonav::{FloorMap, FloorOptions, Law, Vector2};
 
 /// The L room: 4 m arms 1.5 m wide, reflex corner (1.5, 1.5); `h = 0.1` m, so `δ = 0.1` m, and
 /// radius + margin 0.2 m, so `W_s` is the walls shrunk by 0.1 m.
@@ -19,4 +19,31 @@ pub fn l_room() -> Arc<FloorMap> {
         v(0.0, 4.0),
     ];
     Arc::new(FloorMap::new(room, vec![], &FloorOptions::new(0.1, 0.2)).unwrap())
+}
+
+/// One period `h` of the user's loop holding `command`: `x + h·u` (kinematic), or
+/// `v += h·f/m, x += h·v` (dynamic, semi-implicit Euler; `vel` updated). Asserts that the disc
+/// of radius 0.1 m stays clear of the walls along the step (the chord bound of the
+/// 1-Lipschitz wall distance). Returns the position after the period.
+pub fn held_step(
+    floor: &FloorMap,
+    law: Law,
+    h: f64,
+    x: Vector2<f64>,
+    vel: &mut Vector2<f64>,
+    command: Vector2<f64>,
+) -> Vector2<f64> {
+    let next = match law {
+        Law::Kinematic { .. } => x + h * command,
+        Law::Dynamic { mass, .. } => {
+            *vel += h * command / mass;
+            x + h * *vel
+        }
+    };
+    let (c0, c1) = (
+        floor.wall_distance(x) - 0.1,
+        floor.wall_distance(next) - 0.1,
+    );
+    assert!(c0 + c1 - (next - x).norm() > 0.0, "{x:?} → {next:?}");
+    next
 }
