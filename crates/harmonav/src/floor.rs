@@ -247,8 +247,8 @@ impl FloorNavigator {
 
     /// The escape's command at `x` ([`Mode::Escaping`]): along the shortest path's direction
     /// ([`FloorField::geodesic`], [`harmonav_floorplan::Geodesic::heading_near`]) slid along
-    /// the edge of the certified region, for the certified free length ahead (all of one period's step at the law's top speed, else
-    /// [`hold::KINEMATIC_FRACTION`] of what is free), never past the goal; `None` without the
+    /// the edge of the certified region, for one period at the law's top speed or what the
+    /// hold certifies of it (`hold::held_length`), never past the goal; `None` without the
     /// geodesic distance, or where it is blocked (the law then stands).
     fn escaping(&self, x: Vector2<f64>, v: Vector2<f64>) -> Option<Command> {
         let geodesic = self.field.geodesic()?;
@@ -264,12 +264,7 @@ impl FloorNavigator {
             return None;
         }
         let dir = slid / norm;
-        let free = hold::free_length(&self.field, x, dir, want);
-        let length = if free >= want {
-            want
-        } else {
-            hold::KINEMATIC_FRACTION * free
-        };
+        let length = hold::held_length(&self.field, x, dir, want);
         (length > 0.0).then(|| Command {
             value: moving_along(&self.controller, dir, length, h, v),
             mode: Mode::Escaping,

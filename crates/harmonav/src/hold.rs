@@ -113,6 +113,23 @@ pub(crate) fn free_length(
     t
 }
 
+/// The length of a kinematic step of at most `want` along the unit `dir`: all of it if
+/// [`free_length`] certifies it free, otherwise `β·L` (`β =` [`KINEMATIC_FRACTION`], `L` the
+/// certified free length), so that the step ends inside the free space.
+pub(crate) fn held_length(
+    space: &impl Space,
+    x: Vector2<f64>,
+    dir: Vector2<f64>,
+    want: f64,
+) -> f64 {
+    let free = free_length(space, x, dir, want);
+    if free >= want {
+        want
+    } else {
+        KINEMATIC_FRACTION * free
+    }
+}
+
 /// The sub-steps of the kinematic hold's chord through a stiff valley (`docs/maths.md` §10).
 pub const CHORD_SUBSTEPS: usize = 8;
 
@@ -245,19 +262,14 @@ fn kinematic_step(
             0,
         );
     }
-    let free = free_length(field, x, u / u.norm(), step);
-    if free <= 0.0
+    let length = held_length(field, x, u / u.norm(), step);
+    if length <= 0.0
         && let Some(out) = kinematic_escape(field, x, e, step, h)
     {
         return (out, 0);
     }
     let to_goal = (x - field.goal()).norm();
-    let mut scale = if free >= step {
-        1.0
-    } else {
-        KINEMATIC_FRACTION * free / step
-    }
-    .min(to_goal / step);
+    let mut scale = (length / step).min(to_goal / step);
     let mut halvings = 0;
     while !field.eval(x + scale * h * u).is_ok_and(|e1| e1.phi < e.phi) {
         halvings += 1;
