@@ -313,12 +313,6 @@ enum Explanation {
     None,
 }
 
-/// Whether `p` lies within `eps` outside `s`, or inside (certified: `hi_S(p) ≤ eps`), after the
-/// quick reject by the bounding disc `|p − c| > max R + eps`.
-fn within(s: &StarShape, p: Vector2<f64>, eps: f64) -> bool {
-    (p - s.centre()).norm() <= s.radius_bounds().1 + eps && s.signed_distance_bounds(p).1 <= eps
-}
-
 /// Whether `p` lies within `d_ev` of a point of `evidence`.
 fn near_evidence(evidence: &[Vector2<f64>], p: Vector2<f64>, d_ev: f64) -> bool {
     evidence.iter().any(|e| (e - p).norm() <= d_ev)
@@ -379,8 +373,9 @@ impl Perception {
     }
 
     /// Whether hit `p` is explained by a known shape within `ε_x = max(ε, ε_g)` (the noise
-    /// bound or the growth threshold, [`Options::growth_threshold`]; certified bounds of
-    /// `StarShape::signed_distance_bounds`), and, for a perceived shape `P`, near its
+    /// bound or the growth threshold, [`Options::growth_threshold`]; certified by
+    /// `StarShape::within`, on the hit's ray from the shape's centre where that decides, else
+    /// by the bounds of `StarShape::signed_distance_bounds`), and, for a perceived shape `P`, near its
     /// evidence `E_P` (the hits it was fitted to; `d_ev` of [`Options::evidence_radius`]):
     ///
     /// ```text
@@ -403,7 +398,7 @@ impl Perception {
     /// Eq. explained, saying by what.
     fn explanation(&self, p: Vector2<f64>) -> Explanation {
         let eps = self.options.explained_band();
-        let near = |s: &StarShape| within(s, p, eps);
+        let near = |s: &StarShape| s.within(p, eps);
         // Under the wall prior (eq. wallgap) a hit `p` whose true point `p*` (`|p − p*| ≤ ε`,
         // A1) is nearer the wall than `g_w` lies on the wall: no unknown obstacle comes that
         // near. So a hit less than `g_w − ε` from the wall is explained, as one within `ε_x` is.
@@ -448,7 +443,7 @@ impl Perception {
             .iter()
             .zip(&self.evidence)
             .position(|(s, e)| {
-                hits.iter().all(|&p| within(s.shape(), p, eps))
+                hits.iter().all(|&p| s.shape().within(p, eps))
                     && hits.iter().any(|&p| near_evidence(e, p, d_ev))
             })
     }

@@ -70,6 +70,45 @@ impl StarShape {
         }
     }
 
+    /// Whether `x` is certified to lie within `eps` of the shape, inside included: `true` only
+    /// when the true signed distance `d(x) ≤ eps`, and whenever
+    /// [`Self::signed_distance_bounds`]`(x).1 ≤ eps`. Most points are decided on the ray from
+    /// the centre through `x`, without the outline's point query:
+    ///
+    /// ```text
+    /// ρ = |x − c|,  u = (x − c)/ρ,  R = R(u) (the radial function)
+    /// ρ > max R + eps + pad      →  false   (d(x) ≥ ρ − max R: every boundary point is within max R of c)
+    /// ρ ≤ R                      →  true    (x in the closed region, as StarShape::contains)
+    /// ρ − R ≤ eps − pad          →  true    (c + R·u is a boundary point ρ − R from x)
+    /// otherwise                  →  hi(x) ≤ eps   (the certified bounds' point query)
+    /// ```
+    ///
+    /// `pad` is the rounding allowance of [`Self::signed_distance_bounds`]. The radial tests
+    /// are the hot path of a scan whose hits lie on perceived shapes (each hit inside or a few
+    /// centimetres outside along its ray); only a hit off to the side of its ray's boundary
+    /// point pays for the point query. A non-finite coordinate gives `false`.
+    #[must_use]
+    pub fn within(&self, x: Vector2<f64>, eps: f64) -> bool {
+        if non_finite(x).is_some() {
+            return false;
+        }
+        let pad = self.rounding(x);
+        let v = x - self.centre();
+        let rho = length(v);
+        let (r_min, r_max) = self.radius_bounds();
+        if rho > r_max + eps + pad {
+            return false;
+        }
+        if rho <= r_min {
+            return true;
+        }
+        let r = self.radius_along(v / rho).0;
+        if rho <= r || rho - r <= eps - pad {
+            return true;
+        }
+        self.signed_distance_bounds(x).1 <= eps
+    }
+
     /// Signed distance to the boundary: negative inside, 0 on it, within
     /// [`Self::signed_distance_bounds`] always, and in practice exact to ~1e-12 m.
     ///

@@ -162,6 +162,74 @@ proptest! {
     }
 }
 
+/// The claim of `within(x, eps)` against the reference: `true` only when the true signed
+/// distance may be at most `eps`, and `true` whenever the certified bounds say so.
+fn check_within(
+    shape: &StarShape,
+    reference: &Samples,
+    x: Vector2<f64>,
+    eps: f64,
+) -> Result<(), String> {
+    let w = shape.within(x, eps);
+    let (d, err) = distance_ref(shape, reference, x);
+    let t_lo = if inside_ref(shape, x) { -d } else { d - err };
+    let round = 1e-12;
+    if w && t_lo > eps + round {
+        return Err(format!(
+            "within({eps}) at a true distance of at least {t_lo}"
+        ));
+    }
+    if !w && shape.signed_distance_bounds(x).1 <= eps {
+        return Err(format!("not within({eps}) where the bounds certify it"));
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(config(200))]
+
+    /// `within` at points anywhere about the shape, off the rays of their nearest boundary
+    /// points too (where the radial tests cannot decide and the point query must).
+    #[test]
+    fn within_is_certified(shape in shape_at(Vector2::new(0.3, -0.2), 1.0), x in -1.2..1.8f64, y in -1.7..1.3f64, eps in 0.0..0.3f64) {
+        let reference = samples(&shape, 1 << 14);
+        check_within(&shape, &reference, Vector2::new(x, y), eps).map_err(TestCaseError::fail)?;
+    }
+
+    /// The same for offset shapes (tables: the radial hulls of perception are tables too).
+    #[test]
+    fn within_is_certified_for_offset_shapes(shape in offset_at(Vector2::new(-0.1, 0.4), 1.0), th in -3.2..3.2f64, s in -0.2..0.5f64, side in -0.3..0.3f64, eps in 0.0..0.3f64) {
+        let reference = samples(&shape, 1 << 14);
+        let p = near_point(&shape, th, s);
+        let r = p - shape.centre();
+        let x = p + side * Vector2::new(-r.y, r.x).normalize();
+        check_within(&shape, &reference, x, eps).map_err(TestCaseError::fail)?;
+    }
+}
+
+/// A point beside a thin ellipse: its ray from the centre meets the boundary 0.077 away, but
+/// the boundary passes 0.033–0.037 below it. `within` must find the near boundary (the point
+/// query), and must not claim 0.01.
+#[test]
+fn within_looks_beyond_the_ray() {
+    let s = StarShape::ellipse(Vector2::zeros(), [1.0, 0.2], 0.0).unwrap();
+    let x: Vector2<f64> = Vector2::new(0.5, 0.21);
+    let radial = x.norm() - s.radius(x.y.atan2(x.x)).0;
+    assert!(radial > 0.07, "{radial}");
+    let d = s.signed_distance(x);
+    assert!((0.02..0.05).contains(&d), "{d}");
+    assert!(s.within(x, 0.05) && !s.within(x, 0.01) && !s.within(x, 0.02));
+    // Inside, and on the ray of the minor vertex, whose nearest boundary point is that
+    // vertex (curvature radius a²/b = 5): the true distance is 0.01.
+    assert!(s.within(Vector2::new(0.5, 0.1), 0.0));
+    let y = Vector2::new(0.0, 0.21);
+    assert!(s.within(y, 0.0101) && !s.within(y, 0.0099));
+    assert!(
+        !s.within(Vector2::new(f64::NAN, 0.0), 1.0)
+            && !s.within(Vector2::new(f64::INFINITY, 0.0), 1.0)
+    );
+}
+
 proptest! {
     #![proptest_config(config(64))]
 
