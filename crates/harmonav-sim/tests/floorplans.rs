@@ -329,11 +329,13 @@ fn map_floor_plans_load_and_their_errors_name_the_field_and_the_map() {
 /// The serpentine maze of `scenarios/floorplans/limits/map-maze.toml` (a ROS map, one ring, no
 /// holes) with elements of 0.2 m, flown by the kinematic law from the file's start for 60 s.
 /// With the goal's image at the disk's centre (`centre = "goal"`, docs/maths.md §13.2) it
-/// arrives with every guarantee and no escape; with the solve's `H(x_d)` (the default,
-/// `"solve"`) the descent stalls against a wall, 2.9 m short (before the escape of
-/// docs/maths.md §13.7 it stayed there: 2.85 m short after the file's 300 s), and arrives only
-/// through an escape along the shortest path: the control that shows the recentring, not the
-/// finer elements, is what makes the descent itself arrive.
+/// arrives with every guarantee, and the descent and the shortest path mostly agree: 5
+/// escapes (0 when escapes began only after a stall). With the solve's `H(x_d)` (the default,
+/// `"solve"`) the descent runs against the shortest path three times as often (15 escapes;
+/// with escapes after a stall only it stalled against a wall 2.9 m short and arrived in twice
+/// the time through 2; before any escape it stayed there, 2.85 m short after the file's
+/// 300 s): the control that shows the recentring, not the finer elements, is what makes the
+/// descent itself lead to the goal.
 #[test]
 fn the_maze_arrives_with_the_goal_at_the_disk_centre_and_not_without() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -373,6 +375,8 @@ fn the_maze_arrives_with_the_goal_at_the_disk_centre_and_not_without() {
         endings.push((r.ending, r.escapes));
     }
     std::fs::remove_dir_all(&tmp).ok();
-    assert_eq!(endings[0], (FloorEnding::Reached, 0), "{endings:?}");
-    assert!(endings[1].1 >= 1, "{endings:?}");
+    assert!(
+        endings.iter().all(|e| e.0 == FloorEnding::Reached) && 2 * endings[0].1 < endings[1].1,
+        "{endings:?}"
+    );
 }

@@ -22,10 +22,11 @@ use crate::navigator::{
 use crate::options::{HoldPolicy, Options};
 use crate::space::Space;
 
-/// How far below the level `phi_k(x_s)` of the point `x_s` where the hold stalled an escape
-/// takes `phi_k` before the law resumes ([`Mode::Escaping`], docs/maths.md §13.7): each
-/// escape ends at least this much lower than it began, so with finitely many rest points there
-/// are finitely many escapes.
+/// How far below the level `phi_k(x_s)` of the point `x_s` where it began (a stall, or the
+/// shortest path turning against the law) an escape takes `phi_k` before the law resumes
+/// ([`Mode::Escaping`], docs/maths.md §13.7): each escape that is not blocked ends at least
+/// this much lower than it began, and an escape against the law begins only this much below
+/// where the last one began, so there are finitely many escapes (eq. escape-levels).
 pub const ESCAPE_DROP: f64 = 0.01;
 
 /// The hold has stalled when the robot has stayed within `δ/4` of one point (`δ` the floor's
@@ -33,6 +34,24 @@ pub const ESCAPE_DROP: f64 = 0.01;
 /// (the layer or a sensed obstacle's band): the hold presses it against that edge at a rest
 /// point of its slide. An escape follows ([`Mode::Escaping`]).
 pub const ESCAPE_STALL: f64 = 2.0;
+
+/// The share of its wanted step below which an escape that began against the law (the
+/// shortest path's heading more than 90° from the descent direction) counts as blocked and ends: the certified step along the shortest path
+/// has shrunk (a sensed obstacle across it, or the edge turning away), and creeping on with
+/// ever shorter steps would stall the robot (docs/maths.md §13.7).
+pub const ESCAPE_BLOCKED: f64 = 0.5;
+
+/// An escape along the shortest path ([`Mode::Escaping`]): it ends when `phi_k` is
+/// [`ESCAPE_DROP`] below `level`, or when blocked.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Escape {
+    /// `phi_k` where it began.
+    level: f64,
+    /// Begun against the law (the shortest path's heading more than 90° from the descent
+    /// direction), not after a stall; it ends when less than [`ESCAPE_BLOCKED`] of its step is
+    /// certified.
+    early: bool,
+}
 
 /// An online navigator on a floor plan: the walls are known (a [`FloorMap`], whose harmonic
 /// map is solved once), star-shaped obstacles are added as perception finds them.
@@ -54,7 +73,11 @@ pub const ESCAPE_STALL: f64 = 2.0;
 /// [`FloorField::layer_slide`]). Under the heading policy `"auto"`, a robot that has stayed
 /// within `δ/4` of one point for [`ESCAPE_STALL`] s next to that edge follows the shortest path
 /// ([`Mode::Escaping`], each step certified free) until `phi_k` is [`ESCAPE_DROP`] below where
-/// it stalled, then the law resumes (docs/maths.md §13.7).
+/// it stalled, then the law resumes. It does so without a stall, anywhere, where the shortest
+/// path's heading `g` turns more than 90° from the law's descent direction `d` (`d·g < 0`) and
+/// `phi_k` is [`ESCAPE_DROP`] below where the last such escape began; such an escape also ends
+/// when less than [`ESCAPE_BLOCKED`] of its step is certified (docs/maths.md §13.7, eq.
+/// escape-levels).
 ///
 /// ```
 /// use std::sync::Arc;
@@ -86,8 +109,11 @@ pub struct FloorNavigator {
     inner: Vec<StarShape>,
     speed_at_discovery: f64,
     last: Option<(Vector2<f64>, Vector2<f64>)>,
-    /// `phi_k` where the current escape began ([`Mode::Escaping`]), if escaping.
-    escape: Option<f64>,
+    /// The current escape ([`Mode::Escaping`]), if escaping.
+    escape: Option<Escape>,
+    /// `phi_k` where the last escape against the law began: another may begin only
+    /// [`ESCAPE_DROP`] below it (eq. escape-levels of docs/maths.md §13.7).
+    early_level: Option<f64>,
     /// The point the robot has stayed within `δ/4` of, and for how many periods.
     anchor: Option<(Vector2<f64>, usize)>,
 }
@@ -142,6 +168,7 @@ impl FloorNavigator {
             speed_at_discovery: 0.0,
             last: None,
             escape: None,
+            early_level: None,
             anchor: None,
         };
         // Guard: λ_c (eq. critdamp) from the floor's goal stiffness, checked once.
@@ -167,8 +194,9 @@ impl FloorNavigator {
         self.field = field;
         self.inner.extend(inner);
         self.speed_at_discovery = self.last.map_or(0.0, |(_, v)| v.norm());
-        // `phi_k` changes with `k` and the point world: the level is not comparable.
+        // `phi_k` changes with `k` and the point world: the levels are not comparable.
         self.escape = None;
+        self.early_level = None;
         Ok(self.field.transform().obstacles().count() - 1)
     }
 
@@ -176,7 +204,7 @@ impl FloorNavigator {
     /// [`crate::Navigator::command`]: under [`HoldPolicy::Auto`] every held step stays in the
     /// certified clearance (to the sensed obstacles and to the boundary layer), `Θ` decreases
     /// over each kinematic step of the law (not during an escape, [`Mode::Escaping`], which ends
-    /// [`ESCAPE_DROP`] below where it began), and the dynamic law's caps hold.
+    /// [`ESCAPE_DROP`] below where it began, or blocked), and the dynamic law's caps hold.
     ///
     /// # Errors
     /// (the navigator is then unchanged) `x` or `ẋ` not finite; the robot's disc overlapping a
@@ -195,23 +223,23 @@ impl FloorNavigator {
         }
         self.last = Some((x, v));
         // An escape that begins moves the robot: the watch starts again.
-        self.anchor = Some(if escape.is_some() && self.escape.is_none() {
-            (x, 0)
-        } else {
-            anchor
-        });
+        let begins = escape.is_some() && escape != self.escape;
+        self.anchor = Some(if begins { (x, 0) } else { anchor });
+        if let Some(e) = escape.filter(|e| begins && e.early) {
+            self.early_level = Some(e.level);
+        }
         self.escape = escape;
         Ok(command)
     }
 
-    /// The command and the escape level after it, the robot having stayed near one point for
+    /// The command and the escape after it, the robot having stayed near one point for
     /// `still` periods.
     fn held(
         &self,
         x: Vector2<f64>,
         v: Vector2<f64>,
         still: usize,
-    ) -> Result<(Command, Option<f64>), NavError> {
+    ) -> Result<(Command, Option<Escape>), NavError> {
         let eval = match self.evaluate(x, v) {
             Ok(eval) => eval,
             Err(NavError::InObstacle { obstacle }) => {
@@ -230,17 +258,38 @@ impl FloorNavigator {
             ));
         }
         let phi = eval.field.phi;
-        if let Some(level) = self.escape.filter(|level| phi >= level - ESCAPE_DROP)
-            && let Some(c) = self.escaping(x, v)
+        if let Some(e) = self.escape.filter(|e| phi >= e.level - ESCAPE_DROP)
+            && let Some(c) = self.escaping(x, v, e.early)
         {
-            return Ok((c, Some(level)));
+            return Ok((c, Some(e)));
+        }
+        // Against the law: the shortest path's heading `g` more than 90° from the law's
+        // descent direction `d`, and `phi_k` `Δ` below where the last such escape began.
+        let against = |g: Vector2<f64>| eval.field.direction.is_some_and(|d| d.dot(&g) < 0.0);
+        if self.early_level.is_none_or(|l| phi < l - ESCAPE_DROP)
+            && self
+                .field
+                .geodesic()
+                .and_then(|g| g.heading_near(x))
+                .is_some_and(against)
+            && let Some(c) = self.escaping(x, v, true)
+        {
+            let escape = Escape {
+                level: phi,
+                early: true,
+            };
+            return Ok((c, Some(escape)));
         }
         let delta = self.field.floor().delta();
         if still as f64 * self.period >= ESCAPE_STALL
             && self.field.clearance(x, 0.5 * delta, None) < 0.5 * delta
-            && let Some(c) = self.escaping(x, v)
+            && let Some(c) = self.escaping(x, v, false)
         {
-            return Ok((c, Some(phi)));
+            let escape = Escape {
+                level: phi,
+                early: false,
+            };
+            return Ok((c, Some(escape)));
         }
         Ok((self.law_held(x, v, &eval), None))
     }
@@ -249,8 +298,9 @@ impl FloorNavigator {
     /// ([`FloorField::geodesic`], [`harmonav_floorplan::Geodesic::heading_near`]) slid along
     /// the edge of the certified region, for one period at the law's top speed or what the
     /// hold certifies of it (`hold::held_length`), never past the goal; `None` without the
-    /// geodesic distance, or where it is blocked (the law then stands).
-    fn escaping(&self, x: Vector2<f64>, v: Vector2<f64>) -> Option<Command> {
+    /// geodesic distance, or where it is blocked (the law then stands): nothing certified, or,
+    /// for an escape against the law (`early`), less than [`ESCAPE_BLOCKED`] of the step.
+    fn escaping(&self, x: Vector2<f64>, v: Vector2<f64>, early: bool) -> Option<Command> {
         let geodesic = self.field.geodesic()?;
         let h = self.period;
         let speed = match &self.controller {
@@ -265,7 +315,8 @@ impl FloorNavigator {
         }
         let dir = slid / norm;
         let length = hold::held_length(&self.field, x, dir, want);
-        (length > 0.0).then(|| Command {
+        let least = if early { ESCAPE_BLOCKED * want } else { 0.0 };
+        (length > least && length > 0.0).then(|| Command {
             value: moving_along(&self.controller, dir, length, h, v),
             mode: Mode::Escaping,
         })

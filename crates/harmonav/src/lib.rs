@@ -70,7 +70,7 @@ pub use harmonav_transform as transform;
 
 pub use certified::{BLIND, Band, CANDIDATES};
 pub use error::NavError;
-pub use floor::{ESCAPE_DROP, ESCAPE_STALL, FloorNavigator};
+pub use floor::{ESCAPE_BLOCKED, ESCAPE_DROP, ESCAPE_STALL, FloorNavigator};
 pub use harmonav_control::{DampingPolicy, HeadingPolicy, SpeedPolicy};
 pub use harmonav_field::KPolicy;
 pub use harmonav_floorplan::{CentrePolicy, FloorError, FloorMap, FloorOptions};

@@ -10,7 +10,8 @@ mod common;
 use std::sync::Arc;
 
 use harmonav::{
-    ESCAPE_DROP, FloorMap, FloorNavigator, FloorOptions, HeadingPolicy, Law, Mode, Options, Vector2,
+    ESCAPE_DROP, ESCAPE_STALL, FloorMap, FloorNavigator, FloorOptions, HeadingPolicy, Law, Mode,
+    Options, Vector2,
 };
 
 fn v(x: f64, y: f64) -> Vector2<f64> {
@@ -33,6 +34,8 @@ struct Flight {
     end: Vector2<f64>,
     /// Escapes begun, and the `phi_k` at each beginning.
     starts: Vec<f64>,
+    /// When the first escape began, s.
+    first: Option<f64>,
     /// Seconds flown.
     time: f64,
 }
@@ -53,6 +56,7 @@ fn fly(law: Law, heading: HeadingPolicy, start: Vector2<f64>, seconds: f64) -> F
         arrived: false,
         end: x,
         starts: Vec::new(),
+        first: None,
         time: 0.0,
     };
     let mut escaping = false;
@@ -67,7 +71,10 @@ fn fly(law: Law, heading: HeadingPolicy, start: Vector2<f64>, seconds: f64) -> F
         let phi = nav.field().eval(x).unwrap().phi;
         let c = nav.command(x, vel).unwrap();
         match (escaping, c.mode == Mode::Escaping) {
-            (false, true) => flight.starts.push(phi),
+            (false, true) => {
+                flight.starts.push(phi);
+                flight.first.get_or_insert(n as f64 * h);
+            }
             (true, false) => {
                 let began = *flight.starts.last().unwrap();
                 assert!(
@@ -93,14 +100,18 @@ fn fly(law: Law, heading: HeadingPolicy, start: Vector2<f64>, seconds: f64) -> F
 
 /// Below the bar, where the hold's slide has attracting rest points (the test
 /// `a_thin_hole_barrier_makes_rest_points_of_the_slide_and_the_papers_k_removes_them` of
-/// harmonav-floorplan finds them there): both laws escape and arrive; without the geodesic
-/// the kinematic robot stays pressed under the bar (the negative control).
+/// harmonav-floorplan finds them there): both laws escape and arrive, the first escape
+/// beginning where the shortest path turns against the law, before a stall; without the
+/// geodesic the kinematic robot stays pressed under the bar (the negative control).
 #[test]
 fn both_laws_escape_the_rest_points_below_the_bar_and_arrive() {
     let start = v(2.0, 1.0);
     for law in [Law::kinematic(1.0), Law::dynamic(1.0, 1.0)] {
         let f = fly(law, HeadingPolicy::Auto, start, 60.0);
         assert!(f.arrived && !f.starts.is_empty(), "{law:?}: {f:?}");
+        // The first escape begins against the law, before any stall could be seen (a stall
+        // takes ESCAPE_STALL s within δ/4 of one point).
+        assert!(f.first.is_some_and(|t| t < ESCAPE_STALL), "{law:?}: {f:?}");
     }
     let f = fly(Law::kinematic(1.0), HeadingPolicy::Paper, start, 20.0);
     assert!(
