@@ -69,8 +69,9 @@ def test_the_heading_policy_shortens_the_kinematic_path_and_is_checked():
 def test_the_escape_frees_a_start_held_at_a_rest_point_of_the_slide():
     # docs/maths.md §13.7: from the file's start, in the aisle below a shelf row, the hold
     # presses the robot against the edge of the certified region at a local minimum of Θ
-    # there; under "auto" it escapes along the shortest path and arrives (25.0 s when
-    # measured), along the flow lines of Θ ("paper", no shortest path, no escape) it stays.
+    # there; under "auto" it escapes along the shortest path and arrives (10.2 s, 3 escapes, at
+    # max_element = 0.2 on 2026-12-04), along the flow lines of Θ ("paper", no shortest path,
+    # no escape) it stays (4.5 m from the goal after 300 s).
     plan = harmonav.FloorPlan.load(ROOT / "scenarios" / "floorplans" / "map-warehouse-starts.toml")
     auto = plan.run(model="kinematic").summary
     assert auto["reached"] and auto["escapes"] >= 1, auto
