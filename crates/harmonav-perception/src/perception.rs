@@ -375,8 +375,9 @@ impl Perception {
     /// Whether hit `p` is explained by a known shape within `ε_x = max(ε, ε_g)` (the noise
     /// bound or the growth threshold, [`Options::growth_threshold`]; certified by
     /// `StarShape::within`, on the hit's ray from the shape's centre where that decides, else
-    /// by the bounds of `StarShape::signed_distance_bounds`), and, for a perceived shape `P`, near its
-    /// evidence `E_P` (the hits it was fitted to; `d_ev` of [`Options::evidence_radius`]):
+    /// by the bounds of `StarShape::signed_distance_bounds`), and, for a perceived shape `P`,
+    /// near its evidence `E_P` (the hits it was fitted to; `d_ev` of
+    /// [`Options::evidence_radius`]):
     ///
     /// ```text
     /// map obstacle S (exact):  hi_S(p) ≤ ε_x    (p is within ε_x outside S, or inside)

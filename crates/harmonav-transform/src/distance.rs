@@ -77,10 +77,10 @@ impl StarShape {
     ///
     /// ```text
     /// ρ = |x − c|,  u = (x − c)/ρ,  R = R(u) (the radial function)
-    /// ρ > max R + eps + pad      →  false   (d(x) ≥ ρ − max R: every boundary point is within max R of c)
-    /// ρ ≤ R                      →  true    (x in the closed region, as StarShape::contains)
-    /// ρ − R ≤ eps − pad          →  true    (c + R·u is a boundary point ρ − R from x)
-    /// otherwise                  →  hi(x) ≤ eps   (the certified bounds' point query)
+    /// ρ > max R + eps + pad       →  false   (d(x) ≥ ρ − max R: ∂S lies within max R of c)
+    /// ρ ≤ min R  or  ρ + pad ≤ R  →  true    (x in the region, as StarShape::contains)
+    /// ρ − R ≤ eps − pad           →  true    (c + R·u is a boundary point ρ − R from x)
+    /// otherwise                   →  hi(x) ≤ eps   (the certified bounds' point query)
     /// ```
     ///
     /// `pad` is the rounding allowance of [`Self::signed_distance_bounds`]. The radial tests
@@ -103,7 +103,7 @@ impl StarShape {
             return true;
         }
         let r = self.radius_along(v / rho).0;
-        if rho <= r || rho - r <= eps - pad {
+        if rho + pad <= r || rho - r <= eps - pad {
             return true;
         }
         self.signed_distance_bounds(x).1 <= eps

@@ -36,9 +36,10 @@ pub const ESCAPE_DROP: f64 = 0.01;
 pub const ESCAPE_STALL: f64 = 2.0;
 
 /// The share of its wanted step below which an escape that began against the law (the
-/// shortest path's heading more than 90° from the descent direction) counts as blocked and ends: the certified step along the shortest path
-/// has shrunk (a sensed obstacle across it, or the edge turning away), and creeping on with
-/// ever shorter steps would stall the robot (docs/maths.md §13.7).
+/// shortest path's heading more than 90° from the descent direction) counts as blocked and
+/// ends: the certified step along the shortest path has shrunk (a sensed obstacle across it,
+/// or the edge turning away), and creeping on with ever shorter steps would stall the robot
+/// (docs/maths.md §13.7).
 pub const ESCAPE_BLOCKED: f64 = 0.5;
 
 /// An escape along the shortest path ([`Mode::Escaping`]): it ends when `phi_k` is

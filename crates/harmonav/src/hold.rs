@@ -36,8 +36,9 @@ pub enum Mode {
     Recovering(Band),
     /// On a floor plan under the heading policy `"auto"`: the hold had stalled at a rest point
     /// of its slide on the edge of the certified region (a local minimum of `Θ` there, not of
-    /// `Θ` itself), and the robot follows the shortest path until `phi_k` is
-    /// [`crate::ESCAPE_DROP`] below the level where it stalled (docs/maths.md §13.7).
+    /// `Θ` itself), or the shortest path turned more than 90° from the law's descent, and the
+    /// robot follows the shortest path until `phi_k` is [`crate::ESCAPE_DROP`] below the level
+    /// where it began, or until blocked (docs/maths.md §13.7).
     Escaping,
 }
 
