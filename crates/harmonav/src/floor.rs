@@ -315,7 +315,18 @@ impl FloorNavigator {
             return None;
         }
         let dir = slid / norm;
-        let length = hold::held_length(&self.field, x, dir, want);
+        let mut length = hold::held_length(&self.field, x, dir, want);
+        // Against the law, the dynamic robot keeps the dynamic hold's invariant
+        // `h|v⁺| ≤ c·d(x)` (`c` = DYNAMIC_FRACTION, docs/maths.md §10): the step is then
+        // certified under the exact hold of the force too (rapier), whose displacement
+        // `h(v + v⁺)/2` leaves the segment along `dir`. (A stall's escape slides along the
+        // edge, where `d(x)` is about 0 and the cap would stop it: it is certified under
+        // semi-implicit Euler, the built-in integrator, alone.)
+        if early && matches!(self.controller, Controller::Dynamic(_)) {
+            let need = 2.0 * want / hold::DYNAMIC_FRACTION;
+            let d = self.field.clearance(x, need, None).max(0.0);
+            length = length.min(hold::DYNAMIC_FRACTION * d);
+        }
         let least = if early { ESCAPE_BLOCKED * want } else { 0.0 };
         (length > least && length > 0.0).then(|| Command {
             value: moving_along(&self.controller, dir, length, h, v),
