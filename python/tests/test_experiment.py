@@ -345,16 +345,15 @@ def test_the_ray_engine_gives_the_local_engines_records_bit_for_bit(tmp_path):
 
 @pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGKILL])
 def test_an_interrupted_experiment_resumes_to_the_same_records(tmp_path, sig):
-    """The runner is interrupted once a part is written — Ctrl-C (it exits with 130) or
+    """The runner is interrupted once some parts are written — Ctrl-C (it exits with 130) or
     SIGKILL (no clean-up at all) — and the same command resumes from the parts. The records
-    equal an uninterrupted experiment's, and no part is half-written. (48 tasks, about 1.4 s:
-    with 24 and the signal after 3 parts, a loaded machine let the runner finish first.)"""
+    equal an uninterrupted experiment's, and no part is half-written."""
     spec = write(tmp_path, """
         name = "resume"
         [worlds]
         generator = "quality"
         obstacles = [6]
-        seeds = { first = 1, count = 24 }
+        seeds = { first = 1, count = 12 }
         [grid]
         law = ["kinematic", "dynamic"]
         sensing = ["global", "sector"]
@@ -369,7 +368,7 @@ def test_an_interrupted_experiment_resumes_to_the_same_records(tmp_path, sig):
     proc = subprocess.Popen(command, cwd=tmp_path, stderr=subprocess.PIPE, text=True)
     parts = out / "parts"
     try:
-        while proc.poll() is None and not list(parts.glob("part-*.parquet")):
+        while proc.poll() is None and len(list(parts.glob("part-*.parquet"))) < 3:
             time.sleep(0.01)
     finally:
         proc.send_signal(sig)
@@ -377,7 +376,7 @@ def test_an_interrupted_experiment_resumes_to_the_same_records(tmp_path, sig):
     if sig == signal.SIGINT:
         assert proc.returncode == 130 and "resume" in stderr, (proc.returncode, stderr)
     before = sorted(p.name for p in parts.glob("part-*.parquet"))
-    assert 1 <= len(before) < tasks, len(before)
+    assert 3 <= len(before) < tasks, len(before)
     for p in parts.glob("part-*.parquet"):
         pq.read_table(p)  # whole
     resumed = subprocess.run(command, cwd=tmp_path, capture_output=True, text=True)
