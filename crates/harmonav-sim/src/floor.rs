@@ -4,7 +4,7 @@
 //! leaving, staying in the certified region, arrival within a stated threshold), its
 //! [`FloorSummary`] (`harmonav run` on a floor plan), and the map's certificate.
 
-use harmonav::{Controller, FloorNavigator, Law, Mode, NavError, Options};
+use harmonav::{Controller, FloorNavigator, Law, NavError, Options};
 use harmonav_harmonic::Certificate;
 use harmonav_scenario::floorplan::FloorPrepared;
 use harmonav_scenario::{Model, ShapeSpec};
@@ -242,7 +242,6 @@ pub(crate) fn fly(
     };
     // The disc's clearance at the previous state and the length of the step since.
     let mut last: Option<(f64, f64)> = None;
-    let mut was_escaping = false;
     for n in 0..=steps {
         out.time = n as f64 * h;
         // Monitors on the truth.
@@ -300,9 +299,7 @@ pub(crate) fn fly(
             Some(law) => law(&nav, x, vel),
             None => match nav.command(x, vel) {
                 Ok(c) => {
-                    let escaping = c.mode == Mode::Escaping;
-                    out.escapes += usize::from(escaping && !was_escaping);
-                    was_escaping = escaping;
+                    out.escapes = nav.escapes();
                     c.value
                 }
                 Err(e) => {

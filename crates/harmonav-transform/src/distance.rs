@@ -86,11 +86,15 @@ impl StarShape {
     /// `pad` is the rounding allowance of [`Self::signed_distance_bounds`]. The radial tests
     /// are the hot path of a scan whose hits lie on perceived shapes (each hit inside or a few
     /// centimetres outside along its ray); only a hit off to the side of its ray's boundary
-    /// point pays for the point query. A non-finite coordinate gives `false`.
+    /// point pays for the point query. A non-finite coordinate gives `false`; a negative `eps`
+    /// (at least `|eps|` deep inside) skips the radial tests, a NaN `eps` gives `false`.
     #[must_use]
     pub fn within(&self, x: Vector2<f64>, eps: f64) -> bool {
-        if non_finite(x).is_some() {
+        if non_finite(x).is_some() || eps.is_nan() {
             return false;
+        }
+        if eps < 0.0 {
+            return self.signed_distance_bounds(x).1 <= eps;
         }
         let pad = self.rounding(x);
         let v = x - self.centre();

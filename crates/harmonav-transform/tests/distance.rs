@@ -191,14 +191,14 @@ proptest! {
     /// `within` at points anywhere about the shape, off the rays of their nearest boundary
     /// points too (where the radial tests cannot decide and the point query must).
     #[test]
-    fn within_is_certified(shape in shape_at(Vector2::new(0.3, -0.2), 1.0), x in -1.2..1.8f64, y in -1.7..1.3f64, eps in 0.0..0.3f64) {
+    fn within_is_certified(shape in shape_at(Vector2::new(0.3, -0.2), 1.0), x in -1.2..1.8f64, y in -1.7..1.3f64, eps in -0.1..0.3f64) {
         let reference = samples(&shape, 1 << 14);
         check_within(&shape, &reference, Vector2::new(x, y), eps).map_err(TestCaseError::fail)?;
     }
 
     /// The same for offset shapes (tables: the radial hulls of perception are tables too).
     #[test]
-    fn within_is_certified_for_offset_shapes(shape in offset_at(Vector2::new(-0.1, 0.4), 1.0), th in -3.2..3.2f64, s in -0.2..0.5f64, side in -0.3..0.3f64, eps in 0.0..0.3f64) {
+    fn within_is_certified_for_offset_shapes(shape in offset_at(Vector2::new(-0.1, 0.4), 1.0), th in -3.2..3.2f64, s in -0.2..0.5f64, side in -0.3..0.3f64, eps in -0.1..0.3f64) {
         let reference = samples(&shape, 1 << 14);
         let p = near_point(&shape, th, s);
         let r = p - shape.centre();
@@ -228,6 +228,9 @@ fn within_looks_beyond_the_ray() {
         !s.within(Vector2::new(f64::NAN, 0.0), 1.0)
             && !s.within(Vector2::new(f64::INFINITY, 0.0), 1.0)
     );
+    // A negative eps asks for depth: 0.005 deep is not 0.1 deep; a NaN eps claims nothing.
+    let z = Vector2::new(0.0, 0.195);
+    assert!(s.within(z, -0.004) && !s.within(z, -0.1) && !s.within(z, f64::NAN));
 }
 
 proptest! {

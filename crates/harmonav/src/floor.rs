@@ -35,11 +35,13 @@ pub const ESCAPE_DROP: f64 = 0.01;
 /// point of its slide. An escape follows ([`Mode::Escaping`]).
 pub const ESCAPE_STALL: f64 = 2.0;
 
-/// The share of its wanted step below which an escape that began against the law (the
+/// The share of its wanted step at or below which an escape that began against the law (the
 /// shortest path's heading more than 90° from the descent direction) counts as blocked and
-/// ends: the certified step along the shortest path has shrunk (a sensed obstacle across it,
-/// or the edge turning away), and creeping on with ever shorter steps would stall the robot
-/// (docs/maths.md §13.7).
+/// ends: creeping on with ever shorter steps would stall the robot (docs/maths.md §13.7).
+/// The hold's step (`hold::held_length`) is the whole wanted step when that is certified free
+/// and at most half of it otherwise, so such an escape ends as soon as its whole step is not
+/// certified free (a sensed obstacle across the shortest path, or the edge turning away), or,
+/// under the dynamic law, when the dynamic hold's cap `c·d(x)` leaves it half or less.
 pub const ESCAPE_BLOCKED: f64 = 0.5;
 
 /// An escape along the shortest path ([`Mode::Escaping`]): it ends when `phi_k` is
@@ -49,8 +51,8 @@ struct Escape {
     /// `phi_k` where it began.
     level: f64,
     /// Begun against the law (the shortest path's heading more than 90° from the descent
-    /// direction), not after a stall; it ends when less than [`ESCAPE_BLOCKED`] of its step is
-    /// certified.
+    /// direction), not after a stall; it also ends when blocked in the sense of
+    /// [`ESCAPE_BLOCKED`].
     early: bool,
 }
 
@@ -77,8 +79,7 @@ struct Escape {
 /// it stalled, then the law resumes. It does so without a stall, anywhere, where the shortest
 /// path's heading `g` turns more than 90° from the law's descent direction `d` (`d·g < 0`) and
 /// `phi_k` is [`ESCAPE_DROP`] below where the last such escape began; such an escape also ends
-/// when less than [`ESCAPE_BLOCKED`] of its step is certified (docs/maths.md §13.7, eq.
-/// escape-levels).
+/// when blocked ([`ESCAPE_BLOCKED`]; docs/maths.md §13.7, eq. escape-levels).
 ///
 /// ```
 /// use std::sync::Arc;
@@ -115,6 +116,8 @@ pub struct FloorNavigator {
     /// `phi_k` where the last escape against the law began: another may begin only
     /// [`ESCAPE_DROP`] below it (eq. escape-levels of docs/maths.md §13.7).
     early_level: Option<f64>,
+    /// Escapes begun so far.
+    escapes: usize,
     /// The point the robot has stayed within `δ/4` of, and for how many periods.
     anchor: Option<(Vector2<f64>, usize)>,
 }
@@ -170,6 +173,7 @@ impl FloorNavigator {
             last: None,
             escape: None,
             early_level: None,
+            escapes: 0,
             anchor: None,
         };
         // Guard: λ_c (eq. critdamp) from the floor's goal stiffness, checked once.
@@ -226,6 +230,7 @@ impl FloorNavigator {
         // An escape that begins moves the robot: the watch starts again.
         let begins = escape.is_some() && escape != self.escape;
         self.anchor = Some(if begins { (x, 0) } else { anchor });
+        self.escapes += usize::from(begins);
         if let Some(e) = escape.filter(|e| begins && e.early) {
             self.early_level = Some(e.level);
         }
@@ -300,7 +305,7 @@ impl FloorNavigator {
     /// the edge of the certified region, for one period at the law's top speed or what the
     /// hold certifies of it (`hold::held_length`), never past the goal; `None` without the
     /// geodesic distance, or where it is blocked (the law then stands): nothing certified, or,
-    /// for an escape against the law (`early`), less than [`ESCAPE_BLOCKED`] of the step.
+    /// for an escape against the law (`early`), [`ESCAPE_BLOCKED`] of the step or less.
     fn escaping(&self, x: Vector2<f64>, v: Vector2<f64>, early: bool) -> Option<Command> {
         let geodesic = self.field.geodesic()?;
         let h = self.period;
@@ -524,6 +529,17 @@ impl FloorNavigator {
     /// The control period `h` in force, s.
     pub fn control_period(&self) -> f64 {
         self.period
+    }
+
+    /// The escapes begun so far ([`Mode::Escaping`]), back-to-back ones counted apart (an
+    /// escape may end and the next begin within one period, the mode staying `Escaping`).
+    pub fn escapes(&self) -> usize {
+        self.escapes
+    }
+
+    /// `phi_k` where the current escape began, `None` when not escaping.
+    pub fn escape_level(&self) -> Option<f64> {
+        self.escape.map(|e| e.level)
     }
 
     /// The options in use.

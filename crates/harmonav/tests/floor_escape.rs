@@ -71,21 +71,26 @@ fn fly(law: Law, heading: HeadingPolicy, start: Vector2<f64>, seconds: f64) -> F
             break;
         }
         let phi = nav.field().eval(x).unwrap().phi;
+        let before = nav.escape_level();
         let c = nav.command(x, vel).unwrap();
-        match (escaping, c.mode == Mode::Escaping) {
-            (false, true) => {
-                flight.starts.push(phi);
-                flight.first.get_or_insert(n as f64 * h);
-            }
-            (true, false) if matches!(law, Law::Kinematic { .. }) => {
-                let began = *flight.starts.last().unwrap();
+        // An escape ends and the next may begin within one period: the levels tell them apart.
+        let after = nav.escape_level();
+        if after != before {
+            if let Some(began) = before
+                && matches!(law, Law::Kinematic { .. })
+            {
                 assert!(
                     phi < began - ESCAPE_DROP,
                     "escape ended at {phi}, began at {began}"
                 );
             }
-            _ => {}
+            if let Some(level) = after {
+                assert_eq!(level, phi, "an escape begins at the level where it is");
+                flight.starts.push(level);
+                flight.first.get_or_insert(n as f64 * h);
+            }
         }
+        assert_eq!(after.is_some(), c.mode == Mode::Escaping);
         if matches!(law, Law::Kinematic { .. }) && !escaping && c.mode != Mode::Escaping {
             assert!(phi <= last_phi + 1e-12, "phi rose under the law at {x:?}");
         }
