@@ -328,8 +328,8 @@ fn map_floor_plans_load_and_their_errors_name_the_field_and_the_map() {
 
 /// The serpentine maze of `scenarios/floorplans/limits/map-maze.toml` (a ROS map, one ring, no
 /// holes) with elements of 0.2 m, flown by the kinematic law from the file's start for 60 s.
-/// Under the heading policy `"auto"` it arrives under both `centre` policies (23.9 and 24.8 s; 10
-/// and 7 escapes along the shortest path, docs/maths.md §13.7). Along the descent of `Θ` alone
+/// Under the heading policy `"auto"` it arrives under both `centre` policies (24.5 s; 18 and 15
+/// escapes along the shortest path, docs/maths.md §13.7). Along the descent of `Θ` alone
 /// (`heading = "paper"`, no escape) it arrives with the goal's image at the disk's centre
 /// (`centre = "goal"`, §13.2; 34.0 s) and, with the solve's `H(x_d)` (the default, `"solve"`),
 /// stalls against a wall 2.9 m short: the control that shows the recentring, not the finer

@@ -5,7 +5,7 @@
 
 use std::sync::Arc;
 
-use harmonav_control::{HEADING_CONE_DEG, HeadingPolicy};
+use harmonav_control::HeadingPolicy;
 use harmonav_field::{FieldError, FieldEval};
 use harmonav_floorplan::{FloorError, FloorField, FloorMap, NotFree};
 use harmonav_transform::StarShape;
@@ -36,8 +36,8 @@ pub const ESCAPE_DROP: f64 = 0.01;
 pub const ESCAPE_STALL: f64 = 2.0;
 
 /// The share of its wanted step at or below which an escape that began against the law (the
-/// shortest path's heading outside the heading cone of the descent direction) counts as
-/// blocked and ends: creeping on with ever shorter steps would stall the robot (docs/maths.md §13.7).
+/// shortest path's heading more than 90° from the descent direction) counts as blocked and
+/// ends: creeping on with ever shorter steps would stall the robot (docs/maths.md §13.7).
 /// The hold's step (`hold::held_length`) is the whole wanted step when that is certified free
 /// and at most half of it otherwise, so such an escape ends as soon as its whole step is not
 /// certified free (a sensed obstacle across the shortest path, or the edge turning away), or,
@@ -50,9 +50,9 @@ pub const ESCAPE_BLOCKED: f64 = 0.5;
 struct Escape {
     /// `phi_k` where it began.
     level: f64,
-    /// Begun against the law (the shortest path's heading outside the heading cone of the
-    /// descent direction), not after a stall; it runs on while the heading stays outside the
-    /// cone, and also ends when blocked in the sense of [`ESCAPE_BLOCKED`].
+    /// Begun against the law (the shortest path's heading more than 90° from the descent
+    /// direction), not after a stall; it also ends when blocked in the sense of
+    /// [`ESCAPE_BLOCKED`].
     early: bool,
 }
 
@@ -77,11 +77,9 @@ struct Escape {
 /// within `δ/4` of one point for [`ESCAPE_STALL`] s next to that edge follows the shortest path
 /// ([`Mode::Escaping`], each step certified free) until `phi_k` is [`ESCAPE_DROP`] below where
 /// it stalled, then the law resumes. It does so without a stall, anywhere, where the shortest
-/// path's heading `g` leaves the heading cone about the law's descent direction `d`
-/// (`d·g < cos 60°`, `harmonav_control::HEADING_CONE_DEG`: there the steered law can no longer
-/// turn towards `g`) and `phi_k` is [`ESCAPE_DROP`] below where the last such escape began;
-/// such an escape runs on while `g` stays outside the cone, and also ends when blocked
-/// ([`ESCAPE_BLOCKED`]; docs/maths.md §13.7, eq. escape-levels).
+/// path's heading `g` turns more than 90° from the law's descent direction `d` (`d·g < 0`) and
+/// `phi_k` is [`ESCAPE_DROP`] below where the last such escape began; such an escape also ends
+/// when blocked ([`ESCAPE_BLOCKED`]; docs/maths.md §13.7, eq. escape-levels).
 ///
 /// ```
 /// use std::sync::Arc;
@@ -266,26 +264,20 @@ impl FloorNavigator {
             ));
         }
         let phi = eval.field.phi;
-        // Against the law: the shortest path's heading `g` outside the heading cone about the
-        // law's descent direction `d`, where the steered law can no longer turn towards it.
-        let cone = HEADING_CONE_DEG.to_radians().cos();
-        let against = self
-            .field
-            .geodesic()
-            .and_then(|g| g.heading_near(x))
-            .is_some_and(|g| eval.field.direction.is_some_and(|d| d.dot(&g) < cone));
-        // An escape runs until `phi_k` is `Δ` below where it began; one against the law runs
-        // on while `g` stays outside the cone.
-        if let Some(e) = self
-            .escape
-            .filter(|e| phi >= e.level - ESCAPE_DROP || (e.early && against))
+        if let Some(e) = self.escape.filter(|e| phi >= e.level - ESCAPE_DROP)
             && let Some(c) = self.escaping(x, v, e.early)
         {
             return Ok((c, Some(e)));
         }
-        // A new escape against the law begins `Δ` below where the last one began.
+        // Against the law: the shortest path's heading `g` more than 90° from the law's
+        // descent direction `d`, and `phi_k` `Δ` below where the last such escape began.
+        let against = |g: Vector2<f64>| eval.field.direction.is_some_and(|d| d.dot(&g) < 0.0);
         if self.early_level.is_none_or(|l| phi < l - ESCAPE_DROP)
-            && against
+            && self
+                .field
+                .geodesic()
+                .and_then(|g| g.heading_near(x))
+                .is_some_and(against)
             && let Some(c) = self.escaping(x, v, true)
         {
             let escape = Escape {

@@ -36,10 +36,9 @@ pub enum Mode {
     Recovering(Band),
     /// On a floor plan under the heading policy `"auto"`: the hold had stalled at a rest point
     /// of its slide on the edge of the certified region (a local minimum of `Θ` there, not of
-    /// `Θ` itself), or the shortest path left the heading cone of the law's descent, and the
+    /// `Θ` itself), or the shortest path turned more than 90° from the law's descent, and the
     /// robot follows the shortest path until `phi_k` is [`crate::ESCAPE_DROP`] below the level
-    /// where it began (and, for the latter, the path is back in the cone), or until blocked
-    /// (docs/maths.md §13.7).
+    /// where it began, or until blocked (docs/maths.md §13.7).
     Escaping,
 }
 
