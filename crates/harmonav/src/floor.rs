@@ -263,22 +263,21 @@ impl FloorNavigator {
                 None,
             ));
         }
+        // Every escape follows the shortest path's heading `g` (none without the geodesic).
+        let Some(g) = self.field.geodesic().and_then(|t| t.heading_near(x)) else {
+            return Ok((self.law_held(x, v, &eval), None));
+        };
         let phi = eval.field.phi;
         if let Some(e) = self.escape.filter(|e| phi >= e.level - ESCAPE_DROP)
-            && let Some(c) = self.escaping(x, v, e.early)
+            && let Some(c) = self.escaping(x, v, g, e.early)
         {
             return Ok((c, Some(e)));
         }
-        // Against the law: the shortest path's heading `g` more than 90° from the law's
-        // descent direction `d`, and `phi_k` `Δ` below where the last such escape began.
-        let against = |g: Vector2<f64>| eval.field.direction.is_some_and(|d| d.dot(&g) < 0.0);
+        // Against the law: `g` more than 90° from the law's descent direction `d`, and
+        // `phi_k` `Δ` below where the last such escape began.
         if self.early_level.is_none_or(|l| phi < l - ESCAPE_DROP)
-            && self
-                .field
-                .geodesic()
-                .and_then(|g| g.heading_near(x))
-                .is_some_and(against)
-            && let Some(c) = self.escaping(x, v, true)
+            && eval.field.direction.is_some_and(|d| d.dot(&g) < 0.0)
+            && let Some(c) = self.escaping(x, v, g, true)
         {
             let escape = Escape {
                 level: phi,
@@ -289,7 +288,7 @@ impl FloorNavigator {
         let delta = self.field.floor().delta();
         if still as f64 * self.period >= ESCAPE_STALL
             && self.field.clearance(x, 0.5 * delta, None) < 0.5 * delta
-            && let Some(c) = self.escaping(x, v, false)
+            && let Some(c) = self.escaping(x, v, g, false)
         {
             let escape = Escape {
                 level: phi,
@@ -300,21 +299,26 @@ impl FloorNavigator {
         Ok((self.law_held(x, v, &eval), None))
     }
 
-    /// The escape's command at `x` ([`Mode::Escaping`]): along the shortest path's direction
-    /// ([`FloorField::geodesic`], [`harmonav_floorplan::Geodesic::heading_near`]) slid along
-    /// the edge of the certified region, for one period at the law's top speed or what the
-    /// hold certifies of it (`hold::held_length`), never past the goal; `None` without the
-    /// geodesic distance, or where it is blocked (the law then stands): nothing certified, or,
-    /// for an escape against the law (`early`), [`ESCAPE_BLOCKED`] of the step or less.
-    fn escaping(&self, x: Vector2<f64>, v: Vector2<f64>, early: bool) -> Option<Command> {
-        let geodesic = self.field.geodesic()?;
+    /// The escape's command at `x` ([`Mode::Escaping`]): along `heading`, the shortest path's
+    /// direction ([`FloorField::geodesic`], [`harmonav_floorplan::Geodesic::heading_near`]),
+    /// slid along the edge of the certified region, for one period at the law's top speed or
+    /// what the hold certifies of it (`hold::held_length`), never past the goal; `None` where
+    /// it is blocked (the law then stands): nothing certified, or, for an escape against the
+    /// law (`early`), [`ESCAPE_BLOCKED`] of the step or less.
+    fn escaping(
+        &self,
+        x: Vector2<f64>,
+        v: Vector2<f64>,
+        heading: Vector2<f64>,
+        early: bool,
+    ) -> Option<Command> {
         let h = self.period;
         let speed = match &self.controller {
             Controller::Kinematic(law) => law.v_max(),
             Controller::Dynamic(law) => 0.5 * law.speed_bound(),
         };
         let want = (h * speed).min((x - self.goal()).norm());
-        let slid = self.field.slide(x, geodesic.heading_near(x)?, want);
+        let slid = self.field.slide(x, heading, want);
         let norm = slid.norm();
         if !(norm > 1e-3 && want > 0.0) {
             return None;
