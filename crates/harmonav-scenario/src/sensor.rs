@@ -369,9 +369,6 @@ pub(crate) fn prepare(
             range_noise: noise,
             max_obstacle_depth: depth,
             wall_gap,
-            // The built-in integrator follows the continuous law, which has no value in a
-            // margin band (docs/maths.md §12.9).
-            refuse_in_band: true,
             fit_range,
             free_memory,
             free_evidence: spec.free.unwrap_or_default().into(),

@@ -126,9 +126,20 @@ impl<'a, 'o> Driver<'a, 'o> {
 
     /// The robot's navigator, to ask a held command of (`Navigator::command` keeps its
     /// sampled-data state).
-    #[cfg_attr(not(feature = "rapier"), allow(dead_code))]
     pub fn nav_mut(&mut self) -> &mut Navigator {
         &mut self.lp.nav
+    }
+
+    /// Whether the robot at `(x, ẋ)` is in a known obstacle's margin band (or the boundary's),
+    /// where the law has no value and the navigator's held command leads out
+    /// ([`harmonav::Mode::Recovering`]): a scan event or a discovery grew a shape over the
+    /// robot's margin. Asks the navigator for that command (its last commanded state is then
+    /// `(x, ẋ)`, as at a discovery).
+    pub fn recovering(&mut self, x: Vector2<f64>, v: Vector2<f64>) -> bool {
+        self.lp
+            .nav
+            .command(x, v)
+            .is_ok_and(|c| matches!(c.mode, harmonav::Mode::Recovering(_)))
     }
 
     /// The law's continuous evaluation at `(x, ẋ)` ([`ClosedLoop::eval`]); `None` outside the

@@ -103,8 +103,10 @@ pub(crate) fn rapier_observed(
     };
     loop {
         let (x, vel) = engine.state();
-        if d.eval(x, vel).is_none() {
-            // Only a controller other than the law gets here: record and stop.
+        // Outside the known free space: the law's held command leads out of a margin band (a
+        // scan event grew a shape over the robot's margin); anything else, or a controller
+        // other than the law, records and stops.
+        if d.eval(x, vel).is_none() && !(matches!(drive, Drive::Law) && d.recovering(x, vel)) {
             d.abort(Guarantee::failed(Check::LeftFreeSpace {
                 time_s: t,
                 position: [x.x, x.y],

@@ -72,18 +72,47 @@ fn rhs(d: &Driver, y: &State) -> Option<(State, Evaluation)> {
 }
 
 /// `ẏ` at `y` after `Θ`, `k` and `λ` may have changed (a step's end, a discovery, a scan
-/// event); `None` when `y` is outside the known free space, and the guarantee
+/// event): `Some(Some(ẏ))`; `Some(None)` when `y` is in a known obstacle's margin band, where
+/// the law has no value and the navigator's held command leads out ([`band_step`]); `None`
+/// when `y` is outside the known free space and not in a band, and the guarantee
 /// `stayed-in-free-space` is lost (the run must stop).
-fn rhs_after_event(d: &mut Driver, t: f64, y: &State) -> Option<State> {
-    let next = rhs(d, y).map(|(dy, _)| dy);
-    if next.is_none() {
-        d.abort(Guarantee::failed(Check::LeftFreeSpace {
-            time_s: t,
-            position: [y[0], y[1]],
-            reason: FreeSpaceLoss::Left,
-        }));
+fn rhs_after_event(d: &mut Driver, t: f64, y: &State) -> Option<Option<State>> {
+    if let Some((dy, _)) = rhs(d, y) {
+        return Some(Some(dy));
     }
-    next
+    if d.recovering(pos(y), vel(y)) {
+        return Some(None);
+    }
+    d.abort(Guarantee::failed(Check::LeftFreeSpace {
+        time_s: t,
+        position: [y[0], y[1]],
+        reason: FreeSpaceLoss::Left,
+    }));
+    None
+}
+
+/// One step of the sampled-data loop out of a margin band (a scan event that grew a shape over
+/// the robot's margin, docs/maths.md §12.12): the navigator's held command for its control
+/// period `h` ([`harmonav::Mode::Recovering`], along the ray from the shape's centre), the
+/// kinematic robot moved by `h·u`, the dynamic one by semi-implicit Euler (`v⁺ = v + h f/m`,
+/// the command's own model: `v⁺` lies along the way out). The continuous law has no value in
+/// the band, so the error-controlled integrator cannot take these steps. `None` when the
+/// navigator gives no command there.
+fn band_step(d: &mut Driver, y: &State) -> Option<(f64, State)> {
+    let (x, v) = (pos(y), vel(y));
+    let h = d.nav().control_period();
+    let f = d.nav_mut().command(x, v).ok()?.value;
+    Some(match d.nav().controller() {
+        Controller::Kinematic(_) => {
+            let x1 = x + h * f;
+            (h, [x1.x, x1.y, 0.0, 0.0])
+        }
+        Controller::Dynamic(law) => {
+            let v1 = v + (h / law.mass()) * f;
+            let x1 = x + h * v1;
+            (h, [x1.x, x1.y, v1.x, v1.y])
+        }
+    })
 }
 
 /// Runs a prepared scenario with the built-in integrator; `model` overrides the file's robot
@@ -121,7 +150,9 @@ pub(crate) fn integrate(
     let (mut steps, mut rejected) = (0usize, 0usize);
     d.record(d.sample(t, pos(&y), vel(&y)), Keep::Pinned, false);
     let mut next_record = dt;
-    let (mut k1, _) = rhs(&d, &y).ok_or(RunError::StartNotFree)?;
+    let (k0, _) = rhs(&d, &y).ok_or(RunError::StartNotFree)?;
+    // `ẏ` at `y`; `None` while the robot is in a margin band ([`rhs_after_event`]).
+    let mut k1 = Some(k0);
     let mut reached = d.arrived(pos(&y));
     while !reached && t < max_time {
         // A lidar scans at t = n / rate_hz; the steps land on those times.
@@ -140,6 +171,28 @@ pub(crate) fn integrate(
                 }
             }
         }
+        let Some(k1_law) = k1 else {
+            // In a margin band: the held command's step of the control period (a scan that
+            // falls due within it is taken at its end).
+            let Some((h_band, y_band)) = band_step(&mut d, &y) else {
+                rhs_after_event(&mut d, t, &y);
+                break;
+            };
+            (y, t) = (y_band, t + h_band);
+            steps += 1;
+            let Some(k_next) = rhs_after_event(&mut d, t, &y) else {
+                break;
+            };
+            k1 = k_next;
+            // Each state of the way out is recorded as a discovery's second side: `Θ` and `V`
+            // have no value in the band, and take a new one where it ends.
+            d.record(d.sample(t, pos(&y), vel(&y)), Keep::Pinned, true);
+            reached = d.arrived(pos(&y));
+            if d.at_rest(t, pos(&y), false, true, reached) {
+                break;
+            }
+            continue;
+        };
         h = h.min(dt).min(max_time - t);
         if let Some(next) = d.next_scan() {
             h = h.min(next - t);
@@ -157,19 +210,19 @@ pub(crate) fn integrate(
         }
         let dr = &d;
         let stages = (|| {
-            let (k2, _) = rhs(dr, &axpy(&y, h, &[(0.5, &k1)]))?;
+            let (k2, _) = rhs(dr, &axpy(&y, h, &[(0.5, &k1_law)]))?;
             let (k3, _) = rhs(dr, &axpy(&y, h, &[(0.75, &k2)]))?;
             let y1 = axpy(
                 &y,
                 h,
-                &[(2.0 / 9.0, &k1), (1.0 / 3.0, &k2), (4.0 / 9.0, &k3)],
+                &[(2.0 / 9.0, &k1_law), (1.0 / 3.0, &k2), (4.0 / 9.0, &k3)],
             );
             let (k4, _) = rhs(dr, &y1)?;
             let e = axpy(
                 &[0.0; 4],
                 h,
                 &[
-                    (-5.0 / 72.0, &k1),
+                    (-5.0 / 72.0, &k1_law),
                     (1.0 / 12.0, &k2),
                     (1.0 / 9.0, &k3),
                     (-1.0 / 8.0, &k4),
@@ -193,25 +246,25 @@ pub(crate) fn integrate(
             let (mut lo, mut hi) = (0.0, 1.0);
             for _ in 0..40 {
                 let mid = 0.5 * (lo + hi);
-                if sees(&hermite(&y, &k1, &y1, &k4, h, mid)).is_empty() {
+                if sees(&hermite(&y, &k1_law, &y1, &k4, h, mid)).is_empty() {
                     lo = mid
                 } else {
                     hi = mid
                 }
             }
             s_end = hi;
-            found = sees(&hermite(&y, &k1, &y1, &k4, h, hi));
+            found = sees(&hermite(&y, &k1_law, &y1, &k4, h, hi));
         }
         // Record on the dt grid inside the accepted part of the step (cubic Hermite).
         let t_end = t + s_end * h;
         let chattering = s_end * h < 0.5 * dt;
         while next_record <= t_end + 1e-12 && next_record > t {
-            let yr = hermite(&y, &k1, &y1, &k4, h, (next_record - t) / h);
+            let yr = hermite(&y, &k1_law, &y1, &k4, h, (next_record - t) / h);
             d.record(d.sample(next_record, pos(&yr), vel(&yr)), Keep::Grid, false);
             next_record += dt;
         }
         y = if s_end < 1.0 {
-            hermite(&y, &k1, &y1, &k4, h, s_end)
+            hermite(&y, &k1_law, &y1, &k4, h, s_end)
         } else {
             y1
         };
@@ -230,12 +283,13 @@ pub(crate) fn integrate(
         let Some(k_next) = rhs_after_event(&mut d, t, &y) else {
             break;
         };
+        let in_band = k_next.is_none();
         k1 = k_next;
         h *= (0.9 * (step_tol / err.max(1e-300)).cbrt()).clamp(0.2, 5.0);
         reached = d.arrived(pos(&y));
         let s = d.sample(t, pos(&y), vel(&y));
-        if reached || discovered {
-            d.record(s, Keep::Pinned, discovered);
+        if reached || discovered || in_band {
+            d.record(s, Keep::Pinned, discovered || in_band);
         } else {
             d.judge(&s);
         }

@@ -206,6 +206,52 @@ fn a_refused_scan_stops_the_run() {
     assert!(s.safe(), "{:?}", s.first_unsafe());
 }
 
+/// A scan event that leaves the robot in a perceived shape's margin band (`margin-band.toml`:
+/// a disc first fitted within the 0.3 m margin) is followed out of the band: the built-in
+/// integrator takes the navigator's held steps there (`Mode::Recovering`), rapier its held
+/// commands, and both laws arrive with every guarantee, the true clearance at least the
+/// margin. The control: the same run with `refuse_in_band` (the simulator's rule before
+/// 2026-12-04) is refused at that scan, so the file does exercise the band.
+#[test]
+fn a_scan_event_in_the_margin_band_is_followed_out() {
+    use harmonav_scenario::Model;
+    let p = load("lidar/margin-band.toml");
+    let mut physics = vec![Physics::Builtin];
+    if cfg!(feature = "rapier") {
+        physics.push(Physics::Rapier);
+    }
+    for model in [Model::Kinematic, Model::Dynamic] {
+        for &ph in &physics {
+            let r = simulate(&p, Some(model), ph).unwrap();
+            let s = &r.summary;
+            let failed: Vec<_> = s.guarantees.iter().filter(|g| !g.passed).collect();
+            assert!(
+                s.reached && failed.is_empty(),
+                "{model:?} {ph:?}: {failed:?}"
+            );
+            let perception = s.perception.as_ref().unwrap();
+            let band = perception.min_event_clearance.unwrap();
+            assert!(
+                band < 0.0,
+                "{model:?} {ph:?}: the event left the robot {band} m out"
+            );
+            assert!(s.min_clearance >= p.truth.margin, "{}", s.min_clearance);
+        }
+    }
+    let mut q = p.clone();
+    let Sensor::Lidar(l) = &mut q.truth.sensor else {
+        panic!("a lidar")
+    };
+    l.scan.refuse_in_band = true;
+    let r = run(&q, None).unwrap();
+    assert_eq!(
+        r.summary.outcome.kind(),
+        "scan-refused",
+        "{:?}",
+        r.summary.outcome
+    );
+}
+
 /// Bad `[sensor]` tables name the field and the problem.
 #[test]
 fn bad_lidar_tables_name_the_field() {

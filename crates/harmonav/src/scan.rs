@@ -53,9 +53,11 @@ impl Navigator {
     /// where the certified distances could not tell them apart (perceived shapes themselves
     /// always merge);
     /// [`NavError::ContainsRobot`] when a changed shape grown by `radius` contains the pose
-    /// (by `radius + margin` under [`crate::ScanOptions::refuse_in_band`]),
-    /// or its growth by `radius + margin` holds the pose `margin` or more outside that (a disc
-    /// fallback of [`grow_perceived`], thicker than the margin band one recovers through);
+    /// (by `radius + margin` under [`crate::ScanOptions::refuse_in_band`]). A pose outside the
+    /// first but inside the second is in the shape's margin band, however thick the growth
+    /// made it (a fallback of [`grow_perceived`] reaches past `radius + margin`): the next
+    /// [`Navigator::command`] leads out along the ray from the shape's centre
+    /// ([`crate::Mode::Recovering`]), which never enters the body (see `holds_robot`);
     /// [`NavError::ContainsGoal`]; [`NavError::CrossesBoundary`].
     pub fn observe_scan(&mut self, pose: Pose, scan: &LaserScan) -> Result<ScanUpdate, NavError> {
         let mut perception = self.scan.perception.clone();
@@ -118,7 +120,7 @@ impl Navigator {
             } else {
                 body.as_ref()
             };
-            if holds_robot(&grown, band, x, self.options.margin) {
+            if holds_robot(&grown, band, x) {
                 return Err(NavError::ContainsRobot);
             }
             event_clearance = event_clearance.min(grown.signed_distance(x));
@@ -192,16 +194,22 @@ impl Navigator {
 }
 
 /// Whether a changed shape, grown by `radius + margin` (`grown`) and by `radius` alone
-/// (`body`, `None` without a margin), refuses the event for the robot at `x`: `x` in the body
-/// (the robot's disc would overlap the shape), or in `grown` but `margin` or more outside the
-/// body. The margin band `grown \ body`, where the next command leads out
-/// (`Mode::Recovering`), is `margin` thick when `grown` is the body's offset; the disc of
-/// [`grow_perceived`]'s fallback reaches farther, and a robot there would be deep in an
-/// obstacle of the new field, with no band to recover through.
-fn holds_robot(grown: &StarShape, body: Option<&StarShape>, x: Vector2<f64>, margin: f64) -> bool {
+/// (`body`, `None` under [`crate::ScanOptions::refuse_in_band`] or without a margin), refuses
+/// the event for the robot at `x`: `x` in the body (the robot's disc would overlap the shape),
+/// or, without a body, in `grown`.
+///
+/// A robot in `grown` but outside the body is in the margin band, where the next command leads
+/// out along the ray from the centre `c` through `x` (`hold::way_out`). Both growths are stars
+/// about the perceived shape's centre `c` (the offset, the dilated hull and the disc all are),
+/// and a point `c + t·u` of the body with `t > |x − c|` would put `x` on the body's segment
+/// from `c`: so that ray never enters the body, however far the growth reaches past the margin
+/// (a disc fallback, `R_max + r` about `c`). Before 2026-12-04 a robot `margin` or more outside
+/// the body was refused, for the simulator's continuous integrator, which could not follow the
+/// band (docs/maths.md §12.12).
+fn holds_robot(grown: &StarShape, body: Option<&StarShape>, x: Vector2<f64>) -> bool {
     match body {
         None => grown.contains(x),
-        Some(b) => b.contains(x) || (grown.contains(x) && b.signed_distance(x) >= margin),
+        Some(b) => b.contains(x),
     }
 }
 
@@ -244,12 +252,15 @@ mod tests {
     /// A bow tie `R = 0.3 + 0.25 cos 2θ` (waist 0.05 m) whose offset by the margin is not
     /// star-shaped about its centre: [`grow_perceived`] falls back to the disc of radius
     /// `0.55 + 0.05`. A robot in the waist's bay, 0.09 m outside the body, is inside that disc,
-    /// `margin` and more beyond the band: refused. Without the second test (the body alone)
-    /// it would be accepted. Under [`StarForm::Hull`] the fallback is the dilated hull, which
-    /// holds the dilation (64 000 points of `∂tie ⊕ B(margin)`) and leaves the bay free. A
-    /// robot within the band of a true offset is not refused, and one in the body always is.
+    /// `margin` and more beyond a true band: it is outside the body, so the event is accepted,
+    /// and the way out of the band (`hold::way_out`, along the ray from the centre) reaches the
+    /// disc's edge with every point of the way outside the body (2 000 points checked; the way
+    /// towards the centre would cross the tie's waist). Under [`StarForm::Hull`] the fallback
+    /// is the dilated hull, which holds the dilation (64 000 points of `∂tie ⊕ B(margin)`) and
+    /// leaves the bay free. Without a body (no margin, or `refuse_in_band`) the grown shape
+    /// alone decides, and a robot in the body is always refused.
     #[test]
-    fn a_grown_shape_past_the_margin_band_holds_the_robot() {
+    fn a_robot_past_the_margin_band_is_led_out_along_the_ray() {
         let margin = 0.05;
         let tie = StarShape::fourier_star(Vector2::zeros(), 0.3, &[(2, 0.25, 0.0)]).unwrap();
         assert!(tie.offset(margin).is_err(), "the offset must fall back");
@@ -262,9 +273,24 @@ mod tests {
             "{}",
             body.signed_distance(bay)
         );
-        assert!(holds_robot(&grown, Some(&body), bay, margin));
+        assert!(!holds_robot(&grown, Some(&body), bay));
+        assert!(holds_robot(&grown, None, bay));
+        let boundary = StarShape::circle(Vector2::zeros(), 5.0).unwrap();
+        let goal = Vector2::new(3.0, 0.0);
+        let ws = Workspace::new(boundary, vec![grown.clone()], goal).unwrap();
+        let (dir, length) =
+            crate::hold::way_out(&ws, crate::certified::Band::Obstacle(0), bay, margin).unwrap();
+        assert!(dir.dot(&bay) > 0.0, "outward along the ray: {dir:?}");
+        for j in 0..=2000 {
+            let p = bay + (length * j as f64 / 2000.0) * dir;
+            assert!(body.signed_distance(p) > 0.0, "{p:?} in the body");
+        }
+        assert!(
+            !grown.contains(bay + length * dir),
+            "the way ends outside the band"
+        );
         let hull = grow_perceived_as(&tie, margin, StarForm::Hull).unwrap();
-        assert!(!hull.contains(bay) && !holds_robot(&hull, Some(&body), bay, margin));
+        assert!(!hull.contains(bay) && !holds_robot(&hull, Some(&body), bay));
         for j in 0..4000 {
             let p = tie.boundary_point(std::f64::consts::TAU * j as f64 / 4000.0);
             for k in 0..16 {
@@ -279,19 +305,9 @@ mod tests {
             grow_perceived(&disc, margin).unwrap(),
             grow_perceived(&disc, 0.0).unwrap(),
         );
-        assert!(!holds_robot(
-            &grown,
-            Some(&body),
-            Vector2::new(0.53, 0.0),
-            margin
-        ));
-        assert!(holds_robot(
-            &grown,
-            Some(&body),
-            Vector2::new(0.45, 0.0),
-            margin
-        ));
-        assert!(holds_robot(&grown, None, Vector2::new(0.53, 0.0), margin));
-        assert!(!holds_robot(&grown, None, Vector2::new(0.56, 0.0), margin));
+        assert!(!holds_robot(&grown, Some(&body), Vector2::new(0.53, 0.0)));
+        assert!(holds_robot(&grown, Some(&body), Vector2::new(0.45, 0.0)));
+        assert!(holds_robot(&grown, None, Vector2::new(0.53, 0.0)));
+        assert!(!holds_robot(&grown, None, Vector2::new(0.56, 0.0)));
     }
 }

@@ -35,8 +35,9 @@ pub struct ScanOptions {
     pub form: harmonav_perception::StarForm,
     /// Refuse an event that leaves the robot in a changed shape's margin band
     /// ([`crate::NavError::ContainsRobot`]) instead of leading it out (`Mode::Recovering`).
-    /// For loops that integrate the continuous law, which has no value in the band (the
-    /// simulator's built-in integrator sets it, docs/maths.md §12.9–12.10). Default `false`.
+    /// For loops that integrate the continuous law alone, which has no value in the band (the
+    /// simulator set it until 2026-12-04; its integrators now follow the held command out,
+    /// docs/maths.md §12.12). Default `false`.
     pub refuse_in_band: bool,
     /// `h`, m: the spacing of the certification cover (eq. certify); a fit is about `1.5h`
     /// larger than the region it must contain. Default 0.01.
