@@ -117,7 +117,7 @@ pub use fit::{Fit, FitFailure, FitParams, SIDE_BEAMS, fit_in_scan, fit_segment, 
 pub use free::{FreeEvidence, FreeSet, FreeSpace, FreeUnion, WallPrior, free_radius, sagitta};
 pub use perceived::{
     Certification, MergeFailure, Perceived, StarForm, certified, certified_hull, certified_star,
-    merge,
+    merge, merge_clear_of,
 };
 pub use perception::{Known, Observation, Options, Perception, PerceptionError};
 pub use scan::{LaserScan, MAX_BEAMS, Pose, Reading, ScanError};

@@ -598,6 +598,33 @@ pub fn merge(
     h: f64,
     order: u32,
 ) -> Result<(Perceived, Certification), MergeFailure> {
+    merge_clear_of(a, b, h, order, None)
+}
+
+/// The number of directions, and the fractions of the radius along each, of the points inside
+/// each shape that [`merge_clear_of`] also tries as centres.
+const CLEAR_DIRECTIONS: usize = 16;
+const CLEAR_FRACTIONS: [f64; 3] = [0.3, 0.6, 0.9];
+
+/// [`merge`] that keeps the sensor `s` out when it can (`clear = Some((s, r_k))`): when the
+/// merged star of [`merge`]'s choice comes nearer than `r_k` to `s` (the robot would be in the
+/// star grown by its radius and margin), the radial hull about further centres is tried, points
+/// `c + f·R(θ)·u(θ)` inside either shape (`f ∈ {0.3, 0.6, 0.9}`, 16 directions θ), and the one
+/// of least area whose certified distance to `s` is at least `r_k` is kept; if none is, [`merge`]'s
+/// choice stands. Any centre gives a star that holds both shapes (eq. hull), so the choice
+/// changes the shape, never what it holds. Radial hulls only (a Fourier merge is [`merge`]'s).
+///
+/// Why another centre helps (docs/maths.md §12.13): the star about `p` holds every segment from
+/// `p` to a point of `A ∪ B`, so a sensor between two shapes, in a gap they leave, is held by
+/// the star about any `p` that sees a part of the union behind the sensor, and by none that
+/// sees the gap's line of sight through the sensor clear.
+pub fn merge_clear_of(
+    a: &Perceived,
+    b: &Perceived,
+    h: f64,
+    order: u32,
+    clear: Option<(Vector2<f64>, f64)>,
+) -> Result<(Perceived, Certification), MergeFailure> {
     let (ca, cb) = (a.centre(), b.centre());
     let mid = 0.5 * (ca + cb);
     let candidates: Vec<Vector2<f64>> =
@@ -613,7 +640,30 @@ pub fn merge(
             .filter(|&x| a.shape.signed_distance_bounds(x).1 >= -h),
     );
     if a.form() == StarForm::Hull || b.form() == StarForm::Hull {
-        return merge_hulls(&candidates, &samples, h);
+        let first = merge_hulls(&candidates, &samples, h, None)
+            .unwrap_or_else(|| Err(no_candidate()))
+            .map_err(MergeFailure::Shape)?;
+        let Some((s, keep)) = clear else {
+            return Ok(first);
+        };
+        if first.0.shape().signed_distance_bounds(s).0 >= keep {
+            return Ok(first);
+        }
+        let inside: Vec<Vector2<f64>> = [a, b]
+            .iter()
+            .flat_map(|p| {
+                (0..CLEAR_DIRECTIONS).flat_map(move |j| {
+                    let theta = std::f64::consts::TAU * j as f64 / CLEAR_DIRECTIONS as f64;
+                    let r = p.shape().radius(theta).0;
+                    let u = Vector2::new(theta.cos(), theta.sin());
+                    CLEAR_FRACTIONS.map(|f| p.centre() + (f * r) * u)
+                })
+            })
+            .collect();
+        return Ok(match merge_hulls(&inside, &samples, h, Some((s, keep))) {
+            Some(Ok(clear)) => clear,
+            _ => first,
+        });
     }
     let kernel = candidates
         .iter()
@@ -635,19 +685,26 @@ pub fn merge(
 
 /// [`merge`] of hulls: the radial hull of the kept samples' discs about each candidate, the one
 /// of least area that passes eq. certify (about a common kernel point the hull is the union
-/// itself, so the least area finds one when the candidates hold it). Every candidate's hull
-/// holds both shapes (eq. hull); the area only picks.
+/// itself, so the least area finds one when the candidates hold it) and, with `clear =
+/// Some((s, r_k))`, lies at least `r_k` from `s` by its certified distance. Every candidate's
+/// hull holds both shapes (eq. hull); the area only picks. `None` when no candidate qualifies
+/// and none failed; the last failure when none qualifies.
 fn merge_hulls(
     candidates: &[Vector2<f64>],
     samples: &[Vector2<f64>],
     h: f64,
-) -> Result<(Perceived, Certification), MergeFailure> {
+    clear: Option<(Vector2<f64>, f64)>,
+) -> Option<Result<(Perceived, Certification), ShapeError>> {
     let mut best: Option<(Perceived, Certification)> = None;
     let mut last_error = None;
     for &p in candidates {
         match certified_hull(p, samples, h) {
             Ok(merged) => {
-                if best.as_ref().is_none_or(|b| merged.0.area() < b.0.area()) {
+                let clear_of = |(s, keep): (Vector2<f64>, f64)| {
+                    merged.0.shape().signed_distance_bounds(s).0 >= keep
+                };
+                let smaller = best.as_ref().is_none_or(|b| merged.0.area() < b.0.area());
+                if smaller && clear.is_none_or(clear_of) {
                     best = Some(merged);
                 }
             }
@@ -655,15 +712,67 @@ fn merge_hulls(
         }
     }
     match (best, last_error) {
-        (Some(b), _) => Ok(b),
-        (None, Some(e)) => Err(MergeFailure::Shape(e)),
-        (None, None) => unreachable!("nine candidates"),
+        (Some(b), _) => Some(Ok(b)),
+        (None, Some(e)) => Some(Err(e)),
+        (None, None) => None,
+    }
+}
+
+/// The error of a merge with no candidate centre (never: [`merge`] tries nine).
+fn no_candidate() -> ShapeError {
+    ShapeError::Invalid {
+        field: "centre",
+        problem: "a merge needs at least one candidate centre".into(),
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Two bow ties `R = 0.3 + 0.25 cos 2θ` (lobes along `x`, waists 0.05 m) about (0, ±0.6),
+    /// as radial hulls, and a sensor between their lobes at (0.2, 0): [`merge`]'s choice among
+    /// the nine centres on the segment between the centres holds the sensor (the star about a
+    /// point on the axis fills the bay between the lobes); [`merge_clear_of`] finds a centre
+    /// inside a lobe whose star keeps it `r_k` = 0.02 m out, and that star still holds both
+    /// shapes (4 000 boundary points of each, eq. hull). Where no centre can (the sensor
+    /// between the waists, or `r_k` = 0.3 m) [`merge`]'s choice stands.
+    #[test]
+    fn a_merge_keeps_a_sensor_in_a_bay_out_when_a_centre_allows() {
+        let h = 0.01;
+        let tie = |cy: f64| {
+            let c = Vector2::new(0.0, cy);
+            let samples: Vec<Vector2<f64>> = (0..2000)
+                .map(|j| {
+                    let t = std::f64::consts::TAU * j as f64 / 2000.0;
+                    c + (0.3 + 0.25 * (2.0 * t).cos()) * Vector2::new(t.cos(), t.sin())
+                })
+                .collect();
+            certified_hull(c, &samples, h).unwrap().0
+        };
+        let (upper, lower) = (tie(0.6), tie(-0.6));
+        let (first, _) = merge(&upper, &lower, h, 6).unwrap();
+        let s = Vector2::new(0.2, 0.0);
+        assert!(
+            first.shape().contains(s),
+            "merge's choice must hold the sensor here"
+        );
+        let keep = 0.02;
+        let (clear, _) = merge_clear_of(&upper, &lower, h, 6, Some((s, keep))).unwrap();
+        let gap = clear.shape().signed_distance(s);
+        assert!(gap >= keep, "{gap}");
+        for p in [&upper, &lower] {
+            for j in 0..4000 {
+                let t = std::f64::consts::TAU * j as f64 / 4000.0;
+                let x = p.shape().boundary_point(t);
+                assert!(clear.shape().signed_distance(x) <= 1e-9, "{x:?} outside");
+            }
+        }
+        for (s, keep) in [(Vector2::zeros(), 0.02), (s, 0.3)] {
+            let (stands, _) = merge_clear_of(&upper, &lower, h, 6, Some((s, keep))).unwrap();
+            assert_eq!(stands.area(), first.area());
+        }
+    }
 
     /// A hull with a radial jump (a far disc beside a near one): its per-cell cover leaves no
     /// boundary point more than `h/2` from a sample (200 000 points checked, including the

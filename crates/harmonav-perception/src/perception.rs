@@ -9,7 +9,7 @@ use nalgebra::Vector2;
 
 use crate::fit::{FitFailure, FitParams, fit_in_scan};
 use crate::free::{FreeEvidence, FreeSpace, FreeUnion, WallPrior};
-use crate::perceived::{MergeFailure, Perceived, StarForm, merge};
+use crate::perceived::{MergeFailure, Perceived, StarForm, merge_clear_of};
 use crate::scan::{LaserScan, Pose, ScanError};
 use crate::segment::{Segment, hit_point, segment};
 
@@ -46,12 +46,18 @@ pub struct Options {
     /// `min(ε_x − τ, d_ev/2)` apart (`τ` the certified distance's bracket), so a bounded region
     /// sees finitely many growths (docs/maths.md §12.8).
     pub growth_threshold: f64,
-    /// `g`, m: shapes closer than this merge ([`merge`]), not only overlapping ones (by the
+    /// `g`, m: shapes closer than this merge ([`crate::merge`]), not only overlapping ones (by the
     /// certified distance, which may exceed the true one by its bracket). A navigator that grows
     /// every shape by `r` (the robot's radius and margin) sets `2r`, so that the grown shapes
     /// are not refused as overlapping in most cases; where they still are (the bracket, or a
     /// disc fallback of the growth), the scan is refused, never an overlap accepted. Default 0.
     pub merge_gap: f64,
+    /// `r_k`, m: a merge of radial hulls keeps the sensor at least this far outside the merged
+    /// star when some centre allows it ([`crate::merge_clear_of`]; with the default 0, the
+    /// sensor itself). A navigator sets its robot's radius and margin, so that a merge does not
+    /// put the robot in the grown star. Changes which sound star is chosen, never what it
+    /// holds. Default 0.
+    pub keep_out: f64,
     /// `g_w`, m: the wall prior (eq. wallgap, `crate::free`): every unknown obstacle keeps at
     /// least this distance from the known boundary, so a fit may leave out what lies nearer
     /// the wall. An assumption the containment guarantee then rests on, like `D`. Default 0
@@ -95,6 +101,7 @@ impl Default for Options {
             check_spacing: 0.01,
             growth_threshold: 0.02,
             merge_gap: 0.0,
+            keep_out: 0.0,
             wall_gap: 0.0,
             free_evidence: FreeEvidence::Disc,
             free_memory: 0,
@@ -140,6 +147,7 @@ impl Options {
         )?;
         check("growth_threshold", self.growth_threshold, 0.0, 10.0, true)?;
         check("merge_gap", self.merge_gap, 0.0, 100.0, false)?;
+        check("keep_out", self.keep_out, 0.0, 100.0, false)?;
         check("wall_gap", self.wall_gap, 0.0, 100.0, false)?;
         check(
             "free_memory",
@@ -222,7 +230,7 @@ pub enum PerceptionError {
         inside: Option<Known>,
     },
     /// A fit overlaps a shape it cannot be merged with: a map obstacle (exact shapes are not
-    /// replaced). Perceived shapes always merge ([`merge`], eq. hull).
+    /// replaced). Perceived shapes always merge ([`crate::merge`], eq. hull).
     NotStarWorld {
         /// The shape the fit overlaps.
         with: Known,
@@ -462,7 +470,7 @@ impl Perception {
     ///    [`Observation::unfitted`]), leaving out of each region what the scan shows free and,
     ///    with [`Options::wall_gap`], what lies nearer the wall (eqs. freefan, wallgap);
     /// 5. merges each fit with every perceived shape it overlaps or comes within
-    ///    [`Options::merge_gap`] of ([`merge`]), repeatedly, so that the perceived shapes stay
+    ///    [`Options::merge_gap`] of ([`crate::merge`]), repeatedly, so that the perceived shapes stay
     ///    disjoint (and `merge_gap` apart); a fit overlapping a map obstacle is
     ///    [`PerceptionError::NotStarWorld`].
     ///
@@ -603,7 +611,8 @@ impl Perception {
                 let (other, other_origin, other_evidence) = shapes.remove(j);
                 let fresh = std::mem::replace(&mut evidence, other_evidence);
                 thin_into(&mut evidence, &fresh, 0.5 * d_ev);
-                current = match merge(&current, &other, h, params.order) {
+                let clear = Some((pose.position(), self.options.keep_out));
+                current = match merge_clear_of(&current, &other, h, params.order, clear) {
                     Ok((merged, _)) => merged,
                     Err(MergeFailure::Shape(e)) => return Err(PerceptionError::Shape(e)),
                 };

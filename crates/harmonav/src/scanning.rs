@@ -103,10 +103,11 @@ impl Default for ScanOptions {
 }
 
 impl ScanOptions {
-    /// The perception crate's options, with the fits' `ρ_min = min(rho_min, 1e3)` and the merge
+    /// The perception crate's options, with the fits' `ρ_min = min(rho_min, 1e3)`, the merge
     /// gap `2·inflation` (`inflation`: the robot's radius and margin, by which the navigator
     /// grows every perceived shape; shapes closer than twice that merge, so that the grown
-    /// shapes stay disjoint).
+    /// shapes stay disjoint) and the merges' keep-out `inflation` (a merged star that keeps the
+    /// robot out of its growth is preferred).
     #[must_use]
     pub fn perception(&self, rho_min: f64, inflation: f64) -> harmonav_perception::Options {
         harmonav_perception::Options {
@@ -119,6 +120,7 @@ impl ScanOptions {
             check_spacing: self.check_spacing,
             growth_threshold: self.growth_threshold,
             merge_gap: 2.0 * inflation,
+            keep_out: inflation,
             wall_gap: self.wall_gap,
             free_evidence: self.free_evidence,
             free_memory: self.free_memory,
