@@ -450,9 +450,21 @@ fn cover(region: &Region, h: f64) -> Vec<Vector2<f64>> {
     out
 }
 
-/// The centre: behind the mean hit `p̄` along `ū = (p̄ − s)/|p̄ − s|`, halfway to where that
-/// ray leaves `K`; then the first of `p̄ + t·ū` (`t` at ¼, ¾ of the way) not deep in a cut.
-fn centre(s: Vector2<f64>, points: &[Vector2<f64>], region: &Region) -> Vector2<f64> {
+/// Where along the ray behind the mean hit [`centre`] tries the fit's centre, as fractions of
+/// the way to the ray's exit from `K`, in order.
+const CENTRE_FRACTIONS: [f64; 6] = [0.5, 0.25, 0.75, 0.125, 0.0625, 0.03125];
+
+/// The centre: behind the mean hit `p̄` along `ū = (p̄ − s)/|p̄ − s|`, the first of `p̄ + t·ū`
+/// (`t` at ½, ¼, ¾, ⅛, 1/16, 1/32 of the way to where that ray leaves `K`) not deep in a cut
+/// and not beyond the wall prior (a radial hull holds its centre, so a centre beyond the
+/// prior's disc put that place in the star: a fit of one hit 0.76 m from the wall of
+/// `scale/fifty-global` reached past the wall, docs/maths.md §12.14); halfway if none is.
+fn centre(
+    s: Vector2<f64>,
+    points: &[Vector2<f64>],
+    region: &Region,
+    free: &impl FreeSet,
+) -> Vector2<f64> {
     let mean = points.iter().sum::<Vector2<f64>>() / points.len() as f64;
     let u = (mean - s).try_normalize(0.0).unwrap_or(Vector2::x());
     // Far root of |mean + t u − q| = radius for every disc; the smallest is the exit of K.
@@ -467,10 +479,10 @@ fn centre(s: Vector2<f64>, points: &[Vector2<f64>], region: &Region) -> Vector2<
         })
         .fold(f64::INFINITY, f64::min)
         .max(0.0);
-    [0.5, 0.25, 0.75]
+    CENTRE_FRACTIONS
         .iter()
         .map(|f| mean + f * exit * u)
-        .find(|&c| !region.deep_in_cut(c, 0.0))
+        .find(|&c| !region.deep_in_cut(c, 0.0) && !free.beyond_wall(c))
         .unwrap_or(mean + 0.5 * exit * u)
 }
 
@@ -511,7 +523,7 @@ pub fn fit_segment(
             region.near_k(x, h) && !region.deep_in_cut(x, h) && !free.contains_ball(x, 0.5 * h)
         }),
     );
-    let c = centre(s, points, &region);
+    let c = centre(s, points, &region, free);
     let (perceived, certification) =
         certified(params.form, c, &samples, params.check_spacing, params.order)
             .map_err(FitFailure::Shape)?;

@@ -341,6 +341,10 @@ pub trait FreeSet {
     /// Whether the closed ball `B(x, t)` lies in the set. Conservative: `false` when unsure.
     fn contains_ball(&self, x: Vector2<f64>, t: f64) -> bool;
 
+    /// Whether `x` lies beyond the wall prior (eq. wallgap: outside its disc), where no unknown
+    /// obstacle is. `false` without one.
+    fn beyond_wall(&self, x: Vector2<f64>) -> bool;
+
     /// Points of the set's boundary at spacing at most `h` along it, within `reach` of `near`,
     /// accepted by `keep`.
     fn boundary_samples(
@@ -363,6 +367,10 @@ impl FreeSet for FreeSpace {
             .is_some_and(|w| (x - w.centre).norm() - t > w.radius)
             || (x - self.s).norm() + t < self.disc
             || self.fan_contains_ball(x, t)
+    }
+
+    fn beyond_wall(&self, x: Vector2<f64>) -> bool {
+        self.wall.is_some_and(|w| (x - w.centre).norm() > w.radius)
     }
 
     /// Points of `∂R` (module docs) at spacing at most `h` along it, within `reach` of `near`
@@ -452,6 +460,10 @@ impl FreeUnion<'_> {
 impl FreeSet for FreeUnion<'_> {
     fn contains_ball(&self, x: Vector2<f64>, t: f64) -> bool {
         self.members().any(|m| m.contains_ball(x, t))
+    }
+
+    fn beyond_wall(&self, x: Vector2<f64>) -> bool {
+        self.now.beyond_wall(x)
     }
 
     fn boundary_samples(
