@@ -23,7 +23,7 @@ use harmonav_transform::ShapeError;
 use nalgebra::Vector2;
 
 use crate::free::{FreeSet, sagitta, segment_distance};
-use crate::perceived::{Certification, Perceived, StarForm, certified};
+use crate::perceived::{Certification, Perceived, StarForm, certified, certified_hull};
 use crate::scan::{LaserScan, Pose};
 use crate::segment::{Segment, hit_point};
 
@@ -52,6 +52,9 @@ pub struct FitParams {
     pub form: StarForm,
     /// `h`, m: spacing of the cover of `∂Y` (eq. certify).
     pub check_spacing: f64,
+    /// `r_k`, m: a radial hull that comes nearer than this to the sensor is taken about
+    /// another centre that keeps it out, when one does (`crate::Options::keep_out`).
+    pub keep_out: f64,
 }
 
 /// A fitted segment.
@@ -527,6 +530,13 @@ pub fn fit_segment(
     let (perceived, certification) =
         certified(params.form, c, &samples, params.check_spacing, params.order)
             .map_err(FitFailure::Shape)?;
+    let (perceived, certification) = if params.form == StarForm::Hull
+        && perceived.shape().signed_distance_bounds(s).0 < params.keep_out
+    {
+        clear_of_sensor(s, points, &samples, params).unwrap_or((perceived, certification))
+    } else {
+        (perceived, certification)
+    };
     Ok(Fit {
         cut_wedges: region.cuts.iter().map(|p| (p.len() - 1) / 2).sum(),
         side_cuts: region.planes.len(),
@@ -535,6 +545,33 @@ pub fn fit_segment(
         perceived,
         certification,
     })
+}
+
+/// How many of the cover's samples [`clear_of_sensor`] takes as directions for further centres.
+const CLEAR_CENTRES: usize = 48;
+
+/// A radial hull of the cover `samples` that keeps the sensor `s` at least `r_k` out
+/// (`params.keep_out`), about one of the points halfway from the mean hit to 48 of the samples
+/// spread along the cover, the one of least area; `None` if none does. Any centre gives a star
+/// that holds the samples' discs (eq. certify), so the choice changes the shape, not what it
+/// holds. It matters where the region closed `D` behind the hits reaches, through a gap the
+/// sensor looks out of, over a neighbour's unseen inside: the star about a centre behind the
+/// hits then holds the segment from it across the gap, and the sensor on it
+/// (`hard/narrow-passage` rerun with a lidar, docs/maths.md §12.15).
+fn clear_of_sensor(
+    s: Vector2<f64>,
+    points: &[Vector2<f64>],
+    samples: &[Vector2<f64>],
+    params: &FitParams,
+) -> Option<(Perceived, Certification)> {
+    let mean = points.iter().sum::<Vector2<f64>>() / points.len() as f64;
+    let step = (samples.len() / CLEAR_CENTRES).max(1);
+    samples
+        .iter()
+        .step_by(step)
+        .filter_map(|&q| certified_hull(0.5 * (mean + q), samples, params.check_spacing).ok())
+        .filter(|(p, _)| p.shape().signed_distance_bounds(s).0 >= params.keep_out)
+        .min_by(|a, b| a.0.area().total_cmp(&b.0.area()))
 }
 
 /// The beams beside a segment, outward from each end (at most [`SIDE_BEAMS`] per side): their

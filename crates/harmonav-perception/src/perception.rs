@@ -52,11 +52,11 @@ pub struct Options {
     /// are not refused as overlapping in most cases; where they still are (the bracket, or a
     /// disc fallback of the growth), the scan is refused, never an overlap accepted. Default 0.
     pub merge_gap: f64,
-    /// `r_k`, m: a merge of radial hulls keeps the sensor at least this far outside the merged
-    /// star when some centre allows it ([`crate::merge_clear_of`]; with the default 0, the
-    /// sensor itself). A navigator sets its robot's radius and margin, so that a merge does not
-    /// put the robot in the grown star. Changes which sound star is chosen, never what it
-    /// holds. Default 0.
+    /// `r_k`, m: a fit or a merge of radial hulls keeps the sensor at least this far outside
+    /// its star when some centre allows it (`fit::clear_of_sensor`, [`crate::merge_clear_of`];
+    /// with the default 0, the sensor itself). A navigator sets its robot's radius and margin,
+    /// so that an event does not put the robot in a grown star. Changes which sound star is
+    /// chosen, never what it holds. Default 0.
     pub keep_out: f64,
     /// `g_w`, m: the wall prior (eq. wallgap, `crate::free`): every unknown obstacle keeps at
     /// least this distance from the known boundary, so a fit may leave out what lies nearer
@@ -196,6 +196,7 @@ impl Options {
             order: self.order,
             form: self.form,
             check_spacing: self.check_spacing,
+            keep_out: self.keep_out,
         }
     }
 }

@@ -98,6 +98,7 @@ pub fn params(options: &Options) -> harmonav_perception::FitParams {
         order: options.order,
         form: options.form,
         check_spacing: options.check_spacing,
+        keep_out: options.keep_out,
     }
 }
 
