@@ -52,8 +52,8 @@ pub struct FitParams {
     pub form: StarForm,
     /// `h`, m: spacing of the cover of `∂Y` (eq. certify).
     pub check_spacing: f64,
-    /// `r_k`, m: a radial hull that comes nearer than this to the sensor is taken about
-    /// another centre that keeps it out, when one does (`crate::Options::keep_out`).
+    /// `r_k`, m: a radial hull that comes nearer than `r_k + 2h` to the sensor is taken about
+    /// another centre that keeps it that far out, when one does (`crate::Options::keep_out`).
     pub keep_out: f64,
 }
 
@@ -530,13 +530,13 @@ pub fn fit_segment(
     let (perceived, certification) =
         certified(params.form, c, &samples, params.check_spacing, params.order)
             .map_err(FitFailure::Shape)?;
-    let (perceived, certification) = if params.form == StarForm::Hull
-        && perceived.shape().signed_distance_bounds(s).0 < params.keep_out
-    {
-        clear_of_sensor(s, points, &samples, params).unwrap_or((perceived, certification))
-    } else {
-        (perceived, certification)
-    };
+    let room = params.keep_out + MERGE_ROOM * params.check_spacing;
+    let (perceived, certification) =
+        if params.form == StarForm::Hull && perceived.shape().signed_distance_bounds(s).0 < room {
+            clear_of_sensor(s, points, &samples, params).unwrap_or((perceived, certification))
+        } else {
+            (perceived, certification)
+        };
     Ok(Fit {
         cut_wedges: region.cuts.iter().map(|p| (p.len() - 1) / 2).sum(),
         side_cuts: region.planes.len(),
@@ -550,9 +550,16 @@ pub fn fit_segment(
 /// How many of the cover's samples [`clear_of_sensor`] takes as directions for further centres.
 const CLEAR_CENTRES: usize = 48;
 
-/// A radial hull of the cover `samples` that keeps the sensor `s` at least `r_k` out
-/// (`params.keep_out`), about one of the points halfway from the mean hit to 48 of the samples
-/// spread along the cover, the one of least area; `None` if none does. Any centre gives a star
+/// The room, in cover spacings `h`, that a fit keeps between the sensor and itself beyond
+/// `keep_out` when a centre allows: a merge covers each shape's boundary again with discs of
+/// radius `h/2 + τ` about samples on it ([`crate::merge`]), so a fit nearer the sensor than
+/// about `h` leaves it inside any merge with a neighbour (`hard/narrow-passage` under the
+/// dynamic law: a fit 3.5 mm from the robot, every merged star holding it by a few mm).
+const MERGE_ROOM: f64 = 2.0;
+
+/// A radial hull of the cover `samples` that keeps the sensor `s` at least
+/// `r_k + MERGE_ROOM·h` out (`params.keep_out`), about one of the points halfway from the mean
+/// hit to 48 of the samples spread along the cover, the one of least area; `None` if none does. Any centre gives a star
 /// that holds the samples' discs (eq. certify), so the choice changes the shape, not what it
 /// holds. It matters where the region closed `D` behind the hits reaches, through a gap the
 /// sensor looks out of, over a neighbour's unseen inside: the star about a centre behind the
@@ -570,7 +577,10 @@ fn clear_of_sensor(
         .iter()
         .step_by(step)
         .filter_map(|&q| certified_hull(0.5 * (mean + q), samples, params.check_spacing).ok())
-        .filter(|(p, _)| p.shape().signed_distance_bounds(s).0 >= params.keep_out)
+        .filter(|(p, _)| {
+            p.shape().signed_distance_bounds(s).0
+                >= params.keep_out + MERGE_ROOM * params.check_spacing
+        })
         .min_by(|a, b| a.0.area().total_cmp(&b.0.area()))
 }
 
