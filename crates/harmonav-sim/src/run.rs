@@ -180,15 +180,22 @@ pub(crate) fn integrate(
             };
             (y, t) = (y_band, t + h_band);
             steps += 1;
+            // The `dt` grid resumes after the way out (its states are recorded below).
+            while next_record <= t + 1e-12 {
+                next_record += dt;
+            }
             let Some(k_next) = rhs_after_event(&mut d, t, &y) else {
                 break;
             };
             k1 = k_next;
-            // Each state of the way out is recorded as a discovery's second side: `Θ` and `V`
-            // have no value in the band, and take a new one where it ends.
-            d.record(d.sample(t, pos(&y), vel(&y)), Keep::Pinned, true);
+            // Each state of the way out is recorded on the grid (a band may last many periods;
+            // pinned states are bounded per event) and judged as a discovery's second side:
+            // `Θ` and `V` have no value in the band, and take a new one where it ends. The
+            // stall rule sees these steps: a way out that makes no progress (a recovery of
+            // length 0 at the band's edge) stops a kinematic run instead of spinning on.
+            d.record(d.sample(t, pos(&y), vel(&y)), Keep::Grid, true);
             reached = d.arrived(pos(&y));
-            if d.at_rest(t, pos(&y), false, true, reached) {
+            if d.at_rest(t, pos(&y), false, false, reached) {
                 break;
             }
             continue;

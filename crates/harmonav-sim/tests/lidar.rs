@@ -210,7 +210,7 @@ fn a_refused_scan_stops_the_run() {
 /// a disc first fitted within the 0.3 m margin) is followed out of the band: the built-in
 /// integrator takes the navigator's held steps there (`Mode::Recovering`), rapier its held
 /// commands, and both laws arrive with every guarantee, the true clearance at least the
-/// margin. The control: the same run with `refuse_in_band` (the simulator's rule before
+/// margin, every state of the `dt` grid recorded. The control: the same run with `refuse_in_band` (the simulator's rule before
 /// 2026-12-04) is refused at that scan, so the file does exercise the band.
 #[test]
 fn a_scan_event_in_the_margin_band_is_followed_out() {
@@ -236,7 +236,32 @@ fn a_scan_event_in_the_margin_band_is_followed_out() {
                 "{model:?} {ph:?}: the event left the robot {band} m out"
             );
             assert!(s.min_clearance >= p.truth.margin, "{}", s.min_clearance);
+            // The `dt` grid goes on after the way out of the band.
+            let grid = (s.time_s / p.scenario.sim.dt).floor() as usize;
+            assert!(s.recorded_states >= grid, "{} of {grid}", s.recorded_states);
         }
+    }
+    // A band deeper than one recording step (0.45 m margin, the disc fitted within 0.25 m):
+    // the way out lasts many control periods, and the grid goes on after it. The margin
+    // itself is lost (the truth is nearer than 0.45 m before it is seen), not contact.
+    let text = std::fs::read_to_string(file("lidar/margin-band.toml")).unwrap();
+    let text = text
+        .replace("margin = 0.3", "margin = 0.45")
+        .replace("fit_range = 0.3", "fit_range = 0.25")
+        .replace("[expect]\nreached = true\n", "");
+    let path = Path::new("deep-band.toml");
+    let deep = Scenario::parse(path, &text).unwrap().prepare(path).unwrap();
+    for model in [Model::Kinematic, Model::Dynamic] {
+        let r = simulate(&deep, Some(model), Physics::Builtin).unwrap();
+        let s = &r.summary;
+        assert!(s.reached && s.collisions == 0, "{model:?}: {:?}", s.outcome);
+        let band = s.perception.as_ref().unwrap().min_event_clearance.unwrap();
+        assert!(
+            band < -0.1,
+            "{model:?}: the event left the robot {band} m out"
+        );
+        let grid = (s.time_s / deep.scenario.sim.dt).floor() as usize;
+        assert!(s.recorded_states >= grid, "{} of {grid}", s.recorded_states);
     }
     let mut q = p.clone();
     let Sensor::Lidar(l) = &mut q.truth.sensor else {

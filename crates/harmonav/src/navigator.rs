@@ -290,12 +290,22 @@ impl Navigator {
     /// band ([`Mode::Recovering`]), under either policy. Under [`HoldPolicy::Paper`] the command
     /// is otherwise the continuous law's (`Navigator::evaluate`), unchecked.
     ///
+    /// Under the dynamic law a recovery also lifts the discovery speed `|ẋ(T_n)|` of eq.
+    /// `dissipationfun` to at least the speed `|v⁺|` it gives: the event's state is the one in
+    /// which the robot leaves the band, where `Θ` is near 1 and the damping may switch to
+    /// `(m/d_min)|ẋ(T_n)|`, and the speed recorded at the event (at rest, say) would
+    /// understate it.
+    ///
     /// Errors (the navigator is then unchanged): `x` or `ẋ` not finite, the robot's disc
     /// overlapping a known true shape or the boundary, a non-finite command (a guard).
     pub fn command(&mut self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Command, NavError> {
         let command = self.held(x, v)?;
         if !command.value.iter().all(|c| c.is_finite()) {
             return Err(NavError::NonFiniteCommand);
+        }
+        if let (Mode::Recovering(_), Controller::Dynamic(law)) = (command.mode, &self.controller) {
+            let next = v + (self.period / law.mass()) * command.value;
+            self.speed_at_discovery = self.speed_at_discovery.max(next.norm());
         }
         self.last = Some((x, v));
         Ok(command)
@@ -444,5 +454,39 @@ impl Navigator {
     /// The options in use.
     pub fn options(&self) -> &Options {
         &self.options
+    }
+}
+
+#[cfg(test)]
+mod recovery_tests {
+    use super::*;
+
+    /// A dynamic robot at rest in the margin band of a shape perceived late: its discovery
+    /// speed was 0 at the event, and the recovery command lifts it to the speed `|v⁺|` that
+    /// the command gives (semi-implicit Euler over the control period), which the switched
+    /// damping then uses; a kinematic robot's is left alone.
+    #[test]
+    fn a_recovery_lifts_the_discovery_speed() {
+        let boundary = StarShape::circle(Vector2::zeros(), 5.0).unwrap();
+        let rock = StarShape::circle(Vector2::zeros(), 1.0).unwrap();
+        let goal = Vector2::new(3.0, 0.0);
+        for law in [Law::dynamic(1.0, 10.0), Law::kinematic(1.0)] {
+            let options = Options::default().with_robot(0.1, 0.2);
+            let mut nav = Navigator::new(boundary.clone(), goal, law, options).unwrap();
+            let x = Vector2::new(-1.2, 0.05);
+            nav.command(x, Vector2::zeros()).unwrap();
+            nav.add_obstacle(rock.clone()).unwrap();
+            assert_eq!(nav.speed_at_discovery, 0.0);
+            let c = nav.command(x, Vector2::zeros()).unwrap();
+            assert!(matches!(c.mode, Mode::Recovering(_)), "{:?}", c.mode);
+            match law {
+                Law::Dynamic { mass, .. } => {
+                    let v_next = (nav.period / mass) * c.value;
+                    assert!(v_next.norm() > 0.0);
+                    assert_eq!(nav.speed_at_discovery, v_next.norm());
+                }
+                Law::Kinematic { .. } => assert_eq!(nav.speed_at_discovery, 0.0),
+            }
+        }
     }
 }

@@ -203,7 +203,10 @@ impl Navigator {
 /// about the perceived shape's centre `c` (the offset, the dilated hull and the disc all are),
 /// and a point `c + t·u` of the body with `t > |x − c|` would put `x` on the body's segment
 /// from `c`: so that ray never enters the body, however far the growth reaches past the margin
-/// (a disc fallback, `R_max + r` about `c`). Before 2026-12-04 a robot `margin` or more outside
+/// (a disc fallback, `R_max + r` about `c`). The kinematic robot moves along it; the dynamic
+/// one does under semi-implicit Euler (`v⁺` lies along it), while under the exact hold of the
+/// force it moves by `h(v + v⁺)/2` and its velocity before the event may point inwards, as for
+/// any recovery. Before 2026-12-04 a robot `margin` or more outside
 /// the body was refused, for the simulator's continuous integrator, which could not follow the
 /// band (docs/maths.md §12.12).
 fn holds_robot(grown: &StarShape, body: Option<&StarShape>, x: Vector2<f64>) -> bool {
