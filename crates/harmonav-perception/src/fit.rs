@@ -559,9 +559,9 @@ const MERGE_ROOM: f64 = 2.0;
 
 /// A radial hull of the cover `samples` that keeps the sensor `s` at least
 /// `r_k + MERGE_ROOM·h` out (`params.keep_out`), about one of the points halfway from the mean
-/// hit to 48 of the samples spread along the cover, the one of least area; `None` if none does. Any centre gives a star
-/// that holds the samples' discs (eq. certify), so the choice changes the shape, not what it
-/// holds. It matters where the region closed `D` behind the hits reaches, through a gap the
+/// hit to 48 of the samples spread along the cover, the one of least area; `None` if none
+/// does. Any centre gives a star that holds the samples' discs (eq. certify), so the choice
+/// changes the shape, not what it holds. It matters where the region closed `D` behind the hits reaches, through a gap the
 /// sensor looks out of, over a neighbour's unseen inside: the star about a centre behind the
 /// hits then holds the segment from it across the gap, and the sensor on it
 /// (`hard/narrow-passage` rerun with a lidar, docs/maths.md §12.15).

@@ -106,8 +106,8 @@ impl ScanOptions {
     /// The perception crate's options, with the fits' `ρ_min = min(rho_min, 1e3)`, the merge
     /// gap `2·inflation` (`inflation`: the robot's radius and margin, by which the navigator
     /// grows every perceived shape; shapes closer than twice that merge, so that the grown
-    /// shapes stay disjoint) and the merges' keep-out `inflation` (a merged star that keeps the
-    /// robot out of its growth is preferred).
+    /// shapes stay disjoint) and the keep-out `inflation` of fits and merges (a star that keeps
+    /// the robot out of its growth is preferred, docs/maths.md §12.13, §12.15).
     #[must_use]
     pub fn perception(&self, rho_min: f64, inflation: f64) -> harmonav_perception::Options {
         harmonav_perception::Options {
