@@ -26,6 +26,9 @@ pub(crate) struct ClosedLoop<'a> {
     pub truth: &'a Truth,
     /// The lidar, when the robot perceives by scans (`[sensor] type = "lidar"`).
     pub scanner: Option<Scanner>,
+    /// The heading of the last lidar scan, rad: the next one keeps it where the sector's axis
+    /// has no value (at rest at a critical point, or in a margin band, where the law has none).
+    pub yaw: f64,
 }
 
 impl<'a> ClosedLoop<'a> {
@@ -77,6 +80,7 @@ impl<'a> ClosedLoop<'a> {
             known: Vec::new(),
             truth,
             scanner: truth.sensor.lidar().copied().map(Scanner::new),
+            yaw: 0.0,
         };
         let Some(sensing) = truth.sensor.exact() else {
             // A lidar's first scan, at t = 0, is the driver's.
@@ -167,8 +171,8 @@ impl<'a> ClosedLoop<'a> {
         Ok(())
     }
 
-    /// The lidar's scan at `t` from `(x, ẋ)`, heading along the sector's axis there (`+x` when
-    /// there is none), handed to the navigator (its discovery state is the state of its last
+    /// The lidar's scan at `t` from `(x, ẋ)`, heading along the sector's axis there (the last
+    /// scan's heading when there is none, `+x` before the first), handed to the navigator (its discovery state is the state of its last
     /// command, here). `None` without a lidar; `Some(Err)`: the navigator refused the scan,
     /// and is unchanged.
     pub fn scan(
@@ -177,7 +181,8 @@ impl<'a> ClosedLoop<'a> {
         x: Vector2<f64>,
         v: Vector2<f64>,
     ) -> Option<Result<ScanRecord, NavError>> {
-        let yaw = self.axis(x, v).map_or(0.0, |a| a.y.atan2(a.x));
+        let yaw = self.axis(x, v).map_or(self.yaw, |a| a.y.atan2(a.x));
+        self.yaw = yaw;
         let scanner = self.scanner.as_mut()?;
         if let Err(e) = self.nav.command(x, v) {
             scanner.refuse(t, e.clone());
