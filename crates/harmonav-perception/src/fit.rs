@@ -23,7 +23,7 @@ use harmonav_transform::ShapeError;
 use nalgebra::Vector2;
 
 use crate::free::{FreeSet, sagitta, segment_distance};
-use crate::perceived::{Certification, Perceived, StarForm, certified, certified_hull};
+use crate::perceived::{Certification, Perceived, StarForm, certified, least_hull};
 use crate::scan::{LaserScan, Pose};
 use crate::segment::{Segment, hit_point};
 
@@ -533,7 +533,7 @@ pub fn fit_segment(
     let room = params.keep_out + MERGE_ROOM * params.check_spacing;
     let (perceived, certification) =
         if params.form == StarForm::Hull && perceived.shape().signed_distance_bounds(s).0 < room {
-            clear_of_sensor(s, points, &samples, params).unwrap_or((perceived, certification))
+            clear_of_sensor(s, points, &samples, h, room).unwrap_or((perceived, certification))
         } else {
             (perceived, certification)
         };
@@ -557,31 +557,30 @@ const CLEAR_CENTRES: usize = 48;
 /// dynamic law: a fit 3.5 mm from the robot, every merged star holding it by a few mm).
 const MERGE_ROOM: f64 = 2.0;
 
-/// A radial hull of the cover `samples` that keeps the sensor `s` at least
-/// `r_k + MERGE_ROOM·h` out (`params.keep_out`), about one of the points halfway from the mean
-/// hit to 48 of the samples spread along the cover, the one of least area; `None` if none
-/// does. Any centre gives a star that holds the samples' discs (eq. certify), so the choice
-/// changes the shape, not what it holds. It matters where the region closed `D` behind the hits reaches, through a gap the
-/// sensor looks out of, over a neighbour's unseen inside: the star about a centre behind the
-/// hits then holds the segment from it across the gap, and the sensor on it
-/// (`hard/narrow-passage` rerun with a lidar, docs/maths.md §12.15).
+/// A radial hull of the cover `samples` (spacing `h`) that keeps the sensor `s` at least
+/// `room` = `r_k + MERGE_ROOM·h` out (`r_k` = `params.keep_out`), about one of the points
+/// halfway from the mean hit to 48 of the samples spread along the cover, the one of least
+/// area ([`least_hull`]); `None` if none does. Any centre gives a star that holds the samples'
+/// discs (eq. certify), so the choice changes the shape, not what it holds. It matters where
+/// the region closed `D` behind the hits reaches, through a gap the sensor looks out of, over
+/// a neighbour's unseen inside: the star about a centre behind the hits then holds the segment
+/// from it across the gap, and the sensor on it (`hard/narrow-passage` rerun with a lidar,
+/// docs/maths.md §12.15).
 fn clear_of_sensor(
     s: Vector2<f64>,
     points: &[Vector2<f64>],
     samples: &[Vector2<f64>],
-    params: &FitParams,
+    h: f64,
+    room: f64,
 ) -> Option<(Perceived, Certification)> {
     let mean = points.iter().sum::<Vector2<f64>>() / points.len() as f64;
     let step = (samples.len() / CLEAR_CENTRES).max(1);
-    samples
+    let centres: Vec<Vector2<f64>> = samples
         .iter()
         .step_by(step)
-        .filter_map(|&q| certified_hull(0.5 * (mean + q), samples, params.check_spacing).ok())
-        .filter(|(p, _)| {
-            p.shape().signed_distance_bounds(s).0
-                >= params.keep_out + MERGE_ROOM * params.check_spacing
-        })
-        .min_by(|a, b| a.0.area().total_cmp(&b.0.area()))
+        .map(|&q| 0.5 * (mean + q))
+        .collect();
+    least_hull(&centres, samples, h, Some((s, room)))?.ok()
 }
 
 /// The beams beside a segment, outward from each end (at most [`SIDE_BEAMS`] per side): their

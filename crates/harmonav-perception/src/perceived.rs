@@ -640,7 +640,7 @@ pub fn merge_clear_of(
             .filter(|&x| a.shape.signed_distance_bounds(x).1 >= -h),
     );
     if a.form() == StarForm::Hull || b.form() == StarForm::Hull {
-        let first = merge_hulls(&candidates, &samples, h, None)
+        let first = least_hull(&candidates, &samples, h, None)
             .unwrap_or_else(|| Err(no_candidate()))
             .map_err(MergeFailure::Shape)?;
         let Some((s, keep)) = clear else {
@@ -660,7 +660,7 @@ pub fn merge_clear_of(
                 })
             })
             .collect();
-        return Ok(match merge_hulls(&inside, &samples, h, Some((s, keep))) {
+        return Ok(match least_hull(&inside, &samples, h, Some((s, keep))) {
             Some(Ok(clear)) => clear,
             _ => first,
         });
@@ -683,13 +683,14 @@ pub fn merge_clear_of(
     Ok(best.expect("nine candidates"))
 }
 
-/// [`merge`] of hulls: the radial hull of the kept samples' discs about each candidate, the one
+/// [`merge`] of hulls (and a fit's centre clear of the sensor, `fit::clear_of_sensor`): the
+/// radial hull of the kept samples' discs about each candidate, the one
 /// of least area that passes eq. certify (about a common kernel point the hull is the union
 /// itself, so the least area finds one when the candidates hold it) and, with `clear =
 /// Some((s, r_k))`, lies at least `r_k` from `s` by its certified distance. Every candidate's
 /// hull holds both shapes (eq. hull); the area only picks. `None` when no candidate qualifies
 /// and none failed; the last failure when none qualifies.
-fn merge_hulls(
+pub(crate) fn least_hull(
     candidates: &[Vector2<f64>],
     samples: &[Vector2<f64>],
     h: f64,

@@ -129,6 +129,15 @@ impl Model {
             Self::Dynamic => "dynamic",
         }
     }
+
+    /// The other robot model (a file's `[expect] other_model_reached` speaks of it).
+    #[must_use]
+    pub const fn other(self) -> Self {
+        match self {
+            Self::Kinematic => Self::Dynamic,
+            Self::Dynamic => Self::Kinematic,
+        }
+    }
 }
 
 /// `[robot]`.

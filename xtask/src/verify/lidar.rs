@@ -82,10 +82,7 @@ pub fn with_lidar(file: &Path) -> Result<Option<Rerun>, String> {
         return Ok(None);
     }
     let own = sc.robot.model;
-    let other = match own {
-        Model::Kinematic => Model::Dynamic,
-        Model::Dynamic => Model::Kinematic,
-    };
+    let other = own.other();
     let limits = match sc.expect.take() {
         Some(e) => [(own, e.reached), (other, e.other_model_reached)]
             .into_iter()

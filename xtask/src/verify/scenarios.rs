@@ -115,10 +115,7 @@ fn long_run(file: &Path, out: &Path) -> Outcome {
 /// and the check reports a limit, not a pass.
 fn other_model(file: &Path, name: &str) -> Outcome {
     let prepared = Scenario::load(file).map_err(|e| e.to_string())?;
-    let model = match prepared.scenario.robot.model {
-        Model::Kinematic => Model::Dynamic,
-        Model::Dynamic => Model::Kinematic,
-    };
+    let model = prepared.scenario.robot.model.other();
     let limit = prepared
         .scenario
         .expect
