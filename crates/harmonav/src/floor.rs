@@ -16,8 +16,8 @@ use crate::error::NavError;
 use crate::hold::{self, Command, Mode};
 use crate::law::Law;
 use crate::navigator::{
-    Controller, Evaluation, controller, finite, finite_lambda_c, finite_state, moving_along,
-    recovering,
+    Controller, Evaluation, controller, discovery_speed_after, finite, finite_lambda_c,
+    finite_state, moving_along, recovering,
 };
 use crate::options::{HoldPolicy, Options};
 use crate::space::Space;
@@ -209,7 +209,10 @@ impl FloorNavigator {
     /// [`crate::Navigator::command`]: under [`HoldPolicy::Auto`] every held step stays in the
     /// certified clearance (to the sensed obstacles and to the boundary layer), `Θ` decreases
     /// over each kinematic step of the law (not during an escape, [`Mode::Escaping`], which ends
-    /// [`ESCAPE_DROP`] below where it began, or blocked), and the dynamic law's caps hold.
+    /// [`ESCAPE_DROP`] below where it began, or blocked), and the dynamic law's caps hold. A
+    /// recovery ([`Mode::Recovering`], out of a sensed obstacle's band or the walls' layer)
+    /// lifts the dynamic law's discovery speed `|ẋ(T_n)|` to the speed `|v⁺|` it gives, as
+    /// [`crate::Navigator::command`]'s does.
     ///
     /// # Errors
     /// (the navigator is then unchanged) `x` or `ẋ` not finite; the robot's disc overlapping a
@@ -226,6 +229,13 @@ impl FloorNavigator {
         if !command.value.iter().all(|c| c.is_finite()) {
             return Err(NavError::NonFiniteCommand);
         }
+        self.speed_at_discovery = discovery_speed_after(
+            &self.controller,
+            &command,
+            v,
+            self.period,
+            self.speed_at_discovery,
+        );
         self.last = Some((x, v));
         // An escape that begins moves the robot: the watch starts again.
         let begins = escape.is_some() && escape != self.escape;
@@ -555,5 +565,45 @@ impl FloorNavigator {
 impl From<FloorError> for NavError {
     fn from(e: FloorError) -> Self {
         Self::Floor(e)
+    }
+}
+
+#[cfg(test)]
+mod recovery_tests {
+    use harmonav_floorplan::FloorOptions;
+
+    use super::*;
+
+    /// As [`crate::Navigator`]'s: a dynamic robot at rest in the walls' layer of an L room
+    /// (`δ = 0.1` m, 5 cm from the shrunk wall) gets a recovery, which lifts the discovery
+    /// speed from 0 to the speed `|v⁺|` the command gives; a kinematic robot's is left alone.
+    #[test]
+    fn a_recovery_lifts_the_discovery_speed() {
+        let v = Vector2::new;
+        let room = vec![
+            v(0.0, 0.0),
+            v(4.0, 0.0),
+            v(4.0, 1.5),
+            v(1.5, 1.5),
+            v(1.5, 4.0),
+            v(0.0, 4.0),
+        ];
+        let floor = Arc::new(FloorMap::new(room, vec![], &FloorOptions::new(0.1, 0.2)).unwrap());
+        let x = v(2.5, 0.15);
+        for law in [Law::dynamic(1.0, 10.0), Law::kinematic(1.0)] {
+            let options = Options::default().with_robot(0.1, 0.1);
+            let mut nav = FloorNavigator::new(floor.clone(), v(0.75, 3.3), law, options).unwrap();
+            assert_eq!(nav.speed_at_discovery, 0.0);
+            let c = nav.command(x, Vector2::zeros()).unwrap();
+            assert_eq!(c.mode, Mode::Recovering(Band::Boundary));
+            match law {
+                Law::Dynamic { mass, .. } => {
+                    let v_next = (nav.period / mass) * c.value;
+                    assert!(v_next.norm() > 0.0);
+                    assert_eq!(nav.speed_at_discovery, v_next.norm());
+                }
+                Law::Kinematic { .. } => assert_eq!(nav.speed_at_discovery, 0.0),
+            }
+        }
     }
 }

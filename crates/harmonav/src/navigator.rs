@@ -53,6 +53,27 @@ pub(crate) fn moving_along(
     }
 }
 
+/// The discovery speed `|ẋ(T_n)|` of eq. `dissipationfun` after `command` at velocity `v`:
+/// under the dynamic law a recovery ([`Mode::Recovering`]) lifts it to at least the speed
+/// `|v⁺| = |v + (h/m)·f|` the command gives (semi-implicit Euler over the control period `h`).
+/// The event's state is the one in which the robot leaves the band, where `Θ` is near 1 and the
+/// damping may switch to `(m/d_min)|ẋ(T_n)|`; the speed recorded at the event (at rest, say)
+/// would understate it. Otherwise `speed` is kept.
+pub(crate) fn discovery_speed_after(
+    controller: &Controller,
+    command: &Command,
+    v: Vector2<f64>,
+    h: f64,
+    speed: f64,
+) -> f64 {
+    match (command.mode, controller) {
+        (Mode::Recovering(_), Controller::Dynamic(law)) => {
+            speed.max((v + (h / law.mass()) * command.value).norm())
+        }
+        _ => speed,
+    }
+}
+
 /// Guard: `λ_c = 2√(m μ s)` (eq. `critdamp`, `s` the goal stiffness) must be finite for the
 /// dynamic law's damping; a `μ` that overflows it is refused once, at construction, rather
 /// than met at every command.
@@ -303,10 +324,13 @@ impl Navigator {
         if !command.value.iter().all(|c| c.is_finite()) {
             return Err(NavError::NonFiniteCommand);
         }
-        if let (Mode::Recovering(_), Controller::Dynamic(law)) = (command.mode, &self.controller) {
-            let next = v + (self.period / law.mass()) * command.value;
-            self.speed_at_discovery = self.speed_at_discovery.max(next.norm());
-        }
+        self.speed_at_discovery = discovery_speed_after(
+            &self.controller,
+            &command,
+            v,
+            self.period,
+            self.speed_at_discovery,
+        );
         self.last = Some((x, v));
         Ok(command)
     }
