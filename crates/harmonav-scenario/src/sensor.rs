@@ -18,13 +18,14 @@
 //! The perception's own choices default to what arrives best in the rerun of `scenarios/`
 //! (docs/maths.md §12.11): radial hulls (`sensor.shapes`), the free fan (`sensor.free`), the
 //! free evidence of 16 earlier scans (`sensor.free_memory`), and segments fitted once within
-//! `D + 0.5 m` (`sensor.fit_range`).
+//! `D + 0.5 m` (`sensor.fit_range`; under the kinematic law nearer, the robot's radius and
+//! margin plus three scans at top speed, §12.16).
 
 use std::f64::consts::TAU;
 
 use harmonav::perception::perception::MAX_FREE_MEMORY;
 use harmonav::perception::sim::Lidar;
-use harmonav::{DEFAULT_FREE_MEMORY, FIT_BEYOND_DEPTH, Options, ScanOptions};
+use harmonav::{DEFAULT_FREE_MEMORY, FIT_BEYOND_DEPTH, Law, Options, ScanOptions};
 use harmonav_transform::StarShape;
 use serde::{Deserialize, Serialize};
 
@@ -71,8 +72,11 @@ pub struct SensorSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wall_gap: Option<f64>,
     /// Lidar: `r_f`, m: segments whose every hit lies farther are fitted from a later, nearer
-    /// scan (docs/maths.md §12.11); the navigator's `d_min` then comes from `r_f − D`. Must
-    /// exceed `D`; default `D +` [`harmonav::FIT_BEYOND_DEPTH`], at most `range`.
+    /// scan (docs/maths.md §12.11); the dynamic law's `d_min` then comes from `r_f − D`. When
+    /// given it serves both laws and must exceed `D`. Default, at most `range`: `D +`
+    /// [`harmonav::FIT_BEYOND_DEPTH`] under the dynamic law, and under the kinematic law the
+    /// robot's radius and margin plus three scans at top speed, if that is nearer (eq.
+    /// fitnear, [`harmonav::Options::recommended_fit_range`], §12.16).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fit_range: Option<f64>,
     /// Lidar: how many earlier scans' free evidence the fits also leave out (eq. memory,
@@ -213,8 +217,11 @@ pub struct LidarSensor {
     /// The seed of the noise and the dropouts.
     pub seed: u64,
     /// The priors handed to the navigator: `ε = range_noise`, `D = max_obstacle_depth`,
-    /// `g_w = wall_gap`.
+    /// `g_w = wall_gap`; `r_f = fit_range` as the file gives it, else the dynamic law's
+    /// `D +` [`FIT_BEYOND_DEPTH`] ([`LidarSensor::for_law`] takes the kinematic law's).
     pub scan: ScanOptions,
+    /// Whether the file gave `sensor.fit_range` (then it serves both laws).
+    pub fit_range_given: bool,
 }
 
 impl LidarSensor {
@@ -222,6 +229,22 @@ impl LidarSensor {
     #[must_use]
     pub fn period(&self) -> f64 {
         1.0 / self.rate_hz
+    }
+
+    /// This lidar for `law`, with the robot of `options` (radius, margin, `v_max`): the fit
+    /// range the file gives, or else [`Options::recommended_fit_range`] for the law and this
+    /// scan period (eq. fitnear, docs/maths.md §12.16: nearer under the kinematic law), at most
+    /// the range.
+    #[must_use]
+    pub fn for_law(&self, law: &Law, options: &Options) -> Self {
+        let mut lidar = *self;
+        if !self.fit_range_given {
+            lidar.scan.fit_range = options
+                .with_scan(self.scan)
+                .recommended_fit_range(law, self.period())
+                .min(self.lidar.range_max);
+        }
+        lidar
     }
 
     /// The navigator's options for this lidar: a sector of range `r − D` (a first fit may
@@ -375,6 +398,7 @@ pub(crate) fn prepare(
             form: spec.shapes.unwrap_or_default().into(),
             ..ScanOptions::default()
         },
+        fit_range_given: spec.fit_range.is_some(),
     })
 }
 

@@ -61,16 +61,19 @@ impl<'a> ClosedLoop<'a> {
         if let Some(h) = period {
             options = options.with_control_period(h);
         }
+        // The lidar's fit range for this law (eq. fitnear), for the navigator and the
+        // scanner's claim alike.
+        let lidar = truth.sensor.lidar().map(|l| l.for_law(&law, &options));
         // Global sensing never switches λ on a discovery after t = 0: the default sensor's
         // d_min serves. Without obstacles no curvature bound is needed either.
-        match (truth.sensor, &sc.sensor) {
-            (Sensor::Sector(_), Some(spec)) => {
+        match (truth.sensor, &sc.sensor, &lidar) {
+            (Sensor::Sector(_), Some(spec), _) => {
                 options = options.with_sensor(spec.range, spec.aperture_deg);
                 if truth.rho_min.is_finite() {
                     options = options.with_rho_min(truth.rho_min);
                 }
             }
-            (Sensor::Lidar(lidar), _) => options = lidar.options(options, truth.rho_min),
+            (_, _, Some(lidar)) => options = lidar.options(options, truth.rho_min),
             _ => {}
         }
         let nav = Navigator::new(truth.boundary.clone(), truth.goal(), law, options)?;
@@ -79,7 +82,7 @@ impl<'a> ClosedLoop<'a> {
             nav,
             known: Vec::new(),
             truth,
-            scanner: truth.sensor.lidar().copied().map(Scanner::new),
+            scanner: lidar.map(Scanner::new),
             yaw: 0.0,
         };
         let Some(sensing) = truth.sensor.exact() else {

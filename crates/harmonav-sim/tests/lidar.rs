@@ -161,6 +161,59 @@ fn the_wall_prior_defaults_to_the_truths_gap() {
     assert_eq!(l.scan.wall_gap, 0.25);
 }
 
+/// Eq. fitnear (docs/maths.md §12.16): without `sensor.fit_range` the kinematic law fits an
+/// obstacle only within `r + m + 3·v_max·T` (here `3·√2·0.1` m), the dynamic law within
+/// `D + 0.5`; a file's own `fit_range` serves both. In the paper's world the kinematic robot
+/// then perceives only the obstacles it comes near, fewer than with `D + 0.5`, every one while
+/// it stands outside its margin, and still arrives with every guarantee.
+#[test]
+fn the_kinematic_law_fits_only_what_it_comes_near() {
+    use harmonav::{Law, Options};
+    let p = load("lidar/paper-world.toml");
+    let Sensor::Lidar(l) = &p.truth.sensor else {
+        panic!("a lidar")
+    };
+    assert!(!l.fit_range_given);
+    let depth = l.scan.max_obstacle_depth;
+    let options = Options::default();
+    let kinematic = l.for_law(&Law::kinematic(1.0), &options).scan.fit_range;
+    assert!(
+        (kinematic - 3.0 * 2f64.sqrt() * 0.1).abs() < 1e-12,
+        "{kinematic}"
+    );
+    let dynamic = l.for_law(&Law::dynamic(1.0, 2.0), &options).scan.fit_range;
+    assert_eq!(dynamic, depth + harmonav::FIT_BEYOND_DEPTH);
+
+    let perceived = |text: &str| {
+        let path = file("lidar/paper-world.toml");
+        let p = Scenario::parse(&path, text)
+            .unwrap()
+            .prepare(&path)
+            .unwrap();
+        let s = run(&p, None).unwrap().summary;
+        let failed: Vec<_> = s.guarantees.iter().filter(|g| !g.passed).collect();
+        assert!(s.reached && failed.is_empty(), "{failed:?}");
+        s.perception.unwrap()
+    };
+    let text = std::fs::read_to_string(file("lidar/paper-world.toml")).unwrap();
+    let near = perceived(&text);
+    let far = perceived(&text.replacen(
+        "seed = 1",
+        &format!(
+            "seed = 1\nfit_range = {}",
+            depth + harmonav::FIT_BEYOND_DEPTH
+        ),
+        1,
+    ));
+    assert!(
+        near.perceived < far.perceived,
+        "{} shapes fitted from near, {} from D + 0.5",
+        near.perceived,
+        far.perceived
+    );
+    assert!(near.min_event_clearance.unwrap() > 0.0, "{near:?}");
+}
+
 /// How tight the fits are on the seen faces, pinned so that a looser fit is noticed: the
 /// smallest depth of a seen truth point inside its perceived shape, in the paper's world.
 #[test]

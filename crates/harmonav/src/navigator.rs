@@ -150,7 +150,6 @@ pub struct Navigator {
 /// The law's controller for `law` under `options`, validated (each error names the field).
 pub(crate) fn controller(law: &Law, options: &Options) -> Result<Controller, NavError> {
     options.validate(law)?;
-    let d_min = options.d_min()?;
     Ok(match *law {
         Law::Kinematic { gain } => {
             let law = Kinematic::new(in_range("gain", gain)?)?
@@ -163,6 +162,7 @@ pub(crate) fn controller(law: &Law, options: &Options) -> Result<Controller, Nav
             })
         }
         Law::Dynamic { mass, mu } => {
+            let d_min = options.d_min()?;
             let law = Dynamic::new(in_range("mass", mass)?, in_range("mu", mu)?, d_min)?
                 .with_damping(options.damping)
                 .with_heading(options.heading);

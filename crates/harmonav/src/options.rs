@@ -10,7 +10,7 @@ use nalgebra::Vector2;
 use crate::error::NavError;
 use crate::law::Law;
 pub use crate::ranges::{MIN_APERTURE_DEG, PARAMETER_RANGE};
-use crate::scanning::ScanOptions;
+use crate::scanning::{FIT_BEYOND_DEPTH, FIT_SCANS_AHEAD, ScanOptions};
 
 /// The control period assumed for [`Law::Kinematic`] when none is given: 100 Hz, s.
 pub const DEFAULT_KINEMATIC_PERIOD: f64 = 0.01;
@@ -202,6 +202,40 @@ impl Options {
         Self { hold, ..self }
     }
 
+    /// The recommended [`ScanOptions::fit_range`] `r_f` for `law` with scans every
+    /// `scan_period` s (docs/maths.md §12.11, §12.16):
+    ///
+    /// ```text
+    /// dynamic:    r_f = D + FIT_BEYOND_DEPTH                      (d_min = r_f − D, §12.11)
+    /// kinematic:  r_f = min(D + FIT_BEYOND_DEPTH, r + m + FIT_SCANS_AHEAD·v_max·T)  (eq. fitnear)
+    /// ```
+    ///
+    /// `r + m` the robot's radius and margin, `v_max` the kinematic law's top speed, `T` the
+    /// scan period. The kinematic law uses no `d_min`: an obstacle need only be fitted before
+    /// the robot can reach it, and between two scans the robot moves at most `v_max·T`; an
+    /// obstacle fitted from nearer is seen wider, with more free space left out, and one the
+    /// robot never comes near is never fitted.
+    #[must_use]
+    pub fn recommended_fit_range(&self, law: &Law, scan_period: f64) -> f64 {
+        let far = self.scan.max_obstacle_depth + FIT_BEYOND_DEPTH;
+        match *law {
+            Law::Dynamic { .. } => far,
+            Law::Kinematic { gain } => {
+                let v_max = self.v_max.or_else(|| {
+                    harmonav_control::Kinematic::new(gain)
+                        .ok()
+                        .map(|k| k.v_max())
+                });
+                match v_max {
+                    Some(v) if (v * scan_period).is_finite() => {
+                        far.min(self.radius + self.margin + FIT_SCANS_AHEAD * v * scan_period)
+                    }
+                    _ => far,
+                }
+            }
+        }
+    }
+
     /// The control period in force for `law`: [`Options::control_period`], or the law's
     /// default.
     #[must_use]
@@ -220,9 +254,15 @@ impl Options {
     /// reach `D` in front of it (docs/maths.md §12.6, §12.11). `r_f ≤ D` is an error naming
     /// `fit_range`.
     pub fn d_min(&self) -> Result<f64, NavError> {
+        self.d_min_cut(true)
+    }
+
+    /// [`Options::d_min`], the sector cut to `r_f − D` only when `cut` (the dynamic law: the
+    /// kinematic law uses no `d_min`, and its fit range may lie below `D`, eq. fitnear).
+    fn d_min_cut(&self, cut: bool) -> Result<f64, NavError> {
         in_range("sensor_range", self.sensor_range)?;
         let (fit_range, depth) = (self.scan.fit_range, self.scan.max_obstacle_depth);
-        let range = if fit_range.is_finite() {
+        let range = if cut && fit_range.is_finite() {
             if fit_range <= depth {
                 return Err(NavError::InvalidOption {
                     field: "fit_range",
@@ -268,7 +308,7 @@ impl Options {
                 return Err(NavError::InvalidOption { field, value });
             }
         }
-        self.d_min()?;
+        self.d_min_cut(matches!(law, Law::Dynamic { .. }))?;
         self.scan.validate(self.rho_min)?;
         in_range("control_period", self.period_for(law))?;
         Ok(())
@@ -348,6 +388,36 @@ mod tests {
                     ..
                 })
             ));
+            // Only the dynamic law takes `d_min` from `r_f − D`: the kinematic law may fit
+            // from nearer than `D` (eq. fitnear).
+            assert!(with_fit(bad).validate(&Law::kinematic(1.0)).is_ok());
+            let e = with_fit(bad).validate(&Law::dynamic(1.0, 2.0)).unwrap_err();
+            assert!(e.to_string().contains("above max_obstacle_depth"), "{e}");
         }
+    }
+
+    /// Eq. fitnear: `D + 0.5` under the dynamic law; under the kinematic law the robot's
+    /// radius and margin plus three scans at top speed (`K√2`, or `v_max`), never beyond
+    /// `D + 0.5`.
+    #[test]
+    fn the_recommended_fit_range_is_nearer_for_the_kinematic_law() {
+        let options = Options::default()
+            .with_robot(0.1, 0.05)
+            .with_scan(ScanOptions {
+                max_obstacle_depth: 1.2,
+                ..ScanOptions::default()
+            });
+        let dynamic = options.recommended_fit_range(&Law::dynamic(1.0, 2.0), 0.1);
+        assert_eq!(dynamic, 1.7);
+        let kinematic = options.recommended_fit_range(&Law::kinematic(2.0), 0.1);
+        assert!((kinematic - (0.15 + 3.0 * 2.0 * 2f64.sqrt() * 0.1)).abs() < 1e-12);
+        let capped = options.with_v_max(0.5);
+        let kinematic = capped.recommended_fit_range(&Law::kinematic(2.0), 0.1);
+        assert!((kinematic - 0.3).abs() < 1e-12, "{kinematic}");
+        // A slow scan rate: never farther than the dynamic law's.
+        assert_eq!(
+            options.recommended_fit_range(&Law::kinematic(2.0), 1.0),
+            1.7
+        );
     }
 }

@@ -120,8 +120,9 @@ pub fn suite_lidar() -> Lidar {
 /// The navigator options of a lidar flight in `world`: a 360° sensor of range `r − D` (`r`
 /// the lidar's, so `d_min = r − D`: the room left when a first fit reaches `D` in front of the
 /// truth, docs/maths.md §12.6), the world's `ρ_min`, the scan priors `range_noise` (`ε`)
-/// and `max_obstacle_depth` (`D`), and the recommended fit range `D +`
-/// [`crate::FIT_BEYOND_DEPTH`] (which cuts the sector of `d_min` to 0.5 m, §12.11).
+/// and `max_obstacle_depth` (`D`), and the dynamic law's recommended fit range `D +`
+/// [`crate::FIT_BEYOND_DEPTH`] (which cuts the sector of `d_min` to 0.5 m, §12.11;
+/// [`LidarSuite::run`] takes each law's, [`Options::recommended_fit_range`]).
 pub fn lidar_options(
     world: &LidarWorld,
     lidar: &Lidar,
@@ -165,7 +166,8 @@ pub struct LidarFlight {
     /// The smallest event clearance of the events that only added obstacles (first
     /// detections; the braking argument's case), m.
     pub detection_clearance: f64,
-    /// Perceived area over true area of the seen obstacles at the end.
+    /// Perceived area over true area of the seen obstacles at the end (NaN when the flight
+    /// perceived none).
     pub conservatism: f64,
     /// The fastest speed, m/s.
     pub max_speed: f64,
@@ -247,7 +249,7 @@ pub fn fly_lidar(
         shrunk: 0,
         event_clearance: f64::INFINITY,
         detection_clearance: f64::INFINITY,
-        conservatism: 1.0,
+        conservatism: f64::NAN,
         max_speed: 0.0,
         error: None,
         stalled: false,
@@ -357,7 +359,8 @@ pub struct LidarReport {
     pub min_event_clearance: f64,
     /// The smallest clearance at a first detection of any flight, m.
     pub min_detection_clearance: f64,
-    /// The median conservatism (perceived over true area) of the flights.
+    /// The median conservatism (perceived over true area) of the flights that perceived an
+    /// obstacle (NaN if none did).
     pub median_conservatism: f64,
     /// The fastest speed of any flight, m/s.
     pub max_speed: f64,
@@ -421,13 +424,17 @@ impl LidarSuite {
         for seed in self.seeds.clone() {
             let world = lidar_world(seed, self.discs_only);
             for radius in [0.0, 0.1] {
-                let options = lidar_options(
+                let mut options = lidar_options(
                     &world,
                     &self.lidar,
                     self.range_noise,
                     self.max_obstacle_depth,
                 )
                 .with_robot(radius, 0.0);
+                // The law's own fit range (eq. fitnear): nearer under the kinematic law.
+                options.scan.fit_range = options
+                    .with_control_period(self.h)
+                    .recommended_fit_range(&self.law, self.h * self.scan_every as f64);
                 let f = fly_lidar(
                     &world,
                     self.law,
@@ -445,7 +452,9 @@ impl LidarSuite {
                 r.max_speed = r.max_speed.max(f.max_speed);
                 r.min_event_clearance = r.min_event_clearance.min(f.event_clearance);
                 r.min_detection_clearance = r.min_detection_clearance.min(f.detection_clearance);
-                cons.push(f.conservatism);
+                if f.conservatism.is_finite() {
+                    cons.push(f.conservatism);
+                }
                 if f.reached {
                     r.reached += 1;
                 } else if f.stalled {
