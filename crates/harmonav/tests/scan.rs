@@ -328,19 +328,30 @@ fn scan_options_are_validated_by_name() {
 
 /// The closed loop on scans alone (4 worlds of every shape kind, both robots; 2 with the
 /// dynamic law, below its speed bound √(2μ/m) = 2 m/s): no collision
-/// with the truth, every perceived shape contains its obstacle, shapes only grow. The negative
-/// control gives the navigator a depth prior smaller than the obstacles (`D = 0.3` m against
-/// diameters up to 1 m): the same check must then find uncovered truth.
+/// with the truth, every perceived shape contains its obstacle, shapes only grow. The
+/// kinematic robot fits from `D + 0.5` here, so that its perception is exercised (its own
+/// fit range, eq. fitnear, fits only what it comes near: below). The negative control gives
+/// the navigator a depth prior smaller than the obstacles (`D = 0.3` m against diameters up
+/// to 1 m): the same check must then find uncovered truth.
 #[test]
 fn the_lidar_loop_is_safe_and_its_check_fails_when_the_depth_prior_is_wrong() {
+    let near = LidarSuite {
+        seeds: 0..8,
+        ..LidarSuite::new(Law::kinematic(1.0), 0.01)
+    };
     let suite = LidarSuite {
         seeds: 0..4,
-        ..LidarSuite::new(Law::kinematic(1.0), 0.01)
+        fit_range: Some(near.max_obstacle_depth + harmonav::FIT_BEYOND_DEPTH),
+        ..near.clone()
     };
     let r = suite.run().unwrap();
     assert!(r.failures.is_empty(), "{:?}", r.failures);
     assert!(r.min_clearance > 0.0 && r.events > 0, "{r:?}");
     assert!(r.reached >= 7, "{r:?}");
+    // Eq. fitnear: fewer events, each with the robot outside its margin.
+    let n = near.run().unwrap();
+    assert!(n.failures.is_empty() && n.reached == n.runs, "{n:?}");
+    assert!(n.events > 0 && n.min_event_clearance > 0.0, "{n:?}");
     let dynamic = LidarSuite {
         seeds: 0..2,
         ..LidarSuite::new(Law::dynamic(1.0, 2.0), 0.001)

@@ -393,6 +393,9 @@ pub struct LidarSuite {
     pub range_noise: f64,
     /// The depth prior `D` given to the navigator, m.
     pub max_obstacle_depth: f64,
+    /// The fit range `r_f`, m; `None` (the default): the law's recommended one
+    /// ([`Options::recommended_fit_range`], eq. fitnear).
+    pub fit_range: Option<f64>,
 }
 
 impl LidarSuite {
@@ -409,6 +412,7 @@ impl LidarSuite {
             lidar,
             range_noise: lidar.noise,
             max_obstacle_depth: LIDAR_WORLD_DEPTH,
+            fit_range: None,
         }
     }
 
@@ -432,9 +436,9 @@ impl LidarSuite {
                 )
                 .with_robot(radius, 0.0);
                 // The law's own fit range (eq. fitnear): nearer under the kinematic law.
-                options.scan.fit_range = options
-                    .with_control_period(self.h)
-                    .recommended_fit_range(&self.law, self.h * self.scan_every as f64);
+                options.scan.fit_range = self.fit_range.unwrap_or_else(|| {
+                    options.recommended_fit_range(&self.law, self.h * self.scan_every as f64)
+                });
                 let f = fly_lidar(
                     &world,
                     self.law,
