@@ -240,12 +240,16 @@ fn lidar_runs_are_deterministic_and_seeded() {
 }
 
 /// A refused scan stops the run with the outcome `scan-refused` and the guarantee
-/// `scans-accepted` lost: a depth prior so large that the first fit covers the goal.
+/// `scans-accepted` lost: a depth prior so large that the first fit, from the whole range,
+/// covers the goal.
 #[test]
 fn a_refused_scan_stops_the_run() {
     let text = std::fs::read_to_string(file("lidar/paper-world.toml")).unwrap();
     let text = text
-        .replace("seed = 1\n", "seed = 1\nmax_obstacle_depth = 2.9\n")
+        .replace(
+            "seed = 1\n",
+            "seed = 1\nmax_obstacle_depth = 2.9\nfit_range = 3.0\n",
+        )
         .replace("[expect]\nreached = true\n", "");
     let path = Path::new("refused.toml");
     let p = Scenario::parse(path, &text).unwrap().prepare(path).unwrap();
@@ -507,6 +511,9 @@ fn a_neighbour_hidden_in_a_closed_side_stays_covered_when_seen() {
             panic!("a lidar world")
         };
         l.scan.evidence = evidence;
+        // Fitted from `D + 0.5` (the neighbour comes into view from afar), as for the
+        // dynamic law; the kinematic law's own range (eq. fitnear) fits it only nearby.
+        l.fit_range_given = true;
         p
     };
     let r = run(&prepared(None), None).unwrap();
