@@ -104,6 +104,9 @@ impl FloorPlan {
             Some(p) => point_like(p, "start")?,
             None => prepared.starts[0],
         };
+        prepared
+            .check_start(start)
+            .map_err(|e| value_error(format!("start: {e}")))?;
         if let Some(dir) = &out {
             py.detach(|| check_output_dir(dir))
                 .map_err(|e| value_error(format!("out: {e}; nothing was run")))?;

@@ -92,6 +92,11 @@ def test_a_floor_plan_run_from_another_start_and_bad_input():
         plan.run(model="teleport")
     with pytest.raises(ValueError, match="start"):
         plan.run(start=[np.nan, 1.0])
+    # In a wall, outside the plan, and inside a sensed obstacle: refused before any run, as
+    # the file's robot.start is.
+    for bad in ([0.0, 0.0], [100.0, 100.0], [3.5, 0.9]):
+        with pytest.raises(ValueError, match="start: .*(walls|obstacles)"):
+            plan.run(start=bad)
     with pytest.raises(ValueError, match="out:"):
         plan.run(out="")
 

@@ -37,6 +37,13 @@ pub enum CliError {
     Write(OutputError),
     /// `--starts` is out of range, or a start of the sweep could not be run.
     Sweep(SweepError),
+    /// A start of the sweep of `scenario` could not be run.
+    SweepStart {
+        /// The scenario file.
+        scenario: PathBuf,
+        /// Which start, and why.
+        error: SweepError,
+    },
     /// The JSON output could not be made.
     Json(serde_json::Error),
     /// An option of star worlds given with a floor-plan file.
@@ -80,6 +87,9 @@ impl std::fmt::Display for CliError {
                 write!(f, "--starts: {e}")
             }
             Self::Sweep(e) => write!(f, "{e}"),
+            Self::SweepStart { scenario, error } => {
+                write!(f, "{}: {error}", scenario.display())
+            }
             Self::Json(e) => write!(f, "cannot write the JSON output: {e}"),
             Self::NotForFloorPlans { scenario, option } => write!(
                 f,

@@ -25,6 +25,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 use harmonav_scenario::floorplan::FileKind;
+use harmonav_sim::sweep::SweepError;
 
 use crate::args::{DampingArg, KArg, ModelArg, PhysicsArg, load};
 use crate::error::CliError;
@@ -213,10 +214,18 @@ fn dispatch(command: Command) -> Result<bool, CliError> {
             damping,
             json,
         } => {
+            // A start that cannot be run names the file.
+            let named = |e: CliError| match e {
+                CliError::Sweep(error @ SweepError::Run { .. }) => CliError::SweepStart {
+                    scenario: scenario.clone(),
+                    error,
+                },
+                e => e,
+            };
             if floor_plan(&scenario)? {
                 let given = [("--k", k.is_some()), ("--damping", damping.is_some())];
                 let floor = floor::load_floor_starts(&scenario, &given, starts, seed)?;
-                return sweep::cmd_sweep_floor(&floor, controller, json);
+                return sweep::cmd_sweep_floor(&floor, controller, json).map_err(named);
             }
             let starts = starts.ok_or(CliError::StartsRequired {
                 scenario: scenario.clone(),
@@ -228,6 +237,7 @@ fn dispatch(command: Command) -> Result<bool, CliError> {
                 controller,
                 json,
             )
+            .map_err(named)
         }
         Command::Check { scenario } => {
             if floor_plan(&scenario)? {

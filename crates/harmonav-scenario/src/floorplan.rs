@@ -37,12 +37,12 @@ use harmonav::{CentrePolicy, FloorMap, FloorOptions, HeadingPolicy, StarShape};
 use harmonav_floorplan::{
     FloorError, FloorField, LayerLevel, LevelOptions, MapOptions, MapPoint, MapProblem,
 };
-use harmonav_harmonic::{DomainError, RingId, SolveError};
+use harmonav_harmonic::{DomainError, MeshError, RingId, SolveError};
 use harmonav_transform::random::Rng;
 use nalgebra::Vector2;
 use serde::Deserialize;
 
-use crate::scenario::{Model, ScenarioError, ShapeSpec, build_shape};
+use crate::scenario::{Model, ScenarioError, ShapeSpec, build_shape, err};
 
 /// The folder of floor-plan scenarios under `scenarios/`.
 pub const FLOORPLANS: &str = "floorplans";
@@ -56,10 +56,10 @@ pub const MAX_STARTS: usize = 64;
 pub struct FloorPlanSpec {
     /// The outer ring (either orientation; no repeated closing vertex needed); empty with
     /// `map`.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "crate::points::ring")]
     pub outer: Vec<[f64; 2]>,
     /// The holes, each a ring.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "crate::points::rings")]
     pub holes: Vec<Vec<[f64; 2]>>,
     /// A ROS map_server map (its YAML file, relative to the scenario file) instead of rings:
     /// the free component of the goal, outlined, simplified and opened by the robot's disc
@@ -100,8 +100,10 @@ pub struct FloorRobotSpec {
     /// `kinematic` or `dynamic`.
     pub model: Model,
     /// Start position.
+    #[serde(deserialize_with = "crate::points::point")]
     pub start: [f64; 2],
     /// Goal position.
+    #[serde(deserialize_with = "crate::points::point")]
     pub goal: [f64; 2],
     /// Disc radius, m.
     #[serde(default)]
@@ -216,7 +218,48 @@ pub struct FloorPrepared {
     pub level: Option<LayerLevel>,
 }
 
+/// Where a point may be (a start or the goal): in `W_δ` of `floor` and clear of every true
+/// obstacle grown by `inflation` (radius + margin); else what is wrong.
+fn placed(
+    floor: &FloorMap,
+    obstacles: &[StarShape],
+    inflation: f64,
+    p: Vector2<f64>,
+) -> Result<(), String> {
+    if !p.iter().all(|c| c.is_finite()) {
+        return Err(format!("NaN or infinite coordinate in {p:?}"));
+    }
+    let (sd, delta) = (floor.signed_distance(p), floor.delta());
+    if sd < delta {
+        return Err(format!(
+            "{p:?} is {sd:.4} m from the walls: not in the certified region (at least \
+             δ = {delta:.4} m from every wall{})",
+            if sd <= 0.0 {
+                "; it is in a wall or outside"
+            } else {
+                ""
+            }
+        ));
+    }
+    for (i, o) in obstacles.iter().enumerate() {
+        if o.signed_distance(p) <= inflation {
+            return Err(format!("{p:?} is within radius + margin of obstacles[{i}]"));
+        }
+    }
+    Ok(())
+}
+
 impl FloorPrepared {
+    /// Whether `start` may start a run, as `robot.start` must: in the certified region `W_δ`
+    /// and clear of every true obstacle grown by radius + margin; else the problem.
+    ///
+    /// # Errors
+    /// What is wrong with `start`, in words.
+    pub fn check_start(&self, start: Vector2<f64>) -> Result<(), String> {
+        let r = &self.scenario.robot;
+        placed(&self.floor, &self.obstacles, r.radius + r.margin, start)
+    }
+
     /// `c_δ` over the walls (the level `floor_plan.require_certified_start` computed, or
     /// certified now with [`LevelOptions::default`]; docs/maths.md §13.5) and, for each of
     /// [`FloorPrepared::starts`], whether `Θ(x₀) < c_δ`: its sublevel set stays inside `W_δ`.
@@ -235,15 +278,6 @@ impl FloorPrepared {
             .map(|&x| field.eval(x).is_ok_and(|e| level.holds(e.phi)))
             .collect();
         Ok((level, below))
-    }
-}
-
-fn err(path: &Path, field: &str, line: Option<usize>, problem: String) -> ScenarioError {
-    ScenarioError {
-        file: path.to_path_buf(),
-        field: field.to_string(),
-        line,
-        problem,
     }
 }
 
@@ -282,12 +316,7 @@ impl FloorScenario {
     /// # Errors
     /// A [`ScenarioError`] with the line of the problem.
     pub fn parse(path: &Path, text: &str) -> Result<Self, ScenarioError> {
-        toml::from_str::<Self>(text).map_err(|e| {
-            let line = e
-                .span()
-                .map(|s| text[..s.start.min(text.len())].matches('\n').count() + 1);
-            err(path, "", line, e.message().trim().to_string())
-        })
+        toml::from_str::<Self>(text).map_err(|e| crate::scenario::toml_error(path, text, &e))
     }
 
     /// Validates the scenario and solves the map.
@@ -300,14 +329,38 @@ impl FloorScenario {
         let r = &self.robot;
         for (name, value) in [("robot.radius", r.radius), ("robot.margin", r.margin)] {
             if !(value.is_finite() && (0.0..=harmonav_transform::MAX_LENGTH).contains(&value)) {
-                return Err(f(name, format!("must be finite and ≥ 0, got {value:e}")));
+                return Err(f(
+                    name,
+                    format!(
+                        "must be finite and in [0, {:e}] m, got {value:e}",
+                        harmonav_transform::MAX_LENGTH
+                    ),
+                ));
+            }
+        }
+        // Both laws' parameters, whichever the file names: a run may take the other
+        // (`--model`), and the navigator would refuse them there without the file's names.
+        let (lo, hi) = crate::scenario::PARAMETER_RANGE;
+        for (name, value) in [
+            ("robot.gain", r.gain),
+            ("robot.mass", r.mass),
+            ("robot.mu", r.mu),
+        ] {
+            if !(value.is_finite() && (lo..=hi).contains(&value)) {
+                return Err(f(
+                    name,
+                    format!("must be finite and in [{lo:e}, {hi:e}], got {value:e}"),
+                ));
             }
         }
         let h = self.floor_plan.max_element;
-        if !(h.is_finite() && h > 0.0) {
+        if !(h.is_finite() && h > 0.0 && h <= harmonav_transform::MAX_LENGTH) {
             return Err(f(
                 "floor_plan.max_element",
-                format!("must be finite and positive, got {h:e}"),
+                format!(
+                    "must be finite and in (0, {:e}] m, got {h:e}",
+                    harmonav_transform::MAX_LENGTH
+                ),
             ));
         }
         for (name, p) in [("robot.start", r.start), ("robot.goal", r.goal)] {
@@ -328,12 +381,30 @@ impl FloorScenario {
                 ));
             }
         }
-        let mut obstacles = Vec::with_capacity(self.obstacles.len());
-        for (i, o) in self.obstacles.iter().enumerate() {
+        let mut obstacles: Vec<StarShape> = Vec::with_capacity(self.obstacles.len());
+        let inflation = r.radius + r.margin;
+        for (j, o) in self.obstacles.iter().enumerate() {
             let shape =
-                build_shape(o).map_err(|(sub, p)| f(&format!("obstacles[{i}].{sub}"), p))?;
+                build_shape(o).map_err(|(sub, p)| f(&format!("obstacles[{j}].{sub}"), p))?;
+            // The navigator grows each sensed obstacle by radius + margin, and the grown
+            // shapes must be disjoint: `dist(A ⊕ B_r, B ⊕ B_r) = dist(A, B) − 2r`.
+            for (i, other) in obstacles.iter().enumerate() {
+                let gap = other.distance_to(&shape);
+                let problem = if gap <= 0.0 {
+                    format!("overlaps or touches obstacles[{i}]")
+                } else if gap <= 2.0 * inflation {
+                    format!(
+                        "{gap:e} m from obstacles[{i}]: grown by robot.radius + robot.margin = \
+                         {inflation:e} m they overlap or touch (the gap must exceed twice that)"
+                    )
+                } else {
+                    continue;
+                };
+                return Err(f(&format!("obstacles[{j}]"), problem));
+            }
             obstacles.push(shape);
         }
+        crate::scenario::obstacle_names(&self.obstacles).map_err(|(field, p)| f(&field, p))?;
         let plan = &self.floor_plan;
         let clock = std::time::Instant::now();
         let options = FloorOptions::new(h, r.radius + r.margin).with_centre(plan.centre);
@@ -367,6 +438,29 @@ impl FloorScenario {
                 let yaml = path.parent().unwrap_or(Path::new("")).join(map);
                 FloorMap::from_ros_map(&yaml, v(r.start), v(r.goal), &map_options).map_err(|e| {
                     match &e.problem {
+                        // Every vertex of a map's outline ends an element: a lowered
+                        // `simplify` is what made the mesh too large.
+                        MapProblem::Floor(FloorError::Solve(SolveError::Mesh(
+                            MeshError::TooManyElements { elements, max },
+                        ))) if map_options.simplify
+                            < harmonav_floorplan::ros_map::DEFAULT_SIMPLIFY =>
+                        {
+                            f(
+                                "floor_plan.simplify",
+                                format!(
+                                    "the mesh would have {elements} boundary elements, at most \
+                                     {max} are allowed, and every vertex of the map's outline \
+                                     ends one: simplify = {:e} square pixels keeps too many \
+                                     (the default is {})",
+                                    map_options.simplify,
+                                    harmonav_floorplan::ros_map::DEFAULT_SIMPLIFY
+                                ),
+                            )
+                        }
+                        // The map's own outline: its rings are not in the file.
+                        MapProblem::Floor(fe @ FloorError::Domain(_)) => {
+                            f("floor_plan.map", fe.to_string())
+                        }
                         MapProblem::Floor(fe) => floor_error(fe.clone()),
                         // A problem of the start or the goal names that field; the map's
                         // own message names the map file.
@@ -406,27 +500,7 @@ impl FloorScenario {
         let floor = Arc::new(floor);
         let delta = floor.delta();
         let goal = v(r.goal);
-        // Where a point may be: in W_δ and clear of every true obstacle grown by radius+margin.
-        let place = |p: Vector2<f64>| -> Result<(), String> {
-            let sd = floor.signed_distance(p);
-            if sd < delta {
-                return Err(format!(
-                    "{p:?} is {sd:.4} m from the walls: not in the certified region (at least \
-                     δ = {delta:.4} m from every wall{})",
-                    if sd <= 0.0 {
-                        "; it is in a wall or outside"
-                    } else {
-                        ""
-                    }
-                ));
-            }
-            for (i, o) in obstacles.iter().enumerate() {
-                if o.signed_distance(p) <= r.radius + r.margin {
-                    return Err(format!("{p:?} is within radius + margin of obstacles[{i}]"));
-                }
-            }
-            Ok(())
-        };
+        let place = |p: Vector2<f64>| placed(&floor, &obstacles, r.radius + r.margin, p);
         place(goal).map_err(|p| f("robot.goal", p))?;
         let start = v(r.start);
         place(start).map_err(|p| f("robot.start", p))?;

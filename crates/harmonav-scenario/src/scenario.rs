@@ -147,8 +147,10 @@ pub struct RobotSpec {
     /// `kinematic` or `dynamic`.
     pub model: Model,
     /// Start position.
+    #[serde(deserialize_with = "crate::points::point")]
     pub start: [f64; 2],
     /// Goal position.
+    #[serde(deserialize_with = "crate::points::point")]
     pub goal: [f64; 2],
     /// Mass (dynamic only), kg.
     #[serde(default = "one")]
@@ -363,38 +365,7 @@ impl Scenario {
 
     /// Parses TOML text (`path` names it in errors); unknown keys are errors.
     pub fn parse(path: &Path, text: &str) -> Result<Self, ScenarioError> {
-        toml::from_str::<Scenario>(text).map_err(|e| {
-            let problem = e.message().trim().to_string();
-            let Some(span) = e.span() else {
-                return err(path, "", None, problem);
-            };
-            let start = span.start.min(text.len());
-            // A shape is an internally tagged enum, whose errors point at the whole
-            // `[[obstacles]]` array: find the obstacle that fails on its own.
-            if let Some(i) = failing_obstacle(text) {
-                return err(
-                    path,
-                    &format!("obstacles[{i}]"),
-                    obstacle_line(text, i),
-                    problem,
-                );
-            }
-            let line = text[..start].matches('\n').count() + 1;
-            let table = table_at(text, start);
-            // The key on the error's line, so that a wrong type names its field.
-            let key = text[..start]
-                .rsplit('\n')
-                .next()
-                .and_then(|l| l.split_once('='))
-                .map(|(k, _)| k.trim().trim_matches('"').to_string())
-                .filter(|k| !k.is_empty() && !k.contains(['[', ' ']));
-            let field = match (table.is_empty(), key) {
-                (_, None) => table,
-                (true, Some(k)) => k,
-                (false, Some(k)) => format!("{table}.{k}"),
-            };
-            err(path, &field, Some(line), problem)
-        })
+        toml::from_str::<Scenario>(text).map_err(|e| toml_error(path, text, &e))
     }
 
     /// Validates the scenario and builds the workspace (see [`Prepared`]).
@@ -435,29 +406,24 @@ impl Scenario {
         let true_boundary =
             build_shape(&self.workspace).map_err(|e| f(&format!("workspace.{}", e.0), e.1))?;
         let mut true_obstacles = Vec::with_capacity(self.obstacles.len());
-        let mut names = Vec::with_capacity(self.obstacles.len());
         for (i, o) in self.obstacles.iter().enumerate() {
             true_obstacles
                 .push(build_shape(o).map_err(|e| f(&format!("obstacles[{i}].{}", e.0), e.1))?);
-            let name = o
-                .name()
-                .map(str::to_string)
-                .unwrap_or_else(|| format!("O{}", i + 1));
-            if names.contains(&name) {
-                return Err(f(
-                    &format!("obstacles[{i}].name"),
-                    format!("the name \"{name}\" is used twice"),
-                ));
-            }
-            names.push(name);
         }
+        let names = obstacle_names(&self.obstacles).map_err(|(field, p)| f(&field, p))?;
         let r = &self.robot;
         check_point(r.start, "robot.start").map_err(|p| f("robot.start", p))?;
         check_point(r.goal, "robot.goal").map_err(|p| f("robot.goal", p))?;
         in_range("robot.mass", r.mass)?;
         for (name, v) in [("robot.radius", r.radius), ("robot.margin", r.margin)] {
-            if !(v.is_finite() && v >= 0.0) {
-                return Err(f(name, format!("must be finite and ≥ 0, got {v:e}")));
+            if !(v.is_finite() && (0.0..=harmonav_transform::MAX_LENGTH).contains(&v)) {
+                return Err(f(
+                    name,
+                    format!(
+                        "must be finite and in [0, {:e}] m, got {v:e}",
+                        harmonav_transform::MAX_LENGTH
+                    ),
+                ));
             }
         }
         // Every shape is offset by the robot radius plus the clearance margin; an error caused by
@@ -690,15 +656,27 @@ impl Scenario {
                 let no_bound_needed = spec.rho_min.is_none() && self.obstacles.is_empty();
                 let (lo, hi) = PARAMETER_RANGE;
                 if !(no_bound_needed || rho.is_finite() && (lo..=hi).contains(&rho)) {
-                    let from = if spec.rho_min.is_some() {
-                        ""
-                    } else {
-                        " (the obstacles' smallest curvature radius, as none is given)"
-                    };
-                    return Err(f(
-                        "sensor.rho_min",
-                        format!("must be finite and in [{lo:e}, {hi:e}] m{from}, got {rho:e}"),
-                    ));
+                    // Without `sensor.rho_min`, the obstacle whose curvature set it is named.
+                    let sharpest = true_obstacles
+                        .iter()
+                        .map(StarShape::rho_min)
+                        .enumerate()
+                        .min_by(|a, b| a.1.total_cmp(&b.1))
+                        .filter(|_| spec.rho_min.is_none());
+                    return Err(match sharpest {
+                        Some((i, r)) => f(
+                            &format!("obstacles[{i}]"),
+                            format!(
+                                "its smallest curvature radius {r:e} m is outside [{lo:e}, \
+                                 {hi:e}] m, the range of sensor.rho_min, which defaults to it; \
+                                 give sensor.rho_min, or round the shape"
+                            ),
+                        ),
+                        None => f(
+                            "sensor.rho_min",
+                            format!("must be finite and in [{lo:e}, {hi:e}] m, got {rho:e}"),
+                        ),
+                    });
                 }
                 match spec.kind {
                     SensorKind::Sector => (Sensor::Sector(sector), rho),
@@ -786,7 +764,61 @@ pub fn read_text(path: &Path) -> Result<String, ScenarioError> {
     Ok(text)
 }
 
-fn err(path: &Path, field: &str, line: Option<usize>, problem: String) -> ScenarioError {
+/// The obstacles' names (`O1`, `O2`, … where none is given), or the field of the first
+/// name used twice and the problem.
+pub(crate) fn obstacle_names(obstacles: &[ShapeSpec]) -> Result<Vec<String>, (String, String)> {
+    let mut names: Vec<String> = Vec::with_capacity(obstacles.len());
+    for (i, o) in obstacles.iter().enumerate() {
+        let name = o
+            .name()
+            .map(str::to_string)
+            .unwrap_or_else(|| format!("O{}", i + 1));
+        if names.contains(&name) {
+            return Err((
+                format!("obstacles[{i}].name"),
+                format!("the name \"{name}\" is used twice"),
+            ));
+        }
+        names.push(name);
+    }
+    Ok(names)
+}
+
+/// A TOML error of the scenario file `path` (text `text`) with the field it lies in: the
+/// failing `obstacles[i]` (a shape is an internally tagged enum, whose errors point at the
+/// whole `[[obstacles]]` array), else the table at the error and the key on its line, so that
+/// a wrong type names its field.
+pub(crate) fn toml_error(path: &Path, text: &str, e: &toml::de::Error) -> ScenarioError {
+    let problem = e.message().trim().to_string();
+    let Some(span) = e.span() else {
+        return err(path, "", None, problem);
+    };
+    let start = span.start.min(text.len());
+    if let Some(i) = failing_obstacle(text) {
+        return err(
+            path,
+            &format!("obstacles[{i}]"),
+            obstacle_line(text, i),
+            problem,
+        );
+    }
+    let line = text[..start].matches('\n').count() + 1;
+    let table = table_at(text, start);
+    let key = text[..start]
+        .rsplit('\n')
+        .next()
+        .and_then(|l| l.split_once('='))
+        .map(|(k, _)| k.trim().trim_matches('"').to_string())
+        .filter(|k| !k.is_empty() && !k.contains(['[', ' ']));
+    let field = match (table.is_empty(), key) {
+        (_, None) => table,
+        (true, Some(k)) => k,
+        (false, Some(k)) => format!("{table}.{k}"),
+    };
+    err(path, &field, Some(line), problem)
+}
+
+pub(crate) fn err(path: &Path, field: &str, line: Option<usize>, problem: String) -> ScenarioError {
     ScenarioError {
         file: path.to_path_buf(),
         field: field.to_string(),
@@ -858,8 +890,6 @@ pub fn build_shape(s: &ShapeSpec) -> Result<StarShape, (String, String)> {
     })
 }
 
-/// The table a byte offset falls in: `workspace`, `obstacles[i]`, `robot`, … (for error
-/// messages; empty before the first table header).
 /// The index of the first `[[obstacles]]` entry that is not a valid shape on its own, if any.
 fn failing_obstacle(text: &str) -> Option<usize> {
     let doc: toml::Table = toml::from_str(text).ok()?;
@@ -878,6 +908,8 @@ fn obstacle_line(text: &str, i: usize) -> Option<usize> {
         .map(|(n, _)| n + 1)
 }
 
+/// The table a byte offset falls in: `workspace`, `obstacles[i]`, `robot`, … (for error
+/// messages; empty before the first table header).
 fn table_at(text: &str, offset: usize) -> String {
     let mut table = String::new();
     let mut obstacles = 0usize;

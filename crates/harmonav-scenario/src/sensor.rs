@@ -320,12 +320,15 @@ pub(crate) fn prepare(
             " (the largest obstacle's diameter, as none is given)",
         ),
     };
-    if !(depth.is_finite() && depth > 0.0 && depth < spec.range) {
+    // The fits certify containment on a cover of spacing `h`, at most `D/4`.
+    let min_depth = 4.0 * ScanOptions::default().check_spacing;
+    if !(depth.is_finite() && depth >= min_depth && depth < spec.range) {
         return Err(f(
             "max_obstacle_depth",
             format!(
-                "must be positive and below sensor.range = {} m (d_min is taken from range − \
-                 depth), got {depth:e} m{from}",
+                "must be at least {min_depth} m (four times the fits' certification spacing) \
+                 and below sensor.range = {} m (d_min is taken from range − depth), got \
+                 {depth:e} m{from}",
                 spec.range
             ),
         ));

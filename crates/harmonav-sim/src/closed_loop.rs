@@ -15,6 +15,7 @@ use crate::guarantee::{Check, FreeSpaceLoss, Guarantee};
 use crate::scanner::Scanner;
 use crate::summary::RunError;
 use crate::trace::{Discovery, Sample, ScanRecord};
+use crate::warning::Warning;
 
 /// The closed loop of one robot model in one world.
 pub(crate) struct ClosedLoop<'a> {
@@ -102,6 +103,19 @@ impl<'a> ClosedLoop<'a> {
         lp.discover(0.0, &seen, at_start, None, &mut discoveries)
             .map_err(|lost| RunError::Start(Box::new(lost)))?;
         Ok((lp, discoveries))
+    }
+
+    /// [`Warning::ScansTooSparse`] when the robot's top speed (the kinematic `v_max`, the
+    /// dynamic bound `√(2μ/m)`) over one scan period reaches its fit range less its radius.
+    pub fn scan_warning(&self) -> Option<Warning> {
+        let lidar = self.scanner.as_ref()?.sensor();
+        let speed = match self.nav.controller() {
+            Controller::Kinematic(law) => law.v_max(),
+            Controller::Dynamic(law) => law.speed_bound(),
+        };
+        let travel = speed * lidar.period();
+        let room = lidar.scan.fit_range - self.truth.radius;
+        (travel >= room).then_some(Warning::ScansTooSparse { travel, room })
     }
 
     /// The law at `(x, ẋ)`; `None` outside the free space of the known obstacles.

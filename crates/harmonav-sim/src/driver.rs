@@ -76,7 +76,11 @@ impl<'a, 'o> Driver<'a, 'o> {
     ) -> Result<Self, RunError> {
         let (lp, discoveries) = ClosedLoop::start(prepared, model, period)?;
         let warnings = match warnings {
-            Warnings::Find => crate::preflight::check(prepared, lp.nav.field()),
+            Warnings::Find => {
+                let mut found = crate::preflight::check(prepared, lp.nav.field());
+                found.extend(lp.scan_warning());
+                found
+            }
             Warnings::Skip => Vec::new(),
         };
         for w in &warnings {

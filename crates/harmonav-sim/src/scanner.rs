@@ -64,6 +64,11 @@ impl Scanner {
         }
     }
 
+    /// The lidar, with the fit range of the run's law.
+    pub fn sensor(&self) -> &LidarSensor {
+        &self.sensor
+    }
+
     /// The time of the next scan, s.
     pub fn next(&self) -> f64 {
         self.taken as f64 * self.sensor.period()

@@ -31,6 +31,15 @@ pub enum Warning {
         /// The smaller of the start–goal distance and the workspace's smallest radius, m.
         scale: f64,
     },
+    /// A lidar's scans are so sparse that the robot may cover its fit range, less its radius,
+    /// between two of them (top speed over `sensor.rate_hz`): an obstacle may be reached
+    /// before it is fitted (docs/maths.md §12.16, eq. fitnear).
+    ScansTooSparse {
+        /// The most the robot moves between two scans, m.
+        travel: f64,
+        /// The fit range less the robot's radius, m.
+        room: f64,
+    },
 }
 
 impl std::fmt::Display for Warning {
@@ -55,6 +64,12 @@ impl std::fmt::Display for Warning {
                 f,
                 "sim.goal_tolerance = {goal_tolerance:e} m is comparable to the world ({scale:e} \
                  m): arrival within it says little"
+            ),
+            Self::ScansTooSparse { travel, room } => write!(
+                f,
+                "the robot may move {travel:.3e} m between two lidar scans, at least its fit range \
+                 less its radius ({room:.3e} m): an obstacle may be reached before it is fitted; \
+                 raise sensor.rate_hz"
             ),
         }
     }

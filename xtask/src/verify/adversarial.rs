@@ -5,6 +5,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use harmonav_scenario::floorplan::{FileKind, FloorScenario};
 use harmonav_scenario::{ADVERSARIAL, Scenario};
 use harmonav_sim::physics::{Physics, simulate};
 use harmonav_sim::sweep::{random_starts, sweep};
@@ -81,6 +82,23 @@ pub fn checks() -> Vec<Check> {
     }
 }
 
+/// A refusal's verdict: its message must hold each of `needles`.
+fn refused(message: &str, needles: &[String], started: Instant) -> Outcome {
+    let missing: Vec<&String> = needles.iter().filter(|n| !message.contains(*n)).collect();
+    outcome(
+        missing.is_empty(),
+        format!(
+            "refused in {:.2} s: {message}{}",
+            started.elapsed().as_secs_f64(),
+            if missing.is_empty() {
+                String::new()
+            } else {
+                format!(" (missing {missing:?})")
+            }
+        ),
+    )
+}
+
 /// The safety guarantees (everything but arrival) all held ([`harmonav_sim::summary::Summary::safe`]).
 fn safe(s: &harmonav_sim::summary::Summary) -> Result<(), String> {
     match s.first_unsafe() {
@@ -92,25 +110,25 @@ fn safe(s: &harmonav_sim::summary::Summary) -> Result<(), String> {
 fn run_case(case: &Case) -> Outcome {
     let path = folder().join(&case.file);
     let started = Instant::now();
+    // A floor plan is loaded as `check` loads it; its cases are errors or loads only.
+    if FileKind::of(&path).map_err(|e| e.to_string())? == FileKind::FloorPlan {
+        if !matches!(case.command, Command::Check) {
+            return Err("a floor plan's case must be a `check`".into());
+        }
+        return match (FloorScenario::load(&path), &case.error) {
+            (Ok(_), Some(_)) => Err("loaded, but must be refused".into()),
+            (Ok(_), None) => outcome(true, "loads".into()),
+            (Err(e), Some(needles)) => refused(&e.to_string(), needles, started),
+            (Err(e), None) => Err(format!("must load: {e}")),
+        };
+    }
     let loaded = Scenario::load(&path);
     if let Some(needles) = &case.error {
         let message = match loaded {
             Ok(_) => return Err("loaded, but must be refused".into()),
             Err(e) => e.to_string(),
         };
-        let missing: Vec<&String> = needles.iter().filter(|n| !message.contains(*n)).collect();
-        return outcome(
-            missing.is_empty(),
-            format!(
-                "refused in {:.2} s: {message}{}",
-                started.elapsed().as_secs_f64(),
-                if missing.is_empty() {
-                    String::new()
-                } else {
-                    format!(" (missing {missing:?})")
-                }
-            ),
-        );
+        return refused(&message, needles, started);
     }
     let prepared = loaded.map_err(|e| format!("must load: {e}"))?;
     let expected = case.outcome.as_deref().unwrap_or("reached");

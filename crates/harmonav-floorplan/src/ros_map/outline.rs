@@ -12,7 +12,7 @@ use geo::{
 /// How many times the simplification is retried with half the tolerance when its result is not
 /// a valid polygon (geo's Visvalingam–Whyatt variant preserves the topology of each ring but
 /// does not promise a valid polygon); after that the outline is kept unsimplified.
-const SIMPLIFY_RETRIES: usize = 4;
+const SIMPLIFY_RETRIES: usize = 64;
 
 /// The outline of the `true` pixels of `mask` (`width × height`, row 0 at the top): marching
 /// squares at level ½ on the 0/1 indicator sampled at the pixel centres, with a one-pixel
@@ -60,7 +60,9 @@ pub(crate) fn containing(mp: MultiPolygon<f64>, p: Point<f64>) -> Option<Polygon
 /// each removal changing the enclosed area by that triangle's area, so
 /// `|ΔA| ≤ (vertices removed)·epsilon`. Holes that would end with fewer than 3 distinct
 /// vertices are kept as they were. If the result is not a valid polygon the tolerance is halved
-/// ([`SIMPLIFY_RETRIES`] times), then the polygon is returned unsimplified.
+/// until it is (at most [`SIMPLIFY_RETRIES`] times: a tolerance far beyond the map's size comes
+/// down to the largest one that keeps the polygon valid), then the polygon is returned
+/// unsimplified.
 pub(crate) fn simplify(poly: &Polygon<f64>, epsilon: f64) -> Polygon<f64> {
     let mut eps = epsilon;
     for _ in 0..=SIMPLIFY_RETRIES {

@@ -1,10 +1,20 @@
 //! The map_server YAML keys, read with yaml-rust2 (a pure-Rust YAML 1.2 parser) and checked one
 //! by one, so that every error names its key.
 
+use yaml_rust2::parser::{Event, EventReceiver, Parser};
 use yaml_rust2::{Yaml, YamlLoader};
 
 use super::MapMode;
 use super::error::MapProblem;
+
+/// Whether the parser met an alias.
+struct Aliases(bool);
+
+impl EventReceiver for Aliases {
+    fn on_event(&mut self, ev: Event) {
+        self.0 |= matches!(ev, Event::Alias(_));
+    }
+}
 
 /// The YAML keys of a map_server map, validated.
 #[derive(Clone, Debug, PartialEq)]
@@ -94,6 +104,18 @@ pub(crate) fn parse(text: &str) -> Result<MapYaml, MapProblem> {
             text.len()
         )));
     }
+    // Guard: the loader expands every alias in place, so nested aliases ("billion laughs")
+    // of a few hundred bytes grow without bound. A map_server YAML has none: they are
+    // refused from the parser's events, before anything is built.
+    let mut aliases = Aliases(false);
+    Parser::new_from_str(text)
+        .load(&mut aliases, true)
+        .map_err(|e| MapProblem::Yaml(e.to_string()))?;
+    if aliases.0 {
+        return Err(MapProblem::Yaml(
+            "anchors and aliases (`*name`) are not supported in a map's YAML".into(),
+        ));
+    }
     let docs = YamlLoader::load_from_str(text).map_err(|e| MapProblem::Yaml(e.to_string()))?;
     let doc = match docs.first() {
         Some(d @ Yaml::Hash(_)) => d,
@@ -175,6 +197,24 @@ mod tests {
         assert_eq!(m.mode, MapMode::Raw);
         let m = parse(&GOOD.replace("negate: 0", "negate: true")).unwrap();
         assert!(m.negate);
+    }
+
+    /// Nested aliases ("billion laughs": nine levels of ten, 10⁹ scalars once expanded, in
+    /// 300 bytes) are refused before the loader expands them; a plain anchor with its alias
+    /// too, as a map has no use for them.
+    #[test]
+    fn aliases_are_refused_before_they_are_expanded() {
+        let mut laughs = String::from("a: &a [x,x,x,x,x,x,x,x,x,x]\n");
+        for (prev, name) in "abcdefgh".chars().zip("bcdefghi".chars()) {
+            let refs = vec![format!("*{prev}"); 10].join(",");
+            laughs.push_str(&format!("{name}: &{name} [{refs}]\n"));
+        }
+        for text in [format!("{laughs}{GOOD}"), format!("{GOOD}x: &r 1\ny: *r\n")] {
+            let e = parse(&text).unwrap_err();
+            assert!(e.to_string().contains("aliases"), "{e}");
+        }
+        // An anchor alone is harmless and allowed.
+        assert!(parse(&format!("{GOOD}x: &r 1\n")).is_ok());
     }
 
     /// Each wrong file names its key.
