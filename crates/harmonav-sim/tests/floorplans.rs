@@ -90,9 +90,9 @@ fn bad_floor_plans_name_the_file_field_and_problem() {
     let square = "outer = [[0.0, 0.0], [4.0, 0.0], [4.0, 4.0], [0.0, 4.0]]";
     let robot = "start = [1.0, 1.0]\ngoal = [3.0, 3.0]";
     check(
-        // A parse error: the file and its line (the `centre` line) name the field.
+        // A parse error: the file, its line (the `centre` line) and the field.
         &good(&format!("{square}\ncentre = \"middle\""), robot),
-        "",
+        "floor_plan.centre",
         "unknown disk centre policy \"middle\": expected \"solve\" or \"goal\"",
     );
     let e = FloorScenario::parse(
@@ -130,12 +130,12 @@ fn bad_floor_plans_name_the_file_field_and_problem() {
     check(
         &good(&format!("{square}\nmax_element = -1.0"), robot),
         "floor_plan.max_element",
-        "positive",
+        "in (0, 1e9] m, got -1e0",
     );
     check(
         &good(square, &format!("{robot}\nradius = -0.1")),
         "robot.radius",
-        "≥ 0",
+        "in [0, 1e9] m",
     );
     let obstacle = "\n[[obstacles]]\ntype = \"circle\"\ncenter = [0.3, 2.0]\nradius = 0.2\n";
     check(

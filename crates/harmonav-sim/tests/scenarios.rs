@@ -203,7 +203,7 @@ fn margin_policy_and_limit_errors_name_the_field_and_the_reason() {
     let goal = "goal = [3.0, 0.0]";
     for bad in ["-0.1", "nan", "inf"] {
         let to = format!("{goal}\nmargin = {bad}");
-        check(goal, &to, "robot.margin", "finite and ≥ 0", None);
+        check(goal, &to, "robot.margin", "finite and in [0, 1e9] m", None);
     }
     // A (r = 1 at the origin) and B (0.3 below y = 2.5) are 1.2 m apart.
     check(
