@@ -560,50 +560,17 @@ impl FloorNavigator {
     pub fn options(&self) -> &Options {
         &self.options
     }
+
+    /// `|ẋ(T_n)|`, the speed at the latest discovery that the dynamic law's switched damping
+    /// `(m/d_min)|ẋ(T_n)|` uses (eq. `dissipationfun`), lifted by a recovery
+    /// ([`FloorNavigator::command`]).
+    pub fn discovery_speed(&self) -> f64 {
+        self.speed_at_discovery
+    }
 }
 
 impl From<FloorError> for NavError {
     fn from(e: FloorError) -> Self {
         Self::Floor(e)
-    }
-}
-
-#[cfg(test)]
-mod recovery_tests {
-    use harmonav_floorplan::FloorOptions;
-
-    use super::*;
-
-    /// As [`crate::Navigator`]'s: a dynamic robot at rest in the walls' layer of an L room
-    /// (`δ = 0.1` m, 5 cm from the shrunk wall) gets a recovery, which lifts the discovery
-    /// speed from 0 to the speed `|v⁺|` the command gives; a kinematic robot's is left alone.
-    #[test]
-    fn a_recovery_lifts_the_discovery_speed() {
-        let v = Vector2::new;
-        let room = vec![
-            v(0.0, 0.0),
-            v(4.0, 0.0),
-            v(4.0, 1.5),
-            v(1.5, 1.5),
-            v(1.5, 4.0),
-            v(0.0, 4.0),
-        ];
-        let floor = Arc::new(FloorMap::new(room, vec![], &FloorOptions::new(0.1, 0.2)).unwrap());
-        let x = v(2.5, 0.15);
-        for law in [Law::dynamic(1.0, 10.0), Law::kinematic(1.0)] {
-            let options = Options::default().with_robot(0.1, 0.1);
-            let mut nav = FloorNavigator::new(floor.clone(), v(0.75, 3.3), law, options).unwrap();
-            assert_eq!(nav.speed_at_discovery, 0.0);
-            let c = nav.command(x, Vector2::zeros()).unwrap();
-            assert_eq!(c.mode, Mode::Recovering(Band::Boundary));
-            match law {
-                Law::Dynamic { mass, .. } => {
-                    let v_next = (nav.period / mass) * c.value;
-                    assert!(v_next.norm() > 0.0);
-                    assert_eq!(nav.speed_at_discovery, v_next.norm());
-                }
-                Law::Kinematic { .. } => assert_eq!(nav.speed_at_discovery, 0.0),
-            }
-        }
     }
 }

@@ -479,6 +479,13 @@ impl Navigator {
     pub fn options(&self) -> &Options {
         &self.options
     }
+
+    /// `|ẋ(T_n)|`, the speed at the latest discovery that the dynamic law's switched damping
+    /// `(m/d_min)|ẋ(T_n)|` uses (eq. `dissipationfun`), lifted by a recovery
+    /// ([`Navigator::command`]).
+    pub fn discovery_speed(&self) -> f64 {
+        self.speed_at_discovery
+    }
 }
 
 #[cfg(test)]

@@ -97,3 +97,26 @@ fn a_disc_touching_a_wall_gets_no_command() {
         NavError::OutsideBoundary
     );
 }
+
+/// As [`harmonav::Navigator`]'s: a dynamic robot at rest in the walls' layer (5 cm from the
+/// shrunk wall, `δ = 0.1` m) gets a recovery, which lifts the discovery speed from 0 to the
+/// speed `|v⁺| = |(h/m)·f|` the command gives; a kinematic robot's is left alone.
+#[test]
+fn a_recovery_lifts_the_discovery_speed() {
+    let (h, x) = (0.01, v(2.5, 0.15));
+    for law in [Law::dynamic(1.0, 10.0), Law::kinematic(1.0)] {
+        let options = Options::default()
+            .with_robot(0.1, 0.1)
+            .with_control_period(h);
+        let mut nav = FloorNavigator::new(floor(), v(0.75, 3.3), law, options).unwrap();
+        assert_eq!(nav.discovery_speed(), 0.0);
+        let c = nav.command(x, Vector2::zeros()).unwrap();
+        assert_eq!(c.mode, Mode::Recovering(Band::Boundary));
+        let lifted = match law {
+            Law::Dynamic { mass, .. } => (h / mass) * c.value.norm(),
+            Law::Kinematic { .. } => 0.0,
+        };
+        assert!(lifted > 0.0 || matches!(law, Law::Kinematic { .. }));
+        assert_eq!(nav.discovery_speed(), lifted, "{law:?}");
+    }
+}
