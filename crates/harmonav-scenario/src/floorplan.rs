@@ -249,15 +249,45 @@ fn placed(
     Ok(())
 }
 
+/// Whether `p` lies below the certified level `c_δ` (`floor_plan.require_certified_start`), so
+/// that its sublevel set stays inside `W_δ`; else why not.
+fn below_level(field: &FloorField, level: &LayerLevel, p: Vector2<f64>) -> Result<(), String> {
+    match field.eval(p) {
+        Ok(e) if level.holds(e.phi) => Ok(()),
+        Ok(e) => Err(format!(
+            "{p:?} has Θ = {:.6} (phi_k {:.4}), not below c_δ = {:.6} (phi_k {:.4}), the \
+             certified least Θ on the edge of the certified region: its sublevel set reaches \
+             that edge, so its convergence is not certified \
+             (floor_plan.require_certified_start = true; without it the hold still keeps \
+             every step clear)",
+            e.value,
+            e.phi,
+            level.certified(),
+            level.phi_certified
+        )),
+        Err(e) => Err(format!("{p:?}: Θ cannot be evaluated: {e}")),
+    }
+}
+
 impl FloorPrepared {
-    /// Whether `start` may start a run, as `robot.start` must: in the certified region `W_δ`
-    /// and clear of every true obstacle grown by radius + margin; else the problem.
+    /// Whether `start` may start a run, as `robot.start` must: in the certified region `W_δ`,
+    /// clear of every true obstacle grown by radius + margin, and, with
+    /// `floor_plan.require_certified_start`, below `c_δ`; else the problem.
     ///
     /// # Errors
     /// What is wrong with `start`, in words.
     pub fn check_start(&self, start: Vector2<f64>) -> Result<(), String> {
         let r = &self.scenario.robot;
-        placed(&self.floor, &self.obstacles, r.radius + r.margin, start)
+        placed(&self.floor, &self.obstacles, r.radius + r.margin, start)?;
+        match &self.level {
+            None => Ok(()),
+            Some(level) => {
+                let field =
+                    FloorField::new(self.floor.clone(), v(r.goal), harmonav::KPolicy::default())
+                        .map_err(|e| format!("Θ cannot be built: {e}"))?;
+                below_level(&field, level, start)
+            }
+        }
     }
 
     /// `c_δ` over the walls (the level `floor_plan.require_certified_start` computed, or
@@ -328,30 +358,16 @@ impl FloorScenario {
         let f = |field: &str, problem: String| err(path, field, None, problem);
         let r = &self.robot;
         for (name, value) in [("robot.radius", r.radius), ("robot.margin", r.margin)] {
-            if !(value.is_finite() && (0.0..=harmonav_transform::MAX_LENGTH).contains(&value)) {
-                return Err(f(
-                    name,
-                    format!(
-                        "must be finite and in [0, {:e}] m, got {value:e}",
-                        harmonav_transform::MAX_LENGTH
-                    ),
-                ));
-            }
+            crate::scenario::length(value).map_err(|p| f(name, p))?;
         }
         // Both laws' parameters, whichever the file names: a run may take the other
         // (`--model`), and the navigator would refuse them there without the file's names.
-        let (lo, hi) = crate::scenario::PARAMETER_RANGE;
         for (name, value) in [
             ("robot.gain", r.gain),
             ("robot.mass", r.mass),
             ("robot.mu", r.mu),
         ] {
-            if !(value.is_finite() && (lo..=hi).contains(&value)) {
-                return Err(f(
-                    name,
-                    format!("must be finite and in [{lo:e}, {hi:e}], got {value:e}"),
-                ));
-            }
+            crate::scenario::parameter(value).map_err(|p| f(name, p))?;
         }
         let h = self.floor_plan.max_element;
         if !(h.is_finite() && h > 0.0 && h <= harmonav_transform::MAX_LENGTH) {
@@ -404,7 +420,9 @@ impl FloorScenario {
             }
             obstacles.push(shape);
         }
-        crate::scenario::obstacle_names(&self.obstacles).map_err(|(field, p)| f(&field, p))?;
+        // Unnamed sensed obstacles are shown as `obstacles[i]`, which no name can repeat.
+        crate::scenario::obstacle_names(&self.obstacles, |i| format!("obstacles[{i}]"))
+            .map_err(|(field, p)| f(&field, p))?;
         let plan = &self.floor_plan;
         let clock = std::time::Instant::now();
         let options = FloorOptions::new(h, r.radius + r.margin).with_centre(plan.centre);
@@ -528,21 +546,7 @@ impl FloorScenario {
         };
         let below = |p: Vector2<f64>| match &certified {
             None => Ok(()),
-            Some((field, level)) => match field.eval(p) {
-                Ok(e) if level.holds(e.phi) => Ok(()),
-                Ok(e) => Err(format!(
-                    "{p:?} has Θ = {:.6} (phi_k {:.4}), not below c_δ = {:.6} (phi_k {:.4}), the \
-                     certified least Θ on the edge of the certified region: its sublevel set reaches \
-                     that edge, so its convergence is not certified \
-                     (floor_plan.require_certified_start = true; without it the hold still keeps \
-                     every step clear)",
-                    e.value,
-                    e.phi,
-                    level.certified(),
-                    level.phi_certified
-                )),
-                Err(e) => Err(format!("{p:?}: Θ cannot be evaluated: {e}")),
-            },
+            Some((field, level)) => below_level(field, level, p),
         };
         below(start).map_err(|p| f("robot.start", p))?;
         let mut starts = vec![start];

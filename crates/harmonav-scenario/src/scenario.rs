@@ -380,17 +380,7 @@ impl Scenario {
                 ),
             ));
         }
-        let in_range = |name: &str, v: f64| {
-            let (lo, hi) = PARAMETER_RANGE;
-            if v.is_finite() && (lo..=hi).contains(&v) {
-                Ok(())
-            } else {
-                Err(f(
-                    name,
-                    format!("must be finite and in [{lo:e}, {hi:e}], got {v:e}"),
-                ))
-            }
-        };
+        let in_range = |name: &str, v: f64| parameter(v).map_err(|p| f(name, p));
         if let Some(n) = self.workspace.name() {
             return Err(f(
                 "workspace.name",
@@ -410,21 +400,14 @@ impl Scenario {
             true_obstacles
                 .push(build_shape(o).map_err(|e| f(&format!("obstacles[{i}].{}", e.0), e.1))?);
         }
-        let names = obstacle_names(&self.obstacles).map_err(|(field, p)| f(&field, p))?;
+        let names = obstacle_names(&self.obstacles, |i| format!("O{}", i + 1))
+            .map_err(|(field, p)| f(&field, p))?;
         let r = &self.robot;
         check_point(r.start, "robot.start").map_err(|p| f("robot.start", p))?;
         check_point(r.goal, "robot.goal").map_err(|p| f("robot.goal", p))?;
         in_range("robot.mass", r.mass)?;
         for (name, v) in [("robot.radius", r.radius), ("robot.margin", r.margin)] {
-            if !(v.is_finite() && (0.0..=harmonav_transform::MAX_LENGTH).contains(&v)) {
-                return Err(f(
-                    name,
-                    format!(
-                        "must be finite and in [0, {:e}] m, got {v:e}",
-                        harmonav_transform::MAX_LENGTH
-                    ),
-                ));
-            }
+            length(v).map_err(|p| f(name, p))?;
         }
         // Every shape is offset by the robot radius plus the clearance margin; an error caused by
         // the offset names the field that set it (the margin where there is one) and the value.
@@ -656,20 +639,31 @@ impl Scenario {
                 let no_bound_needed = spec.rho_min.is_none() && self.obstacles.is_empty();
                 let (lo, hi) = PARAMETER_RANGE;
                 if !(no_bound_needed || rho.is_finite() && (lo..=hi).contains(&rho)) {
-                    // Without `sensor.rho_min`, the obstacle whose curvature set it is named.
-                    let sharpest = true_obstacles
+                    // Without `sensor.rho_min`, the obstacle whose curvature set it is named
+                    // (grown by radius + margin, as the default takes it, and as seen by a
+                    // lidar).
+                    let grown = workspace.obstacles().iter().map(|o| (o.rho_min(), true));
+                    let seen = true_obstacles
                         .iter()
-                        .map(StarShape::rho_min)
+                        .filter(|_| lidar)
+                        .map(|o| (o.rho_min(), false));
+                    let sharpest = grown
                         .enumerate()
-                        .min_by(|a, b| a.1.total_cmp(&b.1))
+                        .chain(seen.enumerate())
+                        .min_by(|a, b| a.1.0.total_cmp(&b.1.0))
                         .filter(|_| spec.rho_min.is_none());
                     return Err(match sharpest {
-                        Some((i, r)) => f(
+                        Some((i, (r, grown))) => f(
                             &format!("obstacles[{i}]"),
                             format!(
-                                "its smallest curvature radius {r:e} m is outside [{lo:e}, \
+                                "its smallest curvature radius{} {r:e} m is outside [{lo:e}, \
                                  {hi:e}] m, the range of sensor.rho_min, which defaults to it; \
-                                 give sensor.rho_min, or round the shape"
+                                 give sensor.rho_min, or round the shape",
+                                if grown {
+                                    " (grown by robot.radius + robot.margin)"
+                                } else {
+                                    ""
+                                }
                             ),
                         ),
                         None => f(
@@ -764,15 +758,37 @@ pub fn read_text(path: &Path) -> Result<String, ScenarioError> {
     Ok(text)
 }
 
-/// The obstacles' names (`O1`, `O2`, … where none is given), or the field of the first
-/// name used twice and the problem.
-pub(crate) fn obstacle_names(obstacles: &[ShapeSpec]) -> Result<Vec<String>, (String, String)> {
+/// A physical parameter (`robot.mass`, a gain, `μ`, …): finite and in
+/// [`PARAMETER_RANGE`]; else the problem.
+pub(crate) fn parameter(v: f64) -> Result<(), String> {
+    let (lo, hi) = PARAMETER_RANGE;
+    if v.is_finite() && (lo..=hi).contains(&v) {
+        Ok(())
+    } else {
+        Err(format!("must be finite and in [{lo:e}, {hi:e}], got {v:e}"))
+    }
+}
+
+/// A length of the robot (`robot.radius`, `robot.margin`): finite and in `[0, MAX_LENGTH]` m;
+/// else the problem.
+pub(crate) fn length(v: f64) -> Result<(), String> {
+    let hi = harmonav_transform::MAX_LENGTH;
+    if v.is_finite() && (0.0..=hi).contains(&v) {
+        Ok(())
+    } else {
+        Err(format!("must be finite and in [0, {hi:e}] m, got {v:e}"))
+    }
+}
+
+/// The obstacles' names (`unnamed(i)` where none is given: `O1`, `O2`, … in a star world,
+/// as its outputs show them), or the field of the first name used twice and the problem.
+pub(crate) fn obstacle_names(
+    obstacles: &[ShapeSpec],
+    unnamed: impl Fn(usize) -> String,
+) -> Result<Vec<String>, (String, String)> {
     let mut names: Vec<String> = Vec::with_capacity(obstacles.len());
     for (i, o) in obstacles.iter().enumerate() {
-        let name = o
-            .name()
-            .map(str::to_string)
-            .unwrap_or_else(|| format!("O{}", i + 1));
+        let name = o.name().map_or_else(|| unnamed(i), str::to_string);
         if names.contains(&name) {
             return Err((
                 format!("obstacles[{i}].name"),

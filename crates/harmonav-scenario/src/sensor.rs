@@ -19,7 +19,7 @@
 //! (docs/maths.md §12.11): radial hulls (`sensor.shapes`), the free fan (`sensor.free`), the
 //! free evidence of 16 earlier scans (`sensor.free_memory`), and segments fitted once within
 //! `D + 0.5 m` (`sensor.fit_range`; under the kinematic law nearer, the robot's radius and
-//! margin plus three scans at top speed, §12.16).
+//! margin, the noise bound and three scans at top speed, §12.16).
 
 use std::f64::consts::TAU;
 
@@ -75,8 +75,8 @@ pub struct SensorSpec {
     /// scan (docs/maths.md §12.11); the dynamic law's `d_min` then comes from `r_f − D`. When
     /// given it serves both laws and must exceed `D`. Default, at most `range`: `D +`
     /// [`harmonav::FIT_BEYOND_DEPTH`] under the dynamic law, and under the kinematic law the
-    /// robot's radius and margin plus three scans at top speed, if that is nearer (eq.
-    /// fitnear, [`harmonav::Options::recommended_fit_range`], §12.16).
+    /// robot's radius and margin, the noise bound and three scans at top speed (eq. fitnear,
+    /// [`harmonav::Options::recommended_fit_range`], §12.16).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fit_range: Option<f64>,
     /// Lidar: how many earlier scans' free evidence the fits also leave out (eq. memory,
@@ -232,16 +232,16 @@ impl LidarSensor {
     }
 
     /// This lidar for `law`, with the robot of `options` (radius, margin, `v_max`): the fit
-    /// range the file gives, or else [`Options::recommended_fit_range`] for the law and this
-    /// scan period (eq. fitnear, docs/maths.md §12.16: nearer under the kinematic law), at most
-    /// the range.
+    /// range the file gives, or else [`Options::recommended_fit_range`] for the law, this scan
+    /// period and this closest return (eq. fitnear, docs/maths.md §12.16: nearer under the
+    /// kinematic law), at most the range.
     #[must_use]
     pub fn for_law(&self, law: &Law, options: &Options) -> Self {
         let mut lidar = *self;
         if !self.fit_range_given {
             lidar.scan.fit_range = options
                 .with_scan(self.scan)
-                .recommended_fit_range(law, self.period())
+                .recommended_fit_range(law, self.period(), self.lidar.range_min)
                 .min(self.lidar.range_max);
         }
         lidar

@@ -106,7 +106,9 @@ impl<'a> ClosedLoop<'a> {
     }
 
     /// [`Warning::ScansTooSparse`] when the robot's top speed (the kinematic `v_max`, the
-    /// dynamic bound `√(2μ/m)`) over one scan period reaches its fit range less its radius.
+    /// dynamic bound `√(2μ/m)`) over one scan period reaches the room eq. fitnear leaves: the
+    /// fit range less the robot's radius, margin and the noise bound `ε` (a fixed step longer
+    /// than the scan period skips scans, and shortens that room further).
     pub fn scan_warning(&self) -> Option<Warning> {
         let lidar = self.scanner.as_ref()?.sensor();
         let speed = match self.nav.controller() {
@@ -114,7 +116,8 @@ impl<'a> ClosedLoop<'a> {
             Controller::Dynamic(law) => law.speed_bound(),
         };
         let travel = speed * lidar.period();
-        let room = lidar.scan.fit_range - self.truth.radius;
+        let near = (self.truth.radius + self.truth.margin).max(lidar.lidar.range_min);
+        let room = lidar.scan.fit_range - near - lidar.scan.range_noise;
         (travel >= room).then_some(Warning::ScansTooSparse { travel, room })
     }
 

@@ -32,12 +32,12 @@ pub enum Warning {
         scale: f64,
     },
     /// A lidar's scans are so sparse that the robot may cover its fit range, less its radius,
-    /// between two of them (top speed over `sensor.rate_hz`): an obstacle may be reached
-    /// before it is fitted (docs/maths.md §12.16, eq. fitnear).
+    /// margin and the noise bound, between two of them (top speed over `sensor.rate_hz`): an
+    /// obstacle may be reached before it is fitted (docs/maths.md §12.16, eq. fitnear).
     ScansTooSparse {
         /// The most the robot moves between two scans, m.
         travel: f64,
-        /// The fit range less the robot's radius, m.
+        /// The fit range less the robot's radius, margin and the noise bound, m.
         room: f64,
     },
 }
@@ -68,8 +68,8 @@ impl std::fmt::Display for Warning {
             Self::ScansTooSparse { travel, room } => write!(
                 f,
                 "the robot may move {travel:.3e} m between two lidar scans, at least its fit range \
-                 less its radius ({room:.3e} m): an obstacle may be reached before it is fitted; \
-                 raise sensor.rate_hz"
+                 less its radius, margin and noise bound ({room:.3e} m): an obstacle may be \
+                 reached before it is fitted; raise sensor.rate_hz or sensor.range"
             ),
         }
     }

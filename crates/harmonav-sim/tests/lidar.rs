@@ -162,10 +162,12 @@ fn the_wall_prior_defaults_to_the_truths_gap() {
 }
 
 /// Eq. fitnear (docs/maths.md §12.16): without `sensor.fit_range` the kinematic law fits an
-/// obstacle only within `r + m + 3·v_max·T` (here `3·√2·0.1` m), the dynamic law within
-/// `D + 0.5`; a file's own `fit_range` serves both. In the paper's world the kinematic robot
-/// then perceives only the obstacles it comes near, fewer than with `D + 0.5`, every one while
-/// it stands outside its margin, and still arrives with every guarantee.
+/// obstacle only within `max(r + m, r_min) + ε + 3·v_max·T` (here a point robot:
+/// `0.05 + 0.02 + 3·√2·0.1` m), the dynamic law within `D + 0.5`; a file's own `fit_range`
+/// serves both. In the paper's world the kinematic robot then perceives only the obstacles it
+/// comes near, fewer than with `D + 0.5`, every one while it stands outside its margin, and
+/// still arrives with every guarantee; at 100 Hz too, where `r + m + 3·v_max·T` alone would lie
+/// below the closest return and nothing would ever be fitted.
 #[test]
 fn the_kinematic_law_fits_only_what_it_comes_near() {
     use harmonav::{Law, Options};
@@ -177,10 +179,8 @@ fn the_kinematic_law_fits_only_what_it_comes_near() {
     let depth = l.scan.max_obstacle_depth;
     let options = Options::default();
     let kinematic = l.for_law(&Law::kinematic(1.0), &options).scan.fit_range;
-    assert!(
-        (kinematic - 3.0 * 2f64.sqrt() * 0.1).abs() < 1e-12,
-        "{kinematic}"
-    );
+    let expected = 0.05 + 0.02 + 3.0 * 2f64.sqrt() * 0.1;
+    assert!((kinematic - expected).abs() < 1e-12, "{kinematic}");
     let dynamic = l.for_law(&Law::dynamic(1.0, 2.0), &options).scan.fit_range;
     assert_eq!(dynamic, depth + harmonav::FIT_BEYOND_DEPTH);
 
@@ -212,6 +212,8 @@ fn the_kinematic_law_fits_only_what_it_comes_near() {
         far.perceived
     );
     assert!(near.min_event_clearance.unwrap() > 0.0, "{near:?}");
+    let fast = perceived(&text.replacen("rate_hz = 10.0", "rate_hz = 100.0", 1));
+    assert!(fast.perceived > 0 && fast.seen_points > 0, "{fast:?}");
 }
 
 /// A lidar so slow that the robot may cover its fit range between two scans is warned about

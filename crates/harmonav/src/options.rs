@@ -202,21 +202,26 @@ impl Options {
         Self { hold, ..self }
     }
 
-    /// The recommended [`ScanOptions::fit_range`] `r_f` for `law` with scans every
-    /// `scan_period` s (docs/maths.md §12.11, §12.16):
+    /// The recommended [`ScanOptions::fit_range`] `r_f` for `law`, with scans every
+    /// `scan_period` s from a lidar whose closest return is `range_min` m (docs/maths.md
+    /// §12.11, §12.16):
     ///
     /// ```text
-    /// dynamic:    r_f = D + FIT_BEYOND_DEPTH                      (d_min = r_f − D, §12.11)
-    /// kinematic:  r_f = min(D + FIT_BEYOND_DEPTH, r + m + FIT_SCANS_AHEAD·v_max·T)  (eq. fitnear)
+    /// dynamic:    r_f = D + FIT_BEYOND_DEPTH                        (d_min = r_f − D, §12.11)
+    /// kinematic:  r_f = max(r + m, r_min) + ε + FIT_SCANS_AHEAD·v_max·T            (eq. fitnear)
     /// ```
     ///
-    /// `r + m` the robot's radius and margin, `v_max` the kinematic law's top speed, `T` the
-    /// scan period. The kinematic law uses no `d_min`: an obstacle need only be fitted before
-    /// the robot can reach it, and between two scans the robot moves at most `v_max·T`; an
-    /// obstacle fitted from nearer is seen wider, with more free space left out, and one the
-    /// robot never comes near is never fitted.
+    /// `r + m` the robot's radius and margin, `ε` the noise bound
+    /// ([`ScanOptions::range_noise`]), `v_max` the kinematic law's top speed, `T` the scan
+    /// period, `r_min` the closest return (a hit never reads nearer, so a fit range below
+    /// `r_min + ε` would fit nothing). The kinematic law uses no `d_min`: an obstacle need only
+    /// be fitted before the robot can come within its margin of it, and between two scans the
+    /// robot moves at most `v_max·T`; an obstacle fitted from nearer is seen wider, with more
+    /// free space left out, and one the robot never comes near is never fitted. The result may
+    /// exceed the lidar's range when scans are sparse: the robot then outruns its lidar, and
+    /// should slow down or scan faster.
     #[must_use]
-    pub fn recommended_fit_range(&self, law: &Law, scan_period: f64) -> f64 {
+    pub fn recommended_fit_range(&self, law: &Law, scan_period: f64, range_min: f64) -> f64 {
         let far = self.scan.max_obstacle_depth + FIT_BEYOND_DEPTH;
         match *law {
             Law::Dynamic { .. } => far,
@@ -226,9 +231,10 @@ impl Options {
                         .ok()
                         .map(|k| k.v_max())
                 });
+                let near = (self.radius + self.margin).max(range_min) + self.scan.range_noise;
                 match v_max {
                     Some(v) if (v * scan_period).is_finite() => {
-                        far.min(self.radius + self.margin + FIT_SCANS_AHEAD * v * scan_period)
+                        near + FIT_SCANS_AHEAD * v * scan_period
                     }
                     _ => far,
                 }
@@ -397,27 +403,30 @@ mod tests {
     }
 
     /// Eq. fitnear: `D + 0.5` under the dynamic law; under the kinematic law the robot's
-    /// radius and margin plus three scans at top speed (`K√2`, or `v_max`), never beyond
-    /// `D + 0.5`.
+    /// radius and margin (or the closest return, if farther) and the noise bound, plus three
+    /// scans at top speed (`K√2`, or `v_max`).
     #[test]
     fn the_recommended_fit_range_is_nearer_for_the_kinematic_law() {
         let options = Options::default()
             .with_robot(0.1, 0.05)
             .with_scan(ScanOptions {
                 max_obstacle_depth: 1.2,
+                range_noise: 0.02,
                 ..ScanOptions::default()
             });
-        let dynamic = options.recommended_fit_range(&Law::dynamic(1.0, 2.0), 0.1);
+        let dynamic = options.recommended_fit_range(&Law::dynamic(1.0, 2.0), 0.1, 0.05);
         assert_eq!(dynamic, 1.7);
-        let kinematic = options.recommended_fit_range(&Law::kinematic(2.0), 0.1);
-        assert!((kinematic - (0.15 + 3.0 * 2.0 * 2f64.sqrt() * 0.1)).abs() < 1e-12);
+        let kinematic = options.recommended_fit_range(&Law::kinematic(2.0), 0.1, 0.05);
+        let expected = 0.15 + 0.02 + 3.0 * 2.0 * 2f64.sqrt() * 0.1;
+        assert!((kinematic - expected).abs() < 1e-12, "{kinematic}");
         let capped = options.with_v_max(0.5);
-        let kinematic = capped.recommended_fit_range(&Law::kinematic(2.0), 0.1);
-        assert!((kinematic - 0.3).abs() < 1e-12, "{kinematic}");
-        // A slow scan rate: never farther than the dynamic law's.
-        assert_eq!(
-            options.recommended_fit_range(&Law::kinematic(2.0), 1.0),
-            1.7
-        );
+        let kinematic = capped.recommended_fit_range(&Law::kinematic(2.0), 0.1, 0.05);
+        assert!((kinematic - 0.32).abs() < 1e-12, "{kinematic}");
+        // A point robot on a fast lidar: never below the closest return and the noise.
+        let point = options.with_robot(0.0, 0.0);
+        let fast = point.recommended_fit_range(&Law::kinematic(1.0), 1e-3, 0.05);
+        assert!(fast > 0.05 + 0.02, "{fast}");
+        // Sparse scans: beyond the dynamic law's, as the robot's travel asks.
+        assert!(options.recommended_fit_range(&Law::kinematic(2.0), 1.0, 0.05) > 1.7);
     }
 }

@@ -5,8 +5,8 @@
 use contour::ContourBuilder;
 use geo::orient::{Direction, Orient};
 use geo::{
-    Area, BooleanOps, Buffer, Contains, Coord, LineString, MultiPolygon, Point, Polygon,
-    SimplifyVwPreserve, Validation,
+    Area, BooleanOps, BoundingRect, Buffer, Contains, Coord, LineString, MultiPolygon, Point,
+    Polygon, SimplifyVwPreserve, Validation,
 };
 
 /// How many times the simplification is retried with half the tolerance when its result is not
@@ -64,7 +64,12 @@ pub(crate) fn containing(mp: MultiPolygon<f64>, p: Point<f64>) -> Option<Polygon
 /// down to the largest one that keeps the polygon valid), then the polygon is returned
 /// unsimplified.
 pub(crate) fn simplify(poly: &Polygon<f64>, epsilon: f64) -> Polygon<f64> {
-    let mut eps = epsilon;
+    // No triangle of three vertices is larger than half the bounding box: a larger tolerance
+    // (`1e300`) removes no more, so the halving starts from there.
+    let bound = poly
+        .bounding_rect()
+        .map_or(0.0, |r| 0.5 * r.width() * r.height());
+    let mut eps = epsilon.min(bound);
     for _ in 0..=SIMPLIFY_RETRIES {
         if eps <= 0.0 {
             break;

@@ -437,7 +437,11 @@ impl LidarSuite {
                 .with_robot(radius, 0.0);
                 // The law's own fit range (eq. fitnear): nearer under the kinematic law.
                 options.scan.fit_range = self.fit_range.unwrap_or_else(|| {
-                    options.recommended_fit_range(&self.law, self.h * self.scan_every as f64)
+                    options.recommended_fit_range(
+                        &self.law,
+                        self.h * self.scan_every as f64,
+                        self.lidar.range_min,
+                    )
                 });
                 let f = fly_lidar(
                     &world,
