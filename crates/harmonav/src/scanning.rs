@@ -79,8 +79,9 @@ pub const DEFAULT_FREE_MEMORY: usize = 16;
 pub const FIT_BEYOND_DEPTH: f64 = 0.5;
 
 /// Scan periods of travel at top speed that the kinematic law's recommended fit range keeps
-/// beyond the robot's radius and margin (eq. fitnear, docs/maths.md §12.16): an obstacle is
-/// fitted at least this many scans before the robot could touch it.
+/// beyond the robot's radius and margin (or the lidar's closest return) and the noise bound
+/// (eq. fitnear, docs/maths.md §12.16): an obstacle is fitted at least two scans before the
+/// robot could come within its margin of it, with one scan to spare for dropouts.
 pub const FIT_SCANS_AHEAD: f64 = 3.0;
 
 impl Default for ScanOptions {
