@@ -164,6 +164,9 @@ class Navigator:
     @property
     def perceived(self) -> List[Tuple[int, Shape]]:
         """The perceived shapes (not grown) as ``(index among the obstacles, star)`` pairs."""
+    @property
+    def obstacles(self) -> List[Shape]:
+        """The perceived shapes (not grown), in order: ``perceived`` without the indices."""
     def add_obstacle(self, shape: Shape) -> int:
         """Adds a newly sensed obstacle; returns its index. ``ValueError`` leaves the navigator unchanged."""
     def command(self, x: _Point, v: Optional[_Point] = None) -> npt.NDArray[np.float64]:

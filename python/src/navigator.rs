@@ -431,6 +431,16 @@ impl Navigator {
             .collect()
     }
 
+    /// The perceived shapes (from scans, not grown) in the navigator's order: `perceived`
+    /// without the indices, each a `star` with `signed_distance` and `contains`.
+    #[getter]
+    fn obstacles(&self) -> Vec<Shape> {
+        self.inner
+            .perceived()
+            .map(|(_, p)| from_perceived(p))
+            .collect()
+    }
+
     /// `Θ(x)` over the known obstacles (finite, or `ValueError` as `command`).
     fn theta(&self, x: &Bound<'_, PyAny>) -> PyResult<f64> {
         let theta = self.inner.theta(point_like(x, "x")?).map_err(nav_error)?;

@@ -65,7 +65,8 @@ def test_a_scan_adds_shapes_that_contain_the_seen_truth():
     assert u.changed and u.added and not u.grown and not u.absorbed
     assert u.hits > 0 and u.explained > 0 and u.event_clearance > 0.5
     assert nav.obstacle_count == len(u.added) and nav.k != k0
-    shapes = [s for _, s in nav.perceived]
+    shapes = nav.obstacles
+    assert [s.center.tolist() for s in shapes] == [s.center.tolist() for _, s in nav.perceived]
     seen = [pts for pts in truth_boundary() if any(s.contains(pts.mean(axis=0)) for s in shapes)]
     assert seen, "the near disc is seen"
     for pts in seen:
