@@ -21,6 +21,15 @@ fn load(name: &str) -> Prepared {
     Scenario::load(&file(name)).unwrap()
 }
 
+/// The paper's lidar world with its text edited (errors name the suite file).
+fn paper_world_with(text: &str) -> Prepared {
+    let path = file("lidar/paper-world.toml");
+    Scenario::parse(&path, text)
+        .unwrap()
+        .prepare(&path)
+        .unwrap()
+}
+
 fn guarantee(s: &Summary, kind: Kind) -> bool {
     s.guarantees
         .iter()
@@ -150,11 +159,7 @@ fn the_wall_prior_defaults_to_the_truths_gap() {
     let text = std::fs::read_to_string(file("lidar/paper-world.toml"))
         .unwrap()
         .replacen("seed = 1", "seed = 1\nwall_gap = 0.25", 1);
-    let path = file("lidar/paper-world.toml");
-    let p = Scenario::parse(&path, &text)
-        .unwrap()
-        .prepare(&path)
-        .unwrap();
+    let p = paper_world_with(&text);
     let Sensor::Lidar(l) = &p.truth.sensor else {
         panic!("a lidar")
     };
@@ -185,12 +190,7 @@ fn the_kinematic_law_fits_only_what_it_comes_near() {
     assert_eq!(dynamic, depth + harmonav::FIT_BEYOND_DEPTH);
 
     let perceived = |text: &str| {
-        let path = file("lidar/paper-world.toml");
-        let p = Scenario::parse(&path, text)
-            .unwrap()
-            .prepare(&path)
-            .unwrap();
-        let s = run(&p, None).unwrap().summary;
+        let s = run(&paper_world_with(text), None).unwrap().summary;
         let failed: Vec<_> = s.guarantees.iter().filter(|g| !g.passed).collect();
         assert!(s.reached && failed.is_empty(), "{failed:?}");
         s.perception.unwrap()
@@ -222,12 +222,9 @@ fn the_kinematic_law_fits_only_what_it_comes_near() {
 #[test]
 fn scans_too_sparse_for_the_fit_range_are_warned_about() {
     let sparse = |text: &str| {
-        let path = file("lidar/paper-world.toml");
-        let p = Scenario::parse(&path, text)
+        let s = simulate(&paper_world_with(text), None, Physics::Builtin)
             .unwrap()
-            .prepare(&path)
-            .unwrap();
-        let s = simulate(&p, None, Physics::Builtin).unwrap().summary;
+            .summary;
         s.warnings
             .iter()
             .any(|w| w.to_string().contains("between two lidar scans"))
