@@ -111,9 +111,19 @@ impl FloorField {
     pub fn with_obstacle(&self, obstacle: StarShape) -> Result<Self, FloorError> {
         let mut all: Vec<StarShape> = self.transform.obstacles().cloned().collect();
         all.push(obstacle);
+        self.with_sensed(&all)
+    }
+
+    /// The same field with the sensed obstacles `obstacles` (grown) in place of its own (a
+    /// scan that grew, merged or added perceived shapes); `k` and the bands update, `H` and
+    /// the shortest path's map are reused. `self` is unchanged on error.
+    ///
+    /// # Errors
+    /// As [`FloorTransform::new`].
+    pub fn with_sensed(&self, obstacles: &[StarShape]) -> Result<Self, FloorError> {
         let field = Self::with_obstacles(
             self.transform.floor().clone(),
-            &all,
+            obstacles,
             self.transform.goal(),
             self.policy,
         )?;

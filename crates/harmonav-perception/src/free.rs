@@ -44,11 +44,13 @@
 //! `O ⊂ Y \ R`: the claim `O ⊂ F` stands.
 
 use std::f64::consts::{PI, TAU};
+use std::sync::Arc;
 
 use harmonav_transform::StarShape;
 use nalgebra::Vector2;
 
 use crate::scan::{LaserScan, Pose, Reading};
+use crate::walls::Walls;
 
 /// `C/(2ρ_min)`: how close to `2ρ_min` a chord of the fan may come.
 const CHORD_FRACTION: f64 = 0.999;
@@ -72,13 +74,25 @@ struct Wedge {
     depth: f64,
 }
 
-/// The wall prior's disc `B(c_W, R_W − g_w)` (eq. wallgap).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct WallPrior {
-    /// `c_W`.
-    pub centre: Vector2<f64>,
-    /// `R_W − g_w > 0`, m.
-    pub radius: f64,
+/// The wall prior (eq. wallgap): the set a fit keeps to, whose outside no unknown obstacle
+/// meets. For a star boundary the disc `B(c_W, R_W − g_w)`; for a floor plan's walls
+/// ([`Walls`]) the level set `{sd ≥ g_w}` itself (`g_w = 0`: the free space).
+#[derive(Clone, Debug)]
+pub enum WallPrior {
+    /// `B(c_W, R_W − g_w)` of a star boundary.
+    Disc {
+        /// `c_W`.
+        centre: Vector2<f64>,
+        /// `R_W − g_w > 0`, m.
+        radius: f64,
+    },
+    /// `{sd ≥ g_w}` of known walls, `sd` their signed distance (docs/maths.md §12.17).
+    Level {
+        /// The walls.
+        walls: Arc<Walls>,
+        /// `g_w ≥ 0`, m.
+        gap: f64,
+    },
 }
 
 impl WallPrior {
@@ -87,10 +101,23 @@ impl WallPrior {
     #[must_use]
     pub fn new(boundary: &StarShape, gap: f64) -> Option<Self> {
         let radius = boundary.radius_bounds().1 - gap;
-        (gap > 0.0 && radius > 0.0 && radius.is_finite()).then_some(Self {
+        (gap > 0.0 && radius > 0.0 && radius.is_finite()).then_some(Self::Disc {
             centre: boundary.centre(),
             radius,
         })
+    }
+
+    /// Whether the closed ball `B(x, t)` lies beyond the prior (outside the disc, or in
+    /// `{sd < g_w}`: `sd(x) + t < g_w` by the 1-Lipschitz bound).
+    fn holds_ball_beyond(&self, x: Vector2<f64>, t: f64) -> bool {
+        match self {
+            Self::Disc { centre, radius } => (x - centre).norm() - t > *radius,
+            Self::Level { walls, gap } => {
+                // Quick: a ball farther than the gap from every wall lies on one side.
+                let d = walls.distance(x);
+                d + t < *gap || (d > t && !walls.contains(x))
+            }
+        }
     }
 }
 
@@ -364,13 +391,16 @@ impl FreeSet for FreeSpace {
     /// Conservative: `false` when unsure.
     fn contains_ball(&self, x: Vector2<f64>, t: f64) -> bool {
         self.wall
-            .is_some_and(|w| (x - w.centre).norm() - t > w.radius)
+            .as_ref()
+            .is_some_and(|w| w.holds_ball_beyond(x, t))
             || (x - self.s).norm() + t < self.disc
             || self.fan_contains_ball(x, t)
     }
 
     fn beyond_wall(&self, x: Vector2<f64>) -> bool {
-        self.wall.is_some_and(|w| (x - w.centre).norm() > w.radius)
+        self.wall
+            .as_ref()
+            .is_some_and(|w| w.holds_ball_beyond(x, 0.0))
     }
 
     /// Points of `∂R` (module docs) at spacing at most `h` along it, within `reach` of `near`
@@ -404,30 +434,37 @@ impl FreeSet for FreeSpace {
                 ((x - near).norm() <= reach + h && keep(x)).then_some(x)
             }));
         }
-        if let Some(w) = self.wall
-            && (near - w.centre).norm() + reach + h >= w.radius
-        {
-            let count = ((TAU * w.radius / h).ceil() as usize).max(8);
-            // Only the arc within reach of `near`: the angles about c_W it spans.
-            let v = near - w.centre;
-            let dist = v.norm();
-            let (mid, half) = if dist > 0.0 && dist > reach + h {
-                let c = ((dist * dist + w.radius * w.radius - (reach + h).powi(2))
-                    / (2.0 * dist * w.radius))
-                    .clamp(-1.0, 1.0);
-                (v.y.atan2(v.x), c.acos())
-            } else {
-                (0.0, PI)
-            };
-            let step = TAU / count as f64;
-            let n = (2.0 * half / step).ceil() as usize + 2;
-            for j in 0..=n {
-                let th = mid - half - step + j as f64 * step;
-                let x = w.centre + w.radius * Vector2::new(th.cos(), th.sin());
-                if (x - near).norm() <= reach + h && keep(x) {
-                    out.push(x);
+        match &self.wall {
+            Some(WallPrior::Disc { centre, radius })
+                if (near - centre).norm() + reach + h >= *radius =>
+            {
+                let (centre, radius) = (*centre, *radius);
+                let count = ((TAU * radius / h).ceil() as usize).max(8);
+                // Only the arc within reach of `near`: the angles about c_W it spans.
+                let v = near - centre;
+                let dist = v.norm();
+                let (mid, half) = if dist > 0.0 && dist > reach + h {
+                    let c = ((dist * dist + radius * radius - (reach + h).powi(2))
+                        / (2.0 * dist * radius))
+                        .clamp(-1.0, 1.0);
+                    (v.y.atan2(v.x), c.acos())
+                } else {
+                    (0.0, PI)
+                };
+                let step = TAU / count as f64;
+                let n = (2.0 * half / step).ceil() as usize + 2;
+                for j in 0..=n {
+                    let th = mid - half - step + j as f64 * step;
+                    let x = centre + radius * Vector2::new(th.cos(), th.sin());
+                    if (x - near).norm() <= reach + h && keep(x) {
+                        out.push(x);
+                    }
                 }
             }
+            Some(WallPrior::Level { walls, gap }) => {
+                out.extend(walls.level_samples(*gap, h, near, reach, keep));
+            }
+            _ => {}
         }
         out
     }

@@ -112,6 +112,7 @@ pub mod perception;
 pub mod scan;
 pub mod segment;
 pub mod sim;
+pub mod walls;
 
 pub use fit::{Fit, FitFailure, FitParams, SIDE_BEAMS, fit_in_scan, fit_segment, side_beams};
 pub use free::{FreeEvidence, FreeSet, FreeSpace, FreeUnion, WallPrior, free_radius, sagitta};
@@ -122,3 +123,4 @@ pub use perceived::{
 pub use perception::{Known, Observation, Options, Perception, PerceptionError};
 pub use scan::{LaserScan, MAX_BEAMS, Pose, Reading, ScanError};
 pub use segment::{End, Segment, hit_point, segment};
+pub use walls::{Walls, WallsError};

@@ -12,6 +12,7 @@ use crate::free::{FreeEvidence, FreeSpace, FreeUnion, WallPrior};
 use crate::perceived::{MergeFailure, Perceived, StarForm, merge_clear_of};
 use crate::scan::{LaserScan, Pose, ScanError};
 use crate::segment::{Segment, hit_point, segment};
+use crate::walls::{Walls, WallsError};
 
 /// The most earlier scans' free evidence [`Options::free_memory`] may ask to remember: each
 /// costs its fan's edges in every fit near them.
@@ -238,6 +239,8 @@ pub enum PerceptionError {
     },
     /// A star could not be built.
     Shape(ShapeError),
+    /// The walls could not be built ([`Walls::new`]).
+    Walls(WallsError),
 }
 
 impl fmt::Display for PerceptionError {
@@ -251,7 +254,10 @@ impl fmt::Display for PerceptionError {
                 write!(f, "the sensor pose lies inside known shape {k:?}")
             }
             Self::PoseNotFree { inside: None } => {
-                write!(f, "the sensor pose lies outside the known boundary")
+                write!(
+                    f,
+                    "the sensor pose lies outside the known boundary or walls"
+                )
             }
             Self::NotStarWorld { with } => write!(
                 f,
@@ -259,6 +265,7 @@ impl fmt::Display for PerceptionError {
                  whose exact shape cannot be merged with it"
             ),
             Self::Shape(e) => write!(f, "{e}"),
+            Self::Walls(e) => write!(f, "{e}"),
         }
     }
 }
@@ -301,6 +308,8 @@ pub struct Observation {
 pub struct Perception {
     options: Options,
     boundary: Option<StarShape>,
+    /// A floor plan's walls (docs/maths.md §12.17), in place of or besides `boundary`.
+    walls: Option<Arc<Walls>>,
     map: Vec<StarShape>,
     perceived: Vec<Perceived>,
     /// For each perceived shape, the hits it was fitted to (thinned to `d_ev/2` apart): the
@@ -348,11 +357,29 @@ impl Perception {
         Ok(Self {
             options,
             boundary,
+            walls: None,
             map,
             perceived: Vec::new(),
             evidence: Vec::new(),
             memory: Vec::new(),
         })
+    }
+
+    /// The same perception inside known walls (a floor plan's, docs/maths.md §12.17): a hit
+    /// within `ε_x` of a wall, or nearer one than `g_w − ε` under the wall prior, is explained
+    /// (eq. explained with `d(p)` the walls' distance); the sensor must lie in their free space;
+    /// a fit leaves out `{sd < g_w}` ([`WallPrior::Level`]), so no fit reaches into a wall, nor
+    /// nearer than `g_w` under the prior.
+    #[must_use]
+    pub fn with_walls(mut self, walls: Arc<Walls>) -> Self {
+        self.walls = Some(walls);
+        self
+    }
+
+    /// The walls, if any ([`Perception::with_walls`]).
+    #[must_use]
+    pub fn walls(&self) -> Option<&Arc<Walls>> {
+        self.walls.as_ref()
     }
 
     /// The options.
@@ -417,6 +444,13 @@ impl Perception {
             && (p - b.centre()).norm() >= b.radius_bounds().0 - eps.max(prior)
             && let lo = b.signed_distance_bounds(p).0
             && (lo >= -eps || lo > -prior)
+        {
+            return Explanation::Map;
+        }
+        // The walls: `d(p) ≤ ε_x`, or `d(p) < g_w − ε` under the prior (as the boundary's).
+        if let Some(w) = &self.walls
+            && let d = w.distance(p)
+            && (d <= eps || d < prior)
         {
             return Explanation::Map;
         }
@@ -489,6 +523,11 @@ impl Perception {
         {
             return Err(PerceptionError::PoseNotFree { inside: None });
         }
+        if let Some(w) = &self.walls
+            && w.signed_distance(s) <= 0.0
+        {
+            return Err(PerceptionError::PoseNotFree { inside: None });
+        }
         if let Some(i) = self.map.iter().position(|m| m.contains(s)) {
             return Err(PerceptionError::PoseNotFree {
                 inside: Some(Known::Map(i)),
@@ -543,10 +582,18 @@ impl Perception {
             .collect();
         let params = self.options.fit_params();
         let h = self.options.check_spacing;
-        let wall = self
-            .boundary
-            .as_ref()
-            .and_then(|b| WallPrior::new(b, self.options.wall_gap));
+        // Walls keep fits in `{sd ≥ g_w}` (at `g_w = 0` out of the walls); a star boundary only
+        // under a prior.
+        let wall = match &self.walls {
+            Some(w) => Some(WallPrior::Level {
+                walls: w.clone(),
+                gap: self.options.wall_gap,
+            }),
+            None => self
+                .boundary
+                .as_ref()
+                .and_then(|b| WallPrior::new(b, self.options.wall_gap)),
+        };
         // The scan's free evidence is built only when a segment is fitted or the memory keeps
         // it: a scan that changes nothing (the common case) costs no fan.
         let remembered = self.remembers(s);

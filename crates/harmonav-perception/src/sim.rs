@@ -9,6 +9,7 @@ use harmonav_transform::random::Rng;
 use nalgebra::Vector2;
 
 use crate::scan::{LaserScan, Pose};
+use crate::walls::Walls;
 
 /// A simulated planar lidar.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -62,13 +63,27 @@ impl Lidar {
         obstacles: &[StarShape],
         boundary: Option<&StarShape>,
     ) -> Option<f64> {
-        let mut best = obstacles
+        self.true_range_in(s, u, obstacles, boundary.into())
+    }
+
+    /// [`Lidar::true_range`] inside any [`Enclosure`].
+    #[must_use]
+    pub fn true_range_in(
+        &self,
+        s: Vector2<f64>,
+        u: Vector2<f64>,
+        obstacles: &[StarShape],
+        enclosure: Enclosure<'_>,
+    ) -> Option<f64> {
+        let best = obstacles
             .iter()
             .filter_map(|o| o.ray_hit(s, u, self.range_max))
             .fold(f64::INFINITY, f64::min);
-        if let Some(b) = boundary {
-            best = best.min(exit(b, s, u, self.range_max.min(best)).unwrap_or(f64::INFINITY));
-        }
+        let best = best.min(
+            enclosure
+                .exit(s, u, self.range_max.min(best))
+                .unwrap_or(f64::INFINITY),
+        );
         (best <= self.range_max).then_some(best)
     }
 
@@ -83,12 +98,24 @@ impl Lidar {
         obstacles: impl IntoIterator<Item = &'a StarShape>,
         boundary: Option<&StarShape>,
     ) -> Option<(usize, f64)> {
+        self.first_obstacle_hit_in(s, u, obstacles, boundary.into())
+    }
+
+    /// [`Lidar::first_obstacle_hit`] inside any [`Enclosure`].
+    #[must_use]
+    pub fn first_obstacle_hit_in<'a>(
+        &self,
+        s: Vector2<f64>,
+        u: Vector2<f64>,
+        obstacles: impl IntoIterator<Item = &'a StarShape>,
+        enclosure: Enclosure<'_>,
+    ) -> Option<(usize, f64)> {
         let (i, t) = obstacles
             .into_iter()
             .enumerate()
             .filter_map(|(i, o)| o.ray_hit(s, u, self.range_max).map(|t| (i, t)))
             .min_by(|a, b| a.1.total_cmp(&b.1))?;
-        let blocked = boundary.is_some_and(|b| exit(b, s, u, t).is_some());
+        let blocked = enclosure.exit(s, u, t).is_some();
         (!blocked).then_some((i, t))
     }
 
@@ -101,6 +128,18 @@ impl Lidar {
         boundary: Option<&StarShape>,
         rng: &mut Rng,
     ) -> LaserScan {
+        self.scan_in(pose, obstacles, boundary.into(), rng)
+    }
+
+    /// [`Lidar::scan`] inside any [`Enclosure`] (a floor plan's [`Walls`]).
+    #[must_use]
+    pub fn scan_in(
+        &self,
+        pose: &Pose,
+        obstacles: &[StarShape],
+        enclosure: Enclosure<'_>,
+        rng: &mut Rng,
+    ) -> LaserScan {
         let (angle_min, angle_increment) = self.angles();
         let s = pose.position();
         let ranges = (0..self.beams)
@@ -111,7 +150,7 @@ impl Lidar {
                 if rng.uniform(0.0, 1.0) < self.dropout {
                     return f64::NAN;
                 }
-                match self.true_range(s, u, obstacles, boundary) {
+                match self.true_range_in(s, u, obstacles, enclosure) {
                     Some(t) => {
                         let r = (t + noise).max(self.range_min);
                         if r >= self.range_max {
@@ -130,6 +169,36 @@ impl Lidar {
             range_min: self.range_min,
             range_max: self.range_max,
             ranges,
+        }
+    }
+}
+
+/// What encloses the sensor, besides the obstacles: nothing, a star boundary, or a floor
+/// plan's walls.
+#[derive(Clone, Copy, Debug)]
+pub enum Enclosure<'a> {
+    /// An unbounded world.
+    Open,
+    /// A star boundary the sensor is inside (its exit marched, then bisected).
+    Star(&'a StarShape),
+    /// Walls (parry's ray cast on their segments).
+    Walls(&'a Walls),
+}
+
+impl<'a> From<Option<&'a StarShape>> for Enclosure<'a> {
+    fn from(b: Option<&'a StarShape>) -> Self {
+        b.map_or(Self::Open, Self::Star)
+    }
+}
+
+impl Enclosure<'_> {
+    /// Where the ray `s + t u` (from inside) first meets the enclosure, if at most `max`.
+    #[must_use]
+    pub fn exit(&self, s: Vector2<f64>, u: Vector2<f64>, max: f64) -> Option<f64> {
+        match self {
+            Self::Open => None,
+            Self::Star(b) => exit(b, s, u, max),
+            Self::Walls(w) => w.ray_hit(s, u, max),
         }
     }
 }

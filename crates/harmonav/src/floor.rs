@@ -8,6 +8,7 @@ use std::sync::Arc;
 use harmonav_control::HeadingPolicy;
 use harmonav_field::{FieldError, FieldEval};
 use harmonav_floorplan::{FloorError, FloorField, FloorMap, NotFree};
+use harmonav_perception::{LaserScan, Perceived, PerceptionError, Pose, Walls};
 use harmonav_transform::StarShape;
 use nalgebra::Vector2;
 
@@ -20,6 +21,8 @@ use crate::navigator::{
     finite_state, moving_along, recovering,
 };
 use crate::options::{HoldPolicy, Options};
+use crate::scan::{Observed, observe as scanned};
+use crate::scanning::{ScanState, ScanUpdate};
 use crate::space::Space;
 
 /// How far below the level `phi_k(x_s)` of the point `x_s` where it began (a stall, or the
@@ -120,6 +123,8 @@ pub struct FloorNavigator {
     escapes: usize,
     /// The point the robot has stayed within `δ/4` of, and for how many periods.
     anchor: Option<(Vector2<f64>, usize)>,
+    /// The scan perception inside the true walls ([`FloorNavigator::observe_scan`]).
+    scan: ScanState,
 }
 
 impl FloorNavigator {
@@ -163,6 +168,10 @@ impl FloorNavigator {
         } else {
             field
         };
+        let truth = field.floor().walls();
+        let walls = Walls::new(truth.outer().to_vec(), truth.holes().to_vec())
+            .map_err(|e| NavError::Perception(PerceptionError::Walls(e)))?;
+        let scan = ScanState::in_walls(Arc::new(walls), &options.scan, options.rho_min, inflation)?;
         let nav = Self {
             controller,
             options,
@@ -175,6 +184,7 @@ impl FloorNavigator {
             early_level: None,
             escapes: 0,
             anchor: None,
+            scan,
         };
         // Guard: λ_c (eq. critdamp) from the floor's goal stiffness, checked once.
         if let Controller::Dynamic(law) = &nav.controller {
@@ -198,11 +208,65 @@ impl FloorNavigator {
         let field = self.field.with_obstacle(grown).map_err(NavError::Floor)?;
         self.field = field;
         self.inner.extend(inner);
+        let index = self.field.transform().obstacles().count() - 1;
+        self.scan.add_exact(shape, index);
+        self.discovered();
+        Ok(index)
+    }
+
+    /// The state a discovery resets: the dynamic law's `|ẋ(T_n)|` (the speed of the last
+    /// commanded state) and the escapes (`phi_k` changes with `k` and the point world: the
+    /// levels before and after are not comparable).
+    fn discovered(&mut self) {
         self.speed_at_discovery = self.last.map_or(0.0, |(_, v)| v.norm());
-        // `phi_k` changes with `k` and the point world: the levels are not comparable.
         self.escape = None;
         self.early_level = None;
-        Ok(self.field.transform().obstacles().count() - 1)
+    }
+
+    /// Observes one scan taken from `pose` inside the floor plan, as
+    /// [`crate::Navigator::observe_scan`] does in a star world (docs/maths.md §12, §12.17):
+    /// hits within `max(ε, ε_g)` of the true walls (or nearer them than `g_w − ε` under the wall
+    /// prior [`crate::ScanOptions::wall_gap`]) and of the exact shapes of
+    /// [`FloorNavigator::add_obstacle`] are explained; the rest are fitted to conservative
+    /// stars kept out of the walls (and `g_w` from them), merged with the perceived shapes they
+    /// overlap, and every new or grown shape, grown by `radius + margin`, is handed to the
+    /// field as a sensed obstacle ([`FloorField::with_sensed`]: `k` and `B` update, `H` is
+    /// reused). An event resets what [`FloorNavigator::add_obstacle`] resets.
+    ///
+    /// A sensed obstacle must lie in the certified region with its growth
+    /// ([`FloorError::ObstacleNearWall`]): furniture nearer the walls than about
+    /// `2(radius + margin)` plus its fit's size cannot be navigated around by the harmonic
+    /// map's construction, whose holes are solved once. Give such furniture in the map, or
+    /// state the wall prior `g_w` it keeps.
+    ///
+    /// # Errors
+    /// The navigator is then unchanged: as [`crate::Navigator::observe_scan`] (a sensor outside
+    /// the walls is [`NavError::Perception`]); a changed shape that reaches the boundary
+    /// layer, overlaps an exact shape or contains the goal ([`NavError::Floor`]).
+    pub fn observe_scan(&mut self, pose: Pose, scan: &LaserScan) -> Result<ScanUpdate, NavError> {
+        let old: Vec<StarShape> = self.field.transform().obstacles().cloned().collect();
+        let event = match scanned(&self.scan, &old, &self.inner, &self.options, pose, scan)? {
+            Observed::Quiet(perception, update) => {
+                self.scan.perception = perception;
+                return Ok(update);
+            }
+            Observed::Event(event) => event,
+        };
+        let field = self
+            .field
+            .with_sensed(&event.obstacles)
+            .map_err(NavError::Floor)?;
+        self.field = field;
+        self.inner = event.inner;
+        self.scan = event.state;
+        self.discovered();
+        Ok(event.update)
+    }
+
+    /// The perceived shapes (not grown), each with its index among the sensed obstacles, in
+    /// the perception's order ([`crate::Navigator::perceived`]).
+    pub fn perceived(&self) -> impl Iterator<Item = (usize, &Perceived)> + '_ {
+        self.scan.perceived()
     }
 
     /// The command to hold for one control period at `(x, ẋ)`, as

@@ -20,7 +20,7 @@
 
 use std::sync::Arc;
 
-use harmonav_perception::{Known, PerceptionError};
+use harmonav_perception::{Known, Perception, PerceptionError};
 use harmonav_transform::{StarShape, Workspace, WorldError};
 use nalgebra::Vector2;
 
@@ -60,90 +60,19 @@ impl Navigator {
     /// ([`crate::Mode::Recovering`]), which never enters the body (see `holds_robot`);
     /// [`NavError::ContainsGoal`]; [`NavError::CrossesBoundary`].
     pub fn observe_scan(&mut self, pose: Pose, scan: &LaserScan) -> Result<ScanUpdate, NavError> {
-        let mut perception = self.scan.perception.clone();
-        let obs = perception
-            .observe(pose, scan)
-            .map_err(|e| self.scan_error(e))?;
-        let mut update = ScanUpdate {
-            hits: obs.hits,
-            explained: obs.explained,
-            unfitted: obs.unfitted.len(),
-            ..ScanUpdate::default()
-        };
-        if obs.added.is_empty() && obs.grown.is_empty() {
-            // Nothing absorbed either (an absorption is a growth): the same shapes, and the
-            // field stands; the perception keeps the evidence the scan added (eq. attribution).
-            self.scan.perception = perception;
-            return Ok(update);
-        }
-        let old_slots = &self.scan.slots;
-        let surviving: Vec<usize> = (0..old_slots.len())
-            .filter(|i| obs.absorbed.binary_search(i).is_err())
-            .collect();
-        let mut removed: Vec<usize> = obs.absorbed.iter().map(|&i| old_slots[i]).collect();
-        removed.sort_unstable();
-        // Old navigator index → index after the removals.
-        let remap = |j: usize| j - removed.partition_point(|&r| r < j);
         let old = self.field.workspace().obstacles();
-        let with_margin = self.options.margin > 0.0;
-        let keep: Vec<usize> = (0..old.len())
-            .filter(|j| removed.binary_search(j).is_err())
-            .collect();
-        let mut obstacles: Vec<StarShape> = keep.iter().map(|&j| old[j].clone()).collect();
-        let mut inner: Vec<StarShape> = if with_margin {
-            keep.iter().map(|&j| self.inner[j].clone()).collect()
-        } else {
-            Vec::new()
+        let event = match observe(&self.scan, old, &self.inner, &self.options, pose, scan)? {
+            Observed::Quiet(perception, update) => {
+                // The same shapes, and the field stands; the perception keeps the evidence
+                // the scan added (eq. attribution).
+                self.scan.perception = perception;
+                return Ok(update);
+            }
+            Observed::Event(event) => event,
         };
-        let mut slots: Vec<usize> = surviving.iter().map(|&i| remap(old_slots[i])).collect();
-        let exact: Vec<usize> = self.scan.exact.iter().map(|&j| remap(j)).collect();
-        let x = pose.position();
-        let (radius, inflation) = (
-            self.options.radius,
-            self.options.radius + self.options.margin,
-        );
-        let mut event_clearance = f64::INFINITY;
-        for (p, shape) in perception.perceived().iter().enumerate() {
-            let is_new = p >= slots.len();
-            if !is_new && obs.grown.binary_search(&p).is_err() {
-                continue;
-            }
-            let form = self.options.scan.form;
-            let grown = grow_perceived_as(shape.shape(), inflation, form)?;
-            let body = if with_margin {
-                Some(grow_perceived_as(shape.shape(), radius, form)?)
-            } else {
-                None
-            };
-            let band = if self.options.scan.refuse_in_band {
-                None
-            } else {
-                body.as_ref()
-            };
-            if holds_robot(&grown, band, x) {
-                return Err(NavError::ContainsRobot);
-            }
-            event_clearance = event_clearance.min(grown.signed_distance(x));
-            let j = if is_new {
-                slots.push(obstacles.len());
-                obstacles.push(grown);
-                inner.extend(body);
-                update.added.push(obstacles.len() - 1);
-                obstacles.len() - 1
-            } else {
-                let j = slots[p];
-                obstacles[j] = grown;
-                if let Some(b) = body {
-                    inner[j] = b;
-                }
-                update.grown.push(j);
-                j
-            };
-            debug_assert!(j < obstacles.len());
-        }
         let boundary = self.field.workspace().boundary().clone();
-        let before = |j: usize| keep.get(j).copied();
-        let ws = Workspace::new(boundary, obstacles, self.goal).map_err(|e| match e {
+        let before = |j: usize| event.keep.get(j).copied();
+        let ws = Workspace::new(boundary, event.obstacles, self.goal).map_err(|e| match e {
             WorldError::Overlap { first, second } => NavError::NotStarWorld {
                 obstacle: before(first).or(before(second)),
             },
@@ -155,42 +84,164 @@ impl Navigator {
             .all_known_after(Arc::new(ws), self.options.k)
             .map_err(NavError::Field)?;
         self.field = field;
-        self.inner = inner;
+        self.inner = event.inner;
         self.speed_at_discovery = self.last.map_or(0.0, |(_, v)| v.norm());
-        self.scan = ScanState {
-            perception,
-            slots,
-            exact,
-        };
-        update.absorbed = removed;
-        update.event_clearance = Some(event_clearance);
-        Ok(update)
+        self.scan = event.state;
+        Ok(event.update)
     }
 
     /// The perceived shapes (not grown), each with its index among [`Navigator::obstacles`],
     /// in the perception's order. Each contains the true obstacle it saw under the priors.
     pub fn perceived(&self) -> impl Iterator<Item = (usize, &Perceived)> + '_ {
-        self.scan
-            .slots
-            .iter()
-            .copied()
-            .zip(self.scan.perception.perceived())
+        self.scan.perceived()
+    }
+}
+
+impl ScanState {
+    /// The perceived shapes with their indices among the navigator's obstacles.
+    pub(crate) fn perceived(&self) -> impl Iterator<Item = (usize, &Perceived)> + '_ {
+        self.slots.iter().copied().zip(self.perception.perceived())
     }
 
     /// The perception's error as the navigator's, with known shapes named by their index among
     /// the navigator's obstacles (`None`: another fit of the same scan).
-    fn scan_error(&self, e: PerceptionError) -> NavError {
+    pub(crate) fn error(&self, e: PerceptionError) -> NavError {
         match e {
             PerceptionError::NotStarWorld { with } => NavError::NotStarWorld {
                 obstacle: match with {
-                    Known::Map(i) => self.scan.exact.get(i).copied(),
-                    Known::Perceived(i) => self.scan.slots.get(i).copied(),
+                    Known::Map(i) => self.exact.get(i).copied(),
+                    Known::Perceived(i) => self.slots.get(i).copied(),
                     Known::Fit => None,
                 },
             },
             e => NavError::Perception(e),
         }
     }
+}
+
+/// The obstacles after a scan that changed the perceived shapes: the navigator's list with
+/// the absorbed shapes removed, the grown ones replaced and the new ones appended (each grown
+/// by `radius + margin`, and by `radius` alone into `inner` under a margin), the perception
+/// state to keep if the navigator accepts them, and what the scan did.
+pub(crate) struct ScanEvent {
+    /// The obstacles, grown by `radius + margin`, in the navigator's order.
+    pub(crate) obstacles: Vec<StarShape>,
+    /// The same grown by `radius` alone (empty without a margin).
+    pub(crate) inner: Vec<StarShape>,
+    /// For each obstacle kept from before the scan, its index before it.
+    pub(crate) keep: Vec<usize>,
+    pub(crate) state: ScanState,
+    pub(crate) update: ScanUpdate,
+}
+
+/// What one scan through the navigator's perception did.
+pub(crate) enum Observed {
+    /// No shape changed (nothing absorbed either: an absorption is a growth): the perception
+    /// to keep (with the scan's evidence) and what the scan did.
+    Quiet(Perception, ScanUpdate),
+    /// Shapes changed: the obstacles to build the field from.
+    Event(ScanEvent),
+}
+
+/// One scan through the navigator's perception `scan_state` (its obstacles `old`, grown, and
+/// their bodies `old_inner`), for [`Navigator::observe_scan`] and
+/// [`crate::FloorNavigator::observe_scan`], which build their fields from an event.
+///
+/// # Errors
+/// The perception's error ([`ScanState::error`]); [`NavError::ContainsRobot`] when a changed
+/// shape holds the robot ([`holds_robot`]).
+pub(crate) fn observe(
+    scan_state: &ScanState,
+    old: &[StarShape],
+    old_inner: &[StarShape],
+    options: &crate::Options,
+    pose: Pose,
+    scan: &LaserScan,
+) -> Result<Observed, NavError> {
+    let mut perception = scan_state.perception.clone();
+    let obs = perception
+        .observe(pose, scan)
+        .map_err(|e| scan_state.error(e))?;
+    let mut update = ScanUpdate {
+        hits: obs.hits,
+        explained: obs.explained,
+        unfitted: obs.unfitted.len(),
+        ..ScanUpdate::default()
+    };
+    if obs.added.is_empty() && obs.grown.is_empty() {
+        return Ok(Observed::Quiet(perception, update));
+    }
+    let old_slots = &scan_state.slots;
+    let surviving: Vec<usize> = (0..old_slots.len())
+        .filter(|i| obs.absorbed.binary_search(i).is_err())
+        .collect();
+    let mut removed: Vec<usize> = obs.absorbed.iter().map(|&i| old_slots[i]).collect();
+    removed.sort_unstable();
+    // Old navigator index → index after the removals.
+    let remap = |j: usize| j - removed.partition_point(|&r| r < j);
+    let with_margin = options.margin > 0.0;
+    let keep: Vec<usize> = (0..old.len())
+        .filter(|j| removed.binary_search(j).is_err())
+        .collect();
+    let mut obstacles: Vec<StarShape> = keep.iter().map(|&j| old[j].clone()).collect();
+    let mut inner: Vec<StarShape> = if with_margin {
+        keep.iter().map(|&j| old_inner[j].clone()).collect()
+    } else {
+        Vec::new()
+    };
+    let mut slots: Vec<usize> = surviving.iter().map(|&i| remap(old_slots[i])).collect();
+    let exact: Vec<usize> = scan_state.exact.iter().map(|&j| remap(j)).collect();
+    let x = pose.position();
+    let (radius, inflation) = (options.radius, options.radius + options.margin);
+    let mut event_clearance = f64::INFINITY;
+    for (p, shape) in perception.perceived().iter().enumerate() {
+        let is_new = p >= slots.len();
+        if !is_new && obs.grown.binary_search(&p).is_err() {
+            continue;
+        }
+        let form = options.scan.form;
+        let grown = grow_perceived_as(shape.shape(), inflation, form)?;
+        let body = if with_margin {
+            Some(grow_perceived_as(shape.shape(), radius, form)?)
+        } else {
+            None
+        };
+        let band = if options.scan.refuse_in_band {
+            None
+        } else {
+            body.as_ref()
+        };
+        if holds_robot(&grown, band, x) {
+            return Err(NavError::ContainsRobot);
+        }
+        event_clearance = event_clearance.min(grown.signed_distance(x));
+        if is_new {
+            slots.push(obstacles.len());
+            obstacles.push(grown);
+            inner.extend(body);
+            update.added.push(obstacles.len() - 1);
+        } else {
+            let j = slots[p];
+            obstacles[j] = grown;
+            if let Some(b) = body {
+                inner[j] = b;
+            }
+            update.grown.push(j);
+        }
+    }
+    update.absorbed = removed;
+    update.event_clearance = Some(event_clearance);
+    Ok(Observed::Event(ScanEvent {
+        obstacles,
+        inner,
+        keep,
+        state: ScanState {
+            perception,
+            slots,
+            exact,
+        },
+        update,
+    }))
 }
 
 /// Whether a changed shape, grown by `radius + margin` (`grown`) and by `radius` alone

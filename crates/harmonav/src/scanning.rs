@@ -1,7 +1,9 @@
 //! The scan perception's options ([`ScanOptions`]), what one scan did ([`ScanUpdate`]) and
 //! the navigator's perception state; [`crate::Navigator::observe_scan`] (`scan.rs`) uses them.
 
-use harmonav_perception::{Perception, PerceptionError};
+use std::sync::Arc;
+
+use harmonav_perception::{Perception, PerceptionError, Walls};
 use harmonav_transform::StarShape;
 
 use crate::error::NavError;
@@ -217,6 +219,24 @@ impl ScanState {
             Vec::new(),
         )
         .map_err(option_error)?;
+        Ok(Self {
+            perception,
+            slots: Vec::new(),
+            exact: Vec::new(),
+        })
+    }
+
+    /// No shape perceived, none exact, inside a floor plan's true `walls` (docs/maths.md
+    /// §12.17).
+    pub(crate) fn in_walls(
+        walls: Arc<Walls>,
+        options: &ScanOptions,
+        rho_min: f64,
+        inflation: f64,
+    ) -> Result<Self, NavError> {
+        let perception = Perception::new(options.perception(rho_min, inflation), None, Vec::new())
+            .map_err(option_error)?
+            .with_walls(walls);
         Ok(Self {
             perception,
             slots: Vec::new(),
