@@ -19,10 +19,8 @@ use std::fmt;
 use nalgebra::Vector2;
 use parry2d_f64::math::Vector as PVector;
 use parry2d_f64::query::{PointQuery, Ray, RayCast};
-use parry2d_f64::shape::Polyline;
+use parry2d_f64::shape::{Polyline, Segment};
 use parry2d_f64::utils::point_in_poly2d;
-
-use crate::free::segment_distance;
 
 /// The walls of a floor plan: an outer ring and holes, each at least three finite vertices
 /// (either orientation; the free space is inside the outer ring and outside the holes).
@@ -155,7 +153,10 @@ impl Walls {
         self.rings
             .iter()
             .flat_map(|r| (0..r.len()).map(move |i| (r[i], r[(i + 1) % r.len()])))
-            .filter(move |&(a, b)| segment_distance(a, b, x) <= reach)
+            .filter(move |&(a, b)| {
+                let segment = Segment::new(PVector::new(a.x, a.y), PVector::new(b.x, b.y));
+                segment.distance_to_local_point(PVector::new(x.x, x.y), true) <= reach
+            })
     }
 
     /// Points of the level set `{sd = g}` (`g ≥ 0`) within `reach` of `near`, at spacing at
