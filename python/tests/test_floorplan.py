@@ -46,6 +46,25 @@ def test_a_floor_plan_flies_in_rapier_with_the_walls_as_colliders():
         plan.run(physics="bullet")
 
 
+def test_a_floor_plan_with_a_lidar_perceives_its_furniture_from_scans():
+    """`[sensor] type = "lidar"` in a floor plan (issue 26 in issue 25's maps): the furniture
+    comes from the scans alone, and the summary judges the perception as a star world's does."""
+    plan = harmonav.FloorPlan.load(ROOT / "scenarios" / "floorplans" / "lidar-room.toml")
+    s = plan.run(model="kinematic").summary
+    assert s["reached"], s["outcome"]
+    names = {g["name"]: g["passed"] for g in s["guarantees"]}
+    assert all(names.values()), names
+    assert {"perceived-covers-seen-truth", "perceived-shapes-only-grow", "scans-accepted"} <= set(
+        names
+    )
+    p = s["perception"]
+    assert p["scans"] > 10 and p["events"] >= 1 and p["perceived"] >= 1
+    assert p["seen_points"] > 0 and p["uncovered_points"] == 0
+    assert s["discoveries"] == []  # nothing handed over exact
+    # Without the lidar the same file has no perception report.
+    assert harmonav.FloorPlan.load(L_ROOM).run(model="kinematic").summary["perception"] is None
+
+
 def test_the_heading_policy_shortens_the_kinematic_path_and_is_checked():
     # docs/maths.md §13.3: "auto" (the default) follows the shortest path within 60° of −∇Θ,
     # "paper" the flow line of Θ; both arrive with every guarantee, and in the L room from the

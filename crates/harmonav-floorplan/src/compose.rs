@@ -62,8 +62,9 @@ struct Band {
 /// - `B`: the star-obstacle map of the sensed obstacles (`radial::obstacle_map`, the bands of
 ///   `docs/maths.md` §5), each obstacle collapsed to its centre `c_i`; identity elsewhere.
 ///   Widths `ε_i = f·min(min_j d(O_i, O_j), d̲(O_i, ∂W_δ), 2 d(x_d, O_i))`, `f =`
-///   [`WIDTH_FACTOR`], with `d̲(O_i, ∂W_δ) = sd(c_i) − δ − max R_i` (the bounding disc: a lower
-///   bound). Each band and its obstacle lie in `W_δ`, so `B(x) ∈ W_δ`.
+///   [`WIDTH_FACTOR`], with `d̲(O_i, ∂W_δ)` the certified room [`FloorMap::star_room`] (eq.
+///   starroom of `docs/maths.md` §12.17: the sampled distance from `O_i` to `∂W_s`, less `δ`
+///   and the sampling slack). Each band and its obstacle lie in `W_δ`, so `B(x) ∈ W_δ`.
 /// - `H`: the harmonic map of the walls onto the unit disk ([`FloorMap`]); holes collapse to
 ///   the punctures `p_j`, solved once. Adding a sensed obstacle needs no new solve.
 /// - `M_a`: the identity under [`CentrePolicy::Solve`]; under [`CentrePolicy::Goal`] the disk
@@ -145,7 +146,7 @@ impl FloorTransform {
         }
         let mut walls = Vec::with_capacity(obstacles.len());
         for (i, o) in obstacles.iter().enumerate() {
-            let room = floor.signed_distance(o.centre()) - delta - o.radius_bounds().1;
+            let room = floor.star_room(o);
             if room.is_nan() || room <= 0.0 {
                 return Err(FloorError::ObstacleNearWall { obstacle: i });
             }

@@ -8,7 +8,7 @@ use harmonav_harmonic::{
 use nalgebra::Vector2;
 use parry2d_f64::math::Vector as PVector;
 use parry2d_f64::query::PointQuery;
-use parry2d_f64::shape::Polyline;
+use parry2d_f64::shape::{Polyline, Segment};
 
 /// Why a floor plan could not be built.
 #[derive(Clone, Debug, PartialEq)]
@@ -32,8 +32,8 @@ pub enum FloorError {
         /// `δ`.
         delta: f64,
     },
-    /// A sensed obstacle's bounding disc reaches into the boundary layer (closer than `δ` to a
-    /// wall): it is not inside `W_δ`.
+    /// A sensed obstacle reaches into the boundary layer (closer than `δ` to `∂W_s`,
+    /// [`FloorMap::star_room`]): it is not inside `W_δ`.
     ObstacleNearWall {
         /// The sensed obstacle (its index in the order added).
         obstacle: usize,
@@ -82,8 +82,8 @@ impl std::fmt::Display for FloorError {
             ),
             Self::ObstacleNearWall { obstacle } => write!(
                 f,
-                "sensed obstacle {obstacle} reaches within δ of a wall (its bounding disc leaves \
-                 the certified region)"
+                "sensed obstacle {obstacle} reaches within δ of a wall (it leaves the certified \
+                 region)"
             ),
             Self::Overlap { first, second } => {
                 write!(f, "sensed obstacles {first} and {second} overlap")
@@ -551,6 +551,48 @@ impl FloorMap {
         let d = Vector2::new(p.x - x.x, p.y - x.y);
         let norm = d.norm();
         (norm > 0.0 && norm.is_finite()).then(|| d / norm)
+    }
+
+    /// A certified lower bound on how far the star `shape` stays from the boundary layer, m:
+    /// `D − δ − h_s/2`, `D` the least certified distance (`StarShape::signed_distance_bounds`'s
+    /// lower bound) from `shape` to the points of `∂W_s` sampled at spacing `h_s = δ/8` (each
+    /// point of `∂W_s` lies within `h_s/2` of a sample, and the distance to `shape` is
+    /// 1-Lipschitz); negative when it reaches the layer, holds a piece of `∂W_s`, or its centre
+    /// is not in `W_δ`. Only the edges within `R_max + sd(c)` of the centre `c` are sampled
+    /// (the nearest point of `∂W_s` to `c` is `sd(c)` from `c ∈ shape`, and an edge farther
+    /// than that plus `R_max` is farther from `shape` than it).
+    ///
+    /// *Why it suffices* (docs/maths.md §12.17). When it is positive, `shape` is connected, holds
+    /// `c ∈ W_s` and meets no point of `∂W_s`, so it lies in `W_s`, and each of its points is
+    /// `D > δ` or more from `∂W_s`: `shape ⊂ W_δ`, as are its points within `D − δ` of it.
+    /// Sharper than the bounding disc `sd(c) − δ − R_max`, which refuses a long shape along a
+    /// wall.
+    #[must_use]
+    pub fn star_room(&self, shape: &harmonav_transform::StarShape) -> f64 {
+        let c = shape.centre();
+        let sd_c = self.signed_distance(c);
+        if sd_c.is_nan() || sd_c <= self.delta {
+            return sd_c - self.delta;
+        }
+        let r_max = shape.radius_bounds().1;
+        let spacing = 0.125 * self.delta;
+        let mut least = sd_c;
+        for ring in rings(self.domain()) {
+            let n = ring.len();
+            for i in 0..n {
+                let (a, b) = (ring[i], ring[(i + 1) % n]);
+                let edge = Segment::new(PVector::new(a.x, a.y), PVector::new(b.x, b.y));
+                if edge.distance_to_local_point(PVector::new(c.x, c.y), true) - r_max >= least {
+                    continue;
+                }
+                let steps = (((b - a).norm() / spacing).ceil() as usize).max(1);
+                for j in 0..=steps {
+                    let q = a + (b - a) * (j as f64 / steps as f64);
+                    least = least.min(shape.signed_distance_bounds(q).0);
+                }
+            }
+        }
+        least - 0.5 * spacing - self.delta
     }
 
     /// A lower bound on the distance from `x ∈ W_δ` to the boundary layer: `sd(x) − δ` (exact:

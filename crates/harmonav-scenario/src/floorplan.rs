@@ -24,6 +24,9 @@
 //! type = "circle"
 //! center = [6.5, 1.2]
 //! radius = 0.3
+//! [sensor]                                       # optional: the obstacles from scans
+//! type = "lidar"                                 # a star world's lidar fields
+//! range = 4.0
 //! ```
 //!
 //! The `floorplans/` folder is not a suite of [`crate::scenario::Scenario`] files
@@ -43,6 +46,7 @@ use nalgebra::Vector2;
 use serde::Deserialize;
 
 use crate::scenario::{Model, ScenarioError, ShapeSpec, build_shape, err};
+use crate::sensor::{self, LidarSensor, SensorKind, SensorSpec, WallRoom};
 
 /// The folder of floor-plan scenarios under `scenarios/`.
 pub const FLOORPLANS: &str = "floorplans";
@@ -194,6 +198,14 @@ pub struct FloorScenario {
     /// The loop.
     #[serde(default)]
     pub sim: FloorSimSpec,
+    /// `[sensor] type = "lidar"`: the robot perceives the obstacles through a simulated lidar
+    /// cast against the true walls and obstacles, its scans its only perception
+    /// ([`harmonav::FloorNavigator::observe_scan`], docs/maths.md §12.17); `sim.sensor_range`
+    /// is then unused. Without it, an obstacle becomes known (its exact shape) within
+    /// `sim.sensor_range`. The lidar's fields and defaults are a star world's
+    /// ([`crate::SensorSpec`]), the wall prior's default taken from the true walls.
+    #[serde(default)]
+    pub sensor: Option<SensorSpec>,
     /// Obstacles inside the plan, unknown until sensed.
     #[serde(default)]
     pub obstacles: Vec<ShapeSpec>,
@@ -216,6 +228,8 @@ pub struct FloorPrepared {
     pub setup_seconds: f64,
     /// `c_δ` over the walls, when `floor_plan.require_certified_start` asked for it.
     pub level: Option<LayerLevel>,
+    /// The lidar of `[sensor]`, if any, and the curvature prior `ρ_min` of its fits.
+    pub lidar: Option<(LidarSensor, f64)>,
 }
 
 /// Where a point may be (a start or the goal): in `W_δ` of `floor` and clear of every true
@@ -523,14 +537,14 @@ impl FloorScenario {
         let start = v(r.start);
         place(start).map_err(|p| f("robot.start", p))?;
         for (i, o) in obstacles.iter().enumerate() {
-            let room = floor.signed_distance(o.centre()) - delta - o.radius_bounds().1;
-            if room <= r.radius + r.margin {
+            // The grown shape lies within radius + margin of the true one (FloorMap::star_room).
+            if floor.star_room(o) <= r.radius + r.margin {
                 return Err(f(
                     &format!("obstacles[{i}]"),
                     format!(
-                        "its bounding disc, grown by radius + margin, reaches within δ = \
-                         {delta:.4} m of a wall (sensed obstacles must lie inside the certified \
-                         region)"
+                        "grown by radius + margin, it reaches within δ = {delta:.4} m of the \
+                         walls shrunk by the robot (sensed obstacles must lie inside the \
+                         certified region)"
                     ),
                 ));
             }
@@ -581,6 +595,12 @@ impl FloorScenario {
                 }
             }
         }
+        let lidar = match &self.sensor {
+            None => None,
+            Some(spec) => {
+                Some(floor_lidar(spec, &floor, &obstacles).map_err(|(field, p)| f(&field, p))?)
+            }
+        };
         Ok(FloorPrepared {
             path: path.to_path_buf(),
             scenario: self,
@@ -589,8 +609,83 @@ impl FloorScenario {
             starts,
             setup_seconds,
             level: certified.map(|(_, level)| level),
+            lidar,
         })
     }
+}
+
+/// The lidar of a floor plan's `[sensor]` and its `ρ_min` (the file's, or the true obstacles'
+/// smallest curvature radius), or the field and the problem.
+fn floor_lidar(
+    spec: &SensorSpec,
+    floor: &FloorMap,
+    obstacles: &[StarShape],
+) -> Result<(LidarSensor, f64), (String, String)> {
+    let f = |field: &str, problem: String| (format!("sensor.{field}"), problem);
+    if spec.kind != SensorKind::Lidar {
+        return Err(f(
+            "type",
+            "a floor plan senses through a lidar (sensor.type = \"lidar\") or, without \
+             [sensor], within sim.sensor_range; the paper's sector is not built for floor plans"
+                .into(),
+        ));
+    }
+    if !(spec.aperture_deg.is_finite()
+        && spec.aperture_deg >= harmonav::MIN_APERTURE_DEG
+        && spec.aperture_deg <= 360.0)
+    {
+        return Err(f(
+            "aperture_deg",
+            format!(
+                "must be in (0, 360] and at least {}°, got {:e}",
+                harmonav::MIN_APERTURE_DEG,
+                spec.aperture_deg
+            ),
+        ));
+    }
+    if !(spec.range.is_finite() && spec.range > 0.0 && spec.range <= 1e6) {
+        return Err(f(
+            "range",
+            format!("must be finite and in (0, 1e6], got {:e}", spec.range),
+        ));
+    }
+    let rho = spec.rho_min.unwrap_or_else(|| {
+        obstacles
+            .iter()
+            .map(StarShape::rho_min)
+            .fold(f64::INFINITY, f64::min)
+    });
+    let (lo, hi) = crate::scenario::PARAMETER_RANGE;
+    if !(obstacles.is_empty() && spec.rho_min.is_none()
+        || rho.is_finite() && (lo..=hi).contains(&rho))
+    {
+        return Err(f(
+            "rho_min",
+            format!(
+                "must be finite and in [{lo:e}, {hi:e}] m, got {rho:e}{}",
+                if spec.rho_min.is_none() {
+                    " (the obstacles' smallest curvature radius, as none is given)"
+                } else {
+                    ""
+                }
+            ),
+        ));
+    }
+    // Below its narrower side's half no point of the plan is farther from a wall; the true
+    // obstacles' distance to the walls from their outlines (a vertex each 5e-5 of the size
+    // apart, within the default prior's 1 % slack).
+    let (a, b) = floor.walls().bounding_box();
+    let nearest = obstacles
+        .iter()
+        .flat_map(|o| o.outline())
+        .map(|p| floor.wall_distance(p))
+        .fold(f64::INFINITY, f64::min);
+    let room = WallRoom {
+        limit: (0.5 * (b - a).min(), "half the floor plan's narrower side"),
+        nearest: if nearest.is_finite() { nearest } else { 0.0 },
+    };
+    let lidar = sensor::prepare(spec, room, obstacles).map_err(|(field, p)| f(field, p))?;
+    Ok((lidar, rho))
 }
 
 /// The two formats a scenario file may be written in.

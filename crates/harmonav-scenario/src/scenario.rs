@@ -676,9 +676,12 @@ impl Scenario {
                     SensorKind::Sector => (Sensor::Sector(sector), rho),
                     SensorKind::Lidar => (
                         Sensor::Lidar(
-                            sensor::prepare(spec, &true_boundary, &true_obstacles).map_err(
-                                |(field, problem)| f(&format!("sensor.{field}"), problem),
-                            )?,
+                            sensor::prepare(
+                                spec,
+                                sensor::WallRoom::star(&true_boundary, &true_obstacles),
+                                &true_obstacles,
+                            )
+                            .map_err(|(field, problem)| f(&format!("sensor.{field}"), problem))?,
                         ),
                         rho,
                     ),

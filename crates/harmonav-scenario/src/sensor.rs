@@ -267,11 +267,35 @@ impl LidarSensor {
     }
 }
 
-/// The lidar of `spec` (`sensor.type = "lidar"`) in a world of the true `obstacles`, or the
-/// first problem: the field of `[sensor]` and what is wrong.
+/// What the wall prior may be in a world: below `limit` (no obstacle could keep farther from
+/// the walls), by default `0.99·nearest`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct WallRoom {
+    /// The least upper bound a prior may not reach, m, and what it is.
+    pub limit: (f64, &'static str),
+    /// The smallest distance from a true obstacle to the walls, m (0 without obstacles).
+    pub nearest: f64,
+}
+
+impl WallRoom {
+    /// In a star `boundary`: below its smallest radius; the obstacles' certified clearance
+    /// inside it.
+    pub(crate) fn star(boundary: &StarShape, obstacles: &[StarShape]) -> Self {
+        Self {
+            limit: (
+                boundary.radius_bounds().0,
+                "the workspace's smallest radius",
+            ),
+            nearest: wall_distance(boundary, obstacles),
+        }
+    }
+}
+
+/// The lidar of `spec` (`sensor.type = "lidar"`) in a world of the true `obstacles` and walls
+/// `room`, or the first problem: the field of `[sensor]` and what is wrong.
 pub(crate) fn prepare(
     spec: &SensorSpec,
-    boundary: &StarShape,
+    room: WallRoom,
     obstacles: &[StarShape],
 ) -> Result<LidarSensor, (&'static str, String)> {
     let f = |field: &'static str, problem: String| (field, problem);
@@ -340,19 +364,18 @@ pub(crate) fn prepare(
                 format!("must be finite and in [0, 100] m, got {g:e}"),
             ));
         }
-        Some(g) if g >= boundary.radius_bounds().0 => {
+        Some(g) if g >= room.limit.0 => {
             return Err(f(
                 "wall_gap",
                 format!(
-                    "must be below the workspace's smallest radius {:e} m (no obstacle could \
-                     keep that far from the wall, and every hit would count as the wall's), \
-                     got {g:e}",
-                    boundary.radius_bounds().0
+                    "must be below {} {:e} m (no obstacle could keep that far from the wall, \
+                     and every hit would count as the wall's), got {g:e}",
+                    room.limit.1, room.limit.0
                 ),
             ));
         }
         Some(g) => g,
-        None => WALL_GAP_SLACK * wall_distance(boundary, obstacles).min(100.0),
+        None => WALL_GAP_SLACK * room.nearest.min(100.0),
     };
     let fit_range = spec
         .fit_range

@@ -12,10 +12,11 @@ use nalgebra::Vector2;
 use harmonav_scenario::{Model, Prepared, Sensor, Truth};
 
 use crate::guarantee::{Check, FreeSpaceLoss, Guarantee};
-use crate::scanner::Scanner;
+use crate::scanner::{Scanner, Scene};
 use crate::summary::RunError;
 use crate::trace::{Discovery, Sample, ScanRecord};
 use crate::warning::Warning;
+use harmonav::perception::sim::Enclosure;
 
 /// The closed loop of one robot model in one world.
 pub(crate) struct ClosedLoop<'a> {
@@ -208,7 +209,11 @@ impl<'a> ClosedLoop<'a> {
             scanner.refuse(t, e.clone());
             return Some(Err(e));
         }
-        Some(scanner.scan(&mut self.nav, self.truth, t, x, yaw))
+        let scene = Scene {
+            obstacles: &self.truth.obstacles,
+            enclosure: Enclosure::Star(&self.truth.boundary),
+        };
+        Some(scanner.scan(&mut self.nav, scene, t, x, yaw))
     }
 
     /// The recorded state at `t`. `state_error`: the integrator's bound on the error of the

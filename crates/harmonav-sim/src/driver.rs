@@ -289,7 +289,7 @@ impl<'a, 'o> Driver<'a, 'o> {
         let (monitor, samples) = self.rec.into_parts();
         let (perception, mut later) = match &self.lp.scanner {
             Some(s) => {
-                let (report, checks) = s.judge(&self.lp.nav, &self.prepared.truth);
+                let (report, checks) = s.judge(&self.lp.nav, &self.prepared.truth.obstacles);
                 (Some(report), checks)
             }
             None => (None, Vec::new()),

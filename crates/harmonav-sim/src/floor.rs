@@ -4,16 +4,19 @@
 //! leaving, staying in the certified region, arrival within a stated threshold), its
 //! [`FloorSummary`] (`harmonav run` on a floor plan), and the map's certificate.
 
+use harmonav::perception::sim::Enclosure;
+use harmonav::perception::{PerceptionError, Walls};
 use harmonav::{Controller, FloorNavigator, Law, NavError, Options};
 use harmonav_harmonic::Certificate;
 use harmonav_scenario::floorplan::FloorPrepared;
-use harmonav_scenario::{Model, ShapeSpec};
+use harmonav_scenario::{LidarSensor, Model, ShapeSpec};
 use nalgebra::Vector2;
 use serde::Serialize;
 
 use crate::guarantee::{Check, Guarantee};
 use crate::monitor::MARGIN_TOLERANCE;
-use crate::summary::Physics;
+use crate::scanner::{Scanner, Scene};
+use crate::summary::{PerceptionReport, Physics};
 use crate::trace::Discovery;
 use crate::trajectory::{Keep, Trajectory};
 
@@ -95,6 +98,9 @@ pub struct FloorRun {
     /// The largest distance from the built-in run's state at the same time, m (rapier runs
     /// given a built-in run as reference).
     pub max_deviation: Option<f64>,
+    /// With a lidar (`[sensor] type = "lidar"`): what its perception did, and its guarantees
+    /// (the seen truth covered, shapes only growing, every scan accepted; `crate::scanner`).
+    pub perception: Option<(PerceptionReport, Vec<Guarantee>)>,
 }
 
 /// The name of the `i`-th obstacle of a floor-plan file: its `name`, or `obstacles[i]`.
@@ -116,6 +122,15 @@ pub fn navigator(
     prepared: &FloorPrepared,
     model: Option<Model>,
 ) -> Result<FloorNavigator, NavError> {
+    navigator_and_lidar(prepared, model).map(|(nav, _)| nav)
+}
+
+/// [`navigator`], and the file's lidar for its law ([`LidarSensor::for_law`]: the fit range of
+/// eq. fitnear under the kinematic law), whose priors the navigator's options then carry.
+fn navigator_and_lidar(
+    prepared: &FloorPrepared,
+    model: Option<Model>,
+) -> Result<(FloorNavigator, Option<LidarSensor>), NavError> {
     let r = &prepared.scenario.robot;
     let law = match model.unwrap_or(r.model) {
         Model::Kinematic => Law::kinematic(r.gain),
@@ -124,12 +139,22 @@ pub fn navigator(
     let options = Options::default()
         .with_robot(r.radius, r.margin)
         .with_heading(r.heading);
-    FloorNavigator::new(prepared.floor.clone(), Vector2::from(r.goal), law, options)
+    let lidar = prepared
+        .lidar
+        .map(|(l, rho)| (l.for_law(&law, &options), rho));
+    let options = match &lidar {
+        Some((l, rho)) => l.options(options, *rho),
+        None => options,
+    };
+    let nav = FloorNavigator::new(prepared.floor.clone(), Vector2::from(r.goal), law, options)?;
+    Ok((nav, lidar.map(|(l, _)| l)))
 }
 
 /// Runs the user's loop from `start` under `model` (the file's by default): at every period
 /// `h` the robot senses the true obstacles within `sim.sensor_range` (added once, grown by the
-/// navigator), asks [`FloorNavigator::command`], and holds it — `x += h·u` (kinematic), or
+/// navigator) or, with `[sensor] type = "lidar"`, hands the navigator a scan of the true walls
+/// and obstacles whenever one is due ([`FloorNavigator::observe_scan`], judged as in a star
+/// world), asks [`FloorNavigator::command`], and holds it — `x += h·u` (kinematic), or
 /// `v += h·f/m, x += h·v` (dynamic, semi-implicit Euler; `Held::euler`). The monitors use
 /// the true walls and shapes only, at every state and (by the Lipschitz bound of
 /// [`FloorRun::swept_clearance`]) along every step.
@@ -211,7 +236,19 @@ pub(crate) fn fly(
 ) -> Result<FloorRun, NavError> {
     let r = &prepared.scenario.robot;
     let goal = Vector2::from(r.goal);
-    let mut nav = navigator(prepared, model)?;
+    let (mut nav, lidar) = navigator_and_lidar(prepared, model)?;
+    let mut scanner = lidar.map(Scanner::new);
+    let walls = match &scanner {
+        Some(_) => {
+            let truth = prepared.floor.walls();
+            Some(
+                Walls::new(truth.outer().to_vec(), truth.holes().to_vec())
+                    .map_err(|e| NavError::Perception(PerceptionError::Walls(e)))?,
+            )
+        }
+        None => None,
+    };
+    let mut yaw = 0.0;
     let h = nav.control_period();
     let sim = prepared.scenario.sim;
     let steps = (sim.max_time / h).ceil() as usize;
@@ -239,6 +276,7 @@ pub(crate) fn fly(
         physics: Physics::Builtin,
         contacts: None,
         max_deviation: None,
+        perception: None,
     };
     // The disc's clearance at the previous state and the length of the step since.
     let mut last: Option<(f64, f64)> = None;
@@ -274,9 +312,31 @@ pub(crate) fn fly(
         if n == steps {
             break;
         }
-        // Perception: a true obstacle within range of the robot's disc becomes known.
+        // Perception: a scan when one is due, or a true obstacle within range of the robot's
+        // disc becomes known.
         let mut discovered = false;
-        for (i, (o, seen)) in prepared.obstacles.iter().zip(&mut known).enumerate() {
+        if let (Some(scanner), Some(walls)) = (scanner.as_mut(), walls.as_ref())
+            && scanner.due(out.time)
+        {
+            let scene = Scene {
+                obstacles: &prepared.obstacles,
+                enclosure: Enclosure::Walls(walls),
+            };
+            match scanner.scan(&mut nav, scene, out.time, x, yaw) {
+                Ok(record) => discovered = record.perceived.is_some(),
+                Err(e) => {
+                    out.ending = FloorEnding::Refused;
+                    out.error = Some(e);
+                    break;
+                }
+            }
+        }
+        let exact = if scanner.is_some() {
+            &[][..]
+        } else {
+            &prepared.obstacles[..]
+        };
+        for (i, (o, seen)) in exact.iter().zip(&mut known).enumerate() {
             if !*seen && o.signed_distance(x) - r.radius < sim.sensor_range {
                 nav.add_obstacle(o.clone())?;
                 *seen = true;
@@ -320,6 +380,9 @@ pub(crate) fn fly(
         });
         out.max_speed = out.max_speed.max(vel.norm());
         let step = (next - x).norm();
+        if step > 0.0 {
+            yaw = (next.y - x.y).atan2(next.x - x.x);
+        }
         out.path += step;
         last = Some((clearance, step));
         x = next;
@@ -327,6 +390,7 @@ pub(crate) fn fly(
     kept.push([x.x, x.y], Keep::Pinned);
     out.positions = kept.into_samples();
     out.k = nav.k();
+    out.perception = scanner.map(|s| s.judge(&nav, &prepared.obstacles));
     Ok(out)
 }
 
@@ -385,8 +449,10 @@ pub struct FloorSummary {
     pub commands: usize,
     /// Escapes begun from rest points of the hold's slide (docs/maths.md §13.7).
     pub escapes: usize,
-    /// The obstacles sensed, in order.
+    /// The obstacles sensed, in order (exact sensing; empty with a lidar).
     pub discoveries: Vec<Discovery>,
+    /// With a lidar: what its perception did (`null` otherwise), as in a star world's summary.
+    pub perception: Option<PerceptionReport>,
     /// Every guarantee with what its monitor measured.
     pub guarantees: Vec<Guarantee>,
 }
@@ -476,6 +542,9 @@ impl FloorSummary {
                 true,
             ));
         }
+        if let Some((_, checks)) = &run.perception {
+            guarantees.extend(checks.iter().cloned());
+        }
         Self {
             name: sc.name.clone(),
             model,
@@ -503,6 +572,7 @@ impl FloorSummary {
             commands: run.commands,
             escapes: run.escapes,
             discoveries: run.discoveries.clone(),
+            perception: run.perception.as_ref().map(|(r, _)| r.clone()),
             guarantees,
         }
     }

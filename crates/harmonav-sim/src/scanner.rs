@@ -13,9 +13,11 @@
 use std::f64::consts::TAU;
 
 use harmonav::perception::Reading;
-use harmonav::perception::sim::Lidar;
-use harmonav::{LaserScan, NavError, Navigator, Pose, StarShape};
-use harmonav_scenario::{LidarSensor, Truth};
+use harmonav::perception::sim::{Enclosure, Lidar};
+use harmonav::{
+    FloorNavigator, LaserScan, NavError, Navigator, Perceived, Pose, ScanUpdate, StarShape,
+};
+use harmonav_scenario::LidarSensor;
 use harmonav_transform::random::Rng;
 use nalgebra::Vector2;
 
@@ -37,6 +39,44 @@ const GROWTH_TOLERANCE: f64 = 1e-9;
 /// A scan is due at `t` once `t` is within this relative distance of its time (the
 /// integrators land on it up to rounding).
 const DUE: f64 = 1e-9;
+
+/// A navigator the lidar feeds: [`Navigator`] in a star world, [`FloorNavigator`] in a floor
+/// plan.
+pub(crate) trait Scanned {
+    /// The navigator's `observe_scan`.
+    fn observe(&mut self, pose: Pose, scan: &LaserScan) -> Result<ScanUpdate, NavError>;
+    /// The perceived shapes, in the perception's order.
+    fn shapes(&self) -> Vec<&Perceived>;
+}
+
+impl Scanned for Navigator {
+    fn observe(&mut self, pose: Pose, scan: &LaserScan) -> Result<ScanUpdate, NavError> {
+        self.observe_scan(pose, scan)
+    }
+
+    fn shapes(&self) -> Vec<&Perceived> {
+        self.perceived().map(|(_, p)| p).collect()
+    }
+}
+
+impl Scanned for FloorNavigator {
+    fn observe(&mut self, pose: Pose, scan: &LaserScan) -> Result<ScanUpdate, NavError> {
+        self.observe_scan(pose, scan)
+    }
+
+    fn shapes(&self) -> Vec<&Perceived> {
+        self.perceived().map(|(_, p)| p).collect()
+    }
+}
+
+/// The truth a lidar scans: the obstacles and what encloses them (a star boundary or walls).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Scene<'a> {
+    /// The true obstacles.
+    pub obstacles: &'a [StarShape],
+    /// The true boundary or walls.
+    pub enclosure: Enclosure<'a>,
+}
 
 /// The lidar of a run, its seeded noise, and the running judgement.
 pub(crate) struct Scanner {
@@ -84,30 +124,29 @@ impl Scanner {
     /// success the record of the scan; on a refusal the navigator's error (`nav` unchanged).
     pub fn scan(
         &mut self,
-        nav: &mut Navigator,
-        truth: &Truth,
+        nav: &mut impl Scanned,
+        truth: Scene<'_>,
         t: f64,
         x: Vector2<f64>,
         yaw: f64,
     ) -> Result<ScanRecord, NavError> {
         let pose = Pose::new(x.x, x.y, yaw);
         let lidar = self.sensor.lidar;
-        let scan = lidar.scan(
-            &pose,
-            &truth.obstacles,
-            Some(&truth.boundary),
-            &mut self.rng,
-        );
+        let scan = lidar.scan_in(&pose, truth.obstacles, truth.enclosure, &mut self.rng);
         // The next scan is the first `n / rate_hz` after `t` (a fixed step longer than the
         // period skips the scans it stepped over instead of falling behind).
         let rate = self.sensor.rate_hz;
         self.taken = (self.taken + 1).max((t * rate + DUE).floor() as u64 + 1);
-        let update = nav.observe_scan(pose, &scan).inspect_err(|e| {
+        let update = nav.observe(pose, &scan).inspect_err(|e| {
             self.refusal = Some((t, e.clone()));
         })?;
         self.report.scans += 1;
         self.report.unfitted_segments += update.unfitted;
-        let now: Vec<StarShape> = nav.perceived().map(|(_, p)| p.shape().clone()).collect();
+        let now: Vec<StarShape> = nav
+            .shapes()
+            .into_iter()
+            .map(|p| p.shape().clone())
+            .collect();
         let c = coverage(
             &lidar,
             &pose,
@@ -150,7 +189,11 @@ impl Scanner {
     /// guarantees [`Kind::PerceivedCoversTruth`](crate::guarantee::Kind::PerceivedCoversTruth),
     /// [`Kind::PerceivedOnlyGrows`](crate::guarantee::Kind::PerceivedOnlyGrows) and
     /// [`Kind::ScansAccepted`](crate::guarantee::Kind::ScansAccepted).
-    pub fn judge(&self, nav: &Navigator, truth: &Truth) -> (PerceptionReport, Vec<Guarantee>) {
+    pub fn judge(
+        &self,
+        nav: &impl Scanned,
+        truth: &[StarShape],
+    ) -> (PerceptionReport, Vec<Guarantee>) {
         let r = self.report(nav, truth);
         let guarantees = vec![
             Guarantee::new(
@@ -179,10 +222,9 @@ impl Scanner {
     }
 
     /// The report at the end of the run, `nav` the navigator then.
-    fn report(&self, nav: &Navigator, truth: &Truth) -> PerceptionReport {
-        let perceived: Vec<_> = nav.perceived().map(|(_, p)| p).collect();
+    fn report(&self, nav: &impl Scanned, truth: &[StarShape]) -> PerceptionReport {
+        let perceived = nav.shapes();
         let seen: f64 = truth
-            .obstacles
             .iter()
             .filter(|o| perceived.iter().any(|p| p.shape().contains(o.centre())))
             .map(StarShape::area)
@@ -218,12 +260,12 @@ fn coverage(
     lidar: &Lidar,
     pose: &Pose,
     scan: &LaserScan,
-    truth: &Truth,
+    truth: Scene<'_>,
     perceived: &[StarShape],
     fit_range: f64,
 ) -> Coverage {
     let s = pose.position();
-    let boundary = Some(&truth.boundary);
+    let boundary = truth.enclosure;
     // Only the obstacles whose bounding disc the range reaches.
     let near: Vec<&StarShape> = truth
         .obstacles
@@ -242,8 +284,12 @@ fn coverage(
     let mut hit = vec![false; near.len()];
     for i in 0..scan.ranges.len() {
         if matches!(scan.reading(i), Reading::Hit(r) if r <= fit_range)
-            && let Some((k, _)) =
-                lidar.first_obstacle_hit(s, scan.direction(pose, i), near.iter().copied(), boundary)
+            && let Some((k, _)) = lidar.first_obstacle_hit_in(
+                s,
+                scan.direction(pose, i),
+                near.iter().copied(),
+                boundary,
+            )
         {
             hit[k] = true;
         }
@@ -263,7 +309,7 @@ fn coverage(
     for i in 0..rays {
         let a = pose.yaw + angle_min + i as f64 * step;
         let u = Vector2::new(a.cos(), a.sin());
-        let first = lidar.first_obstacle_hit(s, u, near.iter().copied(), boundary);
+        let first = lidar.first_obstacle_hit_in(s, u, near.iter().copied(), boundary);
         if let Some((_, t)) = first.filter(|(k, _)| hit[*k]) {
             c.seen += 1;
             let p = s + t * u;

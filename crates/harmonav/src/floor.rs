@@ -234,10 +234,11 @@ impl FloorNavigator {
     /// reused). An event resets what [`FloorNavigator::add_obstacle`] resets.
     ///
     /// A sensed obstacle must lie in the certified region with its growth
-    /// ([`FloorError::ObstacleNearWall`]): furniture nearer the walls than about
-    /// `2(radius + margin)` plus its fit's size cannot be navigated around by the harmonic
-    /// map's construction, whose holes are solved once. Give such furniture in the map, or
-    /// state the wall prior `g_w` it keeps.
+    /// ([`FloorError::ObstacleNearWall`], decided by [`FloorMap::star_room`]): a fit grown by
+    /// `radius + margin` that comes within `δ` of the walls shrunk by the robot cannot be taken
+    /// by the harmonic map's construction, whose holes are solved once. Furniture that stands
+    /// that near the walls belongs in the map; the wall prior `g_w` keeps fits from reaching
+    /// towards the walls behind what the scan saw.
     ///
     /// # Errors
     /// The navigator is then unchanged: as [`crate::Navigator::observe_scan`] (a sensor outside

@@ -3,17 +3,21 @@
 //! user's loop around `harmonav::FloorNavigator` (`harmonav_sim::floor::run`), built-in and in
 //! rapier with the walls as colliders (`harmonav_sim::physics::simulate_floor`), and the
 //! Lipschitz certificate of `det J_H > 0`, `|H| < 1` on `W_δ` for each map, with the certified
-//! level `c_δ` on `∂W_δ`.
+//! level `c_δ` on `∂W_δ`; and every file without a lidar rerun with one (issue 26 in issue 25's
+//! plans: the walls from the map, the obstacles from the scans; docs/maths.md §12.17).
 
 use std::path::{Path, PathBuf};
 
-use harmonav_scenario::Model;
-use harmonav_scenario::floorplan::{FLOORPLANS, FloorScenario};
+use harmonav_scenario::floorplan::{FLOORPLANS, FloorPrepared, FloorScenario};
+use harmonav_scenario::{Model, SensorSpec};
 use harmonav_sim::floor::{FloorEnding, FloorSummary, certificate};
 use harmonav_sim::guarantee::Kind;
 use harmonav_sim::physics::{Physics, simulate_floor};
+use harmonav_sim::pool::parallel_map;
+use nalgebra::Vector2;
 
-use super::{Check, Outcome, outcome};
+use super::lidar::RERUN_RANGE_BEYOND_DEPTH;
+use super::{Check, Outcome, Verdict, outcome};
 
 /// Cells of the certificate (each an `O(N)` evaluation; the first grid of the U room at
 /// `δ = 0.05` m alone has 7·10⁴, and its pocket takes it to 1.3·10⁵).
@@ -36,6 +40,8 @@ fn files() -> Vec<PathBuf> {
 
 pub fn checks() -> Vec<Check> {
     let mut all = Vec::new();
+    let every = files();
+    all.push(Check::new("lidar-rerun.floorplans", move || rerun(&every)).early());
     for file in files() {
         let name = file
             .file_stem()
@@ -76,8 +82,16 @@ fn fly(file: &Path, model: Model, physics: Physics) -> Outcome {
     let (mut walls, mut obstacles, mut layer, mut slowest) =
         (f64::INFINITY, f64::INFINITY, f64::INFINITY, 0.0_f64);
     let (mut contacts, mut deviation, mut escapes) = (0, 0.0_f64, 0);
+    // With a lidar: scans, events, and the seen truth points (uncovered ones fail the run).
+    let mut lidar: Option<(usize, usize, usize)> = None;
     for &start in &p.starts {
         let r = simulate_floor(&p, Some(model), start, physics).map_err(|e| e.to_string())?;
+        if let Some((report, _)) = &r.perception {
+            let l = lidar.get_or_insert((0, 0, 0));
+            l.0 += report.scans;
+            l.1 += report.events;
+            l.2 += report.seen_points;
+        }
         contacts += r.contacts.unwrap_or(0);
         escapes += r.escapes;
         deviation = deviation.max(r.max_deviation.unwrap_or(0.0));
@@ -107,6 +121,9 @@ fn fly(file: &Path, model: Model, physics: Physics) -> Outcome {
         }
     }
     let n = p.starts.len();
+    let scans = lidar.map_or(String::new(), |(scans, events, seen)| {
+        format!("; lidar: {scans} scans, {events} events, {seen} seen truth points covered")
+    });
     let rapier = match physics {
         Physics::Builtin => String::new(),
         Physics::Rapier => format!(
@@ -117,7 +134,7 @@ fn fly(file: &Path, model: Model, physics: Physics) -> Outcome {
         bad.is_empty() && walls > 0.0 && obstacles > 0.0 && layer >= 0.0 && contacts == 0,
         format!(
             "{reached}/{n} within {} m (slowest {slowest:.1} s, {escapes} escapes), 0 collisions: \
-             wall clearance {walls:.3} m, obstacles {obstacles:.3} m, layer {layer:.1e} m{rapier}; N = {}, δ = {} m, setup {:.2} s{}",
+             wall clearance {walls:.3} m, obstacles {obstacles:.3} m, layer {layer:.1e} m{rapier}{scans}; N = {}, δ = {} m, setup {:.2} s{}",
             p.scenario.sim.arrival,
             p.floor.map().elements().len(),
             p.floor.delta(),
@@ -178,4 +195,92 @@ fn certify(file: &Path) -> Outcome {
             )),
         ),
     )
+}
+
+/// `file` with a 360° lidar of the defaults (360 beams at 10 Hz, ±2 cm noise, 1 % none; the
+/// depth prior the largest true diameter `D`, the wall prior from the true walls) and range
+/// `D +` [`RERUN_RANGE_BEYOND_DEPTH`], as a star world is rerun; `None` for a file that has a
+/// lidar already.
+fn with_lidar(file: &Path) -> Result<Option<FloorPrepared>, String> {
+    let text = std::fs::read_to_string(file).map_err(|e| format!("{}: {e}", file.display()))?;
+    let mut sc = FloorScenario::parse(file, &text).map_err(|e| e.to_string())?;
+    if sc.sensor.is_some() {
+        return Ok(None);
+    }
+    // First with a range beyond any depth, to learn the default D from the truth.
+    sc.sensor = Some(SensorSpec::lidar(1e6));
+    let probe = sc.clone().prepare(file).map_err(|e| e.to_string())?;
+    let depth = probe.lidar.map_or(1.0, |(l, _)| l.scan.max_obstacle_depth);
+    sc.sensor = Some(SensorSpec::lidar(depth + RERUN_RANGE_BEYOND_DEPTH));
+    sc.prepare(file).map(Some).map_err(|e| e.to_string())
+}
+
+/// Every floor plan without a lidar rerun with one ([`with_lidar`]), every start under both
+/// laws (built-in): each run must keep every guarantee of its summary (no collision, the
+/// certified region, the seen truth covered, shapes only growing); runs that stay safe but do
+/// not arrive (a refused scan, a time-out) make it a target not met.
+fn rerun(files: &[PathBuf]) -> Outcome {
+    let mut runs: Vec<(String, Model, Vector2<f64>, usize)> = Vec::new();
+    let mut plans = Vec::new();
+    for file in files {
+        if let Some(p) = with_lidar(file)? {
+            let name = file
+                .file_stem()
+                .map_or(String::new(), |s| s.to_string_lossy().into_owned());
+            for &start in &p.starts {
+                for model in [Model::Kinematic, Model::Dynamic] {
+                    runs.push((name.clone(), model, start, plans.len()));
+                }
+            }
+            plans.push(p);
+        }
+    }
+    let threads = std::thread::available_parallelism().map_or(1, usize::from);
+    let results = parallel_map(&runs, threads, |(_, model, start, i)| {
+        let p = &plans[*i];
+        simulate_floor(p, Some(*model), *start, Physics::Builtin)
+            .map(|r| FloorSummary::new(p, Some(*model), *start, &r))
+    });
+    let (mut arrived, mut events, mut seen) = (0, 0, 0);
+    let (mut lost, mut missed) = (Vec::new(), Vec::new());
+    for ((name, model, start, _), s) in runs.iter().zip(results) {
+        let s = s.map_err(|e| format!("{name} ({model:?}): {e}"))?;
+        let p = s.perception.clone().unwrap_or_default();
+        (events, seen) = (events + p.events, seen + p.seen_points);
+        let run = format!("{name} {} from {start:?}", model.as_str());
+        if let Some(g) = s
+            .guarantees
+            .iter()
+            .find(|g| !g.passed && g.kind() != Kind::ReachedGoal && g.kind() != Kind::ScansAccepted)
+        {
+            lost.push(format!("{run}: {} failed: {}", g.name(), g.detail()));
+        } else if s.reached {
+            arrived += 1;
+        } else {
+            missed.push(format!(
+                "{run}: {}{}",
+                s.outcome,
+                s.error.map_or(String::new(), |e| format!(" ({e})"))
+            ));
+        }
+    }
+    let detail = format!(
+        "{arrived}/{} runs arrived ({} plans, every start, both laws), {events} events, {seen} \
+         seen truth points covered{}",
+        runs.len(),
+        plans.len(),
+        if missed.is_empty() {
+            String::new()
+        } else {
+            format!("; not arrived: {}", missed.join("; "))
+        }
+    );
+    if let Some(first) = lost.first() {
+        return Err(format!("{detail}; {} unsafe, first: {first}", lost.len()));
+    }
+    if missed.is_empty() {
+        Ok(Verdict::Held(detail))
+    } else {
+        Ok(Verdict::Target(detail))
+    }
 }
