@@ -46,11 +46,14 @@ def test_a_floor_plan_flies_in_rapier_with_the_walls_as_colliders():
         plan.run(physics="bullet")
 
 
-def test_a_floor_plan_with_a_lidar_perceives_its_furniture_from_scans():
+def test_a_floor_plan_with_a_lidar_perceives_its_furniture_from_scans(tmp_path):
     """`[sensor] type = "lidar"` in a floor plan (issue 26 in issue 25's maps): the furniture
-    comes from the scans alone, and the summary judges the perception as a star world's does."""
+    comes from the scans alone, the summary judges the perception as a star world's does, and
+    the figure draws the perceived shapes over the true ones."""
     plan = harmonav.FloorPlan.load(ROOT / "scenarios" / "floorplans" / "lidar-room.toml")
-    s = plan.run(model="kinematic").summary
+    s = plan.run(model="kinematic", out=tmp_path / "lidar").summary
+    svg = (tmp_path / "lidar" / "trajectory.svg").read_text()
+    assert "perceived (lidar)" in svg and "#19BED7" in svg  # the perceived outlines' colour
     assert s["reached"], s["outcome"]
     names = {g["name"]: g["passed"] for g in s["guarantees"]}
     assert all(names.values()), names
@@ -61,8 +64,11 @@ def test_a_floor_plan_with_a_lidar_perceives_its_furniture_from_scans():
     assert p["scans"] > 10 and p["events"] >= 1 and p["perceived"] >= 1
     assert p["seen_points"] > 0 and p["uncovered_points"] == 0
     assert s["discoveries"] == []  # nothing handed over exact
-    # Without the lidar the same file has no perception report.
-    assert harmonav.FloorPlan.load(L_ROOM).run(model="kinematic").summary["perception"] is None
+    # Without the lidar a floor plan has no perception report and no perceived outline.
+    bare = harmonav.FloorPlan.load(L_ROOM).run(model="kinematic", out=tmp_path / "bare")
+    assert bare.summary["perception"] is None
+    svg = (tmp_path / "bare" / "trajectory.svg").read_text()
+    assert "perceived (lidar)" not in svg and "#19BED7" not in svg
 
 
 def test_the_heading_policy_shortens_the_kinematic_path_and_is_checked():

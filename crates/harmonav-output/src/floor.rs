@@ -1,6 +1,6 @@
 //! A floor-plan run's outputs (issue 25): `trajectory.svg` (the true walls, the certified
-//! region's outer edge, the obstacles, the level sets of `Θ` the robot knew at the end, the
-//! path) and `summary.json` ([`harmonav_sim::floor::FloorSummary`]), written as one set like a
+//! region's outer edge, the obstacles, a lidar's perceived shapes over them, the level sets of
+//! `Θ` the robot knew at the end, the path) and `summary.json` ([`harmonav_sim::floor::FloorSummary`]), written as one set like a
 //! star world's ([`crate::set`]; a floor-plan run writes no recording yet, so a stale
 //! `run.mcap`, `speed.svg` or `energy.svg` in the folder is removed).
 
@@ -12,10 +12,10 @@ use plotters::prelude::*;
 
 use crate::atomic::{OutputError, StagedDir};
 use crate::canvas::{Scale, scaled_svg};
-use crate::drawing::{ring, xy};
+use crate::drawing::{outline, ring, xy};
 use crate::figures::{
-    CHART, Key, LEVELS, draw_legend, draw_level_lines, draw_names, draw_obstacle, draw_path,
-    draw_run, err, plane, run_keys, run_title,
+    CHART, Key, LEVELS, PERCEIVED, draw_legend, draw_level_lines, draw_names, draw_obstacle,
+    draw_path, draw_run, err, plane, run_keys, run_title,
 };
 use crate::levels::ThetaGrid;
 use crate::set::{OUTPUT_FILES, check_output_dir};
@@ -47,12 +47,29 @@ pub fn floor_trajectory_svg(
     let half = 0.52 * (hi - lo).max();
     // Θ as the robot knew it at the end: the walls and the obstacles it had sensed, grown by
     // radius + margin as the navigator grows them; NaN (no line) outside the certified region.
+    // With a lidar, the shapes it perceived, grown as the navigator grows them.
     let mut nav = navigator(prepared, None).map_err(|e| e.to_string())?;
     for d in &run.discoveries {
         nav.add_obstacle(prepared.obstacles[d.index].clone())
             .map_err(|e| e.to_string())?;
     }
-    let theta = |p| nav.theta(p).ok();
+    let perceived = match &prepared.lidar {
+        Some((lidar, _)) if !run.perceived.is_empty() => {
+            let r = &prepared.scenario.robot;
+            let grown = run
+                .perceived
+                .iter()
+                .map(|p| harmonav::grow_perceived_as(p, r.radius + r.margin, lidar.scan.form))
+                .collect::<Result<Vec<_>, _>>()
+                .map_err(|e| e.to_string())?;
+            Some(nav.field().with_sensed(&grown).map_err(|e| e.to_string())?)
+        }
+        _ => None,
+    };
+    let theta = |p| match &perceived {
+        Some(field) => field.eval(p).ok().map(|e| e.value),
+        None => nav.theta(p).ok(),
+    };
     let grid = ThetaGrid::from_fn(c, half, FLOOR_LEVEL_CELLS, theta);
     let levels = grid.refined_level_lines(&LEVELS, theta);
     let title = run_title(
@@ -61,7 +78,16 @@ pub fn floor_trajectory_svg(
         summary.reached,
         summary.time_s,
     );
-    let known: Vec<usize> = run.discoveries.iter().map(|d| d.index).collect();
+    // Known: discovered, or (a lidar's) the true obstacles a perceived shape holds the centre of.
+    let known: Vec<usize> = run
+        .discoveries
+        .iter()
+        .map(|d| d.index)
+        .chain((0..prepared.obstacles.len()).filter(|&i| {
+            let c = prepared.obstacles[i].centre();
+            run.perceived.iter().any(|p| p.contains(c))
+        }))
+        .collect();
     let note = format!(
         "certified region: δ = {} m inside the grey lines; {} boundary elements",
         summary.delta, summary.elements
@@ -96,6 +122,9 @@ pub fn floor_trajectory_svg(
         for (i, o) in prepared.obstacles.iter().enumerate() {
             draw_obstacle(&mut chart, o, known.contains(&i), sc)?;
         }
+        for p in &run.perceived {
+            draw_path(&mut chart, outline(p), sc.stroke(PERCEIVED, 2))?;
+        }
         let points = run.positions.iter().map(|p| (p[0], p[1]));
         let (start, goal) = (summary.start, summary.goal);
         draw_run(
@@ -119,7 +148,13 @@ pub fn floor_trajectory_svg(
         draw_names(&mut chart, &names, sc)?;
         let mut keys = run_keys();
         keys.push(("walls", Key::Patch(WALL_FILL, BLACK)));
-        keys.push(("certified edge", Key::Line(EDGE, 1)));
+        // One row holds seven keys: the perceived shapes take the certified edge's place (the
+        // note below names the grey lines).
+        if run.perceived.is_empty() {
+            keys.push(("certified edge", Key::Line(EDGE, 1)));
+        } else {
+            keys.push(("perceived (lidar)", Key::Line(PERCEIVED, 2)));
+        }
         draw_legend(&legend, &keys, Some(&note), sc)
     })
 }

@@ -6,7 +6,7 @@
 
 use harmonav::perception::sim::Enclosure;
 use harmonav::perception::{PerceptionError, Walls};
-use harmonav::{Controller, FloorNavigator, Law, NavError, Options};
+use harmonav::{Controller, FloorNavigator, Law, NavError, Options, StarShape};
 use harmonav_harmonic::Certificate;
 use harmonav_scenario::floorplan::FloorPrepared;
 use harmonav_scenario::{LidarSensor, Model, ShapeSpec};
@@ -50,7 +50,7 @@ impl FloorEnding {
 }
 
 /// What one run measured.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct FloorRun {
     /// How it ended.
     pub ending: FloorEnding,
@@ -101,6 +101,9 @@ pub struct FloorRun {
     /// With a lidar (`[sensor] type = "lidar"`): what its perception did, and its guarantees
     /// (the seen truth covered, shapes only growing, every scan accepted; `crate::scanner`).
     pub perception: Option<(PerceptionReport, Vec<Guarantee>)>,
+    /// With a lidar: the shapes it perceived by the end (not grown), in the perception's
+    /// order; empty otherwise.
+    pub perceived: Vec<StarShape>,
 }
 
 /// The name of the `i`-th obstacle of a floor-plan file: its `name`, or `obstacles[i]`.
@@ -277,6 +280,7 @@ pub(crate) fn fly(
         contacts: None,
         max_deviation: None,
         perception: None,
+        perceived: Vec::new(),
     };
     // The disc's clearance at the previous state and the length of the step since.
     let mut last: Option<(f64, f64)> = None;
@@ -391,6 +395,7 @@ pub(crate) fn fly(
     out.positions = kept.into_samples();
     out.k = nav.k();
     out.perception = scanner.map(|s| s.judge(&nav, &prepared.obstacles));
+    out.perceived = nav.perceived().map(|(_, p)| p.shape().clone()).collect();
     Ok(out)
 }
 
