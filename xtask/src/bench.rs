@@ -157,6 +157,16 @@ pub fn run(options: &Options) -> ExitCode {
             let (steady, event) = observe_scan_us(beams);
             put(&format!("observe_scan_us_{beams}"), steady);
             put(&format!("observe_scan_event_us_{beams}"), event);
+            match floor_observe_scan_us(beams) {
+                Ok((steady, event)) => {
+                    put(&format!("floor_observe_scan_us_{beams}"), steady);
+                    put(&format!("floor_observe_scan_event_us_{beams}"), event);
+                }
+                Err(e) => {
+                    eprintln!("xtask bench: the floor-plan scan benchmark failed: {e}");
+                    return ExitCode::FAILURE;
+                }
+            }
         }
     }
     if wants("many") {
@@ -428,6 +438,60 @@ fn observe_scan_us(beams: usize) -> (f64, f64) {
         }
     });
     (steady, event)
+}
+
+/// `FloorNavigator::observe_scan` on a scan of `beams` beams (360°, 4 m, 1 cm noise, 1 %
+/// dropouts) in the ROS-map office of `scenarios/floorplans/map-office-lidar.toml` (1 431
+/// boundary elements), 0.6 m from its corridor chair, µs: `(steady, event)` as
+/// [`observe_scan_us`]. Every hit on the walls is explained by parry's distance to the wall
+/// segments (docs/maths.md §12.17).
+fn floor_observe_scan_us(beams: usize) -> Result<(f64, f64), String> {
+    use harmonav::perception::Walls;
+    use harmonav::perception::sim::{Enclosure, Lidar};
+    use harmonav::{FloorNavigator, Law, Options, Pose, ScanOptions, Vector2};
+    let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../scenarios/floorplans/map-office-lidar.toml");
+    let p = harmonav_scenario::floorplan::FloorScenario::load(&file).map_err(|e| e.to_string())?;
+    let lidar = Lidar {
+        noise: 0.01,
+        dropout: 0.01,
+        ..Lidar::full_turn(beams, 4.0)
+    };
+    let options = Options::default()
+        .with_robot(0.1, 0.1)
+        .with_scan(ScanOptions {
+            range_noise: 0.01,
+            max_obstacle_depth: 0.5,
+            ..ScanOptions::default()
+        });
+    let goal = Vector2::from(p.scenario.robot.goal);
+    let fresh = FloorNavigator::new(p.floor.clone(), goal, Law::kinematic(1.0), options)
+        .map_err(|e| e.to_string())?;
+    let truth = p.floor.walls();
+    let walls =
+        Walls::new(truth.outer().to_vec(), truth.holes().to_vec()).map_err(|e| e.to_string())?;
+    let pose = Pose::new(3.0, 3.4, 0.0);
+    let mut rng = harmonav::transform::random::Rng::new(7);
+    let scans: Vec<_> = (0..8)
+        .map(|_| lidar.scan_in(&pose, &p.obstacles, Enclosure::Walls(&walls), &mut rng))
+        .collect();
+    let event = median_ns(5, 1e3, || {
+        let mut nav = fresh.clone();
+        let _ = black_box(nav.observe_scan(pose, black_box(&scans[0])));
+    });
+    let mut nav = fresh.clone();
+    let first = nav
+        .observe_scan(pose, &scans[0])
+        .map_err(|e| e.to_string())?;
+    if !first.changed() {
+        return Err("the first scan perceived nothing".into());
+    }
+    let steady = median_ns(15, 1e3 * scans.len() as f64, || {
+        for s in &scans {
+            let _ = black_box(nav.observe_scan(pose, black_box(s)));
+        }
+    });
+    Ok((steady, event))
 }
 
 /// One full control step with 6 known obstacles (and 2 not yet known): the sector check of
