@@ -415,6 +415,12 @@ impl Dynamic {
         self.mass
     }
 
+    /// `d_min` of the switched damping `(m/d_min)|ẋ(T_n)|` (eq. `dissipationfun`), m: the
+    /// stopping distance after a discovery.
+    pub fn d_min(&self) -> f64 {
+        self.d_min
+    }
+
     /// The gain `μ` (`controller.mu`): it sets the speed bound `√(2μ/m)`.
     pub fn mu(&self) -> f64 {
         self.mu

@@ -565,7 +565,8 @@ impl FloorMap {
     /// *Why it suffices* (docs/maths.md §12.17). When it is positive, `shape` is connected, holds
     /// `c ∈ W_s` and meets no point of `∂W_s`, so it lies in `W_s`, and each of its points is
     /// `D > δ` or more from `∂W_s`: `shape ⊂ W_δ`, as are its points within `D − δ` of it.
-    /// Sharper than the bounding disc `sd(c) − δ − R_max`, which refuses a long shape along a
+    /// The larger of this and the bounding disc's `sd(c) − δ − R_max` (also a lower bound): the
+    /// disc's is the sharper for a disc, by up to the slack, and refuses a long shape along a
     /// wall.
     #[must_use]
     pub fn star_room(&self, shape: &harmonav_transform::StarShape) -> f64 {
@@ -592,7 +593,9 @@ impl FloorMap {
                 }
             }
         }
-        least - 0.5 * spacing - self.delta
+        // Both are lower bounds of the room: the disc's `sd(c) − R_max − δ` is the sharper for
+        // a disc, by up to the sampling slack.
+        (least - 0.5 * spacing - self.delta).max(sd_c - r_max - self.delta)
     }
 
     /// A lower bound on the distance from `x ∈ W_δ` to the boundary layer: `sd(x) − δ` (exact:

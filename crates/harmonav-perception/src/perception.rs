@@ -366,10 +366,11 @@ impl Perception {
     }
 
     /// The same perception inside known walls (a floor plan's, docs/maths.md §12.17): a hit
-    /// within `ε_x` of a wall, or nearer one than `g_w − ε` under the wall prior, is explained
-    /// (eq. explained with `d(p)` the walls' distance); the sensor must lie in their free space;
-    /// a fit leaves out `{sd < g_w}` ([`WallPrior::Level`]), so no fit reaches into a wall, nor
-    /// nearer than `g_w` under the prior.
+    /// within `ε_x` of a wall, nearer one than `g_w − ε` under the wall prior, or outside the
+    /// free space, is explained (eq. explained with `d(p)` the walls' distance); the sensor
+    /// must lie in their free space; a fit leaves out `{sd < g_w}` ([`WallPrior::Level`]), up
+    /// to the cover's slack: a fit keeps `sd ≥ g_w − h − τ` (`h` the cover's spacing, `τ` the
+    /// distance bracket), so it may reach about `h` past `{sd = g_w}`, into a wall at `g_w = 0`.
     #[must_use]
     pub fn with_walls(mut self, walls: Arc<Walls>) -> Self {
         self.walls = Some(walls);
@@ -447,10 +448,12 @@ impl Perception {
         {
             return Explanation::Map;
         }
-        // The walls: `d(p) ≤ ε_x`, or `d(p) < g_w − ε` under the prior (as the boundary's).
+        // The walls: `d(p) ≤ ε_x`, or `d(p) < g_w − ε` under the prior (as the boundary's), or
+        // `p` outside the free space (a beam through glass, or a map a little off): its true
+        // hit, within `ε < d(p)` of it, is outside too, where no obstacle stands.
         if let Some(w) = &self.walls
             && let d = w.distance(p)
-            && (d <= eps || d < prior)
+            && (d <= eps || d < prior || !w.contains(p))
         {
             return Explanation::Map;
         }

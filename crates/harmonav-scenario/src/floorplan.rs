@@ -643,10 +643,14 @@ fn floor_lidar(
             ),
         ));
     }
-    if !(spec.range.is_finite() && spec.range > 0.0 && spec.range <= 1e6) {
+    let closest = crate::sensor::RANGE_MIN;
+    if !(spec.range.is_finite() && spec.range > closest && spec.range <= 1e6) {
         return Err(f(
             "range",
-            format!("must be finite and in (0, 1e6], got {:e}", spec.range),
+            format!(
+                "must be finite, above the closest return {closest} m and at most 1e6, got {:e}",
+                spec.range
+            ),
         ));
     }
     let rho = spec.rho_min.unwrap_or_else(|| {
@@ -671,17 +675,31 @@ fn floor_lidar(
             ),
         ));
     }
-    // Below its narrower side's half no point of the plan is farther from a wall; the true
-    // obstacles' distance to the walls from their outlines (a vertex each 5e-5 of the size
-    // apart, within the default prior's 1 % slack).
+    // No point of the plan is much farther from a wall than the farthest of a 100 × 100 grid
+    // over it (within a cell's half diagonal); the true obstacles' distance to the walls from
+    // their outlines (a vertex each 5e-5 of the size apart, within the default prior's 1 %
+    // slack).
     let (a, b) = floor.walls().bounding_box();
+    let cells = 100;
+    let farthest = (0..=cells)
+        .flat_map(|i| (0..=cells).map(move |j| (i, j)))
+        .map(|(i, j)| {
+            let t = Vector2::new(i as f64, j as f64) / cells as f64;
+            a + (b - a).component_mul(&t)
+        })
+        .filter(|&p| floor.walls().contains(p))
+        .map(|p| floor.wall_distance(p))
+        .fold(0.0, f64::max);
     let nearest = obstacles
         .iter()
         .flat_map(|o| o.outline())
         .map(|p| floor.wall_distance(p))
         .fold(f64::INFINITY, f64::min);
     let room = WallRoom {
-        limit: (0.5 * (b - a).min(), "half the floor plan's narrower side"),
+        limit: (
+            farthest,
+            "the farthest any point of the plan lies from its walls",
+        ),
         nearest: if nearest.is_finite() { nearest } else { 0.0 },
     };
     let lidar = sensor::prepare(spec, room, obstacles).map_err(|(field, p)| f(field, p))?;

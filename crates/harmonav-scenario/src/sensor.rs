@@ -18,8 +18,9 @@
 //! The perception's own choices default to what arrives best in the rerun of `scenarios/`
 //! (docs/maths.md §12.11): radial hulls (`sensor.shapes`), the free fan (`sensor.free`), the
 //! free evidence of 16 earlier scans (`sensor.free_memory`), and segments fitted once within
-//! `D + 0.5 m` (`sensor.fit_range`; under the kinematic law nearer, the robot's radius and
-//! margin, the noise bound and three scans at top speed, §12.16).
+//! the robot's radius and margin, the noise bound and three scans at top speed
+//! (`sensor.fit_range`, §12.16; `D + 0.5 m` for the dynamic law with the paper's damping,
+//! §12.18).
 
 use std::f64::consts::TAU;
 
@@ -72,11 +73,11 @@ pub struct SensorSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wall_gap: Option<f64>,
     /// Lidar: `r_f`, m: segments whose every hit lies farther are fitted from a later, nearer
-    /// scan (docs/maths.md §12.11); the dynamic law's `d_min` then comes from `r_f − D`. When
-    /// given it serves both laws and must exceed `D`. Default, at most `range`: `D +`
-    /// [`harmonav::FIT_BEYOND_DEPTH`] under the dynamic law, and under the kinematic law the
-    /// robot's radius and margin, the noise bound and three scans at top speed (eq. fitnear,
-    /// [`harmonav::Options::recommended_fit_range`], §12.16).
+    /// scan (docs/maths.md §12.11); under the paper's damping the dynamic law's `d_min` then
+    /// comes from `r_f − D`. When given it serves both laws and must exceed `D`. Default, at
+    /// most `range`: the robot's radius and margin, the noise bound and three scans at top
+    /// speed (eq. fitnear, [`harmonav::Options::recommended_fit_range`], §12.16, §12.18), or
+    /// `D +` [`harmonav::FIT_BEYOND_DEPTH`] under the dynamic law with the paper's damping.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fit_range: Option<f64>,
     /// Lidar: how many earlier scans' free evidence the fits also leave out (eq. memory,

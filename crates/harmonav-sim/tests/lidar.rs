@@ -168,8 +168,8 @@ fn the_wall_prior_defaults_to_the_truths_gap() {
 
 /// Eq. fitnear (docs/maths.md §12.16): without `sensor.fit_range` the kinematic law fits an
 /// obstacle only within `max(r + m, r_min) + ε + 3·v_max·T` (here a point robot:
-/// `0.05 + 0.02 + 3·√2·0.1` m), the dynamic law within `D + 0.5`; a file's own `fit_range`
-/// serves both. In the paper's world the kinematic robot then perceives only the obstacles it
+/// `0.05 + 0.02 + 3·√2·0.1` m), the dynamic law within the same with its speed bound (`D + 0.5`
+/// under the paper's damping); a file's own `fit_range` serves both. In the paper's world the kinematic robot then perceives only the obstacles it
 /// comes near, fewer than with `D + 0.5`, every one while it stands outside its margin, and
 /// still arrives with every guarantee; at 100 Hz too, where `r + m + 3·v_max·T` alone would lie
 /// below the closest return and nothing would ever be fitted.
@@ -186,7 +186,13 @@ fn the_kinematic_law_fits_only_what_it_comes_near() {
     let kinematic = l.for_law(&Law::kinematic(1.0), &options).scan.fit_range;
     let expected = 0.05 + 0.02 + 3.0 * 2f64.sqrt() * 0.1;
     assert!((kinematic - expected).abs() < 1e-12, "{kinematic}");
+    // The dynamic law's with its speed bound √(2μ/m) = 2 m/s (eq. eventstop, §12.18); under
+    // the paper's damping D + 0.5.
     let dynamic = l.for_law(&Law::dynamic(1.0, 2.0), &options).scan.fit_range;
+    let expected = 0.05 + 0.02 + 3.0 * 2.0 * 0.1;
+    assert!((dynamic - expected).abs() < 1e-12, "{dynamic}");
+    let paper = options.with_damping(harmonav::DampingPolicy::Paper);
+    let dynamic = l.for_law(&Law::dynamic(1.0, 2.0), &paper).scan.fit_range;
     assert_eq!(dynamic, depth + harmonav::FIT_BEYOND_DEPTH);
 
     let perceived = |text: &str| {

@@ -99,7 +99,8 @@ fn expected(field: &str) -> String {
         "jump_distance" => "must be finite and in [0, 100] m".to_string(),
         "order" => "must be an integer from 1 to 16".to_string(),
         "fit_range" => "must be positive, and above max_obstacle_depth under the dynamic law \
-                        (its d_min is taken from fit_range − max_obstacle_depth)"
+                        with the paper's damping (its d_min is taken from fit_range − \
+                        max_obstacle_depth)"
             .to_string(),
         "check_spacing" => "must be finite and in [1e-4, max_obstacle_depth/4] m".to_string(),
         _ => format!("must be finite and in [{lo:e}, {hi:e}]"),

@@ -17,8 +17,8 @@ use crate::error::NavError;
 use crate::hold::{self, Command, Mode};
 use crate::law::Law;
 use crate::navigator::{
-    Controller, Evaluation, controller, discovery_speed_after, finite, finite_lambda_c,
-    finite_state, moving_along, recovering,
+    Controller, Evaluation, controller, discovery_speed_after, event_speed, finite,
+    finite_lambda_c, finite_state, moving_along, recovering,
 };
 use crate::options::{HoldPolicy, Options};
 use crate::scan::{Observed, observe as scanned};
@@ -261,6 +261,13 @@ impl FloorNavigator {
         self.inner = event.inner;
         self.scan = event.state;
         self.discovered();
+        let clearance = event.update.event_clearance.unwrap_or(f64::INFINITY);
+        self.speed_at_discovery = event_speed(
+            &self.controller,
+            self.speed_at_discovery,
+            clearance,
+            self.options.margin,
+        );
         Ok(event.update)
     }
 

@@ -74,6 +74,34 @@ pub(crate) fn discovery_speed_after(
     }
 }
 
+/// The discovery speed a scan event hands the dynamic law (eq. eventstop, docs/maths.md
+/// §12.18): `|ẋ(T_n)|·max(1, d_min/d_e)`, so that the switched damping
+/// `(m/d_min)·that = (m/min(d_min, d_e))|ẋ(T_n)|` stops the robot within the event's own room
+/// `d_e` when that is less than `d_min`. `d_e` is the certified clearance from the robot's
+/// centre to the changed shapes grown by `radius + margin` ([`crate::ScanUpdate::event_clearance`]),
+/// or, in their margin band (`clearance ≤ 0`), to them grown by `radius` alone (`clearance +
+/// margin`). A perceived shape may appear or grow nearer than `d_min` (a growth seen from
+/// close by, or a fit range below `D + d_min`), where the paper's argument (discovery at
+/// `d_min` or more) does not reach; its stopping distance is then the room the robot has.
+/// The kinematic law keeps `speed`.
+pub(crate) fn event_speed(controller: &Controller, speed: f64, clearance: f64, margin: f64) -> f64 {
+    let Controller::Dynamic(law) = controller else {
+        return speed;
+    };
+    let room = if clearance > 0.0 {
+        clearance
+    } else {
+        clearance + margin
+    };
+    // Guard: a room of 0 or less (never accepted: the robot would touch the shape) or NaN
+    // keeps the speed rather than dividing by it.
+    if room > 0.0 && room < law.d_min() {
+        speed * (law.d_min() / room)
+    } else {
+        speed
+    }
+}
+
 /// Guard: `λ_c = 2√(m μ s)` (eq. `critdamp`, `s` the goal stiffness) must be finite for the
 /// dynamic law's damping; a `μ` that overflows it is refused once, at construction, rather
 /// than met at every command.
@@ -491,6 +519,36 @@ impl Navigator {
 #[cfg(test)]
 mod recovery_tests {
     use super::*;
+
+    /// Eq. eventstop: the speed handed to the switched damping makes its stopping distance the
+    /// event's room `d_e` (to the grown shape, or in the band to the body) when that is below
+    /// `d_min`: `(m/d_min)·s = (m/d_e)|ẋ(T_n)|`; at or beyond `d_min`, and for a room of 0 or
+    /// less, NaN or the kinematic law, the speed stands.
+    #[test]
+    fn a_scan_event_brakes_within_its_own_room() {
+        let options = Options::default().with_sensor(2.0, 360.0).with_rho_min(0.1);
+        let dynamic = controller(&Law::dynamic(2.0, 1.0), &options).unwrap();
+        let Controller::Dynamic(law) = &dynamic else {
+            unreachable!()
+        };
+        let (d_min, m) = (law.d_min(), law.mass());
+        assert!(d_min > 0.5, "{d_min}");
+        let switched = |s: f64| m / d_min * s;
+        let s = event_speed(&dynamic, 1.5, 0.1, 0.05);
+        assert!((switched(s) - m / 0.1 * 1.5).abs() < 1e-9, "{s}");
+        // In the margin band: the room to the body, clearance + margin.
+        let s = event_speed(&dynamic, 1.5, -0.02, 0.05);
+        assert!((switched(s) - m / 0.03 * 1.5).abs() < 1e-9, "{s}");
+        for clearance in [d_min, 2.0 * d_min, -0.1, f64::NAN, f64::INFINITY] {
+            assert_eq!(
+                event_speed(&dynamic, 1.5, clearance, 0.05),
+                1.5,
+                "{clearance}"
+            );
+        }
+        let kinematic = controller(&Law::kinematic(1.0), &options).unwrap();
+        assert_eq!(event_speed(&kinematic, 1.5, 0.1, 0.05), 1.5);
+    }
 
     /// A dynamic robot at rest in the margin band of a shape perceived late: its discovery
     /// speed was 0 at the event, and the recovery command lifts it to the speed `|v⁺|` that

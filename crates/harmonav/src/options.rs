@@ -207,38 +207,41 @@ impl Options {
     /// §12.11, §12.16):
     ///
     /// ```text
-    /// dynamic:    r_f = D + FIT_BEYOND_DEPTH                        (d_min = r_f − D, §12.11)
-    /// kinematic:  r_f = max(r + m, r_min) + ε + FIT_SCANS_AHEAD·v_max·T            (eq. fitnear)
+    /// r_f = max(r + m, r_min) + ε + FIT_SCANS_AHEAD·v_max·T                      (eq. fitnear)
+    /// r_f = D + FIT_BEYOND_DEPTH      the dynamic law under the paper's damping (d_min = r_f − D)
     /// ```
     ///
     /// `r + m` the robot's radius and margin, `ε` the noise bound
-    /// ([`ScanOptions::range_noise`]), `v_max` the kinematic law's top speed, `T` the scan
-    /// period, `r_min` the closest return (a hit never reads nearer, so a fit range below
-    /// `r_min + ε` would fit nothing). The kinematic law uses no `d_min`: an obstacle need only
+    /// ([`ScanOptions::range_noise`]), `v_max` the top speed (the kinematic law's, the dynamic
+    /// law's bound `√(2μ/m)`), `T` the scan period, `r_min` the closest return (a hit never
+    /// reads nearer, so a fit range below `r_min + ε` would fit nothing). An obstacle need only
     /// be fitted before the robot can come within its margin of it, and between two scans the
     /// robot moves at most `v_max·T`; an obstacle fitted from nearer is seen wider, with more
-    /// free space left out, and one the robot never comes near is never fitted. The result may
+    /// free space left out, and one the robot never comes near is never fitted. The dynamic
+    /// law then brakes within each event's own room (eq. eventstop, §12.18), except under the
+    /// paper's damping, which brakes by the switched damping alone while `V ≥ μ` and crawls
+    /// after a near event: it keeps `D + 0.5` and `d_min = r_f − D` (§12.11). The result may
     /// exceed the lidar's range when scans are sparse: the robot then outruns its lidar, and
     /// should slow down or scan faster.
     #[must_use]
     pub fn recommended_fit_range(&self, law: &Law, scan_period: f64, range_min: f64) -> f64 {
         let far = self.scan.max_obstacle_depth + FIT_BEYOND_DEPTH;
-        match *law {
-            Law::Dynamic { .. } => far,
-            Law::Kinematic { gain } => {
-                let v_max = self.v_max.or_else(|| {
-                    harmonav_control::Kinematic::new(gain)
-                        .ok()
-                        .map(|k| k.v_max())
-                });
-                let near = (self.radius + self.margin).max(range_min) + self.scan.range_noise;
-                match v_max {
-                    Some(v) if (v * scan_period).is_finite() => {
-                        near + FIT_SCANS_AHEAD * v * scan_period
-                    }
-                    _ => far,
-                }
-            }
+        // The top speed: the kinematic law's `v_max`, the dynamic law's bound `√(2μ/m)`.
+        let v_max = match *law {
+            // The paper's damping brakes by `(m/d_e)|ẋ(T_n)|` alone while `V ≥ μ` (no
+            // `max` with `λ(x)`): heavy after a near event, and slow to let `V` fall (§12.18).
+            Law::Dynamic { .. } if self.damping == DampingPolicy::Paper => return far,
+            Law::Dynamic { mass, mu } => Some((2.0 * mu / mass).sqrt()),
+            Law::Kinematic { gain } => self.v_max.or_else(|| {
+                harmonav_control::Kinematic::new(gain)
+                    .ok()
+                    .map(|k| k.v_max())
+            }),
+        };
+        let near = (self.radius + self.margin).max(range_min) + self.scan.range_noise;
+        match v_max {
+            Some(v) if (v * scan_period).is_finite() => near + FIT_SCANS_AHEAD * v * scan_period,
+            _ => far,
         }
     }
 
@@ -255,16 +258,24 @@ impl Options {
     /// `d_min(θ)` of eq. `dmin` for this sensor and `ρ_min`, after checking both against
     /// [`PARAMETER_RANGE`] and [`MIN_APERTURE_DEG`]; errors name the field.
     ///
-    /// With a finite [`ScanOptions::fit_range`] `r_f` the sector reaches at most `r_f − D`: an
-    /// obstacle seen by scans is first known within `r_f` of the sensor, and its first fit may
-    /// reach `D` in front of it (docs/maths.md §12.6, §12.11). `r_f ≤ D` is an error naming
-    /// `fit_range`.
+    /// Under the paper's damping ([`DampingPolicy::Paper`]) with a finite
+    /// [`ScanOptions::fit_range`] `r_f`, the sector reaches at most `r_f − D`: an obstacle seen
+    /// by scans is first known within `r_f` of the sensor, and its first fit may reach `D` in
+    /// front of it (docs/maths.md §12.6, §12.11); `r_f ≤ D` is then an error naming
+    /// `fit_range`. Under the other policies a scan event's own room sets its stopping
+    /// distance (eq. eventstop, §12.18), so the sector is not cut.
     pub fn d_min(&self) -> Result<f64, NavError> {
-        self.d_min_cut(true)
+        self.d_min_cut(self.damping == DampingPolicy::Paper)
     }
 
-    /// [`Options::d_min`], the sector cut to `r_f − D` only when `cut` (the dynamic law: the
-    /// kinematic law uses no `d_min`, and its fit range may lie below `D`, eq. fitnear).
+    /// Whether `law` takes its `d_min` from `r_f − D`: the dynamic law under the paper's
+    /// damping ([`Options::d_min`]; the kinematic law uses no `d_min`, and its fit range may lie
+    /// below `D`, eq. fitnear).
+    fn cuts_d_min(&self, law: &Law) -> bool {
+        matches!(law, Law::Dynamic { .. }) && self.damping == DampingPolicy::Paper
+    }
+
+    /// [`Options::d_min`], the sector cut to `r_f − D` only when `cut`.
     fn d_min_cut(&self, cut: bool) -> Result<f64, NavError> {
         in_range("sensor_range", self.sensor_range)?;
         let (fit_range, depth) = (self.scan.fit_range, self.scan.max_obstacle_depth);
@@ -314,7 +325,7 @@ impl Options {
                 return Err(NavError::InvalidOption { field, value });
             }
         }
-        self.d_min_cut(matches!(law, Law::Dynamic { .. }))?;
+        self.d_min_cut(self.cuts_d_min(law))?;
         self.scan.validate(self.rho_min)?;
         in_range("control_period", self.period_for(law))?;
         Ok(())
@@ -381,14 +392,18 @@ mod tests {
                 .with_sensor(range, 360.0)
                 .with_rho_min(0.1)
         };
-        assert_eq!(with_fit(1.5).d_min(), sector(0.5).d_min());
+        // The cut is the paper's damping's; under the others each event's room counts.
+        let paper = |fit_range: f64| with_fit(fit_range).with_damping(DampingPolicy::Paper);
+        assert_eq!(paper(1.5).d_min(), sector(0.5).d_min());
+        assert_eq!(with_fit(1.5).d_min(), base.d_min());
+        assert!(with_fit(0.5).validate(&Law::dynamic(1.0, 2.0)).is_ok());
         assert!(sector(0.5).d_min().unwrap() < base.d_min().unwrap());
         // Beyond the sensor's own range nothing changes.
         assert_eq!(with_fit(10.0).d_min(), base.d_min());
         assert_eq!(with_fit(f64::INFINITY).d_min(), base.d_min());
         for bad in [1.0, 0.5] {
             assert!(matches!(
-                with_fit(bad).d_min(),
+                paper(bad).d_min(),
                 Err(NavError::InvalidOption {
                     field: "fit_range",
                     ..
@@ -396,15 +411,15 @@ mod tests {
             ));
             // Only the dynamic law takes `d_min` from `r_f − D`: the kinematic law may fit
             // from nearer than `D` (eq. fitnear).
-            assert!(with_fit(bad).validate(&Law::kinematic(1.0)).is_ok());
-            let e = with_fit(bad).validate(&Law::dynamic(1.0, 2.0)).unwrap_err();
+            assert!(paper(bad).validate(&Law::kinematic(1.0)).is_ok());
+            let e = paper(bad).validate(&Law::dynamic(1.0, 2.0)).unwrap_err();
             assert!(e.to_string().contains("above max_obstacle_depth"), "{e}");
         }
     }
 
-    /// Eq. fitnear: `D + 0.5` under the dynamic law; under the kinematic law the robot's
-    /// radius and margin (or the closest return, if farther) and the noise bound, plus three
-    /// scans at top speed (`K√2`, or `v_max`).
+    /// Eq. fitnear: the robot's radius and margin (or the closest return, if farther) and the
+    /// noise bound, plus three scans at top speed (`K√2`, or `v_max`; the dynamic law's
+    /// `√(2μ/m)`); `D + 0.5` under the paper's damping.
     #[test]
     fn the_recommended_fit_range_is_nearer_for_the_kinematic_law() {
         let options = Options::default()
@@ -414,8 +429,14 @@ mod tests {
                 range_noise: 0.02,
                 ..ScanOptions::default()
             });
-        let dynamic = options.recommended_fit_range(&Law::dynamic(1.0, 2.0), 0.1, 0.05);
+        let paper = options.with_damping(DampingPolicy::Paper);
+        let dynamic = paper.recommended_fit_range(&Law::dynamic(1.0, 2.0), 0.1, 0.05);
         assert_eq!(dynamic, 1.7);
+        let dynamic = options.recommended_fit_range(&Law::dynamic(1.0, 2.0), 0.1, 0.05);
+        assert!(
+            (dynamic - (0.15 + 0.02 + 3.0 * 2.0 * 0.1)).abs() < 1e-12,
+            "{dynamic}"
+        );
         let kinematic = options.recommended_fit_range(&Law::kinematic(2.0), 0.1, 0.05);
         let expected = 0.15 + 0.02 + 3.0 * 2.0 * 2f64.sqrt() * 0.1;
         assert!((kinematic - expected).abs() < 1e-12, "{kinematic}");
@@ -426,7 +447,7 @@ mod tests {
         let point = options.with_robot(0.0, 0.0);
         let fast = point.recommended_fit_range(&Law::kinematic(1.0), 1e-3, 0.05);
         assert!(fast > 0.05 + 0.02, "{fast}");
-        // Sparse scans: beyond the dynamic law's, as the robot's travel asks.
+        // Sparse scans: beyond the paper's dynamic range, as the robot's travel asks.
         assert!(options.recommended_fit_range(&Law::kinematic(2.0), 1.0, 0.05) > 1.7);
     }
 }

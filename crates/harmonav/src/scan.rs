@@ -27,7 +27,7 @@ use nalgebra::Vector2;
 pub use harmonav_perception::{LaserScan, Perceived, Pose, StarForm};
 
 use crate::error::NavError;
-use crate::navigator::Navigator;
+use crate::navigator::{Navigator, event_speed};
 use crate::scanning::{ScanState, ScanUpdate};
 
 impl Navigator {
@@ -85,7 +85,10 @@ impl Navigator {
             .map_err(NavError::Field)?;
         self.field = field;
         self.inner = event.inner;
-        self.speed_at_discovery = self.last.map_or(0.0, |(_, v)| v.norm());
+        let speed = self.last.map_or(0.0, |(_, v)| v.norm());
+        let clearance = event.update.event_clearance.unwrap_or(f64::INFINITY);
+        self.speed_at_discovery =
+            event_speed(&self.controller, speed, clearance, self.options.margin);
         self.scan = event.state;
         Ok(event.update)
     }

@@ -58,11 +58,13 @@ pub struct ScanOptions {
     /// `s_m`, m: the least distance between two remembered scans' sensors. Default 0.25.
     pub memory_spacing: f64,
     /// `r_f`, m: segments whose every hit lies farther are left for a later scan (their beams
-    /// still count as free evidence); under the dynamic law the navigator's sector for `d_min`
-    /// then reaches at most `r_f − D` ([`crate::Options::d_min`]), so `r_f` must exceed `D`
-    /// there (docs/maths.md §12.11). Default `∞`; recommended:
-    /// [`crate::Options::recommended_fit_range`] (`D +` [`FIT_BEYOND_DEPTH`] under the
-    /// dynamic law, nearer under the kinematic law, §12.16).
+    /// still count as free evidence); under the dynamic law with the paper's damping the
+    /// navigator's sector for `d_min` then reaches at most `r_f − D` ([`crate::Options::d_min`]),
+    /// so `r_f` must exceed `D` there (docs/maths.md §12.11; the other policies brake within
+    /// each event's room, eq. eventstop, §12.18). Default `∞`; recommended:
+    /// [`crate::Options::recommended_fit_range`] (three scans of travel beyond the robot's
+    /// radius, margin and the noise bound, §12.16; `D +` [`FIT_BEYOND_DEPTH`] under the paper's
+    /// damping).
     pub fit_range: f64,
     /// `d_ev`, m, of eq. attribution (docs/maths.md §12.8): a hit is put down to a perceived
     /// shape only within `d_ev` of a hit that shape was fitted to, assuming (A5) that two
@@ -75,7 +77,7 @@ pub struct ScanOptions {
 pub const DEFAULT_FREE_MEMORY: usize = 16;
 
 /// `r_f − D`, m: the recommended [`ScanOptions::fit_range`] beyond the depth prior under the
-/// dynamic law (docs/maths.md §12.11: 35 of the 44 rerun runs arrive with 0.5 m, 33 with 1 m,
+/// dynamic law with the paper's damping (docs/maths.md §12.11, §12.18: 35 of the 44 rerun runs arrive with 0.5 m, 33 with 1 m,
 /// 19 with none), [`crate::Options::recommended_fit_range`]. Not a default, as `r_f` is
 /// absolute and `D` the user's; the simulator's lidar takes it.
 pub const FIT_BEYOND_DEPTH: f64 = 0.5;
