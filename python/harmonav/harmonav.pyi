@@ -108,10 +108,12 @@ class Navigator:
 
     Fed by ``observe_scan``, the perception remembers the free space of its last
     ``free_memory`` scans (default 16; a static world), and with ``fit_range`` (m, default
-    ``None``) fits a segment only once a hit is that near. Under the dynamic law that cuts the
-    sector of ``d_min`` to ``fit_range − max_obstacle_depth`` (``max_obstacle_depth + 0.5`` is
-    recommended, docs/maths.md §12.11); under the kinematic law it may be nearer
-    (``max(radius + margin, range_min) + range_noise + 3·v_max·T_scan``, §12.16).
+    ``None``) fits a segment only once a hit is that near:
+    ``max(radius + margin, range_min) + range_noise + 3·v_max·T_scan`` is recommended (§12.16;
+    ``v_max`` the dynamic law's ``√(2μ/m)``, which brakes within each scan event's own room,
+    §12.18). Under the dynamic law with ``damping="paper"`` it cuts the sector of ``d_min`` to
+    ``fit_range − max_obstacle_depth`` (``max_obstacle_depth + 0.5`` is recommended there,
+    docs/maths.md §12.11).
 
     Invalid parameters raise ``ValueError`` naming them (the ranges of scenario files), and so
     do parameters whose derived quantities (``d_min``, the speed bound, ``λ_c``) are not finite.

@@ -38,10 +38,11 @@ use crate::shapes::{Shape, from_perceived};
 /// priors `range_noise` (m, the noise bound), `max_obstacle_depth` (m, how far an obstacle may
 /// extend behind what was seen), `growth_threshold` (m, how far outside a shape a hit must lie
 /// to grow it) and `rho_min`; `fit_range` (m, default `None`: every segment) fits a segment only
-/// once a hit is that near. Under the dynamic law it cuts the sector of `d_min` to
-/// `fit_range − max_obstacle_depth` (`max_obstacle_depth + 0.5` is recommended, `docs/maths.md`
-/// §12.11); under the kinematic law it may be nearer (`radius + margin + 3·v_max·T_scan` is
-/// recommended, §12.16). `free_memory` (default 16) is how many earlier scans' free space the
+/// once a hit is that near (`radius + margin + range_noise + 3·v_max·T_scan` is recommended,
+/// `docs/maths.md` §12.16; `v_max` the dynamic law's `√(2μ/m)`, which brakes within each scan
+/// event's own room, §12.18). Under the dynamic law with `damping="paper"` it cuts the sector
+/// of `d_min` to `fit_range − max_obstacle_depth` (`max_obstacle_depth + 0.5` is recommended
+/// there, §12.11). `free_memory` (default 16) is how many earlier scans' free space the
 /// fits leave out (a static world).
 ///
 /// `control_period` (s; default 0.01 kinematic, 0.001 dynamic) is how long your loop holds

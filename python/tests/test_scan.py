@@ -148,8 +148,9 @@ def test_a_shape_over_the_goal_is_refused():
         (dict(range_noise=-1.0), "range_noise"),
         (dict(max_obstacle_depth=0.0), "max_obstacle_depth"),
         (dict(growth_threshold=0.0), "growth_threshold"),
-        # At or below the depth prior the dynamic law's sector of d_min would be empty.
-        (dict(fit_range=1.0, law="dynamic"), "above max_obstacle_depth"),
+        # At or below the depth prior the sector of d_min of the dynamic law under the paper's
+        # damping would be empty (the other policies brake within each event's room).
+        (dict(fit_range=1.0, law="dynamic", damping="paper"), "above max_obstacle_depth"),
         (dict(fit_range=0.0), "fit_range"),
         (dict(free_memory=10**6), "free_memory"),
     ],
@@ -160,11 +161,13 @@ def test_scan_options_are_checked(kw, field):
 
 
 def test_the_kinematic_law_may_fit_from_nearer_than_the_depth_prior():
-    """The kinematic law takes no d_min from the fit range (docs/maths.md §12.16), so one below
-    ``max_obstacle_depth`` is accepted, and defers the disc 1.6 m away."""
-    nav = navigator(fit_range=0.5)
-    u = observe(nav, [-3.0, 0.0], np.random.default_rng(1))
-    assert u.hits > 0 and not u.changed
+    """The kinematic law takes no d_min from the fit range (docs/maths.md §12.16), nor does the
+    dynamic law but under the paper's damping (§12.18), so one below ``max_obstacle_depth`` is
+    accepted, and defers the disc 1.6 m away."""
+    for kw in (dict(), dict(law="dynamic")):
+        nav = navigator(fit_range=0.5, **kw)
+        u = observe(nav, [-3.0, 0.0], np.random.default_rng(1))
+        assert u.hits > 0 and not u.changed
 
 
 def test_far_segments_wait_for_a_nearer_scan():
