@@ -257,6 +257,46 @@ fn a_shape_over_the_goal_the_robot_or_a_known_obstacle_is_refused_and_changes_no
     assert_eq!(fingerprint(&nav), before);
 }
 
+/// Eq. eventstop (docs/maths.md §12.18): a dynamic robot moving at 1 m/s that perceives a disc
+/// whose growth lies `d_e < d_min` away hands its switched damping `|ẋ(T_n)|·d_min/d_e`, so that
+/// `(m/d_min)·that = (m/d_e)|ẋ(T_n)|` brakes it within `d_e`; a disc perceived from beyond
+/// `d_min` keeps `|ẋ(T_n)|`.
+#[test]
+fn a_scan_event_nearer_than_d_min_brakes_within_its_room() {
+    let truth = [circle(0.0, 0.0, 0.3)];
+    let flying = |x: f64, (range, aperture): (f64, f64)| {
+        let mut nav = Navigator::new(
+            circle(0.0, 0.0, 5.0),
+            Vector2::new(3.0, 3.0),
+            Law::dynamic(1.0, 2.0),
+            options().with_robot(0.1, 0.05).with_sensor(range, aperture),
+        )
+        .unwrap();
+        let at = Vector2::new(x, 0.0);
+        nav.command(at, Vector2::new(1.0, 0.0)).unwrap();
+        let pose = Pose::new(x, 0.0, 0.0);
+
+        let u = nav.observe_scan(pose, &scan_of(&truth, pose, 9)).unwrap();
+        assert!(u.changed(), "{u:?}");
+        let harmonav::Controller::Dynamic(law) = nav.controller() else {
+            unreachable!()
+        };
+        (
+            u.event_clearance.unwrap(),
+            law.d_min(),
+            nav.discovery_speed(),
+        )
+    };
+    // The sensor sets `d_min` (eq. dmin): a full turn of 4 m a large one, 60° of 1.5 m a small
+    // one; the scan is the lidar's either way.
+    let (d_e, d_min, speed) = flying(-1.0, (4.0, 360.0));
+    assert!(d_e > 0.0 && d_e < d_min, "{d_e} {d_min}");
+    assert!((speed - d_min / d_e).abs() < 1e-9, "{speed}");
+    let (d_e, d_min, speed) = flying(-1.0, (1.5, 60.0));
+    assert!(d_e >= d_min, "{d_e} {d_min}");
+    assert_eq!(speed, 1.0);
+}
+
 #[test]
 fn scan_options_are_validated_by_name() {
     let boundary = circle(0.0, 0.0, 5.0);
