@@ -12,6 +12,7 @@
 
 use std::f64::consts::TAU;
 
+use harmonav::checks::lidar::shrunk;
 use harmonav::perception::Reading;
 use harmonav::perception::sim::{Enclosure, Lidar};
 use harmonav::{
@@ -27,14 +28,6 @@ use crate::trace::ScanRecord;
 
 /// The coverage check casts this many noise-free rays per beam of the lidar.
 pub const DENSE: usize = 10;
-
-/// Boundary samples per earlier perceived shape in the growth check.
-const GROWTH_SAMPLES: usize = 64;
-
-/// How far outside every later perceived shape a point of an earlier one's boundary may be,
-/// m: the refined distance's rounding (the point lies on the boundary of the same, unchanged
-/// shape).
-const GROWTH_TOLERANCE: f64 = 1e-9;
 
 /// A scan is due at `t` once `t` is within this relative distance of its time (the
 /// integrators land on it up to rounding).
@@ -328,26 +321,10 @@ fn coverage(
     c
 }
 
-/// The growth check: the points of [`GROWTH_SAMPLES`] on each boundary of `before` that lie
-/// more than [`GROWTH_TOLERANCE`] outside every shape of `after`.
-fn shrunk(before: &[StarShape], after: &[StarShape]) -> usize {
-    before
-        .iter()
-        .flat_map(|s| {
-            (0..GROWTH_SAMPLES)
-                .map(move |j| s.boundary_point(TAU * j as f64 / GROWTH_SAMPLES as f64))
-        })
-        .filter(|&p| {
-            !after
-                .iter()
-                .any(|s| s.signed_distance(p) <= GROWTH_TOLERANCE)
-        })
-        .count()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use harmonav::checks::lidar::GROWTH_SAMPLES;
 
     /// A shape that shrinks is caught, one that grows or stays is not.
     #[test]

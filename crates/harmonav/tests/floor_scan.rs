@@ -6,7 +6,7 @@
 
 use std::sync::Arc;
 
-use harmonav::checks::lidar::uncovered;
+use harmonav::checks::lidar::{shrunk, uncovered};
 use harmonav::perception::sim::{Enclosure, Lidar};
 use harmonav::perception::{PerceptionError, Walls};
 use harmonav::transform::random::Rng;
@@ -116,11 +116,7 @@ fn fly(start: Vector2<f64>, goal: Vector2<f64>, depth: f64, noise: f64, seed: u6
                     let now: Vec<StarShape> =
                         nav.perceived().map(|(_, p)| p.shape().clone()).collect();
                     f.uncovered += uncovered(&truth, &now);
-                    f.shrunk += previous
-                        .iter()
-                        .flat_map(|s| (0..64).map(move |j| s.boundary_point(0.1 * j as f64)))
-                        .filter(|&p| !now.iter().any(|s| s.signed_distance(p) <= 1e-9))
-                        .count();
+                    f.shrunk += shrunk(&previous, &now);
                     previous = now;
                 }
                 Ok(_) => {}

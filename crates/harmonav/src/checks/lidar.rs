@@ -189,12 +189,12 @@ impl LidarFlight {
 const TRUTH_SAMPLES: usize = 256;
 
 /// Boundary samples per perceived shape in the growth check.
-const GROWTH_SAMPLES: usize = 64;
+pub const GROWTH_SAMPLES: usize = 64;
 
 /// How far outside a later perceived shape a point of an earlier one's boundary may be, m
 /// (the refined distance's rounding: the point lies on the boundary of the same, unchanged
 /// shape).
-const GROWTH_TOLERANCE: f64 = 1e-9;
+pub const GROWTH_TOLERANCE: f64 = 1e-9;
 
 /// `n` points of the boundary of `s`, evenly in angle about its centre.
 fn samples(s: &StarShape, n: usize) -> impl Iterator<Item = Vector2<f64>> + '_ {
@@ -218,6 +218,22 @@ pub fn uncovered(truth: &[StarShape], perceived: &[StarShape]) -> usize {
             }
         })
         .sum()
+}
+
+/// The growth check: the points of [`GROWTH_SAMPLES`] on each boundary of `before` that lie
+/// more than [`GROWTH_TOLERANCE`] outside every shape of `after` (0 when shapes only grow).
+/// A point of an old boundary may lie on the new one (the same shape, unchanged): `contains`
+/// is not decided there, the refined distance is.
+pub fn shrunk(before: &[StarShape], after: &[StarShape]) -> usize {
+    before
+        .iter()
+        .flat_map(|s| samples(s, GROWTH_SAMPLES))
+        .filter(|&p| {
+            !after
+                .iter()
+                .any(|s| s.signed_distance(p) <= GROWTH_TOLERANCE)
+        })
+        .count()
 }
 
 /// The robot's own loop in `world` under `law` and `options`, holding each command for `h`
@@ -276,13 +292,7 @@ pub fn fly_lidar(
                     let now: Vec<StarShape> =
                         nav.perceived().map(|(_, p)| p.shape().clone()).collect();
                     f.uncovered += uncovered(&world.obstacles, &now);
-                    f.shrunk += previous
-                        .iter()
-                        .flat_map(|s| samples(s, GROWTH_SAMPLES))
-                        // A point of the old boundary may lie on the new one (the same shape,
-                        // unchanged): `contains` is not decided there, the refined distance is.
-                        .filter(|&p| !now.iter().any(|s| s.signed_distance(p) <= GROWTH_TOLERANCE))
-                        .count();
+                    f.shrunk += shrunk(&previous, &now);
                     previous = now;
                 }
                 Ok(_) => {}
