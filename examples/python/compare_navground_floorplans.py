@@ -10,7 +10,8 @@ methods, each driving a disc robot of the file's ``robot.radius`` (0.1 m) to its
 
 - harmonav, both laws: ``FloorPlan.run(model=..., start=...)``, the file as it stands (its
   harmonic map, its ``margin``, its sensed ``[[obstacles]]`` found online within
-  ``sensor_range``, its ``max_time``, arrival within ``sim.arrival`` = 0.05 m).
+  ``sensor_range`` or, with ``[sensor] type = "lidar"``, from the scans alone, its
+  ``max_time``, arrival within ``sim.arrival`` = 0.05 m).
 - navground's HL and ORCA behaviours, given the whole map from the start: the plan's true
   walls as ``LineSegment``s, the file's ``[[obstacles]]`` too (a circle as a ``Disc``, the rest
   as 256 segments of harmonav's outline of the shape); an omnidirectional robot with 1 m/s top
@@ -264,6 +265,10 @@ def load_world(path):
     return {"name": spec["name"], "radius": r, "walls": walls, "vis_walls": np.concatenate(vis), "ng_segments": ng_segments,
             "discs": discs, "corners": corners, "clearance": clearance,
             "obstacles": len(spec.get("obstacles", [])), "goal": np.array(spec["robot"]["goal"], float),
+            # harmonav's perception: the file's lidar (the obstacles from scans alone), or the
+            # exact shapes within sim.sensor_range.
+            "sensing": (f"lidar {spec['sensor']['range']:g} m" if spec.get("sensor", {}).get("type") == "lidar"
+                        else f"disc {spec.get('sim', {}).get('sensor_range', 1.0):g} m"),
             "max_time": float(spec.get("sim", {}).get("max_time", 120.0))}
 
 
@@ -419,7 +424,7 @@ def record(world, law, policy, index, reached, closest, ratio, t, cost_us, held,
     return {
         "world": world["name"], "generator": "compare_navground_floorplans",
         "obstacles": world["obstacles"], "law": law,
-        "damping" if law == "dynamic" else "speed": policy, "k": None, "sensing": "global" if law == "navground" else "disc 1 m",
+        "damping" if law == "dynamic" else "speed": policy, "k": None, "sensing": "global" if law == "navground" else world["sensing"],
         "margin": 0.0 if law == "navground" else 0.1, "physics": "builtin", "max_time": world["max_time"],
         "error": error, "reached": bool(reached), "time_s": t if reached else None,
         "path_over_shortest": float(ratio) if reached else None,
