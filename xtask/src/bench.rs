@@ -446,7 +446,6 @@ fn observe_scan_us(beams: usize) -> (f64, f64) {
 /// [`observe_scan_us`]. Every hit on the walls is explained by parry's distance to the wall
 /// segments (docs/maths.md §12.17).
 fn floor_observe_scan_us(beams: usize) -> Result<(f64, f64), String> {
-    use harmonav::perception::Walls;
     use harmonav::perception::sim::{Enclosure, Lidar};
     use harmonav::{FloorNavigator, Law, Options, Pose, ScanOptions, Vector2};
     let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -467,9 +466,7 @@ fn floor_observe_scan_us(beams: usize) -> Result<(f64, f64), String> {
     let goal = Vector2::from(p.scenario.robot.goal);
     let fresh = FloorNavigator::new(p.floor.clone(), goal, Law::kinematic(1.0), options)
         .map_err(|e| e.to_string())?;
-    let truth = p.floor.walls();
-    let walls =
-        Walls::new(truth.outer().to_vec(), truth.holes().to_vec()).map_err(|e| e.to_string())?;
+    let walls = fresh.walls().clone();
     let pose = Pose::new(3.0, 3.4, 0.0);
     let mut rng = harmonav::transform::random::Rng::new(7);
     let scans: Vec<_> = (0..8)

@@ -19,16 +19,16 @@ use std::fmt;
 use nalgebra::Vector2;
 use parry2d_f64::math::Vector as PVector;
 use parry2d_f64::query::{PointQuery, Ray, RayCast};
-use parry2d_f64::shape::{Polyline, Segment};
+use parry2d_f64::shape::Polyline;
 use parry2d_f64::utils::point_in_poly2d;
 
 /// The walls of a floor plan: an outer ring and holes, each at least three finite vertices
 /// (either orientation; the free space is inside the outer ring and outside the holes).
 #[derive(Clone)]
 pub struct Walls {
-    rings: Vec<Vec<Vector2<f64>>>,
-    /// The same rings as parry points, for the winding test.
-    parry_rings: Vec<Vec<PVector>>,
+    /// The rings as parry points, the outer one first, for the winding test.
+    rings: Vec<Vec<PVector>>,
+    /// Every edge of every ring, for parry's distance and ray queries.
     segments: Polyline,
 }
 
@@ -78,8 +78,8 @@ impl Walls {
         outer: Vec<Vector2<f64>>,
         holes: Vec<Vec<Vector2<f64>>>,
     ) -> Result<Self, WallsError> {
-        let rings: Vec<Vec<Vector2<f64>>> = std::iter::once(outer).chain(holes).collect();
-        for (ring, r) in rings.iter().enumerate() {
+        let given: Vec<Vec<Vector2<f64>>> = std::iter::once(outer).chain(holes).collect();
+        for (ring, r) in given.iter().enumerate() {
             if r.len() < 3 {
                 return Err(WallsError::TooFewVertices { ring });
             }
@@ -87,13 +87,13 @@ impl Walls {
                 return Err(WallsError::NotFinite { ring });
             }
         }
-        let parry_rings: Vec<Vec<PVector>> = rings
+        let rings: Vec<Vec<PVector>> = given
             .iter()
             .map(|r| r.iter().map(|p| PVector::new(p.x, p.y)).collect())
             .collect();
         let mut vertices = Vec::new();
         let mut indices = Vec::new();
-        for ring in &parry_rings {
+        for ring in &rings {
             let base = vertices.len() as u32;
             let n = ring.len() as u32;
             vertices.extend(ring.iter().copied());
@@ -101,15 +101,8 @@ impl Walls {
         }
         Ok(Self {
             rings,
-            parry_rings,
             segments: Polyline::new(vertices, Some(indices)),
         })
-    }
-
-    /// The rings, the outer one first.
-    #[must_use]
-    pub fn rings(&self) -> &[Vec<Vector2<f64>>] {
-        &self.rings
     }
 
     /// `d(x)`, m: the distance to the nearest wall segment (parry), exact to rounding.
@@ -124,8 +117,7 @@ impl Walls {
     #[must_use]
     pub fn contains(&self, x: Vector2<f64>) -> bool {
         let p = PVector::new(x.x, x.y);
-        point_in_poly2d(p, &self.parry_rings[0])
-            && !self.parry_rings[1..].iter().any(|h| point_in_poly2d(p, h))
+        point_in_poly2d(p, &self.rings[0]) && !self.rings[1..].iter().any(|h| point_in_poly2d(p, h))
     }
 
     /// `sd(x)`, m: [`Walls::distance`], positive in the free space and negative outside it;
@@ -150,13 +142,11 @@ impl Walls {
         x: Vector2<f64>,
         reach: f64,
     ) -> impl Iterator<Item = (Vector2<f64>, Vector2<f64>)> + '_ {
-        self.rings
-            .iter()
-            .flat_map(|r| (0..r.len()).map(move |i| (r[i], r[(i + 1) % r.len()])))
-            .filter(move |&(a, b)| {
-                let segment = Segment::new(PVector::new(a.x, a.y), PVector::new(b.x, b.y));
-                segment.distance_to_local_point(PVector::new(x.x, x.y), true) <= reach
-            })
+        let p = PVector::new(x.x, x.y);
+        self.segments
+            .segments()
+            .filter(move |e| e.distance_to_local_point(p, true) <= reach)
+            .map(|e| (Vector2::new(e.a.x, e.a.y), Vector2::new(e.b.x, e.b.y)))
     }
 
     /// Points of the level set `{sd = g}` (`g ≥ 0`) within `reach` of `near`, at spacing at

@@ -218,8 +218,8 @@ pub struct LidarSensor {
     /// The seed of the noise and the dropouts.
     pub seed: u64,
     /// The priors handed to the navigator: `ε = range_noise`, `D = max_obstacle_depth`,
-    /// `g_w = wall_gap`; `r_f = fit_range` as the file gives it, else the dynamic law's
-    /// `D +` [`FIT_BEYOND_DEPTH`] ([`LidarSensor::for_law`] takes the kinematic law's).
+    /// `g_w = wall_gap`; `r_f = fit_range` as the file gives it, else `D +`
+    /// [`FIT_BEYOND_DEPTH`] until [`LidarSensor::for_law`] takes the law's own.
     pub scan: ScanOptions,
     /// Whether the file gave `sensor.fit_range` (then it serves both laws).
     pub fit_range_given: bool,
@@ -234,8 +234,8 @@ impl LidarSensor {
 
     /// This lidar for `law`, with the robot of `options` (radius, margin, `v_max`): the fit
     /// range the file gives, or else [`Options::recommended_fit_range`] for the law, this scan
-    /// period and this closest return (eq. fitnear, docs/maths.md §12.16: nearer under the
-    /// kinematic law), at most the range.
+    /// period and this closest return (eq. fitnear, docs/maths.md §12.16, §12.18; `D + 0.5`
+    /// for the dynamic law under the paper's damping), at most the range.
     #[must_use]
     pub fn for_law(&self, law: &Law, options: &Options) -> Self {
         let mut lidar = *self;

@@ -5,7 +5,6 @@
 //! [`FloorSummary`] (`harmonav run` on a floor plan), and the map's certificate.
 
 use harmonav::perception::sim::Enclosure;
-use harmonav::perception::{PerceptionError, Walls};
 use harmonav::{Controller, FloorNavigator, Law, NavError, Options, StarShape};
 use harmonav_harmonic::Certificate;
 use harmonav_scenario::floorplan::FloorPrepared;
@@ -241,16 +240,7 @@ pub(crate) fn fly(
     let goal = Vector2::from(r.goal);
     let (mut nav, lidar) = navigator_and_lidar(prepared, model)?;
     let mut scanner = lidar.map(Scanner::new);
-    let walls = match &scanner {
-        Some(_) => {
-            let truth = prepared.floor.walls();
-            Some(
-                Walls::new(truth.outer().to_vec(), truth.holes().to_vec())
-                    .map_err(|e| NavError::Perception(PerceptionError::Walls(e)))?,
-            )
-        }
-        None => None,
-    };
+    let walls = scanner.as_ref().map(|_| nav.walls().clone());
     let mut yaw = 0.0;
     let h = nav.control_period();
     let sim = prepared.scenario.sim;

@@ -125,6 +125,8 @@ pub struct FloorNavigator {
     anchor: Option<(Vector2<f64>, usize)>,
     /// The scan perception inside the true walls ([`FloorNavigator::observe_scan`]).
     scan: ScanState,
+    /// The true walls, as the perception holds them (one shared copy).
+    walls: Arc<Walls>,
 }
 
 impl FloorNavigator {
@@ -171,7 +173,8 @@ impl FloorNavigator {
         let truth = field.floor().walls();
         let walls = Walls::new(truth.outer().to_vec(), truth.holes().to_vec())
             .map_err(|e| NavError::Perception(PerceptionError::Walls(e)))?;
-        let scan = ScanState::in_walls(Arc::new(walls), &options.scan, options.rho_min, inflation)?;
+        let walls = Arc::new(walls);
+        let scan = ScanState::in_walls(walls.clone(), &options.scan, options.rho_min, inflation)?;
         let nav = Self {
             controller,
             options,
@@ -185,6 +188,7 @@ impl FloorNavigator {
             escapes: 0,
             anchor: None,
             scan,
+            walls,
         };
         // Guard: λ_c (eq. critdamp) from the floor's goal stiffness, checked once.
         if let Controller::Dynamic(law) = &nav.controller {
@@ -269,6 +273,12 @@ impl FloorNavigator {
             self.options.margin,
         );
         Ok(event.update)
+    }
+
+    /// The floor plan's true walls as polygon rings, against which
+    /// [`FloorNavigator::observe_scan`] explains hits (and a simulator casts its lidar).
+    pub fn walls(&self) -> &Arc<Walls> {
+        &self.walls
     }
 
     /// The perceived shapes (not grown), each with its index among the sensed obstacles, in
