@@ -4,12 +4,11 @@
 
 use std::path::PathBuf;
 
-use harmonav_output::floor::write_floor_outputs;
-use harmonav_output::set::check_output_dir;
+use harmonav_output::floor::FloorOutputs;
 use harmonav_rs::HeadingPolicy;
 use harmonav_scenario::floorplan::{FloorPrepared, FloorScenario};
 use harmonav_sim::floor::FloorSummary;
-use harmonav_sim::physics::{Physics, simulate_floor};
+use harmonav_sim::physics::{Physics, simulate_floor_observed};
 use numpy::{PyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::PyOSError;
 use pyo3::prelude::*;
@@ -107,23 +106,35 @@ impl FloorPlan {
         prepared
             .check_start(start)
             .map_err(|e| value_error(format!("start: {e}")))?;
-        if let Some(dir) = &out {
-            py.detach(|| check_output_dir(dir))
-                .map_err(|e| value_error(format!("out: {e}; nothing was run")))?;
-        }
-        let result = py
-            .detach(|| simulate_floor(prepared, model, start, physics))
-            .map_err(|e| value_error(format!("{}: {e}", prepared.path.display())))?;
-        let summary = FloorSummary::new(prepared, model, start, &result);
+        // As `harmonav run --out`: the folder checked first, the recording streamed during the
+        // run, the set completed after it.
+        let (result, summary, written) = py
+            .detach(|| {
+                let mut outputs = match &out {
+                    Some(dir) => Some(
+                        FloorOutputs::begin(dir, prepared)
+                            .map_err(|e| format!("out: {e}; nothing was run"))?,
+                    ),
+                    None => None,
+                };
+                let result = simulate_floor_observed(prepared, model, start, physics, &mut |e| {
+                    if let Some(o) = outputs.as_mut() {
+                        o.observe(e);
+                    }
+                })
+                .map_err(|e| format!("{}: {e}", prepared.path.display()))?;
+                let summary = FloorSummary::new(prepared, model, start, &result);
+                let written = outputs.map(|o| o.finish(&summary, &result));
+                Ok::<_, String>((result, summary, written))
+            })
+            .map_err(value_error)?;
         let n = result.positions.len();
         let flat = result.positions.iter().flatten().copied().collect();
         let value = FloorRunResult {
             summary: to_python(py, &summary)?.unbind(),
             x: rows2(py, flat, n)?.unbind(),
         };
-        if let Some(dir) = &out
-            && let Err(e) = py.detach(|| write_floor_outputs(dir, prepared, &summary, &result))
-        {
+        if let Some(Err(e)) = written {
             let err = PyOSError::new_err(format!(
                 "out: the outputs were not written: {e} (the run's result is this error's \
                  `result`)"

@@ -60,3 +60,32 @@ def test_a_lidar_run_records_every_scan_and_the_perceived_shapes(tmp_path):
     assert counts["/scan"] == p["scans"] and counts["/perceived"] == p["events"]
     assert beams == {360}
     assert not s["discoveries"], "a lidar hands over no exact shape"
+
+
+def test_a_floor_plan_run_records_its_walls_scans_and_states(tmp_path):
+    """A floor plan's run.mcap (issue 26 in issue 25's maps): the true walls and the certified
+    region's edge on /scene, one state per control period with Θ of the floor plan, every scan
+    and each perceived update, read by the independent reader."""
+    plan = harmonav.FloorPlan.load(SCENARIOS / "floorplans" / "lidar-room.toml")
+    res = plan.run(model="kinematic", out=tmp_path)
+    s, p = res.summary, res.summary["perception"]
+    assert s["reached"] and all(g["passed"] for g in s["guarantees"])
+    counts, scene, last = {}, None, None
+    with open(tmp_path / "run.mcap", "rb") as f:
+        reader = mcap_reader.make_reader(f, decoder_factories=[decoder.DecoderFactory()])
+        for schema, channel, message, decoded in reader.iter_decoded_messages():
+            counts[channel.topic] = counts.get(channel.topic, 0) + 1
+            if channel.topic == "/scene":
+                scene = decoded
+            if channel.topic == "/harmonav/state":
+                assert 0.0 <= decoded.theta < 1.0 and decoded.k > 0
+                assert decoded.energy == 0.0 and decoded.damping == ""  # kinematic
+                last = decoded
+    assert counts["/robot/pose"] == counts["/tf"] == counts["/harmonav/state"] == s["commands"] + 1
+    assert counts["/scan"] == p["scans"] and counts["/perceived"] == p["events"]
+    assert counts["/theta"] == 1 + p["events"] and "/sensor/sector" not in counts
+    ids = [e.id for e in scene.entities]
+    assert ids[:2] == ["walls", "certified-edge"] and ids[-1] == "goal"
+    assert last.t == pytest.approx(s["time_s"]) and math.hypot(
+        last.x - s["goal"][0], last.y - s["goal"][1]
+    ) == pytest.approx(s["final_distance"])

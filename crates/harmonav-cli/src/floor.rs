@@ -7,12 +7,11 @@
 use std::path::Path;
 
 use harmonav_field::FieldError;
-use harmonav_output::floor::write_floor_outputs;
-use harmonav_output::set::check_output_dir;
+use harmonav_output::floor::FloorOutputs;
 use harmonav_scenario::floorplan::{FloorPrepared, FloorScenario, StartsSpec};
 use harmonav_scenario::scenario::read_text;
 use harmonav_sim::floor::{FloorSummary, navigator, obstacle_name};
-use harmonav_sim::physics::simulate_floor;
+use harmonav_sim::physics::simulate_floor_observed;
 
 use crate::args::model;
 use crate::error::CliError;
@@ -99,24 +98,31 @@ pub fn cmd_check_floor(prepared: &FloorPrepared) -> Result<bool, CliError> {
 
 /// `harmonav run` on a floor plan: the file's start under its model (or `--model`), every
 /// guarantee of [`FloorSummary`] judged, the summary printed (or as JSON), and with `--out`
-/// the folder checked before the run and `summary.json` and `trajectory.svg` written as one
-/// set after it. `Ok(false)` when a guarantee failed.
+/// the folder checked before the run, `run.mcap` streamed during it, and `trajectory.svg` and
+/// `summary.json` added after it as one set ([`FloorOutputs`]). `Ok(false)` when a guarantee
+/// failed.
 pub fn cmd_run_floor(prepared: &FloorPrepared, args: &RunArgs<'_>) -> Result<bool, CliError> {
-    if let Some(dir) = args.out {
-        check_output_dir(dir).map_err(CliError::Out)?;
-    }
+    let mut outputs = match args.out {
+        Some(dir) => Some(FloorOutputs::begin(dir, prepared).map_err(CliError::Out)?),
+        None => None,
+    };
     let model = model(args.controller);
     let start = prepared.starts[0];
-    let result = simulate_floor(prepared, model, start, args.physics.into()).map_err(|error| {
-        CliError::Run {
-            scenario: args.path.to_path_buf(),
-            error,
+    let physics = args.physics.into();
+    let result = simulate_floor_observed(prepared, model, start, physics, &mut |e| {
+        if let Some(o) = outputs.as_mut() {
+            o.observe(e);
         }
+    })
+    .map_err(|error| CliError::Run {
+        scenario: args.path.to_path_buf(),
+        error,
     })?;
     let summary = FloorSummary::new(prepared, model, start, &result);
     let written = args
         .out
-        .map(|dir| write_floor_outputs(dir, prepared, &summary, &result).map(|_| dir));
+        .zip(outputs)
+        .map(|(dir, o)| o.finish(&summary, &result).map(|_| dir));
     if args.json {
         print_json(&summary)?;
     } else {

@@ -81,7 +81,7 @@ fn a_floor_plan_runs_with_every_guarantee_judged_and_writes_one_output_set() {
         .map(|d| d["obstacle"].as_str().unwrap())
         .collect();
     assert_eq!(names, ["box", "bin"]);
-    // The set: the summary as printed, the figure, and no stale recording.
+    // The set: the summary as printed, the figure, and the run's own recording.
     let written: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
     assert_eq!(written, v);
@@ -95,7 +95,14 @@ fn a_floor_plan_runs_with_every_guarantee_judged_and_writes_one_output_set() {
         svg.contains("box") && svg.contains("bin"),
         "the discovered names"
     );
-    assert!(!dir.join("run.mcap").exists());
+    // The recording replaced the stale one: an MCAP file (its magic at both ends).
+    let mcap = std::fs::read(dir.join("run.mcap")).unwrap();
+    let magic = b"\x89MCAP0\r\n";
+    assert!(
+        mcap.starts_with(magic) && mcap.ends_with(magic),
+        "{}",
+        mcap.len()
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -599,6 +599,18 @@ impl Dynamic {
         self.energy_at(&self.potential(field, eval), velocity)
     }
 
+    /// [`Dynamic::energy`] of a field with destination stiffness `s` and scale shift `shift`
+    /// ([`Dynamic::potential_for`]: a floor plan's `Θ`, whose shift is 0):
+    /// `V = μ_pΨ + ½ m |ẋ|²`.
+    pub fn energy_for(
+        &self,
+        calibration: (f64, f64),
+        eval: &FieldEval,
+        velocity: Vector2<f64>,
+    ) -> f64 {
+        self.energy_at(&self.potential_for(calibration, eval), velocity)
+    }
+
     /// [`Dynamic::energy`] from a potential already evaluated.
     fn energy_at(&self, p: &Potential, velocity: Vector2<f64>) -> f64 {
         self.pull() * p.value + 0.5 * self.mass * velocity.norm_squared()

@@ -195,6 +195,12 @@ impl FloorField {
         &self.world
     }
 
+    /// The `k` policy.
+    #[must_use]
+    pub fn k_policy(&self) -> KPolicy {
+        self.policy
+    }
+
     /// `k` of `phi_k`.
     #[must_use]
     pub fn k(&self) -> f64 {

@@ -1,13 +1,17 @@
-//! A floor-plan run's outputs (issue 25): `trajectory.svg` (the true walls, the certified
+//! A floor-plan run's outputs (issue 25): `run.mcap` (the recording of [`crate::record`],
+//! with the true walls, the certified region's edge and the floor plan's `Θ`; a lidar's scans
+//! and perceived shapes as in a star world), `trajectory.svg` (the true walls, the certified
 //! region's outer edge, the obstacles, a lidar's perceived shapes over them, the level sets of
-//! `Θ` the robot knew at the end, the path) and `summary.json` ([`harmonav_sim::floor::FloorSummary`]), written as one set like a
-//! star world's ([`crate::set`]; a floor-plan run writes no recording yet, so a stale
-//! `run.mcap`, `speed.svg` or `energy.svg` in the folder is removed).
+//! `Θ` the robot knew at the end, the path) and `summary.json`
+//! ([`harmonav_sim::floor::FloorSummary`]), written as one set like a star world's
+//! ([`crate::set`]: a stale `speed.svg` or `energy.svg` in the folder is removed).
 
 use std::path::{Path, PathBuf};
 
+use harmonav::FloorNavigator;
 use harmonav_scenario::floorplan::FloorPrepared;
 use harmonav_sim::floor::{FloorRun, FloorSummary, navigator};
+use harmonav_sim::trace::Event;
 use plotters::prelude::*;
 
 use crate::atomic::{OutputError, StagedDir};
@@ -18,7 +22,9 @@ use crate::figures::{
     draw_path, draw_run, err, plane, run_keys, run_title,
 };
 use crate::levels::ThetaGrid;
+use crate::record::Stream;
 use crate::set::{OUTPUT_FILES, check_output_dir};
+use crate::world::{FloorTheta, floor_square};
 
 /// Cells per side of the grid the level sets are traced on. Each `Θ` on a floor plan is an
 /// `O(N)` sum over the boundary elements (≈ 50 µs at N = 1 000), so the grid is coarser than a
@@ -40,36 +46,27 @@ pub fn floor_trajectory_svg(
     summary: &FloorSummary,
     run: &FloorRun,
 ) -> Result<String, String> {
+    let base = navigator(prepared, None).map_err(|e| e.to_string())?;
+    trajectory_with(prepared, &base, summary, run)
+}
+
+/// [`floor_trajectory_svg`] with `base`, the file's navigator knowing no obstacle, whose `Θ`
+/// is drawn with the obstacles the run knew.
+fn trajectory_with(
+    prepared: &FloorPrepared,
+    base: &FloorNavigator,
+    summary: &FloorSummary,
+    run: &FloorRun,
+) -> Result<String, String> {
     let floor = &prepared.floor;
     let walls = floor.walls();
-    let (lo, hi) = walls.bounding_box();
-    let c = 0.5 * (lo + hi);
-    let half = 0.52 * (hi - lo).max();
+    let (c, half) = floor_square(prepared);
     // Θ as the robot knew it at the end: the walls and the obstacles it had sensed, grown by
     // radius + margin as the navigator grows them; NaN (no line) outside the certified region.
     // With a lidar, the shapes it perceived, grown as the navigator grows them.
-    let mut nav = navigator(prepared, None).map_err(|e| e.to_string())?;
-    for d in &run.discoveries {
-        nav.add_obstacle(prepared.obstacles[d.index].clone())
-            .map_err(|e| e.to_string())?;
-    }
-    let perceived = match &prepared.lidar {
-        Some((lidar, _)) if !run.perceived.is_empty() => {
-            let r = &prepared.scenario.robot;
-            let grown = run
-                .perceived
-                .iter()
-                .map(|p| harmonav::grow_perceived_as(p, r.radius + r.margin, lidar.scan.form))
-                .collect::<Result<Vec<_>, _>>()
-                .map_err(|e| e.to_string())?;
-            Some(nav.field().with_sensed(&grown).map_err(|e| e.to_string())?)
-        }
-        _ => None,
-    };
-    let theta = |p| match &perceived {
-        Some(field) => field.eval(p).ok().map(|e| e.value),
-        None => nav.theta(p).ok(),
-    };
+    let discovered: Vec<usize> = run.discoveries.iter().map(|d| d.index).collect();
+    let seen = FloorTheta::new(prepared, base, &discovered, &run.perceived)?;
+    let theta = |p| seen.at(p);
     let grid = ThetaGrid::from_fn(c, half, FLOOR_LEVEL_CELLS, theta);
     let levels = grid.refined_level_lines(&LEVELS, theta);
     let title = run_title(
@@ -159,37 +156,95 @@ pub fn floor_trajectory_svg(
     })
 }
 
-/// Writes `trajectory.svg` and `summary.json` of a floor-plan run into `dir` as one set
-/// ([`StagedDir`]: `summary.json` last; the other names of [`OUTPUT_FILES`] removed, so that
-/// a folder never mixes the files of two runs). `dir` is checked first
-/// ([`check_output_dir`]) and created. Returns the paths, `summary.json` first.
-///
-/// # Errors
-/// [`OutputError`] naming the folder or file and the problem; the previous set is then
-/// untouched.
-pub fn write_floor_outputs(
-    dir: &Path,
-    prepared: &FloorPrepared,
-    summary: &FloorSummary,
-    run: &FloorRun,
-) -> Result<Vec<PathBuf>, OutputError> {
-    check_output_dir(dir)?;
-    std::fs::create_dir_all(dir).map_err(|source| OutputError::Io {
-        path: dir.to_path_buf(),
-        source,
-    })?;
-    let content =
-        |file: &'static str| move |problem: String| OutputError::Content { file, problem };
-    let svg = floor_trajectory_svg(prepared, summary, run).map_err(content("trajectory.svg"))?;
-    let json = serde_json::to_string_pretty(summary)
-        .map_err(|e| content("summary.json")(e.to_string()))?
-        + "\n";
-    let stage = StagedDir::new(dir)?;
-    let names = ["trajectory.svg", "summary.json"];
-    for (name, text) in names.iter().zip([svg, json]) {
-        let path = stage.path().join(name);
-        std::fs::write(&path, text).map_err(|source| OutputError::Io { path, source })?;
+/// A floor-plan run's outputs being written while it goes, as a star world's
+/// ([`crate::set::Outputs`]): `run.mcap` streams into a staging folder inside `dir` as the run
+/// hands it its events ([`FloorOutputs::observe`], the observer of
+/// `harmonav_sim::physics::simulate_floor_observed`), and [`FloorOutputs::finish`] adds
+/// `trajectory.svg` and `summary.json` and moves the set into place. Dropped before, nothing
+/// of it is left and the previous set is untouched.
+pub struct FloorOutputs<'p> {
+    dir: PathBuf,
+    stage: StagedDir,
+    stream: Stream<'p>,
+    prepared: &'p FloorPrepared,
+}
+
+impl<'p> FloorOutputs<'p> {
+    /// Checks `dir` ([`check_output_dir`]), creates it and its staging folder, and opens the
+    /// recording ([`Stream::create_floor`]).
+    ///
+    /// # Errors
+    /// [`OutputError`] naming the folder or file and the problem.
+    pub fn begin(dir: &Path, prepared: &'p FloorPrepared) -> Result<Self, OutputError> {
+        check_output_dir(dir)?;
+        std::fs::create_dir_all(dir).map_err(|source| OutputError::Io {
+            path: dir.to_path_buf(),
+            source,
+        })?;
+        let stage = StagedDir::new(dir)?;
+        let stream =
+            Stream::create_floor(&stage.path().join("run.mcap"), prepared).map_err(|e| {
+                OutputError::Content {
+                    file: "run.mcap",
+                    problem: e.to_string(),
+                }
+            })?;
+        Ok(Self {
+            dir: dir.to_path_buf(),
+            stage,
+            stream,
+            prepared,
+        })
     }
-    stage.commit(&names, &OUTPUT_FILES)?;
-    Ok(vec![dir.join("summary.json"), dir.join("trajectory.svg")])
+
+    /// Logs one event of the run into the recording.
+    pub fn observe(&mut self, event: Event<'_>) {
+        self.stream.observe(event);
+    }
+
+    /// Ends the recording, draws `trajectory.svg` of `run` (the run whose events were
+    /// observed, `summary` its summary), writes `summary.json` and moves the set into place:
+    /// `summary.json` last, and the other names of [`OUTPUT_FILES`] removed (a floor-plan run
+    /// draws no `speed.svg` or `energy.svg`), so that a folder never mixes the files of two
+    /// runs. `dir` is checked again first. Returns the paths, `summary.json` first.
+    ///
+    /// # Errors
+    /// [`OutputError`] naming the folder or file and the problem; the previous set is then
+    /// untouched.
+    pub fn finish(
+        self,
+        summary: &FloorSummary,
+        run: &FloorRun,
+    ) -> Result<Vec<PathBuf>, OutputError> {
+        let Self {
+            dir,
+            stage,
+            stream,
+            prepared,
+        } = self;
+        check_output_dir(&dir)?;
+        let content =
+            |file: &'static str| move |problem: String| OutputError::Content { file, problem };
+        let svg = match stream.floor_base() {
+            Some(base) => trajectory_with(prepared, base, summary, run),
+            None => floor_trajectory_svg(prepared, summary, run),
+        }
+        .map_err(content("trajectory.svg"))?;
+        let json = serde_json::to_string_pretty(summary)
+            .map_err(|e| content("summary.json")(e.to_string()))?
+            + "\n";
+        stream
+            .finish()
+            .map_err(|e| content("run.mcap")(e.to_string()))?;
+        let names = ["run.mcap", "trajectory.svg", "summary.json"];
+        for (name, text) in names[1..].iter().zip([svg, json]) {
+            let path = stage.path().join(name);
+            std::fs::write(&path, text).map_err(|source| OutputError::Io { path, source })?;
+        }
+        stage.commit(&names, &OUTPUT_FILES)?;
+        Ok(["summary.json", "run.mcap", "trajectory.svg"]
+            .iter()
+            .map(|n| dir.join(n))
+            .collect())
+    }
 }

@@ -22,5 +22,7 @@ pub mod drawing;
 pub mod figures;
 pub mod floor;
 pub mod levels;
+mod messages;
 pub mod record;
 pub mod set;
+mod world;

@@ -21,6 +21,13 @@
 //! |---|---|---|
 //! | `/scan` | `foxglove.LaserScan` | every scan as the navigator got it, in the `world` frame at the sensor's pose (`+∞`: no return, NaN: a dropout) |
 //! | `/perceived` | `foxglove.SceneUpdate` | the perceived shapes (cyan, not grown), replaced at each event (the true ones stay on `/scene`) |
+//!
+//! A floor plan's recording ([`Stream::create_floor`], issue 25) has the same topics but the
+//! sector: `/scene` holds the true walls (every ring, white) and the certified region's edge
+//! (the shrunk walls `∂W_s`, grey) in place of the boundary, `/theta` the floor plan's `Θ` as
+//! the robot knew it over the walls' bounding square (NaN outside the certified region), and
+//! `/harmonav/state` the floor navigator's own evaluation at every state (`V` of the floor's
+//! `Θ` under the dynamic law).
 
 use std::fs::File;
 use std::io::BufWriter;
@@ -28,23 +35,21 @@ use std::path::Path;
 use std::sync::Arc;
 
 use foxglove::messages::{
-    Color, FrameTransform, Grid, LaserScan as FoxScan, LinePrimitive, Log, PackedElementField,
-    Point3, Pose, PoseInFrame, Quaternion, SceneEntity, SceneEntityDeletion, SceneUpdate,
-    SpherePrimitive, Timestamp, Vector2 as FVector2, Vector3, line_primitive, log,
-    packed_element_field::NumericType, scene_entity_deletion,
+    FrameTransform, Grid, LaserScan as FoxScan, Log, PoseInFrame, SceneEntityDeletion, SceneUpdate,
+    Vector3, log, scene_entity_deletion,
 };
 use foxglove::{Channel, Context, Encode, McapCompression, McapWriteOptions};
-use harmonav_field::{Field, FieldError};
 use nalgebra::Vector2;
 
-use harmonav_scenario::{Prepared, Sensor};
+use harmonav_scenario::Prepared;
+use harmonav_scenario::floorplan::FloorPrepared;
 use harmonav_sim::summary::Run;
 use harmonav_sim::trace::{Discovery, Event, Sample, ScanRecord};
-use harmonav_transform::StarShape;
 
 use crate::atomic::AtomicFile;
 use crate::drawing::closed_outline;
-use crate::levels::ThetaGrid;
+use crate::messages::{PERCEIVED, entity, line, log_message, nanos, pose, stamp, yaw_quaternion};
+use crate::world::World;
 
 /// The topics, in the order of the table above.
 pub const TOPICS: [&str; 8] = [
@@ -61,8 +66,7 @@ pub const TOPICS: [&str; 8] = [
 /// The topics a run with a simulated lidar adds, in the order of the table above.
 pub const LIDAR_TOPICS: [&str; 2] = ["/scan", "/perceived"];
 
-/// Cells along each side of the `/theta` grid.
-pub const GRID_CELLS: u32 = 160;
+pub use crate::world::GRID_CELLS;
 
 /// Simulated seconds between two `/robot/path` updates.
 pub const PATH_PERIOD: f64 = 0.5;
@@ -114,199 +118,6 @@ impl std::fmt::Display for RecordError {
 }
 
 impl std::error::Error for RecordError {}
-
-fn nanos(t: f64) -> u64 {
-    (t.max(0.0) * 1e9).round() as u64
-}
-
-fn stamp(t: f64) -> Option<Timestamp> {
-    let ns = nanos(t);
-    Some(Timestamp::new(
-        (ns / 1_000_000_000) as u32,
-        (ns % 1_000_000_000) as u32,
-    ))
-}
-
-fn point(p: Vector2<f64>) -> Point3 {
-    Point3 {
-        x: p.x,
-        y: p.y,
-        z: 0.0,
-    }
-}
-
-fn color([r, g, b, a]: [f64; 4]) -> Option<Color> {
-    Some(Color { r, g, b, a })
-}
-
-/// The pose at `p` heading along `yaw`.
-fn pose(p: Vector2<f64>, yaw: f64) -> Pose {
-    Pose {
-        position: Some(Vector3 {
-            x: p.x,
-            y: p.y,
-            z: 0.0,
-        }),
-        orientation: Some(yaw_quaternion(yaw)),
-    }
-}
-
-fn yaw_quaternion(yaw: f64) -> Quaternion {
-    Quaternion {
-        x: 0.0,
-        y: 0.0,
-        z: (0.5 * yaw).sin(),
-        w: (0.5 * yaw).cos(),
-    }
-}
-
-/// The colour of a perceived shape (cyan).
-const PERCEIVED: [f64; 4] = [0.1, 0.75, 0.85, 1.0];
-
-fn line(
-    points: impl Iterator<Item = Vector2<f64>>,
-    rgba: [f64; 4],
-    thickness: f64,
-) -> LinePrimitive {
-    LinePrimitive {
-        r#type: line_primitive::Type::LineStrip as i32,
-        pose: Some(pose(Vector2::zeros(), 0.0)),
-        thickness,
-        scale_invariant: false,
-        points: points.map(point).collect(),
-        color: color(rgba),
-        ..Default::default()
-    }
-}
-
-fn entity(t: f64, frame: &str, id: &str, lines: Vec<LinePrimitive>) -> SceneEntity {
-    SceneEntity {
-        timestamp: stamp(t),
-        frame_id: frame.into(),
-        id: id.into(),
-        frame_locked: frame != "world",
-        lines,
-        ..Default::default()
-    }
-}
-
-/// The scene at `t`: boundary, obstacles (known ones red), goal.
-fn scene(prepared: &Prepared, known: &[usize], t: f64) -> SceneUpdate {
-    let truth = &prepared.truth;
-    let mut entities = vec![entity(
-        t,
-        "world",
-        "boundary",
-        vec![line(
-            closed_outline(&truth.boundary),
-            [1.0, 1.0, 1.0, 1.0],
-            0.03,
-        )],
-    )];
-    for (i, o) in truth.obstacles.iter().enumerate() {
-        let rgba = if known.contains(&i) {
-            [0.9, 0.2, 0.2, 1.0]
-        } else {
-            [0.6, 0.6, 0.6, 1.0]
-        };
-        entities.push(entity(
-            t,
-            "world",
-            &truth.names[i],
-            vec![line(closed_outline(o), rgba, 0.03)],
-        ));
-    }
-    let mut goal = entity(t, "world", "goal", Vec::new());
-    goal.spheres.push(SpherePrimitive {
-        pose: Some(pose(truth.goal(), 0.0)),
-        size: Some(Vector3 {
-            x: 0.12,
-            y: 0.12,
-            z: 0.12,
-        }),
-        color: color([0.2, 0.8, 0.3, 1.0]),
-    });
-    entities.push(goal);
-    SceneUpdate {
-        deletions: Vec::new(),
-        entities,
-    }
-}
-
-/// `Θ` of the known world on a [`GRID_CELLS`]² grid over the workspace's bounding square, as
-/// little-endian float32 (NaN outside the free space).
-fn theta_grid(prepared: &Prepared, known: &[usize], t: f64) -> Result<Grid, FieldError> {
-    let ws = prepared.truth.workspace.clone();
-    let field = Field::with_policy(ws, known.iter().copied(), prepared.k_policy())?;
-    field_grid(prepared, &field, t)
-}
-
-/// `Θ` of the obstacles as perceived ([`crate::figures::perceived_field`]).
-fn perceived_grid(prepared: &Prepared, perceived: &[StarShape], t: f64) -> Result<Grid, String> {
-    let field = crate::figures::perceived_field(prepared, perceived)?;
-    field_grid(prepared, &field, t).map_err(|e| e.to_string())
-}
-
-/// `Θ` of `field` on the grid of [`theta_grid`].
-fn field_grid(prepared: &Prepared, field: &Field, t: f64) -> Result<Grid, FieldError> {
-    let b = &prepared.truth.boundary;
-    let grid = ThetaGrid::sample(field, b.centre(), b.radius_bounds().1, GRID_CELLS as usize)?;
-    let data: Vec<u8> = grid
-        .values
-        .iter()
-        .flat_map(|&v| (v as f32).to_le_bytes())
-        .collect();
-    Ok(Grid {
-        timestamp: stamp(t),
-        frame_id: "world".into(),
-        pose: Some(pose(grid.corner, 0.0)),
-        column_count: GRID_CELLS,
-        cell_size: Some(FVector2 {
-            x: grid.cell,
-            y: grid.cell,
-        }),
-        row_stride: 4 * GRID_CELLS,
-        cell_stride: 4,
-        fields: vec![PackedElementField {
-            name: "theta".into(),
-            offset: 0,
-            r#type: NumericType::Float32 as i32,
-        }],
-        data: data.into(),
-    })
-}
-
-/// The sector in the robot's frame (its axis along the robot's x axis).
-fn sector(prepared: &Prepared) -> Option<SceneUpdate> {
-    let Sensor::Sector(sec) = prepared.truth.sensor else {
-        return None;
-    };
-    let mut pts = vec![Vector2::zeros()];
-    for i in 0..=24 {
-        let a = -0.5 * sec.aperture() + sec.aperture() * i as f64 / 24.0;
-        pts.push(sec.range() * Vector2::new(a.cos(), a.sin()));
-    }
-    pts.push(Vector2::zeros());
-    Some(SceneUpdate {
-        deletions: Vec::new(),
-        entities: vec![entity(
-            0.0,
-            "robot",
-            "sector",
-            vec![line(pts.into_iter(), [0.2, 0.5, 0.9, 1.0], 0.015)],
-        )],
-    })
-}
-
-fn log_message(t: f64, level: log::Level, message: String) -> Log {
-    Log {
-        timestamp: stamp(t),
-        level: level as i32,
-        message,
-        name: "harmonav".into(),
-        ..Default::default()
-    }
-}
 
 /// The channels of one recording, on a context of its own (recordings made in parallel do
 /// not share channels).
@@ -402,7 +213,7 @@ pub fn replay(run: &Run, observer: &mut dyn FnMut(Event<'_>)) {
 /// time order, whole or not at all (through a temporary file, committed by
 /// [`Stream::finish`]; dropped before, nothing is left).
 pub struct Stream<'p> {
-    pub(crate) prepared: &'p Prepared,
+    world: World<'p>,
     path: std::path::PathBuf,
     file: AtomicFile,
     writer: foxglove::McapWriterHandle<BufWriter<File>>,
@@ -432,6 +243,32 @@ impl<'p> Stream<'p> {
     /// Opens the recording of a run of `prepared` at `path` (the sector, if any, is logged at
     /// `t = 0`).
     pub fn create(path: &Path, prepared: &'p Prepared) -> Result<Self, RecordError> {
+        Self::open(path, World::Star(prepared))
+    }
+
+    /// Opens the recording of a run of the floor plan `prepared` at `path`
+    /// (`harmonav_sim::physics::simulate_floor_observed` feeds it): `/scene` holds the true
+    /// walls and the certified region's edge, `/theta` the floor plan's `Θ` over the walls' bounding
+    /// square; there is no sector.
+    ///
+    /// # Errors
+    /// The file cannot be created, or the file's navigator (whose `Θ` is recorded) cannot be
+    /// built.
+    pub fn create_floor(path: &Path, prepared: &'p FloorPrepared) -> Result<Self, RecordError> {
+        let world = World::floor(prepared)
+            .map_err(|e| RecordError(format!("{}: the navigator: {e}", path.display())))?;
+        Self::open(path, world)
+    }
+
+    /// The floor plan's navigator knowing no obstacle (a floor plan's recording only).
+    pub(crate) fn floor_base(&self) -> Option<&harmonav::FloorNavigator> {
+        match &self.world {
+            World::Floor { base, .. } => Some(base),
+            World::Star(_) => None,
+        }
+    }
+
+    fn open(path: &Path, world: World<'p>) -> Result<Self, RecordError> {
         let fail = |e: &dyn std::fmt::Display| RecordError(format!("{}: {e}", path.display()));
         let (file, out) = AtomicFile::create(path).map_err(|e| fail(&e))?;
         let ctx = Context::new();
@@ -441,18 +278,19 @@ impl<'p> Stream<'p> {
             .mcap_writer_with_options(options)
             .create(out)
             .map_err(|e| fail(&e))?;
-        if let Some(s) = sector(prepared) {
+        if let Some(s) = world.sector() {
             ch.sector.log_with_time(&s, 0);
         }
+        let (k_policy, damping) = world.policies();
         Ok(Self {
-            prepared,
+            world,
             path: path.to_path_buf(),
             file,
             writer,
             _ctx: ctx,
             ch,
-            k_policy: prepared.k_policy().as_str().to_string(),
-            damping: prepared.damping_policy().as_str().to_string(),
+            k_policy,
+            damping,
             known: Vec::new(),
             shown: None,
             pending: Vec::new(),
@@ -526,7 +364,7 @@ impl<'p> Stream<'p> {
             },
             nanos(t),
         );
-        match perceived_grid(self.prepared, perceived, t) {
+        match self.world.perceived_grid(perceived, t) {
             Ok(grid) => ch.theta.log_with_time(&grid, nanos(t)),
             Err(e) => {
                 let e = RecordError(format!("the Θ grid at t = {t}: {e}"));
@@ -545,10 +383,10 @@ impl<'p> Stream<'p> {
         if self.shown != Some(self.known.len()) {
             self.shown = Some(self.known.len());
             let t = s.t;
-            let (ch, prepared) = (&self.ch, self.prepared);
+            let ch = &self.ch;
             ch.scene
-                .log_with_time(&scene(prepared, &self.known, t), nanos(t));
-            match theta_grid(prepared, &self.known, t) {
+                .log_with_time(&self.world.scene(&self.known, t), nanos(t));
+            match self.world.theta_grid(&self.known, t) {
                 Ok(grid) => ch.theta.log_with_time(&grid, nanos(t)),
                 Err(e) => {
                     let e = RecordError(format!("the Θ grid at t = {t}: {e}"));

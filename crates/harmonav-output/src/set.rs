@@ -55,6 +55,7 @@ pub struct Outputs<'p> {
     dir: std::path::PathBuf,
     stage: crate::atomic::StagedDir,
     stream: Stream<'p>,
+    prepared: &'p Prepared,
 }
 
 impl<'p> Outputs<'p> {
@@ -77,6 +78,7 @@ impl<'p> Outputs<'p> {
             dir: dir.to_path_buf(),
             stage,
             stream,
+            prepared,
         })
     }
 
@@ -94,7 +96,12 @@ impl<'p> Outputs<'p> {
     /// untouched (a failing rename while moving the set, an I/O fault, can leave a mix).
     /// Returns the paths, `summary.json` first.
     pub fn finish(self, run: &Run) -> Result<Vec<std::path::PathBuf>, OutputError> {
-        let Self { dir, stage, stream } = self;
+        let Self {
+            dir,
+            stage,
+            stream,
+            prepared,
+        } = self;
         check_output_dir(&dir)?;
         let io = |path: &Path, source: std::io::Error| OutputError::Io {
             path: path.to_path_buf(),
@@ -102,7 +109,6 @@ impl<'p> Outputs<'p> {
         };
         let content =
             |file: &'static str| move |problem: String| OutputError::Content { file, problem };
-        let prepared = stream.prepared;
         let mut figures = vec![(
             "trajectory.svg",
             crate::figures::trajectory_svg(prepared, run).map_err(content("trajectory.svg"))?,

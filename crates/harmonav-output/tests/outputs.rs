@@ -320,3 +320,109 @@ fn the_foxglove_layout_names_recorded_topics_and_fields() {
             && panels.keys().any(|k| k.starts_with("RosOut!"))
     );
 }
+
+/// A floor plan's recording: every message decodes with its schema, one pose, transform and
+/// state per state of the run, each scan on `/scan` and each event on `/perceived`, a `Θ`
+/// grid at the start and at each event (finite in `[0, 1)` where the robot may be, NaN in
+/// the walls), and the set written whole: `run.mcap`, `trajectory.svg`, `summary.json`.
+#[test]
+fn a_floor_plan_run_records_its_walls_scans_and_theta() {
+    use harmonav_output::floor::FloorOutputs;
+    use harmonav_output::record::LIDAR_TOPICS;
+    use harmonav_scenario::floorplan::FloorScenario;
+    use harmonav_sim::floor::FloorSummary;
+    use harmonav_sim::physics::{Physics, simulate_floor_observed};
+    let file =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/floorplans/lidar-room.toml");
+    let p = FloorScenario::load(&file).unwrap();
+    let dir = std::env::temp_dir().join(format!("harmonav-floor-mcap-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let start = p.starts[0];
+    let mut outputs = FloorOutputs::begin(&dir, &p).unwrap();
+    let model = Some(Model::Kinematic);
+    let r = simulate_floor_observed(&p, model, start, Physics::Builtin, &mut |e| {
+        outputs.observe(e);
+    })
+    .unwrap();
+    let summary = FloorSummary::new(&p, model, start, &r);
+    let written = outputs.finish(&summary, &r).unwrap();
+    assert_eq!(written[0], dir.join("summary.json"));
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["run.mcap", "summary.json", "trajectory.svg"]);
+    let bytes = std::fs::read(dir.join("run.mcap")).unwrap();
+    let mut counts: BTreeMap<String, usize> = BTreeMap::new();
+    let (mut grids, mut scenes, mut last_pose) = (Vec::new(), Vec::new(), None);
+    for m in mcap::MessageStream::new(&bytes).unwrap() {
+        let m = m.unwrap();
+        let schema = m.channel.schema.as_ref().unwrap();
+        match m.channel.topic.as_str() {
+            "/theta" => grids.push(Grid::decode(&m.data[..]).unwrap()),
+            "/scene" => scenes.push(SceneUpdate::decode(&m.data[..]).unwrap()),
+            "/robot/pose" => last_pose = PoseInFrame::decode(&m.data[..]).unwrap().pose,
+            "/scan" | "/perceived" => {}
+            topic => {
+                decode(schema, &m.data).unwrap_or_else(|e| panic!("{topic}: {e}"));
+            }
+        }
+        *counts.entry(m.channel.topic.clone()).or_default() += 1;
+    }
+    let report = r.perception.as_ref().unwrap().0.clone();
+    for topic in ["/robot/pose", "/tf", "/harmonav/state"] {
+        assert_eq!(counts[topic], r.commands + 1, "{topic}");
+    }
+    assert!(!counts.contains_key("/sensor/sector"), "no sector");
+    let [scan, perceived] = LIDAR_TOPICS;
+    assert_eq!(
+        (counts[scan], counts[perceived]),
+        (report.scans, report.events)
+    );
+    assert!(report.events >= 1);
+    assert_eq!(grids.len(), 1 + report.events);
+    // The scene: the walls (every ring of the plan), the certified edge, each obstacle, the goal.
+    assert_eq!(scenes.len(), 1);
+    let ids: Vec<&str> = scenes[0].entities.iter().map(|e| e.id.as_str()).collect();
+    assert_eq!(ids[..2], ["walls", "certified-edge"]);
+    let walls = p.floor.walls();
+    assert_eq!(scenes[0].entities[0].lines.len(), 1 + walls.holes().len());
+    assert_eq!(ids.len(), 3 + p.obstacles.len());
+    let end = last_pose.unwrap().position.unwrap();
+    let x = r.positions.last().unwrap();
+    assert!((end.x - x[0]).abs() < 1e-12 && (end.y - x[1]).abs() < 1e-12);
+    // The last grid: Θ over the perceived shapes; NaN at a cell inside the walls' outer ring's
+    // complement, finite below 1 at the cell holding the goal and smallest there.
+    let g = grids.last().unwrap();
+    let n = g.column_count as usize;
+    let values: Vec<f32> = g
+        .data
+        .chunks_exact(4)
+        .map(|b| f32::from_le_bytes(b.try_into().unwrap()))
+        .collect();
+    assert_eq!(values.len(), n * n);
+    let (corner, cell) = {
+        let pose = g.pose.as_ref().unwrap().position.as_ref().unwrap();
+        (
+            nalgebra::Vector2::new(pose.x, pose.y),
+            g.cell_size.as_ref().unwrap().x,
+        )
+    };
+    let at = |q: nalgebra::Vector2<f64>| {
+        let ij = ((q - corner) / cell).map(|c| c.floor() as usize);
+        values[ij.y * n + ij.x]
+    };
+    let goal = nalgebra::Vector2::from(p.scenario.robot.goal);
+    let finite: Vec<f32> = values.iter().copied().filter(|v| !v.is_nan()).collect();
+    assert!(finite.iter().all(|v| (0.0..1.0).contains(v)));
+    let least = finite.iter().copied().fold(f32::INFINITY, f32::min);
+    assert!(at(goal) <= least + 1e-3, "{} {least}", at(goal));
+    assert!(
+        at(corner + nalgebra::Vector2::new(0.5, 0.5) * cell).is_nan(),
+        "the corner cell lies outside the walls"
+    );
+    let nan = values.len() - finite.len();
+    assert!(nan > 0 && nan < values.len(), "{nan} NaN cells");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

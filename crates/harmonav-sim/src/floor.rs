@@ -4,6 +4,7 @@
 //! leaving, staying in the certified region, arrival within a stated threshold), its
 //! [`FloorSummary`] (`harmonav run` on a floor plan), and the map's certificate.
 
+use harmonav::control::Branch;
 use harmonav::perception::sim::Enclosure;
 use harmonav::{Controller, FloorNavigator, Law, NavError, Options, StarShape};
 use harmonav_harmonic::Certificate;
@@ -16,7 +17,7 @@ use crate::guarantee::{Check, Guarantee};
 use crate::monitor::MARGIN_TOLERANCE;
 use crate::scanner::{Scanner, Scene};
 use crate::summary::{PerceptionReport, Physics};
-use crate::trace::Discovery;
+use crate::trace::{Discovery, Event, Sample};
 use crate::trajectory::{Keep, Trajectory};
 
 /// How a floor-plan run ended.
@@ -168,7 +169,29 @@ pub fn run(
     model: Option<Model>,
     start: Vector2<f64>,
 ) -> Result<FloorRun, NavError> {
-    fly(prepared, model, start, None, &mut |held| held.euler())
+    fly(prepared, model, start, None, &mut |held| held.euler(), None)
+}
+
+/// [`run`], handing every state, scan and discovery to `observer` as they are made (in time
+/// order: at each state its scan and discoveries first): what a recording streamed to disk
+/// is written from (`harmonav_output::floor::FloorOutputs`).
+///
+/// # Errors
+/// The navigator could not be built (a message naming the parameter).
+pub fn run_observed(
+    prepared: &FloorPrepared,
+    model: Option<Model>,
+    start: Vector2<f64>,
+    observer: &mut dyn FnMut(Event<'_>),
+) -> Result<FloorRun, NavError> {
+    fly(
+        prepared,
+        model,
+        start,
+        None,
+        &mut |held| held.euler(),
+        Some(observer),
+    )
 }
 
 /// [`run`], with every state at the control period (the start first): the reference of a
@@ -182,11 +205,18 @@ pub fn run_with_states(
     start: Vector2<f64>,
 ) -> Result<(FloorRun, Vec<Vector2<f64>>), NavError> {
     let mut states = vec![start];
-    let run = fly(prepared, model, start, None, &mut |held| {
-        let (x, v) = held.euler();
-        states.push(x);
-        (x, v)
-    })?;
+    let run = fly(
+        prepared,
+        model,
+        start,
+        None,
+        &mut |held| {
+            let (x, v) = held.euler();
+            states.push(x);
+            (x, v)
+        },
+        None,
+    )?;
     Ok((run, states))
 }
 
@@ -227,14 +257,49 @@ impl Held<'_> {
     }
 }
 
-/// The loop of [`run`] with its integrator `hold` (the built-in step, or rapier's) and, with
-/// `custom`, a controller other than the law.
+/// The recorded state of a floor-plan run at `t`: `Θ`, and under the dynamic law `V` (of the
+/// floor's `Θ`, whose scale shift is 0) and the damping in force, from the navigator's own
+/// evaluation ([`FloorNavigator::evaluate`]: `NaN` where it refuses, as at a collision). The
+/// velocity is `ẋ` under the dynamic law and the law's `u` under the kinematic one, as in a
+/// star world's sample. No energy tolerance: a floor plan's energy is recorded, not judged.
+fn sample(nav: &FloorNavigator, t: f64, x: Vector2<f64>, v: Vector2<f64>) -> Sample {
+    let e = nav.evaluate(x, v).ok();
+    let dynamic = match nav.controller() {
+        Controller::Dynamic(law) => Some(law),
+        Controller::Kinematic(_) => None,
+    };
+    let damping = e.as_ref().and_then(|e| e.damping);
+    let calibration = (nav.field().destination_stiffness(), 0.0);
+    Sample {
+        t,
+        x: [x.x, x.y],
+        v: match (dynamic, &e) {
+            (Some(_), _) => [v.x, v.y],
+            (None, Some(e)) => [e.command.x, e.command.y],
+            (None, None) => [0.0; 2],
+        },
+        theta: e.as_ref().map_or(f64::NAN, |e| e.field.value),
+        energy: dynamic.map(|law| {
+            e.as_ref()
+                .map_or(f64::NAN, |e| law.energy_for(calibration, &e.field, v))
+        }),
+        k: nav.k(),
+        lambda: damping.map(|d| d.lambda),
+        energy_tolerance: 0.0,
+        critical: damping.is_some_and(|d| d.branch == Branch::Critical),
+    }
+}
+
+/// The loop of [`run`] with its integrator `hold` (the built-in step, or rapier's), with
+/// `custom` a controller other than the law, and with `observer` the run's events as they are
+/// made ([`run_observed`]; the samples' evaluations are made only for an observer).
 pub(crate) fn fly(
     prepared: &FloorPrepared,
     model: Option<Model>,
     start: Vector2<f64>,
     custom: Option<FloorLaw<'_>>,
     hold: &mut dyn FnMut(&Held) -> State,
+    mut observer: Option<&mut dyn FnMut(Event<'_>)>,
 ) -> Result<FloorRun, NavError> {
     let r = &prepared.scenario.robot;
     let goal = Vector2::from(r.goal);
@@ -274,6 +339,21 @@ pub(crate) fn fly(
     };
     // The disc's clearance at the previous state and the length of the step since.
     let mut last: Option<(f64, f64)> = None;
+    // The time of the last state handed to the observer: a state the loop goes on from is
+    // handed after its scan and discoveries, the state it ended at after the loop.
+    let mut observed: Option<f64> = None;
+    let mut observe_state = |observer: &mut Option<&mut dyn FnMut(Event<'_>)>,
+                             nav: &FloorNavigator,
+                             t: f64,
+                             x: Vector2<f64>,
+                             v: Vector2<f64>| {
+        if let Some(o) = observer.as_mut()
+            && observed != Some(t)
+        {
+            o(Event::State(&sample(nav, t, x, v)));
+            observed = Some(t);
+        }
+    };
     for n in 0..=steps {
         out.time = n as f64 * h;
         // Monitors on the truth.
@@ -317,7 +397,12 @@ pub(crate) fn fly(
                 enclosure: Enclosure::Walls(walls),
             };
             match scanner.scan(&mut nav, scene, out.time, x, yaw) {
-                Ok(record) => discovered = record.perceived.is_some(),
+                Ok(record) => {
+                    discovered = record.perceived.is_some();
+                    if let Some(o) = observer.as_mut() {
+                        o(Event::Scan(&record));
+                    }
+                }
                 Err(e) => {
                     out.ending = FloorEnding::Refused;
                     out.error = Some(e);
@@ -336,15 +421,20 @@ pub(crate) fn fly(
                 *seen = true;
                 discovered = true;
                 out.sensed += 1;
-                out.discoveries.push(Discovery {
+                let discovery = Discovery {
                     obstacle: obstacle_name(prepared, i),
                     index: i,
                     time_s: out.time,
                     position: [x.x, x.y],
                     axis: [0.0; 2],
-                });
+                };
+                if let Some(o) = observer.as_mut() {
+                    o(Event::Discovery(&discovery));
+                }
+                out.discoveries.push(discovery);
             }
         }
+        observe_state(&mut observer, &nav, out.time, x, vel);
         kept.push(
             [x.x, x.y],
             if discovered { Keep::Pinned } else { Keep::Grid },
@@ -381,6 +471,7 @@ pub(crate) fn fly(
         last = Some((clearance, step));
         x = next;
     }
+    observe_state(&mut observer, &nav, out.time, x, vel);
     kept.push([x.x, x.y], Keep::Pinned);
     out.positions = kept.into_samples();
     out.k = nav.k();

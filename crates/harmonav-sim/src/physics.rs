@@ -69,17 +69,47 @@ pub fn simulate_floor(
     start: Vector2<f64>,
     physics: Physics,
 ) -> Result<FloorRun, RunError> {
-    match physics {
-        Physics::Builtin => Ok(floor::run(prepared, model, start)?),
+    floor_with(prepared, model, start, physics, None)
+}
+
+/// [`simulate_floor`], handing every state, scan and discovery of the run it returns (the
+/// built-in or the rapier one) to `observer` as they are made ([`floor::run_observed`]): what
+/// a floor plan's `run.mcap` streams from.
+///
+/// # Errors
+/// As [`simulate_floor`].
+pub fn simulate_floor_observed(
+    prepared: &FloorPrepared,
+    model: Option<Model>,
+    start: Vector2<f64>,
+    physics: Physics,
+    observer: &mut dyn FnMut(Event<'_>),
+) -> Result<FloorRun, RunError> {
+    floor_with(prepared, model, start, physics, Some(observer))
+}
+
+fn floor_with(
+    prepared: &FloorPrepared,
+    model: Option<Model>,
+    start: Vector2<f64>,
+    physics: Physics,
+    observer: Option<&mut dyn FnMut(Event<'_>)>,
+) -> Result<FloorRun, RunError> {
+    match (physics, observer) {
+        (Physics::Builtin, None) => Ok(floor::run(prepared, model, start)?),
+        (Physics::Builtin, Some(observer)) => {
+            Ok(floor::run_observed(prepared, model, start, observer)?)
+        }
         #[cfg(feature = "rapier")]
-        Physics::Rapier => {
-            use crate::rapier::{Drive, run_floor_rapier};
+        (Physics::Rapier, observer) => {
+            use crate::rapier::{Drive, rapier_floor_observed};
             let (_, states) = floor::run_with_states(prepared, model, start)?;
-            let (run, _) = run_floor_rapier(prepared, model, start, Drive::Law, Some(&states))?;
+            let (run, _) =
+                rapier_floor_observed(prepared, model, start, Drive::Law, Some(&states), observer)?;
             Ok(run)
         }
         #[cfg(not(feature = "rapier"))]
-        Physics::Rapier => Err(RunError::NoRapier),
+        (Physics::Rapier, _) => Err(RunError::NoRapier),
     }
 }
 

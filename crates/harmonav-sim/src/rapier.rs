@@ -21,6 +21,7 @@ mod engine;
 pub mod floor;
 
 use engine::{Engine, star};
+pub(crate) use floor::rapier_floor_observed;
 pub use floor::{FloorLaw, run_floor_rapier};
 
 /// A controller other than the law: `(field, eval, x, ẋ) → command`.

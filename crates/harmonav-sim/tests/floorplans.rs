@@ -390,3 +390,74 @@ fn the_maze_arrives_with_the_goal_at_the_disk_centre_and_not_without() {
         "{endings:?}"
     );
 }
+
+/// The observed floor-plan run hands over one state per control period (the start and the
+/// end included), each scan, and the same run as the silent one; each state's `Θ` is that of
+/// the world the navigator knew then: before the first scan event the walls' alone, after the
+/// last one the walls' with the final perceived shapes, grown as the navigator grows them.
+#[test]
+fn an_observed_floor_run_hands_over_every_state_and_scan_of_the_same_run() {
+    use harmonav_sim::trace::Event;
+    let file =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/floorplans/lidar-room.toml");
+    let p = FloorScenario::load(&file).unwrap();
+    let start = p.starts[0];
+    let silent = run(&p, Some(Model::Kinematic), start).unwrap();
+    let (mut states, mut scans, mut events) = (Vec::new(), 0, Vec::new());
+    let observed =
+        harmonav_sim::floor::run_observed(&p, Some(Model::Kinematic), start, &mut |e| match e {
+            Event::State(s) => states.push(s.clone()),
+            Event::Scan(r) => {
+                scans += 1;
+                if r.perceived.is_some() {
+                    events.push(r.time_s);
+                }
+            }
+            Event::Discovery(_) | Event::Warning(_) => panic!("no exact sensing with a lidar"),
+        })
+        .unwrap();
+    assert_eq!(observed.ending, FloorEnding::Reached);
+    assert_eq!(observed.positions, silent.positions, "the same run");
+    let report = observed.perception.as_ref().unwrap().0.clone();
+    assert_eq!((scans, events.len()), (report.scans, report.events));
+    assert!(events.len() >= 2, "{events:?}");
+    assert_eq!(states.len(), observed.commands + 1);
+    let h = 0.01;
+    for (n, s) in states.iter().enumerate() {
+        assert!((s.t - n as f64 * h).abs() < 1e-9, "state {n} at {}", s.t);
+        assert!(s.energy.is_none() && s.lambda.is_none(), "kinematic");
+        assert!(s.theta.is_finite() && s.theta < 1.0, "{s:?}");
+    }
+    let last = states.last().unwrap();
+    assert_eq!(last.x, *observed.positions.last().unwrap());
+    assert!((last.t - observed.time).abs() < 1e-12);
+    // Θ of the world known: the walls' alone before the first event, …
+    let base = harmonav_sim::floor::navigator(&p, Some(Model::Kinematic)).unwrap();
+    let (first, final_event) = (events[0], *events.last().unwrap());
+    let x = |s: &harmonav_sim::trace::Sample| nalgebra::Vector2::from(s.x);
+    let before: Vec<_> = states.iter().filter(|s| s.t < first - 1e-9).collect();
+    assert!(!before.is_empty());
+    for s in before {
+        assert_eq!(s.theta, base.theta(x(s)).unwrap(), "t = {}", s.t);
+    }
+    // … and over the final perceived shapes, grown, from the last event on.
+    let (lidar, _) = p.lidar.as_ref().unwrap();
+    let r = &p.scenario.robot;
+    let grown: Vec<_> = observed
+        .perceived
+        .iter()
+        .map(|q| harmonav::grow_perceived_as(q, r.radius + r.margin, lidar.scan.form).unwrap())
+        .collect();
+    let field = base.field().with_sensed(&grown).unwrap();
+    let after: Vec<_> = states.iter().filter(|s| s.t > final_event - 1e-9).collect();
+    assert!(after.len() > 10);
+    for s in after {
+        let want = field.eval(x(s)).unwrap().value;
+        assert!(
+            (s.theta - want).abs() < 1e-12,
+            "t = {}: {} {want}",
+            s.t,
+            s.theta
+        );
+    }
+}

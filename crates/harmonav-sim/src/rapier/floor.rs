@@ -18,6 +18,7 @@ use super::engine::{Engine, rings, star};
 use super::{Drive, RapierReport};
 use crate::floor::{FloorRun, Held, fly, navigator};
 use crate::summary::Physics;
+use crate::trace::Event;
 
 pub use crate::floor::FloorLaw;
 
@@ -36,6 +37,19 @@ pub fn run_floor_rapier(
     start: Vector2<f64>,
     drive: Drive<FloorLaw<'_>>,
     builtin: Option<&[Vector2<f64>]>,
+) -> Result<(FloorRun, RapierReport), NavError> {
+    rapier_floor_observed(prepared, model, start, drive, builtin, None)
+}
+
+/// [`run_floor_rapier`], handing the run's events to `observer` as
+/// [`crate::floor::run_observed`] does.
+pub(crate) fn rapier_floor_observed(
+    prepared: &FloorPrepared,
+    model: Option<Model>,
+    start: Vector2<f64>,
+    drive: Drive<FloorLaw<'_>>,
+    builtin: Option<&[Vector2<f64>]>,
+    observer: Option<&mut dyn FnMut(Event<'_>)>,
 ) -> Result<(FloorRun, RapierReport), NavError> {
     let r = &prepared.scenario.robot;
     let model = model.unwrap_or(r.model);
@@ -79,7 +93,7 @@ pub fn run_floor_rapier(
         Drive::Law => None,
         Drive::Custom(law) => Some(law),
     };
-    let mut run = fly(prepared, Some(model), start, custom, &mut hold)?;
+    let mut run = fly(prepared, Some(model), start, custom, &mut hold, observer)?;
     let contacts = engine.contacts();
     run.physics = Physics::Rapier;
     run.contacts = Some(contacts);
