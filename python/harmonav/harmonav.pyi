@@ -316,9 +316,117 @@ class FloorPlan:
         run; ``harmonav run --physics rapier``). ``heading`` (``"auto"`` or ``"paper"``; None:
         the file's ``[robot] heading``) is the heading policy of either law (docs/maths.md
         §13.3–13.4). ``out``, a folder,
-        receives summary.json and trajectory.svg as one set; it is checked before the run
+        receives run.mcap, trajectory.svg and summary.json as one set; it is checked before the run
         (``ValueError``), and a failure to write after it raises ``OSError`` whose ``result``
         is the ``FloorRunResult``."""
+
+class FloorNavigator:
+    """The navigator of a robot on a floor plan: the walls are known (rings of points, or a ROS
+    map), their harmonic map solved once on construction (without the GIL); star obstacles are
+    added as shapes or perceived from scans, each without a new solve. The robot stays in the
+    certified region ``W_δ``, at least ``max(radius + margin, δ)`` from the walls
+    (``δ = max_element``, docs/maths.md §13). ``ValueError`` names the field (a map's error the
+    file); a call that raises leaves the navigator as it was."""
+
+    def __init__(
+        self,
+        outer: _Points,
+        goal: _Point,
+        holes: Optional[Sequence[_Points]] = None,
+        *,
+        law: str = "kinematic",
+        gain: float = 1.0,
+        mass: float = 1.0,
+        mu: float = 10.0,
+        radius: float = 0.0,
+        margin: float = 0.0,
+        max_element: float = 0.2,
+        centre: str = "solve",
+        k: str = "auto",
+        damping: str = "governed",
+        heading: str = "auto",
+        hold: str = "auto",
+        speed: str = "auto",
+        v_max: Optional[float] = None,
+        control_period: Optional[float] = None,
+        range_noise: float = 0.02,
+        max_obstacle_depth: float = 1.0,
+        growth_threshold: float = 0.02,
+        fit_range: Optional[float] = None,
+        free_memory: int = 16,
+    ) -> None: ...
+    @staticmethod
+    def from_map(
+        yaml: Union[str, PathLike[str]],
+        start: _Point,
+        goal: _Point,
+        *,
+        speck_pixels: int = 2,
+        simplify: float = 0.5,
+        law: str = "kinematic",
+        gain: float = 1.0,
+        mass: float = 1.0,
+        mu: float = 10.0,
+        radius: float = 0.0,
+        margin: float = 0.0,
+        max_element: float = 0.2,
+        centre: str = "solve",
+        k: str = "auto",
+        damping: str = "governed",
+        heading: str = "auto",
+        hold: str = "auto",
+        speed: str = "auto",
+        v_max: Optional[float] = None,
+        control_period: Optional[float] = None,
+        range_noise: float = 0.02,
+        max_obstacle_depth: float = 1.0,
+        growth_threshold: float = 0.02,
+        fit_range: Optional[float] = None,
+        free_memory: int = 16,
+    ) -> FloorNavigator:
+        """The navigator on a ROS map_server map (the free component holding the goal; start
+        and goal in world coordinates). ``ValueError`` names the file and the problem."""
+    def add_obstacle(self, shape: Shape) -> int: ...
+    def command(self, x: _Point, v: Optional[_Point] = None) -> npt.NDArray[np.float64]:
+        """The command to hold for ``control_period``: a velocity or a force, (2,); ``mode``
+        says how it was formed (``"law"``, ``"capped"``, ``"recovering"``, ``"escaping"``)."""
+    def observe_scan(
+        self,
+        position: _Point,
+        heading: float,
+        ranges: Any,
+        angle_min: float,
+        angle_increment: float,
+        range_max: float,
+        range_min: float = 0.0,
+    ) -> ScanUpdate:
+        """As ``Navigator.observe_scan``; hits on the walls are explained by the map."""
+    @property
+    def obstacles(self) -> List[Shape]:
+        """The perceived shapes (not grown), in order."""
+    def theta(self, x: _Point) -> float: ...
+    def clearance(self, x: _Point) -> float:
+        """A lower bound on the distance to the boundary layer and the known grown obstacles, m."""
+    def wall_distance(self, x: _Point) -> float:
+        """The distance to the true walls (negative in a wall), m."""
+    @property
+    def k(self) -> float: ...
+    @property
+    def delta(self) -> float: ...
+    @property
+    def elements(self) -> int: ...
+    @property
+    def goal(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def speed_bound(self) -> Optional[float]: ...
+    @property
+    def mode(self) -> str: ...
+    @property
+    def control_period(self) -> float: ...
+    @property
+    def escapes(self) -> int: ...
+    def __copy__(self) -> FloorNavigator: ...
+    def __deepcopy__(self, memo: Any) -> FloorNavigator: ...
 
 class SweepResult:
     """The result of ``sweep``."""

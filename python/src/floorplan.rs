@@ -70,8 +70,8 @@ impl FloorPlan {
     /// Runs the loop from `start` (default `robot.start`) under `model` (`"kinematic"` or
     /// `"dynamic"`; None: the file's), without the GIL, and judges every guarantee. `physics`
     /// is `"builtin"` or `"rapier"` (the walls as colliders, cross-checked against a built-in
-    /// run: `harmonav run --physics rapier`). `out`, a folder, receives summary.json and
-    /// trajectory.svg as one set; it is checked before the run (`ValueError`, nothing run), and
+    /// run: `harmonav run --physics rapier`). `out`, a folder, receives run.mcap (streamed
+    /// during the run), trajectory.svg and summary.json as one set; it is checked before the run (`ValueError`, nothing run), and
     /// a failure to write after it raises `OSError` whose `result` is the `FloorRunResult`.
     /// `heading` (`"auto"` or `"paper"`; None: the file's `[robot] heading`) is the heading
     /// policy of either law (docs/maths.md §13.3: the dynamic law turns its velocity towards

@@ -1,5 +1,5 @@
 //! Python bindings of harmonav (module `harmonav`): shapes, `Θ` evaluated in batches over
-//! NumPy arrays, the online `Navigator`, scenario runs and sweeps, floor-plan runs. Every call wraps the Rust
+//! NumPy arrays, the online `Navigator` (and `FloorNavigator` on a floor plan), scenario runs and sweeps, floor-plan runs. Every call wraps the Rust
 //! API of the `harmonav` facade and `harmonav-sim`; nothing here re-implements the maths.
 //!
 //! Errors: bad arguments raise `ValueError` (with the Rust error's message, which names the
@@ -9,6 +9,7 @@
 mod convert;
 mod experiment;
 mod field;
+mod floor_navigator;
 mod floorplan;
 mod navigator;
 mod report;
@@ -31,6 +32,7 @@ fn harmonav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<field::Field>()?;
     m.add_class::<navigator::Navigator>()?;
     m.add_class::<navigator::ScanUpdate>()?;
+    m.add_class::<floor_navigator::FloorNavigator>()?;
     m.add_class::<scenario::Scenario>()?;
     m.add_class::<scenario::RunResult>()?;
     m.add_class::<scenario::SweepResult>()?;

@@ -112,18 +112,74 @@ fn nav_error(e: NavError) -> PyErr {
     value_error(e)
 }
 
+/// The law named `law` (`"kinematic"` with `gain`, `"dynamic"` with `mass` and `mu`).
+pub(crate) fn law_named(law: &str, gain: f64, mass: f64, mu: f64) -> PyResult<Law> {
+    match law {
+        "kinematic" => Ok(Law::kinematic(gain)),
+        "dynamic" => Ok(Law::dynamic(mass, mu)),
+        other => Err(value_error(format!(
+            "unknown law \"{other}\": expected \"kinematic\" or \"dynamic\""
+        ))),
+    }
+}
+
+/// The arguments of `observe_scan` as the Rust navigators take them: the sensor's pose (at
+/// `position`, heading `heading` rad) and the scan (`ranges` any sequence of floats).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn scan_from(
+    position: &Bound<'_, PyAny>,
+    heading: f64,
+    ranges: &Bound<'_, PyAny>,
+    angle_min: f64,
+    angle_increment: f64,
+    range_max: f64,
+    range_min: f64,
+) -> PyResult<(Pose, LaserScan)> {
+    let p = point_like(position, "position")?;
+    let ranges: Vec<f64> = ranges
+        .extract()
+        .map_err(|e| PyTypeError::new_err(format!("ranges must be a sequence of floats: {e}")))?;
+    let scan = LaserScan {
+        angle_min,
+        angle_increment,
+        range_min,
+        range_max,
+        ranges,
+    };
+    Ok((Pose::new(p.x, p.y, heading), scan))
+}
+
+/// `Θ`, or a `ValueError` when it is not finite.
+pub(crate) fn finite_theta(theta: f64) -> PyResult<f64> {
+    if theta.is_finite() {
+        Ok(theta)
+    } else {
+        Err(value_error(format!("Θ is not finite here ({theta})")))
+    }
+}
+
+/// The scan options of a navigator's constructor (the rest at their defaults).
+pub(crate) fn scan_options(
+    range_noise: f64,
+    max_obstacle_depth: f64,
+    growth_threshold: f64,
+    fit_range: Option<f64>,
+    free_memory: usize,
+) -> ScanOptions {
+    ScanOptions {
+        range_noise,
+        max_obstacle_depth,
+        growth_threshold,
+        fit_range: fit_range.unwrap_or(f64::INFINITY),
+        free_memory,
+        ..ScanOptions::default()
+    }
+}
+
 impl Args {
     /// The Rust navigator these arguments make, with its derived quantities checked finite.
     fn build(&self) -> PyResult<RsNavigator> {
-        let law = match self.law.as_str() {
-            "kinematic" => Law::kinematic(self.gain),
-            "dynamic" => Law::dynamic(self.mass, self.mu),
-            other => {
-                return Err(value_error(format!(
-                    "unknown law \"{other}\": expected \"kinematic\" or \"dynamic\""
-                )));
-            }
-        };
+        let law = law_named(&self.law, self.gain, self.mass, self.mu)?;
         let mut options = Options::default()
             .with_sensor(self.sensor.0, self.sensor.1)
             .with_robot(self.radius, self.margin)
@@ -132,14 +188,13 @@ impl Args {
             .with_damping(policy::<DampingPolicy>(&self.damping)?)
             .with_hold(policy::<HoldPolicy>(&self.hold)?)
             .with_speed(policy::<SpeedPolicy>(&self.speed)?)
-            .with_scan(ScanOptions {
-                range_noise: self.range_noise,
-                max_obstacle_depth: self.max_obstacle_depth,
-                growth_threshold: self.growth_threshold,
-                fit_range: self.fit_range.unwrap_or(f64::INFINITY),
-                free_memory: self.free_memory,
-                ..ScanOptions::default()
-            });
+            .with_scan(scan_options(
+                self.range_noise,
+                self.max_obstacle_depth,
+                self.growth_threshold,
+                self.fit_range,
+                self.free_memory,
+            ));
         if let Some(h) = self.control_period {
             options = options.with_control_period(h);
         }
@@ -406,18 +461,15 @@ impl Navigator {
         range_max: f64,
         range_min: f64,
     ) -> PyResult<ScanUpdate> {
-        let p = point_like(position, "position")?;
-        let ranges: Vec<f64> = ranges.extract().map_err(|e| {
-            PyTypeError::new_err(format!("ranges must be a sequence of floats: {e}"))
-        })?;
-        let scan = LaserScan {
+        let (pose, scan) = scan_from(
+            position,
+            heading,
+            ranges,
             angle_min,
             angle_increment,
-            range_min,
             range_max,
-            ranges,
-        };
-        let pose = Pose::new(p.x, p.y, heading);
+            range_min,
+        )?;
         let u = py.detach(|| self.scan(pose, scan)).map_err(nav_error)?;
         Ok(ScanUpdate::from(u))
     }
@@ -444,12 +496,7 @@ impl Navigator {
 
     /// `Θ(x)` over the known obstacles (finite, or `ValueError` as `command`).
     fn theta(&self, x: &Bound<'_, PyAny>) -> PyResult<f64> {
-        let theta = self.inner.theta(point_like(x, "x")?).map_err(nav_error)?;
-        if theta.is_finite() {
-            Ok(theta)
-        } else {
-            Err(value_error(format!("Θ is not finite here ({theta})")))
-        }
+        finite_theta(self.inner.theta(point_like(x, "x")?).map_err(nav_error)?)
     }
 
     /// `k` of `φ_k` for the obstacles known so far.

@@ -1,0 +1,168 @@
+"""harmonav.FloorNavigator: the floor-plan navigator embedded in a loop written in Python. The
+walls, the robot's clearance and the scans are computed here with NumPy, independently of
+harmonav: point-to-segment distances, a parity test for inside, and rays cast against
+segments."""
+
+import copy
+
+import numpy as np
+import pytest
+
+import harmonav
+from conftest import SCENARIOS
+
+# The L room of scenarios/floorplans/l-room.toml: two 6 m arms, 2 m wide, a square pillar.
+L_OUTER = np.array([[0.0, 0.0], [6.0, 0.0], [6.0, 2.0], [2.0, 2.0], [2.0, 6.0], [0.0, 6.0]])
+L_PILLAR = np.array([[0.8, 3.8], [1.2, 3.8], [1.2, 4.2], [0.8, 4.2]])
+RADIUS, MARGIN = 0.1, 0.1
+
+
+def edges(*rings):
+    """The segments (a, b) of closed rings, as two (M, 2) arrays."""
+    a = np.concatenate([r for r in rings])
+    b = np.concatenate([np.roll(r, -1, axis=0) for r in rings])
+    return a, b
+
+
+def distance(x, segments):
+    """The distance from x to the nearest segment."""
+    a, b = segments
+    d = b - a
+    t = np.clip(np.einsum("ij,ij->i", x - a, d) / np.einsum("ij,ij->i", d, d), 0.0, 1.0)
+    return np.min(np.linalg.norm(a + t[:, None] * d - x, axis=1))
+
+
+def inside(x, ring):
+    """Whether x lies inside the closed ring (even-odd rule)."""
+    a, b = ring, np.roll(ring, -1, axis=0)
+    crosses = (a[:, 1] > x[1]) != (b[:, 1] > x[1])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        at = a[:, 0] + (x[1] - a[:, 1]) * (b[:, 0] - a[:, 0]) / (b[:, 1] - a[:, 1])
+    return bool(np.count_nonzero(crosses & (x[0] < at)) % 2)
+
+
+def l_room(**kwargs):
+    return harmonav.FloorNavigator(
+        L_OUTER, [5.4, 1.0], [L_PILLAR], radius=RADIUS, margin=MARGIN, max_element=0.05, **kwargs
+    )
+
+
+def test_a_python_loop_turns_the_l_rooms_corner_clear_of_the_walls():
+    nav = l_room()
+    assert nav.delta == 0.05 and nav.elements > 100 and nav.k > 0
+    walls = edges(L_OUTER, L_PILLAR)
+    x, h = np.array([1.0, 5.4]), nav.control_period
+    closest, steps = np.inf, 0
+    for steps in range(1, 4000):
+        x = x + h * nav.command(x)
+        assert inside(x, L_OUTER) and not inside(x, L_PILLAR), x
+        closest = min(closest, distance(x, walls))
+        if np.linalg.norm(x - nav.goal) < 0.05:
+            break
+    assert np.linalg.norm(x - nav.goal) < 0.05, (steps, x)
+    # The robot's disc kept its margin from the true walls (the certified region: at least
+    # radius + margin from them, less what a step may cut between two states).
+    assert closest >= RADIUS + MARGIN - 1e-6, closest
+    # The binding's wall distance is the walls' own.
+    for p in ([1.0, 5.4], [3.0, 1.0], [1.9, 2.1], [1.0, 4.0]):
+        want = distance(np.array(p), walls) * (-1.0 if inside(np.array(p), L_PILLAR) else 1.0)
+        assert nav.wall_distance(p) == pytest.approx(want, abs=1e-9)
+    assert nav.theta(nav.goal) < 1e-9 and 0.0 < nav.theta([1.0, 5.4]) < 1.0
+
+
+def scan(position, heading, segments, beams=360, range_max=4.0):
+    """A noise-free 360° scan at `position`: each beam's first hit among the segments, +inf
+    beyond range_max."""
+    angles = heading + np.arange(beams) * (2 * np.pi / beams)
+    u = np.stack([np.cos(angles), np.sin(angles)], axis=1)
+    a, b = segments
+    d = b - a
+    ranges = np.full(beams, np.inf)
+    for i, ui in enumerate(u):
+        # position + t·ui = a + s·d
+        den = ui[0] * (-d[:, 1]) - ui[1] * (-d[:, 0])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            rel = a - position
+            t = (rel[:, 0] * (-d[:, 1]) - rel[:, 1] * (-d[:, 0])) / den
+            s = (ui[0] * rel[:, 1] - ui[1] * rel[:, 0]) / den
+        ok = (np.abs(den) > 1e-12) & (t > 0) & (s >= 0) & (s <= 1)
+        if ok.any():
+            ranges[i] = np.min(t[ok])
+    ranges[ranges > range_max] = np.inf
+    return ranges
+
+
+def test_a_floor_navigator_perceives_an_unknown_box_from_scans_and_passes_it():
+    room = np.array([[0.0, 0.0], [6.0, 0.0], [6.0, 3.0], [0.0, 3.0]])
+    box = np.array([[2.6, 1.1], [3.4, 1.1], [3.4, 1.9], [2.6, 1.9]])
+    nav = harmonav.FloorNavigator(
+        room, [5.5, 1.8], radius=RADIUS, margin=MARGIN, max_element=0.1, max_obstacle_depth=1.0
+    )
+    k0 = nav.k
+    world, box_edges = edges(room, box), edges(box)
+    x, h = np.array([0.5, 1.2]), nav.control_period
+    heading, hits_on_box, events = 0.0, [], 0
+    for n in range(4000):
+        if n % 10 == 0:  # a 10 Hz lidar in a 100 Hz loop
+            r = scan(x, heading, world)
+            u = nav.observe_scan(x, heading, r, 0.0, 2 * np.pi / 360, 4.0)
+            events += u.changed
+            angles = heading + np.arange(360) * (2 * np.pi / 360)
+            seen = np.isfinite(r)
+            pts = x + r[seen, None] * np.stack([np.cos(angles[seen]), np.sin(angles[seen])], 1)
+            hits_on_box += [p for p in pts if distance(p, box_edges) < 1e-9]
+        step = h * nav.command(x)
+        if np.linalg.norm(step) > 0:
+            heading = float(np.arctan2(step[1], step[0]))
+        x = x + step
+        assert distance(x, box_edges) > RADIUS and not inside(x, box), x
+        if np.linalg.norm(x - nav.goal) < 0.05:
+            break
+    assert np.linalg.norm(x - nav.goal) < 0.05, x
+    # The box was perceived (the walls were not: their hits are the map's), as one shape
+    # holding every hit that fell on it.
+    shapes = nav.obstacles
+    assert events >= 1 and len(shapes) == 1 and nav.k > k0
+    assert len(hits_on_box) > 50
+    assert max(shapes[0].signed_distance(p) for p in hits_on_box) <= 0.0
+
+
+def test_a_floor_navigator_from_a_ros_map():
+    yaml = SCENARIOS / "floorplans" / "maps" / "office.yaml"
+    nav = harmonav.FloorNavigator.from_map(
+        yaml, [1.5, 1.5], [8.5, 6.5], radius=RADIUS, margin=MARGIN, centre="goal"
+    )
+    assert nav.elements > 500
+    assert nav.theta([8.5, 6.5]) < 1e-9 and 0.0 < nav.theta([1.5, 1.5]) < 1.0
+    u = nav.command([1.5, 1.5])
+    assert np.all(np.isfinite(u)) and np.linalg.norm(u) > 0 and nav.mode in ("law", "capped")
+    # A goal in a wall, and a missing file, name the problem and the file.
+    with pytest.raises(ValueError, match="office.yaml.*goal|goal.*office.yaml"):
+        harmonav.FloorNavigator.from_map(yaml, [1.5, 1.5], [0.01, 0.01])
+    with pytest.raises(ValueError, match="nowhere.yaml"):
+        harmonav.FloorNavigator.from_map(yaml.parent / "nowhere.yaml", [1.5, 1.5], [8.5, 6.5])
+
+
+def test_bad_arguments_name_the_field_and_a_failed_call_changes_nothing():
+    with pytest.raises(ValueError, match="goal"):
+        l_room().__class__(L_OUTER, [10.0, 10.0], radius=RADIUS, margin=MARGIN)
+    with pytest.raises((TypeError, ValueError), match=r"holes\[0\]"):
+        harmonav.FloorNavigator(L_OUTER, [5.4, 1.0], [[1.0, 2.0, 3.0]])
+    with pytest.raises(ValueError, match="law"):
+        harmonav.FloorNavigator(L_OUTER, [5.4, 1.0], law="hover")
+    with pytest.raises(ValueError, match="heading"):
+        harmonav.FloorNavigator(L_OUTER, [5.4, 1.0], heading="sideways")
+    nav = l_room()
+    k = nav.k
+    # An obstacle over the goal is refused, and the navigator is as it was.
+    with pytest.raises(ValueError):
+        nav.add_obstacle(harmonav.circle([5.4, 1.0], 0.3))
+    assert nav.k == k
+    # A scan from inside a wall is refused, and nothing is perceived.
+    with pytest.raises(ValueError):
+        nav.observe_scan([3.0, 3.0], 0.0, np.full(360, 1.0), 0.0, 2 * np.pi / 360, 4.0)
+    assert nav.obstacles == [] and nav.k == k
+    # A copy is independent.
+    other = copy.copy(nav)
+    other.add_obstacle(harmonav.circle([3.5, 1.0], 0.2))
+    assert other.k > k and nav.k == k
