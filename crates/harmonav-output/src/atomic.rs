@@ -127,10 +127,12 @@ impl StagedDir {
                 _ => {}
             }
         }
+        // Only files of the set were there, and they have moved out. The folder goes while the
+        // lock is held: an interrupt between its leaving the list and its removal would leave
+        // it behind (the handler exits without knowing it).
+        let _ = std::fs::remove_dir_all(&self.stage);
         list.retain(|p| p != &self.stage);
         drop(list);
-        // Only files of the set were there, and they have moved out.
-        let _ = std::fs::remove_dir_all(&self.stage);
         std::mem::forget(self);
         Ok(())
     }
@@ -138,8 +140,10 @@ impl StagedDir {
 
 impl Drop for StagedDir {
     fn drop(&mut self) {
-        staged().retain(|p| p != &self.stage);
+        // Removed under the lock, as in `commit`: the handler either removes it or waits.
+        let mut list = staged();
         let _ = std::fs::remove_dir_all(&self.stage);
+        list.retain(|p| p != &self.stage);
     }
 }
 
