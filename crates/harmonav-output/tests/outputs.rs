@@ -426,3 +426,57 @@ fn a_floor_plan_run_records_its_walls_scans_and_theta() {
     assert!(nan > 0 && nan < values.len(), "{nan} NaN cells");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A floor-plan set dropped before its finish (a failed or interrupted run) leaves nothing of
+/// itself: the previous complete set stays as it was, and no staging folder remains.
+#[test]
+fn a_floor_plan_set_dropped_unfinished_leaves_the_previous_set() {
+    use harmonav_output::floor::FloorOutputs;
+    use harmonav_scenario::floorplan::FloorScenario;
+    use harmonav_sim::floor::FloorSummary;
+    use harmonav_sim::physics::{Physics, simulate_floor_observed};
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/floorplans/u-trap.toml");
+    let p = FloorScenario::load(&file).unwrap();
+    let dir = std::env::temp_dir().join(format!("harmonav-floor-drop-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let (start, model) = (p.starts[0], Some(Model::Kinematic));
+    let mut first = FloorOutputs::begin(&dir, &p).unwrap();
+    let r = simulate_floor_observed(&p, model, start, Physics::Builtin, &mut |e| {
+        first.observe(e);
+    })
+    .unwrap();
+    first
+        .finish(&FloorSummary::new(&p, model, start, &r), &r)
+        .unwrap();
+    let read = |name: &str| std::fs::read(dir.join(name)).unwrap();
+    let before: Vec<Vec<u8>> = ["run.mcap", "trajectory.svg", "summary.json"]
+        .iter()
+        .map(|n| read(n))
+        .collect();
+    {
+        let mut second = FloorOutputs::begin(&dir, &p).unwrap();
+        simulate_floor_observed(
+            &p,
+            Some(Model::Dynamic),
+            start,
+            Physics::Builtin,
+            &mut |e| {
+                second.observe(e);
+            },
+        )
+        .unwrap();
+        assert_eq!(
+            std::fs::read_dir(&dir).unwrap().count(),
+            4,
+            "the staging folder"
+        );
+        drop(second);
+    }
+    let after: Vec<Vec<u8>> = ["run.mcap", "trajectory.svg", "summary.json"]
+        .iter()
+        .map(|n| read(n))
+        .collect();
+    assert_eq!(before, after);
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 3);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
