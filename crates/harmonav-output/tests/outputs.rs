@@ -5,7 +5,9 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use foxglove::messages::{FrameTransform, Grid, Log, PoseInFrame, SceneUpdate};
-use harmonav_output::record::{GRID_CELLS, PATH_PERIOD, PATH_SPACING, TOPICS, write_mcap};
+use harmonav_output::record::{
+    GRID_CELLS, LIDAR_TOPICS, PATH_PERIOD, PATH_SPACING, TOPICS, write_mcap,
+};
 use harmonav_output::set::write_outputs;
 use harmonav_scenario::{Model, Prepared, Scenario};
 use harmonav_sim::run::run;
@@ -302,7 +304,7 @@ fn the_foxglove_layout_names_recorded_topics_and_fields() {
             .split_once('.')
             .map_or((s.as_str(), None), |(t, f)| (t, Some(f)));
         assert!(
-            TOPICS.contains(&topic),
+            TOPICS.contains(&topic) || LIDAR_TOPICS.contains(&topic),
             "the layout names {topic}, which is not recorded"
         );
         if let Some(f) = field {
@@ -314,6 +316,13 @@ fn the_foxglove_layout_names_recorded_topics_and_fields() {
         named += 1;
     }
     assert!(named >= 8, "{named} topic references");
+    // A lidar run's scan and perceived shapes are drawn by default.
+    for topic in LIDAR_TOPICS {
+        assert!(
+            all.iter().any(|s| s == topic),
+            "the layout does not draw {topic}"
+        );
+    }
     let panels = layout["configById"].as_object().unwrap();
     assert!(
         panels.keys().any(|k| k.starts_with("3D!"))
@@ -328,7 +337,6 @@ fn the_foxglove_layout_names_recorded_topics_and_fields() {
 #[test]
 fn a_floor_plan_run_records_its_walls_scans_and_theta() {
     use harmonav_output::floor::FloorOutputs;
-    use harmonav_output::record::LIDAR_TOPICS;
     use harmonav_scenario::floorplan::FloorScenario;
     use harmonav_sim::floor::FloorSummary;
     use harmonav_sim::physics::{Physics, simulate_floor_observed};
