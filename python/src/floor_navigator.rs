@@ -44,6 +44,12 @@ impl Setup {
         scan: (f64, f64, f64, Option<f64>, usize),
     ) -> PyResult<Self> {
         let law = law_named(law, gain, mass, mu)?;
+        // The robot's size first: the floor plan is shrunk by it before the navigator checks it.
+        for (field, value) in [("radius", radius), ("margin", margin)] {
+            if !(value.is_finite() && (0.0..=harmonav_rs::transform::MAX_LENGTH).contains(&value)) {
+                return Err(nav_error(NavError::InvalidOption { field, value }));
+            }
+        }
         let (range_noise, depth, growth, fit_range, free_memory) = scan;
         let mut options = Options::default()
             .with_robot(radius, margin)

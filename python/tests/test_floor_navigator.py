@@ -150,6 +150,10 @@ def test_bad_arguments_name_the_field_and_a_failed_call_changes_nothing():
         harmonav.FloorNavigator(L_OUTER, [5.4, 1.0], [[1.0, 2.0, 3.0]])
     with pytest.raises(ValueError, match="law"):
         harmonav.FloorNavigator(L_OUTER, [5.4, 1.0], law="hover")
+    with pytest.raises(ValueError, match="`radius`"):
+        harmonav.FloorNavigator(L_OUTER, [5.4, 1.0], radius=-0.1)
+    with pytest.raises(ValueError, match="boundary elements"):
+        harmonav.FloorNavigator(L_OUTER, [5.4, 1.0], max_element=1e-6)  # refused before the solve
     with pytest.raises(ValueError, match="heading"):
         harmonav.FloorNavigator(L_OUTER, [5.4, 1.0], heading="sideways")
     nav = l_room()
