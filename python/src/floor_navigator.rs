@@ -98,7 +98,7 @@ impl Setup {
 /// `Navigator`'s does: the velocity (`law="kinematic"`, `gain`) or the force (`law="dynamic"`,
 /// `mass`, `mu`), safe to hold for `control_period`.
 ///
-/// `FloorNavigator(outer, goal, holes=())` takes the walls as rings of points (either
+/// `FloorNavigator(outer, goal, holes=None)` takes the walls as rings of points (either
 /// orientation; the outer ring need not be star-shaped); `FloorNavigator.from_map(yaml, start,
 /// goal)` reads a ROS map (`speck_pixels`, `simplify` as in a floor-plan file). The robot keeps
 /// `radius + margin` (m) from the walls; `max_element` (m) is the boundary elements' length and
@@ -227,7 +227,7 @@ impl FloorNavigator {
         yaml: std::path::PathBuf,
         start: &Bound<'_, PyAny>,
         goal: &Bound<'_, PyAny>,
-        speck_pixels: usize,
+        speck_pixels: i64,
         simplify: f64,
         law: &str,
         gain: f64,
@@ -276,6 +276,12 @@ impl FloorNavigator {
                 free_memory,
             ),
         )?;
+        let speck_pixels = usize::try_from(speck_pixels).map_err(|_| {
+            value_error(format!(
+                "`speck_pixels` must be an integer ≥ 0, got {speck_pixels}"
+            ))
+        })?;
+        // `simplify` is checked by the map (`MapError` naming it).
         let options = MapOptions {
             floor: setup.floor,
             speck_pixels,

@@ -139,6 +139,10 @@ def test_a_floor_navigator_from_a_ros_map():
     # A goal in a wall, and a missing file, name the problem and the file.
     with pytest.raises(ValueError, match="office.yaml.*goal|goal.*office.yaml"):
         harmonav.FloorNavigator.from_map(yaml, [1.5, 1.5], [0.01, 0.01])
+    bad_options = [({"simplify": float("nan")}, "simplify"), ({"speck_pixels": -1}, "speck_pixels")]
+    for bad, field in bad_options:
+        with pytest.raises(ValueError, match=f"`{field}`"):
+            harmonav.FloorNavigator.from_map(yaml, [1.5, 1.5], [8.5, 6.5], **bad)
     with pytest.raises(ValueError, match="nowhere.yaml"):
         harmonav.FloorNavigator.from_map(yaml.parent / "nowhere.yaml", [1.5, 1.5], [8.5, 6.5])
 
@@ -152,7 +156,7 @@ def test_bad_arguments_name_the_field_and_a_failed_call_changes_nothing():
         harmonav.FloorNavigator(L_OUTER, [5.4, 1.0], law="hover")
     with pytest.raises(ValueError, match="`radius`"):
         harmonav.FloorNavigator(L_OUTER, [5.4, 1.0], radius=-0.1)
-    with pytest.raises(ValueError, match="boundary elements"):
+    with pytest.raises(ValueError, match="boundary elements.*max_element"):
         harmonav.FloorNavigator(L_OUTER, [5.4, 1.0], max_element=1e-6)  # refused before the solve
     with pytest.raises(ValueError, match="heading"):
         harmonav.FloorNavigator(L_OUTER, [5.4, 1.0], heading="sideways")

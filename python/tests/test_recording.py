@@ -63,8 +63,8 @@ def test_a_lidar_run_records_every_scan_and_the_perceived_shapes(tmp_path):
 
 
 def test_a_floor_plan_run_records_its_walls_scans_and_states(tmp_path):
-    """A floor plan's run.mcap (issue 26 in issue 25's maps): the true walls and the certified
-    region's edge on /scene, one state per control period with Θ of the floor plan, every scan
+    """A floor plan's run.mcap (issue 26 in issue 25's maps): the true walls and the shrunk
+    walls on /scene, one state per control period with Θ of the floor plan, every scan
     and each perceived update, read by the independent reader."""
     plan = harmonav.FloorPlan.load(SCENARIOS / "floorplans" / "lidar-room.toml")
     res = plan.run(model="kinematic", out=tmp_path)
@@ -79,13 +79,13 @@ def test_a_floor_plan_run_records_its_walls_scans_and_states(tmp_path):
                 scene = decoded
             if channel.topic == "/harmonav/state":
                 assert 0.0 <= decoded.theta < 1.0 and decoded.k > 0
-                assert decoded.energy == 0.0 and decoded.damping == ""  # kinematic
+                assert not decoded.HasField("energy") and decoded.damping == ""  # kinematic
                 last = decoded
     assert counts["/robot/pose"] == counts["/tf"] == counts["/harmonav/state"] == s["commands"] + 1
     assert counts["/scan"] == p["scans"] and counts["/perceived"] == p["events"]
     assert counts["/theta"] == 1 + p["events"] and "/sensor/sector" not in counts
     ids = [e.id for e in scene.entities]
-    assert ids[:2] == ["walls", "certified-edge"] and ids[-1] == "goal"
+    assert ids[:2] == ["walls", "shrunk-walls"] and ids[-1] == "goal"
     assert last.t == pytest.approx(s["time_s"]) and math.hypot(
         last.x - s["goal"][0], last.y - s["goal"][1]
     ) == pytest.approx(s["final_distance"])

@@ -1,6 +1,6 @@
 //! `run`, `eval` and `check` on a floor-plan file (a `[floor_plan]` table, issue 25): the
 //! user's loop around a `FloorNavigator` (`harmonav_sim::floor`), built-in or in rapier
-//! (`harmonav_sim::physics::simulate_floor`), its summary and outputs
+//! (`harmonav_sim::physics::simulate_floor_observed`), its summary and outputs
 //! (`harmonav_output::floor`); and the loading that `sweep` shares. The star-world options that
 //! have no meaning on a floor plan (`--k`, `--damping`, `census`) are refused by name.
 

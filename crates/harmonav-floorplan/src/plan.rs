@@ -72,8 +72,14 @@ impl std::fmt::Display for FloorError {
         match self {
             Self::Domain(e) => write!(f, "the floor plan: {e}"),
             Self::Solve(e) => write!(f, "the harmonic map: {e}"),
+            // `max_element` is a length; the clearance, the valley radius and the
+            // simplification may be 0.
+            Self::InvalidOption {
+                field: field @ "max_element",
+                value,
+            } => write!(f, "`{field}` must be finite and positive, got {value:e}"),
             Self::InvalidOption { field, value } => {
-                write!(f, "`{field}` must be finite and positive, got {value:e}")
+                write!(f, "`{field}` must be finite and ≥ 0, got {value:e}")
             }
             Self::GoalNotCertified { clearance, delta } => write!(
                 f,

@@ -392,6 +392,17 @@ impl RosMap {
         goal: Vector2<f64>,
         options: &MapOptions,
     ) -> Result<(geo::Polygon<f64>, usize), MapError> {
+        // The tolerance of Visvalingam–Whyatt, square pixels: 0 keeps every vertex; NaN or ∞
+        // would drop vertices without bound.
+        let t = options.simplify;
+        if !(t.is_finite() && t >= 0.0) {
+            return Err(
+                self.error(MapProblem::Floor(crate::FloorError::InvalidOption {
+                    field: "simplify",
+                    value: t,
+                })),
+            );
+        }
         let (mask, n) = self.component(start, goal, options)?;
         let res = self.resolution;
         let mp = outline::trace(&mask, self.width, self.height, res)

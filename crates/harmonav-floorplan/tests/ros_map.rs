@@ -439,6 +439,18 @@ fn a_passage_narrower_than_the_robot_is_refused() {
     // A robot that fits (clearance 0.1, elements 0.15: ρ = 0.15 < 0.2) passes.
     let small = MapOptions::new(FloorOptions::new(0.15, 0.1));
     map.free_space(s, g, &small).unwrap();
+    // A simplification that is not a finite tolerance ≥ 0 is refused by name.
+    for t in [f64::NAN, f64::INFINITY, -1.0] {
+        let bad = MapOptions {
+            simplify: t,
+            ..small
+        };
+        let e = map.to_floor_map(s, g, &bad).unwrap_err();
+        assert!(
+            e.to_string().contains("`simplify` must be finite and ≥ 0"),
+            "{e}"
+        );
+    }
 }
 
 /// The opening: a pillar 0.2 m from a wall (closer than the robot's diameter) joins the outer

@@ -1,5 +1,5 @@
 //! A floor-plan run's outputs (issue 25): `run.mcap` (the recording of [`crate::record`],
-//! with the true walls, the certified region's edge and the floor plan's `Θ`; a lidar's scans
+//! with the true walls, the shrunk walls `∂W_s` and the floor plan's `Θ`; a lidar's scans
 //! and perceived shapes as in a star world), `trajectory.svg` (the true walls, the certified
 //! region's outer edge, the obstacles, a lidar's perceived shapes over them, the level sets of
 //! `Θ` the robot knew at the end, the path) and `summary.json`

@@ -23,8 +23,8 @@
 //! | `/perceived` | `foxglove.SceneUpdate` | the perceived shapes (cyan, not grown), replaced at each event (the true ones stay on `/scene`) |
 //!
 //! A floor plan's recording ([`Stream::create_floor`], issue 25) has the same topics but the
-//! sector: `/scene` holds the true walls (every ring, white) and the certified region's edge
-//! (the shrunk walls `∂W_s`, grey) in place of the boundary, `/theta` the floor plan's `Θ` as
+//! sector: `/scene` holds the true walls (every ring, white) and the shrunk walls `∂W_s`
+//! (grey; the certified region `W_δ` lies `δ` inside them) in place of the boundary, `/theta` the floor plan's `Θ` as
 //! the robot knew it over the walls' bounding square (NaN outside the certified region), and
 //! `/harmonav/state` the floor navigator's own evaluation at every state (`V` of the floor's
 //! `Θ` under the dynamic law).
@@ -221,12 +221,17 @@ pub struct Stream<'p> {
     _ctx: Arc<Context>,
     ch: Channels,
     k_policy: String,
-    /// The file's damping policy (the dynamic law's states are labelled with it).
+    /// The damping policy the dynamic law's states are labelled with (a star world's file's;
+    /// a floor plan's navigator's).
     damping: String,
     /// The obstacles known (scenario indices, in discovery order), and how many of them the
     /// last `/scene` showed.
     known: Vec<usize>,
     shown: Option<usize>,
+    /// Whether a lidar's perceived `Θ` is on `/theta`: the known set's grid (empty with a
+    /// lidar) then no longer replaces it (a floor plan's loop hands a scan at `t = 0` over
+    /// before the first state).
+    perceived_shown: bool,
     /// Discoveries not yet logged (they are logged with the next state).
     pending: Vec<Discovery>,
     heading: Heading,
@@ -248,15 +253,15 @@ impl<'p> Stream<'p> {
 
     /// Opens the recording of a run of the floor plan `prepared` at `path`
     /// (`harmonav_sim::physics::simulate_floor_observed` feeds it): `/scene` holds the true
-    /// walls and the certified region's edge, `/theta` the floor plan's `Θ` over the walls' bounding
+    /// walls and the shrunk walls `∂W_s` (the certified region lies `δ` inside them), `/theta` the floor plan's `Θ` over the walls' bounding
     /// square; there is no sector.
     ///
     /// # Errors
     /// The file cannot be created, or the file's navigator (whose `Θ` is recorded) cannot be
     /// built.
     pub fn create_floor(path: &Path, prepared: &'p FloorPrepared) -> Result<Self, RecordError> {
-        let world = World::floor(prepared)
-            .map_err(|e| RecordError(format!("{}: the navigator: {e}", path.display())))?;
+        let world =
+            World::floor(prepared).map_err(|e| RecordError(format!("the navigator: {e}")))?;
         Self::open(path, world)
     }
 
@@ -293,6 +298,7 @@ impl<'p> Stream<'p> {
             damping,
             known: Vec::new(),
             shown: None,
+            perceived_shown: false,
             pending: Vec::new(),
             heading: Heading(0.0),
             path_points: Vec::new(),
@@ -365,7 +371,10 @@ impl<'p> Stream<'p> {
             nanos(t),
         );
         match self.world.perceived_grid(perceived, t) {
-            Ok(grid) => ch.theta.log_with_time(&grid, nanos(t)),
+            Ok(grid) => {
+                ch.theta.log_with_time(&grid, nanos(t));
+                self.perceived_shown = true;
+            }
             Err(e) => {
                 let e = RecordError(format!("the Θ grid at t = {t}: {e}"));
                 self.error.get_or_insert(e);
@@ -386,9 +395,11 @@ impl<'p> Stream<'p> {
             let ch = &self.ch;
             ch.scene
                 .log_with_time(&self.world.scene(&self.known, t), nanos(t));
-            match self.world.theta_grid(&self.known, t) {
-                Ok(grid) => ch.theta.log_with_time(&grid, nanos(t)),
-                Err(e) => {
+            let grid = (!self.perceived_shown).then(|| self.world.theta_grid(&self.known, t));
+            match grid {
+                None => {}
+                Some(Ok(grid)) => ch.theta.log_with_time(&grid, nanos(t)),
+                Some(Err(e)) => {
                     let e = RecordError(format!("the Θ grid at t = {t}: {e}"));
                     self.error.get_or_insert(e);
                 }

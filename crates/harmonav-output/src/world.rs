@@ -31,7 +31,7 @@ pub(crate) enum World<'p> {
 }
 
 /// The colours of the scene: the boundary or walls, an obstacle not known yet, a known one,
-/// the certified region's edge (a floor plan's shrunk walls `∂W_s`), the goal.
+/// a floor plan's shrunk walls `∂W_s` (the certified region `W_δ` lies `δ` inside them), the goal.
 const WALL: [f64; 4] = [1.0, 1.0, 1.0, 1.0];
 const UNKNOWN: [f64; 4] = [0.6, 0.6, 0.6, 1.0];
 const KNOWN: [f64; 4] = [0.9, 0.2, 0.2, 1.0];
@@ -75,7 +75,7 @@ impl<'p> World<'p> {
                 let lines = rings(walls.outer(), walls.holes(), WALL, 0.03);
                 entities.push(entity(t, "world", "walls", lines));
                 let lines = rings(domain.outer(), domain.holes(), EDGE, 0.01);
-                entities.push(entity(t, "world", "certified-edge", lines));
+                entities.push(entity(t, "world", "shrunk-walls", lines));
                 let names = (0..prepared.obstacles.len()).map(|i| obstacle_name(prepared, i));
                 let goal = Vector2::from(prepared.scenario.robot.goal);
                 (names.zip(&prepared.obstacles).collect(), goal)

@@ -390,10 +390,10 @@ fn a_floor_plan_run_records_its_walls_scans_and_theta() {
     );
     assert!(report.events >= 1);
     assert_eq!(grids.len(), 1 + report.events);
-    // The scene: the walls (every ring of the plan), the certified edge, each obstacle, the goal.
+    // The scene: the walls (every ring of the plan), the shrunk walls, each obstacle, the goal.
     assert_eq!(scenes.len(), 1);
     let ids: Vec<&str> = scenes[0].entities.iter().map(|e| e.id.as_str()).collect();
-    assert_eq!(ids[..2], ["walls", "certified-edge"]);
+    assert_eq!(ids[..2], ["walls", "shrunk-walls"]);
     let walls = p.floor.walls();
     assert_eq!(scenes[0].entities[0].lines.len(), 1 + walls.holes().len());
     assert_eq!(ids.len(), 3 + p.obstacles.len());
@@ -486,5 +486,80 @@ fn a_floor_plan_set_dropped_unfinished_leaves_the_previous_set() {
         .collect();
     assert_eq!(before, after);
     assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 3);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A scan event at `t = 0` (the table within the lidar's first fit range): the floor loop
+/// hands that scan over before the first state, and `/theta` then holds the perceived world's
+/// `Θ` alone, not the walls' after it at the same time.
+#[test]
+fn a_scan_event_at_the_start_keeps_its_theta_on_the_recording() {
+    use harmonav_output::floor::FloorOutputs;
+    use harmonav_scenario::floorplan::FloorScenario;
+    use harmonav_sim::floor::FloorSummary;
+    use harmonav_sim::physics::{Physics, simulate_floor_observed};
+    let file =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/floorplans/lidar-room.toml");
+    let text = std::fs::read_to_string(&file).unwrap().replace(
+        "center = [2.5, 2.0]\nradius = 0.3",
+        "center = [1.5, 0.8]\nradius = 0.2",
+    );
+    let p = FloorScenario::parse(&file, &text)
+        .unwrap()
+        .prepare(&file)
+        .unwrap();
+    assert_eq!(p.obstacles[0].centre(), nalgebra::Vector2::new(1.5, 0.8));
+    let dir = std::env::temp_dir().join(format!("harmonav-floor-t0-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let (start, model) = (p.starts[0], Some(Model::Kinematic));
+    let mut outputs = FloorOutputs::begin(&dir, &p).unwrap();
+    let (mut first_event, mut first_state) = (None, None);
+    let r = simulate_floor_observed(&p, model, start, Physics::Builtin, &mut |e| {
+        match &e {
+            harmonav_sim::trace::Event::Scan(s) if s.perceived.is_some() => {
+                first_event.get_or_insert(s.time_s);
+            }
+            harmonav_sim::trace::Event::State(s) => {
+                first_state.get_or_insert(s.theta);
+            }
+            _ => {}
+        }
+        outputs.observe(e);
+    })
+    .unwrap();
+    assert_eq!(first_event, Some(0.0), "the table is fitted from the start");
+    outputs
+        .finish(&FloorSummary::new(&p, model, start, &r), &r)
+        .unwrap();
+    let bytes = std::fs::read(dir.join("run.mcap")).unwrap();
+    let grids: Vec<(u64, Grid)> = mcap::MessageStream::new(&bytes)
+        .unwrap()
+        .map(|m| m.unwrap())
+        .filter(|m| m.channel.topic == "/theta")
+        .map(|m| (m.log_time, Grid::decode(&m.data[..]).unwrap()))
+        .collect();
+    let events = r.perception.as_ref().unwrap().0.events;
+    assert_eq!(
+        grids.len(),
+        events,
+        "one grid per event, the first at t = 0"
+    );
+    // The grid at t = 0 is Θ over the perceived table: at the start's cell it is the first
+    // state's Θ, to the grid's float32 and its cell's size.
+    let (t0, g) = &grids[0];
+    assert_eq!(*t0, 0);
+    let n = g.column_count as usize;
+    let corner = g.pose.as_ref().unwrap().position.as_ref().unwrap();
+    let cell = g.cell_size.as_ref().unwrap().x;
+    let (i, j) = (
+        ((start.x - corner.x) / cell).floor() as usize,
+        ((start.y - corner.y) / cell).floor() as usize,
+    );
+    let k = 4 * (j * n + i);
+    let at_start = f32::from_le_bytes(g.data[k..k + 4].try_into().unwrap()) as f64;
+    assert!(
+        (at_start - first_state.unwrap()).abs() < 1e-3,
+        "{at_start} {first_state:?}"
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }

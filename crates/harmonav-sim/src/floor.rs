@@ -260,8 +260,9 @@ impl Held<'_> {
 /// The recorded state of a floor-plan run at `t`: `Θ`, and under the dynamic law `V` (of the
 /// floor's `Θ`, whose scale shift is 0) and the damping in force, from the navigator's own
 /// evaluation ([`FloorNavigator::evaluate`]: `NaN` where it refuses, as at a collision). The
-/// velocity is `ẋ` under the dynamic law and the law's `u` under the kinematic one, as in a
-/// star world's sample. No energy tolerance: a floor plan's energy is recorded, not judged.
+/// velocity is `ẋ` under the dynamic law and the law's `u` under the kinematic one (the loop
+/// replaces it by the command held, capped or escaping, when there is one). No energy
+/// tolerance: a floor plan's energy is recorded, not judged.
 fn sample(nav: &FloorNavigator, t: f64, x: Vector2<f64>, v: Vector2<f64>) -> Sample {
     let e = nav.evaluate(x, v).ok();
     let dynamic = match nav.controller() {
@@ -340,20 +341,10 @@ pub(crate) fn fly(
     // The disc's clearance at the previous state and the length of the step since.
     let mut last: Option<(f64, f64)> = None;
     // The time of the last state handed to the observer: a state the loop goes on from is
-    // handed after its scan and discoveries, the state it ended at after the loop.
+    // handed after its scan and discoveries and with the command held from it (the kinematic
+    // robot's velocity), the state it ended at after the loop.
     let mut observed: Option<f64> = None;
-    let mut observe_state = |observer: &mut Option<&mut dyn FnMut(Event<'_>)>,
-                             nav: &FloorNavigator,
-                             t: f64,
-                             x: Vector2<f64>,
-                             v: Vector2<f64>| {
-        if let Some(o) = observer.as_mut()
-            && observed != Some(t)
-        {
-            o(Event::State(&sample(nav, t, x, v)));
-            observed = Some(t);
-        }
-    };
+    let kinematic = matches!(nav.controller(), Controller::Kinematic(_));
     for n in 0..=steps {
         out.time = n as f64 * h;
         // Monitors on the truth.
@@ -434,7 +425,8 @@ pub(crate) fn fly(
                 out.discoveries.push(discovery);
             }
         }
-        observe_state(&mut observer, &nav, out.time, x, vel);
+        // Sampled before the command (which moves the navigator's state on).
+        let pending = observer.is_some().then(|| sample(&nav, out.time, x, vel));
         kept.push(
             [x.x, x.y],
             if discovered { Keep::Pinned } else { Keep::Grid },
@@ -454,6 +446,13 @@ pub(crate) fn fly(
             },
         };
         out.commands += 1;
+        if let (Some(o), Some(mut s)) = (observer.as_mut(), pending) {
+            if kinematic {
+                s.v = [command.x, command.y];
+            }
+            o(Event::State(&s));
+            observed = Some(out.time);
+        }
         let next;
         (next, vel) = hold(&Held {
             controller: nav.controller(),
@@ -471,7 +470,11 @@ pub(crate) fn fly(
         last = Some((clearance, step));
         x = next;
     }
-    observe_state(&mut observer, &nav, out.time, x, vel);
+    if let Some(o) = observer.as_mut()
+        && observed != Some(out.time)
+    {
+        o(Event::State(&sample(&nav, out.time, x, vel)));
+    }
     kept.push([x.x, x.y], Keep::Pinned);
     out.positions = kept.into_samples();
     out.k = nav.k();

@@ -21,7 +21,8 @@
 //! over shortest"), and [`descent`] (the normalised descent of `Θ` judged as a run: the
 //! convergence study's one entry). [`floor`] is the loop of the floor-plan scenarios;
 //! `rapier::floor` flies it in rapier with the walls as colliders, and
-//! [`physics::simulate_floor`] runs either.
+//! [`physics::simulate_floor`] runs either ([`physics::simulate_floor_observed`] with an
+//! observer, which a recording streams from).
 //!
 //! Equations held here: the closed loops `ẋ = u` (eq. `holint`) and `m ẍ = f` (eq.
 //! `dynmodel`) integrated by Bogacki–Shampine 3(2) with step control ([`run`]); the

@@ -428,6 +428,13 @@ fn an_observed_floor_run_hands_over_every_state_and_scan_of_the_same_run() {
         assert!(s.energy.is_none() && s.lambda.is_none(), "kinematic");
         assert!(s.theta.is_finite() && s.theta < 1.0, "{s:?}");
     }
+    // Each state's velocity is the command held from it: the next state is one period on.
+    for w in states.windows(2) {
+        for i in 0..2 {
+            let step = w[0].x[i] + h * w[0].v[i];
+            assert!((w[1].x[i] - step).abs() < 1e-12, "{:?} → {:?}", w[0], w[1]);
+        }
+    }
     let last = states.last().unwrap();
     assert_eq!(last.x, *observed.positions.last().unwrap());
     assert!((last.t - observed.time).abs() < 1e-12);
