@@ -4,7 +4,7 @@
 //!
 //! | topic | schema | content |
 //! |---|---|---|
-//! | `/scene` | `foxglove.SceneUpdate` | boundary (white), obstacles (grey: unknown, red: known), goal; at t = 0 and each discovery |
+//! | `/scene` | `foxglove.SceneUpdate` | boundary (white), obstacles (grey: unknown, red: known; ids `obstacle/<name>`), goal; at t = 0 and each discovery |
 //! | `/theta` | `foxglove.Grid` | `Θ` of the known world on a [`GRID_CELLS`]² grid over the workspace (field `theta`, float32, NaN outside the free space); at t = 0 and each discovery |
 //! | `/robot/pose` | `foxglove.PoseInFrame` | the robot pose (heading: the velocity) at every recorded state |
 //! | `/tf` | `foxglove.FrameTransform` | `world → robot` at every recorded state |

@@ -81,12 +81,14 @@ impl<'p> World<'p> {
                 (names.zip(&prepared.obstacles).collect(), goal)
             }
         };
+        // An obstacle's id is its name under `obstacle/`: one named `goal` or `walls` does not
+        // replace the entity of that id.
         for (i, (name, o)) in obstacles.into_iter().enumerate() {
             let rgba = if known.contains(&i) { KNOWN } else { UNKNOWN };
             entities.push(entity(
                 t,
                 "world",
-                &name,
+                &format!("obstacle/{name}"),
                 vec![line(closed_outline(o), rgba, 0.03)],
             ));
         }

@@ -397,6 +397,12 @@ fn a_floor_plan_run_records_its_walls_scans_and_theta() {
     let walls = p.floor.walls();
     assert_eq!(scenes[0].entities[0].lines.len(), 1 + walls.holes().len());
     assert_eq!(ids.len(), 3 + p.obstacles.len());
+    assert!(
+        ids[2..ids.len() - 1]
+            .iter()
+            .all(|id| id.starts_with("obstacle/")),
+        "{ids:?}"
+    );
     let end = last_pose.unwrap().position.unwrap();
     let x = r.positions.last().unwrap();
     assert!((end.x - x[0]).abs() < 1e-12 && (end.y - x[1]).abs() < 1e-12);
