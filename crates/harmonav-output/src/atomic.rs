@@ -60,12 +60,20 @@ impl Drop for AtomicFile {
     }
 }
 
-/// The staging folders of this process not yet committed or dropped. A commit holds the lock
-/// while it moves its files, so [`abandon_staged`] (an interrupt handler) waits for a commit in
-/// progress to finish and never sees half of one.
-static STAGED: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+/// What an interrupt must remove: a staging folder, or an output folder created for a set not
+/// yet committed (removed only while empty).
+#[derive(Clone, Debug, PartialEq)]
+enum Pending {
+    Stage(PathBuf),
+    Created(PathBuf),
+}
 
-fn staged() -> MutexGuard<'static, Vec<PathBuf>> {
+/// The staging folders of this process not yet committed or dropped, and the output folders
+/// created for them. A commit holds the lock while it moves its files, so [`abandon_staged`]
+/// (an interrupt handler) waits for a commit in progress to finish and never sees half of one.
+static STAGED: Mutex<Vec<Pending>> = Mutex::new(Vec::new());
+
+fn staged() -> MutexGuard<'static, Vec<Pending>> {
     // A panic while the lock was held leaves the list itself intact.
     STAGED
         .lock()
@@ -89,7 +97,7 @@ impl StagedDir {
         let stage = out.join(format!(".{}.{n}.staging", std::process::id()));
         let mut list = staged();
         std::fs::create_dir(&stage).map_err(|e| io_error(&stage, e))?;
-        list.push(stage.clone());
+        list.push(Pending::Stage(stage.clone()));
         Ok(Self {
             stage,
             out: out.to_path_buf(),
@@ -131,7 +139,7 @@ impl StagedDir {
         // lock is held: an interrupt between its leaving the list and its removal would leave
         // it behind (the handler exits without knowing it).
         let _ = std::fs::remove_dir_all(&self.stage);
-        list.retain(|p| p != &self.stage);
+        list.retain(|p| p != &Pending::Stage(self.stage.clone()));
         drop(list);
         std::mem::forget(self);
         Ok(())
@@ -143,22 +151,78 @@ impl Drop for StagedDir {
         // Removed under the lock, as in `commit`: the handler either removes it or waits.
         let mut list = staged();
         let _ = std::fs::remove_dir_all(&self.stage);
-        list.retain(|p| p != &self.stage);
+        list.retain(|p| p != &Pending::Stage(self.stage.clone()));
+    }
+}
+
+/// The folders [`CreatedDir::create`] made for an output folder, outermost first: dropped
+/// before [`CreatedDir::keep`] (a run that failed or was interrupted), each is removed if it is
+/// empty, innermost first, so that a failed run leaves no empty output folder behind.
+pub struct CreatedDir {
+    made: Vec<PathBuf>,
+}
+
+impl CreatedDir {
+    /// Creates `dir` and its missing parents, remembering which were missing.
+    ///
+    /// # Errors
+    /// [`OutputError::Io`] naming `dir`.
+    pub fn create(dir: &Path) -> Result<Self, OutputError> {
+        let mut missing: Vec<PathBuf> = dir
+            .ancestors()
+            .take_while(|a| !a.as_os_str().is_empty() && std::fs::symlink_metadata(a).is_err())
+            .map(Path::to_path_buf)
+            .collect();
+        missing.reverse();
+        let mut list = staged();
+        std::fs::create_dir_all(dir).map_err(|e| io_error(dir, e))?;
+        list.extend(missing.iter().cloned().map(Pending::Created));
+        Ok(Self { made: missing })
+    }
+
+    /// The set is in place: the folders stay.
+    pub fn keep(self) {
+        let mut list = staged();
+        list.retain(|p| !matches!(p, Pending::Created(d) if self.made.contains(d)));
+        drop(list);
+        std::mem::forget(self);
+    }
+}
+
+impl Drop for CreatedDir {
+    fn drop(&mut self) {
+        let mut list = staged();
+        for d in self.made.iter().rev() {
+            // Only an empty folder goes: whatever else was put there stays.
+            let _ = std::fs::remove_dir(d);
+        }
+        list.retain(|p| !matches!(p, Pending::Created(d) if self.made.contains(d)));
     }
 }
 
 /// For an interrupt handler: removes every staging folder of this process not yet committed
-/// (after waiting for a commit in progress), and returns the lock, which the caller holds until
-/// it exits so that no new set starts. Whatever the moment of the interrupt, each output folder
-/// then holds either its previous complete set or the new complete one, and no staging folder.
-pub fn abandon_staged() -> MutexGuard<'static, Vec<PathBuf>> {
+/// (after waiting for a commit in progress), then the output folders created for them
+/// ([`CreatedDir`]) that are empty, and returns the lock, which the caller holds until it exits
+/// so that no new set starts. Whatever the moment of the interrupt, each output folder then
+/// holds either its previous complete set or the new complete one, and no staging folder; a
+/// folder the run created is gone unless a set was moved into it.
+pub fn abandon_staged() -> impl Sized + 'static {
     let mut list = staged();
-    for stage in list.drain(..) {
-        // A file the main thread creates meanwhile can make one attempt fail.
-        for _ in 0..10 {
-            if std::fs::remove_dir_all(&stage).is_ok() || !stage.exists() {
-                break;
+    let pending: Vec<Pending> = list.drain(..).collect();
+    for p in &pending {
+        if let Pending::Stage(stage) = p {
+            // A file the main thread creates meanwhile can make one attempt fail.
+            for _ in 0..10 {
+                if std::fs::remove_dir_all(stage).is_ok() || !stage.exists() {
+                    break;
+                }
             }
+        }
+    }
+    // Then the output folders created for the sets, innermost first, if they are empty.
+    for p in pending.iter().rev() {
+        if let Pending::Created(d) = p {
+            let _ = std::fs::remove_dir(d);
         }
     }
     list
@@ -599,6 +663,38 @@ mod tests {
         assert_eq!(names(&d), ["a.txt"]);
         assert!(stage.commit(&["a.txt"], &[]).is_err());
         assert_eq!(std::fs::read_to_string(d.join("a.txt")).unwrap(), "old");
+        std::fs::remove_dir_all(d).unwrap();
+    }
+
+    /// The folders a set created for its output folder go when the set is dropped or
+    /// abandoned unfinished, while empty and innermost first; kept, or holding anything else,
+    /// they stay, and a folder that existed before is never removed.
+    #[test]
+    fn an_output_folder_created_for_a_set_goes_with_the_set() {
+        let _turn = SERIAL.lock().unwrap_or_else(|p| p.into_inner());
+        let d = dir("created");
+        let nested = d.join("a/b/c");
+        drop(CreatedDir::create(&nested).unwrap());
+        assert!(!d.join("a").exists(), "every missing level goes");
+        // Existing levels stay; a folder something else was put in stays.
+        std::fs::create_dir_all(d.join("a")).unwrap();
+        {
+            let _c = CreatedDir::create(&nested).unwrap();
+            std::fs::write(d.join("a/b/mine.txt"), "x").unwrap();
+        }
+        assert_eq!(names(&d.join("a/b")), ["mine.txt"]);
+        std::fs::remove_dir_all(d.join("a")).unwrap();
+        // Kept (the set is in place), nothing goes.
+        CreatedDir::create(&nested).unwrap().keep();
+        assert!(nested.is_dir());
+        std::fs::remove_dir_all(d.join("a")).unwrap();
+        // An interrupt: the staging folder, then the empty folders made for it.
+        let created = CreatedDir::create(&nested).unwrap();
+        let stage = StagedDir::new(&nested).unwrap();
+        drop(abandon_staged());
+        assert!(!d.join("a").exists());
+        std::mem::forget((created, stage));
+        assert!(!staged().iter().any(|p| matches!(p, Pending::Created(_))));
         std::fs::remove_dir_all(d).unwrap();
     }
 

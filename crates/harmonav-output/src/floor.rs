@@ -14,7 +14,7 @@ use harmonav_sim::floor::{FloorRun, FloorSummary, navigator};
 use harmonav_sim::trace::Event;
 use plotters::prelude::*;
 
-use crate::atomic::{OutputError, StagedDir};
+use crate::atomic::{CreatedDir, OutputError, StagedDir};
 use crate::canvas::{Scale, scaled_svg};
 use crate::drawing::{outline, ring, xy};
 use crate::figures::{
@@ -167,20 +167,20 @@ pub struct FloorOutputs<'p> {
     stage: StagedDir,
     stream: Stream<'p>,
     prepared: &'p FloorPrepared,
+    /// Dropped last: the output folder, if this set created it, goes when it is left empty.
+    created: CreatedDir,
 }
 
 impl<'p> FloorOutputs<'p> {
-    /// Checks `dir` ([`check_output_dir`]), creates it and its staging folder, and opens the
+    /// Checks `dir` ([`check_output_dir`]), creates it (and its missing parents, removed again if
+    /// the set is dropped unfinished: [`crate::atomic::CreatedDir`]) and its staging folder, and opens the
     /// recording ([`Stream::create_floor`]).
     ///
     /// # Errors
     /// [`OutputError`] naming the folder or file and the problem.
     pub fn begin(dir: &Path, prepared: &'p FloorPrepared) -> Result<Self, OutputError> {
         check_output_dir(dir)?;
-        std::fs::create_dir_all(dir).map_err(|source| OutputError::Io {
-            path: dir.to_path_buf(),
-            source,
-        })?;
+        let created = CreatedDir::create(dir)?;
         let stage = StagedDir::new(dir)?;
         let stream =
             Stream::create_floor(&stage.path().join("run.mcap"), prepared).map_err(|e| {
@@ -194,6 +194,7 @@ impl<'p> FloorOutputs<'p> {
             stage,
             stream,
             prepared,
+            created,
         })
     }
 
@@ -221,6 +222,7 @@ impl<'p> FloorOutputs<'p> {
             stage,
             stream,
             prepared,
+            created,
         } = self;
         check_output_dir(&dir)?;
         let content =
@@ -242,6 +244,7 @@ impl<'p> FloorOutputs<'p> {
             std::fs::write(&path, text).map_err(|source| OutputError::Io { path, source })?;
         }
         stage.commit(&names, &OUTPUT_FILES)?;
+        created.keep();
         Ok(["summary.json", "run.mcap", "trajectory.svg"]
             .iter()
             .map(|n| dir.join(n))

@@ -8,7 +8,7 @@ use harmonav_scenario::Prepared;
 use harmonav_sim::summary::Run;
 use harmonav_sim::trace::Event;
 
-use crate::atomic::OutputError;
+use crate::atomic::{CreatedDir, OutputError};
 use crate::record::{Stream, replay};
 
 /// The figures a run may write; those a run does not write are removed from `dir`, so that a
@@ -56,17 +56,17 @@ pub struct Outputs<'p> {
     stage: crate::atomic::StagedDir,
     stream: Stream<'p>,
     prepared: &'p Prepared,
+    /// Dropped last: the output folder, if this set created it, goes when it is left empty.
+    created: CreatedDir,
 }
 
 impl<'p> Outputs<'p> {
-    /// Checks `dir` ([`check_output_dir`]), creates it and its staging folder, and opens the
+    /// Checks `dir` ([`check_output_dir`]), creates it (and its missing parents, removed again if
+    /// the set is dropped unfinished: [`crate::atomic::CreatedDir`]) and its staging folder, and opens the
     /// recording.
     pub fn begin(dir: &Path, prepared: &'p Prepared) -> Result<Self, OutputError> {
         check_output_dir(dir)?;
-        std::fs::create_dir_all(dir).map_err(|source| OutputError::Io {
-            path: dir.to_path_buf(),
-            source,
-        })?;
+        let created = CreatedDir::create(dir)?;
         let stage = crate::atomic::StagedDir::new(dir)?;
         let stream = Stream::create(&stage.path().join("run.mcap"), prepared).map_err(|e| {
             OutputError::Content {
@@ -79,6 +79,7 @@ impl<'p> Outputs<'p> {
             stage,
             stream,
             prepared,
+            created,
         })
     }
 
@@ -101,6 +102,7 @@ impl<'p> Outputs<'p> {
             stage,
             stream,
             prepared,
+            created,
         } = self;
         check_output_dir(&dir)?;
         let io = |path: &Path, source: std::io::Error| OutputError::Io {
@@ -139,6 +141,7 @@ impl<'p> Outputs<'p> {
         std::fs::write(&path, summary).map_err(|e| io(&path, e))?;
         names.push("summary.json");
         stage.commit(&names, &FIGURES)?;
+        created.keep();
         names.rotate_right(1);
         Ok(names.iter().map(|n| dir.join(n)).collect())
     }

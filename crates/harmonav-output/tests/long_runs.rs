@@ -167,6 +167,11 @@ fn outputs_dropped_before_their_finish_leave_nothing() {
         );
         drop(outputs);
     }
+    // The output folder this set created went with it: a failed run leaves no empty folder.
+    assert!(!dir.exists());
+    // One that existed before stays, empty as it was.
+    std::fs::create_dir_all(&dir).unwrap();
+    drop(Outputs::begin(&dir, &prepared).unwrap());
     assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0);
     std::fs::remove_dir_all(&dir).unwrap();
 }
