@@ -14,7 +14,7 @@ use harmonav_sim::floor::{FloorRun, FloorSummary, navigator};
 use harmonav_sim::trace::Event;
 use plotters::prelude::*;
 
-use crate::atomic::{CreatedDir, OutputError, StagedDir};
+use crate::atomic::OutputError;
 use crate::canvas::{Scale, scaled_svg};
 use crate::drawing::{outline, ring, xy};
 use crate::figures::{
@@ -23,7 +23,7 @@ use crate::figures::{
 };
 use crate::levels::ThetaGrid;
 use crate::record::Stream;
-use crate::set::{OUTPUT_FILES, check_output_dir};
+use crate::set::{OUTPUT_FILES, Opened, check_output_dir};
 use crate::world::{FloorTheta, floor_square};
 
 /// Cells per side of the grid the level sets are traced on. Each `Θ` on a floor plan is an
@@ -163,44 +163,25 @@ fn trajectory_with(
 /// `trajectory.svg` and `summary.json` and moves the set into place. Dropped before, nothing
 /// of it is left and the previous set is untouched.
 pub struct FloorOutputs<'p> {
-    dir: PathBuf,
-    stage: StagedDir,
-    stream: Stream<'p>,
+    set: Opened<'p>,
     prepared: &'p FloorPrepared,
-    /// Dropped last: the output folder, if this set created it, goes when it is left empty.
-    created: CreatedDir,
 }
 
 impl<'p> FloorOutputs<'p> {
-    /// Checks `dir` ([`check_output_dir`]), creates it (and its missing parents, removed again if
-    /// the set is dropped unfinished: [`crate::atomic::CreatedDir`]) and its staging folder, and opens the
-    /// recording ([`Stream::create_floor`]).
+    /// Checks `dir` ([`check_output_dir`]), creates it (and its missing parents, removed again
+    /// if the set is dropped unfinished: [`crate::atomic::CreatedDir`]) and its staging
+    /// folder, and opens the recording ([`Stream::create_floor`]).
     ///
     /// # Errors
     /// [`OutputError`] naming the folder or file and the problem.
     pub fn begin(dir: &Path, prepared: &'p FloorPrepared) -> Result<Self, OutputError> {
-        check_output_dir(dir)?;
-        let created = CreatedDir::create(dir)?;
-        let stage = StagedDir::new(dir)?;
-        let stream =
-            Stream::create_floor(&stage.path().join("run.mcap"), prepared).map_err(|e| {
-                OutputError::Content {
-                    file: "run.mcap",
-                    problem: e.to_string(),
-                }
-            })?;
-        Ok(Self {
-            dir: dir.to_path_buf(),
-            stage,
-            stream,
-            prepared,
-            created,
-        })
+        let set = Opened::open(dir, |path| Stream::create_floor(path, prepared))?;
+        Ok(Self { set, prepared })
     }
 
     /// Logs one event of the run into the recording.
     pub fn observe(&mut self, event: Event<'_>) {
-        self.stream.observe(event);
+        self.set.stream.observe(event);
     }
 
     /// Ends the recording, draws `trajectory.svg` of `run` (the run whose events were
@@ -217,17 +198,11 @@ impl<'p> FloorOutputs<'p> {
         summary: &FloorSummary,
         run: &FloorRun,
     ) -> Result<Vec<PathBuf>, OutputError> {
-        let Self {
-            dir,
-            stage,
-            stream,
-            prepared,
-            created,
-        } = self;
-        check_output_dir(&dir)?;
+        let Self { set, prepared } = self;
+        check_output_dir(&set.dir)?;
         let content =
             |file: &'static str| move |problem: String| OutputError::Content { file, problem };
-        let svg = match stream.floor_base() {
+        let svg = match set.stream.floor_base() {
             Some(base) => trajectory_with(prepared, base, summary, run),
             None => floor_trajectory_svg(prepared, summary, run),
         }
@@ -235,19 +210,9 @@ impl<'p> FloorOutputs<'p> {
         let json = serde_json::to_string_pretty(summary)
             .map_err(|e| content("summary.json")(e.to_string()))?
             + "\n";
-        stream
-            .finish()
-            .map_err(|e| content("run.mcap")(e.to_string()))?;
-        let names = ["run.mcap", "trajectory.svg", "summary.json"];
-        for (name, text) in names[1..].iter().zip([svg, json]) {
-            let path = stage.path().join(name);
-            std::fs::write(&path, text).map_err(|source| OutputError::Io { path, source })?;
-        }
-        stage.commit(&names, &OUTPUT_FILES)?;
-        created.keep();
-        Ok(["summary.json", "run.mcap", "trajectory.svg"]
-            .iter()
-            .map(|n| dir.join(n))
-            .collect())
+        set.commit(
+            &[("trajectory.svg", svg), ("summary.json", json)],
+            &OUTPUT_FILES,
+        )
     }
 }

@@ -2,14 +2,14 @@
 //! run ([`check_output_dir`]), streamed while it goes ([`Outputs`]) and moved into place
 //! together ([`crate::atomic::StagedDir`]).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use harmonav_scenario::Prepared;
 use harmonav_sim::summary::Run;
 use harmonav_sim::trace::Event;
 
-use crate::atomic::{CreatedDir, OutputError};
-use crate::record::{Stream, replay};
+use crate::atomic::{CreatedDir, OutputError, StagedDir};
+use crate::record::{RecordError, Stream, replay};
 
 /// The figures a run may write; those a run does not write are removed from `dir`, so that a
 /// folder never mixes the files of two runs.
@@ -52,12 +52,73 @@ pub fn write_outputs(
 /// before (the run failed, an interrupt), nothing of it is left and the previous set is
 /// untouched.
 pub struct Outputs<'p> {
-    dir: std::path::PathBuf,
-    stage: crate::atomic::StagedDir,
-    stream: Stream<'p>,
+    set: Opened<'p>,
     prepared: &'p Prepared,
+}
+
+/// A set being written, of either world: its folder, its staging folder and its recording
+/// ([`Outputs`], [`crate::floor::FloorOutputs`]).
+pub(crate) struct Opened<'p> {
+    pub(crate) dir: PathBuf,
+    stage: StagedDir,
+    pub(crate) stream: Stream<'p>,
     /// Dropped last: the output folder, if this set created it, goes when it is left empty.
     created: CreatedDir,
+}
+
+impl<'p> Opened<'p> {
+    /// Checks `dir` ([`check_output_dir`]), creates it (and its missing parents, removed again
+    /// if the set is dropped unfinished: [`CreatedDir`]) and its staging folder, and opens the
+    /// recording there with `open` (given the path of `run.mcap`).
+    pub(crate) fn open(
+        dir: &Path,
+        open: impl FnOnce(&Path) -> Result<Stream<'p>, RecordError>,
+    ) -> Result<Self, OutputError> {
+        check_output_dir(dir)?;
+        let created = CreatedDir::create(dir)?;
+        let stage = StagedDir::new(dir)?;
+        let stream = open(&stage.path().join("run.mcap")).map_err(|e| OutputError::Content {
+            file: "run.mcap",
+            problem: e.to_string(),
+        })?;
+        Ok(Self {
+            dir: dir.to_path_buf(),
+            stage,
+            stream,
+            created,
+        })
+    }
+
+    /// Ends the recording, writes `files` (name and content, the summary last) into the
+    /// staging folder, and moves the set into place: `run.mcap`, then `files` in their order,
+    /// the other names of `stale` removed. Returns the paths, the last file first.
+    pub(crate) fn commit(
+        self,
+        files: &[(&'static str, String)],
+        stale: &[&str],
+    ) -> Result<Vec<PathBuf>, OutputError> {
+        let Self {
+            dir,
+            stage,
+            stream,
+            created,
+        } = self;
+        stream.finish().map_err(|e| OutputError::Content {
+            file: "run.mcap",
+            problem: e.to_string(),
+        })?;
+        let mut names = vec!["run.mcap"];
+        for (name, text) in files {
+            let path = stage.path().join(name);
+            std::fs::write(&path, text.as_bytes())
+                .map_err(|source| OutputError::Io { path, source })?;
+            names.push(name);
+        }
+        stage.commit(&names, stale)?;
+        created.keep();
+        names.rotate_right(1);
+        Ok(names.iter().map(|n| dir.join(n)).collect())
+    }
 }
 
 impl<'p> Outputs<'p> {
@@ -65,27 +126,13 @@ impl<'p> Outputs<'p> {
     /// the set is dropped unfinished: [`crate::atomic::CreatedDir`]) and its staging folder, and opens the
     /// recording.
     pub fn begin(dir: &Path, prepared: &'p Prepared) -> Result<Self, OutputError> {
-        check_output_dir(dir)?;
-        let created = CreatedDir::create(dir)?;
-        let stage = crate::atomic::StagedDir::new(dir)?;
-        let stream = Stream::create(&stage.path().join("run.mcap"), prepared).map_err(|e| {
-            OutputError::Content {
-                file: "run.mcap",
-                problem: e.to_string(),
-            }
-        })?;
-        Ok(Self {
-            dir: dir.to_path_buf(),
-            stage,
-            stream,
-            prepared,
-            created,
-        })
+        let set = Opened::open(dir, |path| Stream::create(path, prepared))?;
+        Ok(Self { set, prepared })
     }
 
     /// Logs one event of the run into the recording.
     pub fn observe(&mut self, event: Event<'_>) {
-        self.stream.observe(event);
+        self.set.stream.observe(event);
     }
 
     /// Ends the recording, draws the figures of `run` (the run whose events were observed),
@@ -97,18 +144,8 @@ impl<'p> Outputs<'p> {
     /// untouched (a failing rename while moving the set, an I/O fault, can leave a mix).
     /// Returns the paths, `summary.json` first.
     pub fn finish(self, run: &Run) -> Result<Vec<std::path::PathBuf>, OutputError> {
-        let Self {
-            dir,
-            stage,
-            stream,
-            prepared,
-            created,
-        } = self;
-        check_output_dir(&dir)?;
-        let io = |path: &Path, source: std::io::Error| OutputError::Io {
-            path: path.to_path_buf(),
-            source,
-        };
+        let Self { set, prepared } = self;
+        check_output_dir(&set.dir)?;
         let content =
             |file: &'static str| move |problem: String| OutputError::Content { file, problem };
         let mut figures = vec![(
@@ -128,21 +165,7 @@ impl<'p> Outputs<'p> {
         let summary = serde_json::to_string_pretty(&run.summary)
             .map_err(|e| content("summary.json")(e.to_string()))?
             + "\n";
-        stream
-            .finish()
-            .map_err(|e| content("run.mcap")(e.to_string()))?;
-        let mut names = vec!["run.mcap"];
-        for (name, svg) in &figures {
-            let path = stage.path().join(name);
-            std::fs::write(&path, svg.as_bytes()).map_err(|e| io(&path, e))?;
-            names.push(name);
-        }
-        let path = stage.path().join("summary.json");
-        std::fs::write(&path, summary).map_err(|e| io(&path, e))?;
-        names.push("summary.json");
-        stage.commit(&names, &FIGURES)?;
-        created.keep();
-        names.rotate_right(1);
-        Ok(names.iter().map(|n| dir.join(n)).collect())
+        figures.push(("summary.json", summary));
+        set.commit(&figures, &FIGURES)
     }
 }

@@ -14,7 +14,7 @@ use harmonav_scenario::{Model, Prepared, Sensor, Truth};
 use crate::guarantee::{Check, FreeSpaceLoss, Guarantee};
 use crate::scanner::{Scanner, Scene};
 use crate::summary::RunError;
-use crate::trace::{Discovery, Sample, ScanRecord};
+use crate::trace::{Discovery, Sample, ScanRecord, recorded_velocity};
 use crate::warning::Warning;
 use harmonav::perception::sim::Enclosure;
 
@@ -231,11 +231,7 @@ impl<'a> ClosedLoop<'a> {
         Sample {
             t,
             x: [x.x, x.y],
-            v: match (dynamic, &e) {
-                (Some(_), _) => [v.x, v.y],
-                (None, Some(e)) => [e.command.x, e.command.y],
-                (None, None) => [0.0; 2],
-            },
+            v: recorded_velocity(dynamic.is_some(), v, e.map(|e| e.command)),
             theta: e.map_or(f64::NAN, |e| e.field.value),
             energy: dynamic
                 .map(|law| e.map_or(f64::NAN, |e| law.energy(self.nav.field(), &e.field, v))),

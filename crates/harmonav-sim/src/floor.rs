@@ -17,7 +17,7 @@ use crate::guarantee::{Check, Guarantee};
 use crate::monitor::MARGIN_TOLERANCE;
 use crate::scanner::{Scanner, Scene};
 use crate::summary::{PerceptionReport, Physics};
-use crate::trace::{Discovery, Event, Sample};
+use crate::trace::{Discovery, Event, Sample, recorded_velocity};
 use crate::trajectory::{Keep, Trajectory};
 
 /// How a floor-plan run ended.
@@ -274,11 +274,7 @@ fn sample(nav: &FloorNavigator, t: f64, x: Vector2<f64>, v: Vector2<f64>) -> Sam
     Sample {
         t,
         x: [x.x, x.y],
-        v: match (dynamic, &e) {
-            (Some(_), _) => [v.x, v.y],
-            (None, Some(e)) => [e.command.x, e.command.y],
-            (None, None) => [0.0; 2],
-        },
+        v: recorded_velocity(dynamic.is_some(), v, e.as_ref().map(|e| e.command)),
         theta: e.as_ref().map_or(f64::NAN, |e| e.field.value),
         energy: dynamic.map(|law| {
             e.as_ref()

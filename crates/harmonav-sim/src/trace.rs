@@ -39,6 +39,20 @@ pub struct Sample {
     pub critical: bool,
 }
 
+/// The velocity a [`Sample`] records: `ẋ` under the dynamic law; under the kinematic one the
+/// law's velocity `u` at the state (`law`), zero where the law has none.
+pub(crate) fn recorded_velocity(
+    dynamic: bool,
+    v: nalgebra::Vector2<f64>,
+    law: Option<nalgebra::Vector2<f64>>,
+) -> [f64; 2] {
+    match (dynamic, law) {
+        (true, _) => [v.x, v.y],
+        (false, Some(u)) => [u.x, u.y],
+        (false, None) => [0.0; 2],
+    }
+}
+
 /// A discovery event.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Discovery {
