@@ -72,6 +72,8 @@ pub struct Discovery {
 }
 
 /// What a run hands its observer as it goes, in time order ([`crate::run::run_observed`]).
+/// A floor plan's loop ([`crate::floor::run_observed`]) hands each state once, after that
+/// state's scan and discoveries: its `Θ` is that of the world known from then on.
 #[derive(Clone, Copy, Debug)]
 pub enum Event<'a> {
     /// A warning about the scenario, before the run starts
