@@ -41,7 +41,7 @@ impl Setup {
         speed: &str,
         v_max: Option<f64>,
         control_period: Option<f64>,
-        scan: (f64, f64, f64, Option<f64>, usize),
+        scan: (f64, f64, f64, Option<f64>, i64),
     ) -> PyResult<Self> {
         let law = law_named(law, gain, mass, mu)?;
         // The robot's size first: the floor plan is shrunk by it before the navigator checks it.
@@ -51,6 +51,13 @@ impl Setup {
             }
         }
         let (range_noise, depth, growth, fit_range, free_memory) = scan;
+        // A negative count is refused by name (the range check names the largest).
+        let free_memory = usize::try_from(free_memory).map_err(|_| {
+            nav_error(NavError::InvalidOption {
+                field: "free_memory",
+                value: free_memory as f64,
+            })
+        })?;
         let mut options = Options::default()
             .with_robot(radius, margin)
             .with_k(policy::<KPolicy>(k)?)
@@ -171,7 +178,7 @@ impl FloorNavigator {
         max_obstacle_depth: f64,
         growth_threshold: f64,
         fit_range: Option<f64>,
-        free_memory: usize,
+        free_memory: i64,
     ) -> PyResult<Self> {
         let outer = points_like(outer, "outer")?;
         let holes = rings(holes)?;
@@ -248,7 +255,7 @@ impl FloorNavigator {
         max_obstacle_depth: f64,
         growth_threshold: f64,
         fit_range: Option<f64>,
-        free_memory: usize,
+        free_memory: i64,
     ) -> PyResult<Self> {
         let start = point_like(start, "start")?;
         let goal = point_like(goal, "goal")?;
@@ -318,7 +325,9 @@ impl FloorNavigator {
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let x = point_like(x, "x")?;
         let v = v.map_or(Ok(Vector2::zeros()), |v| point_like(v, "v"))?;
-        let c = py.detach(|| self.inner.command(x, v)).map_err(nav_error)?;
+        // With the GIL held (one evaluation, tens of µs): another thread may read the
+        // navigator meanwhile, as with `Navigator.command`.
+        let c = self.inner.command(x, v).map_err(nav_error)?;
         self.mode = c.mode;
         array1(py, &[c.value.x, c.value.y], "command")
     }

@@ -156,6 +156,8 @@ def test_bad_arguments_name_the_field_and_a_failed_call_changes_nothing():
         harmonav.FloorNavigator(L_OUTER, [5.4, 1.0], law="hover")
     with pytest.raises(ValueError, match="`radius`"):
         harmonav.FloorNavigator(L_OUTER, [5.4, 1.0], radius=-0.1)
+    with pytest.raises(ValueError, match="`free_memory`: must be an integer from 0 to 256"):
+        harmonav.FloorNavigator(L_OUTER, [5.4, 1.0], free_memory=-1)
     with pytest.raises(ValueError, match="boundary elements.*max_element"):
         harmonav.FloorNavigator(L_OUTER, [5.4, 1.0], max_element=1e-6)  # refused before the solve
     with pytest.raises(ValueError, match="heading"):

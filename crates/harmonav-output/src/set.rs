@@ -103,21 +103,64 @@ impl<'p> Opened<'p> {
             stream,
             created,
         } = self;
-        stream.finish().map_err(|e| OutputError::Content {
-            file: "run.mcap",
-            problem: e.to_string(),
-        })?;
-        let mut names = vec!["run.mcap"];
-        for (name, text) in files {
-            let path = stage.path().join(name);
-            std::fs::write(&path, text.as_bytes())
-                .map_err(|source| OutputError::Io { path, source })?;
-            names.push(name);
-        }
-        stage.commit(&names, stale)?;
+        // On an error the staging folder goes first (with `move_in`'s arguments), then the
+        // output folder if this set created it and it is empty again.
+        let mut names = move_in(stage, stream, files, stale)?;
         created.keep();
         names.rotate_right(1);
         Ok(names.iter().map(|n| dir.join(n)).collect())
+    }
+}
+
+/// Ends the recording, writes `files` into the staging folder and moves the set into place
+/// ([`Opened::commit`]); the names moved, `run.mcap` first.
+fn move_in(
+    stage: StagedDir,
+    stream: Stream<'_>,
+    files: &[(&'static str, String)],
+    stale: &[&str],
+) -> Result<Vec<&'static str>, OutputError> {
+    stream.finish().map_err(|e| OutputError::Content {
+        file: "run.mcap",
+        problem: e.to_string(),
+    })?;
+    let mut names = vec!["run.mcap"];
+    for (name, text) in files {
+        let path = stage.path().join(name);
+        std::fs::write(&path, text.as_bytes())
+            .map_err(|source| OutputError::Io { path, source })?;
+        names.push(name);
+    }
+    stage.commit(&names, stale)?;
+    Ok(names)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A set that fails while it is moved in (here: a file it cannot write) leaves neither its
+    /// staging folder nor the output folders it created.
+    #[test]
+    fn a_set_that_fails_while_committing_leaves_no_folder_it_created() {
+        let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/shapes/mixed.toml");
+        let prepared = harmonav_scenario::Scenario::load(&file).unwrap();
+        let base =
+            std::env::temp_dir().join(format!("harmonav-commit-fail-{}", std::process::id()));
+        let dir = base.join("new/set");
+        let _ = std::fs::remove_dir_all(&base);
+        std::fs::create_dir_all(&base).unwrap();
+        let set = Opened::open(&dir, |p| Stream::create(p, &prepared)).unwrap();
+        assert!(dir.is_dir());
+        let e = set
+            .commit(&[("no-such-folder/summary.json", String::new())], &[])
+            .unwrap_err();
+        assert!(matches!(e, OutputError::Io { .. }), "{e}");
+        assert!(
+            !base.join("new").exists(),
+            "the folders the set created are gone"
+        );
+        std::fs::remove_dir_all(&base).unwrap();
     }
 }
 

@@ -245,11 +245,13 @@ fn placed(
     }
     let (sd, delta) = (floor.signed_distance(p), floor.delta());
     if sd < delta {
+        // `sd` is measured from the walls shrunk by `s`, not the true ones.
         return Err(format!(
-            "{p:?} is {sd:.4} m from the walls: not in the certified region (at least \
-             δ = {delta:.4} m from every wall{})",
+            "{p:?} is {sd:.4} m inside the walls shrunk by s = {:.4} m (radius + margin − δ, \
+             at least 0), less than δ = {delta:.4} m: not in the certified region{}",
+            floor.shrink(),
             if sd <= 0.0 {
-                "; it is in a wall or outside"
+                "; it is outside the shrunk walls (in a wall, outside, or within s of a wall)"
             } else {
                 ""
             }

@@ -109,7 +109,7 @@ fn bad_floor_plans_name_the_file_field_and_problem() {
     check(
         &good(square, "start = [1.0, 1.0]\ngoal = [5.0, 3.0]"),
         "robot.goal",
-        "in a wall or outside",
+        "outside the shrunk walls (in a wall, outside",
     );
     check(
         &good(

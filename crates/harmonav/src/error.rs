@@ -98,6 +98,10 @@ fn expected(field: &str) -> String {
         "max_obstacle_depth" => "must be finite and in (0, 100] m".to_string(),
         "jump_distance" => "must be finite and in [0, 100] m".to_string(),
         "order" => "must be an integer from 1 to 16".to_string(),
+        "free_memory" => format!(
+            "must be an integer from 0 to {}",
+            harmonav_perception::perception::MAX_FREE_MEMORY
+        ),
         "fit_range" => "must be positive, and above max_obstacle_depth under the dynamic law \
                         with the paper's damping (its d_min is taken from fit_range − \
                         max_obstacle_depth)"
