@@ -135,35 +135,6 @@ fn move_in(
     Ok(names)
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A set that fails while it is moved in (here: a file it cannot write) leaves neither its
-    /// staging folder nor the output folders it created.
-    #[test]
-    fn a_set_that_fails_while_committing_leaves_no_folder_it_created() {
-        let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/shapes/mixed.toml");
-        let prepared = harmonav_scenario::Scenario::load(&file).unwrap();
-        let base =
-            std::env::temp_dir().join(format!("harmonav-commit-fail-{}", std::process::id()));
-        let dir = base.join("new/set");
-        let _ = std::fs::remove_dir_all(&base);
-        std::fs::create_dir_all(&base).unwrap();
-        let set = Opened::open(&dir, |p| Stream::create(p, &prepared)).unwrap();
-        assert!(dir.is_dir());
-        let e = set
-            .commit(&[("no-such-folder/summary.json", String::new())], &[])
-            .unwrap_err();
-        assert!(matches!(e, OutputError::Io { .. }), "{e}");
-        assert!(
-            !base.join("new").exists(),
-            "the folders the set created are gone"
-        );
-        std::fs::remove_dir_all(&base).unwrap();
-    }
-}
-
 impl<'p> Outputs<'p> {
     /// Checks `dir` ([`check_output_dir`]), creates it (and its missing parents, removed again if
     /// the set is dropped unfinished: [`crate::atomic::CreatedDir`]) and its staging folder, and opens the
@@ -210,5 +181,34 @@ impl<'p> Outputs<'p> {
             + "\n";
         figures.push(("summary.json", summary));
         set.commit(&figures, &FIGURES)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A set that fails while it is moved in (here: a file it cannot write) leaves neither its
+    /// staging folder nor the output folders it created.
+    #[test]
+    fn a_set_that_fails_while_committing_leaves_no_folder_it_created() {
+        let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/shapes/mixed.toml");
+        let prepared = harmonav_scenario::Scenario::load(&file).unwrap();
+        let base =
+            std::env::temp_dir().join(format!("harmonav-commit-fail-{}", std::process::id()));
+        let dir = base.join("new/set");
+        let _ = std::fs::remove_dir_all(&base);
+        std::fs::create_dir_all(&base).unwrap();
+        let set = Opened::open(&dir, |p| Stream::create(p, &prepared)).unwrap();
+        assert!(dir.is_dir());
+        let e = set
+            .commit(&[("no-such-folder/summary.json", String::new())], &[])
+            .unwrap_err();
+        assert!(matches!(e, OutputError::Io { .. }), "{e}");
+        assert!(
+            !base.join("new").exists(),
+            "the folders the set created are gone"
+        );
+        std::fs::remove_dir_all(&base).unwrap();
     }
 }
