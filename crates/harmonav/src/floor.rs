@@ -32,6 +32,11 @@ use crate::space::Space;
 /// where the last one began, so there are finitely many escapes (eq. escape-levels).
 pub const ESCAPE_DROP: f64 = 0.01;
 
+/// Within this fraction of `δ` of the edge of the certified region (`0 ≤ sd − δ < EDGE·δ`), a
+/// point where the hold certifies no step is led in as out of the layer
+/// ([`FloorNavigator::command`]): it lies on the edge to rounding.
+const EDGE: f64 = 1e-9;
+
 /// The hold has stalled when the robot has stayed within `δ/4` of one point (`δ` the floor's
 /// [`FloorMap::delta`]) for this long, s, within `δ/2` of the edge of the certified region
 /// (the layer or a sensed obstacle's band): the hold presses it against that edge at a rest
@@ -357,7 +362,7 @@ impl FloorNavigator {
         }
         // Every escape follows the shortest path's heading `g` (none without the geodesic).
         let Some(g) = self.field.geodesic().and_then(|t| t.heading_near(x)) else {
-            return Ok((self.law_held(x, v, &eval), None));
+            return Ok((self.law_or_in(x, v, &eval), None));
         };
         let phi = eval.field.phi;
         if let Some(e) = self.escape.filter(|e| phi >= e.level - ESCAPE_DROP)
@@ -388,7 +393,23 @@ impl FloorNavigator {
             };
             return Ok((c, Some(escape)));
         }
-        Ok((self.law_held(x, v, &eval), None))
+        Ok((self.law_or_in(x, v, &eval), None))
+    }
+
+    /// [`FloorNavigator::law_held`], or, where the hold certifies no step at all because `x`
+    /// lies on the edge of the certified region (`sd − δ` below [`EDGE`]·δ, zero to rounding:
+    /// no step of positive length is certified by the clearance alone), the way out of the
+    /// layer ([`FloorNavigator::leave_layer`]: a step straight away from the nearest wall,
+    /// certified clear of the walls and the sensed obstacles) instead of a command of zero for
+    /// ever.
+    fn law_or_in(&self, x: Vector2<f64>, v: Vector2<f64>, eval: &Evaluation) -> Command {
+        let command = self.law_held(x, v, eval);
+        let floor = self.field.floor();
+        let on_edge = floor.signed_distance(x) - floor.delta() < EDGE * floor.delta();
+        if command.value == Vector2::zeros() && on_edge {
+            return self.leave_layer(x, v).unwrap_or(command);
+        }
+        command
     }
 
     /// The escape's command at `x` ([`Mode::Escaping`]): along `heading`, the shortest path's
@@ -504,6 +525,8 @@ impl FloorNavigator {
     /// period, the command moves along a prefix of that segment (its speed capped as a band's
     /// recovery is). [`NavError::BoundaryLayer`] if no halving certifies.
     fn leave_layer(&self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Command, NavError> {
+        // Also from the edge itself (`sd = δ`, [`FloorNavigator::law_or_in`]): the step is then
+        // a quarter of δ inwards.
         let floor = self.field.floor();
         let dir = -floor.toward_boundary(x).ok_or(NavError::BoundaryLayer)?;
         let (sd, delta) = (floor.signed_distance(x), floor.delta());

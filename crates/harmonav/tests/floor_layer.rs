@@ -120,3 +120,52 @@ fn a_recovery_lifts_the_discovery_speed() {
         assert_eq!(nav.discovery_speed(), lifted, "{law:?}");
     }
 }
+
+/// A robot standing exactly on the edge of the certified region (`sd = δ` to rounding, where
+/// no step of positive length is certified by the clearance alone) is led in, under either
+/// law, instead of being held still for ever; it then arrives (kinematic).
+#[test]
+fn a_robot_on_the_edge_of_the_certified_region_is_led_in() {
+    let floor = floor();
+    let goal = v(0.75, 3.3);
+    for start in [v(2.5, 0.2), v(0.2, 2.5), v(3.8, 1.0)] {
+        let clearance = floor.clearance(start);
+        assert!(clearance.abs() < 1e-12, "{start:?}: {clearance}");
+        for (law, h) in [(Law::kinematic(1.0), 0.01), (Law::dynamic(1.0, 1.0), 0.001)] {
+            let options = Options::default()
+                .with_robot(0.1, 0.1)
+                .with_control_period(h);
+            let mut nav = FloorNavigator::new(floor.clone(), goal, law, options).unwrap();
+            let (mut x, mut vel) = (start, Vector2::zeros());
+            let c = nav.command(x, vel).unwrap();
+            assert!(
+                c.value.norm() > 0.0,
+                "{start:?} {law:?}: held still ({:?})",
+                c.mode
+            );
+            // It moves off the start within 0.2 s, and stays in the certified region.
+            for _ in 0..(0.2 / h) as usize {
+                let c = nav.command(x, vel).unwrap();
+                x = common::held_step(&floor, law, h, x, &mut vel, c.value);
+                assert!(
+                    floor.clearance(x) >= -1e-12,
+                    "{start:?} {law:?}: left at {x:?}"
+                );
+            }
+            assert!(
+                (x - start).norm() > 1e-3,
+                "{start:?} {law:?}: still at {x:?}"
+            );
+            if matches!(law, Law::Kinematic { .. }) {
+                for _ in 0..3000 {
+                    if (x - goal).norm() < 0.05 {
+                        break;
+                    }
+                    let c = nav.command(x, vel).unwrap();
+                    x = common::held_step(&floor, law, h, x, &mut vel, c.value);
+                }
+                assert!((x - goal).norm() < 0.05, "{start:?}: stopped at {x:?}");
+            }
+        }
+    }
+}
