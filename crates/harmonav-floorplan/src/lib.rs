@@ -71,7 +71,7 @@ pub mod theta;
 pub use compose::{FloorMapped, FloorTransform, NotFree, Part};
 pub use geodesic::Geodesic;
 pub use level::{LayerLevel, LayerSlide, LevelOptions};
-pub use plan::{CentrePolicy, FloorError, FloorMap, FloorOptions, UnknownCentrePolicy};
+pub use plan::{CentrePolicy, FloorError, FloorMap, FloorOptions, Reach, UnknownCentrePolicy};
 pub use ros_map::{Cell, MapError, MapMode, MapOptions, MapOutline, MapPoint, MapProblem, RosMap};
 pub use sector::{Sector, Unenclosed};
 pub use theta::{FloorField, SADDLE_GUARD};

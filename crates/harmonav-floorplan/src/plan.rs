@@ -158,6 +158,22 @@ harmonav_potential::named_policy!(
     [Solve => "solve", Goal => "goal"]
 );
 
+/// The component of a floor plan's certified region that holds the goal
+/// ([`FloorMap::reach`]).
+#[derive(Clone, Debug)]
+pub struct Reach(Option<geo::Polygon<f64>>);
+
+impl Reach {
+    /// Whether `p` lies in it: a robot there can reach the goal within `W_δ`.
+    #[must_use]
+    pub fn contains(&self, p: Vector2<f64>) -> bool {
+        use geo::Contains;
+        self.0
+            .as_ref()
+            .is_some_and(|part| part.contains(&geo::Point::new(p.x, p.y)))
+    }
+}
+
 /// Options of [`FloorMap::new`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FloorOptions {
@@ -473,6 +489,38 @@ impl FloorMap {
     #[must_use]
     pub fn walls(&self) -> &Domain {
         &self.truth
+    }
+
+    /// The component of the certified region `W_δ` that holds `goal` ([`Reach`]): the true
+    /// walls eroded by `ρ = s + δ = max(radius + margin, δ)` (geo's buffer with round joins, as
+    /// a map's opening, `RosMap::free_space`). A passage narrower than the robot with its
+    /// margin cuts `W_δ`: a start may be certified and yet unable to reach the goal. `ρ` is
+    /// taken `10⁻⁶` smaller, so that the buffer's polygonal arcs do not close a passage as
+    /// wide as the robot.
+    #[must_use]
+    pub fn reach(&self, goal: Vector2<f64>) -> Reach {
+        use geo::{Buffer, Contains, LineString, Point, Polygon};
+        let ring = |r: &[Vector2<f64>]| {
+            LineString::from(
+                r.iter()
+                    .chain(r.first())
+                    .map(|p| (p.x, p.y))
+                    .collect::<Vec<_>>(),
+            )
+        };
+        let walls = Polygon::new(
+            ring(self.truth.outer()),
+            self.truth.holes().iter().map(|h| ring(h)).collect(),
+        );
+        let rho = (self.shrink + self.delta) * (1.0 - 1e-6);
+        let g = Point::new(goal.x, goal.y);
+        Reach(
+            walls
+                .buffer(-rho)
+                .0
+                .into_iter()
+                .find(|part| part.contains(&g)),
+        )
     }
 
     /// `δ = h` (the largest element asked for, `≥ h_max`): the certified region is

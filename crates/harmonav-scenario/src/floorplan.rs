@@ -538,6 +538,20 @@ impl FloorScenario {
         place(goal).map_err(|p| f("robot.goal", p))?;
         let start = v(r.start);
         place(start).map_err(|p| f("robot.start", p))?;
+        // The start must reach the goal within W_δ (a map's opening checks so already); a
+        // polygon's narrow passage is refused here, not met by a robot held still for ever.
+        let reach = floor.reach(goal);
+        if !reach.contains(start) {
+            return Err(f(
+                "robot.start",
+                format!(
+                    "the goal cannot be reached from {start:?} within the certified region \
+                     (at least max(radius + margin, δ) = {:.4} m from the walls): a passage \
+                     between them is narrower than the robot with its margin",
+                    floor.shrink() + delta
+                ),
+            ));
+        }
         for (i, o) in obstacles.iter().enumerate() {
             // The grown shape lies within radius + margin of the true one (FloorMap::star_room).
             if floor.star_room(o) <= r.radius + r.margin {
@@ -591,6 +605,7 @@ impl FloorScenario {
                 if (p - goal).norm() > 1.0
                     && floor.signed_distance(p) > 1.1 * delta
                     && place(p).is_ok()
+                    && reach.contains(p)
                     && below(p).is_ok()
                 {
                     starts.push(p);

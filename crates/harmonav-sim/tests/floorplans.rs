@@ -106,6 +106,31 @@ fn bad_floor_plans_name_the_file_field_and_problem() {
         "robot.start",
         "not in the certified region",
     );
+    // A wall across the room with two 5 cm gaps: both halves are in the certified region,
+    // but the robot (radius 0.1 m) cannot pass between them.
+    check(
+        &good(
+            &format!(
+                "{square}\nholes = [[[1.8, 0.05], [2.2, 0.05], [2.2, 3.95], [1.8, 3.95]]]\n\
+                 max_element = 0.1"
+            ),
+            "start = [1.0, 2.0]\ngoal = [3.0, 2.0]\nradius = 0.1",
+        ),
+        "robot.start",
+        "the goal cannot be reached from",
+    );
+    // The same wall with 0.3 m gaps, wider than the robot's 0.2 m: the plan loads.
+    let passable = good(
+        &format!(
+            "{square}\nholes = [[[1.8, 0.3], [2.2, 0.3], [2.2, 3.7], [1.8, 3.7]]]\n\
+             max_element = 0.1"
+        ),
+        "start = [1.0, 2.0]\ngoal = [3.0, 2.0]\nradius = 0.1",
+    );
+    let path = Path::new("ok.toml");
+    FloorScenario::parse(path, &passable)
+        .and_then(|s| s.prepare(path))
+        .unwrap();
     check(
         &good(square, "start = [1.0, 1.0]\ngoal = [5.0, 3.0]"),
         "robot.goal",
