@@ -487,7 +487,18 @@ impl RosMap {
             })
         })?;
         let eps = options.simplify.max(0.0) * self.resolution * self.resolution;
-        Ok(self.to_outline(&outline::simplify(&opened, eps), n))
+        let simplified = outline::simplify(&opened, eps);
+        // A vertex removed lies within its triangle's height of the new edge; a tolerance too
+        // large for the map moves the walls by more than a pixel, which is refused.
+        let moved = outline::moved(&opened, &simplified);
+        if moved > self.resolution {
+            return Err(self.error(MapProblem::Simplified {
+                simplify: options.simplify,
+                moved,
+                pixel: self.resolution,
+            }));
+        }
+        Ok(self.to_outline(&simplified, n))
     }
 
     /// The floor plan of this map for a robot going from `start` to `goal` (world

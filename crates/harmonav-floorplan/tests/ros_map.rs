@@ -732,3 +732,32 @@ fn far_field_matches_the_direct_sum_on_the_suite_maps() {
         assert!(worst_theta <= 1e-10, "{}: {worst_theta:e}", m.name);
     }
 }
+
+/// A simplification that moves the walls by more than a pixel is refused by name (it would
+/// keep the robot from walls that are not the map's); the default moves them by less.
+#[test]
+fn a_simplification_that_moves_the_walls_is_refused() {
+    let yaml = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenarios/floorplans/maps/office.yaml");
+    let map = RosMap::load(&yaml).unwrap();
+    let (s, g) = (v(1.5, 1.5), v(8.5, 6.5));
+    let options = MapOptions::new(FloorOptions::new(0.2, 0.2));
+    map.free_space(s, g, &options).unwrap();
+    for simplify in [100.0, 1000.0] {
+        let e = map
+            .free_space(
+                s,
+                g,
+                &MapOptions {
+                    simplify,
+                    ..options
+                },
+            )
+            .unwrap_err();
+        assert!(
+            matches!(e.problem, MapProblem::Simplified { moved, pixel, .. } if moved > pixel),
+            "{e}"
+        );
+        assert!(e.to_string().contains("`simplify`"), "{e}");
+    }
+}

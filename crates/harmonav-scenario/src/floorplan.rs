@@ -510,6 +510,7 @@ impl FloorScenario {
                             e.to_string(),
                         ),
                         MapProblem::Unreachable => f("robot.goal", e.to_string()),
+                        MapProblem::Simplified { .. } => f("floor_plan.simplify", e.to_string()),
                         _ => f("floor_plan.map", e.to_string()),
                     }
                 })?

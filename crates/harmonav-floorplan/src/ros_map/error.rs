@@ -141,6 +141,17 @@ pub enum MapProblem {
     /// The start's free pixels are not connected to the goal's (4-connected): the goal cannot
     /// be reached from it.
     Unreachable,
+    /// The simplification (`MapOptions::simplify`) moved a vertex of the outline more than
+    /// one pixel from the simplified walls: the walls the robot is kept from would no longer
+    /// be the map's.
+    Simplified {
+        /// The tolerance, square pixels.
+        simplify: f64,
+        /// The largest distance from a vertex of the outline to the simplified walls, m.
+        moved: f64,
+        /// One pixel, m.
+        pixel: f64,
+    },
     /// The robot cannot get from the start to the goal: every free path passes a gap narrower
     /// than `2 × clearance` (the robot's diameter plus its margins), or the point itself is
     /// closer than `clearance` to a wall.
@@ -225,6 +236,16 @@ impl fmt::Display for MapProblem {
                 f,
                 "the goal is unreachable from the start: they lie in different free areas of \
                  the map"
+            ),
+            Self::Simplified {
+                simplify,
+                moved,
+                pixel,
+            } => write!(
+                f,
+                "`simplify` = {simplify:e} square pixels moves the walls by {moved:.4} m, more \
+                 than one pixel ({pixel} m): the robot would no longer be kept from the map's \
+                 walls; lower it"
             ),
             Self::TooNarrow { point, clearance } => match point {
                 MapPoint::Goal => write!(

@@ -121,6 +121,28 @@ pub(crate) fn open(
     Ok(part)
 }
 
+/// How far the simplification moved the outline: the largest distance from a vertex of
+/// `before` to the boundary of `after` (every vertex of `after` is one of `before`'s, so this
+/// is the one-sided Hausdorff distance that matters), m.
+pub(crate) fn moved(before: &Polygon<f64>, after: &Polygon<f64>) -> f64 {
+    use geo::{Distance, Euclidean};
+    let rings: Vec<&LineString<f64>> = std::iter::once(after.exterior())
+        .chain(after.interiors())
+        .collect();
+    before
+        .exterior()
+        .coords()
+        .chain(before.interiors().iter().flat_map(|r| r.coords()))
+        .map(|c| {
+            let p = Point::from(*c);
+            rings
+                .iter()
+                .map(|r| Euclidean.distance(&p, *r))
+                .fold(f64::INFINITY, f64::min)
+        })
+        .fold(0.0, f64::max)
+}
+
 /// The rings of `poly` as [`crate::FloorMap::new`] takes them: the outer ring
 /// counter-clockwise, each hole clockwise (geo's `orient`), without the repeated closing vertex.
 pub(crate) fn rings(poly: &Polygon<f64>) -> (Vec<Coord<f64>>, Vec<Vec<Coord<f64>>>) {
