@@ -111,6 +111,7 @@ def state(nav):
         (dict(range_max=-1.0), "range_min"),
         (dict(position=[float("inf"), 0.0]), "finite"),
         (dict(heading=float("nan")), "pose.yaw"),
+        (dict(heading=1e7), "`pose.yaw` must be finite and at most 1e6 rad"),
         (dict(position=[-1.0, 0.2]), "inside known shape"),
         (dict(position=[9.0, 0.0]), "outside the known boundary"),
     ],

@@ -121,6 +121,6 @@ pub use perceived::{
     merge, merge_clear_of,
 };
 pub use perception::{Known, Observation, Options, Perception, PerceptionError};
-pub use scan::{LaserScan, MAX_BEAMS, Pose, Reading, ScanError};
+pub use scan::{LaserScan, MAX_ANGLE, MAX_BEAMS, Pose, Reading, ScanError};
 pub use segment::{End, Segment, hit_point, segment};
 pub use walls::{Walls, WallsError};

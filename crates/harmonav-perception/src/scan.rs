@@ -20,6 +20,10 @@ use nalgebra::Vector2;
 /// The most beams a scan may have (a 0.01° scanner has 36 000).
 pub const MAX_BEAMS: usize = 1_000_000;
 
+/// The largest angle a pose's yaw or a scan's `angle_min` may have, in magnitude, rad: beyond,
+/// `cos` and `sin` of the beams' angles lose their digits.
+pub const MAX_ANGLE: f64 = 1e6;
+
 /// The sensor pose in the world frame: position `(x, y)` (m) and heading `yaw` (rad, the
 /// direction of the scan's angle 0).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -50,7 +54,7 @@ impl Pose {
         for (v, field, cap) in [
             (self.x, "pose.x", MAX_LENGTH),
             (self.y, "pose.y", MAX_LENGTH),
-            (self.yaw, "pose.yaw", 1e6),
+            (self.yaw, "pose.yaw", MAX_ANGLE),
         ] {
             if !v.is_finite() || v.abs() > cap {
                 return Err(ScanError::NotFinite { field });
@@ -134,6 +138,17 @@ impl fmt::Display for ScanError {
                     "the scan has {count} beams, more than MAX_BEAMS = {MAX_BEAMS}"
                 )
             }
+            // The angles are capped at `MAX_ANGLE` rad (the pose's yaw is the scan's heading),
+            // the lengths at `MAX_LENGTH` m.
+            Self::NotFinite {
+                field: field @ ("pose.yaw" | "angle_min"),
+            } => write!(
+                f,
+                "`{field}` must be finite and at most {MAX_ANGLE:e} rad in magnitude"
+            ),
+            Self::NotFinite {
+                field: "angle_increment",
+            } => write!(f, "`angle_increment` must be finite"),
             Self::NotFinite { field } => {
                 write!(
                     f,
@@ -172,7 +187,7 @@ impl LaserScan {
         if n > MAX_BEAMS {
             return Err(ScanError::TooManyBeams { count: n });
         }
-        if !self.angle_min.is_finite() || self.angle_min.abs() > 1e6 {
+        if !self.angle_min.is_finite() || self.angle_min.abs() > MAX_ANGLE {
             return Err(ScanError::NotFinite { field: "angle_min" });
         }
         if !self.angle_increment.is_finite() {
