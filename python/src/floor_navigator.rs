@@ -115,9 +115,11 @@ impl Setup {
 /// along the shortest path; `"paper"`: `−∇Θ`), `k`, `damping`, `hold`, `speed` and the scan's
 /// priors are `Navigator`'s.
 ///
-/// Invalid arguments raise `ValueError` naming the field (a map's error names the file); a
-/// passage narrower than the robot, a goal outside `W_δ` or a map whose start and goal are not
-/// connected are refused. A call that raises leaves the navigator as it was.
+/// Invalid arguments raise `ValueError` naming the field (a map's error names the file); walls
+/// that the robot's clearance would erase, a goal outside `W_δ`, or a map whose start and goal
+/// are not connected are refused. Built from rings, the navigator has no start: a point cut off
+/// from the goal by a passage narrower than the robot is not found here (a floor-plan file
+/// refuses such a start). A call that raises leaves the navigator as it was.
 #[pyclass(module = "harmonav")]
 #[derive(Clone)]
 pub struct FloorNavigator {
