@@ -1,6 +1,7 @@
 //! The online API: `harmonav::Navigator`.
 
 use harmonav_rs::Vector2;
+use harmonav_rs::transform::Shown;
 use harmonav_rs::{
     DampingPolicy, HoldPolicy, KPolicy, LaserScan, Law, Mode, NavError, Navigator as RsNavigator,
     Options, Pose, ScanOptions, ScanUpdate as RsScanUpdate, SpeedPolicy,
@@ -112,8 +113,18 @@ fn nav_error(e: NavError) -> PyErr {
     value_error(e)
 }
 
-/// The law named `law` (`"kinematic"` with `gain`, `"dynamic"` with `mass` and `mu`).
+/// The law named `law` (`"kinematic"` with `gain`, `"dynamic"` with `mass` and `mu`). The
+/// arguments the law does not use must still be finite and positive: a NaN left in one is a
+/// mistake that would only surface when the law is switched.
 pub(crate) fn law_named(law: &str, gain: f64, mass: f64, mu: f64) -> PyResult<Law> {
+    for (name, value) in [("gain", gain), ("mass", mass), ("mu", mu)] {
+        if !(value.is_finite() && value > 0.0) {
+            return Err(value_error(format!(
+                "`{name}` must be finite and positive, got {}",
+                Shown(value)
+            )));
+        }
+    }
     match law {
         "kinematic" => Ok(Law::kinematic(gain)),
         "dynamic" => Ok(Law::dynamic(mass, mu)),

@@ -162,7 +162,17 @@ def test_bad_arguments_name_the_field_and_a_failed_call_changes_nothing():
         harmonav.FloorNavigator(L_OUTER, [5.4, 1.0], max_element=1e-6)  # refused before the solve
     with pytest.raises(ValueError, match="heading"):
         harmonav.FloorNavigator(L_OUTER, [5.4, 1.0], heading="sideways")
+    with pytest.raises(ValueError, match="`mass` must be finite and positive, got NaN"):
+        harmonav.FloorNavigator(L_OUTER, [5.4, 1.0], mass=float("nan"))
+    # A far goal is named in scientific notation, at its true distance.
+    with pytest.raises(ValueError, match=r"the goal is -1\.0000e200 m from the walls"):
+        harmonav.FloorNavigator(L_OUTER, [1e200, 1.0])
     nav = l_room()
+    # Far points are as far from the walls as from the origin (parry's queries overflowed
+    # beyond 1e154 m: a wall distance of -inf and a clearance of -δ).
+    for far in (1e20, 1e200, -1e300):
+        assert nav.wall_distance([far, 1.0]) == pytest.approx(-abs(far), rel=1e-12)
+        assert nav.clearance([far, 1.0]) == pytest.approx(-abs(far), rel=1e-12)
     k = nav.k
     # An obstacle over the goal is refused, and the navigator is as it was.
     with pytest.raises(ValueError):

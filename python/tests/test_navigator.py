@@ -101,6 +101,11 @@ def test_bad_states_raise_and_nan_does_not_crash():
         (dict(v_max=-1.0), "v_max"),
         (dict(v_max=float("inf")), "v_max"),
         (dict(speed="Auto"), "speed policy"),
+        # Arguments the law does not use are checked too: a NaN left in one would only
+        # surface when the law is switched.
+        (dict(mass=float("nan")), "`mass`"),
+        (dict(mu=-1.0), "`mu`"),
+        (dict(law="dynamic", gain=float("inf")), "`gain`"),
     ],
 )
 def test_bad_options_are_refused(kwargs, word):

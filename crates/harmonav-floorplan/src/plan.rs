@@ -5,6 +5,7 @@ use harmonav_harmonic::{
     Certificate, CertifyError, CertifyOptions, Domain, DomainError, HarmonicMap, MeshOptions,
     RingId, SolveError, certify,
 };
+use harmonav_transform::Shown;
 use nalgebra::Vector2;
 use parry2d_f64::math::Vector as PVector;
 use parry2d_f64::query::PointQuery;
@@ -83,8 +84,10 @@ impl std::fmt::Display for FloorError {
             }
             Self::GoalNotCertified { clearance, delta } => write!(
                 f,
-                "the goal is {clearance:.4} m from the walls, not in the certified region \
-                 (at least δ = {delta:.4} m from every wall)"
+                "the goal is {:.4} m from the walls, not in the certified region \
+                 (at least δ = {:.4} m from every wall)",
+                Shown(*clearance),
+                Shown(*delta)
             ),
             Self::ObstacleNearWall { obstacle } => write!(
                 f,
@@ -274,6 +277,22 @@ fn polyline(d: &Domain) -> Polyline {
     }
     Polyline::new(vertices, Some(indices))
 }
+
+/// Beyond [`FAR`] (m) from the origin, the distance from `x` to `walls`.
+///
+/// parry's point queries square the coordinates, so beyond about 1e154 m they overflow (a
+/// distance of `∞`, or a projection at `x` itself, so 0). Every wall lies within
+/// `MAX_COORDINATE` (1e9 m) of the origin, so from `|x|_∞ > FAR` every wall point is
+/// `|x − a|` away to a relative `2·1e9/FAR` (below rounding), `a` any vertex; `hypot` does
+/// not overflow.
+fn far_distance(walls: &Polyline, x: Vector2<f64>) -> Option<f64> {
+    let a = walls.vertices().first()?;
+    (x.x.abs().max(x.y.abs()) > FAR).then(|| (x.x - a.x).hypot(x.y - a.y))
+}
+
+/// Where [`far_distance`] takes over from parry's queries, m: far below their overflow and
+/// far enough that every wall is equally far to rounding.
+const FAR: f64 = 1e30;
 
 /// The most a circumscribed arc piece turns (rad).
 const ARC_STEP: f64 = std::f64::consts::PI / 8.0;
@@ -580,6 +599,9 @@ impl FloorMap {
     /// exact to rounding.
     #[must_use]
     pub fn wall_distance(&self, x: Vector2<f64>) -> f64 {
+        if let Some(d) = far_distance(&self.walls, x) {
+            return d;
+        }
         self.walls
             .distance_to_local_point(PVector::new(x.x, x.y), false)
     }
@@ -588,6 +610,9 @@ impl FloorMap {
     /// negative outside it. 1-Lipschitz.
     #[must_use]
     pub fn signed_distance(&self, x: Vector2<f64>) -> f64 {
+        if let Some(d) = far_distance(&self.boundary, x) {
+            return -d;
+        }
         let d = self
             .boundary
             .distance_to_local_point(PVector::new(x.x, x.y), false);

@@ -207,6 +207,35 @@ fn folds_in_the_layer_are_found_and_refused() {
     assert!(matches!(c.verdict, Verdict::Fold { .. }), "{:?}", c.verdict);
 }
 
+/// Far points: parry's queries square the coordinates and overflowed beyond 1e154 m (a wall
+/// distance of `∞`, a signed distance of 0 and so a clearance of `−δ`, and a goal "−0.0000 m
+/// from the walls"); the far branch gives `|x|` to rounding, with the sign of "outside".
+#[test]
+fn far_points_are_as_far_from_the_walls_as_they_are_from_the_origin() {
+    let floor = l_room(0.25, 0.3);
+    for far in [1e20, 1e40, 1e160, 1e200, 1e300] {
+        for x in [v(far, 1.0), v(-far, far), v(2.0, -far)] {
+            let r = x.x.hypot(x.y);
+            let (d, sd) = (floor.wall_distance(x), floor.signed_distance(x));
+            assert!((d / r - 1.0).abs() < 1e-12, "{x:?}: wall distance {d}");
+            assert!((sd / r + 1.0).abs() < 1e-12, "{x:?}: signed distance {sd}");
+            assert!(
+                floor.clearance(x) < -0.5 * r,
+                "{x:?}: {}",
+                floor.clearance(x)
+            );
+        }
+    }
+    let Err(e) = FloorField::new(floor, v(1e200, 1.0), KPolicy::Auto) else {
+        panic!("a goal 1e200 m away was accepted");
+    };
+    assert_eq!(
+        e.to_string(),
+        "the goal is -1.0000e200 m from the walls, not in the certified region (at least δ = \
+         0.2500 m from every wall)"
+    );
+}
+
 /// Bad input is a typed error and leaves the field as it was.
 #[test]
 fn bad_inputs_are_typed_errors() {

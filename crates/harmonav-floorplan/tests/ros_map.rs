@@ -370,6 +370,12 @@ fn start_and_goal_errors_name_the_point_and_the_cell() {
         }
     );
     assert!(err(v(-0.01, 1.0), g).to_string().contains("start"));
+    // A huge coordinate is named in scientific notation (it printed 301 digits).
+    assert!(
+        err(v(1e300, 1.0), g)
+            .to_string()
+            .ends_with("the start (1e300, 1) lies outside the map's image")
+    );
     assert!(matches!(
         err(s, v(1.0, -1e-9)).problem,
         MapProblem::OutsideImage { .. }

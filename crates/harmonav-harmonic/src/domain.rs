@@ -205,6 +205,11 @@ fn twice_signed_area(ring: &[Vector2<f64>]) -> f64 {
 }
 
 /// Distance from `p` to the segment `[a, b]`.
+///
+/// Overflow guard: `hypot` where `norm` (`√(x² + y²)`) overflows, beyond 1e154 m (`hypot` only
+/// there: it is several times slower, and the certificate calls this per cell and element), and
+/// a parameter `t` that overflowed to NaN (`∞ − ∞` in the dot product, only for points beyond
+/// 1e290 m) taken as 0: from there every point of the segment is equally far to rounding.
 pub(crate) fn point_segment_distance(p: Vector2<f64>, a: Vector2<f64>, b: Vector2<f64>) -> f64 {
     let ab = b - a;
     let len2 = ab.norm_squared();
@@ -213,7 +218,13 @@ pub(crate) fn point_segment_distance(p: Vector2<f64>, a: Vector2<f64>, b: Vector
     } else {
         0.0
     };
-    (p - (a + ab * t)).norm()
+    let d = p - (a + ab * if t.is_nan() { 0.0 } else { t });
+    let norm = d.norm();
+    if norm.is_finite() {
+        norm
+    } else {
+        d.x.hypot(d.y)
+    }
 }
 
 /// Distance between the segments `[a, b]` and `[c, d]` (0 when they cross).
@@ -554,6 +565,12 @@ mod tests {
         assert!(d.contains(v(0.5, 0.5)) && !d.contains(v(0.0, 0.0)) && !d.contains(v(2.0, 0.0)));
         assert!((d.signed_distance(v(0.5, 0.0)) - 0.3).abs() < 1e-15);
         assert!((d.signed_distance(v(0.0, 0.0)) + 0.2).abs() < 1e-15);
+        // Far points: the norm overflowed to ∞ beyond 1e154 m, and the dot product to NaN
+        // beyond 1e290 m.
+        for far in [v(1e200, 1.0), v(-1e300, 1e300), v(1e308, -1e308)] {
+            let r = far.x.hypot(far.y);
+            assert!((d.signed_distance(far) / r + 1.0).abs() < 1e-12, "{far:?}");
+        }
     }
 
     #[test]

@@ -14,7 +14,7 @@
 use std::f64::consts::TAU;
 use std::fmt;
 
-use harmonav_transform::MAX_LENGTH;
+use harmonav_transform::{MAX_LENGTH, Shown};
 use nalgebra::Vector2;
 
 /// The most beams a scan may have (a 0.01° scanner has 36 000).
@@ -167,7 +167,8 @@ impl fmt::Display for ScanError {
             ),
             Self::Overlapping { aperture } => write!(
                 f,
-                "the beams cover {aperture:.4} rad, more than a full turn: they would overlap"
+                "the beams cover {:.4} rad, more than a full turn: they would overlap",
+                Shown(*aperture)
             ),
         }
     }

@@ -62,6 +62,15 @@ fn invalid_scans_are_typed_errors() {
         },
         ScanError::Overlapping { aperture: 10.0 },
     );
+    // A huge increment is named in scientific notation (it printed 301 digits).
+    let huge = LaserScan {
+        angle_increment: 1e300,
+        ..scan(vec![1.0; 10])
+    };
+    assert_eq!(
+        huge.validate().unwrap_err().to_string(),
+        "the beams cover 1.0000e301 rad, more than a full turn: they would overlap"
+    );
     assert_eq!(
         Pose::new(f64::NAN, 0.0, 0.0).validate(),
         Err(ScanError::NotFinite { field: "pose.x" })

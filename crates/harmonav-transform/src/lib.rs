@@ -17,7 +17,8 @@
 //! - [`index`]: a bounding-volume hierarchy over the obstacles' bounding discs (parry2d-f64's
 //!   `Bvh`), so that `Phi`, the pair checks and the widths test only the obstacles near a
 //!   point ([`Lookup`]; the direct loops give the same answers, bit for bit);
-//! - [`random`]: seeded random valid worlds for tests and benchmarks.
+//! - [`random`]: seeded random valid worlds for tests and benchmarks;
+//! - [`Shown`]: a user's number as an error message prints it (`1e300`, not 301 digits).
 //!
 //! This crate knows nothing of `phi_k`, sensing or time.
 //!
@@ -50,6 +51,7 @@ pub mod outline;
 pub mod radial;
 pub mod random;
 pub mod shape;
+pub mod shown;
 pub mod smooth;
 pub mod workspace;
 
@@ -59,4 +61,5 @@ pub use index::{DiscIndex, Lookup};
 pub use nav::{Active, Mapped, NavTransform, NotFree};
 pub use outline::{DISTANCE_TOLERANCE, MAX_OUTLINE_VERTICES};
 pub use shape::{MAX_ANGLE, MAX_HARMONIC, MAX_LENGTH, StarShape};
+pub use shown::Shown;
 pub use workspace::{Admitted, RobotWorldError, Workspace, WorldError};

@@ -3,6 +3,8 @@
 use std::fmt;
 use std::path::{Path, PathBuf};
 
+use harmonav_transform::Shown;
+
 use crate::FloorError;
 
 use super::Cell;
@@ -189,14 +191,21 @@ impl fmt::Display for MapProblem {
             } => write!(f, "`{field}` must be {expected}, found `{found}`"),
             Self::Resolution(r) => write!(
                 f,
-                "`resolution` must be a finite positive number of metres per pixel, found {r}"
+                "`resolution` must be a finite positive number of metres per pixel, found {}",
+                Shown(*r)
             ),
             Self::Threshold { field, value } => {
-                write!(f, "`{field}` must be a number in [0, 1], found {value}")
+                write!(
+                    f,
+                    "`{field}` must be a number in [0, 1], found {}",
+                    Shown(*value)
+                )
             }
             Self::ThresholdOrder { free, occupied } => write!(
                 f,
-                "`free_thresh` ({free}) must be less than `occupied_thresh` ({occupied})"
+                "`free_thresh` ({}) must be less than `occupied_thresh` ({})",
+                Shown(*free),
+                Shown(*occupied)
             ),
             Self::Image(e) => write!(
                 f,
@@ -212,7 +221,8 @@ impl fmt::Display for MapProblem {
             Self::OutsideImage { point, at } => write!(
                 f,
                 "the {point} ({}, {}) lies outside the map's image",
-                at[0], at[1]
+                Shown(at[0]),
+                Shown(at[1])
             ),
             Self::NotFree {
                 point,
@@ -222,8 +232,8 @@ impl fmt::Display for MapProblem {
             } => write!(
                 f,
                 "the {point} ({}, {}) lies in {} pixel (column {}, row {} from the top)",
-                at[0],
-                at[1],
+                Shown(at[0]),
+                Shown(at[1]),
                 match cell {
                     Cell::Free => "a free",
                     Cell::Occupied => "an occupied",
@@ -243,21 +253,25 @@ impl fmt::Display for MapProblem {
                 pixel,
             } => write!(
                 f,
-                "`simplify` = {simplify:e} square pixels moves the walls by {moved:.4} m, more \
-                 than one pixel ({pixel} m): the robot would no longer be kept from the map's \
-                 walls; lower it"
+                "`simplify` = {simplify:e} square pixels moves the walls by {:.4} m, more \
+                 than one pixel ({} m): the robot would no longer be kept from the map's \
+                 walls; lower it",
+                Shown(*moved),
+                Shown(*pixel)
             ),
             Self::TooNarrow { point, clearance } => match point {
                 MapPoint::Goal => write!(
                     f,
-                    "the goal is closer than the robot's clearance {clearance} m (radius + \
-                     margin, at least δ) to a wall"
+                    "the goal is closer than the robot's clearance {} m (radius + \
+                     margin, at least δ) to a wall",
+                    Shown(*clearance)
                 ),
                 MapPoint::Start => write!(
                     f,
                     "the robot cannot get from the start to the goal: a passage narrower than \
-                     the robot (it needs {clearance} m to each side: radius + margin, at least \
-                     δ), or the start is that close to a wall"
+                     the robot (it needs {} m to each side: radius + margin, at least \
+                     δ), or the start is that close to a wall",
+                    Shown(*clearance)
                 ),
             },
             Self::Outline(e) => write!(f, "the map's outline is not a valid polygon: {e}"),
@@ -266,7 +280,7 @@ impl fmt::Display for MapProblem {
                 f,
                 "the {point} is {:.4} m inside the boundary layer of the floor plan (not in the \
                  certified region)",
-                -clearance
+                Shown(-clearance)
             ),
         }
     }
