@@ -12,7 +12,9 @@ use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 
 use crate::convert::{array1, point_like, points_like, policy, value_error};
-use crate::navigator::{ScanUpdate, finite_theta, law_named, scan_from, scan_options};
+use crate::navigator::{
+    ScanUpdate, finite_theta, free_memory_count, law_named, scan_from, scan_options,
+};
 use crate::shapes::{Shape, from_perceived};
 
 /// The constructor's keyword arguments shared by `FloorNavigator(...)` and
@@ -51,13 +53,7 @@ impl Setup {
             }
         }
         let (range_noise, depth, growth, fit_range, free_memory) = scan;
-        // A negative count is refused by name (the range check names the largest).
-        let free_memory = usize::try_from(free_memory).map_err(|_| {
-            nav_error(NavError::InvalidOption {
-                field: "free_memory",
-                value: free_memory as f64,
-            })
-        })?;
+        let free_memory = free_memory_count(free_memory)?;
         let mut options = Options::default()
             .with_robot(radius, margin)
             .with_k(policy::<KPolicy>(k)?)

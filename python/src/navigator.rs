@@ -169,6 +169,17 @@ pub(crate) fn finite_theta(theta: f64) -> PyResult<f64> {
     }
 }
 
+/// `free_memory` as a count: a negative one is refused by name (as `NavError::InvalidOption`,
+/// whose message gives the range), not with pyo3's unnamed `OverflowError`.
+pub(crate) fn free_memory_count(free_memory: i64) -> PyResult<usize> {
+    usize::try_from(free_memory).map_err(|_| {
+        nav_error(NavError::InvalidOption {
+            field: "free_memory",
+            value: free_memory as f64,
+        })
+    })
+}
+
 /// The scan options of a navigator's constructor (the rest at their defaults).
 pub(crate) fn scan_options(
     range_noise: f64,
@@ -388,9 +399,10 @@ impl Navigator {
         max_obstacle_depth: f64,
         growth_threshold: f64,
         fit_range: Option<f64>,
-        free_memory: usize,
+        free_memory: i64,
     ) -> PyResult<Self> {
         let goal = point_like(goal, "goal")?;
+        let free_memory = free_memory_count(free_memory)?;
         let args = Args {
             boundary: boundary.clone(),
             goal: [goal.x, goal.y],
