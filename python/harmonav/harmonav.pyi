@@ -178,7 +178,8 @@ class Navigator:
         for non-finite input, or for a command that would not be finite."""
     @property
     def mode(self) -> str:
-        """How the last command was formed: ``"law"``, ``"capped"`` or ``"recovering"``."""
+        """How the last command was formed: ``"law"``, ``"capped"``, ``"recovering"`` or
+        ``"from-rest"`` (off a saddle of Θ where the kinematic law's step had come to rest)."""
     @property
     def control_period(self) -> float:
         """The control period in force, s (default 0.01 kinematic, 0.001 dynamic)."""

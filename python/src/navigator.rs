@@ -547,8 +547,10 @@ impl Navigator {
         self.inner.speed_bound()
     }
 
-    /// How the last command was formed: `"law"`, `"capped"` (shortened to be safe to hold)
-    /// or `"recovering"` (out of the margin band); `"law"` before the first.
+    /// How the last command was formed: `"law"`, `"capped"` (shortened to be safe to hold),
+    /// `"recovering"` (out of the margin band) or `"from-rest"` (the kinematic law's step had
+    /// come to rest away from the goal, at a saddle of `Θ`: the steepest certified descent
+    /// among 16 directions instead); `"law"` before the first.
     #[getter]
     fn mode(&self) -> &'static str {
         self.mode.as_str()

@@ -208,8 +208,9 @@ pub fn fly(
             Mode::Law => {}
             Mode::Capped { .. } => flight.capped += 1,
             Mode::Recovering(_) => flight.recoveries += 1,
-            // Only a floor plan's navigator escapes.
+            // Only a floor plan's navigator escapes; a step from rest counts as a capped one.
             Mode::Escaping => {}
+            Mode::FromRest => flight.capped += 1,
         }
         let c = command.value;
         integrator.advance(law, h, c, &mut x, &mut v);

@@ -40,11 +40,17 @@ pub enum Mode {
     /// robot follows the shortest path until `phi_k` is [`crate::ESCAPE_DROP`] below the level
     /// where it began, or until blocked (docs/maths.md §13.7).
     Escaping,
+    /// In a star world under [`crate::HoldPolicy::Auto`], the kinematic law's held step had
+    /// come to rest away from the goal (below [`REST_SCALE`] of the law's speed: a saddle of
+    /// `Θ`, or a valley whose floor no step along the law's direction could descend); the
+    /// command is the steepest certified descent among [`REST_DIRECTIONS`] directions at the
+    /// law's speed (docs/maths.md §10.1).
+    FromRest,
 }
 
 impl Mode {
     /// The name used in logs, JSON and Python (`"law"`, `"capped"`, `"recovering"`,
-    /// `"escaping"`).
+    /// `"escaping"`, `"from-rest"`).
     #[must_use]
     pub fn as_str(&self) -> &'static str {
         match self {
@@ -52,6 +58,7 @@ impl Mode {
             Self::Capped { .. } => "capped",
             Self::Recovering(_) => "recovering",
             Self::Escaping => "escaping",
+            Self::FromRest => "from-rest",
         }
     }
 }
@@ -190,6 +197,58 @@ pub(crate) fn kinematic(
     } else {
         single
     }
+}
+
+/// The number of directions [`kinematic_from_rest`] tries, evenly spaced.
+pub const REST_DIRECTIONS: usize = 16;
+
+/// Below this fraction of the law's speed the held kinematic command counts as at rest:
+/// [`kinematic_from_rest`] is tried.
+pub const REST_SCALE: f64 = 1e-3;
+
+/// The kinematic hold's way on from rest away from the goal (the held command below
+/// [`REST_SCALE`] of the law's speed `speed`): a saddle of `Θ`, where the continuous law rests
+/// on the saddle's stable manifold (`docs/maths.md` §10.1), or the floor of a valley where no
+/// step along the law's direction decreases `phi_k`. Of [`REST_DIRECTIONS`] directions
+/// `d_j`, each tried as the law's velocity `speed·d_j` through [`kinematic_step`] (certified
+/// free, `phi_k` decreasing, never past the goal), the step that lowers `phi_k` most, if it is
+/// longer than the held one. Near a saddle `phi_k(x + s d) = phi_k(x) + s∇phi_k·d + ½s²dᵀHd +
+/// O(s³)`, and `H` has a negative eigenvalue, so the directions near its eigenvector decrease
+/// `phi_k` at the law's step `s` even where `∇phi_k = 0`. `None` where none does (a minimum at
+/// that scale: only the goal, for a navigation function) or at the goal itself.
+///
+/// Every step is one of [`kinematic_step`]'s, so the hold's guarantees stand: each step is
+/// certified free and decreases `phi_k`; `Θ` never returns to the saddle's level.
+pub(crate) fn kinematic_from_rest(
+    field: &impl Space,
+    x: Vector2<f64>,
+    e: &FieldEval,
+    speed: f64,
+    held: &Command,
+    h: f64,
+) -> Option<Command> {
+    if speed <= 0.0 || !speed.is_finite() {
+        return None;
+    }
+    let mut best: Option<(f64, Command)> = None;
+    for j in 0..REST_DIRECTIONS {
+        let angle = std::f64::consts::TAU * j as f64 / REST_DIRECTIONS as f64;
+        let u = speed * Vector2::new(angle.cos(), angle.sin());
+        let (c, _) = kinematic_step(field, x, e, u, h);
+        if c.value.norm() <= held.value.norm() {
+            continue;
+        }
+        let Ok(end) = field.eval(x + h * c.value) else {
+            continue;
+        };
+        if end.phi < e.phi && best.as_ref().is_none_or(|(phi, _)| end.phi < *phi) {
+            best = Some((end.phi, c));
+        }
+    }
+    best.map(|(_, c)| Command {
+        value: c.value,
+        mode: Mode::FromRest,
+    })
 }
 
 /// The kinematic command out of the blind layer ([`escape`]), at most the law's step `step`,

@@ -385,7 +385,17 @@ impl Navigator {
                 hold::dynamic(law, &self.field, x, (&eval.field, v), &d, h)
             }
             Controller::Kinematic(law) => {
-                hold::kinematic(law, &self.field, x, &eval.field, eval.command, h)
+                let held = hold::kinematic(law, &self.field, x, &eval.field, eval.command, h);
+                let speed = law.speed(
+                    &eval.field,
+                    (x - self.field.workspace().destination()).norm(),
+                );
+                if held.value.norm() < hold::REST_SCALE * speed {
+                    hold::kinematic_from_rest(&self.field, x, &eval.field, speed, &held, h)
+                        .unwrap_or(held)
+                } else {
+                    held
+                }
             }
         })
     }

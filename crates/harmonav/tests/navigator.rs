@@ -211,6 +211,9 @@ fn commands_are_the_laws_on_the_known_obstacles() {
                     }
                     Mode::Recovering(_) => panic!("0.05 m clear of every shape"),
                     Mode::Escaping => panic!("a star world has no escape"),
+                    // Only where the law's own step is held to rest (a saddle): at the law's
+                    // speed, in another direction.
+                    Mode::FromRest => assert!(c.value.norm() <= u.norm() * (1.0 + 1e-12)),
                 }
                 // The discovery speed is that of the last command before the additions: 0.
                 let d = law.damping(&field, &e, v, 0.0);

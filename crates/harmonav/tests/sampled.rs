@@ -512,3 +512,62 @@ fn a_recovery_through_a_thin_margin_arrives() {
         }
     }
 }
+
+/// One disc between the start and the goal: the start lies on the stable manifold of the
+/// saddle behind the disc, where the continuous law (and its sampled form, `hold = "paper"`)
+/// rests for ever. The default hold comes to rest there too, then takes the steepest certified
+/// descent among 16 directions ([`Mode::FromRest`], `docs/maths.md` §10.1), and arrives; every
+/// step lowers `phi_k` and stays clear of the disc.
+#[test]
+fn a_robot_at_a_saddle_steps_off_it_and_arrives() {
+    let saddle = Vector2::new(-1.1753, 0.0);
+    let fly = |hold| {
+        let boundary = StarShape::circle(Vector2::zeros(), 5.0).unwrap();
+        let disc = StarShape::circle(Vector2::zeros(), 1.0).unwrap();
+        let options = Options::default().with_hold(hold);
+        let mut nav = Navigator::new(
+            boundary,
+            Vector2::new(3.0, 0.0),
+            Law::kinematic(1.0),
+            options,
+        )
+        .unwrap();
+        nav.add_obstacle(disc).unwrap();
+        let (h, v) = (0.01, Vector2::zeros());
+        let mut x = Vector2::new(-3.0, 0.0);
+        let mut phi = nav.evaluate(x, v).unwrap().field.phi;
+        let mut first_from_rest = None;
+        for step in 0..2_000 {
+            if (x - Vector2::new(3.0, 0.0)).norm() < 0.05 {
+                return (x, first_from_rest, true);
+            }
+            let c = nav.command(x, v).unwrap();
+            if c.mode == Mode::FromRest && first_from_rest.is_none() {
+                first_from_rest = Some((step, x));
+            }
+            x += h * c.value;
+            assert!(x.norm() > 1.0, "{hold:?}: inside the disc at {x:?}");
+            let next = nav.evaluate(x, v).unwrap().field.phi;
+            // The paper's hold is the law sampled as is: it steps across the saddle and back.
+            assert!(
+                hold == HoldPolicy::Paper || next < phi,
+                "phi_k did not fall from {phi} to {next} at {x:?}"
+            );
+            phi = next;
+        }
+        (x, first_from_rest, false)
+    };
+    let (end, _, reached) = fly(HoldPolicy::Paper);
+    // Across the saddle and back, one step of the law (1.41 cm) each period.
+    assert!(
+        !reached && (end - saddle).norm() < 0.015,
+        "the paper's hold ends at {end:?}"
+    );
+    let (_, from_rest, reached) = fly(HoldPolicy::Auto);
+    let (step, at) = from_rest.expect("a step from rest");
+    assert!(
+        (at - saddle).norm() < 1e-3,
+        "the first step from rest at {at:?}"
+    );
+    assert!(step < 300 && reached, "step {step}, reached {reached}");
+}
