@@ -77,7 +77,7 @@ pub use harmonav_floorplan::{CentrePolicy, FloorError, FloorMap, FloorOptions};
 pub use harmonav_transform::{ShapeError, StarShape};
 pub use hold::{
     CHORD_AFTER_HALVINGS, CHORD_SUBSTEPS, Command, DYNAMIC_FRACTION, KINEMATIC_FRACTION,
-    MAX_HALVINGS, MAX_TRACE_BALLS, Mode, SPEED_SLACK,
+    MAX_HALVINGS, MAX_TRACE_BALLS, Mode, REST_DIRECTIONS, REST_SCALE, SPEED_SLACK,
 };
 pub use law::Law;
 pub use nalgebra::Vector2;
