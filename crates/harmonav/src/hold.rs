@@ -199,11 +199,11 @@ pub(crate) fn kinematic(
     }
 }
 
-/// The number of directions [`kinematic_from_rest`] tries, evenly spaced.
+/// The number of directions a step from rest ([`Mode::FromRest`]) tries, evenly spaced.
 pub const REST_DIRECTIONS: usize = 16;
 
-/// Below this fraction of the law's speed the held kinematic command counts as at rest:
-/// [`kinematic_from_rest`] is tried.
+/// Below this fraction of the law's speed the held kinematic command counts as at rest, and a
+/// step from rest ([`Mode::FromRest`]) is tried.
 pub const REST_SCALE: f64 = 1e-3;
 
 /// The kinematic hold's way on from rest away from the goal (the held command below
