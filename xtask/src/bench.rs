@@ -157,6 +157,14 @@ pub fn run(options: &Options) -> ExitCode {
             let (steady, event) = observe_scan_us(beams);
             put(&format!("observe_scan_us_{beams}"), steady);
             put(&format!("observe_scan_event_us_{beams}"), event);
+            if beams == 1080 {
+                for dense in [10_000, 100_000] {
+                    put(
+                        &format!("observe_scan_dense_event_us_{dense}"),
+                        dense_scan_event_us(dense),
+                    );
+                }
+            }
             match floor_observe_scan_us(beams) {
                 Ok((steady, event)) => {
                     put(&format!("floor_observe_scan_us_{beams}"), steady);
@@ -438,6 +446,57 @@ fn observe_scan_us(beams: usize) -> (f64, f64) {
         }
     });
     (steady, event)
+}
+
+/// The first `Navigator::observe_scan` of a fresh navigator on one dense segment, µs: a full
+/// turn of `beams` noise-free beams from the origin at a disc of radius 0.5 m about (2, 0)
+/// (805 hits at 10 000 beams, 8 043 at 100 000), depth prior 1.5 m. The fit of a segment was
+/// quadratic in its hits (3.7 s at 8 043) before the cut polygons' index (docs/maths.md §12.19).
+fn dense_scan_event_us(beams: usize) -> f64 {
+    use harmonav::{LaserScan, Law, Navigator, Options, Pose, ScanOptions, StarShape, Vector2};
+    use std::f64::consts::{PI, TAU};
+    let (c, r) = (Vector2::new(2.0, 0.0), 0.5);
+    let increment = TAU / beams as f64;
+    let ranges = (0..beams)
+        .map(|i| {
+            let u = Vector2::new(
+                (-PI + i as f64 * increment).cos(),
+                (-PI + i as f64 * increment).sin(),
+            );
+            // |t u − c| = r: t = u·c − √((u·c)² − |c|² + r²), the near root.
+            let b = u.dot(&c);
+            let disc = b * b - (c.norm_squared() - r * r);
+            if disc < 0.0 {
+                f64::INFINITY
+            } else {
+                b - disc.sqrt()
+            }
+        })
+        .collect();
+    let scan = LaserScan {
+        angle_min: -PI,
+        angle_increment: increment,
+        range_min: 0.0,
+        range_max: 5.0,
+        ranges,
+    };
+    let options = Options::default().with_scan(ScanOptions {
+        max_obstacle_depth: 1.5,
+        ..ScanOptions::default()
+    });
+    let boundary = StarShape::circle(Vector2::zeros(), 10.0).expect("a valid circle");
+    let fresh = Navigator::new(
+        boundary,
+        Vector2::new(8.0, 0.0),
+        Law::kinematic(1.0),
+        options,
+    )
+    .expect("valid benchmark world");
+    let pose = Pose::new(0.0, 0.0, 0.0);
+    median_ns(3, 1e3, || {
+        let mut nav = fresh.clone();
+        black_box(nav.observe_scan(pose, black_box(&scan))).expect("the dense scan is accepted");
+    })
 }
 
 /// `FloorNavigator::observe_scan` on a scan of `beams` beams (360°, 4 m, 1 cm noise, 1 %

@@ -17,11 +17,12 @@
 //! line. The fit is [`certified`] (a radial hull or a Fourier star, [`StarForm`]) about a centre
 //! behind the visible arc over a cover of `∂Y` (eq. certify), so it contains `Y`.
 
-use std::f64::consts::TAU;
+use std::f64::consts::{PI, TAU};
 
 use harmonav_transform::ShapeError;
 use nalgebra::Vector2;
 
+use crate::boxes::{Aabb, BoxTree};
 use crate::free::{FreeSet, sagitta, segment_distance};
 use crate::perceived::{Certification, Perceived, StarForm, certified, least_hull};
 use crate::scan::{LaserScan, Pose};
@@ -140,6 +141,86 @@ struct Region {
     planes: Vec<Plane>,
     /// Runs of neighbouring cut wedges, each the polygon `s, a_i, b_i, a_{i+1}, …, b_j`.
     cuts: Vec<Vec<Vector2<f64>>>,
+    /// The cut polygons indexed for [`Region::deep_in_cut`] ([`Region::indexed`]).
+    index: CutIndex,
+}
+
+/// The cut polygons of a [`Region`] indexed so that [`Region::deep_in_cut`] costs about
+/// `O(log m)` instead of `O(m)` (`m` hits): the polygons that may hold a point found by its
+/// direction from the sensor, and in a polygon only the edges near the point visited (a
+/// [`BoxTree`] over its edges); the edges on a side cut's line (the direct test's
+/// `on_plane`) found once.
+///
+/// *The directions.* A cut polygon `s, v_1, …, v_L` (a run of wedges and end triangles, all
+/// vertices but `s` on beams) is, by the even-odd rule, inside the union of the triangles
+/// `(s, v_k, v_{k+1})` (the winding number about a point off their lines is the sum of theirs).
+/// With `α(y) = ∠(w, y − s) ∈ (−π, π]` (`w` the direction of the mean hit) and neighbouring
+/// vertices less than `π − 10⁻⁶` apart in `α` (no `v_k = s`), each triangle's points have `α`
+/// between its vertices', so the polygon's in `[α_lo, α_hi]` (its vertices' least and
+/// largest); such a polygon is *regular*. A point within `δ` of it, `r = |x − s| > 2δ`, then has
+/// `α(x)` within `μ = 2δ/r + 10⁻⁹` of that interval (or of it shifted by `±2π`): `asin(δ/r) ≤ 2δ/r`,
+/// and the computed angles are off by `~10⁻¹⁵`.
+///
+/// *Same decisions.* With `δ = 10⁻⁹·(1 + M + h)` (`M` the largest coordinate magnitude of a
+/// cut vertex) and `g = h + δ`: the crossing number computes each crossing's abscissa within
+/// `~7u·M` (`u = 2⁻⁵³`) of the true one on the edge, so at a point farther than `δ` from the
+/// polygon it is exact and says outside: a regular polygon without a side-cut edge whose
+/// interval misses `α(x)` by more than `μ` is not deep (`deep` needs inside). In a polygon, an
+/// edge box grown by `g` that misses `x` holds no edge within `h` as `segment_distance`
+/// computes it (the nearest point is computed within `~5u·M` of the box, the distance within a
+/// relative `~4u`), and a crossing lies at most `~7u·M` right of its edge's box. So the index
+/// skips only what the loops over all polygons and edges would have found false: the same
+/// decisions, to the bit. The other polygons (with a side-cut edge, or not regular) and
+/// points within `2δ` of the sensor are tested polygon by polygon.
+#[derive(Clone, Debug, Default)]
+struct CutIndex {
+    /// The sensor.
+    s: Vector2<f64>,
+    /// `w`: the direction of the mean hit from `s`.
+    w: Vector2<f64>,
+    /// The polygons tested whatever the point's direction: with an edge on a side cut's line,
+    /// or not regular.
+    always: Vec<usize>,
+    /// Per polygon, whether it is in `sectors` (regular, no side-cut edge).
+    sorted: Vec<bool>,
+    /// Per polygon, the side cuts (indices into `Region::planes`) that carry one of its edges
+    /// (each edge's first such plane, as `Iterator::find` takes it).
+    planes: Vec<Vec<usize>>,
+    /// Per polygon, whether edge `k` (`poly[k]` to `poly[k + 1]`, cyclically) lies on a side
+    /// cut's line.
+    on_plane: Vec<Vec<bool>>,
+    /// Per polygon, the tree over its edges' boxes.
+    edges: Vec<BoxTree>,
+    /// The tree over the regular polygons' intervals `[α_lo, α_hi] × {0}` (empty for the others).
+    sectors: BoxTree,
+    /// `1 + M` (`M` above).
+    scale: f64,
+}
+
+impl CutIndex {
+    /// `α(x)` (type docs), `NaN` at `x = s`.
+    fn angle(&self, x: Vector2<f64>) -> f64 {
+        let v = x - self.s;
+        if v == Vector2::zeros() {
+            return f64::NAN;
+        }
+        (self.w.x * v.y - self.w.y * v.x).atan2(self.w.dot(&v))
+    }
+
+    /// The interval `[α_lo, α_hi]` of a regular polygon (type docs), `None` if it is not.
+    fn sector(&self, poly: &[Vector2<f64>]) -> Option<(f64, f64)> {
+        let alphas: Vec<f64> = poly[1..].iter().map(|&v| self.angle(v)).collect();
+        let regular = poly[0] == self.s
+            && alphas.iter().all(|a| a.is_finite())
+            && alphas.windows(2).all(|p| (p[1] - p[0]).abs() <= PI - 1e-6);
+        regular.then(|| {
+            alphas
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &a| {
+                    (lo.min(a), hi.max(a))
+                })
+        })
+    }
 }
 
 impl Region {
@@ -177,28 +258,122 @@ impl Region {
         (lo <= hi && hi >= 0.0).then_some((lo.max(0.0), hi))
     }
 
+    /// The region with its cut polygons indexed ([`CutIndex`]) for the sensor `s` and the
+    /// direction `w` of the mean hit, once the cuts and the side cuts are final.
+    fn indexed(mut self, s: Vector2<f64>, w: Vector2<f64>) -> Self {
+        let mut index = CutIndex {
+            s,
+            w,
+            scale: 1.0
+                + self
+                    .cuts
+                    .iter()
+                    .flatten()
+                    .map(|v| v.x.abs().max(v.y.abs()))
+                    .fold(0.0, f64::max),
+            ..CutIndex::default()
+        };
+        let mut sectors = Vec::with_capacity(self.cuts.len());
+        for (k, poly) in self.cuts.iter().enumerate() {
+            let carrier: Vec<Option<usize>> = edges(poly)
+                .map(|(a, b)| {
+                    self.planes
+                        .iter()
+                        .position(|p| p.on_line(a) && p.on_line(b))
+                })
+                .collect();
+            let mut planes: Vec<usize> = carrier.iter().flatten().copied().collect();
+            planes.dedup();
+            let sector = index.sector(poly).filter(|_| planes.is_empty());
+            if sector.is_none() {
+                index.always.push(k);
+            }
+            index.sorted.push(sector.is_some());
+            sectors.push(sector.map_or(Aabb::EMPTY, |(lo, hi)| Aabb {
+                min: Vector2::new(lo, 0.0),
+                max: Vector2::new(hi, 0.0),
+            }));
+            index.planes.push(planes);
+            index
+                .on_plane
+                .push(carrier.iter().map(Option::is_some).collect());
+            let boxes: Vec<Aabb> = edges(poly).map(|(a, b)| Aabb::of([a, b])).collect();
+            index.edges.push(BoxTree::new(&boxes));
+        }
+        index.sectors = BoxTree::new(&sectors);
+        self.index = index;
+        self
+    }
+
     /// Whether `B(x, h)` lies in the removed set `int(cuts) ∪ {beyond a side cut}`: `x` inside
     /// a cut polygon (or more than `h` beyond a side cut whose beam carries one of its edges)
     /// and more than `h` from the polygon's other edges. (A ball that meets no other edge can leave the
     /// polygon only across the side cut's beam, into the removed half-plane.)
+    ///
+    /// Only the polygons that may hold `x` by its direction from the sensor are tested, and the
+    /// others with a side-cut edge or not regular ([`CutIndex`]: the rest are not deep);
+    /// [`Region::deep_in_polygon`] then looks only at the edges near `x`.
     fn deep_in_cut(&self, x: Vector2<f64>, h: f64) -> bool {
-        self.cuts.iter().any(|poly| {
-            let on_plane = |a: Vector2<f64>, b: Vector2<f64>| {
-                self.planes.iter().find(|p| p.on_line(a) && p.on_line(b))
-            };
-            let mut beyond = false;
-            let mut near = f64::INFINITY;
-            for (a, b) in edges(poly) {
-                match on_plane(a, b) {
-                    // Beyond by more than `h`: a point on the beam's line (where `∂Y`
-                    // runs along a side cut) or just beyond it by rounding has a ball that
-                    // reaches back into `Y`.
-                    Some(p) => beyond |= p.m.dot(&(x - p.s)) < -h,
-                    None => near = near.min(segment_distance(a, b, x)),
-                }
-            }
-            (beyond || inside(poly, x)) && near > h
-        })
+        let index = &self.index;
+        let delta = 1e-9 * (index.scale + h);
+        let g = h + delta;
+        let r = (x - index.s).norm();
+        let alpha = index.angle(x);
+        if !(r > 2.0 * delta && alpha.is_finite()) {
+            return (0..self.cuts.len()).any(|k| self.deep_in_polygon(k, x, h, g));
+        }
+        let mu = 2.0 * delta / r + 1e-9;
+        let towards = |b: &Aabb| {
+            [alpha - TAU, alpha, alpha + TAU]
+                .iter()
+                .any(|&a| b.holds(Vector2::new(a, 0.0), mu))
+        };
+        index
+            .always
+            .iter()
+            .any(|&k| self.deep_in_polygon(k, x, h, g))
+            || index.sectors.any(&towards, &mut |k| {
+                index.sorted[k] && self.deep_in_polygon(k, x, h, g)
+            })
+    }
+
+    /// [`Region::deep_in_cut`] for cut polygon `k` (`g` its slack): more than `h` beyond a
+    /// side cut that carries one of its edges, or inside it (the crossing number over the
+    /// edges that straddle `x`'s row and do not lie wholly left of it, more than `g`), and
+    /// more than `h` from every other edge (over the edges whose box grown by `g` holds `x`).
+    ///
+    /// ```text
+    /// deep_k(x) = (∃ side edge on plane p: m_p·(x − s) < −h  ∨  x ∈ int P_k)  ∧  ∀ other edge e: d(x, e) > h
+    /// ```
+    fn deep_in_polygon(&self, k: usize, x: Vector2<f64>, h: f64, g: f64) -> bool {
+        let (poly, index) = (&self.cuts[k], &self.index);
+        // Beyond by more than `h`: a point on the beam's line (where `∂Y` runs along a side
+        // cut) or just beyond it by rounding has a ball that reaches back into `Y`.
+        let beyond = index.planes[k].iter().any(|&j| {
+            let p = &self.planes[j];
+            p.m.dot(&(x - p.s)) < -h
+        });
+        let edge = |e: usize| (poly[e], poly[(e + 1) % poly.len()]);
+        let tree = &index.edges[k];
+        let inside = || {
+            let mut odd = false;
+            tree.any(
+                &|b| b.min.y <= x.y && x.y < b.max.y && x.x <= b.max.x + g,
+                &mut |e| {
+                    let (a, b) = edge(e);
+                    odd ^= crosses(a, b, x);
+                    false
+                },
+            );
+            odd
+        };
+        let near = || {
+            tree.any(&|b| b.holds(x, g), &mut |e| {
+                let (a, b) = edge(e);
+                !index.on_plane[k][e] && segment_distance(a, b, x) <= h
+            })
+        };
+        (beyond || inside()) && !near()
     }
 }
 
@@ -208,28 +383,44 @@ fn edges(poly: &[Vector2<f64>]) -> impl Iterator<Item = (Vector2<f64>, Vector2<f
 
 /// Crossing-number point-in-polygon.
 fn inside(poly: &[Vector2<f64>], x: Vector2<f64>) -> bool {
-    let mut odd = false;
-    for (a, b) in edges(poly) {
-        if (a.y > x.y) != (b.y > x.y) {
-            let t = (x.y - a.y) / (b.y - a.y);
-            if x.x < a.x + t * (b.x - a.x) {
-                odd = !odd;
-            }
-        }
-    }
-    odd
+    edges(poly).fold(false, |odd, (a, b)| odd ^ crosses(a, b, x))
 }
 
-/// The largest distance between two of the points (`O(m²)`).
+/// Whether the edge `ab` crosses the ray from `x` towards `+x` (half-open in `y`: it straddles
+/// the row, `min(a_y, b_y) ≤ x_y < max(a_y, b_y)`).
+fn crosses(a: Vector2<f64>, b: Vector2<f64>, x: Vector2<f64>) -> bool {
+    if (a.y > x.y) != (b.y > x.y) {
+        let t = (x.y - a.y) / (b.y - a.y);
+        x.x < a.x + t * (b.x - a.x)
+    } else {
+        false
+    }
+}
+
+/// The largest distance between two of the points, `max |p_i − p_j|` as computed pair by
+/// pair. A bounding-volume hierarchy (`boxes::BoxTree`) over the points skips, for each point
+/// `a`, the nodes whose farthest corner from `a` is not farther than the largest distance found
+/// so far: the computed distance to a point of a box is at most the one to the corner with the
+/// larger `|a_x − x|` and `|a_y − y|` (rounding is monotone), so the skipped pairs cannot raise the
+/// maximum and the result is the one of the loop over all pairs, to the bit. `O(m log m)` for
+/// hits along a curve, `O(m²)` at worst.
 #[must_use]
 pub fn span(points: &[Vector2<f64>]) -> f64 {
-    let mut best = 0.0f64;
-    for (i, a) in points.iter().enumerate() {
-        for b in &points[i + 1..] {
-            best = best.max((a - b).norm());
-        }
+    let boxes: Vec<Aabb> = points.iter().map(|&p| Aabb::of([p])).collect();
+    let tree = BoxTree::new(&boxes);
+    let best = std::cell::Cell::new(0.0f64);
+    for a in points {
+        let farthest = |b: &Aabb| {
+            let dx = (a.x - b.min.x).abs().max((a.x - b.max.x).abs());
+            let dy = (a.y - b.min.y).abs().max((a.y - b.max.y).abs());
+            Vector2::new(dx, dy).norm()
+        };
+        tree.any(&|b| farthest(b) > best.get(), &mut |j| {
+            best.set(best.get().max((a - points[j]).norm()));
+            false
+        });
     }
-    best
+    best.get()
 }
 
 /// The wedge cut `T_i` between hits `(p, u)` and `(q, v)` (eq. region), as its far vertices
@@ -313,6 +504,7 @@ fn region(
         radius: params.max_obstacle_depth + params.range_noise,
         planes: Vec::new(),
         cuts: Vec::new(),
+        index: CutIndex::default(),
     };
     // Eq. side: the first beam outward on each side whose free part covers its chord of K.
     let mut side_beam: [Option<Vector2<f64>>; 2] = [None, None];
@@ -388,7 +580,9 @@ fn region(
     if !run.is_empty() {
         region.cuts.push(run);
     }
-    region
+    let mean = points.iter().sum::<Vector2<f64>>() / m as f64;
+    let w = (mean - s).try_normalize(0.0).unwrap_or(Vector2::x());
+    region.indexed(s, w)
 }
 
 /// A cover of `∂Y` with spacing `h`: points of the circles of `K` within `h` of `K` and not
@@ -634,4 +828,268 @@ pub fn fit_in_scan(
     let dirs: Vec<Vector2<f64>> = seg.beams.iter().map(|&i| scan.direction(pose, i)).collect();
     let sides = side_beams(scan, pose, seg, params.range_noise);
     fit_segment(pose.position(), &points, &dirs, &sides, params, free)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::free::FreeSpace;
+    use crate::segment::segment;
+    use crate::sim::Lidar;
+    use harmonav_transform::StarShape;
+    use harmonav_transform::random::{self, Kind, Rng};
+
+    /// The direct test the index replaces: every polygon, every edge.
+    fn deep_in_cut_direct(region: &Region, x: Vector2<f64>, h: f64) -> bool {
+        region.cuts.iter().any(|poly| {
+            let on_plane = |a: Vector2<f64>, b: Vector2<f64>| {
+                region.planes.iter().find(|p| p.on_line(a) && p.on_line(b))
+            };
+            let mut beyond = false;
+            let mut near = f64::INFINITY;
+            for (a, b) in edges(poly) {
+                match on_plane(a, b) {
+                    Some(p) => beyond |= p.m.dot(&(x - p.s)) < -h,
+                    None => near = near.min(segment_distance(a, b, x)),
+                }
+            }
+            (beyond || inside(poly, x)) && near > h
+        })
+    }
+
+    /// The direct loop over all pairs.
+    fn span_direct(points: &[Vector2<f64>]) -> f64 {
+        let mut best = 0.0f64;
+        for (i, a) in points.iter().enumerate() {
+            for b in &points[i + 1..] {
+                best = best.max((a - b).norm());
+            }
+        }
+        best
+    }
+
+    /// The regions of every segment of a scan of `obstacles` from `pose`, with the scan's free
+    /// set.
+    fn regions(
+        lidar: &Lidar,
+        pose: &Pose,
+        obstacles: &[StarShape],
+        params: &FitParams,
+        rng: &mut Rng,
+    ) -> Vec<(Region, Vec<Vector2<f64>>, FreeSpace)> {
+        let scan = lidar.scan(pose, obstacles, None, rng);
+        let n = scan.ranges.len();
+        let usable: Vec<bool> = (0..n)
+            .map(|i| hit_point(&scan, pose, i).is_some())
+            .collect();
+        let free = FreeSpace::of_scan(&scan, pose, params.range_noise, params.rho_min);
+        segment(&scan, pose, &usable, 0.1)
+            .iter()
+            .map(|seg| {
+                let points: Vec<Vector2<f64>> = seg
+                    .beams
+                    .iter()
+                    .map(|&i| hit_point(&scan, pose, i).expect("hits"))
+                    .collect();
+                let dirs: Vec<Vector2<f64>> =
+                    seg.beams.iter().map(|&i| scan.direction(pose, i)).collect();
+                let sides = side_beams(&scan, pose, seg, params.range_noise);
+                let r = region(pose.position(), &points, &dirs, &sides, params);
+                (r, points, free.clone())
+            })
+            .collect()
+    }
+
+    /// Points where `deep_in_cut` is queried or decided: the cover and the free set's
+    /// boundary samples (what the fit asks), random points about `K`, the cut vertices and
+    /// points on the cut edges moved by nothing, by rounding and by about `h`, points on the
+    /// side cuts' lines, and the sensor and points near it.
+    fn probes(
+        region: &Region,
+        free: &FreeSpace,
+        s: Vector2<f64>,
+        h: f64,
+        rng: &mut Rng,
+    ) -> Vec<Vector2<f64>> {
+        let mut out = cover(region, h);
+        out.extend(free.boundary_samples(h, region.discs[0], region.radius, &|_| true));
+        let c = region.discs[0];
+        for _ in 0..2000 {
+            let v = Vector2::new(rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0));
+            out.push(c + 1.2 * region.radius * v);
+        }
+        for poly in &region.cuts {
+            // At most about 400 edges of a long polygon (the loops are slow).
+            let every = poly.len().div_ceil(400);
+            for (a, b) in edges(poly).step_by(every) {
+                for t in [0.0, 0.5, rng.uniform(0.0, 1.0)] {
+                    let x = a + t * (b - a);
+                    let n = Vector2::new(b.y - a.y, a.x - b.x).try_normalize(0.0);
+                    let n = n.unwrap_or(Vector2::x());
+                    out.push(x);
+                    for d in [1e-15, 1e-12, h, h * (1.0 + 1e-12), 0.5 * h, 2.0 * h] {
+                        out.push(x + d * n);
+                        out.push(x - d * n);
+                    }
+                }
+            }
+        }
+        for p in &region.planes {
+            for _ in 0..50 {
+                let t = rng.uniform(0.0, p.chord.1 + h);
+                let x = p.s + t * p.u;
+                out.extend([x, x + h * p.m, x - h * p.m, x - 2.0 * h * p.m]);
+            }
+        }
+        out.push(s);
+        for d in [1e-15, 1e-9, 1e-6, 1e-3] {
+            for k in 0..16 {
+                let a = TAU * f64::from(k) / 16.0;
+                out.push(s + d * Vector2::new(a.cos(), a.sin()));
+            }
+        }
+        out
+    }
+
+    /// Checks the index against the direct loops on the probes of every region of a scan;
+    /// returns (regions, cut polygons, largest polygon count, side cuts, deep decisions).
+    fn check(
+        lidar: &Lidar,
+        pose: &Pose,
+        obstacles: &[StarShape],
+        params: &FitParams,
+        rng: &mut Rng,
+    ) -> (usize, usize, usize, usize, usize) {
+        let (mut count, mut polys, mut most, mut planes, mut deep) = (0, 0, 0, 0, 0);
+        for (region, points, free) in regions(lidar, pose, obstacles, params, rng) {
+            count += 1;
+            polys += region.cuts.len();
+            most = most.max(region.cuts.len());
+            planes += region.planes.len();
+            for h in [0.0, params.check_spacing, 0.05] {
+                for x in probes(&region, &free, pose.position(), h.max(1e-3), rng) {
+                    let want = deep_in_cut_direct(&region, x, h);
+                    assert_eq!(region.deep_in_cut(x, h), want, "x {x:?}, h {h}");
+                    deep += usize::from(want);
+                }
+            }
+            assert_eq!(span(&points), span_direct(&points));
+        }
+        (count, polys, most, planes, deep)
+    }
+
+    fn params(eps: f64, depth: f64, rho_min: f64) -> FitParams {
+        FitParams {
+            range_noise: eps,
+            max_obstacle_depth: depth,
+            rho_min,
+            order: 6,
+            form: StarForm::Fourier,
+            check_spacing: 0.01,
+            keep_out: 0.0,
+        }
+    }
+
+    /// A disc straight behind the sensor of a 360° scan (its segment wraps at `±π`), seen
+    /// alone (side cuts and end cuts on both sides), with and without noise, sparse and dense.
+    #[test]
+    fn index_decides_as_the_loops_across_the_wrap() {
+        let mut rng = Rng::new(1);
+        let disc = StarShape::circle(Vector2::new(-2.0, 0.0), 0.5).expect("a disc");
+        let pose = Pose::new(0.0, 0.0, 0.0);
+        let (mut planes, mut deep) = (0, 0);
+        for (beams, noise) in [(360, 0.0), (1000, 0.01), (3000, 0.0), (3000, 0.02)] {
+            let lidar = Lidar {
+                noise,
+                ..Lidar::full_turn(beams, 5.0)
+            };
+            let (count, _, most, p, d) = check(
+                &lidar,
+                &pose,
+                std::slice::from_ref(&disc),
+                &params(0.02, 1.5, 0.05),
+                &mut rng,
+            );
+            assert_eq!(count, 1, "one segment, across the wrap");
+            assert!(most >= 1);
+            (planes, deep) = (planes + p, deep + d);
+        }
+        assert!(planes >= 4, "side cuts: {planes}");
+        assert!(deep > 1000, "deep decisions: {deep}");
+    }
+
+    /// Random shapes and poses, noisy dense scans with small `ρ_min` (many short runs of cut
+    /// wedges: many polygons), occlusions, and scans of a limited aperture.
+    #[test]
+    fn index_decides_as_the_loops_on_random_scans() {
+        let mut rng = Rng::new(2);
+        let (mut most, mut deep) = (0, 0);
+        for trial in 0..24 {
+            let kind = [Kind::Circle, Kind::Ellipse, Kind::Star][trial % 3];
+            let obstacles: Vec<StarShape> = (0..3)
+                .map(|_| {
+                    let (c, size) = (rng.point(2.5), rng.uniform(0.15, 0.6));
+                    random::shape(&mut rng, kind, c, size)
+                })
+                .collect();
+            let Some(pose) = (0..100)
+                .map(|_| rng.point(3.0))
+                .find(|p| obstacles.iter().all(|o| o.signed_distance(*p) > 0.2))
+                .map(|p| Pose::new(p.x, p.y, rng.uniform(-3.0, 3.0)))
+            else {
+                continue;
+            };
+            let lidar = Lidar {
+                noise: rng.uniform(0.0, 0.02),
+                dropout: 0.02,
+                aperture: if trial % 4 == 3 { 4.0 } else { TAU },
+                ..Lidar::full_turn([360, 1080, 2000][trial % 3], 8.0)
+            };
+            let rho = [0.05, 0.1, 0.3][(trial / 3) % 3];
+            let (_, _, m, _, d) =
+                check(&lidar, &pose, &obstacles, &params(0.02, 1.5, rho), &mut rng);
+            most = most.max(m);
+            deep += d;
+        }
+        assert!(most >= 2, "a region with several cut polygons: {most}");
+        assert!(deep > 1000, "deep decisions: {deep}");
+    }
+
+    /// A dense noisy scan: neighbouring hits 1 mm apart whose ranges differ by up to 4 cm
+    /// leave many wedges uncut at grazing incidence, so the cut is many short polygons.
+    #[test]
+    fn index_decides_as_the_loops_with_many_polygons() {
+        let mut rng = Rng::new(4);
+        let disc = StarShape::circle(Vector2::new(1.2, 1.6), 0.5).expect("a disc");
+        let lidar = Lidar {
+            noise: 0.02,
+            ..Lidar::full_turn(12_000, 5.0)
+        };
+        let pose = Pose::new(0.0, 0.0, 0.3);
+        let (count, _, most, _, deep) =
+            check(&lidar, &pose, &[disc], &params(0.02, 1.5, 0.05), &mut rng);
+        assert_eq!(count, 1);
+        assert!(most >= 50, "many cut polygons: {most}");
+        assert!(deep > 1000, "deep decisions: {deep}");
+    }
+
+    /// The span over a tree is the direct loop's, to the bit.
+    #[test]
+    fn span_is_the_loop_over_pairs() {
+        let mut rng = Rng::new(3);
+        for m in [0, 1, 2, 3, 9, 50, 400] {
+            for _ in 0..5 {
+                let arc = rng.uniform(0.1, 6.0);
+                let points: Vec<Vector2<f64>> = (0..m)
+                    .map(|i| {
+                        let a = arc * i as f64 / m.max(1) as f64;
+                        Vector2::new(a.cos(), a.sin()) * rng.uniform(0.9, 1.1)
+                    })
+                    .collect();
+                assert_eq!(span(&points), span_direct(&points));
+                let cloud: Vec<Vector2<f64>> = (0..m).map(|_| rng.point(3.0)).collect();
+                assert_eq!(span(&cloud), span_direct(&cloud));
+            }
+        }
+    }
 }

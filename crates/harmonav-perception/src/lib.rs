@@ -105,6 +105,7 @@
 
 #![warn(missing_docs)]
 
+mod boxes;
 pub mod fit;
 pub mod free;
 pub mod perceived;
