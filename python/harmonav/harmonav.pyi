@@ -179,7 +179,8 @@ class Navigator:
     @property
     def mode(self) -> str:
         """How the last command was formed: ``"law"``, ``"capped"``, ``"recovering"`` or
-        ``"from-rest"`` (off a saddle of Θ where the kinematic law's step had come to rest)."""
+        ``"from-rest"`` (where the kinematic law's held step had come to rest away from the goal,
+        at a saddle of Θ or in a narrow valley: the steepest certified descent of 16 directions)."""
     @property
     def control_period(self) -> float:
         """The control period in force, s (default 0.01 kinematic, 0.001 dynamic)."""

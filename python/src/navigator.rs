@@ -49,8 +49,10 @@ use crate::shapes::{Shape, from_perceived};
 /// `control_period` (s; default 0.01 kinematic, 0.001 dynamic) is how long your loop holds
 /// each command (`x += h·u`, or `v += h·f/m; x += h·v`): under `hold="auto"` (the default)
 /// every command is safe to hold for it (`docs/maths.md` §10), and `mode` says whether the last
-/// one was the law's (`"law"`), shortened (`"capped"`) or leads out of the margin band
-/// (`"recovering"`). `hold="paper"` gives the continuous law sampled as is.
+/// one was the law's (`"law"`), shortened (`"capped"`), leads out of the margin band
+/// (`"recovering"`) or, the kinematic law's held step having come to rest away from the goal
+/// (a saddle of `Θ`, a narrow valley), is the steepest certified descent among 16 directions
+/// (`"from-rest"`, §10.1). `hold="paper"` gives the continuous law sampled as is.
 ///
 /// Invalid parameters raise `ValueError` with the Rust `NavError`'s message, which names the
 /// parameter (every range is the scenario files'; `d_min`, the speed bound and `λ_c` are
@@ -117,6 +119,15 @@ fn nav_error(e: NavError) -> PyErr {
 /// arguments the law does not use must still be finite and positive: a NaN left in one is a
 /// mistake that would only surface when the law is switched.
 pub(crate) fn law_named(law: &str, gain: f64, mass: f64, mu: f64) -> PyResult<Law> {
+    let named = match law {
+        "kinematic" => Law::kinematic(gain),
+        "dynamic" => Law::dynamic(mass, mu),
+        other => {
+            return Err(value_error(format!(
+                "unknown law \"{other}\": expected \"kinematic\" or \"dynamic\""
+            )));
+        }
+    };
     for (name, value) in [("gain", gain), ("mass", mass), ("mu", mu)] {
         if !(value.is_finite() && value > 0.0) {
             return Err(value_error(format!(
@@ -125,13 +136,7 @@ pub(crate) fn law_named(law: &str, gain: f64, mass: f64, mu: f64) -> PyResult<La
             )));
         }
     }
-    match law {
-        "kinematic" => Ok(Law::kinematic(gain)),
-        "dynamic" => Ok(Law::dynamic(mass, mu)),
-        other => Err(value_error(format!(
-            "unknown law \"{other}\": expected \"kinematic\" or \"dynamic\""
-        ))),
-    }
+    Ok(named)
 }
 
 /// The arguments of `observe_scan` as the Rust navigators take them: the sensor's pose (at
@@ -549,8 +554,8 @@ impl Navigator {
 
     /// How the last command was formed: `"law"`, `"capped"` (shortened to be safe to hold),
     /// `"recovering"` (out of the margin band) or `"from-rest"` (the kinematic law's step had
-    /// come to rest away from the goal, at a saddle of `Θ`: the steepest certified descent
-    /// among 16 directions instead); `"law"` before the first.
+    /// come to rest away from the goal, at a saddle of `Θ` or in a narrow valley: the steepest
+    /// certified descent among 16 directions instead); `"law"` before the first.
     #[getter]
     fn mode(&self) -> &'static str {
         self.mode.as_str()

@@ -107,6 +107,7 @@ def test_bad_states_raise_and_nan_does_not_crash():
         (dict(mu=-1.0), "`mu`"),
         (dict(law="dynamic", gain=float("inf")), "`gain`"),
         (dict(free_memory=-1), "`free_memory`: must be an integer from 0 to 256"),
+        (dict(law="pid", gain=float("nan")), "unknown law"),  # the law's name first
     ],
 )
 def test_bad_options_are_refused(kwargs, word):

@@ -623,6 +623,14 @@ impl FloorMap {
     /// inside `W_s`; `None` on the boundary itself.
     #[must_use]
     pub fn toward_boundary(&self, x: Vector2<f64>) -> Option<Vector2<f64>> {
+        // Beyond `FAR` parry's projection overflows (as in `far_distance`): every wall lies
+        // towards any vertex `a` to rounding.
+        if x.x.abs().max(x.y.abs()) > FAR {
+            let a = self.boundary.vertices().first()?;
+            let d = Vector2::new(a.x - x.x, a.y - x.y);
+            let norm = d.x.hypot(d.y);
+            return (norm > 0.0 && norm.is_finite()).then(|| d / norm);
+        }
         let p = self
             .boundary
             .project_local_point(PVector::new(x.x, x.y), false)

@@ -224,6 +224,13 @@ fn far_points_are_as_far_from_the_walls_as_they_are_from_the_origin() {
                 "{x:?}: {}",
                 floor.clearance(x)
             );
+            // Towards the walls: back towards the origin, a unit vector (it was `None`, "on
+            // the boundary", beyond 1e154 m).
+            let t = floor.toward_boundary(x).expect("a direction");
+            assert!(
+                (t.norm() - 1.0).abs() < 1e-12 && t.dot(&(-x / r)) > 0.999,
+                "{x:?}: {t:?}"
+            );
         }
     }
     let Err(e) = FloorField::new(floor, v(1e200, 1.0), KPolicy::Auto) else {

@@ -127,7 +127,7 @@ pub struct Flight {
     pub grown_clearance: f64,
     /// The fastest speed, m/s.
     pub max_speed: f64,
-    /// Commands shortened by the hold.
+    /// Commands shortened by the hold, and steps from rest ([`Mode::FromRest`]).
     pub capped: usize,
     /// Commands out of the margin band.
     pub recoveries: usize,

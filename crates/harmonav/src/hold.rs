@@ -15,8 +15,10 @@ use nalgebra::Vector2;
 use crate::certified::{BLIND, Band, clearance, ray};
 use crate::space::Space;
 
-/// How a command was formed ([`Command::mode`]).
+/// How a command was formed ([`Command::mode`]). Non-exhaustive: a later release may add a
+/// way of forming a command (`FromRest` was added on 2026-12-05).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum Mode {
     /// The law's command, safe to hold for the control period as it is (under
     /// [`crate::HoldPolicy::Paper`]: the continuous law, unchecked).
@@ -218,7 +220,9 @@ pub const REST_SCALE: f64 = 1e-3;
 /// that scale: only the goal, for a navigation function) or at the goal itself.
 ///
 /// Every step is one of [`kinematic_step`]'s, so the hold's guarantees stand: each step is
-/// certified free and decreases `phi_k`; `Θ` never returns to the saddle's level.
+/// certified free and decreases `phi_k`; `Θ` never returns to the saddle's level. Cost: up to
+/// [`REST_DIRECTIONS`] single steps, some tens of µs, paid only at rest (also where no
+/// direction lowers `phi_k`, every period).
 pub(crate) fn kinematic_from_rest(
     field: &impl Space,
     x: Vector2<f64>,

@@ -214,6 +214,7 @@ fn commands_are_the_laws_on_the_known_obstacles() {
                     // Only where the law's own step is held to rest (a saddle): at the law's
                     // speed, in another direction.
                     Mode::FromRest => assert!(c.value.norm() <= u.norm() * (1.0 + 1e-12)),
+                    other => panic!("a mode this test does not know: {other:?}"),
                 }
                 // The discovery speed is that of the last command before the additions: 0.
                 let d = law.damping(&field, &e, v, 0.0);
