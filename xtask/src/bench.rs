@@ -453,33 +453,13 @@ fn observe_scan_us(beams: usize) -> (f64, f64) {
 /// (805 hits at 10 000 beams, 8 043 at 100 000), depth prior 1.5 m. The fit of a segment was
 /// quadratic in its hits (3.7 s at 8 043) before the cut polygons' index (docs/maths.md §12.19).
 fn dense_scan_event_us(beams: usize) -> f64 {
-    use harmonav::{LaserScan, Law, Navigator, Options, Pose, ScanOptions, StarShape, Vector2};
-    use std::f64::consts::{PI, TAU};
-    let (c, r) = (Vector2::new(2.0, 0.0), 0.5);
-    let increment = TAU / beams as f64;
-    let ranges = (0..beams)
-        .map(|i| {
-            let u = Vector2::new(
-                (-PI + i as f64 * increment).cos(),
-                (-PI + i as f64 * increment).sin(),
-            );
-            // |t u − c| = r: t = u·c − √((u·c)² − |c|² + r²), the near root.
-            let b = u.dot(&c);
-            let disc = b * b - (c.norm_squared() - r * r);
-            if disc < 0.0 {
-                f64::INFINITY
-            } else {
-                b - disc.sqrt()
-            }
-        })
-        .collect();
-    let scan = LaserScan {
-        angle_min: -PI,
-        angle_increment: increment,
-        range_min: 0.0,
-        range_max: 5.0,
-        ranges,
-    };
+    use harmonav::perception::sim::Lidar;
+    use harmonav::{Law, Navigator, Options, Pose, ScanOptions, StarShape, Vector2};
+    let disc = StarShape::circle(Vector2::new(2.0, 0.0), 0.5).expect("a valid circle");
+    let pose = Pose::new(0.0, 0.0, 0.0);
+    // Noise-free, no dropouts: the seed does not matter.
+    let mut rng = harmonav::transform::random::Rng::new(1);
+    let scan = Lidar::full_turn(beams, 5.0).scan(&pose, &[disc], None, &mut rng);
     let options = Options::default().with_scan(ScanOptions {
         max_obstacle_depth: 1.5,
         ..ScanOptions::default()
@@ -492,7 +472,6 @@ fn dense_scan_event_us(beams: usize) -> f64 {
         options,
     )
     .expect("valid benchmark world");
-    let pose = Pose::new(0.0, 0.0, 0.0);
     median_ns(3, 1e3, || {
         let mut nav = fresh.clone();
         black_box(nav.observe_scan(pose, black_box(&scan))).expect("the dense scan is accepted");

@@ -278,20 +278,24 @@ fn polyline(d: &Domain) -> Polyline {
     Polyline::new(vertices, Some(indices))
 }
 
-/// Beyond [`FAR`] (m) from the origin, the distance from `x` to `walls`.
+/// Beyond [`FAR`] (m) from the origin, `(a − x, |a − x|)` for a vertex `a` of `walls`: the
+/// offset to the walls and its length, the distance.
 ///
 /// parry's point queries square the coordinates, so beyond about 1e154 m they overflow (a
-/// distance of `∞`, or a projection at `x` itself, so 0). Every wall lies within
-/// `MAX_COORDINATE` (1e9 m) of the origin, so from `|x|_∞ > FAR` every wall point is
-/// `|x − a|` away to a relative `2·1e9/FAR` (below rounding), `a` any vertex; `hypot` does
-/// not overflow.
-fn far_distance(walls: &Polyline, x: Vector2<f64>) -> Option<f64> {
+/// distance of `∞`, or a projection at `x` itself, so 0 and no direction). Every wall lies
+/// within `MAX_COORDINATE` (1e9 m) of the origin, so from `|x|_∞ > FAR` every wall point is
+/// `|x − a|` away, in the direction of `a − x`, to a relative `2·1e9/FAR` (below rounding);
+/// `hypot` does not overflow.
+fn far_offset(walls: &Polyline, x: Vector2<f64>) -> Option<(Vector2<f64>, f64)> {
     let a = walls.vertices().first()?;
-    (x.x.abs().max(x.y.abs()) > FAR).then(|| (x.x - a.x).hypot(x.y - a.y))
+    (x.x.abs().max(x.y.abs()) > FAR).then(|| {
+        let d = Vector2::new(a.x - x.x, a.y - x.y);
+        (d, d.x.hypot(d.y))
+    })
 }
 
-/// Where [`far_distance`] takes over from parry's queries, m: far below their overflow and
-/// far enough that every wall is equally far to rounding.
+/// Where [`far_offset`] takes over from parry's queries, m: far below their overflow and far
+/// enough that every wall is equally far to rounding.
 const FAR: f64 = 1e30;
 
 /// The most a circumscribed arc piece turns (rad).
@@ -599,7 +603,7 @@ impl FloorMap {
     /// exact to rounding.
     #[must_use]
     pub fn wall_distance(&self, x: Vector2<f64>) -> f64 {
-        if let Some(d) = far_distance(&self.walls, x) {
+        if let Some((_, d)) = far_offset(&self.walls, x) {
             return d;
         }
         self.walls
@@ -610,7 +614,7 @@ impl FloorMap {
     /// negative outside it. 1-Lipschitz.
     #[must_use]
     pub fn signed_distance(&self, x: Vector2<f64>) -> f64 {
-        if let Some(d) = far_distance(&self.boundary, x) {
+        if let Some((_, d)) = far_offset(&self.boundary, x) {
             return -d;
         }
         let d = self
@@ -623,12 +627,7 @@ impl FloorMap {
     /// inside `W_s`; `None` on the boundary itself.
     #[must_use]
     pub fn toward_boundary(&self, x: Vector2<f64>) -> Option<Vector2<f64>> {
-        // Beyond `FAR` parry's projection overflows (as in `far_distance`): every wall lies
-        // towards any vertex `a` to rounding.
-        if x.x.abs().max(x.y.abs()) > FAR {
-            let a = self.boundary.vertices().first()?;
-            let d = Vector2::new(a.x - x.x, a.y - x.y);
-            let norm = d.x.hypot(d.y);
+        if let Some((d, norm)) = far_offset(&self.boundary, x) {
             return (norm > 0.0 && norm.is_finite()).then(|| d / norm);
         }
         let p = self
