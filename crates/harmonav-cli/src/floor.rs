@@ -12,6 +12,7 @@ use harmonav_scenario::floorplan::{FloorPrepared, FloorScenario, StartsSpec};
 use harmonav_scenario::scenario::read_text;
 use harmonav_sim::floor::{FloorSummary, navigator, obstacle_name};
 use harmonav_sim::physics::simulate_floor_observed;
+use harmonav_transform::Shown;
 
 use crate::args::model;
 use crate::error::CliError;
@@ -64,6 +65,21 @@ pub fn cmd_check_floor(prepared: &FloorPrepared) -> Result<bool, CliError> {
         prepared.floor.delta(),
         prepared.setup_seconds
     );
+    if let Some(specks) = prepared.specks {
+        match specks.largest_at {
+            None => out!("specks: none dropped from the map"),
+            Some(at) => out!(
+                "specks: {} occupied island(s) of {} pixel(s) in all dropped from the map as \
+                 noise (floor_plan.speck_pixels); the largest, {} pixel(s), at ({}, {}); a run \
+                 is still judged against every pixel of the map",
+                specks.count,
+                specks.pixels,
+                specks.largest,
+                Shown(at[0]),
+                Shown(at[1])
+            ),
+        }
+    }
     let (level, below) = prepared
         .start_certificates()
         .map_err(|e| CliError::Navigator {
@@ -71,11 +87,18 @@ pub fn cmd_check_floor(prepared: &FloorPrepared) -> Result<bool, CliError> {
             error: harmonav_rs::NavError::Floor(e),
         })?;
     out!(
-        "c_δ = {:.6} certified on the edge of the certified region (sampled least Θ {:.6}, {} \
+        "c_δ = {:.6} certified on the edge of the certified region ({}, {} \
          cells{}): {} of {} starts below it, whose sublevel sets stay inside the certified \
          region; the others run under the hold, clear at every step",
         level.certified(),
-        level.sampled(),
+        match (level.phi_sampled.is_finite(), level.skipped) {
+            (true, 0) => format!("sampled least Θ {:.6}", level.sampled()),
+            (true, n) => format!(
+                "sampled least Θ {:.6}, {n} edge samples not evaluated",
+                level.sampled()
+            ),
+            (false, n) => format!("no edge sample could be evaluated ({n} tried)"),
+        },
         level.evaluations,
         if level.unresolved > 0 {
             format!(", {} at the depth limit", level.unresolved)

@@ -23,6 +23,14 @@ use crate::theta::FloorField;
 /// ([`FloorField::layer_slide`] and the sampled value of [`FloorField::certify_layer_level`]).
 pub const EDGE_NUDGE: f64 = 1e-9;
 
+/// The least nudge of an edge sample, in ulps of its largest coordinate
+/// ([`FloorField::certify_layer_level`]'s samples).
+pub const NUDGE_ULPS: f64 = 16.0;
+
+/// How many more nudges a sample at a corner of `W_δ` may take, each away from the wall
+/// nearest to it.
+const CORNER_NUDGES: usize = 3;
+
 /// Options of [`FloorField::certify_layer_level`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LevelOptions {
@@ -60,6 +68,10 @@ pub struct LayerLevel {
     /// Cells left at the depth or budget limit with a bound below the sampled value less the
     /// tolerance (their bound is in `phi_certified`).
     pub unresolved: usize,
+    /// Samples of `∂W_δ` where `Θ` could not be evaluated (0 in the suite's maps, near the
+    /// origin and at 1e7 m; when it is all of them `phi_sampled` is `+∞`, which a report must
+    /// not print as a value of `Θ`).
+    pub skipped: usize,
 }
 
 impl LayerLevel {
@@ -86,16 +98,38 @@ impl LayerLevel {
 
 impl FloorField {
     /// The samples of `∂W_δ` ([`crate::FloorMap::layer_edge`]) with `n`, the unit vector
-    /// towards the nearest point of `∂W_s`, each moved `EDGE_NUDGE·δ` along `−n` into `W_δ`:
+    /// towards the nearest point of `∂W_s`, each moved along `−n` into `W_δ` by
+    ///
+    /// ```text
+    /// nudge(p) = max(EDGE_NUDGE·δ, NUDGE_ULPS·ε·|p|_∞)      ε = f64::EPSILON
+    /// ```
+    ///
     /// on the edge itself rounding puts most samples a hair inside the layer, where `Θ` is not
-    /// evaluated (measured: 2 907 of the U room's samples were skipped).
+    /// evaluated (measured: 2 907 of the U room's samples were skipped); far from the origin
+    /// (1e7 m) `EDGE_NUDGE·δ` is below the coordinates' rounding and was lost, so the nudge is
+    /// at least a few of their ulps (issue 56, D13); a sample still in the layer (a corner,
+    /// where the other wall's coordinate rounds inward) is nudged from that wall too.
     fn edge_samples(&self) -> impl Iterator<Item = (Vector2<f64>, Vector2<f64>)> + '_ {
         let floor = self.floor();
-        let nudge = EDGE_NUDGE * floor.delta();
-        floor
-            .layer_edge()
-            .iter()
-            .filter_map(move |&p| floor.toward_boundary(p).map(|n| (p - nudge * n, n)))
+        let base = EDGE_NUDGE * floor.delta();
+        let delta = floor.delta();
+        floor.layer_edge().iter().filter_map(move |&p| {
+            let nudge = base.max(NUDGE_ULPS * f64::EPSILON * p.x.abs().max(p.y.abs()));
+            let n = floor.toward_boundary(p)?;
+            let mut q = p - nudge * n;
+            // At a corner of `W_δ` the other wall's coordinate may still round into the layer:
+            // away from the wall nearest to the nudged point too, a few times at most.
+            for _ in 0..CORNER_NUDGES {
+                if floor.signed_distance(q) >= delta {
+                    break;
+                }
+                match floor.toward_boundary(q) {
+                    Some(m) => q -= nudge * m,
+                    None => break,
+                }
+            }
+            Some((q, n))
+        })
     }
 
     /// The least `phi_k` on a sector, from below (`−∞` if it may hold `P_d`).
@@ -118,11 +152,13 @@ impl FloorField {
     pub fn certify_layer_level(&self, options: &LevelOptions) -> LayerLevel {
         let floor = self.floor();
         let delta = floor.delta();
-        let sampled = self
-            .edge_samples()
-            .filter_map(|(p, _)| self.eval(p).ok())
-            .map(|e| e.phi)
-            .fold(f64::INFINITY, f64::min);
+        let (mut sampled, mut skipped) = (f64::INFINITY, 0);
+        for (p, _) in self.edge_samples() {
+            match self.eval(p) {
+                Ok(e) => sampled = sampled.min(e.phi),
+                Err(_) => skipped += 1,
+            }
+        }
         let target = sampled - options.tolerance;
         let (lo, hi) = floor.map().domain().bounding_box();
         let w0 = delta / (3.0 * std::f64::consts::SQRT_2);
@@ -140,6 +176,7 @@ impl FloorField {
             phi_sampled: sampled,
             evaluations: 0,
             unresolved: 0,
+            skipped,
         };
         while let Some((c, w, depth)) = stack.pop() {
             let rho = w * std::f64::consts::SQRT_2;

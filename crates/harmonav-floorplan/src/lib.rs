@@ -72,6 +72,9 @@ pub use compose::{FloorMapped, FloorTransform, NotFree, Part};
 pub use geodesic::Geodesic;
 pub use level::{LayerLevel, LayerSlide, LevelOptions};
 pub use plan::{CentrePolicy, FloorError, FloorMap, FloorOptions, Reach, UnknownCentrePolicy};
-pub use ros_map::{Cell, MapError, MapMode, MapOptions, MapOutline, MapPoint, MapProblem, RosMap};
+pub use ros_map::{
+    Cell, MAX_TRACED_HOLES, MapError, MapMode, MapOptions, MapOutline, MapPoint, MapProblem,
+    OccupiedPixels, RosMap, Specks, max_speck_pixels,
+};
 pub use sector::{Sector, Unenclosed};
 pub use theta::{FloorField, SADDLE_GUARD};

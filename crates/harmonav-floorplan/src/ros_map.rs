@@ -21,6 +21,7 @@
 mod error;
 mod grid;
 mod outline;
+mod pixels;
 mod yaml;
 
 use std::io::Cursor;
@@ -31,12 +32,21 @@ use image::{ImageReader, Limits};
 use nalgebra::{Matrix2, Vector2};
 
 pub use error::{MapError, MapPoint, MapProblem};
+pub use pixels::OccupiedPixels;
 
 use crate::{FloorMap, FloorOptions};
 
 /// The largest image side accepted (pixels): 4096 px is 205 m at 0.05 m/pixel; the grid and
 /// its labels take about 13 bytes per pixel (≈ 220 MB at the cap).
 pub const MAX_SIDE: u32 = 4096;
+
+/// The most islands (holes of the goal's free component, after the specks) a map's outline may
+/// have before it is simplified and opened: four times the floor plan's cap
+/// ([`harmonav_harmonic::domain::MAX_HOLES`]). The robot's opening only merges holes (two closer than
+/// its diameter, or one that close to the outer ring), so a map far above the cap cannot load,
+/// and the simplification's validity check grows with the square of the holes (1 849 holes:
+/// 1.3 s; 25 600: 140 s, issue 56, D3).
+pub const MAX_TRACED_HOLES: usize = 4 * harmonav_harmonic::domain::MAX_HOLES;
 
 /// map_server's `mode` key.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -98,6 +108,42 @@ impl Cell {
 /// Occupied islands of at most this many pixels are taken for sensor noise and dropped
 /// ([`MapOptions::speck_pixels`]): 2 pixels, 0.005 m² at 0.05 m/pixel.
 pub const DEFAULT_SPECK_PIXELS: usize = 2;
+
+/// The largest speck size [`MapOptions::speck_pixels`] accepts for a robot of clearance
+/// `clearance = radius + margin` on a map of `resolution` m/pixel: an island larger than the
+/// robot's clearance disc `π·clearance²` is an obstacle, not noise, and is never a speck;
+/// islands of up to [`DEFAULT_SPECK_PIXELS`] always may be (a run is judged against the
+/// map's own pixels all the same, [`OccupiedPixels`]).
+///
+/// ```text
+/// max_speck = max(DEFAULT_SPECK_PIXELS, ⌊π·clearance² / resolution²⌋)
+/// ```
+#[must_use]
+pub fn max_speck_pixels(clearance: f64, resolution: f64) -> usize {
+    let disc = std::f64::consts::PI * clearance * clearance / (resolution * resolution);
+    // NaN or a negative area gives the default; ∞ saturates.
+    #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+    let pixels = if disc.is_nan() {
+        0
+    } else {
+        disc.floor() as usize
+    };
+    pixels.max(DEFAULT_SPECK_PIXELS)
+}
+
+/// The occupied islands a map's pipeline drops as specks ([`RosMap::specks`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Specks {
+    /// How many islands are dropped.
+    pub count: usize,
+    /// Their pixels, all together.
+    pub pixels: usize,
+    /// The largest one's pixels (0 with none).
+    pub largest: usize,
+    /// The world point of the centre of the largest one's first pixel (row-major; `None` with
+    /// none).
+    pub largest_at: Option<[f64; 2]>,
+}
 
 /// The simplification's tolerance, in square pixels ([`MapOptions::simplify`]).
 pub const DEFAULT_SIMPLIFY: f64 = 0.5;
@@ -162,8 +208,46 @@ pub struct RosMap {
     cells: Vec<Cell>,
 }
 
-fn read(path: &Path) -> Result<Vec<u8>, MapError> {
-    std::fs::read(path).map_err(|e| MapError::new(path, MapProblem::Read(e.to_string())))
+/// The largest image file read (bytes): a [`MAX_SIDE`]² image in the most verbose encoding
+/// accepted, ASCII PNM of three 16-bit channels (`"65535 "`, 6 bytes a sample), and 1 MiB of
+/// header and comments; any PNG or binary PGM of that size is smaller.
+pub const MAX_IMAGE_BYTES: u64 = (MAX_SIDE as u64) * (MAX_SIDE as u64) * 3 * 6 + (1 << 20);
+
+/// The file at `path`, read through a cap of `cap` bytes (issue 56, D4: `image: /dev/zero` or a
+/// sparse 3 GiB YAML was read whole before any size check). Only a regular file is opened: a
+/// FIFO would block in `open` and a device never ends (D14).
+fn read(path: &Path, cap: u64, what: &str) -> Result<Vec<u8>, MapError> {
+    use std::io::Read;
+    let error = |p| MapError::new(path, p);
+    let read_error = |e: std::io::Error| error(MapProblem::Read(e.to_string()));
+    let meta = std::fs::metadata(path).map_err(read_error)?;
+    if !meta.is_file() {
+        return Err(error(MapProblem::Read(
+            "not a regular file (a folder, a FIFO or a device)".into(),
+        )));
+    }
+    if meta.len() > cap {
+        return Err(error(MapProblem::TooLarge {
+            what: what.to_owned(),
+            bytes: meta.len(),
+            cap,
+        }));
+    }
+    let mut bytes = Vec::new();
+    std::fs::File::open(path)
+        .map_err(read_error)?
+        .take(cap + 1)
+        .read_to_end(&mut bytes)
+        .map_err(read_error)?;
+    // The file may have grown since its metadata was read.
+    if bytes.len() as u64 > cap {
+        return Err(error(MapProblem::TooLarge {
+            what: what.to_owned(),
+            bytes: bytes.len() as u64,
+            cap,
+        }));
+    }
+    Ok(bytes)
 }
 
 impl RosMap {
@@ -179,7 +263,7 @@ impl RosMap {
     /// [`MapProblem::ImageSize`] for the image.
     pub fn load(yaml_path: impl AsRef<Path>) -> Result<Self, MapError> {
         let yaml_path = yaml_path.as_ref();
-        let bytes = read(yaml_path)?;
+        let bytes = read(yaml_path, yaml::MAX_YAML_BYTES as u64, "a map's YAML file")?;
         let text = String::from_utf8(bytes)
             .map_err(|_| MapError::new(yaml_path, MapProblem::Yaml("not UTF-8 text".into())))?;
         let keys = yaml::parse(&text).map_err(|p| MapError::new(yaml_path, p))?;
@@ -187,7 +271,7 @@ impl RosMap {
             .parent()
             .unwrap_or(Path::new(""))
             .join(&keys.image);
-        let bytes = read(&image_path)?;
+        let bytes = read(&image_path, MAX_IMAGE_BYTES, "a map's image")?;
         let image_error = |p| MapError::new(&image_path, p);
         let mut reader = ImageReader::new(Cursor::new(bytes))
             .with_guessed_format()
@@ -347,6 +431,39 @@ impl RosMap {
         }
     }
 
+    /// The world point of the centre of pixel `i` (row-major, row 0 at the top).
+    fn pixel_centre(&self, i: usize) -> Vector2<f64> {
+        let (c, r) = (i % self.width, i / self.width);
+        #[allow(clippy::cast_precision_loss)] // sides ≤ MAX_SIDE
+        let l = Vector2::new(c as f64 + 0.5, (self.height - r) as f64 - 0.5) * self.resolution;
+        self.to_world(l)
+    }
+
+    /// The occupied islands of at most `speck_pixels` pixels that the pipeline drops as
+    /// sensor noise ([`MapOptions::speck_pixels`]): what `harmonav check` lists, so that a user
+    /// sees what the floor plan no longer holds.
+    #[must_use]
+    pub fn specks(&self, speck_pixels: usize) -> Specks {
+        let all = grid::specks(&self.cells, self.width, self.height, speck_pixels);
+        Specks {
+            count: all.len(),
+            pixels: all.iter().map(|s| s.0).sum(),
+            largest: all.first().map_or(0, |s| s.0),
+            largest_at: all.first().map(|s| {
+                let p = self.pixel_centre(s.1);
+                [p.x, p.y]
+            }),
+        }
+    }
+
+    /// The map's own non-free pixels (occupied and unknown, and everything outside the
+    /// image), whatever the pipeline does to them: a run on this map is judged against these
+    /// ([`OccupiedPixels::signed_distance`]).
+    #[must_use]
+    pub fn occupied_pixels(&self) -> OccupiedPixels {
+        OccupiedPixels::new(self)
+    }
+
     /// The goal's free component, the start checked against it: `(mask, pixels)`.
     fn component(
         &self,
@@ -354,6 +471,15 @@ impl RosMap {
         goal: Vector2<f64>,
         options: &MapOptions,
     ) -> Result<(Vec<bool>, usize), MapError> {
+        let most = max_speck_pixels(options.floor.clearance, self.resolution);
+        if options.speck_pixels > most {
+            return Err(self.error(MapProblem::SpeckTooLarge {
+                speck_pixels: options.speck_pixels,
+                most,
+                clearance: options.floor.clearance,
+                resolution: self.resolution,
+            }));
+        }
         let g = self.free_pixel(MapPoint::Goal, goal)?;
         let s = self.free_pixel(MapPoint::Start, start)?;
         let (mask, label) = grid::goal_component(
@@ -420,6 +546,16 @@ impl RosMap {
                 "no ring of marching squares holds the goal's pixel".into(),
             ))
         })?;
+        // The simplification's validity check (geo's) compares every pair of rings: 1 849
+        // holes took 1.3 s, 25 600 took 140 s (issue 56, D3). The opening only merges holes, so
+        // a map far above the floor plan's hole cap is refused here, before that cost.
+        let islands = poly.interiors().len();
+        if islands > MAX_TRACED_HOLES {
+            return Err(self.error(MapProblem::TooManyIslands {
+                islands,
+                most: MAX_TRACED_HOLES,
+            }));
+        }
         let eps = options.simplify.max(0.0) * res * res;
         Ok((outline::simplify(&poly, eps), n))
     }

@@ -261,3 +261,32 @@ fn a_thin_hole_barrier_makes_rest_points_of_the_slide_and_the_papers_k_removes_t
         .layer_slide();
     assert!(u.samples > 100 && u.attracting.is_empty(), "{u:?}");
 }
+
+/// Issue 56, D13: far from the origin (1e7 m, where the coordinates' ulp is 1.9e-9 m) the edge
+/// samples' nudge of `EDGE_NUDGE·δ` = 2e-10 m was lost to rounding, every sample failed to
+/// evaluate, and the sampled least `Θ` was `+∞` (printed "1.000000"). Scaled to the
+/// coordinates, every sample is evaluated there as at the origin, and the level agrees.
+#[test]
+fn the_layer_level_is_sampled_far_from_the_origin_as_at_it() {
+    let room = |o: Vector2<f64>| {
+        let p = |x: f64, y: f64| o + v(x, y);
+        let outer = vec![p(0.0, 0.0), p(3.0, 0.0), p(3.0, 2.0), p(0.0, 2.0)];
+        let hole = vec![p(1.2, 0.8), p(1.2, 1.2), p(1.8, 1.2), p(1.8, 0.8)];
+        let options = FloorOptions::new(0.2, 0.2);
+        let floor = Arc::new(FloorMap::new(outer, vec![hole], &options).unwrap());
+        FloorField::new(floor, o + v(2.5, 1.5), KPolicy::default()).unwrap()
+    };
+    let options = LevelOptions {
+        max_evaluations: 20_000,
+        ..LevelOptions::default()
+    };
+    let near = room(v(0.0, 0.0)).certify_layer_level(&options);
+    let far_field = room(v(1e7, 1e7));
+    let far = far_field.certify_layer_level(&options);
+    assert_eq!((near.skipped, far.skipped), (0, 0), "{near:?} {far:?}");
+    assert!(far.phi_sampled.is_finite(), "{far:?}");
+    assert!(
+        (far.phi_sampled - near.phi_sampled).abs() < 1e-3 * near.phi_sampled.abs().max(1.0),
+        "{near:?} {far:?}"
+    );
+}

@@ -2,6 +2,7 @@
 
 mod common;
 
+use std::path::Path;
 use std::time::Instant;
 
 use common::*;
@@ -766,4 +767,41 @@ fn a_simplification_that_moves_the_walls_is_refused() {
         );
         assert!(e.to_string().contains("`simplify`"), "{e}");
     }
+}
+
+/// Issue 56, D4 and D14: a map's files are read through a cap and only when regular. An image
+/// of `/dev/zero` (a device that never ends) and a FIFO are refused without being opened for
+/// reading (a FIFO with no writer would block `open` for ever); a sparse YAML of 3 GiB (0
+/// bytes on disk) is refused by its size before it is read, naming the cap.
+#[test]
+fn map_files_are_read_through_a_cap_and_only_when_regular() {
+    let dir = scratch("caps");
+    let y = dir.join("m.yaml");
+    std::fs::write(&y, yaml("/dev/zero", 0.1, [0.0; 3], false, "")).unwrap();
+    let e = RosMap::load(&y).unwrap_err();
+    assert_eq!(e.file, Path::new("/dev/zero"));
+    assert!(
+        matches!(&e.problem, MapProblem::Read(m) if m.contains("not a regular file")),
+        "{e}"
+    );
+    let fifo = dir.join("fifo.yaml");
+    let made = std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .is_ok_and(|s| s.success());
+    if made {
+        let e = RosMap::load(&fifo).unwrap_err();
+        assert!(e.to_string().contains("not a regular file"), "{e}");
+    }
+    let sparse = dir.join("sparse.yaml");
+    std::fs::File::create(&sparse)
+        .unwrap()
+        .set_len(3 << 30)
+        .unwrap();
+    let e = RosMap::load(&sparse).unwrap_err();
+    assert!(
+        matches!(e.problem, MapProblem::TooLarge { bytes, cap, .. } if bytes == 3 << 30 && cap == 1 << 20),
+        "{e}"
+    );
+    assert!(e.to_string().contains("at most 1048576"), "{e}");
 }

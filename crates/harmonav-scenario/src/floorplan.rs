@@ -39,8 +39,10 @@ use std::sync::Arc;
 use harmonav::{CentrePolicy, FloorMap, FloorOptions, HeadingPolicy, StarShape};
 use harmonav_floorplan::{
     FloorError, FloorField, LayerLevel, LevelOptions, MapOptions, MapPoint, MapProblem,
+    OccupiedPixels, RosMap, Specks,
 };
 use harmonav_harmonic::{DomainError, MeshError, RingId, SolveError};
+use harmonav_transform::Shown;
 use harmonav_transform::random::Rng;
 use nalgebra::Vector2;
 use serde::Deserialize;
@@ -230,6 +232,11 @@ pub struct FloorPrepared {
     pub level: Option<LayerLevel>,
     /// The lidar of `[sensor]`, if any, and the curvature prior `ρ_min` of its fits.
     pub lidar: Option<(LidarSensor, f64)>,
+    /// With `floor_plan.map`: the map's own non-free pixels, against which a run's collision
+    /// monitors judge (besides the floor plan's walls), whatever the pipeline dropped or moved.
+    pub pixels: Option<Arc<OccupiedPixels>>,
+    /// With `floor_plan.map`: the occupied islands dropped as specks.
+    pub specks: Option<Specks>,
 }
 
 /// Where a point may be (a start or the goal): in `W_δ` of `floor` and clear of every true
@@ -240,15 +247,18 @@ fn placed(
     inflation: f64,
     p: Vector2<f64>,
 ) -> Result<(), String> {
+    let at = format!("({}, {})", Shown(p.x), Shown(p.y));
     if !p.iter().all(|c| c.is_finite()) {
-        return Err(format!("NaN or infinite coordinate in {p:?}"));
+        return Err(format!("NaN or infinite coordinate in {at}"));
     }
     let (sd, delta) = (floor.signed_distance(p), floor.delta());
     if sd < delta {
-        // `sd` is measured from the walls shrunk by `s`, not the true ones.
+        // `sd` is measured from the walls shrunk by `s`, not the true ones; `+ 0.0` prints a
+        // negative zero as 0 (issue 56, D18).
         return Err(format!(
-            "{p:?} is {sd:.4} m inside the walls shrunk by s = {:.4} m (radius + margin − δ, \
-             at least 0), less than δ = {delta:.4} m: not in the certified region{}",
+            "{at} is {:.4} m inside the walls shrunk by s = {:.4} m (radius + margin − δ, at \
+             least 0), less than δ = {delta:.4} m: not in the certified region{}",
+            Shown(sd + 0.0),
             floor.shrink(),
             if sd <= 0.0 {
                 "; it is outside the shrunk walls (in a wall, outside, or within s of a wall)"
@@ -259,7 +269,7 @@ fn placed(
     }
     for (i, o) in obstacles.iter().enumerate() {
         if o.signed_distance(p) <= inflation {
-            return Err(format!("{p:?} is within radius + margin of obstacles[{i}]"));
+            return Err(format!("{at} is within radius + margin of obstacles[{i}]"));
         }
     }
     Ok(())
@@ -418,6 +428,20 @@ impl FloorScenario {
         for (j, o) in self.obstacles.iter().enumerate() {
             let shape =
                 build_shape(o).map_err(|(sub, p)| f(&format!("obstacles[{j}].{sub}"), p))?;
+            // The navigator grows each sensed obstacle by radius + margin (and by radius alone
+            // for the body): a shape that cannot be grown is refused here, naming it, not when
+            // the robot first senses it (issue 56, D8).
+            for (grow, by) in [
+                (inflation, "robot.radius + robot.margin"),
+                (r.radius, "robot.radius"),
+            ] {
+                if let Err(e) = shape.offset(grow) {
+                    return Err(f(
+                        &format!("obstacles[{j}]"),
+                        format!("grown by {by} = {} m: {e}", Shown(grow)),
+                    ));
+                }
+            }
             // The navigator grows each sensed obstacle by radius + margin, and the grown
             // shapes must be disjoint: `dist(A ⊕ B_r, B ⊕ B_r) = dist(A, B) − 2r`.
             for (i, other) in obstacles.iter().enumerate() {
@@ -447,6 +471,7 @@ impl FloorScenario {
             FloorError::Solve(SolveError::Mesh(m)) => f("floor_plan.max_element", m.to_string()),
             _ => f("floor_plan", e.to_string()),
         };
+        let (mut pixels, mut specks) = (None, None);
         let floor = match &plan.map {
             Some(_) if !(plan.outer.is_empty() && plan.holes.is_empty()) => {
                 return Err(f(
@@ -470,7 +495,16 @@ impl FloorScenario {
                 }
                 // Relative to the scenario file, as `image` is to the YAML file in map_server.
                 let yaml = path.parent().unwrap_or(Path::new("")).join(map);
-                FloorMap::from_ros_map(&yaml, v(r.start), v(r.goal), &map_options).map_err(|e| {
+                let ros = RosMap::load(&yaml);
+                let built = ros
+                    .as_ref()
+                    .map_err(Clone::clone)
+                    .and_then(|m| m.to_floor_map(v(r.start), v(r.goal), &map_options));
+                if let (Ok(m), Ok(_)) = (&ros, &built) {
+                    specks = Some(m.specks(map_options.speck_pixels));
+                    pixels = Some(Arc::new(m.occupied_pixels()));
+                }
+                built.map_err(|e| {
                     match &e.problem {
                         // Every vertex of a map's outline ends an element: a lowered
                         // `simplify` is what made the mesh too large.
@@ -511,6 +545,9 @@ impl FloorScenario {
                         ),
                         MapProblem::Unreachable => f("robot.goal", e.to_string()),
                         MapProblem::Simplified { .. } => f("floor_plan.simplify", e.to_string()),
+                        MapProblem::SpeckTooLarge { .. } => {
+                            f("floor_plan.speck_pixels", e.to_string())
+                        }
                         _ => f("floor_plan.map", e.to_string()),
                     }
                 })?
@@ -628,6 +665,8 @@ impl FloorScenario {
             setup_seconds,
             level: certified.map(|(_, level)| level),
             lidar,
+            pixels,
+            specks,
         })
     }
 }
@@ -749,7 +788,29 @@ impl FileKind {
     pub fn of_text(text: &str) -> Self {
         match toml::from_str::<toml::Table>(text) {
             Ok(table) if table.contains_key("floor_plan") => Self::FloorPlan,
-            _ => Self::Star,
+            Ok(_) => Self::Star,
+            // A syntax or value error (`1e400`, 2⁶⁴) fails the table's parse too: the header is
+            // found by a scan of the lines, so that the floor-plan loader names the real error
+            // instead of the star loader's "unknown field `floor_plan`" (issue 56, D11).
+            Err(_) if text.lines().any(names_floor_plan) => Self::FloorPlan,
+            Err(_) => Self::Star,
         }
     }
+}
+
+/// Whether a line of TOML opens the `[floor_plan]` table (or a sub-table of it) or sets one of
+/// its keys at the top level (`floor_plan.map = …`).
+fn names_floor_plan(line: &str) -> bool {
+    let line = line.trim_start();
+    let key = line
+        .strip_prefix('[')
+        .map_or(line, |rest| rest.trim_start_matches('[').trim_start());
+    let key = key
+        .strip_prefix('"')
+        .and_then(|k| k.strip_prefix("floor_plan\""))
+        .or_else(|| key.strip_prefix("floor_plan"));
+    key.is_some_and(|rest| {
+        let rest = rest.trim_start();
+        rest.starts_with(']') || rest.starts_with('.') || rest.starts_with('=')
+    })
 }

@@ -742,6 +742,15 @@ impl Prepared {
 pub fn read_text(path: &Path) -> Result<String, ScenarioError> {
     use std::io::Read;
     let cannot = |e: std::io::Error| err(path, "", None, format!("cannot read the file: {e}"));
+    // Only a regular file: a FIFO would block in `open` (issue 56, D14).
+    if !std::fs::metadata(path).map_err(cannot)?.is_file() {
+        return Err(err(
+            path,
+            "",
+            None,
+            "cannot read the file: not a regular file (a folder, a FIFO or a device)".into(),
+        ));
+    }
     let mut bytes = Vec::new();
     std::fs::File::open(path)
         .map_err(cannot)?

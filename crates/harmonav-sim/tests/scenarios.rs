@@ -786,11 +786,31 @@ fn hostile_values_are_refused_naming_the_field() {
     assert!(e.to_string().contains("at most 2000"), "{e}");
 }
 
-/// A device or an oversized file is refused, not read forever.
+/// A device or an oversized file is refused, not read forever: a device (and a FIFO, which
+/// would block `open` for ever, issue 56 D14) as not a regular file, a large file by its size.
 #[test]
 fn an_endless_file_is_refused() {
     let e = Scenario::load(Path::new("/dev/zero")).unwrap_err();
+    assert!(e.to_string().contains("not a regular file"), "{e}");
+    let dir = std::env::temp_dir().join(format!("harmonav-endless-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let big = dir.join("big.toml");
+    std::fs::File::create(&big)
+        .unwrap()
+        .set_len(harmonav_scenario::MAX_FILE_BYTES + 1)
+        .unwrap();
+    let e = Scenario::load(&big).unwrap_err();
     assert!(e.to_string().contains("larger than"), "{e}");
+    let fifo = dir.join("fifo.toml");
+    if std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .is_ok_and(|s| s.success())
+    {
+        let e = Scenario::load(&fifo).unwrap_err();
+        assert!(e.to_string().contains("not a regular file"), "{e}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// The sweep follows the law with its gain: twice the gain, half the time on the same paths

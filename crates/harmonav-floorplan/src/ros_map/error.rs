@@ -77,6 +77,15 @@ impl std::error::Error for MapError {
 pub enum MapProblem {
     /// The file could not be read (missing, a folder, no permission): the OS's message.
     Read(String),
+    /// The file is larger than its cap (checked before it is read whole).
+    TooLarge {
+        /// What the file is (`"a map's YAML file"`, `"a map's image"`).
+        what: String,
+        /// Its size, at least, bytes.
+        bytes: u64,
+        /// The cap, bytes.
+        cap: u64,
+    },
     /// The YAML file is not valid YAML, or is not a mapping of keys.
     Yaml(String),
     /// A required key is missing (`field` names it).
@@ -140,6 +149,26 @@ pub enum MapProblem {
         /// The pixel (column, row; row 0 at the top of the image).
         pixel: [usize; 2],
     },
+    /// `speck_pixels` would drop occupied islands larger than the robot's clearance disc
+    /// (`super::max_speck_pixels`): an island that large is an obstacle, not noise.
+    SpeckTooLarge {
+        /// The speck size asked for, pixels.
+        speck_pixels: usize,
+        /// The most allowed for this robot and map, pixels.
+        most: usize,
+        /// The robot's clearance `radius + margin`, m.
+        clearance: f64,
+        /// The map's resolution, m/pixel.
+        resolution: f64,
+    },
+    /// The goal's free component has more islands (occupied areas inside it, each a hole of
+    /// its outline) than [`super::MAX_TRACED_HOLES`]: refused before the outline is simplified.
+    TooManyIslands {
+        /// The islands counted.
+        islands: usize,
+        /// The most allowed.
+        most: usize,
+    },
     /// The start's free pixels are not connected to the goal's (4-connected): the goal cannot
     /// be reached from it.
     Unreachable,
@@ -182,6 +211,10 @@ impl fmt::Display for MapProblem {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::Read(e) => write!(f, "cannot read the file: {e}"),
+            Self::TooLarge { what, bytes, cap } => write!(
+                f,
+                "the file has {bytes} bytes or more; {what} has at most {cap}"
+            ),
             Self::Yaml(e) => write!(f, "not a valid map_server YAML file: {e}"),
             Self::MissingField { field } => write!(f, "the key `{field}` is missing"),
             Self::InvalidField {
@@ -241,6 +274,31 @@ impl fmt::Display for MapProblem {
                 },
                 pixel[0],
                 pixel[1]
+            ),
+            Self::SpeckTooLarge {
+                speck_pixels,
+                most,
+                clearance,
+                resolution,
+            } => {
+                #[allow(clippy::cast_precision_loss)]
+                let area = *speck_pixels as f64 * resolution * resolution;
+                write!(
+                    f,
+                    "`speck_pixels` = {speck_pixels} would drop occupied islands of up to {} \
+                     m², larger than the robot's clearance disc π·(radius + margin)² = {} m²: \
+                     an island that large is an obstacle, not noise; at most {most} pixels \
+                     here",
+                    Shown(area),
+                    Shown(std::f64::consts::PI * clearance * clearance)
+                )
+            }
+            Self::TooManyIslands { islands, most } => write!(
+                f,
+                "the free space around the goal holds {islands} occupied islands (holes); at \
+                 most {most} are traced, and a floor plan takes at most {} holes after the \
+                 robot's opening merges the close ones",
+                harmonav_harmonic::domain::MAX_HOLES
             ),
             Self::Unreachable => write!(
                 f,

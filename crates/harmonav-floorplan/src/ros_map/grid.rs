@@ -140,6 +140,55 @@ pub(crate) fn components(
     (label, sizes)
 }
 
+/// The occupied islands of at most `speck` pixels (8-connected non-free pixels not touching
+/// the image's edge): `(label, sizes, dropped)`, `dropped[l]` for each island label `l` that
+/// goes. `None` when `speck` is 0.
+fn islands(
+    cells: &[Cell],
+    width: usize,
+    height: usize,
+    speck: usize,
+) -> Option<(Vec<u32>, Vec<usize>, Vec<bool>)> {
+    if speck == 0 {
+        return None;
+    }
+    let walls: Vec<bool> = cells.iter().map(|&c| c != Cell::Free).collect();
+    let (label, sizes) = components(&walls, width, height, true);
+    let mut dropped: Vec<bool> = sizes.iter().map(|&n| n <= speck).collect();
+    for (i, &l) in label.iter().enumerate() {
+        let (c, r) = (i % width, i / width);
+        if l != NONE && (c == 0 || r == 0 || c + 1 == width || r + 1 == height) {
+            dropped[l as usize] = false;
+        }
+    }
+    Some((label, sizes, dropped))
+}
+
+/// The islands [`goal_component`] drops as specks: each one's pixel count and the index of
+/// its first pixel (row-major), largest first.
+pub(crate) fn specks(
+    cells: &[Cell],
+    width: usize,
+    height: usize,
+    speck: usize,
+) -> Vec<(usize, usize)> {
+    let Some((label, sizes, dropped)) = islands(cells, width, height, speck) else {
+        return Vec::new();
+    };
+    let mut first = vec![usize::MAX; sizes.len()];
+    for (i, &l) in label.iter().enumerate() {
+        if l != NONE && dropped[l as usize] && first[l as usize] == usize::MAX {
+            first[l as usize] = i;
+        }
+    }
+    let mut out: Vec<(usize, usize)> = (0..sizes.len())
+        .filter(|&l| dropped[l])
+        .map(|l| (sizes[l], first[l]))
+        .collect();
+    out.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)));
+    out
+}
+
 /// The free mask of the goal's component, after the specks: occupied islands (8-connected
 /// non-free pixels not touching the image's edge) of at most `speck` pixels become free; then
 /// only the 4-connected free component holding pixel `goal` is kept. Returns the mask and the
@@ -152,18 +201,9 @@ pub(crate) fn goal_component(
     goal: usize,
 ) -> (Vec<bool>, Vec<u32>) {
     let mut free: Vec<bool> = cells.iter().map(|&c| c == Cell::Free).collect();
-    if speck > 0 {
-        let walls: Vec<bool> = free.iter().map(|f| !f).collect();
-        let (label, sizes) = components(&walls, width, height, true);
-        let mut on_edge = vec![false; sizes.len()];
-        for (i, &l) in label.iter().enumerate() {
-            let (c, r) = (i % width, i / width);
-            if l != NONE && (c == 0 || r == 0 || c + 1 == width || r + 1 == height) {
-                on_edge[l as usize] = true;
-            }
-        }
+    if let Some((label, _, dropped)) = islands(cells, width, height, speck) {
         for (f, &l) in free.iter_mut().zip(&label) {
-            if l != NONE && !on_edge[l as usize] && sizes[l as usize] <= speck {
+            if l != NONE && dropped[l as usize] {
                 *f = true;
             }
         }

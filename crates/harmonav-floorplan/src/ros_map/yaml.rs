@@ -98,6 +98,8 @@ fn threshold(doc: &Yaml, field: &'static str) -> Result<f64, MapProblem> {
 /// `occupied_thresh` and `free_thresh` (in `[0, 1]`, `free < occupied`), optional `mode`
 /// (`trinary`, the default, `scale` or `raw`). Other keys are ignored, as map_server does.
 pub(crate) fn parse(text: &str) -> Result<MapYaml, MapProblem> {
+    // YAML allows a byte-order mark; it is not part of the first key (issue 56, D19.5).
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     if text.len() > MAX_YAML_BYTES {
         return Err(MapProblem::Yaml(format!(
             "{} bytes; a map's YAML has at most {MAX_YAML_BYTES}",
@@ -215,6 +217,14 @@ mod tests {
         }
         // An anchor alone is harmless and allowed.
         assert!(parse(&format!("{GOOD}x: &r 1\n")).is_ok());
+    }
+
+    /// A byte-order mark before the first key is YAML's, not the key's (it read "the key
+    /// `image` is missing").
+    #[test]
+    fn a_byte_order_mark_is_not_part_of_the_first_key() {
+        let m = parse(&format!("\u{feff}{GOOD}")).unwrap();
+        assert_eq!(m, parse(GOOD).unwrap());
     }
 
     /// Each wrong file names its key.
