@@ -59,6 +59,9 @@ pub struct FloorRun {
     /// The smallest distance from the robot's centre to a true wall, minus its radius (its
     /// disc's clearance), m.
     pub wall_clearance: f64,
+    /// On a ROS map, the smallest clearance of the disc from the map's own occupied and unknown
+    /// pixels ([`FloorPrepared::pixels`]), m; ∞ otherwise.
+    pub pixel_clearance: f64,
     /// The smallest clearance of the robot's disc from a true obstacle, m (∞ with none).
     pub obstacle_clearance: f64,
     /// A lower bound on the disc's clearance from the true walls and obstacles along every
@@ -315,6 +318,7 @@ pub(crate) fn fly(
         ending: FloorEnding::TimedOut,
         time: 0.0,
         wall_clearance: f64::INFINITY,
+        pixel_clearance: f64::INFINITY,
         obstacle_clearance: f64::INFINITY,
         swept_clearance: f64::INFINITY,
         layer_clearance: f64::INFINITY,
@@ -349,6 +353,13 @@ pub(crate) fn fly(
             break;
         }
         let wall = floor.wall_distance(x) - r.radius;
+        // On a map, the map's own non-free pixels too (issue 56, D1): the floor plan's outline
+        // dropped specks, was simplified and cuts pixel corners.
+        let pixels = prepared
+            .pixels
+            .as_ref()
+            .map_or(f64::INFINITY, |p| p.signed_distance(x) - r.radius);
+        out.pixel_clearance = out.pixel_clearance.min(pixels);
         let obstacle = prepared
             .obstacles
             .iter()
@@ -357,11 +368,12 @@ pub(crate) fn fly(
         out.wall_clearance = out.wall_clearance.min(wall);
         out.obstacle_clearance = out.obstacle_clearance.min(obstacle);
         out.layer_clearance = out.layer_clearance.min(floor.clearance(x));
-        let clearance = wall.min(obstacle);
+        let clearance = wall.min(obstacle).min(pixels);
         if let Some((before, step)) = last {
             out.swept_clearance = out.swept_clearance.min(0.5 * (before + clearance - step));
         }
-        if out.wall_clearance <= 0.0 || out.obstacle_clearance <= 0.0 {
+        if out.wall_clearance <= 0.0 || out.obstacle_clearance <= 0.0 || out.pixel_clearance <= 0.0
+        {
             out.ending = FloorEnding::Collision;
             break;
         }
@@ -580,6 +592,16 @@ impl FloorSummary {
                 },
                 run.swept_clearance > 0.0,
             ),
+        ];
+        if prepared.pixels.is_some() {
+            guarantees.push(Guarantee::new(
+                Check::NoCollisionWithMap {
+                    min_pixel_clearance: run.pixel_clearance,
+                },
+                run.pixel_clearance > 0.0,
+            ));
+        }
+        guarantees.extend([
             Guarantee::new(
                 Check::StayedInWorkspace {
                     min_boundary_distance: run.wall_clearance,
@@ -603,7 +625,7 @@ impl FloorSummary {
                 },
                 true,
             ),
-        ];
+        ]);
         if let Some(bound) = speed_bound {
             guarantees.push(Guarantee::new(
                 Check::SpeedBelowBound {

@@ -168,6 +168,16 @@ pub enum Check {
         /// `δ`, m.
         delta: f64,
     },
+    /// [`Kind::NoCollision`] on a ROS map: the robot's disc never touched one of the map's own
+    /// occupied or unknown pixels, whatever the pipeline dropped (specks), simplified or cut
+    /// (issue 56, D1). The margin is kept from the floor plan's walls ([`Check::NoCollision`]);
+    /// from the pixels it may be less by how far the outline strays into them (at most
+    /// `res/(2√2)` at a pixel's corner plus the simplification's movement, docs/maths.md
+    /// §13.1).
+    NoCollisionWithMap {
+        /// Smallest clearance of the disc to the map's non-free pixels, m (`> 0` holds).
+        min_pixel_clearance: f64,
+    },
     /// [`Kind::NoCollisionBetweenStates`] (floor plans): a lower bound on the robot disc's
     /// clearance from the true walls and obstacles along every straight step between two
     /// states. The clearance `c` is 1-Lipschitz, so on a step of length `L` from `c₀` to `c₁`
@@ -255,6 +265,7 @@ impl Check {
             | Self::ExpectDampingSwitched { .. }
             | Self::ExpectMaxSpeedBelow { .. } => Kind::Expect,
             Self::StayedInCertifiedRegion { .. } => Kind::StayedInCertifiedRegion,
+            Self::NoCollisionWithMap { .. } => Kind::NoCollision,
             Self::NoCollisionBetweenStates { .. } => Kind::NoCollisionBetweenStates,
             Self::PerceivedCoversTruth { .. } => Kind::PerceivedCoversTruth,
             Self::PerceivedOnlyGrows { .. } => Kind::PerceivedOnlyGrows,
@@ -283,6 +294,7 @@ impl Check {
             Self::ExpectDampingSwitched { .. } => "expect.damping-switched",
             Self::ExpectMaxSpeedBelow { .. } => "expect.max-speed-below",
             Self::StayedInCertifiedRegion { .. } => "stayed-in-certified-region",
+            Self::NoCollisionWithMap { .. } => "no-collision-with-map-pixels",
             Self::NoCollisionBetweenStates { .. } => "no-collision-between-states",
             Self::PerceivedCoversTruth { .. } => "perceived-covers-seen-truth",
             Self::PerceivedOnlyGrows { .. } => "perceived-shapes-only-grow",
@@ -392,6 +404,13 @@ impl std::fmt::Display for Check {
             Self::ExpectMaxSpeedBelow { max_speed, limit } => {
                 write!(f, "max speed {max_speed:.3} m/s, limit {limit} m/s")
             }
+            Self::NoCollisionWithMap {
+                min_pixel_clearance,
+            } => write!(
+                f,
+                "min clearance {min_pixel_clearance:.4} m to the map's occupied and unknown \
+                 pixels"
+            ),
             Self::StayedInCertifiedRegion {
                 min_layer_clearance,
                 delta,

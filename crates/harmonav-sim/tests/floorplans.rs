@@ -50,7 +50,10 @@ fn every_floor_plan_start_arrives_under_both_laws() {
                 assert!(r.layer_clearance >= 0.0, "left W_δ: {r:?}");
                 // The swept bound: below the clearance at the states, by at most half of
                 // the longest step (`h·max_speed`, h = 0.01 s kinematic, 0.001 s dynamic).
-                let states = r.wall_clearance.min(r.obstacle_clearance);
+                let states = r
+                    .wall_clearance
+                    .min(r.obstacle_clearance)
+                    .min(r.pixel_clearance);
                 let h = if model == Model::Kinematic {
                     0.01
                 } else {
@@ -492,4 +495,133 @@ fn an_observed_floor_run_hands_over_every_state_and_scan_of_the_same_run() {
             s.theta
         );
     }
+}
+
+/// A 5 m × 5 m room at 0.05 m/pixel with a square pillar of `side` pixels in the middle of the
+/// straight path from (0.8, 2.5) to (4.2, 2.5), written with its YAML and a floor-plan file
+/// (`speck_pixels` as given) in a scratch folder; the file's path.
+fn pillar_room(tag: &str, side: usize, speck_pixels: usize) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("harmonav-pillar-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let n = 100;
+    let mut img = vec![254u8; n * n];
+    for r in 0..n {
+        for c in 0..n {
+            let wall = r < 2 || c < 2 || r >= n - 2 || c >= n - 2;
+            let (lo, hi) = (50 - side / 2, 50 - side / 2 + side);
+            let pillar = (lo..hi).contains(&r) && (lo..hi).contains(&c);
+            if wall || pillar {
+                img[r * n + c] = 0;
+            }
+        }
+    }
+    let mut pgm = format!("P5\n{n} {n}\n255\n").into_bytes();
+    pgm.extend(img);
+    std::fs::write(dir.join("pillar.pgm"), pgm).unwrap();
+    std::fs::write(
+        dir.join("pillar.yaml"),
+        "image: pillar.pgm\nresolution: 0.05\norigin: [0, 0, 0]\nnegate: 0\n\
+         occupied_thresh: 0.65\nfree_thresh: 0.196\n",
+    )
+    .unwrap();
+    let file = dir.join("pillar.toml");
+    std::fs::write(
+        &file,
+        format!(
+            "name = \"pillar\"\n[floor_plan]\nmap = \"pillar.yaml\"\nspeck_pixels = \
+             {speck_pixels}\n[robot]\nmodel = \"kinematic\"\nstart = [0.8, 2.5]\ngoal = [4.2, \
+             2.5]\nradius = 0.1\nmargin = 0.1\n"
+        ),
+    )
+    .unwrap();
+    file
+}
+
+/// Issue 56, D1: a map run's collision monitors judge against the map's own pixels. The
+/// negative control: a 7 × 7-pixel pillar (0.35 m, under the robot's clearance disc, so a
+/// speck it may drop) dropped by `speck_pixels = 50` lies on the straight path; the robot
+/// drives through it and the verdict is a collision, where judged against the edited outline
+/// it was "no collision". Kept (the default speck size), the same pillar is a hole and the
+/// run keeps its margin. A speck size that could drop an island larger than the robot's
+/// clearance disc (D1's 10⁶) is refused, naming the field; `check` lists what was dropped.
+#[test]
+fn a_map_run_is_judged_against_the_maps_pixels_whatever_the_pipeline_dropped() {
+    let dropped = FloorScenario::load(&pillar_room("dropped", 7, 50)).unwrap();
+    assert_eq!(dropped.floor.walls().holes().len(), 0);
+    let specks = dropped.specks.unwrap();
+    assert_eq!((specks.count, specks.largest), (1, 49), "{specks:?}");
+    let at = specks.largest_at.unwrap();
+    assert!(
+        (at[0] - 2.375).abs() < 1e-9 && (at[1] - 2.625).abs() < 1e-9,
+        "{at:?}"
+    );
+    let r = run(&dropped, Some(Model::Kinematic), dropped.starts[0]).unwrap();
+    assert_eq!(r.ending, FloorEnding::Collision, "{r:?}");
+    let s = FloorSummary::new(&dropped, Some(Model::Kinematic), dropped.starts[0], &r);
+    let failed: Vec<_> = s
+        .guarantees
+        .iter()
+        .filter(|g| !g.passed)
+        .map(|g| g.check.name())
+        .collect();
+    // The margin is kept from the floor plan's walls (no pillar there); the map's pixels say
+    // collision.
+    assert!(
+        failed.contains(&"no-collision-with-map-pixels"),
+        "{failed:?}"
+    );
+    assert!(!failed.contains(&"no-collision"), "{failed:?}");
+    assert!(r.pixel_clearance <= 0.0 && r.wall_clearance > 0.0, "{r:?}");
+
+    let kept = FloorScenario::load(&pillar_room("kept", 7, 2)).unwrap();
+    assert_eq!(kept.floor.walls().holes().len(), 1);
+    assert_eq!(kept.specks.unwrap().count, 0);
+    let r = run(&kept, Some(Model::Kinematic), kept.starts[0]).unwrap();
+    assert_eq!(r.ending, FloorEnding::Reached, "{r:?}");
+    assert!(r.pixel_clearance > 0.0, "{r:?}");
+    assert!(
+        FloorSummary::new(&kept, Some(Model::Kinematic), kept.starts[0], &r).all_passed(),
+        "{r:?}"
+    );
+
+    let e = FloorScenario::load(&pillar_room("huge", 20, 1_000_000)).unwrap_err();
+    assert_eq!(e.field, "floor_plan.speck_pixels", "{e}");
+    assert!(e.problem.contains("at most 50 pixels"), "{e}");
+}
+
+/// Issue 56, D8: an obstacle whose grown shape is not star-shaped is refused when the file is
+/// loaded (what `check` does), naming `obstacles[0]`, not by `run` naming `robot.radius`.
+/// Issue 56, D11: a floor-plan file with a TOML value error is told a floor plan, so that its
+/// loader names the real error (the line of `1e400`), not the star loader's "unknown field
+/// `floor_plan`".
+#[test]
+fn obstacles_that_cannot_grow_and_value_errors_are_named_where_they_are() {
+    let room = "name = \"x\"\n[floor_plan]\nouter = [[0.0, 0.0], [5.0, 0.0], [5.0, 5.0], \
+                [0.0, 5.0]]\n[robot]\nmodel = \"kinematic\"\nstart = [1.0, 1.0]\ngoal = \
+                [4.0, 4.0]\nradius = 0.1\nmargin = 0.1\n";
+    check(
+        &format!(
+            "{room}[[obstacles]]\ntype = \"star\"\ncenter = [2.5, 2.5]\nradius = 0.3\n\
+             harmonics = [[1000, 0.01, 0.0]]\n"
+        ),
+        "obstacles[0]",
+        "grown by robot.radius + robot.margin = 0.2 m",
+    );
+    use harmonav_scenario::floorplan::FileKind;
+    for bad in ["mass = 1e400\n", "gain = 18446744073709551616\n"] {
+        let text = format!("{room}{bad}");
+        assert_eq!(FileKind::of_text(&text), FileKind::FloorPlan, "{bad}");
+        let e = FloorScenario::parse(Path::new("bad.toml"), &text).unwrap_err();
+        assert!(e.to_string().starts_with("bad.toml:10:"), "{e}");
+    }
+    // Not a floor plan: a star world, broken or not, stays one.
+    assert_eq!(FileKind::of_text("name = 1e400\n[robot]\n"), FileKind::Star);
+    assert_eq!(
+        FileKind::of_text("[floor_planet]\nx = 1e400\n"),
+        FileKind::Star
+    );
+    assert_eq!(
+        FileKind::of_text("x = 1e400\n  [ floor_plan . map ]\n"),
+        FileKind::FloorPlan
+    );
 }
