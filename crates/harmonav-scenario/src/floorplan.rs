@@ -372,6 +372,18 @@ impl FloorScenario {
     /// # Errors
     /// A [`ScenarioError`] with the line of the problem.
     pub fn parse(path: &Path, text: &str) -> Result<Self, ScenarioError> {
+        // A star world given where a floor plan is expected (issue 56, D11 and D19.13): said
+        // so, not "unknown field `controller`".
+        if FileKind::of_text(text) == FileKind::Star {
+            return Err(err(
+                path,
+                "floor_plan",
+                None,
+                "not a floor plan: the file has no [floor_plan] table (a star-world file? \
+                 `harmonav run` takes either; in Python, Scenario.load)"
+                    .into(),
+            ));
+        }
         toml::from_str::<Self>(text).map_err(|e| crate::scenario::toml_error(path, text, &e))
     }
 

@@ -365,6 +365,18 @@ impl Scenario {
 
     /// Parses TOML text (`path` names it in errors); unknown keys are errors.
     pub fn parse(path: &Path, text: &str) -> Result<Self, ScenarioError> {
+        // A floor plan given where a star world is expected (issue 56, D11): said so, not
+        // "unknown field `floor_plan`".
+        if crate::floorplan::FileKind::of_text(text) == crate::floorplan::FileKind::FloorPlan {
+            return Err(err(
+                path,
+                "floor_plan",
+                None,
+                "this is a floor-plan file (it has a [floor_plan] table); this loader takes \
+                 star-world files (`harmonav run` takes either; in Python, FloorPlan.load)"
+                    .into(),
+            ));
+        }
         toml::from_str::<Scenario>(text).map_err(|e| toml_error(path, text, &e))
     }
 

@@ -614,6 +614,11 @@ fn obstacles_that_cannot_grow_and_value_errors_are_named_where_they_are() {
         let e = FloorScenario::parse(Path::new("bad.toml"), &text).unwrap_err();
         assert!(e.to_string().starts_with("bad.toml:10:"), "{e}");
     }
+    // Each loader says when it is given the other format.
+    let e = harmonav_scenario::Scenario::parse(Path::new("bad.toml"), room).unwrap_err();
+    assert!(e.problem.contains("this is a floor-plan file"), "{e}");
+    let e = FloorScenario::parse(Path::new("bad.toml"), "name = \"x\"\n[robot]\n").unwrap_err();
+    assert!(e.problem.starts_with("not a floor plan"), "{e}");
     // Not a floor plan: a star world, broken or not, stays one.
     assert_eq!(FileKind::of_text("name = 1e400\n[robot]\n"), FileKind::Star);
     assert_eq!(
