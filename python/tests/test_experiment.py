@@ -451,3 +451,365 @@ def test_the_command_line_runs_and_reports(tmp_path):
     assert not (tmp_path / "bad").exists()
     manifest = json.loads((tmp_path / "out" / "experiment.json").read_text())
     assert manifest["runs"] == 24 and manifest["tasks"] == 5
+
+
+# ---------------------------------------------------------------------------------------------
+# Hostile inputs (docs: hostile round 2026-12-06, D4, D5, D12, D14, D15, D21)
+
+
+TINY = """
+    name = "tiny"
+    [worlds]
+    generator = "quality"
+    obstacles = [6]
+    seeds = [1, 2]
+    [grid]
+    law = ["kinematic"]
+    [engine]
+    task_runs = 1
+"""
+
+
+def command(*args, cwd, timeout=60, **kwargs):
+    """`python -m harmonav.experiment ARGS`: its return code and stderr."""
+    done = subprocess.run([sys.executable, "-m", "harmonav.experiment", *map(str, args)],
+                          capture_output=True, text=True, cwd=cwd, timeout=timeout, **kwargs)
+    return done.returncode, done.stderr
+
+
+def assert_refused(rc, stderr, *words):
+    """Refused as every bad input is: `error: …` on stderr, exit 2, no traceback."""
+    assert rc == 2, (rc, stderr)
+    assert stderr.startswith("error: ") and "Traceback" not in stderr, stderr
+    for w in words:
+        assert w in stderr, stderr
+
+
+def in_thread(call, fifo, timeout=5.0):
+    """`call()` in a thread, given `timeout` s: its result or exception. A call still blocked
+    (in `open` of `fifo`, which has no writer) fails the test; the FIFO is then opened for
+    writing and closed, so the call returns."""
+    import threading
+
+    result = {}
+
+    def target():
+        try:
+            result["value"] = call()
+        except BaseException as e:  # noqa: BLE001 - handed to the test
+            result["error"] = e
+
+    thread = threading.Thread(target=target, daemon=True)
+    thread.start()
+    thread.join(timeout)
+    if thread.is_alive():
+        fd = os.open(fifo, os.O_WRONLY | os.O_NONBLOCK)
+        os.close(fd)
+        thread.join(timeout)
+        pytest.fail(f"blocked for {timeout} s reading the FIFO {fifo}")
+    return result
+
+
+def test_a_spec_that_is_a_fifo_is_refused_without_blocking(tmp_path):
+    fifo = tmp_path / "spec.toml"
+    os.mkfifo(fifo)
+    result = in_thread(lambda: load_spec(fifo), fifo)
+    e = result.get("error")
+    assert isinstance(e, SpecError), result
+    assert e.file == str(fifo) and "a FIFO, not a regular file" in str(e), str(e)
+
+
+def load_in_child(spec, timeout=30):
+    """`load_spec(spec)` in a child process, given `timeout` s (the scenario loader blocks with
+    the GIL held): its stderr."""
+    probe = f"from harmonav.experiment import load_spec\nload_spec({str(spec)!r})\n"
+    try:
+        done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                              timeout=timeout)
+    except subprocess.TimeoutExpired:
+        pytest.fail(f"load_spec({spec}) did not return within {timeout} s")
+    return done.stderr
+
+
+def test_a_world_that_is_a_fifo_is_refused_without_blocking(tmp_path):
+    (tmp_path / "worlds").mkdir()
+    (tmp_path / "worlds" / "a.toml").write_text((SCENARIOS / "shapes" / "mixed.toml").read_text())
+    fifo = tmp_path / "worlds" / "b.toml"
+    os.mkfifo(fifo)
+    spec = write(tmp_path, 'name = "x"\n[worlds]\nscenarios = ["worlds/*.toml"]\n')
+    stderr = load_in_child(spec)
+    assert "SpecError" in stderr and "`worlds.scenarios[0]`" in stderr, stderr
+    assert f"{fifo}: cannot be read: a FIFO, not a regular file" in stderr, stderr
+
+
+def test_a_spec_that_is_a_folder_or_too_large_is_refused(tmp_path):
+    with pytest.raises(SpecError, match="a folder, not a regular file") as err:
+        load_spec(tmp_path)
+    assert err.value.file == str(tmp_path)
+    # Valid TOML past the cap: refused by its size, not read and parsed.
+    big = tmp_path / "big.toml"
+    big.write_text('name = "x"\n' + GOOD_WORLDS + ("#" * 1023 + "\n") * 4096)
+    assert big.stat().st_size > experiment.spec.MAX_FILE_BYTES
+    with pytest.raises(SpecError, match="larger than 4 MiB") as err:
+        load_spec(big)
+    assert err.value.file == str(big)
+    # At the cap, it is read.
+    big.write_text('name = "x"\n' + GOOD_WORLDS)
+    with open(big, "a") as f:
+        f.write("#" * (experiment.spec.MAX_FILE_BYTES - big.stat().st_size - 1) + "\n")
+    assert big.stat().st_size == experiment.spec.MAX_FILE_BYTES
+    assert load_spec(big).runs == 1
+
+
+def test_a_dev_zero_spec_is_refused_at_once(tmp_path):
+    if not os.path.exists("/dev/zero"):
+        pytest.skip("no /dev/zero")
+
+    def cap_memory():  # without the check, /dev/zero is read until this cap, not the machine's
+        import resource
+
+        resource.setrlimit(resource.RLIMIT_AS, (2 << 30, 2 << 30))
+
+    rc, stderr = command("run", "/dev/zero", "--out", tmp_path / "out", cwd=tmp_path,
+                     preexec_fn=cap_memory)
+    assert_refused(rc, stderr, "/dev/zero", "a character device, not a regular file")
+    assert not (tmp_path / "out").exists()
+
+
+def grid_spec(tmp_path, grid, worlds=GOOD_WORLDS, name="spec.toml"):
+    return write(tmp_path, 'name = "x"\n' + worlds + "[grid]\n" + grid, name)
+
+
+def numbers(n, step):
+    return "[" + ", ".join(f"{step * (i + 1):.6f}" for i in range(n)) + "]"
+
+
+def test_a_huge_grid_is_refused_before_any_cell_is_made(tmp_path):
+    """X32 of the hostile round, smaller: 400 margins × 300 time budgets × 2 k (240 000 cells)
+    is refused at once (it took minutes and gigabytes)."""
+    spec = grid_spec(tmp_path, f'k = ["auto", "paper"]\nmargin = {numbers(400, 0.0002)}\n'
+                               f"max_time = {numbers(300, 0.01)}\n")
+    stderr = load_in_child(spec)
+    assert "SpecError" in stderr and "`grid`: 240000 cells" in stderr, stderr
+    assert f"at most {experiment.spec.MAX_CELLS}" in stderr, stderr
+
+
+def test_the_cells_are_counted_without_the_laws_irrelevant_policies():
+    count = experiment.spec._cell_count
+    # The kinematic law takes no damping, the dynamic law no speed, the descent neither.
+    axes = {"law": ["kinematic", "dynamic", "descent"], "damping": list("abc"),
+            "speed": list("de"), "margin": [0.0, 0.1]}
+    assert count(axes) == 2 * 2 + 3 * 2 + 2
+    assert count({"margin": [0.0, 0.1], "max_time": [1.0, 2.0, 3.0]}) == 6
+
+
+def test_too_many_worlds_are_refused_before_they_are_made(tmp_path):
+    worlds = ('[worlds]\ngenerator = "quality"\nobstacles = [6]\n'
+              "seeds = { first = 0, count = 1500000 }\n")
+    stderr = load_in_child(write(tmp_path, 'name = "x"\n' + worlds))
+    assert "`worlds`: 1500000 worlds (obstacles × seeds); at most 1000000" in stderr, stderr
+
+
+def reference_cells(spec_path):
+    """The grid's cells as the whole product, its irrelevant policies dropped and its
+    duplicates removed in order (what the digest of every experiment so far holds)."""
+    import itertools
+
+    doc = experiment.spec._toml.loads(spec_path.read_text())
+    tables = doc["grid"] if isinstance(doc["grid"], list) else [doc["grid"]]
+    cells, seen = [], set()
+    for t in tables:
+        axes = []
+        for key in experiment.spec.GRID_KEYS:
+            if key in t:
+                values = t[key] if isinstance(t[key], list) else [t[key]]
+                if key in ("margin", "max_time"):
+                    values = [float(v) for v in values]
+                axes.append([(key, v) for v in values])
+        for combo in itertools.product(*axes):
+            cell = dict.fromkeys(experiment.spec.GRID_KEYS)
+            cell.update(combo)
+            if cell["law"] == "kinematic":
+                cell["damping"] = None
+            elif cell["law"] == "dynamic":
+                cell["speed"] = None
+            elif cell["law"] == "descent":
+                cell["damping"] = cell["speed"] = None
+            key = tuple(cell.values())
+            if key not in seen:
+                seen.add(key)
+                cells.append(cell)
+    return cells
+
+
+def test_the_cells_and_their_order_are_the_whole_products(tmp_path):
+    """The cells, made law by law from the lists they take, are the whole product's in its
+    order: the digest of an experiment written before is unchanged."""
+    spec = write(tmp_path, """
+        name = "order"
+        [worlds]
+        generator = "quality"
+        obstacles = [6]
+        seeds = [1]
+        [[grid]]
+        law = ["dynamic", "kinematic", "descent", "kinematic"]
+        k = ["paper", "auto"]
+        damping = ["auto", "paper", "auto"]
+        speed = ["paper", "auto"]
+        margin = [0.1, 0, 0.0, 0.05]
+        [[grid]]
+        law = "kinematic"
+        speed = ["auto", "paper"]
+        margin = [0, 0.02]
+        max_time = [30, 10]
+        [[grid]]
+        sensing = ["sector", "global"]
+    """)
+    cells = list(load_spec(spec).cells)
+    assert cells == reference_cells(spec)
+    # dynamic 2 k × 2 damping × 3 margins, kinematic 2 × 2 speeds × 3, descent 2 × 3; 2 × 2 × 2;
+    # 2 sensings.
+    assert len(cells) == 12 + 12 + 6 + 8 + 2
+
+
+def test_each_distinct_preparation_is_made_once(tmp_path, monkeypatch):
+    """X08 of the hostile round: 100 000 time budgets took minutes of validation. A preparation
+    reads neither the physics nor (but for its range) the time budget, nor on a generated world
+    the margin (but for its range): 2 laws × 2 margins × 300 budgets × 2 physics cost a
+    preparation per law and per extreme value, not 2400."""
+    prepared = []
+    check = harmonav.check_run_config
+
+    def counting(config, prepare=False):
+        if prepare:
+            prepared.append(config)
+        return check(config, prepare=prepare)
+
+    monkeypatch.setattr(harmonav, "check_run_config", counting)
+    spec = load_spec(grid_spec(tmp_path, 'law = ["kinematic", "dynamic"]\nmargin = [0, 0.1]\n'
+                                         f"max_time = {numbers(300, 0.5)}\n"
+                                         'physics = ["builtin", "rapier"]\n'))
+    assert len(spec.cells) == 2400
+    assert len(prepared) <= 6, len(prepared)
+    # Yet a cell that cannot be prepared is still found, whichever list makes it so.
+    monkeypatch.setattr(harmonav, "check_run_config", check)
+    scenario = f'[worlds]\nscenarios = ["{SCENARIOS / "shapes" / "mixed.toml"}"]\n'
+    for grid, worlds, words in [
+        ('margin = [0, 0.5, 0.05]\nmax_time = [10, 20]\n', GOOD_WORLDS, ["margin = 0.5"]),
+        ('margin = [0, 0.05]\nmax_time = [10, 1e300, 20]\n', GOOD_WORLDS, ["max_time = 1e+300"]),
+        # A file's shapes may fail under any margin: each is prepared.
+        ('margin = [0, 0.5, 0.01]\nk = ["auto", "paper"]\n', scenario,
+         ["margin = 0.5", "star shape"]),
+    ]:
+        with pytest.raises(SpecError) as err:
+            load_spec(grid_spec(tmp_path, grid, worlds))
+        assert err.value.field == "grid", str(err.value)
+        for w in words:
+            assert w in str(err.value), str(err.value)
+
+
+def test_out_a_file_or_dev_null_is_refused(tmp_path):
+    spec = write(tmp_path, TINY)
+    rc, stderr = command("run", spec, "--out", spec, "--no-progress", cwd=tmp_path)
+    assert_refused(rc, stderr, f"--out {spec} is a file, not a folder")
+    if os.path.exists("/dev/null"):
+        rc, stderr = command("run", spec, "--out", "/dev/null", "--no-progress", cwd=tmp_path)
+        assert_refused(rc, stderr, "--out /dev/null is a character device, not a folder")
+
+
+def test_the_ray_engine_without_ray_is_refused(tmp_path):
+    spec = write(tmp_path, TINY.replace("task_runs = 1", 'task_runs = 1\nkind = "ray"'))
+    # Ray hidden: `import ray` raises ImportError, as where it is not installed.
+    code = ("import sys; sys.modules['ray'] = None\n"
+            "from harmonav.experiment.__main__ import main\n"
+            f"sys.exit(main(['run', {str(spec)!r}, '--out', {str(tmp_path / 'out')!r}]))\n")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          cwd=tmp_path, timeout=60)
+    assert_refused(done.returncode, done.stderr, "`engine.kind`", "needs Ray", "pip install")
+    assert not (tmp_path / "out").exists()
+    local = write(tmp_path, TINY, "local.toml")
+    code = code.replace(str(spec), str(local)).replace("'--out'", "'--engine', 'ray', '--out'")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          cwd=tmp_path, timeout=60)
+    assert_refused(done.returncode, done.stderr, "--engine ray: the ray engine needs Ray")
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.fixture
+def tiny(tmp_path):
+    """A finished experiment of two runs, one per task (part-000000, part-000001)."""
+    spec = load_spec(write(tmp_path, TINY))
+    out = tmp_path / "out"
+    experiment.run(spec, out, progress=False)
+    return spec, out
+
+
+def truncate(path):
+    data = path.read_bytes()
+    path.write_bytes(data[: len(data) // 2])
+
+
+def test_a_truncated_part_is_run_again_on_resume(tiny):
+    spec, out = tiny
+    whole = bits(read_records(out))
+    part = out / "parts" / "part-000000.parquet"
+    truncate(part)
+    summary = experiment.run(spec, out, progress=False)
+    assert (summary.resumed, summary.ran) == (1, 1)
+    assert len(summary.damaged) == 1 and str(part) in summary.damaged[0], summary.damaged
+    assert bits(read_records(out)) == whole
+
+
+def test_a_part_holding_another_tasks_runs_is_run_again_on_resume(tiny):
+    spec, out = tiny
+    whole = bits(read_records(out))
+    parts = out / "parts"
+    (parts / "part-000000.parquet").write_bytes((parts / "part-000001.parquet").read_bytes())
+    summary = experiment.run(spec, out, progress=False)
+    assert (summary.resumed, summary.ran) == (1, 1)
+    assert "runs 1 to 1, not the runs 0 to 0" in summary.damaged[0], summary.damaged
+    assert bits(read_records(out)) == whole
+
+
+@pytest.mark.parametrize("name", ["part-000005.parquet", "part-0.parquet"])
+def test_a_foreign_or_duplicate_part_is_refused_by_resume_and_report(tiny, name):
+    """The hostile round's repro: a part copied in under another task's name was merged
+    ("2 runs" in a 1-run experiment)."""
+    spec, out = tiny
+    foreign = out / "parts" / name
+    foreign.write_bytes((out / "parts" / "part-000000.parquet").read_bytes())
+    for call in (lambda: experiment.run(spec, out, progress=False),
+                 lambda: experiment.report(out),
+                 lambda: read_records(out)):
+        with pytest.raises(SpecError, match="not a part of this experiment") as err:
+            call()
+        assert err.value.file == str(foreign), str(err.value)
+
+
+def test_the_report_refuses_a_truncated_part_naming_it(tiny, tmp_path):
+    _, out = tiny
+    part = out / "parts" / "part-000001.parquet"
+    truncate(part)
+    with pytest.raises(SpecError, match="not a whole Parquet file") as err:
+        experiment.report(out)
+    assert err.value.file == str(part)
+    rc, stderr = command("report", out, "--no-plots", cwd=tmp_path)
+    assert_refused(rc, stderr, str(part), "not a whole Parquet file")
+
+
+def test_the_report_of_an_unfinished_experiment_says_so(tiny):
+    _, out = tiny
+    (out / "parts" / "part-000001.parquet").unlink()
+    text = experiment.report(out)
+    assert text.startswith("1 of the experiment's 2 runs are written: it is not finished"), text
+
+
+def test_the_report_prints_a_dash_for_an_unmeasured_column(tmp_path):
+    spec = load_spec(write(tmp_path, TINY + "[measure]\nshortest = false\n"))
+    experiment.run(spec, tmp_path / "out", progress=False)
+    text = experiment.report(tmp_path / "out")
+    assert "NaN" not in text, text
+    row = [line for line in text.splitlines() if line.startswith("| Kinematic")][0]
+    header = [line for line in text.splitlines() if line.startswith("| law")][0]
+    column = [c.strip() for c in header.split("|")].index("path/shortest median / p90 / max")
+    assert row.split("|")[column].strip() == "—", row

@@ -5,18 +5,22 @@ A *cell* is one configuration of the grid over its worlds and starts: the genera
 one obstacle count are one cell, as in ``cargo xtask quality``; each scenario file is its own.
 The cells, their statistics and the table come from ``harmonav_bench::table`` through the
 extension (``harmonav.study_cells``, ``harmonav.study_table``): the one implementation that
-``cargo xtask quality`` also prints, so nothing here computes a statistic."""
+``cargo xtask quality`` also prints, so nothing here computes a statistic. A column that no
+run of a cell measured (path/shortest under ``[measure] shortest = false``, the time to goal of a
+cell where no run arrived) is printed ``—``, as the table's other unmeasured cells are."""
 
 from __future__ import annotations
 
 import math
 import os
+import re
+import sys
 from collections import Counter
 from pathlib import Path
 from typing import Any, Dict, List, Optional, Sequence
 
 from ..harmonav import study_cells, study_table
-from .records import read_records
+from .records import manifest, read_records
 
 #: The columns the report reads.
 COLUMNS = (
@@ -55,11 +59,21 @@ def cells(table) -> List[Dict[str, Any]]:
     return study_cells(table.to_pylist())
 
 
+#: A table cell of no measured value: ``NaN``, or ``NaN / NaN / NaN`` (median, p90, max of no
+#: runs), between the cell separators.
+_UNMEASURED = re.compile(r"(?<=\| )NaN(?: / NaN)*(?= \|)")
+
+
+def _dashes(text: str) -> str:
+    """``text`` (a Markdown table) with its unmeasured cells ``—``."""
+    return _UNMEASURED.sub("—", text)
+
+
 def table_text(table) -> str:
     """The Markdown table of the records in ``table``, as ``cargo xtask quality`` prints it
     (``harmonav.study_table``, i.e. ``harmonav_bench::table::table``: one implementation for
-    both)."""
-    return study_table(table.to_pylist())
+    both), a statistic of no runs printed ``—``."""
+    return _dashes(study_table(table.to_pylist()))
 
 
 def summary_text(table) -> str:
@@ -129,8 +143,14 @@ def report(out: "os.PathLike[str] | str", plots: Optional["os.PathLike[str] | st
     """The report of the experiment in ``out``: the summary and the table, as text; with
     ``plots`` (a folder) also the distributions as SVG files there."""
     table = read_records(out, COLUMNS)
+    runs = manifest(out)["runs"]
     rows = table.to_pylist()  # once: the table and the plots read the same rows
-    text = summary_text(table) + "\n" + study_table(rows)
+    text = summary_text(table) + "\n" + _dashes(study_table(rows))
+    if table.num_rows < runs:
+        text = (
+            f"{table.num_rows} of the experiment's {runs} runs are written: it is not finished "
+            "(run it again to resume)\n" + text
+        )
     if plots is not None:
         for p in plot(study_cells(rows), Path(plots)):
             text += f"\nwrote {p}"
@@ -147,13 +167,18 @@ def main_report(args) -> int:
             plots = args.plots or Path(args.out) / "report"
         except ImportError:
             if args.plots:
-                raise SystemExit(
-                    "report --plots needs matplotlib: pip install './python[report]'"
-                ) from None
+                print(
+                    "error: report --plots needs matplotlib: pip install './python[report]'",
+                    file=sys.stderr,
+                )
+                return 2
+    if plots is not None and Path(plots).exists() and not Path(plots).is_dir():
+        print(f"error: --plots {plots} is a file, not a folder", file=sys.stderr)
+        return 2
     try:
         text = report(args.out, plots)
-    except FileNotFoundError as e:
-        print(f"report: {e}", file=__import__("sys").stderr)
+    except OSError as e:  # no records, or a --plots folder that cannot be written
+        print(f"error: {e}", file=sys.stderr)
         return 2
     print(text, end="")
     if plots is None and not args.no_plots:

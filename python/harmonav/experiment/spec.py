@@ -4,7 +4,19 @@ naming the file, the field and what is wrong, and unknown keys are refused.
 
 Values that the Rust side knows (law, policy and physics names, the quality worlds' limits, a
 scenario file's validity) are checked by the Rust side itself (``harmonav.check_run_config``,
-``harmonav.Scenario.load``), so the spec cannot drift from the scenario layer."""
+``harmonav.Scenario.load``), so the spec cannot drift from the scenario layer.
+
+Limits, each checked before the thing it bounds is built, so that a small spec cannot ask for
+unbounded memory or time:
+
+- a spec or a world's scenario file is a regular file (a FIFO, a device or a folder is refused
+  before it is opened) of at most ``MAX_FILE_BYTES`` (4 MiB, the scenario loader's limit), read
+  through that cap;
+- a spec has at most ``MAX_WORLDS`` worlds (``obstacles`` × ``seeds``, or the scenario files);
+- its grid has at most ``MAX_CELLS`` cells: the cell count (the product of each ``[grid]``
+  table's lists, without the law's irrelevant policy, summed over the tables) is computed from
+  the lists before any cell is made or prepared;
+- an experiment has at most ``MAX_RUNS`` runs (worlds × cells × starts)."""
 
 from __future__ import annotations
 
@@ -15,6 +27,7 @@ import json
 import math
 import os
 import re
+import stat
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Dict, List, Optional, Sequence, Tuple
@@ -44,6 +57,14 @@ def run_config(world_config: Dict[str, Any], cell: Dict[str, Any]) -> Dict[str, 
     config = dict(world_config)
     config.update({RUN_KEYS.get(k, k): v for k, v in cell.items() if v is not None})
     return config
+#: Most bytes of a spec or of a world's scenario file: the scenario loader's ``MAX_FILE_BYTES``
+#: (``harmonav_scenario``), so that a device or a huge file is refused instead of read whole.
+MAX_FILE_BYTES = 4 << 20
+#: Most worlds in one experiment: the worlds are held in memory while it runs.
+MAX_WORLDS = 1_000_000
+#: Most cells (distinct run configurations) in a grid: every cell is held in memory and checked
+#: before the first run, so a few long lists must not multiply into millions of them.
+MAX_CELLS = 100_000
 #: Most starts per world (as ``harmonav sweep --starts``).
 MAX_STARTS = 1_000_000
 #: Most runs in one experiment (a guard against a typo, not a memory limit: runs are
@@ -64,6 +85,64 @@ class SpecError(ValueError):
         self.file, self.field, self.problem, self.line = str(file), field, problem, line
         where = self.file + (f":{line}" if line is not None else "")
         super().__init__(f"{where}: `{field}`: {problem}" if field else f"{where}: {problem}")
+
+
+def _not_regular(mode: int) -> str:
+    """What a file of ``mode`` is, when it is not a regular file."""
+    for test, kind in (
+        (stat.S_ISDIR, "a folder"),
+        (stat.S_ISFIFO, "a FIFO"),
+        (stat.S_ISCHR, "a character device"),
+        (stat.S_ISBLK, "a block device"),
+        (stat.S_ISSOCK, "a socket"),
+    ):
+        if test(mode):
+            return f"{kind}, not a regular file"
+    return "not a regular file"
+
+
+def read_text(path: "os.PathLike[str] | str") -> str:
+    """The UTF-8 text of the file at ``path`` (newlines as ``Path.read_text`` gives them), which
+    must be a regular file of at most ``MAX_FILE_BYTES``. A FIFO, a device or a folder is
+    refused before it is opened (opening a FIFO blocks until a writer comes; ``/dev/zero`` never
+    ends), and the file is read through the cap, so a file that grows meanwhile is read no
+    further. Raises ``SpecError`` naming the file."""
+    name = str(path)
+    try:
+        mode = os.stat(path).st_mode
+    except OSError as e:
+        raise SpecError(name, "", f"cannot be read: {e}") from None
+    if not stat.S_ISREG(mode):
+        raise SpecError(name, "", f"cannot be read: {_not_regular(mode)}")
+    # O_NONBLOCK: should a FIFO replace the file between the check and the open, the open
+    # returns at once and the check below refuses it.
+    flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0)
+    try:
+        fd = os.open(path, flags)
+    except OSError as e:
+        raise SpecError(name, "", f"cannot be read: {e}") from None
+    try:
+        mode = os.fstat(fd).st_mode
+        if not stat.S_ISREG(mode):
+            raise SpecError(name, "", f"cannot be read: {_not_regular(mode)}")
+        chunks, size = [], 0
+        while size <= MAX_FILE_BYTES:
+            chunk = os.read(fd, MAX_FILE_BYTES + 1 - size)
+            if not chunk:
+                break
+            chunks.append(chunk)
+            size += len(chunk)
+    except OSError as e:
+        raise SpecError(name, "", f"cannot be read: {e}") from None
+    finally:
+        os.close(fd)
+    if size > MAX_FILE_BYTES:
+        raise SpecError(name, "", f"the file is larger than {MAX_FILE_BYTES >> 20} MiB")
+    try:
+        text = b"".join(chunks).decode("utf-8")
+    except UnicodeDecodeError as e:
+        raise SpecError(name, "", f"the file is not UTF-8 text: {e}") from None
+    return text.replace("\r\n", "\n").replace("\r", "\n")
 
 
 @dataclass(frozen=True)
@@ -119,6 +198,8 @@ class Spec:
     shortest: bool
     engine: Engine
     digest: str
+    #: The spec's text as it was read and validated (what ``run`` copies to ``out/spec.toml``).
+    text: Optional[str] = field(default=None, repr=False, compare=False)
 
     @property
     def runs(self) -> int:
@@ -199,18 +280,15 @@ def load_spec(path: "os.PathLike[str] | str") -> Spec:
     path = Path(path)
     if _toml is None:  # pragma: no cover
         raise SpecError(str(path), "", "reading TOML needs Python 3.11 or `pip install tomli`")
-    try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as e:
-        raise SpecError(str(path), "", f"cannot be read: {e}") from None
+    text = read_text(path)
     try:
         doc = _toml.loads(text)
     except _toml.TOMLDecodeError as e:
         raise SpecError(str(path), "", f"not valid TOML: {e}", _line(str(e))) from None
-    return _validate(path, doc)
+    return _validate(path, doc, text)
 
 
-def _validate(path: Path, doc: Dict[str, Any]) -> Spec:
+def _validate(path: Path, doc: Dict[str, Any], text: Optional[str] = None) -> Spec:
     c = _Checker(path)
     c.table(doc, "", ["name", "description", "worlds", "starts", "grid", "measure", "engine"])
     if "name" not in doc:
@@ -227,13 +305,14 @@ def _validate(path: Path, doc: Dict[str, Any]) -> Spec:
     measure = c.table(doc.get("measure", {}), "measure", ["shortest"])
     shortest = c.boolean(measure.get("shortest", True), "measure.shortest")
     engine = _engine(c, doc.get("engine", {}))
-    _check_cells(c, worlds, cells)
+    # Before any cell is prepared.
     per_world = starts.count if starts is not None else 1
     runs = len(worlds) * len(cells) * per_world
     if runs > MAX_RUNS:
         raise c.fail("", f"{runs} runs; an experiment has at most {MAX_RUNS}")
+    _check_cells(c, worlds, cells)
     digest = _digest(name, worlds, starts, cells, shortest, engine.task_runs)
-    return Spec(path, name, description, worlds, starts, cells, shortest, engine, digest)
+    return Spec(path, name, description, worlds, starts, cells, shortest, engine, digest, text)
 
 
 def _worlds(c: _Checker, value: Any) -> Tuple[World, ...]:
@@ -252,6 +331,9 @@ def _worlds(c: _Checker, value: Any) -> Tuple[World, ...]:
             for i, v in enumerate(c.nonempty_list(w["obstacles"], "worlds.obstacles"))
         ]
         seeds = _seeds(c, w["seeds"])
+        count = len(counts) * len(seeds)
+        if count > MAX_WORLDS:
+            raise c.fail("worlds", f"{count} worlds (obstacles × seeds); at most {MAX_WORLDS}")
         out = []
         for m in counts:
             for s in seeds:
@@ -270,15 +352,19 @@ def _worlds(c: _Checker, value: Any) -> Tuple[World, ...]:
         files = sorted(_glob.glob(full, recursive=True))
         if not files:
             raise c.fail(f, f"{pattern!r} matches no file (relative to {base})")
+        if len(out) + len(files) > MAX_WORLDS:
+            raise c.fail(f, f"{len(out) + len(files)} scenario files; at most {MAX_WORLDS} worlds")
         for file in files:
+            # Read first: a FIFO, a device or a folder is refused here, before the scenario
+            # loader opens it (a FIFO would block it).
+            try:
+                text = read_text(file)
+            except SpecError as e:
+                raise c.fail(f, f"{e}") from None
             try:
                 harmonav.Scenario.load(file)
             except ValueError as e:
                 raise c.fail(f, f"{e}") from None
-            try:
-                text = Path(file).read_text(encoding="utf-8")
-            except OSError as e:  # pragma: no cover - it was just loaded
-                raise c.fail(f, f"{file}: {e}") from None
             label = os.path.relpath(file, base)
             config = {"scenario": label, "scenario_text": text}
             out.append(World(label, None, label, None, config))
@@ -294,8 +380,9 @@ def _unique(c: _Checker, worlds: List[World], field: str) -> Tuple[World, ...]:
     return tuple(worlds)
 
 
-def _seeds(c: _Checker, value: Any) -> List[int]:
-    """A list of seeds, or ``{ first = 1, count = 24 }``."""
+def _seeds(c: _Checker, value: Any) -> Sequence[int]:
+    """A list of seeds, or ``{ first = 1, count = 24 }`` (a ``range``: counted before the worlds
+    are made)."""
     if isinstance(value, dict):
         t = c.table(value, "worlds.seeds", ["first", "count"])
         for key in ("first", "count"):
@@ -303,7 +390,7 @@ def _seeds(c: _Checker, value: Any) -> List[int]:
                 raise c.fail(f"worlds.seeds.{key}", "required")
         first = c.integer(t["first"], "worlds.seeds.first", 0, 2**63 - 10**7)
         count = c.integer(t["count"], "worlds.seeds.count", 1, 10**7)
-        return list(range(first, first + count))
+        return range(first, first + count)
     seeds = [
         c.integer(v, f"worlds.seeds[{i}]", 0, 2**63 - 1)
         for i, v in enumerate(c.nonempty_list(value, "worlds.seeds"))
@@ -336,41 +423,84 @@ def _grid(c: _Checker, value: Any) -> Tuple[Dict[str, Any], ...]:
     """The runs' configurations: the product of each ``[grid]`` table's lists (an array of
     tables ``[[grid]]`` is the union of their products), each value checked by the Rust side,
     the law's irrelevant policy dropped (damping for the kinematic law, speed for the dynamic
-    one, both for the descent), duplicates removed in order."""
+    one, both for the descent), duplicates removed in order.
+
+    The cells are counted from the lists (their distinct values, without the irrelevant
+    policies) before any is made: more than ``MAX_CELLS`` is refused at once. Each law's cells
+    are the product of its relevant lists only, which is the order (and the set) that the whole
+    product, its irrelevant policies dropped and its duplicates removed, would give."""
     tables = value if isinstance(value, list) else [value]
     if isinstance(value, list) and not value:
         raise c.fail("grid", "must not be empty")
-    cells: List[Dict[str, Any]] = []
-    seen = set()
+    checked: Dict[Tuple[str, type, Any], Any] = {}  # a value repeated is checked once
+    parsed: List[Dict[str, List[Any]]] = []
     for ti, table in enumerate(tables):
         where = f"grid[{ti}]" if isinstance(value, list) else "grid"
         t = c.table(table, where, list(GRID_KEYS))
-        axes: List[List[Tuple[str, Any]]] = []
+        axes: Dict[str, List[Any]] = {}
         for key in GRID_KEYS:
             if key not in t:
                 continue
             raw = t[key] if isinstance(t[key], list) else [t[key]]
             if not raw:
                 raise c.fail(f"{where}.{key}", "must not be empty")
-            values = []
+            values: Dict[Any, None] = {}  # distinct, in order (0 and 0.0 are one margin)
             for i, v in enumerate(raw):
                 f = f"{where}.{key}[{i}]" if isinstance(t[key], list) else f"{where}.{key}"
-                values.append((key, _grid_value(c, key, v, f)))
-            axes.append(values)
-        for combo in itertools.product(*axes):
-            cell = {key: None for key in GRID_KEYS}
-            cell.update(dict(combo))
-            if cell["law"] == "kinematic":
-                cell["damping"] = None
-            elif cell["law"] == "dynamic":
-                cell["speed"] = None
-            elif cell["law"] == "descent":  # the flow line of Θ: no policy of either law
-                cell["damping"] = cell["speed"] = None
-            key = tuple(cell[k] for k in GRID_KEYS)
-            if key not in seen:
-                seen.add(key)
-                cells.append(cell)
+                memo = (key, type(v), v) if isinstance(v, (str, int, float)) else None
+                if memo is not None and memo in checked:
+                    x = checked[memo]
+                else:
+                    x = _grid_value(c, key, v, f)
+                    if memo is not None:
+                        checked[memo] = x
+                values.setdefault(x, None)
+            axes[key] = list(values)
+        parsed.append(axes)
+    count = sum(_cell_count(axes) for axes in parsed)
+    if count > MAX_CELLS:
+        raise c.fail(
+            "grid",
+            f"{count} cells (the product of the lists); at most {MAX_CELLS}: split the study "
+            "into several experiments",
+        )
+    cells: List[Dict[str, Any]] = []
+    seen = set()
+    for axes in parsed:
+        for law in axes.get("law", [None]):
+            ignored = _IGNORED.get(law, ())
+            keys = [k for k in GRID_KEYS if k != "law" and k in axes and k not in ignored]
+            for combo in itertools.product(*(axes[k] for k in keys)):
+                cell = {key: None for key in GRID_KEYS}
+                cell["law"] = law
+                cell.update(zip(keys, combo))
+                key = tuple(cell[k] for k in GRID_KEYS)
+                if key not in seen:
+                    seen.add(key)
+                    cells.append(cell)
     return tuple(cells)
+
+
+#: The grid keys a law does not take (its cells have them ``None``): damping for the kinematic
+#: law, speed for the dynamic one, both for the descent (the flow line of Θ).
+_IGNORED: Dict[Optional[str], Tuple[str, ...]] = {
+    "kinematic": ("damping",),
+    "dynamic": ("speed",),
+    "descent": ("damping", "speed"),
+}
+
+
+def _cell_count(axes: Dict[str, List[Any]]) -> int:
+    """The cells of one grid table (its distinct values per key), counted without making them:
+    for each law, the product of the lengths of the lists it takes."""
+    total = 0
+    for law in axes.get("law", [None]):
+        n = 1
+        for k in GRID_KEYS:
+            if k != "law" and k in axes and k not in _IGNORED.get(law, ()):
+                n *= len(axes[k])
+        total += n
+    return total
 
 
 def _grid_value(c: _Checker, key: str, v: Any, field: str) -> Any:
@@ -410,9 +540,16 @@ def _engine(c: _Checker, value: Any) -> Engine:
 def _check_cells(c: _Checker, worlds: Sequence[World], cells: Sequence[Dict[str, Any]]) -> None:
     """Prepares every cell on the first world (and every world under the first cell), so that a
     margin too large for a world or a policy a file cannot take is a spec error, not a column of
-    failed runs."""
+    failed runs.
+
+    Only the cells that can fail differently are prepared (``_probes``): a grid of 1000
+    ``max_time`` values (or of 1000 margins on generated worlds) costs a few preparations, not
+    1000."""
     first_world, first_cell = worlds[0], cells[0]
-    pairs = [(first_world, cell) for cell in cells]
+    # The generator makes every world valid for every margin it takes (from 0 to its largest):
+    # only the largest and the smallest margins need a look. A scenario file gets every margin.
+    ranged = ("max_time", "margin") if first_world.generator is not None else ("max_time",)
+    pairs = [(first_world, cell) for cell in _probes(cells, ranged)]
     # A generated world of each obstacle count (the generator makes every seed valid for the
     # margins it takes), every scenario file.
     counts = {first_world.config.get("obstacles")}
@@ -434,6 +571,42 @@ def _check_cells(c: _Checker, worlds: Sequence[World], cells: Sequence[Dict[str,
                 raise c.fail(field, f"{world.label}: {e}") from None
             given = ", ".join(f"{k} = {v!r}" for k, v in cell.items() if v is not None)
             raise c.fail("grid", f"({given or 'the world as written'}) on {world.label}: {e}") from None
+
+
+def _probes(cells: Sequence[Dict[str, Any]], ranged: Sequence[str]) -> List[Dict[str, Any]]:
+    """The cells whose preparations stand for every cell's, in grid order: the first cell of
+    each distinct rest (the cell without ``physics`` and the ``ranged`` keys), then for each
+    ``ranged`` key the first cells of its smallest and largest values (and of none, the world's
+    own), unless a probe already has them.
+
+    A preparation does not read ``physics``. It reads ``max_time`` only in checks of its own,
+    its range and ``max_time / dt`` against the most recorded states (``dt`` is the world's: no
+    grid key sets it), which bound it to an interval whatever the rest of the cell; on a
+    generated world a margin is valid from 0 to the largest the generator builds for, whatever
+    the rest, too. So a cell prepares when its rest prepares (under values that do) and the
+    extreme values of each ``ranged`` key do. Every probe is a cell of the grid, so an error
+    names one."""
+    probes: List[Dict[str, Any]] = []
+    wanted: Dict[str, set] = {}
+    for key in ranged:
+        values = [c[key] for c in cells if c[key] is not None]
+        wanted[key] = {min(values), max(values)} if values else set()
+        if len(values) < len(cells):
+            wanted[key].add(None)
+    rests = set()
+    for cell in cells:
+        rest = tuple(cell[k] for k in GRID_KEYS if k != "physics" and k not in ranged)
+        if rest not in rests:
+            rests.add(rest)
+            probes.append(cell)
+            for key in ranged:
+                wanted[key].discard(cell[key])
+    for cell in cells:
+        if any(cell[key] in wanted[key] for key in ranged):
+            probes.append(cell)
+            for key in ranged:
+                wanted[key].discard(cell[key])
+    return probes
 
 
 def _digest(name, worlds, starts, cells, shortest, task_runs) -> str:
