@@ -65,6 +65,9 @@ class Field:
 
     ``k`` is ``"auto"`` (``k = max(6(M + 1), 2·layer_ratio)``) or ``"paper"`` (``k = M + 1``); ``margin`` grows the
     obstacles and shrinks the boundary.
+
+    Immutable: ``copy`` and ``deepcopy`` return the same object; pickle rebuilds it from the
+    constructor's arguments (or, for ``Scenario.field()``, from the pickled scenario).
     """
 
     def __init__(
@@ -89,6 +92,9 @@ class Field:
     def census(self) -> List[Dict[str, Any]]:
         """The critical points of ``Θ`` (theorem ``isNF``): dicts with ``x``, ``kind`` and
         ``eigenvalues``."""
+    def __reduce__(self) -> Tuple[Any, Tuple[Any, ...]]: ...
+    def __copy__(self) -> Field: ...
+    def __deepcopy__(self, memo: Any) -> Field: ...
 
 class Navigator:
     """The navigator of a robot that does not know its map.
@@ -120,6 +126,10 @@ class Navigator:
     ``copy.copy``, ``copy.deepcopy`` and pickle give an independent navigator with the same
     known obstacles and state (the speed at the latest discovery, the last position): it
     commands exactly as the original.
+
+    Threads: calls on one navigator are serialised by a lock inside it; a call made while
+    another thread's call runs (``observe_scan`` releases the GIL) waits for it instead of
+    failing.
     """
 
     def __init__(
@@ -157,7 +167,8 @@ class Navigator:
         range_min: float = 0.0,
     ) -> ScanUpdate:
         """Observes one range scan (``sensor_msgs/LaserScan`` fields) taken at ``position`` with
-        ``heading`` (rad): hits explained by known shapes are dropped, the rest fitted to
+        ``heading`` (rad); ``ranges`` is a 1-D array-like of real numbers (booleans and complex
+        numbers raise ``TypeError``, as for points). Hits explained by known shapes are dropped, the rest fitted to
         conservative stars that grow known obstacles or are added (docs/maths.md §12.6), under
         the priors ``range_noise``, ``max_obstacle_depth``, ``growth_threshold`` and ``rho_min``.
         ``ValueError`` (and nothing changed) for an invalid scan or pose, or a shape that would
@@ -237,7 +248,10 @@ class RunResult:
     discoveries: List[Dict[str, Any]]
 
 class Scenario:
-    """A scenario file, validated as ``harmonav check`` does."""
+    """A scenario file, validated as ``harmonav check`` does.
+
+    Immutable: ``copy`` and ``deepcopy`` return the same object. Pickle stores the path and the
+    text read from it; unpickling validates that text again (the file is not read again)."""
 
     @staticmethod
     def load(path: Union[str, PathLike[str]]) -> Scenario:
@@ -253,6 +267,9 @@ class Scenario:
     def shortest_path(self) -> Tuple[float, npt.NDArray[np.float64]]:
         """``(length, waypoints (K, 2))`` of the shortest collision-free path around the grown
         shapes (independent of ``Θ``)."""
+    def __reduce__(self) -> Tuple[Any, Tuple[Any, ...]]: ...
+    def __copy__(self) -> Scenario: ...
+    def __deepcopy__(self, memo: Any) -> Scenario: ...
     def run(
         self,
         model: Optional[str] = None,
@@ -268,7 +285,8 @@ class Scenario:
         file, a dangling or looping link, an unwritable folder, a path too long or a folder
         named like an output raise ``ValueError`` and nothing runs. A failure to write after
         the run raises ``OSError`` whose ``result`` is the ``RunResult`` (and ``summary`` its
-        summary); the previous outputs stay whole."""
+        summary); the previous outputs stay whole. Ctrl-C stops the run
+        (``KeyboardInterrupt``) and leaves nothing of an unfinished ``out`` set."""
 
 class FloorRunResult:
     """The result of ``FloorPlan.run``: ``summary`` (the dict of its summary.json) and ``x``,
@@ -279,7 +297,11 @@ class FloorRunResult:
 
 class FloorPlan:
     """A floor-plan file (``[floor_plan]``: a polygon with holes, or a ROS map), its harmonic
-    map solved on load (docs/maths.md §13)."""
+    map solved on load (docs/maths.md §13).
+
+    Immutable: ``copy`` and ``deepcopy`` return the same object. It does not pickle
+    (``TypeError``): its map is solved from files another process may not have or may have
+    changed; pass the path and call ``FloorPlan.load(path)`` there."""
 
     @staticmethod
     def load(path: Union[str, PathLike[str]]) -> FloorPlan:
@@ -320,7 +342,10 @@ class FloorPlan:
         §13.3–13.4). ``out``, a folder,
         receives run.mcap, trajectory.svg and summary.json as one set; it is checked before the run
         (``ValueError``), and a failure to write after it raises ``OSError`` whose ``result``
-        is the ``FloorRunResult``."""
+        is the ``FloorRunResult``. Ctrl-C stops the run (``KeyboardInterrupt``) and leaves
+        nothing of an unfinished ``out`` set."""
+    def __copy__(self) -> FloorPlan: ...
+    def __deepcopy__(self, memo: Any) -> FloorPlan: ...
 
 class FloorNavigator:
     """The navigator of a robot on a floor plan: the walls are known (rings of points, or a ROS
@@ -328,7 +353,16 @@ class FloorNavigator:
     added as shapes or perceived from scans, each without a new solve. The robot stays in the
     certified region ``W_δ``, at least ``max(radius + margin, δ)`` from the walls
     (``δ = max_element``, docs/maths.md §13). ``ValueError`` names the field (a map's error the
-    file); a call that raises leaves the navigator as it was."""
+    file); a call that raises leaves the navigator as it was.
+
+    Threads: calls on one navigator are serialised by a lock inside it, as ``Navigator``'s.
+
+    ``copy`` and ``deepcopy`` give an independent navigator with the same walls (the solved map
+    shared), obstacles and state. Pickle stores the true walls as rings, the goal, the keyword
+    arguments and the calls that made the state; unpickling solves the map again and replays
+    them: the obstacles, the last commanded state and the discovery speed survive, not the
+    memory of the hold's escapes (rest time, an escape in progress, ``escapes``), so the copy
+    commands as the original except where an escape is under way or due."""
 
     def __init__(
         self,
@@ -427,6 +461,10 @@ class FloorNavigator:
     def control_period(self) -> float: ...
     @property
     def escapes(self) -> int: ...
+    def __reduce__(self) -> Tuple[Any, Tuple[Any, ...], List[Tuple[Any, ...]]]: ...
+    def __setstate__(self, state: List[Tuple[Any, ...]]) -> None:
+        """Rebuilds the navigator on its map and replays ``state`` (as ``Navigator``'s);
+        ``ValueError``/``TypeError``, and nothing changed, if it does not replay."""
     def __copy__(self) -> FloorNavigator: ...
     def __deepcopy__(self, memo: Any) -> FloorNavigator: ...
 

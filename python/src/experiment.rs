@@ -30,7 +30,8 @@ use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use crate::convert::value_error;
+use crate::convert::{integer, value_error};
+use crate::scenario::seed_arg;
 
 /// The most obstacles a generated quality world may have: the generator draws until the
 /// obstacles fit (0.2–0.5 m shapes 0.3 m apart in a 5 m disc), so a count it cannot place
@@ -542,7 +543,7 @@ fn configs(runs: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Result<Config, S
 pub fn run_batch<'py>(
     py: Python<'py>,
     runs: &Bound<'py, PyAny>,
-    threads: usize,
+    #[pyo3(from_py_with = threads_arg)] threads: usize,
     shortest: bool,
 ) -> PyResult<Bound<'py, PyList>> {
     let mut configs = configs(runs, "runs")?;
@@ -672,6 +673,16 @@ pub fn check_run_config(py: Python<'_>, config: &Bound<'_, PyDict>, prepare: boo
     Ok(())
 }
 
+/// `threads=` of `run_batch`, refused by name when negative or beyond 64 bits.
+fn threads_arg(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
+    integer(obj, "threads", "an integer ≥ 0 (0: one per core)")
+}
+
+/// `count=` of `random_start_points`, refused by name when negative or beyond 64 bits.
+fn count_arg(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
+    integer(obj, "count", "an integer ≥ 0")
+}
+
 /// `count` seeded random starts in the free space of the world of `config` (a run
 /// configuration, as [`run_batch`] takes), as `harmonav sweep --starts count --seed seed` draws
 /// them: a list of `[x, y]`. Raises `ValueError` for a configuration or world the layer
@@ -680,8 +691,8 @@ pub fn check_run_config(py: Python<'_>, config: &Bound<'_, PyDict>, prepare: boo
 pub fn random_start_points(
     py: Python<'_>,
     config: &Bound<'_, PyDict>,
-    count: usize,
-    seed: u64,
+    #[pyo3(from_py_with = count_arg)] count: usize,
+    #[pyo3(from_py_with = seed_arg)] seed: u64,
 ) -> PyResult<Vec<[f64; 2]>> {
     let c = self::config(config).map_err(value_error)?;
     let points = py

@@ -7,9 +7,10 @@ use harmonav_rs::field::{Field as RsField, FieldError};
 use harmonav_rs::transform::Workspace;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyTuple};
 
 use crate::convert::{empty, parallel_rows, point_like, points_like, policy, value_error};
+use crate::scenario::Scenario;
 use crate::shapes::Shape;
 
 /// Points per `Field::eval_many` call (its results live on the stack).
@@ -22,14 +23,37 @@ type ThetaAndGradient<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray2<f64
 /// obstacle is known: `boundary` and `obstacles` are `Shape`s, `goal` the destination `x_d`.
 /// `k` is the policy `"auto"` (the default, `k = max(6(M + 1), 2·layer_ratio)`, docs/maths.md §8) or `"paper"` (`k = M + 1`).
 /// `margin` (m) grows the obstacles and shrinks the boundary, as a robot radius does.
+///
+/// Immutable: `copy.copy` and `copy.deepcopy` return the same object; pickle rebuilds it from
+/// the constructor's arguments (or, for `Scenario.field()`, from the pickled scenario).
 #[pyclass(module = "harmonav", frozen)]
 pub struct Field {
     inner: RsField,
+    /// How it was made (what pickle rebuilds it from).
+    origin: Origin,
 }
 
-impl From<RsField> for Field {
-    fn from(inner: RsField) -> Self {
-        Self { inner }
+/// How a `Field` was made.
+enum Origin {
+    /// `Field(boundary, obstacles, goal, k, margin)`.
+    Args {
+        boundary: Box<Shape>,
+        obstacles: Vec<Shape>,
+        goal: [f64; 2],
+        k: String,
+        margin: f64,
+    },
+    /// `scenario.field()`.
+    Scenario(Py<Scenario>),
+}
+
+impl Field {
+    /// The field of `scenario.field()`.
+    pub fn of_scenario(inner: RsField, scenario: Py<Scenario>) -> Self {
+        Self {
+            inner,
+            origin: Origin::Scenario(scenario),
+        }
     }
 }
 
@@ -44,6 +68,7 @@ impl Field {
         k: &str,
         margin: f64,
     ) -> PyResult<Self> {
+        let (boundary_shape, k_name) = (boundary, k);
         let k: KPolicy = policy(k)?;
         if !(margin.is_finite() && margin >= 0.0) {
             return Err(value_error(format!(
@@ -63,7 +88,59 @@ impl Field {
             .collect::<PyResult<Vec<_>>>()?;
         let ws = Workspace::new(boundary, grown, goal).map_err(value_error)?;
         let inner = RsField::all_known_with(Arc::new(ws), k).map_err(value_error)?;
-        Ok(Self { inner })
+        let origin = Origin::Args {
+            boundary: Box::new(boundary_shape.clone()),
+            obstacles: obstacles.iter().map(|o| (**o).clone()).collect(),
+            goal: [goal.x, goal.y],
+            k: k_name.to_owned(),
+            margin,
+        };
+        Ok(Self { inner, origin })
+    }
+
+    /// Pickle support: the call that made it, `Field(boundary, obstacles, goal, k, margin)` or
+    /// `Scenario.field(scenario)`.
+    fn __reduce__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {
+        match &self.origin {
+            Origin::Args {
+                boundary,
+                obstacles,
+                goal,
+                k,
+                margin,
+            } => {
+                let obstacles = obstacles
+                    .iter()
+                    .map(|o| Bound::new(py, o.clone()))
+                    .collect::<PyResult<Vec<_>>>()?;
+                let args = (
+                    Bound::new(py, Shape::clone(boundary))?,
+                    obstacles,
+                    *goal,
+                    k.clone(),
+                    *margin,
+                )
+                    .into_pyobject(py)?;
+                Ok((py.get_type::<Self>().into_any(), args))
+            }
+            Origin::Scenario(scenario) => {
+                let field = py.get_type::<Scenario>().getattr("field")?;
+                Ok((field, (scenario.clone_ref(py),).into_pyobject(py)?))
+            }
+        }
+    }
+
+    /// The same object: a field is immutable.
+    fn __copy__(slf: Py<Self>) -> Py<Self> {
+        slf
+    }
+
+    /// The same object: a field is immutable (`memo` is unused).
+    fn __deepcopy__(slf: Py<Self>, _memo: &Bound<'_, PyAny>) -> Py<Self> {
+        slf
     }
 
     /// `k` of `φ_k`.

@@ -10,15 +10,20 @@ use harmonav_scenario::floorplan::{FloorPrepared, FloorScenario};
 use harmonav_sim::floor::FloorSummary;
 use harmonav_sim::physics::{Physics, simulate_floor_observed};
 use numpy::{PyArray2, PyUntypedArrayMethods};
-use pyo3::exceptions::PyOSError;
+use pyo3::exceptions::{PyOSError, PyTypeError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::convert::{point_like, policy, rows2, value_error};
+use crate::convert::{detach_interruptible, escape, point_like, policy, rows2, value_error};
 use crate::scenario::{model, to_python};
 
 /// A floor-plan file: a polygon with holes (or a ROS map) as the known walls and star
 /// obstacles sensed online inside it, its harmonic map solved on load.
+///
+/// Immutable: `copy.copy` and `copy.deepcopy` return the same object. It does not pickle
+/// (`TypeError`): it holds a harmonic map solved from files (the floor-plan file, a map's YAML
+/// and image) that another process may not have, or have changed; pass the path and call
+/// `FloorPlan.load(path)` there.
 #[pyclass(module = "harmonav", frozen)]
 pub struct FloorPlan {
     prepared: FloorPrepared,
@@ -107,27 +112,29 @@ impl FloorPlan {
             .check_start(start)
             .map_err(|e| value_error(format!("start: {e}")))?;
         // As `harmonav run --out`: the folder checked first, the recording streamed during the
-        // run, the set completed after it.
-        let (result, summary, written) = py
-            .detach(|| {
-                let mut outputs = match &out {
-                    Some(dir) => Some(
-                        FloorOutputs::begin(dir, prepared)
-                            .map_err(|e| format!("out: {e}; nothing was run"))?,
-                    ),
-                    None => None,
-                };
-                let result = simulate_floor_observed(prepared, model, start, physics, &mut |e| {
-                    if let Some(o) = outputs.as_mut() {
-                        o.observe(e);
-                    }
-                })
-                .map_err(|e| format!("{}: {e}", prepared.path.display()))?;
-                let summary = FloorSummary::new(prepared, model, start, &result);
-                let written = outputs.map(|o| o.finish(&summary, &result));
-                Ok::<_, String>((result, summary, written))
+        // run, the set completed after it. Ctrl-C during the run (polled at its events) raises
+        // `KeyboardInterrupt`; the unfinished set is dropped on the way out, which removes its
+        // staging folder (and the output folder, if the run created it).
+        let (result, summary, written) = detach_interruptible(py, |poll| {
+            let mut outputs = match &out {
+                Some(dir) => Some(
+                    FloorOutputs::begin(dir, prepared)
+                        .map_err(|e| format!("out: {e}; nothing was run"))?,
+                ),
+                None => None,
+            };
+            let result = simulate_floor_observed(prepared, model, start, physics, &mut |e| {
+                poll.check();
+                if let Some(o) = outputs.as_mut() {
+                    o.observe(e);
+                }
             })
-            .map_err(value_error)?;
+            .map_err(|e| format!("{}: {e}", prepared.path.display()))?;
+            let summary = FloorSummary::new(prepared, model, start, &result);
+            let written = outputs.map(|o| o.finish(&summary, &result));
+            Ok::<_, String>((result, summary, written))
+        })?
+        .map_err(value_error)?;
         let n = result.positions.len();
         let flat = result.positions.iter().flatten().copied().collect();
         let value = FloorRunResult {
@@ -136,8 +143,9 @@ impl FloorPlan {
         };
         if let Some(Err(e)) = written {
             let err = PyOSError::new_err(format!(
-                "out: the outputs were not written: {e} (the run's result is this error's \
-                 `result`)"
+                "out: the outputs were not written: {} (the run's result is this error's \
+                 `result`)",
+                escape(&e.to_string())
             ));
             err.value(py).setattr("result", Py::new(py, value)?)?;
             return Err(err);
@@ -168,13 +176,34 @@ impl FloorPlan {
         Ok(d)
     }
 
+    /// The same object: a floor plan is immutable.
+    fn __copy__(slf: Py<Self>) -> Py<Self> {
+        slf
+    }
+
+    /// The same object: a floor plan is immutable (`memo` is unused).
+    fn __deepcopy__(slf: Py<Self>, _memo: &Bound<'_, PyAny>) -> Py<Self> {
+        slf
+    }
+
+    /// Refused with a `TypeError` that says why and what to do instead.
+    fn __reduce__(&self) -> PyResult<()> {
+        Err(PyTypeError::new_err(format!(
+            "cannot pickle 'harmonav.FloorPlan' object: it holds a harmonic map solved from \
+             files ({}) that another process may not have, or may have changed; pass the path \
+             and call harmonav.FloorPlan.load(path) there",
+            escape(&self.prepared.path.display().to_string())
+        )))
+    }
+
     fn __repr__(&self) -> String {
-        format!(
+        escape(&format!(
             "FloorPlan({:?}, {}, {} elements)",
             self.prepared.scenario.name,
             self.prepared.path.display(),
             self.elements()
-        )
+        ))
+        .into_owned()
     }
 }
 

@@ -3,7 +3,8 @@
 //! API of the `harmonav` facade and `harmonav-sim`; nothing here re-implements the maths.
 //!
 //! Errors: bad arguments raise `ValueError` (with the Rust error's message, which names the
-//! field or the file, field and line), wrong types `TypeError`. Points outside the free space
+//! field or the file, field and line, its control characters escaped: `convert::escape`), wrong
+//! types `TypeError`. Points outside the free space
 //! in a batch evaluation give NaN rows (`Field.eval`) and `False` in `Field.free`.
 
 mod convert;

@@ -1,5 +1,7 @@
 //! The online API: `harmonav::Navigator`.
 
+use std::sync::Mutex;
+
 use harmonav_rs::Vector2;
 use harmonav_rs::transform::Shown;
 use harmonav_rs::{
@@ -11,7 +13,7 @@ use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyList, PyTuple};
 
-use crate::convert::{array1, point_like, policy, value_error};
+use crate::convert::{array1, integer, lock, point_like, policy, reals_like, value_error};
 use crate::shapes::{Shape, from_perceived};
 
 /// The navigator of a robot that does not know its map: obstacles are added as its perception
@@ -58,17 +60,24 @@ use crate::shapes::{Shape, from_perceived};
 /// parameter (every range is the scenario files'; `d_min`, the speed bound and `λ_c` are
 /// checked finite). `copy.copy`, `copy.deepcopy` and pickle give an independent navigator with the same
 /// known obstacles and state, which commands exactly as the original.
-#[pyclass(module = "harmonav")]
-#[derive(Clone)]
+///
+/// Threads: the calls on one navigator are serialised by a lock inside it. A call made while
+/// another thread's call runs (an `observe_scan`, which releases the GIL) waits for it, with
+/// the GIL released, instead of failing.
+#[pyclass(module = "harmonav", frozen)]
 pub struct Navigator {
+    /// Locked with [`lock`], only around Rust work.
+    state: Mutex<State>,
+}
+
+/// A navigator's state, behind its lock.
+#[derive(Clone)]
+struct State {
     inner: RsNavigator,
     /// The constructor's arguments (what pickle rebuilds the navigator from).
     args: Args,
-    /// The calls that made the state since construction (what pickle replays): every added
-    /// obstacle, and the last successful command before each and at the end. The Rust
-    /// navigator's state is the known obstacles, the speed of the last command before the
-    /// latest addition, and the last commanded state: this log determines all three.
-    log: Vec<Event>,
+    /// The calls that made the state since construction (what pickle replays).
+    log: Log,
     /// How the last command was formed.
     mode: Mode,
 }
@@ -101,7 +110,7 @@ struct Args {
 
 /// A call that changed a navigator's state.
 #[derive(Clone)]
-enum Event {
+pub(crate) enum Event {
     /// `add_obstacle(shape)` (the true shape).
     Add(Shape),
     /// `command(x, v)`.
@@ -109,6 +118,79 @@ enum Event {
     /// `observe_scan(...)` that changed the obstacles (a scan that changed nothing leaves no
     /// state to replay).
     Scan(Box<(Pose, LaserScan)>),
+}
+
+/// The calls that made a navigator's state since construction, which pickle replays: every
+/// added obstacle, every scan that changed the obstacles, and of the commands the last one
+/// before each of those and at the end, and every one that lifted the dynamic law's discovery
+/// speed (a recovery out of a margin band). `Navigator`'s state is the known obstacles, the
+/// discovery speed and the last commanded state: this log determines all three (a scan that
+/// changed nothing is not kept, and with it the free space it showed, which later fits leave
+/// out). `FloorNavigator` also remembers the hold's escapes, which the log does not determine.
+#[derive(Clone, Default)]
+pub(crate) struct Log {
+    events: Vec<Event>,
+    /// Whether the last event is a command that must be replayed (it lifted the discovery
+    /// speed), not replaced by the next command.
+    keep_last: bool,
+}
+
+impl Log {
+    pub(crate) fn add(&mut self, shape: Shape) {
+        self.events.push(Event::Add(shape));
+        self.keep_last = false;
+    }
+
+    pub(crate) fn scan(&mut self, pose: Pose, scan: LaserScan) {
+        self.events.push(Event::Scan(Box::new((pose, scan))));
+        self.keep_last = false;
+    }
+
+    /// A successful `command(x, v)`; `keep`: it changed the discovery speed.
+    pub(crate) fn command(&mut self, x: Vector2<f64>, v: Vector2<f64>, keep: bool) {
+        let event = Event::Command([x.x, x.y], [v.x, v.y]);
+        match self.events.last_mut() {
+            Some(last @ Event::Command(..)) if !self.keep_last => *last = event,
+            _ => self.events.push(event),
+        }
+        self.keep_last = keep;
+    }
+
+    /// The log as pickle stores it: `("add", shape)`, `("command", x, v)` and `("scan", pose,
+    /// ranges, angles)` entries.
+    pub(crate) fn to_python<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        let entries = self
+            .events
+            .iter()
+            .map(|e| -> PyResult<Bound<'py, PyTuple>> {
+                match e {
+                    Event::Add(shape) => ("add", Bound::new(py, shape.clone())?).into_pyobject(py),
+                    Event::Command(x, v) => ("command", *x, *v).into_pyobject(py),
+                    Event::Scan(b) => {
+                        let (p, s) = b.as_ref();
+                        (
+                            "scan",
+                            [p.x, p.y, p.yaw],
+                            s.ranges.clone(),
+                            [s.angle_min, s.angle_increment, s.range_min, s.range_max],
+                        )
+                            .into_pyobject(py)
+                    }
+                }
+            })
+            .collect::<PyResult<Vec<_>>>()?;
+        PyList::new(py, entries)
+    }
+}
+
+/// The entries of a pickled state (`Log::to_python`), parsed before anything is replayed;
+/// errors name `class` and the entry.
+pub(crate) fn events(state: &Bound<'_, PyAny>, class: &str) -> PyResult<Vec<Event>> {
+    state
+        .try_iter()?
+        .enumerate()
+        .map(|(i, entry)| event(&entry?, i, class))
+        .collect()
 }
 
 fn nav_error(e: NavError) -> PyErr {
@@ -152,9 +234,9 @@ pub(crate) fn scan_from(
     range_min: f64,
 ) -> PyResult<(Pose, LaserScan)> {
     let p = point_like(position, "position")?;
-    let ranges: Vec<f64> = ranges
-        .extract()
-        .map_err(|e| PyTypeError::new_err(format!("ranges must be a sequence of floats: {e}")))?;
+    // By dtype, as points: booleans and complex numbers are refused, not read as 1 m or
+    // without their imaginary part.
+    let ranges = reals_like(ranges, "ranges")?;
     let scan = LaserScan {
         angle_min,
         angle_increment,
@@ -174,15 +256,31 @@ pub(crate) fn finite_theta(theta: f64) -> PyResult<f64> {
     }
 }
 
-/// `free_memory` as a count: a negative one is refused by name (as `NavError::InvalidOption`,
-/// whose message gives the range), not with pyo3's unnamed `OverflowError`.
-pub(crate) fn free_memory_count(free_memory: i64) -> PyResult<usize> {
-    usize::try_from(free_memory).map_err(|_| {
+/// `free_memory` as a count: a negative one or one beyond 64 bits is refused by name (as
+/// `NavError::InvalidOption`, whose message gives the range), not with pyo3's unnamed
+/// `OverflowError`; one that is not an integer is a `TypeError` naming it.
+pub(crate) fn free_memory_count(free_memory: &Bound<'_, PyAny>) -> PyResult<usize> {
+    let invalid = |value: f64| {
         nav_error(NavError::InvalidOption {
             field: "free_memory",
-            value: free_memory as f64,
+            value,
         })
-    })
+    };
+    match integer::<i64>(free_memory, "free_memory", "an integer") {
+        Ok(n) => usize::try_from(n).map_err(|_| invalid(n as f64)),
+        Err(e) if e.is_instance_of::<pyo3::exceptions::PyValueError>(free_memory.py()) => {
+            // Beyond i64: its value as a float (±inf beyond the floats) for the message.
+            let value = free_memory.extract::<f64>().unwrap_or_else(|_| {
+                if free_memory.lt(0).unwrap_or(false) {
+                    f64::NEG_INFINITY
+                } else {
+                    f64::INFINITY
+                }
+            });
+            Err(invalid(value))
+        }
+        Err(e) => Err(e),
+    }
 }
 
 /// The scan options of a navigator's constructor (the rest at their defaults).
@@ -265,11 +363,21 @@ impl Args {
     }
 }
 
-impl Navigator {
+impl State {
+    /// A navigator as constructed from `args`.
+    fn new(args: Args) -> PyResult<Self> {
+        Ok(Self {
+            inner: args.build()?,
+            args,
+            log: Log::default(),
+            mode: Mode::Law,
+        })
+    }
+
     /// Adds an obstacle and records it.
     fn add(&mut self, shape: &Shape) -> Result<usize, NavError> {
         let i = self.inner.add_obstacle(shape.inner.clone())?;
-        self.log.push(Event::Add(shape.clone()));
+        self.log.add(shape.clone());
         Ok(i)
     }
 
@@ -277,56 +385,58 @@ impl Navigator {
     fn scan(&mut self, pose: Pose, scan: LaserScan) -> Result<RsScanUpdate, NavError> {
         let u = self.inner.observe_scan(pose, &scan)?;
         if u.changed() {
-            self.log.push(Event::Scan(Box::new((pose, scan))));
+            self.log.scan(pose, scan);
         }
         Ok(u)
     }
 
     /// The command at `(x, v)`, and recorded. The Rust navigator refuses a non-finite command
     /// (`NavError::NonFiniteCommand`) and changes nothing on any error.
-    fn issue(&mut self, x: Vector2<f64>, v: Vector2<f64>) -> PyResult<Vector2<f64>> {
-        let c = self.inner.command(x, v).map_err(nav_error)?;
+    fn issue(&mut self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Vector2<f64>, NavError> {
+        let before = self.inner.discovery_speed();
+        let c = self.inner.command(x, v)?;
         self.mode = c.mode;
-        let event = Event::Command([x.x, x.y], [v.x, v.y]);
-        // Only the last command before an addition (and the last one) shape the state.
-        match self.log.last_mut() {
-            Some(last @ Event::Command(..)) => *last = event,
-            _ => self.log.push(event),
-        }
+        let lifted = self.inner.discovery_speed().to_bits() != before.to_bits();
+        self.log.command(x, v, lifted);
         Ok(c.value)
     }
 
-    /// The state as pickle stores it: `("add", shape)` and `("command", x, v)` entries.
-    fn state<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
-        let entries = self
-            .log
-            .iter()
-            .map(|e| -> PyResult<Bound<'py, PyTuple>> {
-                match e {
-                    Event::Add(shape) => ("add", Bound::new(py, shape.clone())?).into_pyobject(py),
-                    Event::Command(x, v) => ("command", *x, *v).into_pyobject(py),
-                    Event::Scan(b) => {
-                        let (p, s) = b.as_ref();
-                        (
-                            "scan",
-                            [p.x, p.y, p.yaw],
-                            s.ranges.clone(),
-                            [s.angle_min, s.angle_increment, s.range_min, s.range_max],
-                        )
-                            .into_pyobject(py)
-                    }
+    /// Replays `events` (a pickled state) on this state, a fresh one.
+    fn replay(&mut self, events: Vec<Event>) -> PyResult<()> {
+        for (i, e) in events.into_iter().enumerate() {
+            let replayed = match e {
+                Event::Add(shape) => self.add(&shape).map(drop),
+                Event::Command(x, v) => self.issue(Vector2::from(x), Vector2::from(v)).map(drop),
+                Event::Scan(b) => {
+                    let (pose, scan) = *b;
+                    self.scan(pose, scan).map(drop)
                 }
-            })
-            .collect::<PyResult<Vec<_>>>()?;
-        PyList::new(py, entries)
+            };
+            replayed.map_err(|e| value_error(format!("Navigator state, entry {i}: {e}")))?;
+        }
+        Ok(())
     }
 }
 
-/// One entry of a pickled state, parsed.
-fn event(entry: &Bound<'_, PyAny>, i: usize) -> PyResult<Event> {
+impl Navigator {
+    /// The state, locked (see [`lock`]).
+    fn state(&self, py: Python<'_>) -> std::sync::MutexGuard<'_, State> {
+        lock(py, &self.state)
+    }
+
+    /// A navigator holding `state`.
+    fn holding(state: State) -> Self {
+        Self {
+            state: Mutex::new(state),
+        }
+    }
+}
+
+/// One entry of a pickled state of a `class` navigator, parsed.
+fn event(entry: &Bound<'_, PyAny>, i: usize, class: &str) -> PyResult<Event> {
     let bad = |problem: String| {
         PyTypeError::new_err(format!(
-            "Navigator state, entry {i}: {problem}; expected (\"add\", Shape), \
+            "{class} state, entry {i}: {problem}; expected (\"add\", Shape), \
              (\"command\", [x, y], [vx, vy]) or (\"scan\", [x, y, yaw], ranges, \
              [angle_min, angle_increment, range_min, range_max])"
         ))
@@ -404,10 +514,9 @@ impl Navigator {
         max_obstacle_depth: f64,
         growth_threshold: f64,
         fit_range: Option<f64>,
-        free_memory: i64,
+        #[pyo3(from_py_with = free_memory_count)] free_memory: usize,
     ) -> PyResult<Self> {
         let goal = point_like(goal, "goal")?;
-        let free_memory = free_memory_count(free_memory)?;
         let args = Args {
             boundary: boundary.clone(),
             goal: [goal.x, goal.y],
@@ -431,20 +540,15 @@ impl Navigator {
             fit_range,
             free_memory,
         };
-        Ok(Self {
-            inner: args.build()?,
-            args,
-            log: Vec::new(),
-            mode: Mode::Law,
-        })
+        Ok(Self::holding(State::new(args)?))
     }
 
     /// Adds a newly sensed obstacle (its true shape; grown by `radius + margin` here) and
     /// returns its index. `k`, `Φ` and the damping state update. Raises `ValueError` (and
     /// changes nothing) if it overlaps a known obstacle, crosses the boundary, or contains the
     /// goal or the robot.
-    fn add_obstacle(&mut self, shape: &Shape) -> PyResult<usize> {
-        self.add(shape).map_err(nav_error)
+    fn add_obstacle(&self, py: Python<'_>, shape: &Shape) -> PyResult<usize> {
+        self.state(py).add(shape).map_err(nav_error)
     }
 
     /// The command to hold for `control_period` at position `x` with velocity `v` (default 0),
@@ -455,21 +559,22 @@ impl Navigator {
     /// or for a command that would not be finite.
     #[pyo3(signature = (x, v=None))]
     fn command<'py>(
-        &mut self,
+        &self,
         py: Python<'py>,
         x: &Bound<'py, PyAny>,
         v: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let x = point_like(x, "x")?;
         let v = v.map_or(Ok(Vector2::zeros()), |v| point_like(v, "v"))?;
-        let c = self.issue(x, v)?;
+        let c = self.state(py).issue(x, v).map_err(nav_error)?;
         array1(py, &[c.x, c.y], "command")
     }
 
     /// Observes one range scan (the fields of `sensor_msgs/LaserScan`) taken at `position`
     /// (array-like `[x, y]`, the robot's centre) with `heading` (rad, the scan's angle 0):
-    /// `ranges` (m, a NumPy array or sequence; NaN, ±inf and out-of-range readings are
-    /// classified as ROS does), `angle_min` and `angle_increment` (rad, increment > 0),
+    /// `ranges` (m, a 1-D array-like of real numbers: booleans and complex numbers are a
+    /// `TypeError`, as for points; NaN, ±inf and out-of-range readings are classified as ROS
+    /// does), `angle_min` and `angle_increment` (rad, increment > 0),
     /// `range_max` and `range_min` (m). Hits explained by known shapes are dropped, the rest
     /// fitted to conservative stars that grow known ones or are added (`docs/maths.md` §12.6).
     /// Returns a `ScanUpdate`. Raises `ValueError` (and changes nothing) for an invalid scan or
@@ -479,7 +584,7 @@ impl Navigator {
                         range_min=0.0))]
     #[allow(clippy::too_many_arguments)]
     fn observe_scan(
-        &mut self,
+        &self,
         py: Python<'_>,
         position: &Bound<'_, PyAny>,
         heading: f64,
@@ -498,15 +603,21 @@ impl Navigator {
             range_max,
             range_min,
         )?;
-        let u = py.detach(|| self.scan(pose, scan)).map_err(nav_error)?;
-        Ok(ScanUpdate::from(u))
+        // The lock is held while the scan runs without the GIL: a call from another thread
+        // waits for it (detached too) instead of failing.
+        let mut guard = self.state(py);
+        let state: &mut State = &mut guard;
+        let u = py.detach(|| state.scan(pose, scan));
+        drop(guard);
+        Ok(ScanUpdate::from(u.map_err(nav_error)?))
     }
 
     /// The perceived shapes (from scans, not grown), as `(index, Shape)` pairs: `index` among
     /// the navigator's obstacles, the shape a `star` with `signed_distance` and `contains`.
     #[getter]
-    fn perceived(&self) -> Vec<(usize, Shape)> {
-        self.inner
+    fn perceived(&self, py: Python<'_>) -> Vec<(usize, Shape)> {
+        self.state(py)
+            .inner
             .perceived()
             .map(|(i, p)| (i, from_perceived(p)))
             .collect()
@@ -515,41 +626,44 @@ impl Navigator {
     /// The perceived shapes (from scans, not grown) in the navigator's order: `perceived`
     /// without the indices, each a `star` with `signed_distance` and `contains`.
     #[getter]
-    fn obstacles(&self) -> Vec<Shape> {
-        self.inner
+    fn obstacles(&self, py: Python<'_>) -> Vec<Shape> {
+        self.state(py)
+            .inner
             .perceived()
             .map(|(_, p)| from_perceived(p))
             .collect()
     }
 
     /// `Θ(x)` over the known obstacles (finite, or `ValueError` as `command`).
-    fn theta(&self, x: &Bound<'_, PyAny>) -> PyResult<f64> {
-        finite_theta(self.inner.theta(point_like(x, "x")?).map_err(nav_error)?)
+    fn theta(&self, py: Python<'_>, x: &Bound<'_, PyAny>) -> PyResult<f64> {
+        let x = point_like(x, "x")?;
+        let theta = self.state(py).inner.theta(x);
+        finite_theta(theta.map_err(nav_error)?)
     }
 
     /// `k` of `φ_k` for the obstacles known so far.
     #[getter]
-    fn k(&self) -> f64 {
-        self.inner.k()
+    fn k(&self, py: Python<'_>) -> f64 {
+        self.state(py).inner.k()
     }
 
     /// How many obstacles are known.
     #[getter]
-    fn obstacle_count(&self) -> usize {
-        self.inner.obstacles().len()
+    fn obstacle_count(&self, py: Python<'_>) -> usize {
+        self.state(py).inner.obstacles().len()
     }
 
     /// The goal, as a (2,) array.
     #[getter]
     fn goal<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let g = self.inner.goal();
+        let g = self.state(py).inner.goal();
         array1(py, &[g.x, g.y], "goal")
     }
 
     /// `√(2μ/m)` for the dynamic law (finite), `None` for the kinematic one.
     #[getter]
-    fn speed_bound(&self) -> Option<f64> {
-        self.inner.speed_bound()
+    fn speed_bound(&self, py: Python<'_>) -> Option<f64> {
+        self.state(py).inner.speed_bound()
     }
 
     /// How the last command was formed: `"law"`, `"capped"` (shortened to be safe to hold),
@@ -557,76 +671,71 @@ impl Navigator {
     /// come to rest away from the goal, at a saddle of `Θ` or in a narrow valley: the steepest
     /// certified descent among 16 directions instead); `"law"` before the first.
     #[getter]
-    fn mode(&self) -> &'static str {
-        self.mode.as_str()
+    fn mode(&self, py: Python<'_>) -> &'static str {
+        self.state(py).mode.as_str()
     }
 
     /// The control period in force, s.
     #[getter]
-    fn control_period(&self) -> f64 {
-        self.inner.control_period()
+    fn control_period(&self, py: Python<'_>) -> f64 {
+        self.state(py).inner.control_period()
     }
 
     /// The certified clearance at `x`: a lower bound on the distance to the nearest known
     /// grown obstacle and to the shrunk boundary, m (what the hold keeps each step within).
-    fn clearance(&self, x: &Bound<'_, PyAny>) -> PyResult<f64> {
-        Ok(self.inner.clearance(point_like(x, "x")?))
+    fn clearance(&self, py: Python<'_>, x: &Bound<'_, PyAny>) -> PyResult<f64> {
+        let x = point_like(x, "x")?;
+        Ok(self.state(py).inner.clearance(x))
     }
 
     /// Pickle support: `(Navigator, constructor arguments, state)`, the state being the list of
-    /// calls that made it (`("add", shape)`, `("command", x, v)`), replayed by `__setstate__`.
+    /// calls that made it (`("add", shape)`, `("command", x, v)`, `("scan", …)`), replayed by
+    /// `__setstate__`.
     fn __reduce__<'py>(
         &self,
         py: Python<'py>,
     ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>, Bound<'py, PyList>)> {
+        // Copied out under the lock, turned into Python objects after it.
+        let (args, log) = {
+            let s = self.state(py);
+            (s.args.clone(), s.log.clone())
+        };
         Ok((
             py.get_type::<Self>().into_any(),
-            self.args.to_tuple(py)?,
-            self.state(py)?,
+            args.to_tuple(py)?,
+            log.to_python(py)?,
         ))
     }
 
     /// Restores a pickled state: rebuilds the navigator from its constructor arguments and
     /// replays `state`. Raises `ValueError` or `TypeError` (and changes nothing) for a state
     /// that does not replay.
-    fn __setstate__(&mut self, state: &Bound<'_, PyAny>) -> PyResult<()> {
-        let mut fresh = Self {
-            inner: self.args.build()?,
-            args: self.args.clone(),
-            log: Vec::new(),
-            mode: Mode::Law,
-        };
-        for (i, entry) in state.try_iter()?.enumerate() {
-            let replayed = match event(&entry?, i)? {
-                Event::Add(shape) => fresh.add(&shape).map(drop).map_err(nav_error),
-                Event::Command(x, v) => fresh.issue(Vector2::from(x), Vector2::from(v)).map(drop),
-                Event::Scan(b) => {
-                    let (pose, scan) = *b;
-                    fresh.scan(pose, scan).map(drop).map_err(nav_error)
-                }
-            };
-            replayed.map_err(|e| value_error(format!("Navigator state, entry {i}: {e}")))?;
-        }
-        *self = fresh;
+    fn __setstate__(&self, py: Python<'_>, state: &Bound<'_, PyAny>) -> PyResult<()> {
+        let events = events(state, "Navigator")?;
+        let args = self.state(py).args.clone();
+        let mut fresh = State::new(args)?;
+        fresh.replay(events)?;
+        *self.state(py) = fresh;
         Ok(())
     }
 
     /// An independent navigator with the same obstacles and state (not shared: changing
     /// either leaves the other as it was).
-    fn __copy__(&self) -> Self {
-        self.clone()
+    fn __copy__(&self, py: Python<'_>) -> Self {
+        Self::holding(self.state(py).clone())
     }
 
     /// As `__copy__`; `memo` is unused (a navigator holds no Python objects).
-    fn __deepcopy__(&self, _memo: &Bound<'_, PyAny>) -> Self {
-        self.clone()
+    fn __deepcopy__(&self, py: Python<'_>, _memo: &Bound<'_, PyAny>) -> Self {
+        self.__copy__(py)
     }
 
-    fn __repr__(&self) -> String {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        let s = self.state(py);
         format!(
             "Navigator({} obstacles known, k={})",
-            self.inner.obstacles().len(),
-            self.inner.k()
+            s.inner.obstacles().len(),
+            s.inner.k()
         )
     }
 }

@@ -4,6 +4,7 @@
 use std::path::PathBuf;
 
 use harmonav_output::set::Outputs;
+use harmonav_scenario::scenario::read_text;
 use harmonav_scenario::{Model, Prepared, Scenario as RsScenario};
 use harmonav_sim::physics::{Physics, simulate_observed};
 use harmonav_sim::summary::Run;
@@ -11,16 +12,38 @@ use harmonav_sim::sweep::{Report, check_count, random_starts, sweep_part};
 use numpy::{PyArray1, PyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::PyOSError;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyTuple};
 
-use crate::convert::{points_like, policy, rows2, value_error};
+use crate::convert::{
+    detach_interruptible, escape, integer, points_like, policy, rows2, value_error,
+};
 use crate::field::Field;
 
 /// A scenario file (TOML, `scenarios/README.md`), validated as `harmonav check` does.
+///
+/// Immutable: `copy.copy` and `copy.deepcopy` return the same object. Pickle stores the path
+/// and the text read from it, and unpickling validates that text again (the file itself is not
+/// read again: it may have changed, or be missing in another process).
 #[pyclass(module = "harmonav", frozen)]
 pub struct Scenario {
-    prepared: Prepared,
+    pub(crate) prepared: Prepared,
     path: PathBuf,
+    /// The file's text, as read (what pickle stores).
+    text: String,
+}
+
+impl Scenario {
+    /// `text` (read from `path`) parsed and validated, without the GIL.
+    fn parsed(py: Python<'_>, path: PathBuf, text: String) -> PyResult<Self> {
+        let prepared = py
+            .detach(|| RsScenario::parse(&path, &text)?.prepare(&path))
+            .map_err(value_error)?;
+        Ok(Self {
+            prepared,
+            path,
+            text,
+        })
+    }
 }
 
 /// The robot model asked for by `model=` (the facade's and the scenario file's name), or by
@@ -75,8 +98,35 @@ impl Scenario {
     /// first problem.
     #[staticmethod]
     fn load(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
-        let prepared = py.detach(|| RsScenario::load(&path)).map_err(value_error)?;
-        Ok(Self { prepared, path })
+        // As `RsScenario::load`, keeping the text for pickle.
+        let text = py.detach(|| read_text(&path)).map_err(value_error)?;
+        Self::parsed(py, path, text)
+    }
+
+    /// The scenario of `text` as if read from `path` (pickle's way back: see `__reduce__`).
+    #[staticmethod]
+    fn _from_text(py: Python<'_>, path: PathBuf, text: String) -> PyResult<Self> {
+        Self::parsed(py, path, text)
+    }
+
+    /// Pickle support: `Scenario._from_text(path, text)`, the text as it was read.
+    fn __reduce__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {
+        let from_text = py.get_type::<Self>().getattr("_from_text")?;
+        let args = (self.path.clone(), self.text.clone()).into_pyobject(py)?;
+        Ok((from_text, args))
+    }
+
+    /// The same object: a scenario is immutable.
+    fn __copy__(slf: Py<Self>) -> Py<Self> {
+        slf
+    }
+
+    /// The same object: a scenario is immutable (`memo` is unused).
+    fn __deepcopy__(slf: Py<Self>, _memo: &Bound<'_, PyAny>) -> Py<Self> {
+        slf
     }
 
     /// The scenario's `name`.
@@ -93,16 +143,17 @@ impl Scenario {
 
     /// The field `Θ` of the scenario with every obstacle known (global sensing), grown by the
     /// robot's radius and margin: what `harmonav eval` evaluates.
-    fn field(&self) -> PyResult<Field> {
-        let field = self.prepared.global_field().map_err(value_error)?;
-        Ok(Field::from(field))
+    fn field(slf: Bound<'_, Self>) -> PyResult<Field> {
+        let field = slf.get().prepared.global_field().map_err(value_error)?;
+        Ok(Field::of_scenario(field, slf.unbind()))
     }
 
     /// Runs the scenario and checks every guarantee. `model` (`"kinematic"` or `"dynamic"`)
     /// overrides the file's `[robot] model` (`controller=` is its deprecated alias); `physics` is `"builtin"` or `"rapier"` (the
     /// rapier2d cross-check); `out`, a directory, receives summary.json, run.mcap and the
     /// figures (a kinematic run removes a stale speed.svg and energy.svg there). The
-    /// simulation runs without the GIL.
+    /// simulation runs without the GIL; Ctrl-C stops it (`KeyboardInterrupt`), and an unfinished
+    /// `out` set leaves nothing behind.
     ///
     /// `out` is checked before the run: an empty path, a path below a file, a dangling or
     /// looping link, an unwritable folder, a path that is too long or a folder named like an
@@ -123,30 +174,33 @@ impl Scenario {
         let prepared = &self.prepared;
         // As `harmonav run --out`: the folder checked first, the recording streamed during the
         // run (every event of it, a lidar's every scan), the set completed after it.
-        let (run, written) = py
-            .detach(|| {
-                let mut outputs = match &out {
-                    Some(dir) => Some(
-                        Outputs::begin(dir, prepared)
-                            .map_err(|e| format!("out: {e}; nothing was run"))?,
-                    ),
-                    None => None,
-                };
-                let run = simulate_observed(prepared, model, physics, &mut |e| {
-                    if let Some(o) = outputs.as_mut() {
-                        o.observe(e);
-                    }
-                })
-                .map_err(|e| format!("{}: {e}", self.path.display()))?;
-                let written = outputs.map(|o| o.finish(&run));
-                Ok::<_, String>((run, written))
+        // Ctrl-C is polled at the run's events; the unfinished set is dropped on the way out,
+        // which removes its staging folder.
+        let (run, written) = detach_interruptible(py, |poll| {
+            let mut outputs = match &out {
+                Some(dir) => Some(
+                    Outputs::begin(dir, prepared)
+                        .map_err(|e| format!("out: {e}; nothing was run"))?,
+                ),
+                None => None,
+            };
+            let run = simulate_observed(prepared, model, physics, &mut |e| {
+                poll.check();
+                if let Some(o) = outputs.as_mut() {
+                    o.observe(e);
+                }
             })
-            .map_err(value_error)?;
+            .map_err(|e| format!("{}: {e}", self.path.display()))?;
+            let written = outputs.map(|o| o.finish(&run));
+            Ok::<_, String>((run, written))
+        })?
+        .map_err(value_error)?;
         let result = RunResult::new(py, &run)?;
         if let Some(Err(e)) = written {
             let err = PyOSError::new_err(format!(
-                "out: the outputs were not written: {e} (the run's result is this error's \
-                 `result`)"
+                "out: the outputs were not written: {} (the run's result is this error's \
+                 `result`)",
+                escape(&e.to_string())
             ));
             let value = err.value(py);
             value.setattr("summary", result.summary.clone_ref(py))?;
@@ -167,11 +221,12 @@ impl Scenario {
     }
 
     fn __repr__(&self) -> String {
-        format!(
+        escape(&format!(
             "Scenario({:?}, {})",
             self.prepared.scenario.name,
             self.path.display()
-        )
+        ))
+        .into_owned()
     }
 }
 
@@ -259,6 +314,12 @@ impl SweepResult {
     }
 }
 
+/// `seed=`: an integer from 0 to 2⁶⁴ − 1, refused by name (pyo3's `OverflowError` names
+/// nothing).
+pub(crate) fn seed_arg(obj: &Bound<'_, PyAny>) -> PyResult<u64> {
+    integer(obj, "seed", "an integer from 0 to 2^64 - 1")
+}
+
 /// Many starts in the scenario's world with every obstacle known (global sensing), in
 /// parallel without the GIL: `starts` is a count of seeded random free starts (`seed`) or an
 /// (N, 2) array of starts, at least 1 and at most 1 000 000 (as `harmonav sweep --starts`).
@@ -271,12 +332,24 @@ pub fn sweep(
     py: Python<'_>,
     scenario: &Scenario,
     starts: &Bound<'_, PyAny>,
-    seed: u64,
+    #[pyo3(from_py_with = seed_arg)] seed: u64,
     model: Option<&str>,
     controller: Option<&str>,
 ) -> PyResult<SweepResult> {
     let prepared = &scenario.prepared;
-    let pts = if let Ok(count) = starts.extract::<usize>() {
+    // A count of any size (not a bool) is a count, refused by name when out of range.
+    let is_count = starts.is_instance_of::<pyo3::types::PyInt>()
+        && !starts.is_instance_of::<pyo3::types::PyBool>();
+    let count = if is_count {
+        Some(integer::<usize>(
+            starts,
+            "starts",
+            "a count from 1 to 1000000 or an (N, 2) array of starts",
+        )?)
+    } else {
+        starts.extract::<usize>().ok()
+    };
+    let pts = if let Some(count) = count {
         py.detach(|| random_starts(prepared, count, seed))
             .map_err(|e| value_error(format!("starts: {e}")))?
     } else {

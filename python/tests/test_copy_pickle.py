@@ -5,6 +5,7 @@ and changing the copy leaves the original as it was."""
 
 import copy
 import inspect
+import pathlib
 import pickle
 
 import numpy as np
@@ -181,3 +182,151 @@ def test_a_pickled_kinematic_navigator_keeps_its_speed_policy_and_v_max():
     np.testing.assert_array_equal(twin.command(x), nav.command(x))
     assert np.linalg.norm(nav.command(x)) <= 0.5 + 1e-12
     assert not np.array_equal(default.command(x), nav.command(x))
+
+
+# Hostile round 2026-12-06, D16: FloorNavigator pickles as Navigator does; Field and Scenario
+# pickle; FloorPlan, Field and Scenario are immutable, so copying returns the same object;
+# FloorPlan refuses pickle with a message that says what to do.
+
+ROOM = np.array([[0.0, 0.0], [6.0, 0.0], [6.0, 2.0], [2.0, 2.0], [2.0, 6.0], [0.0, 6.0]])
+PILLAR = np.array([[0.8, 3.8], [1.2, 3.8], [1.2, 4.2], [0.8, 4.2]])
+REPO = pathlib.Path(__file__).resolve().parents[2]
+
+
+def floor_world(**kwargs):
+    """A dynamic floor navigator that has moved, added a box and perceived nothing yet: its
+    state (the last position, the discovery speed) is not a constructor argument."""
+    nav = harmonav.FloorNavigator(
+        ROOM, [5.4, 1.0], [PILLAR], law="dynamic", mass=2.0, mu=5.0, radius=0.1, margin=0.05,
+        max_element=0.1, damping="paper", heading="paper", free_memory=4, **kwargs,
+    )
+    nav.command([1.0, 5.4], [0.0, -0.3])
+    nav.add_obstacle(harmonav.circle([1.0, 3.0], 0.25))
+    x, v = np.array([1.0, 2.0]), np.array([0.1, -0.4])
+    nav.command(x, v)
+    return nav, x, v
+
+
+def test_a_pickled_floor_navigator_commands_as_the_original():
+    nav, x, v = floor_world()
+    probes = [(x, [0.6, -0.2]), (x + [0.05, 0.02], [-0.5, 0.4]), (np.array([4.0, 1.0]), [0.8, 0.0])]
+    want = [nav.command(*p) for p in probes]
+    nav.command(x, v)
+    # A fresh navigator with the same obstacle commands differently (no discovery speed): the
+    # comparison below can tell whether the copy carries the state.
+    fresh = harmonav.FloorNavigator(
+        ROOM, [5.4, 1.0], [PILLAR], law="dynamic", mass=2.0, mu=5.0, radius=0.1, margin=0.05,
+        max_element=0.1, damping="paper", heading="paper", free_memory=4,
+    )
+    fresh.add_obstacle(harmonav.circle([1.0, 3.0], 0.25))
+    assert any(not np.array_equal(fresh.command(*p), w) for p, w in zip(probes, want))
+    for how, twin in copies(nav):
+        assert isinstance(twin, harmonav.FloorNavigator), how
+        assert (twin.k, twin.delta, twin.elements) == (nav.k, nav.delta, nav.elements), how
+        for p, w in zip(probes, want):
+            twin.command(x, v)
+            np.testing.assert_array_equal(twin.command(*p), w, err_msg=how)
+        assert twin.theta(x) == nav.theta(x), how
+        # The last position is state too: an obstacle over it is refused by the copy.
+        with pytest.raises(ValueError, match="robot"):
+            twin.add_obstacle(harmonav.circle(probes[-1][0], 0.2))
+
+
+def test_a_floor_navigator_pickle_holds_its_walls_and_keywords():
+    nav, _, _ = floor_world(speed="paper", v_max=0.5)
+    partial, args, state = nav.__reduce__()
+    assert partial.func is harmonav.FloorNavigator
+    assert partial.keywords["law"] == "dynamic" and partial.keywords["free_memory"] == 4
+    assert partial.keywords["speed"] == "paper" and partial.keywords["v_max"] == 0.5
+    outer, goal, holes = args
+    assert len(outer) == len(ROOM) and len(holes) == 1 and list(goal) == [5.4, 1.0]
+    assert [e[0] for e in state] == ["command", "add", "command"]
+    # The state replays on the navigator as it is, and a corrupt one changes nothing.
+    k = nav.k
+    with pytest.raises(ValueError, match="FloorNavigator state, entry 3"):
+        nav.__setstate__(state + [("add", harmonav.circle([5.4, 1.0], 0.3))])
+    with pytest.raises(TypeError, match="FloorNavigator state, entry 0"):
+        nav.__setstate__([("teleport", [0, 0])])
+    assert nav.k == k
+
+
+def test_a_floor_navigator_from_a_map_pickles_as_its_walls():
+    yaml = REPO / "scenarios" / "floorplans" / "maps" / "office.yaml"
+    nav = harmonav.FloorNavigator.from_map(yaml, [1.5, 1.5], [8.5, 6.5], radius=0.1, margin=0.1)
+    twin = pickle.loads(pickle.dumps(nav))
+    assert (twin.elements, twin.k, twin.delta) == (nav.elements, nav.k, nav.delta)
+    for x in ([1.5, 1.5], [4.0, 3.0], [8.0, 6.0]):
+        np.testing.assert_array_equal(twin.command(x), nav.command(x))
+
+
+def test_a_floor_navigator_pickles_its_perceived_obstacles():
+    room = np.array([[0.0, 0.0], [6.0, 0.0], [6.0, 3.0], [0.0, 3.0]])
+    nav = harmonav.FloorNavigator(room, [5.5, 1.8], radius=0.1, margin=0.1, max_element=0.1)
+    # A box seen by a 360-beam scan from (1.5, 1.5): its near face at x = 2.6.
+    a = np.arange(360) * (2 * np.pi / 360)
+    r = np.full(360, np.inf)
+    facing = np.abs(np.tan(a)) < 0.35 / 1.1
+    r[facing & (np.cos(a) > 0)] = 1.1 / np.cos(a[facing & (np.cos(a) > 0)])
+    assert nav.observe_scan([1.5, 1.5], 0.0, r, 0.0, 2 * np.pi / 360, 4.0).changed
+    twin = pickle.loads(pickle.dumps(nav))
+    assert len(twin.obstacles) == len(nav.obstacles) == 1
+    np.testing.assert_array_equal(
+        twin.obstacles[0].outline(64), nav.obstacles[0].outline(64)
+    )
+    np.testing.assert_array_equal(twin.command([1.5, 1.5]), nav.command([1.5, 1.5]))
+
+
+def test_a_recovery_that_lifts_the_discovery_speed_survives_pickle():
+    """A dynamic navigator's recovery out of a margin band lifts the discovery speed that its
+    switched damping uses. The pickle keeps that command even after later ones (before, only
+    the last command was kept, and the lift was lost)."""
+    kwargs = dict(law="dynamic", mass=1.0, mu=5.0, radius=0.1, margin=0.2, k="paper",
+                  damping="paper", sensor=(1.5, 90.0))
+    nav = harmonav.Navigator(harmonav.circle([0, 0], 4.0), [3.0, 0.0], **kwargs)
+    nav.command([-1.0, -1.5], [0.0, 0.0])
+    nav.add_obstacle(harmonav.circle([0.0, 0.0], 1.0))
+    # In the margin band: 1.15 from the centre, clear of the true disc grown by the radius.
+    nav.command([-1.15, 0.0], [0.9, 0.0])
+    assert nav.mode == "recovering"
+    x, v = np.array([-2.5, 1.5]), np.array([0.3, 0.0])
+    nav.command(x, v)
+    probes = [(np.array([-1.45, 0.3]), [1.2, -0.4]), (np.array([-1.4, -0.5]), [1.5, 0.5])]
+    want = [nav.command(*p) for p in probes]
+    nav.command(x, v)
+    unlifted = harmonav.Navigator(harmonav.circle([0, 0], 4.0), [3.0, 0.0], **kwargs)
+    unlifted.command([-1.0, -1.5], [0.0, 0.0])
+    unlifted.add_obstacle(harmonav.circle([0.0, 0.0], 1.0))
+    unlifted.command(x, v)
+    assert any(not np.array_equal(unlifted.command(*p), w) for p, w in zip(probes, want))
+    for how, twin in copies(nav):
+        for p, w in zip(probes, want):
+            twin.command(x, v)
+            np.testing.assert_array_equal(twin.command(*p), w, err_msg=how)
+
+
+def test_immutable_objects_copy_as_themselves_and_pickle_or_say_why_not(tmp_path):
+    scenario_file = tmp_path / "mixed.toml"
+    scenario_file.write_text((REPO / "scenarios" / "shapes" / "mixed.toml").read_text())
+    scenario = harmonav.Scenario.load(scenario_file)
+    plan = harmonav.FloorPlan.load(REPO / "scenarios" / "floorplans" / "l-room.toml")
+    field = harmonav.Field(harmonav.circle([0, 0], 4.0), [SHAPES[0], SHAPES[2]], [3.0, 0.0],
+                           k="paper", margin=0.1)
+    for obj in (scenario, plan, field, scenario.field()):
+        assert copy.copy(obj) is obj and copy.deepcopy(obj) is obj
+    with pytest.raises(TypeError, match=r"FloorPlan.*FloorPlan\.load\(path\)"):
+        pickle.dumps(plan)
+    # A scenario pickles as its path and text: it unpickles with the file gone.
+    data = [pickle.dumps(scenario, protocol=p) for p in PROTOCOLS]
+    from_scenario = pickle.dumps(scenario.field())
+    scenario_file.unlink()
+    for d in data:
+        twin = pickle.loads(d)
+        assert (twin.name, twin.path) == (scenario.name, scenario.path)
+        assert twin.shortest_path()[0] == scenario.shortest_path()[0]
+    pts = np.random.default_rng(3).uniform(-3, 3, (100, 2))
+    for how, twin in copies(field):
+        assert repr(twin) == repr(field), how
+        np.testing.assert_array_equal(twin.eval(pts)[0], field.eval(pts)[0], err_msg=how)
+    np.testing.assert_array_equal(
+        pickle.loads(from_scenario).eval(pts)[0], scenario.field().eval(pts)[0]
+    )

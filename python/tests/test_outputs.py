@@ -120,31 +120,30 @@ def test_the_run_is_kept_when_writing_the_outputs_fails(tmp_path):
 
 LOAD_FIFO = textwrap.dedent(
     """
-    import sys, threading, time
+    import sys
     import harmonav
-    fifo, text = sys.argv[1], open(sys.argv[2]).read()
-    box = {}
-    loader = threading.Thread(target=lambda: box.update(sc=harmonav.Scenario.load(fifo)))
-    loader.start()
-    time.sleep(0.2)  # the loader now waits for a writer, in open()
-    with open(fifo, "w") as f:
-        f.write(text)
-    loader.join()
-    print(box["sc"].name)
+    for load in (harmonav.Scenario.load, harmonav.FloorPlan.load):
+        try:
+            load(sys.argv[1])
+        except ValueError as e:
+            print(e)
     """
 )
 
 
-def test_loading_a_fifo_does_not_hold_the_gil(tmp_path):
-    # Before, the loader blocked in open() holding the GIL: the writer (this process's main
-    # thread) could never run, and the child hung until the timeout.
+def test_loading_a_fifo_is_refused_without_blocking(tmp_path):
+    # Before, the loader blocked in open() (first holding the GIL, then without it, waiting for
+    # a writer); a FIFO, like a folder or a device, is now refused before it is opened
+    # (hostile round 2026-12-06, D14). In a child, so that a regression hangs only the child.
     fifo = tmp_path / "scenario.toml"
     os.mkfifo(fifo)
     child = subprocess.run(
-        [sys.executable, "-c", LOAD_FIFO, str(fifo), str(MIXED)],
+        [sys.executable, "-c", LOAD_FIFO, str(fifo)],
         capture_output=True,
         text=True,
         timeout=60,
     )
     assert child.returncode == 0, child.stderr
-    assert child.stdout.strip() == "shapes-mixed"
+    lines = child.stdout.splitlines()
+    assert len(lines) == 2, child.stdout
+    assert all("scenario.toml" in ln and "not a regular file" in ln for ln in lines), lines
