@@ -22,6 +22,8 @@ use crate::quality;
 mod harmonic;
 #[path = "bench_many.rs"]
 mod many;
+#[path = "bench_maps.rs"]
+mod maps;
 
 pub struct Options {
     json: bool,
@@ -153,6 +155,13 @@ pub fn run(options: &Options) -> ExitCode {
         }
     }
     if wants("observe_scan") {
+        match observe_scan_hostile_us(360) {
+            Ok(us) => put("observe_scan_hostile_us_360", us),
+            Err(e) => {
+                eprintln!("xtask bench: the hostile scan benchmark failed: {e}");
+                return ExitCode::FAILURE;
+            }
+        }
         for beams in [360, 1080] {
             let (steady, event) = observe_scan_us(beams);
             put(&format!("observe_scan_us_{beams}"), steady);
@@ -179,6 +188,12 @@ pub fn run(options: &Options) -> ExitCode {
     }
     if wants("many") {
         many::figures(&mut put);
+    }
+    if wants("map_")
+        && let Err(e) = maps::figures(&mut put)
+    {
+        eprintln!("xtask bench: the map benchmark failed: {e}");
+        return ExitCode::FAILURE;
     }
     if wants("harmonic")
         && let Err(e) = harmonic::figures(&mut put)
@@ -446,6 +461,25 @@ fn observe_scan_us(beams: usize) -> (f64, f64) {
         }
     });
     (steady, event)
+}
+
+/// One `Navigator::observe_scan` of the hostile round's worst-case scan (2026-12-06, D2;
+/// `harmonav_bench::hostile`): a full turn of `beams` ranges uniform in [0.05, 3] m on a fresh
+/// navigator (a robot of radius 0.1 m at (−3, 0) in a disc of radius 10 m), refused as
+/// `ContainsRobot`, µs. Target: ≤ 10 000 µs at 360 beams (`hostile::TARGET_US`); before the fix
+/// about 40 s.
+fn observe_scan_hostile_us(beams: usize) -> Result<f64, String> {
+    use harmonav_bench::hostile;
+    let fresh = hostile::navigator();
+    let (pose, scan) = (hostile::pose(), hostile::scan(beams, 0.05, 3.0));
+    match fresh.clone().observe_scan(pose, &scan) {
+        Err(harmonav::NavError::ContainsRobot) => {}
+        other => return Err(format!("expected ContainsRobot, got {other:?}")),
+    }
+    Ok(median_ns(15, 1e3, || {
+        let mut nav = fresh.clone();
+        let _ = black_box(nav.observe_scan(pose, black_box(&scan)));
+    }))
 }
 
 /// The first `Navigator::observe_scan` of a fresh navigator on one dense segment, µs: a full

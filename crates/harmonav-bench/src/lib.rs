@@ -4,7 +4,8 @@
 //! cell of (obstacle count × sensing × `k` policy × law × margin) run through the same
 //! closed loop as the CLI, each path compared with the independent shortest path
 //! (`harmonav_sim::shortest`) ([`quality`]), and the tables of a study from its per-run records
-//! ([`table`]: the one implementation, which `harmonav.experiment report` also calls).
+//! ([`table`]: the one implementation, which `harmonav.experiment report` also calls), and the
+//! hostile round's worst-case scan ([`hostile`], for the benches).
 //! `cargo xtask quality`, `cargo xtask bench` and `cargo xtask verify` (`quality.*`) call it.
 //!
 //! May depend on: harmonav-scenario (the worlds are written as scenarios) and harmonav-sim
@@ -13,5 +14,6 @@
 
 #![warn(missing_docs)]
 
+pub mod hostile;
 pub mod quality;
 pub mod table;

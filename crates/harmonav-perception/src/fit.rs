@@ -702,6 +702,7 @@ pub fn fit_segment(
             problem: "a segment needs at least one hit and one beam direction per hit".into(),
         }));
     }
+    crate::work::count(|w| w.fits += 1);
     let limit = params.max_obstacle_depth + 2.0 * params.range_noise;
     let w = span(points);
     if w > limit {

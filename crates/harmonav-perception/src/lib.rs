@@ -106,6 +106,7 @@
 #![warn(missing_docs)]
 
 mod boxes;
+mod enclosure;
 pub mod fit;
 pub mod free;
 pub mod perceived;
@@ -114,6 +115,7 @@ pub mod scan;
 pub mod segment;
 pub mod sim;
 pub mod walls;
+pub mod work;
 
 pub use fit::{Fit, FitFailure, FitParams, SIDE_BEAMS, fit_in_scan, fit_segment, side_beams};
 pub use free::{FreeEvidence, FreeSet, FreeSpace, FreeUnion, WallPrior, free_radius, sagitta};
@@ -125,3 +127,4 @@ pub use perception::{Known, Observation, Options, Perception, PerceptionError};
 pub use scan::{LaserScan, MAX_ANGLE, MAX_BEAMS, Pose, Reading, ScanError};
 pub use segment::{End, Segment, hit_point, segment};
 pub use walls::{Walls, WallsError};
+pub use work::{Work, work};

@@ -331,6 +331,7 @@ pub fn certified_star(
             .find(|v| v.is_finite());
         g[j] = left.unwrap_or(0.0).max(right.unwrap_or(0.0));
     }
+    crate::work::count(|w| w.certifications += 1);
     let (mut r0, harmonics, sum_c, l1) = tightest_candidate(&g, order, h);
     for round in 0..ROUNDS {
         // A star too detailed for its outline cap cannot arise at these orders and sizes; if
@@ -389,6 +390,7 @@ pub fn certified_hull(
             problem: "no sample to contain".into(),
         });
     }
+    crate::work::count(|w| w.certifications += 1);
     let reach = samples.iter().map(|x| (x - c).norm()).fold(0.0, f64::max);
     let mut pad = 2.5e-4 * (reach + h);
     for round in 0..ROUNDS {
@@ -625,6 +627,7 @@ pub fn merge_clear_of(
     order: u32,
     clear: Option<(Vector2<f64>, f64)>,
 ) -> Result<(Perceived, Certification), MergeFailure> {
+    crate::work::count(|w| w.merges += 1);
     let (ca, cb) = (a.centre(), b.centre());
     let mid = 0.5 * (ca + cb);
     let candidates: Vec<Vector2<f64>> =
@@ -690,33 +693,142 @@ pub fn merge_clear_of(
 /// Some((s, r_k))`, lies at least `r_k` from `s` by its certified distance. Every candidate's
 /// hull holds both shapes (eq. hull); the area only picks. `None` when no candidate qualifies
 /// and none failed; the last failure when none qualifies.
+///
+/// With `clear`, a candidate whose star certainly comes nearer than `r_k` to `s`
+/// ([`held_near`]: a segment from it to a sample passes that near) is skipped without building
+/// its star: it could not qualify, so the choice is the same, to the bit. A skipped candidate
+/// counts as neither qualifying nor failed; both callers with `clear` take a failure as they
+/// take `None` (the first choice stands, or no clear fit). Where the sensor is walled in by the
+/// samples (a noisy scan's fits all round it) this skips nearly every candidate, which cost a
+/// certified hull each: 96 per merge and 48 per fit, 0.1–0.5 s, before 2026-12-06 (the hostile
+/// round's D2).
+///
+/// The others are tried by their area floors ([`area_floor`], least first), and one whose floor
+/// exceeds the least area found so far is skipped too: its star could not be smaller. The
+/// choice is the loop's (the least area, the lowest index among equal areas; the failure of the
+/// highest index when none qualifies), with most of a merge's nine stars never built.
 pub(crate) fn least_hull(
     candidates: &[Vector2<f64>],
     samples: &[Vector2<f64>],
     h: f64,
     clear: Option<(Vector2<f64>, f64)>,
 ) -> Option<Result<(Perceived, Certification), ShapeError>> {
-    let mut best: Option<(Perceived, Certification)> = None;
-    let mut last_error = None;
-    for &p in candidates {
+    // The candidates that may qualify, each with a floor of its star's area, least first
+    // (candidates without one first, then by index).
+    let mut order: Vec<(usize, Vector2<f64>, Option<f64>)> = Vec::with_capacity(candidates.len());
+    for (i, &p) in candidates.iter().enumerate() {
+        if clear.is_some_and(|(s, keep)| held_near(p, samples, 0.5 * h, s, keep)) {
+            crate::work::count(|w| w.skipped += 1);
+        } else {
+            order.push((i, p, area_floor(p, samples, h)));
+        }
+    }
+    order.sort_by(|a, b| {
+        let key = |f: Option<f64>| f.unwrap_or(f64::NEG_INFINITY);
+        key(a.2).total_cmp(&key(b.2))
+    });
+    let mut best: Option<(usize, (Perceived, Certification))> = None;
+    let mut last_error: Option<(usize, ShapeError)> = None;
+    for (i, p, floor) in order {
+        if let (Some(f), Some((_, b))) = (floor, &best)
+            && f > b.0.area()
+        {
+            // This star and every later one are larger than the best (`area_floor`).
+            crate::work::count(|w| w.skipped += 1);
+            continue;
+        }
         match certified_hull(p, samples, h) {
             Ok(merged) => {
                 let clear_of = |(s, keep): (Vector2<f64>, f64)| {
                     merged.0.shape().signed_distance_bounds(s).0 >= keep
                 };
-                let smaller = best.as_ref().is_none_or(|b| merged.0.area() < b.0.area());
-                if smaller && clear.is_none_or(clear_of) {
-                    best = Some(merged);
+                let area = merged.0.area();
+                let better = best
+                    .as_ref()
+                    .is_none_or(|(j, b)| area < b.0.area() || (area == b.0.area() && i < *j));
+                if better && clear.is_none_or(clear_of) {
+                    best = Some((i, merged));
                 }
             }
-            Err(e) => last_error = Some(e),
+            Err(e) => {
+                if last_error.as_ref().is_none_or(|(j, _)| i > *j) {
+                    last_error = Some((i, e));
+                }
+            }
         }
     }
     match (best, last_error) {
-        (Some(b), _) => Some(Ok(b)),
-        (None, Some(e)) => Some(Err(e)),
+        (Some((_, b)), _) => Some(Ok(b)),
+        (None, Some((_, e))) => Some(Err(e)),
         (None, None) => None,
     }
+}
+
+/// A floor of the area of [`certified_hull`]'s star about `c` (the area [`Perceived::area`]
+/// compares), from the radii of its first round alone (one `radial_hull_radii`, no star
+/// built, no sample certified): `½·Σ l_i²·2π/G·(1 − 10⁻⁹)`, `l_i = R⁰_i` where a disc reaches
+/// the cell and 0 where none may (the radius equal to the least of the table: a cell no disc
+/// reaches takes the table's floor, `harmonav_transform::hull`). A later round's discs are
+/// larger (`τ` × 4), so each exit and each reached cell's radius only grows; the disc fallback
+/// `max|x − c| + h` holds every first-round disc when `τ < h/2` (`None` otherwise, and when
+/// the radii cannot be built); `10⁻⁹` covers the table's evaluation at its nodes. So no star
+/// [`certified_hull`] returns about `c` has a smaller area.
+///
+/// [`least_hull`] tries its candidates by their floors and stops where the floor exceeds the
+/// best area found: the same choice (the least area, the lowest index among equals), with
+/// most of a merge's nine stars never built.
+fn area_floor(c: Vector2<f64>, samples: &[Vector2<f64>], h: f64) -> Option<f64> {
+    // As `certified_hull`'s first round.
+    let reach = samples.iter().map(|x| (x - c).norm()).fold(0.0, f64::max);
+    let pad = 2.5e-4 * (reach + h);
+    if samples.is_empty() || pad >= 0.45 * h {
+        return None;
+    }
+    let discs: Vec<(Vector2<f64>, f64)> = samples.iter().map(|&x| (x, 0.5 * h + pad)).collect();
+    let radii = harmonav_transform::hull::radial_hull_radii(c, &discs).ok()?;
+    let least = radii.iter().copied().fold(f64::INFINITY, f64::min);
+    let sum: f64 = radii
+        .iter()
+        .map(|&r| if r > least { r * r } else { 0.0 })
+        .sum();
+    Some(0.5 * TAU * sum / radii.len() as f64 * (1.0 - 1e-9))
+}
+
+/// Whether every star about `p` that holds the discs `B(x, ρ)`, `x ∈ samples`, comes nearer
+/// than `keep` to `s` (its true signed distance at `s` below `keep`): a star about `p` holds the
+/// segment from `p` to each point it holds, so it holds the cone `conv(p, B(x, ρ))` and in it the
+/// disc `B(p + t(x − p), tρ)` for every `t ∈ [0, 1]`. With `t` the parameter of the point of the
+/// segment `[p, x]` nearest `s` and `d` their distance,
+///
+/// ```text
+/// sd_F(s) ≤ max(0, d − tρ)  (or < 0, s inside F),   so   d − tρ < keep − η  ⇒  lo_F(s) ≤ sd_F(s) < keep
+/// ```
+///
+/// (`η = 1e-9·(1 + |s|∞ + |p|∞ + |x − p|)` for the rounding of `d`; `lo_F` the certified lower
+/// bound of `StarShape::signed_distance_bounds`). [`certified_hull`] about `p` returns such a
+/// star (the radial hull of the discs of radius `h/2 + τ ≥ ρ = h/2` holds each disc, and the
+/// disc fallback of radius `max|x − p| + h` holds them all), so a candidate for which this holds
+/// fails `lo ≥ r_k` in [`least_hull`]. `false` for `keep ≤ 0`.
+fn held_near(
+    p: Vector2<f64>,
+    samples: &[Vector2<f64>],
+    rho: f64,
+    s: Vector2<f64>,
+    keep: f64,
+) -> bool {
+    keep > 0.0
+        && samples.iter().any(|&x| {
+            let v = x - p;
+            let len2 = v.norm_squared();
+            let t = if len2 > 0.0 {
+                ((s - p).dot(&v) / len2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let d = (p + t * v - s).norm();
+            let eta = 1e-9 * (1.0 + s.amax() + p.amax() + len2.sqrt());
+            d - t * rho < keep - eta
+        })
 }
 
 /// The error of a merge with no candidate centre (never: [`merge`] tries nine).
@@ -773,6 +885,85 @@ mod tests {
             let (stands, _) = merge_clear_of(&upper, &lower, h, 6, Some((s, keep))).unwrap();
             assert_eq!(stands.area(), first.area());
         }
+    }
+
+    /// The skips of [`least_hull`]: every candidate [`held_near`] skips has a certified hull
+    /// that fails the clear test (`lo(s) < r_k`), over random clouds of samples, centres and
+    /// sensors near them; and [`least_hull`], which also skips the candidates whose area floor
+    /// ([`area_floor`]) exceeds the best area found, returns what the loop over every candidate
+    /// returns, to the bit, with and without the clear test. Both outcomes of the first skip
+    /// occur, and the floors skip candidates (the checks bite).
+    #[test]
+    fn a_skipped_candidate_could_not_have_qualified() {
+        let mut rng = harmonav_transform::random::Rng::new(11);
+        let h = 0.01;
+        let (mut skipped, mut built, mut floored) = (0, 0, 0);
+        for _ in 0..40 {
+            // A few arcs of samples at spacing h about random points.
+            let samples: Vec<Vector2<f64>> = (0..rng.below(3) + 1)
+                .flat_map(|_| {
+                    let (c, r) = (rng.point(1.0), rng.uniform(0.1, 0.6));
+                    let (a, span) = (rng.uniform(0.0, TAU), rng.uniform(0.5, TAU));
+                    let n = (span * r / h).ceil() as usize;
+                    (0..=n)
+                        .map(move |k| {
+                            let t = a + span * k as f64 / n as f64;
+                            c + r * Vector2::new(t.cos(), t.sin())
+                        })
+                        .collect::<Vec<_>>()
+                })
+                .collect();
+            let candidates: Vec<Vector2<f64>> = (0..6).map(|_| rng.point(1.2)).collect();
+            let s = rng.point(1.5);
+            let keep = rng.uniform(0.01, 0.3);
+            for &p in &candidates {
+                if held_near(p, &samples, 0.5 * h, s, keep) {
+                    skipped += 1;
+                    let (star, _) = certified_hull(p, &samples, h).unwrap();
+                    assert!(star.shape().signed_distance_bounds(s).0 < keep);
+                } else {
+                    built += 1;
+                }
+            }
+            // The loop over every candidate, with and without the clear test.
+            for clear in [Some((s, keep)), None] {
+                let mut best: Option<(Perceived, Certification)> = None;
+                for &p in &candidates {
+                    if let Ok(merged) = certified_hull(p, &samples, h) {
+                        let clear_of = |(s, keep): (Vector2<f64>, f64)| {
+                            merged.0.shape().signed_distance_bounds(s).0 >= keep
+                        };
+                        let smaller = best.as_ref().is_none_or(|b| merged.0.area() < b.0.area());
+                        if smaller && clear.is_none_or(clear_of) {
+                            best = Some(merged);
+                        }
+                    }
+                }
+                let before = crate::work::work();
+                let quick = least_hull(&candidates, &samples, h, clear);
+                if clear.is_none() {
+                    floored += crate::work::work().since(before).skipped;
+                }
+                match (best, quick) {
+                    (None, None | Some(Err(_))) => {}
+                    (Some(a), Some(Ok(b))) => {
+                        assert_eq!(a.0.radii(), b.0.radii());
+                        assert_eq!(a.0.centre(), b.0.centre());
+                        assert_eq!(a.1, b.1);
+                    }
+                    (a, b) => panic!(
+                        "{:?} against {:?}",
+                        a.map(|x| x.1),
+                        b.map(|x| x.map(|y| y.1))
+                    ),
+                }
+            }
+        }
+        assert!(
+            skipped >= 20 && built >= 20,
+            "{skipped} skipped, {built} built"
+        );
+        assert!(floored >= 40, "{floored} skipped by their area floors");
     }
 
     /// A hull with a radial jump (a far disc beside a near one): its per-cell cover leaves no

@@ -4,9 +4,10 @@
 use std::fmt;
 use std::sync::Arc;
 
-use harmonav_transform::{ShapeError, StarShape};
+use harmonav_transform::{ShapeError, Shown, StarShape};
 use nalgebra::Vector2;
 
+use crate::enclosure::Surround;
 use crate::fit::{FitFailure, FitParams, fit_in_scan};
 use crate::free::{FreeEvidence, FreeSpace, FreeUnion, WallPrior};
 use crate::perceived::{MergeFailure, Perceived, StarForm, merge_clear_of};
@@ -241,6 +242,20 @@ pub enum PerceptionError {
     Shape(ShapeError),
     /// The walls could not be built ([`Walls::new`]).
     Walls(WallsError),
+    /// The update would leave the sensor inside a perceived shape, or nearer one than the
+    /// robot's `guard` allows ([`Perception::observe_guarded`], eq. guard): a fit, or a merge
+    /// of a fit with perceived shapes, comes certainly that near. Perceived shapes only grow (a
+    /// merge holds what it merges), so the shape the update would end with comes as near, and
+    /// a navigator would refuse it (its robot's disc over an obstacle); the update is refused
+    /// as soon as this is certain, before the remaining fits and merges. A scan of ranges at
+    /// random (rain, dust, glass, a failing lidar) does this at its nearest fit: `D` behind a
+    /// hit a few centimetres from the sensor reaches over the sensor.
+    HoldsSensor {
+        /// The first beam of the segment whose fit, alone or merged, comes that near.
+        beam: usize,
+        /// The guard, m (0: the fit holds the sensor).
+        guard: f64,
+    },
 }
 
 impl fmt::Display for PerceptionError {
@@ -266,6 +281,17 @@ impl fmt::Display for PerceptionError {
             ),
             Self::Shape(e) => write!(f, "{e}"),
             Self::Walls(e) => write!(f, "{e}"),
+            Self::HoldsSensor { beam, guard } if *guard > 0.0 => write!(
+                f,
+                "the scan would put a perceived obstacle within {} m of the sensor (the fit \
+                 of the segment from beam {beam}, alone or merged)",
+                Shown(*guard)
+            ),
+            Self::HoldsSensor { beam, .. } => write!(
+                f,
+                "the scan would put the sensor inside a perceived obstacle (the fit of the \
+                 segment from beam {beam}, alone or merged, holds it)"
+            ),
         }
     }
 }
@@ -513,11 +539,69 @@ impl Perception {
     ///    [`PerceptionError::NotStarWorld`].
     ///
     /// A perceived shape is only ever replaced by a merge that contains it: shapes only grow.
+    ///
+    /// The segments are fitted nearest first (by their nearest hit to the sensor), then merged
+    /// in scan order: a fit depends only on its segment, the scan and the options, so the
+    /// shapes are those of fitting in scan order. An update that would leave the sensor inside
+    /// a perceived shape is refused ([`PerceptionError::HoldsSensor`]) as soon as that is
+    /// certain: a fit or a merge holds it, or fits wall it in ([`Perception::observe_guarded`]
+    /// with `guard = 0`).
     pub fn observe(
         &mut self,
         pose: Pose,
         scan: &LaserScan,
     ) -> Result<Observation, PerceptionError> {
+        self.observe_guarded(pose, scan, 0.0)
+    }
+
+    /// [`Perception::observe`] for a robot that must stay `guard` (m) clear of every perceived
+    /// shape, as a navigator's robot of radius `guard` (its disc must not overlap a shape) must:
+    /// the update is refused ([`PerceptionError::HoldsSensor`]) as soon as a fit, or the merge
+    /// of a fit with perceived shapes, comes certainly nearer the sensor `s` than
+    ///
+    /// ```text
+    /// g' = max(guard − h, 0):   hi_F(s) < g'     (hi_F the certified upper bound of F's signed distance)   (eq. guard)
+    /// ```
+    ///
+    /// (`h` the cover's spacing, [`Options::check_spacing`]). Perceived shapes only grow: the
+    /// fit `F` ends in a shape `M ⊃ F` of the update (held by it, or merged into it), so
+    /// `d(s, M) ≤ d(s, F) < g'`, and `M` is new or grown: no shape from before the update holds
+    /// `F` (the sensor lies outside them, `PoseNotFree`; for `g' > 0` they must also lie
+    /// certainly `g'` or more from the sensor, `lo_P(s) ≥ g'`, else `g' = 0` is used). A
+    /// navigator that refuses an update whose new or grown shape, grown by `guard`, holds its
+    /// robot would refuse this one at its end: the early refusal changes when the refusal is
+    /// known, not whether (where the update would also have failed otherwise, a map obstacle
+    /// overlapped or a star not built, the error reported may be this one instead). `h` is slack for the navigator's tabulated offset (8 192 exact
+    /// samples per turn, far nearer the true offset than `h`), so that what is refused here is
+    /// refused there. With `guard = 0` a shape that holds the sensor (`hi_F(s) < 0`) is refused:
+    /// no obstacle holds the sensor (A2), so no sound update leaves it inside.
+    ///
+    /// Fits and perceived shapes that certainly share points all round the sensor (eq.
+    /// surround, `crate::enclosure`: a ring of them about it) end in one shape that holds it:
+    /// refused too, before any merge.
+    ///
+    /// *Cost.* The segments are fitted nearest first and all fitted before the first merge:
+    /// a scan of ranges at random (rain, dust, glass, a failing or hostile lidar) has a hit a
+    /// few centimetres from the sensor, and the region `K` of radius `D + ε` of its fit
+    /// reaches over the sensor, so it is refused after one fit (~ms) instead of after every
+    /// fit and merge of its hundreds of one-hit segments (40 s for 360 beams before
+    /// 2026-12-06, the hostile round's D2).
+    ///
+    /// # Errors
+    /// As [`Perception::observe`]; [`PerceptionError::InvalidOption`] (field `guard`) unless
+    /// `guard` is finite and `≥ 0`.
+    pub fn observe_guarded(
+        &mut self,
+        pose: Pose,
+        scan: &LaserScan,
+        guard: f64,
+    ) -> Result<Observation, PerceptionError> {
+        if !(guard.is_finite() && guard >= 0.0) {
+            return Err(PerceptionError::InvalidOption {
+                field: "guard",
+                value: guard,
+            });
+        }
         scan.validate()?;
         pose.validate()?;
         let s = pose.position();
@@ -629,14 +713,52 @@ impl Perception {
         for (j, hits) in &attributed {
             thin_into(&mut shapes[*j].2, hits, 0.5 * d_ev);
         }
+        // Eq. guard, for shapes this update adds or grows: a shape from before within `g'` of
+        // the sensor (a robot already that near) could hold a near fit unchanged; then only a
+        // fit that holds the sensor, which none of those shapes can hold, is refused early.
+        let near = Some((guard - h).max(0.0))
+            .filter(|&g| {
+                self.perceived
+                    .iter()
+                    .all(|p| p.shape().signed_distance_bounds(s).0 >= g)
+            })
+            .unwrap_or(0.0);
+        let refused = |p: &Perceived, seg: &Segment| {
+            (p.shape().signed_distance_bounds(s).1 < near).then(|| PerceptionError::HoldsSensor {
+                beam: seg.beams[0],
+                guard,
+            })
+        };
+        let fit = |seg: &Segment| -> Result<Result<Perceived, FitFailure>, PerceptionError> {
+            let fit = fit_in_scan(scan, &pose, seg, &params, &free).map(|f| f.perceived);
+            match fit.as_ref().ok().and_then(|p| refused(p, seg)) {
+                Some(e) => Err(e),
+                None => Ok(fit),
+            }
+        };
+        let walled = |seg: &Segment| PerceptionError::HoldsSensor {
+            beam: seg.beams[0],
+            guard,
+        };
+        let mut fits = nearest_first(
+            &obs.segments,
+            (s, scan, &pose),
+            &self.perceived,
+            fit,
+            walled,
+        )?;
         for (k, seg) in obs.segments.iter().enumerate() {
             let hits: Vec<Vector2<f64>> = seg
                 .beams
                 .iter()
                 .filter_map(|&i| hit_point(scan, &pose, i))
                 .collect();
-            let fit = match fit_in_scan(scan, &pose, seg, &params, &free) {
-                Ok(fit) => fit,
+            let fitted = match fits[k].take() {
+                Some(f) => f,
+                None => fit(seg)?,
+            };
+            let fitted = match fitted {
+                Ok(p) => p,
                 Err(e @ FitFailure::WiderThanDepth { .. }) => {
                     obs.unfitted.push((k, e));
                     continue;
@@ -647,12 +769,12 @@ impl Perception {
             // certify) adds its hits to that shape's evidence and changes nothing else.
             if let Some((_, _, evidence)) = shapes
                 .iter_mut()
-                .find(|(other, _, _)| holds(other, &fit.perceived, h))
+                .find(|(other, _, _)| holds(other, &fitted, h))
             {
                 thin_into(evidence, &hits, 0.5 * d_ev);
                 continue;
             }
-            let mut current = fit.perceived;
+            let mut current = fitted;
             let mut origin = Origin::New;
             let mut evidence = Vec::new();
             thin_into(&mut evidence, &hits, 0.5 * d_ev);
@@ -667,6 +789,10 @@ impl Perception {
                     Ok((merged, _)) => merged,
                     Err(MergeFailure::Shape(e)) => return Err(PerceptionError::Shape(e)),
                 };
+                // Shapes only grow: the update's result would come as near (eq. guard).
+                if let Some(e) = refused(&current, seg) {
+                    return Err(e);
+                }
                 origin = match (origin, other_origin) {
                     (Origin::New, Origin::New) => Origin::New,
                     (Origin::New, Origin::Old(i) | Origin::Grown(i)) => Origin::Grown(i),
@@ -739,6 +865,80 @@ impl Perception {
     pub fn remembered(&self) -> usize {
         self.memory.len()
     }
+}
+
+/// The fits of the kept `segments` (`fit` of each: the perceived star, or why there is none),
+/// computed nearest segment first (by its nearest hit to the sensor `s`, ties in scan order),
+/// for [`Perception::observe`]'s merge loop to take in scan order. A fit depends only on its
+/// segment, the scan, the pose, the options and the scan's free evidence, never on the other
+/// fits or on the order, so the loop sees the fits it would have computed itself.
+///
+/// Nearest first, so that a fit that comes too near the sensor ([`PerceptionError::HoldsSensor`],
+/// returned by `fit` at once) is found before the others are fitted: the fit of a hit inside or
+/// just beside the robot, whose region `K` of radius `D + ε` reaches over the sensor, is the
+/// likeliest. And all before the first merge, so that fits and the perceived shapes `old` that
+/// certainly wall the sensor in (eq. surround, `crate::enclosure`) are refused before the merges
+/// that would put it inside (`walled`, with the segment fitted last): tested when 2, 4, 8, …
+/// segments are fitted and after the last (the pairs tested once in all).
+/// Stops at the first fit whose star could not be built, leaving that segment and the ones not
+/// yet fitted to the loop (`None`), which then reports the first error in scan order as it did.
+fn nearest_first(
+    segments: &[Segment],
+    (s, scan, pose): (Vector2<f64>, &LaserScan, &Pose),
+    old: &[Perceived],
+    fit: impl Fn(&Segment) -> Result<Result<Perceived, FitFailure>, PerceptionError>,
+    walled: impl Fn(&Segment) -> PerceptionError,
+) -> Result<Vec<Option<Result<Perceived, FitFailure>>>, PerceptionError> {
+    let nearest: Vec<f64> = segments
+        .iter()
+        .map(|seg| {
+            seg.beams
+                .iter()
+                .filter_map(|&i| hit_point(scan, pose, i))
+                .map(|p| (p - s).norm())
+                .fold(f64::INFINITY, f64::min)
+        })
+        .collect();
+    let mut order: Vec<usize> = (0..segments.len()).collect();
+    order.sort_by(|&a, &b| nearest[a].total_cmp(&nearest[b]));
+    let mut fits: Vec<Option<Result<Perceived, FitFailure>>> =
+        (0..segments.len()).map(|_| None).collect();
+    let mut surround = Surround::new(s);
+    for p in old {
+        surround.push(p.shape());
+    }
+    // The segments whose fits were added to `surround`, in order.
+    let mut added: Vec<usize> = Vec::new();
+    let last = order.len().saturating_sub(1);
+    for (n, &k) in order.iter().enumerate() {
+        let fitted = fit(&segments[k])?;
+        if matches!(fitted, Err(FitFailure::Shape(_))) {
+            break;
+        }
+        let grew = if let Ok(p) = &fitted {
+            surround.push(p.shape());
+            added.push(k);
+            true
+        } else {
+            false
+        };
+        fits[k] = Some(fitted);
+        let due = (grew && added.len().is_power_of_two()) || n == last;
+        if due && !added.is_empty() && surround.len() >= 2 {
+            let shapes: Vec<&StarShape> = old
+                .iter()
+                .map(Perceived::shape)
+                .chain(added.iter().filter_map(|&j| match &fits[j] {
+                    Some(Ok(p)) => Some(p.shape()),
+                    _ => None,
+                }))
+                .collect();
+            if surround.walled_in(&shapes) {
+                return Err(walled(&segments[k]));
+            }
+        }
+    }
+    Ok(fits)
 }
 
 /// Whether `outer` holds `inner`: every sample of `inner`'s boundary cover (every boundary

@@ -58,7 +58,15 @@ impl Navigator {
     /// made it (a fallback of [`grow_perceived`] reaches past `radius + margin`): the next
     /// [`Navigator::command`] leads out along the ray from the shape's centre
     /// ([`crate::Mode::Recovering`]), which never enters the body (see `holds_robot`);
-    /// [`NavError::ContainsGoal`]; [`NavError::CrossesBoundary`].
+    /// [`NavError::ContainsGoal`]; [`NavError::CrossesBoundary`]. An update that certainly
+    /// ends with `ContainsRobot` (a fit or a merge certainly within `radius` of the pose, or
+    /// fits that share points all round it: `harmonav_perception::Perception::observe_guarded`)
+    /// is refused as soon as that is certain, with that error: a scan of ranges at random
+    /// (rain, dust, glass, a failing lidar) costs a few fits, not a fit and a merge per beam.
+    ///
+    /// A refused scan changes nothing: the next [`Navigator::command`] is the one before the
+    /// scan, blind to what the scan claimed. A caller must not drive on as if that space were
+    /// free; stop, or scan again (the simulator ends the run, outcome `scan-refused`).
     pub fn observe_scan(&mut self, pose: Pose, scan: &LaserScan) -> Result<ScanUpdate, NavError> {
         let old = self.field.workspace().obstacles();
         let event = match observe(&self.scan, old, &self.inner, &self.options, pose, scan)? {
@@ -117,6 +125,9 @@ impl ScanState {
                     Known::Fit => None,
                 },
             },
+            // A changed shape, grown by `radius` (`radius + margin` under `refuse_in_band`),
+            // would hold the robot: the refusal of `observe`, known before the end.
+            PerceptionError::HoldsSensor { .. } => NavError::ContainsRobot,
             e => NavError::Perception(e),
         }
     }
@@ -162,8 +173,17 @@ pub(crate) fn observe(
     scan: &LaserScan,
 ) -> Result<Observed, NavError> {
     let mut perception = scan_state.perception.clone();
+    // The distance within which a changed shape refuses the event below (`holds_robot`):
+    // the perception stops at the first fit or merge that certainly comes that near (its
+    // shape ends in a changed one, which only grows), instead of fitting and merging the
+    // rest of a scan that will be refused (`PerceptionError::HoldsSensor`).
+    let guard = if options.scan.refuse_in_band {
+        options.radius + options.margin
+    } else {
+        options.radius
+    };
     let obs = perception
-        .observe(pose, scan)
+        .observe_guarded(pose, scan, guard)
         .map_err(|e| scan_state.error(e))?;
     let mut update = ScanUpdate {
         hits: obs.hits,

@@ -229,3 +229,30 @@ fn walls_explain_their_hits_and_a_pose_in_a_wall_is_refused() {
     assert_eq!(nav.k(), before);
     assert_eq!(nav.perceived().count(), 0);
 }
+
+/// The hostile round's D2 in a floor plan: a 360-beam scan of ranges uniform in [0.05, 3] m
+/// (seed 0) from the middle of the room is refused after a few fits and no merge (counted),
+/// as the whole update would have been (`ContainsRobot`: the nearest fit comes within the
+/// robot's radius), and leaves the navigator as it was.
+#[test]
+fn a_scan_of_random_ranges_is_refused_after_a_few_fits() {
+    let (floor, _) = room();
+    let mut nav =
+        FloorNavigator::new(floor, v(9.0, 5.2), Law::kinematic(1.0), options(1.0, 0.02)).unwrap();
+    let mut rng = Rng::new(0);
+    let scan = harmonav::LaserScan {
+        angle_min: -std::f64::consts::PI,
+        angle_increment: std::f64::consts::TAU / 360.0,
+        range_min: 0.0,
+        range_max: 3.0,
+        ranges: (0..360).map(|_| rng.uniform(0.05, 3.0)).collect(),
+    };
+    let pose = Pose::new(3.0, 2.0, 0.0);
+    let before = nav.k();
+    let w = harmonav::perception::work();
+    assert_eq!(nav.observe_scan(pose, &scan), Err(NavError::ContainsRobot));
+    let spent = harmonav::perception::work().since(w);
+    assert!(spent.fits <= 4 && spent.merges == 0, "{spent:?}");
+    assert_eq!(nav.k(), before);
+    assert_eq!(nav.perceived().count(), 0);
+}

@@ -257,6 +257,49 @@ fn a_shape_over_the_goal_the_robot_or_a_known_obstacle_is_refused_and_changes_no
     assert_eq!(fingerprint(&nav), before);
 }
 
+/// The hostile round's D2 (2026-12-06): one 360-beam scan of ranges uniform in [0.05, 3] m
+/// (seed 0) at (−3, 0) in a disc of radius 10, a robot of radius 0.1. Before, it cost about
+/// 40 s of CPU (some 300 fits and merges) before the event was refused; now the nearest
+/// segment's fit, which comes within the radius of the robot, refuses it at once (the work is
+/// counted, not timed). The refusal is the one the whole update ended with,
+/// `ContainsRobot`, and leaves the navigator as it was: its next command is the one it gave
+/// before the scan (the obstacles the scan claims are not taken; a caller must not drive on
+/// as if they were not there: the simulator stops the run at a refused scan). The same under
+/// a margin (the body is grown by the radius) and with `refuse_in_band` (by radius + margin).
+#[test]
+fn a_scan_of_random_ranges_is_refused_after_a_few_fits_and_changes_nothing() {
+    let mut rng = Rng::new(0);
+    let scan = LaserScan {
+        angle_min: -std::f64::consts::PI,
+        angle_increment: TAU / 360.0,
+        range_min: 0.0,
+        range_max: 3.0,
+        ranges: (0..360).map(|_| rng.uniform(0.05, 3.0)).collect(),
+    };
+    let pose = Pose::new(-3.0, 0.0, 0.0);
+    let x = Vector2::new(-3.0, 0.0);
+    for (margin, refuse_in_band) in [(0.0, false), (0.05, false), (0.05, true)] {
+        let mut options = Options::default().with_robot(0.1, margin);
+        options.scan.refuse_in_band = refuse_in_band;
+        let mut nav = Navigator::new(
+            circle(0.0, 0.0, 10.0),
+            Vector2::new(8.0, 0.0),
+            Law::kinematic(1.0),
+            options,
+        )
+        .unwrap();
+        let command = nav.command(x, Vector2::zeros()).unwrap().value;
+        let before = fingerprint(&nav);
+        let w = harmonav::perception::work();
+        assert_eq!(nav.observe_scan(pose, &scan), Err(NavError::ContainsRobot));
+        let spent = harmonav::perception::work().since(w);
+        assert!(spent.fits <= 4 && spent.merges == 0, "{spent:?}");
+        assert_eq!(fingerprint(&nav), before);
+        assert_eq!(nav.perceived().count(), 0);
+        assert_eq!(nav.command(x, Vector2::zeros()).unwrap().value, command);
+    }
+}
+
 /// Eq. eventstop (docs/maths.md §12.18): a dynamic robot moving at 1 m/s that perceives a disc
 /// whose growth lies `d_e < d_min` away hands its switched damping `|ẋ(T_n)|·d_min/d_e`, so that
 /// `(m/d_min)·that = (m/d_e)|ẋ(T_n)|` brakes it within `d_e`; a disc perceived from beyond
