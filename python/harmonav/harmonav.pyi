@@ -189,9 +189,11 @@ class Navigator:
         for non-finite input, or for a command that would not be finite."""
     @property
     def mode(self) -> str:
-        """How the last command was formed: ``"law"``, ``"capped"``, ``"recovering"`` or
+        """How the last command was formed: ``"law"``, ``"capped"``, ``"recovering"``,
         ``"from-rest"`` (where the kinematic law's held step had come to rest away from the goal,
-        at a saddle of Θ or in a narrow valley: the steepest certified descent of 16 directions)."""
+        at a saddle of Θ or in a narrow valley: the steepest certified descent of 16 directions)
+        or ``"halted"`` (the last ``observe_scan`` was refused: zero velocity, or the force that
+        stops the robot within the period, until a scan is accepted)."""
     @property
     def control_period(self) -> float:
         """The control period in force, s (default 0.01 kinematic, 0.001 dynamic)."""

@@ -10,7 +10,6 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
 use crate::convert::{empty, parallel_rows, point_like, points_like, policy, value_error};
-use crate::scenario::Scenario;
 use crate::shapes::Shape;
 
 /// Points per `Field::eval_many` call (its results live on the stack).
@@ -43,13 +42,14 @@ enum Origin {
         k: String,
         margin: f64,
     },
-    /// `scenario.field()`.
-    Scenario(Py<Scenario>),
+    /// `scenario.field()` (the `Scenario` object, held untyped: this module does not name the
+    /// scenario's, which names it).
+    Scenario(Py<PyAny>),
 }
 
 impl Field {
     /// The field of `scenario.field()`.
-    pub fn of_scenario(inner: RsField, scenario: Py<Scenario>) -> Self {
+    pub fn of_scenario(inner: RsField, scenario: Py<PyAny>) -> Self {
         Self {
             inner,
             origin: Origin::Scenario(scenario),
@@ -127,7 +127,7 @@ impl Field {
                 Ok((py.get_type::<Self>().into_any(), args))
             }
             Origin::Scenario(scenario) => {
-                let field = py.get_type::<Scenario>().getattr("field")?;
+                let field = scenario.bind(py).get_type().getattr("field")?;
                 Ok((field, (scenario.clone_ref(py),).into_pyobject(py)?))
             }
         }

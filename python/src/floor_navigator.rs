@@ -239,11 +239,10 @@ impl FloorState {
         pose: harmonav_rs::Pose,
         scan: harmonav_rs::LaserScan,
     ) -> Result<harmonav_rs::ScanUpdate, NavError> {
-        let u = self.inner.observe_scan(pose, &scan)?;
-        if u.changed() {
-            self.log.scan(pose, scan);
-        }
-        Ok(u)
+        let u = self.inner.observe_scan(pose, &scan);
+        self.log
+            .observed(pose, scan, &u, harmonav_rs::ScanUpdate::changed);
+        u
     }
 
     fn issue(&mut self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Vector2<f64>, NavError> {
@@ -264,6 +263,15 @@ impl FloorState {
                 Event::Scan(b) => {
                     let (pose, scan) = *b;
                     self.scan(pose, scan).map(drop)
+                }
+                Event::Refused(b) => {
+                    let (pose, scan) = *b;
+                    if self.scan(pose, scan).is_ok() {
+                        return Err(value_error(format!(
+                            "FloorNavigator state, entry {i}: a refused scan was accepted"
+                        )));
+                    }
+                    Ok(())
                 }
             };
             replayed.map_err(|e| value_error(format!("FloorNavigator state, entry {i}: {e}")))?;

@@ -115,9 +115,12 @@ pub(crate) enum Event {
     Add(Shape),
     /// `command(x, v)`.
     Command([f64; 2], [f64; 2]),
-    /// `observe_scan(...)` that changed the obstacles (a scan that changed nothing leaves no
-    /// state to replay).
+    /// `observe_scan(...)` that changed the obstacles, or that ended a halt (a scan that
+    /// changed nothing otherwise leaves no state to replay).
     Scan(Box<(Pose, LaserScan)>),
+    /// `observe_scan(...)` that was refused: the navigator halts until a scan is accepted
+    /// (`Mode::Halted`), so a copy must too; replayed, it must be refused again.
+    Refused(Box<(Pose, LaserScan)>),
 }
 
 /// The calls that made a navigator's state since construction, which pickle replays: every
@@ -133,6 +136,8 @@ pub(crate) struct Log {
     /// Whether the last event is a command that must be replayed (it lifted the discovery
     /// speed), not replaced by the next command.
     keep_last: bool,
+    /// Whether the last scan was refused (the navigator halts).
+    pub(crate) halted: bool,
 }
 
 impl Log {
@@ -144,6 +149,34 @@ impl Log {
     pub(crate) fn scan(&mut self, pose: Pose, scan: LaserScan) {
         self.events.push(Event::Scan(Box::new((pose, scan))));
         self.keep_last = false;
+        self.halted = false;
+    }
+
+    /// A refused scan; one refusal after another keeps only the last.
+    pub(crate) fn refused(&mut self, pose: Pose, scan: LaserScan) {
+        let event = Event::Refused(Box::new((pose, scan)));
+        match self.events.last_mut() {
+            Some(last @ Event::Refused(..)) => *last = event,
+            _ => self.events.push(event),
+        }
+        self.keep_last = false;
+        self.halted = true;
+    }
+
+    /// Records the outcome of `observe_scan(pose, scan)`: a refusal, a change of the obstacles
+    /// or the end of a halt.
+    pub(crate) fn observed<T>(
+        &mut self,
+        pose: Pose,
+        scan: LaserScan,
+        result: &Result<T, NavError>,
+        changed: impl Fn(&T) -> bool,
+    ) {
+        match result {
+            Err(_) => self.refused(pose, scan),
+            Ok(u) if changed(u) || self.halted => self.scan(pose, scan),
+            Ok(_) => {}
+        }
     }
 
     /// A successful `command(x, v)`; `keep`: it changed the discovery speed.
@@ -166,10 +199,14 @@ impl Log {
                 match e {
                     Event::Add(shape) => ("add", Bound::new(py, shape.clone())?).into_pyobject(py),
                     Event::Command(x, v) => ("command", *x, *v).into_pyobject(py),
-                    Event::Scan(b) => {
+                    Event::Scan(b) | Event::Refused(b) => {
                         let (p, s) = b.as_ref();
                         (
-                            "scan",
+                            if matches!(e, Event::Scan(_)) {
+                                "scan"
+                            } else {
+                                "refused-scan"
+                            },
                             [p.x, p.y, p.yaw],
                             s.ranges.clone(),
                             [s.angle_min, s.angle_increment, s.range_min, s.range_max],
@@ -383,11 +420,9 @@ impl State {
 
     /// Observes a scan, and records it if it changed the obstacles.
     fn scan(&mut self, pose: Pose, scan: LaserScan) -> Result<RsScanUpdate, NavError> {
-        let u = self.inner.observe_scan(pose, &scan)?;
-        if u.changed() {
-            self.log.scan(pose, scan);
-        }
-        Ok(u)
+        let u = self.inner.observe_scan(pose, &scan);
+        self.log.observed(pose, scan, &u, RsScanUpdate::changed);
+        u
     }
 
     /// The command at `(x, v)`, and recorded. The Rust navigator refuses a non-finite command
@@ -410,6 +445,15 @@ impl State {
                 Event::Scan(b) => {
                     let (pose, scan) = *b;
                     self.scan(pose, scan).map(drop)
+                }
+                Event::Refused(b) => {
+                    let (pose, scan) = *b;
+                    if self.scan(pose, scan).is_ok() {
+                        return Err(value_error(format!(
+                            "Navigator state, entry {i}: a refused scan was accepted"
+                        )));
+                    }
+                    Ok(())
                 }
             };
             replayed.map_err(|e| value_error(format!("Navigator state, entry {i}: {e}")))?;
@@ -460,7 +504,7 @@ fn event(entry: &Bound<'_, PyAny>, i: usize, class: &str) -> PyResult<Event> {
             let v = point_like(v, "v")?;
             Ok(Event::Command([x.x, x.y], [v.x, v.y]))
         }
-        ("scan", [_, pose, ranges, angles]) => {
+        (tag @ ("scan" | "refused-scan"), [_, pose, ranges, angles]) => {
             let [x, y, yaw] = pose.extract::<[f64; 3]>().map_err(|e| bad(e.to_string()))?;
             let ranges = ranges
                 .extract::<Vec<f64>>()
@@ -469,7 +513,7 @@ fn event(entry: &Bound<'_, PyAny>, i: usize, class: &str) -> PyResult<Event> {
                 angles
                     .extract::<[f64; 4]>()
                     .map_err(|e| bad(e.to_string()))?;
-            Ok(Event::Scan(Box::new((
+            let b = Box::new((
                 Pose::new(x, y, yaw),
                 LaserScan {
                     angle_min,
@@ -478,7 +522,12 @@ fn event(entry: &Bound<'_, PyAny>, i: usize, class: &str) -> PyResult<Event> {
                     range_max,
                     ranges,
                 },
-            ))))
+            ));
+            Ok(if tag == "scan" {
+                Event::Scan(b)
+            } else {
+                Event::Refused(b)
+            })
         }
         _ => Err(bad(format!("got \"{kind}\" with {} values", parts.len()))),
     }
@@ -667,9 +716,10 @@ impl Navigator {
     }
 
     /// How the last command was formed: `"law"`, `"capped"` (shortened to be safe to hold),
-    /// `"recovering"` (out of the margin band) or `"from-rest"` (the kinematic law's step had
+    /// `"recovering"` (out of the margin band), `"from-rest"` (the kinematic law's step had
     /// come to rest away from the goal, at a saddle of `Θ` or in a narrow valley: the steepest
-    /// certified descent among 16 directions instead); `"law"` before the first.
+    /// certified descent among 16 directions instead) or `"halted"` (the last `observe_scan`
+    /// was refused: the robot stops until a scan is accepted); `"law"` before the first.
     #[getter]
     fn mode(&self, py: Python<'_>) -> &'static str {
         self.state(py).mode.as_str()

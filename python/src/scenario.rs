@@ -145,7 +145,7 @@ impl Scenario {
     /// robot's radius and margin: what `harmonav eval` evaluates.
     fn field(slf: Bound<'_, Self>) -> PyResult<Field> {
         let field = slf.get().prepared.global_field().map_err(value_error)?;
-        Ok(Field::of_scenario(field, slf.unbind()))
+        Ok(Field::of_scenario(field, slf.into_any().unbind()))
     }
 
     /// Runs the scenario and checks every guarantee. `model` (`"kinematic"` or `"dynamic"`)

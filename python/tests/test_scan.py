@@ -221,3 +221,24 @@ def test_the_study_table_counts_refused_scans_apart_and_shows_the_perceived_area
     (cell,) = harmonav.study_cells(rows)
     assert cell["not_arrived"] == {"scan-refused": 1}
     assert list(cell["conservatism"]) == [area] * 3
+
+
+def test_after_a_refused_scan_the_robot_halts_until_a_scan_is_accepted():
+    """Issue 56: a refused scan used to leave the robot commanded as before it, as if the space
+    it saw were free; now every command halts it until a scan is accepted."""
+    nav = harmonav.Navigator(harmonav.circle([0, 0], 10.0), goal=[8, 0], radius=0.1)
+    before = nav.command([-3, 0])
+    assert np.linalg.norm(before) > 0
+    ranges = np.random.default_rng(0).uniform(0.05, 3.0, 360)
+    with pytest.raises(ValueError):
+        nav.observe_scan([-3, 0], 0.0, ranges, -math.pi, 2 * math.pi / 360, 3.0, 0.0)
+    assert np.array_equal(nav.command([-3, 0]), [0.0, 0.0])
+    assert nav.mode == "halted"
+    # A copy halts too (pickle replays the refusal), and an accepted scan ends its halt.
+    twin = pickle.loads(pickle.dumps(nav))
+    assert np.array_equal(twin.command([-3, 0]), [0.0, 0.0])
+    twin.observe_scan([-3, 0], 0.0, np.full(360, np.inf), -math.pi, 2 * math.pi / 360, 3.0, 0.0)
+    assert np.allclose(pickle.loads(pickle.dumps(twin)).command([-3, 0]), before)
+    nav.observe_scan([-3, 0], 0.0, np.full(360, np.inf), -math.pi, 2 * math.pi / 360, 3.0, 0.0)
+    assert np.allclose(nav.command([-3, 0]), before)
+    assert nav.mode != "halted"

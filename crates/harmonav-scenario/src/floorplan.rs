@@ -47,6 +47,7 @@ use harmonav_transform::random::Rng;
 use nalgebra::Vector2;
 use serde::Deserialize;
 
+pub use crate::kind::FileKind;
 use crate::scenario::{Model, ScenarioError, ShapeSpec, build_shape, err};
 use crate::sensor::{self, LidarSensor, SensorKind, SensorSpec, WallRoom};
 
@@ -775,54 +776,14 @@ fn floor_lidar(
     Ok((lidar, rho))
 }
 
-/// The two formats a scenario file may be written in.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum FileKind {
-    /// A star world ([`crate::Scenario`]: `[workspace]`, star `[[obstacles]]`).
-    Star,
-    /// A floor plan ([`FloorScenario`]: a `[floor_plan]` table).
-    FloorPlan,
-}
-
 impl FileKind {
     /// The format of the file at `path`: a floor plan when its top level has a `[floor_plan]`
     /// table, a star world otherwise (text that is not TOML is a star world too, so that its
-    /// loader reports the parse error with its line).
+    /// loader reports the parse error with its line; [`FileKind::of_text`]).
     ///
     /// # Errors
     /// The file cannot be read ([`crate::scenario::read_text`]).
     pub fn of(path: &Path) -> Result<Self, ScenarioError> {
         Ok(Self::of_text(&crate::scenario::read_text(path)?))
     }
-
-    /// The format of scenario text (see [`FileKind::of`]).
-    #[must_use]
-    pub fn of_text(text: &str) -> Self {
-        match toml::from_str::<toml::Table>(text) {
-            Ok(table) if table.contains_key("floor_plan") => Self::FloorPlan,
-            Ok(_) => Self::Star,
-            // A syntax or value error (`1e400`, 2⁶⁴) fails the table's parse too: the header is
-            // found by a scan of the lines, so that the floor-plan loader names the real error
-            // instead of the star loader's "unknown field `floor_plan`" (issue 56, D11).
-            Err(_) if text.lines().any(names_floor_plan) => Self::FloorPlan,
-            Err(_) => Self::Star,
-        }
-    }
-}
-
-/// Whether a line of TOML opens the `[floor_plan]` table (or a sub-table of it) or sets one of
-/// its keys at the top level (`floor_plan.map = …`).
-fn names_floor_plan(line: &str) -> bool {
-    let line = line.trim_start();
-    let key = line
-        .strip_prefix('[')
-        .map_or(line, |rest| rest.trim_start_matches('[').trim_start());
-    let key = key
-        .strip_prefix('"')
-        .and_then(|k| k.strip_prefix("floor_plan\""))
-        .or_else(|| key.strip_prefix("floor_plan"));
-    key.is_some_and(|rest| {
-        let rest = rest.trim_start();
-        rest.starts_with(']') || rest.starts_with('.') || rest.starts_with('=')
-    })
 }

@@ -48,6 +48,7 @@
 #![warn(missing_docs)]
 
 pub mod floorplan;
+mod kind;
 mod points;
 pub mod scenario;
 pub mod sensor;

@@ -367,7 +367,7 @@ impl Scenario {
     pub fn parse(path: &Path, text: &str) -> Result<Self, ScenarioError> {
         // A floor plan given where a star world is expected (issue 56, D11): said so, not
         // "unknown field `floor_plan`".
-        if crate::floorplan::FileKind::of_text(text) == crate::floorplan::FileKind::FloorPlan {
+        if crate::kind::FileKind::of_text(text) == crate::kind::FileKind::FloorPlan {
             return Err(err(
                 path,
                 "floor_plan",

@@ -211,6 +211,8 @@ pub fn fly(
             // Only a floor plan's navigator escapes; a step from rest counts as a capped one.
             Mode::Escaping => {}
             Mode::FromRest => flight.capped += 1,
+            // These flights stop at a refused scan, before any halted command.
+            Mode::Halted => {}
         }
         let c = command.value;
         integrator.advance(law, h, c, &mut x, &mut v);

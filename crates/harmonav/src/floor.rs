@@ -132,6 +132,8 @@ pub struct FloorNavigator {
     scan: ScanState,
     /// The true walls, as the perception holds them (one shared copy).
     walls: Arc<Walls>,
+    /// The last scan was refused: commands halt the robot ([`Mode::Halted`]).
+    scan_refused: bool,
 }
 
 impl FloorNavigator {
@@ -194,6 +196,7 @@ impl FloorNavigator {
             anchor: None,
             scan,
             walls,
+            scan_refused: false,
         };
         // Guard: λ_c (eq. critdamp) from the floor's goal stiffness, checked once.
         if let Controller::Dynamic(law) = &nav.controller {
@@ -254,6 +257,13 @@ impl FloorNavigator {
     /// the walls is [`NavError::Perception`]); a changed shape that reaches the boundary
     /// layer, overlaps an exact shape or contains the goal ([`NavError::Floor`]).
     pub fn observe_scan(&mut self, pose: Pose, scan: &LaserScan) -> Result<ScanUpdate, NavError> {
+        let result = self.observe_once(pose, scan);
+        self.scan_refused = result.is_err();
+        result
+    }
+
+    /// [`FloorNavigator::observe_scan`] without the memory of a refusal.
+    fn observe_once(&mut self, pose: Pose, scan: &LaserScan) -> Result<ScanUpdate, NavError> {
         let old: Vec<StarShape> = self.field.transform().obstacles().cloned().collect();
         let event = match scanned(&self.scan, &old, &self.inner, &self.options, pose, scan)? {
             Observed::Quiet(perception, update) => {
@@ -307,6 +317,9 @@ impl FloorNavigator {
     /// `x` in the boundary layer with no certified way out ([`NavError::BoundaryLayer`]); a
     /// non-finite command.
     pub fn command(&mut self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Command, NavError> {
+        if self.scan_refused {
+            return crate::navigator::halted(&self.controller, x, v, self.period, &mut self.last);
+        }
         let radius = 0.25 * self.field.floor().delta();
         let anchor = match self.anchor {
             Some((a, n)) if (x - a).norm() < radius => (a, n + 1),

@@ -48,11 +48,17 @@ pub enum Mode {
     /// command is the steepest certified descent among [`REST_DIRECTIONS`] directions at the
     /// law's speed (docs/maths.md §10.1).
     FromRest,
+    /// The last [`crate::Navigator::observe_scan`] was refused: what it saw is not in `Θ`, so
+    /// no command is certified against it, and the robot stops until a scan is accepted. The
+    /// kinematic command is 0; the dynamic force is `f = −m·ẋ/h`, which brings the velocity to
+    /// 0 over the period (the robot moves at most `|ẋ|h/2` more, along its last certified
+    /// velocity). Issue 56: a refused scan left the robot commanded as if the space were free.
+    Halted,
 }
 
 impl Mode {
     /// The name used in logs, JSON and Python (`"law"`, `"capped"`, `"recovering"`,
-    /// `"escaping"`, `"from-rest"`).
+    /// `"escaping"`, `"from-rest"`, `"halted"`).
     #[must_use]
     pub fn as_str(&self) -> &'static str {
         match self {
@@ -61,6 +67,7 @@ impl Mode {
             Self::Recovering(_) => "recovering",
             Self::Escaping => "escaping",
             Self::FromRest => "from-rest",
+            Self::Halted => "halted",
         }
     }
 }

@@ -173,6 +173,36 @@ pub struct Navigator {
     /// The scan perception: the true boundary, the exact shapes of `add_obstacle`, the
     /// perceived shapes and where each sits among the obstacles ([`Navigator::observe_scan`]).
     pub(crate) scan: ScanState,
+    /// The last scan was refused: commands halt the robot ([`Mode::Halted`]) until one is
+    /// accepted.
+    pub(crate) scan_refused: bool,
+}
+
+/// The halting command of [`Mode::Halted`] at `(x, v)` after a refused scan, control period
+/// `h`: 0 for the kinematic law, `f = −m·v/h` for the dynamic law (the velocity 0 at the end of
+/// the period). The state is checked finite and kept as the last commanded one.
+pub(crate) fn halted(
+    controller: &Controller,
+    x: Vector2<f64>,
+    v: Vector2<f64>,
+    h: f64,
+    last: &mut Option<(Vector2<f64>, Vector2<f64>)>,
+) -> Result<Command, NavError> {
+    let value = match controller {
+        Controller::Kinematic(_) => Vector2::zeros(),
+        Controller::Dynamic(law) => -law.mass() / h * v,
+    };
+    let command = Command {
+        value,
+        mode: Mode::Halted,
+    };
+    if !(x.iter().chain(v.iter()).all(|c| c.is_finite())
+        && command.value.iter().all(|c| c.is_finite()))
+    {
+        return Err(NavError::NonFiniteCommand);
+    }
+    *last = Some((x, v));
+    Ok(command)
 }
 
 /// The law's controller for `law` under `options`, validated (each error names the field).
@@ -282,6 +312,7 @@ impl Navigator {
             speed_at_discovery: 0.0,
             last: None,
             scan,
+            scan_refused: false,
         };
         // Guard: λ_c (eq. critdamp) overflowed for m = μ = 1e308; within the ranges it is
         // finite, and this checks it once rather than at every command.
@@ -348,6 +379,9 @@ impl Navigator {
     /// Errors (the navigator is then unchanged): `x` or `ẋ` not finite, the robot's disc
     /// overlapping a known true shape or the boundary, a non-finite command (a guard).
     pub fn command(&mut self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Command, NavError> {
+        if self.scan_refused {
+            return halted(&self.controller, x, v, self.period, &mut self.last);
+        }
         let command = self.held(x, v)?;
         if !command.value.iter().all(|c| c.is_finite()) {
             return Err(NavError::NonFiniteCommand);

@@ -64,10 +64,19 @@ impl Navigator {
     /// is refused as soon as that is certain, with that error: a scan of ranges at random
     /// (rain, dust, glass, a failing lidar) costs a few fits, not a fit and a merge per beam.
     ///
-    /// A refused scan changes nothing: the next [`Navigator::command`] is the one before the
-    /// scan, blind to what the scan claimed. A caller must not drive on as if that space were
-    /// free; stop, or scan again (the simulator ends the run, outcome `scan-refused`).
+    /// A refused scan changes nothing in `Θ` or the perception; what it saw is not certified
+    /// against, so every [`Navigator::command`] after it halts the robot
+    /// ([`crate::Mode::Halted`]) until a scan is accepted (issue 56: it used to give the
+    /// command from before the scan, as if the space were free). The simulator ends the run
+    /// there (outcome `scan-refused`).
     pub fn observe_scan(&mut self, pose: Pose, scan: &LaserScan) -> Result<ScanUpdate, NavError> {
+        let result = self.observe_once(pose, scan);
+        self.scan_refused = result.is_err();
+        result
+    }
+
+    /// [`Navigator::observe_scan`] without the memory of a refusal.
+    fn observe_once(&mut self, pose: Pose, scan: &LaserScan) -> Result<ScanUpdate, NavError> {
         let old = self.field.workspace().obstacles();
         let event = match observe(&self.scan, old, &self.inner, &self.options, pose, scan)? {
             Observed::Quiet(perception, update) => {

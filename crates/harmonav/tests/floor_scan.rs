@@ -255,4 +255,17 @@ fn a_scan_of_random_ranges_is_refused_after_a_few_fits() {
     assert!(spent.fits <= 4 && spent.merges == 0, "{spent:?}");
     assert_eq!(nav.k(), before);
     assert_eq!(nav.perceived().count(), 0);
+    // What the refused scan saw is not certified against: the robot halts until a scan is
+    // accepted (it used to be given the law's command, as if the space were free).
+    let x = v(3.0, 2.0);
+    let c = nav.command(x, v(0.0, 0.0)).unwrap();
+    assert_eq!((c.mode, c.value), (harmonav::Mode::Halted, v(0.0, 0.0)));
+    let clear = harmonav::LaserScan {
+        ranges: vec![f64::INFINITY; 360],
+        ..scan
+    };
+    nav.observe_scan(pose, &clear).unwrap();
+    let c = nav.command(x, v(0.0, 0.0)).unwrap();
+    assert_ne!(c.mode, harmonav::Mode::Halted);
+    assert!(c.value.norm() > 0.0, "{c:?}");
 }

@@ -8,7 +8,7 @@ use harmonav::perception::sim::Lidar;
 use harmonav::perception::{PerceptionError, ScanError};
 use harmonav::transform::random::Rng;
 use harmonav::{
-    LaserScan, Law, NavError, Navigator, Options, Pose, ScanOptions, StarShape, Vector2,
+    LaserScan, Law, Mode, NavError, Navigator, Options, Pose, ScanOptions, StarShape, Vector2,
 };
 
 fn circle(x: f64, y: f64, r: f64) -> StarShape {
@@ -55,8 +55,9 @@ fn fingerprint(nav: &Navigator) -> String {
     for (x, y) in pts {
         let x = Vector2::new(x, y);
         let t = nav.theta(x).map(|t| t.to_bits());
-        let c = nav.clone().command(x, Vector2::zeros()).map(|c| c.value);
-        s += &format!(" {t:?} {c:?}");
+        // The field's descent, not a command: after a refused scan the commands halt.
+        let g = nav.field().eval(x).map(|e| e.gradient);
+        s += &format!(" {t:?} {g:?}");
     }
     for (i, p) in nav.perceived() {
         s += &format!(" {i}:{:?}:{}", p.centre(), p.area());
@@ -262,10 +263,11 @@ fn a_shape_over_the_goal_the_robot_or_a_known_obstacle_is_refused_and_changes_no
 /// 40 s of CPU (some 300 fits and merges) before the event was refused; now the nearest
 /// segment's fit, which comes within the radius of the robot, refuses it at once (the work is
 /// counted, not timed). The refusal is the one the whole update ended with,
-/// `ContainsRobot`, and leaves the navigator as it was: its next command is the one it gave
-/// before the scan (the obstacles the scan claims are not taken; a caller must not drive on
-/// as if they were not there: the simulator stops the run at a refused scan). The same under
-/// a margin (the body is grown by the radius) and with `refuse_in_band` (by radius + margin).
+/// `ContainsRobot`, and leaves `Θ` and the perception as they were. What the scan claims is
+/// not certified against, so the next commands halt the robot (`Mode::Halted`), where the
+/// navigator used to give the command from before the scan, as if the space were free; an
+/// accepted scan ends the halt. The same under a margin (the body is grown by the radius) and
+/// with `refuse_in_band` (by radius + margin).
 #[test]
 fn a_scan_of_random_ranges_is_refused_after_a_few_fits_and_changes_nothing() {
     let mut rng = Rng::new(0);
@@ -296,8 +298,45 @@ fn a_scan_of_random_ranges_is_refused_after_a_few_fits_and_changes_nothing() {
         assert!(spent.fits <= 4 && spent.merges == 0, "{spent:?}");
         assert_eq!(fingerprint(&nav), before);
         assert_eq!(nav.perceived().count(), 0);
+        let halted = nav.command(x, Vector2::zeros()).unwrap();
+        assert_eq!(halted.mode, Mode::Halted);
+        assert_eq!(halted.value, Vector2::zeros());
+        assert_ne!(command, Vector2::zeros());
+        // A scan of nothing within range is accepted: the law's command again.
+        let clear = LaserScan {
+            ranges: vec![f64::INFINITY; 360],
+            ..scan.clone()
+        };
+        nav.observe_scan(pose, &clear).unwrap();
         assert_eq!(nav.command(x, Vector2::zeros()).unwrap().value, command);
     }
+}
+
+/// After a refused scan the dynamic law brakes: `f = −m·ẋ/h` brings the velocity to 0 over the
+/// period (the semi-implicit step stays where it is), whatever the law would have pushed.
+#[test]
+fn after_a_refused_scan_the_dynamic_robot_brakes_to_rest() {
+    let mut nav = Navigator::new(
+        circle(0.0, 0.0, 10.0),
+        Vector2::new(8.0, 0.0),
+        Law::dynamic(2.0, 10.0),
+        Options::default().with_robot(0.1, 0.0),
+    )
+    .unwrap();
+    let (x, v) = (Vector2::new(-3.0, 0.0), Vector2::new(0.3, -0.1));
+    let bad = LaserScan {
+        angle_min: 0.0,
+        angle_increment: 0.0,
+        range_min: 0.0,
+        range_max: 3.0,
+        ranges: vec![1.0; 4],
+    };
+    assert!(nav.observe_scan(Pose::new(x.x, x.y, 0.0), &bad).is_err());
+    let c = nav.command(x, v).unwrap();
+    assert_eq!(c.mode, Mode::Halted);
+    let h = nav.control_period();
+    let v_next = v + h * c.value / 2.0;
+    assert!(v_next.norm() < 1e-12, "{v_next:?}");
 }
 
 /// Eq. eventstop (docs/maths.md §12.18): a dynamic robot moving at 1 m/s that perceives a disc
