@@ -179,7 +179,8 @@ class Navigator:
         """The perceived shapes (not grown) as ``(index among the obstacles, star)`` pairs."""
     @property
     def obstacles(self) -> List[Shape]:
-        """The perceived shapes (not grown), in order: ``perceived`` without the indices."""
+        """Every known obstacle (not grown), in the navigator's order: the shapes given to
+        ``add_obstacle`` and the perceived ones."""
     def add_obstacle(self, shape: Shape) -> int:
         """Adds a newly sensed obstacle; returns its index. ``ValueError`` leaves the navigator unchanged."""
     def command(self, x: _Point, v: Optional[_Point] = None) -> npt.NDArray[np.float64]:
@@ -440,8 +441,12 @@ class FloorNavigator:
     ) -> ScanUpdate:
         """As ``Navigator.observe_scan``; hits on the walls are explained by the map."""
     @property
+    def perceived(self) -> List[Tuple[int, Shape]]:
+        """The perceived shapes (not grown) as ``(index among the obstacles, star)`` pairs."""
+    @property
     def obstacles(self) -> List[Shape]:
-        """The perceived shapes (not grown), in order."""
+        """Every known obstacle (not grown), in the navigator's order: the shapes given to
+        ``add_obstacle`` and the perceived ones."""
     def theta(self, x: _Point) -> float: ...
     def clearance(self, x: _Point) -> float:
         """A lower bound on the distance to the boundary layer and the known grown obstacles, m."""

@@ -536,15 +536,28 @@ impl FloorNavigator {
         Ok(ScanUpdate::from(u.map_err(nav_error)?))
     }
 
-    /// The perceived shapes (from scans, not grown) in the navigator's order, each a `star`
-    /// with `signed_distance` and `contains`.
+    /// The perceived shapes (from scans, not grown), as `(index, Shape)` pairs: `index` among
+    /// the navigator's obstacles, the shape a `star` with `signed_distance` and `contains`.
     #[getter]
-    fn obstacles(&self, py: Python<'_>) -> Vec<Shape> {
+    fn perceived(&self, py: Python<'_>) -> Vec<(usize, Shape)> {
         self.state(py)
             .inner
             .perceived()
-            .map(|(_, p)| from_perceived(p))
+            .map(|(i, p)| (i, from_perceived(p)))
             .collect()
+    }
+
+    /// Every known obstacle (not grown) in the navigator's order: the shapes given to
+    /// `add_obstacle` as given, and the perceived ones (`perceived`, from scans) as `star`
+    /// shapes with `signed_distance` and `contains`.
+    #[getter]
+    fn obstacles(&self, py: Python<'_>) -> Vec<Shape> {
+        let state = self.state(py);
+        crate::navigator::known(
+            state.inner.added().map(|(i, _)| i),
+            &state.log,
+            state.inner.perceived(),
+        )
     }
 
     /// `Θ(x)` over the walls and the known obstacles (finite; `ValueError` outside the

@@ -141,6 +141,14 @@ pub(crate) struct Log {
 }
 
 impl Log {
+    /// The shapes of `add_obstacle`, in the order they were added.
+    pub(crate) fn added(&self) -> impl Iterator<Item = &Shape> + '_ {
+        self.events.iter().filter_map(|e| match e {
+            Event::Add(shape) => Some(shape),
+            _ => None,
+        })
+    }
+
     pub(crate) fn add(&mut self, shape: Shape) {
         self.events.push(Event::Add(shape));
         self.keep_last = false;
@@ -228,6 +236,20 @@ pub(crate) fn events(state: &Bound<'_, PyAny>, class: &str) -> PyResult<Vec<Even
         .enumerate()
         .map(|(i, entry)| event(&entry?, i, class))
         .collect()
+}
+
+/// Every known obstacle in the navigator's order: the shapes of `add_obstacle` (their
+/// indices `added`, their shapes as the log holds them, in the same order) and the perceived
+/// ones (issue 56, D20: `obstacles` listed only the perceived).
+pub(crate) fn known<'a>(
+    added: impl Iterator<Item = usize>,
+    log: &Log,
+    perceived: impl Iterator<Item = (usize, &'a harmonav_rs::Perceived)>,
+) -> Vec<Shape> {
+    let mut all: Vec<(usize, Shape)> = added.zip(log.added().cloned()).collect();
+    all.extend(perceived.map(|(i, p)| (i, from_perceived(p))));
+    all.sort_by_key(|(i, _)| *i);
+    all.into_iter().map(|(_, s)| s).collect()
 }
 
 fn nav_error(e: NavError) -> PyErr {
@@ -672,15 +694,17 @@ impl Navigator {
             .collect()
     }
 
-    /// The perceived shapes (from scans, not grown) in the navigator's order: `perceived`
-    /// without the indices, each a `star` with `signed_distance` and `contains`.
+    /// Every known obstacle (not grown) in the navigator's order: the shapes given to
+    /// `add_obstacle` as given, and the perceived ones (`perceived`, from scans) as `star`
+    /// shapes with `signed_distance` and `contains`.
     #[getter]
     fn obstacles(&self, py: Python<'_>) -> Vec<Shape> {
-        self.state(py)
-            .inner
-            .perceived()
-            .map(|(_, p)| from_perceived(p))
-            .collect()
+        let state = self.state(py);
+        known(
+            state.inner.added().map(|(i, _)| i),
+            &state.log,
+            state.inner.perceived(),
+        )
     }
 
     /// `Θ(x)` over the known obstacles (finite, or `ValueError` as `command`).

@@ -186,3 +186,17 @@ def test_bad_arguments_name_the_field_and_a_failed_call_changes_nothing():
     other = copy.copy(nav)
     other.add_obstacle(harmonav.circle([3.5, 1.0], 0.2))
     assert other.k > k and nav.k == k
+
+
+def test_obstacles_lists_the_added_shapes_and_perceived_only_the_scanned():
+    """Issue 56, D20: `obstacles` listed only the perceived shapes, so two successful
+    `add_obstacle` calls left it empty; now it holds every known shape in the navigator's
+    order, and `perceived` the scanned ones."""
+    f = harmonav.FloorNavigator([[0, 0], [5, 0], [5, 5], [0, 5]], [4, 4])
+    f.add_obstacle(harmonav.circle([2, 2], 0.3))
+    f.add_obstacle(harmonav.circle([3, 1.2], 0.2))
+    assert len(f.obstacles) == 2 and len(f.perceived) == 0
+    assert f.obstacles[0].contains([2, 2]) and f.obstacles[1].contains([3, 1.2])
+    nav = harmonav.Navigator(harmonav.circle([0, 0], 10.0), goal=[8, 0])
+    nav.add_obstacle(harmonav.circle([0, 3], 0.5))
+    assert len(nav.obstacles) == 1 and nav.obstacles[0].contains([0, 3])

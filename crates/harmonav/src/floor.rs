@@ -302,6 +302,13 @@ impl FloorNavigator {
         self.scan.perceived()
     }
 
+    /// The shapes given to [`FloorNavigator::add_obstacle`] (true, not grown), each with its
+    /// index among the sensed obstacles, in the order they were added
+    /// ([`crate::Navigator::added`]).
+    pub fn added(&self) -> impl Iterator<Item = (usize, &StarShape)> + '_ {
+        self.scan.added()
+    }
+
     /// The command to hold for one control period at `(x, ẋ)`, as
     /// [`crate::Navigator::command`]: under [`HoldPolicy::Auto`] every held step stays in the
     /// certified clearance (to the sensed obstacles and to the boundary layer), `Θ` decreases

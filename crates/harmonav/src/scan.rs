@@ -115,6 +115,13 @@ impl Navigator {
     pub fn perceived(&self) -> impl Iterator<Item = (usize, &Perceived)> + '_ {
         self.scan.perceived()
     }
+
+    /// The shapes given to [`Navigator::add_obstacle`] (true, not grown), each with its index
+    /// among [`Navigator::obstacles`], in the order they were added. With
+    /// [`Navigator::perceived`] they are every known obstacle.
+    pub fn added(&self) -> impl Iterator<Item = (usize, &StarShape)> + '_ {
+        self.scan.added()
+    }
 }
 
 impl ScanState {

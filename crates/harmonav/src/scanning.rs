@@ -246,6 +246,12 @@ impl ScanState {
         })
     }
 
+    /// The exact shapes (true, not grown) with their indices among the navigator's obstacles,
+    /// in the order they were added.
+    pub(crate) fn added(&self) -> impl Iterator<Item = (usize, &StarShape)> + '_ {
+        self.exact.iter().copied().zip(self.perception.map())
+    }
+
     /// Records the exact shape just added as the navigator's last obstacle `index`.
     pub(crate) fn add_exact(&mut self, shape: StarShape, index: usize) {
         self.perception.add_map(shape);
