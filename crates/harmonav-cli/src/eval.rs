@@ -2,6 +2,7 @@
 
 use harmonav_field::{FieldError, FieldEval};
 use harmonav_scenario::Prepared;
+use harmonav_transform::Shown;
 use nalgebra::Vector2;
 use serde_json::{Value, json};
 
@@ -51,7 +52,14 @@ pub fn print_rows(
         let rows: Vec<Value> = rows
             .iter()
             .map(|(x, r)| match r {
-                Ok(e) => json!({ "x": x.x, "y": x.y, "h": [e.h.x, e.h.y], "phi": e.phi, "value": e.value, "grad": [e.gradient.x, e.gradient.y] }),
+                Ok(e) => {
+                    let mut row = json!({ "x": x.x, "y": x.y, "h": [e.h.x, e.h.y], "phi": e.phi, "value": e.value, "grad": [e.gradient.x, e.gradient.y] });
+                    // JSON has no −∞: `phi` is null there, and the row says why (issue 56, D21).
+                    if e.phi == f64::NEG_INFINITY {
+                        row["note"] = json!("phi is -inf at the goal (Θ = 0)");
+                    }
+                    row
+                }
                 Err(error) => json!({ "x": x.x, "y": x.y, "error": error }),
             })
             .collect();
@@ -67,13 +75,15 @@ pub fn print_rows(
         "phi",
         "Θ"
     );
+    // A coordinate of 1e308 printed in fixed point had 309 digits (issue 56, D18).
+    let at = |c: f64| format!("{:.4}", Shown(c));
     for (x, r) in rows {
         match r {
-            Err(error) => out!("{:>10.4} {:>10.4}  error: {error}", x.x, x.y),
+            Err(error) => out!("{:>10} {:>10}  error: {error}", at(x.x), at(x.y)),
             Ok(e) => out!(
-                "{:>10.4} {:>10.4}  {:>12.6} {:>12.6}  {:>12.6}  {:>12.8}  ({:.3e}, {:.3e})",
-                x.x,
-                x.y,
+                "{:>10} {:>10}  {:>12.6} {:>12.6}  {:>12.6}  {:>12.8}  ({:.3e}, {:.3e})",
+                at(x.x),
+                at(x.y),
                 e.h.x,
                 e.h.y,
                 e.phi,

@@ -57,11 +57,24 @@ fn eval_accepts_negative_coordinates_and_reports_points_outside() {
         "--at=-2,1.2",
         "--at",
         "9,9",
+        "--at",
+        "4,0",
         "--json",
     ]);
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v[0]["x"], -1.5);
+    // At the goal phi is −∞, which JSON has no number for: null, and a note says why (D21).
+    assert!(v[3]["phi"].is_null() && v[3]["note"].as_str().unwrap().contains("goal"));
+    assert!(v[0].get("note").is_none());
+    // A far point's coordinates are not printed with 309 digits (D18).
+    let (_, text, _) = harmonav(&[
+        "eval",
+        &scenario("shapes/mixed.toml"),
+        "--at",
+        "1e308,1e308",
+    ]);
+    assert!(text.contains("1.0000e308") && text.len() < 400, "{text}");
     assert!(
         v[0]["value"].as_f64().unwrap() > 0.0 && v[0]["grad"].is_array() && v[0]["h"].is_array()
     );
