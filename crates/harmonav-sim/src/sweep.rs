@@ -13,7 +13,7 @@ use harmonav_scenario::floorplan::FloorPrepared;
 use harmonav_scenario::{Model, Prepared};
 
 use crate::floor::{self, FloorEnding, FloorRun, FloorSummary};
-use crate::guarantee::Kind;
+use crate::guarantee::{Guarantee, Kind};
 pub use crate::outcome::{Outcome, StartProblem};
 use crate::pool::parallel_map;
 use crate::run::run;
@@ -189,30 +189,49 @@ pub fn sweep_floor(
     .collect()
 }
 
-/// A floor-plan run's [`Outcome`], in the order of [`Outcome::of`].
+/// A floor-plan run's [`Outcome`], in the order of [`Outcome::of`] ([`floor_outcome_of`]).
 fn floor_outcome(summary: &FloorSummary, run: &FloorRun) -> Outcome {
-    let failed = |kind: Kind| {
-        summary
-            .guarantees
-            .iter()
-            .any(|g| g.kind() == kind && !g.passed)
-    };
-    if failed(Kind::NoCollision) || run.ending == FloorEnding::Collision {
+    floor_outcome_of(
+        &summary.guarantees,
+        run.ending,
+        run.time,
+        run.error.as_ref(),
+    )
+}
+
+/// The outcome of a floor-plan run that ended with `ending` at `time` (`error`: why a command
+/// or scan was refused) with its `guarantees`: every failed guarantee is judged before
+/// arrival, as in a star world. A collision: `no-collision` (and a map's pixels), or
+/// `no-collision-between-states` (the swept bound, a contact between two states); leaving the
+/// workspace: `stayed-in-workspace`, or `stayed-in-certified-region` (the region `W_δ` the
+/// guarantee is about). Issue 51: a run that reached the goal after failing either of the
+/// latter two counted as reached.
+fn floor_outcome_of(
+    guarantees: &[Guarantee],
+    ending: FloorEnding,
+    time: f64,
+    error: Option<&harmonav::NavError>,
+) -> Outcome {
+    let failed = |kind: Kind| guarantees.iter().any(|g| g.kind() == kind && !g.passed);
+    if failed(Kind::NoCollision)
+        || failed(Kind::NoCollisionBetweenStates)
+        || ending == FloorEnding::Collision
+    {
         Outcome::Collision
-    } else if failed(Kind::StayedInWorkspace) || run.ending == FloorEnding::Left {
+    } else if failed(Kind::StayedInWorkspace)
+        || failed(Kind::StayedInCertifiedRegion)
+        || ending == FloorEnding::Left
+    {
         Outcome::LeftWorkspace
-    } else if run.ending == FloorEnding::Reached {
-        Outcome::Reached { time: run.time }
-    } else if run.ending == FloorEnding::Refused {
+    } else if ending == FloorEnding::Reached {
+        Outcome::Reached { time }
+    } else if ending == FloorEnding::Refused {
         Outcome::CommandRefused {
-            time: run.time,
-            reason: run
-                .error
-                .as_ref()
-                .map_or_else(String::new, ToString::to_string),
+            time,
+            reason: error.map_or_else(String::new, ToString::to_string),
         }
     } else {
-        Outcome::TimedOut { time: run.time }
+        Outcome::TimedOut { time }
     }
 }
 
@@ -351,6 +370,44 @@ impl Counts {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Issue 51: a floor run that reached the goal after failing the swept bound or leaving
+    /// the certified region is a collision or a departure, not an arrival (the adapter read
+    /// only `no-collision` and `stayed-in-workspace`).
+    #[test]
+    fn every_failed_floor_guarantee_is_judged_before_arrival() {
+        use crate::guarantee::Check;
+        let reached = |g: Vec<Guarantee>| floor_outcome_of(&g, FloorEnding::Reached, 3.0, None);
+        let swept = Guarantee::new(
+            Check::NoCollisionBetweenStates {
+                swept_clearance: -0.01,
+            },
+            false,
+        );
+        assert_eq!(reached(vec![swept]), Outcome::Collision);
+        let layer = Guarantee::new(
+            Check::StayedInCertifiedRegion {
+                min_layer_clearance: -0.01,
+                delta: 0.2,
+            },
+            false,
+        );
+        assert_eq!(reached(vec![layer]), Outcome::LeftWorkspace);
+        let pixels = Guarantee::new(
+            Check::NoCollisionWithMap {
+                min_pixel_clearance: -0.01,
+            },
+            false,
+        );
+        assert_eq!(reached(vec![pixels]), Outcome::Collision);
+        let passed = Guarantee::new(
+            Check::NoCollisionBetweenStates {
+                swept_clearance: 0.01,
+            },
+            true,
+        );
+        assert_eq!(reached(vec![passed]), Outcome::Reached { time: 3.0 });
+    }
 
     #[test]
     fn counts_follow_the_outcome_kinds() {
