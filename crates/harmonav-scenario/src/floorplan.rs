@@ -529,8 +529,9 @@ impl FloorScenario {
                             f(
                                 "floor_plan.simplify",
                                 format!(
-                                    "the mesh would have {elements} boundary elements, at most \
-                                     {max} are allowed, and every vertex of the map's outline \
+                                    "the mesh would have more than {max} boundary elements \
+                                     ({elements} counted when the count stopped), the most \
+                                     allowed, and every vertex of the map's outline \
                                      ends one: simplify = {:e} square pixels keeps too many \
                                      (the default is {})",
                                     map_options.simplify,
