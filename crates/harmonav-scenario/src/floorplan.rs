@@ -17,6 +17,7 @@
 //! radius = 0.1
 //! margin = 0.1
 //! heading = "auto"                              # or "paper" (kinematic: along −∇Θ)
+//! v_max = 0.22                                   # the kinematic law's top speed (default K√2)
 //! [starts]                                       # seeded starts in W_δ, besides `start`
 //! count = 6
 //! seed = 1
@@ -132,6 +133,10 @@ pub struct FloorRobotSpec {
     /// (`−∇Θ`, eqs. `kinctrl` and `dynctrllocal`), both laws' [`HeadingPolicy`].
     #[serde(default, deserialize_with = "crate::scenario::de_policy")]
     pub heading: HeadingPolicy,
+    /// `v_max`, m/s: the kinematic law's top speed (default `K√2`, the paper law's; a
+    /// TurtleBot3 drives at 0.22 m/s), as a star world's `controller.v_max` (issue 52).
+    #[serde(default)]
+    pub v_max: Option<f64>,
 }
 
 fn one() -> f64 {
@@ -407,6 +412,9 @@ impl FloorScenario {
             ("robot.mu", r.mu),
         ] {
             crate::scenario::parameter(value).map_err(|p| f(name, p))?;
+        }
+        if let Some(v) = r.v_max {
+            crate::scenario::parameter(v).map_err(|p| f("robot.v_max", p))?;
         }
         let h = self.floor_plan.max_element;
         if !(h.is_finite() && h > 0.0 && h <= harmonav_transform::MAX_LENGTH) {

@@ -142,9 +142,12 @@ fn navigator_and_lidar(
         Model::Kinematic => Law::kinematic(r.gain),
         Model::Dynamic => Law::dynamic(r.mass, r.mu),
     };
-    let options = Options::default()
+    let mut options = Options::default()
         .with_robot(r.radius, r.margin)
         .with_heading(r.heading);
+    if let Some(v) = r.v_max {
+        options = options.with_v_max(v);
+    }
     let lidar = prepared
         .lidar
         .map(|(l, rho)| (l.for_law(&law, &options), rho));

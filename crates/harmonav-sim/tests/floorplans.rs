@@ -630,3 +630,30 @@ fn obstacles_that_cannot_grow_and_value_errors_are_named_where_they_are() {
         FileKind::FloorPlan
     );
 }
+
+/// Issue 52: a floor-plan file sets the kinematic law's top speed (`robot.v_max`; a TurtleBot3
+/// drives at 0.22 m/s, the default is `K√2` = 1.41 m/s); a bad one is refused by name.
+#[test]
+fn a_floor_plan_file_sets_the_top_speed() {
+    let room = |extra: &str| {
+        format!(
+            "name = \"x\"\n[floor_plan]\nouter = [[0.0, 0.0], [5.0, 0.0], [5.0, 5.0], \
+             [0.0, 5.0]]\n[robot]\nmodel = \"kinematic\"\nstart = [1.0, 1.0]\ngoal = [4.0, \
+             4.0]\nradius = 0.1\nmargin = 0.1\n{extra}"
+        )
+    };
+    let path = Path::new("speed.toml");
+    let load = |t: String| FloorScenario::parse(path, &t).and_then(|s| s.prepare(path));
+    let fast = load(room("")).unwrap();
+    let slow = load(room("v_max = 0.22\n")).unwrap();
+    let r_fast = run(&fast, None, fast.starts[0]).unwrap();
+    let r_slow = run(&slow, None, slow.starts[0]).unwrap();
+    assert_eq!(r_slow.ending, FloorEnding::Reached, "{r_slow:?}");
+    assert!(
+        r_slow.max_speed <= 0.22 * (1.0 + 1e-9),
+        "{}",
+        r_slow.max_speed
+    );
+    assert!(r_fast.max_speed > 1.0, "{}", r_fast.max_speed);
+    check(&room("v_max = -1.0\n"), "robot.v_max", "must be finite");
+}
