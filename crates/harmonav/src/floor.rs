@@ -322,7 +322,8 @@ impl FloorNavigator {
     /// (the navigator is then unchanged) `x` or `ẋ` not finite; the robot's disc overlapping a
     /// wall ([`NavError::OutsideBoundary`]) or a sensed obstacle ([`NavError::InObstacle`]);
     /// `x` in the boundary layer with no certified way out ([`NavError::BoundaryLayer`]); a
-    /// non-finite command.
+    /// non-finite command. After a refused [`FloorNavigator::observe_scan`] the command halts
+    /// the robot ([`Mode::Halted`]) until a scan is accepted.
     pub fn command(&mut self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Command, NavError> {
         if self.scan_refused {
             return crate::navigator::halted(&self.controller, x, v, self.period, &mut self.last);

@@ -376,6 +376,9 @@ impl Navigator {
     /// `(m/d_min)|ẋ(T_n)|`, and the speed recorded at the event (at rest, say) would
     /// understate it.
     ///
+    /// After a refused [`Navigator::observe_scan`] the command halts the robot
+    /// ([`Mode::Halted`]) until a scan is accepted.
+    ///
     /// Errors (the navigator is then unchanged): `x` or `ẋ` not finite, the robot's disc
     /// overlapping a known true shape or the boundary, a non-finite command (a guard).
     pub fn command(&mut self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Command, NavError> {
