@@ -163,6 +163,110 @@ impl OccupiedPixels {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::ros_map::MapMode;
+    use std::path::PathBuf;
+
+    /// A small seeded map of free and non-free cells, turned and moved.
+    fn map(width: usize, height: usize, seed: u64) -> RosMap {
+        let mut state = seed;
+        let cells = (0..width * height)
+            .map(|_| {
+                state = state
+                    .wrapping_mul(6_364_136_223_846_793_005)
+                    .wrapping_add(1);
+                match state >> 61 {
+                    0 => Cell::Occupied,
+                    1 => Cell::Unknown,
+                    _ => Cell::Free,
+                }
+            })
+            .collect();
+        RosMap {
+            yaml_path: PathBuf::new(),
+            image_path: PathBuf::new(),
+            resolution: 0.1,
+            origin: [0.3, -0.2, 0.4],
+            negate: false,
+            occupied_thresh: 0.65,
+            free_thresh: 0.196,
+            mode: MapMode::Trinary,
+            width,
+            height,
+            cells,
+        }
+    }
+
+    /// The distance from `p` (map frame, m) to the closed square of pixel (c, r).
+    fn to_square(p: Vector2<f64>, c: usize, r: usize, height: usize, res: f64) -> f64 {
+        let (x0, y0) = (c as f64 * res, (height - 1 - r) as f64 * res);
+        let dx = (x0 - p.x).max(p.x - x0 - res).max(0.0);
+        let dy = (y0 - p.y).max(p.y - y0 - res).max(0.0);
+        dx.hypot(dy)
+    }
+
+    /// The signed distance against a brute force over every pixel square (and, for a point in
+    /// a free pixel, the outside of the image): the same to rounding, at points inside the
+    /// image, on pixel edges and outside it.
+    #[test]
+    fn the_signed_distance_is_the_brute_force_over_every_pixel() {
+        for seed in 1..4 {
+            let m = map(13, 9, seed);
+            let pixels = OccupiedPixels::new(&m);
+            let (w, h, res) = (m.width, m.height, m.resolution);
+            let mut state = seed;
+            let mut uniform = |lo: f64, hi: f64| {
+                state = state
+                    .wrapping_mul(6_364_136_223_846_793_005)
+                    .wrapping_add(1);
+                lo + (hi - lo) * ((state >> 11) as f64 / (1u64 << 53) as f64)
+            };
+            for k in 0..600 {
+                let mut l = Vector2::new(uniform(-0.05, 1.35), uniform(-0.05, 0.95));
+                if k % 5 == 0 {
+                    l.x = (l.x / res).round() * res; // on a vertical pixel edge
+                }
+                let x = m.to_world(l);
+                let got = pixels.signed_distance(x);
+                let border =
+                    l.x.min(l.y)
+                        .min(w as f64 * res - l.x)
+                        .min(h as f64 * res - l.y);
+                if border.abs() < 1e-9 {
+                    // On the image's edge (to the frames' rounding): outside is not free.
+                    assert!(got <= 1e-9, "{got} on the image's edge");
+                    continue;
+                }
+                let inside =
+                    l.x >= 0.0 && l.y >= 0.0 && l.x < w as f64 * res && l.y < h as f64 * res;
+                let free_here = m
+                    .pixel_at(x)
+                    .is_some_and(|[c, r]| m.cells[r * w + c] == Cell::Free);
+                let want = if free_here {
+                    let wall = (0..w * h)
+                        .filter(|&i| m.cells[i] != Cell::Free)
+                        .map(|i| to_square(l, i % w, i / w, h, res))
+                        .fold(f64::INFINITY, f64::min);
+                    let border =
+                        l.x.min(l.y)
+                            .min(w as f64 * res - l.x)
+                            .min(h as f64 * res - l.y);
+                    wall.min(border)
+                } else if inside {
+                    -(0..w * h)
+                        .filter(|&i| m.cells[i] == Cell::Free)
+                        .map(|i| to_square(l, i % w, i / w, h, res))
+                        .fold(f64::INFINITY, f64::min)
+                } else {
+                    assert!(got <= 0.0, "{got} outside the image");
+                    continue;
+                };
+                assert!(
+                    (got - want).abs() < 1e-9,
+                    "seed {seed} at {l:?}: {got} against {want}"
+                );
+            }
+        }
+    }
 
     #[test]
     fn runs_are_half_open_and_close_at_the_end() {
