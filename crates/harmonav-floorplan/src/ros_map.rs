@@ -155,8 +155,10 @@ pub struct MapOptions {
     pub floor: FloorOptions,
     /// Occupied islands (8-connected non-free pixels not touching the image's edge) of at most
     /// this many pixels become free: SLAM's salt noise. `0` keeps every island. An island
-    /// dropped is an obstacle the guarantee does not see: keep this below the smallest real
-    /// obstacle. Free islands not 4-connected to the goal's pixel are all dropped (unreachable).
+    /// dropped is an obstacle the floor plan does not see: keep this below the smallest real
+    /// obstacle. At most [`max_speck_pixels`] (the robot's clearance disc; above,
+    /// [`MapProblem::SpeckTooLarge`]); [`RosMap::specks`] lists what goes, and a run is judged
+    /// against the map's own pixels ([`OccupiedPixels`]). Free islands not 4-connected to the goal's pixel are all dropped (unreachable).
     pub speck_pixels: usize,
     /// The Visvalingam–Whyatt tolerance in square pixels: a vertex goes while the triangle it
     /// makes with its neighbours is smaller than `simplify · res²`. Each removal changes the
