@@ -352,7 +352,15 @@ fn ring_field(e: &DomainError) -> String {
     let ring = match e {
         DomainError::TooFewVertices { ring, .. }
         | DomainError::NonFinite { ring, .. }
-        | DomainError::TooLarge { ring, .. } => Some(*ring),
+        | DomainError::TooLarge { ring, .. }
+        | DomainError::DegenerateEdge { ring, .. }
+        | DomainError::SelfIntersecting { ring, .. }
+        | DomainError::WrongOrientation { ring, .. } => Some(*ring),
+        // The later of the two rings (the one whose placement made them meet).
+        DomainError::RingsMeet { second, .. } => Some(*second),
+        DomainError::HoleOutside { hole } | DomainError::HoleInHole { inner: hole, .. } => {
+            Some(RingId::Hole(*hole))
+        }
         _ => None,
     };
     match ring {

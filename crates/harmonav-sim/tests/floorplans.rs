@@ -144,7 +144,19 @@ fn bad_floor_plans_name_the_file_field_and_problem() {
             &format!("{square}\nholes = [[[1.0, 1.0], [2.0, 2.0], [2.0, 1.0], [1.0, 2.0]]]"),
             robot,
         ),
-        "floor_plan",
+        // A bowtie: the ring is named (issue 56, D19.9: it was `floor_plan`).
+        "floor_plan.holes[0]",
+        "",
+    );
+    check(
+        &good(
+            &format!(
+                "{square}\nholes = [[[1.5, 1.5], [2.5, 1.5], [2.5, 2.5], [1.5, 2.5]], [[6.0, \
+                 6.0], [7.0, 6.0], [7.0, 7.0], [6.0, 7.0]]]"
+            ),
+            robot,
+        ),
+        "floor_plan.holes[1]",
         "",
     );
     check(
