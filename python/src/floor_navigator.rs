@@ -14,7 +14,7 @@ use pyo3::types::{PyDict, PyList, PyTuple};
 
 use crate::convert::{array1, integer, lock, point_like, points_like, policy, value_error};
 use crate::navigator::{
-    Event, Log, ScanUpdate, events, finite_theta, free_memory_count, law_named, scan_from,
+    Log, Replayed, ScanUpdate, events, finite_theta, free_memory_count, law_named, scan_from,
     scan_options,
 };
 use crate::shapes::{Shape, from_perceived};
@@ -253,30 +253,25 @@ impl FloorState {
         self.log.command(x, v, lifted);
         Ok(c.value)
     }
+}
 
-    /// Replays `events` (a pickled state) on this state, a fresh one.
-    fn replay(&mut self, events: Vec<Event>) -> PyResult<()> {
-        for (i, e) in events.into_iter().enumerate() {
-            let replayed = match e {
-                Event::Add(shape) => self.add(&shape).map(drop),
-                Event::Command(x, v) => self.issue(Vector2::from(x), Vector2::from(v)).map(drop),
-                Event::Scan(b) => {
-                    let (pose, scan) = *b;
-                    self.scan(pose, scan).map(drop)
-                }
-                Event::Refused(b) => {
-                    let (pose, scan) = *b;
-                    if self.scan(pose, scan).is_ok() {
-                        return Err(value_error(format!(
-                            "FloorNavigator state, entry {i}: a refused scan was accepted"
-                        )));
-                    }
-                    Ok(())
-                }
-            };
-            replayed.map_err(|e| value_error(format!("FloorNavigator state, entry {i}: {e}")))?;
-        }
-        Ok(())
+impl Replayed for FloorState {
+    const CLASS: &'static str = "FloorNavigator";
+
+    fn add(&mut self, shape: &Shape) -> Result<(), NavError> {
+        FloorState::add(self, shape).map(drop)
+    }
+
+    fn scan(
+        &mut self,
+        pose: harmonav_rs::Pose,
+        scan: harmonav_rs::LaserScan,
+    ) -> Result<(), NavError> {
+        FloorState::scan(self, pose, scan).map(drop)
+    }
+
+    fn issue(&mut self, x: Vector2<f64>, v: Vector2<f64>) -> Result<(), NavError> {
+        FloorState::issue(self, x, v).map(drop)
     }
 }
 

@@ -457,28 +457,59 @@ impl State {
         self.log.command(x, v, lifted);
         Ok(c.value)
     }
+}
 
-    /// Replays `events` (a pickled state) on this state, a fresh one.
+impl Replayed for State {
+    const CLASS: &'static str = "Navigator";
+
+    fn add(&mut self, shape: &Shape) -> Result<(), NavError> {
+        State::add(self, shape).map(drop)
+    }
+
+    fn scan(&mut self, pose: Pose, scan: LaserScan) -> Result<(), NavError> {
+        State::scan(self, pose, scan).map(drop)
+    }
+
+    fn issue(&mut self, x: Vector2<f64>, v: Vector2<f64>) -> Result<(), NavError> {
+        State::issue(self, x, v).map(drop)
+    }
+}
+
+/// A navigator's state that pickle rebuilds by replaying its [`Log`]: the three recorded
+/// calls, and the replay itself (one for both navigators).
+pub(crate) trait Replayed {
+    /// The Python class, for errors.
+    const CLASS: &'static str;
+    /// `add_obstacle(shape)`, recorded.
+    fn add(&mut self, shape: &Shape) -> Result<(), NavError>;
+    /// `observe_scan(...)`, recorded.
+    fn scan(&mut self, pose: Pose, scan: LaserScan) -> Result<(), NavError>;
+    /// `command(x, v)`, recorded.
+    fn issue(&mut self, x: Vector2<f64>, v: Vector2<f64>) -> Result<(), NavError>;
+
+    /// Replays `events` (a pickled state) on this state, a fresh one: each call must do what
+    /// it did (a refused scan must be refused again).
     fn replay(&mut self, events: Vec<Event>) -> PyResult<()> {
+        let class = Self::CLASS;
         for (i, e) in events.into_iter().enumerate() {
             let replayed = match e {
-                Event::Add(shape) => self.add(&shape).map(drop),
-                Event::Command(x, v) => self.issue(Vector2::from(x), Vector2::from(v)).map(drop),
+                Event::Add(shape) => self.add(&shape),
+                Event::Command(x, v) => self.issue(Vector2::from(x), Vector2::from(v)),
                 Event::Scan(b) => {
                     let (pose, scan) = *b;
-                    self.scan(pose, scan).map(drop)
+                    self.scan(pose, scan)
                 }
                 Event::Refused(b) => {
                     let (pose, scan) = *b;
                     if self.scan(pose, scan).is_ok() {
                         return Err(value_error(format!(
-                            "Navigator state, entry {i}: a refused scan was accepted"
+                            "{class} state, entry {i}: a refused scan was accepted"
                         )));
                     }
                     Ok(())
                 }
             };
-            replayed.map_err(|e| value_error(format!("Navigator state, entry {i}: {e}")))?;
+            replayed.map_err(|e| value_error(format!("{class} state, entry {i}: {e}")))?;
         }
         Ok(())
     }
