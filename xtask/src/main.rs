@@ -5,6 +5,7 @@
 //! - `cargo xtask bench [--json] [--numpy] [--portable] [--only PREFIX]` re-runs itself in release mode and prints the
 //!   benchmark figures (one JSON object with `--json`).
 //! - `cargo xtask figures` regenerates the documentation figures in `docs/figures/`.
+//! - `cargo xtask traces OUT` writes the golden command traces (a refactor's bit-for-bit check).
 //! - `cargo xtask quality` and `cargo xtask scale` print experiment tables (the motion-quality
 //!   benchmark; the scale suite under several damping policies).
 
@@ -12,6 +13,7 @@ mod bench;
 mod figures;
 mod quality;
 mod rng;
+mod traces;
 mod verify;
 
 use std::process::ExitCode;
@@ -28,7 +30,8 @@ const USAGE: &str =
              --only P  only the figures whose names start with P (e.g. field_eval, quality)
   figures  regenerate the documentation figures in docs/figures/
   quality  [--worlds N] [--kinematic-only | --dynamic-only | --compare D1,D2] the motion-quality table
-  scale    [--damping D1,D2 | --trace FILE MODEL DAMPING] the scale suite, dynamic/kinematic time";
+  scale    [--damping D1,D2 | --trace FILE MODEL DAMPING] the scale suite, dynamic/kinematic time
+  traces   OUT [--periods N]  golden command traces of every scenario, start and law (raw bits)";
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -37,6 +40,7 @@ fn main() -> ExitCode {
         Some("verify") if args.len() == 3 && args[1] == "--only" => verify::run(Some(&args[2])),
         Some("figures") if args.len() == 1 => figures::run(),
         Some("quality") => quality::run(&args[1..]),
+        Some("traces") => traces::run(&args[1..]),
         Some("scale") => verify::scale::experiment(&args[1..]),
         Some("bench") => match bench::Options::parse(&args[1..]) {
             Ok(options) => bench::run(&options),
@@ -51,7 +55,7 @@ fn main() -> ExitCode {
     }
 }
 
-fn usage_error(message: &str) -> ExitCode {
+pub(crate) fn usage_error(message: &str) -> ExitCode {
     eprintln!("xtask: {message}\n\n{USAGE}");
     ExitCode::from(2)
 }

@@ -133,7 +133,7 @@ pub fn navigator(
 
 /// [`navigator`], and the file's lidar for its law ([`LidarSensor::for_law`]: the fit range of
 /// eq. fitnear under the kinematic law), whose priors the navigator's options then carry.
-fn navigator_and_lidar(
+pub(crate) fn navigator_and_lidar(
     prepared: &FloorPrepared,
     model: Option<Model>,
 ) -> Result<(FloorNavigator, Option<LidarSensor>), NavError> {

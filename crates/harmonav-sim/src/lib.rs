@@ -65,6 +65,7 @@ mod closed_loop;
 pub mod descent;
 mod driver;
 pub mod floor;
+pub mod golden;
 pub mod guarantee;
 mod monitor;
 pub mod outcome;
