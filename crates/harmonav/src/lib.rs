@@ -41,9 +41,11 @@
 //! [`perception`] (range scans to conservative star obstacles, fed to the navigator by
 //! [`Navigator::observe_scan`]).
 //!
-//! Floor plans (polygons with polygonal holes, walls of any shape) have their own navigator,
-//! [`FloorNavigator`], with the same calls; it navigates in the certified region `W_δ` of the
-//! harmonic map ([`FloorMap`], `docs/maths.md` §13).
+//! The navigator is one type over a [`World`]: a star world ([`StarWorld`], the default) or a
+//! floor plan (polygons with polygonal holes, walls of any shape: [`FloorWorld`], the navigator
+//! [`FloorNavigator`] `= Navigator<FloorWorld>`), with the same calls; on a floor plan it
+//! navigates in the certified region `W_δ` of the harmonic map ([`FloorMap`], `docs/maths.md`
+//! §13).
 
 #![warn(missing_docs)]
 
@@ -59,6 +61,8 @@ mod ranges;
 mod scan;
 mod scanning;
 mod space;
+mod star;
+mod world;
 
 pub use harmonav_control as control;
 pub use harmonav_field as field;
@@ -70,7 +74,7 @@ pub use harmonav_transform as transform;
 
 pub use certified::{BLIND, Band, CANDIDATES};
 pub use error::NavError;
-pub use floor::{ESCAPE_BLOCKED, ESCAPE_DROP, ESCAPE_STALL, FloorNavigator};
+pub use floor::{ESCAPE_BLOCKED, ESCAPE_DROP, ESCAPE_STALL, FloorNavigator, FloorWorld};
 pub use harmonav_control::{DampingPolicy, HeadingPolicy, SpeedPolicy};
 pub use harmonav_field::KPolicy;
 pub use harmonav_floorplan::{CentrePolicy, FloorError, FloorMap, FloorOptions};
@@ -88,6 +92,8 @@ pub use options::{
 };
 pub use scan::{LaserScan, Perceived, Pose, StarForm, grow_perceived, grow_perceived_as};
 pub use scanning::{DEFAULT_FREE_MEMORY, FIT_BEYOND_DEPTH, ScanOptions, ScanUpdate};
+pub use star::StarWorld;
+pub use world::{IntoWorld, World};
 
 /// The README's code compiles and runs (checked by `cargo test --doc`).
 #[doc = include_str!("../../../README.md")]

@@ -2,19 +2,19 @@
 //! (the paper's assumptions `objknown`, `objpers`), and each call of [`Navigator::command`]
 //! returns the command of the law for the current state.
 
-use std::sync::Arc;
-
 use harmonav_control::{Damping, Dynamic, Kinematic};
-use harmonav_field::{Field, FieldError, FieldEval};
-use harmonav_transform::{StarShape, Workspace, WorldError};
+use harmonav_field::FieldEval;
+use harmonav_transform::StarShape;
 use nalgebra::Vector2;
 
-use crate::certified::{self, Band};
+use crate::certified::Band;
 use crate::error::NavError;
 use crate::hold::{self, Command, Mode};
 use crate::law::Law;
 use crate::options::{HoldPolicy, Options, in_range};
 use crate::scanning::ScanState;
+use crate::space::Space;
+use crate::world::{IntoWorld, StarWorld, World};
 
 /// The command that leads a robot at velocity `v` out of the margin band `band`: `length`
 /// along the unit direction `dir` within one control period `h`, at most the kinematic law's
@@ -150,28 +150,28 @@ pub struct Evaluation {
     pub damping: Option<Damping>,
 }
 
-/// An online navigator: the navigation function `Θ` over the obstacles added so far, and the
-/// law. See the crate documentation for a complete loop.
+/// An online navigator over a world `W` ([`StarWorld`] by default; [`crate::FloorWorld`] for a
+/// floor plan, [`crate::FloorNavigator`]): the navigation function `Θ` over the obstacles
+/// added so far, and the law. See the crate documentation for a complete loop.
 #[derive(Clone, Debug)]
-pub struct Navigator {
+pub struct Navigator<W = StarWorld> {
     pub(crate) controller: Controller,
     pub(crate) options: Options,
     /// The control period `h` in force (s).
     pub(crate) period: f64,
-    pub(crate) goal: Vector2<f64>,
-    /// `Θ` over the known obstacles, grown by `radius + margin` (in the order they were
-    /// added), in the boundary shrunk by `radius + margin`.
-    pub(crate) field: Field,
-    /// The same shapes grown by `radius` alone (the boundary: shrunk by `radius`): the robot's
-    /// disc overlaps a true shape iff its centre is in one of these. Empty with no margin.
+    /// The workspace: `Θ` over the known obstacles, grown by `radius + margin`, and what the
+    /// world keeps of its own.
+    pub(crate) world: W,
+    /// The known shapes grown by `radius` alone: the robot's disc overlaps a true shape iff
+    /// its centre is in one of these. Empty with no margin.
     pub(crate) inner: Vec<StarShape>,
-    pub(crate) inner_boundary: Option<StarShape>,
     /// `|ẋ(T_n)|` at the latest discovery (eq. `dissipationfun`).
     pub(crate) speed_at_discovery: f64,
     /// The last state passed to a successful `command`.
     pub(crate) last: Option<(Vector2<f64>, Vector2<f64>)>,
-    /// The scan perception: the true boundary, the exact shapes of `add_obstacle`, the
-    /// perceived shapes and where each sits among the obstacles ([`Navigator::observe_scan`]).
+    /// The scan perception: the true boundary or walls, the exact shapes of `add_obstacle`,
+    /// the perceived shapes and where each sits among the obstacles
+    /// ([`Navigator::observe_scan`]).
     pub(crate) scan: ScanState,
     /// The last scan was refused: commands halt the robot ([`Mode::Halted`]) until one is
     /// accepted.
@@ -237,14 +237,6 @@ pub(crate) fn controller(law: &Law, options: &Options) -> Result<Controller, Nav
     })
 }
 
-/// A field error at a point, as the navigator reports it.
-fn not_free(e: FieldError) -> NavError {
-    match e {
-        FieldError::InObstacle { obstacle } => NavError::InObstacle { obstacle },
-        _ => NavError::OutsideBoundary,
-    }
-}
-
 /// The state `(x, ẋ)` a law may be evaluated at: finite coordinates, and a finite `|ẋ|`.
 /// Guard: components of 1.5e308 are finite but `|ẋ|` overflows, and with it `|ẋ(T_n)|` at the
 /// next discovery and the damping `(m/d_min)|ẋ(T_n)|` (eq. `dissipationfun`).
@@ -267,48 +259,66 @@ pub(crate) fn finite(v: Vector2<f64>, what: &'static str) -> Result<(), NavError
     }
 }
 
-impl Navigator {
-    /// A navigator in the workspace bounded by `boundary`, towards `goal`, with no obstacle
-    /// known yet.
+/// The law's command under the hold at `(x, ẋ)` evaluated as `eval` (the continuous law's
+/// command under [`HoldPolicy::Paper`]): for the dynamic law, `hold::dynamic` with the damping
+/// of `eval`; for the kinematic law, `hold::kinematic`.
+pub(crate) fn law_held<W: World>(
+    nav: &Navigator<W>,
+    x: Vector2<f64>,
+    v: Vector2<f64>,
+    eval: &Evaluation,
+) -> Command {
+    if nav.options.hold == HoldPolicy::Paper {
+        return Command {
+            value: eval.command,
+            mode: Mode::Law,
+        };
+    }
+    let (h, field) = (nav.period, nav.world.field());
+    match &nav.controller {
+        Controller::Dynamic(law) => {
+            // `evaluate` gives the dynamic law's damping; computed again only if it did not.
+            let d = eval.damping.unwrap_or_else(|| {
+                law.damping_for(
+                    field.calibration(law),
+                    &eval.field,
+                    v,
+                    nav.speed_at_discovery,
+                )
+            });
+            hold::dynamic(law, field, x, (&eval.field, v), &d, h)
+        }
+        Controller::Kinematic(law) => hold::kinematic(law, field, x, &eval.field, eval.command, h),
+    }
+}
+
+impl<W: World> Navigator<W> {
+    /// A navigator in `workspace` towards `goal`, with no obstacle known yet. `workspace` is
+    /// the true boundary of a star world (a [`StarShape`]: a [`Navigator`]), or a floor plan's
+    /// solved map (an `Arc<`[`crate::FloorMap`]`>`: a [`crate::FloorNavigator`], which must keep
+    /// at least `radius + margin` from the walls: build it with
+    /// `FloorOptions::new(h, radius + margin)`).
     ///
     /// Errors: a law parameter (`gain`, `mass`, `mu`) or option outside its range
     /// ([`crate::PARAMETER_RANGE`], [`Options::validate`]; the error names the field), a
-    /// boundary that cannot be shrunk by `radius + margin`, a goal that is not finite or not
-    /// strictly inside.
-    pub fn new(
-        boundary: StarShape,
+    /// boundary that cannot be shrunk by `radius + margin` (a floor whose `δ` is less than
+    /// `radius + margin`: [`NavError::InvalidOption`], `margin`), a goal that is not finite or
+    /// not strictly inside the free space.
+    pub fn new<S: IntoWorld<World = W>>(
+        workspace: S,
         goal: Vector2<f64>,
         law: Law,
         options: Options,
     ) -> Result<Self, NavError> {
         finite(goal, "goal")?;
         let controller = controller(&law, &options)?;
-        let inflation = options.radius + options.margin;
-        let shrunk = boundary.offset(-inflation).map_err(NavError::Shape)?;
-        let inner_boundary = if options.margin > 0.0 {
-            Some(boundary.offset(-options.radius).map_err(NavError::Shape)?)
-        } else {
-            None
-        };
-        let scan = ScanState::new(
-            boundary,
-            &options.scan,
-            options.rho_min,
-            options.radius + options.margin,
-        )?;
-        let ws = Workspace::new(shrunk, Vec::new(), goal).map_err(|_| NavError::GoalNotFree)?;
-        let field = Field::all_known_with(Arc::new(ws), options.k).map_err(NavError::Field)?;
-        // The governed pull grows with the world: the largest radius of the boundary the
-        // field uses, as its scale shift does.
-        let controller = controller.in_world(field.workspace().boundary().radius_bounds().1)?;
+        let (world, scan, controller) = workspace.build(goal, controller, &options)?;
         let nav = Self {
             controller,
             options,
             period: options.period_for(&law),
-            goal,
-            field,
+            world,
             inner: Vec::new(),
-            inner_boundary,
             speed_at_discovery: 0.0,
             last: None,
             scan,
@@ -317,35 +327,31 @@ impl Navigator {
         // Guard: λ_c (eq. critdamp) overflowed for m = μ = 1e308; within the ranges it is
         // finite, and this checks it once rather than at every command.
         if let Controller::Dynamic(law) = &nav.controller {
-            finite_lambda_c(law, law.lambda_c(&nav.field))?;
+            let (s, shift) = nav.world.field().calibration(law);
+            finite_lambda_c(law, law.lambda_c_for(s, shift))?;
         }
         Ok(nav)
     }
 
     /// Adds an obstacle that the robot's perception has just found (its true shape; it is grown
     /// by `radius + margin` here). `k`, `Phi` and the dynamic law's discovery state (`|ẋ(T_n)|`,
-    /// the speed of the last commanded state) update. Returns its index. Allocates (the only
-    /// call that does).
+    /// the speed of the last commanded state) update (on a floor plan `B` and the point world;
+    /// `H` is reused, no new solve). Returns its index. Allocates (with
+    /// [`Navigator::observe_scan`], the only calls that do).
     ///
     /// A shape found late, whose margin band already holds the robot, is accepted: the next
     /// [`Navigator::command`] leads out of the band ([`Mode::Recovering`]).
     ///
     /// Errors (the navigator is then unchanged): the grown shape overlaps a known obstacle,
-    /// crosses the boundary, or contains the goal; the shape grown by `radius` alone contains
+    /// crosses the boundary (on a floor plan: reaches the boundary layer,
+    /// [`NavError::Floor`]), or contains the goal; the shape grown by `radius` alone contains
     /// the robot's last commanded position; the shape cannot be grown.
     pub fn add_obstacle(&mut self, shape: StarShape) -> Result<usize, NavError> {
         let (grown, inner) = self.options.grow(&shape, self.last.map(|(x, _)| x))?;
-        // In place, validated before anything changes (`Field::push_obstacle`).
-        let index = self.field.push_obstacle(grown).map_err(|e| match e {
-            FieldError::World(WorldError::Overlap { first, .. }) => {
-                NavError::Overlap { obstacle: first }
-            }
-            FieldError::World(WorldError::InObstacle { .. }) => NavError::ContainsGoal,
-            FieldError::World(WorldError::OutsideBoundary { .. }) => NavError::CrossesBoundary,
-            e => NavError::Field(e),
-        })?;
+        let index = self.world.admit(grown)?;
         self.inner.extend(inner);
         self.speed_at_discovery = self.last.map_or(0.0, |(_, v)| v.norm());
+        self.world.discovered();
         self.scan.add_exact(shape, index);
         Ok(index)
     }
@@ -359,16 +365,19 @@ impl Navigator {
     /// construction (`docs/maths.md` §10):
     ///
     /// - kinematic (`x += h·u`): the step stays within half the certified distance to the
-    ///   nearest known grown shape, and `Θ` strictly decreases over it ([`Mode::Capped`] when
-    ///   the law's step was shortened);
+    ///   nearest known grown shape (on a floor plan: and to the boundary layer), and `Θ`
+    ///   strictly decreases over it ([`Mode::Capped`] when the law's step was shortened; not
+    ///   during an escape, [`Mode::Escaping`], which ends [`crate::ESCAPE_DROP`] below where
+    ///   it began, or blocked);
     /// - dynamic (`v += h·f/m, x += h·v`, or the exact hold of `f`): the damping acts
     ///   implicitly, `h|v⁺|` stays within a quarter of the certified distance, and
     ///   `|v⁺| < √(2μ/m)`.
     ///
     /// A robot inside the margin band of a known shape (clear of the true shape by at least
-    /// `radius`, after a disturbance or a late perception) gets a command straight out of the
-    /// band ([`Mode::Recovering`]), under either policy. Under [`HoldPolicy::Paper`] the command
-    /// is otherwise the continuous law's (`Navigator::evaluate`), unchecked.
+    /// `radius`, after a disturbance or a late perception), or in a floor plan's boundary
+    /// layer, gets a command straight out of it ([`Mode::Recovering`]), under either policy.
+    /// Under [`HoldPolicy::Paper`] the command is otherwise the continuous law's
+    /// (`Navigator::evaluate`), unchecked.
     ///
     /// Under the dynamic law a recovery also lifts the discovery speed `|ẋ(T_n)|` of eq.
     /// `dissipationfun` to at least the speed `|v⁺|` it gives: the event's state is the one in
@@ -380,12 +389,14 @@ impl Navigator {
     /// ([`Mode::Halted`]) until a scan is accepted.
     ///
     /// Errors (the navigator is then unchanged): `x` or `ẋ` not finite, the robot's disc
-    /// overlapping a known true shape or the boundary, a non-finite command (a guard).
+    /// overlapping a known true shape or the boundary (a wall: [`NavError::OutsideBoundary`]),
+    /// `x` in a floor plan's boundary layer with no certified way out
+    /// ([`NavError::BoundaryLayer`]), a non-finite command (a guard).
     pub fn command(&mut self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Command, NavError> {
         if self.scan_refused {
             return halted(&self.controller, x, v, self.period, &mut self.last);
         }
-        let command = self.held(x, v)?;
+        let (command, step) = W::held(self, x, v)?;
         if !command.value.iter().all(|c| c.is_finite()) {
             return Err(NavError::NonFiniteCommand);
         }
@@ -397,93 +408,33 @@ impl Navigator {
             self.speed_at_discovery,
         );
         self.last = Some((x, v));
+        W::after(self, x, step);
         Ok(command)
-    }
-
-    /// [`Navigator::command`] without the finite check and the memory of the state.
-    fn held(&self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Command, NavError> {
-        let eval = match self.evaluate(x, v) {
-            Ok(eval) => eval,
-            Err(e) => return self.recover(x, v, e),
-        };
-        if self.options.hold == HoldPolicy::Paper {
-            return Ok(Command {
-                value: eval.command,
-                mode: Mode::Law,
-            });
-        }
-        let h = self.period;
-        Ok(match &self.controller {
-            Controller::Dynamic(law) => {
-                // `evaluate` gives the dynamic law's damping; computed again only if it did not.
-                let d = eval.damping.unwrap_or_else(|| {
-                    law.damping(&self.field, &eval.field, v, self.speed_at_discovery)
-                });
-                hold::dynamic(law, &self.field, x, (&eval.field, v), &d, h)
-            }
-            Controller::Kinematic(law) => {
-                let held = hold::kinematic(law, &self.field, x, &eval.field, eval.command, h);
-                let speed = law.speed(
-                    &eval.field,
-                    (x - self.field.workspace().destination()).norm(),
-                );
-                if held.value.norm() < hold::REST_SCALE * speed {
-                    hold::kinematic_from_rest(&self.field, x, &eval.field, speed, &held, h)
-                        .unwrap_or(held)
-                } else {
-                    held
-                }
-            }
-        })
-    }
-
-    /// The command out of the margin band, if `x` (not in the free space: `error`) is in it;
-    /// otherwise `error`, with the obstacle or boundary that the robot's disc overlaps.
-    fn recover(
-        &self,
-        x: Vector2<f64>,
-        v: Vector2<f64>,
-        error: NavError,
-    ) -> Result<Command, NavError> {
-        let band = match error {
-            NavError::InObstacle { obstacle } => match self.inner.get(obstacle) {
-                Some(inner) if !inner.contains(x) => Band::Obstacle(obstacle),
-                _ => return Err(error),
-            },
-            NavError::OutsideBoundary => match &self.inner_boundary {
-                Some(inner) if inner.contains(x) => Band::Boundary,
-                _ => return Err(error),
-            },
-            _ => return Err(error),
-        };
-        let ws = self.field.workspace();
-        let Some((dir, length)) = hold::way_out(ws, band, x, self.options.margin) else {
-            return Err(error);
-        };
-        Ok(recovering(
-            &self.controller,
-            band,
-            dir,
-            length,
-            self.period,
-            v,
-        ))
     }
 
     /// The continuous law at the state `(x, ẋ)` with what it is made of (`Θ`, `∇Θ`, the
     /// damping), without remembering the state and without the hold: for integrators of the
     /// continuous closed loop that evaluate trial states, and for logging. Does not allocate.
+    /// On a floor plan the law turns towards the shortest path's heading, if built
+    /// ([`HeadingPolicy`](crate::HeadingPolicy)).
     ///
     /// Errors: `x` or `ẋ` not finite, `x` inside a known obstacle grown by `radius + margin`
-    /// or outside the boundary shrunk by it.
+    /// or outside the boundary shrunk by it (in a floor plan's boundary layer with the disc
+    /// clear of the walls: [`NavError::BoundaryLayer`]).
     pub fn evaluate(&self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Evaluation, NavError> {
         finite_state(x, v)?;
-        let e = self.field.eval(x).map_err(not_free)?;
+        let e = self.world.eval(x, &self.options)?;
+        let field = self.world.field();
+        let nominal = field.heading(x, &e);
         let (command, damping) = match &self.controller {
-            Controller::Kinematic(law) => (law.velocity(&e, (x - self.goal).norm()), None),
+            Controller::Kinematic(law) => (
+                law.velocity_toward(&e, (x - field.goal()).norm(), nominal),
+                None,
+            ),
             Controller::Dynamic(law) => {
-                let d = law.damping(&self.field, &e, v, self.speed_at_discovery);
-                (law.force(&self.field, &e, v, &d), Some(d))
+                let calibration = field.calibration(law);
+                let d = law.damping_for(calibration, &e, v, self.speed_at_discovery);
+                (law.force_toward(calibration, &e, v, &d, nominal), Some(d))
             }
         };
         Ok(Evaluation {
@@ -496,17 +447,12 @@ impl Navigator {
     /// `Θ(x)` over the known obstacles (for logging); errors as [`Navigator::evaluate`].
     pub fn theta(&self, x: Vector2<f64>) -> Result<f64, NavError> {
         finite(x, "position")?;
-        self.field.eval(x).map(|e| e.value).map_err(not_free)
+        self.world.eval(x, &self.options).map(|e| e.value)
     }
 
     /// The goal.
     pub fn goal(&self) -> Vector2<f64> {
-        self.goal
-    }
-
-    /// The known obstacles, grown by `radius + margin`, in the order they were added.
-    pub fn obstacles(&self) -> &[StarShape] {
-        self.field.workspace().obstacles()
+        self.world.field().goal()
     }
 
     /// The law in use.
@@ -514,14 +460,16 @@ impl Navigator {
         &self.controller
     }
 
-    /// `Θ` over the known obstacles (read only).
-    pub fn field(&self) -> &Field {
-        &self.field
+    /// `Θ` over the known obstacles (read only): a [`harmonav_field::Field`] in a star world,
+    /// a [`harmonav_floorplan::FloorField`] on a floor plan.
+    pub fn field(&self) -> &W::Field {
+        self.world.field()
     }
 
-    /// `k` of `phi_k` for the known obstacles.
+    /// `k` of `phi_k` for the known obstacles (on a floor plan: the holes and the sensed
+    /// obstacles, under the k policy).
     pub fn k(&self) -> f64 {
-        self.field.k()
+        self.world.k()
     }
 
     /// The speed bound `√(2μ/m)` of the dynamic law (corollary `boundedvel`), `None` for the
@@ -539,15 +487,16 @@ impl Navigator {
     }
 
     /// The certified clearance at `x`: a lower bound on the distance to the nearest known grown
-    /// obstacle and to the shrunk boundary (0 or less outside the free space, `−∞` at a
-    /// non-finite point), the quantity the hold of [`Navigator::command`] keeps its steps
-    /// within. Within the certificate's tolerance of a shape that is not a circle (about 1e-4
-    /// of its size) it may be 0 or less at a free point.
+    /// obstacle and to the shrunk boundary (on a floor plan: to the boundary layer,
+    /// `sd(x) − δ`); 0 or less outside the free space, `−∞` at a non-finite point. It is the
+    /// quantity the hold of [`Navigator::command`] keeps its steps within. Within the
+    /// certificate's tolerance of a shape that is not a circle (about 1e-4 of its size) it may
+    /// be 0 or less at a free point.
     pub fn clearance(&self, x: Vector2<f64>) -> f64 {
         if !x.iter().all(|c| c.is_finite()) {
             return f64::NEG_INFINITY;
         }
-        certified::clearance(self.field.workspace(), x, f64::INFINITY, None)
+        self.world.field().clearance(x, f64::INFINITY, None)
     }
 
     /// The options in use.

@@ -18,10 +18,8 @@
 //! `min(ε_x, d_ev/2)` apart (less the distance bracket), and a robot whose lidar sees a bounded
 //! region causes finitely many events (a packing bound; docs/maths.md §12.6, §12.8).
 
-use std::sync::Arc;
-
 use harmonav_perception::{Known, Perception, PerceptionError};
-use harmonav_transform::{StarShape, Workspace, WorldError};
+use harmonav_transform::StarShape;
 use nalgebra::Vector2;
 
 pub use harmonav_perception::{LaserScan, Perceived, Pose, StarForm};
@@ -29,8 +27,9 @@ pub use harmonav_perception::{LaserScan, Perceived, Pose, StarForm};
 use crate::error::NavError;
 use crate::navigator::{Navigator, event_speed};
 use crate::scanning::{ScanState, ScanUpdate};
+use crate::world::World;
 
-impl Navigator {
+impl<W: World> Navigator<W> {
     /// Observes one scan taken from `pose` (the sensor at the robot's centre, heading `yaw`):
     /// drops the hits that exact shapes or the boundary explain within `max(ε, ε_g)` (the
     /// boundary also less than `g_w − ε` away, under the wall prior) and the
@@ -64,6 +63,14 @@ impl Navigator {
     /// is refused as soon as that is certain, with that error: a scan of ranges at random
     /// (rain, dust, glass, a failing lidar) costs a few fits, not a fit and a merge per beam.
     ///
+    /// On a floor plan hits within `max(ε, ε_g)` of the true walls (or nearer them than
+    /// `g_w − ε` under the wall prior) are explained, fits are kept out of the walls (and `g_w`
+    /// from them), and a changed shape must lie in the certified region with its growth
+    /// ([`crate::FloorError::ObstacleNearWall`], decided by [`crate::FloorMap::star_room`]): a
+    /// fit grown by `radius + margin` that comes within `δ` of the walls shrunk by the robot
+    /// cannot be taken by the harmonic map's construction, whose holes are solved once
+    /// (`docs/maths.md` §12.17). A sensor outside the walls is [`NavError::Perception`].
+    ///
     /// A refused scan changes nothing in `Θ` or the perception; what it saw is not certified
     /// against, so every [`Navigator::command`] after it halts the robot
     /// ([`crate::Mode::Halted`]) until a scan is accepted (issue 56: it used to give the
@@ -77,8 +84,8 @@ impl Navigator {
 
     /// [`Navigator::observe_scan`] without the memory of a refusal.
     fn observe_once(&mut self, pose: Pose, scan: &LaserScan) -> Result<ScanUpdate, NavError> {
-        let old = self.field.workspace().obstacles();
-        let event = match observe(&self.scan, old, &self.inner, &self.options, pose, scan)? {
+        let old = self.world.known();
+        let event = match observe(&self.scan, &old, &self.inner, &self.options, pose, scan)? {
             Observed::Quiet(perception, update) => {
                 // The same shapes, and the field stands; the perception keeps the evidence
                 // the scan added (eq. attribution).
@@ -87,20 +94,8 @@ impl Navigator {
             }
             Observed::Event(event) => event,
         };
-        let boundary = self.field.workspace().boundary().clone();
-        let before = |j: usize| event.keep.get(j).copied();
-        let ws = Workspace::new(boundary, event.obstacles, self.goal).map_err(|e| match e {
-            WorldError::Overlap { first, second } => NavError::NotStarWorld {
-                obstacle: before(first).or(before(second)),
-            },
-            WorldError::InObstacle { .. } => NavError::ContainsGoal,
-            _ => NavError::CrossesBoundary,
-        })?;
-        let field = self
-            .field
-            .all_known_after(Arc::new(ws), self.options.k)
-            .map_err(NavError::Field)?;
-        self.field = field;
+        self.world.sensed(&event, &self.options)?;
+        self.world.discovered();
         self.inner = event.inner;
         let speed = self.last.map_or(0.0, |(_, v)| v.norm());
         let clearance = event.update.event_clearance.unwrap_or(f64::INFINITY);
@@ -153,7 +148,7 @@ impl ScanState {
 /// the absorbed shapes removed, the grown ones replaced and the new ones appended (each grown
 /// by `radius + margin`, and by `radius` alone into `inner` under a margin), the perception
 /// state to keep if the navigator accepts them, and what the scan did.
-pub(crate) struct ScanEvent {
+pub struct ScanEvent {
     /// The obstacles, grown by `radius + margin`, in the navigator's order.
     pub(crate) obstacles: Vec<StarShape>,
     /// The same grown by `radius` alone (empty without a margin).
@@ -370,7 +365,7 @@ mod tests {
         assert!(holds_robot(&grown, None, bay));
         let boundary = StarShape::circle(Vector2::zeros(), 5.0).unwrap();
         let goal = Vector2::new(3.0, 0.0);
-        let ws = Workspace::new(boundary, vec![grown.clone()], goal).unwrap();
+        let ws = harmonav_transform::Workspace::new(boundary, vec![grown.clone()], goal).unwrap();
         let (dir, length) =
             crate::hold::way_out(&ws, crate::certified::Band::Obstacle(0), bay, margin).unwrap();
         assert!(dir.dot(&bay) > 0.0, "outward along the ray: {dir:?}");

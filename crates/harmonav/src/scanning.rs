@@ -199,7 +199,7 @@ impl ScanUpdate {
 
 /// The navigator's scan perception (see the module docs).
 #[derive(Clone, Debug)]
-pub(crate) struct ScanState {
+pub struct ScanState {
     pub(crate) perception: Perception,
     /// The index among the navigator's obstacles of each perceived shape.
     pub(crate) slots: Vec<usize>,

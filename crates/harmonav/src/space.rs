@@ -1,6 +1,7 @@
 //! [`Space`]: what the sampled-data hold needs of a navigation function and its free space —
 //! `Θ`, the certified clearance `d(x)` and the way out of the blind layer — for a star world
-//! ([`Field`]) and a floor plan ([`FloorField`]), so that one hold serves both.
+//! ([`Field`]) and a floor plan ([`FloorField`]), so that one hold serves both. It is the
+//! field of a [`crate::World`] (sealed: public in a private module).
 
 use harmonav_control::Dynamic;
 use harmonav_field::{Field, FieldError, FieldEval};
@@ -10,7 +11,7 @@ use nalgebra::Vector2;
 use crate::certified::{self, Band};
 
 /// The hold's view of a navigation function over its free space (`docs/maths.md` §10).
-pub(crate) trait Space {
+pub trait Space {
     /// `Θ`, `∇Θ` and the direction at `x`; an error outside the free space.
     fn eval(&self, x: Vector2<f64>) -> Result<FieldEval, FieldError>;
     /// The goal `x_d` (the kinematic law's speed policy brakes on `|x − x_d|`).
