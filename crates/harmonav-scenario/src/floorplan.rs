@@ -18,6 +18,7 @@
 //! margin = 0.1
 //! heading = "auto"                              # or "paper" (kinematic: along −∇Θ)
 //! v_max = 0.22                                   # the kinematic law's top speed (default K√2)
+//! control_period = 0.01                          # s, the hold's and the loop's step (default: the law's)
 //! [starts]                                       # seeded starts in W_δ, besides `start`
 //! count = 6
 //! seed = 1
@@ -137,6 +138,12 @@ pub struct FloorRobotSpec {
     /// TurtleBot3 drives at 0.22 m/s), as a star world's `controller.v_max` (issue 52).
     #[serde(default)]
     pub v_max: Option<f64>,
+    /// The control period `h`, s: the period the navigator's hold certifies
+    /// ([`harmonav::Options::with_control_period`]) and the fixed step of the held-command loop
+    /// (`harmonav_sim::floor`). Default: the law's (0.01 s kinematic, 0.001 s dynamic). The
+    /// same key as a star world's `[robot] control_period`.
+    #[serde(default)]
+    pub control_period: Option<f64>,
 }
 
 fn one() -> f64 {
@@ -302,6 +309,12 @@ fn below_level(field: &FloorField, level: &LayerLevel, p: Vector2<f64>) -> Resul
 }
 
 impl FloorPrepared {
+    /// The file's `[robot] control_period`, s (`None`: the law's default).
+    #[must_use]
+    pub fn control_period(&self) -> Option<f64> {
+        self.scenario.robot.control_period
+    }
+
     /// Whether `start` may start a run, as `robot.start` must: in the certified region `W_δ`,
     /// clear of every true obstacle grown by radius + margin, and, with
     /// `floor_plan.require_certified_start`, below `c_δ`; else the problem.
@@ -423,6 +436,10 @@ impl FloorScenario {
         }
         if let Some(v) = r.v_max {
             crate::scenario::parameter(v).map_err(|p| f("robot.v_max", p))?;
+        }
+        if let Some(h) = r.control_period {
+            crate::scenario::control_period(h, self.sim.max_time)
+                .map_err(|p| f("robot.control_period", p))?;
         }
         let h = self.floor_plan.max_element;
         if !(h.is_finite() && h > 0.0 && h <= harmonav_transform::MAX_LENGTH) {

@@ -212,6 +212,14 @@ pub struct ControllerSpec {
     /// `v_max`, m/s: the kinematic law's top speed (default `K√2`, the paper law's).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub v_max: Option<f64>,
+    /// The file's `[robot] control_period`, s: the period the navigator's hold certifies
+    /// ([`harmonav::Options::with_control_period`]) and for which a held-command loop (rapier)
+    /// holds each command. `None`: the law's default, and rapier's steps of `sim.dt` cut to at
+    /// most 1 ms. Written under `[robot]`, as a floor plan's (one key for both formats); kept
+    /// here, with the law's other settings, so that code building a [`RobotSpec`] field by
+    /// field keeps compiling.
+    #[serde(skip)]
+    pub control_period: Option<f64>,
 }
 
 impl Default for ControllerSpec {
@@ -222,6 +230,7 @@ impl Default for ControllerSpec {
             damping: DampingPolicy::default(),
             speed: SpeedPolicy::default(),
             v_max: None,
+            control_period: None,
         }
     }
 }
@@ -313,9 +322,10 @@ fn default_tolerance() -> f64 {
     0.01
 }
 
-/// A scenario file as written.
+/// A scenario file as written (its `[robot] control_period` kept in
+/// [`ControllerSpec::control_period`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(from = "ScenarioFile", into = "ScenarioFile")]
 pub struct Scenario {
     /// Name.
     pub name: String,
@@ -344,6 +354,102 @@ pub struct Scenario {
     /// Expected outcome.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub expect: Option<ExpectSpec>,
+}
+
+/// The layout of a scenario file: [`Scenario`]'s tables, with `[robot]` as [`RobotFile`].
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ScenarioFile {
+    name: String,
+    #[serde(default)]
+    description: String,
+    workspace: ShapeSpec,
+    #[serde(default)]
+    obstacles: Vec<ShapeSpec>,
+    robot: RobotFile,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    sensor: Option<SensorSpec>,
+    #[serde(default)]
+    field: FieldSpec,
+    #[serde(default)]
+    controller: ControllerSpec,
+    #[serde(default)]
+    sim: SimSpec,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    expect: Option<ExpectSpec>,
+}
+
+/// `[robot]` as written: [`RobotSpec`]'s keys and `control_period`.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RobotFile {
+    model: Model,
+    #[serde(deserialize_with = "crate::points::point")]
+    start: [f64; 2],
+    #[serde(deserialize_with = "crate::points::point")]
+    goal: [f64; 2],
+    #[serde(default = "one")]
+    mass: f64,
+    #[serde(default)]
+    radius: f64,
+    #[serde(default)]
+    margin: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    control_period: Option<f64>,
+}
+
+impl From<ScenarioFile> for Scenario {
+    fn from(file: ScenarioFile) -> Self {
+        let r = file.robot;
+        Self {
+            name: file.name,
+            description: file.description,
+            workspace: file.workspace,
+            obstacles: file.obstacles,
+            robot: RobotSpec {
+                model: r.model,
+                start: r.start,
+                goal: r.goal,
+                mass: r.mass,
+                radius: r.radius,
+                margin: r.margin,
+            },
+            sensor: file.sensor,
+            field: file.field,
+            controller: ControllerSpec {
+                control_period: r.control_period,
+                ..file.controller
+            },
+            sim: file.sim,
+            expect: file.expect,
+        }
+    }
+}
+
+impl From<Scenario> for ScenarioFile {
+    fn from(s: Scenario) -> Self {
+        let r = s.robot;
+        Self {
+            name: s.name,
+            description: s.description,
+            workspace: s.workspace,
+            obstacles: s.obstacles,
+            robot: RobotFile {
+                model: r.model,
+                start: r.start,
+                goal: r.goal,
+                mass: r.mass,
+                radius: r.radius,
+                margin: r.margin,
+                control_period: s.controller.control_period,
+            },
+            sensor: s.sensor,
+            field: s.field,
+            controller: s.controller,
+            sim: s.sim,
+            expect: s.expect,
+        }
+    }
 }
 
 /// A validated scenario, ready to run.
@@ -435,6 +541,9 @@ impl Scenario {
         in_range("controller.mu", c.mu)?;
         if let Some(v) = c.v_max {
             in_range("controller.v_max", v)?;
+        }
+        if let Some(h) = c.control_period {
+            control_period(h, self.sim.max_time).map_err(|p| f("robot.control_period", p))?;
         }
         if let Some(v) = self.expect.as_ref().and_then(|e| e.max_speed_below)
             && !(v.is_finite() && v > 0.0)
@@ -747,6 +856,11 @@ impl Prepared {
     pub fn margin(&self) -> f64 {
         self.scenario.robot.margin
     }
+
+    /// The file's `[robot] control_period`, s (`None`: the law's default).
+    pub fn control_period(&self) -> Option<f64> {
+        self.scenario.controller.control_period
+    }
 }
 
 /// The text of a scenario file (at most [`MAX_FILE_BYTES`]: a device or a huge file is refused
@@ -791,6 +905,26 @@ pub(crate) fn parameter(v: f64) -> Result<(), String> {
     } else {
         Err(format!("must be finite and in [{lo:e}, {hi:e}], got {v:e}"))
     }
+}
+
+/// `robot.control_period` `h`, s, of a run of at most `max_time` s: finite and in
+/// [`PARAMETER_RANGE`] (the navigator's range), and at most [`MAX_RECORDED_STATES`] periods
+/// in `max_time` (a held-command loop takes a step each period); else the problem.
+pub(crate) fn control_period(h: f64, max_time: f64) -> Result<(), String> {
+    let (lo, hi) = PARAMETER_RANGE;
+    if !(h.is_finite() && (lo..=hi).contains(&h)) {
+        return Err(format!(
+            "must be finite and in [{lo:e}, {hi:e}] s, got {h:e}"
+        ));
+    }
+    if max_time / h > MAX_RECORDED_STATES {
+        return Err(format!(
+            "sim.max_time / robot.control_period = {:.3e} periods; at most \
+             {MAX_RECORDED_STATES:e} (raise robot.control_period or lower sim.max_time)",
+            max_time / h
+        ));
+    }
+    Ok(())
 }
 
 /// A length of the robot (`robot.radius`, `robot.margin`): finite and in `[0, MAX_LENGTH]` m;

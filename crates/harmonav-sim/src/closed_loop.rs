@@ -38,8 +38,9 @@ impl<'a> ClosedLoop<'a> {
     /// obstacles known at `t = 0` (assumption `localobs`: within `d_min` of the start, and
     /// those the sector sees from the start along the descent direction of the full field,
     /// then along that of the known ones) and those discoveries. `period`: the control period
-    /// of a fixed-step loop, for the navigator's hold (`None`: the law's default; the built-in
-    /// integrator evaluates the continuous law and does not use it).
+    /// of a fixed-step loop, for the navigator's hold (`None`: the file's `robot.control_period`,
+    /// else the law's default; the built-in integrator evaluates the continuous law and holds a
+    /// command only out of a margin band).
     pub fn start(
         prepared: &'a Prepared,
         model: Option<Model>,
@@ -60,7 +61,7 @@ impl<'a> ClosedLoop<'a> {
         if let Some(v) = sc.controller.v_max {
             options = options.with_v_max(v);
         }
-        if let Some(h) = period {
+        if let Some(h) = period.or(prepared.control_period()) {
             options = options.with_control_period(h);
         }
         // The lidar's fit range for this law (eq. fitnear), for the navigator and the

@@ -148,6 +148,9 @@ pub(crate) fn navigator_and_lidar(
     if let Some(v) = r.v_max {
         options = options.with_v_max(v);
     }
+    if let Some(h) = prepared.control_period() {
+        options = options.with_control_period(h);
+    }
     let lidar = prepared
         .lidar
         .map(|(l, rho)| (l.for_law(&law, &options), rho));
@@ -160,8 +163,8 @@ pub(crate) fn navigator_and_lidar(
 }
 
 /// Runs the user's loop from `start` under `model` (the file's by default): at every period
-/// `h` the robot senses the true obstacles within `sim.sensor_range` (added once, grown by the
-/// navigator) or, with `[sensor] type = "lidar"`, hands the navigator a scan of the true walls
+/// `h` (`robot.control_period`, or the law's default) the robot senses the true obstacles
+/// within `sim.sensor_range` (added once, grown by the navigator) or, with `[sensor] type = "lidar"`, hands the navigator a scan of the true walls
 /// and obstacles whenever one is due ([`FloorNavigator::observe_scan`], judged as in a star
 /// world), asks [`FloorNavigator::command`], and holds it — `x += h·u` (kinematic), or
 /// `v += h·f/m, x += h·v` (dynamic, semi-implicit Euler; `Held::euler`). The monitors use

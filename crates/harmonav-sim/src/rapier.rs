@@ -69,12 +69,23 @@ pub(crate) fn rapier_observed(
 ) -> Result<(Run, RapierReport), RunError> {
     let sc = &prepared.scenario;
     let truth = &prepared.truth;
-    // rapier's fixed step, at most 1 ms; the navigator holds each command for it.
-    let substeps = (sc.sim.dt / 1e-3).ceil().max(1.0) as usize;
-    let h = sc.sim.dt / substeps as f64;
+    // rapier's fixed step `h`, at most 1 ms, and the control period: `robot.control_period`
+    // cut into `hold` steps, over which the navigator holds each command; without it, one
+    // step of `sim.dt` cut into steps of at most 1 ms, each with its own command.
+    let cut = |span: f64| (span / 1e-3).ceil().max(1.0) as usize;
+    let (h, hold, period) = match prepared.control_period() {
+        Some(period) => (period / cut(period) as f64, cut(period), period),
+        None => {
+            let h = sc.sim.dt / cut(sc.sim.dt) as f64;
+            (h, 1, h)
+        }
+    };
+    // A state recorded every `sim.dt`, to the nearest step (exactly without a control period,
+    // where `h` divides it).
+    let record_every = (sc.sim.dt / h).round().max(1.0) as usize;
     // Semi-implicit Euler at a fixed step has no error estimate: the energy's allowance is
     // relative (`sample` below), not from a state error.
-    let mut d = Driver::start(prepared, model, Some(h), 0.0, warnings, observer)?;
+    let mut d = Driver::start(prepared, model, Some(period), 0.0, warnings, observer)?;
     let model = d.model();
     let start = prepared.start();
 
@@ -97,6 +108,8 @@ pub(crate) fn rapier_observed(
     let mut drift = 0.0;
     // The largest energy rapier's corrections added to a step, relative to V.
     let mut engine_rise: f64 = 0.0;
+    // The command held over the current control period.
+    let mut command = Vector2::zeros();
     let sample = |d: &Driver, t: f64, x, vel, drift: &mut f64| {
         let mut s = d.sample(t, x, vel);
         s.energy_tolerance = std::mem::take(drift);
@@ -115,7 +128,7 @@ pub(crate) fn rapier_observed(
             }));
             break;
         }
-        if steps % substeps == 0 || reached {
+        if steps % record_every == 0 || reached {
             // A discovery's second side is recorded where it happens (below), flagged there so
             // that the energy monitor does not count V's jump as a rise.
             let keep = if reached { Keep::Pinned } else { Keep::Grid };
@@ -125,41 +138,45 @@ pub(crate) fn rapier_observed(
         if reached || t >= sc.sim.max_time {
             break;
         }
-        // Sensing: discoveries at step granularity, a lidar's scans at the first step at or
-        // after each scan time.
-        let found = d.sees(x, vel);
-        let mut discovered = !found.is_empty();
-        if discovered && !d.discover(t, &found, x, vel) {
-            break;
-        }
-        if d.scan_due(t) {
-            // The side before an event carries the drift since the last recorded state.
-            let mut pre = d.sample(t, x, vel);
-            pre.energy_tolerance = drift;
-            match d.scan(pre, x, vel) {
-                None => break,
-                Some(false) => {}
-                Some(true) => {
-                    drift = 0.0;
-                    discovered = true;
+        // The loop's work at the start of each control period: sensing, then a new command,
+        // held until the next.
+        if steps % hold == 0 {
+            // Sensing: discoveries at period granularity, a lidar's scans at the first period
+            // at or after each scan time.
+            let found = d.sees(x, vel);
+            let mut discovered = !found.is_empty();
+            if discovered && !d.discover(t, &found, x, vel) {
+                break;
+            }
+            if d.scan_due(t) {
+                // The side before an event carries the drift since the last recorded state.
+                let mut pre = d.sample(t, x, vel);
+                pre.energy_tolerance = drift;
+                match d.scan(pre, x, vel) {
+                    None => break,
+                    Some(false) => {}
+                    Some(true) => {
+                        drift = 0.0;
+                        discovered = true;
+                    }
                 }
             }
-        }
-        if discovered {
-            // The state right after a discovery, with the new Θ, k and λ: the switch of eq.
-            // `dissipationfun` may last only a few milliseconds.
-            d.record(sample(&d, t, x, vel, &mut drift), Keep::Pinned, true);
-        }
-        if d.at_rest(t, x, false, discovered, reached) {
-            break;
-        }
-        let command = match &drive {
-            Drive::Law => d.nav_mut().command(x, vel)?.value,
-            Drive::Custom(f) => {
-                let e = d.nav().field().eval(x)?;
-                f(d.nav().field(), &e, x, vel)
+            if discovered {
+                // The state right after a discovery, with the new Θ, k and λ: the switch of
+                // eq. `dissipationfun` may last only a few milliseconds.
+                d.record(sample(&d, t, x, vel, &mut drift), Keep::Pinned, true);
             }
-        };
+            if d.at_rest(t, x, false, discovered, reached) {
+                break;
+            }
+            command = match &drive {
+                Drive::Law => d.nav_mut().command(x, vel)?.value,
+                Drive::Custom(f) => {
+                    let e = d.nav().field().eval(x)?;
+                    f(d.nav().field(), &e, x, vel)
+                }
+            };
+        }
         engine.drive(model, command);
         // Ψ and ∇Ψ at the step's start, under the field the command was made with.
         let before = potential(&d, x, vel);

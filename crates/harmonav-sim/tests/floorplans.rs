@@ -669,3 +669,36 @@ fn a_floor_plan_file_sets_the_top_speed() {
     assert!(r_fast.max_speed > 1.0, "{}", r_fast.max_speed);
     check(&room("v_max = -1.0\n"), "robot.v_max", "must be finite");
 }
+
+/// Issue 51: `[robot] control_period` of a floor-plan file is the navigator's control period
+/// (the period its hold certifies) and the step of the held-command loop, under both laws;
+/// without it, the law's default.
+#[test]
+fn a_floor_plan_file_sets_the_control_period() {
+    let room = |extra: &str| {
+        format!(
+            "name = \"x\"\n[floor_plan]\nouter = [[0.0, 0.0], [5.0, 0.0], [5.0, 5.0], \
+             [0.0, 5.0]]\n[robot]\nmodel = \"kinematic\"\nstart = [1.0, 1.0]\ngoal = [4.0, \
+             4.0]\nradius = 0.1\nmargin = 0.1\n{extra}"
+        )
+    };
+    let path = Path::new("period.toml");
+    let load = |t: String| FloorScenario::parse(path, &t).and_then(|s| s.prepare(path));
+    let set = load(room("control_period = 0.02\n")).unwrap();
+    let default = load(room("")).unwrap();
+    for (model, law_default) in [(Model::Kinematic, 0.01), (Model::Dynamic, 0.001)] {
+        let nav = harmonav_sim::floor::navigator(&set, Some(model)).unwrap();
+        assert_eq!(nav.control_period(), 0.02);
+        let nav = harmonav_sim::floor::navigator(&default, Some(model)).unwrap();
+        assert_eq!(nav.control_period(), law_default);
+        // One command per period: the loop steps by the file's period.
+        let r = run(&set, Some(model), set.starts[0]).unwrap();
+        assert_eq!(r.ending, FloorEnding::Reached, "{r:?}");
+        assert_eq!(r.time, r.commands as f64 * 0.02, "{r:?}");
+    }
+    check(
+        &room("control_period = 0.0\n"),
+        "robot.control_period",
+        "must be finite",
+    );
+}

@@ -929,3 +929,71 @@ fn warnings_name_what_the_verdict_alone_would_not_explain() {
     let off = load(&symmetric.replace("start = [-3.0, 0.0]", "start = [-3.0, 0.05]"));
     assert_eq!(check(&off, None).unwrap(), []);
 }
+
+/// Issue 51: `[robot] control_period` of a star-world file is its navigator's control period:
+/// the user's loop (a golden trace) steps by it under both laws; without it, the law's
+/// default. A bad one is refused by name.
+#[test]
+fn a_star_world_file_sets_the_control_period() {
+    let path = Path::new("period.toml");
+    let with = BASE.replace(
+        "goal = [3.0, 0.0]",
+        "goal = [3.0, 0.0]\ncontrol_period = 0.02",
+    );
+    let set = Scenario::parse(path, &with)
+        .and_then(|s| s.prepare(path))
+        .unwrap();
+    let default = Scenario::parse(path, BASE)
+        .and_then(|s| s.prepare(path))
+        .unwrap();
+    // The second line of a trace is at t = h, the navigator's control period.
+    let second_t = |trace: &str| {
+        let t = trace.lines().nth(1).unwrap().split(' ').next().unwrap();
+        f64::from_bits(u64::from_str_radix(t, 16).unwrap())
+    };
+    for (model, law_default) in [(Model::Kinematic, 0.01), (Model::Dynamic, 0.001)] {
+        let trace = harmonav_sim::golden::star(&set, model, 3).unwrap();
+        assert_eq!(second_t(&trace), 0.02, "{trace}");
+        let trace = harmonav_sim::golden::star(&default, model, 3).unwrap();
+        assert_eq!(second_t(&trace), law_default, "{trace}");
+    }
+    check(
+        "goal = [3.0, 0.0]",
+        "goal = [3.0, 0.0]\ncontrol_period = -1.0",
+        "robot.control_period",
+        "must be finite",
+        None,
+    );
+}
+
+/// Issue 51: in the rapier cross-check of a star world, `[robot] control_period` is the period
+/// over which each command is held (in rapier steps of at most 1 ms); the run still arrives
+/// without contact, along another path than the one commanded every step.
+#[cfg(feature = "rapier")]
+#[test]
+fn the_rapier_loop_holds_each_command_for_the_control_period() {
+    use harmonav_sim::rapier::{Drive, run_rapier};
+    let path = Path::new("period.toml");
+    let load = |text: &str| {
+        Scenario::parse(path, text)
+            .and_then(|s| s.prepare(path))
+            .unwrap()
+    };
+    let held = load(&BASE.replace(
+        "goal = [3.0, 0.0]",
+        "goal = [3.0, 0.0]\ncontrol_period = 0.05",
+    ));
+    let every_step = load(BASE);
+    let (a, ra) = run_rapier(&held, None, Drive::Law, None).unwrap();
+    let (b, rb) = run_rapier(&every_step, None, Drive::Law, None).unwrap();
+    for (run, report) in [(&a, &ra), (&b, &rb)] {
+        assert!(run.summary.reached, "{:?}", run.summary);
+        assert_eq!(report.contacts, 0);
+    }
+    assert_ne!(a.summary.time_s, b.summary.time_s);
+    // The recording interval is still `sim.dt` (discoveries add states between).
+    let mut dts: Vec<f64> = a.samples.windows(2).map(|w| w[1].t - w[0].t).collect();
+    dts.sort_by(f64::total_cmp);
+    let dt = dts[dts.len() / 2];
+    assert!((dt - 0.01).abs() < 1e-9, "{dt}");
+}
