@@ -266,6 +266,27 @@ pub struct Potential {
     pub gradient: Vector2<f64>,
 }
 
+/// What the dynamic law reads of a world's `Θ` (`docs/maths.md` §9): the destination
+/// stiffness `σ` (the smallest eigenvalue of `H(Θ)(x_d)`, `Field::destination_stiffness`,
+/// `FloorField::destination_stiffness`) and the scale shift `s` of `Θ_s = sigma(phi − s)`
+/// ([`Dynamic::scale_shift`] of a star world's field; 0 on a floor plan, whose `Θ` is free of
+/// the world's scale already: its harmonic map goes onto the unit disk). One law serves every
+/// world through it ([`Dynamic::potential_for`], [`Dynamic::damping_for`],
+/// [`Dynamic::force_for`], …); a pair `(σ, s)` converts into it.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Calibration {
+    /// `σ`, the destination stiffness of `Θ`.
+    pub stiffness: f64,
+    /// `s`, the scale shift.
+    pub shift: f64,
+}
+
+impl From<(f64, f64)> for Calibration {
+    fn from((stiffness, shift): (f64, f64)) -> Self {
+        Self { stiffness, shift }
+    }
+}
+
 /// Eq. (`dynctrllocal`): `f = −μ∇Θ − λ(t)ẋ` for the dynamic robot `m ẍ = f` under the paper's
 /// [`DampingPolicy`]; under the default one `f = −μ_p∇Ψ − λ(x)ẋ` on the shaped navigation
 /// function `Ψ = 1 − √(1 − Θ_s)` ([`Dynamic::potential`]) with the pull
@@ -376,7 +397,7 @@ impl Dynamic {
     /// `f_g = 0`) are the paper's.
     pub fn force_toward(
         &self,
-        calibration: (f64, f64),
+        calibration: impl Into<Calibration>,
         eval: &FieldEval,
         velocity: Vector2<f64>,
         d: &Damping,
@@ -507,10 +528,16 @@ impl Dynamic {
     /// `sigma'(phi)` underflows, `phi ≳ 745`, within ~1e-300 m of a wall, `∇Θ` has underflowed
     /// too and `∇Ψ = 0`, as under the paper's law).
     pub fn potential(&self, field: &Field, eval: &FieldEval) -> Potential {
-        self.potential_for(
-            (field.destination_stiffness(), self.scale_shift(field)),
-            eval,
-        )
+        self.potential_for(self.calibration(field), eval)
+    }
+
+    /// The [`Calibration`] of a star world's field under this law: its destination stiffness
+    /// and [`Dynamic::scale_shift`].
+    pub fn calibration(&self, field: &Field) -> Calibration {
+        Calibration {
+            stiffness: field.destination_stiffness(),
+            shift: self.scale_shift(field),
+        }
     }
 
     /// [`Dynamic::potential`] for the destination stiffness `sigma` (the smallest eigenvalue of
@@ -542,7 +569,15 @@ impl Dynamic {
     /// `phi → −∞`, `dΨ/dℓ` vanishes and `1/sigma'` blows up, and the sum is their finite ratio;
     /// at saturation it is `~e^{phi/2}`, finite up to `phi ≈ 1400`, where `∇Θ` has long
     /// underflowed); where `∇Θ = 0` (the goal, or `phi ≳ 745`) `∇Ψ = 0`.
-    pub fn potential_for(&self, (sigma_d, shift): (f64, f64), eval: &FieldEval) -> Potential {
+    pub fn potential_for(
+        &self,
+        calibration: impl Into<Calibration>,
+        eval: &FieldEval,
+    ) -> Potential {
+        let Calibration {
+            stiffness: sigma_d,
+            shift,
+        } = calibration.into();
         if self.policy == DampingPolicy::Paper {
             return Potential {
                 value: eval.value,
@@ -604,7 +639,7 @@ impl Dynamic {
     /// `V = μ_pΨ + ½ m |ẋ|²`.
     pub fn energy_for(
         &self,
-        calibration: (f64, f64),
+        calibration: impl Into<Calibration>,
         eval: &FieldEval,
         velocity: Vector2<f64>,
     ) -> f64 {
@@ -630,7 +665,8 @@ impl Dynamic {
     /// `(w/L + (1 − w)/L_A)/b` under `"fast"`, whatever the world
     /// (`Ψ ≈ (w/L + (1 − w)/L_A)·q`, `q ≈ r̃²/(2b)`, `r̃² ≈ |x − x_d|²`).
     pub fn goal_stiffness(&self, field: &Field) -> f64 {
-        self.goal_stiffness_for(field.destination_stiffness(), self.scale_shift(field))
+        let c = self.calibration(field);
+        self.goal_stiffness_for(c.stiffness, c.shift)
     }
 
     /// [`Dynamic::goal_stiffness`] for a field whose `H(Θ)(x_d)` has smallest eigenvalue `s`
@@ -654,7 +690,8 @@ impl Dynamic {
     /// under the paper's policy `2√(2μm) Π|P_d − P_i|^{−1/k}`.
     /// Damping ratio 1 at the goal.
     pub fn lambda_c(&self, field: &Field) -> f64 {
-        self.lambda_c_for(field.destination_stiffness(), self.scale_shift(field))
+        let c = self.calibration(field);
+        self.lambda_c_for(c.stiffness, c.shift)
     }
 
     /// [`Dynamic::lambda_c`] for the goal stiffness `s` and the scale shift `shift` of
@@ -673,7 +710,10 @@ impl Dynamic {
     /// Numerical guard: at the goal (`Ψ = 0`, or so close that `Ψ` underflows) the ratio is
     /// `0/0`; its limit `λ_c` is returned instead.
     pub fn lambda_auto(&self, field: &Field, eval: &FieldEval) -> f64 {
-        let (s, shift) = (field.destination_stiffness(), self.scale_shift(field));
+        let Calibration {
+            stiffness: s,
+            shift,
+        } = self.calibration(field);
         self.lambda_auto_at(s, shift, &self.potential_for((s, shift), eval))
     }
 
@@ -707,13 +747,7 @@ impl Dynamic {
         velocity: Vector2<f64>,
         speed_at_discovery: f64,
     ) -> Damping {
-        let s = field.destination_stiffness();
-        self.damping_for(
-            (s, self.scale_shift(field)),
-            eval,
-            velocity,
-            speed_at_discovery,
-        )
+        self.damping_for(self.calibration(field), eval, velocity, speed_at_discovery)
     }
 
     /// [`Dynamic::damping`] for a field whose destination stiffness (the smallest eigenvalue
@@ -721,11 +755,15 @@ impl Dynamic {
     /// the same law for any `Θ`, e.g. a floor plan's.
     pub fn damping_for(
         &self,
-        (s, shift): (f64, f64),
+        calibration: impl Into<Calibration>,
         eval: &FieldEval,
         velocity: Vector2<f64>,
         speed_at_discovery: f64,
     ) -> Damping {
+        let Calibration {
+            stiffness: s,
+            shift,
+        } = calibration.into();
         // Ψ once per call: it serves both λ(x) and V.
         let p = self.potential_for((s, shift), eval);
         let (own, uphill) = match self.policy {
@@ -774,15 +812,14 @@ impl Dynamic {
         velocity: Vector2<f64>,
         d: &Damping,
     ) -> Vector2<f64> {
-        let calibration = (field.destination_stiffness(), self.scale_shift(field));
-        self.force_for(calibration, eval, velocity, d)
+        self.force_for(self.calibration(field), eval, velocity, d)
     }
 
     /// [`Dynamic::force`] for the destination stiffness and scale shift `(sigma, shift)` of
     /// [`Dynamic::potential_for`].
     pub fn force_for(
         &self,
-        calibration: (f64, f64),
+        calibration: impl Into<Calibration>,
         eval: &FieldEval,
         velocity: Vector2<f64>,
         d: &Damping,

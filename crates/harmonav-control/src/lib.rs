@@ -76,7 +76,7 @@ pub use heading::{
     turn_fade,
 };
 pub use laws::{
-    ControlError, Dynamic, FAST_BOWL_CORE, FAST_BOWL_WEIGHT, FAST_BRAKING_LENGTH, FAST_RAMP,
-    GOVERNOR_BAND, Kinematic, PULL_GAIN, Potential, REFERENCE_RADIUS, UPHILL_GAIN,
+    Calibration, ControlError, Dynamic, FAST_BOWL_CORE, FAST_BOWL_WEIGHT, FAST_BRAKING_LENGTH,
+    FAST_RAMP, GOVERNOR_BAND, Kinematic, PULL_GAIN, Potential, REFERENCE_RADIUS, UPHILL_GAIN,
 };
 pub use speed::{BRAKING_TIME, LINEAR_CORE, SpeedPolicy, UnknownSpeedPolicy};

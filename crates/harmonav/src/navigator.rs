@@ -327,8 +327,8 @@ impl<W: World> Navigator<W> {
         // Guard: λ_c (eq. critdamp) overflowed for m = μ = 1e308; within the ranges it is
         // finite, and this checks it once rather than at every command.
         if let Controller::Dynamic(law) = &nav.controller {
-            let (s, shift) = nav.world.field().calibration(law);
-            finite_lambda_c(law, law.lambda_c_for(s, shift))?;
+            let c = nav.world.field().calibration(law);
+            finite_lambda_c(law, law.lambda_c_for(c.stiffness, c.shift))?;
         }
         Ok(nav)
     }

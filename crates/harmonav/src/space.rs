@@ -3,7 +3,7 @@
 //! ([`Field`]) and a floor plan ([`FloorField`]), so that one hold serves both. It is the
 //! field of a [`crate::World`] (sealed: public in a private module).
 
-use harmonav_control::Dynamic;
+use harmonav_control::{Calibration, Dynamic};
 use harmonav_field::{Field, FieldError, FieldEval};
 use harmonav_floorplan::FloorField;
 use nalgebra::Vector2;
@@ -31,11 +31,11 @@ pub trait Space {
         let _ = (x, reach);
         u
     }
-    /// The destination stiffness of `Θ` (the smallest eigenvalue of `H(Θ)(x_d)`) and the scale
-    /// shift of the dynamic law's potential on this space (`Dynamic::potential_for`):
+    /// What the dynamic law reads of this `Θ` ([`Calibration`]): the destination stiffness
+    /// (the smallest eigenvalue of `H(Θ)(x_d)`) and the scale shift of the law's potential:
     /// `Dynamic::scale_shift` of a star world's field; 0 on a floor plan, whose `Θ` is free of
     /// the world's scale already (its harmonic map goes onto the unit disk).
-    fn calibration(&self, law: &Dynamic) -> (f64, f64);
+    fn calibration(&self, law: &Dynamic) -> Calibration;
     /// The nominal heading at `x` (evaluated: `e`; `Kinematic::velocity_toward`,
     /// `Dynamic::turned`): none in a star world; on a floor plan the shortest-path direction,
     /// if built.
@@ -62,8 +62,8 @@ impl Space for Field {
         certified::escape(self.workspace(), x, most)
     }
 
-    fn calibration(&self, law: &Dynamic) -> (f64, f64) {
-        (self.destination_stiffness(), law.scale_shift(self))
+    fn calibration(&self, law: &Dynamic) -> Calibration {
+        law.calibration(self)
     }
 }
 
@@ -140,9 +140,12 @@ impl Space for FloorField {
         u
     }
 
-    fn calibration(&self, law: &Dynamic) -> (f64, f64) {
+    fn calibration(&self, law: &Dynamic) -> Calibration {
         let _ = law;
-        (self.destination_stiffness(), 0.0)
+        Calibration {
+            stiffness: self.destination_stiffness(),
+            shift: 0.0,
+        }
     }
 
     fn heading(&self, x: Vector2<f64>, e: &FieldEval) -> Option<Vector2<f64>> {
