@@ -130,6 +130,31 @@ pub(crate) fn free_length(
     t
 }
 
+/// A certified free length along a curve `c(t)` parametrised so that `|c(t) − c(t')| ≤ |t − t'|`
+/// (by arc length, or any 1-Lipschitz parameter), clipped at `want`: [`free_length`]'s sphere
+/// tracing with `c(t)` in place of `x + t·dir`. With `t_{j+1} = t_j + d(c(t_j))` the open ball
+/// `B(c(t_j), d(c(t_j)))` lies in the free space and contains `c(t)` for `t_j ≤ t < t_{j+1}`, so
+/// the balls cover the curve up to the length returned. The differential-drive hold traces the
+/// arc that a held `(v, ω)` sweeps with it (`diff.rs`, docs/unicycle.md).
+pub(crate) fn free_length_along(
+    space: &impl Space,
+    curve: impl Fn(f64) -> Vector2<f64>,
+    want: f64,
+) -> f64 {
+    let mut t = 0.0;
+    for _ in 0..MAX_TRACE_BALLS {
+        let d = space.clearance(curve(t), 2.0 * (want - t), None);
+        if t + d > want {
+            return want;
+        }
+        if d.is_nan() || d <= BLIND * (1.0 + t) {
+            break;
+        }
+        t += d;
+    }
+    t
+}
+
 /// The length of a kinematic step of at most `want` along the unit `dir`: all of it if
 /// [`free_length`] certifies it free, otherwise `β·L` (`β =` [`KINEMATIC_FRACTION`], `L` the
 /// certified free length), so that the step ends inside the free space.

@@ -51,6 +51,7 @@
 
 mod certified;
 pub mod checks;
+mod diff;
 mod error;
 mod floor;
 mod hold;
@@ -73,6 +74,9 @@ pub use harmonav_sensing as sensing;
 pub use harmonav_transform as transform;
 
 pub use certified::{BLIND, Band, CANDIDATES};
+pub use diff::{
+    Base, GOAL_GAIN_RATIO, PoseCommand, RECOVERY_ALIGNMENT, Steer, TURN_GAIN, unicycle_arc,
+};
 pub use error::NavError;
 pub use floor::{ESCAPE_BLOCKED, ESCAPE_DROP, ESCAPE_STALL, FloorNavigator, FloorWorld};
 pub use harmonav_control::{DampingPolicy, HeadingPolicy, SpeedPolicy};

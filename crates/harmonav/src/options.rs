@@ -7,6 +7,7 @@ use harmonav_sensing::Sector;
 use harmonav_transform::{MAX_LENGTH, StarShape};
 use nalgebra::Vector2;
 
+use crate::diff::Base;
 use crate::error::NavError;
 use crate::law::Law;
 pub use crate::ranges::{MIN_APERTURE_DEG, PARAMETER_RANGE};
@@ -86,6 +87,10 @@ pub struct Options {
     pub control_period: Option<f64>,
     /// How a command is made safe to hold for `control_period` (default `"auto"`).
     pub hold: HoldPolicy,
+    /// The robot's base (default [`Base::Holonomic`]: [`crate::Navigator::command`]); a
+    /// differential-drive base ([`Base::Diff`]) is commanded by
+    /// [`crate::Navigator::command_pose`] (docs/unicycle.md).
+    pub base: Base,
 }
 
 impl Default for Options {
@@ -104,6 +109,7 @@ impl Default for Options {
             heading: HeadingPolicy::default(),
             control_period: None,
             hold: HoldPolicy::default(),
+            base: Base::default(),
         }
     }
 }
@@ -200,6 +206,22 @@ impl Options {
     #[must_use]
     pub fn with_hold(self, hold: HoldPolicy) -> Self {
         Self { hold, ..self }
+    }
+
+    /// The robot's base ([`Options::base`]). A differential-drive base also caps the kinematic
+    /// law's top speed [`Options::v_max`] at its own `v_max` (the smaller of the two if both
+    /// are given), so that the held direction's speed is one the base can drive.
+    #[must_use]
+    pub fn with_base(self, base: Base) -> Self {
+        let v_max = match base {
+            Base::Diff { v_max, .. } => Some(self.v_max.map_or(v_max, |v| v.min(v_max))),
+            Base::Holonomic => self.v_max,
+        };
+        Self {
+            base,
+            v_max,
+            ..self
+        }
     }
 
     /// The recommended [`ScanOptions::fit_range`] `r_f` for `law`, with scans every
@@ -315,7 +337,8 @@ impl Options {
     /// Checks every option against its range, with `law` (which sets the default period):
     /// `radius` and `margin` finite, `≥ 0` and at most [`MAX_LENGTH`]; the sensor and `ρ_min` as
     /// in [`Options::d_min`]; the control period and `v_max` (if given) in [`PARAMETER_RANGE`];
-    /// the scan options as in [`ScanOptions::validate`].
+    /// the scan options as in [`ScanOptions::validate`]; a differential-drive base's `v_max` and
+    /// `omega_max` in [`PARAMETER_RANGE`], and only with the kinematic law (else `base`).
     pub fn validate(&self, law: &Law) -> Result<(), NavError> {
         if let Some(v) = self.v_max {
             in_range("v_max", v)?;
@@ -328,6 +351,7 @@ impl Options {
         self.d_min_cut(self.cuts_d_min(law))?;
         self.scan.validate(self.rho_min)?;
         in_range("control_period", self.period_for(law))?;
+        self.base.validate(law)?;
         Ok(())
     }
 }

@@ -1,0 +1,393 @@
+//! Differential-drive bases (issue 53): the robot takes a forward speed `v` and a turn rate `ω`
+//! (`ẋ = v·e(θ)`, `θ̇ = ω`, `e(θ) = (cos θ, sin θ)`), bounded by `|v| ≤ v_max`, `|ω| ≤ ω_max`,
+//! and cannot move sideways. [`Navigator::command_pose`] steers it by **aligned descent**
+//! (docs/unicycle.md): turn towards the held descent direction `d_h` of `Θ`
+//! (`ω = k_ω φ`, `φ` the angle from the heading to `d_h`), drive forward only at the speed the
+//! heading's projection on it allows (`v = s·cos⁺φ`), both scaled together into the limits;
+//! then the **arc hold**: the arc that `(v, ω)` held for the control period sweeps is certified
+//! free by sphere tracing in arc length and `Θ` must fall at its end, shortening only `v`.
+//! Turning in place moves no point of a disc robot whose axle is at its centre, so it is always
+//! safe.
+
+use harmonav_field::FieldEval;
+use nalgebra::Vector2;
+
+use crate::error::NavError;
+use crate::hold::{self, KINEMATIC_FRACTION, MAX_HALVINGS, Mode};
+use crate::law::Law;
+use crate::navigator::{Controller, Navigator};
+use crate::options::{HoldPolicy, in_range};
+use crate::space::Space;
+use crate::world::World;
+
+/// The robot's base: how it moves and which command it takes ([`crate::Options::base`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Base {
+    /// The default: an omnidirectional robot commanded by [`Navigator::command`] (a velocity or
+    /// a force), today's behaviour bit for bit.
+    #[default]
+    Holonomic,
+    /// A differential-drive (unicycle) base with its axle at the disc's centre, commanded by
+    /// [`Navigator::command_pose`]: forward speed `0 ≤ v ≤ v_max` (m/s) and turn rate
+    /// `|ω| ≤ omega_max` (rad/s). Kinematic law only ([`Law::Kinematic`]); the dynamic law is
+    /// refused at construction (`base`).
+    Diff {
+        /// The top forward speed, m/s, in [`crate::PARAMETER_RANGE`].
+        v_max: f64,
+        /// The top turn rate, rad/s, in [`crate::PARAMETER_RANGE`].
+        omega_max: f64,
+    },
+}
+
+impl Base {
+    /// A differential-drive base with these bounds ([`Base::Diff`]); checked by
+    /// [`crate::Options::validate`].
+    #[must_use]
+    pub fn diff(v_max: f64, omega_max: f64) -> Self {
+        Self::Diff { v_max, omega_max }
+    }
+
+    /// The name used in logs and Python (`"holonomic"`, `"diff"`).
+    #[must_use]
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            Self::Holonomic => "holonomic",
+            Self::Diff { .. } => "diff",
+        }
+    }
+
+    /// The bounds checked for `law`: `v_max` and `omega_max` finite and in
+    /// [`crate::PARAMETER_RANGE`] (the error names the field); a differential-drive base with
+    /// the dynamic law is [`NavError::InvalidOption`] naming `base` (not built in this
+    /// release: the kinematic law only).
+    pub(crate) fn validate(&self, law: &Law) -> Result<(), NavError> {
+        if let Self::Diff { v_max, omega_max } = *self {
+            in_range("v_max", v_max)?;
+            in_range("omega_max", omega_max)?;
+            if matches!(law, Law::Dynamic { .. }) {
+                return Err(NavError::InvalidOption {
+                    field: "base",
+                    value: f64::NAN,
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// `k_ω` of aligned descent, 1/s: `ω = k_ω φ` before the limits. The gain in force is
+/// `min(k_ω, 1/h)`, so the heading never overshoots the target within a period
+/// (docs/unicycle.md §2).
+pub const TURN_GAIN: f64 = 4.0;
+
+/// `k_g / k_ω`: near the goal the forward speed is at most `k_g|x − x_d|` with
+/// `k_g = GOAL_GAIN_RATIO·k` (`k` the turn gain in force); `k_g < k` makes the heading error
+/// decay on the final approach instead of orbiting the goal (docs/unicycle.md, Theorem 2).
+pub const GOAL_GAIN_RATIO: f64 = 0.5;
+
+/// During a recovery ([`Mode::Recovering`]) the robot turns in place until its heading is within
+/// this angle (rad) of the way out, then drives straight (`ω = 0`) along it.
+pub const RECOVERY_ALIGNMENT: f64 = 1e-6;
+
+/// How the `(v, ω)` of [`Navigator::command_pose`] was formed from the held direction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum Steer {
+    /// Aligned descent as it is: `v = s·cos⁺φ`, `ω = kφ`, within the limits; its arc certified.
+    Ahead,
+    /// The arc hold shortened `v` to `scale ∈ (0, 1)` of aligned descent's (its arc was not
+    /// certified free, or `Θ` did not fall at its end); `ω` kept.
+    Shortened {
+        /// The fraction of `v` kept.
+        scale: f64,
+    },
+    /// `v = 0`, `ω ≠ 0`: turning in place (the heading is not a descent direction, no forward
+    /// arc was certified, or a recovery is turning towards its way out).
+    Turning,
+    /// `v = ω = 0`: at the goal, at a critical point of `Θ`, or halted ([`Mode::Halted`]).
+    Stopped,
+}
+
+impl Steer {
+    /// The name used in logs and Python (`"ahead"`, `"shortened"`, `"turning"`, `"stopped"`).
+    #[must_use]
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            Self::Ahead => "ahead",
+            Self::Shortened { .. } => "shortened",
+            Self::Turning => "turning",
+            Self::Stopped => "stopped",
+        }
+    }
+}
+
+/// The command of a differential-drive base for one control period
+/// ([`Navigator::command_pose`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PoseCommand {
+    /// The forward speed `v`, m/s: `0 ≤ v ≤ v_max`.
+    pub v: f64,
+    /// The turn rate `ω`, rad/s (positive anticlockwise): `|ω| ≤ ω_max`.
+    pub omega: f64,
+    /// How the held holonomic command the robot steers by was formed (the direction `d_h`).
+    pub mode: Mode,
+    /// How `(v, ω)` was formed from it.
+    pub steer: Steer,
+}
+
+/// `sin a / a`, with its series near 0 (no cancellation).
+fn sinc(a: f64) -> f64 {
+    if a.abs() < 1e-4 {
+        1.0 - a * a / 6.0
+    } else {
+        a.sin() / a
+    }
+}
+
+/// The pose after holding `(v, ω)` for `t` from `(x, yaw)`: the exact solution of the unicycle
+/// under a zero-order hold, a circular arc (a segment for `ω = 0`),
+///
+/// ```text
+/// x(t) = x + v t · sinc(ωt/2) · e(yaw + ωt/2),   yaw(t) = yaw + ωt.
+/// ```
+///
+/// For simulators and monitors; [`Navigator::command_pose`] certifies exactly this arc.
+#[must_use]
+pub fn unicycle_arc(x: Vector2<f64>, yaw: f64, v: f64, omega: f64, t: f64) -> (Vector2<f64>, f64) {
+    let turn = omega * t;
+    let mid = yaw + 0.5 * turn;
+    let p = x + (v * t * sinc(0.5 * turn)) * Vector2::new(mid.cos(), mid.sin());
+    (p, yaw + turn)
+}
+
+/// The point at arc length `l ≥ 0` along the forward arc of curvature `kappa` from `(x, yaw)`.
+fn arc_point(x: Vector2<f64>, yaw: f64, kappa: f64, l: f64) -> Vector2<f64> {
+    unicycle_arc(x, yaw, 1.0, kappa, l).0
+}
+
+/// The certified free length of the forward arc that `(v, ω)` (`v ≥ 0`) sweeps from `(x, yaw)`
+/// in `h`, clipped at its length `vh`: sphere tracing in arc length
+/// ([`hold::free_length_along`]).
+fn free_arc(space: &impl Space, x: Vector2<f64>, yaw: f64, v: f64, omega: f64, h: f64) -> f64 {
+    let length = v * h;
+    if length <= 0.0 {
+        return 0.0;
+    }
+    let kappa = omega / v;
+    hold::free_length_along(space, |l| arc_point(x, yaw, kappa, l), length)
+}
+
+/// The arc hold: the largest `v' ≤ min(v, |x − x_d|/h)` reached by shortening only `v`, such
+/// that the arc of `(v', ω)` over `h` is certified free and `phi_k` (so `Θ`) is lower at its end
+/// than at `x` (`e`); 0 if none is found. Where the trace certifies a free length `F` short of
+/// the arc's length, `v ← β F/h` (`β =` [`KINEMATIC_FRACTION`]) and the new arc (tighter: the
+/// same turn `ωh` over a shorter length) is traced again; where `Θ` does not fall, `v` halves.
+/// Every returned `v' > 0` has a traced, certified arc.
+fn arc_hold(
+    space: &impl Space,
+    x: Vector2<f64>,
+    yaw: f64,
+    e: &FieldEval,
+    (v, omega): (f64, f64),
+    h: f64,
+) -> f64 {
+    let mut v = v.min((x - space.goal()).norm() / h);
+    for _ in 0..2 * MAX_HALVINGS {
+        if v.is_nan() || v <= 0.0 {
+            return 0.0;
+        }
+        let length = v * h;
+        let free = free_arc(space, x, yaw, v, omega, h);
+        if free < length {
+            v = v.min(KINEMATIC_FRACTION * free / h);
+            continue;
+        }
+        let (end, _) = unicycle_arc(x, yaw, v, omega, h);
+        if space.eval(end).is_ok_and(|e1| e1.phi < e.phi) {
+            return v;
+        }
+        v *= 0.5;
+    }
+    0.0
+}
+
+/// The signed angle from `a` to `b` (unit vectors), in `[−π, π]`.
+fn angle(a: Vector2<f64>, b: Vector2<f64>) -> f64 {
+    (a.x * b.y - a.y * b.x).atan2(a.dot(&b))
+}
+
+impl<W: World> Navigator<W> {
+    /// The `(v, ω)` to hold for one control period `h` at the pose `(x, yaw)` of a
+    /// differential-drive base ([`Base::Diff`]; `yaw` the heading, rad, map frame), with how it
+    /// was formed. Works in star worlds and on floor plans alike.
+    ///
+    /// The law (aligned descent, docs/unicycle.md): the held holonomic command at `x`
+    /// ([`Navigator::command`], with its recoveries, steps from rest and escapes) gives the
+    /// direction `d_h`, the speed policy the speed `s(x)`; with `φ` the angle from `e(yaw)` to
+    /// `d_h` and `k = min(`[`TURN_GAIN`]`, 1/h)`,
+    ///
+    /// ```text
+    /// ω = k φ,   v = min(s(x), v_max, k_g|x − x_d|) · cos⁺φ,   k_g = GOAL_GAIN_RATIO·k,
+    /// ```
+    ///
+    /// both scaled by `min(1, ω_max/|ω|)` (the curvature `ω/v` kept). Then, under
+    /// [`HoldPolicy::Auto`] (the default), the arc hold: `v` alone is shortened until the arc that
+    /// `(v, ω)` sweeps over `h` is certified free (sphere tracing in arc length against the
+    /// certified clearance) and `Θ` falls at its end; `v = 0` (turning in place) needs no
+    /// certificate. So, held as given for `h`, the robot's disc never touches a known grown
+    /// shape (or a floor plan's boundary layer), `Θ` never rises, `0 ≤ v ≤ v_max` and
+    /// `|ω| ≤ ω_max`. Under [`HoldPolicy::Paper`] the aligned `(v, ω)` is returned unchecked.
+    ///
+    /// In a margin band (or a floor plan's boundary layer, or the blind layer of a shape,
+    /// [`Mode::Recovering`]) the robot turns in place towards the way out until within
+    /// [`RECOVERY_ALIGNMENT`] of it, then drives straight along it (`ω = 0`) at the recovery's
+    /// speed, at most `v_max`. After a refused scan ([`Mode::Halted`]) the command is `(0, 0)`.
+    ///
+    /// Only the kinematic law: a navigator with the dynamic law and a differential-drive base
+    /// is refused at construction. The pose is assumed exact and the command executed as held
+    /// (a downstream velocity smoother or a latency voids the certificate unless the control
+    /// period covers it).
+    ///
+    /// # Errors
+    /// The base is [`Base::Holonomic`] ([`NavError::InvalidOption`] naming `base`); `yaw` not
+    /// finite ([`NavError::NotFinite`], `"yaw"`); then as [`Navigator::command`].
+    pub fn command_pose(&mut self, x: Vector2<f64>, yaw: f64) -> Result<PoseCommand, NavError> {
+        let Base::Diff { v_max, omega_max } = self.options.base else {
+            return Err(NavError::InvalidOption {
+                field: "base",
+                value: f64::NAN,
+            });
+        };
+        if !yaw.is_finite() {
+            return Err(NavError::NotFinite { what: "yaw" });
+        }
+        let held = self.command(x, Vector2::zeros())?;
+        let h = self.period;
+        let stopped = PoseCommand {
+            v: 0.0,
+            omega: 0.0,
+            mode: held.mode,
+            steer: Steer::Stopped,
+        };
+        let s = held.value.norm();
+        if held.mode == Mode::Halted || s.is_nan() || s <= 0.0 {
+            return Ok(stopped);
+        }
+        let heading = Vector2::new(yaw.cos(), yaw.sin());
+        let phi = angle(heading, held.value / s);
+        if let Mode::Recovering(_) = held.mode {
+            return Ok(if phi.abs() > RECOVERY_ALIGNMENT {
+                PoseCommand {
+                    omega: (phi / h).clamp(-omega_max, omega_max),
+                    steer: Steer::Turning,
+                    ..stopped
+                }
+            } else {
+                PoseCommand {
+                    v: s.min(v_max),
+                    steer: Steer::Ahead,
+                    ..stopped
+                }
+            });
+        }
+        let k = TURN_GAIN.min(1.0 / h);
+        let to_goal = (x - self.goal()).norm();
+        let mut omega = k * phi;
+        // The speed policy's `s(x)`, not the held command's (capped for a straight step along
+        // `d_h`, which the robot does not take): the arc hold does its own shortening. Measured
+        // in the 20 disc worlds of tests/diff_drive.rs (10 Hz): 20/20 arrivals, median 1.07× the
+        // holonomic robot's time, against 19/20 and 1.13× with the held speed, whose
+        // narrow-valley crawl the unicycle inherited.
+        let field = self.world.field();
+        let e = field.eval(x).ok();
+        let s = match (&self.controller, &e) {
+            (Controller::Kinematic(law), Some(e)) => law.speed(e, to_goal).max(s),
+            _ => s,
+        };
+        let mut v = s.min(v_max).min(GOAL_GAIN_RATIO * k * to_goal) * phi.cos().max(0.0);
+        if omega.abs() > omega_max {
+            let c = omega_max / omega.abs();
+            omega = omega.signum() * omega_max;
+            v *= c;
+        }
+        let aligned = v;
+        if self.options.hold == HoldPolicy::Auto && v > 0.0 {
+            v = match &e {
+                Some(e) => arc_hold(field, x, yaw, e, (v, omega), h),
+                None => 0.0,
+            };
+        }
+        let steer = if v == aligned && v > 0.0 {
+            Steer::Ahead
+        } else if v > 0.0 {
+            Steer::Shortened { scale: v / aligned }
+        } else if omega != 0.0 {
+            Steer::Turning
+        } else {
+            Steer::Stopped
+        };
+        if !(v.is_finite() && omega.is_finite()) {
+            return Err(NavError::NonFiniteCommand);
+        }
+        Ok(PoseCommand {
+            v,
+            omega,
+            mode: held.mode,
+            steer,
+        })
+    }
+
+    /// The certified free length of the arc that `(v, ω)` held for the control period sweeps
+    /// from the pose `(x, yaw)` (`v ≥ 0`; for `ω = 0`, the straight step along `e(yaw)`), clipped
+    /// at its length `vh`: sphere tracing in arc length against the certified clearance of
+    /// [`Navigator::clearance`]. The arc is certified free iff this equals `vh`. For monitors
+    /// and tests of [`Navigator::command_pose`]'s hold. 0 for a negative, zero or non-finite
+    /// `v`, or a non-finite pose or `ω`.
+    pub fn free_arc_length(&self, x: Vector2<f64>, yaw: f64, v: f64, omega: f64) -> f64 {
+        let finite = x.iter().all(|c| c.is_finite()) && yaw.is_finite() && omega.is_finite();
+        if !(finite && v.is_finite() && v > 0.0) {
+            return 0.0;
+        }
+        free_arc(self.world.field(), x, yaw, v, omega, self.period)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::PI;
+
+    /// The closed form against a fine explicit integration of `ẋ = v e(θ)`, `θ̇ = ω`, including
+    /// `ω → 0` (the series branch) and `ω = 0`.
+    #[test]
+    fn the_arc_is_the_unicycle_under_a_hold() {
+        for (v, omega, t) in [
+            (0.5, 2.0, 0.1),
+            (0.3, -1.7, 0.05),
+            (0.2, 1e-6, 0.1),
+            (0.4, 0.0, 0.1),
+            (0.1, 7.0, 1.0),
+        ] {
+            let (x0, yaw0) = (Vector2::new(0.3, -0.2), 0.7);
+            let n = 20_000;
+            let dt = t / n as f64;
+            let (mut x, mut yaw) = (x0, yaw0);
+            for _ in 0..n {
+                let mid = yaw + 0.5 * omega * dt; // midpoint rule: O(dt²) per step
+                x += v * dt * Vector2::new(mid.cos(), mid.sin());
+                yaw += omega * dt;
+            }
+            let (p, y) = unicycle_arc(x0, yaw0, v, omega, t);
+            assert!((p - x).norm() < 1e-9, "{v} {omega}: {}", (p - x).norm());
+            assert!((y - yaw).abs() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn the_angle_is_signed() {
+        let e = |a: f64| Vector2::new(a.cos(), a.sin());
+        assert!((angle(e(0.0), e(0.5)) - 0.5).abs() < 1e-15);
+        assert!((angle(e(0.5), e(0.0)) + 0.5).abs() < 1e-15);
+        assert!((angle(e(3.0), e(-3.0)) - (2.0 * PI - 6.0)).abs() < 1e-12);
+    }
+}

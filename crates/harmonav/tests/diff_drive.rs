@@ -1,0 +1,505 @@
+//! Differential-drive bases (issue 53): `Navigator::command_pose`'s aligned descent and its arc
+//! hold. Every safety claim has a negative control that fails without it: the straight-step
+//! certificate passes an arc that enters the grown obstacle, and the naive "turn towards
+//! `−∇Θ` and drive" touches obstacles in the same worlds where the certified law never does.
+//!
+//! Run with `--nocapture` to see the measured numbers (docs/unicycle.md §5 quotes them).
+
+mod common;
+
+use std::f64::consts::PI;
+use std::sync::Arc;
+
+use harmonav::transform::random::Rng;
+use harmonav::{
+    Base, FloorMap, FloorNavigator, HoldPolicy, Law, NavError, Navigator, Options, StarShape,
+    Steer, Vector2, unicycle_arc,
+};
+
+/// The issue's setting: a 0.18 m robot at 10 Hz, 0.5 m/s, 2 rad/s.
+const RADIUS: f64 = 0.18;
+const H: f64 = 0.1;
+const V_MAX: f64 = 0.5;
+const OMEGA_MAX: f64 = 2.0;
+/// Points per held arc at which the true body clearance is checked (at 0.5 m/s and 10 Hz,
+/// 0.1 mm apart).
+const SAMPLES: usize = 500;
+
+/// A seeded disc world: a 5 m disc, `m` discs of radius 0.2–0.5 m at least 0.45 m apart and
+/// from the boundary (a 0.36 m-wide robot fits between any two), none within 0.8 m of the start
+/// `(−4, 0.05)` or the goal `(4, 0)`.
+struct DiscWorld {
+    discs: Vec<(Vector2<f64>, f64)>,
+    start: Vector2<f64>,
+    goal: Vector2<f64>,
+    yaw: f64,
+}
+
+const BOUNDARY: f64 = 5.0;
+
+fn disc_world(seed: u64, m: usize) -> DiscWorld {
+    let mut rng = Rng::new(1000 + seed);
+    let (start, goal) = (Vector2::new(-4.0, 0.05), Vector2::new(4.0, 0.0));
+    let mut discs: Vec<(Vector2<f64>, f64)> = Vec::new();
+    while discs.len() < m {
+        let c = rng.point(4.0);
+        let r = rng.uniform(0.2, 0.5);
+        let clear = c.norm() + r + 0.45 < BOUNDARY
+            && (c - start).norm() > r + 0.8
+            && (c - goal).norm() > r + 0.8
+            && discs.iter().all(|(c2, r2)| (c - c2).norm() - r - r2 > 0.45);
+        if clear {
+            discs.push((c, r));
+        }
+    }
+    let yaw = rng.uniform(-PI, PI);
+    DiscWorld {
+        discs,
+        start,
+        goal,
+        yaw,
+    }
+}
+
+impl DiscWorld {
+    /// The true clearance of the robot's body (radius [`RADIUS`]) at `p`: to every disc and
+    /// the boundary, exact.
+    fn body_clearance(&self, p: Vector2<f64>) -> f64 {
+        let walls = BOUNDARY - p.norm();
+        let discs = self
+            .discs
+            .iter()
+            .map(|(c, r)| (p - c).norm() - r)
+            .fold(f64::INFINITY, f64::min);
+        walls.min(discs) - RADIUS
+    }
+
+    fn navigator(&self, options: Options) -> Navigator {
+        let boundary = StarShape::circle(Vector2::zeros(), BOUNDARY).unwrap();
+        let mut nav = Navigator::new(boundary, self.goal, Law::kinematic(1.0), options).unwrap();
+        for (c, r) in &self.discs {
+            nav.add_obstacle(StarShape::circle(*c, *r).unwrap())
+                .unwrap();
+        }
+        nav
+    }
+}
+
+fn diff_options() -> Options {
+    Options::default()
+        .with_robot(RADIUS, 0.0)
+        .with_control_period(H)
+        .with_base(Base::diff(V_MAX, OMEGA_MAX))
+}
+
+/// The least of `clearance` along the arc of `(v, ω)` held for `h` from `(x, yaw)`, sampled at
+/// [`SAMPLES`] + 1 points.
+fn arc_min(
+    clearance: impl Fn(Vector2<f64>) -> f64,
+    x: Vector2<f64>,
+    yaw: f64,
+    (v, omega): (f64, f64),
+    h: f64,
+) -> f64 {
+    (0..=SAMPLES)
+        .map(|i| clearance(unicycle_arc(x, yaw, v, omega, h * i as f64 / SAMPLES as f64).0))
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The outcome of one closed-loop run.
+#[derive(Debug, Default)]
+struct Run {
+    /// The least true body clearance along every held arc, m.
+    closest: f64,
+    /// Time at which the centre first came within 0.15 m and within 0.01 m of the goal, s.
+    near: Option<f64>,
+    arrived: Option<f64>,
+    /// Whether the body ever touched (clearance ≤ 0 at a sampled point of an arc).
+    touched: bool,
+    /// Metres driven.
+    path: f64,
+}
+
+/// How the robot turns its pose into `(v, ω)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Driver {
+    /// `Navigator::command_pose` with its arc hold (the law under test).
+    Certified,
+    /// `command_pose` under `HoldPolicy::Paper`: aligned descent on the continuous law, no hold.
+    AlignedNoHold,
+    /// The naive conversion a user would write: turn towards `−∇Θ` (`ω = 4φ`) and drive at
+    /// the continuous law's speed whatever the heading, `(v, ω)` scaled together into the
+    /// limits; no hold.
+    Naive,
+    /// The holonomic navigator (`Navigator::command`, `x += h·u`): the reference time.
+    Holonomic,
+}
+
+/// Runs `driver` in `world` for at most `limit` s; stops at the first touch (or when the law can
+/// no longer be evaluated, a touch for the unheld drivers). Asserts the bounds at every command.
+fn run(world: &DiscWorld, driver: Driver, yaw: f64, limit: f64) -> Run {
+    let options = match driver {
+        Driver::Certified => diff_options(),
+        Driver::Holonomic => Options::default()
+            .with_robot(RADIUS, 0.0)
+            .with_control_period(H)
+            .with_v_max(V_MAX),
+        _ => diff_options().with_hold(HoldPolicy::Paper),
+    };
+    let mut nav = world.navigator(options);
+    let (mut x, mut yaw) = (world.start, yaw);
+    let mut out = Run {
+        closest: f64::INFINITY,
+        ..Run::default()
+    };
+    let steps = (limit / H).round() as usize;
+    for n in 0..steps {
+        if driver == Driver::Holonomic {
+            let u = nav.command(x, Vector2::zeros()).unwrap().value;
+            yaw = u.y.atan2(u.x);
+        }
+        let (v, omega) = match driver {
+            Driver::Holonomic => {
+                // (its speed is `v_max` to rounding: 0.5000000000000001)
+                let u = nav.command(x, Vector2::zeros()).unwrap().value;
+                (u.norm().min(V_MAX), 0.0)
+            }
+            Driver::Certified | Driver::AlignedNoHold => match nav.command_pose(x, yaw) {
+                Ok(c) => (c.v, c.omega),
+                Err(e) => {
+                    assert_ne!(driver, Driver::Certified, "{e} at {x:?}");
+                    out.touched = true;
+                    break;
+                }
+            },
+            Driver::Naive => {
+                let Ok(e) = nav.evaluate(x, Vector2::zeros()) else {
+                    out.touched = true;
+                    break;
+                };
+                let Some(d) = e.field.direction else {
+                    break;
+                };
+                let heading = Vector2::new(yaw.cos(), yaw.sin());
+                let phi = (heading.x * d.y - heading.y * d.x).atan2(heading.dot(&d));
+                let (v, omega) = (e.command.norm(), 4.0 * phi);
+                let c = 1f64.min(V_MAX / v).min(OMEGA_MAX / omega.abs());
+                (c * v, c * omega)
+            }
+        };
+        assert!(
+            (0.0..=V_MAX).contains(&v) && omega.abs() <= OMEGA_MAX,
+            "{driver:?}: ({v}, {omega})"
+        );
+        let low = arc_min(|p| world.body_clearance(p), x, yaw, (v, omega), H);
+        out.closest = out.closest.min(low);
+        (x, yaw) = unicycle_arc(x, yaw, v, omega, H);
+        out.path += v * H;
+        if low <= 0.0 {
+            out.touched = true;
+            break;
+        }
+        let t = (n + 1) as f64 * H;
+        let to_goal = (x - world.goal).norm();
+        if to_goal < 0.15 && out.near.is_none() {
+            out.near = Some(t);
+        }
+        if to_goal < 0.01 {
+            out.arrived = Some(t);
+            break;
+        }
+    }
+    out
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    if v.is_empty() {
+        f64::NAN
+    } else {
+        v[v.len() / 2]
+    }
+}
+
+/// The issue's closed-loop claim, in 20 seeded disc worlds (10 discs, random start headings;
+/// then the same worlds starting with the heading away from the goal): the certified law's
+/// body never touches an obstacle (the true clearance along every held arc, sampled 0.1 mm
+/// apart) and it arrives within 1 cm of the goal; the negative control, the naive "turn
+/// towards `−∇Θ` and drive", touches obstacles in some of the same worlds.
+#[test]
+fn the_certified_law_never_touches_where_the_naive_one_does() {
+    let worlds: Vec<DiscWorld> = (0..20).map(|s| disc_world(s, 10)).collect();
+    for (label, away) in [("random start headings", false), ("heading away", true)] {
+        let mut touched = [0; 4];
+        let mut arrived = [0; 4];
+        let mut closest = [f64::INFINITY; 4];
+        let (mut times, mut near_times, mut paths) = (Vec::new(), Vec::new(), Vec::new());
+        let mut ratios = Vec::new();
+        let mut certified_time = None;
+        for (i, world) in worlds.iter().enumerate() {
+            let yaw = if away { PI } else { world.yaw };
+            let drivers = [
+                Driver::Certified,
+                Driver::AlignedNoHold,
+                Driver::Naive,
+                Driver::Holonomic,
+            ];
+            for (j, driver) in drivers.into_iter().enumerate() {
+                let r = run(world, driver, yaw, 120.0);
+                touched[j] += usize::from(r.touched);
+                arrived[j] += usize::from(r.arrived.is_some());
+                closest[j] = closest[j].min(r.closest);
+                if driver == Driver::Holonomic
+                    && let (Some(a), Some(b)) = (certified_time, r.arrived)
+                {
+                    ratios.push(a / b);
+                }
+                if driver == Driver::Certified {
+                    certified_time = r.arrived;
+                    assert!(!r.touched, "world {i}: touched ({r:?})");
+                    if let Some(t) = r.arrived {
+                        times.push(t);
+                        paths.push(r.path / (world.goal - world.start).norm());
+                    }
+                    near_times.extend(r.near);
+                    if r.arrived.is_none() {
+                        println!("world {i} ({label}): not arrived, {r:?}");
+                    }
+                }
+            }
+        }
+        println!(
+            "{label}: certified {} touched, {}/20 arrived (median {:.1} s to 1 cm, {:.1} s to \
+             15 cm, max {:.1} s, path/straight median {:.3}), closest {:+.2} mm; aligned without \
+             the hold {} touched ({:+.2} mm); naive {} touched ({:+.2} mm), {} arrived; \
+             holonomic {} arrived, certified/holonomic time median {:.2} max {:.2}",
+            touched[0],
+            arrived[0],
+            median(times.clone()),
+            median(near_times.clone()),
+            times.iter().copied().fold(0.0, f64::max),
+            median(paths.clone()),
+            closest[0] * 1e3,
+            touched[1],
+            closest[1] * 1e3,
+            touched[2],
+            closest[2] * 1e3,
+            arrived[2],
+            arrived[3],
+            median(ratios.clone()),
+            ratios.iter().copied().fold(0.0, f64::max),
+        );
+        assert_eq!(touched[0], 0);
+        assert!(closest[0] > 0.0);
+        assert_eq!(arrived[0], 20, "{label}");
+        // The negative control: the naive conversion touches obstacles in these worlds.
+        assert!(touched[2] >= 3, "{label}: naive touched {}", touched[2]);
+    }
+}
+
+/// The issue's constructed case: a grown disc of radius 2 m, the robot 0.1 mm clear of its
+/// edge heading along the tangent, `v = 0.5`, `ω = −2` (turning towards it), `h = 0.05`. The
+/// straight step along the heading is free (0.1 mm clear), but the held arc enters the grown
+/// disc by 1.0 mm, and the arc certificate refuses it. 0.5 mm clear, the straight trace
+/// certifies the straight step while the arc still enters by 0.6 mm: the straight certificate
+/// is not valid for arcs (the negative control).
+#[test]
+fn the_arc_certificate_catches_what_the_straight_one_misses() {
+    let boundary = StarShape::circle(Vector2::zeros(), 10.0).unwrap();
+    let options = Options::default()
+        .with_robot(RADIUS, 0.0)
+        .with_control_period(0.05)
+        .with_base(Base::diff(V_MAX, OMEGA_MAX));
+    let mut nav = Navigator::new(
+        boundary,
+        Vector2::new(6.0, 0.0),
+        Law::kinematic(1.0),
+        options,
+    )
+    .unwrap();
+    nav.add_obstacle(StarShape::circle(Vector2::zeros(), 2.0 - RADIUS).unwrap())
+        .unwrap();
+    let grown = |p: Vector2<f64>| p.norm() - 2.0;
+    let (x, yaw, v) = (Vector2::new(0.0, 2.0 + 1e-4), 0.0, 0.5);
+    let length = v * 0.05;
+    // The straight step is 0.1 mm clear; the arc the robot actually drives goes 1.0 mm into
+    // the grown disc, and the arc trace refuses it.
+    let clear = arc_min(grown, x, yaw, (v, 0.0), 0.05);
+    assert!((clear - 1e-4).abs() < 1e-9, "{clear}");
+    let depth = arc_min(grown, x, yaw, (v, -2.0), 0.05);
+    assert!((-1.05e-3..-0.95e-3).contains(&depth), "{depth}");
+    assert!(nav.free_arc_length(x, yaw, v, -2.0) < length);
+    // 0.5 mm clear, the straight sphere trace (64 balls of at least 0.5 mm) certifies the
+    // straight step, while the arc still goes 0.6 mm in: certifying the straight step does not
+    // certify the arc (the negative control); the arc trace refuses it.
+    let x = Vector2::new(0.0, 2.0 + 5e-4);
+    assert_eq!(nav.free_arc_length(x, yaw, v, 0.0), length);
+    assert!(arc_min(grown, x, yaw, (v, 0.0), 0.05) > 0.0);
+    let depth = arc_min(grown, x, yaw, (v, -2.0), 0.05);
+    assert!((-0.65e-3..-0.55e-3).contains(&depth), "{depth}");
+    let free = nav.free_arc_length(x, yaw, v, -2.0);
+    assert!(free < length, "{free}");
+    // Turning the other way (away from the disc) the arc is certified.
+    assert_eq!(nav.free_arc_length(x, yaw, v, 2.0), length);
+}
+
+/// Property: over random arcs near the discs of seeded worlds, every arc the arc trace
+/// certifies is free at each of [`SAMPLES`] + 1 points (0 counterexamples), while the
+/// straight trace along the start heading certifies arcs that are not free (the negative
+/// control: it must fail somewhere). And every command of `command_pose` at random poses keeps
+/// its bounds, holds a certified arc that is free, and lowers `Θ` whenever it moves.
+#[test]
+fn certified_arcs_are_free_and_straight_certificates_are_not() {
+    let mut rng = Rng::new(53);
+    let (mut certified, mut straight_wrong, mut commands, mut moving) = (0, 0, 0, 0);
+    for seed in 0..6 {
+        let world = disc_world(seed, 10);
+        let mut nav = world.navigator(diff_options());
+        let grown = |p: Vector2<f64>| world.body_clearance(p);
+        let mut tried = 0;
+        while tried < 400 {
+            // A point in the free space, within 0.1 m of a grown disc half of the time.
+            let x = if tried % 2 == 0 {
+                let (c, r) = world.discs[rng.below(world.discs.len())];
+                let a = rng.uniform(-PI, PI);
+                c + (r + RADIUS + rng.uniform(1e-5, 0.1)) * Vector2::new(a.cos(), a.sin())
+            } else {
+                rng.point(4.5)
+            };
+            if grown(x) <= 0.0 {
+                continue;
+            }
+            tried += 1;
+            let yaw = rng.uniform(-PI, PI);
+            let (v, omega) = (rng.uniform(0.0, V_MAX), rng.uniform(-OMEGA_MAX, OMEGA_MAX));
+            let length = v * H;
+            if nav.free_arc_length(x, yaw, v, omega) == length {
+                certified += 1;
+                assert!(
+                    arc_min(grown, x, yaw, (v, omega), H) > 0.0,
+                    "{x:?} {yaw} {v} {omega}"
+                );
+            }
+            if nav.free_arc_length(x, yaw, v, 0.0) == length
+                && arc_min(grown, x, yaw, (v, omega), H) <= 0.0
+            {
+                straight_wrong += 1;
+            }
+            // The law's command at this pose.
+            let c = nav.command_pose(x, yaw).unwrap();
+            commands += 1;
+            assert!(
+                (0.0..=V_MAX).contains(&c.v) && c.omega.abs() <= OMEGA_MAX,
+                "{c:?}"
+            );
+            if c.v > 0.0 {
+                moving += 1;
+                assert_eq!(nav.free_arc_length(x, yaw, c.v, c.omega), c.v * H, "{c:?}");
+                assert!(arc_min(grown, x, yaw, (c.v, c.omega), H) > 0.0);
+                let end = unicycle_arc(x, yaw, c.v, c.omega, H).0;
+                assert!(nav.theta(end).unwrap() <= nav.theta(x).unwrap(), "{c:?}");
+            } else {
+                assert!(matches!(c.steer, Steer::Turning | Steer::Stopped), "{c:?}");
+            }
+        }
+    }
+    println!(
+        "{certified} certified arcs all free; {straight_wrong} arcs certified by the straight \
+         trace but not free; {moving} of {commands} commands moving, all certified and free"
+    );
+    assert!(certified > 1000);
+    assert!(straight_wrong > 0, "the negative control did not fail");
+}
+
+/// A floor plan (the L room: walls, a reflex corner), the same call: from every start heading
+/// of eight, the robot's disc stays clear of the walls along every held arc and arrives.
+#[test]
+fn a_floor_plan_takes_the_same_call() {
+    let floor: Arc<FloorMap> = common::l_room();
+    let (start, goal) = (Vector2::new(0.75, 3.5), Vector2::new(3.5, 0.75));
+    let options = Options::default()
+        .with_robot(0.1, 0.1)
+        .with_control_period(H)
+        .with_base(Base::diff(V_MAX, OMEGA_MAX));
+    let mut times = Vec::new();
+    for k in 0..8 {
+        let mut nav =
+            FloorNavigator::new(floor.clone(), goal, Law::kinematic(1.0), options).unwrap();
+        let (mut x, mut yaw) = (start, -PI + PI / 4.0 * k as f64);
+        let mut closest = f64::INFINITY;
+        let mut arrived = None;
+        for n in 0..1500 {
+            let c = nav.command_pose(x, yaw).unwrap();
+            assert!(
+                (0.0..=V_MAX).contains(&c.v) && c.omega.abs() <= OMEGA_MAX,
+                "{c:?}"
+            );
+            let low = arc_min(|p| floor.wall_distance(p) - 0.1, x, yaw, (c.v, c.omega), H);
+            closest = closest.min(low);
+            assert!(low > 0.0, "heading {k}: the body touched a wall near {x:?}");
+            (x, yaw) = unicycle_arc(x, yaw, c.v, c.omega, H);
+            if (x - goal).norm() < 0.01 {
+                arrived = Some((n + 1) as f64 * H);
+                break;
+            }
+        }
+        println!(
+            "L room, start heading {:+.0}°: arrived {arrived:?} s, closest to the walls \
+             {:+.1} mm",
+            (-PI + PI / 4.0 * k as f64).to_degrees(),
+            closest * 1e3
+        );
+        times.push(arrived.expect("arrived"));
+    }
+    println!("L room: median {:.1} s", median(times));
+}
+
+/// The base's bounds are validated by name; the dynamic law is refused with a differential-drive
+/// base; `command_pose` needs one; a non-finite yaw is refused; the default base is holonomic.
+#[test]
+fn the_base_is_validated_by_name() {
+    let boundary = StarShape::circle(Vector2::zeros(), 5.0).unwrap();
+    let goal = Vector2::new(3.0, 0.0);
+    let build = |base: Base, law: Law| {
+        Navigator::new(
+            boundary.clone(),
+            goal,
+            law,
+            Options::default().with_base(base),
+        )
+    };
+    for bad in [f64::NAN, f64::INFINITY, -1.0, 0.0] {
+        for (base, field) in [
+            (Base::diff(bad, 2.0), "v_max"),
+            (Base::diff(0.5, bad), "omega_max"),
+        ] {
+            match build(base, Law::kinematic(1.0)) {
+                Err(NavError::InvalidOption { field: f, .. }) => assert_eq!(f, field),
+                other => panic!("{base:?}: {other:?}"),
+            }
+        }
+    }
+    assert!(matches!(
+        build(Base::diff(0.5, 2.0), Law::dynamic(1.0, 1.0)),
+        Err(NavError::InvalidOption { field: "base", .. })
+    ));
+    assert_eq!(Options::default().base, Base::Holonomic);
+    let mut holonomic = build(Base::Holonomic, Law::kinematic(1.0)).unwrap();
+    assert!(matches!(
+        holonomic.command_pose(Vector2::new(-3.0, 0.0), 0.0),
+        Err(NavError::InvalidOption { field: "base", .. })
+    ));
+    let mut diff = build(Base::diff(0.5, 2.0), Law::kinematic(1.0)).unwrap();
+    assert_eq!(diff.options().v_max, Some(0.5));
+    assert!(matches!(
+        diff.command_pose(Vector2::new(-3.0, 0.0), f64::NAN),
+        Err(NavError::NotFinite { what: "yaw" })
+    ));
+    // Facing the goal in an empty world: ahead at the top speed, no turn.
+    let c = diff.command_pose(Vector2::new(-3.0, 0.0), 0.0).unwrap();
+    assert_eq!(c.steer, Steer::Ahead);
+    assert!(c.omega.abs() < 1e-9 && c.v > 0.0 && c.v <= 0.5, "{c:?}");
+    // Facing away: turning in place at the top turn rate.
+    let c = diff.command_pose(Vector2::new(-3.0, 0.0), PI).unwrap();
+    assert_eq!((c.v, c.omega.abs(), c.steer), (0.0, 2.0, Steer::Turning));
+}
