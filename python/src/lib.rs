@@ -13,6 +13,7 @@ mod field;
 mod floor_navigator;
 mod floorplan;
 mod navigator;
+mod options;
 mod report;
 mod scenario;
 mod shapes;

@@ -1,23 +1,28 @@
-//! The online API: `harmonav::Navigator`.
+//! The online API: `harmonav.Navigator`, one class over either world (`harmonav::Navigator<W>`
+//! over a star world or a floor plan). A floor plan's navigator is its subclass
+//! `FloorNavigator` (`floor_navigator.rs`: its constructors and its floor-only methods); every
+//! other method is written once here, over [`Inner`].
 
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 
 use harmonav_rs::Vector2;
-use harmonav_rs::transform::Shown;
 use harmonav_rs::{
-    DampingPolicy, HoldPolicy, KPolicy, LaserScan, Law, Mode, NavError, Navigator as RsNavigator,
-    Options, Pose, ScanOptions, ScanUpdate as RsScanUpdate, SpeedPolicy,
+    FloorMap, FloorNavigator as RsFloorNavigator, LaserScan, Law, Mode, NavError,
+    Navigator as RsNavigator, Options, Pose, ScanUpdate as RsScanUpdate,
 };
 use numpy::PyArray1;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
-use pyo3::types::{PyList, PyTuple};
+use pyo3::types::{PyDict, PyList, PyTuple};
 
-use crate::convert::{array1, integer, lock, point_like, policy, reals_like, value_error};
+use crate::convert::{array1, lock, point_like, reals_like, value_error};
+use crate::options::{FloorKeywords, Keywords};
 use crate::shapes::{Shape, from_perceived};
 
 /// The navigator of a robot that does not know its map: obstacles are added as its perception
-/// finds them, and `command(x, v)` returns the law's command.
+/// finds them, and `command(x, v)` returns the law's command. `Navigator(boundary, goal, …)`
+/// navigates a star world (`boundary` a `Shape`); `FloorNavigator(outer, goal, holes, …)`, its
+/// subclass, a floor plan, with the same keyword arguments and methods.
 ///
 /// - `law="kinematic"`: the velocity `u = −s(x)∇Θ/|∇Θ|` along the flow lines of eq. `kinctrl`:
 ///   under `speed="auto"` (the default) `s = min(v_max, √(2a|x − x_d|))`, full speed until a
@@ -58,59 +63,95 @@ use crate::shapes::{Shape, from_perceived};
 ///
 /// Invalid parameters raise `ValueError` with the Rust `NavError`'s message, which names the
 /// parameter (every range is the scenario files'; `d_min`, the speed bound and `λ_c` are
-/// checked finite). `copy.copy`, `copy.deepcopy` and pickle give an independent navigator with the same
-/// known obstacles and state, which commands exactly as the original.
+/// checked finite); a keyword that is not an option is a `TypeError` naming it. Both worlds
+/// check their options in one place. `copy.copy`, `copy.deepcopy` and pickle give an
+/// independent navigator with the same known obstacles and state, which commands exactly as
+/// the original.
 ///
 /// Threads: the calls on one navigator are serialised by a lock inside it. A call made while
 /// another thread's call runs (an `observe_scan`, which releases the GIL) waits for it, with
 /// the GIL released, instead of failing.
-#[pyclass(module = "harmonav", frozen)]
+#[pyclass(module = "harmonav", frozen, subclass)]
 pub struct Navigator {
     /// Locked with [`lock`], only around Rust work.
     state: Mutex<State>,
 }
 
+/// The Rust navigator, over either world.
+// One per navigator, in place behind its lock: a box would add an indirection for nothing.
+#[allow(clippy::large_enum_variant)]
+#[derive(Clone)]
+enum Inner {
+    Star(RsNavigator),
+    Floor(RsFloorNavigator),
+}
+
+/// `$body` with `$nav` bound to the Rust navigator of `$inner` (an [`Inner`]), whichever its
+/// world: the methods the two worlds share, written once.
+macro_rules! each {
+    ($inner:expr, $nav:ident => $body:expr) => {
+        match $inner {
+            Inner::Star($nav) => $body,
+            Inner::Floor($nav) => $body,
+        }
+    };
+}
+
+/// What a navigator is built on: a star world's true boundary, or a floor plan's solved map
+/// (shared: a navigator rebuilt on it does not solve it again) with the floor's own options.
+#[derive(Clone)]
+pub(crate) enum Workspace {
+    Star(Shape),
+    Floor {
+        map: Arc<FloorMap>,
+        keywords: FloorKeywords,
+    },
+}
+
+/// How a navigator was built: what `__setstate__` rebuilds it from and pickle stores.
+#[derive(Clone)]
+pub(crate) struct Built {
+    pub(crate) workspace: Workspace,
+    pub(crate) goal: Vector2<f64>,
+    /// The options as given.
+    pub(crate) keywords: Keywords,
+    /// The law and the options they gave, checked ([`Keywords::check`]).
+    pub(crate) law: Law,
+    pub(crate) options: Options,
+}
+
+impl Built {
+    /// The Rust navigator, as constructed (no obstacle known).
+    fn navigator(&self) -> Result<Inner, NavError> {
+        let (goal, law, options) = (self.goal, self.law, self.options);
+        Ok(match &self.workspace {
+            Workspace::Star(boundary) => Inner::Star(RsNavigator::new(
+                boundary.inner.clone(),
+                goal,
+                law,
+                options,
+            )?),
+            Workspace::Floor { map, .. } => {
+                Inner::Floor(RsFloorNavigator::new(Arc::clone(map), goal, law, options)?)
+            }
+        })
+    }
+}
+
 /// A navigator's state, behind its lock.
 #[derive(Clone)]
-struct State {
-    inner: RsNavigator,
-    /// The constructor's arguments (what pickle rebuilds the navigator from).
-    args: Args,
+pub(crate) struct State {
+    inner: Inner,
+    built: Built,
     /// The calls that made the state since construction (what pickle replays).
     log: Log,
     /// How the last command was formed.
     mode: Mode,
 }
 
-/// The constructor's arguments, checked.
-#[derive(Clone)]
-struct Args {
-    boundary: Shape,
-    goal: [f64; 2],
-    law: String,
-    gain: f64,
-    mass: f64,
-    mu: f64,
-    sensor: (f64, f64),
-    radius: f64,
-    margin: f64,
-    k: String,
-    damping: String,
-    rho_min: f64,
-    control_period: Option<f64>,
-    hold: String,
-    speed: String,
-    v_max: Option<f64>,
-    range_noise: f64,
-    max_obstacle_depth: f64,
-    growth_threshold: f64,
-    fit_range: Option<f64>,
-    free_memory: usize,
-}
-
 /// A call that changed a navigator's state.
 #[derive(Clone)]
-pub(crate) enum Event {
+enum Event {
     /// `add_obstacle(shape)` (the true shape).
     Add(Shape),
     /// `command(x, v)`.
@@ -131,37 +172,37 @@ pub(crate) enum Event {
 /// changed nothing is not kept, and with it the free space it showed, which later fits leave
 /// out). `FloorNavigator` also remembers the hold's escapes, which the log does not determine.
 #[derive(Clone, Default)]
-pub(crate) struct Log {
+struct Log {
     events: Vec<Event>,
     /// Whether the last event is a command that must be replayed (it lifted the discovery
     /// speed), not replaced by the next command.
     keep_last: bool,
     /// Whether the last scan was refused (the navigator halts).
-    pub(crate) halted: bool,
+    halted: bool,
 }
 
 impl Log {
     /// The shapes of `add_obstacle`, in the order they were added.
-    pub(crate) fn added(&self) -> impl Iterator<Item = &Shape> + '_ {
+    fn added(&self) -> impl Iterator<Item = &Shape> + '_ {
         self.events.iter().filter_map(|e| match e {
             Event::Add(shape) => Some(shape),
             _ => None,
         })
     }
 
-    pub(crate) fn add(&mut self, shape: Shape) {
+    fn add(&mut self, shape: Shape) {
         self.events.push(Event::Add(shape));
         self.keep_last = false;
     }
 
-    pub(crate) fn scan(&mut self, pose: Pose, scan: LaserScan) {
+    fn scan(&mut self, pose: Pose, scan: LaserScan) {
         self.events.push(Event::Scan(Box::new((pose, scan))));
         self.keep_last = false;
         self.halted = false;
     }
 
     /// A refused scan; one refusal after another keeps only the last.
-    pub(crate) fn refused(&mut self, pose: Pose, scan: LaserScan) {
+    fn refused(&mut self, pose: Pose, scan: LaserScan) {
         let event = Event::Refused(Box::new((pose, scan)));
         match self.events.last_mut() {
             Some(last @ Event::Refused(..)) => *last = event,
@@ -173,7 +214,7 @@ impl Log {
 
     /// Records the outcome of `observe_scan(pose, scan)`: a refusal, a change of the obstacles
     /// or the end of a halt.
-    pub(crate) fn observed<T>(
+    fn observed<T>(
         &mut self,
         pose: Pose,
         scan: LaserScan,
@@ -188,7 +229,7 @@ impl Log {
     }
 
     /// A successful `command(x, v)`; `keep`: it changed the discovery speed.
-    pub(crate) fn command(&mut self, x: Vector2<f64>, v: Vector2<f64>, keep: bool) {
+    fn command(&mut self, x: Vector2<f64>, v: Vector2<f64>, keep: bool) {
         let event = Event::Command([x.x, x.y], [v.x, v.y]);
         match self.events.last_mut() {
             Some(last @ Event::Command(..)) if !self.keep_last => *last = event,
@@ -199,7 +240,7 @@ impl Log {
 
     /// The log as pickle stores it: `("add", shape)`, `("command", x, v)` and `("scan", pose,
     /// ranges, angles)` entries.
-    pub(crate) fn to_python<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+    fn to_python<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         let entries = self
             .events
             .iter()
@@ -230,7 +271,7 @@ impl Log {
 
 /// The entries of a pickled state (`Log::to_python`), parsed before anything is replayed;
 /// errors name `class` and the entry.
-pub(crate) fn events(state: &Bound<'_, PyAny>, class: &str) -> PyResult<Vec<Event>> {
+fn events(state: &Bound<'_, PyAny>, class: &str) -> PyResult<Vec<Event>> {
     state
         .try_iter()?
         .enumerate()
@@ -241,7 +282,7 @@ pub(crate) fn events(state: &Bound<'_, PyAny>, class: &str) -> PyResult<Vec<Even
 /// Every known obstacle in the navigator's order: the shapes of `add_obstacle` (their
 /// indices `added`, their shapes as the log holds them, in the same order) and the perceived
 /// ones (issue 56, D20: `obstacles` listed only the perceived).
-pub(crate) fn known<'a>(
+fn known<'a>(
     added: impl Iterator<Item = usize>,
     log: &Log,
     perceived: impl Iterator<Item = (usize, &'a harmonav_rs::Perceived)>,
@@ -252,38 +293,10 @@ pub(crate) fn known<'a>(
     all.into_iter().map(|(_, s)| s).collect()
 }
 
-fn nav_error(e: NavError) -> PyErr {
-    value_error(e)
-}
-
-/// The law named `law` (`"kinematic"` with `gain`, `"dynamic"` with `mass` and `mu`). The
-/// arguments the law does not use must still be finite and positive: a NaN left in one is a
-/// mistake that would only surface when the law is switched.
-pub(crate) fn law_named(law: &str, gain: f64, mass: f64, mu: f64) -> PyResult<Law> {
-    let named = match law {
-        "kinematic" => Law::kinematic(gain),
-        "dynamic" => Law::dynamic(mass, mu),
-        other => {
-            return Err(value_error(format!(
-                "unknown law \"{other}\": expected \"kinematic\" or \"dynamic\""
-            )));
-        }
-    };
-    for (name, value) in [("gain", gain), ("mass", mass), ("mu", mu)] {
-        if !(value.is_finite() && value > 0.0) {
-            return Err(value_error(format!(
-                "`{name}` must be finite and positive, got {}",
-                Shown(value)
-            )));
-        }
-    }
-    Ok(named)
-}
-
 /// The arguments of `observe_scan` as the Rust navigators take them: the sensor's pose (at
 /// `position`, heading `heading` rad) and the scan (`ranges` any sequence of floats).
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn scan_from(
+fn scan_from(
     position: &Bound<'_, PyAny>,
     heading: f64,
     ranges: &Bound<'_, PyAny>,
@@ -307,7 +320,7 @@ pub(crate) fn scan_from(
 }
 
 /// `Θ`, or a `ValueError` when it is not finite.
-pub(crate) fn finite_theta(theta: f64) -> PyResult<f64> {
+fn finite_theta(theta: f64) -> PyResult<f64> {
     if theta.is_finite() {
         Ok(theta)
     } else {
@@ -315,134 +328,37 @@ pub(crate) fn finite_theta(theta: f64) -> PyResult<f64> {
     }
 }
 
-/// `free_memory` as a count: a negative one or one beyond 64 bits is refused by name (as
-/// `NavError::InvalidOption`, whose message gives the range), not with pyo3's unnamed
-/// `OverflowError`; one that is not an integer is a `TypeError` naming it.
-pub(crate) fn free_memory_count(free_memory: &Bound<'_, PyAny>) -> PyResult<usize> {
-    let invalid = |value: f64| {
-        nav_error(NavError::InvalidOption {
-            field: "free_memory",
-            value,
-        })
-    };
-    match integer::<i64>(free_memory, "free_memory", "an integer") {
-        Ok(n) => usize::try_from(n).map_err(|_| invalid(n as f64)),
-        Err(e) if e.is_instance_of::<pyo3::exceptions::PyValueError>(free_memory.py()) => {
-            // Beyond i64: its value as a float (±inf beyond the floats) for the message.
-            let value = free_memory.extract::<f64>().unwrap_or_else(|_| {
-                if free_memory.lt(0).unwrap_or(false) {
-                    f64::NEG_INFINITY
-                } else {
-                    f64::INFINITY
-                }
-            });
-            Err(invalid(value))
-        }
-        Err(e) => Err(e),
-    }
-}
-
-/// The scan options of a navigator's constructor (the rest at their defaults).
-pub(crate) fn scan_options(
-    range_noise: f64,
-    max_obstacle_depth: f64,
-    growth_threshold: f64,
-    fit_range: Option<f64>,
-    free_memory: usize,
-) -> ScanOptions {
-    ScanOptions {
-        range_noise,
-        max_obstacle_depth,
-        growth_threshold,
-        fit_range: fit_range.unwrap_or(f64::INFINITY),
-        free_memory,
-        ..ScanOptions::default()
-    }
-}
-
-impl Args {
-    /// The Rust navigator these arguments make, with its derived quantities checked finite.
-    fn build(&self) -> PyResult<RsNavigator> {
-        let law = law_named(&self.law, self.gain, self.mass, self.mu)?;
-        let mut options = Options::default()
-            .with_sensor(self.sensor.0, self.sensor.1)
-            .with_robot(self.radius, self.margin)
-            .with_rho_min(self.rho_min)
-            .with_k(policy::<KPolicy>(&self.k)?)
-            .with_damping(policy::<DampingPolicy>(&self.damping)?)
-            .with_hold(policy::<HoldPolicy>(&self.hold)?)
-            .with_speed(policy::<SpeedPolicy>(&self.speed)?)
-            .with_scan(scan_options(
-                self.range_noise,
-                self.max_obstacle_depth,
-                self.growth_threshold,
-                self.fit_range,
-                self.free_memory,
-            ));
-        if let Some(h) = self.control_period {
-            options = options.with_control_period(h);
-        }
-        if let Some(v) = self.v_max {
-            options = options.with_v_max(v);
-        }
-        let goal = Vector2::new(self.goal[0], self.goal[1]);
-        // The Rust navigator checks every option against its range and every derived
-        // quantity (d_min, √(2μ/m), λ_c) for finiteness, naming the field.
-        RsNavigator::new(self.boundary.inner.clone(), goal, law, options).map_err(nav_error)
-    }
-
-    /// The positional arguments of `Navigator(...)`, in the order of its signature.
-    fn to_tuple<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
-        PyTuple::new(
-            py,
-            [
-                Bound::new(py, self.boundary.clone())?.into_any(),
-                self.goal.into_pyobject(py)?.into_any(),
-                self.law.clone().into_pyobject(py)?.into_any(),
-                self.gain.into_pyobject(py)?.into_any(),
-                self.mass.into_pyobject(py)?.into_any(),
-                self.mu.into_pyobject(py)?.into_any(),
-                self.sensor.into_pyobject(py)?.into_any(),
-                self.radius.into_pyobject(py)?.into_any(),
-                self.margin.into_pyobject(py)?.into_any(),
-                self.k.clone().into_pyobject(py)?.into_any(),
-                self.damping.clone().into_pyobject(py)?.into_any(),
-                self.rho_min.into_pyobject(py)?.into_any(),
-                self.control_period.into_pyobject(py)?.into_any(),
-                self.hold.clone().into_pyobject(py)?.into_any(),
-                self.speed.clone().into_pyobject(py)?.into_any(),
-                self.v_max.into_pyobject(py)?.into_any(),
-                self.range_noise.into_pyobject(py)?.into_any(),
-                self.max_obstacle_depth.into_pyobject(py)?.into_any(),
-                self.growth_threshold.into_pyobject(py)?.into_any(),
-                self.fit_range.into_pyobject(py)?.into_any(),
-                self.free_memory.into_pyobject(py)?.into_any(),
-            ],
-        )
-    }
-}
-
 impl State {
-    /// A navigator as constructed from `args`.
-    fn new(args: Args) -> PyResult<Self> {
+    /// A navigator as constructed from `built`. The Rust navigator checks every option against
+    /// its range and every derived quantity (d_min, √(2μ/m), λ_c) for finiteness, naming the
+    /// field.
+    pub(crate) fn new(built: Built) -> PyResult<Self> {
         Ok(Self {
-            inner: args.build()?,
-            args,
+            inner: built.navigator().map_err(value_error)?,
+            built,
             log: Log::default(),
             mode: Mode::Law,
         })
     }
 
+    /// The Python class of this world's navigator (for errors and `repr`).
+    fn class(&self) -> &'static str {
+        match self.inner {
+            Inner::Star(_) => "Navigator",
+            Inner::Floor(_) => "FloorNavigator",
+        }
+    }
+
     /// Adds an obstacle and records it.
     fn add(&mut self, shape: &Shape) -> Result<usize, NavError> {
-        let i = self.inner.add_obstacle(shape.inner.clone())?;
+        let i = each!(&mut self.inner, nav => nav.add_obstacle(shape.inner.clone()))?;
         self.log.add(shape.clone());
         Ok(i)
     }
 
     /// Observes a scan, and records it if it changed the obstacles.
     fn scan(&mut self, pose: Pose, scan: LaserScan) -> Result<RsScanUpdate, NavError> {
-        let u = self.inner.observe_scan(pose, &scan);
+        let u = each!(&mut self.inner, nav => nav.observe_scan(pose, &scan));
         self.log.observed(pose, scan, &u, RsScanUpdate::changed);
         u
     }
@@ -450,54 +366,27 @@ impl State {
     /// The command at `(x, v)`, and recorded. The Rust navigator refuses a non-finite command
     /// (`NavError::NonFiniteCommand`) and changes nothing on any error.
     fn issue(&mut self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Vector2<f64>, NavError> {
-        let before = self.inner.discovery_speed();
-        let c = self.inner.command(x, v)?;
+        let (c, lifted) = each!(&mut self.inner, nav => {
+            let before = nav.discovery_speed();
+            let c = nav.command(x, v)?;
+            (c, nav.discovery_speed().to_bits() != before.to_bits())
+        });
         self.mode = c.mode;
-        let lifted = self.inner.discovery_speed().to_bits() != before.to_bits();
         self.log.command(x, v, lifted);
         Ok(c.value)
     }
-}
-
-impl Replayed for State {
-    const CLASS: &'static str = "Navigator";
-
-    fn add(&mut self, shape: &Shape) -> Result<(), NavError> {
-        State::add(self, shape).map(drop)
-    }
-
-    fn scan(&mut self, pose: Pose, scan: LaserScan) -> Result<(), NavError> {
-        State::scan(self, pose, scan).map(drop)
-    }
-
-    fn issue(&mut self, x: Vector2<f64>, v: Vector2<f64>) -> Result<(), NavError> {
-        State::issue(self, x, v).map(drop)
-    }
-}
-
-/// A navigator's state that pickle rebuilds by replaying its [`Log`]: the three recorded
-/// calls, and the replay itself (one for both navigators).
-pub(crate) trait Replayed {
-    /// The Python class, for errors.
-    const CLASS: &'static str;
-    /// `add_obstacle(shape)`, recorded.
-    fn add(&mut self, shape: &Shape) -> Result<(), NavError>;
-    /// `observe_scan(...)`, recorded.
-    fn scan(&mut self, pose: Pose, scan: LaserScan) -> Result<(), NavError>;
-    /// `command(x, v)`, recorded.
-    fn issue(&mut self, x: Vector2<f64>, v: Vector2<f64>) -> Result<(), NavError>;
 
     /// Replays `events` (a pickled state) on this state, a fresh one: each call must do what
     /// it did (a refused scan must be refused again).
     fn replay(&mut self, events: Vec<Event>) -> PyResult<()> {
-        let class = Self::CLASS;
+        let class = self.class();
         for (i, e) in events.into_iter().enumerate() {
             let replayed = match e {
-                Event::Add(shape) => self.add(&shape),
-                Event::Command(x, v) => self.issue(Vector2::from(x), Vector2::from(v)),
+                Event::Add(shape) => self.add(&shape).map(drop),
+                Event::Command(x, v) => self.issue(Vector2::from(x), Vector2::from(v)).map(drop),
                 Event::Scan(b) => {
                     let (pose, scan) = *b;
-                    self.scan(pose, scan)
+                    self.scan(pose, scan).map(drop)
                 }
                 Event::Refused(b) => {
                     let (pose, scan) = *b;
@@ -522,9 +411,29 @@ impl Navigator {
     }
 
     /// A navigator holding `state`.
-    fn holding(state: State) -> Self {
+    pub(crate) fn holding(state: State) -> Self {
         Self {
             state: Mutex::new(state),
+        }
+    }
+
+    /// An independent navigator with the same obstacles and state (`__copy__`).
+    pub(crate) fn copied(&self, py: Python<'_>) -> Self {
+        Self::holding(self.state(py).clone())
+    }
+
+    /// `f` of the floor plan's Rust navigator; a `TypeError` on a star world's (a guard: a
+    /// `FloorNavigator` is always built on a floor plan).
+    pub(crate) fn floor<R>(
+        &self,
+        py: Python<'_>,
+        f: impl FnOnce(&RsFloorNavigator) -> R,
+    ) -> PyResult<R> {
+        match &self.state(py).inner {
+            Inner::Floor(nav) => Ok(f(nav)),
+            Inner::Star(_) => Err(PyTypeError::new_err(
+                "a star world's navigator has no floor plan (walls, δ, elements, escapes)",
+            )),
         }
     }
 }
@@ -588,77 +497,51 @@ fn event(entry: &Bound<'_, PyAny>, i: usize, class: &str) -> PyResult<Event> {
 
 #[pymethods]
 impl Navigator {
+    /// A navigator in the star world bounded by `boundary`, towards `goal`; the options after
+    /// `goal` may also be given in this order ([`crate::options::NAMES`]).
     #[new]
-    #[pyo3(signature = (boundary, goal, law="kinematic", gain=1.0, mass=1.0, mu=10.0,
-                        sensor=(1.0, 60.0), radius=0.0, margin=0.0, k="auto", damping="governed",
-                        rho_min=0.05, control_period=None, hold="auto", speed="auto",
-                        v_max=None, range_noise=0.02, max_obstacle_depth=1.0,
-                        growth_threshold=0.02, fit_range=None, free_memory=16))]
-    #[allow(clippy::too_many_arguments)]
+    #[pyo3(
+        signature = (boundary, goal, *options, **keywords),
+        text_signature = "(boundary, goal, law='kinematic', gain=1.0, mass=1.0, mu=10.0, \
+                          sensor=(1.0, 60.0), radius=0.0, margin=0.0, k='auto', \
+                          damping='governed', rho_min=0.05, control_period=None, hold='auto', \
+                          speed='auto', v_max=None, range_noise=0.02, max_obstacle_depth=1.0, \
+                          growth_threshold=0.02, fit_range=None, free_memory=16)"
+    )]
     fn new(
         boundary: &Shape,
         goal: &Bound<'_, PyAny>,
-        law: &str,
-        gain: f64,
-        mass: f64,
-        mu: f64,
-        sensor: (f64, f64),
-        radius: f64,
-        margin: f64,
-        k: &str,
-        damping: &str,
-        rho_min: f64,
-        control_period: Option<f64>,
-        hold: &str,
-        speed: &str,
-        v_max: Option<f64>,
-        range_noise: f64,
-        max_obstacle_depth: f64,
-        growth_threshold: f64,
-        fit_range: Option<f64>,
-        #[pyo3(from_py_with = free_memory_count)] free_memory: usize,
+        options: &Bound<'_, PyTuple>,
+        keywords: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
+        let keywords = Keywords::parse("Navigator", options, keywords)?;
         let goal = point_like(goal, "goal")?;
-        let args = Args {
-            boundary: boundary.clone(),
-            goal: [goal.x, goal.y],
-            law: law.to_owned(),
-            gain,
-            mass,
-            mu,
-            sensor,
-            radius,
-            margin,
-            k: k.to_owned(),
-            damping: damping.to_owned(),
-            rho_min,
-            control_period,
-            hold: hold.to_owned(),
-            speed: speed.to_owned(),
-            v_max,
-            range_noise,
-            max_obstacle_depth,
-            growth_threshold,
-            fit_range,
-            free_memory,
+        let (law, options) = keywords.check()?;
+        let built = Built {
+            workspace: Workspace::Star(boundary.clone()),
+            goal,
+            keywords,
+            law,
+            options,
         };
-        Ok(Self::holding(State::new(args)?))
+        Ok(Self::holding(State::new(built)?))
     }
 
     /// Adds a newly sensed obstacle (its true shape; grown by `radius + margin` here) and
-    /// returns its index. `k`, `Φ` and the damping state update. Raises `ValueError` (and
-    /// changes nothing) if it overlaps a known obstacle, crosses the boundary, or contains the
-    /// goal or the robot.
+    /// returns its index. `k`, `Θ` and the damping state update (on a floor plan without a new
+    /// solve). Raises `ValueError` (and changes nothing) if it overlaps a known obstacle,
+    /// crosses the boundary (reaches a floor plan's boundary layer), or contains the goal or
+    /// the robot.
     fn add_obstacle(&self, py: Python<'_>, shape: &Shape) -> PyResult<usize> {
-        self.state(py).add(shape).map_err(nav_error)
+        self.state(py).add(shape).map_err(value_error)
     }
 
     /// The command to hold for `control_period` at position `x` with velocity `v` (default 0),
     /// each an array-like `[x, y]`: a velocity (kinematic law) or a force (dynamic law), as a
     /// (2,) array, always finite; `mode` then says how it was formed. Inside the margin band
-    /// it leads back out (`mode == "recovering"`). Raises `ValueError` (and changes nothing)
-    /// where the robot's disc overlaps a known obstacle or the boundary, for non-finite input,
-    /// or for a command that would not be finite.
+    /// (or a floor plan's boundary layer) it leads back out (`mode == "recovering"`). Raises
+    /// `ValueError` (and changes nothing) where the robot's disc overlaps a known obstacle or
+    /// the boundary (a wall), for non-finite input, or for a command that would not be finite.
     #[pyo3(signature = (x, v=None))]
     fn command<'py>(
         &self,
@@ -668,7 +551,8 @@ impl Navigator {
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let x = point_like(x, "x")?;
         let v = v.map_or(Ok(Vector2::zeros()), |v| point_like(v, "v"))?;
-        let c = self.state(py).issue(x, v).map_err(nav_error)?;
+        // With the GIL held: one evaluation, tens of µs.
+        let c = self.state(py).issue(x, v).map_err(value_error)?;
         array1(py, &[c.x, c.y], "command")
     }
 
@@ -677,11 +561,12 @@ impl Navigator {
     /// `ranges` (m, a 1-D array-like of real numbers: booleans and complex numbers are a
     /// `TypeError`, as for points; NaN, ±inf and out-of-range readings are classified as ROS
     /// does), `angle_min` and `angle_increment` (rad, increment > 0),
-    /// `range_max` and `range_min` (m). Hits explained by known shapes are dropped, the rest
-    /// fitted to conservative stars that grow known ones or are added (`docs/maths.md` §12.6).
-    /// Returns a `ScanUpdate`. Raises `ValueError` (and changes nothing) for an invalid scan or
-    /// pose, or when a new or grown shape would contain the robot or the goal, cross the
-    /// boundary, or overlap another ("the world as perceived is not a star world").
+    /// `range_max` and `range_min` (m). Hits explained by known shapes (or a floor plan's
+    /// walls, within the noise bound) are dropped, the rest fitted to conservative stars that
+    /// grow known ones or are added (`docs/maths.md` §12.6). Returns a `ScanUpdate`. Raises
+    /// `ValueError` (and changes nothing) for an invalid scan or pose, or when a new or grown
+    /// shape would contain the robot or the goal, cross the boundary (reach the boundary
+    /// layer), or overlap another ("the world as perceived is not a star world").
     #[pyo3(signature = (position, heading, ranges, angle_min, angle_increment, range_max,
                         range_min=0.0))]
     #[allow(clippy::too_many_arguments)]
@@ -711,18 +596,16 @@ impl Navigator {
         let state: &mut State = &mut guard;
         let u = py.detach(|| state.scan(pose, scan));
         drop(guard);
-        Ok(ScanUpdate::from(u.map_err(nav_error)?))
+        Ok(ScanUpdate::from(u.map_err(value_error)?))
     }
 
     /// The perceived shapes (from scans, not grown), as `(index, Shape)` pairs: `index` among
     /// the navigator's obstacles, the shape a `star` with `signed_distance` and `contains`.
     #[getter]
     fn perceived(&self, py: Python<'_>) -> Vec<(usize, Shape)> {
-        self.state(py)
-            .inner
-            .perceived()
-            .map(|(i, p)| (i, from_perceived(p)))
-            .collect()
+        each!(&self.state(py).inner, nav => {
+            nav.perceived().map(|(i, p)| (i, from_perceived(p))).collect()
+        })
     }
 
     /// Every known obstacle (not grown) in the navigator's order: the shapes given to
@@ -731,50 +614,55 @@ impl Navigator {
     #[getter]
     fn obstacles(&self, py: Python<'_>) -> Vec<Shape> {
         let state = self.state(py);
-        known(
-            state.inner.added().map(|(i, _)| i),
-            &state.log,
-            state.inner.perceived(),
-        )
+        each!(&state.inner, nav => {
+            known(nav.added().map(|(i, _)| i), &state.log, nav.perceived())
+        })
     }
 
-    /// `Θ(x)` over the known obstacles (finite, or `ValueError` as `command`).
+    /// `Θ(x)` over the known obstacles (and a floor plan's walls): finite, or `ValueError` as
+    /// `command` (on a floor plan also outside the certified region).
     fn theta(&self, py: Python<'_>, x: &Bound<'_, PyAny>) -> PyResult<f64> {
         let x = point_like(x, "x")?;
-        let theta = self.state(py).inner.theta(x);
-        finite_theta(theta.map_err(nav_error)?)
+        let theta = each!(&self.state(py).inner, nav => nav.theta(x));
+        finite_theta(theta.map_err(value_error)?)
     }
 
-    /// `k` of `φ_k` for the obstacles known so far.
+    /// `k` of `φ_k` for the obstacles known so far (on a floor plan: the holes and the known
+    /// obstacles, under the `k` policy).
     #[getter]
     fn k(&self, py: Python<'_>) -> f64 {
-        self.state(py).inner.k()
+        each!(&self.state(py).inner, nav => nav.k())
     }
 
     /// How many obstacles are known.
     #[getter]
     fn obstacle_count(&self, py: Python<'_>) -> usize {
-        self.state(py).inner.obstacles().len()
+        match &self.state(py).inner {
+            Inner::Star(nav) => nav.obstacles().len(),
+            Inner::Floor(nav) => nav.added().count() + nav.perceived().count(),
+        }
     }
 
     /// The goal, as a (2,) array.
     #[getter]
     fn goal<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let g = self.state(py).inner.goal();
+        let g = each!(&self.state(py).inner, nav => nav.goal());
         array1(py, &[g.x, g.y], "goal")
     }
 
     /// `√(2μ/m)` for the dynamic law (finite), `None` for the kinematic one.
     #[getter]
     fn speed_bound(&self, py: Python<'_>) -> Option<f64> {
-        self.state(py).inner.speed_bound()
+        each!(&self.state(py).inner, nav => nav.speed_bound())
     }
 
     /// How the last command was formed: `"law"`, `"capped"` (shortened to be safe to hold),
-    /// `"recovering"` (out of the margin band), `"from-rest"` (the kinematic law's step had
-    /// come to rest away from the goal, at a saddle of `Θ` or in a narrow valley: the steepest
-    /// certified descent among 16 directions instead) or `"halted"` (the last `observe_scan`
-    /// was refused: the robot stops until a scan is accepted); `"law"` before the first.
+    /// `"recovering"` (out of the margin band or a floor plan's boundary layer), `"from-rest"`
+    /// (the kinematic law's step had come to rest away from the goal, at a saddle of `Θ` or in
+    /// a narrow valley: the steepest certified descent among 16 directions instead),
+    /// `"escaping"` (on a floor plan, along the shortest path from a rest point of the hold) or
+    /// `"halted"` (the last `observe_scan` was refused: the robot stops until a scan is
+    /// accepted); `"law"` before the first.
     #[getter]
     fn mode(&self, py: Python<'_>) -> &'static str {
         self.state(py).mode.as_str()
@@ -783,65 +671,106 @@ impl Navigator {
     /// The control period in force, s.
     #[getter]
     fn control_period(&self, py: Python<'_>) -> f64 {
-        self.state(py).inner.control_period()
+        each!(&self.state(py).inner, nav => nav.control_period())
     }
 
     /// The certified clearance at `x`: a lower bound on the distance to the nearest known
-    /// grown obstacle and to the shrunk boundary, m (what the hold keeps each step within).
+    /// grown obstacle and to the shrunk boundary (on a floor plan: to the boundary layer,
+    /// `sd(x) − δ`), m (what the hold keeps each step within).
     fn clearance(&self, py: Python<'_>, x: &Bound<'_, PyAny>) -> PyResult<f64> {
         let x = point_like(x, "x")?;
-        Ok(self.state(py).inner.clearance(x))
+        Ok(each!(&self.state(py).inner, nav => nav.clearance(x)))
     }
 
-    /// Pickle support: `(Navigator, constructor arguments, state)`, the state being the list of
-    /// calls that made it (`("add", shape)`, `("command", x, v)`, `("scan", …)`), replayed by
-    /// `__setstate__`.
+    /// Pickle support. A star world's navigator: `(Navigator, constructor arguments, state)`;
+    /// a floor plan's: `(functools.partial(FloorNavigator, **keywords), (outer, goal, holes),
+    /// state)`, the true walls as rings however it was made (from rings or from a map), the
+    /// map solved again on unpickling (from the same rings: the same map). The state is the
+    /// list of calls that made it (`("add", shape)`, `("command", x, v)`, `("scan", …)`),
+    /// replayed by `__setstate__`.
     fn __reduce__<'py>(
-        &self,
-        py: Python<'py>,
+        slf: &Bound<'py, Self>,
     ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>, Bound<'py, PyList>)> {
+        let py = slf.py();
         // Copied out under the lock, turned into Python objects after it.
-        let (args, log) = {
-            let s = self.state(py);
-            (s.args.clone(), s.log.clone())
+        let (built, log) = {
+            let s = slf.get().state(py);
+            (s.built.clone(), s.log.clone())
         };
-        Ok((
-            py.get_type::<Self>().into_any(),
-            args.to_tuple(py)?,
-            log.to_python(py)?,
-        ))
+        let goal = [built.goal.x, built.goal.y];
+        let class = slf.get_type().into_any();
+        let (call, args) = match &built.workspace {
+            Workspace::Star(boundary) => {
+                let mut args = vec![
+                    Bound::new(py, boundary.clone())?.into_any(),
+                    goal.into_pyobject(py)?.into_any(),
+                ];
+                args.extend(built.keywords.values(py)?);
+                (class, PyTuple::new(py, args)?)
+            }
+            Workspace::Floor { map, keywords } => {
+                let walls = map.walls();
+                let ring = |r: &[Vector2<f64>]| r.iter().map(|p| [p.x, p.y]).collect::<Vec<_>>();
+                let holes: Vec<Vec<[f64; 2]>> = walls.holes().iter().map(|h| ring(h)).collect();
+                let named = built.keywords.to_dict(py)?;
+                keywords.add_to(&named)?;
+                let partial = py
+                    .import("functools")?
+                    .getattr("partial")?
+                    .call((class,), Some(&named))?;
+                (
+                    partial,
+                    (ring(walls.outer()), goal, holes).into_pyobject(py)?,
+                )
+            }
+        };
+        Ok((call, args, log.to_python(py)?))
     }
 
-    /// Restores a pickled state: rebuilds the navigator from its constructor arguments and
-    /// replays `state`. Raises `ValueError` or `TypeError` (and changes nothing) for a state
-    /// that does not replay.
+    /// Restores a pickled state: the navigator as constructed (a floor plan's on the same map,
+    /// not solved again) with `state` replayed. Raises `ValueError` or `TypeError` (and changes
+    /// nothing) for a state that does not replay.
     fn __setstate__(&self, py: Python<'_>, state: &Bound<'_, PyAny>) -> PyResult<()> {
-        let events = events(state, "Navigator")?;
-        let args = self.state(py).args.clone();
-        let mut fresh = State::new(args)?;
-        fresh.replay(events)?;
+        let (built, class) = {
+            let s = self.state(py);
+            (s.built.clone(), s.class())
+        };
+        let events = events(state, class)?;
+        let fresh = py.detach(|| {
+            let mut fresh = State::new(built)?;
+            fresh.replay(events)?;
+            Ok::<_, PyErr>(fresh)
+        })?;
         *self.state(py) = fresh;
         Ok(())
     }
 
     /// An independent navigator with the same obstacles and state (not shared: changing
-    /// either leaves the other as it was).
+    /// either leaves the other as it was; a floor plan's solved map is shared, it never
+    /// changes).
     fn __copy__(&self, py: Python<'_>) -> Self {
-        Self::holding(self.state(py).clone())
+        self.copied(py)
     }
 
     /// As `__copy__`; `memo` is unused (a navigator holds no Python objects).
     fn __deepcopy__(&self, py: Python<'_>, _memo: &Bound<'_, PyAny>) -> Self {
-        self.__copy__(py)
+        self.copied(py)
     }
 
     fn __repr__(&self, py: Python<'_>) -> String {
-        let s = self.state(py);
-        format!(
-            "Navigator({} obstacles known, k={})",
-            s.inner.obstacles().len(),
-            s.inner.k()
-        )
+        match &self.state(py).inner {
+            Inner::Star(nav) => format!(
+                "Navigator({} obstacles known, k={})",
+                nav.obstacles().len(),
+                nav.k()
+            ),
+            Inner::Floor(nav) => format!(
+                "FloorNavigator(δ = {} m, {} perceived obstacles, k={})",
+                nav.field().floor().delta(),
+                nav.perceived().count(),
+                nav.k()
+            ),
+        }
     }
 }
 
