@@ -4,6 +4,8 @@ Loizou & Rimon, ``Θ = σ∘φ_k∘Φ`` (eq. ``phiseq``), in Rust with NumPy arr
 from os import PathLike
 from typing import Any, Dict, List, Optional, Sequence, Tuple, Union, overload
 
+from typing_extensions import TypedDict, Unpack
+
 import numpy as np
 import numpy.typing as npt
 
@@ -97,7 +99,9 @@ class Field:
     def __deepcopy__(self, memo: Any) -> Field: ...
 
 class Navigator:
-    """The navigator of a robot that does not know its map.
+    """The navigator of a robot that does not know its map, over a star world
+    (``Navigator(boundary, goal, …)``) or a floor plan (``FloorNavigator``, its subclass: the
+    same options and methods).
 
     ``law="kinematic"``: ``u = −s(x)∇Θ/|∇Θ|``, the flow lines of eq. ``kinctrl``; under
     ``speed="auto"`` (the default) ``s = min(v_max, √(2a|x − x_d|))``: full speed until a braking
@@ -122,7 +126,9 @@ class Navigator:
     docs/maths.md §12.11).
 
     Invalid parameters raise ``ValueError`` naming them (the ranges of scenario files), and so
-    do parameters whose derived quantities (``d_min``, the speed bound, ``λ_c``) are not finite.
+    do parameters whose derived quantities (``d_min``, the speed bound, ``λ_c``) are not finite;
+    a keyword that is not an option raises ``TypeError`` naming it. Both worlds check their
+    options in one place.
     ``copy.copy``, ``copy.deepcopy`` and pickle give an independent navigator with the same
     known obstacles and state (the speed at the latest discovery, the last position): it
     commands exactly as the original.
@@ -199,7 +205,8 @@ class Navigator:
     def control_period(self) -> float:
         """The control period in force, s (default 0.01 kinematic, 0.001 dynamic)."""
     def clearance(self, x: _Point) -> float:
-        """The certified distance from ``x`` to the nearest known grown obstacle or the shrunk boundary."""
+        """The certified distance from ``x`` to the nearest known grown obstacle or the shrunk
+        boundary (on a floor plan: the boundary layer), m."""
     def theta(self, x: _Point) -> float:
         """``Θ(x)`` over the known obstacles (finite, or ``ValueError``)."""
     @property
@@ -213,8 +220,9 @@ class Navigator:
         """``√(2μ/m)`` for the dynamic law, ``None`` for the kinematic one."""
     def __reduce__(self) -> Tuple[Any, Tuple[Any, ...], List[Tuple[Any, ...]]]: ...
     def __setstate__(self, state: List[Tuple[Any, ...]]) -> None:
-        """Rebuilds the navigator and replays ``state`` (``("add", shape)``, ``("command", x,
-        v)`` entries); ``ValueError``/``TypeError``, and nothing changed, if it does not replay."""
+        """Rebuilds the navigator (a floor plan's on its map, not solved again) and replays
+        ``state`` (``("add", shape)``, ``("command", x, v)``, ``("scan", …)`` entries);
+        ``ValueError``/``TypeError``, and nothing changed, if it does not replay."""
     def __copy__(self) -> Navigator: ...
     def __deepcopy__(self, memo: Any) -> Navigator: ...
 
@@ -350,15 +358,39 @@ class FloorPlan:
     def __copy__(self) -> FloorPlan: ...
     def __deepcopy__(self, memo: Any) -> FloorPlan: ...
 
-class FloorNavigator:
-    """The navigator of a robot on a floor plan: the walls are known (rings of points, or a ROS
-    map), their harmonic map solved once on construction (without the GIL); star obstacles are
-    added as shapes or perceived from scans, each without a new solve. The robot stays in the
-    certified region ``W_δ``, at least ``max(radius + margin, δ)`` from the walls
-    (``δ = max_element``, docs/maths.md §13). ``ValueError`` names the field (a map's error the
-    file); a call that raises leaves the navigator as it was.
+class _Options(TypedDict, total=False):
+    """``Navigator``'s options after ``goal``, as keyword arguments (its defaults)."""
 
-    Threads: calls on one navigator are serialised by a lock inside it, as ``Navigator``'s.
+    law: str
+    gain: float
+    mass: float
+    mu: float
+    sensor: Tuple[float, float]
+    radius: float
+    margin: float
+    k: str
+    damping: str
+    rho_min: float
+    control_period: Optional[float]
+    hold: str
+    speed: str
+    v_max: Optional[float]
+    range_noise: float
+    max_obstacle_depth: float
+    growth_threshold: float
+    fit_range: Optional[float]
+    free_memory: int
+
+class FloorNavigator(Navigator):
+    """The navigator of a robot on a floor plan, a ``Navigator``: the walls are known (rings of
+    points, or a ROS map), their harmonic map solved once on construction (without the GIL);
+    star obstacles are added as shapes or perceived from scans, each without a new solve. The
+    robot stays in the certified region ``W_δ``, at least ``max(radius + margin, δ)`` from the
+    walls (``δ = max_element``, docs/maths.md §13). ``centre`` and ``heading`` are the floor
+    plan's own options; ``**options`` are ``Navigator``'s, with its defaults, checked as it
+    checks them. ``ValueError`` names the field (a map's error the file); a call that raises
+    leaves the navigator as it was. ``mode`` may also be ``"escaping"`` (along the shortest path
+    from a rest point of the hold).
 
     ``copy`` and ``deepcopy`` give an independent navigator with the same walls (the solved map
     shared), obstacles and state. Pickle stores the true walls as rings, the goal, the keyword
@@ -373,26 +405,10 @@ class FloorNavigator:
         goal: _Point,
         holes: Optional[Sequence[_Points]] = None,
         *,
-        law: str = "kinematic",
-        gain: float = 1.0,
-        mass: float = 1.0,
-        mu: float = 10.0,
-        radius: float = 0.0,
-        margin: float = 0.0,
         max_element: float = 0.2,
         centre: str = "solve",
-        k: str = "auto",
-        damping: str = "governed",
         heading: str = "auto",
-        hold: str = "auto",
-        speed: str = "auto",
-        v_max: Optional[float] = None,
-        control_period: Optional[float] = None,
-        range_noise: float = 0.02,
-        max_obstacle_depth: float = 1.0,
-        growth_threshold: float = 0.02,
-        fit_range: Optional[float] = None,
-        free_memory: int = 16,
+        **options: Unpack[_Options],
     ) -> None: ...
     @staticmethod
     def from_map(
@@ -402,76 +418,24 @@ class FloorNavigator:
         *,
         speck_pixels: int = 2,
         simplify: float = 0.5,
-        law: str = "kinematic",
-        gain: float = 1.0,
-        mass: float = 1.0,
-        mu: float = 10.0,
-        radius: float = 0.0,
-        margin: float = 0.0,
         max_element: float = 0.2,
         centre: str = "solve",
-        k: str = "auto",
-        damping: str = "governed",
         heading: str = "auto",
-        hold: str = "auto",
-        speed: str = "auto",
-        v_max: Optional[float] = None,
-        control_period: Optional[float] = None,
-        range_noise: float = 0.02,
-        max_obstacle_depth: float = 1.0,
-        growth_threshold: float = 0.02,
-        fit_range: Optional[float] = None,
-        free_memory: int = 16,
+        **options: Unpack[_Options],
     ) -> FloorNavigator:
         """The navigator on a ROS map_server map (the free component holding the goal; start
         and goal in world coordinates). ``ValueError`` names the file and the problem."""
-    def add_obstacle(self, shape: Shape) -> int: ...
-    def command(self, x: _Point, v: Optional[_Point] = None) -> npt.NDArray[np.float64]:
-        """The command to hold for ``control_period``: a velocity or a force, (2,); ``mode``
-        says how it was formed (``"law"``, ``"capped"``, ``"recovering"``, ``"escaping"``)."""
-    def observe_scan(
-        self,
-        position: _Point,
-        heading: float,
-        ranges: Any,
-        angle_min: float,
-        angle_increment: float,
-        range_max: float,
-        range_min: float = 0.0,
-    ) -> ScanUpdate:
-        """As ``Navigator.observe_scan``; hits on the walls are explained by the map."""
-    @property
-    def perceived(self) -> List[Tuple[int, Shape]]:
-        """The perceived shapes (not grown) as ``(index among the obstacles, star)`` pairs."""
-    @property
-    def obstacles(self) -> List[Shape]:
-        """Every known obstacle (not grown), in the navigator's order: the shapes given to
-        ``add_obstacle`` and the perceived ones."""
-    def theta(self, x: _Point) -> float: ...
-    def clearance(self, x: _Point) -> float:
-        """A lower bound on the distance to the boundary layer and the known grown obstacles, m."""
     def wall_distance(self, x: _Point) -> float:
         """The distance to the true walls (negative in a wall), m."""
     @property
-    def k(self) -> float: ...
+    def delta(self) -> float:
+        """``δ``, the width of the boundary layer, m."""
     @property
-    def delta(self) -> float: ...
+    def elements(self) -> int:
+        """The number of boundary elements of the harmonic map."""
     @property
-    def elements(self) -> int: ...
-    @property
-    def goal(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def speed_bound(self) -> Optional[float]: ...
-    @property
-    def mode(self) -> str: ...
-    @property
-    def control_period(self) -> float: ...
-    @property
-    def escapes(self) -> int: ...
-    def __reduce__(self) -> Tuple[Any, Tuple[Any, ...], List[Tuple[Any, ...]]]: ...
-    def __setstate__(self, state: List[Tuple[Any, ...]]) -> None:
-        """Rebuilds the navigator on its map and replays ``state`` (as ``Navigator``'s);
-        ``ValueError``/``TypeError``, and nothing changed, if it does not replay."""
+    def escapes(self) -> int:
+        """Escapes begun from rest points of the hold's slide (docs/maths.md §13.7)."""
     def __copy__(self) -> FloorNavigator: ...
     def __deepcopy__(self, memo: Any) -> FloorNavigator: ...
 
