@@ -503,3 +503,72 @@ fn the_base_is_validated_by_name() {
     let c = diff.command_pose(Vector2::new(-3.0, 0.0), PI).unwrap();
     assert_eq!((c.v, c.omega.abs(), c.steer), (0.0, 2.0, Steer::Turning));
 }
+
+/// The alternative of issue 53, measured (not a guarantee of this crate): the look-ahead point
+/// `p = x + ε e(θ)` driven by the holonomic navigator built for the radius `r + ε`,
+/// `v = ⟨u, e⟩`, `ω = ⟨u, e⊥⟩/ε` (`u` the held command at `p`), scaled together into the
+/// limits. Prints what it did in the same 20 worlds: how many it refused (grown obstacles
+/// overlapping), touches, arrivals of the centre within 0.15 m and 1 cm, time, reversing, and
+/// where the centre stops. docs/unicycle.md §6 quotes it.
+#[test]
+#[ignore = "a measurement: cargo test -p harmonav --test diff_drive look_ahead -- --ignored --nocapture"]
+fn look_ahead_point_comparison() {
+    let worlds: Vec<DiscWorld> = (0..20).map(|s| disc_world(s, 10)).collect();
+    for eps in [0.03, 0.05] {
+        let (mut refused, mut touched, mut near, mut arrived) = (0, 0, 0, 0);
+        let (mut times, mut reversing, mut stops) = (Vec::new(), Vec::new(), Vec::new());
+        for world in &worlds {
+            let options = Options::default()
+                .with_robot(RADIUS + eps, 0.0)
+                .with_control_period(H)
+                .with_v_max(V_MAX);
+            let boundary = StarShape::circle(Vector2::zeros(), BOUNDARY).unwrap();
+            let mut nav =
+                Navigator::new(boundary, world.goal, Law::kinematic(1.0), options).unwrap();
+            if world.discs.iter().any(|(c, r)| {
+                nav.add_obstacle(StarShape::circle(*c, *r).unwrap())
+                    .is_err()
+            }) {
+                refused += 1;
+                continue;
+            }
+            let (mut x, mut yaw) = (world.start, world.yaw);
+            let (mut back, mut t_near) = (0.0, None);
+            for n in 0..1200 {
+                let e = Vector2::new(yaw.cos(), yaw.sin());
+                let Ok(c) = nav.command(x + eps * e, Vector2::zeros()) else {
+                    touched += 1;
+                    break;
+                };
+                let (v, omega) = (c.value.dot(&e), (e.x * c.value.y - e.y * c.value.x) / eps);
+                let k = 1f64.min(V_MAX / v.abs()).min(OMEGA_MAX / omega.abs());
+                let (v, omega) = (k * v, k * omega);
+                let low = arc_min(|p| world.body_clearance(p), x, yaw, (v, omega), H);
+                (x, yaw) = unicycle_arc(x, yaw, v, omega, H);
+                back += (-v * H).max(0.0);
+                if low <= 0.0 {
+                    touched += 1;
+                    break;
+                }
+                if (x - world.goal).norm() < 0.15 && t_near.is_none() {
+                    t_near = Some((n + 1) as f64 * H);
+                }
+            }
+            near += usize::from(t_near.is_some());
+            arrived += usize::from((x - world.goal).norm() < 0.01);
+            times.extend(t_near);
+            reversing.push(back);
+            stops.push((x - world.goal).norm());
+        }
+        println!(
+            "look-ahead ε = {eps}: refused {refused}, touched {touched}, centre within 15 cm \
+             {near}, within 1 cm {arrived}; median {:.1} s to 15 cm (max {:.1}), reversing median \
+             {:.1} cm (max {:.1}), centre stops {:.1} cm from the goal (median)",
+            median(times.clone()),
+            times.iter().copied().fold(0.0, f64::max),
+            100.0 * median(reversing.clone()),
+            100.0 * reversing.iter().copied().fold(0.0, f64::max),
+            100.0 * median(stops),
+        );
+    }
+}
