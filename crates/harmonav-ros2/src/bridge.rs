@@ -1,0 +1,697 @@
+//! The node's logic without DDS: messages in, a velocity command out, every stop with its
+//! reason. [`Bridge`] is driven by `main.rs` (and by the unit tests) with arrival times from
+//! the steady clock.
+//!
+//! Frames (REP 105): the navigation runs in `global_frame` (`map`); the robot's pose there is
+//! `map → odom` (`/tf`, from AMCL or SLAM) ∘ `odom → base_link` (`/odom`'s pose, or `/tf`),
+//! and the laser's is that ∘ `base_link → laser` (`/tf_static`). An edge never published is
+//! taken as the identity, said once: a simulator that publishes only `/odom` works (map =
+//! odom, the laser at base_link).
+
+use std::collections::HashSet;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::{Duration, Instant};
+
+use harmonav::floorplan::ros_map::{MapOptions, RosMap};
+use harmonav::{
+    FloorMap, FloorNavigator, FloorOptions, Law, Mode, Navigator, Options, StarShape, Vector2,
+    World,
+};
+
+use crate::msgs::{self, OccupancyGrid, Odometry, PoseStamped, TFMessage, Twist, Vector3};
+use crate::params::{Base, LawKind, Params};
+use crate::tf::{Buffer, Lookup, Se2};
+
+/// A message dropped, with why.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BadMessage(pub String);
+
+impl std::fmt::Display for BadMessage {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+/// A `sensor_msgs/LaserScan` as harmonav's scan (ranges widened to f64; REP 117's classes,
+/// `−Inf` too close, `NaN` error, `+Inf` or `≥ range_max` no return, `< range_min` invalid,
+/// are kept as they are and classified by `harmonav::perception`).
+///
+/// # Errors
+/// An empty scan, a non-finite angle or limit, `angle_increment ≤ 0` (a clockwise scanner:
+/// dropped, not reversed, as the issue asks), `range_max ≤ range_min`, `range_min < 0`.
+pub fn scan_to_harmonav(m: &msgs::LaserScan) -> Result<harmonav::LaserScan, BadMessage> {
+    let bad = |s: &str| Err(BadMessage(format!("scan dropped: {s}")));
+    if m.ranges.is_empty() {
+        return bad("no ranges");
+    }
+    for (v, name) in [
+        (m.angle_min, "angle_min"),
+        (m.angle_increment, "angle_increment"),
+        (m.range_min, "range_min"),
+        (m.range_max, "range_max"),
+    ] {
+        if !v.is_finite() {
+            return bad(&format!("{name} is not finite"));
+        }
+    }
+    if m.angle_increment <= 0.0 {
+        return bad(&format!(
+            "angle_increment = {} ≤ 0 (a clockwise scan)",
+            m.angle_increment
+        ));
+    }
+    if m.range_min < 0.0 || m.range_max <= m.range_min {
+        return bad(&format!(
+            "range limits [{}, {}] are not 0 ≤ range_min < range_max",
+            m.range_min, m.range_max
+        ));
+    }
+    Ok(harmonav::LaserScan {
+        angle_min: f64::from(m.angle_min),
+        angle_increment: f64::from(m.angle_increment),
+        range_min: f64::from(m.range_min),
+        range_max: f64::from(m.range_max),
+        ranges: m.ranges.iter().map(|&r| f64::from(r)).collect(),
+    })
+}
+
+/// The class of a grid cell, map_server's reading of `p = occupancy/100`: `p > occupied`
+/// occupied, `p < free` free, else (and −1, and above 100) unknown, which counts as occupied.
+#[must_use]
+pub fn grid_cell(v: i8, occupied: f64, free: f64) -> harmonav::floorplan::ros_map::Cell {
+    use harmonav::floorplan::ros_map::Cell;
+    if !(0..=100).contains(&v) {
+        return Cell::Unknown;
+    }
+    let p = f64::from(v) / 100.0;
+    if p > occupied {
+        Cell::Occupied
+    } else if p < free {
+        Cell::Free
+    } else {
+        Cell::Unknown
+    }
+}
+
+static MAP_FILES: AtomicU64 = AtomicU64::new(0);
+
+/// A `nav_msgs/OccupancyGrid` through the same pipeline as a map_server file: it is written as
+/// one (a trinary PGM, row 0 at the top, and its YAML with the grid's resolution and origin)
+/// into a private temporary folder, read back by [`RosMap::load`], and the folder removed.
+/// (harmonav-floorplan has no in-memory constructor; the files cost milliseconds.)
+///
+/// # Errors
+/// A size that does not match the data, a zero side, a resolution or origin that is not
+/// finite and positive, or what [`RosMap::load`] refuses (a side above its cap).
+pub fn grid_to_ros_map(g: &OccupancyGrid, occupied: f64, free: f64) -> Result<RosMap, BadMessage> {
+    use harmonav::floorplan::ros_map::Cell;
+    use std::io::Write;
+    let bad = |s: String| Err(BadMessage(format!("map dropped: {s}")));
+    let (w, h) = (g.info.width as usize, g.info.height as usize);
+    if w == 0 || h == 0 {
+        return bad(format!("size {w} × {h}"));
+    }
+    if w.checked_mul(h) != Some(g.data.len()) {
+        return bad(format!(
+            "size {w} × {h} does not match its {} cells",
+            g.data.len()
+        ));
+    }
+    let res = f64::from(g.info.resolution);
+    if !(res.is_finite() && res > 0.0) {
+        return bad(format!("resolution {res}"));
+    }
+    let o = &g.info.origin;
+    let Some(yaw) = o.orientation.yaw() else {
+        return bad("origin's orientation is not a rotation".into());
+    };
+    if !(o.position.x.is_finite() && o.position.y.is_finite()) {
+        return bad("origin is not finite".into());
+    }
+    let n = MAP_FILES.fetch_add(1, Ordering::Relaxed);
+    let dir = std::env::temp_dir().join(format!("harmonav-ros2-{}-{n}", std::process::id()));
+    let result = (|| -> Result<RosMap, String> {
+        std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
+        let mut pgm = Vec::with_capacity(w * h + 32);
+        write!(pgm, "P5\n{w} {h}\n255\n").map_err(|e| e.to_string())?;
+        for row in (0..h).rev() {
+            pgm.extend(g.data[row * w..(row + 1) * w].iter().map(|&v| {
+                match grid_cell(v, occupied, free) {
+                    Cell::Free => 254u8,
+                    Cell::Occupied => 0,
+                    Cell::Unknown => 128,
+                }
+            }));
+        }
+        std::fs::write(dir.join("map.pgm"), &pgm).map_err(|e| e.to_string())?;
+        let yaml = format!(
+            "image: map.pgm\nresolution: {res:?}\norigin: [{:?}, {:?}, {yaw:?}]\nnegate: 0\n\
+             occupied_thresh: 0.65\nfree_thresh: 0.25\nmode: trinary\n",
+            o.position.x, o.position.y
+        );
+        std::fs::write(dir.join("map.yaml"), yaml).map_err(|e| e.to_string())?;
+        RosMap::load(dir.join("map.yaml")).map_err(|e| e.to_string())
+    })();
+    let _ = std::fs::remove_dir_all(&dir);
+    result.or_else(bad)
+}
+
+/// Why the robot is stopped (each logged once when it begins).
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub enum Stop {
+    /// No goal yet (or the last one reached).
+    NoGoal,
+    /// The goal is reached.
+    Arrived,
+    /// `map_topic` is set and no map has come.
+    WaitingForMap,
+    /// No odometry yet, or older than `odom_timeout`.
+    StaleOdom,
+    /// No scan yet, or older than `scan_timeout`.
+    StaleScan,
+    /// A dynamic transform is older than `transform_timeout`.
+    StaleTransform,
+    /// The navigator could not be built for this goal (and map).
+    NoNavigator(String),
+    /// The last scan was refused by the navigator (`Mode::Halted`).
+    ScanRefused,
+    /// The navigator refused the command (the error).
+    Refused(String),
+    /// Shutting down.
+    Shutdown,
+}
+
+impl std::fmt::Display for Stop {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::NoGoal => f.write_str("no goal"),
+            Self::Arrived => f.write_str("goal reached"),
+            Self::WaitingForMap => f.write_str("waiting for the map"),
+            Self::StaleOdom => f.write_str("odometry missing or stale"),
+            Self::StaleScan => f.write_str("scan missing or stale"),
+            Self::StaleTransform => f.write_str("transform stale"),
+            Self::NoNavigator(e) => write!(f, "no navigator for this goal: {e}"),
+            Self::ScanRefused => f.write_str("the last scan was refused (halted)"),
+            Self::Refused(e) => write!(f, "command refused: {e}"),
+            Self::Shutdown => f.write_str("shutting down"),
+        }
+    }
+}
+
+/// The navigator of either world.
+enum Nav {
+    /// A disc around the robot, from scans alone.
+    Star(Box<Navigator>),
+    /// The floor plan from `/map`.
+    Floor(Box<FloorNavigator>),
+}
+
+/// What one control step gives.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Step {
+    /// The command in the base frame (zero when stopped).
+    pub twist: Twist,
+    /// Why it is zero, if it is.
+    pub stop: Option<Stop>,
+    /// The navigator's mode name when it commanded.
+    pub mode: Option<&'static str>,
+}
+
+/// The latest scan.
+struct LastScan {
+    scan: harmonav::LaserScan,
+    frame: String,
+    arrival: Instant,
+    /// s between scans (`scan_time`, else 0.1).
+    period: f64,
+    /// Whether the navigator has seen it.
+    observed: bool,
+}
+
+/// The node's state.
+pub struct Bridge {
+    params: Params,
+    tf: Buffer,
+    map: Option<Arc<RosMap>>,
+    goal: Option<Vector2<f64>>,
+    nav: Option<Nav>,
+    /// The goal (and map version) the navigator was built for needs rebuilding.
+    dirty: bool,
+    build_error: Option<String>,
+    last_scan: Option<LastScan>,
+    last_odom: Option<Instant>,
+    /// The dynamic law's velocity state (nav frame).
+    velocity: Vector2<f64>,
+    arrived: bool,
+    scan_refused: bool,
+    said: HashSet<String>,
+    /// Log lines since the last [`Bridge::drain_log`] (level, text).
+    log: Vec<(log::Level, String)>,
+    last_stop: Option<Stop>,
+}
+
+impl Bridge {
+    /// A bridge with these parameters (checked by `Params::validate`).
+    #[must_use]
+    pub fn new(params: Params) -> Self {
+        Self {
+            params,
+            tf: Buffer::new(),
+            map: None,
+            goal: None,
+            nav: None,
+            dirty: false,
+            build_error: None,
+            last_scan: None,
+            last_odom: None,
+            velocity: Vector2::zeros(),
+            arrived: false,
+            scan_refused: false,
+            said: HashSet::new(),
+            log: Vec::new(),
+            last_stop: None,
+        }
+    }
+
+    /// The parameters.
+    #[must_use]
+    pub fn params(&self) -> &Params {
+        &self.params
+    }
+
+    /// The log lines since the last call.
+    pub fn drain_log(&mut self) -> Vec<(log::Level, String)> {
+        std::mem::take(&mut self.log)
+    }
+
+    fn say(&mut self, level: log::Level, text: String) {
+        self.log.push((level, text));
+    }
+
+    fn say_once(&mut self, key: &str, level: log::Level, text: String) {
+        if self.said.insert(key.to_owned()) {
+            self.log.push((level, text));
+        }
+    }
+
+    /// `/tf` or `/tf_static`.
+    pub fn on_tf(&mut self, m: &TFMessage, now: Instant, is_static: bool) {
+        for t in &m.transforms {
+            if let Err(e) = self.tf.insert_msg(t, now, is_static) {
+                let key = format!("tf {} {} {e}", t.header.frame_id, t.child_frame_id);
+                self.say_once(
+                    &key,
+                    log::Level::Warn,
+                    format!(
+                        "transform {} → {} dropped: {e}",
+                        t.header.frame_id, t.child_frame_id
+                    ),
+                );
+            }
+        }
+    }
+
+    /// `/odom`: its pose is the `odom → base_link` edge.
+    pub fn on_odom(&mut self, m: &Odometry, now: Instant) {
+        let p = &m.pose.pose;
+        let (Some(yaw), true) = (
+            p.orientation.yaw(),
+            p.position.x.is_finite() && p.position.y.is_finite(),
+        ) else {
+            self.say(log::Level::Warn, "odometry dropped: pose not finite".into());
+            return;
+        };
+        let parent = if m.header.frame_id.is_empty() {
+            self.params.odom_frame.clone()
+        } else {
+            m.header.frame_id.clone()
+        };
+        let child = if m.child_frame_id.is_empty() {
+            self.params.robot_base_frame.clone()
+        } else {
+            m.child_frame_id.clone()
+        };
+        let se2 = Se2::new(p.position.x, p.position.y, yaw);
+        match self
+            .tf
+            .insert(&parent, &child, se2, m.header.stamp, now, false)
+        {
+            Ok(()) => self.last_odom = Some(now),
+            Err(e) => self.say(log::Level::Warn, format!("odometry dropped: {e}")),
+        }
+    }
+
+    /// `/goal_pose`.
+    pub fn on_goal(&mut self, m: &PoseStamped, now: Instant) {
+        let p = &m.pose.position;
+        if !(p.x.is_finite() && p.y.is_finite()) {
+            self.say(log::Level::Warn, "goal dropped: not finite".into());
+            return;
+        }
+        let frame = if m.header.frame_id.is_empty() {
+            self.params.global_frame.clone()
+        } else {
+            m.header.frame_id.clone()
+        };
+        let (t, _) = self.transform(&self.params.global_frame.clone(), &frame, now);
+        let g = t.compose(&Se2::new(p.x, p.y, 0.0));
+        self.goal = Some(Vector2::new(g.x, g.y));
+        self.dirty = true;
+        self.arrived = false;
+        self.say(
+            log::Level::Info,
+            format!(
+                "goal ({:.3}, {:.3}) in {}",
+                g.x, g.y, self.params.global_frame
+            ),
+        );
+    }
+
+    /// `/map`.
+    pub fn on_map(&mut self, m: &OccupancyGrid) {
+        if !m.header.frame_id.is_empty()
+            && m.header.frame_id.trim_start_matches('/') != self.params.global_frame
+        {
+            let text = format!(
+                "the map's frame {:?} is taken as global_frame {:?}",
+                m.header.frame_id, self.params.global_frame
+            );
+            self.say_once("map frame", log::Level::Warn, text);
+        }
+        match grid_to_ros_map(m, self.params.occupied_thresh, self.params.free_thresh) {
+            Ok(map) => {
+                let (w, h) = map.size();
+                self.say(
+                    log::Level::Info,
+                    format!(
+                        "map {w} × {h} at {} m/cell, {} free cells",
+                        map.resolution(),
+                        map.free_count()
+                    ),
+                );
+                self.map = Some(Arc::new(map));
+                self.dirty = true;
+            }
+            Err(e) => self.say(log::Level::Warn, e.0),
+        }
+    }
+
+    /// `frame`'s pose in `ancestor`, the identity (said once) where no edge joins them, and
+    /// the arrival of the oldest dynamic edge used.
+    fn transform(&mut self, ancestor: &str, frame: &str, _now: Instant) -> (Se2, Option<Instant>) {
+        match self.tf.lookup(ancestor, frame) {
+            Lookup::Found(t, a) => (t, a),
+            Lookup::Missing => {
+                self.say_once(
+                    &format!("identity {ancestor} {frame}"),
+                    log::Level::Info,
+                    format!("no transform {ancestor} → {frame} published: taken as the identity"),
+                );
+                (Se2::IDENTITY, None)
+            }
+        }
+    }
+
+    /// The robot's pose in `global_frame` through `odom_frame`, and the oldest dynamic edge.
+    fn robot_pose(&mut self, now: Instant) -> (Se2, Option<Instant>) {
+        let (g, o, b) = (
+            self.params.global_frame.clone(),
+            self.params.odom_frame.clone(),
+            self.params.robot_base_frame.clone(),
+        );
+        let (m_o, a1) = self.transform(&g, &o, now);
+        let (o_b, a2) = self.transform(&o, &b, now);
+        let oldest = match (a1, a2) {
+            (Some(x), Some(y)) => Some(x.min(y)),
+            (x, y) => x.or(y),
+        };
+        (m_o.compose(&o_b), oldest)
+    }
+
+    /// `/scan`: converted and, when a navigator exists, observed at the laser's pose.
+    pub fn on_scan(&mut self, m: &msgs::LaserScan, now: Instant) {
+        let scan = match scan_to_harmonav(m) {
+            Ok(s) => s,
+            Err(e) => {
+                self.say(log::Level::Warn, e.0);
+                return;
+            }
+        };
+        let period = if m.scan_time > 0.0 && m.scan_time.is_finite() {
+            f64::from(m.scan_time)
+        } else {
+            0.1
+        };
+        let frame = if m.header.frame_id.is_empty() {
+            self.params.robot_base_frame.clone()
+        } else {
+            m.header.frame_id.clone()
+        };
+        self.last_scan = Some(LastScan {
+            scan,
+            frame,
+            arrival: now,
+            period,
+            observed: false,
+        });
+        if self.nav.is_some() {
+            self.observe_last(now);
+        }
+    }
+
+    /// Hands the latest scan to the navigator at the laser's pose.
+    fn observe_last(&mut self, now: Instant) {
+        let Some(frame) = self
+            .last_scan
+            .as_ref()
+            .filter(|s| !s.observed)
+            .map(|s| s.frame.clone())
+        else {
+            return;
+        };
+        let (base, _) = self.robot_pose(now);
+        let (b_l, _) = self.transform(&self.params.robot_base_frame.clone(), &frame, now);
+        let l = base.compose(&b_l);
+        let pose = harmonav::Pose::new(l.x, l.y, l.yaw);
+        let Some(last) = self.last_scan.as_mut() else {
+            return;
+        };
+        last.observed = true;
+        let result = match &mut self.nav {
+            Some(Nav::Star(n)) => n.observe_scan(pose, &last.scan).map(|_| ()),
+            Some(Nav::Floor(n)) => n.observe_scan(pose, &last.scan).map(|_| ()),
+            None => return,
+        };
+        match result {
+            Ok(()) => self.scan_refused = false,
+            Err(e) => {
+                self.scan_refused = true;
+                self.say(
+                    log::Level::Warn,
+                    format!("scan refused by the navigator: {e}"),
+                );
+            }
+        }
+    }
+
+    /// The navigator's options from the parameters.
+    fn options(&self, law: &Law) -> Options {
+        let p = &self.params;
+        let mut o = Options::default()
+            .with_robot(p.robot_radius, p.margin)
+            .with_sensor(p.sensor_range, 360.0)
+            .with_control_period(1.0 / p.controller_frequency);
+        if p.v_max > 0.0 {
+            o = o.with_v_max(p.v_max);
+        }
+        if let Some(s) = &self.last_scan {
+            o.scan.fit_range = o.recommended_fit_range(law, s.period, s.scan.range_min);
+        }
+        o
+    }
+
+    fn law(&self) -> Law {
+        match self.params.law {
+            LawKind::Kinematic => Law::kinematic(self.params.gain),
+            LawKind::Dynamic => Law::dynamic(self.params.mass, self.params.mu),
+        }
+    }
+
+    /// Builds the navigator for the goal from the robot's pose: on the floor plan of `/map`,
+    /// or without one in a disc around the robot.
+    fn build(&mut self, x: Vector2<f64>, goal: Vector2<f64>) -> Result<Nav, String> {
+        let law = self.law();
+        let options = self.options(&law);
+        let p = &self.params;
+        if p.map_topic.is_empty() {
+            let r = p.scan_world_radius.max((goal - x).norm() + 1.0);
+            let disc = StarShape::circle(x, r).map_err(|e| e.to_string())?;
+            let nav = Navigator::new(disc, goal, law, options).map_err(|e| e.to_string())?;
+            return Ok(Nav::Star(Box::new(nav)));
+        }
+        let Some(map) = &self.map else {
+            return Err("no map".into());
+        };
+        let floor = FloorOptions::new(p.max_element, p.robot_radius + p.margin);
+        let plan: FloorMap = map
+            .to_floor_map(x, goal, &MapOptions::new(floor))
+            .map_err(|e| e.to_string())?;
+        let nav =
+            FloorNavigator::new(Arc::new(plan), goal, law, options).map_err(|e| e.to_string())?;
+        Ok(Nav::Floor(Box::new(nav)))
+    }
+
+    /// One control step at `now`: the command to publish (zero, with its reason, when
+    /// stopped). Each stop is logged once when it begins.
+    pub fn step(&mut self, now: Instant) -> Step {
+        let stop = self.step_inner(now);
+        match stop {
+            Ok((u, mode)) => {
+                if self.last_stop.take().is_some() {
+                    self.say(log::Level::Info, "moving".into());
+                }
+                Step {
+                    twist: u,
+                    stop: None,
+                    mode: Some(mode),
+                }
+            }
+            Err(stop) => {
+                self.velocity = Vector2::zeros();
+                if self.last_stop.as_ref() != Some(&stop) {
+                    self.say(log::Level::Warn, format!("stop: {stop}"));
+                    self.last_stop = Some(stop.clone());
+                }
+                Step {
+                    twist: Twist::default(),
+                    stop: Some(stop),
+                    mode: None,
+                }
+            }
+        }
+    }
+
+    fn step_inner(&mut self, now: Instant) -> Result<(Twist, &'static str), Stop> {
+        let p = self.params.clone();
+        let fresh = |t: Option<Instant>, timeout: f64| {
+            t.is_some_and(|t| now.saturating_duration_since(t) <= Duration::from_secs_f64(timeout))
+        };
+        let Some(goal) = self.goal else {
+            return Err(Stop::NoGoal);
+        };
+        if !p.map_topic.is_empty() && self.map.is_none() {
+            return Err(Stop::WaitingForMap);
+        }
+        let (odom_ok, scan_ok) = (
+            fresh(self.last_odom, p.odom_timeout),
+            fresh(self.last_scan.as_ref().map(|s| s.arrival), p.scan_timeout),
+        );
+        // Before the first message of each, always wait; afterwards the safety stop may be
+        // turned off (the tests' negative control).
+        if self.last_odom.is_none() || (p.stale_stop && !odom_ok) {
+            return Err(Stop::StaleOdom);
+        }
+        if self.last_scan.is_none() || (p.stale_stop && !scan_ok) {
+            return Err(Stop::StaleScan);
+        }
+        let (pose, oldest) = self.robot_pose(now);
+        if p.stale_stop && Buffer::stale(oldest, now, Duration::from_secs_f64(p.transform_timeout))
+        {
+            return Err(Stop::StaleTransform);
+        }
+        let x = Vector2::new(pose.x, pose.y);
+        if self.arrived || (x - goal).norm() <= p.goal_tolerance {
+            if !self.arrived {
+                self.say(
+                    log::Level::Info,
+                    format!("goal reached at ({:.3}, {:.3})", x.x, x.y),
+                );
+            }
+            self.arrived = true;
+            return Err(Stop::Arrived);
+        }
+        if self.dirty {
+            self.dirty = false;
+            self.nav = None;
+            let started = Instant::now();
+            match self.build(x, goal) {
+                Ok(nav) => {
+                    self.nav = Some(nav);
+                    self.build_error = None;
+                    self.scan_refused = false;
+                    self.velocity = Vector2::zeros();
+                    self.say(
+                        log::Level::Info,
+                        format!(
+                            "navigator built in {:.3} s ({})",
+                            started.elapsed().as_secs_f64(),
+                            if p.map_topic.is_empty() {
+                                "disc from scans"
+                            } else {
+                                "floor plan from /map"
+                            }
+                        ),
+                    );
+                    // The latest scan is observed before the first command.
+                    if let Some(s) = self.last_scan.as_mut() {
+                        s.observed = false;
+                    }
+                    self.observe_last(now);
+                }
+                Err(e) => self.build_error = Some(e),
+            }
+        }
+        if let Some(e) = &self.build_error {
+            return Err(Stop::NoNavigator(e.clone()));
+        }
+        if self.scan_refused {
+            return Err(Stop::ScanRefused);
+        }
+        let h = 1.0 / p.controller_frequency;
+        let v = self.velocity;
+        let result = match &mut self.nav {
+            Some(Nav::Star(n)) => command(n, x, v),
+            Some(Nav::Floor(n)) => command(n, x, v),
+            None => return Err(Stop::NoNavigator("not built".into())),
+        };
+        let cmd = result.map_err(Stop::Refused)?;
+        if cmd.mode == Mode::Halted {
+            return Err(Stop::ScanRefused);
+        }
+        let u = match p.law {
+            LawKind::Kinematic => cmd.value,
+            LawKind::Dynamic => {
+                self.velocity = v + h * cmd.value / p.mass;
+                self.velocity
+            }
+        };
+        match p.base {
+            Base::Holonomic => {
+                let b = pose.inverse().rotate([u.x, u.y]);
+                Ok((
+                    Twist {
+                        linear: Vector3 {
+                            x: b[0],
+                            y: b[1],
+                            z: 0.0,
+                        },
+                        angular: Vector3::default(),
+                    },
+                    cmd.mode.as_str(),
+                ))
+            }
+            // Refused at start-up until the differential-drive law exists (issue 53).
+            Base::Diff => Err(Stop::Refused("base = \"diff\" is not supported yet".into())),
+        }
+    }
+}
+
+/// The navigator's command at `x` (velocity state `v`), its error as text.
+fn command<W: World>(
+    nav: &mut Navigator<W>,
+    x: Vector2<f64>,
+    v: Vector2<f64>,
+) -> Result<harmonav::Command, String> {
+    nav.command(x, v).map_err(|e| e.to_string())
+}

@@ -1,0 +1,521 @@
+//! The node's parameters: a ROS 2 parameter file in ROS's own format, given as
+//! `harmonav-ros2 --ros-args --params-file FILE` (several files: later ones win), and
+//! `-p name:=value` overrides, as `ros2 run` passes them.
+//!
+//! ```yaml
+//! /**:                      # or the node's name, `harmonav` (`/harmonav`)
+//!   ros__parameters:
+//!     global_frame: map
+//!     controller_frequency: 20.0
+//! ```
+//!
+//! Nested maps flatten with dots, as ROS's do. An unknown parameter or a value of the wrong
+//! type is an error naming it (a typo must not silently keep a default).
+
+use std::fmt;
+
+use yaml_rust2::{Yaml, YamlLoader};
+
+/// The node's name (the key a parameter file may use instead of `/**`).
+pub const NODE_NAME: &str = "harmonav";
+
+/// The kinematics of the base.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Base {
+    /// `linear.x`, `linear.y`.
+    Holonomic,
+    /// `linear.x`, `angular.z` (differential drive).
+    Diff,
+}
+
+/// The navigation law.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LawKind {
+    /// `u = −K∇Θ` (a velocity).
+    Kinematic,
+    /// A force, integrated by the node into the velocity it publishes.
+    Dynamic,
+}
+
+/// Every parameter, with Nav2's names where Nav2 has one.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Params {
+    /// The navigation frame of the floor plan and of goals (`map`).
+    pub global_frame: String,
+    /// The odometry frame (`odom`).
+    pub odom_frame: String,
+    /// The robot's base frame (`base_link`).
+    pub robot_base_frame: String,
+    /// The floor plan's topic; empty: no map, a disc around the robot from scans alone.
+    pub map_topic: String,
+    /// The laser scans' topic.
+    pub scan_topic: String,
+    /// The odometry's topic.
+    pub odom_topic: String,
+    /// The goals' topic (RViz's "2D Goal Pose").
+    pub goal_topic: String,
+    /// The velocity commands' topic.
+    pub cmd_vel_topic: String,
+    /// The status topic (`std_msgs/String`: mode and reasons).
+    pub status_topic: String,
+    /// Hz: the control period `1/f` is the period every command is certified to be held for.
+    pub controller_frequency: f64,
+    /// m.
+    pub robot_radius: f64,
+    /// m: the clearance kept beyond the radius.
+    pub margin: f64,
+    /// `kinematic` or `dynamic`.
+    pub law: LawKind,
+    /// The kinematic law's gain `K`.
+    pub gain: f64,
+    /// The dynamic law's mass (kg) and `μ`.
+    pub mass: f64,
+    /// The dynamic law's `μ` (the energy bound).
+    pub mu: f64,
+    /// m/s: the kinematic law's top speed (≤ 0: the law's own, `K√2`).
+    pub v_max: f64,
+    /// m: arrival radius.
+    pub goal_tolerance: f64,
+    /// Publish `TwistStamped` instead of `Twist` (Nav2's name).
+    pub enable_stamped_cmd_vel: bool,
+    /// `holonomic` or `diff`.
+    pub base: Base,
+    /// s: a scan older than this stops the robot.
+    pub scan_timeout: f64,
+    /// s: odometry older than this stops the robot.
+    pub odom_timeout: f64,
+    /// s: a dynamic transform (`/tf`) older than this stops the robot.
+    pub transform_timeout: f64,
+    /// Stop on stale data (the negative control of the tests turns it off; never on a robot).
+    pub stale_stop: bool,
+    /// m: the lidar's range for the perception's priors (`Options::with_sensor`).
+    pub sensor_range: f64,
+    /// m: without a map, the radius of the disc around the robot (at the goal's arrival) that
+    /// is navigated; at least the goal's distance plus a metre.
+    pub scan_world_radius: f64,
+    /// m: the floor plan's boundary element (`FloorOptions`' `h`).
+    pub max_element: f64,
+    /// map_server's thresholds for the grid's occupancies (0–100 as 0–1).
+    pub occupied_thresh: f64,
+    /// map_server's free threshold.
+    pub free_thresh: f64,
+    /// Take time from `/clock` (`rosgraph_msgs/Clock`) for stamps.
+    pub use_sim_time: bool,
+}
+
+impl Default for Params {
+    fn default() -> Self {
+        Self {
+            global_frame: "map".into(),
+            odom_frame: "odom".into(),
+            robot_base_frame: "base_link".into(),
+            map_topic: "map".into(),
+            scan_topic: "scan".into(),
+            odom_topic: "odom".into(),
+            goal_topic: "goal_pose".into(),
+            cmd_vel_topic: "cmd_vel".into(),
+            status_topic: "harmonav/status".into(),
+            controller_frequency: 20.0,
+            robot_radius: 0.1,
+            margin: 0.05,
+            law: LawKind::Kinematic,
+            gain: 1.0,
+            mass: 1.0,
+            mu: 10.0,
+            v_max: 0.0,
+            goal_tolerance: 0.1,
+            enable_stamped_cmd_vel: false,
+            base: Base::Holonomic,
+            scan_timeout: 0.5,
+            odom_timeout: 0.5,
+            transform_timeout: 1.0,
+            stale_stop: true,
+            sensor_range: 3.5,
+            scan_world_radius: 5.0,
+            max_element: 0.2,
+            occupied_thresh: 0.65,
+            free_thresh: 0.25,
+            use_sim_time: false,
+        }
+    }
+}
+
+/// A parameter that could not be taken.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParamError(pub String);
+
+impl fmt::Display for ParamError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for ParamError {}
+
+/// One value as ROS writes it.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Value {
+    /// `true`/`false`.
+    Bool(bool),
+    /// An integer.
+    Int(i64),
+    /// A float.
+    Float(f64),
+    /// A string.
+    Str(String),
+}
+
+impl Value {
+    fn from_yaml(y: &Yaml) -> Option<Self> {
+        Some(match y {
+            Yaml::Boolean(b) => Self::Bool(*b),
+            Yaml::Integer(i) => Self::Int(*i),
+            Yaml::Real(_) => Self::Float(y.as_f64()?),
+            Yaml::String(s) => Self::Str(s.clone()),
+            _ => return None,
+        })
+    }
+
+    /// A command-line value (`-p name:=value`): YAML's reading of the text.
+    fn from_text(text: &str) -> Self {
+        match YamlLoader::load_from_str(text)
+            .ok()
+            .and_then(|d| d.first().and_then(Value::from_yaml))
+        {
+            Some(v) => v,
+            None => Self::Str(text.to_owned()),
+        }
+    }
+}
+
+impl Params {
+    /// Sets one parameter by name.
+    ///
+    /// # Errors
+    /// An unknown name, a value of the wrong type or out of range.
+    pub fn set(&mut self, name: &str, value: &Value) -> Result<(), ParamError> {
+        let wrong =
+            |want: &str| ParamError(format!("parameter {name}: expected {want}, got {value:?}"));
+        let text = |v: &Value| match v {
+            Value::Str(s) => Ok(s.clone()),
+            _ => Err(wrong("a string")),
+        };
+        let float = |v: &Value| match *v {
+            #[allow(clippy::cast_precision_loss)]
+            Value::Int(i) => Ok(i as f64),
+            Value::Float(f) if f.is_finite() => Ok(f),
+            _ => Err(wrong("a finite number")),
+        };
+        let positive = |v: &Value| {
+            let f = float(v)?;
+            if f > 0.0 {
+                Ok(f)
+            } else {
+                Err(wrong("a number > 0"))
+            }
+        };
+        let flag = |v: &Value| match *v {
+            Value::Bool(b) => Ok(b),
+            _ => Err(wrong("true or false")),
+        };
+        match name {
+            "global_frame" => self.global_frame = text(value)?,
+            "odom_frame" => self.odom_frame = text(value)?,
+            "robot_base_frame" => self.robot_base_frame = text(value)?,
+            "map_topic" => self.map_topic = text(value)?,
+            "scan_topic" => self.scan_topic = text(value)?,
+            "odom_topic" => self.odom_topic = text(value)?,
+            "goal_topic" => self.goal_topic = text(value)?,
+            "cmd_vel_topic" => self.cmd_vel_topic = text(value)?,
+            "status_topic" => self.status_topic = text(value)?,
+            "controller_frequency" => self.controller_frequency = positive(value)?,
+            "robot_radius" => self.robot_radius = positive(value)?,
+            "margin" => {
+                self.margin = float(value)?;
+                if self.margin < 0.0 {
+                    return Err(wrong("a number ≥ 0"));
+                }
+            }
+            "law" => {
+                self.law = match text(value)?.as_str() {
+                    "kinematic" => LawKind::Kinematic,
+                    "dynamic" => LawKind::Dynamic,
+                    _ => return Err(wrong("\"kinematic\" or \"dynamic\"")),
+                }
+            }
+            "gain" => self.gain = positive(value)?,
+            "mass" => self.mass = positive(value)?,
+            "mu" => self.mu = positive(value)?,
+            "v_max" => self.v_max = float(value)?,
+            "goal_tolerance" => self.goal_tolerance = positive(value)?,
+            "enable_stamped_cmd_vel" => self.enable_stamped_cmd_vel = flag(value)?,
+            "base" => {
+                self.base = match text(value)?.as_str() {
+                    "holonomic" => Base::Holonomic,
+                    "diff" => Base::Diff,
+                    _ => return Err(wrong("\"holonomic\" or \"diff\"")),
+                }
+            }
+            "scan_timeout" => self.scan_timeout = positive(value)?,
+            "odom_timeout" => self.odom_timeout = positive(value)?,
+            "transform_timeout" => self.transform_timeout = positive(value)?,
+            "stale_stop" => self.stale_stop = flag(value)?,
+            "sensor_range" => self.sensor_range = positive(value)?,
+            "scan_world_radius" => self.scan_world_radius = positive(value)?,
+            "max_element" => self.max_element = positive(value)?,
+            "occupied_thresh" => self.occupied_thresh = float(value)?,
+            "free_thresh" => self.free_thresh = float(value)?,
+            "use_sim_time" => self.use_sim_time = flag(value)?,
+            _ => return Err(ParamError(format!("unknown parameter {name}"))),
+        }
+        Ok(())
+    }
+
+    /// Reads a parameter file's text: the sections `/**` and the node's name
+    /// ([`NODE_NAME`], with or without a leading slash), in the file's order.
+    ///
+    /// # Errors
+    /// YAML errors, a section without `ros__parameters`, a parameter [`Params::set`] refuses.
+    pub fn apply_file(&mut self, text: &str) -> Result<(), ParamError> {
+        let docs = YamlLoader::load_from_str(text).map_err(|e| ParamError(format!("YAML: {e}")))?;
+        let Some(Yaml::Hash(top)) = docs.first() else {
+            return Err(ParamError("expected a map of node names".into()));
+        };
+        for (key, section) in top {
+            let Some(node) = key.as_str() else { continue };
+            let node = node.strip_prefix('/').unwrap_or(node);
+            if node != "**" && node != NODE_NAME {
+                continue;
+            }
+            let params = &section["ros__parameters"];
+            let Yaml::Hash(params) = params else {
+                return Err(ParamError(format!(
+                    "section {node:?} has no ros__parameters map"
+                )));
+            };
+            self.apply_map("", params)?;
+        }
+        Ok(())
+    }
+
+    fn apply_map(&mut self, prefix: &str, map: &yaml_rust2::yaml::Hash) -> Result<(), ParamError> {
+        for (k, v) in map {
+            let Some(k) = k.as_str() else {
+                return Err(ParamError(format!(
+                    "a parameter name that is not a string: {k:?}"
+                )));
+            };
+            let name = if prefix.is_empty() {
+                k.to_owned()
+            } else {
+                format!("{prefix}.{k}")
+            };
+            match v {
+                Yaml::Hash(inner) => self.apply_map(&name, inner)?,
+                _ => {
+                    let value = Value::from_yaml(v).ok_or_else(|| {
+                        ParamError(format!("parameter {name}: unsupported value {v:?}"))
+                    })?;
+                    self.set(&name, &value)?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Checks what the single setters cannot.
+    ///
+    /// # Errors
+    /// The thresholds out of order.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        if !(0.0 <= self.free_thresh
+            && self.free_thresh < self.occupied_thresh
+            && self.occupied_thresh <= 1.0)
+        {
+            return Err(ParamError(
+                "expected 0 ≤ free_thresh < occupied_thresh ≤ 1".into(),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// What the command line asks for.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Cli {
+    /// Run with these parameters.
+    Run(Box<Params>),
+    /// Print the usage.
+    Help,
+}
+
+/// The usage text.
+pub const USAGE: &str = "\
+usage: harmonav-ros2 [--ros-args [--params-file FILE]... [-p NAME:=VALUE]... [--log-level LEVEL]]
+
+A ROS 2 node (pure Rust, DDS) that drives /cmd_vel from /map, /scan, /odom and /goal_pose with
+harmonav's navigation functions. Environment: ROS_DOMAIN_ID, ROS_AUTOMATIC_DISCOVERY_RANGE
+(LOCALHOST, SUBNET, OFF) or ROS_LOCALHOST_ONLY=1; RUST_LOG-style level with --log-level.";
+
+/// Parses the arguments (without the program's name); files are read with `read`.
+///
+/// # Errors
+/// An unknown argument, a missing value, a file that cannot be read or parsed.
+pub fn parse_args(
+    args: &[String],
+    read: &dyn Fn(&str) -> Result<String, String>,
+) -> Result<(Cli, Option<String>), ParamError> {
+    let mut params = Params::default();
+    let mut level = None;
+    let mut in_ros_args = false;
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        let mut value = |what: &str| {
+            it.next()
+                .cloned()
+                .ok_or_else(|| ParamError(format!("{a} needs {what}")))
+        };
+        match a.as_str() {
+            "-h" | "--help" => return Ok((Cli::Help, None)),
+            "--ros-args" => in_ros_args = true,
+            "--" => in_ros_args = false,
+            "--params-file" if in_ros_args => {
+                let path = value("a file")?;
+                let text = read(&path).map_err(|e| ParamError(format!("{path}: {e}")))?;
+                params
+                    .apply_file(&text)
+                    .map_err(|e| ParamError(format!("{path}: {e}")))?;
+            }
+            "-p" | "--param" if in_ros_args => {
+                let kv = value("NAME:=VALUE")?;
+                let (k, v) = kv
+                    .split_once(":=")
+                    .ok_or_else(|| ParamError(format!("{a} {kv}: expected NAME:=VALUE")))?;
+                params.set(k, &Value::from_text(v))?;
+            }
+            "--log-level" if in_ros_args => level = Some(value("a level")?),
+            other => {
+                return Err(ParamError(format!(
+                    "unknown argument {other:?}{}",
+                    if in_ros_args {
+                        ""
+                    } else {
+                        " (ROS arguments follow --ros-args)"
+                    }
+                )));
+            }
+        }
+    }
+    params.validate()?;
+    Ok((Cli::Run(Box::new(params)), level))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn args(a: &[&str]) -> Vec<String> {
+        a.iter().map(|s| (*s).to_owned()).collect()
+    }
+
+    const FILE: &str = "
+/**:
+  ros__parameters:
+    global_frame: world
+    controller_frequency: 10
+    robot_radius: 0.2
+    enable_stamped_cmd_vel: true
+    base: holonomic
+    law: dynamic
+other_node:
+  ros__parameters:
+    robot_radius: 9.0
+harmonav:
+  ros__parameters:
+    map_topic: ''
+";
+
+    #[test]
+    fn file_in_ros_format() {
+        let read = |p: &str| {
+            if p == "a.yaml" {
+                Ok(FILE.to_owned())
+            } else {
+                Err("no such file".to_owned())
+            }
+        };
+        let (cli, level) = parse_args(
+            &args(&[
+                "--ros-args",
+                "--params-file",
+                "a.yaml",
+                "-p",
+                "margin:=0.3",
+                "--log-level",
+                "debug",
+            ]),
+            &read,
+        )
+        .unwrap();
+        let Cli::Run(p) = cli else { panic!() };
+        assert_eq!(p.global_frame, "world");
+        assert_eq!(p.controller_frequency, 10.0);
+        assert_eq!(p.robot_radius, 0.2);
+        assert!(p.enable_stamped_cmd_vel);
+        assert_eq!(p.law, LawKind::Dynamic);
+        assert_eq!(p.map_topic, "");
+        assert_eq!(p.margin, 0.3);
+        assert_eq!(level.as_deref(), Some("debug"));
+        assert!(
+            parse_args(&args(&["--ros-args", "--params-file", "b.yaml"]), &read)
+                .unwrap_err()
+                .0
+                .contains("no such file")
+        );
+    }
+
+    #[test]
+    fn nested_names_flatten_and_errors_name_the_parameter() {
+        let mut p = Params::default();
+        let e = p
+            .apply_file("/**:\n  ros__parameters:\n    robot:\n      radius: 1\n")
+            .unwrap_err();
+        assert!(e.0.contains("robot.radius"), "{e}");
+        let e = p
+            .apply_file("/**:\n  ros__parameters:\n    robot_radius: -1\n")
+            .unwrap_err();
+        assert!(e.0.contains("robot_radius"), "{e}");
+        let e = p
+            .apply_file("/**:\n  ros__parameters:\n    base: tracked\n")
+            .unwrap_err();
+        assert!(e.0.contains("base"), "{e}");
+        let e = p
+            .apply_file("/**:\n  ros__parameters:\n    enable_stamped_cmd_vel: 1\n")
+            .unwrap_err();
+        assert!(e.0.contains("enable_stamped_cmd_vel"), "{e}");
+        assert!(p.apply_file("/**:\n  params: {}\n").is_err());
+        assert!(p.apply_file("- a\n").is_err());
+        assert!(p.apply_file("/**: [\n").is_err());
+        // `.nan` is not a finite number.
+        assert!(
+            p.apply_file("/**:\n  ros__parameters:\n    goal_tolerance: .nan\n")
+                .is_err()
+        );
+    }
+
+    #[test]
+    fn arguments() {
+        let none = |_: &str| Err("unused".to_owned());
+        assert_eq!(parse_args(&args(&["--help"]), &none).unwrap().0, Cli::Help);
+        assert!(parse_args(&args(&["--params-file", "x"]), &none).is_err());
+        assert!(parse_args(&args(&["--ros-args", "-p", "margin=1"]), &none).is_err());
+        assert!(parse_args(&args(&["--ros-args", "--params-file"]), &none).is_err());
+        assert!(parse_args(&args(&["--ros-args", "-p", "free_thresh:=0.9"]), &none).is_err());
+        let (Cli::Run(p), _) =
+            parse_args(&args(&["--ros-args", "-p", "base:=diff"]), &none).unwrap()
+        else {
+            panic!()
+        };
+        assert_eq!(p.base, Base::Diff);
+    }
+}

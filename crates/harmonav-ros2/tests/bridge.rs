@@ -1,0 +1,542 @@
+//! The node's logic without DDS ([`Bridge`]): REP 117's range classes, every bad message, the
+//! grid → map_server pipeline, the stops, and closed loops of a holonomic robot through ROS
+//! messages (a disc from scans alone, and the floor plan of an occupancy grid), with a
+//! negative control of the stale-scan stop.
+
+use std::time::{Duration, Instant};
+
+use harmonav::perception::Reading;
+use harmonav_ros2::bridge::{Bridge, Stop, grid_cell, grid_to_ros_map, scan_to_harmonav};
+use harmonav_ros2::msgs::*;
+use harmonav_ros2::params::Params;
+
+fn scan_msg(ranges: Vec<f32>, increment: f32) -> LaserScan {
+    LaserScan {
+        header: Header {
+            stamp: Time::default(),
+            frame_id: "laser".into(),
+        },
+        angle_min: -1.0,
+        angle_max: -1.0 + increment * (ranges.len().max(1) - 1) as f32,
+        angle_increment: increment,
+        time_increment: 0.0,
+        scan_time: 0.05,
+        range_min: 0.1,
+        range_max: 10.0,
+        ranges,
+        intensities: vec![],
+    }
+}
+
+#[test]
+fn rep_117_range_classes() {
+    let m = scan_msg(
+        vec![
+            1.0,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+            0.05,
+            10.0,
+            12.0,
+            0.1,
+        ],
+        0.1,
+    );
+    let s = scan_to_harmonav(&m).unwrap();
+    let classes: Vec<Reading> = (0..s.ranges.len()).map(|i| s.reading(i)).collect();
+    assert_eq!(
+        classes,
+        vec![
+            Reading::Hit(1.0),
+            Reading::NoReturn, // +Inf: no return
+            Reading::TooClose, // −Inf: nearer than range_min
+            Reading::Invalid,  // NaN: an error
+            Reading::Invalid,  // below range_min
+            Reading::NoReturn, // at range_max
+            Reading::NoReturn, // beyond
+            Reading::Hit(f64::from(0.1f32)),
+        ]
+    );
+}
+
+#[test]
+fn bad_scans_are_dropped_with_their_reason() {
+    let ok = scan_msg(vec![1.0; 4], 0.1);
+    assert!(scan_to_harmonav(&ok).is_ok());
+    let cases: Vec<(LaserScan, &str)> = vec![
+        (scan_msg(vec![1.0; 4], -0.1), "angle_increment"),
+        (scan_msg(vec![1.0; 4], 0.0), "angle_increment"),
+        (scan_msg(vec![], 0.1), "no ranges"),
+        (
+            LaserScan {
+                angle_min: f32::NAN,
+                ..ok.clone()
+            },
+            "angle_min",
+        ),
+        (
+            LaserScan {
+                range_max: 0.05,
+                ..ok.clone()
+            },
+            "range limits",
+        ),
+        (
+            LaserScan {
+                range_min: -1.0,
+                ..ok.clone()
+            },
+            "range limits",
+        ),
+        (
+            LaserScan {
+                range_max: f32::INFINITY,
+                ..ok.clone()
+            },
+            "range_max",
+        ),
+    ];
+    for (m, why) in cases {
+        let e = scan_to_harmonav(&m).unwrap_err();
+        assert!(e.0.contains(why), "{e} should name {why}");
+    }
+}
+
+/// A grid: `w × h` cells of `res`, origin `(ox, oy)`, row 0 at the bottom.
+fn grid(w: u32, h: u32, res: f32, origin: (f64, f64), f: impl Fn(f64, f64) -> i8) -> OccupancyGrid {
+    let mut data = Vec::with_capacity((w * h) as usize);
+    for r in 0..h {
+        for c in 0..w {
+            let x = origin.0 + (f64::from(c) + 0.5) * f64::from(res);
+            let y = origin.1 + (f64::from(r) + 0.5) * f64::from(res);
+            data.push(f(x, y));
+        }
+    }
+    OccupancyGrid {
+        header: Header {
+            stamp: Time::default(),
+            frame_id: "map".into(),
+        },
+        info: MapMetaData {
+            map_load_time: Time::default(),
+            resolution: res,
+            width: w,
+            height: h,
+            origin: Pose {
+                position: Point {
+                    x: origin.0,
+                    y: origin.1,
+                    z: 0.0,
+                },
+                orientation: Quaternion::default(),
+            },
+        },
+        data,
+    }
+}
+
+#[test]
+fn grid_through_the_map_server_pipeline() {
+    use harmonav::floorplan::ros_map::Cell;
+    // 3 × 2: bottom row [0, 100, −1], top row [50, 20, 101].
+    let mut g = grid(3, 2, 0.5, (-1.0, 2.0), |_, _| 0);
+    g.data = vec![0, 100, -1, 50, 20, 101];
+    let m = grid_to_ros_map(&g, 0.65, 0.25).unwrap();
+    assert_eq!(m.size(), (3, 2));
+    assert_eq!(m.resolution(), 0.5);
+    assert_eq!(m.origin(), [-1.0, 2.0, 0.0]);
+    // The image's row 0 is the grid's top row.
+    let cells: Vec<Cell> = [(0, 1), (1, 1), (2, 1), (0, 0), (1, 0), (2, 0)]
+        .iter()
+        .map(|&(c, r)| m.cell(c, r).unwrap())
+        .collect();
+    assert_eq!(
+        cells,
+        vec![
+            Cell::Free,
+            Cell::Occupied,
+            Cell::Unknown,
+            Cell::Unknown,
+            Cell::Free,
+            Cell::Unknown
+        ]
+    );
+    assert_eq!(grid_cell(65, 0.65, 0.25), Cell::Unknown); // ties are not occupied…
+    assert_eq!(grid_cell(25, 0.65, 0.25), Cell::Unknown); // …nor free
+    assert_eq!(grid_cell(66, 0.65, 0.25), Cell::Occupied);
+    // Bad grids.
+    let mut bad = g.clone();
+    bad.data.pop();
+    assert!(
+        grid_to_ros_map(&bad, 0.65, 0.25)
+            .unwrap_err()
+            .0
+            .contains("does not match")
+    );
+    let mut bad = g.clone();
+    bad.info.resolution = 0.0;
+    assert!(grid_to_ros_map(&bad, 0.65, 0.25).is_err());
+    let mut bad = g.clone();
+    bad.info.origin.position.x = f64::NAN;
+    assert!(grid_to_ros_map(&bad, 0.65, 0.25).is_err());
+    let mut bad = g.clone();
+    bad.info.width = 0;
+    bad.data.clear();
+    assert!(grid_to_ros_map(&bad, 0.65, 0.25).is_err());
+    let mut bad = g;
+    bad.info.origin.orientation = Quaternion {
+        x: 0.0,
+        y: 0.0,
+        z: 0.0,
+        w: 0.0,
+    };
+    assert!(grid_to_ros_map(&bad, 0.65, 0.25).is_err());
+}
+
+/// The simulated robot: a holonomic disc with a laser 0.1 m ahead of its centre, heading
+/// `YAW` (so base and map frames differ), ray-cast against an occupancy grid.
+struct Sim {
+    grid: OccupancyGrid,
+    x: [f64; 2],
+    t: Instant,
+    steps: u32,
+}
+
+const YAW: f64 = 0.3;
+const H: f64 = 0.05;
+const BEAMS: usize = 360;
+
+impl Sim {
+    fn occupied(&self, x: f64, y: f64) -> bool {
+        let i = &self.grid.info;
+        let res = f64::from(i.resolution);
+        let c = ((x - i.origin.position.x) / res).floor();
+        let r = ((y - i.origin.position.y) / res).floor();
+        if c < 0.0 || r < 0.0 || c >= f64::from(i.width) || r >= f64::from(i.height) {
+            return true;
+        }
+        self.grid.data[r as usize * i.width as usize + c as usize] != 0
+    }
+
+    /// The clearance of the robot's centre to the nearest occupied cell (by sampling a disc).
+    fn clearance(&self) -> f64 {
+        let mut d = f64::INFINITY;
+        for k in 0..72 {
+            let a = f64::from(k) * std::f64::consts::TAU / 72.0;
+            let mut r = 0.0;
+            while r < 0.5 {
+                if self.occupied(self.x[0] + r * a.cos(), self.x[1] + r * a.sin()) {
+                    d = d.min(r);
+                    break;
+                }
+                r += 0.005;
+            }
+        }
+        d
+    }
+
+    fn laser(&self) -> [f64; 2] {
+        [self.x[0] + 0.1 * YAW.cos(), self.x[1] + 0.1 * YAW.sin()]
+    }
+
+    fn scan(&self) -> LaserScan {
+        let l = self.laser();
+        let inc = std::f64::consts::TAU / BEAMS as f64;
+        let ranges = (0..BEAMS)
+            .map(|i| {
+                let a = YAW - std::f64::consts::PI + i as f64 * inc;
+                let mut r = 0.0;
+                while r < 3.5 {
+                    if self.occupied(l[0] + r * a.cos(), l[1] + r * a.sin()) {
+                        return r as f32;
+                    }
+                    r += 0.01;
+                }
+                f32::INFINITY
+            })
+            .collect();
+        LaserScan {
+            header: Header {
+                stamp: self.stamp(),
+                frame_id: "laser".into(),
+            },
+            angle_min: -std::f32::consts::PI,
+            angle_max: std::f32::consts::PI - inc as f32,
+            angle_increment: inc as f32,
+            time_increment: 0.0,
+            scan_time: H as f32,
+            range_min: 0.05,
+            range_max: 3.5,
+            ranges,
+            intensities: vec![],
+        }
+    }
+
+    fn stamp(&self) -> Time {
+        Time::from_seconds(100.0 + f64::from(self.steps) * H)
+    }
+
+    fn odom(&self) -> Odometry {
+        Odometry {
+            header: Header {
+                stamp: self.stamp(),
+                frame_id: "odom".into(),
+            },
+            child_frame_id: "base_link".into(),
+            pose: PoseWithCovariance {
+                pose: Pose {
+                    position: Point {
+                        x: self.x[0],
+                        y: self.x[1],
+                        z: 0.0,
+                    },
+                    orientation: Quaternion::from_yaw(YAW),
+                },
+                covariance: Covariance::default(),
+            },
+            twist: TwistWithCovariance::default(),
+        }
+    }
+
+    /// Publishes odometry (and a scan if `scans`), steps the bridge, integrates its twist.
+    fn step(&mut self, bridge: &mut Bridge, scans: bool) -> harmonav_ros2::bridge::Step {
+        self.t += Duration::from_secs_f64(H);
+        self.steps += 1;
+        bridge.on_odom(&self.odom(), self.t);
+        if scans {
+            bridge.on_scan(&self.scan(), self.t);
+        }
+        let s = bridge.step(self.t);
+        let (sn, cs) = YAW.sin_cos();
+        let (vx, vy) = (s.twist.linear.x, s.twist.linear.y);
+        self.x[0] += H * (cs * vx - sn * vy);
+        self.x[1] += H * (sn * vx + cs * vy);
+        s
+    }
+}
+
+fn laser_static() -> TFMessage {
+    TFMessage {
+        transforms: vec![TransformStamped {
+            header: Header {
+                stamp: Time::default(),
+                frame_id: "base_link".into(),
+            },
+            child_frame_id: "laser".into(),
+            transform: Transform {
+                translation: Vector3 {
+                    x: 0.1,
+                    y: 0.0,
+                    z: 0.2,
+                },
+                rotation: Quaternion::default(),
+            },
+        }],
+    }
+}
+
+fn goal(x: f64, y: f64) -> PoseStamped {
+    PoseStamped {
+        header: Header {
+            stamp: Time::default(),
+            frame_id: "map".into(),
+        },
+        pose: Pose {
+            position: Point { x, y, z: 0.0 },
+            orientation: Quaternion::default(),
+        },
+    }
+}
+
+/// Runs to arrival (or `max` steps); returns the smallest clearance met.
+fn fly(sim: &mut Sim, bridge: &mut Bridge, g: [f64; 2], max: u32) -> f64 {
+    let mut clearance = f64::INFINITY;
+    for _ in 0..max {
+        let s = sim.step(bridge, true);
+        clearance = clearance.min(sim.clearance());
+        if s.stop == Some(Stop::Arrived) {
+            break;
+        }
+        if let Some(stop) = &s.stop {
+            assert!(
+                matches!(stop, Stop::StaleScan | Stop::StaleOdom),
+                "stopped: {stop} at {:?}; log: {:?}",
+                sim.x,
+                bridge.drain_log()
+            );
+        }
+    }
+    let d = ((sim.x[0] - g[0]).powi(2) + (sim.x[1] - g[1]).powi(2)).sqrt();
+    assert!(
+        d <= 0.1 + 1e-9,
+        "not arrived: {:?} is {d:.3} m from the goal after {} steps; log: {:?}",
+        sim.x,
+        sim.steps,
+        bridge.drain_log()
+    );
+    clearance
+}
+
+/// A 20 m room (walls never seen: the lidar reaches 3.5 m) with a disc of radius 0.4 across
+/// the straight line; no map: the disc around the robot from scans alone.
+fn open_room() -> OccupancyGrid {
+    grid(400, 400, 0.05, (0.0, 0.0), |x, y| {
+        let wall = !(0.5..19.5).contains(&x) || !(0.5..19.5).contains(&y);
+        let blob = (x - 10.0).powi(2) + (y - 10.1).powi(2) < 0.4 * 0.4;
+        if wall || blob { 100 } else { 0 }
+    })
+}
+
+#[test]
+fn scans_alone_arrive_and_stop_when_scans_stop() {
+    let params = Params {
+        map_topic: String::new(),
+        ..Params::default()
+    };
+    let mut bridge = Bridge::new(params.clone());
+    let mut sim = Sim {
+        grid: open_room(),
+        x: [8.0, 10.0],
+        t: Instant::now(),
+        steps: 0,
+    };
+    bridge.on_tf(&laser_static(), sim.t, true);
+    // No goal yet: zero, and why.
+    assert_eq!(sim.step(&mut bridge, true).stop, Some(Stop::NoGoal));
+    bridge.on_goal(&goal(12.0, 10.0), sim.t);
+    let clearance = fly(&mut sim, &mut bridge, [12.0, 10.0], 4000);
+    assert!(
+        clearance > params.robot_radius,
+        "contact: clearance {clearance}"
+    );
+    let log: Vec<String> = bridge.drain_log().into_iter().map(|(_, t)| t).collect();
+    // map → odom never published: the identity, said once.
+    assert_eq!(
+        log.iter()
+            .filter(|l| l.contains("no transform map → odom"))
+            .count(),
+        1,
+        "{log:?}"
+    );
+
+    // Scans stop mid-way to a new goal: zero within the timeout, said once.
+    bridge.on_goal(&goal(9.0, 10.5), sim.t);
+    for _ in 0..10 {
+        assert_eq!(sim.step(&mut bridge, true).stop, None);
+    }
+    let mut stopped_after = None;
+    for k in 1..=40 {
+        let s = sim.step(&mut bridge, false);
+        if s.stop == Some(Stop::StaleScan) {
+            assert_eq!(s.twist, Twist::default());
+            stopped_after = Some(f64::from(k) * H);
+            break;
+        }
+    }
+    let after = stopped_after.expect("no stop without scans");
+    assert!(
+        after <= params.scan_timeout + H + 1e-9,
+        "stopped after {after} s"
+    );
+    let stops = bridge
+        .drain_log()
+        .into_iter()
+        .filter(|(_, t)| t.contains("scan missing or stale"))
+        .count();
+    assert_eq!(stops, 1);
+}
+
+/// The negative control: with the safety stop off, the same stale-scan case keeps moving.
+#[test]
+fn negative_control_without_the_stale_stop() {
+    let params = Params {
+        map_topic: String::new(),
+        stale_stop: false,
+        ..Params::default()
+    };
+    let mut bridge = Bridge::new(params);
+    let mut sim = Sim {
+        grid: open_room(),
+        x: [8.0, 10.0],
+        t: Instant::now(),
+        steps: 0,
+    };
+    bridge.on_goal(&goal(12.0, 10.0), sim.t);
+    for _ in 0..10 {
+        sim.step(&mut bridge, true);
+    }
+    for _ in 0..40 {
+        let s = sim.step(&mut bridge, false);
+        assert_ne!(s.stop, Some(Stop::StaleScan));
+    }
+    let last = sim.step(&mut bridge, false);
+    assert!(last.twist.linear.x.hypot(last.twist.linear.y) > 0.0);
+}
+
+#[test]
+fn floor_plan_from_an_occupancy_grid() {
+    // 4 × 3 m inside walls 0.1 m thick, a 0.8 × 1.0 m box in the middle.
+    let room = grid(84, 64, 0.05, (-0.1, -0.1), |x, y| {
+        let wall = !(0.0..4.0).contains(&x) || !(0.0..3.0).contains(&y);
+        let bx = (1.6..2.4).contains(&x) && (1.0..2.0).contains(&y);
+        if wall || bx { 100 } else { 0 }
+    });
+    let params = Params::default();
+    let mut bridge = Bridge::new(params.clone());
+    let mut sim = Sim {
+        grid: room.clone(),
+        x: [0.6, 0.6],
+        t: Instant::now(),
+        steps: 0,
+    };
+    bridge.on_tf(&laser_static(), sim.t, true);
+    bridge.on_goal(&goal(3.4, 2.4), sim.t);
+    // No map yet: waiting for it, with fresh scans and odometry.
+    assert_eq!(sim.step(&mut bridge, true).stop, Some(Stop::WaitingForMap));
+    bridge.on_map(&room);
+    let clearance = fly(&mut sim, &mut bridge, [3.4, 2.4], 4000);
+    assert!(
+        clearance > params.robot_radius,
+        "contact: clearance {clearance}"
+    );
+}
+
+#[test]
+fn bad_odometry_and_goals_are_dropped_and_stale_odometry_stops() {
+    let params = Params {
+        map_topic: String::new(),
+        ..Params::default()
+    };
+    let mut bridge = Bridge::new(params);
+    let t0 = Instant::now();
+    let mut sim = Sim {
+        grid: open_room(),
+        x: [8.0, 10.0],
+        t: t0,
+        steps: 0,
+    };
+    let mut bad = sim.odom();
+    bad.pose.pose.position.x = f64::NAN;
+    bridge.on_odom(&bad, t0);
+    let mut g = goal(f64::INFINITY, 0.0);
+    bridge.on_goal(&g, t0);
+    assert_eq!(bridge.step(t0).stop, Some(Stop::NoGoal));
+    g.pose.position.x = 12.0;
+    bridge.on_goal(&g, t0);
+    // Goal given, no odometry: stopped for it.
+    assert_eq!(bridge.step(t0).stop, Some(Stop::StaleOdom));
+    let log: Vec<String> = bridge.drain_log().into_iter().map(|(_, t)| t).collect();
+    assert!(
+        log.iter().any(|l| l.contains("odometry dropped")),
+        "{log:?}"
+    );
+    assert!(log.iter().any(|l| l.contains("goal dropped")), "{log:?}");
+    for _ in 0..5 {
+        sim.step(&mut bridge, true);
+    }
+    // Odometry stops; scans go on.
+    sim.t += Duration::from_secs_f64(0.6);
+    bridge.on_scan(&sim.scan(), sim.t);
+    assert_eq!(bridge.step(sim.t).stop, Some(Stop::StaleOdom));
+}
