@@ -211,8 +211,9 @@ pub fn fly(
             // Only a floor plan's navigator escapes; a step from rest counts as a capped one.
             Mode::Escaping => {}
             Mode::FromRest => flight.capped += 1,
-            // These flights stop at a refused scan, before any halted command.
-            Mode::Halted => {}
+            // These flights stop at a refused scan, before any halted command, and have no
+            // movers.
+            Mode::Halted | Mode::Yielding { .. } | Mode::Overwhelmed { .. } => {}
         }
         let c = command.value;
         integrator.advance(law, h, c, &mut x, &mut v);

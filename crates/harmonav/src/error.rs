@@ -81,6 +81,21 @@ pub enum NavError {
     /// the discrete harmonic map is not certified ([`crate::FloorNavigator`]: `evaluate`
     /// always, `command` only when no step out of the layer can be certified).
     BoundaryLayer,
+    /// [`crate::Navigator::set_movers`] or [`crate::MoverFilter::filter`]: mover `index` is not
+    /// valid (`field` names what: `centre`, `radius`, `speed_bound`, `error`, `velocity`,
+    /// `share`). The navigator keeps its movers.
+    InvalidMover {
+        /// The mover's index in the list given.
+        index: usize,
+        /// The field.
+        field: &'static str,
+    },
+    /// The robot's disc and mover `mover`'s reported disc overlap: no command is certified
+    /// (as inside a known obstacle). The navigator is unchanged.
+    InMover {
+        /// The mover's index.
+        mover: usize,
+    },
 }
 
 /// What an [`NavError::InvalidOption`] field must be.
@@ -163,6 +178,16 @@ impl std::fmt::Display for NavError {
             Self::BoundaryLayer => write!(
                 f,
                 "the position lies in the floor plan's boundary layer (closer than δ to a wall)"
+            ),
+            Self::InvalidMover { index, field } => write!(
+                f,
+                "movers[{index}].{field}: must be finite (a length or speed in [0, {:e}], a \
+                 share in [0, 1])",
+                crate::ranges::MAX_MOVER
+            ),
+            Self::InMover { mover } => write!(
+                f,
+                "the robot's disc overlaps mover {mover} as reported: no command is certified"
             ),
         }
     }

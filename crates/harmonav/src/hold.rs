@@ -54,11 +54,30 @@ pub enum Mode {
     /// 0 over the period (the robot moves at most `|ẋ|h/2` more, along its last certified
     /// velocity). Issue 56: a refused scan left the robot commanded as if the space were free.
     Halted,
+    /// The mover filter changed the held command ([`crate::Navigator::set_movers`]) and it is
+    /// certified: against every mover over the period (eq. reach) and against the known
+    /// shapes. `mover` binds; `scale = |u|/|u_nominal|` (the dynamic law: of `v⁺`).
+    Yielding {
+        /// The binding mover's index.
+        mover: usize,
+        /// The speed kept.
+        scale: f64,
+    },
+    /// No command keeps out of every mover's reach within the period and of the known shapes:
+    /// the command keeps the known shapes and the reciprocal robots' rows and falls short of
+    /// the non-cooperative rows by at most `shortfall` (m/s); it is not certified against
+    /// `mover`, the one that falls shortest. [`Command::certified`] is false.
+    Overwhelmed {
+        /// The mover it falls shortest of.
+        mover: usize,
+        /// The largest shortfall, m/s.
+        shortfall: f64,
+    },
 }
 
 impl Mode {
     /// The name used in logs, JSON and Python (`"law"`, `"capped"`, `"recovering"`,
-    /// `"escaping"`, `"from-rest"`, `"halted"`).
+    /// `"escaping"`, `"from-rest"`, `"halted"`, `"yielding"`, `"overwhelmed"`).
     #[must_use]
     pub fn as_str(&self) -> &'static str {
         match self {
@@ -68,6 +87,8 @@ impl Mode {
             Self::Escaping => "escaping",
             Self::FromRest => "from-rest",
             Self::Halted => "halted",
+            Self::Yielding { .. } => "yielding",
+            Self::Overwhelmed { .. } => "overwhelmed",
         }
     }
 }
@@ -79,6 +100,17 @@ pub struct Command {
     pub value: Vector2<f64>,
     /// Whether it is the law's, shortened, or a recovery.
     pub mode: Mode,
+}
+
+impl Command {
+    /// Whether the command is certified to keep the robot clear over the period: false only
+    /// for [`Mode::Overwhelmed`] (a mover's reach could not be kept out of) and
+    /// [`crate::HoldPolicy::Paper`]'s unchecked law is not told apart (its mode is
+    /// [`Mode::Law`]).
+    #[must_use]
+    pub fn certified(&self) -> bool {
+        !matches!(self.mode, Mode::Overwhelmed { .. })
+    }
 }
 
 /// `β` of the kinematic hold: the step `h|u|` is at most `β·d(x)`, so that

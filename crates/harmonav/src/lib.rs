@@ -51,11 +51,13 @@
 
 mod certified;
 pub mod checks;
+mod controller;
 mod diff;
 mod error;
 mod floor;
 mod hold;
 mod law;
+mod movers;
 mod navigator;
 mod options;
 mod ranges;
@@ -88,8 +90,10 @@ pub use hold::{
     MAX_HALVINGS, MAX_TRACE_BALLS, Mode, REST_DIRECTIONS, REST_SCALE, SPEED_SLACK,
 };
 pub use law::Law;
+pub use movers::{Filtered, MAX_MOVER, Mover, MoverFilter, MoverKind};
 pub use nalgebra::Vector2;
-pub use navigator::{Controller, Evaluation, Navigator};
+pub use controller::{Controller, Evaluation};
+pub use navigator::Navigator;
 pub use options::{
     DEFAULT_DYNAMIC_PERIOD, DEFAULT_KINEMATIC_PERIOD, HoldPolicy, MIN_APERTURE_DEG, Options,
     PARAMETER_RANGE, UnknownHoldPolicy,

@@ -2,153 +2,22 @@
 //! (the paper's assumptions `objknown`, `objpers`), and each call of [`Navigator::command`]
 //! returns the command of the law for the current state.
 
-use harmonav_control::{Damping, Dynamic, Kinematic};
-use harmonav_field::FieldEval;
 use harmonav_transform::StarShape;
 use nalgebra::Vector2;
 
-use crate::certified::Band;
+pub(crate) use crate::controller::{
+    Controller, Evaluation, controller, discovery_speed_after, event_speed, finite,
+    finite_lambda_c, finite_state, halted, moving_along, recovering,
+};
 use crate::error::NavError;
 use crate::hold::{self, Command, Mode};
 use crate::law::Law;
-use crate::options::{HoldPolicy, Options, in_range};
+use crate::movers::program::Row;
+use crate::movers::{self, Mover, Verdict};
+use crate::options::{HoldPolicy, Options};
 use crate::scanning::ScanState;
 use crate::space::Space;
 use crate::world::{IntoWorld, StarWorld, World};
-
-/// The command that leads a robot at velocity `v` out of the margin band `band`: `length`
-/// along the unit direction `dir` within one control period `h`, at most the kinematic law's
-/// top speed `v_max`, or (dynamic law) the force whose semi-implicit step gives `v⁺` along
-/// the way out at most half the speed bound `√(2μ/m)`, `f = (m/h)(v⁺ − v)`.
-pub(crate) fn recovering(
-    controller: &Controller,
-    band: Band,
-    dir: Vector2<f64>,
-    length: f64,
-    h: f64,
-    v: Vector2<f64>,
-) -> Command {
-    Command {
-        value: moving_along(controller, dir, length, h, v),
-        mode: Mode::Recovering(band),
-    }
-}
-
-/// The command of [`recovering`] without its mode: the velocity `min(length/h, v_max)·dir`
-/// (kinematic), or the force `(m/h)(v⁺ − v)` with `v⁺ = min(length/h, ½√(2μ/m))·dir`
-/// (dynamic). Held for `h`, the robot moves at most `length` along `dir`.
-pub(crate) fn moving_along(
-    controller: &Controller,
-    dir: Vector2<f64>,
-    length: f64,
-    h: f64,
-    v: Vector2<f64>,
-) -> Vector2<f64> {
-    match controller {
-        Controller::Kinematic(law) => (length / h).min(law.v_max()) * dir,
-        Controller::Dynamic(law) => {
-            let next = (length / h).min(0.5 * law.speed_bound()) * dir;
-            (law.mass() / h) * (next - v)
-        }
-    }
-}
-
-/// The discovery speed `|ẋ(T_n)|` of eq. `dissipationfun` after `command` at velocity `v`:
-/// under the dynamic law a recovery ([`Mode::Recovering`]) lifts it to at least the speed
-/// `|v⁺| = |v + (h/m)·f|` the command gives (semi-implicit Euler over the control period `h`).
-/// The event's state is the one in which the robot leaves the band, where `Θ` is near 1 and the
-/// damping may switch to `(m/d_min)|ẋ(T_n)|`; the speed recorded at the event (at rest, say)
-/// would understate it. Otherwise `speed` is kept.
-pub(crate) fn discovery_speed_after(
-    controller: &Controller,
-    command: &Command,
-    v: Vector2<f64>,
-    h: f64,
-    speed: f64,
-) -> f64 {
-    match (command.mode, controller) {
-        (Mode::Recovering(_), Controller::Dynamic(law)) => {
-            speed.max((v + (h / law.mass()) * command.value).norm())
-        }
-        _ => speed,
-    }
-}
-
-/// The discovery speed a scan event hands the dynamic law (eq. eventstop, docs/maths.md
-/// §12.18): `|ẋ(T_n)|·max(1, d_min/d_e)`, so that the switched damping
-/// `(m/d_min)·that = (m/min(d_min, d_e))|ẋ(T_n)|` stops the robot within the event's own room
-/// `d_e` when that is less than `d_min`. `d_e` is the certified clearance from the robot's
-/// centre to the changed shapes grown by `radius + margin` ([`crate::ScanUpdate::event_clearance`]),
-/// or, in their margin band (`clearance ≤ 0`), to them grown by `radius` alone (`clearance +
-/// margin`). A perceived shape may appear or grow nearer than `d_min` (a growth seen from
-/// close by, or a fit range below `D + d_min`), where the paper's argument (discovery at
-/// `d_min` or more) does not reach; its stopping distance is then the room the robot has.
-/// The kinematic law keeps `speed`.
-pub(crate) fn event_speed(controller: &Controller, speed: f64, clearance: f64, margin: f64) -> f64 {
-    let Controller::Dynamic(law) = controller else {
-        return speed;
-    };
-    let room = if clearance > 0.0 {
-        clearance
-    } else {
-        clearance + margin
-    };
-    // Guard: a room of 0 or less (never accepted: the robot would touch the shape) or NaN
-    // keeps the speed rather than dividing by it.
-    if room > 0.0 && room < law.d_min() {
-        speed * (law.d_min() / room)
-    } else {
-        speed
-    }
-}
-
-/// Guard: `λ_c = 2√(m μ s)` (eq. `critdamp`, `s` the goal stiffness) must be finite for the
-/// dynamic law's damping; a `μ` that overflows it is refused once, at construction, rather
-/// than met at every command.
-pub(crate) fn finite_lambda_c(law: &Dynamic, lambda_c: f64) -> Result<(), NavError> {
-    if lambda_c.is_finite() {
-        Ok(())
-    } else {
-        Err(NavError::InvalidOption {
-            field: "mu",
-            value: law.mu(),
-        })
-    }
-}
-
-/// The law in use, with its parameters (for logging and monitors: the dynamic law's energy
-/// `V` and speed bound).
-#[derive(Clone, Copy, Debug)]
-pub enum Controller {
-    /// Eq. `kinctrl`.
-    Kinematic(Kinematic),
-    /// Eq. `dynctrllocal` with its damping policy.
-    Dynamic(Dynamic),
-}
-
-impl Controller {
-    /// The same controller in a world of radius `rho` (m): the dynamic law's governed pull
-    /// grows with it (`Dynamic::with_world_radius`); the kinematic law does not depend on it.
-    pub(crate) fn in_world(self, rho: f64) -> Result<Self, NavError> {
-        Ok(match self {
-            Self::Dynamic(law) => Self::Dynamic(law.with_world_radius(rho)?),
-            kinematic => kinematic,
-        })
-    }
-}
-
-/// One evaluation of the continuous law at a state, without side effects
-/// ([`Navigator::evaluate`]).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Evaluation {
-    /// The continuous law's command: the velocity `u` (kinematic law) or the force `f`
-    /// (dynamic law), before the hold of [`Navigator::command`].
-    pub command: Vector2<f64>,
-    /// `Θ(x)`, `∇Θ(x)` and the descent direction `−∇Θ/|∇Θ|` over the known obstacles.
-    pub field: FieldEval,
-    /// The damping `λ` and its branch (dynamic law).
-    pub damping: Option<Damping>,
-}
 
 /// An online navigator over a world `W` ([`StarWorld`] by default; [`crate::FloorWorld`] for a
 /// floor plan, [`crate::FloorNavigator`]): the navigation function `Θ` over the obstacles
@@ -176,87 +45,12 @@ pub struct Navigator<W = StarWorld> {
     /// The last scan was refused: commands halt the robot ([`Mode::Halted`]) until one is
     /// accepted.
     pub(crate) scan_refused: bool,
-}
-
-/// The halting command of [`Mode::Halted`] at `(x, v)` after a refused scan, control period
-/// `h`: 0 for the kinematic law, `f = −m·v/h` for the dynamic law (the velocity 0 at the end of
-/// the period). The state is checked finite and kept as the last commanded one.
-pub(crate) fn halted(
-    controller: &Controller,
-    x: Vector2<f64>,
-    v: Vector2<f64>,
-    h: f64,
-    last: &mut Option<(Vector2<f64>, Vector2<f64>)>,
-) -> Result<Command, NavError> {
-    let value = match controller {
-        Controller::Kinematic(_) => Vector2::zeros(),
-        Controller::Dynamic(law) => -law.mass() / h * v,
-    };
-    let command = Command {
-        value,
-        mode: Mode::Halted,
-    };
-    if !(x.iter().chain(v.iter()).all(|c| c.is_finite())
-        && command.value.iter().all(|c| c.is_finite()))
-    {
-        return Err(NavError::NonFiniteCommand);
-    }
-    *last = Some((x, v));
-    Ok(command)
-}
-
-/// The law's controller for `law` under `options`, validated (each error names the field).
-pub(crate) fn controller(law: &Law, options: &Options) -> Result<Controller, NavError> {
-    options.validate(law)?;
-    Ok(match *law {
-        Law::Kinematic { gain } => {
-            let law = Kinematic::new(in_range("gain", gain)?)?
-                .with_speed(options.speed)
-                .with_heading(options.heading);
-            // `v_max` was range-checked by `validate`; the default K√2 is finite.
-            Controller::Kinematic(match options.v_max {
-                Some(v) => law.with_v_max(v)?,
-                None => law,
-            })
-        }
-        Law::Dynamic { mass, mu } => {
-            let d_min = options.d_min()?;
-            let law = Dynamic::new(in_range("mass", mass)?, in_range("mu", mu)?, d_min)?
-                .with_damping(options.damping)
-                .with_heading(options.heading);
-            // Guard: within the ranges √(2μ/m) ≤ √2·1e9; checked, not assumed.
-            let bound = law.speed_bound();
-            if !(bound.is_finite() && bound > 0.0) {
-                return Err(NavError::InvalidOption {
-                    field: "mu",
-                    value: mu,
-                });
-            }
-            Controller::Dynamic(law)
-        }
-    })
-}
-
-/// The state `(x, ẋ)` a law may be evaluated at: finite coordinates, and a finite `|ẋ|`.
-/// Guard: components of 1.5e308 are finite but `|ẋ|` overflows, and with it `|ẋ(T_n)|` at the
-/// next discovery and the damping `(m/d_min)|ẋ(T_n)|` (eq. `dissipationfun`).
-pub(crate) fn finite_state(x: Vector2<f64>, v: Vector2<f64>) -> Result<(), NavError> {
-    finite(x, "position")?;
-    finite(v, "velocity")?;
-    if v.norm().is_finite() {
-        Ok(())
-    } else {
-        Err(NavError::NotFinite { what: "velocity" })
-    }
-}
-
-/// `v` with finite coordinates, else [`NavError::NotFinite`] naming `what`.
-pub(crate) fn finite(v: Vector2<f64>, what: &'static str) -> Result<(), NavError> {
-    if v.iter().all(|c| c.is_finite()) {
-        Ok(())
-    } else {
-        Err(NavError::NotFinite { what })
-    }
+    /// The movers of the last [`Navigator::set_movers`].
+    pub(crate) movers: Vec<Mover>,
+    /// The filter's rows, rebuilt at each command (their capacity kept: no allocation).
+    pub(crate) rows: Vec<Row>,
+    /// The last command was changed by the mover filter.
+    pub(crate) yielded: bool,
 }
 
 /// The law's command under the hold at `(x, ẋ)` evaluated as `eval` (the continuous law's
@@ -323,6 +117,9 @@ impl<W: World> Navigator<W> {
             last: None,
             scan,
             scan_refused: false,
+            movers: Vec::new(),
+            rows: Vec::new(),
+            yielded: false,
         };
         // Guard: λ_c (eq. critdamp) overflowed for m = μ = 1e308; within the ranges it is
         // finite, and this checks it once rather than at every command.
@@ -396,10 +193,27 @@ impl<W: World> Navigator<W> {
         if self.scan_refused {
             return halted(&self.controller, x, v, self.period, &mut self.last);
         }
-        let (command, step) = W::held(self, x, v)?;
-        if !command.value.iter().all(|c| c.is_finite()) {
-            return Err(NavError::NonFiniteCommand);
+        let before = self.speed_at_discovery;
+        if self.yielded {
+            // After a period the filter changed, the law's energy may have grown: the dynamic
+            // law's switched damping takes the speed now as a discovery speed.
+            self.speed_at_discovery = before.max(v.norm());
         }
+        let result = W::held(self, x, v).and_then(|(command, step)| {
+            let (command, yielded) = self.filtered(x, v, command)?;
+            if command.value.iter().all(|c| c.is_finite()) {
+                Ok((command, step, yielded))
+            } else {
+                Err(NavError::NonFiniteCommand)
+            }
+        });
+        let (command, step, yielded) = match result {
+            Ok(done) => done,
+            Err(e) => {
+                self.speed_at_discovery = before;
+                return Err(e);
+            }
+        };
         self.speed_at_discovery = discovery_speed_after(
             &self.controller,
             &command,
@@ -408,8 +222,81 @@ impl<W: World> Navigator<W> {
             self.speed_at_discovery,
         );
         self.last = Some((x, v));
+        self.yielded = yielded;
         W::after(self, x, step);
         Ok(command)
+    }
+
+    /// Replaces the movers (`docs/movers.md`): every mover is reported afresh each period, so
+    /// the list is not kept from one call to the next. All or nothing: a mover that is not
+    /// valid is [`NavError::InvalidMover`] and the navigator keeps its movers. Allocates only
+    /// when the list is longer than any before.
+    ///
+    /// From the next [`Navigator::command`] on, the held command is filtered last: kept when
+    /// it keeps out of every place a mover can reach within the period (eq. reach), else the
+    /// closest certified command ([`Mode::Yielding`]), else the least violation
+    /// ([`Mode::Overwhelmed`], not certified against the mover it names).
+    pub fn set_movers(&mut self, movers: &[Mover]) -> Result<(), NavError> {
+        for (i, m) in movers.iter().enumerate() {
+            m.validate(i)?;
+        }
+        self.movers.clear();
+        self.movers.extend_from_slice(movers);
+        self.rows.reserve(movers.len());
+        Ok(())
+    }
+
+    /// The movers of the last [`Navigator::set_movers`].
+    pub fn movers(&self) -> &[Mover] {
+        &self.movers
+    }
+
+    /// `command` filtered against the movers at `(x, ẋ)`, and whether the filter changed it.
+    /// Kinematic: the rows on `u`, the static set the hold's sphere tracing (or the one ball
+    /// `|u| ≤ min(v_max, β·d(x)/h)`). Dynamic: the rows on `v⁺ = ẋ + h·f/m`, each `ε_j` grown
+    /// by the exact hold's deviation `(h/2)(|ẋ| + √(2μ/m))` from the straight step, the static
+    /// set `|v⁺| ≤ min((1 − SPEED_SLACK)√(2μ/m), c·d(x)/h)`, and `f = m(v⁺ − ẋ)/h`.
+    fn filtered(
+        &mut self,
+        x: Vector2<f64>,
+        v: Vector2<f64>,
+        command: Command,
+    ) -> Result<(Command, bool), NavError> {
+        if self.movers.is_empty() {
+            return Ok((command, false));
+        }
+        let h = self.period;
+        let body = (x, self.options.radius, self.options.margin);
+        let field = self.world.field();
+        let (value, verdict) = match &self.controller {
+            Controller::Kinematic(law) => {
+                movers::rows(&self.movers, body, h, 0.0, &mut self.rows)?;
+                let v_max = law.v_max();
+                let d = field.clearance(x, 2.0 * h * v_max / hold::KINEMATIC_FRACTION, None);
+                let small = v_max.min(hold::KINEMATIC_FRACTION * d.max(0.0) / h);
+                let certified = |u: Vector2<f64>| {
+                    let length = h * u.norm();
+                    length == 0.0 || hold::free_length(field, x, u / u.norm(), length) >= length
+                };
+                movers::filter(&self.rows, command.value, v_max, certified, small)
+            }
+            Controller::Dynamic(law) => {
+                let (m, bound) = (law.mass(), law.speed_bound());
+                let extra = 0.5 * h * (v.norm() + bound);
+                movers::rows(&self.movers, body, h, extra, &mut self.rows)?;
+                let next = v + (h / m) * command.value;
+                let cap = (1.0 - hold::SPEED_SLACK) * bound;
+                let d = field.clearance(x, 2.0 * h * cap / hold::DYNAMIC_FRACTION, None);
+                let r = cap.min(hold::DYNAMIC_FRACTION * d.max(0.0) / h);
+                let (next, verdict) = movers::filter(&self.rows, next, r, |_| true, r);
+                ((m / h) * (next - v), verdict)
+            }
+        };
+        if verdict == Verdict::Kept {
+            return Ok((command, false));
+        }
+        let mode = verdict.mode_or(command.mode);
+        Ok((Command { value, mode }, true))
     }
 
     /// The continuous law at the state `(x, ẋ)` with what it is made of (`Θ`, `∇Θ`, the

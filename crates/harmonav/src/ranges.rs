@@ -12,3 +12,7 @@ pub const PARAMETER_RANGE: (f64, f64) = (1e-9, 1e9);
 /// The smallest sensor aperture, degrees: below it `r sin(θ/2)` of `d_min` (eq. `dmin`)
 /// underflows towards 0 (at 1e-320° the dynamic law returned `[-inf, nan]`).
 pub const MIN_APERTURE_DEG: f64 = 1e-3;
+
+/// The largest radius and position error (m) and speed bound (m/s) a mover may have
+/// ([`crate::Mover::validate`]).
+pub const MAX_MOVER: f64 = 1e6;

@@ -1,0 +1,360 @@
+//! Movers: people and other robots, as discs reported every period with a position error and a
+//! speed bound, and the certified filter that keeps the held command clear of every place they
+//! can reach within the period (issue 54; `docs/movers.md`).
+//!
+//! ```text
+//! R_j = ρ + r_j,  d_j = |x − p̂_j| − R_j − ε_j,  n_j = (x − p̂_j)/|x − p̂_j|        (ρ = radius + margin)
+//! g_j(τ) ≥ d_j + τ(n_j·u − V_j)                 for the held x(τ) = x + τu    (eq. reach)
+//! non-cooperative:  n_j·u ≥ V_j − β·d_j/h       ⇒  g_j(τ) ≥ (1 − βτ/h)·d_j on [0, h]
+//! reciprocal (share α, its peer 1 − α):  n_j·u ≥ −α·β·max(d_j, 0)/h
+//! ```
+//!
+//! `g_j` is the true gap between the robot's disc grown by its margin and mover `j`'s disc
+//! (`|x(τ) − p_j(τ)| − R_j`, at least `|x(τ) − p̂_j| − ε_j − V_jτ − R_j` because the mover is within
+//! `ε_j + V_jτ` of its report), and the tangent-plane bound `|y − p| ≥ n·(y − p)` of a convex set
+//! makes each row a half-plane on the held velocity. `β` is the hold's
+//! [`crate::KINEMATIC_FRACTION`]: over a period a mover's clearance keeps at least half its value.
+//! The command the hold produced is kept when it meets every row (then it is bit for bit the
+//! command without movers); otherwise it is projected onto the rows and the static certificate
+//! ([`program`]), or, when no velocity meets them all, the least largest shortfall is taken and
+//! the command is not certified ([`crate::Mode::Overwhelmed`]).
+
+pub(crate) mod program;
+
+use nalgebra::Vector2;
+
+use crate::error::NavError;
+use crate::hold::KINEMATIC_FRACTION;
+pub use crate::ranges::MAX_MOVER;
+use program::{Row, minimax, project};
+
+/// How a mover takes part in avoidance.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum MoverKind {
+    /// A person, or a robot of another stack: it does nothing for us, and the row keeps the
+    /// robot out of everything it can reach within the period.
+    NonCooperative,
+    /// Another harmonav robot running the same filter with the same control period, sampled at
+    /// the same instants, both using the same positions: each takes `share` of the pair's
+    /// avoidance (the two shares add to 1; ½ by default).
+    Reciprocal {
+        /// This robot's share, in `[0, 1]`.
+        share: f64,
+    },
+}
+
+/// A moving disc as the robot's perception reports it at the time of
+/// [`crate::Navigator::set_movers`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Mover {
+    /// The reported centre `p̂_j`, m.
+    pub centre: Vector2<f64>,
+    /// The body's radius `r_j` (not grown), m.
+    pub radius: f64,
+    /// `V_j`: the mover's speed never exceeds it, m/s.
+    pub speed_bound: f64,
+    /// `ε_j`: the report is within this of the true centre, m (a tracker's error plus its
+    /// latency times `V_j`).
+    pub position_error: f64,
+    /// A tracked velocity, for logging and comfort: never used by the certificate.
+    pub velocity: Option<Vector2<f64>>,
+    /// How it takes part.
+    pub kind: MoverKind,
+}
+
+impl Mover {
+    /// A non-cooperative mover at `centre` of radius `radius`, whose speed never exceeds
+    /// `speed_bound`, reported exactly.
+    #[must_use]
+    pub fn new(centre: Vector2<f64>, radius: f64, speed_bound: f64) -> Self {
+        Self {
+            centre,
+            radius,
+            speed_bound,
+            position_error: 0.0,
+            velocity: None,
+            kind: MoverKind::NonCooperative,
+        }
+    }
+
+    /// The same with the report's error bound `ε`, m.
+    #[must_use]
+    pub fn with_error(self, position_error: f64) -> Self {
+        Self {
+            position_error,
+            ..self
+        }
+    }
+
+    /// The same as another harmonav robot taking `share` of the avoidance.
+    #[must_use]
+    pub fn reciprocal(self, share: f64) -> Self {
+        Self {
+            kind: MoverKind::Reciprocal { share },
+            ..self
+        }
+    }
+
+    /// The mover checked: finite centre, radius and error in `[0, 1e6]` m, speed bound in
+    /// `[0, 1e6]` m/s, share in `[0, 1]`; else [`NavError::InvalidMover`] naming `index` and
+    /// the field.
+    pub fn validate(&self, index: usize) -> Result<(), NavError> {
+        let bad = |field| Err(NavError::InvalidMover { index, field });
+        let length = |v: f64| v.is_finite() && (0.0..=MAX_MOVER).contains(&v);
+        if !self.centre.iter().all(|c| c.is_finite()) {
+            return bad("centre");
+        }
+        if !length(self.radius) {
+            return bad("radius");
+        }
+        if !length(self.speed_bound) {
+            return bad("speed_bound");
+        }
+        if !length(self.position_error) {
+            return bad("error");
+        }
+        if self
+            .velocity
+            .is_some_and(|v| !v.iter().all(|c| c.is_finite()))
+        {
+            return bad("velocity");
+        }
+        if let MoverKind::Reciprocal { share } = self.kind
+            && !(share.is_finite() && (0.0..=1.0).contains(&share))
+        {
+            return bad("share");
+        }
+        Ok(())
+    }
+}
+
+/// What the filter did to a command.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Verdict {
+    /// The command met every row: unchanged.
+    Kept,
+    /// Changed and certified: `mover` binds, `scale = |u|/|u_nominal|`.
+    Yielding { mover: usize, scale: f64 },
+    /// No certified command: the least largest shortfall `shortfall` (m/s), `mover` the one
+    /// that falls shortest.
+    Overwhelmed { mover: usize, shortfall: f64 },
+}
+
+/// The rows of `movers` at `x` for a robot of radius `radius` and margin `margin`, control
+/// period `h`, into `rows` (cleared; it keeps its capacity). `extra` is added to every `ε_j`
+/// (the exact hold's deviation from the straight step, dynamic law). Errors: a reported body
+/// that overlaps the robot's (`|x − p̂_j| ≤ radius + r_j`): [`NavError::InMover`].
+pub(crate) fn rows(
+    movers: &[Mover],
+    (x, radius, margin): (Vector2<f64>, f64, f64),
+    h: f64,
+    extra: f64,
+    rows: &mut Vec<Row>,
+) -> Result<(), NavError> {
+    rows.clear();
+    let beta = KINEMATIC_FRACTION;
+    for (j, m) in movers.iter().enumerate() {
+        let diff = x - m.centre;
+        let dist = diff.norm();
+        // Guard: the bodies as reported overlap (or the centres coincide, where `n` is
+        // undefined): no command is certified, as inside a known obstacle.
+        if dist <= radius + m.radius {
+            return Err(NavError::InMover { mover: j });
+        }
+        let n = diff / dist;
+        let d = dist - (radius + margin + m.radius) - (m.position_error + extra);
+        let (a, hard) = match m.kind {
+            MoverKind::NonCooperative => (m.speed_bound - beta * d / h, false),
+            // `max(d, 0)`: a clearance decayed to 0 must keep `u = 0` feasible.
+            MoverKind::Reciprocal { share } => (-share * beta * d.max(0.0) / h, true),
+        };
+        rows.push(Row {
+            n,
+            a,
+            hard,
+            mover: j,
+        });
+    }
+    Ok(())
+}
+
+/// The velocity `u` filtered against `rows` with the static set `|u| ≤ r` (and, if the first
+/// projection is not certified by `certified`, the smaller disc `|u| ≤ r_small`): `u` itself
+/// when it meets every row ([`Verdict::Kept`]), the projection when one is certified, else the
+/// least largest shortfall.
+pub(crate) fn filter(
+    rows: &[Row],
+    u: Vector2<f64>,
+    r: f64,
+    certified: impl Fn(Vector2<f64>) -> bool,
+    r_small: f64,
+) -> (Vector2<f64>, Verdict) {
+    if rows.iter().all(|row| row.slack(u) >= 0.0) {
+        return (u, Verdict::Kept);
+    }
+    let yielding = |v: Vector2<f64>| {
+        let binding = rows
+            .iter()
+            .min_by(|a, b| a.slack(v).total_cmp(&b.slack(v)))
+            .map_or(0, |row| row.mover);
+        let norm = u.norm();
+        let scale = if norm > 0.0 { v.norm() / norm } else { 0.0 };
+        (
+            v,
+            Verdict::Yielding {
+                mover: binding,
+                scale,
+            },
+        )
+    };
+    if let Ok(v) = project(rows, r, u, 0.0)
+        && certified(v)
+    {
+        return yielding(v);
+    }
+    if let Ok(v) = project(rows, r_small, u, 0.0) {
+        return yielding(v);
+    }
+    match minimax(rows, r_small, u) {
+        Some((v, shortfall)) => {
+            let worst = rows
+                .iter()
+                .filter(|row| !row.hard)
+                .min_by(|a, b| a.slack(v).total_cmp(&b.slack(v)))
+                .map_or(0, |row| row.mover);
+            (
+                v,
+                Verdict::Overwhelmed {
+                    mover: worst,
+                    shortfall,
+                },
+            )
+        }
+        // Not expected (the hard rows and the disc admit 0): rest, uncertified.
+        None => (
+            Vector2::zeros(),
+            Verdict::Overwhelmed {
+                mover: 0,
+                shortfall: f64::INFINITY,
+            },
+        ),
+    }
+}
+
+/// A standalone mover filter: certifies any planner's velocity (ORCA's, DWB's, your own)
+/// against movers, for a disc robot of `radius` and `margin` that holds the velocity for the
+/// control period `h` and moves at most `v_max`. The static world is the caller's: a certified
+/// lower bound `clearance` on the distance from the robot's centre to every static obstacle
+/// (grown by `radius + margin`), inside which every step of length `β·clearance` is free.
+#[derive(Clone, Debug)]
+pub struct MoverFilter {
+    radius: f64,
+    margin: f64,
+    v_max: f64,
+    period: f64,
+    rows: Vec<Row>,
+}
+
+/// A filtered velocity and how it was formed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Filtered {
+    /// The velocity to hold for the period.
+    pub velocity: Vector2<f64>,
+    /// [`crate::Mode::Law`] when the nominal velocity met every row (returned as given),
+    /// [`crate::Mode::Yielding`] or [`crate::Mode::Overwhelmed`].
+    pub mode: crate::Mode,
+}
+
+impl MoverFilter {
+    /// The filter for a robot of `radius` and `margin` (m) at most `v_max` fast (m/s), control
+    /// period `h` (s).
+    ///
+    /// # Errors
+    /// A parameter not finite or out of range ([`NavError::InvalidOption`], naming it).
+    pub fn new(radius: f64, margin: f64, v_max: f64, h: f64) -> Result<Self, NavError> {
+        let length = |field, v: f64| {
+            if v.is_finite() && (0.0..=MAX_MOVER).contains(&v) {
+                Ok(v)
+            } else {
+                Err(NavError::InvalidOption { field, value: v })
+            }
+        };
+        let positive = |field, v: f64| {
+            if v.is_finite() && v > 0.0 && v <= MAX_MOVER {
+                Ok(v)
+            } else {
+                Err(NavError::InvalidOption { field, value: v })
+            }
+        };
+        Ok(Self {
+            radius: length("radius", radius)?,
+            margin: length("margin", margin)?,
+            v_max: positive("v_max", v_max)?,
+            period: positive("control_period", h)?,
+            rows: Vec::new(),
+        })
+    }
+
+    /// Filters `nominal` at `x` against `movers`, with `clearance` the caller's certified
+    /// distance to the static world (`f64::INFINITY` for none): the nominal velocity, clipped
+    /// to the static set `|u| ≤ min(v_max, β·clearance/h)` ([`crate::Mode::Capped`] if it was),
+    /// when it meets every row; else the certified projection onto the rows and the static set
+    /// ([`crate::Mode::Yielding`]); else the least largest shortfall of the rows, not certified
+    /// ([`crate::Mode::Overwhelmed`]).
+    ///
+    /// # Errors
+    /// A mover not valid ([`NavError::InvalidMover`]), a non-finite input
+    /// ([`NavError::NotFinite`]), a mover whose reported body overlaps the robot's
+    /// ([`NavError::InMover`]).
+    pub fn filter(
+        &mut self,
+        x: Vector2<f64>,
+        nominal: Vector2<f64>,
+        movers: &[Mover],
+        clearance: f64,
+    ) -> Result<Filtered, NavError> {
+        crate::controller::finite(x, "position")?;
+        crate::controller::finite(nominal, "velocity")?;
+        for (i, m) in movers.iter().enumerate() {
+            m.validate(i)?;
+        }
+        let h = self.period;
+        rows(
+            movers,
+            (x, self.radius, self.margin),
+            h,
+            0.0,
+            &mut self.rows,
+        )?;
+        // The static set: every step of length β·clearance is free.
+        let r = if clearance.is_nan() {
+            0.0
+        } else {
+            self.v_max.min(KINEMATIC_FRACTION * clearance.max(0.0) / h)
+        };
+        let norm = nominal.norm();
+        let (u, kept) = if norm > r {
+            let scale = r / norm;
+            (nominal * scale, crate::Mode::Capped { scale })
+        } else {
+            (nominal, crate::Mode::Law)
+        };
+        let (velocity, verdict) = filter(&self.rows, u, r, |_| true, r);
+        Ok(Filtered {
+            velocity,
+            mode: verdict.mode_or(kept),
+        })
+    }
+}
+
+impl Verdict {
+    /// The command's mode after the filter: `kept` when it was kept.
+    pub(crate) fn mode_or(self, kept: crate::Mode) -> crate::Mode {
+        match self {
+            Self::Kept => kept,
+            Self::Yielding { mover, scale } => crate::Mode::Yielding { mover, scale },
+            Self::Overwhelmed { mover, shortfall } => crate::Mode::Overwhelmed { mover, shortfall },
+        }
+    }
+}

@@ -1,0 +1,425 @@
+//! The mover filter (issue 54, `docs/movers.md`): every certified command keeps the robot's disc
+//! grown by its margin clear of every place a mover can reach within the period, against an
+//! exact oracle and in closed loops with pursuing, crossing and reciprocal movers; each claim
+//! with a negative control that fails without the filter (or without its speed term).
+
+use harmonav::{Law, Mode, Mover, MoverFilter, NavError, Navigator, Options, StarShape, Vector2};
+
+const RADIUS: f64 = 0.2;
+const MARGIN: f64 = 0.05;
+
+fn v(x: f64, y: f64) -> Vector2<f64> {
+    Vector2::new(x, y)
+}
+
+fn navigator(law: Law, goal: Vector2<f64>) -> Navigator {
+    let boundary = StarShape::circle(Vector2::zeros(), 10.0).unwrap();
+    Navigator::new(
+        boundary,
+        goal,
+        law,
+        Options::default().with_robot(RADIUS, MARGIN),
+    )
+    .unwrap()
+}
+
+/// A kinematic navigator at 10 Hz, a typical robot's control rate.
+fn at_10_hz(goal: Vector2<f64>) -> Navigator {
+    let boundary = StarShape::circle(Vector2::zeros(), 10.0).unwrap();
+    let options = Options::default()
+        .with_robot(RADIUS, MARGIN)
+        .with_control_period(0.1);
+    Navigator::new(boundary, goal, Law::kinematic(1.0), options).unwrap()
+}
+
+/// A seeded generator (splitmix64) in `[0, 1)`.
+struct Seeded(u64);
+impl Seeded {
+    fn next(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// The exact oracle of one period: the least, over `τ ∈ [0, h]`, of
+/// `|x + τu − p̂| − (R + ε + Vτ)`, the gap to the mover's reachable disc (a convex function of
+/// `τ`: minimised by golden-section search to 1e-12 s, plus the ends).
+fn reach_gap(x: Vector2<f64>, u: Vector2<f64>, h: f64, m: &Mover) -> f64 {
+    let r = RADIUS + MARGIN + m.radius + m.position_error;
+    let g = |t: f64| (x + t * u - m.centre).norm() - r - m.speed_bound * t;
+    let (mut a, mut b) = (0.0, h);
+    let phi = 0.5 * (5f64.sqrt() - 1.0);
+    while b - a > 1e-12 {
+        let (c, d) = (b - phi * (b - a), a + phi * (b - a));
+        if g(c) < g(d) {
+            b = d;
+        } else {
+            a = c;
+        }
+    }
+    g(0.0).min(g(h)).min(g(0.5 * (a + b)))
+}
+
+/// Property: over 3 000 seeded states, movers and nominal commands, every command the
+/// navigator returns in a certified mode keeps out of every mover's reachable disc over the
+/// period (the oracle's gap ≥ 0); some commands were changed (`Yielding`) and some could not be
+/// certified (`Overwhelmed`, then `certified()` is false). Negative control: the same movers
+/// reported without their speed bound give certified commands that the oracle, with the true
+/// bound, refutes.
+#[test]
+fn every_certified_command_keeps_out_of_every_reach() {
+    let mut rng = Seeded(54);
+    let (mut yielding, mut overwhelmed, mut refuted) = (0, 0, 0);
+    for case in 0..3000 {
+        let goal = v(6.0 * rng.next() - 3.0, 6.0 * rng.next() - 3.0);
+        let mut nav = at_10_hz(goal);
+        let x = v(6.0 * rng.next() - 3.0, 6.0 * rng.next() - 3.0);
+        if (x - goal).norm() < 0.5 {
+            continue;
+        }
+        let count = 1 + (rng.next() * 4.0) as usize;
+        let movers: Vec<Mover> = (0..count)
+            .map(|_| {
+                let angle = rng.next() * std::f64::consts::TAU;
+                let dist = RADIUS + 0.3 + 0.3 + 1.2 * rng.next();
+                Mover::new(
+                    x + dist * v(angle.cos(), angle.sin()),
+                    0.3,
+                    2.0 * rng.next(),
+                )
+                .with_error(0.05 * rng.next())
+            })
+            .collect();
+        nav.set_movers(&movers).unwrap();
+        let h = nav.control_period();
+        let c = match nav.command(x, Vector2::zeros()) {
+            Ok(c) => c,
+            Err(NavError::InMover { .. }) => continue,
+            Err(e) => panic!("case {case}: {e}"),
+        };
+        match c.mode {
+            Mode::Yielding { .. } => yielding += 1,
+            Mode::Overwhelmed { .. } => overwhelmed += 1,
+            _ => {}
+        }
+        if c.certified() {
+            for m in &movers {
+                let gap = reach_gap(x, c.value, h, m);
+                assert!(
+                    gap >= -1e-9,
+                    "case {case}: {:?} enters {m:?} by {gap}",
+                    c.mode
+                );
+            }
+        } else {
+            assert!(matches!(c.mode, Mode::Overwhelmed { .. }));
+        }
+        // The negative control: the same movers reported as standing still.
+        let still: Vec<Mover> = movers
+            .iter()
+            .map(|m| Mover {
+                speed_bound: 0.0,
+                ..*m
+            })
+            .collect();
+        let mut blind = at_10_hz(goal);
+        blind.set_movers(&still).unwrap();
+        if let Ok(c) = blind.command(x, Vector2::zeros())
+            && c.certified()
+            && movers.iter().any(|m| reach_gap(x, c.value, h, m) < -1e-9)
+        {
+            refuted += 1;
+        }
+    }
+    assert!(yielding > 100, "{yielding} yielding");
+    assert!(overwhelmed > 0, "{overwhelmed} overwhelmed");
+    assert!(
+        refuted > 20,
+        "the speed term must matter: {refuted} refuted"
+    );
+}
+
+/// One pursuer per run, moving straight at the robot at exactly its speed bound (0.8 of the
+/// robot's top speed), in 20 seeded runs of 3 000 periods: the robot's disc grown by its margin
+/// never touches the pursuer while the commands are certified (checked at 20 instants of every
+/// period); a touch after an `Overwhelmed` command is allowed by the theorem and counted.
+/// Negative control: without `set_movers` the pursuer catches the robot in most runs.
+#[test]
+fn a_pursuer_at_its_bound_never_touches_a_certified_robot() {
+    let mut rng = Seeded(7);
+    let (mut caught_blind, mut overwhelmed_runs) = (0, 0);
+    for run in 0..20 {
+        let goal = v(4.0, 0.0);
+        let start = v(-4.0, 3.0 * rng.next() - 1.5);
+        let pursuer0 = v(6.0 * rng.next() - 3.0, 4.0 + 2.0 * rng.next());
+        for filtered in [true, false] {
+            let mut nav = navigator(Law::kinematic(1.0), goal);
+            let h = nav.control_period();
+            let speed = 0.8 * std::f64::consts::SQRT_2;
+            let (mut x, mut p) = (start, pursuer0);
+            let mut overwhelmed = false;
+            let mut touched = false;
+            for _ in 0..3000 {
+                let mover = Mover::new(p, 0.3, speed);
+                if filtered {
+                    nav.set_movers(&[mover]).unwrap();
+                }
+                let c = match nav.command(x, Vector2::zeros()) {
+                    Ok(c) => c,
+                    Err(_) => {
+                        touched = true;
+                        break;
+                    }
+                };
+                overwhelmed |= !c.certified();
+                let to = x - p;
+                let step = if to.norm() > 0.0 {
+                    speed * to / to.norm()
+                } else {
+                    Vector2::zeros()
+                };
+                for i in 1..=20 {
+                    let t = h * f64::from(i) / 20.0;
+                    let gap = (x + t * c.value - (p + t * step)).norm() - (RADIUS + 0.3);
+                    if gap < MARGIN * (1.0 - 1e-9) {
+                        touched = true;
+                    }
+                }
+                if touched {
+                    break;
+                }
+                x += h * c.value;
+                p += h * step;
+            }
+            if filtered {
+                overwhelmed_runs += usize::from(overwhelmed);
+                assert!(
+                    !touched || overwhelmed,
+                    "run {run}: touched while certified"
+                );
+            } else {
+                caught_blind += usize::from(touched);
+            }
+        }
+    }
+    assert!(
+        caught_blind >= 10,
+        "the pursuer must catch a blind robot: {caught_blind}/20"
+    );
+    assert!(overwhelmed_runs <= 20, "{overwhelmed_runs}");
+}
+
+/// `n` harmonav robots on a circle swap places, each filtering against the others as
+/// reciprocal movers (share ½, each peer reported with its body radius), sampled together: no
+/// robot's disc grown by its margin touches another's body, for n = 2 to 8, under the
+/// kinematic law. Negative control: when one robot of the pair ignores its row (no
+/// `set_movers`), the margin is lost.
+#[test]
+fn reciprocal_robots_swapping_places_keep_their_margins() {
+    for n in 2..=8usize {
+        for ignore in [None, Some(0)] {
+            let starts: Vec<Vector2<f64>> = (0..n)
+                .map(|i| {
+                    let a = std::f64::consts::TAU * i as f64 / n as f64 + 0.01;
+                    4.0 * v(a.cos(), a.sin())
+                })
+                .collect();
+            let mut navs: Vec<Navigator> = starts
+                .iter()
+                .map(|s| navigator(Law::kinematic(1.0), -s))
+                .collect();
+            let h = navs[0].control_period();
+            let mut x = starts.clone();
+            let mut closest = f64::INFINITY;
+            for _ in 0..3000 {
+                let mut commands = Vec::with_capacity(n);
+                for i in 0..n {
+                    let others: Vec<Mover> = (0..n)
+                        .filter(|&j| j != i)
+                        .map(|j| Mover::new(x[j], RADIUS, std::f64::consts::SQRT_2).reciprocal(0.5))
+                        .collect();
+                    if ignore != Some(i) {
+                        navs[i].set_movers(&others).unwrap();
+                    }
+                    commands.push(navs[i].command(x[i], Vector2::zeros()).map(|c| c.value));
+                }
+                let Ok(u): Result<Vec<_>, _> = commands.into_iter().collect() else {
+                    closest = f64::NEG_INFINITY;
+                    break;
+                };
+                for k in 1..=10 {
+                    let t = h * f64::from(k) / 10.0;
+                    for i in 0..n {
+                        for j in i + 1..n {
+                            let d = (x[i] + t * u[i] - x[j] - t * u[j]).norm() - 2.0 * RADIUS;
+                            closest = closest.min(d);
+                        }
+                    }
+                }
+                for i in 0..n {
+                    x[i] += h * u[i];
+                }
+            }
+            match ignore {
+                None => assert!(
+                    closest >= MARGIN - 1e-9,
+                    "n = {n}: two robots came {closest} m apart"
+                ),
+                Some(_) if n == 2 => assert!(
+                    closest < MARGIN - 1e-6,
+                    "n = 2: one robot ignoring its row must cost the pair its margin ({closest})"
+                ),
+                Some(_) => {}
+            }
+        }
+    }
+}
+
+/// The dynamic law: a mover declared at up to 1 m/s stands just off the robot's straight path
+/// (a person who could step in at any time); the robot's grown disc never touches its reach
+/// (checked at 20 instants of every semi-implicit step against a mover that does step in), the
+/// robot yields, passes it and arrives.
+#[test]
+fn a_dynamic_robot_yields_to_a_crossing_mover() {
+    let goal = v(4.0, 0.0);
+    let mut nav = navigator(Law::dynamic(1.0, 10.0), goal);
+    let h = nav.control_period();
+    let (mut x, mut vel, p0) = (v(-4.0, 0.0), Vector2::zeros(), v(0.0, 0.15));
+    let mut p = p0;
+    let (mut yielded, mut overwhelmed) = (0, 0);
+    for _ in 0..60_000 {
+        nav.set_movers(&[Mover::new(p, 0.3, 1.0)]).unwrap();
+        let c = nav.command(x, vel).unwrap();
+        yielded += usize::from(matches!(c.mode, Mode::Yielding { .. }));
+        overwhelmed += usize::from(!c.certified());
+        let next = vel + h * c.value;
+        // The mover steps towards the robot at its bound while within 0.5 m of where it stood.
+        let to = x - p;
+        let step = if (p - p0).norm() < 0.5 { to / to.norm() } else { Vector2::zeros() };
+        for i in 1..=20 {
+            let t = h * f64::from(i) / 20.0;
+            let gap = (x + t * next - (p + t * step)).norm() - (RADIUS + 0.3);
+            assert!(overwhelmed > 0 || gap >= MARGIN - 1e-9, "gap {gap}");
+        }
+        x += h * next;
+        vel = next;
+        p += h * step;
+        if (x - goal).norm() < 0.01 {
+            break;
+        }
+    }
+    assert_eq!(overwhelmed, 0);
+    assert!(yielded > 0, "the crossing must make the robot yield");
+    assert!((x - goal).norm() < 0.01, "arrived at {x:?}");
+}
+
+/// Without movers, and with movers out of reach, every command is bit for bit the one without
+/// the filter.
+#[test]
+fn movers_out_of_reach_change_nothing() {
+    for law in [Law::kinematic(1.0), Law::dynamic(1.0, 10.0)] {
+        let mut plain = navigator(law, v(4.0, 0.0));
+        let mut far = navigator(law, v(4.0, 0.0));
+        far.set_movers(&[Mover::new(v(0.0, 9.0), 0.3, 0.5)])
+            .unwrap();
+        let (mut x, mut vel) = (v(-4.0, 0.3), Vector2::zeros());
+        let h = plain.control_period();
+        for _ in 0..500 {
+            let a = plain.command(x, vel).unwrap();
+            let b = far.command(x, vel).unwrap();
+            assert_eq!(
+                (a.value.x.to_bits(), a.value.y.to_bits()),
+                (b.value.x.to_bits(), b.value.y.to_bits())
+            );
+            assert_eq!(a.mode, b.mode);
+            match law {
+                Law::Kinematic { .. } => x += h * a.value,
+                Law::Dynamic { mass, .. } => {
+                    vel += h * a.value / mass;
+                    x += h * vel;
+                }
+            }
+        }
+    }
+}
+
+/// Bad movers are typed errors naming the mover and the field, and leave the navigator's
+/// movers as they were; a mover whose body overlaps the robot's is `InMover` and the
+/// navigator is unchanged (the next command without it is the same as before).
+#[test]
+fn bad_movers_are_refused_by_name() {
+    let mut nav = navigator(Law::kinematic(1.0), v(4.0, 0.0));
+    let good = Mover::new(v(0.0, 3.0), 0.3, 1.0);
+    nav.set_movers(&[good]).unwrap();
+    let cases = [
+        (Mover::new(v(f64::NAN, 0.0), 0.3, 1.0), "centre"),
+        (Mover::new(v(0.0, 3.0), -0.1, 1.0), "radius"),
+        (Mover::new(v(0.0, 3.0), 0.3, f64::INFINITY), "speed_bound"),
+        (Mover::new(v(0.0, 3.0), 0.3, 1.0).with_error(-1.0), "error"),
+        (Mover::new(v(0.0, 3.0), 0.3, 1.0).reciprocal(1.5), "share"),
+    ];
+    for (bad, field) in cases {
+        assert_eq!(
+            nav.set_movers(&[good, bad]),
+            Err(NavError::InvalidMover { index: 1, field })
+        );
+        assert_eq!(nav.movers(), &[good]);
+    }
+    let x = v(-3.0, 0.0);
+    let before = nav.clone().command(x, Vector2::zeros()).unwrap();
+    nav.set_movers(&[Mover::new(x + v(0.4, 0.0), 0.3, 1.0)])
+        .unwrap();
+    assert_eq!(
+        nav.command(x, Vector2::zeros()),
+        Err(NavError::InMover { mover: 0 })
+    );
+    nav.set_movers(&[good]).unwrap();
+    assert_eq!(nav.command(x, Vector2::zeros()).unwrap(), before);
+}
+
+/// The standalone filter certifies a planner's velocity: kept when clear (mode `Law`), clipped
+/// to the static set (`Capped`), projected when a mover's reach is in the way (`Yielding`,
+/// checked by the oracle), refused by name when the input is bad.
+#[test]
+fn the_standalone_filter_certifies_any_planners_velocity() {
+    let mut filter = MoverFilter::new(RADIUS, MARGIN, 1.0, 0.1).unwrap();
+    let x = v(0.0, 0.0);
+    let clear = filter.filter(x, v(0.5, 0.0), &[], f64::INFINITY).unwrap();
+    assert_eq!((clear.velocity, clear.mode), (v(0.5, 0.0), Mode::Law));
+    // The static set: |u| ≤ β·clearance/h = 0.5·0.08/0.1 = 0.4.
+    let capped = filter.filter(x, v(0.5, 0.0), &[], 0.08).unwrap();
+    assert!(
+        matches!(capped.mode, Mode::Capped { .. }),
+        "{:?}",
+        capped.mode
+    );
+    assert!(
+        (capped.velocity - v(0.4, 0.0)).norm() < 1e-12,
+        "{:?}",
+        capped.velocity
+    );
+    let ahead = Mover::new(v(0.9, 0.0), 0.3, 1.0);
+    let f = filter
+        .filter(x, v(1.0, 0.0), &[ahead], f64::INFINITY)
+        .unwrap();
+    assert!(
+        matches!(f.mode, Mode::Yielding { mover: 0, .. }),
+        "{:?}",
+        f.mode
+    );
+    assert!(reach_gap(x, f.velocity, 0.1, &ahead) >= -1e-9);
+    assert_eq!(
+        filter.filter(x, v(f64::NAN, 0.0), &[], 1.0).unwrap_err(),
+        NavError::NotFinite { what: "velocity" }
+    );
+    assert_eq!(
+        MoverFilter::new(RADIUS, MARGIN, 0.0, 0.1).unwrap_err(),
+        NavError::InvalidOption {
+            field: "v_max",
+            value: 0.0
+        }
+    );
+}
