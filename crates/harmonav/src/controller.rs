@@ -8,9 +8,10 @@ use nalgebra::Vector2;
 
 use crate::certified::Band;
 use crate::error::NavError;
+use crate::error::in_range;
 use crate::hold::{Command, Mode};
 use crate::law::Law;
-use crate::options::{Options, in_range};
+use crate::options::Options;
 
 /// The command that leads a robot at velocity `v` out of the margin band `band`: `length`
 /// along the unit direction `dir` within one control period `h`, at most the kinematic law's
@@ -134,11 +135,11 @@ impl Controller {
 }
 
 /// One evaluation of the continuous law at a state, without side effects
-/// ([`Navigator::evaluate`]).
+/// ([`Navigator::evaluate`](crate::Navigator::evaluate)).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Evaluation {
     /// The continuous law's command: the velocity `u` (kinematic law) or the force `f`
-    /// (dynamic law), before the hold of [`Navigator::command`].
+    /// (dynamic law), before the hold of [`Navigator::command`](crate::Navigator::command).
     pub command: Vector2<f64>,
     /// `Θ(x)`, `∇Θ(x)` and the descent direction `−∇Θ/|∇Θ|` over the known obstacles.
     pub field: FieldEval,

@@ -12,68 +12,14 @@
 use harmonav_field::FieldEval;
 use nalgebra::Vector2;
 
+use crate::base::Base;
+use crate::controller::Controller;
 use crate::error::NavError;
 use crate::hold::{self, KINEMATIC_FRACTION, MAX_HALVINGS, Mode};
-use crate::law::Law;
-use crate::navigator::{Controller, Navigator};
-use crate::options::{HoldPolicy, in_range};
+use crate::navigator::Navigator;
+use crate::options::HoldPolicy;
 use crate::space::Space;
 use crate::world::World;
-
-/// The robot's base: how it moves and which command it takes ([`crate::Options::base`]).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub enum Base {
-    /// The default: an omnidirectional robot commanded by [`Navigator::command`] (a velocity or
-    /// a force), today's behaviour bit for bit.
-    #[default]
-    Holonomic,
-    /// A differential-drive (unicycle) base with its axle at the disc's centre, commanded by
-    /// [`Navigator::command_pose`]: forward speed `0 ≤ v ≤ v_max` (m/s) and turn rate
-    /// `|ω| ≤ omega_max` (rad/s). Kinematic law only ([`Law::Kinematic`]); the dynamic law is
-    /// refused at construction (`base`).
-    Diff {
-        /// The top forward speed, m/s, in [`crate::PARAMETER_RANGE`].
-        v_max: f64,
-        /// The top turn rate, rad/s, in [`crate::PARAMETER_RANGE`].
-        omega_max: f64,
-    },
-}
-
-impl Base {
-    /// A differential-drive base with these bounds ([`Base::Diff`]); checked by
-    /// [`crate::Options::validate`].
-    #[must_use]
-    pub fn diff(v_max: f64, omega_max: f64) -> Self {
-        Self::Diff { v_max, omega_max }
-    }
-
-    /// The name used in logs and Python (`"holonomic"`, `"diff"`).
-    #[must_use]
-    pub fn as_str(&self) -> &'static str {
-        match self {
-            Self::Holonomic => "holonomic",
-            Self::Diff { .. } => "diff",
-        }
-    }
-
-    /// The bounds checked for `law`: `v_max` and `omega_max` finite and in
-    /// [`crate::PARAMETER_RANGE`] (the error names the field); a differential-drive base with
-    /// the dynamic law is [`NavError::InvalidOption`] naming `base` (not built in this
-    /// release: the kinematic law only).
-    pub(crate) fn validate(&self, law: &Law) -> Result<(), NavError> {
-        if let Self::Diff { v_max, omega_max } = *self {
-            in_range("v_max", v_max)?;
-            in_range("omega_max", omega_max)?;
-            if matches!(law, Law::Dynamic { .. }) {
-                return Err(NavError::InvalidOption {
-                    field: "base",
-                    value: f64::NAN,
-                });
-            }
-        }
-        Ok(())
-    }
-}
 
 /// `k_ω` of aligned descent, 1/s: `ω = k_ω φ` before the limits. The gain in force is
 /// `min(k_ω, 1/h)`, so the heading never overshoots the target within a period
@@ -252,7 +198,7 @@ impl<W: World> Navigator<W> {
     /// The base is [`Base::Holonomic`] ([`NavError::InvalidOption`] naming `base`); `yaw` not
     /// finite ([`NavError::NotFinite`], `"yaw"`); then as [`Navigator::command`].
     pub fn command_pose(&mut self, x: Vector2<f64>, yaw: f64) -> Result<PoseCommand, NavError> {
-        let Base::Diff { v_max, omega_max } = self.options.base else {
+        let Base::Diff { v_max, omega_max } = self.core.options.base else {
             return Err(NavError::InvalidOption {
                 field: "base",
                 value: f64::NAN,
@@ -262,7 +208,7 @@ impl<W: World> Navigator<W> {
             return Err(NavError::NotFinite { what: "yaw" });
         }
         let held = self.command(x, Vector2::zeros())?;
-        let h = self.period;
+        let h = self.core.period;
         let stopped = PoseCommand {
             v: 0.0,
             omega: 0.0,
@@ -300,7 +246,7 @@ impl<W: World> Navigator<W> {
         // narrow-valley crawl the unicycle inherited.
         let field = self.world.field();
         let e = field.eval(x).ok();
-        let s = match (&self.controller, &e) {
+        let s = match (&self.core.controller, &e) {
             (Controller::Kinematic(law), Some(e)) => law.speed(e, to_goal).max(s),
             _ => s,
         };
@@ -311,7 +257,7 @@ impl<W: World> Navigator<W> {
             v *= c;
         }
         let aligned = v;
-        if self.options.hold == HoldPolicy::Auto && v > 0.0 {
+        if self.core.options.hold == HoldPolicy::Auto && v > 0.0 {
             v = match &e {
                 Some(e) => arc_hold(field, x, yaw, e, (v, omega), h),
                 None => 0.0,
@@ -348,7 +294,7 @@ impl<W: World> Navigator<W> {
         if !(finite && v.is_finite() && v > 0.0) {
             return 0.0;
         }
-        free_arc(self.world.field(), x, yaw, v, omega, self.period)
+        free_arc(self.world.field(), x, yaw, v, omega, self.core.period)
     }
 }
 

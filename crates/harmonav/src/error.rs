@@ -98,6 +98,16 @@ pub enum NavError {
     },
 }
 
+/// `value` if it is finite and within [`PARAMETER_RANGE`], else the error naming `field`.
+pub(crate) fn in_range(field: &'static str, value: f64) -> Result<f64, NavError> {
+    let (lo, hi) = PARAMETER_RANGE;
+    if value.is_finite() && (lo..=hi).contains(&value) {
+        Ok(value)
+    } else {
+        Err(NavError::InvalidOption { field, value })
+    }
+}
+
 /// What an [`NavError::InvalidOption`] field must be.
 fn expected(field: &str) -> String {
     let (lo, hi) = PARAMETER_RANGE;

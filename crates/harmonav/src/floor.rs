@@ -14,14 +14,14 @@ use harmonav_transform::StarShape;
 use nalgebra::Vector2;
 
 use crate::certified::{self, Band};
+use crate::controller::{Controller, Evaluation, moving_along, recovering};
 use crate::error::NavError;
+use crate::event::ScanEvent;
 use crate::hold::{self, Command, Mode};
-use crate::navigator::{Controller, Evaluation, Navigator, law_held, moving_along, recovering};
 use crate::options::{HoldPolicy, Options};
-use crate::scan::ScanEvent;
 use crate::scanning::ScanState;
 use crate::space::Space;
-use crate::world::{Build, Rules};
+use crate::world::{Build, Core, Rules, World, evaluate, law_held};
 
 /// How far below the level `phi_k(x_s)` of the point `x_s` where it began (a stall, or the
 /// shortest path turning against the law) an escape takes `phi_k` before the law resumes
@@ -53,77 +53,32 @@ pub const ESCAPE_BLOCKED: f64 = 0.5;
 /// An escape along the shortest path ([`Mode::Escaping`]): it ends when `phi_k` is
 /// [`ESCAPE_DROP`] below `level`, or when blocked.
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct Escape {
+pub(crate) struct Escape {
     /// `phi_k` where it began.
-    level: f64,
+    pub(crate) level: f64,
     /// Begun against the law (the shortest path's heading more than 90° from the descent
     /// direction), not after a stall; it also ends when blocked in the sense of
     /// [`ESCAPE_BLOCKED`].
     early: bool,
 }
 
-/// An online navigator on a floor plan: the walls are known (a [`FloorMap`], whose harmonic
-/// map is solved once), star-shaped obstacles are added as perception finds them.
-///
-/// **Where it navigates.** Only in the certified region `W_δ = {sd ≥ δ}` ([`FloorMap::delta`],
-/// `sd` the distance to the walls shrunk by `s = radius + margin − δ`: `W_δ` is the
-/// configuration space with its margin), minus the sensed obstacles grown by
-/// `radius + margin`. The hold ([`HoldPolicy::Auto`]) measures its clearance to the
-/// boundary layer, `sd(x) − δ`, so every held step stays in `W_δ`. In the layer (`sd < δ`
-/// with the robot's disc clear of the walls, reached only by a disturbance) `Θ` is not used:
-/// the discrete map is not claimed a diffeomorphism there, and [`FloorNavigator::evaluate`]
-/// returns [`NavError::BoundaryLayer`]. [`FloorNavigator::command`] leads the robot out
-/// instead ([`Mode::Recovering`] with [`Band::Boundary`], as out of a sensed obstacle's margin
-/// band): straight away from the nearest wall, by a step certified clear of the walls and of
-/// the sensed obstacles (docs/maths.md §13.6).
-///
-/// **Escapes.** Where a hole's barrier is thinner than the layer, the hold can press the robot
-/// against the edge of `W_δ` at a local minimum of `Θ` there (a rest point of its slide,
-/// [`FloorField::layer_slide`]). Under the heading policy `"auto"`, a robot that has stayed
-/// within `δ/4` of one point for [`ESCAPE_STALL`] s next to that edge follows the shortest path
-/// ([`Mode::Escaping`], each step certified free) until `phi_k` is [`ESCAPE_DROP`] below where
-/// it stalled, then the law resumes. It does so without a stall, anywhere, where the shortest
-/// path's heading `g` turns more than 90° from the law's descent direction `d` (`d·g < 0`) and
-/// `phi_k` is [`ESCAPE_DROP`] below where the last such escape began; such an escape also ends
-/// when blocked ([`ESCAPE_BLOCKED`]; docs/maths.md §13.7, eq. escape-levels).
-///
-/// ```
-/// use std::sync::Arc;
-/// use harmonav::{FloorMap, FloorNavigator, FloorOptions, Law, Options, Vector2};
-///
-/// let v = Vector2::new;
-/// let room = vec![v(0.0, 0.0), v(4.0, 0.0), v(4.0, 1.5), v(1.5, 1.5), v(1.5, 4.0), v(0.0, 4.0)];
-/// let options = Options::default().with_robot(0.1, 0.1);
-/// let floor = Arc::new(FloorMap::new(room, vec![], &FloorOptions::new(0.2, 0.2))?);
-/// let goal = v(3.5, 0.75);
-/// let mut nav = FloorNavigator::new(floor, goal, Law::kinematic(1.0), options)?;
-/// let (mut x, h) = (v(0.75, 3.5), 0.01);
-/// for _ in 0..3000 {
-///     x += h * nav.command(x, Vector2::zeros())?.value;
-///     assert!(nav.field().floor().wall_distance(x) > 0.2);
-/// }
-/// assert!((x - goal).norm() < 0.05);
-/// # Ok::<(), Box<dyn std::error::Error>>(())
-/// ```
-pub type FloorNavigator = Navigator<FloorWorld>;
-
 /// A floor plan as a navigator's world: `Θ` over the holes and the sensed obstacles (grown by
 /// `radius + margin`), the true walls, and the escapes ([`Mode::Escaping`]).
 #[derive(Clone, Debug)]
 pub struct FloorWorld {
     /// `Θ` over the holes and the sensed obstacles (grown by `radius + margin`).
-    field: FloorField,
+    pub(crate) field: FloorField,
     /// The true walls, as the perception holds them (one shared copy).
-    walls: Arc<Walls>,
+    pub(crate) walls: Arc<Walls>,
     /// The current escape ([`Mode::Escaping`]), if escaping.
-    escape: Option<Escape>,
+    pub(crate) escape: Option<Escape>,
     /// `phi_k` where the last escape against the law began: another may begin only
     /// [`ESCAPE_DROP`] below it (eq. escape-levels of docs/maths.md §13.7).
-    early_level: Option<f64>,
+    pub(crate) early_level: Option<f64>,
     /// Escapes begun so far.
-    escapes: usize,
+    pub(crate) escapes: usize,
     /// The point the robot has stayed within `δ/4` of, and for how many periods.
-    anchor: Option<(Vector2<f64>, usize)>,
+    pub(crate) anchor: Option<(Vector2<f64>, usize)>,
 }
 
 /// A floor navigator's step: the escape after the command and the point the robot stays near.
@@ -187,6 +142,8 @@ impl Build for Arc<FloorMap> {
     }
 }
 
+impl World for FloorWorld {}
+
 impl Rules for FloorWorld {
     type Field = FloorField;
     type Step = FloorStep;
@@ -246,21 +203,22 @@ impl Rules for FloorWorld {
     /// The command, the robot having stayed near one point for some periods, and the escape
     /// after it.
     fn held(
-        nav: &FloorNavigator,
+        core: &Core,
+        world: &Self,
         x: Vector2<f64>,
         v: Vector2<f64>,
     ) -> Result<(Command, FloorStep), NavError> {
-        let radius = 0.25 * nav.world.field.floor().delta();
-        let anchor = match nav.world.anchor {
+        let radius = 0.25 * world.field.floor().delta();
+        let anchor = match world.anchor {
             Some((a, n)) if (x - a).norm() < radius => (a, n + 1),
             _ => (x, 0),
         };
-        let (command, escape) = nav.floor_held(x, v, anchor.1)?;
+        let (command, escape) = Floor { core, world }.held(x, v, anchor.1)?;
         Ok((command, FloorStep { escape, anchor }))
     }
 
-    fn after(nav: &mut FloorNavigator, x: Vector2<f64>, step: FloorStep) {
-        let world = &mut nav.world;
+    fn after(&mut self, x: Vector2<f64>, step: FloorStep) {
+        let world = self;
         let FloorStep { escape, anchor } = step;
         // An escape that begins moves the robot: the watch starts again.
         let begins = escape.is_some() && escape != world.escape;
@@ -273,33 +231,22 @@ impl Rules for FloorWorld {
     }
 }
 
-impl Navigator<FloorWorld> {
-    /// The floor plan's true walls as polygon rings, against which
-    /// [`Navigator::observe_scan`] explains hits (and a simulator casts its lidar).
-    pub fn walls(&self) -> &Arc<Walls> {
-        &self.world.walls
-    }
+/// A floor navigator's view while it forms a command: what every world keeps and the floor.
+struct Floor<'a> {
+    core: &'a Core,
+    world: &'a FloorWorld,
+}
 
-    /// The escapes begun so far ([`Mode::Escaping`]), back-to-back ones counted apart (an
-    /// escape may end and the next begin within one period, the mode staying `Escaping`).
-    pub fn escapes(&self) -> usize {
-        self.world.escapes
-    }
-
-    /// `phi_k` where the current escape began, `None` when not escaping.
-    pub fn escape_level(&self) -> Option<f64> {
-        self.world.escape.map(|e| e.level)
-    }
-
+impl Floor<'_> {
     /// The command and the escape after it, the robot having stayed near one point for
     /// `still` periods.
-    fn floor_held(
+    fn held(
         &self,
         x: Vector2<f64>,
         v: Vector2<f64>,
         still: usize,
     ) -> Result<(Command, Option<Escape>), NavError> {
-        let eval = match self.evaluate(x, v) {
+        let eval = match evaluate(self.core, self.world, x, v) {
             Ok(eval) => eval,
             Err(NavError::InObstacle { obstacle }) => {
                 return self.recover(x, v, obstacle).map(|c| (c, None));
@@ -307,8 +254,8 @@ impl Navigator<FloorWorld> {
             Err(NavError::BoundaryLayer) => return self.leave_layer(x, v).map(|c| (c, None)),
             Err(e) => return Err(e),
         };
-        if self.options.hold == HoldPolicy::Paper {
-            return Ok((law_held(self, x, v, &eval), None));
+        if self.core.options.hold == HoldPolicy::Paper {
+            return Ok((law_held(self.core, self.world, x, v, &eval), None));
         }
         let field = &self.world.field;
         // Every escape follows the shortest path's heading `g` (none without the geodesic).
@@ -334,7 +281,7 @@ impl Navigator<FloorWorld> {
             return Ok((c, Some(escape)));
         }
         let delta = field.floor().delta();
-        if still as f64 * self.period >= ESCAPE_STALL
+        if still as f64 * self.core.period >= ESCAPE_STALL
             && field.clearance(x, 0.5 * delta, None) < 0.5 * delta
             && let Some(c) = self.escaping(x, v, g, false)
         {
@@ -354,7 +301,7 @@ impl Navigator<FloorWorld> {
     /// certified clear of the walls and the sensed obstacles) instead of a command of zero for
     /// ever.
     fn law_or_in(&self, x: Vector2<f64>, v: Vector2<f64>, eval: &Evaluation) -> Command {
-        let command = law_held(self, x, v, eval);
+        let command = law_held(self.core, self.world, x, v, eval);
         let floor = self.world.field.floor();
         let on_edge = floor.signed_distance(x) - floor.delta() < EDGE * floor.delta();
         if command.value == Vector2::zeros() && on_edge {
@@ -376,12 +323,12 @@ impl Navigator<FloorWorld> {
         heading: Vector2<f64>,
         early: bool,
     ) -> Option<Command> {
-        let h = self.period;
-        let speed = match &self.controller {
+        let h = self.core.period;
+        let speed = match &self.core.controller {
             Controller::Kinematic(law) => law.v_max(),
             Controller::Dynamic(law) => 0.5 * law.speed_bound(),
         };
-        let want = (h * speed).min((x - self.goal()).norm());
+        let want = (h * speed).min((x - self.world.field.transform().goal()).norm());
         let slid = self.world.field.slide(x, heading, want);
         let norm = slid.norm();
         if !(norm > 1e-3 && want > 0.0) {
@@ -395,14 +342,14 @@ impl Navigator<FloorWorld> {
         // `h(v + v⁺)/2` leaves the segment along `dir`. (A stall's escape slides along the
         // edge, where `d(x)` is about 0 and the cap would stop it: it is certified under
         // semi-implicit Euler, the built-in integrator, alone.)
-        if early && matches!(self.controller, Controller::Dynamic(_)) {
+        if early && matches!(self.core.controller, Controller::Dynamic(_)) {
             let need = 2.0 * want / hold::DYNAMIC_FRACTION;
             let d = self.world.field.clearance(x, need, None).max(0.0);
             length = length.min(hold::DYNAMIC_FRACTION * d);
         }
         let least = if early { ESCAPE_BLOCKED * want } else { 0.0 };
         (length > least && length > 0.0).then(|| Command {
-            value: moving_along(&self.controller, dir, length, h, v),
+            value: moving_along(&self.core.controller, dir, length, h, v),
             mode: Mode::Escaping,
         })
     }
@@ -412,7 +359,7 @@ impl Navigator<FloorWorld> {
     /// everything else (at most half the margin).
     fn recover(&self, x: Vector2<f64>, v: Vector2<f64>, i: usize) -> Result<Command, NavError> {
         let error = NavError::InObstacle { obstacle: i };
-        let Some(inner) = self.inner.get(i) else {
+        let Some(inner) = self.core.inner.get(i) else {
             return Err(error);
         };
         if inner.contains(x) {
@@ -432,18 +379,18 @@ impl Navigator<FloorWorld> {
         let room = self
             .world
             .field
-            .clearance(edge, self.options.margin, Some(band))
+            .clearance(edge, self.core.options.margin, Some(band))
             .max(0.0);
         if room <= 0.0 {
             return Err(error);
         }
         let length = to_edge + 0.5 * room;
         Ok(recovering(
-            &self.controller,
+            &self.core.controller,
             band,
             dir,
             length,
-            self.period,
+            self.core.period,
             v,
         ))
     }
@@ -462,7 +409,7 @@ impl Navigator<FloorWorld> {
         let floor = self.world.field.floor();
         let dir = -floor.toward_boundary(x).ok_or(NavError::BoundaryLayer)?;
         let (sd, delta) = (floor.signed_distance(x), floor.delta());
-        let walls = |z: Vector2<f64>| floor.wall_distance(z) - self.options.radius;
+        let walls = |z: Vector2<f64>| floor.wall_distance(z) - self.core.options.radius;
         let sensed = |z: Vector2<f64>| {
             self.world
                 .field
@@ -477,11 +424,11 @@ impl Navigator<FloorWorld> {
                 && s0 + sensed(y) - length > 0.0
             {
                 return Ok(recovering(
-                    &self.controller,
+                    &self.core.controller,
                     Band::Boundary,
                     dir,
                     length,
-                    self.period,
+                    self.core.period,
                     v,
                 ));
             }

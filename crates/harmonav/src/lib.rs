@@ -49,11 +49,13 @@
 
 #![warn(missing_docs)]
 
+mod base;
 mod certified;
 pub mod checks;
 mod controller;
 mod diff;
 mod error;
+mod event;
 mod floor;
 mod hold;
 mod law;
@@ -75,12 +77,13 @@ pub use harmonav_potential as potential;
 pub use harmonav_sensing as sensing;
 pub use harmonav_transform as transform;
 
+pub use base::Base;
 pub use certified::{BLIND, Band, CANDIDATES};
-pub use diff::{
-    Base, GOAL_GAIN_RATIO, PoseCommand, RECOVERY_ALIGNMENT, Steer, TURN_GAIN, unicycle_arc,
-};
+pub use controller::{Controller, Evaluation};
+pub use diff::{GOAL_GAIN_RATIO, PoseCommand, RECOVERY_ALIGNMENT, Steer, TURN_GAIN, unicycle_arc};
 pub use error::NavError;
-pub use floor::{ESCAPE_BLOCKED, ESCAPE_DROP, ESCAPE_STALL, FloorNavigator, FloorWorld};
+pub use event::{grow_perceived, grow_perceived_as};
+pub use floor::{ESCAPE_BLOCKED, ESCAPE_DROP, ESCAPE_STALL, FloorWorld};
 pub use harmonav_control::{DampingPolicy, HeadingPolicy, SpeedPolicy};
 pub use harmonav_field::KPolicy;
 pub use harmonav_floorplan::{CentrePolicy, FloorError, FloorMap, FloorOptions};
@@ -92,13 +95,12 @@ pub use hold::{
 pub use law::Law;
 pub use movers::{Filtered, MAX_MOVER, Mover, MoverFilter, MoverKind};
 pub use nalgebra::Vector2;
-pub use controller::{Controller, Evaluation};
-pub use navigator::Navigator;
+pub use navigator::{FloorNavigator, Navigator};
 pub use options::{
     DEFAULT_DYNAMIC_PERIOD, DEFAULT_KINEMATIC_PERIOD, HoldPolicy, MIN_APERTURE_DEG, Options,
     PARAMETER_RANGE, UnknownHoldPolicy,
 };
-pub use scan::{LaserScan, Perceived, Pose, StarForm, grow_perceived, grow_perceived_as};
+pub use scan::{LaserScan, Perceived, Pose, StarForm};
 pub use scanning::{DEFAULT_FREE_MEMORY, FIT_BEYOND_DEPTH, ScanOptions, ScanUpdate};
 pub use star::StarWorld;
 pub use world::{IntoWorld, World};

@@ -2,89 +2,82 @@
 //! (the paper's assumptions `objknown`, `objpers`), and each call of [`Navigator::command`]
 //! returns the command of the law for the current state.
 
+use std::sync::Arc;
+
+use harmonav_perception::Walls;
 use harmonav_transform::StarShape;
 use nalgebra::Vector2;
 
-pub(crate) use crate::controller::{
-    Controller, Evaluation, controller, discovery_speed_after, event_speed, finite,
-    finite_lambda_c, finite_state, halted, moving_along, recovering,
+use crate::controller::{
+    Controller, Evaluation, controller, discovery_speed_after, finite, finite_lambda_c, halted,
 };
 use crate::error::NavError;
-use crate::hold::{self, Command, Mode};
+use crate::floor::FloorWorld;
+use crate::hold::{self, Command};
 use crate::law::Law;
-use crate::movers::program::Row;
 use crate::movers::{self, Mover, Verdict};
-use crate::options::{HoldPolicy, Options};
-use crate::scanning::ScanState;
+use crate::options::Options;
 use crate::space::Space;
-use crate::world::{IntoWorld, StarWorld, World};
+use crate::star::StarWorld;
+use crate::world::{Core, IntoWorld, World, evaluate};
 
-/// An online navigator over a world `W` ([`StarWorld`] by default; [`crate::FloorWorld`] for a
-/// floor plan, [`crate::FloorNavigator`]): the navigation function `Θ` over the obstacles
-/// added so far, and the law. See the crate documentation for a complete loop.
+/// An online navigator over a world `W` ([`StarWorld`] by default; [`FloorWorld`] for a
+/// floor plan, [`FloorNavigator`]): the navigation function `Θ` over the obstacles added so far,
+/// and the law. See the crate documentation for a complete loop.
 #[derive(Clone, Debug)]
 pub struct Navigator<W = StarWorld> {
-    pub(crate) controller: Controller,
-    pub(crate) options: Options,
-    /// The control period `h` in force (s).
-    pub(crate) period: f64,
+    /// What every world keeps: the law, the options, the discovery state, the perception and
+    /// the movers.
+    pub(crate) core: Core,
     /// The workspace: `Θ` over the known obstacles, grown by `radius + margin`, and what the
     /// world keeps of its own.
     pub(crate) world: W,
-    /// The known shapes grown by `radius` alone: the robot's disc overlaps a true shape iff
-    /// its centre is in one of these. Empty with no margin.
-    pub(crate) inner: Vec<StarShape>,
-    /// `|ẋ(T_n)|` at the latest discovery (eq. `dissipationfun`).
-    pub(crate) speed_at_discovery: f64,
-    /// The last state passed to a successful `command`.
-    pub(crate) last: Option<(Vector2<f64>, Vector2<f64>)>,
-    /// The scan perception: the true boundary or walls, the exact shapes of `add_obstacle`,
-    /// the perceived shapes and where each sits among the obstacles
-    /// ([`Navigator::observe_scan`]).
-    pub(crate) scan: ScanState,
-    /// The last scan was refused: commands halt the robot ([`Mode::Halted`]) until one is
-    /// accepted.
-    pub(crate) scan_refused: bool,
-    /// The movers of the last [`Navigator::set_movers`].
-    pub(crate) movers: Vec<Mover>,
-    /// The filter's rows, rebuilt at each command (their capacity kept: no allocation).
-    pub(crate) rows: Vec<Row>,
-    /// The last command was changed by the mover filter.
-    pub(crate) yielded: bool,
 }
 
-/// The law's command under the hold at `(x, ẋ)` evaluated as `eval` (the continuous law's
-/// command under [`HoldPolicy::Paper`]): for the dynamic law, `hold::dynamic` with the damping
-/// of `eval`; for the kinematic law, `hold::kinematic`.
-pub(crate) fn law_held<W: World>(
-    nav: &Navigator<W>,
-    x: Vector2<f64>,
-    v: Vector2<f64>,
-    eval: &Evaluation,
-) -> Command {
-    if nav.options.hold == HoldPolicy::Paper {
-        return Command {
-            value: eval.command,
-            mode: Mode::Law,
-        };
-    }
-    let (h, field) = (nav.period, nav.world.field());
-    match &nav.controller {
-        Controller::Dynamic(law) => {
-            // `evaluate` gives the dynamic law's damping; computed again only if it did not.
-            let d = eval.damping.unwrap_or_else(|| {
-                law.damping_for(
-                    field.calibration(law),
-                    &eval.field,
-                    v,
-                    nav.speed_at_discovery,
-                )
-            });
-            hold::dynamic(law, field, x, (&eval.field, v), &d, h)
-        }
-        Controller::Kinematic(law) => hold::kinematic(law, field, x, &eval.field, eval.command, h),
-    }
-}
+/// An online navigator on a floor plan: the walls are known (a [`FloorMap`](crate::FloorMap), whose harmonic
+/// map is solved once), star-shaped obstacles are added as perception finds them.
+///
+/// **Where it navigates.** Only in the certified region `W_δ = {sd ≥ δ}` ([`FloorMap::delta`](crate::FloorMap::delta),
+/// `sd` the distance to the walls shrunk by `s = radius + margin − δ`: `W_δ` is the
+/// configuration space with its margin), minus the sensed obstacles grown by
+/// `radius + margin`. The hold ([`HoldPolicy::Auto`](crate::HoldPolicy::Auto)) measures its clearance to the
+/// boundary layer, `sd(x) − δ`, so every held step stays in `W_δ`. In the layer (`sd < δ`
+/// with the robot's disc clear of the walls, reached only by a disturbance) `Θ` is not used:
+/// the discrete map is not claimed a diffeomorphism there, and [`FloorNavigator::evaluate`]
+/// returns [`NavError::BoundaryLayer`]. [`FloorNavigator::command`] leads the robot out
+/// instead ([`Mode::Recovering`](crate::Mode::Recovering) with [`Band::Boundary`](crate::Band::Boundary), as out of a sensed obstacle's margin
+/// band): straight away from the nearest wall, by a step certified clear of the walls and of
+/// the sensed obstacles (docs/maths.md §13.6).
+///
+/// **Escapes.** Where a hole's barrier is thinner than the layer, the hold can press the robot
+/// against the edge of `W_δ` at a local minimum of `Θ` there (a rest point of its slide,
+/// [`FloorField::layer_slide`](harmonav_floorplan::FloorField::layer_slide)). Under the heading policy `"auto"`, a robot that has stayed
+/// within `δ/4` of one point for [`ESCAPE_STALL`](crate::ESCAPE_STALL) s next to that edge follows the shortest path
+/// ([`Mode::Escaping`](crate::Mode::Escaping), each step certified free) until `phi_k` is [`ESCAPE_DROP`](crate::ESCAPE_DROP) below where
+/// it stalled, then the law resumes. It does so without a stall, anywhere, where the shortest
+/// path's heading `g` turns more than 90° from the law's descent direction `d` (`d·g < 0`) and
+/// `phi_k` is [`ESCAPE_DROP`](crate::ESCAPE_DROP) below where the last such escape began; such an escape also ends
+/// when blocked ([`ESCAPE_BLOCKED`](crate::ESCAPE_BLOCKED); docs/maths.md §13.7, eq. escape-levels).
+///
+/// ```
+/// use std::sync::Arc;
+/// use harmonav::{FloorMap, FloorNavigator, FloorOptions, Law, Options, Vector2};
+///
+/// let v = Vector2::new;
+/// let room = vec![v(0.0, 0.0), v(4.0, 0.0), v(4.0, 1.5), v(1.5, 1.5), v(1.5, 4.0), v(0.0, 4.0)];
+/// let options = Options::default().with_robot(0.1, 0.1);
+/// let floor = Arc::new(FloorMap::new(room, vec![], &FloorOptions::new(0.2, 0.2))?);
+/// let goal = v(3.5, 0.75);
+/// let mut nav = FloorNavigator::new(floor, goal, Law::kinematic(1.0), options)?;
+/// let (mut x, h) = (v(0.75, 3.5), 0.01);
+/// for _ in 0..3000 {
+///     x += h * nav.command(x, Vector2::zeros())?.value;
+///     assert!(nav.field().floor().wall_distance(x) > 0.2);
+/// }
+/// assert!((x - goal).norm() < 0.05);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub type FloorNavigator = Navigator<FloorWorld>;
 
 impl<W: World> Navigator<W> {
     /// A navigator in `workspace` towards `goal`, with no obstacle known yet. `workspace` is
@@ -107,11 +100,10 @@ impl<W: World> Navigator<W> {
         finite(goal, "goal")?;
         let controller = controller(&law, &options)?;
         let (world, scan, controller) = workspace.build(goal, controller, &options)?;
-        let nav = Self {
+        let core = Core {
             controller,
             options,
             period: options.period_for(&law),
-            world,
             inner: Vec::new(),
             speed_at_discovery: 0.0,
             last: None,
@@ -121,9 +113,10 @@ impl<W: World> Navigator<W> {
             rows: Vec::new(),
             yielded: false,
         };
+        let nav = Self { core, world };
         // Guard: λ_c (eq. critdamp) overflowed for m = μ = 1e308; within the ranges it is
         // finite, and this checks it once rather than at every command.
-        if let Controller::Dynamic(law) = &nav.controller {
+        if let Controller::Dynamic(law) = &nav.core.controller {
             let c = nav.world.field().calibration(law);
             finite_lambda_c(law, law.lambda_c_for(c.stiffness, c.shift))?;
         }
@@ -137,19 +130,22 @@ impl<W: World> Navigator<W> {
     /// [`Navigator::observe_scan`], the only calls that do).
     ///
     /// A shape found late, whose margin band already holds the robot, is accepted: the next
-    /// [`Navigator::command`] leads out of the band ([`Mode::Recovering`]).
+    /// [`Navigator::command`] leads out of the band ([`Mode::Recovering`](crate::Mode::Recovering)).
     ///
     /// Errors (the navigator is then unchanged): the grown shape overlaps a known obstacle,
     /// crosses the boundary (on a floor plan: reaches the boundary layer,
     /// [`NavError::Floor`]), or contains the goal; the shape grown by `radius` alone contains
     /// the robot's last commanded position; the shape cannot be grown.
     pub fn add_obstacle(&mut self, shape: StarShape) -> Result<usize, NavError> {
-        let (grown, inner) = self.options.grow(&shape, self.last.map(|(x, _)| x))?;
+        let (grown, inner) = self
+            .core
+            .options
+            .grow(&shape, self.core.last.map(|(x, _)| x))?;
         let index = self.world.admit(grown)?;
-        self.inner.extend(inner);
-        self.speed_at_discovery = self.last.map_or(0.0, |(_, v)| v.norm());
+        self.core.inner.extend(inner);
+        self.core.speed_at_discovery = self.core.last.map_or(0.0, |(_, v)| v.norm());
         self.world.discovered();
-        self.scan.add_exact(shape, index);
+        self.core.scan.add_exact(shape, index);
         Ok(index)
     }
 
@@ -157,14 +153,14 @@ impl<W: World> Navigator<W> {
     /// (kinematic law, `ẋ` unused) or the force `f` (dynamic law), with how it was formed.
     /// Does not allocate.
     ///
-    /// Under [`HoldPolicy::Auto`] (the default) it is safe when held for the control period
+    /// Under [`HoldPolicy::Auto`](crate::HoldPolicy::Auto) (the default) it is safe when held for the control period
     /// `h` ([`Options::with_control_period`]; 100 Hz kinematic, 1 kHz dynamic by default), by
     /// construction (`docs/maths.md` §10):
     ///
     /// - kinematic (`x += h·u`): the step stays within half the certified distance to the
     ///   nearest known grown shape (on a floor plan: and to the boundary layer), and `Θ`
-    ///   strictly decreases over it ([`Mode::Capped`] when the law's step was shortened; not
-    ///   during an escape, [`Mode::Escaping`], which ends [`crate::ESCAPE_DROP`] below where
+    ///   strictly decreases over it ([`Mode::Capped`](crate::Mode::Capped) when the law's step was shortened; not
+    ///   during an escape, [`Mode::Escaping`](crate::Mode::Escaping), which ends [`crate::ESCAPE_DROP`] below where
     ///   it began, or blocked);
     /// - dynamic (`v += h·f/m, x += h·v`, or the exact hold of `f`): the damping acts
     ///   implicitly, `h|v⁺|` stays within a quarter of the certified distance, and
@@ -172,8 +168,8 @@ impl<W: World> Navigator<W> {
     ///
     /// A robot inside the margin band of a known shape (clear of the true shape by at least
     /// `radius`, after a disturbance or a late perception), or in a floor plan's boundary
-    /// layer, gets a command straight out of it ([`Mode::Recovering`]), under either policy.
-    /// Under [`HoldPolicy::Paper`] the command is otherwise the continuous law's
+    /// layer, gets a command straight out of it ([`Mode::Recovering`](crate::Mode::Recovering)), under either policy.
+    /// Under [`HoldPolicy::Paper`](crate::HoldPolicy::Paper) the command is otherwise the continuous law's
     /// (`Navigator::evaluate`), unchecked.
     ///
     /// Under the dynamic law a recovery also lifts the discovery speed `|ẋ(T_n)|` of eq.
@@ -183,23 +179,29 @@ impl<W: World> Navigator<W> {
     /// understate it.
     ///
     /// After a refused [`Navigator::observe_scan`] the command halts the robot
-    /// ([`Mode::Halted`]) until a scan is accepted.
+    /// ([`Mode::Halted`](crate::Mode::Halted)) until a scan is accepted.
     ///
     /// Errors (the navigator is then unchanged): `x` or `ẋ` not finite, the robot's disc
     /// overlapping a known true shape or the boundary (a wall: [`NavError::OutsideBoundary`]),
     /// `x` in a floor plan's boundary layer with no certified way out
     /// ([`NavError::BoundaryLayer`]), a non-finite command (a guard).
     pub fn command(&mut self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Command, NavError> {
-        if self.scan_refused {
-            return halted(&self.controller, x, v, self.period, &mut self.last);
+        if self.core.scan_refused {
+            return halted(
+                &self.core.controller,
+                x,
+                v,
+                self.core.period,
+                &mut self.core.last,
+            );
         }
-        let before = self.speed_at_discovery;
-        if self.yielded {
+        let before = self.core.speed_at_discovery;
+        if self.core.yielded {
             // After a period the filter changed, the law's energy may have grown: the dynamic
             // law's switched damping takes the speed now as a discovery speed.
-            self.speed_at_discovery = before.max(v.norm());
+            self.core.speed_at_discovery = before.max(v.norm());
         }
-        let result = W::held(self, x, v).and_then(|(command, step)| {
+        let result = W::held(&self.core, &self.world, x, v).and_then(|(command, step)| {
             let (command, yielded) = self.filtered(x, v, command)?;
             if command.value.iter().all(|c| c.is_finite()) {
                 Ok((command, step, yielded))
@@ -210,20 +212,20 @@ impl<W: World> Navigator<W> {
         let (command, step, yielded) = match result {
             Ok(done) => done,
             Err(e) => {
-                self.speed_at_discovery = before;
+                self.core.speed_at_discovery = before;
                 return Err(e);
             }
         };
-        self.speed_at_discovery = discovery_speed_after(
-            &self.controller,
+        self.core.speed_at_discovery = discovery_speed_after(
+            &self.core.controller,
             &command,
             v,
-            self.period,
-            self.speed_at_discovery,
+            self.core.period,
+            self.core.speed_at_discovery,
         );
-        self.last = Some((x, v));
-        self.yielded = yielded;
-        W::after(self, x, step);
+        self.core.last = Some((x, v));
+        self.core.yielded = yielded;
+        self.world.after(x, step);
         Ok(command)
     }
 
@@ -234,21 +236,21 @@ impl<W: World> Navigator<W> {
     ///
     /// From the next [`Navigator::command`] on, the held command is filtered last: kept when
     /// it keeps out of every place a mover can reach within the period (eq. reach), else the
-    /// closest certified command ([`Mode::Yielding`]), else the least violation
-    /// ([`Mode::Overwhelmed`], not certified against the mover it names).
+    /// closest certified command ([`Mode::Yielding`](crate::Mode::Yielding)), else the least violation
+    /// ([`Mode::Overwhelmed`](crate::Mode::Overwhelmed), not certified against the mover it names).
     pub fn set_movers(&mut self, movers: &[Mover]) -> Result<(), NavError> {
         for (i, m) in movers.iter().enumerate() {
             m.validate(i)?;
         }
-        self.movers.clear();
-        self.movers.extend_from_slice(movers);
-        self.rows.reserve(movers.len());
+        self.core.movers.clear();
+        self.core.movers.extend_from_slice(movers);
+        self.core.rows.reserve(movers.len());
         Ok(())
     }
 
     /// The movers of the last [`Navigator::set_movers`].
     pub fn movers(&self) -> &[Mover] {
-        &self.movers
+        &self.core.movers
     }
 
     /// `command` filtered against the movers at `(x, ẋ)`, and whether the filter changed it.
@@ -262,15 +264,15 @@ impl<W: World> Navigator<W> {
         v: Vector2<f64>,
         command: Command,
     ) -> Result<(Command, bool), NavError> {
-        if self.movers.is_empty() {
+        if self.core.movers.is_empty() {
             return Ok((command, false));
         }
-        let h = self.period;
-        let body = (x, self.options.radius, self.options.margin);
+        let h = self.core.period;
+        let body = (x, self.core.options.radius, self.core.options.margin);
         let field = self.world.field();
-        let (value, verdict) = match &self.controller {
+        let (value, verdict) = match &self.core.controller {
             Controller::Kinematic(law) => {
-                movers::rows(&self.movers, body, h, 0.0, &mut self.rows)?;
+                movers::rows(&self.core.movers, body, h, 0.0, &mut self.core.rows)?;
                 let v_max = law.v_max();
                 let d = field.clearance(x, 2.0 * h * v_max / hold::KINEMATIC_FRACTION, None);
                 let small = v_max.min(hold::KINEMATIC_FRACTION * d.max(0.0) / h);
@@ -278,17 +280,17 @@ impl<W: World> Navigator<W> {
                     let length = h * u.norm();
                     length == 0.0 || hold::free_length(field, x, u / u.norm(), length) >= length
                 };
-                movers::filter(&self.rows, command.value, v_max, certified, small)
+                movers::filter(&self.core.rows, command.value, v_max, certified, small)
             }
             Controller::Dynamic(law) => {
                 let (m, bound) = (law.mass(), law.speed_bound());
                 let extra = 0.5 * h * (v.norm() + bound);
-                movers::rows(&self.movers, body, h, extra, &mut self.rows)?;
+                movers::rows(&self.core.movers, body, h, extra, &mut self.core.rows)?;
                 let next = v + (h / m) * command.value;
                 let cap = (1.0 - hold::SPEED_SLACK) * bound;
                 let d = field.clearance(x, 2.0 * h * cap / hold::DYNAMIC_FRACTION, None);
                 let r = cap.min(hold::DYNAMIC_FRACTION * d.max(0.0) / h);
-                let (next, verdict) = movers::filter(&self.rows, next, r, |_| true, r);
+                let (next, verdict) = movers::filter(&self.core.rows, next, r, |_| true, r);
                 ((m / h) * (next - v), verdict)
             }
         };
@@ -309,32 +311,13 @@ impl<W: World> Navigator<W> {
     /// or outside the boundary shrunk by it (in a floor plan's boundary layer with the disc
     /// clear of the walls: [`NavError::BoundaryLayer`]).
     pub fn evaluate(&self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Evaluation, NavError> {
-        finite_state(x, v)?;
-        let e = self.world.eval(x, &self.options)?;
-        let field = self.world.field();
-        let nominal = field.heading(x, &e);
-        let (command, damping) = match &self.controller {
-            Controller::Kinematic(law) => (
-                law.velocity_toward(&e, (x - field.goal()).norm(), nominal),
-                None,
-            ),
-            Controller::Dynamic(law) => {
-                let calibration = field.calibration(law);
-                let d = law.damping_for(calibration, &e, v, self.speed_at_discovery);
-                (law.force_toward(calibration, &e, v, &d, nominal), Some(d))
-            }
-        };
-        Ok(Evaluation {
-            command,
-            field: e,
-            damping,
-        })
+        evaluate(&self.core, &self.world, x, v)
     }
 
     /// `Θ(x)` over the known obstacles (for logging); errors as [`Navigator::evaluate`].
     pub fn theta(&self, x: Vector2<f64>) -> Result<f64, NavError> {
         finite(x, "position")?;
-        self.world.eval(x, &self.options).map(|e| e.value)
+        self.world.eval(x, &self.core.options).map(|e| e.value)
     }
 
     /// The goal.
@@ -344,7 +327,7 @@ impl<W: World> Navigator<W> {
 
     /// The law in use.
     pub fn controller(&self) -> &Controller {
-        &self.controller
+        &self.core.controller
     }
 
     /// `Θ` over the known obstacles (read only): a [`harmonav_field::Field`] in a star world,
@@ -362,7 +345,7 @@ impl<W: World> Navigator<W> {
     /// The speed bound `√(2μ/m)` of the dynamic law (corollary `boundedvel`), `None` for the
     /// kinematic law.
     pub fn speed_bound(&self) -> Option<f64> {
-        match &self.controller {
+        match &self.core.controller {
             Controller::Kinematic(_) => None,
             Controller::Dynamic(law) => Some(law.speed_bound()),
         }
@@ -370,7 +353,7 @@ impl<W: World> Navigator<W> {
 
     /// The control period `h` in force, s ([`Options::control_period`] or the law's default).
     pub fn control_period(&self) -> f64 {
-        self.period
+        self.core.period
     }
 
     /// The certified clearance at `x`: a lower bound on the distance to the nearest known grown
@@ -388,20 +371,48 @@ impl<W: World> Navigator<W> {
 
     /// The options in use.
     pub fn options(&self) -> &Options {
-        &self.options
+        &self.core.options
     }
 
     /// `|ẋ(T_n)|`, the speed at the latest discovery that the dynamic law's switched damping
     /// `(m/d_min)|ẋ(T_n)|` uses (eq. `dissipationfun`), lifted by a recovery
     /// ([`Navigator::command`]).
     pub fn discovery_speed(&self) -> f64 {
-        self.speed_at_discovery
+        self.core.speed_at_discovery
+    }
+}
+
+impl Navigator<StarWorld> {
+    /// The known obstacles, grown by `radius + margin`, in the order they were added.
+    pub fn obstacles(&self) -> &[StarShape] {
+        self.world.field.workspace().obstacles()
+    }
+}
+
+impl Navigator<FloorWorld> {
+    /// The floor plan's true walls as polygon rings, against which
+    /// [`Navigator::observe_scan`] explains hits (and a simulator casts its lidar).
+    pub fn walls(&self) -> &Arc<Walls> {
+        &self.world.walls
+    }
+
+    /// The escapes begun so far ([`Mode::Escaping`](crate::Mode::Escaping)), back-to-back ones counted apart (an
+    /// escape may end and the next begin within one period, the mode staying `Escaping`).
+    pub fn escapes(&self) -> usize {
+        self.world.escapes
+    }
+
+    /// `phi_k` where the current escape began, `None` when not escaping.
+    pub fn escape_level(&self) -> Option<f64> {
+        self.world.escape.map(|e| e.level)
     }
 }
 
 #[cfg(test)]
 mod recovery_tests {
     use super::*;
+    use crate::controller::event_speed;
+    use crate::hold::Mode;
 
     /// Eq. eventstop: the speed handed to the switched damping makes its stopping distance the
     /// event's room `d_e` (to the grown shape, or in the band to the body) when that is below
@@ -448,16 +459,16 @@ mod recovery_tests {
             let x = Vector2::new(-1.2, 0.05);
             nav.command(x, Vector2::zeros()).unwrap();
             nav.add_obstacle(rock.clone()).unwrap();
-            assert_eq!(nav.speed_at_discovery, 0.0);
+            assert_eq!(nav.core.speed_at_discovery, 0.0);
             let c = nav.command(x, Vector2::zeros()).unwrap();
             assert!(matches!(c.mode, Mode::Recovering(_)), "{:?}", c.mode);
             match law {
                 Law::Dynamic { mass, .. } => {
-                    let v_next = (nav.period / mass) * c.value;
+                    let v_next = (nav.core.period / mass) * c.value;
                     assert!(v_next.norm() > 0.0);
-                    assert_eq!(nav.speed_at_discovery, v_next.norm());
+                    assert_eq!(nav.core.speed_at_discovery, v_next.norm());
                 }
-                Law::Kinematic { .. } => assert_eq!(nav.speed_at_discovery, 0.0),
+                Law::Kinematic { .. } => assert_eq!(nav.core.speed_at_discovery, 0.0),
             }
         }
     }

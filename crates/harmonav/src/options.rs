@@ -7,8 +7,9 @@ use harmonav_sensing::Sector;
 use harmonav_transform::{MAX_LENGTH, StarShape};
 use nalgebra::Vector2;
 
-use crate::diff::Base;
+use crate::base::Base;
 use crate::error::NavError;
+pub(crate) use crate::error::in_range;
 use crate::law::Law;
 pub use crate::ranges::{MIN_APERTURE_DEG, PARAMETER_RANGE};
 use crate::scanning::{FIT_BEYOND_DEPTH, FIT_SCANS_AHEAD, ScanOptions};
@@ -111,16 +112,6 @@ impl Default for Options {
             hold: HoldPolicy::default(),
             base: Base::default(),
         }
-    }
-}
-
-/// `value` if it is finite and within [`PARAMETER_RANGE`], else the error naming `field`.
-pub(crate) fn in_range(field: &'static str, value: f64) -> Result<f64, NavError> {
-    let (lo, hi) = PARAMETER_RANGE;
-    if value.is_finite() && (lo..=hi).contains(&value) {
-        Ok(value)
-    } else {
-        Err(NavError::InvalidOption { field, value })
     }
 }
 

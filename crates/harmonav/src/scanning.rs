@@ -3,7 +3,7 @@
 
 use std::sync::Arc;
 
-use harmonav_perception::{Perception, PerceptionError, Walls};
+use harmonav_perception::{Known, Perceived, Perception, PerceptionError, Walls};
 use harmonav_transform::StarShape;
 
 use crate::error::NavError;
@@ -256,5 +256,30 @@ impl ScanState {
     pub(crate) fn add_exact(&mut self, shape: StarShape, index: usize) {
         self.perception.add_map(shape);
         self.exact.push(index);
+    }
+}
+
+impl ScanState {
+    /// The perceived shapes with their indices among the navigator's obstacles.
+    pub(crate) fn perceived(&self) -> impl Iterator<Item = (usize, &Perceived)> + '_ {
+        self.slots.iter().copied().zip(self.perception.perceived())
+    }
+
+    /// The perception's error as the navigator's, with known shapes named by their index among
+    /// the navigator's obstacles (`None`: another fit of the same scan).
+    pub(crate) fn error(&self, e: PerceptionError) -> NavError {
+        match e {
+            PerceptionError::NotStarWorld { with } => NavError::NotStarWorld {
+                obstacle: match with {
+                    Known::Map(i) => self.exact.get(i).copied(),
+                    Known::Perceived(i) => self.slots.get(i).copied(),
+                    Known::Fit => None,
+                },
+            },
+            // A changed shape, grown by `radius` (`radius + margin` under `refuse_in_band`),
+            // would hold the robot: the refusal of `observe`, known before the end.
+            PerceptionError::HoldsSensor { .. } => NavError::ContainsRobot,
+            e => NavError::Perception(e),
+        }
     }
 }

@@ -9,23 +9,23 @@ use harmonav_transform::{StarShape, Workspace, WorldError};
 use nalgebra::Vector2;
 
 use crate::certified::Band;
+use crate::controller::{Controller, recovering};
 use crate::error::NavError;
+use crate::event::ScanEvent;
 use crate::hold::{self, Command};
-use crate::navigator::{Controller, Navigator, law_held, recovering};
 use crate::options::{HoldPolicy, Options};
-use crate::scan::ScanEvent;
 use crate::scanning::ScanState;
-use crate::world::{Build, Rules};
+use crate::world::{Build, Core, Rules, World, evaluate, law_held};
 
 /// A star world: `Θ` over the obstacles known so far, grown by `radius + margin` (in the order
 /// they were added), in the boundary shrunk by `radius + margin`; and the boundary shrunk by
 /// `radius` alone, inside which the robot's disc is clear of the true boundary.
 #[derive(Clone, Debug)]
 pub struct StarWorld {
-    field: Field,
+    pub(crate) field: Field,
     /// The boundary shrunk by `radius` (with a margin): the margin band of the boundary is
     /// inside it and outside the field's.
-    inner_boundary: Option<StarShape>,
+    pub(crate) inner_boundary: Option<StarShape>,
 }
 
 /// A field error at a point, as the navigator reports it.
@@ -67,6 +67,8 @@ impl Build for StarShape {
         Ok((world, scan, controller))
     }
 }
+
+impl World for StarWorld {}
 
 impl Rules for StarWorld {
     type Field = Field;
@@ -121,25 +123,26 @@ impl Rules for StarWorld {
     /// The law under the hold; a kinematic command far below the law's speed (a rest point of
     /// the hold, not of `Θ`) is replaced by a certified step off it ([`crate::Mode::FromRest`]).
     fn held(
-        nav: &Navigator<Self>,
+        core: &Core,
+        world: &Self,
         x: Vector2<f64>,
         v: Vector2<f64>,
     ) -> Result<(Command, ()), NavError> {
-        let eval = match nav.evaluate(x, v) {
+        let eval = match evaluate(core, world, x, v) {
             Ok(eval) => eval,
-            Err(e) => return recover(nav, x, v, e).map(|c| (c, ())),
+            Err(e) => return recover(core, world, x, v, e).map(|c| (c, ())),
         };
-        let law = law_held(nav, x, v, &eval);
-        if nav.options.hold == HoldPolicy::Paper {
+        let law = law_held(core, world, x, v, &eval);
+        if core.options.hold == HoldPolicy::Paper {
             return Ok((law, ()));
         }
-        let field = &nav.world.field;
-        Ok(match &nav.controller {
+        let field = &world.field;
+        Ok(match &core.controller {
             Controller::Kinematic(k) => {
                 let speed = k.speed(&eval.field, (x - field.workspace().destination()).norm());
                 if law.value.norm() < hold::REST_SCALE * speed {
                     let rest =
-                        hold::kinematic_from_rest(field, x, &eval.field, speed, &law, nav.period);
+                        hold::kinematic_from_rest(field, x, &eval.field, speed, &law, core.period);
                     (rest.unwrap_or(law), ())
                 } else {
                     (law, ())
@@ -149,45 +152,39 @@ impl Rules for StarWorld {
         })
     }
 
-    fn after(_: &mut Navigator<Self>, _: Vector2<f64>, (): ()) {}
+    fn after(&mut self, _: Vector2<f64>, (): ()) {}
 }
 
 /// The command out of the margin band, if `x` (not in the free space: `error`) is in it;
 /// otherwise `error`, with the obstacle or boundary that the robot's disc overlaps.
 fn recover(
-    nav: &Navigator<StarWorld>,
+    core: &Core,
+    world: &StarWorld,
     x: Vector2<f64>,
     v: Vector2<f64>,
     error: NavError,
 ) -> Result<Command, NavError> {
     let band = match error {
-        NavError::InObstacle { obstacle } => match nav.inner.get(obstacle) {
+        NavError::InObstacle { obstacle } => match core.inner.get(obstacle) {
             Some(inner) if !inner.contains(x) => Band::Obstacle(obstacle),
             _ => return Err(error),
         },
-        NavError::OutsideBoundary => match &nav.world.inner_boundary {
+        NavError::OutsideBoundary => match &world.inner_boundary {
             Some(inner) if inner.contains(x) => Band::Boundary,
             _ => return Err(error),
         },
         _ => return Err(error),
     };
-    let ws = nav.world.field.workspace();
-    let Some((dir, length)) = hold::way_out(ws, band, x, nav.options.margin) else {
+    let ws = world.field.workspace();
+    let Some((dir, length)) = hold::way_out(ws, band, x, core.options.margin) else {
         return Err(error);
     };
     Ok(recovering(
-        &nav.controller,
+        &core.controller,
         band,
         dir,
         length,
-        nav.period,
+        core.period,
         v,
     ))
-}
-
-impl Navigator<StarWorld> {
-    /// The known obstacles, grown by `radius + margin`, in the order they were added.
-    pub fn obstacles(&self) -> &[StarShape] {
-        self.world.field.workspace().obstacles()
-    }
 }
