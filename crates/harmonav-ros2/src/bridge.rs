@@ -23,6 +23,9 @@ use crate::msgs::{self, OccupancyGrid, Odometry, PoseStamped, TFMessage, Twist, 
 use crate::params::{Base, LawKind, Params};
 use crate::tf::{Buffer, Lookup, Se2};
 
+/// m/s: a differential-drive base's top forward speed when `v_max` is not given.
+pub const DIFF_V_MAX: f64 = 0.5;
+
 /// A message dropped, with why.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BadMessage(pub String);
@@ -498,7 +501,15 @@ impl Bridge {
     /// The navigator's options from the parameters.
     fn options(&self, law: &Law) -> Options {
         let p = &self.params;
+        let base = match p.base {
+            Base::Holonomic => harmonav::Base::Holonomic,
+            Base::Diff => harmonav::Base::diff(
+                if p.v_max > 0.0 { p.v_max } else { DIFF_V_MAX },
+                p.omega_max,
+            ),
+        };
         let mut o = Options::default()
+            .with_base(base)
             .with_robot(p.robot_radius, p.margin)
             .with_sensor(p.sensor_range, 360.0)
             .with_control_period(1.0 / p.controller_frequency);
@@ -648,6 +659,33 @@ impl Bridge {
         if self.scan_refused {
             return Err(Stop::ScanRefused);
         }
+        if p.base == Base::Diff {
+            // (v, ω) by aligned descent on a certified arc (harmonav's `command_pose`).
+            let result = match &mut self.nav {
+                Some(Nav::Star(n)) => n.command_pose(x, pose.yaw).map_err(|e| e.to_string()),
+                Some(Nav::Floor(n)) => n.command_pose(x, pose.yaw).map_err(|e| e.to_string()),
+                None => return Err(Stop::NoNavigator("not built".into())),
+            };
+            let cmd = result.map_err(Stop::Refused)?;
+            if cmd.mode == Mode::Halted {
+                return Err(Stop::ScanRefused);
+            }
+            return Ok((
+                Twist {
+                    linear: Vector3 {
+                        x: cmd.v,
+                        y: 0.0,
+                        z: 0.0,
+                    },
+                    angular: Vector3 {
+                        x: 0.0,
+                        y: 0.0,
+                        z: cmd.omega,
+                    },
+                },
+                cmd.mode.as_str(),
+            ));
+        }
         let h = 1.0 / p.controller_frequency;
         let v = self.velocity;
         let result = match &mut self.nav {
@@ -666,24 +704,19 @@ impl Bridge {
                 self.velocity
             }
         };
-        match p.base {
-            Base::Holonomic => {
-                let b = pose.inverse().rotate([u.x, u.y]);
-                Ok((
-                    Twist {
-                        linear: Vector3 {
-                            x: b[0],
-                            y: b[1],
-                            z: 0.0,
-                        },
-                        angular: Vector3::default(),
-                    },
-                    cmd.mode.as_str(),
-                ))
-            }
-            // Refused at start-up until the differential-drive law exists (issue 53).
-            Base::Diff => Err(Stop::Refused("base = \"diff\" is not supported yet".into())),
-        }
+        // The holonomic base: the velocity in the base frame.
+        let b = pose.inverse().rotate([u.x, u.y]);
+        Ok((
+            Twist {
+                linear: Vector3 {
+                    x: b[0],
+                    y: b[1],
+                    z: 0.0,
+                },
+                angular: Vector3::default(),
+            },
+            cmd.mode.as_str(),
+        ))
     }
 }
 

@@ -21,7 +21,7 @@ use harmonav_ros2::msgs::{
     Clock, Header, LaserScan, OccupancyGrid, Odometry, PoseStamped, StringMsg, TFMessage, Time,
     Twist, TwistStamped,
 };
-use harmonav_ros2::params::{Base, Cli, NODE_NAME, Params, USAGE, parse_args};
+use harmonav_ros2::params::{Cli, NODE_NAME, Params, USAGE, parse_args};
 
 /// A failure before the loop: the message and the exit code.
 struct Fatal(String, i32);
@@ -220,14 +220,6 @@ fn wall_time() -> Time {
 
 #[allow(clippy::too_many_lines)]
 fn run(params: Params, stop: &AtomicBool) -> Result<(), Fatal> {
-    if params.base == Base::Diff {
-        return Err(Fatal(
-            "base = \"diff\" is not supported yet: the differential-drive law \
-             (Navigator::command_pose, issue 53) is not in harmonav; use base = \"holonomic\""
-                .into(),
-            2,
-        ));
-    }
     let context = participant()?;
     let mut node = context.new_node(
         NodeName::new("/", NODE_NAME)?,
@@ -428,6 +420,9 @@ fn run(params: Params, stop: &AtomicBool) -> Result<(), Fatal> {
             latencies.len()
         );
     }
+    // Entities before their node, the node before its context: RustDDS logs an error for
+    // each reader or writer dropped after its participant's event loop has gone.
+    drop((cmd, status, scan, odom, goal, tf, tf_static, clock, map));
     drop(node);
     drop(context);
     Ok(())

@@ -72,7 +72,8 @@ pub struct Params {
     pub mass: f64,
     /// The dynamic law's `μ` (the energy bound).
     pub mu: f64,
-    /// m/s: the kinematic law's top speed (≤ 0: the law's own, `K√2`).
+    /// m/s: the kinematic law's top speed (≤ 0: the law's own, `K√2`; a differential-drive
+    /// base's top forward speed, 0.5 m/s when ≤ 0).
     pub v_max: f64,
     /// m: arrival radius.
     pub goal_tolerance: f64,
@@ -80,6 +81,8 @@ pub struct Params {
     pub enable_stamped_cmd_vel: bool,
     /// `holonomic` or `diff`.
     pub base: Base,
+    /// rad/s: a differential-drive base's top turn rate.
+    pub omega_max: f64,
     /// s: a scan older than this stops the robot.
     pub scan_timeout: f64,
     /// s: odometry older than this stops the robot.
@@ -126,6 +129,7 @@ impl Default for Params {
             goal_tolerance: 0.1,
             enable_stamped_cmd_vel: false,
             base: Base::Holonomic,
+            omega_max: 1.0,
             scan_timeout: 0.5,
             odom_timeout: 0.5,
             transform_timeout: 1.0,
@@ -256,6 +260,7 @@ impl Params {
                     _ => return Err(wrong("\"holonomic\" or \"diff\"")),
                 }
             }
+            "omega_max" => self.omega_max = positive(value)?,
             "scan_timeout" => self.scan_timeout = positive(value)?,
             "odom_timeout" => self.odom_timeout = positive(value)?,
             "transform_timeout" => self.transform_timeout = positive(value)?,
@@ -326,8 +331,14 @@ impl Params {
     /// Checks what the single setters cannot.
     ///
     /// # Errors
-    /// The thresholds out of order.
+    /// The thresholds out of order; a differential-drive base with the dynamic law (harmonav
+    /// steers a unicycle under the kinematic law only).
     pub fn validate(&self) -> Result<(), ParamError> {
+        if self.base == Base::Diff && self.law == LawKind::Dynamic {
+            return Err(ParamError(
+                "base = \"diff\" takes the kinematic law only (law = \"kinematic\")".into(),
+            ));
+        }
         if !(0.0 <= self.free_thresh
             && self.free_thresh < self.occupied_thresh
             && self.occupied_thresh <= 1.0)

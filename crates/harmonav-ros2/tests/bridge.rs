@@ -199,8 +199,24 @@ fn grid_through_the_map_server_pipeline() {
 struct Sim {
     grid: OccupancyGrid,
     x: [f64; 2],
+    /// The heading: constant for a holonomic base, integrated for a differential drive.
+    yaw: f64,
+    diff: bool,
     t: Instant,
     steps: u32,
+}
+
+impl Sim {
+    fn new(grid: OccupancyGrid, x: [f64; 2]) -> Self {
+        Self {
+            grid,
+            x,
+            yaw: YAW,
+            diff: false,
+            t: Instant::now(),
+            steps: 0,
+        }
+    }
 }
 
 const YAW: f64 = 0.3;
@@ -237,7 +253,10 @@ impl Sim {
     }
 
     fn laser(&self) -> [f64; 2] {
-        [self.x[0] + 0.1 * YAW.cos(), self.x[1] + 0.1 * YAW.sin()]
+        [
+            self.x[0] + 0.1 * self.yaw.cos(),
+            self.x[1] + 0.1 * self.yaw.sin(),
+        ]
     }
 
     fn scan(&self) -> LaserScan {
@@ -245,7 +264,7 @@ impl Sim {
         let inc = std::f64::consts::TAU / BEAMS as f64;
         let ranges = (0..BEAMS)
             .map(|i| {
-                let a = YAW - std::f64::consts::PI + i as f64 * inc;
+                let a = self.yaw - std::f64::consts::PI + i as f64 * inc;
                 let mut r = 0.0;
                 while r < 3.5 {
                     if self.occupied(l[0] + r * a.cos(), l[1] + r * a.sin()) {
@@ -291,7 +310,7 @@ impl Sim {
                         y: self.x[1],
                         z: 0.0,
                     },
-                    orientation: Quaternion::from_yaw(YAW),
+                    orientation: Quaternion::from_yaw(self.yaw),
                 },
                 covariance: Covariance::default(),
             },
@@ -308,10 +327,24 @@ impl Sim {
             bridge.on_scan(&self.scan(), self.t);
         }
         let s = bridge.step(self.t);
-        let (sn, cs) = YAW.sin_cos();
-        let (vx, vy) = (s.twist.linear.x, s.twist.linear.y);
-        self.x[0] += H * (cs * vx - sn * vy);
-        self.x[1] += H * (sn * vx + cs * vy);
+        if self.diff {
+            // The unicycle, exactly over the period (an arc).
+            let pose = harmonav::unicycle_arc(
+                harmonav::Vector2::new(self.x[0], self.x[1]),
+                self.yaw,
+                s.twist.linear.x,
+                s.twist.angular.z,
+                H,
+            );
+            assert_eq!(s.twist.linear.y, 0.0, "a diff base moves no sideways");
+            self.x = [pose.0.x, pose.0.y];
+            self.yaw = pose.1;
+        } else {
+            let (sn, cs) = self.yaw.sin_cos();
+            let (vx, vy) = (s.twist.linear.x, s.twist.linear.y);
+            self.x[0] += H * (cs * vx - sn * vy);
+            self.x[1] += H * (sn * vx + cs * vy);
+        }
         s
     }
 }
@@ -395,12 +428,7 @@ fn scans_alone_arrive_and_stop_when_scans_stop() {
         ..Params::default()
     };
     let mut bridge = Bridge::new(params.clone());
-    let mut sim = Sim {
-        grid: open_room(),
-        x: [8.0, 10.0],
-        t: Instant::now(),
-        steps: 0,
-    };
+    let mut sim = Sim::new(open_room(), [8.0, 10.0]);
     bridge.on_tf(&laser_static(), sim.t, true);
     // No goal yet: zero, and why.
     assert_eq!(sim.step(&mut bridge, true).stop, Some(Stop::NoGoal));
@@ -456,12 +484,7 @@ fn negative_control_without_the_stale_stop() {
         ..Params::default()
     };
     let mut bridge = Bridge::new(params);
-    let mut sim = Sim {
-        grid: open_room(),
-        x: [8.0, 10.0],
-        t: Instant::now(),
-        steps: 0,
-    };
+    let mut sim = Sim::new(open_room(), [8.0, 10.0]);
     bridge.on_goal(&goal(12.0, 10.0), sim.t);
     for _ in 0..10 {
         sim.step(&mut bridge, true);
@@ -484,18 +507,35 @@ fn floor_plan_from_an_occupancy_grid() {
     });
     let params = Params::default();
     let mut bridge = Bridge::new(params.clone());
-    let mut sim = Sim {
-        grid: room.clone(),
-        x: [0.6, 0.6],
-        t: Instant::now(),
-        steps: 0,
-    };
+    let mut sim = Sim::new(room.clone(), [0.6, 0.6]);
     bridge.on_tf(&laser_static(), sim.t, true);
     bridge.on_goal(&goal(3.4, 2.4), sim.t);
     // No map yet: waiting for it, with fresh scans and odometry.
     assert_eq!(sim.step(&mut bridge, true).stop, Some(Stop::WaitingForMap));
     bridge.on_map(&room);
     let clearance = fly(&mut sim, &mut bridge, [3.4, 2.4], 4000);
+    assert!(
+        clearance > params.robot_radius,
+        "contact: clearance {clearance}"
+    );
+}
+
+/// A differential-drive base (`base: diff`): `(linear.x, angular.z)` from harmonav's
+/// `command_pose`, integrated as a unicycle, arrives without contact.
+#[test]
+fn differential_drive_from_scans_alone() {
+    let params = Params {
+        map_topic: String::new(),
+        base: harmonav_ros2::params::Base::Diff,
+        ..Params::default()
+    };
+    let mut bridge = Bridge::new(params.clone());
+    let mut sim = Sim::new(open_room(), [8.0, 10.0]);
+    sim.diff = true;
+    sim.yaw = 2.0; // facing away from the goal: it must turn first
+    bridge.on_tf(&laser_static(), sim.t, true);
+    bridge.on_goal(&goal(12.0, 10.0), sim.t);
+    let clearance = fly(&mut sim, &mut bridge, [12.0, 10.0], 4000);
     assert!(
         clearance > params.robot_radius,
         "contact: clearance {clearance}"
@@ -510,12 +550,7 @@ fn bad_odometry_and_goals_are_dropped_and_stale_odometry_stops() {
     };
     let mut bridge = Bridge::new(params);
     let t0 = Instant::now();
-    let mut sim = Sim {
-        grid: open_room(),
-        x: [8.0, 10.0],
-        t: t0,
-        steps: 0,
-    };
+    let mut sim = Sim::new(open_room(), [8.0, 10.0]);
     let mut bad = sim.odom();
     bad.pose.pose.position.x = f64::NAN;
     bridge.on_odom(&bad, t0);
