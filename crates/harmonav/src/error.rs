@@ -132,6 +132,9 @@ fn expected(field: &str) -> String {
                         max_obstacle_depth)"
             .to_string(),
         "check_spacing" => "must be finite and in [1e-4, max_obstacle_depth/4] m".to_string(),
+        "base" => "a differential-drive base takes the kinematic law only (the dynamic law \
+                   is not built for it)"
+            .to_string(),
         _ => format!("must be finite and in [{lo:e}, {hi:e}]"),
     }
 }
@@ -139,6 +142,7 @@ fn expected(field: &str) -> String {
 impl std::fmt::Display for NavError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
+            Self::InvalidOption { field: "base", .. } => write!(f, "`base`: {}", expected("base")),
             Self::InvalidOption { field, value } => {
                 write!(f, "`{field}`: {}, got {value:e}", expected(field))
             }
