@@ -70,6 +70,14 @@ pub struct FieldEval {
     pub phi: f64,
 }
 
+impl FieldEval {
+    /// `Θ(x)`, the field [`FieldEval::value`] under its glossary name (docs/ARCHITECTURE.md).
+    #[must_use]
+    pub fn theta(&self) -> f64 {
+        self.value
+    }
+}
+
 /// A critical point of `Θ` in the workspace: the destination (minimum) or the pull-back of a
 /// saddle of `phi_k`.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -136,7 +136,7 @@ pub(crate) fn blind_layer(shape: &StarShape, x: Vector2<f64>) -> f64 {
 /// by the radial function. Returns that shape, the unit direction and the length to go: the
 /// layer's width, at most half the certified clearance from every other shape, and at most
 /// `most`.
-pub(crate) fn escape(
+pub(crate) fn blind_exit(
     ws: &Workspace,
     x: Vector2<f64>,
     most: f64,
@@ -203,7 +203,11 @@ mod index_tests {
                     assert_eq!(a.to_bits(), b.to_bits(), "seed {seed}, {x:?}, need {need}");
                     near += usize::from(a < need && a > 0.0);
                 }
-                assert_eq!(escape(&direct, x, 0.1), escape(&indexed, x, 0.1), "{x:?}");
+                assert_eq!(
+                    blind_exit(&direct, x, 0.1),
+                    blind_exit(&indexed, x, 0.1),
+                    "{x:?}"
+                );
             }
             assert!(near > 1000, "seed {seed}: {near} answers below the reach");
         }

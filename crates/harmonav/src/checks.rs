@@ -180,7 +180,7 @@ pub fn fly(
         error: None,
         stalled: false,
     };
-    let inflation = options.radius + options.margin;
+    let inflation = options.inflation();
     let (mut anchor, mut anchor_time) = (x, 0.0);
     let steps = (MAX_TIME / h).ceil() as usize;
     for step in 0..steps {

@@ -56,7 +56,7 @@ pub(crate) fn observe(
     // shape ends in a changed one, which only grows), instead of fitting and merging the
     // rest of a scan that will be refused (`PerceptionError::HoldsSensor`).
     let guard = if options.scan.refuse_in_band {
-        options.radius + options.margin
+        options.inflation()
     } else {
         options.radius
     };
@@ -93,7 +93,7 @@ pub(crate) fn observe(
     let mut slots: Vec<usize> = surviving.iter().map(|&i| remap(old_slots[i])).collect();
     let exact: Vec<usize> = scan_state.exact.iter().map(|&j| remap(j)).collect();
     let x = pose.position();
-    let (radius, inflation) = (options.radius, options.radius + options.margin);
+    let (radius, inflation) = (options.radius, options.inflation());
     let mut event_clearance = f64::INFINITY;
     for (p, shape) in perception.perceived().iter().enumerate() {
         let is_new = p >= slots.len();

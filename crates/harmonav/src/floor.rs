@@ -101,7 +101,7 @@ impl Build for Arc<FloorMap> {
         options: &Options,
     ) -> Result<(FloorWorld, ScanState, Controller), NavError> {
         let floor = self;
-        let inflation = options.radius + options.margin;
+        let inflation = options.inflation();
         // W_δ is the erosion of the walls by s + δ (FloorMap::shrink, delta).
         if inflation > (floor.shrink() + floor.delta()) * (1.0 + 1e-12) {
             return Err(NavError::InvalidOption {

@@ -329,7 +329,7 @@ fn kinematic_escape(
     step: f64,
     h: f64,
 ) -> Option<Command> {
-    let (band, dir, mut length) = field.escape(x, step)?;
+    let (band, dir, mut length) = field.blind_exit(x, step)?;
     for _ in 0..=MAX_HALVINGS {
         if field.eval(x + length * dir).is_ok_and(|e1| e1.phi < e.phi) {
             return Some(Command {
@@ -460,7 +460,7 @@ pub(crate) fn dynamic(
     let bound = (1.0 - SPEED_SLACK) * law.speed_bound();
     let d = space.clearance(x, 2.0 * h * speed / DYNAMIC_FRACTION, None);
     if d <= BLIND
-        && let Some((band, dir, length)) = space.escape(x, 0.5 * h * bound)
+        && let Some((band, dir, length)) = space.blind_exit(x, 0.5 * h * bound)
     {
         // In the blind layer (`escape`): v⁺ along the shape's ray, `h|v⁺|` the way out.
         let out = (length / h) * dir;

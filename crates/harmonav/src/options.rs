@@ -127,6 +127,12 @@ impl Options {
         }
     }
 
+    /// `radius + margin`, m: what every known shape is grown by (and the boundary shrunk by).
+    #[must_use]
+    pub fn inflation(&self) -> f64 {
+        self.radius + self.margin
+    }
+
     /// The robot's radius and the clearance margin, m.
     #[must_use]
     pub fn with_robot(self, radius: f64, margin: f64) -> Self {
@@ -251,7 +257,7 @@ impl Options {
                     .map(|k| k.v_max())
             }),
         };
-        let near = (self.radius + self.margin).max(range_min) + self.scan.range_noise;
+        let near = self.inflation().max(range_min) + self.scan.range_noise;
         match v_max {
             Some(v) if (v * scan_period).is_finite() => near + FIT_SCANS_AHEAD * v * scan_period,
             _ => far,
@@ -360,9 +366,7 @@ impl Options {
         shape: &StarShape,
         last: Option<Vector2<f64>>,
     ) -> Result<(StarShape, Option<StarShape>), NavError> {
-        let grown = shape
-            .offset(self.radius + self.margin)
-            .map_err(NavError::Shape)?;
+        let grown = shape.offset(self.inflation()).map_err(NavError::Shape)?;
         let inner = if self.margin > 0.0 {
             Some(shape.offset(self.radius).map_err(NavError::Shape)?)
         } else {

@@ -20,8 +20,8 @@ pub trait Space {
     /// known grown shape (but `except`) and to the boundary (for a floor plan: to the boundary
     /// layer `sd < δ`).
     fn clearance(&self, x: Vector2<f64>, need: f64, except: Option<Band>) -> f64;
-    /// The way out of the blind layer of a shape that is not a circle (`hold::escape`).
-    fn escape(&self, x: Vector2<f64>, most: f64) -> Option<(Band, Vector2<f64>, f64)>;
+    /// The way out of the blind layer of a shape that is not a circle (`hold::kinematic_escape`, the dynamic hold).
+    fn blind_exit(&self, x: Vector2<f64>, most: f64) -> Option<(Band, Vector2<f64>, f64)>;
     /// The motion `u` the hold should certify at `x` for a step of length `reach`: `u` itself
     /// in a star world; on a floor plan, within `2·reach` of the boundary layer or of a sensed
     /// obstacle, `u` without its component into it, each projected in turn (a later projection
@@ -58,8 +58,8 @@ impl Space for Field {
         certified::clearance(self.workspace(), x, need, except)
     }
 
-    fn escape(&self, x: Vector2<f64>, most: f64) -> Option<(Band, Vector2<f64>, f64)> {
-        certified::escape(self.workspace(), x, most)
+    fn blind_exit(&self, x: Vector2<f64>, most: f64) -> Option<(Band, Vector2<f64>, f64)> {
+        certified::blind_exit(self.workspace(), x, most)
     }
 
     fn calibration(&self, law: &Dynamic) -> Calibration {
@@ -153,9 +153,9 @@ impl Space for FloorField {
     }
 
     /// Only a sensed obstacle has a blind layer (the walls' distances are exact to rounding):
-    /// the ray from its centre through `x`, as `hold::escape`. `None` when the walls are the
+    /// the ray from its centre through `x`, as the star world's. `None` when the walls are the
     /// nearest: the hold then keeps its (shortened) law step.
-    fn escape(&self, x: Vector2<f64>, most: f64) -> Option<(Band, Vector2<f64>, f64)> {
+    fn blind_exit(&self, x: Vector2<f64>, most: f64) -> Option<(Band, Vector2<f64>, f64)> {
         let mut worst: Option<(usize, f64)> = None;
         for (i, o) in self.transform().obstacles().enumerate() {
             let d = certified::lower(o, x);

@@ -49,7 +49,7 @@ impl Build for StarShape {
         controller: Controller,
         options: &Options,
     ) -> Result<(StarWorld, ScanState, Controller), NavError> {
-        let inflation = options.radius + options.margin;
+        let inflation = options.inflation();
         let shrunk = self.offset(-inflation).map_err(NavError::Shape)?;
         let inner_boundary = if options.margin > 0.0 {
             Some(self.offset(-options.radius).map_err(NavError::Shape)?)
