@@ -137,6 +137,15 @@ pub fn run(options: &Options) -> ExitCode {
             "navigator_command_ns_m6_kinematic_hold_paper",
             navigator_command_ns(kinematic, HoldPolicy::Paper),
         );
+        // The mover filter (docs/movers.md), side by side with the lines above: 20 movers out
+        // of reach (the filter only checks its rows; target: within 1 µs of no movers) and 20
+        // movers within reach of every state (the filter projects; target ≤ 20 µs).
+        for (name, near) in [("far", false), ("near", true)] {
+            put(
+                &format!("navigator_command_ns_m6_kinematic_movers_20_{name}"),
+                navigator_command_movers_ns(kinematic, near),
+            );
+        }
     }
     // Memory of a long run, side by side with a short one (docs/benchmarks.md): the peak
     // resident memory the run adds, sampled every 5 ms.
@@ -413,6 +422,47 @@ fn navigator_command_ns(law: harmonav::Law, hold: harmonav::HoldPolicy) -> f64 {
     median_ns(15, (reps * states.len()) as f64, || {
         for _ in 0..reps {
             for &(x, v) in &states {
+                let _ = black_box(nav.command(black_box(x), black_box(v)));
+            }
+        }
+    })
+}
+
+/// [`navigator_command_ns`] under the kinematic law with 20 movers (radius 0.3 m, 1 m/s) set
+/// before each command: `near`, all within reach of the period (0.5 to 3 cm clear of their
+/// rows' discs, round the state); else 20 m away. ns per call, `set_movers` included.
+fn navigator_command_movers_ns(law: harmonav::Law, near: bool) -> f64 {
+    use harmonav::{Mover, Navigator, Options, Vector2};
+    let (ws, states) = control_world();
+    let options = Options::default();
+    let mut nav = Navigator::new(ws.boundary().clone(), ws.destination(), law, options)
+        .expect("valid benchmark world");
+    for o in &ws.obstacles()[..6] {
+        nav.add_obstacle(o.clone())
+            .expect("valid benchmark obstacle");
+    }
+    let reach = options.inflation() + 0.3;
+    let movers: Vec<Vec<Mover>> = states
+        .iter()
+        .map(|&(x, _)| {
+            (0..20)
+                .map(|j| {
+                    let a = std::f64::consts::TAU * f64::from(j) / 20.0;
+                    let d = if near {
+                        reach + 0.005 + 0.025 * f64::from(j % 5) / 4.0
+                    } else {
+                        20.0 + reach
+                    };
+                    Mover::new(x + d * Vector2::new(a.cos(), a.sin()), 0.3, 1.0)
+                })
+                .collect()
+        })
+        .collect();
+    let reps = 5;
+    median_ns(15, (reps * states.len()) as f64, || {
+        for _ in 0..reps {
+            for (&(x, v), m) in states.iter().zip(&movers) {
+                let _ = nav.set_movers(m);
                 let _ = black_box(nav.command(black_box(x), black_box(v)));
             }
         }
