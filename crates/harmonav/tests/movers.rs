@@ -298,7 +298,11 @@ fn a_dynamic_robot_yields_to_a_crossing_mover() {
         let next = vel + h * c.value;
         // The mover steps towards the robot at its bound while within 0.5 m of where it stood.
         let to = x - p;
-        let step = if (p - p0).norm() < 0.5 { to / to.norm() } else { Vector2::zeros() };
+        let step = if (p - p0).norm() < 0.5 {
+            to / to.norm()
+        } else {
+            Vector2::zeros()
+        };
         for i in 1..=20 {
             let t = h * f64::from(i) / 20.0;
             let gap = (x + t * next - (p + t * step)).norm() - (RADIUS + 0.3);
