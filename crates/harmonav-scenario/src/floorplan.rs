@@ -126,8 +126,9 @@ pub struct FloorRobotSpec {
     /// Mass (dynamic), kg.
     #[serde(default = "one")]
     pub mass: f64,
-    /// `μ` (dynamic): the speed bound is `√(2μ/m)`.
-    #[serde(default = "one")]
+    /// `μ` (dynamic): the speed bound is `√(2μ/m)`. Default
+    /// [`crate::scenario::DEFAULT_MU`], as a star world's `controller.mu`.
+    #[serde(default = "crate::scenario::default_mu")]
     pub mu: f64,
     /// `heading = "auto"` (the default: the shortest path's direction within 60° of `−∇Θ`; the
     /// dynamic law turns its velocity towards it by a force that does no work) or `"paper"`
@@ -168,8 +169,12 @@ pub struct FloorSimSpec {
     /// Simulated time limit, s.
     #[serde(default = "default_max_time")]
     pub max_time: f64,
-    /// Arrival threshold `|x − x_d|`, m.
-    #[serde(default = "default_arrival")]
+    /// Arrival threshold `|x − x_d|`, m (default [`crate::scenario::DEFAULT_ARRIVAL`], as a
+    /// star world's); also spelt `goal_tolerance`, a star world's name for it.
+    #[serde(
+        default = "crate::scenario::default_tolerance",
+        alias = "goal_tolerance"
+    )]
     pub arrival: f64,
     /// Sensor range: a true obstacle becomes known once it is this close, m.
     #[serde(default = "one")]
@@ -180,15 +185,11 @@ fn default_max_time() -> f64 {
     120.0
 }
 
-fn default_arrival() -> f64 {
-    0.05
-}
-
 impl Default for FloorSimSpec {
     fn default() -> Self {
         Self {
             max_time: default_max_time(),
-            arrival: default_arrival(),
+            arrival: crate::scenario::DEFAULT_ARRIVAL,
             sensor_range: 1.0,
         }
     }

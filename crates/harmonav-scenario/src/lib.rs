@@ -56,9 +56,9 @@ pub mod suites;
 pub mod truth;
 
 pub use scenario::{
-    ControllerSpec, ExpectSpec, FieldSpec, MAX_FILE_BYTES, MAX_OBSTACLES, MAX_RECORDED_STATES,
-    Model, PARAMETER_RANGE, Prepared, RobotSpec, Scenario, ScenarioError, ShapeSpec, SimSpec,
-    build_shape,
+    ControllerSpec, DEFAULT_ARRIVAL, DEFAULT_MU, ExpectSpec, FieldSpec, MAX_FILE_BYTES,
+    MAX_OBSTACLES, MAX_RECORDED_STATES, Model, PARAMETER_RANGE, Prepared, RobotSpec, Scenario,
+    ScenarioError, ShapeSpec, SimSpec, build_shape,
 };
 pub use sensor::{LidarSensor, SensorKind, SensorSpec};
 pub use suites::{ADVERSARIAL, LONG, scenario_files};

@@ -198,8 +198,8 @@ pub struct ControllerSpec {
     /// `K` of the kinematic law.
     #[serde(default = "one")]
     pub gain: f64,
-    /// `μ` of the dynamic law.
-    #[serde(default = "ten")]
+    /// `μ` of the dynamic law (default [`DEFAULT_MU`], as a floor plan's `robot.mu`).
+    #[serde(default = "default_mu")]
     pub mu: f64,
     /// `damping = "paper"` (eq. `dissipationfun`), `"shaped"`, `"auto"`, `"fast"` or
     /// `"governed"` (the default), see [`DampingPolicy`].
@@ -226,7 +226,7 @@ impl Default for ControllerSpec {
     fn default() -> Self {
         Self {
             gain: 1.0,
-            mu: 10.0,
+            mu: DEFAULT_MU,
             damping: DampingPolicy::default(),
             speed: SpeedPolicy::default(),
             v_max: None,
@@ -245,8 +245,9 @@ pub struct SimSpec {
     /// Give up after this time, s.
     #[serde(default = "default_max_time")]
     pub max_time: f64,
-    /// Arrival radius, m.
-    #[serde(default = "default_tolerance")]
+    /// Arrival radius, m (default [`DEFAULT_ARRIVAL`]); also spelt `arrival`, a floor plan's
+    /// name for it.
+    #[serde(default = "default_tolerance", alias = "arrival")]
     pub goal_tolerance: f64,
 }
 
@@ -259,6 +260,15 @@ impl Default for SimSpec {
         }
     }
 }
+
+/// `μ` of the dynamic law when the file gives none, in both formats (a star world's
+/// `controller.mu`, a floor plan's `robot.mu`; Python's default too): the speed bound
+/// `√(2μ/m)` is 4.5 m/s at the default mass of 1 kg.
+pub const DEFAULT_MU: f64 = 10.0;
+
+/// The arrival radius `|x − x_d|` when the file gives none, m, in both formats (a star
+/// world's `sim.goal_tolerance`, a floor plan's `sim.arrival`; either key in either format).
+pub const DEFAULT_ARRIVAL: f64 = 0.01;
 
 /// The largest scenario file read, bytes.
 pub const MAX_FILE_BYTES: u64 = 4 << 20;
@@ -309,8 +319,8 @@ pub struct ExpectSpec {
 fn one() -> f64 {
     1.0
 }
-fn ten() -> f64 {
-    10.0
+pub(crate) fn default_mu() -> f64 {
+    DEFAULT_MU
 }
 fn default_dt() -> f64 {
     0.01
@@ -318,8 +328,8 @@ fn default_dt() -> f64 {
 fn default_max_time() -> f64 {
     200.0
 }
-fn default_tolerance() -> f64 {
-    0.01
+pub(crate) fn default_tolerance() -> f64 {
+    DEFAULT_ARRIVAL
 }
 
 /// A scenario file as written (its `[robot] control_period` kept in

@@ -110,3 +110,71 @@ fn a_bad_control_period_is_refused_naming_the_key_and_the_file() {
     .unwrap_err();
     assert_eq!(e.field, "robot.control_period", "{e}");
 }
+
+/// Issue 51: a star world and a floor plan with the same `[robot]` block run with the same
+/// `μ`, arrival tolerance and control period (before, `μ` was 10 in a star world and 1 on a
+/// floor plan, the arrival 0.01 m and 0.05 m).
+#[test]
+fn the_same_robot_block_gets_the_same_defaults_in_both_formats() {
+    for robot in [
+        ROBOT.to_string(),
+        format!("{ROBOT}\ncontrol_period = 0.02"),
+        format!("{ROBOT}\nmass = 2.0"),
+    ] {
+        let path = Path::new("star.toml");
+        let s = Scenario::parse(path, &star(&robot, ""))
+            .and_then(|s| s.prepare(path))
+            .unwrap_or_else(|e| panic!("{e}"));
+        let path = Path::new("floor.toml");
+        let f = FloorScenario::parse(path, &floor(&robot, ""))
+            .and_then(|s| s.prepare(path))
+            .unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(s.scenario.controller.mu, f.scenario.robot.mu, "{robot}");
+        assert_eq!(s.scenario.controller.gain, f.scenario.robot.gain, "{robot}");
+        assert_eq!(s.scenario.robot.mass, f.scenario.robot.mass, "{robot}");
+        assert_eq!(
+            s.scenario.sim.goal_tolerance, f.scenario.sim.arrival,
+            "{robot}"
+        );
+        assert_eq!(s.control_period(), f.control_period(), "{robot}");
+    }
+    // The values: the star world's, and Python's `mu`.
+    let path = Path::new("floor.toml");
+    let f = FloorScenario::parse(path, &floor(ROBOT, "")).unwrap();
+    assert_eq!(f.robot.mu, harmonav_scenario::DEFAULT_MU);
+    assert_eq!(f.sim.arrival, harmonav_scenario::DEFAULT_ARRIVAL);
+    assert_eq!((f.robot.mu, f.sim.arrival), (10.0, 0.01));
+}
+
+/// The arrival tolerance takes either name in either format (`sim.goal_tolerance`, a star
+/// world's, and `sim.arrival`, a floor plan's), but not both at once.
+#[test]
+fn the_arrival_takes_either_name_in_either_format() {
+    for key in ["goal_tolerance", "arrival"] {
+        let sim = format!("[sim]\n{key} = 0.05");
+        let path = Path::new("star.toml");
+        let s = Scenario::parse(path, &star(ROBOT, &sim)).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(s.sim.goal_tolerance, 0.05, "{key}");
+        let path = Path::new("floor.toml");
+        let f = FloorScenario::parse(path, &floor(ROBOT, &sim)).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(f.sim.arrival, 0.05, "{key}");
+    }
+    let both = "[sim]\ngoal_tolerance = 0.05\narrival = 0.05";
+    let path = Path::new("star.toml");
+    let e = Scenario::parse(path, &star(ROBOT, both)).unwrap_err();
+    assert!(e.problem.contains("duplicate"), "{e}");
+    let path = Path::new("floor.toml");
+    let e = FloorScenario::parse(path, &floor(ROBOT, both)).unwrap_err();
+    assert!(e.problem.contains("duplicate"), "{e}");
+    // A bad value under the other format's name is refused naming this format's key.
+    let path = Path::new("star.toml");
+    let e = Scenario::parse(path, &star(ROBOT, "[sim]\narrival = -1.0"))
+        .and_then(|s| s.prepare(path))
+        .unwrap_err();
+    assert_eq!(e.field, "sim.goal_tolerance", "{e}");
+    let path = Path::new("floor.toml");
+    let e = FloorScenario::parse(path, &floor(ROBOT, "[sim]\ngoal_tolerance = -1.0"))
+        .and_then(|s| s.prepare(path))
+        .unwrap_err();
+    assert_eq!(e.field, "sim.arrival", "{e}");
+}
