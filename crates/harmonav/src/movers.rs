@@ -181,16 +181,17 @@ pub(crate) fn rows(
 
 /// The velocity `u` filtered against `rows` with the static set `|u| ≤ r` (and, if the first
 /// projection is not certified by `certified`, the smaller disc `|u| ≤ r_small`): `u` itself
-/// when it meets every row ([`Verdict::Kept`]), the projection when one is certified, else the
-/// least largest shortfall.
+/// when it is `trusted` (the hold's own command, certified against the known shapes) and meets
+/// every row ([`Verdict::Kept`]), the projection when one is certified, else the least largest
+/// shortfall. A nominal that is not trusted (turned by [`KeepRight`]) is always checked.
 pub(crate) fn filter(
     rows: &[Row],
-    u: Vector2<f64>,
+    (u, trusted): (Vector2<f64>, bool),
     r: f64,
     certified: impl Fn(Vector2<f64>) -> bool,
     r_small: f64,
 ) -> (Vector2<f64>, Verdict) {
-    if rows.iter().all(|row| row.slack(u) >= 0.0) {
+    if trusted && rows.iter().all(|row| row.slack(u) >= 0.0) {
         return (u, Verdict::Kept);
     }
     let yielding = |v: Vector2<f64>| {
@@ -240,6 +241,105 @@ pub(crate) fn filter(
             },
         ),
     }
+}
+
+/// How long ahead KeepRight's anticipation looks, s: a mover whose closest approach to the
+/// nominal relative motion comes within this time and closer than `2R_j` turns the nominal
+/// clockwise (docs/movers.md §7).
+pub const ANTICIPATION: f64 = 3.0;
+
+/// The largest clockwise turn of the anticipation, degrees (at a closest approach now; none at
+/// [`ANTICIPATION`]).
+pub const ANTICIPATION_TURN_DEG: f64 = 50.0;
+
+/// The filtered command is "slow" below this fraction of the nominal's speed.
+pub const STUCK_RATIO: f64 = 0.2;
+
+/// Slow for this long (s), away from the goal, and the nominal turns clockwise by
+/// [`STUCK_TURN_DEG`] for [`STUCK_TURN_TIME`].
+pub const STUCK_TIME: f64 = 1.0;
+
+/// The stuck rule's turn, degrees.
+pub const STUCK_TURN_DEG: f64 = 60.0;
+
+/// How long the stuck rule turns, s.
+pub const STUCK_TURN_TIME: f64 = 2.0;
+
+/// KeepRight's memory (docs/movers.md §7): how long the filtered command has been slow, and how
+/// long the stuck rule still turns. It changes only the nominal command, which the filter
+/// certifies whatever it is: it can cost time, never safety.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct KeepRight {
+    /// Seconds the filtered command has been below [`STUCK_RATIO`] of the nominal.
+    pub slow: f64,
+    /// Seconds the stuck rule still turns the nominal.
+    pub turning: f64,
+}
+
+impl KeepRight {
+    /// The clockwise turn of the nominal `u` at `x`, rad: the stuck rule's while it turns, and
+    /// the anticipation's: for each mover with `e = x − p̂_j`, `w = u − v̂_j` (`v̂_j` its tracked
+    /// velocity, 0 if none), `t* = −e·w/|w|²` and the miss `|e + t*w|`; if `0 < t* < T_a` and
+    /// the miss is below `2R_j` (`R_j = inflation + r_j`), `θ_max(1 − t*/T_a)`; the largest.
+    pub(crate) fn turn(
+        &self,
+        movers: &[Mover],
+        x: Vector2<f64>,
+        u: Vector2<f64>,
+        inflation: f64,
+    ) -> f64 {
+        let mut turn: f64 = if self.turning > 0.0 {
+            STUCK_TURN_DEG.to_radians()
+        } else {
+            0.0
+        };
+        for m in movers {
+            let e = x - m.centre;
+            let w = u - m.velocity.unwrap_or_else(Vector2::zeros);
+            let ww = w.norm_squared();
+            // Guard: no relative motion (or a NaN): no closest approach to anticipate.
+            if ww.is_nan() || ww <= 0.0 {
+                continue;
+            }
+            let t = -e.dot(&w) / ww;
+            let miss = (e + t * w).norm();
+            if t > 0.0 && t < ANTICIPATION && miss < 2.0 * (inflation + m.radius) {
+                turn = turn.max(ANTICIPATION_TURN_DEG.to_radians() * (1.0 - t / ANTICIPATION));
+            }
+        }
+        turn
+    }
+
+    /// The memory after a command whose filtered speed was `kept` of the nominal `wanted`
+    /// (`yielded`: the filter changed it), `far`: away from the goal, over the period `h`.
+    pub(crate) fn after(
+        self,
+        (kept, wanted): (f64, f64),
+        yielded: bool,
+        far: bool,
+        h: f64,
+    ) -> Self {
+        let turning = (self.turning - h).max(0.0);
+        let slow = if yielded && far && kept < STUCK_RATIO * wanted {
+            self.slow + h
+        } else {
+            0.0
+        };
+        if slow >= STUCK_TIME {
+            Self {
+                slow: 0.0,
+                turning: STUCK_TURN_TIME,
+            }
+        } else {
+            Self { slow, turning }
+        }
+    }
+}
+
+/// `u` turned clockwise by `angle` rad.
+pub(crate) fn clockwise(u: Vector2<f64>, angle: f64) -> Vector2<f64> {
+    let (s, c) = angle.sin_cos();
+    Vector2::new(c * u.x + s * u.y, -s * u.x + c * u.y)
 }
 
 /// A standalone mover filter: certifies any planner's velocity (ORCA's, DWB's, your own)
@@ -340,7 +440,7 @@ impl MoverFilter {
         } else {
             (nominal, crate::Mode::Law)
         };
-        let (velocity, verdict) = filter(&self.rows, u, r, |_| true, r);
+        let (velocity, verdict) = filter(&self.rows, (u, true), r, |_| true, r);
         Ok(Filtered {
             velocity,
             mode: verdict.mode_or(kept),

@@ -15,7 +15,7 @@ use crate::error::NavError;
 use crate::floor::FloorWorld;
 use crate::hold::{self, Command};
 use crate::law::Law;
-use crate::movers::{self, Mover, Verdict};
+use crate::movers::{self, KeepRight, Mover, Verdict};
 use crate::options::Options;
 use crate::space::Space;
 use crate::star::StarWorld;
@@ -112,6 +112,7 @@ impl<W: World> Navigator<W> {
             movers: Vec::new(),
             rows: Vec::new(),
             yielded: false,
+            keep_right: KeepRight::default(),
         };
         let nav = Self { core, world };
         // Guard: λ_c (eq. critdamp) overflowed for m = μ = 1e308; within the ranges it is
@@ -202,14 +203,14 @@ impl<W: World> Navigator<W> {
             self.core.speed_at_discovery = before.max(v.norm());
         }
         let result = W::held(&self.core, &self.world, x, v).and_then(|(command, step)| {
-            let (command, yielded) = self.filtered(x, v, command)?;
+            let (command, yielded, memory) = self.filtered(x, v, command)?;
             if command.value.iter().all(|c| c.is_finite()) {
-                Ok((command, step, yielded))
+                Ok((command, step, yielded, memory))
             } else {
                 Err(NavError::NonFiniteCommand)
             }
         });
-        let (command, step, yielded) = match result {
+        let (command, step, yielded, memory) = match result {
             Ok(done) => done,
             Err(e) => {
                 self.core.speed_at_discovery = before;
@@ -225,6 +226,7 @@ impl<W: World> Navigator<W> {
         );
         self.core.last = Some((x, v));
         self.core.yielded = yielded;
+        self.core.keep_right = memory;
         self.world.after(x, step);
         Ok(command)
     }
@@ -263,14 +265,27 @@ impl<W: World> Navigator<W> {
         x: Vector2<f64>,
         v: Vector2<f64>,
         command: Command,
-    ) -> Result<(Command, bool), NavError> {
+    ) -> Result<(Command, bool, KeepRight), NavError> {
+        let memory = self.core.keep_right;
         if self.core.movers.is_empty() {
-            return Ok((command, false));
+            return Ok((command, false, memory));
         }
         let h = self.core.period;
-        let body = (x, self.core.options.radius, self.core.options.margin);
+        let options = &self.core.options;
+        let body = (x, options.radius, options.margin);
+        let inflation = options.inflation();
         let field = self.world.field();
-        let (value, verdict) = match &self.core.controller {
+        let far = (x - field.goal()).norm() > 2.0 * inflation;
+        // KeepRight turns the nominal only (docs/movers.md §7); the filter certifies it.
+        let turned = |u: Vector2<f64>, movers: &[Mover]| {
+            let turn = memory.turn(movers, x, u, inflation);
+            if turn > 0.0 {
+                (movers::clockwise(u, turn), false)
+            } else {
+                (u, true)
+            }
+        };
+        let (value, verdict, speeds) = match &self.core.controller {
             Controller::Kinematic(law) => {
                 movers::rows(&self.core.movers, body, h, 0.0, &mut self.core.rows)?;
                 let v_max = law.v_max();
@@ -280,7 +295,10 @@ impl<W: World> Navigator<W> {
                     let length = h * u.norm();
                     length == 0.0 || hold::free_length(field, x, u / u.norm(), length) >= length
                 };
-                movers::filter(&self.core.rows, command.value, v_max, certified, small)
+                let nominal = turned(command.value, &self.core.movers);
+                let (u, verdict) =
+                    movers::filter(&self.core.rows, nominal, v_max, certified, small);
+                (u, verdict, (u.norm(), command.value.norm()))
             }
             Controller::Dynamic(law) => {
                 let (m, bound) = (law.mass(), law.speed_bound());
@@ -290,15 +308,18 @@ impl<W: World> Navigator<W> {
                 let cap = (1.0 - hold::SPEED_SLACK) * bound;
                 let d = field.clearance(x, 2.0 * h * cap / hold::DYNAMIC_FRACTION, None);
                 let r = cap.min(hold::DYNAMIC_FRACTION * d.max(0.0) / h);
-                let (next, verdict) = movers::filter(&self.core.rows, next, r, |_| true, r);
-                ((m / h) * (next - v), verdict)
+                let nominal = turned(next, &self.core.movers);
+                let (after, verdict) = movers::filter(&self.core.rows, nominal, r, |_| true, r);
+                ((m / h) * (after - v), verdict, (after.norm(), next.norm()))
             }
         };
-        if verdict == Verdict::Kept {
-            return Ok((command, false));
+        let yielded = verdict != Verdict::Kept;
+        let memory = memory.after(speeds, yielded, far, h);
+        if !yielded {
+            return Ok((command, false, memory));
         }
         let mode = verdict.mode_or(command.mode);
-        Ok((Command { value, mode }, true))
+        Ok((Command { value, mode }, true, memory))
     }
 
     /// The continuous law at the state `(x, ẋ)` with what it is made of (`Θ`, `∇Θ`, the

@@ -25,8 +25,8 @@ use crate::controller::{Controller, Evaluation, finite_state};
 use crate::error::NavError;
 use crate::event::ScanEvent;
 use crate::hold::{self, Command, Mode};
-use crate::movers::Mover;
 use crate::movers::program::Row;
+use crate::movers::{KeepRight, Mover};
 use crate::options::{HoldPolicy, Options};
 use crate::scanning::ScanState;
 use crate::space::Space;
@@ -88,6 +88,8 @@ pub struct Core {
     pub(crate) rows: Vec<Row>,
     /// The last command was changed by the mover filter.
     pub(crate) yielded: bool,
+    /// The deadlock rule's memory (it turns the nominal command only).
+    pub(crate) keep_right: KeepRight,
 }
 
 /// The sealed half of [`World`]: the navigator's steps that differ between the worlds. The
