@@ -133,6 +133,17 @@ class Navigator:
     known obstacles and state (the speed at the latest discovery, the last position): it
     commands exactly as the original.
 
+    ``base="diff"`` (issue 53) makes it a differential-drive robot's navigator, commanded by
+    ``command_pose(position, yaw)`` → ``(v, omega)`` with ``0 ≤ v ≤ v_max`` and
+    ``|omega| ≤ omega_max`` (both required; ``v_max`` is still the kinematic law's top speed);
+    ``base="holonomic"`` (the default) is ``command``'s robot. Kinematic law only. An unknown base,
+    or a bound that is missing, not finite or not positive, is a ``ValueError`` naming it.
+
+    ``set_movers([...])`` (issue 54) gives it the movers of this period (``Mover``); every
+    command is then filtered against where they can reach within the period: ``mode`` is
+    ``"yielding"`` when the filter changed it, ``"overwhelmed"`` (and ``certified`` False) when
+    no command could be certified against them.
+
     Threads: calls on one navigator are serialised by a lock inside it; a call made while
     another thread's call runs (``observe_scan`` releases the GIL) waits for it instead of
     failing.
@@ -161,6 +172,8 @@ class Navigator:
         growth_threshold: float = 0.02,
         fit_range: Optional[float] = None,
         free_memory: int = 16,
+        base: str = "holonomic",
+        omega_max: Optional[float] = None,
     ) -> None: ...
     def observe_scan(
         self,
@@ -194,13 +207,44 @@ class Navigator:
         finite and, under ``hold="auto"``, safe to hold (``mode`` says how it was formed):
         ``ValueError`` (and nothing changed) where the robot's disc overlaps a known obstacle,
         for non-finite input, or for a command that would not be finite."""
+    def command_pose(self, position: _Point, yaw: float) -> Tuple[float, float]:
+        """``(v, omega)`` to hold for ``control_period`` at the pose ``(position, yaw)`` of a
+        differential-drive robot (``base="diff"``): aligned descent, its arc over the period
+        certified free of the known obstacles; ``0 ≤ v ≤ v_max``, ``|omega| ≤ omega_max``.
+        ``ValueError`` (and nothing changed) on a holonomic navigator (naming ``base``), for a
+        non-finite pose, and where ``command`` would raise. With movers set, the direction is
+        the filtered one but the arc is not certified against the movers."""
+    def set_movers(self, movers: Sequence[Union[Mover, Dict[str, Any]]]) -> None:
+        """Replaces the movers (``Mover``s, or dicts with its argument names as keys); ``[]``
+        clears them. All or nothing: an invalid mover is a ``ValueError`` naming
+        ``movers[i].field``. A command where the robot's disc overlaps a mover's as reported
+        raises ``ValueError``."""
+    @property
+    def movers(self) -> List[Mover]:
+        """The movers of the last ``set_movers``."""
+    @property
+    def certified(self) -> bool:
+        """False only when the last command could not be certified against a mover
+        (``mode == "overwhelmed"``)."""
+    @property
+    def steer(self) -> Optional[str]:
+        """How the last ``command_pose`` formed ``(v, omega)``: ``"ahead"``, ``"shortened"``,
+        ``"turning"`` or ``"stopped"``; ``None`` before it and after a ``command``."""
+    @property
+    def base(self) -> str:
+        """``"holonomic"`` or ``"diff"``."""
+    @property
+    def omega_max(self) -> Optional[float]:
+        """A differential-drive base's top turn rate, rad/s; ``None`` for a holonomic one."""
     @property
     def mode(self) -> str:
         """How the last command was formed: ``"law"``, ``"capped"``, ``"recovering"``,
         ``"from-rest"`` (where the kinematic law's held step had come to rest away from the goal,
-        at a saddle of Θ or in a narrow valley: the steepest certified descent of 16 directions)
-        or ``"halted"`` (the last ``observe_scan`` was refused: zero velocity, or the force that
-        stops the robot within the period, until a scan is accepted)."""
+        at a saddle of Θ or in a narrow valley: the steepest certified descent of 16 directions),
+        ``"escaping"`` (floor plans), ``"halted"`` (the last ``observe_scan`` was refused: zero
+        velocity, or the force that stops the robot within the period, until a scan is
+        accepted), ``"yielding"`` (the mover filter changed it, certified) or ``"overwhelmed"``
+        (no command keeps out of every mover's reach: the least violation, not certified)."""
     @property
     def control_period(self) -> float:
         """The control period in force, s (default 0.01 kinematic, 0.001 dynamic)."""
@@ -221,10 +265,69 @@ class Navigator:
     def __reduce__(self) -> Tuple[Any, Tuple[Any, ...], List[Tuple[Any, ...]]]: ...
     def __setstate__(self, state: List[Tuple[Any, ...]]) -> None:
         """Rebuilds the navigator (a floor plan's on its map, not solved again) and replays
-        ``state`` (``("add", shape)``, ``("command", x, v)``, ``("scan", …)`` entries);
+        ``state`` (``("add", shape)``, ``("command", x, v)``, ``("pose", x, yaw)``,
+        ``("movers", [Mover, …])``, ``("scan", …)`` entries);
         ``ValueError``/``TypeError``, and nothing changed, if it does not replay."""
     def __copy__(self) -> Navigator: ...
     def __deepcopy__(self, memo: Any) -> Navigator: ...
+
+class Mover:
+    """A moving disc as perception reports it (issue 54): ``centre`` (m), the body's ``radius``
+    (m), ``speed_bound`` (m/s), the report's ``error`` bound (m) and ``kind``:
+    ``"noncooperative"`` (a person, a robot of another stack) or ``"reciprocal"`` (another
+    harmonav robot taking ``1 − share`` of the avoidance). Immutable and picklable; a bad field
+    is a ``ValueError`` naming it."""
+
+    def __init__(
+        self,
+        centre: _Point,
+        radius: float,
+        speed_bound: float,
+        error: float = 0.0,
+        kind: str = "noncooperative",
+        share: float = 0.5,
+    ) -> None: ...
+    @property
+    def centre(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def radius(self) -> float: ...
+    @property
+    def speed_bound(self) -> float: ...
+    @property
+    def error(self) -> float: ...
+    @property
+    def kind(self) -> str: ...
+    @property
+    def share(self) -> float: ...
+    def __reduce__(self) -> Tuple[Any, Tuple[Any, ...]]: ...
+
+class MoverFilter:
+    """The standalone certified mover filter: certifies any planner's velocity against movers
+    for a disc robot of ``radius`` and ``margin`` (m), at most ``v_max`` fast (m/s), holding
+    each velocity for ``control_period`` (s). ``ValueError`` names a bad argument."""
+
+    def __init__(self, radius: float, margin: float, v_max: float, control_period: float) -> None: ...
+    def filter(
+        self,
+        x: _Point,
+        nominal: _Point,
+        movers: Sequence[Union[Mover, Dict[str, Any]]],
+        clearance: float = ...,
+    ) -> Tuple[npt.NDArray[np.float64], str]:
+        """``(velocity, mode)``: ``nominal`` clipped to ``|u| ≤ min(v_max, clearance/(2h))``
+        (``"capped"`` if it was, else ``"law"``) when it keeps out of every mover's reach over
+        the period; else the closest certified velocity (``"yielding"``); else the least
+        violation, not certified (``"overwhelmed"``). ``clearance`` (default ∞) is the caller's
+        certified distance to the static world grown by ``radius + margin``."""
+    @property
+    def radius(self) -> float: ...
+    @property
+    def margin(self) -> float: ...
+    @property
+    def v_max(self) -> float: ...
+    @property
+    def control_period(self) -> float: ...
+    def __reduce__(self) -> Tuple[Any, Tuple[Any, ...]]: ...
 
 class ScanUpdate:
     """What one ``Navigator.observe_scan`` did (indices among the navigator's obstacles)."""
@@ -380,6 +483,8 @@ class _Options(TypedDict, total=False):
     growth_threshold: float
     fit_range: Optional[float]
     free_memory: int
+    base: str
+    omega_max: Optional[float]
 
 class FloorNavigator(Navigator):
     """The navigator of a robot on a floor plan, a ``Navigator``: the walls are known (rings of

@@ -12,6 +12,7 @@ mod experiment;
 mod field;
 mod floor_navigator;
 mod floorplan;
+mod movers;
 mod navigator;
 mod options;
 mod report;
@@ -34,6 +35,8 @@ fn harmonav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<field::Field>()?;
     m.add_class::<navigator::Navigator>()?;
     m.add_class::<navigator::ScanUpdate>()?;
+    m.add_class::<movers::Mover>()?;
+    m.add_class::<movers::MoverFilter>()?;
     m.add_class::<floor_navigator::FloorNavigator>()?;
     m.add_class::<scenario::Scenario>()?;
     m.add_class::<scenario::RunResult>()?;

@@ -7,8 +7,9 @@ use std::sync::{Arc, Mutex};
 
 use harmonav_rs::Vector2;
 use harmonav_rs::{
-    FloorMap, FloorNavigator as RsFloorNavigator, LaserScan, Law, Mode, NavError,
-    Navigator as RsNavigator, Options, Pose, ScanUpdate as RsScanUpdate,
+    Base, FloorMap, FloorNavigator as RsFloorNavigator, LaserScan, Law, Mode, Mover as RsMover,
+    MoverKind, NavError, Navigator as RsNavigator, Options, Pose, PoseCommand,
+    ScanUpdate as RsScanUpdate, Steer,
 };
 use numpy::PyArray1;
 use pyo3::exceptions::PyTypeError;
@@ -16,6 +17,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
 
 use crate::convert::{array1, lock, point_like, reals_like, value_error};
+use crate::movers::{Mover, movers_from};
 use crate::options::{FloorKeywords, Keywords};
 use crate::shapes::{Shape, from_perceived};
 
@@ -147,6 +149,8 @@ pub(crate) struct State {
     log: Log,
     /// How the last command was formed.
     mode: Mode,
+    /// How the last `command_pose` formed `(v, ω)`; `None` after a `command`.
+    steer: Option<Steer>,
 }
 
 /// A call that changed a navigator's state.
@@ -156,6 +160,10 @@ enum Event {
     Add(Shape),
     /// `command(x, v)`.
     Command([f64; 2], [f64; 2]),
+    /// `command_pose(position, yaw)` (issue 53).
+    Pose([f64; 2], f64),
+    /// `set_movers(movers)` (issue 54): in force until the next.
+    Movers(Vec<RsMover>),
     /// `observe_scan(...)` that changed the obstacles, or that ended a halt (a scan that
     /// changed nothing otherwise leaves no state to replay).
     Scan(Box<(Pose, LaserScan)>),
@@ -174,9 +182,12 @@ enum Event {
 #[derive(Clone, Default)]
 struct Log {
     events: Vec<Event>,
-    /// Whether the last event is a command that must be replayed (it lifted the discovery
-    /// speed), not replaced by the next command.
+    /// Whether the last command must be replayed (it lifted the discovery speed), not
+    /// replaced by the next command.
     keep_last: bool,
+    /// Whether the mover filter changed the last command: the next command lifts the dynamic
+    /// law's discovery speed after it, so the last must then be kept.
+    last_yielded: bool,
     /// Whether the last scan was refused (the navigator halts).
     halted: bool,
 }
@@ -228,18 +239,58 @@ impl Log {
         }
     }
 
-    /// A successful `command(x, v)`; `keep`: it changed the discovery speed.
-    fn command(&mut self, x: Vector2<f64>, v: Vector2<f64>, keep: bool) {
-        let event = Event::Command([x.x, x.y], [v.x, v.y]);
-        match self.events.last_mut() {
-            Some(last @ Event::Command(..)) if !self.keep_last => *last = event,
-            _ => self.events.push(event),
+    /// A successful `command` or `command_pose` (`event`); `lifted`: it changed the
+    /// discovery speed; `yielded`: the mover filter changed it. It supersedes the previous
+    /// command unless that one must be replayed (it lifted the discovery speed, or it yielded
+    /// and this one lifted it), and with it the `set_movers` between them: only the movers in
+    /// force at each kept command are kept.
+    fn command(&mut self, event: Event, lifted: bool, yielded: bool) {
+        // The movers set since the last event that is not `set_movers`: the latest is in force.
+        let mut latest = None;
+        while let Some(Event::Movers(_)) = self.events.last() {
+            if let Some(Event::Movers(m)) = self.events.pop() {
+                latest.get_or_insert(m);
+            }
         }
-        self.keep_last = keep;
+        let kept = self.keep_last || (self.last_yielded && lifted);
+        if !kept
+            && matches!(
+                self.events.last(),
+                Some(Event::Command(..) | Event::Pose(..))
+            )
+        {
+            self.events.pop();
+        }
+        if let Some(latest) = latest {
+            match self.events.last_mut() {
+                // Set before the superseded command, and replaced since.
+                Some(Event::Movers(m)) => *m = latest,
+                _ => {
+                    let in_force = self.events.iter().rev().find_map(|e| match e {
+                        Event::Movers(m) => Some(m.as_slice()),
+                        _ => None,
+                    });
+                    if !same_movers(in_force.unwrap_or_default(), &latest) {
+                        self.events.push(Event::Movers(latest));
+                    }
+                }
+            }
+        }
+        self.events.push(event);
+        self.keep_last = lifted;
+        self.last_yielded = yielded;
     }
 
-    /// The log as pickle stores it: `("add", shape)`, `("command", x, v)` and `("scan", pose,
-    /// ranges, angles)` entries.
+    /// A successful `set_movers`: replaces the list set since the last other event.
+    fn movers(&mut self, movers: Vec<RsMover>) {
+        match self.events.last_mut() {
+            Some(Event::Movers(m)) => *m = movers,
+            _ => self.events.push(Event::Movers(movers)),
+        }
+    }
+
+    /// The log as pickle stores it: `("add", shape)`, `("command", x, v)`, `("pose", x, yaw)`,
+    /// `("movers", [Mover, …])` and `("scan", pose, ranges, angles)` entries.
     fn to_python<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         let entries = self
             .events
@@ -248,6 +299,14 @@ impl Log {
                 match e {
                     Event::Add(shape) => ("add", Bound::new(py, shape.clone())?).into_pyobject(py),
                     Event::Command(x, v) => ("command", *x, *v).into_pyobject(py),
+                    Event::Pose(x, yaw) => ("pose", *x, *yaw).into_pyobject(py),
+                    Event::Movers(movers) => {
+                        let movers = movers
+                            .iter()
+                            .map(|m| Bound::new(py, Mover::from_rs(*m)))
+                            .collect::<PyResult<Vec<_>>>()?;
+                        ("movers", movers).into_pyobject(py)
+                    }
                     Event::Scan(b) | Event::Refused(b) => {
                         let (p, s) = b.as_ref();
                         (
@@ -319,6 +378,36 @@ fn scan_from(
     Ok((Pose::new(p.x, p.y, heading), scan))
 }
 
+/// Whether two lists of movers are the same bit for bit (`==` would take `-0.0` for `0.0`,
+/// which a replay must not).
+fn same_movers(a: &[RsMover], b: &[RsMover]) -> bool {
+    let bits = |m: &RsMover| {
+        let share = match m.kind {
+            MoverKind::Reciprocal { share } => share.to_bits(),
+            _ => u64::MAX,
+        };
+        let velocity = m.velocity.map(|v| [v.x.to_bits(), v.y.to_bits()]);
+        (
+            [
+                m.centre.x,
+                m.centre.y,
+                m.radius,
+                m.speed_bound,
+                m.position_error,
+            ]
+            .map(f64::to_bits),
+            share,
+            velocity,
+        )
+    };
+    a.len() == b.len() && a.iter().zip(b).all(|(p, q)| bits(p) == bits(q))
+}
+
+/// Whether the mover filter changed a command of this mode (Rust's `yielded`).
+fn yielded(mode: Mode) -> bool {
+    matches!(mode, Mode::Yielding { .. } | Mode::Overwhelmed { .. })
+}
+
 /// `Θ`, or a `ValueError` when it is not finite.
 fn finite_theta(theta: f64) -> PyResult<f64> {
     if theta.is_finite() {
@@ -338,6 +427,7 @@ impl State {
             built,
             log: Log::default(),
             mode: Mode::Law,
+            steer: None,
         })
     }
 
@@ -372,8 +462,38 @@ impl State {
             (c, nav.discovery_speed().to_bits() != before.to_bits())
         });
         self.mode = c.mode;
-        self.log.command(x, v, lifted);
+        self.steer = None;
+        let event = Event::Command([x.x, x.y], [v.x, v.y]);
+        self.log.command(event, lifted, yielded(c.mode));
         Ok(c.value)
+    }
+
+    /// The differential-drive command at the pose `(x, yaw)`, and recorded; a holonomic base's
+    /// navigator refuses it, naming `base` (the Rust message would speak of the law).
+    fn pose(&mut self, x: Vector2<f64>, yaw: f64) -> PyResult<PoseCommand> {
+        if self.built.options.base == Base::Holonomic {
+            return Err(value_error(
+                "`base`: command_pose needs a differential-drive navigator (base=\"diff\" with \
+                 v_max and omega_max); this one is holonomic: use command",
+            ));
+        }
+        let (c, lifted) = each!(&mut self.inner, nav => {
+            let before = nav.discovery_speed();
+            let c = nav.command_pose(x, yaw).map_err(value_error)?;
+            (c, nav.discovery_speed().to_bits() != before.to_bits())
+        });
+        self.mode = c.mode;
+        self.steer = Some(c.steer);
+        self.log
+            .command(Event::Pose([x.x, x.y], yaw), lifted, yielded(c.mode));
+        Ok(c)
+    }
+
+    /// Replaces the movers, and records them.
+    fn set_movers(&mut self, movers: Vec<RsMover>) -> Result<(), NavError> {
+        each!(&mut self.inner, nav => nav.set_movers(&movers))?;
+        self.log.movers(movers);
+        Ok(())
     }
 
     /// Replays `events` (a pickled state) on this state, a fresh one: each call must do what
@@ -384,6 +504,13 @@ impl State {
             let replayed = match e {
                 Event::Add(shape) => self.add(&shape).map(drop),
                 Event::Command(x, v) => self.issue(Vector2::from(x), Vector2::from(v)).map(drop),
+                Event::Pose(x, yaw) => match self.pose(Vector2::from(x), yaw) {
+                    Ok(_) => Ok(()),
+                    Err(e) => {
+                        return Err(value_error(format!("{class} state, entry {i}: {e}")));
+                    }
+                },
+                Event::Movers(movers) => self.set_movers(movers),
                 Event::Scan(b) => {
                     let (pose, scan) = *b;
                     self.scan(pose, scan).map(drop)
@@ -443,8 +570,9 @@ fn event(entry: &Bound<'_, PyAny>, i: usize, class: &str) -> PyResult<Event> {
     let bad = |problem: String| {
         PyTypeError::new_err(format!(
             "{class} state, entry {i}: {problem}; expected (\"add\", Shape), \
-             (\"command\", [x, y], [vx, vy]) or (\"scan\", [x, y, yaw], ranges, \
-             [angle_min, angle_increment, range_min, range_max])"
+             (\"command\", [x, y], [vx, vy]), (\"pose\", [x, y], yaw), (\"movers\", \
+             [Mover, …]) or (\"scan\", [x, y, yaw], ranges, [angle_min, angle_increment, \
+             range_min, range_max])"
         ))
     };
     let parts = entry
@@ -466,6 +594,12 @@ fn event(entry: &Bound<'_, PyAny>, i: usize, class: &str) -> PyResult<Event> {
             let v = point_like(v, "v")?;
             Ok(Event::Command([x.x, x.y], [v.x, v.y]))
         }
+        ("pose", [_, x, yaw]) => {
+            let x = point_like(x, "x")?;
+            let yaw = yaw.extract::<f64>().map_err(|e| bad(e.to_string()))?;
+            Ok(Event::Pose([x.x, x.y], yaw))
+        }
+        ("movers", [_, movers]) => Ok(Event::Movers(movers_from(movers)?)),
         (tag @ ("scan" | "refused-scan"), [_, pose, ranges, angles]) => {
             let [x, y, yaw] = pose.extract::<[f64; 3]>().map_err(|e| bad(e.to_string()))?;
             let ranges = ranges
@@ -506,7 +640,8 @@ impl Navigator {
                           sensor=(1.0, 60.0), radius=0.0, margin=0.0, k='auto', \
                           damping='governed', rho_min=0.05, control_period=None, hold='auto', \
                           speed='auto', v_max=None, range_noise=0.02, max_obstacle_depth=1.0, \
-                          growth_threshold=0.02, fit_range=None, free_memory=16)"
+                          growth_threshold=0.02, fit_range=None, free_memory=16, \
+                          base='holonomic', omega_max=None)"
     )]
     fn new(
         boundary: &Shape,
@@ -554,6 +689,78 @@ impl Navigator {
         // With the GIL held: one evaluation, tens of µs.
         let c = self.state(py).issue(x, v).map_err(value_error)?;
         array1(py, &[c.x, c.y], "command")
+    }
+
+    /// The `(v, omega)` to hold for `control_period` at the pose `(position, yaw)` of a
+    /// differential-drive robot (`base="diff"`; `position` array-like `[x, y]`, `yaw` its heading,
+    /// rad): forward speed `0 ≤ v ≤ v_max` (m/s) and turn rate `|omega| ≤ omega_max` (rad/s) by
+    /// aligned descent, the arc they sweep over the period certified free (`docs/unicycle.md`).
+    /// `mode` then says how the held direction was formed, `steer` how `(v, omega)` was
+    /// (`"ahead"`, `"shortened"`, `"turning"`, `"stopped"`). Raises `ValueError` (and changes
+    /// nothing) on a holonomic navigator (naming `base`), for a non-finite pose, and where
+    /// `command` would.
+    fn command_pose(
+        &self,
+        py: Python<'_>,
+        position: &Bound<'_, PyAny>,
+        yaw: f64,
+    ) -> PyResult<(f64, f64)> {
+        let x = point_like(position, "position")?;
+        let c = self.state(py).pose(x, yaw)?;
+        Ok((c.v, c.omega))
+    }
+
+    /// Replaces the movers (issue 54, `docs/movers.md`): a list of `Mover` (or of dicts with
+    /// its argument names as keys), reported afresh every period; `[]` clears them. From the
+    /// next command on, the held command is filtered last against every place a mover can
+    /// reach within the period: unchanged when it keeps out of them all (bit for bit the
+    /// command without movers), else the closest certified command (`mode == "yielding"`),
+    /// else the least violation, not certified (`mode == "overwhelmed"`, `certified` False).
+    /// All or nothing: an invalid mover is a `ValueError` naming `movers[i].field` and the
+    /// navigator keeps its movers. A command where the robot's disc overlaps a mover's as
+    /// reported is a `ValueError`, as inside an obstacle.
+    ///
+    /// With `base="diff"`, `command_pose` steers by the filtered direction, but its `(v, omega)`
+    /// arc is certified against the static world only, not against the movers.
+    fn set_movers(&self, py: Python<'_>, movers: &Bound<'_, PyAny>) -> PyResult<()> {
+        let movers = movers_from(movers)?;
+        self.state(py).set_movers(movers).map_err(value_error)
+    }
+
+    /// The movers of the last `set_movers`, as `Mover`s.
+    #[getter]
+    fn movers(&self, py: Python<'_>) -> Vec<Mover> {
+        each!(&self.state(py).inner, nav => nav.movers().iter().map(|m| Mover::from_rs(*m)).collect())
+    }
+
+    /// Whether the last command is certified to keep the robot clear over the period: False
+    /// only when it could not be certified against a mover (`mode == "overwhelmed"`).
+    #[getter]
+    fn certified(&self, py: Python<'_>) -> bool {
+        !matches!(self.state(py).mode, Mode::Overwhelmed { .. })
+    }
+
+    /// How the last `command_pose` formed `(v, omega)`: `"ahead"` (aligned descent as it is),
+    /// `"shortened"` (the arc hold shortened `v`), `"turning"` (`v = 0`, turning in place) or
+    /// `"stopped"`; `None` before the first and after a `command`.
+    #[getter]
+    fn steer(&self, py: Python<'_>) -> Option<&'static str> {
+        self.state(py).steer.as_ref().map(Steer::as_str)
+    }
+
+    /// `"holonomic"` (commanded by `command`) or `"diff"` (by `command_pose`).
+    #[getter]
+    fn base(&self, py: Python<'_>) -> &'static str {
+        self.state(py).built.options.base.as_str()
+    }
+
+    /// A differential-drive base's top turn rate, rad/s; `None` for a holonomic one.
+    #[getter]
+    fn omega_max(&self, py: Python<'_>) -> Option<f64> {
+        match self.state(py).built.options.base {
+            Base::Diff { omega_max, .. } => Some(omega_max),
+            _ => None,
+        }
     }
 
     /// Observes one range scan (the fields of `sensor_msgs/LaserScan`) taken at `position`
@@ -660,9 +867,11 @@ impl Navigator {
     /// `"recovering"` (out of the margin band or a floor plan's boundary layer), `"from-rest"`
     /// (the kinematic law's step had come to rest away from the goal, at a saddle of `Θ` or in
     /// a narrow valley: the steepest certified descent among 16 directions instead),
-    /// `"escaping"` (on a floor plan, along the shortest path from a rest point of the hold) or
+    /// `"escaping"` (on a floor plan, along the shortest path from a rest point of the hold),
     /// `"halted"` (the last `observe_scan` was refused: the robot stops until a scan is
-    /// accepted); `"law"` before the first.
+    /// accepted), `"yielding"` (the mover filter changed it, certified) or `"overwhelmed"` (no
+    /// command keeps out of every mover's reach: the least violation, not certified); `"law"`
+    /// before the first.
     #[getter]
     fn mode(&self, py: Python<'_>) -> &'static str {
         self.state(py).mode.as_str()

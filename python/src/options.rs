@@ -4,8 +4,8 @@
 
 use harmonav_rs::transform::Shown;
 use harmonav_rs::{
-    CentrePolicy, DampingPolicy, FloorOptions, HeadingPolicy, HoldPolicy, KPolicy, Law, NavError,
-    Options, ScanOptions, SpeedPolicy,
+    Base, CentrePolicy, DampingPolicy, FloorOptions, HeadingPolicy, HoldPolicy, KPolicy, Law,
+    NavError, Options, ScanOptions, SpeedPolicy,
 };
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::intern;
@@ -15,7 +15,7 @@ use pyo3::types::{PyDict, PyTuple};
 use crate::convert::{integer, policy, value_error};
 
 /// The names of the options, in `Navigator(boundary, goal, …)`'s positional order.
-pub(crate) const NAMES: [&str; 19] = [
+pub(crate) const NAMES: [&str; 21] = [
     "law",
     "gain",
     "mass",
@@ -35,6 +35,8 @@ pub(crate) const NAMES: [&str; 19] = [
     "growth_threshold",
     "fit_range",
     "free_memory",
+    "base",
+    "omega_max",
 ];
 
 /// The options of a navigator over either world, as given (what pickle rebuilds it with):
@@ -61,6 +63,10 @@ pub(crate) struct Keywords {
     growth_threshold: f64,
     fit_range: Option<f64>,
     free_memory: usize,
+    /// `"holonomic"` or `"diff"` (issue 53).
+    base: String,
+    /// A differential-drive base's top turn rate, rad/s.
+    omega_max: Option<f64>,
 }
 
 impl Default for Keywords {
@@ -87,6 +93,8 @@ impl Default for Keywords {
             growth_threshold: s.growth_threshold,
             fit_range: Some(s.fit_range).filter(|r| r.is_finite()),
             free_memory: s.free_memory,
+            base: o.base.as_str().to_owned(),
+            omega_max: None,
         }
     }
 }
@@ -146,6 +154,8 @@ impl Keywords {
             "growth_threshold" => value.extract().map(|v| self.growth_threshold = v),
             "fit_range" => value.extract().map(|v| self.fit_range = v),
             "free_memory" => free_memory_count(value).map(|v| self.free_memory = v),
+            "base" => value.extract().map(|v| self.base = v),
+            "omega_max" => value.extract().map(|v| self.omega_max = v),
             _ => {
                 return Err(PyTypeError::new_err(format!(
                     "{class}() got an unexpected keyword argument '{name}'"
@@ -177,6 +187,8 @@ impl Keywords {
             self.growth_threshold.into_pyobject(py)?.into_any(),
             self.fit_range.into_pyobject(py)?.into_any(),
             self.free_memory.into_pyobject(py)?.into_any(),
+            self.base.clone().into_pyobject(py)?.into_any(),
+            self.omega_max.into_pyobject(py)?.into_any(),
         ])
     }
 
@@ -217,8 +229,46 @@ impl Keywords {
         if let Some(v) = self.v_max {
             options = options.with_v_max(v);
         }
+        // After `with_v_max`: a differential-drive base caps the law's speed at its own bound.
+        options = options.with_base(self.base()?);
         options.validate(&law).map_err(value_error)?;
         Ok((law, options))
+    }
+}
+
+impl Keywords {
+    /// The base named `base` with its bounds: `"holonomic"` (today's robot; `omega_max` must
+    /// not be given) or `"diff"` (`v_max` and `omega_max` required, finite and positive). Each
+    /// error names the argument; the ranges are then checked by [`Options::validate`].
+    fn base(&self) -> PyResult<Base> {
+        match self.base.as_str() {
+            "holonomic" => match self.omega_max {
+                None => Ok(Base::Holonomic),
+                Some(_) => Err(value_error(
+                    "`omega_max` bounds a differential-drive base's turn rate: give \
+                     base=\"diff\" with it",
+                )),
+            },
+            "diff" => {
+                let bound = |name: &str, value: Option<f64>| match value {
+                    None => Err(value_error(format!(
+                        "`{name}` is required with base=\"diff\" (the base's bound)"
+                    ))),
+                    Some(v) if v.is_finite() && v > 0.0 => Ok(v),
+                    Some(v) => Err(value_error(format!(
+                        "`{name}` must be finite and positive, got {}",
+                        Shown(v)
+                    ))),
+                };
+                Ok(Base::diff(
+                    bound("v_max", self.v_max)?,
+                    bound("omega_max", self.omega_max)?,
+                ))
+            }
+            other => Err(value_error(format!(
+                "unknown base \"{other}\": expected \"holonomic\" or \"diff\""
+            ))),
+        }
     }
 }
 
