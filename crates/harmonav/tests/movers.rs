@@ -3,6 +3,7 @@
 //! exact oracle and in closed loops with pursuing, crossing and reciprocal movers; each claim
 //! with a negative control that fails without the filter (or without its speed term).
 
+use harmonav::transform::random::Rng;
 use harmonav::{Law, Mode, Mover, MoverFilter, NavError, Navigator, Options, StarShape, Vector2};
 
 const RADIUS: f64 = 0.2;
@@ -32,18 +33,6 @@ fn at_10_hz(goal: Vector2<f64>) -> Navigator {
     Navigator::new(boundary, goal, Law::kinematic(1.0), options).unwrap()
 }
 
-/// A seeded generator (splitmix64) in `[0, 1)`.
-struct Seeded(u64);
-impl Seeded {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
 /// The exact oracle of one period: the least, over `τ ∈ [0, h]`, of
 /// `|x + τu − p̂| − (R + ε + Vτ)`, the gap to the mover's reachable disc (a convex function of
 /// `τ`: minimised by golden-section search to 1e-12 s, plus the ends).
@@ -71,26 +60,32 @@ fn reach_gap(x: Vector2<f64>, u: Vector2<f64>, h: f64, m: &Mover) -> f64 {
 /// bound, refutes.
 #[test]
 fn every_certified_command_keeps_out_of_every_reach() {
-    let mut rng = Seeded(54);
+    let mut rng = Rng::new(54);
     let (mut yielding, mut overwhelmed, mut refuted) = (0, 0, 0);
     for case in 0..3000 {
-        let goal = v(6.0 * rng.next() - 3.0, 6.0 * rng.next() - 3.0);
+        let goal = v(
+            6.0 * rng.uniform(0.0, 1.0) - 3.0,
+            6.0 * rng.uniform(0.0, 1.0) - 3.0,
+        );
         let mut nav = at_10_hz(goal);
-        let x = v(6.0 * rng.next() - 3.0, 6.0 * rng.next() - 3.0);
+        let x = v(
+            6.0 * rng.uniform(0.0, 1.0) - 3.0,
+            6.0 * rng.uniform(0.0, 1.0) - 3.0,
+        );
         if (x - goal).norm() < 0.5 {
             continue;
         }
-        let count = 1 + (rng.next() * 4.0) as usize;
+        let count = 1 + (rng.uniform(0.0, 1.0) * 4.0) as usize;
         let movers: Vec<Mover> = (0..count)
             .map(|_| {
-                let angle = rng.next() * std::f64::consts::TAU;
-                let dist = RADIUS + 0.3 + 0.3 + 1.2 * rng.next();
+                let angle = rng.uniform(0.0, 1.0) * std::f64::consts::TAU;
+                let dist = RADIUS + 0.3 + 0.3 + 1.2 * rng.uniform(0.0, 1.0);
                 Mover::new(
                     x + dist * v(angle.cos(), angle.sin()),
                     0.3,
-                    2.0 * rng.next(),
+                    2.0 * rng.uniform(0.0, 1.0),
                 )
-                .with_error(0.05 * rng.next())
+                .with_error(0.05 * rng.uniform(0.0, 1.0))
             })
             .collect();
         nav.set_movers(&movers).unwrap();
@@ -149,12 +144,15 @@ fn every_certified_command_keeps_out_of_every_reach() {
 /// Negative control: without `set_movers` the pursuer catches the robot in most runs.
 #[test]
 fn a_pursuer_at_its_bound_never_touches_a_certified_robot() {
-    let mut rng = Seeded(7);
+    let mut rng = Rng::new(7);
     let (mut caught_blind, mut overwhelmed_runs) = (0, 0);
     for run in 0..20 {
         let goal = v(4.0, 0.0);
-        let start = v(-4.0, 3.0 * rng.next() - 1.5);
-        let pursuer0 = v(6.0 * rng.next() - 3.0, 4.0 + 2.0 * rng.next());
+        let start = v(-4.0, 3.0 * rng.uniform(0.0, 1.0) - 1.5);
+        let pursuer0 = v(
+            6.0 * rng.uniform(0.0, 1.0) - 3.0,
+            4.0 + 2.0 * rng.uniform(0.0, 1.0),
+        );
         for filtered in [true, false] {
             let mut nav = navigator(Law::kinematic(1.0), goal);
             let h = nav.control_period();
