@@ -196,6 +196,10 @@ fn u_trap() -> harmonav_scenario::floorplan::FloorPrepared {
 #[test]
 fn a_floor_plan_flown_in_rapier_makes_no_contact_under_both_laws() {
     let mut p = u_trap();
+    // μ = 1, the floor plans' default when the deviations below were measured (issue 51 made
+    // it 10: the dynamic robot then drives at up to 4.5 m/s, and rapier's path under "paper"
+    // deviates by 3.1e-2 m).
+    p.scenario.robot.mu = 1.0;
     let start = p.starts[0];
     for (model, heading) in [
         (Model::Kinematic, "auto"),
