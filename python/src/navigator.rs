@@ -174,20 +174,34 @@ enum Event {
 
 /// The calls that made a navigator's state since construction, which pickle replays: every
 /// added obstacle, every scan that changed the obstacles, and of the commands the last one
-/// before each of those and at the end, and every one that lifted the dynamic law's discovery
-/// speed (a recovery out of a margin band). `Navigator`'s state is the known obstacles, the
-/// discovery speed and the last commanded state: this log determines all three (a scan that
+/// before each of those and at the end, every one that lifted the dynamic law's discovery
+/// speed (a recovery out of a margin band), every one the mover filter changed and the one
+/// after it, with the movers in force at each. `Navigator`'s state is the known obstacles, the
+/// movers, the discovery speed, the last commanded state, whether the filter changed the last
+/// command and the deadlock rule's memory (KeepRight: how long the robot has been held slow,
+/// how long it still turns; docs/movers.md §7): this log determines them all (a scan that
 /// changed nothing is not kept, and with it the free space it showed, which later fits leave
 /// out). `FloorNavigator` also remembers the hold's escapes, which the log does not determine.
+///
+/// Why the filter's commands are kept: KeepRight's memory is private to the Rust navigator
+/// and changes only at commands the filter changed (or turned: the filter then changes them
+/// too); a command it kept, with movers, clears it. So a command the filter kept, made from a
+/// state where the memory is clear and the last command was not changed, leaves the state as
+/// it found it but for the last position, and the next command may replace it; any other is
+/// replayed.
 #[derive(Clone, Default)]
 struct Log {
     events: Vec<Event>,
-    /// Whether the last command must be replayed (it lifted the discovery speed), not
-    /// replaced by the next command.
+    /// Whether the last command must be replayed, not replaced by the next command: it
+    /// lifted the discovery speed, the mover filter changed it, or the state it was made from
+    /// was not clear (see [`Log::clear`]).
     keep_last: bool,
-    /// Whether the mover filter changed the last command: the next command lifts the dynamic
-    /// law's discovery speed after it, so the last must then be kept.
+    /// Whether the mover filter changed the last command (the next command then lifts the
+    /// dynamic law's discovery speed).
     last_yielded: bool,
+    /// Whether KeepRight's memory may not be clear: set by a command the filter changed,
+    /// cleared by one it kept with movers in force (a command without movers leaves it).
+    memory: bool,
     /// Whether the last scan was refused (the navigator halts).
     halted: bool,
 }
@@ -239,12 +253,18 @@ impl Log {
         }
     }
 
+    /// Whether the state after the last command is clear: no KeepRight memory, and the last
+    /// command not changed by the filter.
+    fn clear(&self) -> bool {
+        !self.memory && !self.last_yielded
+    }
+
     /// A successful `command` or `command_pose` (`event`); `lifted`: it changed the
-    /// discovery speed; `yielded`: the mover filter changed it. It supersedes the previous
-    /// command unless that one must be replayed (it lifted the discovery speed, or it yielded
-    /// and this one lifted it), and with it the `set_movers` between them: only the movers in
-    /// force at each kept command are kept.
-    fn command(&mut self, event: Event, lifted: bool, yielded: bool) {
+    /// discovery speed; `yielded`: the mover filter changed it; `movers`: movers were in force.
+    /// It supersedes the previous command unless that one must be replayed (`keep_last`), and
+    /// with it the `set_movers` between them: only the movers in force at each kept command
+    /// are kept.
+    fn command(&mut self, event: Event, lifted: bool, yielded: bool, movers: bool) {
         // The movers set since the last event that is not `set_movers`: the latest is in force.
         let mut latest = None;
         while let Some(Event::Movers(_)) = self.events.last() {
@@ -252,8 +272,7 @@ impl Log {
                 latest.get_or_insert(m);
             }
         }
-        let kept = self.keep_last || (self.last_yielded && lifted);
-        if !kept
+        if !self.keep_last
             && matches!(
                 self.events.last(),
                 Some(Event::Command(..) | Event::Pose(..))
@@ -277,8 +296,13 @@ impl Log {
             }
         }
         self.events.push(event);
-        self.keep_last = lifted;
+        self.keep_last = lifted || yielded || !self.clear();
         self.last_yielded = yielded;
+        if yielded {
+            self.memory = true;
+        } else if movers {
+            self.memory = false;
+        }
     }
 
     /// A successful `set_movers`: replaces the list set since the last other event.
@@ -456,15 +480,15 @@ impl State {
     /// The command at `(x, v)`, and recorded. The Rust navigator refuses a non-finite command
     /// (`NavError::NonFiniteCommand`) and changes nothing on any error.
     fn issue(&mut self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Vector2<f64>, NavError> {
-        let (c, lifted) = each!(&mut self.inner, nav => {
+        let (c, lifted, movers) = each!(&mut self.inner, nav => {
             let before = nav.discovery_speed();
             let c = nav.command(x, v)?;
-            (c, nav.discovery_speed().to_bits() != before.to_bits())
+            (c, nav.discovery_speed().to_bits() != before.to_bits(), !nav.movers().is_empty())
         });
         self.mode = c.mode;
         self.steer = None;
         let event = Event::Command([x.x, x.y], [v.x, v.y]);
-        self.log.command(event, lifted, yielded(c.mode));
+        self.log.command(event, lifted, yielded(c.mode), movers);
         Ok(c.value)
     }
 
@@ -477,15 +501,15 @@ impl State {
                  v_max and omega_max); this one is holonomic: use command",
             ));
         }
-        let (c, lifted) = each!(&mut self.inner, nav => {
+        let (c, lifted, movers) = each!(&mut self.inner, nav => {
             let before = nav.discovery_speed();
             let c = nav.command_pose(x, yaw).map_err(value_error)?;
-            (c, nav.discovery_speed().to_bits() != before.to_bits())
+            (c, nav.discovery_speed().to_bits() != before.to_bits(), !nav.movers().is_empty())
         });
         self.mode = c.mode;
         self.steer = Some(c.steer);
-        self.log
-            .command(Event::Pose([x.x, x.y], yaw), lifted, yielded(c.mode));
+        let event = Event::Pose([x.x, x.y], yaw);
+        self.log.command(event, lifted, yielded(c.mode), movers);
         Ok(c)
     }
 
@@ -895,8 +919,8 @@ impl Navigator {
     /// a floor plan's: `(functools.partial(FloorNavigator, **keywords), (outer, goal, holes),
     /// state)`, the true walls as rings however it was made (from rings or from a map), the
     /// map solved again on unpickling (from the same rings: the same map). The state is the
-    /// list of calls that made it (`("add", shape)`, `("command", x, v)`, `("scan", …)`),
-    /// replayed by `__setstate__`.
+    /// list of calls that made it (`("add", shape)`, `("command", x, v)`, `("pose", x, yaw)`,
+    /// `("movers", [Mover, …])`, `("scan", …)`), replayed by `__setstate__`.
     fn __reduce__<'py>(
         slf: &Bound<'py, Self>,
     ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>, Bound<'py, PyList>)> {

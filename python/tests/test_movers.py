@@ -279,6 +279,38 @@ def test_a_restored_navigator_with_movers_commands_bit_for_bit(make, law):
     assert "yielding" in modes, modes
 
 
+def test_a_restored_navigator_held_by_a_wall_of_movers_keeps_its_deadlock_memory():
+    """A wall of movers holds the robot slow: KeepRight (docs/movers.md §7) remembers how long,
+    and turns the nominal after a second. That memory is private to the Rust navigator, so the
+    log keeps every command the filter changed: the copy commands bit for bit as the original
+    at every moment. Negative control: a log of the last command alone (with the movers in
+    force) replays the position but not the memory, and commands otherwise somewhere."""
+    wall = [harmonav.Mover([-1.0, y], 0.3, 1.0) for y in np.arange(-3.0, 3.01, 0.6)]
+
+    def run(nav, x, n=60):
+        out = []
+        for _ in range(n):
+            nav.set_movers(wall)
+            u = nav.command(x)
+            out.append((tuple(u), nav.mode))
+            x = x + H * u
+        return out
+
+    nav, x = star(), np.array([-3.0, 0.0])
+    forgetful = 0
+    for t in range(1, 221):
+        nav.set_movers(wall)
+        x = x + H * nav.command(x)
+        if t % 40 == 20:
+            state = nav.__reduce__()[2]
+            want = run(copy.copy(nav), x)
+            assert run(pickle.loads(pickle.dumps(nav)), x) == want, t
+            last_only = star()
+            last_only.__setstate__([e for e in state if e[0] == "movers"] + [state[-1]])
+            forgetful += run(last_only, x) != want
+    assert forgetful > 0, "the negative control did not fail"
+
+
 def test_the_log_keeps_only_the_movers_in_force_at_each_kept_command():
     nav = star()
     x = np.array([-3.0, 0.0])
@@ -348,3 +380,31 @@ def test_the_standalone_filter_certifies_any_velocity():
 def test_a_bad_filter_argument_is_a_value_error_naming_it(args, field):
     with pytest.raises(ValueError, match=field):
         harmonav.MoverFilter(*args)
+
+
+@pytest.mark.xfail(strict=True, reason="Rust: command_pose steers by the filtered direction but "
+                   "restores the law's speed and certifies its arc against the static world "
+                   "only, so a pursuer comes within reach of a diff robot while `certified` is "
+                   "True (crates/harmonav/src/diff.rs)")
+def test_a_pursuer_never_reaches_a_certified_diff_robot():
+    def arc(x, yaw, v, omega, t):
+        half = 0.5 * omega * t
+        sinc = 1.0 - half * half / 6.0 if abs(half) < 1e-4 else math.sin(half) / half
+        return (x + v * t * sinc * np.array([math.cos(yaw + half), math.sin(yaw + half)]),
+                yaw + omega * t)
+
+    nav = star(base="diff", omega_max=3.0)
+    x, yaw, p = np.array([-3.0, 0.5]), 0.0, np.array([3.5, -1.0])
+    reach = RADIUS + MARGIN + 0.25
+    for _ in range(400):
+        nav.set_movers([harmonav.Mover(p, 0.25, 0.6)])
+        start_gap = np.linalg.norm(x - p) - reach
+        v, omega = nav.command_pose(x, yaw)
+        end, _ = arc(x, yaw, v, omega, H)
+        w = 0.6 * (end - p) / np.linalg.norm(end - p)
+        if nav.certified and start_gap >= 0.0:
+            for t in np.linspace(0.0, H, 9):
+                gap = np.linalg.norm(arc(x, yaw, v, omega, t)[0] - (p + t * w)) - reach
+                assert gap >= -1e-9, gap
+        x, yaw = arc(x, yaw, v, omega, H)
+        p = p + H * w
