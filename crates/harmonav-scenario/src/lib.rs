@@ -49,17 +49,19 @@
 
 pub mod floorplan;
 mod kind;
+pub mod movers;
 mod points;
 pub mod scenario;
 pub mod sensor;
 pub mod suites;
 pub mod truth;
 
+pub use movers::{MoverKindSpec, MoverSpec};
 pub use scenario::{
     ControllerSpec, DEFAULT_ARRIVAL, DEFAULT_MU, ExpectSpec, FieldSpec, MAX_FILE_BYTES,
     MAX_OBSTACLES, MAX_RECORDED_STATES, Model, PARAMETER_RANGE, Prepared, RobotSpec, Scenario,
     ScenarioError, ShapeSpec, SimSpec, build_shape,
 };
 pub use sensor::{LidarSensor, SensorKind, SensorSpec};
-pub use suites::{ADVERSARIAL, LONG, scenario_files};
+pub use suites::{ADVERSARIAL, LONG, MOVERS, scenario_files};
 pub use truth::{Sensor, Truth};

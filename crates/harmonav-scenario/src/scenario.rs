@@ -14,6 +14,7 @@ use harmonav_transform::{RobotWorldError, StarShape, Workspace, WorldError};
 
 use nalgebra::Vector2;
 
+use crate::movers::{MAX_MOVERS, MoverSpec};
 use crate::sensor::{self, SensorKind, SensorSpec};
 use crate::truth::{Sensor, Truth};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
@@ -249,6 +250,12 @@ pub struct SimSpec {
     /// name for it.
     #[serde(default = "default_tolerance", alias = "arrival")]
     pub goal_tolerance: f64,
+    /// The file's `[[movers]]` (issue 54; `docs/movers.md` §8): people and other robots on
+    /// scripted trajectories, which a run moves, reports to the navigator and judges contacts
+    /// with. Written at the top level of the file; kept here, with the run's other settings, so
+    /// that code building a [`Scenario`] field by field keeps compiling.
+    #[serde(skip)]
+    pub movers: Vec<MoverSpec>,
 }
 
 impl Default for SimSpec {
@@ -257,6 +264,7 @@ impl Default for SimSpec {
             dt: default_dt(),
             max_time: default_max_time(),
             goal_tolerance: default_tolerance(),
+            movers: Vec::new(),
         }
     }
 }
@@ -387,6 +395,8 @@ struct ScenarioFile {
     sim: SimSpec,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     expect: Option<ExpectSpec>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    movers: Vec<MoverSpec>,
 }
 
 /// `[robot]` as written: [`RobotSpec`]'s keys and `control_period`.
@@ -430,15 +440,19 @@ impl From<ScenarioFile> for Scenario {
                 control_period: r.control_period,
                 ..file.controller
             },
-            sim: file.sim,
+            sim: SimSpec {
+                movers: file.movers,
+                ..file.sim
+            },
             expect: file.expect,
         }
     }
 }
 
 impl From<Scenario> for ScenarioFile {
-    fn from(s: Scenario) -> Self {
+    fn from(mut s: Scenario) -> Self {
         let r = s.robot;
+        let movers = std::mem::take(&mut s.sim.movers);
         Self {
             name: s.name,
             description: s.description,
@@ -458,6 +472,7 @@ impl From<Scenario> for ScenarioFile {
             controller: s.controller,
             sim: s.sim,
             expect: s.expect,
+            movers,
         }
     }
 }
@@ -582,6 +597,25 @@ impl Scenario {
                         .into(),
                 ));
             }
+        }
+        if self.sim.movers.len() > MAX_MOVERS {
+            return Err(f(
+                "movers",
+                format!(
+                    "{} movers; at most {MAX_MOVERS} are supported",
+                    self.sim.movers.len()
+                ),
+            ));
+        }
+        for (i, m) in self.sim.movers.iter().enumerate() {
+            m.check(r.start, r.radius).map_err(|(key, p)| {
+                let field = if key.is_empty() {
+                    format!("movers[{i}]")
+                } else {
+                    format!("movers[{i}].{key}")
+                };
+                f(&field, p)
+            })?;
         }
         let s = &self.sim;
         in_range("sim.dt", s.dt)?;
@@ -1096,16 +1130,27 @@ fn obstacle_line(text: &str, i: usize) -> Option<usize> {
 /// messages; empty before the first table header).
 fn table_at(text: &str, offset: usize) -> String {
     let mut table = String::new();
-    let mut obstacles = 0usize;
+    // The entries so far of each array of tables (`[[obstacles]]`, `[[movers]]`).
+    let mut arrays: Vec<(String, usize)> = Vec::new();
     let mut pos = 0;
     for line in text.split_inclusive('\n') {
         if pos > offset {
             break;
         }
         let t = line.trim();
-        if t.starts_with("[[obstacles]]") {
-            obstacles += 1;
-            table = format!("obstacles[{}]", obstacles - 1);
+        if let Some(rest) = t.strip_prefix("[[") {
+            let name = rest.split("]]").next().unwrap_or("").trim().to_string();
+            let i = match arrays.iter_mut().find(|(n, _)| *n == name) {
+                Some((_, count)) => {
+                    *count += 1;
+                    *count - 1
+                }
+                None => {
+                    arrays.push((name.clone(), 1));
+                    0
+                }
+            };
+            table = format!("{name}[{i}]");
         } else if t.starts_with('[') {
             table = t
                 .trim_matches(|c| c == '[' || c == ']')

@@ -17,8 +17,14 @@ pub const ADVERSARIAL: &str = "adversarial";
 /// other model and rapier (hours at this size).
 pub const LONG: &str = "long";
 
+/// The folder of the mover scenarios (`scenarios/movers/`, issue 54): files with
+/// `[[movers]]`, which run in the held-command loop at the control period
+/// (`docs/movers.md` §8). `cargo xtask verify` flies each under both laws (`movers.*`);
+/// [`scenario_files`] skips the folder.
+pub const MOVERS: &str = "movers";
+
 /// Every scenario file (`*.toml`) below `dir`, recursively, sorted by path, except under
-/// [`ADVERSARIAL`] and [`LONG`] folders: the suites that `cargo xtask verify` runs and must
+/// [`ADVERSARIAL`], [`LONG`] and [`MOVERS`] folders: the suites that `cargo xtask verify` runs and must
 /// pass.
 pub fn scenario_files(dir: &Path) -> std::io::Result<Vec<PathBuf>> {
     fn walk(dir: &Path, out: &mut Vec<PathBuf>) -> std::io::Result<()> {
@@ -26,8 +32,9 @@ pub fn scenario_files(dir: &Path) -> std::io::Result<Vec<PathBuf>> {
             let p = entry?.path();
             // Floor plans have their own format and loop (`crate::floorplan`).
             if p.is_dir()
-                && p.file_name()
-                    .is_some_and(|n| n == ADVERSARIAL || n == LONG || n == FLOORPLANS)
+                && p.file_name().is_some_and(|n| {
+                    n == ADVERSARIAL || n == LONG || n == MOVERS || n == FLOORPLANS
+                })
             {
                 continue;
             } else if p.is_dir() {

@@ -1,0 +1,136 @@
+//! `[[movers]]` in a star-world file (issue 54, item 4): every bad value is refused naming the
+//! file and the key (`movers[1].speed_bound`), and a file without movers reads as before.
+
+use std::path::Path;
+
+use harmonav_scenario::{MoverKindSpec, Scenario};
+
+const WORLD: &str = r#"
+name = "crossing"
+[workspace]
+type = "circle"
+center = [0.0, 0.0]
+radius = 6.0
+[robot]
+model = "kinematic"
+start = [-4.0, 0.1]
+goal = [4.0, 0.0]
+radius = 0.2
+"#;
+
+const GOOD: &str = r#"
+[[movers]]
+radius = 0.25
+speed_bound = 0.8
+start = [0.0, -3.0]
+velocity = [0.0, 0.5]
+"#;
+
+fn load(movers: &str) -> Result<harmonav_scenario::Prepared, String> {
+    let path = Path::new("m.toml");
+    Scenario::parse(path, &format!("{WORLD}{GOOD}{movers}"))
+        .and_then(|s| s.prepare(path))
+        .map_err(|e| e.to_string())
+}
+
+/// The error of a second mover `body`, which must name `field`.
+fn refused(body: &str, field: &str) {
+    let e = load(&format!("[[movers]]\n{body}")).unwrap_err();
+    assert!(
+        e.starts_with("m.toml") && e.contains(&format!("`{field}`")),
+        "{body}: {e}"
+    );
+}
+
+#[test]
+fn good_movers_read_with_their_defaults() {
+    let p = load(
+        "[[movers]]\nradius = 0.2\nspeed_bound = 1.0\nerror = 0.05\nkind = \"reciprocal\"\n\
+         start = [2.0, 2.0]\nwaypoints = [[2.0, -2.0], [-2.0, 2.0]]\n\
+         [[movers]]\nradius = 0.2\nspeed_bound = 1.0\nstart = [3.0, 3.0]\n\
+         random_walk = { seed = 7 }\n",
+    )
+    .unwrap();
+    let m = &p.scenario.sim.movers;
+    assert_eq!(m.len(), 3);
+    assert_eq!(
+        (m[0].error, m[0].kind, m[0].share()),
+        (0.0, MoverKindSpec::Noncooperative, None)
+    );
+    assert_eq!(
+        (m[1].kind, m[1].share()),
+        (MoverKindSpec::Reciprocal, Some(0.5))
+    );
+    assert_eq!(m[2].random_walk.as_ref().unwrap().turn_every, 1.0);
+}
+
+#[test]
+fn bad_movers_are_refused_by_name() {
+    let base = "radius = 0.2\nspeed_bound = 1.0\nstart = [2.0, 2.0]\n";
+    let with = |extra: &str| format!("{base}{extra}");
+    refused(&with("velocity = [2.0, 0.0]\n"), "movers[1].velocity");
+    refused(
+        &with("velocity = [0.5, 0.0]\nerror = -1.0\n"),
+        "movers[1].error",
+    );
+    refused(
+        &with("velocity = [0.5, 0.0]\nshare = 0.3\n"),
+        "movers[1].share",
+    );
+    refused(
+        &with("velocity = [0.5, 0.0]\nkind = \"reciprocal\"\nshare = 1.5\n"),
+        "movers[1].share",
+    );
+    refused(
+        &with("velocity = [0.5, 0.0]\nkind = \"friendly\"\n"),
+        "movers[1].kind",
+    );
+    refused(&with(""), "movers[1]");
+    refused(
+        &with("velocity = [0.5, 0.0]\nwaypoints = [[0.0, 0.0]]\n"),
+        "movers[1]",
+    );
+    refused(&with("waypoints = []\n"), "movers[1].waypoints");
+    refused(
+        &with("random_walk = { seed = 1, turn_every = 0.0 }\n"),
+        "movers[1].random_walk.turn_every",
+    );
+    refused(
+        &with("random_walk = { seed = 1, speed = 3.0 }\n"),
+        "movers[1].random_walk.speed",
+    );
+    refused(
+        &with("velocity = [0.5, 0.0]\nreport_seed = 3\n"),
+        "movers[1].report_seed",
+    );
+    refused(&with("velocity = [0.5, 0.0]\nwings = 2\n"), "movers[1]");
+    refused(
+        "radius = 0.2\nspeed_bound = -1.0\nstart = [2.0, 2.0]\nvelocity = [0.0, 0.0]\n",
+        "movers[1].speed_bound",
+    );
+    refused(
+        "radius = nan\nspeed_bound = 1.0\nstart = [2.0, 2.0]\nvelocity = [0.0, 0.0]\n",
+        "movers[1].radius",
+    );
+    refused(
+        "radius = 0.2\nspeed_bound = \"fast\"\nstart = [2.0, 2.0]\nvelocity = [0.0, 0.0]\n",
+        "movers[1].speed_bound",
+    );
+    // A mover on the robot at its start.
+    refused(
+        "radius = 0.2\nspeed_bound = 1.0\nstart = [-3.7, 0.1]\nvelocity = [0.0, 0.0]\n",
+        "movers[1].start",
+    );
+}
+
+#[test]
+fn a_file_without_movers_writes_back_as_before() {
+    let path = Path::new("m.toml");
+    let s = Scenario::parse(path, WORLD).unwrap();
+    assert!(s.sim.movers.is_empty());
+    let text = toml::to_string(&s).unwrap();
+    assert!(!text.contains("movers"), "{text}");
+    let with = Scenario::parse(path, &format!("{WORLD}{GOOD}")).unwrap();
+    let again = Scenario::parse(path, &toml::to_string(&with).unwrap()).unwrap();
+    assert_eq!(again, with);
+}
