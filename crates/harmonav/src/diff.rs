@@ -16,6 +16,7 @@ use crate::base::Base;
 use crate::controller::Controller;
 use crate::error::NavError;
 use crate::hold::{self, KINEMATIC_FRACTION, MAX_HALVINGS, Mode};
+use crate::movers;
 use crate::navigator::Navigator;
 use crate::options::HoldPolicy;
 use crate::space::Space;
@@ -81,6 +82,35 @@ pub struct PoseCommand {
     pub steer: Steer,
 }
 
+impl PoseCommand {
+    /// Whether the arc is certified to keep the robot clear over the period: false only for
+    /// [`Mode::Overwhelmed`] (a mover's reach could not be kept out of along the arc).
+    #[must_use]
+    pub fn certified(&self) -> bool {
+        !matches!(self.mode, Mode::Overwhelmed { .. })
+    }
+}
+
+/// The least of `n·e(θ)` over the headings `θ` between `yaw` and `yaw + sweep` (`e(θ) =
+/// (cos θ, sin θ)`, `n` a unit vector): `−1` where the sweep passes the heading opposite `n`,
+/// else the smaller end.
+fn least_along(n: Vector2<f64>, yaw: f64, sweep: f64) -> f64 {
+    let at = |t: f64| n.x * t.cos() + n.y * t.sin();
+    let opposite = n.y.atan2(n.x) + std::f64::consts::PI;
+    let (lo, hi) = if sweep >= 0.0 {
+        (yaw, yaw + sweep)
+    } else {
+        (yaw + sweep, yaw)
+    };
+    // The first copy of `opposite` at or after `lo`.
+    let k = ((lo - opposite) / std::f64::consts::TAU).ceil();
+    if opposite + k * std::f64::consts::TAU <= hi {
+        -1.0
+    } else {
+        at(lo).min(at(hi))
+    }
+}
+
 /// `sin a / a`, with its series near 0 (no cancellation).
 fn sinc(a: f64) -> f64 {
     if a.abs() < 1e-4 {
@@ -124,8 +154,10 @@ fn free_arc(space: &impl Space, x: Vector2<f64>, yaw: f64, v: f64, omega: f64, h
 }
 
 /// The arc hold: the largest `v' ≤ min(v, |x − x_d|/h)` reached by shortening only `v`, such
-/// that the arc of `(v', ω)` over `h` is certified free and `phi_k` (so `Θ`) is lower at its end
-/// than at `x` (`e`); 0 if none is found. Where the trace certifies a free length `F` short of
+/// that the arc of `(v', ω)` over `h` is certified free and, given `descent = Some(e)`, `phi_k`
+/// (so `Θ`) is lower at its end than at `x` (`e`); 0 if none is found. `None`: the direction
+/// steered by need not descend `Θ` (an escape along the shortest path, a command the mover
+/// filter changed), and only the certificate is asked for. Where the trace certifies a free length `F` short of
 /// the arc's length, `v ← β F/h` (`β =` [`KINEMATIC_FRACTION`]) and the new arc (tighter: the
 /// same turn `ωh` over a shorter length) is traced again; where `Θ` does not fall, `v` halves.
 /// Every returned `v' > 0` has a traced, certified arc.
@@ -133,7 +165,7 @@ fn arc_hold(
     space: &impl Space,
     x: Vector2<f64>,
     yaw: f64,
-    e: &FieldEval,
+    descent: Option<&FieldEval>,
     (v, omega): (f64, f64),
     h: f64,
 ) -> f64 {
@@ -148,6 +180,9 @@ fn arc_hold(
             v = v.min(KINEMATIC_FRACTION * free / h);
             continue;
         }
+        let Some(e) = descent else {
+            return v;
+        };
         let (end, _) = unicycle_arc(x, yaw, v, omega, h);
         if space.eval(end).is_ok_and(|e1| e1.phi < e.phi) {
             return v;
@@ -198,6 +233,29 @@ impl<W: World> Navigator<W> {
     /// The base is [`Base::Holonomic`] ([`NavError::InvalidOption`] naming `base`); `yaw` not
     /// finite ([`NavError::NotFinite`], `"yaw"`); then as [`Navigator::command`].
     pub fn command_pose(&mut self, x: Vector2<f64>, yaw: f64) -> Result<PoseCommand, NavError> {
+        let pose = self.pose(x, yaw)?;
+        let (v, mode) = self.arc_among_movers(x, yaw, (pose.v, pose.omega), pose.mode)?;
+        let steer = if v < pose.v {
+            if v > 0.0 {
+                Steer::Shortened { scale: v / pose.v }
+            } else if pose.omega != 0.0 {
+                Steer::Turning
+            } else {
+                Steer::Stopped
+            }
+        } else {
+            pose.steer
+        };
+        Ok(PoseCommand {
+            v,
+            mode,
+            steer,
+            ..pose
+        })
+    }
+
+    /// [`Navigator::command_pose`] before the movers' rows.
+    fn pose(&mut self, x: Vector2<f64>, yaw: f64) -> Result<PoseCommand, NavError> {
         let Base::Diff { v_max, omega_max } = self.core.options.base else {
             return Err(NavError::InvalidOption {
                 field: "base",
@@ -222,7 +280,7 @@ impl<W: World> Navigator<W> {
         let heading = Vector2::new(yaw.cos(), yaw.sin());
         let phi = angle(heading, held.value / s);
         if let Mode::Recovering(_) = held.mode {
-            return Ok(if phi.abs() > RECOVERY_ALIGNMENT {
+            let pose = if phi.abs() > RECOVERY_ALIGNMENT {
                 PoseCommand {
                     omega: (phi / h).clamp(-omega_max, omega_max),
                     steer: Steer::Turning,
@@ -234,7 +292,8 @@ impl<W: World> Navigator<W> {
                     steer: Steer::Ahead,
                     ..stopped
                 }
-            });
+            };
+            return Ok(pose);
         }
         let k = TURN_GAIN.min(1.0 / h);
         let to_goal = (x - self.goal()).norm();
@@ -257,10 +316,15 @@ impl<W: World> Navigator<W> {
             v *= c;
         }
         let aligned = v;
+        // The law's own commands descend `Θ`; an escape follows the shortest path and a command
+        // the mover filter changed dodges: their arcs need only be certified free (without
+        // this a diff robot escaping on a floor plan turned in place for ever).
+        let descends = matches!(held.mode, Mode::Law | Mode::Capped { .. } | Mode::FromRest);
         if self.core.options.hold == HoldPolicy::Auto && v > 0.0 {
-            v = match &e {
-                Some(e) => arc_hold(field, x, yaw, e, (v, omega), h),
-                None => 0.0,
+            v = match (&e, descends) {
+                (Some(e), true) => arc_hold(field, x, yaw, Some(e), (v, omega), h),
+                (_, false) => arc_hold(field, x, yaw, None, (v, omega), h),
+                (None, true) => 0.0,
             };
         }
         let steer = if v == aligned && v > 0.0 {
@@ -275,11 +339,74 @@ impl<W: World> Navigator<W> {
         if !(v.is_finite() && omega.is_finite()) {
             return Err(NavError::NonFiniteCommand);
         }
-        Ok(PoseCommand {
+        let pose = PoseCommand {
             v,
             omega,
             mode: held.mode,
             steer,
+        };
+        Ok(pose)
+    }
+
+    /// The forward speed of the arc `(v, ω)` from `(x, yaw)` kept out of every mover's reach
+    /// over the period (docs/movers.md §2, docs/unicycle.md): along the arc
+    /// `n_j·(x(τ) − x) ≥ τ·v·m_j`, `m_j` the least of `n_j·e(θ)` over the arc's headings, so eq.
+    /// reach gives the row `v·m_j ≥ V_j − β d_j/h` on `v ≥ 0`. A row with `m_j < 0` caps `v`; one
+    /// with `m_j > 0` and a positive bound asks for a least speed. `v` is only ever shortened
+    /// (and the shortened arc certified again against the known shapes, and `Θ`); the mode is
+    /// `mode` when nothing changed, [`Mode::Yielding`] when `v` was shortened for a mover, and
+    /// [`Mode::Overwhelmed`] when no `v ≤` the certified one meets every row (the largest
+    /// shortfall, m/s; the command then keeps the shortest certified `v`).
+    fn arc_among_movers(
+        &mut self,
+        x: Vector2<f64>,
+        yaw: f64,
+        (v, omega): (f64, f64),
+        mode: Mode,
+    ) -> Result<(f64, Mode), NavError> {
+        if self.core.movers.is_empty() {
+            return Ok((v, mode));
+        }
+        let h = self.core.period;
+        let body = (x, self.core.options.radius, self.core.options.margin);
+        movers::rows(&self.core.movers, body, h, 0.0, &mut self.core.rows)?;
+        let sweep = omega * h;
+        let (mut cap, mut least) = (v, 0.0_f64);
+        for row in &self.core.rows {
+            let m = least_along(row.n, yaw, sweep);
+            if m < 0.0 {
+                cap = cap.min((row.a / m).max(0.0));
+            } else if row.a > 0.0 {
+                least = least.max(if m > 0.0 { row.a / m } else { f64::INFINITY });
+            }
+        }
+        let mut kept = cap;
+        if kept < v && kept > 0.0 && self.core.options.hold == HoldPolicy::Auto {
+            // The shorter arc is another curve: certified again.
+            // The shorter arc is another curve: certified free again (the filter drops the
+            // descent of `Θ` while it acts, docs/movers.md §2).
+            kept = arc_hold(self.world.field(), x, yaw, None, (kept, omega), h);
+        }
+        let worst = |speed: f64| {
+            self.core
+                .rows
+                .iter()
+                .map(|row| (row.mover, row.a - speed * least_along(row.n, yaw, sweep)))
+                .fold((0, f64::NEG_INFINITY), |a, b| if b.1 > a.1 { b } else { a })
+        };
+        let (mover, shortfall) = worst(kept);
+        let inside = self.core.rows.iter().any(|row| row.inside);
+        if kept < least || shortfall > 0.0 || inside {
+            return Ok((kept, Mode::Overwhelmed { mover, shortfall }));
+        }
+        if kept < v {
+            let scale = if v > 0.0 { kept / v } else { 0.0 };
+            return Ok((kept, Mode::Yielding { mover, scale }));
+        }
+        // The arc meets every row, whatever the holonomic command it steers by did.
+        Ok(match mode {
+            Mode::Overwhelmed { mover, .. } => (v, Mode::Yielding { mover, scale: 1.0 }),
+            mode => (v, mode),
         })
     }
 

@@ -174,6 +174,7 @@ pub(crate) fn rows(
             a,
             hard,
             mover: j,
+            inside: d <= 0.0,
         });
     }
     Ok(())
@@ -191,6 +192,28 @@ pub(crate) fn filter(
     certified: impl Fn(Vector2<f64>) -> bool,
     r_small: f64,
 ) -> (Vector2<f64>, Verdict) {
+    // Within a mover's margin already (`d_j ≤ 0`): the rows lead out, but Theorem 1 starts
+    // from `d_j > 0`, so nothing is certified until the robot is out.
+    if let Some(row) = rows.iter().find(|row| row.inside) {
+        let (v, _) = match project(rows, r_small, u, 0.0) {
+            Ok(v) => (v, ()),
+            Err(_) => (
+                minimax(rows, r_small, u).map_or(Vector2::zeros(), |(v, _)| v),
+                (),
+            ),
+        };
+        let shortfall = rows
+            .iter()
+            .map(|row| row.a - row.n.dot(&v))
+            .fold(0.0_f64, f64::max);
+        return (
+            v,
+            Verdict::Overwhelmed {
+                mover: row.mover,
+                shortfall,
+            },
+        );
+    }
     if trusted && rows.iter().all(|row| row.slack(u) >= 0.0) {
         return (u, Verdict::Kept);
     }

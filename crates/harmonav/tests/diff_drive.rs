@@ -585,3 +585,67 @@ fn look_ahead_point_comparison() {
         );
     }
 }
+
+/// A pursuer at its bound (0.4 m/s, below the base's 0.5 m/s) against a differential-drive
+/// robot with a 5 cm margin: while `command_pose` says its arc is certified, the robot's disc
+/// grown by the margin never touches the pursuer's, checked at 20 points of every exact arc
+/// against the pursuer's straight motion (issue 54 on a unicycle: the arc's rows, `v·m_j ≥
+/// V_j − β d_j/h`). Negative control: the same runs without `set_movers` touch.
+#[test]
+fn a_pursuer_never_touches_a_certified_arc() {
+    let margin = 0.05;
+    let options = Options::default()
+        .with_robot(RADIUS, margin)
+        .with_control_period(H)
+        .with_base(Base::diff(V_MAX, OMEGA_MAX));
+    let boundary = StarShape::circle(Vector2::zeros(), BOUNDARY).unwrap();
+    let goal = Vector2::new(3.0, 0.0);
+    let (mut touched_blind, mut yielded) = (0, 0);
+    for run in 0..10 {
+        for filtered in [true, false] {
+            let mut nav =
+                Navigator::new(boundary.clone(), goal, Law::kinematic(1.0), options).unwrap();
+            let (mut x, mut yaw) = (Vector2::new(-3.0, 0.0), 0.0);
+            let angle = 0.3 + 0.25 * f64::from(run);
+            let mut p = Vector2::new(angle.cos(), angle.sin()) * 2.0;
+            let mut touched = false;
+            for _ in 0..600 {
+                if filtered {
+                    nav.set_movers(&[harmonav::Mover::new(p, 0.25, 0.4)])
+                        .unwrap();
+                }
+                let Ok(c) = nav.command_pose(x, yaw) else {
+                    touched = true;
+                    break;
+                };
+                yielded += usize::from(matches!(c.mode, harmonav::Mode::Yielding { .. }));
+                let step = 0.4 * (x - p) / (x - p).norm();
+                for i in 1..=20 {
+                    let t = H * f64::from(i) / 20.0;
+                    let (at, _) = unicycle_arc(x, yaw, c.v, c.omega, t);
+                    let gap = (at - (p + t * step)).norm() - (RADIUS + 0.25);
+                    if gap < margin - 1e-9 && c.certified() {
+                        touched = true;
+                    }
+                    if filtered && gap < margin - 1e-9 {
+                        assert!(
+                            !c.certified(),
+                            "run {run}: touched {gap} on a certified arc: {c:?} at {x:?}, yaw {yaw}, \
+                             the pursuer at {p:?}, t = {t}"
+                        );
+                    }
+                }
+                (x, yaw) = unicycle_arc(x, yaw, c.v, c.omega, H);
+                p += H * step;
+            }
+            if !filtered {
+                touched_blind += usize::from(touched);
+            }
+        }
+    }
+    assert!(yielded > 0, "the pursuer must make the robot yield");
+    assert!(
+        touched_blind >= 5,
+        "a blind robot must be touched: {touched_blind}/10"
+    );
+}

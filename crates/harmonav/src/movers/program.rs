@@ -29,6 +29,9 @@ pub(crate) struct Row {
     pub hard: bool,
     /// The mover's index.
     pub mover: usize,
+    /// `d_j ≤ 0`: the robot is already within the mover's margin (a late report, or a period
+    /// that could not be certified): the row leads out, but no command is certified.
+    pub inside: bool,
 }
 
 impl Row {
@@ -141,6 +144,7 @@ mod tests {
             a,
             hard,
             mover: 0,
+            inside: false,
         }
     }
 
