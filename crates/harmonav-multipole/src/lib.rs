@@ -38,11 +38,18 @@
 //! farther rings of leaves, within the same truncation bound) and P2M into its ancestors,
 //! `O(4^L)` leaves, no rebuild; a point outside the root box is refused
 //! ([`FmmError::OutsideRoot`]) and the caller rebuilds.
+//!
+//! **A matrix–vector product** ([`Operator`]): fixed sources and fixed target points, new
+//! weights per product, on a sparse tree (only occupied boxes): the far part of `A q` with
+//! `A_ij = Re G_j(t_i)`, the near pieces left to the caller. The iterative boundary-element
+//! solve of harmonav-harmonic uses it (docs/maths/13-harmonic-scaling.md).
 
 #![warn(missing_docs)]
 
 mod expansion;
+mod operator;
 mod tree;
 
 pub use expansion::{C64, Values};
+pub use operator::Operator;
 pub use tree::{Fmm, FmmError, Options, Piece, Shape, Source};

@@ -616,7 +616,7 @@ impl<const C: usize> Fmm<C> {
 const RHO_UNIFORM: f64 = 0.55;
 
 /// `p = ⌈ln(tol)/ln 0.55⌉ + 2`, at most `MAX_TERMS − 1`.
-fn order(tolerance: f64) -> usize {
+pub(crate) fn order(tolerance: f64) -> usize {
     let p = (tolerance.ln() / RHO_UNIFORM.ln()).ceil() as usize + 2;
     p.clamp(4, MAX_TERMS - 1)
 }
@@ -666,7 +666,7 @@ fn ring_leaves(n: usize, (lx, ly): (usize, usize), r: usize, out: &mut Vec<usize
 
 /// The root square: the bounding box of the sources and the region, squared, with a relative
 /// pad of `1e-9` (and an absolute floor for a single point) so every source lies strictly inside.
-fn root_box(sources: &[Source], region: Option<(C64, C64)>) -> (C64, f64) {
+pub(crate) fn root_box(sources: &[Source], region: Option<(C64, C64)>) -> (C64, f64) {
     let (mut lo, mut hi) = (
         C64::new(f64::INFINITY, f64::INFINITY),
         C64::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
@@ -704,7 +704,7 @@ fn root_box(sources: &[Source], region: Option<(C64, C64)>) -> (C64, f64) {
 /// The leaf level: from 2, deeper while the mean number of sources per occupied leaf (by each
 /// source's centre) exceeds `leaf_size` and a level separates more of them than the one
 /// before, up to `max_level`.
-fn depth(sources: &[Source], origin: C64, side: f64, options: &Options) -> u32 {
+pub(crate) fn depth(sources: &[Source], origin: C64, side: f64, options: &Options) -> u32 {
     let centres: Vec<C64> = sources
         .iter()
         .map(|s| match *s {
@@ -737,7 +737,7 @@ fn depth(sources: &[Source], origin: C64, side: f64, options: &Options) -> u32 {
     level
 }
 
-fn children(ix: usize, iy: usize) -> impl Iterator<Item = (usize, usize)> {
+pub(crate) fn children(ix: usize, iy: usize) -> impl Iterator<Item = (usize, usize)> {
     [(0, 0), (1, 0), (0, 1), (1, 1)]
         .into_iter()
         .map(move |(dx, dy)| (2 * ix + dx, 2 * iy + dy))
@@ -745,7 +745,11 @@ fn children(ix: usize, iy: usize) -> impl Iterator<Item = (usize, usize)> {
 
 /// The children of the parent's neighbours (the parent included) that are not adjacent to
 /// `(ix, iy)`, on an `nl × nl` grid.
-fn interaction_list(ix: usize, iy: usize, nl: usize) -> impl Iterator<Item = (usize, usize)> {
+pub(crate) fn interaction_list(
+    ix: usize,
+    iy: usize,
+    nl: usize,
+) -> impl Iterator<Item = (usize, usize)> {
     let (px, py) = (ix / 2, iy / 2);
     let np = nl / 2;
     let xs = px.saturating_sub(1)..=(px + 1).min(np.saturating_sub(1));

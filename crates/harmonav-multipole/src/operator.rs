@@ -1,0 +1,520 @@
+//! A multipole matrix–vector product: fixed sources, fixed target points, new weights per product.
+//!
+//! [`Operator::apply`] computes, for every target `t_i`,
+//!
+//! ```text
+//! out_i = Re Σ_j q_j G_j(t_i)   over the pieces of the sources outside the 3 × 3 leaves about t_i,
+//! ```
+//!
+//! the far part of a dense product `A q` whose entries are `A_ij = Re G_j(t_i)`; the caller adds
+//! the near part (the pieces [`Operator::near`] lists) with its own exact kernel, once, as a
+//! sparse matrix. This is what an iterative solver of a boundary-element system needs: the tree,
+//! the cut pieces and the lists are built once ([`Operator::new`]), and each product costs one
+//! upward pass (P2M, M2M), one downward pass (M2L, L2L) and one local evaluation per target,
+//! `O(N p + B p²)` for `B` occupied boxes.
+//!
+//! Unlike [`crate::Fmm`], the tree is **sparse**: only the boxes that hold a piece keep a
+//! multipole and only those that hold a target keep a local expansion, so a boundary (a set of
+//! curves, occupying a small part of the leaves) costs what it occupies, not `4^L` boxes. The
+//! expansions, the order `p = ⌈ln(tol)/ln 0.55⌉ + 2` and the truncation bound
+//! (`|Δ out_i| ≤ tol·A`, `A = Σ_j |q_j|·(1 or L_j)`) are [`crate::Fmm`]'s (`expansion.rs`).
+
+use crate::expansion::{C64, l2l, m2l, m2l_table, m2m, p2m_point, p2m_segment, pascal};
+use crate::tree::{FmmError, Options, Piece, Source, children, depth, interaction_list, order};
+
+const NONE: u32 = u32::MAX;
+
+/// The far part of the product with fixed sources and targets (see the module docs).
+#[derive(Clone, Debug)]
+pub struct Operator {
+    p: usize,
+    levels: u32,
+    origin: C64,
+    side: f64,
+    sources: usize,
+    /// The pieces, grouped by leaf (row-major leaf order).
+    pieces: Vec<Piece>,
+    /// `leaf_start[i]..leaf_start[i + 1]` are leaf `i`'s pieces.
+    leaf_start: Vec<u32>,
+    /// Per level: the slot of each box's multipole, [`NONE`] for a box without pieces.
+    mslot: Vec<Vec<u32>>,
+    /// Per level: the boxes with pieces, in slot order.
+    mboxes: Vec<Vec<u32>>,
+    /// Per level: the slot of each box's local expansion, [`NONE`] for a box without targets.
+    lslot: Vec<Vec<u32>>,
+    /// Per level: the boxes with targets, in slot order.
+    lboxes: Vec<Vec<u32>>,
+    targets: Vec<C64>,
+    /// The leaf of each target.
+    target_leaf: Vec<u32>,
+    binom: Vec<Vec<f64>>,
+    table: Vec<f64>,
+}
+
+impl Operator {
+    /// Builds the sparse tree over `sources` and `targets` with [`Options`]'s tolerance,
+    /// leaf size and deepest level (its `region` is ignored: the targets are the region).
+    ///
+    /// Errors: [`FmmError::NotFinite`] for a source (or, numbered `sources.len() + i`, a
+    /// target `i`) with a coordinate that is not finite; [`FmmError::BadOption`] as
+    /// [`crate::Fmm::new`]; [`FmmError::TooLarge`] when no root box holds them.
+    pub fn new(sources: &[Source], targets: &[C64], options: &Options) -> Result<Self, FmmError> {
+        if !(1e-15..=1e-2).contains(&options.tolerance) {
+            return Err(FmmError::BadOption {
+                name: "tolerance",
+                range: "[1e-15, 1e-2]",
+            });
+        }
+        if !(2..=8).contains(&options.max_level) {
+            return Err(FmmError::BadOption {
+                name: "max_level",
+                range: "[2, 8]",
+            });
+        }
+        if options.leaf_size == 0 {
+            return Err(FmmError::BadOption {
+                name: "leaf_size",
+                range: "[1, ∞)",
+            });
+        }
+        let finite = |z: C64| z.re.is_finite() && z.im.is_finite();
+        for (j, s) in sources.iter().enumerate() {
+            let ok = match *s {
+                Source::Point(z) => finite(z),
+                Source::Segment(a, b) => finite(a) && finite(b),
+            };
+            if !ok {
+                return Err(FmmError::NotFinite { source: j });
+            }
+        }
+        if let Some(i) = targets.iter().position(|&z| !finite(z)) {
+            return Err(FmmError::NotFinite {
+                source: sources.len() + i,
+            });
+        }
+        // The root box holds the sources and every target (as their bounding box).
+        let region = targets.iter().fold(None, |acc: Option<(C64, C64)>, &z| {
+            Some(match acc {
+                None => (z, z),
+                Some((lo, hi)) => (
+                    C64::new(lo.re.min(z.re), lo.im.min(z.im)),
+                    C64::new(hi.re.max(z.re), hi.im.max(z.im)),
+                ),
+            })
+        });
+        let (origin, side) = crate::tree::root_box(sources, region);
+        if !(side.is_finite() && origin.re.is_finite() && origin.im.is_finite()) {
+            return Err(FmmError::TooLarge);
+        }
+        let levels = depth(sources, origin, side, options);
+        let p = order(options.tolerance);
+        let mut op = Self {
+            p,
+            levels,
+            origin,
+            side,
+            sources: sources.len(),
+            pieces: Vec::new(),
+            leaf_start: Vec::new(),
+            mslot: Vec::new(),
+            mboxes: Vec::new(),
+            lslot: Vec::new(),
+            lboxes: Vec::new(),
+            targets: targets.to_vec(),
+            target_leaf: Vec::new(),
+            binom: pascal(2 * p),
+            table: m2l_table(p),
+        };
+        op.cut(sources);
+        op.occupancy();
+        Ok(op)
+    }
+
+    /// The expansion order `p`.
+    pub fn order(&self) -> usize {
+        self.p
+    }
+
+    /// The leaf level `L`.
+    pub fn levels(&self) -> u32 {
+        self.levels
+    }
+
+    /// The number of sources.
+    pub fn len(&self) -> usize {
+        self.sources
+    }
+
+    /// Whether there are no sources.
+    pub fn is_empty(&self) -> bool {
+        self.sources == 0
+    }
+
+    /// The number of targets.
+    pub fn targets(&self) -> usize {
+        self.targets.len()
+    }
+
+    /// The occupied boxes over all levels: with pieces (multipoles) and with targets (locals).
+    pub fn boxes(&self) -> (usize, usize) {
+        (
+            self.mboxes.iter().map(Vec::len).sum(),
+            self.lboxes.iter().map(Vec::len).sum(),
+        )
+    }
+
+    /// Calls `f` once for each piece that [`Operator::apply`] leaves out at target `i` (the
+    /// pieces of the 3 × 3 leaves about its leaf): the caller's near field. Nothing for a
+    /// target index out of range.
+    pub fn near(&self, i: usize, mut f: impl FnMut(&Piece)) {
+        let Some(&leaf) = self.target_leaf.get(i) else {
+            return;
+        };
+        let n = 1usize << self.levels;
+        let (ix, iy) = (leaf as usize % n, leaf as usize / n);
+        for jy in iy.saturating_sub(1)..=(iy + 1).min(n - 1) {
+            let row = jy * n;
+            let (from, to) = (ix.saturating_sub(1), (ix + 1).min(n - 1));
+            let (a, b) = (
+                self.leaf_start[row + from] as usize,
+                self.leaf_start[row + to + 1] as usize,
+            );
+            for piece in &self.pieces[a..b] {
+                f(piece);
+            }
+        }
+    }
+
+    /// The far part of the product (module docs) with one weight per source, into `out` (one
+    /// value per target, overwritten).
+    ///
+    /// # Panics
+    /// When `weights` or `out` has the wrong length.
+    pub fn apply(&self, weights: &[f64], out: &mut [f64]) {
+        assert_eq!(weights.len(), self.sources, "one weight per source");
+        assert_eq!(out.len(), self.targets.len(), "one output per target");
+        let terms = self.p + 1;
+        let zero = C64::new(0.0, 0.0);
+        let top = self.levels as usize;
+        // Upward: P2M at the leaves, M2M to the root.
+        let mut multipoles: Vec<Vec<C64>> = self
+            .mboxes
+            .iter()
+            .map(|b| vec![zero; b.len() * terms])
+            .collect();
+        let n = 1usize << self.levels;
+        let w = self.width(self.levels);
+        for (slot, &leaf) in self.mboxes[top].iter().enumerate() {
+            let leaf = leaf as usize;
+            let c = self.centre(self.levels, leaf % n, leaf / n);
+            let a = &mut multipoles[top][slot * terms..(slot + 1) * terms];
+            let range = self.leaf_start[leaf] as usize..self.leaf_start[leaf + 1] as usize;
+            for piece in &self.pieces[range] {
+                let q = weights[piece.source];
+                match piece.shape {
+                    Source::Point(z) => p2m_point(a, q, z, c, w),
+                    Source::Segment(s0, s1) => p2m_segment(a, q, (s0, s1), c, w),
+                }
+            }
+        }
+        for l in (0..self.levels).rev() {
+            let (upper, lower) = multipoles.split_at_mut(l as usize + 1);
+            let (parents, childs) = (&mut upper[l as usize], &lower[0]);
+            let nc = 1usize << (l + 1);
+            let wl = self.width(l);
+            for (slot, &child) in self.mboxes[l as usize + 1].iter().enumerate() {
+                let (cx, cy) = (child as usize % nc, child as usize / nc);
+                let (px, py) = (cx / 2, cy / 2);
+                let parent = py * (nc / 2) + px;
+                let ps = self.mslot[l as usize][parent] as usize;
+                let d = (self.centre(l + 1, cx, cy) - self.centre(l, px, py)) / wl;
+                m2m(
+                    &mut parents[ps * terms..(ps + 1) * terms],
+                    &childs[slot * terms..(slot + 1) * terms],
+                    d,
+                    &self.binom,
+                );
+            }
+        }
+        // Downward: M2L over each target box's interaction list, L2L to its children.
+        let mut parent_locals: Vec<C64> = Vec::new();
+        for l in 1..=self.levels {
+            let nl = 1usize << l;
+            let wl = self.width(l);
+            let boxes = &self.lboxes[l as usize];
+            let mut locals = vec![zero; boxes.len() * terms];
+            for (slot, &b) in boxes.iter().enumerate() {
+                let (ix, iy) = (b as usize % nl, b as usize / nl);
+                let c = self.centre(l, ix, iy);
+                let out = &mut locals[slot * terms..(slot + 1) * terms];
+                if l >= 2 {
+                    let (px, py) = (ix / 2, iy / 2);
+                    let ps = self.lslot[l as usize - 1][py * (nl / 2) + px];
+                    if ps != NONE && !parent_locals.is_empty() {
+                        let ps = ps as usize;
+                        let d = (c - self.centre(l - 1, px, py)) / self.width(l - 1);
+                        l2l(
+                            out,
+                            &parent_locals[ps * terms..(ps + 1) * terms],
+                            d,
+                            &self.binom,
+                        );
+                    }
+                }
+                for (sx, sy) in interaction_list(ix, iy, nl) {
+                    let s = self.mslot[l as usize][sy * nl + sx];
+                    if s == NONE {
+                        continue;
+                    }
+                    let s = s as usize;
+                    let z0 = self.centre(l, sx, sy) - c;
+                    m2l(
+                        out,
+                        &multipoles[l as usize][s * terms..(s + 1) * terms],
+                        z0,
+                        wl,
+                        &self.table,
+                    );
+                }
+            }
+            parent_locals = locals;
+        }
+        // L2P: the value of each target's leaf expansion.
+        for (i, (&z, &leaf)) in self.targets.iter().zip(&self.target_leaf).enumerate() {
+            let leaf = leaf as usize;
+            let slot = self.lslot[top][leaf] as usize;
+            let c = self.centre(self.levels, leaf % n, leaf / n);
+            out[i] = local_value(&parent_locals[slot * terms..(slot + 1) * terms], z, c, w);
+        }
+    }
+
+    fn width(&self, level: u32) -> f64 {
+        self.side / (1u64 << level) as f64
+    }
+
+    fn centre(&self, level: u32, ix: usize, iy: usize) -> C64 {
+        let w = self.width(level);
+        self.origin + C64::new((ix as f64 + 0.5) * w, (iy as f64 + 0.5) * w)
+    }
+
+    fn leaf_of(&self, z: C64) -> usize {
+        let n = 1usize << self.levels;
+        let cell = |t: f64| ((t * n as f64).max(0.0) as usize).min(n - 1);
+        cell((z.im - self.origin.im) / self.side) * n + cell((z.re - self.origin.re) / self.side)
+    }
+
+    /// Cuts the sources at the leaf grid lines (as [`crate::Fmm`]) and groups them by leaf.
+    fn cut(&mut self, sources: &[Source]) {
+        let n = 1usize << self.levels;
+        let w = self.width(self.levels);
+        let mut tagged: Vec<(usize, Piece)> = Vec::with_capacity(2 * sources.len());
+        for (j, s) in sources.iter().enumerate() {
+            match *s {
+                Source::Point(z) => tagged.push((
+                    self.leaf_of(z),
+                    Piece {
+                        source: j,
+                        shape: *s,
+                    },
+                )),
+                Source::Segment(a, b) => {
+                    let mut ts = vec![0.0, 1.0];
+                    for (lo, hi, o) in [(a.re, b.re, self.origin.re), (a.im, b.im, self.origin.im)]
+                    {
+                        if lo == hi {
+                            continue;
+                        }
+                        let (x0, x1) = (lo.min(hi), lo.max(hi));
+                        let first = ((x0 - o) / w).floor() as i64 + 1;
+                        let last = ((x1 - o) / w).ceil() as i64 - 1;
+                        for i in first..=last {
+                            let t = (o + i as f64 * w - lo) / (hi - lo);
+                            if t > 0.0 && t < 1.0 {
+                                ts.push(t);
+                            }
+                        }
+                    }
+                    ts.sort_by(f64::total_cmp);
+                    ts.dedup();
+                    for pair in ts.windows(2) {
+                        let (p0, p1) = (a + (b - a) * pair[0], a + (b - a) * pair[1]);
+                        if p0 == p1 {
+                            continue;
+                        }
+                        tagged.push((
+                            self.leaf_of((p0 + p1) * 0.5),
+                            Piece {
+                                source: j,
+                                shape: Source::Segment(p0, p1),
+                            },
+                        ));
+                    }
+                }
+            }
+        }
+        tagged.sort_by_key(|(leaf, _)| *leaf);
+        let mut start = vec![0u32; n * n + 1];
+        for (leaf, _) in &tagged {
+            start[leaf + 1] += 1;
+        }
+        for i in 0..n * n {
+            start[i + 1] += start[i];
+        }
+        self.leaf_start = start;
+        self.pieces = tagged.into_iter().map(|(_, p)| p).collect();
+    }
+
+    /// The occupied boxes of every level: with pieces, with targets.
+    fn occupancy(&mut self) {
+        let n = 1usize << self.levels;
+        let top = self.levels as usize;
+        let mut with_pieces = vec![false; n * n];
+        for (leaf, flag) in with_pieces.iter_mut().enumerate() {
+            *flag = self.leaf_start[leaf + 1] > self.leaf_start[leaf];
+        }
+        self.target_leaf = self
+            .targets
+            .iter()
+            .map(|&z| self.leaf_of(z) as u32)
+            .collect();
+        let mut with_targets = vec![false; n * n];
+        for &leaf in &self.target_leaf {
+            with_targets[leaf as usize] = true;
+        }
+        let slots = |flags: &[bool]| -> (Vec<u32>, Vec<u32>) {
+            let mut slot = vec![NONE; flags.len()];
+            let mut boxes = Vec::new();
+            for (b, &f) in flags.iter().enumerate() {
+                if f {
+                    slot[b] = boxes.len() as u32;
+                    boxes.push(b as u32);
+                }
+            }
+            (slot, boxes)
+        };
+        let coarser = |flags: &[bool], l: u32| -> Vec<bool> {
+            let nl = 1usize << l;
+            let mut up = vec![false; nl * nl];
+            for iy in 0..nl {
+                for ix in 0..nl {
+                    up[iy * nl + ix] = children(ix, iy).any(|(cx, cy)| flags[cy * 2 * nl + cx]);
+                }
+            }
+            up
+        };
+        let mut mslot = vec![Vec::new(); top + 1];
+        let mut mboxes = vec![Vec::new(); top + 1];
+        let mut lslot = vec![Vec::new(); top + 1];
+        let mut lboxes = vec![Vec::new(); top + 1];
+        let (mut pf, mut tf) = (with_pieces, with_targets);
+        for l in (0..=self.levels).rev() {
+            (mslot[l as usize], mboxes[l as usize]) = slots(&pf);
+            (lslot[l as usize], lboxes[l as usize]) = slots(&tf);
+            if l > 0 {
+                pf = coarser(&pf, l - 1);
+                tf = coarser(&tf, l - 1);
+            }
+        }
+        self.mslot = mslot;
+        self.mboxes = mboxes;
+        self.lslot = lslot;
+        self.lboxes = lboxes;
+    }
+}
+
+/// `Re Σ b̃_m ζ^m`, `ζ = (z − c)/w` (eq. loc's value alone, Horner in `ζ`).
+fn local_value(b: &[C64], z: C64, c: C64, w: f64) -> f64 {
+    let zeta = (z - c) / w;
+    let mut f = C64::new(0.0, 0.0);
+    for bm in b.iter().rev() {
+        f = f * zeta + bm;
+    }
+    f.re
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `Re ∫_{[A,B]} log(z − s)|ds|` in closed form: half of
+    /// `W = (xo+a)ln r₊² − (xo−a)ln r₋² − 4a + 2yo·θ` in the segment's frame.
+    fn segment_potential(z: C64, a: C64, b: C64) -> f64 {
+        let len = (b - a).norm();
+        let t = (b - a) / len;
+        let d = (z - (a + b) * 0.5) * t.conj();
+        let (xo, yo, h) = (d.re, d.im, len / 2.0);
+        let rp = (xo + h) * (xo + h) + yo * yo;
+        let rm = (xo - h) * (xo - h) + yo * yo;
+        let theta = (2.0 * h * yo).atan2((xo - h) * (xo + h) + yo * yo);
+        0.5 * ((xo + h) * rp.ln() - (xo - h) * rm.ln() - 4.0 * h + 2.0 * yo * theta)
+    }
+
+    /// The far part plus the near pieces (by quadrature) is the whole sum, to the tolerance, on
+    /// segments along two nested squares' boundaries with targets at their midpoints.
+    #[test]
+    fn far_plus_near_is_the_direct_sum() {
+        let mut sources = Vec::new();
+        for (half, count, c) in [
+            (1.0, 200, C64::new(0.0, 0.0)),
+            (0.2, 40, C64::new(0.3, -0.1)),
+        ] {
+            let corners = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
+            for side in 0..4 {
+                let (x0, y0) = corners[side];
+                let (x1, y1) = corners[(side + 1) % 4];
+                for i in 0..count / 4 {
+                    let t0 = i as f64 / (count / 4) as f64;
+                    let t1 = (i + 1) as f64 / (count / 4) as f64;
+                    let p = |t: f64| c + C64::new(x0 + (x1 - x0) * t, y0 + (y1 - y0) * t) * half;
+                    sources.push(Source::Segment(p(t0), p(t1)));
+                }
+            }
+        }
+        let targets: Vec<C64> = sources
+            .iter()
+            .map(|s| match *s {
+                Source::Segment(a, b) => (a + b) * 0.5 + C64::new(1e-3, 2e-3),
+                Source::Point(z) => z,
+            })
+            .collect();
+        let weights: Vec<f64> = (0..sources.len())
+            .map(|j| ((j * 37 % 11) as f64 - 5.0) * 0.3)
+            .collect();
+        let options = Options {
+            tolerance: 1e-12,
+            leaf_size: 4,
+            ..Options::default()
+        };
+        let op = Operator::new(&sources, &targets, &options).unwrap();
+        assert!(op.levels() >= 3);
+        let mut out = vec![0.0; targets.len()];
+        op.apply(&weights, &mut out);
+        let total: f64 = sources
+            .iter()
+            .zip(&weights)
+            .map(|(s, q)| match *s {
+                Source::Segment(a, b) => q.abs() * (b - a).norm(),
+                Source::Point(_) => q.abs(),
+            })
+            .sum();
+        let mut worst = 0.0_f64;
+        for (i, &z) in targets.iter().enumerate() {
+            let mut near = 0.0;
+            op.near(i, |piece| {
+                if let Source::Segment(a, b) = piece.shape {
+                    near += weights[piece.source] * segment_potential(z, a, b);
+                }
+            });
+            let direct: f64 = sources
+                .iter()
+                .zip(&weights)
+                .map(|(s, q)| match *s {
+                    Source::Segment(a, b) => q * segment_potential(z, a, b),
+                    Source::Point(p) => q * (z - p).norm().ln(),
+                })
+                .sum();
+            worst = worst.max((out[i] + near - direct).abs());
+        }
+        assert!(worst <= 1e-12 * total + 1e-11, "{worst:e} (A = {total})");
+    }
+}
