@@ -173,6 +173,12 @@ impl<'a, 'o> Driver<'a, 'o> {
         self.rec.step(s, false, &self.prepared.truth);
     }
 
+    /// [`Driver::judge`], `event`: the state ends a period whose command the mover filter
+    /// changed, where `V` may rise (judged as a discovery's second side).
+    pub fn judge_event(&mut self, s: &Sample, event: bool) {
+        self.rec.step(s, event, &self.prepared.truth);
+    }
+
     /// The time of the last recorded state.
     pub fn last_recorded(&self) -> Option<f64> {
         self.rec.last_time()
@@ -286,6 +292,12 @@ impl<'a, 'o> Driver<'a, 'o> {
     /// The judgement of the run that ended at `end`: the summary of the monitors and the
     /// kept states. `physics` names the integrator in the summary.
     pub fn finish(self, end: End) -> Run {
+        self.finish_with(end, Vec::new())
+    }
+
+    /// [`Driver::finish`] with `more` guarantees judged by the integrator (the movers'),
+    /// appended after a lidar's and before one lost on the way.
+    pub fn finish_with(self, end: End, more: Vec<Guarantee>) -> Run {
         let (monitor, samples) = self.rec.into_parts();
         let (perception, mut later) = match &self.lp.scanner {
             Some(s) => {
@@ -294,6 +306,7 @@ impl<'a, 'o> Driver<'a, 'o> {
             }
             None => (None, Vec::new()),
         };
+        later.extend(more);
         later.extend(self.aborted);
         let mut summary = monitor.finish(
             self.prepared,

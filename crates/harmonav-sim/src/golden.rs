@@ -33,7 +33,7 @@ fn line(out: &mut String, t: f64, x: Vector2<f64>, v: Vector2<f64>, c: Vector2<f
 }
 
 /// The held step of `controller` over `h` from `(x, v)` under `command`.
-fn held(
+pub(crate) fn held(
     controller: &Controller,
     h: f64,
     x: Vector2<f64>,

@@ -213,6 +213,24 @@ pub enum Check {
         #[serde(skip)]
         error: Option<NavError>,
     },
+    /// [`Kind::NoCollision`] with the file's movers (`[[movers]]`, docs/movers.md §8): the
+    /// true clearance between the robot's disc and every mover's disc, exact along every held
+    /// step. Judged as Theorem 1 of docs/movers.md: a contact in a period whose command was
+    /// certified fails; a contact after an `Overwhelmed` (or refused) command is counted, not
+    /// failed.
+    NoCollisionWithMovers {
+        /// Contact episodes (clearance ≤ 0).
+        contacts: usize,
+        /// Periods with a contact whose command was certified (`0` holds).
+        after_certified: usize,
+        /// Commands that were not certified (`Overwhelmed`, or refused: the robot's disc
+        /// overlapped a mover's as reported).
+        overwhelmed_commands: usize,
+        /// The least true clearance to a mover's body, m.
+        min_clearance: f64,
+        /// `robot.margin`, m (Theorem 1 keeps it while commands are certified).
+        margin: f64,
+    },
     /// `[expect] reached`.
     ExpectReached {
         /// The file's value.
@@ -265,7 +283,9 @@ impl Check {
             | Self::ExpectDampingSwitched { .. }
             | Self::ExpectMaxSpeedBelow { .. } => Kind::Expect,
             Self::StayedInCertifiedRegion { .. } => Kind::StayedInCertifiedRegion,
-            Self::NoCollisionWithMap { .. } => Kind::NoCollision,
+            Self::NoCollisionWithMap { .. } | Self::NoCollisionWithMovers { .. } => {
+                Kind::NoCollision
+            }
             Self::NoCollisionBetweenStates { .. } => Kind::NoCollisionBetweenStates,
             Self::PerceivedCoversTruth { .. } => Kind::PerceivedCoversTruth,
             Self::PerceivedOnlyGrows { .. } => Kind::PerceivedOnlyGrows,
@@ -295,6 +315,7 @@ impl Check {
             Self::ExpectMaxSpeedBelow { .. } => "expect.max-speed-below",
             Self::StayedInCertifiedRegion { .. } => "stayed-in-certified-region",
             Self::NoCollisionWithMap { .. } => "no-collision-with-map-pixels",
+            Self::NoCollisionWithMovers { .. } => "no-collision-with-movers",
             Self::NoCollisionBetweenStates { .. } => "no-collision-between-states",
             Self::PerceivedCoversTruth { .. } => "perceived-covers-seen-truth",
             Self::PerceivedOnlyGrows { .. } => "perceived-shapes-only-grow",
@@ -410,6 +431,20 @@ impl std::fmt::Display for Check {
                 f,
                 "min clearance {min_pixel_clearance:.4} m to the map's occupied and unknown \
                  pixels"
+            ),
+            Self::NoCollisionWithMovers {
+                contacts,
+                after_certified,
+                overwhelmed_commands,
+                min_clearance,
+                margin,
+            } => write!(
+                f,
+                "{contacts} contact episodes with movers, {after_certified} periods with a \
+                 contact under a certified command; min clearance to a mover {min_clearance:.4} \
+                 m (margin {margin} m); a contact after one of the {overwhelmed_commands} \
+                 uncertified commands (Overwhelmed or refused) is counted, not failed \
+                 (docs/movers.md, Theorem 1)"
             ),
             Self::StayedInCertifiedRegion {
                 min_layer_clearance,

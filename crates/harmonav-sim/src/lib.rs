@@ -19,7 +19,9 @@
 //! [`outcome`], then [`trajectory`]. Studies: [`sweep`] (many starts, typed outcomes)
 //! on the one thread pool [`pool`], [`shortest`] (the independent shortest path of "path
 //! over shortest"), and [`descent`] (the normalised descent of `Θ` judged as a run: the
-//! convergence study's one entry). [`floor`] is the loop of the floor-plan scenarios;
+//! convergence study's one entry). A file with `[[movers]]` runs in the held-command loop
+//! (`held.rs`, the user's loop at the control period, judged) with the movers of [`movers`]:
+//! the built-in integrator hands it over. [`floor`] is the loop of the floor-plan scenarios;
 //! `rapier::floor` flies it in rapier with the walls as colliders, and
 //! [`physics::simulate_floor`] runs either ([`physics::simulate_floor_observed`] with an
 //! observer, which a recording streams from).
@@ -67,7 +69,9 @@ mod driver;
 pub mod floor;
 pub mod golden;
 pub mod guarantee;
+mod held;
 mod monitor;
+pub mod movers;
 pub mod outcome;
 pub mod physics;
 pub mod pool;

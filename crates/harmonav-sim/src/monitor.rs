@@ -353,6 +353,7 @@ impl Monitor {
             steps,
             rejected_steps: rejected,
             perception: None,
+            movers: None,
         }
     }
 }

@@ -36,6 +36,9 @@ pub fn simulate_observed(
 ) -> Result<Run, RunError> {
     match physics {
         Physics::Builtin => integrate(prepared, model, Warnings::Find, observer),
+        Physics::Rapier if !prepared.scenario.sim.movers.is_empty() => {
+            Err(RunError::MoversInRapier)
+        }
         #[cfg(feature = "rapier")]
         Physics::Rapier => {
             use crate::rapier::{Drive, rapier_observed};

@@ -5,13 +5,14 @@
 //! reports the contact events and the largest deviation from the built-in trajectory.
 
 use harmonav::Controller;
-use harmonav::control::{Dynamic, Potential};
+use harmonav::control::Potential;
 use harmonav_field::{Field, FieldEval};
 use harmonav_scenario::{Model, Prepared};
 use nalgebra::Vector2;
 
 use crate::driver::{Driver, Warnings};
 use crate::guarantee::{Check, FreeSpaceLoss, Guarantee};
+use crate::held::{euler_energy_error, potential};
 use crate::monitor::End;
 use crate::summary::{Physics, Run, RunError};
 use crate::trace::{Event, Sample};
@@ -67,6 +68,9 @@ pub(crate) fn rapier_observed(
     warnings: Warnings,
     observer: &mut dyn FnMut(Event<'_>),
 ) -> Result<(Run, RapierReport), RunError> {
+    if !prepared.scenario.sim.movers.is_empty() {
+        return Err(RunError::MoversInRapier);
+    }
     let sc = &prepared.scenario;
     let truth = &prepared.truth;
     // rapier's fixed step `h`, at most 1 ms, and the control period: `robot.control_period`
@@ -244,54 +248,6 @@ pub(crate) fn rapier_observed(
             max_deviation,
         },
     ))
-}
-
-/// `Ψ` and `∇Ψ` of the dynamic law at `(x, ẋ)` (`None` for the kinematic law or outside the
-/// free space).
-fn potential(d: &Driver, x: Vector2<f64>, v: Vector2<f64>) -> Option<Potential> {
-    let Controller::Dynamic(law) = d.nav().controller() else {
-        return None;
-    };
-    let e = d.eval(x, v)?;
-    Some(law.potential(d.nav().field(), &e.field))
-}
-
-/// **rapier's error model**: how much one semi-implicit Euler step of length `h` changes
-/// `V = μΨ + ½m|ẋ|²` (`μ` standing for the law's pull `μ_p`, `Dynamic::pull`) beyond the
-/// work of the non-conservative force, from `(x, v)` to
-/// `(x', v')` under the force `f` held over the step (`v' = v + h f/m`, `x' = x + h v'`,
-/// rapier's integration of a free body). Exactly, by algebra,
-///
-/// ```text
-/// V' − V = h v'·(f + μ∇Ψ(x))                       (the work of f + μ∇Ψ: ≤ 0 for the law)
-///        − h²|f|²/(2m)                             (the step's kinetic error)
-///        + μ(Ψ(x') − Ψ(x) − ∇Ψ(x)·(x' − x))          (the potential's second-order remainder)
-/// ```
-///
-/// The first term is the law's: the navigator's hold damps implicitly, `f + μ∇Ψ = −λv'`
-/// (and a cap only shortens `v'`, `m|v'|²(1 − a/s) ≤ 0` with `a ≥ 1 ≥ s`), so it is never
-/// positive. The other two are the integrator's, `O(h²)` per step, and large where `Ψ` curves
-/// hard: a robot passing 1 mm from a disc (`scenarios/shapes/grid-12-dynamic.toml`) rose by
-/// 1.2e-5·V per recorded state against the former flat allowance of 5e-7·V. Returned: their
-/// positive part, plus the rounding of the `f64` terms (`16ε` of their sizes). The monitor
-/// then judges the law's term on the states rapier made; a controller that pumps energy in
-/// (`f = −μ∇Ψ + c·ẋ`, `c > 0`) still fails it.
-fn euler_energy_error(
-    law: &Dynamic,
-    h: f64,
-    (p0, psi1): (&Potential, f64),
-    (x0, x1): (Vector2<f64>, Vector2<f64>),
-    (v0, v1): (Vector2<f64>, Vector2<f64>),
-    f: Vector2<f64>,
-) -> f64 {
-    let (m, mu) = (law.mass(), law.pull());
-    let kinetic = -0.5 * h * h / m * f.norm_squared();
-    let remainder = mu * (psi1 - p0.value - p0.gradient.dot(&(x1 - x0)));
-    let size = mu * (p0.value.abs() + psi1.abs())
-        + m * (v0.norm_squared() + v1.norm_squared())
-        + h * h / m * f.norm_squared()
-        + mu * (p0.gradient.norm() * (x1 - x0).norm());
-    (kinetic + remainder).max(0.0) + 16.0 * f64::EPSILON * size
 }
 
 /// Largest distance between two trajectories at the times of `a` (`b` linearly interpolated,

@@ -282,13 +282,26 @@ pub fn run_observed(
     integrate(prepared, model, Warnings::Skip, observer)
 }
 
-/// The built-in run, with the scenario's warnings or without ([`Warnings`]).
+/// A file with `[[movers]]` run with the robot blind to them: its navigator is never given the
+/// movers ([`harmonav::Navigator::set_movers`]), while they still move and every contact is
+/// judged. The negative control of the mover filter: such a run records contacts that the
+/// filtered run ([`run`]) does not.
+pub fn run_without_filter(prepared: &Prepared, model: Option<Model>) -> Result<Run, RunError> {
+    crate::held::fly_with(prepared, model, Warnings::Skip, &mut |_| {}, false)
+}
+
+/// The built-in run, with the scenario's warnings or without ([`Warnings`]); a file with
+/// `[[movers]]` runs in the held-command loop (`held.rs`).
 pub(crate) fn integrate(
     prepared: &Prepared,
     model: Option<Model>,
     warnings: Warnings,
     observer: &mut dyn FnMut(Event<'_>),
 ) -> Result<Run, RunError> {
+    if !prepared.scenario.sim.movers.is_empty() {
+        // Movers need the command held for the period their filter certifies.
+        return crate::held::fly(prepared, model, warnings, observer);
+    }
     let sc = &prepared.scenario;
     let step_tol = step_tolerance(&prepared.truth);
     let mut d = Driver::start(prepared, model, None, step_tol, warnings, observer)?;

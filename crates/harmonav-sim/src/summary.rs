@@ -105,6 +105,11 @@ pub struct Summary {
     /// What a lidar's perception did (`[sensor] type = "lidar"`; absent otherwise).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub perception: Option<PerceptionReport>,
+    /// What the file's movers did: the commands by mode, the contacts and the least mover
+    /// clearance (`[[movers]]`; absent otherwise, so that a summary without movers is as
+    /// before).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub movers: Option<crate::movers::MoverReport>,
 }
 
 impl Summary {
@@ -210,6 +215,9 @@ pub enum RunError {
     StartNotFree,
     /// A rapier run was asked of a build without the feature `rapier`.
     NoRapier,
+    /// A rapier run was asked of a file with `[[movers]]`: movers are flown by the built-in
+    /// held-command loop only (docs/movers.md §8).
+    MoversInRapier,
 }
 
 impl std::fmt::Display for RunError {
@@ -221,6 +229,9 @@ impl std::fmt::Display for RunError {
             Self::StartNotFree => f.write_str("the start is not in the free space"),
             Self::NoRapier => f.write_str(
                 "this build has no rapier integrator: enable harmonav-sim's feature `rapier`",
+            ),
+            Self::MoversInRapier => f.write_str(
+                "a file with [[movers]] runs in the built-in held-command loop only (not rapier)",
             ),
         }
     }
