@@ -6,6 +6,7 @@ mod control;
 mod field;
 mod floorplans;
 mod lidar;
+mod movers;
 mod navigator;
 mod potential;
 mod quality;
@@ -138,6 +139,7 @@ fn checks() -> Vec<Check> {
     all.extend(scale::checks());
     all.extend(scenarios::checks());
     all.extend(floorplans::checks());
+    all.extend(movers::checks());
     all.extend(adversarial::checks());
     all
 }

@@ -1,0 +1,104 @@
+//! The mover scenarios (`scenarios/movers/`, issue 54, item 4; docs/movers.md §8): every file
+//! flown under both laws in the held-command loop, with the movers reported to the navigator
+//! each period. Every guarantee must hold, arrival included, and no mover may touch the robot
+//! (`no-collision-with-movers`: 0 contacts). A negative control flies the crossing with the
+//! robot blind to the movers, and must record a contact.
+
+use std::path::{Path, PathBuf};
+
+use harmonav_scenario::{Model, Scenario};
+use harmonav_sim::physics::{Physics, simulate};
+use harmonav_sim::run::run_without_filter;
+
+use super::{Check, Outcome, Verdict};
+
+fn folder() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../scenarios")
+        .join(harmonav_scenario::MOVERS)
+}
+
+/// The mover files, sorted; an unreadable folder yields none.
+fn files() -> Vec<PathBuf> {
+    let mut out: Vec<PathBuf> = std::fs::read_dir(folder())
+        .map(|d| {
+            d.filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+                .collect()
+        })
+        .unwrap_or_default();
+    out.sort();
+    out
+}
+
+pub fn checks() -> Vec<Check> {
+    let mut checks = Vec::new();
+    for file in files() {
+        let stem = file
+            .file_stem()
+            .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+        for model in [Model::Kinematic, Model::Dynamic] {
+            let file = file.clone();
+            checks.push(Check::new(
+                format!("movers.{stem}.{}", model.as_str()),
+                move || fly(&file, model),
+            ));
+        }
+    }
+    checks.push(Check::new("movers.person-crossing.blind", blind));
+    checks
+}
+
+/// One file under `model`: every guarantee holds and no mover touches the robot.
+fn fly(file: &Path, model: Model) -> Outcome {
+    let prepared = Scenario::load(file).map_err(|e| e.to_string())?;
+    let run = simulate(&prepared, Some(model), Physics::Builtin).map_err(|e| e.to_string())?;
+    let s = &run.summary;
+    let m = s.movers.as_ref().ok_or("no mover report")?;
+    let detail = format!(
+        "reached {} in {:.2} s; commands: {} certified ({} yielding), {} overwhelmed, {} refused; \
+         {} contacts; min mover clearance {:.3} m (margin {} m)",
+        s.reached,
+        s.time_s,
+        m.certified_commands,
+        m.yielding_commands,
+        m.overwhelmed_commands,
+        m.refused_commands,
+        m.mover_contacts,
+        m.min_mover_clearance,
+        prepared.margin(),
+    );
+    let failed: Vec<&str> = s
+        .guarantees
+        .iter()
+        .filter(|g| !g.passed)
+        .map(|g| g.name())
+        .collect();
+    if !failed.is_empty() || m.mover_contacts > 0 {
+        return Err(format!("{detail}; failed: {failed:?}"));
+    }
+    Ok(Verdict::Held(detail))
+}
+
+/// The negative control: the crossing with the robot blind to the person touches them, and
+/// `no-collision-with-movers` fails.
+fn blind() -> Outcome {
+    let prepared =
+        Scenario::load(&folder().join("person-crossing.toml")).map_err(|e| e.to_string())?;
+    let run = run_without_filter(&prepared, None).map_err(|e| e.to_string())?;
+    let m = run.summary.movers.as_ref().ok_or("no mover report")?;
+    let judged = run
+        .summary
+        .guarantees
+        .iter()
+        .find(|g| g.name() == "no-collision-with-movers")
+        .is_some_and(|g| !g.passed);
+    let detail = format!(
+        "without set_movers: {} contacts, min mover clearance {:.3} m",
+        m.mover_contacts, m.min_mover_clearance
+    );
+    if m.mover_contacts == 0 || !judged {
+        return Err(format!("the negative control saw no failure: {detail}"));
+    }
+    Ok(Verdict::Held(detail))
+}
