@@ -104,9 +104,6 @@ def test_a_diff_robot_on_a_floor_plan_turns_the_corner(k):
     assert np.linalg.norm(x - nav.goal) < 0.01, x
 
 
-@pytest.mark.xfail(strict=True, reason="Rust: command_pose's arc hold asks Θ to fall over "
-                   "every arc, which an escape (mode 'escaping', heading='auto') need not do: "
-                   "v stays 0 and the robot turns in place for ever (crates/harmonav/src/diff.rs)")
 def test_a_diff_robot_escapes_a_rest_point_of_a_floor_plan():
     nav = harmonav.FloorNavigator(L_OUTER, [5.4, 1.0], radius=0.1, margin=0.1, control_period=H,
                                   base="diff", v_max=V_MAX, omega_max=OMEGA_MAX,
