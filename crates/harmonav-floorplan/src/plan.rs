@@ -450,9 +450,15 @@ impl FloorMap {
                 .collect::<Result<_, _>>()?;
             let mut rings = rings.into_iter();
             let outer = rings.next().unwrap_or_default();
-            Domain::new(outer, rings.collect()).map_err(|e| FloorError::TooNarrow {
-                ring: RingId::Outer,
-                problem: e.to_string(),
+            Domain::new(outer, rings.collect()).map_err(|e| match e {
+                // A size cap is not a narrow passage: say which cap, with its count.
+                DomainError::TooManyVertices { .. } | DomainError::TooManyHoles { .. } => {
+                    FloorError::Domain(e)
+                }
+                e => FloorError::TooNarrow {
+                    ring: RingId::Outer,
+                    problem: e.to_string(),
+                },
             })?
         } else {
             truth.clone()

@@ -638,12 +638,13 @@ fn suite_maps_are_committed_and_build() {
 }
 
 /// A floor plan that `FloorMap::new` refuses (here: elements so small that the mesh exceeds
-/// its cap) is surfaced as `MapProblem::Floor`, with the YAML file named.
+/// its cap, 200 000 elements since the iterative solve) is surfaced as `MapProblem::Floor`,
+/// with the YAML file named.
 #[test]
 fn floor_map_errors_are_surfaced_with_the_file() {
     let m = office();
     let y = suite_dir().join("office.yaml");
-    let tiny = MapOptions::new(FloorOptions::new(0.005, 0.2));
+    let tiny = MapOptions::new(FloorOptions::new(0.0002, 0.2));
     let e = harmonav_floorplan::FloorMap::from_ros_map(
         &y,
         v(m.start[0], m.start[1]),

@@ -9,7 +9,7 @@ use nalgebra::Vector2;
 
 /// Most vertices over all rings (each vertex starts at least one boundary element, and the
 /// element count is capped by [`crate::MAX_ELEMENTS`]).
-pub const MAX_VERTICES: usize = 5_000;
+pub const MAX_VERTICES: usize = 200_000;
 /// Most holes.
 pub const MAX_HOLES: usize = 1_000;
 /// Largest absolute coordinate (the same bound as `harmonav_transform::MAX_LENGTH`).

@@ -74,13 +74,14 @@ pub mod domain;
 mod kernel;
 pub mod map;
 pub mod mesh;
+mod solve;
 
 pub use certificate::{
     Certificate, CertifyError, CertifyOptions, Extremes, Verdict, certify, sampled_check,
 };
 pub use domain::{Domain, DomainError, RingId};
 pub use map::{
-    Enclosure, EvalError, FAR_FIELD_MIN_ELEMENTS, FAR_FIELD_TOLERANCE, HarmonicMap, MapEval,
-    Residuals, SetupCost, SolveError,
+    DENSE_LIMIT, DENSE_MAX_ELEMENTS, Enclosure, EvalError, FAR_FIELD_MIN_ELEMENTS,
+    FAR_FIELD_TOLERANCE, HarmonicMap, MapEval, Residuals, SetupCost, SolveError, Solver,
 };
 pub use mesh::{Element, MAX_ELEMENTS, MeshError, MeshOptions};

@@ -43,6 +43,7 @@ use nalgebra::{Matrix2, Vector2};
 use crate::domain::{Domain, RingId};
 use crate::kernel;
 use crate::mesh::{self, Element, MeshError, MeshOptions};
+use crate::solve;
 
 /// Largest relative residual `‖A x − b‖∞ / (‖A‖∞‖x‖∞ + ‖b‖∞)` accepted from the LU solve;
 /// measured values are about 1e-16.
@@ -64,6 +65,36 @@ pub const FAR_FIELD_TOLERANCE: f64 = 1e-15;
 /// 2–3 µs, `L = 4` in 0.06 s and 8–12 µs; the error is the same (rounding, ~1e-14).
 const FAR_FIELD_MAX_LEVEL: u32 = 5;
 
+/// The far field's deepest level above [`DENSE_MAX_ELEMENTS`] elements: at level 5 an 84 000-
+/// element floor leaves about 1 000 near pieces per evaluation (a command took 283 µs); the
+/// tree's depth then follows its leaf size (8 pieces) down to this. Below, the level stays at
+/// [`FAR_FIELD_MAX_LEVEL`], so the maps that loaded before evaluate bit for bit as before.
+const FAR_FIELD_MAX_LEVEL_LARGE: u32 = 7;
+
+/// The most elements [`Solver::Auto`] gives to the dense LU; above it, the iterative solve.
+/// It is the old cap of the dense solve (200 MB at `8(N + M + 1)²` bytes), kept so that every
+/// map that loaded before is solved bit for bit as before. The iterative solve is faster from
+/// about 1 500 elements (measured, docs/maths/13-harmonic-scaling.md), so this crossover is
+/// chosen for reproducibility, not speed.
+pub const DENSE_MAX_ELEMENTS: usize = 5_000;
+
+/// The most elements [`Solver::Dense`] takes: `8(N + M + 1)²` bytes, 1 GB at 11 000.
+pub const DENSE_LIMIT: usize = 11_000;
+
+/// How [`HarmonicMap::new_with`] solves the boundary-element system.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Solver {
+    /// The dense LU up to [`DENSE_MAX_ELEMENTS`] elements, the iterative solve above.
+    #[default]
+    Auto,
+    /// The dense LU (faer, partial pivoting), up to [`DENSE_LIMIT`] elements.
+    Dense,
+    /// Restarted GMRES with the multipole product and a two-level preconditioner
+    /// (docs/maths/13-harmonic-scaling.md), whatever `N`: `O(N)` memory.
+    Iterative,
+}
+
 /// Pieces' ends within this (normalised units, `|z| ≤ 1`) of an element's end are that end:
 /// the multipole tree computes the last piece's end as `A + (B − A)·1`, an ulp or so from `B`.
 const SNAP: f64 = 16.0 * f64::EPSILON;
@@ -79,6 +110,10 @@ pub struct SetupCost {
     pub factor: Duration,
     /// The far field's multipole tree (zero without one).
     pub far_field: Duration,
+    /// GMRES iterations of the iterative solve, both components (0 for the dense LU, where
+    /// `assembly` is the matrix and `factor` the LU; in the iterative solve `assembly` is the
+    /// multipole tree, the near matrix and the preconditioner, and `factor` the iterations).
+    pub iterations: usize,
 }
 
 impl SetupCost {
@@ -104,6 +139,13 @@ pub enum SolveError {
     /// The far field's multipole tree refused its options ([`HarmonicMap::with_far_field`]: a
     /// tolerance outside `[1e-15, 1e-2]`).
     FarField(harmonav_multipole::FmmError),
+    /// The iterative solve ([`Solver::Iterative`]) did not reach [`MAX_SOLVE_RESIDUAL`].
+    NotConverged {
+        /// The relative residual `‖b − A x‖₂/‖b‖₂` it reached (the worse component).
+        residual: f64,
+        /// Its GMRES iterations, both components.
+        iterations: usize,
+    },
 }
 
 impl std::fmt::Display for SolveError {
@@ -115,6 +157,14 @@ impl std::fmt::Display for SolveError {
                 "the boundary-element system is numerically singular (relative residual {residual:e})"
             ),
             Self::FarField(reason) => write!(f, "the far field cannot be built: {reason}"),
+            Self::NotConverged {
+                residual,
+                iterations,
+            } => write!(
+                f,
+                "the iterative boundary-element solve stopped at relative residual {residual:e} \
+                 after {iterations} iterations"
+            ),
         }
     }
 }
@@ -170,12 +220,12 @@ impl MapEval {
 
 /// One element in normalised coordinates with its two densities.
 #[derive(Clone, Copy, Debug)]
-struct Panel {
-    centre: [f64; 2],
-    tangent: [f64; 2],
-    half: f64,
-    ku: f64,
-    kv: f64,
+pub(crate) struct Panel {
+    pub(crate) centre: [f64; 2],
+    pub(crate) tangent: [f64; 2],
+    pub(crate) half: f64,
+    pub(crate) ku: f64,
+    pub(crate) kv: f64,
 }
 
 /// Collocation residuals and hole fluxes of a solved map (see [`HarmonicMap::residuals`]).
@@ -262,6 +312,23 @@ impl HarmonicMap {
     /// [`SolveError::Mesh`] for bad options or too many elements, [`SolveError::Singular`] when
     /// the solve fails its residual check.
     pub fn new(domain: &Domain, options: &MeshOptions) -> Result<Self, SolveError> {
+        Self::new_with(domain, options, Solver::Auto)
+    }
+
+    /// [`HarmonicMap::new`] with a choice of [`Solver`]: the same equations, solved by the
+    /// dense LU or iteratively (GMRES, the multipole product; docs/maths/13-harmonic-scaling.md).
+    /// The two agree to the iterative solve's tolerance (tested on the test plans and random
+    /// polygons with holes).
+    ///
+    /// # Errors
+    /// As [`HarmonicMap::new`]; [`SolveError::Mesh`] with [`MeshError::TooManyElements`] for
+    /// [`Solver::Dense`] above [`DENSE_LIMIT`]; [`SolveError::NotConverged`] when GMRES stops
+    /// above [`MAX_SOLVE_RESIDUAL`].
+    pub fn new_with(
+        domain: &Domain,
+        options: &MeshOptions,
+        solver: Solver,
+    ) -> Result<Self, SolveError> {
         let clock = Instant::now();
         let elements = mesh::mesh(domain, options)?;
         let mut cost = SetupCost {
@@ -329,6 +396,101 @@ impl HarmonicMap {
             .collect();
         let mean = panels.iter().map(|p| 2.0 * p.half).sum::<f64>() / n as f64;
         let size = n + holes + 1;
+        let dense = match solver {
+            Solver::Auto => n <= DENSE_MAX_ELEMENTS,
+            Solver::Dense => {
+                if n > DENSE_LIMIT {
+                    return Err(SolveError::Mesh(MeshError::TooManyElements {
+                        elements: n,
+                        max: DENSE_LIMIT,
+                    }));
+                }
+                true
+            }
+            Solver::Iterative => false,
+        };
+        let (solution, residual) = if dense {
+            Self::solve_dense(
+                &panels,
+                &ring_of,
+                holes,
+                &angles,
+                ranges[0].end,
+                mean,
+                &mut cost,
+            )?
+        } else {
+            let rhs = |f: fn(f64) -> f64| -> Vec<f64> {
+                (0..size)
+                    .map(|row| {
+                        if row < ranges[0].end {
+                            f(angles[row])
+                        } else {
+                            0.0
+                        }
+                    })
+                    .collect()
+            };
+            let (bu, bv) = (rhs(f64::cos), rhs(f64::sin));
+            cost.assembly = clock.elapsed();
+            let clock = Instant::now();
+            let (x, stats) =
+                solve::solve(&panels, &ranges, mean, [&bu, &bv]).map_err(SolveError::FarField)?;
+            cost.assembly += stats.assembly;
+            cost.factor = clock.elapsed().saturating_sub(stats.assembly);
+            cost.iterations = stats.iterations;
+            if stats.residual.is_nan() || stats.residual > MAX_SOLVE_RESIDUAL {
+                return Err(SolveError::NotConverged {
+                    residual: stats.residual,
+                    iterations: stats.iterations,
+                });
+            }
+            (x, stats.residual)
+        };
+        let [xu, xv] = &solution;
+        for (j, p) in panels.iter_mut().enumerate() {
+            p.ku = xu[j];
+            p.kv = xv[j];
+        }
+        let punctures = (0..holes)
+            .map(|i| Vector2::new(xu[n + i], xv[n + i]))
+            .collect();
+        let constant = Vector2::new(xu[size - 1], xv[size - 1]);
+        let map = Self {
+            domain: domain.clone(),
+            elements,
+            panels,
+            ranges,
+            angles,
+            centre,
+            scale,
+            constant,
+            punctures,
+            solve_residual: residual,
+            far: None,
+            cost,
+        };
+        if n >= FAR_FIELD_MIN_ELEMENTS {
+            map.with_far_field(Some(FAR_FIELD_TOLERANCE))
+        } else {
+            Ok(map)
+        }
+    }
+
+    /// The dense LU of the `(N + M + 1)²` system for both right-hand sides (the module docs'
+    /// equations), with its residual check; the solutions as columns `[u, v]`.
+    fn solve_dense(
+        panels: &[Panel],
+        ring_of: &[usize],
+        holes: usize,
+        angles: &[f64],
+        outer_end: usize,
+        mean: f64,
+        cost: &mut SetupCost,
+    ) -> Result<([Vec<f64>; 2], f64), SolveError> {
+        let clock = Instant::now();
+        let n = panels.len();
+        let size = n + holes + 1;
         // Entry (row, col): the module docs' equations; charge rows scaled by the mean element
         // length so that every row is O(1).
         let a = Mat::<f64>::from_fn(size, size, |row, col| {
@@ -360,7 +522,7 @@ impl HarmonicMap {
             }
         });
         let b = Mat::<f64>::from_fn(size, 2, |row, col| {
-            if row < ranges[0].end {
+            if row < outer_end {
                 if col == 0 {
                     angles[row].cos()
                 } else {
@@ -370,7 +532,7 @@ impl HarmonicMap {
                 0.0
             }
         });
-        cost.assembly = clock.elapsed();
+        cost.assembly += clock.elapsed();
         let clock = Instant::now();
         let lu = a.partial_piv_lu();
         let x = lu.solve(&b);
@@ -380,33 +542,8 @@ impl HarmonicMap {
         if residual.is_nan() || residual > MAX_SOLVE_RESIDUAL {
             return Err(SolveError::Singular { residual });
         }
-        for (j, p) in panels.iter_mut().enumerate() {
-            p.ku = x[(j, 0)];
-            p.kv = x[(j, 1)];
-        }
-        let punctures = (0..holes)
-            .map(|i| Vector2::new(x[(n + i, 0)], x[(n + i, 1)]))
-            .collect();
-        let constant = Vector2::new(x[(size - 1, 0)], x[(size - 1, 1)]);
-        let map = Self {
-            domain: domain.clone(),
-            elements,
-            panels,
-            ranges,
-            angles,
-            centre,
-            scale,
-            constant,
-            punctures,
-            solve_residual: residual,
-            far: None,
-            cost,
-        };
-        if n >= FAR_FIELD_MIN_ELEMENTS {
-            map.with_far_field(Some(FAR_FIELD_TOLERANCE))
-        } else {
-            Ok(map)
-        }
+        let column = |c: usize| (0..size).map(|row| x[(row, c)]).collect::<Vec<f64>>();
+        Ok(([column(0), column(1)], residual))
     }
 
     /// The same map with a far field of tolerance `tol` (`Some(tol)`) or without one (`None`),
@@ -443,7 +580,11 @@ impl HarmonicMap {
         }
         let options = FmmOptions {
             tolerance,
-            max_level: FAR_FIELD_MAX_LEVEL,
+            max_level: if self.panels.len() > DENSE_MAX_ELEMENTS {
+                FAR_FIELD_MAX_LEVEL_LARGE
+            } else {
+                FAR_FIELD_MAX_LEVEL
+            },
             ..FmmOptions::default()
         };
         let fmm = Fmm::new(&sources, &weights, &options).map_err(SolveError::FarField)?;
@@ -754,7 +895,9 @@ impl HarmonicMap {
         Some(Vector2::new(c * fu, c * fv))
     }
 
-    /// The LU solve's relative residual `‖A x − b‖∞ / (‖A‖∞‖x‖∞ + ‖b‖∞)`.
+    /// The solve's relative residual: the dense LU's `‖A x − b‖∞ / (‖A‖∞‖x‖∞ + ‖b‖∞)`, or
+    /// the iterative solve's `‖A x − b‖₂ / ‖b‖₂` (the worse component, `A x` by the multipole
+    /// product; [`SetupCost::iterations`] tells which ran).
     #[must_use]
     pub fn solve_residual(&self) -> f64 {
         self.solve_residual

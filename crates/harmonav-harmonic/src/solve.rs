@@ -1,0 +1,501 @@
+//! The iterative solve of the boundary-element system (docs/maths/13-harmonic-scaling.md): the
+//! same equations as the dense LU of `crate::map`, solved by restarted GMRES with a multipole
+//! matrix–vector product and a two-level preconditioner, in `O(N)` memory and `O(N)` work per
+//! iteration instead of `8(N + M + 1)²` bytes and `(2/3)(N + M + 1)³` flops.
+//!
+//! **The product.** `A x` for `x = (k, p, c)`: the single-layer block `G k`,
+//! `G_ij = W_j(c_i)`, is split as `G = G_near + G_far`. `G_far k = 2 Re Σ_j k_j G_j(c_i)` over
+//! the pieces of the elements outside the 3 × 3 leaves about `c_i` comes from
+//! `harmonav_multipole::Operator` (`W_j = 2 Re G_j`); `G_near` holds the rest exactly, as a
+//! sparse matrix of the closed form on each near piece (`crate::kernel::interval`), computed
+//! once. The puncture columns, the constant column and the charge rows are applied exactly.
+//!
+//! **The preconditioner** (`M⁻¹ r = P A_c⁻¹ R r + Σ_I E_I S_I⁻¹ [r_I; 0]`, right-applied):
+//! the elements are grouped into clusters of at most `b` consecutive elements of one ring.
+//! - *Local*, per cluster `I`: `S_I = [[G_II, 1], [ℓ_Iᵀ, 0]]` (its own dense block, exact, with
+//!   a constant and a zero-charge row, `ℓ_j = |E_j|/h̄`): the correction it gives has zero
+//!   charge on the cluster, so it changes no charge row, and the constant part of `r_I` is left
+//!   to the coarse level.
+//! - *Coarse*: one unknown per cluster (a density constant on it) plus the `M` punctures and
+//!   the constant: `A_c` is `A` restricted to that space (`R` averages each cluster's rows, the
+//!   charge rows are kept), with `Σ_{j∈J} G_ij` exact between near clusters and
+//!   `L_J ln|c̄_I − c̄_J|²` between far ones. The charge rows and the puncture and constant
+//!   columns are exact in it, so the constraints are solved at the coarse level.
+//!
+//! The single layer is a first-kind operator (its condition grows like `N`); block Jacobi
+//! alone leaves the smooth modes, which the coarse level takes.
+
+use std::ops::Range;
+
+use faer::Mat;
+use faer::linalg::solvers::{PartialPivLu, Solve};
+use harmonav_multipole::{C64, FmmError, Operator, Options as FmmOptions, Piece, Source};
+
+use crate::kernel;
+use crate::map::Panel;
+
+/// The tolerance of the multipole product: `|Δ(G_far k)_i| ≤ tol·Σ_j 2|k_j||E_j|`.
+pub(crate) const PRODUCT_TOLERANCE: f64 = 1e-12;
+
+/// GMRES stops at `‖b − A x‖₂ ≤ rtol·‖b‖₂` (its recursive estimate; the true residual is
+/// measured after).
+pub(crate) const GMRES_TOLERANCE: f64 = 1e-12;
+
+/// The Krylov basis kept between restarts.
+const RESTART: usize = 60;
+
+/// Most GMRES iterations per right-hand side.
+const MAX_ITERATIONS: usize = 600;
+
+/// Pieces per occupied leaf the multipole tree aims at.
+const LEAF_SIZE: usize = 64;
+
+/// What the iterative solve reports.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Stats {
+    /// GMRES iterations, both components.
+    pub iterations: usize,
+    /// `‖b − A x‖₂/‖b‖₂`, the worse component, from a last product.
+    pub residual: f64,
+    /// The multipole tree, the near matrix and the preconditioner.
+    pub assembly: std::time::Duration,
+}
+
+/// The assembled operator: the multipole tree, the near matrix (rows by collocation point).
+struct System<'a> {
+    panels: &'a [Panel],
+    ring_of: Vec<usize>,
+    holes: usize,
+    mean: f64,
+    far: Operator,
+    near_start: Vec<usize>,
+    near_col: Vec<u32>,
+    near_val: Vec<f64>,
+}
+
+impl System<'_> {
+    fn size(&self) -> usize {
+        self.panels.len() + self.holes + 1
+    }
+
+    /// `y = A x` (module docs).
+    fn apply(&self, x: &[f64], y: &mut [f64], scratch: &mut (Vec<f64>, Vec<f64>)) {
+        let n = self.panels.len();
+        let (weights, far) = scratch;
+        weights.clear();
+        weights.extend(x[..n].iter().map(|k| 2.0 * k));
+        far.resize(n, 0.0);
+        self.far.apply(weights, far);
+        let c = x[n + self.holes];
+        for i in 0..n {
+            let mut s = far[i];
+            for e in self.near_start[i]..self.near_start[i + 1] {
+                s += self.near_val[e] * x[self.near_col[e] as usize];
+            }
+            let r = self.ring_of[i];
+            if r > 0 {
+                s -= x[n + r - 1];
+            }
+            y[i] = s + c;
+        }
+        for v in &mut y[n..] {
+            *v = 0.0;
+        }
+        for (j, p) in self.panels.iter().enumerate() {
+            let r = self.ring_of[j];
+            let row = if r == 0 { n + self.holes } else { n + r - 1 };
+            y[row] += 2.0 * p.half / self.mean * x[j];
+        }
+    }
+}
+
+/// `W_j(c_i)` of the dense matrix (`crate::map`'s entry, bit for bit).
+fn entry(panels: &[Panel], i: usize, j: usize) -> f64 {
+    let (p, q) = (&panels[i], &panels[j]);
+    let dx = p.centre[0] - q.centre[0];
+    let dy = p.centre[1] - q.centre[1];
+    let xo = dx * q.tangent[0] + dy * q.tangent[1];
+    let yo = -dx * q.tangent[1] + dy * q.tangent[0];
+    let yo = if i == j { 0.0 } else { yo };
+    kernel::element(xo, yo, q.half).w
+}
+
+/// The closed form on one near piece of element `piece.source` at normalised point `z`
+/// (`crate::map`'s near pieces, the same snapping of the ends).
+pub(crate) fn piece_value(panels: &[Panel], z: [f64; 2], piece: &Piece) -> f64 {
+    let Some(p) = panels.get(piece.source) else {
+        return 0.0;
+    };
+    let Source::Segment(s0, s1) = piece.shape else {
+        return 0.0;
+    };
+    let (tx, ty) = (p.tangent[0], p.tangent[1]);
+    let dx = z[0] - p.centre[0];
+    let dy = z[1] - p.centre[1];
+    let xo = dx * tx + dy * ty;
+    let yo = -dx * ty + dy * tx;
+    let snap = 16.0 * f64::EPSILON;
+    let along = |s: C64| {
+        let t = (s.re - p.centre[0]) * tx + (s.im - p.centre[1]) * ty;
+        if (t + p.half).abs() <= snap {
+            -p.half
+        } else if (t - p.half).abs() <= snap {
+            p.half
+        } else {
+            t
+        }
+    };
+    let (t0, t1) = (along(s0), along(s1));
+    if t1 <= t0 {
+        return 0.0;
+    }
+    kernel::interval(xo, yo, t0, t1).0.w
+}
+
+fn assemble<'a>(
+    panels: &'a [Panel],
+    ranges: &[Range<usize>],
+    mean: f64,
+) -> Result<System<'a>, FmmError> {
+    let n = panels.len();
+    let ring_of: Vec<usize> = ranges
+        .iter()
+        .enumerate()
+        .flat_map(|(r, range)| std::iter::repeat_n(r, range.len()))
+        .collect();
+    let sources: Vec<Source> = panels
+        .iter()
+        .map(|p| {
+            let c = C64::new(p.centre[0], p.centre[1]);
+            let t = C64::new(p.tangent[0], p.tangent[1]);
+            Source::Segment(c - t * p.half, c + t * p.half)
+        })
+        .collect();
+    let targets: Vec<C64> = panels
+        .iter()
+        .map(|p| C64::new(p.centre[0], p.centre[1]))
+        .collect();
+    let options = FmmOptions {
+        tolerance: PRODUCT_TOLERANCE,
+        leaf_size: LEAF_SIZE,
+        max_level: 8,
+        region: None,
+    };
+    let far = Operator::new(&sources, &targets, &options)?;
+    let mut near_start = Vec::with_capacity(n + 1);
+    let mut near_col = Vec::new();
+    let mut near_val = Vec::new();
+    let mut acc = vec![0.0; n];
+    let mut mark = vec![usize::MAX; n];
+    let mut touched: Vec<usize> = Vec::new();
+    near_start.push(0);
+    for (i, p) in panels.iter().enumerate() {
+        far.near(i, |piece| {
+            let j = piece.source;
+            if mark[j] != i {
+                mark[j] = i;
+                touched.push(j);
+            }
+            acc[j] += piece_value(panels, p.centre, piece);
+        });
+        touched.sort_unstable();
+        for &j in &touched {
+            near_col.push(j as u32);
+            near_val.push(acc[j]);
+            acc[j] = 0.0;
+        }
+        touched.clear();
+        near_start.push(near_col.len());
+    }
+    Ok(System {
+        panels,
+        ring_of,
+        holes: ranges.len() - 1,
+        mean,
+        far,
+        near_start,
+        near_col,
+        near_val,
+    })
+}
+
+/// The two-level preconditioner of the module docs.
+struct Preconditioner {
+    n: usize,
+    holes: usize,
+    clusters: Vec<Range<usize>>,
+    local: Vec<PartialPivLu<f64>>,
+    coarse: PartialPivLu<f64>,
+}
+
+impl Preconditioner {
+    fn new(system: &System<'_>, ranges: &[Range<usize>]) -> Self {
+        let panels = system.panels;
+        let n = panels.len();
+        let holes = system.holes;
+        let mean = system.mean;
+        // Clusters of at most b consecutive elements of one ring, b chosen so that the coarse
+        // matrix stays near 1 500 unknowns.
+        let b = (n.div_ceil(1500)).max(32);
+        let mut clusters = Vec::new();
+        let mut cluster_ring = Vec::new();
+        for (r, range) in ranges.iter().enumerate() {
+            let m = range.len();
+            let parts = m.div_ceil(b).max(1);
+            for k in 0..parts {
+                let s = range.start + k * m / parts;
+                let e = range.start + (k + 1) * m / parts;
+                if e > s {
+                    clusters.push(s..e);
+                    cluster_ring.push(r);
+                }
+            }
+        }
+        let ell = |j: usize| 2.0 * panels[j].half / mean;
+        let local: Vec<PartialPivLu<f64>> = clusters
+            .iter()
+            .map(|c| {
+                let s = c.len();
+                let m = Mat::<f64>::from_fn(s + 1, s + 1, |row, col| match (row < s, col < s) {
+                    (true, true) => entry(panels, c.start + row, c.start + col),
+                    (true, false) => 1.0,
+                    (false, true) => ell(c.start + col),
+                    (false, false) => 0.0,
+                });
+                m.partial_piv_lu()
+            })
+            .collect();
+        // Cluster centroids (length-weighted), lengths and radii.
+        let nc = clusters.len();
+        let mut centroid = Vec::with_capacity(nc);
+        let mut length = Vec::with_capacity(nc);
+        let mut radius = Vec::with_capacity(nc);
+        for c in &clusters {
+            let (mut sx, mut sy, mut l) = (0.0, 0.0, 0.0);
+            for p in &panels[c.clone()] {
+                let w = 2.0 * p.half;
+                sx += w * p.centre[0];
+                sy += w * p.centre[1];
+                l += w;
+            }
+            let (cx, cy) = (sx / l, sy / l);
+            let r = panels[c.clone()]
+                .iter()
+                .map(|p| (p.centre[0] - cx).hypot(p.centre[1] - cy) + p.half)
+                .fold(0.0, f64::max);
+            centroid.push([cx, cy]);
+            length.push(l);
+            radius.push(r);
+        }
+        let size = nc + holes + 1;
+        let mut ac = Mat::<f64>::zeros(size, size);
+        for i in 0..nc {
+            for j in 0..nc {
+                let d = (centroid[i][0] - centroid[j][0]).hypot(centroid[i][1] - centroid[j][1]);
+                ac[(i, j)] = if d > 3.0 * (radius[i] + radius[j]) {
+                    length[j] * (d * d).ln()
+                } else {
+                    // Exact on the diagonal; between near clusters the mean over at most
+                    // eight evenly spaced rows of I (a preconditioner needs no more).
+                    let ci = clusters[i].clone();
+                    let rows = if i == j { ci.len() } else { ci.len().min(8) };
+                    let mut s = 0.0;
+                    for k in 0..rows {
+                        let ii = ci.start + k * ci.len() / rows;
+                        for jj in clusters[j].clone() {
+                            s += entry(panels, ii, jj);
+                        }
+                    }
+                    s / rows as f64
+                };
+            }
+            let r = cluster_ring[i];
+            if r > 0 {
+                ac[(i, nc + r - 1)] = -1.0;
+            }
+            ac[(i, size - 1)] = 1.0;
+            let row = if r == 0 { size - 1 } else { nc + r - 1 };
+            ac[(row, i)] = clusters[i].clone().map(ell).sum::<f64>();
+        }
+        Self {
+            n,
+            holes,
+            clusters,
+            local,
+            coarse: ac.partial_piv_lu(),
+        }
+    }
+
+    /// `z = M⁻¹ r`.
+    fn apply(&self, r: &[f64], z: &mut [f64]) {
+        let n = self.n;
+        let nc = self.clusters.len();
+        let mut rc = Mat::<f64>::zeros(nc + self.holes + 1, 1);
+        for (i, c) in self.clusters.iter().enumerate() {
+            rc[(i, 0)] = r[c.clone()].iter().sum::<f64>() / c.len() as f64;
+        }
+        for k in 0..=self.holes {
+            rc[(nc + k, 0)] = r[n + k];
+        }
+        let yc = self.coarse.solve(&rc);
+        for (i, c) in self.clusters.iter().enumerate() {
+            let s = c.len();
+            let mut rl = Mat::<f64>::zeros(s + 1, 1);
+            for (k, j) in c.clone().enumerate() {
+                rl[(k, 0)] = r[j];
+            }
+            let x = self.local[i].solve(&rl);
+            for (k, j) in c.clone().enumerate() {
+                z[j] = yc[(i, 0)] + x[(k, 0)];
+            }
+        }
+        for k in 0..=self.holes {
+            z[n + k] = yc[(nc + k, 0)];
+        }
+    }
+}
+
+/// Restarted GMRES with right preconditioning: `A M⁻¹ y = b`, `x = M⁻¹ y`, modified
+/// Gram–Schmidt and Givens rotations; stops at `‖b − A x‖₂ ≤ rtol‖b‖₂` (the recursive
+/// estimate) or after `max_iterations`. Returns `x` and the iterations taken.
+fn gmres(
+    b: &[f64],
+    mut apply_a: impl FnMut(&[f64], &mut [f64]),
+    mut apply_m: impl FnMut(&[f64], &mut [f64]),
+    rtol: f64,
+) -> (Vec<f64>, usize) {
+    let n = b.len();
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+    let norm_b = dot(b, b).sqrt();
+    let mut x = vec![0.0; n];
+    if norm_b == 0.0 {
+        return (x, 0);
+    }
+    let mut iterations = 0;
+    let mut w = vec![0.0; n];
+    let mut t = vec![0.0; n];
+    let mut r = b.to_vec();
+    loop {
+        let beta = dot(&r, &r).sqrt();
+        if beta <= rtol * norm_b || iterations >= MAX_ITERATIONS {
+            return (x, iterations);
+        }
+        let mut v: Vec<Vec<f64>> = vec![r.iter().map(|ri| ri / beta).collect()];
+        let mut h = vec![vec![0.0; RESTART]; RESTART + 1];
+        let (mut cs, mut sn) = (vec![0.0; RESTART], vec![0.0; RESTART]);
+        let mut g = vec![0.0; RESTART + 1];
+        g[0] = beta;
+        let mut k = 0;
+        while k < RESTART && iterations < MAX_ITERATIONS {
+            apply_m(&v[k], &mut t);
+            apply_a(&t, &mut w);
+            iterations += 1;
+            for (i, vi) in v.iter().enumerate() {
+                let hik = dot(&w, vi);
+                h[i][k] = hik;
+                for (wj, vj) in w.iter_mut().zip(vi) {
+                    *wj -= hik * vj;
+                }
+            }
+            let hn = dot(&w, &w).sqrt();
+            h[k + 1][k] = hn;
+            for i in 0..k {
+                let (a, bb) = (h[i][k], h[i + 1][k]);
+                h[i][k] = cs[i] * a + sn[i] * bb;
+                h[i + 1][k] = -sn[i] * a + cs[i] * bb;
+            }
+            let (a, bb) = (h[k][k], h[k + 1][k]);
+            let d = a.hypot(bb);
+            (cs[k], sn[k]) = if d == 0.0 {
+                (1.0, 0.0)
+            } else {
+                (a / d, bb / d)
+            };
+            h[k][k] = d;
+            h[k + 1][k] = 0.0;
+            g[k + 1] = -sn[k] * g[k];
+            g[k] *= cs[k];
+            k += 1;
+            if g[k].abs() <= rtol * norm_b || hn == 0.0 {
+                break;
+            }
+            v.push(w.iter().map(|wi| wi / hn).collect());
+        }
+        // y = H⁻¹ g (upper triangular, k × k), x += M⁻¹ V y.
+        let mut y = vec![0.0; k];
+        for i in (0..k).rev() {
+            let mut s = g[i];
+            for j in i + 1..k {
+                s -= h[i][j] * y[j];
+            }
+            y[i] = s / h[i][i];
+        }
+        let mut u = vec![0.0; n];
+        for (vi, yi) in v.iter().zip(&y) {
+            for (uj, vj) in u.iter_mut().zip(vi) {
+                *uj += yi * vj;
+            }
+        }
+        apply_m(&u, &mut t);
+        for (xi, ti) in x.iter_mut().zip(&t) {
+            *xi += ti;
+        }
+        apply_a(&x, &mut w);
+        for ((ri, bi), wi) in r.iter_mut().zip(b).zip(&w) {
+            *ri = bi - wi;
+        }
+    }
+}
+
+/// Solves the system of `crate::map` for both right-hand sides (`rhs[c][i]`, rows as the
+/// dense matrix's) iteratively; returns the solutions (unknowns as the dense solve's columns)
+/// and the statistics.
+pub(crate) fn solve(
+    panels: &[Panel],
+    ranges: &[Range<usize>],
+    mean: f64,
+    rhs: [&[f64]; 2],
+) -> Result<([Vec<f64>; 2], Stats), FmmError> {
+    let clock = std::time::Instant::now();
+    let system = assemble(panels, ranges, mean)?;
+    let pre = Preconditioner::new(&system, ranges);
+    let assembly = clock.elapsed();
+    let size = system.size();
+    let mut stats = Stats {
+        assembly,
+        ..Stats::default()
+    };
+    // One component per thread (the product and the preconditioner are read-only).
+    let component = |b: &[f64]| -> (Vec<f64>, usize, f64) {
+        let mut scratch = (Vec::new(), Vec::new());
+        let (x, it) = gmres(
+            b,
+            |x, y| system.apply(x, y, &mut scratch),
+            |r, z| pre.apply(r, z),
+            GMRES_TOLERANCE,
+        );
+        let mut y = vec![0.0; size];
+        system.apply(&x, &mut y, &mut scratch);
+        let num: f64 = y.iter().zip(b).map(|(a, b)| (a - b) * (a - b)).sum();
+        let den: f64 = b.iter().map(|b| b * b).sum();
+        let rel = if den > 0.0 {
+            (num / den).sqrt()
+        } else {
+            num.sqrt()
+        };
+        (x, it, if rel.is_finite() { rel } else { f64::INFINITY })
+    };
+    let (u, v) = std::thread::scope(|scope| {
+        let handle = scope.spawn(|| component(rhs[1]));
+        let u = component(rhs[0]);
+        // A panic in the other thread is re-raised here.
+        let v = handle
+            .join()
+            .unwrap_or_else(|e| std::panic::resume_unwind(e));
+        (u, v)
+    });
+    stats.iterations = u.1 + v.1;
+    stats.residual = u.2.max(v.2);
+    let out = [u.0, v.0];
+    Ok((out, stats))
+}
