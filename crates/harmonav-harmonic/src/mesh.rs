@@ -71,8 +71,7 @@ pub enum MeshError {
     },
     /// The options would give more than [`MAX_ELEMENTS`] elements.
     TooManyElements {
-        /// A lower bound of the count they would give: the count stops at the first edge that
-        /// passes the cap (saturated at `usize::MAX`).
+        /// The count they would give (saturated at `usize::MAX`).
         elements: usize,
         /// The cap.
         max: usize,
@@ -87,9 +86,8 @@ impl std::fmt::Display for MeshError {
             }
             Self::TooManyElements { elements, max } => write!(
                 f,
-                "the mesh would have more than {max} boundary elements, the most the dense \
-                 solve takes ({elements} counted when the count stopped); a larger max_element \
-                 or fewer wall vertices give fewer"
+                "the mesh would have {elements} boundary elements, more than the {max} allowed \
+                 (about 1 GB); a larger max_element or fewer wall vertices give fewer"
             ),
         }
     }

@@ -225,6 +225,10 @@ pub struct FloorScenario {
     /// Obstacles inside the plan, unknown until sensed.
     #[serde(default)]
     pub obstacles: Vec<ShapeSpec>,
+    /// People and other robots on scripted trajectories, as in a star world
+    /// ([`crate::MoverSpec`], `docs/movers.md` §8).
+    #[serde(default)]
+    pub movers: Vec<crate::MoverSpec>,
 }
 
 /// A loaded and validated floor-plan scenario: the solved map and the true obstacles.
@@ -457,6 +461,26 @@ impl FloorScenario {
                 return Err(f(name, format!("NaN or infinite coordinate in {p:?}")));
             }
         }
+        if self.movers.len() > crate::movers::MAX_MOVERS {
+            return Err(f(
+                "movers",
+                format!(
+                    "{} movers; at most {} are supported",
+                    self.movers.len(),
+                    crate::movers::MAX_MOVERS
+                ),
+            ));
+        }
+        for (i, m) in self.movers.iter().enumerate() {
+            m.check(r.start, r.radius).map_err(|(key, p)| {
+                let field = if key.is_empty() {
+                    format!("movers[{i}]")
+                } else {
+                    format!("movers[{i}].{key}")
+                };
+                f(&field, p)
+            })?;
+        }
         let s = &self.sim;
         for (name, value) in [
             ("sim.max_time", s.max_time),
@@ -563,11 +587,10 @@ impl FloorScenario {
                             f(
                                 "floor_plan.simplify",
                                 format!(
-                                    "the mesh would have more than {max} boundary elements \
-                                     ({elements} counted when the count stopped), the most \
-                                     allowed, and every vertex of the map's outline \
-                                     ends one: simplify = {:e} square pixels keeps too many \
-                                     (the default is {})",
+                                    "the mesh would have {elements} boundary elements, more \
+                                     than the {max} allowed, and every vertex of the map's \
+                                     outline ends one: simplify = {:e} square pixels keeps too \
+                                     many (the default is {})",
                                     map_options.simplify,
                                     harmonav_floorplan::ros_map::DEFAULT_SIMPLIFY
                                 ),
