@@ -134,3 +134,38 @@ fn a_file_without_movers_writes_back_as_before() {
     let again = Scenario::parse(path, &toml::to_string(&with).unwrap()).unwrap();
     assert_eq!(again, with);
 }
+
+#[test]
+fn a_floor_plan_refuses_a_bad_mover_by_name() {
+    let plan = r#"
+name = "corridor"
+[floor_plan]
+outer = [[0.0, 0.0], [6.0, 0.0], [6.0, 2.0], [0.0, 2.0]]
+max_element = 0.2
+[robot]
+model = "kinematic"
+start = [0.5, 1.0]
+goal = [5.5, 1.0]
+radius = 0.1
+[[movers]]
+radius = 0.2
+speed_bound = 0.5
+start = [5.0, 1.0]
+velocity = [-0.5, 0.0]
+[[movers]]
+radius = 0.2
+speed_bound = 0.5
+start = [3.0, 1.0]
+velocity = [-0.9, 0.0]
+"#;
+    let path = Path::new("f.toml");
+    let e = harmonav_scenario::floorplan::FloorScenario::parse(path, plan)
+        .and_then(|s| s.prepare(path))
+        .map(|_| ())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("f.toml") && e.contains("`movers[1].velocity`"),
+        "{e}"
+    );
+}

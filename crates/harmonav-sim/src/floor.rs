@@ -15,6 +15,7 @@ use serde::Serialize;
 
 use crate::guarantee::{Check, Guarantee};
 use crate::monitor::MARGIN_TOLERANCE;
+use crate::movers::{MoverReport, MoverWorld};
 use crate::scanner::{Scanner, Scene};
 use crate::summary::{PerceptionReport, Physics};
 use crate::trace::{Discovery, Event, Sample, recorded_velocity};
@@ -107,6 +108,8 @@ pub struct FloorRun {
     /// With a lidar: the shapes it perceived by the end (not grown), in the perception's
     /// order; empty otherwise.
     pub perceived: Vec<StarShape>,
+    /// What the file's movers did (`None` without movers).
+    pub movers: Option<MoverReport>,
 }
 
 /// The name of the `i`-th obstacle of a floor-plan file: its `name`, or `obstacles[i]`.
@@ -343,6 +346,13 @@ pub(crate) fn fly(
         max_deviation: None,
         perception: None,
         perceived: Vec::new(),
+        movers: None,
+    };
+    // The file's movers (docs/movers.md §8): reported before every command of the law.
+    let mut world = MoverWorld::new(&prepared.scenario.movers, r.radius);
+    let mass = match nav.controller() {
+        Controller::Dynamic(law) => law.mass(),
+        Controller::Kinematic(_) => 1.0,
     };
     // The disc's clearance at the previous state and the length of the step since.
     let mut last: Option<(f64, f64)> = None;
@@ -445,12 +455,25 @@ pub(crate) fn fly(
             [x.x, x.y],
             if discovered { Keep::Pinned } else { Keep::Grid },
         );
+        if custom.is_none() && !world.is_empty() {
+            nav.set_movers(world.reports())?;
+        }
+        let mut mode = None;
         let command = match custom {
             Some(law) => law(&nav, x, vel),
             None => match nav.command(x, vel) {
                 Ok(c) => {
                     out.escapes = nav.escapes();
+                    mode = Some(c.mode);
                     c.value
+                }
+                // The reported bodies overlap: no certified command; the robot stops.
+                Err(NavError::InMover { .. }) if !world.is_empty() => {
+                    if kinematic {
+                        Vector2::zeros()
+                    } else {
+                        -mass * vel / h
+                    }
                 }
                 Err(e) => {
                     out.ending = FloorEnding::Refused;
@@ -482,8 +505,16 @@ pub(crate) fn fly(
         }
         out.path += step;
         last = Some((clearance, step));
+        if !world.is_empty() {
+            let certified = mode
+                .as_ref()
+                .is_some_and(|m| !matches!(m, harmonav::Mode::Overwhelmed { .. }));
+            world.count(mode.as_ref());
+            world.period(x, next, h, certified);
+        }
         x = next;
     }
+    out.movers = (!world.is_empty()).then(|| world.report.clone());
     if let Some(o) = observer.as_mut()
         && observed != Some(out.time)
     {
@@ -558,6 +589,10 @@ pub struct FloorSummary {
     pub perception: Option<PerceptionReport>,
     /// Every guarantee with what its monitor measured.
     pub guarantees: Vec<Guarantee>,
+    /// What the file's movers did (`[[movers]]`; absent otherwise, so that a summary without
+    /// movers is as before).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub movers: Option<MoverReport>,
 }
 
 impl FloorSummary {
@@ -658,6 +693,9 @@ impl FloorSummary {
         if let Some((_, checks)) = &run.perception {
             guarantees.extend(checks.iter().cloned());
         }
+        if let Some(report) = &run.movers {
+            guarantees.push(crate::movers::judged(report, r.margin));
+        }
         Self {
             name: sc.name.clone(),
             model,
@@ -687,6 +725,7 @@ impl FloorSummary {
             discoveries: run.discoveries.clone(),
             perception: run.perception.as_ref().map(|(r, _)| r.clone()),
             guarantees,
+            movers: run.movers.clone(),
         }
     }
 

@@ -158,18 +158,22 @@ impl MoverWorld {
 
     /// The guarantee `no-collision-with-movers`, the robot's margin `margin`.
     pub fn guarantee(&self, margin: f64) -> Guarantee {
-        let r = &self.report;
-        Guarantee::new(
-            Check::NoCollisionWithMovers {
-                contacts: r.mover_contacts,
-                after_certified: r.contacts_after_certified,
-                overwhelmed_commands: r.overwhelmed_commands + r.refused_commands,
-                min_clearance: r.min_mover_clearance,
-                margin,
-            },
-            r.contacts_after_certified == 0,
-        )
+        judged(&self.report, margin)
     }
+}
+
+/// The guarantee `no-collision-with-movers` of a run's report `r`, the robot's margin `margin`.
+pub(crate) fn judged(r: &MoverReport, margin: f64) -> Guarantee {
+    Guarantee::new(
+        Check::NoCollisionWithMovers {
+            contacts: r.mover_contacts,
+            after_certified: r.contacts_after_certified,
+            overwhelmed_commands: r.overwhelmed_commands + r.refused_commands,
+            min_clearance: r.min_mover_clearance,
+            margin,
+        },
+        r.contacts_after_certified == 0,
+    )
 }
 
 #[cfg(test)]

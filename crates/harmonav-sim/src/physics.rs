@@ -99,6 +99,9 @@ fn floor_with(
     observer: Option<&mut dyn FnMut(Event<'_>)>,
 ) -> Result<FloorRun, RunError> {
     match (physics, observer) {
+        (Physics::Rapier, _) if !prepared.scenario.movers.is_empty() => {
+            Err(RunError::MoversInRapier)
+        }
         (Physics::Builtin, None) => Ok(floor::run(prepared, model, start)?),
         (Physics::Builtin, Some(observer)) => {
             Ok(floor::run_observed(prepared, model, start, observer)?)

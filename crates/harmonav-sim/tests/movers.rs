@@ -72,3 +72,24 @@ fn rapier_refuses_a_file_with_movers() {
     let prepared = Scenario::load(&file("person-crossing.toml")).unwrap();
     assert!(simulate(&prepared, None, Physics::Rapier).is_err());
 }
+
+#[test]
+fn a_floor_plan_with_a_mover_yields_and_arrives() {
+    use harmonav_scenario::floorplan::FloorScenario;
+    use harmonav_sim::floor::FloorSummary;
+    use harmonav_sim::physics::simulate_floor;
+    let prepared = FloorScenario::load(&file("floor-corridor.toml")).unwrap();
+    let start = nalgebra::Vector2::from(prepared.scenario.robot.start);
+    for model in [Model::Kinematic, Model::Dynamic] {
+        let run = simulate_floor(&prepared, Some(model), start, Physics::Builtin).unwrap();
+        let s = FloorSummary::new(&prepared, Some(model), start, &run);
+        let m = s.movers.as_ref().unwrap();
+        assert!(s.all_passed(), "{model:?}: {:?}", s.guarantees);
+        assert_eq!(
+            m.certified_commands + m.overwhelmed_commands + m.refused_commands,
+            s.commands
+        );
+        assert!(m.yielding_commands > 0 && m.mover_contacts == 0, "{m:?}");
+    }
+    assert!(simulate_floor(&prepared, None, start, Physics::Rapier).is_err());
+}

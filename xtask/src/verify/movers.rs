@@ -6,9 +6,12 @@
 
 use std::path::{Path, PathBuf};
 
+use harmonav_scenario::floorplan::{FileKind, FloorScenario};
 use harmonav_scenario::{Model, Scenario};
-use harmonav_sim::physics::{Physics, simulate};
+use harmonav_sim::floor::FloorSummary;
+use harmonav_sim::physics::{Physics, simulate, simulate_floor};
 use harmonav_sim::run::run_without_filter;
+use nalgebra::Vector2;
 
 use super::{Check, Outcome, Verdict};
 
@@ -51,6 +54,9 @@ pub fn checks() -> Vec<Check> {
 
 /// One file under `model`: every guarantee holds and no mover touches the robot.
 fn fly(file: &Path, model: Model) -> Outcome {
+    if FileKind::of(file).map_err(|e| e.to_string())? == FileKind::FloorPlan {
+        return fly_floor(file, model);
+    }
     let prepared = Scenario::load(file).map_err(|e| e.to_string())?;
     let run = simulate(&prepared, Some(model), Physics::Builtin).map_err(|e| e.to_string())?;
     let s = &run.summary;
@@ -67,6 +73,40 @@ fn fly(file: &Path, model: Model) -> Outcome {
         m.mover_contacts,
         m.min_mover_clearance,
         prepared.margin(),
+    );
+    let failed: Vec<&str> = s
+        .guarantees
+        .iter()
+        .filter(|g| !g.passed)
+        .map(|g| g.name())
+        .collect();
+    if !failed.is_empty() || m.mover_contacts > 0 {
+        return Err(format!("{detail}; failed: {failed:?}"));
+    }
+    Ok(Verdict::Held(detail))
+}
+
+/// A floor plan with movers under `model` (its `robot.start`): every guarantee holds and no
+/// mover touches the robot.
+fn fly_floor(file: &Path, model: Model) -> Outcome {
+    let prepared = FloorScenario::load(file).map_err(|e| e.to_string())?;
+    let start = Vector2::from(prepared.scenario.robot.start);
+    let run = simulate_floor(&prepared, Some(model), start, Physics::Builtin)
+        .map_err(|e| e.to_string())?;
+    let s = FloorSummary::new(&prepared, Some(model), start, &run);
+    let m = s.movers.as_ref().ok_or("no mover report")?;
+    let detail = format!(
+        "reached {} in {:.2} s; commands: {} certified ({} yielding), {} overwhelmed, {} refused; \
+         {} contacts; min mover clearance {:.3} m (margin {} m)",
+        s.reached,
+        s.time_s,
+        m.certified_commands,
+        m.yielding_commands,
+        m.overwhelmed_commands,
+        m.refused_commands,
+        m.mover_contacts,
+        m.min_mover_clearance,
+        prepared.scenario.robot.margin,
     );
     let failed: Vec<&str> = s
         .guarantees
