@@ -74,6 +74,16 @@ pub(crate) fn interval(xo: f64, yo: f64, t0: f64, t1: f64) -> (Local, bool, bool
     (local, rp == 0.0, rm == 0.0)
 }
 
+/// One element in normalised coordinates with its two densities.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Panel {
+    pub(crate) centre: [f64; 2],
+    pub(crate) tangent: [f64; 2],
+    pub(crate) half: f64,
+    pub(crate) ku: f64,
+    pub(crate) kv: f64,
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

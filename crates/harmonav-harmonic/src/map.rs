@@ -41,7 +41,7 @@ use harmonav_multipole::{C64, Fmm, Options as FmmOptions, Piece, Source};
 use nalgebra::{Matrix2, Vector2};
 
 use crate::domain::{Domain, RingId};
-use crate::kernel;
+use crate::kernel::{self, Panel};
 use crate::mesh::{self, Element, MeshError, MeshOptions};
 use crate::solve;
 
@@ -216,16 +216,6 @@ impl MapEval {
     pub fn det(&self) -> f64 {
         self.jacobian.determinant()
     }
-}
-
-/// One element in normalised coordinates with its two densities.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Panel {
-    pub(crate) centre: [f64; 2],
-    pub(crate) tangent: [f64; 2],
-    pub(crate) half: f64,
-    pub(crate) ku: f64,
-    pub(crate) kv: f64,
 }
 
 /// Collocation residuals and hole fluxes of a solved map (see [`HarmonicMap::residuals`]).

@@ -31,8 +31,7 @@ use faer::Mat;
 use faer::linalg::solvers::{PartialPivLu, Solve};
 use harmonav_multipole::{C64, FmmError, Operator, Options as FmmOptions, Piece, Source};
 
-use crate::kernel;
-use crate::map::Panel;
+use crate::kernel::{self, Panel};
 
 /// The tolerance of the multipole product: `|Δ(G_far k)_i| ≤ tol·Σ_j 2|k_j||E_j|`.
 pub(crate) const PRODUCT_TOLERANCE: f64 = 1e-12;
