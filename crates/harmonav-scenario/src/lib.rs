@@ -58,9 +58,9 @@ pub mod truth;
 
 pub use movers::{MoverKindSpec, MoverSpec};
 pub use scenario::{
-    ControllerSpec, DEFAULT_ARRIVAL, DEFAULT_MU, ExpectSpec, FieldSpec, MAX_FILE_BYTES,
-    MAX_OBSTACLES, MAX_RECORDED_STATES, Model, PARAMETER_RANGE, Prepared, RobotSpec, Scenario,
-    ScenarioError, ShapeSpec, SimSpec, build_shape,
+    ControllerSpec, DEFAULT_ARRIVAL, DEFAULT_MU, ExpectSpec, FieldSpec, FleetRobotSpec,
+    MAX_FILE_BYTES, MAX_OBSTACLES, MAX_RECORDED_STATES, Model, PARAMETER_RANGE, Prepared,
+    RobotSpec, Scenario, ScenarioError, ShapeSpec, SimSpec, build_shape,
 };
 pub use sensor::{LidarSensor, SensorKind, SensorSpec};
 pub use suites::{ADVERSARIAL, LONG, MOVERS, scenario_files};

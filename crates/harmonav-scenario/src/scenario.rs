@@ -256,6 +256,23 @@ pub struct SimSpec {
     /// that code building a [`Scenario`] field by field keeps compiling.
     #[serde(skip)]
     pub movers: Vec<MoverSpec>,
+    /// The file's `[[robots]]`: more harmonav robots, each like `[robot]` but with its own start
+    /// and goal, each running its own navigator with the others as reciprocal movers
+    /// (`docs/movers.md` §8). Written at the top level; kept here as `movers` is.
+    #[serde(skip)]
+    pub robots: Vec<FleetRobotSpec>,
+}
+
+/// One `[[robots]]` entry: a robot like `[robot]` with its own start and goal.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FleetRobotSpec {
+    /// Start position.
+    #[serde(deserialize_with = "crate::points::point")]
+    pub start: [f64; 2],
+    /// Goal position.
+    #[serde(deserialize_with = "crate::points::point")]
+    pub goal: [f64; 2],
 }
 
 impl Default for SimSpec {
@@ -265,6 +282,7 @@ impl Default for SimSpec {
             max_time: default_max_time(),
             goal_tolerance: default_tolerance(),
             movers: Vec::new(),
+            robots: Vec::new(),
         }
     }
 }
@@ -397,6 +415,8 @@ struct ScenarioFile {
     expect: Option<ExpectSpec>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     movers: Vec<MoverSpec>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    robots: Vec<FleetRobotSpec>,
 }
 
 /// `[robot]` as written: [`RobotSpec`]'s keys and `control_period`.
@@ -442,6 +462,7 @@ impl From<ScenarioFile> for Scenario {
             },
             sim: SimSpec {
                 movers: file.movers,
+                robots: file.robots,
                 ..file.sim
             },
             expect: file.expect,
@@ -453,6 +474,7 @@ impl From<Scenario> for ScenarioFile {
     fn from(mut s: Scenario) -> Self {
         let r = s.robot;
         let movers = std::mem::take(&mut s.sim.movers);
+        let robots = std::mem::take(&mut s.sim.robots);
         Self {
             name: s.name,
             description: s.description,
@@ -473,6 +495,7 @@ impl From<Scenario> for ScenarioFile {
             sim: s.sim,
             expect: s.expect,
             movers,
+            robots,
         }
     }
 }
@@ -753,6 +776,58 @@ impl Scenario {
             ),
         })?;
         workspace.check_free(start, "start").map_err(world_error)?;
+        if self.sim.robots.len() > MAX_MOVERS {
+            return Err(f(
+                "robots",
+                format!(
+                    "{} robots; at most {MAX_MOVERS} are supported",
+                    self.sim.robots.len()
+                ),
+            ));
+        }
+        let mut starts = vec![r.start];
+        for (i, robot) in self.sim.robots.iter().enumerate() {
+            let field = |key: &str| format!("robots[{i}].{key}");
+            for (key, p) in [("start", robot.start), ("goal", robot.goal)] {
+                check_point(p, "").map_err(|e| f(&field(key), e))?;
+                // Free of the grown obstacles and inside the shrunk boundary, as robot.start.
+                let clear = workspace
+                    .obstacles()
+                    .iter()
+                    .all(|o| o.signed_distance(Vector2::from(p)) > 0.0)
+                    && workspace.boundary().signed_distance(Vector2::from(p)) < 0.0;
+                if !clear {
+                    return Err(f(
+                        &field(key),
+                        format!(
+                            "lies within robot.radius + robot.margin = {inflation} m of an \
+                             obstacle or the boundary"
+                        ),
+                    ));
+                }
+            }
+            for (j, other) in starts.iter().enumerate() {
+                let gap =
+                    (Vector2::from(robot.start) - Vector2::from(*other)).norm() - 2.0 * r.radius;
+                if gap <= 0.0 {
+                    let whose = if j == 0 {
+                        "robot.start".to_string()
+                    } else {
+                        format!("robots[{}].start", j - 1)
+                    };
+                    return Err(f(
+                        &field("start"),
+                        format!("the robot's disc overlaps the one at {whose} (gap {gap:e} m)"),
+                    ));
+                }
+            }
+            starts.push(robot.start);
+            for (k, m) in self.sim.movers.iter().enumerate() {
+                m.check(robot.start, r.radius).map_err(|(_, p)| {
+                    f(&format!("movers[{k}].start"), format!("{p} (robots[{i}])"))
+                })?;
+            }
+        }
         let lidar = self
             .sensor
             .as_ref()

@@ -169,3 +169,36 @@ velocity = [-0.9, 0.0]
         "{e}"
     );
 }
+
+#[test]
+fn bad_robots_are_refused_by_name() {
+    let path = Path::new("m.toml");
+    let with = |robots: &str| {
+        Scenario::parse(path, &format!("{WORLD}{robots}"))
+            .and_then(|s| s.prepare(path))
+            .map(|p| p.scenario.sim.robots.len())
+            .map_err(|e| e.to_string())
+    };
+    assert_eq!(
+        with("[[robots]]\nstart = [4.0, 0.5]\ngoal = [-4.0, 0.5]\n"),
+        Ok(1)
+    );
+    for (robots, field) in [
+        (
+            "[[robots]]\nstart = [-3.9, 0.1]\ngoal = [3.0, 0.0]\n",
+            "robots[0].start",
+        ),
+        (
+            "[[robots]]\nstart = [4.0, 0.5]\ngoal = [5.95, 0.0]\n",
+            "robots[0].goal",
+        ),
+        ("[[robots]]\nstart = [4.0, 0.5]\n", "robots[0]"),
+        (
+            "[[robots]]\nstart = [4.0, 0.5]\ngoal = [1.0, 1.0]\n[[robots]]\nstart = [4.0, nan]\ngoal = [1.0, 2.0]\n",
+            "robots[1].start",
+        ),
+    ] {
+        let e = with(robots).unwrap_err();
+        assert!(e.contains(&format!("`{field}`")), "{robots}: {e}");
+    }
+}

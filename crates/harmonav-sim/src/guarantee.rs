@@ -231,6 +231,23 @@ pub enum Check {
         /// `robot.margin`, m (Theorem 1 keeps it while commands are certified).
         margin: f64,
     },
+    /// [`Kind::NoCollision`] between the robots of a file with `[[robots]]` (docs/movers.md
+    /// §8): the exact least clearance between every two robots' discs along every held step. A
+    /// contact in a period where both commands were certified fails it (Theorem 2, F2), and so
+    /// does a robot other than the first that lost a guarantee of its own (arrival aside).
+    NoCollisionBetweenRobots {
+        /// Robots in the run.
+        robots: usize,
+        /// Contact episodes between two robots.
+        contacts: usize,
+        /// Periods with a contact between two robots whose commands were both certified
+        /// (`0` holds).
+        after_certified: usize,
+        /// The least clearance between two robots' bodies, m.
+        min_clearance: f64,
+        /// The other robots that lost a guarantee of their own (`0` holds).
+        others_unsafe: usize,
+    },
     /// `[expect] reached`.
     ExpectReached {
         /// The file's value.
@@ -283,9 +300,9 @@ impl Check {
             | Self::ExpectDampingSwitched { .. }
             | Self::ExpectMaxSpeedBelow { .. } => Kind::Expect,
             Self::StayedInCertifiedRegion { .. } => Kind::StayedInCertifiedRegion,
-            Self::NoCollisionWithMap { .. } | Self::NoCollisionWithMovers { .. } => {
-                Kind::NoCollision
-            }
+            Self::NoCollisionWithMap { .. }
+            | Self::NoCollisionWithMovers { .. }
+            | Self::NoCollisionBetweenRobots { .. } => Kind::NoCollision,
             Self::NoCollisionBetweenStates { .. } => Kind::NoCollisionBetweenStates,
             Self::PerceivedCoversTruth { .. } => Kind::PerceivedCoversTruth,
             Self::PerceivedOnlyGrows { .. } => Kind::PerceivedOnlyGrows,
@@ -316,6 +333,7 @@ impl Check {
             Self::StayedInCertifiedRegion { .. } => "stayed-in-certified-region",
             Self::NoCollisionWithMap { .. } => "no-collision-with-map-pixels",
             Self::NoCollisionWithMovers { .. } => "no-collision-with-movers",
+            Self::NoCollisionBetweenRobots { .. } => "no-collision-between-robots",
             Self::NoCollisionBetweenStates { .. } => "no-collision-between-states",
             Self::PerceivedCoversTruth { .. } => "perceived-covers-seen-truth",
             Self::PerceivedOnlyGrows { .. } => "perceived-shapes-only-grow",
@@ -445,6 +463,18 @@ impl std::fmt::Display for Check {
                  m (margin {margin} m); a contact after one of the {overwhelmed_commands} \
                  uncertified commands (Overwhelmed or refused) is counted, not failed \
                  (docs/movers.md, Theorem 1)"
+            ),
+            Self::NoCollisionBetweenRobots {
+                robots,
+                contacts,
+                after_certified,
+                min_clearance,
+                others_unsafe,
+            } => write!(
+                f,
+                "{robots} robots: {contacts} contact episodes between two, {after_certified} \
+                 periods with a contact under two certified commands; min clearance between \
+                 two robots {min_clearance:.4} m; {others_unsafe} other robots lost a guarantee"
             ),
             Self::StayedInCertifiedRegion {
                 min_layer_clearance,

@@ -9,7 +9,9 @@
 //! here instead ([`crate::run::run`] comes here), and a file without movers never does.
 
 use harmonav::control::{Dynamic, Potential};
-use harmonav::{Controller, DEFAULT_DYNAMIC_PERIOD, DEFAULT_KINEMATIC_PERIOD, Mode, NavError};
+use harmonav::{
+    Controller, DEFAULT_DYNAMIC_PERIOD, DEFAULT_KINEMATIC_PERIOD, Mode, Mover, NavError,
+};
 use harmonav_scenario::{Model, Prepared};
 use nalgebra::Vector2;
 
@@ -42,6 +44,9 @@ pub(crate) fn fly_with(
     observer: &mut dyn FnMut(Event<'_>),
     filter: bool,
 ) -> Result<Run, RunError> {
+    if !prepared.scenario.sim.robots.is_empty() {
+        return fleet(prepared, model, warnings, observer, filter);
+    }
     let sc = &prepared.scenario;
     let h = prepared
         .control_period()
@@ -153,6 +158,294 @@ pub(crate) fn fly_with(
         run.summary.movers = Some(world.report);
     }
     Ok(run)
+}
+
+/// One robot of a fleet in flight.
+struct Flying<'a, 'o> {
+    d: Driver<'a, 'o>,
+    world: MoverWorld,
+    x: Vector2<f64>,
+    v: Vector2<f64>,
+    drift: f64,
+    acted: bool,
+    /// Arrived, stopped or lost: it holds still from here.
+    done: bool,
+    reached: bool,
+    time: f64,
+    speed: f64,
+    mass: f64,
+}
+
+/// The scenario of robot `i` of a fleet (0: `[robot]`, then the `[[robots]]`): the file with
+/// that start and goal, no other robots, and its own movers.
+fn member(prepared: &Prepared, i: usize) -> Result<Prepared, RunError> {
+    let mut sc = prepared.scenario.clone();
+    if i > 0 {
+        let r = &sc.sim.robots[i - 1];
+        (sc.robot.start, sc.robot.goal) = (r.start, r.goal);
+        // `[expect]` speaks of the first robot.
+        sc.expect = None;
+    }
+    sc.sim.robots.clear();
+    let path = std::path::PathBuf::from(&sc.name);
+    sc.prepare(&path).map_err(|e| RunError::Robot {
+        robot: i,
+        problem: e.to_string(),
+    })
+}
+
+/// A file with `[[robots]]`: every robot runs its own navigator in lockstep at the control
+/// period, each given the scripted movers and the other robots (reciprocal, share ½, exact
+/// positions; a robot that has arrived or stopped as a non-cooperative mover at rest). The
+/// summary is the first robot's, with the others and the clearances between all of them in
+/// its `fleet`, and the guarantee `no-collision-between-robots`. `filter: false` (a negative
+/// control): no robot is given the movers or the other robots.
+fn fleet(
+    prepared: &Prepared,
+    model: Option<Model>,
+    warnings: Warnings,
+    observer: &mut dyn FnMut(Event<'_>),
+    filter: bool,
+) -> Result<Run, RunError> {
+    let sc = &prepared.scenario;
+    let n = sc.sim.robots.len() + 1;
+    let members: Vec<Prepared> = (0..n)
+        .map(|i| member(prepared, i))
+        .collect::<Result<_, _>>()?;
+    let h = prepared
+        .control_period()
+        .unwrap_or(match model.unwrap_or(sc.robot.model) {
+            Model::Kinematic => DEFAULT_KINEMATIC_PERIOD,
+            Model::Dynamic => DEFAULT_DYNAMIC_PERIOD,
+        });
+    let record_every = (sc.sim.dt / h).round().max(1.0) as usize;
+    let radius = prepared.truth.radius;
+    let mut quiet: Vec<fn(Event<'_>)> = vec![|_| {}; n - 1];
+    let mut observers: Vec<&mut dyn FnMut(Event<'_>)> = vec![observer];
+    observers.extend(quiet.iter_mut().map(|f| f as &mut dyn FnMut(Event<'_>)));
+    let mut robots = Vec::with_capacity(n);
+    for (i, (p, o)) in members.iter().zip(observers).enumerate() {
+        let d = Driver::start(
+            p,
+            model,
+            Some(h),
+            0.0,
+            if i == 0 { warnings } else { Warnings::Skip },
+            o,
+        )?;
+        let (speed, mass) = match d.nav().controller() {
+            Controller::Dynamic(law) => (law.speed_bound(), law.mass()),
+            Controller::Kinematic(law) => (law.v_max(), 1.0),
+        };
+        robots.push(Flying {
+            d,
+            world: MoverWorld::new(&sc.sim.movers, radius),
+            x: p.start(),
+            v: Vector2::zeros(),
+            drift: 0.0,
+            acted: false,
+            done: false,
+            reached: false,
+            time: 0.0,
+            speed,
+            mass,
+        });
+    }
+    let mut report = crate::movers::FleetReport {
+        min_robot_clearance: f64::INFINITY,
+        ..Default::default()
+    };
+    let mut touching = vec![false; n * n];
+    let mut periods = 0usize;
+    let mut t = 0.0;
+    loop {
+        // Each robot's state judged and recorded; arrival and the end of time.
+        for r in robots.iter_mut().filter(|r| !r.done) {
+            let (x, v) = (r.x, r.v);
+            if r.d.eval(x, v).is_none() && !r.d.recovering(x, v) {
+                r.d.abort(Guarantee::failed(Check::LeftFreeSpace {
+                    time_s: t,
+                    position: [x.x, x.y],
+                    reason: FreeSpaceLoss::Left,
+                }));
+                (r.done, r.time) = (true, t);
+                continue;
+            }
+            let mut s = r.d.sample(t, x, v);
+            s.energy_tolerance = std::mem::take(&mut r.drift);
+            r.reached = r.d.arrived(x);
+            if periods.is_multiple_of(record_every) || r.reached {
+                let keep = if r.reached { Keep::Pinned } else { Keep::Grid };
+                r.d.record(s, keep, r.acted);
+            } else {
+                r.d.judge_event(&s, r.acted);
+            }
+            if r.reached || t >= sc.sim.max_time {
+                (r.done, r.time) = (true, t);
+            }
+        }
+        if robots.iter().all(|r| r.done) {
+            break;
+        }
+        let at: Vec<(Vector2<f64>, f64, bool)> =
+            robots.iter().map(|r| (r.x, r.speed, r.done)).collect();
+        let mut next = Vec::with_capacity(n);
+        for (i, r) in robots.iter_mut().enumerate() {
+            if r.done {
+                next.push((r.x, true));
+                continue;
+            }
+            let (x, v) = (r.x, r.v);
+            let found = r.d.sees(x, v);
+            let mut discovered = !found.is_empty();
+            if discovered && !r.d.discover(t, &found, x, v) {
+                (r.done, r.time) = (true, t);
+                next.push((x, true));
+                continue;
+            }
+            if r.d.scan_due(t) {
+                match r.d.scan(r.d.sample(t, x, v), x, v) {
+                    None => {
+                        (r.done, r.time) = (true, t);
+                        next.push((x, true));
+                        continue;
+                    }
+                    Some(changed) => discovered |= changed,
+                }
+            }
+            if discovered {
+                r.d.record(r.d.sample(t, x, v), Keep::Pinned, true);
+            }
+            if r.d.at_rest(t, x, false, discovered || r.acted, false) {
+                (r.done, r.time) = (true, t);
+                next.push((x, true));
+                continue;
+            }
+            let peers =
+                at.iter()
+                    .enumerate()
+                    .filter(|(j, _)| *j != i)
+                    .map(|(_, &(p, speed, done))| {
+                        if done {
+                            Mover::new(p, radius, 0.0)
+                        } else {
+                            Mover::new(p, radius, speed).reciprocal(0.5)
+                        }
+                    });
+            if filter {
+                let movers = r.world.reports_with(peers);
+                r.d.nav_mut().set_movers(movers)?;
+            }
+            let (command, mode) = match r.d.nav_mut().command(x, v) {
+                Ok(c) => (c.value, Some(c.mode)),
+                Err(NavError::InMover { .. }) => (-r.mass * v / h, None),
+                Err(e) => return Err(e.into()),
+            };
+            let certified = mode
+                .as_ref()
+                .is_some_and(|m| !matches!(m, Mode::Overwhelmed { .. }));
+            r.world.count(mode.as_ref());
+            r.acted = !certified || matches!(mode, Some(Mode::Yielding { .. }));
+            let before = potential(&r.d, x, v);
+            let (x1, v1) = match mode {
+                Some(_) => held(r.d.nav().controller(), h, x, v, command),
+                None => (x, Vector2::zeros()),
+            };
+            if let (Controller::Dynamic(law), Some(p0), Some(p1)) =
+                (r.d.nav().controller(), before, potential(&r.d, x1, v1))
+            {
+                r.drift = euler_energy_error(law, h, (&p0, p1.value), (x, x1), (v, v1), command);
+            }
+            r.world.period(x, x1, h, certified);
+            (r.x, r.v) = (x1, v1);
+            next.push((x1, certified));
+        }
+        // Every two robots along the period.
+        for i in 0..n {
+            for j in i + 1..n {
+                let least = crate::movers::closest_approach(at[i].0, next[i].0, at[j].0, next[j].0)
+                    - 2.0 * radius;
+                report.min_robot_clearance = report.min_robot_clearance.min(least);
+                let now = least <= 0.0;
+                report.robot_contacts += usize::from(now && !touching[i * n + j]);
+                report.contacts_after_certified += usize::from(now && next[i].1 && next[j].1);
+                touching[i * n + j] = now;
+            }
+        }
+        periods += 1;
+        t = periods as f64 * h;
+    }
+    let margin = prepared.margin();
+    // The others first (the first robot's guarantee counts those that lost one of theirs).
+    let mut others: Vec<crate::summary::Summary> = Vec::with_capacity(n - 1);
+    let mut first = None;
+    for (i, r) in robots.into_iter().enumerate().rev() {
+        let Flying {
+            mut d,
+            world,
+            x,
+            v,
+            acted,
+            reached,
+            time,
+            ..
+        } = r;
+        if d.last_recorded() != Some(time) {
+            d.record(d.sample(time, x, v), Keep::Pinned, acted);
+        }
+        let mut extra: Vec<Guarantee> = Vec::new();
+        if !world.is_empty() {
+            extra.push(world.guarantee(margin));
+        }
+        if i == 0 {
+            let others_unsafe = others.iter().filter(|s| !s.safe()).count();
+            extra.push(Guarantee::new(
+                Check::NoCollisionBetweenRobots {
+                    robots: n,
+                    contacts: report.robot_contacts,
+                    after_certified: report.contacts_after_certified,
+                    min_clearance: report.min_robot_clearance,
+                    others_unsafe,
+                },
+                report.contacts_after_certified == 0 && others_unsafe == 0,
+            ));
+        }
+        let goal = d.nav().goal();
+        let mut run = d.finish_with(
+            End {
+                reached,
+                time,
+                final_distance: (x - goal).norm(),
+                steps: periods,
+                rejected: 0,
+                physics: Physics::Builtin,
+            },
+            extra,
+        );
+        run.summary.movers = (!world.is_empty()).then(|| world.report.clone());
+        if i == 0 {
+            first = Some(run);
+        } else {
+            others.push(run.summary);
+        }
+    }
+    let mut first = first.ok_or(RunError::StartNotFree)?;
+    report.others = others
+        .iter()
+        .rev()
+        .zip(&sc.sim.robots)
+        .map(|(s, r)| crate::movers::FleetRobot {
+            start: r.start,
+            goal: r.goal,
+            reached: s.reached,
+            time_s: s.time_s,
+            final_distance: s.final_distance,
+            safe: s.safe(),
+            movers: s.movers.clone(),
+        })
+        .collect();
+    first.summary.fleet = Some(report);
+    Ok(first)
 }
 
 /// `Ψ` and `∇Ψ` of the dynamic law at `(x, ẋ)` (`None` for the kinematic law or outside the

@@ -354,6 +354,7 @@ impl Monitor {
             rejected_steps: rejected,
             perception: None,
             movers: None,
+            fleet: None,
         }
     }
 }

@@ -61,6 +61,40 @@ pub struct MoverReport {
     pub min_mover_clearance: f64,
 }
 
+/// One robot of a file with `[[robots]]`, as the first robot's summary reports it.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct FleetRobot {
+    /// Start.
+    pub start: [f64; 2],
+    /// Goal.
+    pub goal: [f64; 2],
+    /// Arrived.
+    pub reached: bool,
+    /// When it arrived or the run ended, s.
+    pub time_s: f64,
+    /// Distance to its goal at the end, m.
+    pub final_distance: f64,
+    /// Its own guarantees but arrival all held.
+    pub safe: bool,
+    /// Its contacts with the scripted movers and its commands by mode (`null` without
+    /// scripted movers).
+    pub movers: Option<MoverReport>,
+}
+
+/// The robots of a file with `[[robots]]` (`summary.json`'s `fleet`): every robot after the
+/// first (whose summary this is), and the clearances between all of them.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct FleetReport {
+    /// The robots after the first.
+    pub others: Vec<FleetRobot>,
+    /// Contact episodes between two robots.
+    pub robot_contacts: usize,
+    /// Periods with a contact between two robots whose commands were both certified.
+    pub contacts_after_certified: usize,
+    /// The least clearance between two robots' bodies, m.
+    pub min_robot_clearance: f64,
+}
+
 /// The movers of a run: their scripts, the report noise and the monitor.
 pub(crate) struct MoverWorld {
     specs: Vec<MoverSpec>,
@@ -96,6 +130,13 @@ impl MoverWorld {
     /// Whether there are any.
     pub fn is_empty(&self) -> bool {
         self.specs.is_empty()
+    }
+
+    /// [`MoverWorld::reports`] followed by `peers`, the other robots.
+    pub fn reports_with(&mut self, peers: impl Iterator<Item = Mover>) -> &[Mover] {
+        self.reports();
+        self.reports.extend(peers);
+        &self.reports
     }
 
     /// The movers as reported now: each true centre offset within its error.

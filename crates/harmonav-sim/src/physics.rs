@@ -36,7 +36,10 @@ pub fn simulate_observed(
 ) -> Result<Run, RunError> {
     match physics {
         Physics::Builtin => integrate(prepared, model, Warnings::Find, observer),
-        Physics::Rapier if !prepared.scenario.sim.movers.is_empty() => {
+        Physics::Rapier
+            if !(prepared.scenario.sim.movers.is_empty()
+                && prepared.scenario.sim.robots.is_empty()) =>
+        {
             Err(RunError::MoversInRapier)
         }
         #[cfg(feature = "rapier")]

@@ -68,7 +68,7 @@ pub(crate) fn rapier_observed(
     warnings: Warnings,
     observer: &mut dyn FnMut(Event<'_>),
 ) -> Result<(Run, RapierReport), RunError> {
-    if !prepared.scenario.sim.movers.is_empty() {
+    if !(prepared.scenario.sim.movers.is_empty() && prepared.scenario.sim.robots.is_empty()) {
         return Err(RunError::MoversInRapier);
     }
     let sc = &prepared.scenario;

@@ -284,8 +284,9 @@ pub fn run_observed(
 
 /// A file with `[[movers]]` run with the robot blind to them: its navigator is never given the
 /// movers ([`harmonav::Navigator::set_movers`]), while they still move and every contact is
-/// judged. The negative control of the mover filter: such a run records contacts that the
-/// filtered run ([`run`]) does not.
+/// judged; in a file with `[[robots]]`, every robot blind to the movers and to the others. The
+/// negative control of the mover filter: such a run records contacts that the filtered run
+/// ([`run`]) does not.
 pub fn run_without_filter(prepared: &Prepared, model: Option<Model>) -> Result<Run, RunError> {
     crate::held::fly_with(prepared, model, Warnings::Skip, &mut |_| {}, false)
 }
@@ -298,7 +299,7 @@ pub(crate) fn integrate(
     warnings: Warnings,
     observer: &mut dyn FnMut(Event<'_>),
 ) -> Result<Run, RunError> {
-    if !prepared.scenario.sim.movers.is_empty() {
+    if !(prepared.scenario.sim.movers.is_empty() && prepared.scenario.sim.robots.is_empty()) {
         // Movers need the command held for the period their filter certifies.
         return crate::held::fly(prepared, model, warnings, observer);
     }

@@ -110,6 +110,10 @@ pub struct Summary {
     /// before).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub movers: Option<crate::movers::MoverReport>,
+    /// The other robots of a file with `[[robots]]` and the clearances between all of them
+    /// (absent otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fleet: Option<crate::movers::FleetReport>,
 }
 
 impl Summary {
@@ -218,6 +222,14 @@ pub enum RunError {
     /// A rapier run was asked of a file with `[[movers]]`: movers are flown by the built-in
     /// held-command loop only (docs/movers.md §8).
     MoversInRapier,
+    /// Robot `robot` of a file with `[[robots]]` (0: `[robot]`) could not be prepared with its
+    /// own start and goal.
+    Robot {
+        /// Which robot.
+        robot: usize,
+        /// Why.
+        problem: String,
+    },
 }
 
 impl std::fmt::Display for RunError {
@@ -230,6 +242,7 @@ impl std::fmt::Display for RunError {
             Self::NoRapier => f.write_str(
                 "this build has no rapier integrator: enable harmonav-sim's feature `rapier`",
             ),
+            Self::Robot { robot, problem } => write!(f, "robot {robot}: {problem}"),
             Self::MoversInRapier => f.write_str(
                 "a file with [[movers]] runs in the built-in held-command loop only (not rapier)",
             ),

@@ -93,3 +93,37 @@ fn a_floor_plan_with_a_mover_yields_and_arrives() {
     }
     assert!(simulate_floor(&prepared, None, start, Physics::Rapier).is_err());
 }
+
+#[test]
+fn four_robots_swap_places_without_touching() {
+    let prepared = Scenario::load(&file("four-robots-swap.toml")).unwrap();
+    for model in [Model::Kinematic, Model::Dynamic] {
+        let run = simulate(&prepared, Some(model), Physics::Builtin).unwrap();
+        let s = &run.summary;
+        let f = s.fleet.as_ref().expect("a fleet report");
+        assert_eq!(f.others.len(), 3);
+        assert!(s.all_passed(), "{model:?}: {:?}", s.guarantees);
+        assert!(f.others.iter().all(|o| o.reached && o.safe), "{f:?}");
+        assert_eq!(f.robot_contacts, 0);
+        // Each keeps its margin from the other's body (Theorem 1 with reciprocal rows).
+        assert!(f.min_robot_clearance >= prepared.margin() - 1e-9, "{f:?}");
+        assert!(s.movers.is_none(), "no scripted movers");
+        assert!(
+            s.guarantees
+                .iter()
+                .any(|g| g.name() == "no-collision-between-robots" && g.passed)
+        );
+    }
+}
+
+#[test]
+fn four_robots_blind_to_each_other_collide() {
+    let prepared = Scenario::load(&file("four-robots-swap.toml")).unwrap();
+    let run = run_without_filter(&prepared, None).unwrap();
+    let f = run.summary.fleet.as_ref().unwrap();
+    assert!(
+        f.robot_contacts > 0 && f.contacts_after_certified > 0,
+        "{f:?}"
+    );
+    assert!(!run.summary.all_passed());
+}

@@ -1,8 +1,9 @@
 //! The mover scenarios (`scenarios/movers/`, issue 54, item 4; docs/movers.md §8): every file
 //! flown under both laws in the held-command loop, with the movers reported to the navigator
 //! each period. Every guarantee must hold, arrival included, and no mover may touch the robot
-//! (`no-collision-with-movers`: 0 contacts). A negative control flies the crossing with the
-//! robot blind to the movers, and must record a contact.
+//! (`no-collision-with-movers`: 0 contacts; with `[[robots]]`, `no-collision-between-robots`
+//! and every robot arrived). Negative controls fly the crossing with the robot blind to the
+//! movers, and the four robots blind to each other: each must record a contact.
 
 use std::path::{Path, PathBuf};
 
@@ -49,6 +50,7 @@ pub fn checks() -> Vec<Check> {
         }
     }
     checks.push(Check::new("movers.person-crossing.blind", blind));
+    checks.push(Check::new("movers.four-robots-swap.blind", blind_robots));
     checks
 }
 
@@ -60,6 +62,29 @@ fn fly(file: &Path, model: Model) -> Outcome {
     let prepared = Scenario::load(file).map_err(|e| e.to_string())?;
     let run = simulate(&prepared, Some(model), Physics::Builtin).map_err(|e| e.to_string())?;
     let s = &run.summary;
+    if let Some(f) = &s.fleet {
+        let detail = format!(
+            "{} robots: all reached {}, last at {:.2} s; {} contacts between robots, min \
+             clearance between two {:.3} m (margin {} m)",
+            f.others.len() + 1,
+            s.reached && f.others.iter().all(|o| o.reached),
+            f.others.iter().map(|o| o.time_s).fold(s.time_s, f64::max),
+            f.robot_contacts,
+            f.min_robot_clearance,
+            prepared.margin(),
+        );
+        let failed: Vec<&str> = s
+            .guarantees
+            .iter()
+            .filter(|g| !g.passed)
+            .map(|g| g.name())
+            .collect();
+        let others_failed = f.others.iter().any(|o| !(o.reached && o.safe));
+        if !failed.is_empty() || others_failed || f.robot_contacts > 0 {
+            return Err(format!("{detail}; failed: {failed:?}"));
+        }
+        return Ok(Verdict::Held(detail));
+    }
     let m = s.movers.as_ref().ok_or("no mover report")?;
     let detail = format!(
         "reached {} in {:.2} s; commands: {} certified ({} yielding), {} overwhelmed, {} refused; \
@@ -138,6 +163,29 @@ fn blind() -> Outcome {
         m.mover_contacts, m.min_mover_clearance
     );
     if m.mover_contacts == 0 || !judged {
+        return Err(format!("the negative control saw no failure: {detail}"));
+    }
+    Ok(Verdict::Held(detail))
+}
+
+/// The negative control of the fleet: the four robots blind to each other collide, and
+/// `no-collision-between-robots` fails.
+fn blind_robots() -> Outcome {
+    let prepared =
+        Scenario::load(&folder().join("four-robots-swap.toml")).map_err(|e| e.to_string())?;
+    let run = run_without_filter(&prepared, None).map_err(|e| e.to_string())?;
+    let f = run.summary.fleet.as_ref().ok_or("no fleet report")?;
+    let judged = run
+        .summary
+        .guarantees
+        .iter()
+        .find(|g| g.name() == "no-collision-between-robots")
+        .is_some_and(|g| !g.passed);
+    let detail = format!(
+        "robots blind to each other: {} contacts, min clearance between two {:.3} m",
+        f.robot_contacts, f.min_robot_clearance
+    );
+    if f.robot_contacts == 0 || !judged {
         return Err(format!("the negative control saw no failure: {detail}"));
     }
     Ok(Verdict::Held(detail))
