@@ -145,48 +145,54 @@ fn fly_floor(file: &Path, model: Model) -> Outcome {
     Ok(Verdict::Held(detail))
 }
 
-/// The negative control: the crossing with the robot blind to the person touches them, and
-/// `no-collision-with-movers` fails.
-fn blind() -> Outcome {
-    let prepared =
-        Scenario::load(&folder().join("person-crossing.toml")).map_err(|e| e.to_string())?;
+/// A negative control: `file` run without the filter must fail the guarantee `guarantee`, with
+/// `contacts` (from the summary) above 0; `detail` says what was measured.
+fn must_fail(
+    file: &str,
+    guarantee: &str,
+    measure: impl Fn(&harmonav_sim::summary::Summary) -> Option<(usize, String)>,
+) -> Outcome {
+    let prepared = Scenario::load(&folder().join(file)).map_err(|e| e.to_string())?;
     let run = run_without_filter(&prepared, None).map_err(|e| e.to_string())?;
-    let m = run.summary.movers.as_ref().ok_or("no mover report")?;
+    let (contacts, detail) = measure(&run.summary).ok_or("no mover or fleet report")?;
     let judged = run
         .summary
         .guarantees
         .iter()
-        .find(|g| g.name() == "no-collision-with-movers")
+        .find(|g| g.name() == guarantee)
         .is_some_and(|g| !g.passed);
-    let detail = format!(
-        "without set_movers: {} contacts, min mover clearance {:.3} m",
-        m.mover_contacts, m.min_mover_clearance
-    );
-    if m.mover_contacts == 0 || !judged {
+    if contacts == 0 || !judged {
         return Err(format!("the negative control saw no failure: {detail}"));
     }
     Ok(Verdict::Held(detail))
 }
 
+/// The negative control: the crossing with the robot blind to the person touches them, and
+/// `no-collision-with-movers` fails.
+fn blind() -> Outcome {
+    must_fail("person-crossing.toml", "no-collision-with-movers", |s| {
+        let m = s.movers.as_ref()?;
+        let detail = format!(
+            "without set_movers: {} contacts, min mover clearance {:.3} m",
+            m.mover_contacts, m.min_mover_clearance
+        );
+        Some((m.mover_contacts, detail))
+    })
+}
+
 /// The negative control of the fleet: the four robots blind to each other collide, and
 /// `no-collision-between-robots` fails.
 fn blind_robots() -> Outcome {
-    let prepared =
-        Scenario::load(&folder().join("four-robots-swap.toml")).map_err(|e| e.to_string())?;
-    let run = run_without_filter(&prepared, None).map_err(|e| e.to_string())?;
-    let f = run.summary.fleet.as_ref().ok_or("no fleet report")?;
-    let judged = run
-        .summary
-        .guarantees
-        .iter()
-        .find(|g| g.name() == "no-collision-between-robots")
-        .is_some_and(|g| !g.passed);
-    let detail = format!(
-        "robots blind to each other: {} contacts, min clearance between two {:.3} m",
-        f.robot_contacts, f.min_robot_clearance
-    );
-    if f.robot_contacts == 0 || !judged {
-        return Err(format!("the negative control saw no failure: {detail}"));
-    }
-    Ok(Verdict::Held(detail))
+    must_fail(
+        "four-robots-swap.toml",
+        "no-collision-between-robots",
+        |s| {
+            let f = s.fleet.as_ref()?;
+            let detail = format!(
+                "robots blind to each other: {} contacts, min clearance between two {:.3} m",
+                f.robot_contacts, f.min_robot_clearance
+            );
+            Some((f.robot_contacts, detail))
+        },
+    )
 }
