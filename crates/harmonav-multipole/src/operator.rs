@@ -20,7 +20,9 @@
 //! (`|Δ out_i| ≤ tol·A`, `A = Σ_j |q_j|·(1 or L_j)`) are [`crate::Fmm`]'s (`expansion.rs`).
 
 use crate::expansion::{C64, l2l, m2l, m2l_table, m2m, p2m_point, p2m_segment, pascal};
-use crate::tree::{FmmError, Options, Piece, Source, children, depth, interaction_list, order};
+use crate::tree::{
+    FmmError, Options, Piece, Source, children, depth, grid_cuts, interaction_list, order,
+};
 
 const NONE: u32 = u32::MAX;
 
@@ -318,24 +320,7 @@ impl Operator {
                     },
                 )),
                 Source::Segment(a, b) => {
-                    let mut ts = vec![0.0, 1.0];
-                    for (lo, hi, o) in [(a.re, b.re, self.origin.re), (a.im, b.im, self.origin.im)]
-                    {
-                        if lo == hi {
-                            continue;
-                        }
-                        let (x0, x1) = (lo.min(hi), lo.max(hi));
-                        let first = ((x0 - o) / w).floor() as i64 + 1;
-                        let last = ((x1 - o) / w).ceil() as i64 - 1;
-                        for i in first..=last {
-                            let t = (o + i as f64 * w - lo) / (hi - lo);
-                            if t > 0.0 && t < 1.0 {
-                                ts.push(t);
-                            }
-                        }
-                    }
-                    ts.sort_by(f64::total_cmp);
-                    ts.dedup();
+                    let ts = grid_cuts(a, b, self.origin, w);
                     for pair in ts.windows(2) {
                         let (p0, p1) = (a + (b - a) * pair[0], a + (b - a) * pair[1]);
                         if p0 == p1 {

@@ -373,24 +373,7 @@ impl<const C: usize> Fmm<C> {
                     },
                 )),
                 Source::Segment(a, b) => {
-                    let mut ts = vec![0.0, 1.0];
-                    for (lo, hi, o) in [(a.re, b.re, self.origin.re), (a.im, b.im, self.origin.im)]
-                    {
-                        if lo == hi {
-                            continue;
-                        }
-                        let (x0, x1) = (lo.min(hi), lo.max(hi));
-                        let first = ((x0 - o) / w).floor() as i64 + 1;
-                        let last = ((x1 - o) / w).ceil() as i64 - 1;
-                        for i in first..=last {
-                            let t = (o + i as f64 * w - lo) / (hi - lo);
-                            if t > 0.0 && t < 1.0 {
-                                ts.push(t);
-                            }
-                        }
-                    }
-                    ts.sort_by(f64::total_cmp);
-                    ts.dedup();
+                    let ts = grid_cuts(a, b, self.origin, w);
                     for pair in ts.windows(2) {
                         let (p0, p1) = (a + (b - a) * pair[0], a + (b - a) * pair[1]);
                         if p0 == p1 {
@@ -758,6 +741,30 @@ pub(crate) fn interaction_list(
             .flat_map(move |qy| children(qx, qy))
     })
     .filter(move |(sx, sy)| sx.abs_diff(ix) > 1 || sy.abs_diff(iy) > 1)
+}
+
+/// The parameters `t ∈ [0, 1]` at which the segment `a → b` crosses the lines of the grid of
+/// spacing `w` from `origin` (both ends included, sorted, without repeats): the segment's
+/// pieces between them each lie in one leaf.
+pub(crate) fn grid_cuts(a: C64, b: C64, origin: C64, w: f64) -> Vec<f64> {
+    let mut ts = vec![0.0, 1.0];
+    for (lo, hi, o) in [(a.re, b.re, origin.re), (a.im, b.im, origin.im)] {
+        if lo == hi {
+            continue;
+        }
+        let (x0, x1) = (lo.min(hi), lo.max(hi));
+        let first = ((x0 - o) / w).floor() as i64 + 1;
+        let last = ((x1 - o) / w).ceil() as i64 - 1;
+        for i in first..=last {
+            let t = (o + i as f64 * w - lo) / (hi - lo);
+            if t > 0.0 && t < 1.0 {
+                ts.push(t);
+            }
+        }
+    }
+    ts.sort_by(f64::total_cmp);
+    ts.dedup();
+    ts
 }
 
 #[cfg(test)]
