@@ -5,39 +5,8 @@ mod common;
 
 use common::*;
 use harmonav_harmonic::{Domain, HarmonicMap, MeshError, MeshOptions, SolveError, sampled_check};
-use nalgebra::Vector2;
 use proptest::prelude::*;
 use proptest::test_runner::RngSeed;
-use std::f64::consts::TAU;
-
-fn world() -> impl Strategy<Value = (Vec<Vector2<f64>>, Vec<Vec<Vector2<f64>>>)> {
-    let outer = prop::collection::vec((0.0..0.6_f64, 0.8..1.3_f64), 6..11).prop_map(|v| {
-        let n = v.len();
-        v.iter()
-            .enumerate()
-            .map(|(i, &(jitter, r))| {
-                let t = TAU * (i as f64 + jitter) / n as f64;
-                Vector2::new(r * t.cos(), r * t.sin())
-            })
-            .collect::<Vec<_>>()
-    });
-    let hole = (
-        -0.4..0.4_f64,
-        -0.4..0.4_f64,
-        0.05..0.15_f64,
-        3_usize..6,
-        0.0..1.0_f64,
-    )
-        .prop_map(|(x, y, r, n, phase)| {
-            (0..n)
-                .map(|i| {
-                    let t = -TAU * (i as f64 + phase) / n as f64;
-                    Vector2::new(x + r * t.cos(), y + r * t.sin())
-                })
-                .collect::<Vec<_>>()
-        });
-    (outer, prop::collection::vec(hole, 1..4))
-}
 
 proptest! {
     // Seeded and not persisted: every run draws the same worlds (the default seed is random,
@@ -50,7 +19,7 @@ proptest! {
     })]
 
     #[test]
-    fn random_worlds_satisfy_the_equations_and_do_not_fold((outer, holes) in world()) {
+    fn random_worlds_satisfy_the_equations_and_do_not_fold((outer, holes) in random_world(1..4)) {
         let domain = Domain::new(outer, holes);
         prop_assume!(domain.is_ok());
         let domain = domain.unwrap();

@@ -175,3 +175,38 @@ pub fn dense_samples(map: &HarmonicMap, s: f64, stride: usize) -> Vec<Vector2<f6
     }
     out
 }
+
+/// A seeded-strategy world: a star-shaped room of 6 to 10 jittered vertices (radius 0.8–1.3)
+/// with `holes` small regular polygonal holes (proptest).
+pub fn random_world(
+    holes: std::ops::Range<usize>,
+) -> impl proptest::strategy::Strategy<Value = (Vec<Vector2<f64>>, Vec<Vec<Vector2<f64>>>)> {
+    use proptest::prelude::*;
+    use std::f64::consts::TAU;
+    let outer = prop::collection::vec((0.0..0.6_f64, 0.8..1.3_f64), 6..11).prop_map(|v| {
+        let n = v.len();
+        v.iter()
+            .enumerate()
+            .map(|(i, &(jitter, r))| {
+                let t = TAU * (i as f64 + jitter) / n as f64;
+                Vector2::new(r * t.cos(), r * t.sin())
+            })
+            .collect::<Vec<_>>()
+    });
+    let hole = (
+        -0.4..0.4_f64,
+        -0.4..0.4_f64,
+        0.05..0.15_f64,
+        3_usize..6,
+        0.0..1.0_f64,
+    )
+        .prop_map(|(x, y, r, n, phase)| {
+            (0..n)
+                .map(|i| {
+                    let t = -TAU * (i as f64 + phase) / n as f64;
+                    Vector2::new(x + r * t.cos(), y + r * t.sin())
+                })
+                .collect::<Vec<_>>()
+        });
+    (outer, prop::collection::vec(hole, holes))
+}
