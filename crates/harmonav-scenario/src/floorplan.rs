@@ -471,16 +471,8 @@ impl FloorScenario {
                 ),
             ));
         }
-        for (i, m) in self.movers.iter().enumerate() {
-            m.check(r.start, r.radius).map_err(|(key, p)| {
-                let field = if key.is_empty() {
-                    format!("movers[{i}]")
-                } else {
-                    format!("movers[{i}].{key}")
-                };
-                f(&field, p)
-            })?;
-        }
+        crate::movers::check_all(&self.movers, r.start, r.radius)
+            .map_err(|(field, p)| f(&field, p))?;
         let s = &self.sim;
         for (name, value) in [
             ("sim.max_time", s.max_time),

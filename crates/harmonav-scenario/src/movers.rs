@@ -405,6 +405,26 @@ pub fn report(truth: Vector2<f64>, error: f64, rng: &mut Rng) -> Vector2<f64> {
     truth + Vector2::new(r * a.cos(), r * a.sin())
 }
 
+/// Every mover of a file checked against the robot's `start` and `radius` ([`MoverSpec::check`]);
+/// on the first bad one, its key (`movers[i]`, or `movers[i].key`) and the problem.
+pub(crate) fn check_all(
+    movers: &[MoverSpec],
+    start: [f64; 2],
+    radius: f64,
+) -> Result<(), (String, String)> {
+    for (i, m) in movers.iter().enumerate() {
+        m.check(start, radius).map_err(|(key, p)| {
+            let field = if key.is_empty() {
+                format!("movers[{i}]")
+            } else {
+                format!("movers[{i}].{key}")
+            };
+            (field, p)
+        })?;
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

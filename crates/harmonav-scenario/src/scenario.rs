@@ -630,16 +630,8 @@ impl Scenario {
                 ),
             ));
         }
-        for (i, m) in self.sim.movers.iter().enumerate() {
-            m.check(r.start, r.radius).map_err(|(key, p)| {
-                let field = if key.is_empty() {
-                    format!("movers[{i}]")
-                } else {
-                    format!("movers[{i}].{key}")
-                };
-                f(&field, p)
-            })?;
-        }
+        crate::movers::check_all(&self.sim.movers, r.start, r.radius)
+            .map_err(|(field, p)| f(&field, p))?;
         let s = &self.sim;
         in_range("sim.dt", s.dt)?;
         in_range("sim.max_time", s.max_time)?;

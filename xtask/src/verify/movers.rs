@@ -10,6 +10,7 @@ use std::path::{Path, PathBuf};
 use harmonav_scenario::floorplan::{FileKind, FloorScenario};
 use harmonav_scenario::{Model, Scenario};
 use harmonav_sim::floor::FloorSummary;
+use harmonav_sim::movers::MoverReport;
 use harmonav_sim::physics::{Physics, simulate, simulate_floor};
 use harmonav_sim::run::run_without_filter;
 use nalgebra::Vector2;
@@ -86,19 +87,7 @@ fn fly(file: &Path, model: Model) -> Outcome {
         return Ok(Verdict::Held(detail));
     }
     let m = s.movers.as_ref().ok_or("no mover report")?;
-    let detail = format!(
-        "reached {} in {:.2} s; commands: {} certified ({} yielding), {} overwhelmed, {} refused; \
-         {} contacts; min mover clearance {:.3} m (margin {} m)",
-        s.reached,
-        s.time_s,
-        m.certified_commands,
-        m.yielding_commands,
-        m.overwhelmed_commands,
-        m.refused_commands,
-        m.mover_contacts,
-        m.min_mover_clearance,
-        prepared.margin(),
-    );
+    let detail = detail(s.reached, s.time_s, m, prepared.margin());
     let failed: Vec<&str> = s
         .guarantees
         .iter()
@@ -111,6 +100,20 @@ fn fly(file: &Path, model: Model) -> Outcome {
     Ok(Verdict::Held(detail))
 }
 
+/// What a mover run measured, for its line in the verify table.
+fn detail(reached: bool, time_s: f64, m: &MoverReport, margin: f64) -> String {
+    format!(
+        "reached {reached} in {time_s:.2} s; commands: {} certified ({} yielding), {} \
+         overwhelmed, {} refused; {} contacts; min mover clearance {:.3} m (margin {margin} m)",
+        m.certified_commands,
+        m.yielding_commands,
+        m.overwhelmed_commands,
+        m.refused_commands,
+        m.mover_contacts,
+        m.min_mover_clearance,
+    )
+}
+
 /// A floor plan with movers under `model` (its `robot.start`): every guarantee holds and no
 /// mover touches the robot.
 fn fly_floor(file: &Path, model: Model) -> Outcome {
@@ -120,19 +123,7 @@ fn fly_floor(file: &Path, model: Model) -> Outcome {
         .map_err(|e| e.to_string())?;
     let s = FloorSummary::new(&prepared, Some(model), start, &run);
     let m = s.movers.as_ref().ok_or("no mover report")?;
-    let detail = format!(
-        "reached {} in {:.2} s; commands: {} certified ({} yielding), {} overwhelmed, {} refused; \
-         {} contacts; min mover clearance {:.3} m (margin {} m)",
-        s.reached,
-        s.time_s,
-        m.certified_commands,
-        m.yielding_commands,
-        m.overwhelmed_commands,
-        m.refused_commands,
-        m.mover_contacts,
-        m.min_mover_clearance,
-        prepared.scenario.robot.margin,
-    );
+    let detail = detail(s.reached, s.time_s, m, prepared.scenario.robot.margin);
     let failed: Vec<&str> = s
         .guarantees
         .iter()
