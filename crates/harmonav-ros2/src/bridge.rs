@@ -202,6 +202,21 @@ impl std::fmt::Display for Stop {
     }
 }
 
+/// Where a goal lies on `/map` ([`Bridge::goal_check`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GoalCheck {
+    /// In a free cell.
+    Free,
+    /// In an occupied cell.
+    Occupied,
+    /// In an unknown cell (counted as occupied, as map_server's trinary reading does).
+    Unknown,
+    /// Outside the map.
+    OutsideMap,
+    /// Not checked: no map (yet, or `map_topic` is empty).
+    Unchecked,
+}
+
 /// The navigator of either world.
 enum Nav {
     /// A disc around the robot, from scans alone.
@@ -345,12 +360,22 @@ impl Bridge {
         }
     }
 
-    /// `/goal_pose`.
+    /// `/goal_pose`: [`Bridge::set_goal`], a bad goal dropped with a warning.
     pub fn on_goal(&mut self, m: &PoseStamped, now: Instant) {
+        if let Err(e) = self.set_goal(m, now) {
+            self.say(log::Level::Warn, e.0);
+        }
+    }
+
+    /// Navigates to `m` (its position; the orientation is not used) from now on, in place of
+    /// any goal before it; returns it in `global_frame`.
+    ///
+    /// # Errors
+    /// A position that is not finite (the goal before it stays).
+    pub fn set_goal(&mut self, m: &PoseStamped, now: Instant) -> Result<Vector2<f64>, BadMessage> {
         let p = &m.pose.position;
         if !(p.x.is_finite() && p.y.is_finite()) {
-            self.say(log::Level::Warn, "goal dropped: not finite".into());
-            return;
+            return Err(BadMessage("goal dropped: not finite".into()));
         }
         let frame = if m.header.frame_id.is_empty() {
             self.params.global_frame.clone()
@@ -359,7 +384,8 @@ impl Bridge {
         };
         let (t, _) = self.transform(&self.params.global_frame.clone(), &frame, now);
         let g = t.compose(&Se2::new(p.x, p.y, 0.0));
-        self.goal = Some(Vector2::new(g.x, g.y));
+        let goal = Vector2::new(g.x, g.y);
+        self.goal = Some(goal);
         self.dirty = true;
         self.arrived = false;
         self.say(
@@ -369,6 +395,49 @@ impl Bridge {
                 g.x, g.y, self.params.global_frame
             ),
         );
+        Ok(goal)
+    }
+
+    /// Forgets the goal (a canceled or failed action goal): the robot stops with
+    /// [`Stop::NoGoal`] from the next step on.
+    pub fn clear_goal(&mut self) {
+        if self.goal.take().is_some() {
+            self.say(log::Level::Info, "goal cleared".into());
+        }
+        self.nav = None;
+        self.dirty = false;
+        self.build_error = None;
+        self.arrived = false;
+    }
+
+    /// The goal in `global_frame`, if any.
+    #[must_use]
+    pub fn goal(&self) -> Option<Vector2<f64>> {
+        self.goal
+    }
+
+    /// Whether the point `g` (in `global_frame`) lies in a free cell of `/map`.
+    #[must_use]
+    pub fn goal_check(&self, g: Vector2<f64>) -> GoalCheck {
+        use harmonav::floorplan::ros_map::Cell;
+        if self.params.map_topic.is_empty() {
+            return GoalCheck::Unchecked;
+        }
+        let Some(map) = &self.map else {
+            return GoalCheck::Unchecked;
+        };
+        match map.pixel_at(g).and_then(|[c, r]| map.cell(c, r)) {
+            None => GoalCheck::OutsideMap,
+            Some(Cell::Free) => GoalCheck::Free,
+            Some(Cell::Occupied) => GoalCheck::Occupied,
+            Some(Cell::Unknown) => GoalCheck::Unknown,
+        }
+    }
+
+    /// The robot's pose in `global_frame` (`None` before the first odometry).
+    pub fn pose(&mut self, now: Instant) -> Option<Se2> {
+        self.last_odom?;
+        Some(self.robot_pose(now).0)
     }
 
     /// `/map`.

@@ -10,8 +10,10 @@
 //! - [`tf`]: a small transform buffer (latest transform per edge, stamps checked);
 //! - [`params`]: the parameter file (`--ros-args --params-file FILE`);
 //! - [`bridge`]: the node's logic without DDS (stale data, refusals, the command);
+//! - [`action`]: the `navigate_to_pose` action's goals, cancels and results without DDS;
 //! - the binary `harmonav-ros2` (`src/main.rs`): the DDS side.
 
+pub mod action;
 pub mod bridge;
 pub mod msgs;
 pub mod params;

@@ -10,18 +10,24 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant, SystemTime};
 
+use ros2_client::action::{ActionServer, GetResultResponse, SendGoalResponse};
+use ros2_client::builtin_interfaces::Time as RosTime;
 use ros2_client::dds::rustdds::DomainParticipantBuilder;
 use ros2_client::dds::{Context, Node, Publisher, Subscription};
 use ros2_client::qos::{Durability, History, QosProfile, Reliability, WhenFull};
-use ros2_client::{MessageTypeName, Name, NodeName, NodeOptions};
+use ros2_client::request_id::RmwRequestId;
+use ros2_client::{
+    ActionTypeName, MessageTypeName, Name, NodeName, NodeOptions, ServiceMapping, action,
+};
 use serde::Serialize;
 
+use harmonav_ros2::action::{Navigate, cancel_goal_info};
 use harmonav_ros2::bridge::Bridge;
 use harmonav_ros2::msgs::{
-    Clock, Header, LaserScan, OccupancyGrid, Odometry, PoseStamped, StringMsg, TFMessage, Time,
-    Twist, TwistStamped,
+    Clock, Header, LaserScan, NavigateToPoseFeedback, NavigateToPoseGoal, NavigateToPoseResult,
+    OccupancyGrid, Odometry, PoseStamped, StringMsg, TFMessage, Time, Twist, TwistStamped,
 };
-use harmonav_ros2::params::{Cli, NODE_NAME, Params, USAGE, parse_args};
+use harmonav_ros2::params::{Cli, NODE_NAME, Params, ServiceWire, USAGE, parse_args};
 
 /// A failure before the loop: the message and the exit code.
 struct Fatal(String, i32);
@@ -169,6 +175,95 @@ fn advertise<M: Serialize>(
     Ok(node.create_publisher::<M>(&t, Some(q))?)
 }
 
+type NavServer = ActionServer<NavigateToPoseGoal, NavigateToPoseResult, NavigateToPoseFeedback>;
+
+/// The `navigate_to_pose` action server with rcl's default QoS: reliable, volatile services
+/// and feedback; a transient-local status (an action client asks for it).
+fn action_server(node: &mut Node, p: &Params) -> Result<NavServer, Fatal> {
+    let service = qos(true, false, 10);
+    let qos = action::ActionServerQosPolicies {
+        goal_service: service.clone(),
+        result_service: service.clone(),
+        cancel_service: service,
+        feedback_publisher: qos(true, false, 10),
+        status_publisher: qos(true, true, 1),
+    };
+    let mapping = match p.service_mapping {
+        ServiceWire::Enhanced => ServiceMapping::Enhanced,
+        ServiceWire::Cyclone => ServiceMapping::Cyclone,
+    };
+    Ok(node.create_action_server(
+        mapping,
+        &name(&p.action_name)?,
+        &ActionTypeName::new("nav2_msgs", "NavigateToPose"),
+        qos,
+    )?)
+}
+
+/// Moves the action's requests into `nav` (goals and cancels act on the bridge at once) and
+/// its replies out; at most 100 requests of each kind per call.
+fn serve(server: &NavServer, nav: &mut Navigate<RmwRequestId>, bridge: &mut Bridge, now: Instant) {
+    for _ in 0..100 {
+        match server.receive_goal() {
+            Ok(Some((req, goal))) => {
+                let stamp = RosTime::now();
+                let accepted = nav.send_goal(goal.goal_id, &goal.goal, bridge, now, stamp);
+                if let Err(e) = server.send_goal_response(req, SendGoalResponse { accepted, stamp })
+                {
+                    log::error!("navigate_to_pose: goal response not sent: {e:?}");
+                }
+            }
+            Ok(None) => break,
+            Err(e) => log::warn!("navigate_to_pose: goal request dropped: {e:?}"),
+        }
+    }
+    for _ in 0..100 {
+        match server.receive_cancel_request() {
+            Ok(Some((req, cancel))) => {
+                let Some(info) = cancel_goal_info(&cancel) else {
+                    log::warn!("navigate_to_pose: cancel request dropped: unreadable");
+                    continue;
+                };
+                let response = nav.cancel(&info, bridge);
+                if let Err(e) = server.send_cancel_response(req, response) {
+                    log::error!("navigate_to_pose: cancel response not sent: {e:?}");
+                }
+            }
+            Ok(None) => break,
+            Err(e) => log::warn!("navigate_to_pose: cancel request dropped: {e:?}"),
+        }
+    }
+    for _ in 0..100 {
+        match server.receive_result_request() {
+            Ok(Some((req, r))) => nav.result_request(r.goal_id, req),
+            Ok(None) => break,
+            Err(e) => log::warn!("navigate_to_pose: result request dropped: {e:?}"),
+        }
+    }
+    publish_action(server, nav);
+}
+
+/// The results due and the status array when it changed.
+fn publish_action(server: &NavServer, nav: &mut Navigate<RmwRequestId>) {
+    for r in nav.take_replies() {
+        let response = GetResultResponse {
+            status: r.status,
+            result: r.result,
+        };
+        if let Err(e) = server.send_result(r.to, response) {
+            log::error!("navigate_to_pose: result not sent: {e:?}");
+        }
+    }
+    if let Some(status) = nav.take_status()
+        && let Err(e) = server.send_goal_statuses(status)
+    {
+        log::error!("navigate_to_pose: status not published: {e:?}");
+    }
+    for (level, text) in nav.drain_log() {
+        log::log!(level, "{text}");
+    }
+}
+
 /// `/cmd_vel` as `Twist` or `TwistStamped` (`enable_stamped_cmd_vel`).
 enum CmdVel {
     Plain(Publisher<Twist>),
@@ -314,13 +409,26 @@ fn run(params: Params, stop: &AtomicBool) -> Result<(), Fatal> {
         "String",
         qos(true, true, 1),
     )?;
+    let server = if p.action_name.is_empty() {
+        None
+    } else {
+        Some(action_server(&mut node, &p)?)
+    };
     log::info!(
-        "subscribed {} /{} /{} /{} /tf /tf_static; publishing /{} ({}) every {:.0} ms and on each scan",
+        "subscribed {} /{} /{} /{} /tf /tf_static; serving {}; publishing /{} ({}) every {:.0} ms and on each scan",
         map.as_ref()
             .map_or("(no map)".to_owned(), |_| format!("/{}", p.map_topic)),
         p.scan_topic,
         p.odom_topic,
         p.goal_topic,
+        if p.action_name.is_empty() {
+            "no action".to_owned()
+        } else {
+            format!(
+                "/{} ({:?} service mapping)",
+                p.action_name, p.service_mapping
+            )
+        },
         p.cmd_vel_topic,
         if p.enable_stamped_cmd_vel {
             "TwistStamped"
@@ -331,6 +439,7 @@ fn run(params: Params, stop: &AtomicBool) -> Result<(), Fatal> {
     );
 
     let mut bridge = Bridge::new(params);
+    let mut nav: Navigate<RmwRequestId> = Navigate::new();
     let period = Duration::from_secs_f64(1.0 / p.controller_frequency);
     let mut next_tick = Instant::now();
     let mut sim_time: Option<Time> = None;
@@ -348,7 +457,10 @@ fn run(params: Params, stop: &AtomicBool) -> Result<(), Fatal> {
             drain(map, "map", |m| bridge.on_map(&m));
         }
         drain(&odom, "odom", |m| bridge.on_odom(&m, now));
-        drain(&goal, "goal", |m| bridge.on_goal(&m, now));
+        drain(&goal, "goal", |m| nav.goal_topic(&m, &mut bridge, now));
+        if let Some(server) = &server {
+            serve(server, &mut nav, &mut bridge, now);
+        }
         // Only the newest scan is used; older ones waiting are superseded.
         let mut newest = None;
         drain(&scan, "scan", |m| newest = Some(m));
@@ -364,6 +476,15 @@ fn run(params: Params, stop: &AtomicBool) -> Result<(), Fatal> {
                 wall_time()
             };
             cmd.publish(step.twist, stamp);
+            if let Some((id, feedback)) = nav.after_step(&step, &mut bridge, now, stamp)
+                && let Some(server) = &server
+                && let Err(e) = server.send_feedback(id, feedback)
+            {
+                log::warn!("navigate_to_pose: feedback not published: {e:?}");
+            }
+            if let Some(server) = &server {
+                publish_action(server, &mut nav);
+            }
             if scanned {
                 latencies.push(now.elapsed().as_secs_f64());
             }
@@ -400,6 +521,10 @@ fn run(params: Params, stop: &AtomicBool) -> Result<(), Fatal> {
     let _ = status.publish(StringMsg {
         data: "stopped: shutting down".into(),
     });
+    nav.shutdown();
+    if let Some(server) = &server {
+        publish_action(server, &mut nav);
+    }
     std::thread::sleep(Duration::from_millis(100));
     if !latencies.is_empty() {
         latencies.sort_by(f64::total_cmp);
@@ -422,7 +547,9 @@ fn run(params: Params, stop: &AtomicBool) -> Result<(), Fatal> {
     }
     // Entities before their node, the node before its context: RustDDS logs an error for
     // each reader or writer dropped after its participant's event loop has gone.
-    drop((cmd, status, scan, odom, goal, tf, tf_static, clock, map));
+    drop((
+        cmd, status, scan, odom, goal, tf, tf_static, clock, map, server,
+    ));
     drop(node);
     drop(context);
     Ok(())

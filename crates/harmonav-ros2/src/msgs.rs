@@ -333,3 +333,67 @@ pub struct StringMsg {
     /// The text.
     pub data: String,
 }
+
+/// `builtin_interfaces/msg/Duration`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
+pub struct Duration {
+    /// Seconds.
+    pub sec: i32,
+    /// Nanoseconds, `< 1e9`.
+    pub nanosec: u32,
+}
+
+impl Duration {
+    /// The duration of `t` seconds (`t ≥ 0`, rounded down to the nanosecond; saturating; a
+    /// non-finite or negative `t` is zero).
+    #[must_use]
+    pub fn from_seconds(t: f64) -> Self {
+        let Time { sec, nanosec } = Time::from_seconds(if t.is_finite() { t } else { 0.0 });
+        Self { sec, nanosec }
+    }
+
+    /// Seconds as a float.
+    #[must_use]
+    pub fn seconds(&self) -> f64 {
+        f64::from(self.sec) + 1e-9 * f64::from(self.nanosec)
+    }
+}
+
+/// `nav2_msgs/action/NavigateToPose`'s goal (`NavigateToPose_Goal`).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct NavigateToPoseGoal {
+    /// Where to go (its orientation is not used: harmonav steers to a point).
+    pub pose: PoseStamped,
+    /// Nav2's behaviour tree; harmonav has none and ignores it.
+    pub behavior_tree: String,
+}
+
+/// `nav2_msgs/action/NavigateToPose`'s result in Jazzy (`NavigateToPose_Result`): Jazzy's
+/// `.action` defines only `NONE = 0`; the node's other codes are in
+/// [`crate::action::code`].
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct NavigateToPoseResult {
+    /// 0: no error.
+    pub error_code: u16,
+    /// Why, when `error_code` is not 0 (and why a goal was canceled or preempted).
+    pub error_msg: String,
+}
+
+/// `nav2_msgs/action/NavigateToPose`'s feedback in Jazzy (`NavigateToPose_Feedback`).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct NavigateToPoseFeedback {
+    /// The robot's pose in `global_frame`.
+    pub current_pose: PoseStamped,
+    /// Since the goal was accepted.
+    pub navigation_time: Duration,
+    /// `distance_remaining` over the commanded speed (zero when not moving).
+    pub estimated_time_remaining: Duration,
+    /// Always 0: harmonav has no recovery behaviours.
+    pub number_of_recoveries: i16,
+    /// m, the straight line from the robot to the goal.
+    pub distance_remaining: f32,
+}
+
+impl ros2_client::Message for NavigateToPoseGoal {}
+impl ros2_client::Message for NavigateToPoseResult {}
+impl ros2_client::Message for NavigateToPoseFeedback {}

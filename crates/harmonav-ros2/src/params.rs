@@ -28,6 +28,17 @@ pub enum Base {
     Diff,
 }
 
+/// How a service's request is matched to its reply on the wire: ROS 2's RMWs differ. The
+/// `navigate_to_pose` action's three services use it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ServiceWire {
+    /// The RPC-over-DDS "enhanced" mapping (the request's identity in inline QoS): Fast DDS,
+    /// ROS 2's default RMW (`rmw_fastrtps_cpp`), and Connext.
+    Enhanced,
+    /// A header in the payload: `rmw_cyclonedds_cpp`.
+    Cyclone,
+}
+
 /// The navigation law.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LawKind {
@@ -58,6 +69,11 @@ pub struct Params {
     pub cmd_vel_topic: String,
     /// The status topic (`std_msgs/String`: mode and reasons).
     pub status_topic: String,
+    /// The `navigate_to_pose` action's name (Nav2's); empty: no action server.
+    pub action_name: String,
+    /// The request/reply mapping of the action's services: `enhanced` (Fast DDS, the default
+    /// RMW) or `cyclone` (`rmw_cyclonedds_cpp`).
+    pub service_mapping: ServiceWire,
     /// Hz: the control period `1/f` is the period every command is certified to be held for.
     pub controller_frequency: f64,
     /// m.
@@ -118,6 +134,8 @@ impl Default for Params {
             goal_topic: "goal_pose".into(),
             cmd_vel_topic: "cmd_vel".into(),
             status_topic: "harmonav/status".into(),
+            action_name: "navigate_to_pose".into(),
+            service_mapping: ServiceWire::Enhanced,
             controller_frequency: 20.0,
             robot_radius: 0.1,
             margin: 0.05,
@@ -232,6 +250,14 @@ impl Params {
             "goal_topic" => self.goal_topic = text(value)?,
             "cmd_vel_topic" => self.cmd_vel_topic = text(value)?,
             "status_topic" => self.status_topic = text(value)?,
+            "action_name" => self.action_name = text(value)?,
+            "service_mapping" => {
+                self.service_mapping = match text(value)?.as_str() {
+                    "enhanced" => ServiceWire::Enhanced,
+                    "cyclone" => ServiceWire::Cyclone,
+                    _ => return Err(wrong("\"enhanced\" or \"cyclone\"")),
+                }
+            }
             "controller_frequency" => self.controller_frequency = positive(value)?,
             "robot_radius" => self.robot_radius = positive(value)?,
             "margin" => {
@@ -364,8 +390,8 @@ pub enum Cli {
 pub const USAGE: &str = "\
 usage: harmonav-ros2 [--ros-args [--params-file FILE]... [-p NAME:=VALUE]... [--log-level LEVEL]]
 
-A ROS 2 node (pure Rust, DDS) that drives /cmd_vel from /map, /scan, /odom and /goal_pose with
-harmonav's navigation functions. Environment: ROS_DOMAIN_ID, ROS_AUTOMATIC_DISCOVERY_RANGE
+A ROS 2 node (pure Rust, DDS) that drives /cmd_vel from /map, /scan, /odom and /goal_pose (or
+the navigate_to_pose action) with harmonav's navigation functions. Environment: ROS_DOMAIN_ID, ROS_AUTOMATIC_DISCOVERY_RANGE
 (LOCALHOST, SUBNET, OFF) or ROS_LOCALHOST_ONLY=1; RUST_LOG-style level with --log-level.";
 
 /// Parses the arguments (without the program's name); files are read with `read`.
@@ -500,6 +526,18 @@ harmonav:
             .apply_file("/**:\n  ros__parameters:\n    base: tracked\n")
             .unwrap_err();
         assert!(e.0.contains("base"), "{e}");
+        let e = p
+            .apply_file("/**:\n  ros__parameters:\n    service_mapping: basic\n")
+            .unwrap_err();
+        assert!(e.0.contains("service_mapping"), "{e}");
+        p.apply_file(
+            "/**:\n  ros__parameters:\n    service_mapping: cyclone\n    action_name: ''\n",
+        )
+        .unwrap();
+        assert_eq!(
+            (p.service_mapping, p.action_name.as_str()),
+            (ServiceWire::Cyclone, "")
+        );
         let e = p
             .apply_file("/**:\n  ros__parameters:\n    enable_stamped_cmd_vel: 1\n")
             .unwrap_err();

@@ -575,3 +575,234 @@ fn bad_odometry_and_goals_are_dropped_and_stale_odometry_stops() {
     bridge.on_scan(&sim.scan(), sim.t);
     assert_eq!(bridge.step(sim.t).stop, Some(Stop::StaleOdom));
 }
+
+// The navigate_to_pose action's state machine ([`Navigate`]) over the same simulated robot.
+
+use harmonav_ros2::action::{Navigate, Reply, code};
+use ros2_client::action::{GoalId, GoalInfo, GoalStatusEnum};
+use ros2_client::action_msgs::CancelGoalResponseEnum;
+use ros2_client::builtin_interfaces::Time as RosTime;
+
+fn nav_goal(x: f64, y: f64) -> NavigateToPoseGoal {
+    NavigateToPoseGoal {
+        pose: goal(x, y),
+        behavior_tree: String::new(),
+    }
+}
+
+/// One step of the robot, then the action's: the feedback, if a goal runs.
+fn action_step(
+    sim: &mut Sim,
+    bridge: &mut Bridge,
+    nav: &mut Navigate<u32>,
+) -> (harmonav_ros2::bridge::Step, Option<NavigateToPoseFeedback>) {
+    let s = sim.step(bridge, true);
+    let f = nav.after_step(&s, bridge, sim.t, Time::default());
+    (s, f.map(|(_, f)| f))
+}
+
+fn cancel_of(id: GoalId) -> GoalInfo {
+    GoalInfo {
+        goal_id: id,
+        stamp: RosTime::ZERO,
+    }
+}
+
+/// A goal through the action: feedback while it runs (the robot's pose, the distance falling
+/// to the tolerance), then succeeded, answered to the result request that waited for it.
+#[test]
+fn action_goal_succeeds_with_feedback() {
+    let params = Params {
+        map_topic: String::new(),
+        ..Params::default()
+    };
+    let mut bridge = Bridge::new(params.clone());
+    let mut nav: Navigate<u32> = Navigate::new();
+    let mut sim = Sim::new(open_room(), [8.0, 10.0]);
+    bridge.on_tf(&laser_static(), sim.t, true);
+    sim.step(&mut bridge, true);
+    let id = GoalId::new_random();
+    assert!(nav.send_goal(id, &nav_goal(12.0, 10.0), &mut bridge, sim.t, RosTime::ZERO));
+    assert_eq!(nav.active(), Some(id));
+    nav.result_request(id, 7);
+    assert!(nav.take_replies().is_empty(), "answered before the end");
+    let status = nav.take_status().expect("a status after acceptance");
+    assert_eq!(status.status_list[0].status, GoalStatusEnum::Executing);
+    let mut distances = Vec::new();
+    for _ in 0..4000 {
+        let (s, f) = action_step(&mut sim, &mut bridge, &mut nav);
+        if let Some(f) = f {
+            let p = &f.current_pose.pose.position;
+            assert!((p.x - sim.x[0]).abs() < 0.1 && (p.y - sim.x[1]).abs() < 0.1);
+            assert_eq!(f.current_pose.header.frame_id, "map");
+            distances.push(f.distance_remaining);
+        }
+        if s.stop == Some(Stop::Arrived) {
+            break;
+        }
+    }
+    assert_eq!(nav.status(id), Some(GoalStatusEnum::Succeeded));
+    assert_eq!(nav.active(), None);
+    assert_eq!(
+        nav.take_replies(),
+        vec![Reply {
+            to: 7,
+            status: GoalStatusEnum::Succeeded,
+            result: NavigateToPoseResult::default(),
+        }]
+    );
+    let first = distances[0];
+    let last = *distances.last().unwrap();
+    assert!((first - 4.0).abs() < 0.1, "first distance {first}");
+    assert!(last < 0.2 && last < first, "last distance {last}");
+    // Finished goals answer at once.
+    nav.result_request(id, 8);
+    assert_eq!(nav.take_replies()[0].status, GoalStatusEnum::Succeeded);
+    // No feedback without a running goal.
+    assert!(action_step(&mut sim, &mut bridge, &mut nav).1.is_none());
+}
+
+/// A new goal preempts the running one (aborted, with its result), a pose on `/goal_pose` too;
+/// a cancel stops the robot at the next command and ends the goal canceled; cancels of
+/// finished and unknown goals, duplicate ids and non-finite goals are answered as ROS says.
+#[test]
+fn action_preempt_cancel_and_refusals() {
+    let params = Params {
+        map_topic: String::new(),
+        ..Params::default()
+    };
+    let mut bridge = Bridge::new(params);
+    let mut nav: Navigate<u32> = Navigate::new();
+    let mut sim = Sim::new(open_room(), [8.0, 10.0]);
+    bridge.on_tf(&laser_static(), sim.t, true);
+    let a = GoalId::new_random();
+    assert!(nav.send_goal(a, &nav_goal(12.0, 10.0), &mut bridge, sim.t, RosTime::ZERO));
+    nav.result_request(a, 1);
+    for _ in 0..10 {
+        action_step(&mut sim, &mut bridge, &mut nav);
+    }
+    let b = GoalId::new_random();
+    assert!(nav.send_goal(b, &nav_goal(8.0, 11.5), &mut bridge, sim.t, RosTime::ZERO));
+    let replies = nav.take_replies();
+    assert_eq!(replies.len(), 1);
+    assert_eq!(
+        (replies[0].to, replies[0].status),
+        (1, GoalStatusEnum::Aborted)
+    );
+    assert!(replies[0].result.error_msg.contains("preempted"));
+    assert_eq!(nav.active(), Some(b));
+    assert_eq!(bridge.goal().map(|g| (g.x, g.y)), Some((8.0, 11.5)));
+
+    // A duplicate id and a non-finite goal are rejected; b runs on.
+    assert!(!nav.send_goal(b, &nav_goal(9.0, 9.0), &mut bridge, sim.t, RosTime::ZERO));
+    let c = GoalId::new_random();
+    assert!(!nav.send_goal(
+        c,
+        &nav_goal(f64::NAN, 9.0),
+        &mut bridge,
+        sim.t,
+        RosTime::ZERO
+    ));
+    assert_eq!(nav.status(c), None);
+    assert_eq!(nav.active(), Some(b));
+    assert_eq!(bridge.goal().map(|g| (g.x, g.y)), Some((8.0, 11.5)));
+    let mut moving = false;
+    for _ in 0..10 {
+        let (s, f) = action_step(&mut sim, &mut bridge, &mut nav);
+        moving |= s.twist.linear.x.hypot(s.twist.linear.y) > 1e-3;
+        assert!(f.is_some());
+    }
+    assert!(moving);
+
+    // Cancel b: the next command is zero.
+    let r = nav.cancel(&cancel_of(b), &mut bridge);
+    assert_eq!(r.return_code, CancelGoalResponseEnum::None);
+    assert_eq!(r.goals_canceling.len(), 1);
+    assert_eq!(r.goals_canceling[0].goal_id, b);
+    assert_eq!(nav.status(b), Some(GoalStatusEnum::Canceled));
+    let (s, f) = action_step(&mut sim, &mut bridge, &mut nav);
+    assert_eq!(
+        (s.twist, s.stop, f),
+        (Twist::default(), Some(Stop::NoGoal), None)
+    );
+    nav.result_request(b, 2);
+    let replies = nav.take_replies();
+    assert_eq!(
+        (replies[0].to, replies[0].status),
+        (2, GoalStatusEnum::Canceled)
+    );
+
+    // Cancels of a finished goal, of an unknown one, and of all (none running).
+    let r = nav.cancel(&cancel_of(b), &mut bridge);
+    assert_eq!(r.return_code, CancelGoalResponseEnum::GoalTerminated);
+    let r = nav.cancel(&cancel_of(GoalId::new_random()), &mut bridge);
+    assert_eq!(r.return_code, CancelGoalResponseEnum::UnknownGoal);
+    let r = nav.cancel(&cancel_of(GoalId::ZERO), &mut bridge);
+    assert_eq!(
+        (r.return_code, r.goals_canceling.len()),
+        (CancelGoalResponseEnum::None, 0)
+    );
+    // The result of a goal never seen: status unknown.
+    nav.result_request(GoalId::new_random(), 3);
+    assert_eq!(nav.take_replies()[0].status, GoalStatusEnum::Unknown);
+
+    // A pose on /goal_pose preempts a running action goal; a zero-id cancel cancels all.
+    let d = GoalId::new_random();
+    assert!(nav.send_goal(d, &nav_goal(9.0, 9.0), &mut bridge, sim.t, RosTime::ZERO));
+    nav.goal_topic(&goal(10.0, 10.0), &mut bridge, sim.t);
+    assert_eq!(nav.status(d), Some(GoalStatusEnum::Aborted));
+    assert_eq!(nav.active(), None);
+    assert_eq!(bridge.goal().map(|g| (g.x, g.y)), Some((10.0, 10.0)));
+    let e = GoalId::new_random();
+    assert!(nav.send_goal(e, &nav_goal(9.0, 9.0), &mut bridge, sim.t, RosTime::ZERO));
+    let r = nav.cancel(&cancel_of(GoalId::ZERO), &mut bridge);
+    assert_eq!(r.goals_canceling.len(), 1);
+    assert_eq!(nav.status(e), Some(GoalStatusEnum::Canceled));
+    // Every change was in a status array; the last lists every goal kept.
+    let last = nav.take_status().unwrap();
+    assert_eq!(last.status_list.len(), 4);
+    nav.shutdown();
+}
+
+/// Goals not in free space on `/map` are accepted and aborted at once with Nav2's planner
+/// codes; a goal the navigator cannot be built for (too near a wall for the robot's radius)
+/// is aborted at the first step. Each time the robot stops.
+#[test]
+fn action_refused_goals_abort_with_codes() {
+    let room = grid(84, 64, 0.05, (-0.1, -0.1), |x, y| {
+        let wall = !(0.0..4.0).contains(&x) || !(0.0..3.0).contains(&y);
+        let bx = (1.6..2.4).contains(&x) && (1.0..2.0).contains(&y);
+        if wall || bx { 100 } else { 0 }
+    });
+    let mut bridge = Bridge::new(Params::default());
+    let mut nav: Navigate<u32> = Navigate::new();
+    let mut sim = Sim::new(room.clone(), [0.6, 0.6]);
+    bridge.on_tf(&laser_static(), sim.t, true);
+    bridge.on_map(&room);
+    for (g, want) in [
+        ((2.0, 1.5), code::GOAL_OCCUPIED),
+        ((10.0, 1.5), code::GOAL_OUTSIDE_MAP),
+    ] {
+        let id = GoalId::new_random();
+        assert!(nav.send_goal(id, &nav_goal(g.0, g.1), &mut bridge, sim.t, RosTime::ZERO));
+        assert_eq!(nav.status(id), Some(GoalStatusEnum::Aborted));
+        let r = nav.result(id).unwrap();
+        assert_eq!(r.error_code, want, "{}", r.error_msg);
+        assert_eq!(bridge.goal(), None);
+        let (s, _) = action_step(&mut sim, &mut bridge, &mut nav);
+        assert_eq!((s.twist, s.stop), (Twist::default(), Some(Stop::NoGoal)));
+    }
+    let id = GoalId::new_random();
+    assert!(nav.send_goal(id, &nav_goal(0.03, 1.5), &mut bridge, sim.t, RosTime::ZERO));
+    assert_eq!(nav.status(id), Some(GoalStatusEnum::Executing));
+    let (s, f) = action_step(&mut sim, &mut bridge, &mut nav);
+    assert_eq!((s.twist, f), (Twist::default(), None));
+    assert_eq!(nav.status(id), Some(GoalStatusEnum::Aborted));
+    let r = nav.result(id).unwrap();
+    assert_eq!(r.error_code, code::NO_VALID_PATH, "{r:?}");
+    assert!(!r.error_msg.is_empty());
+    assert_eq!(
+        action_step(&mut sim, &mut bridge, &mut nav).0.stop,
+        Some(Stop::NoGoal)
+    );
+}

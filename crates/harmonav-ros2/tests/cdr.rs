@@ -228,3 +228,153 @@ fn bad_bytes_are_errors() {
     bytes[..4].copy_from_slice(&u32::MAX.to_le_bytes());
     assert!(cdr_encoding::from_bytes::<TFMessage, LittleEndian>(&bytes).is_err());
 }
+
+/// Encodes `value` and compares with the reference; decodes the reference and re-encodes it
+/// (for ros2-client's wrapper types, which have no `PartialEq`).
+fn same_bytes<T: Serialize + DeserializeOwned>(name: &str, value: &T) {
+    let bytes = reference(name);
+    let ours = cdr_encoding::to_vec::<T, LittleEndian>(value).unwrap();
+    assert_eq!(ours, bytes, "{name}: our encoding differs from Cyclone's");
+    let (back, used) = cdr_encoding::from_bytes::<T, LittleEndian>(&bytes).unwrap();
+    assert_eq!(used, bytes.len(), "{name}: bytes left over");
+    assert_eq!(
+        cdr_encoding::to_vec::<T, LittleEndian>(&back).unwrap(),
+        bytes,
+        "{name}: decoded and re-encoded"
+    );
+}
+
+/// The goal id 1, 2, …, 16 of the references.
+fn goal_id() -> ros2_client::action::GoalId {
+    let bytes: Vec<u8> = (1..=16).collect();
+    cdr_encoding::from_bytes::<ros2_client::action::GoalId, LittleEndian>(&bytes)
+        .unwrap()
+        .0
+}
+
+/// The `navigate_to_pose` action's messages (Jazzy's `NavigateToPose.action`) and the action
+/// wrappers ros2-client puts them in (`SendGoal`, `GetResult`, `FeedbackMessage`), with
+/// action_msgs' status and cancel types: the layouts of rosidl's generated types.
+#[test]
+fn navigate_to_pose_action() {
+    use ros2_client::action::{
+        CancelGoalResponse, FeedbackMessage, GetResultRequest, GetResultResponse, GoalInfo,
+        GoalStatusEnum, SendGoalRequest, SendGoalResponse,
+    };
+    use ros2_client::action_msgs::{CancelGoalResponseEnum, GoalStatus, GoalStatusArray};
+    use ros2_client::builtin_interfaces::Time as RosTime;
+    let e = Duration {
+        sec: 12,
+        nanosec: 345,
+    };
+    assert_eq!(round_trip("duration", &e), e);
+    let stamped = PoseStamped {
+        header: h(5, 6, "map"),
+        pose: pose(),
+    };
+    let goal = NavigateToPoseGoal {
+        pose: stamped.clone(),
+        behavior_tree: "bt".into(),
+    };
+    let request = SendGoalRequest {
+        goal_id: goal_id(),
+        goal: goal.clone(),
+    };
+    same_bytes("send_goal_request", &request);
+    let (back, _) = cdr_encoding::from_bytes::<SendGoalRequest<NavigateToPoseGoal>, LittleEndian>(
+        &reference("send_goal_request"),
+    )
+    .unwrap();
+    assert_eq!(back.goal, goal);
+    assert_eq!(back.goal_id, goal_id());
+    same_bytes(
+        "send_goal_response",
+        &SendGoalResponse {
+            accepted: true,
+            stamp: RosTime::from_nanos(21_000_000_022),
+        },
+    );
+    same_bytes(
+        "get_result_request",
+        &GetResultRequest { goal_id: goal_id() },
+    );
+    let result = NavigateToPoseResult {
+        error_code: 206,
+        error_msg: "occupied".into(),
+    };
+    same_bytes(
+        "get_result_response",
+        &GetResultResponse {
+            status: GoalStatusEnum::Aborted,
+            result: result.clone(),
+        },
+    );
+    let (back, _) =
+        cdr_encoding::from_bytes::<GetResultResponse<NavigateToPoseResult>, LittleEndian>(
+            &reference("get_result_response"),
+        )
+        .unwrap();
+    assert_eq!(
+        (back.status, back.result),
+        (GoalStatusEnum::Aborted, result)
+    );
+    let feedback = NavigateToPoseFeedback {
+        current_pose: stamped,
+        navigation_time: Duration { sec: 3, nanosec: 4 },
+        estimated_time_remaining: Duration { sec: 7, nanosec: 8 },
+        number_of_recoveries: -2,
+        distance_remaining: 1.25,
+    };
+    same_bytes(
+        "feedback_message",
+        &FeedbackMessage {
+            goal_id: goal_id(),
+            feedback: feedback.clone(),
+        },
+    );
+    let (back, _) =
+        cdr_encoding::from_bytes::<FeedbackMessage<NavigateToPoseFeedback>, LittleEndian>(
+            &reference("feedback_message"),
+        )
+        .unwrap();
+    assert_eq!(back.feedback, feedback);
+    let info = |id, sec: i64, nanosec: i64| GoalInfo {
+        goal_id: id,
+        stamp: RosTime::from_nanos(sec * 1_000_000_000 + nanosec),
+    };
+    let ones = cdr_encoding::from_bytes::<ros2_client::action::GoalId, LittleEndian>(&[255u8; 16])
+        .unwrap()
+        .0;
+    same_bytes(
+        "goal_status_array",
+        &GoalStatusArray {
+            status_list: vec![
+                GoalStatus {
+                    goal_info: info(goal_id(), 1, 2),
+                    status: GoalStatusEnum::Executing,
+                },
+                GoalStatus {
+                    goal_info: info(ones, 3, 4),
+                    status: GoalStatusEnum::Canceled,
+                },
+            ],
+        },
+    );
+    // ros2-client's CancelGoalRequest has a private field: the node reads it as a GoalInfo.
+    same_bytes("cancel_goal_request", &info(goal_id(), 9, 10));
+    let (request, _) = cdr_encoding::from_bytes::<
+        ros2_client::action::CancelGoalRequest,
+        LittleEndian,
+    >(&reference("cancel_goal_request"))
+    .unwrap();
+    let got = harmonav_ros2::action::cancel_goal_info(&request).unwrap();
+    assert_eq!(got.goal_id, goal_id());
+    assert_eq!(got.stamp.to_nanos(), 9_000_000_010);
+    same_bytes(
+        "cancel_goal_response",
+        &CancelGoalResponse {
+            return_code: CancelGoalResponseEnum::None,
+            goals_canceling: vec![info(goal_id(), 9, 10)],
+        },
+    );
+}

@@ -5,7 +5,9 @@ harmonav-ros2's hand-written serde structs. Field order follows the .msg files."
 from dataclasses import dataclass, field
 
 from cyclonedds.idl import IdlStruct
-from cyclonedds.idl.types import array, float32, float64, int8, int32, sequence, uint32
+from cyclonedds.idl.types import (
+    array, float32, float64, int8, int16, int32, sequence, uint8, uint16, uint32,
+)
 
 
 @dataclass
@@ -144,6 +146,100 @@ class String(IdlStruct, typename="std_msgs::msg::dds_::String_"):
     data: str = ""
 
 
+@dataclass
+class Duration(IdlStruct, typename="builtin_interfaces::msg::dds_::Duration_"):
+    sec: int32 = 0
+    nanosec: uint32 = 0
+
+
+# The navigate_to_pose action (nav2_msgs/action/NavigateToPose as in Jazzy) and action_msgs, as
+# rosidl lays an action out on the wire: three services (rq/<name>/_action/send_goalRequest,
+# …) and two topics (rt/<name>/_action/feedback, …/status).
+
+
+@dataclass
+class UUID(IdlStruct, typename="unique_identifier_msgs::msg::dds_::UUID_"):
+    uuid: array[uint8, 16] = field(default_factory=lambda: [0] * 16)
+
+
+@dataclass
+class NavigateToPoseGoal(IdlStruct, typename="nav2_msgs::action::dds_::NavigateToPose_Goal_"):
+    pose: PoseStamped = field(default_factory=PoseStamped)
+    behavior_tree: str = ""
+
+
+@dataclass
+class NavigateToPoseResult(IdlStruct, typename="nav2_msgs::action::dds_::NavigateToPose_Result_"):
+    error_code: uint16 = 0
+    error_msg: str = ""
+
+
+@dataclass
+class NavigateToPoseFeedback(IdlStruct, typename="nav2_msgs::action::dds_::NavigateToPose_Feedback_"):
+    current_pose: PoseStamped = field(default_factory=PoseStamped)
+    navigation_time: Duration = field(default_factory=Duration)
+    estimated_time_remaining: Duration = field(default_factory=Duration)
+    number_of_recoveries: int16 = 0
+    distance_remaining: float32 = 0.0
+
+
+@dataclass
+class SendGoalRequest(IdlStruct, typename="nav2_msgs::action::dds_::NavigateToPose_SendGoal_Request_"):
+    goal_id: UUID = field(default_factory=UUID)
+    goal: NavigateToPoseGoal = field(default_factory=NavigateToPoseGoal)
+
+
+@dataclass
+class SendGoalResponse(IdlStruct, typename="nav2_msgs::action::dds_::NavigateToPose_SendGoal_Response_"):
+    accepted: bool = False
+    stamp: Time = field(default_factory=Time)
+
+
+@dataclass
+class GetResultRequest(IdlStruct, typename="nav2_msgs::action::dds_::NavigateToPose_GetResult_Request_"):
+    goal_id: UUID = field(default_factory=UUID)
+
+
+@dataclass
+class GetResultResponse(IdlStruct, typename="nav2_msgs::action::dds_::NavigateToPose_GetResult_Response_"):
+    status: int8 = 0
+    result: NavigateToPoseResult = field(default_factory=NavigateToPoseResult)
+
+
+@dataclass
+class FeedbackMessage(IdlStruct, typename="nav2_msgs::action::dds_::NavigateToPose_FeedbackMessage_"):
+    goal_id: UUID = field(default_factory=UUID)
+    feedback: NavigateToPoseFeedback = field(default_factory=NavigateToPoseFeedback)
+
+
+@dataclass
+class GoalInfo(IdlStruct, typename="action_msgs::msg::dds_::GoalInfo_"):
+    goal_id: UUID = field(default_factory=UUID)
+    stamp: Time = field(default_factory=Time)
+
+
+@dataclass
+class GoalStatus(IdlStruct, typename="action_msgs::msg::dds_::GoalStatus_"):
+    goal_info: GoalInfo = field(default_factory=GoalInfo)
+    status: int8 = 0
+
+
+@dataclass
+class GoalStatusArray(IdlStruct, typename="action_msgs::msg::dds_::GoalStatusArray_"):
+    status_list: sequence[GoalStatus] = field(default_factory=list)
+
+
+@dataclass
+class CancelGoalRequest(IdlStruct, typename="action_msgs::srv::dds_::CancelGoal_Request_"):
+    goal_info: GoalInfo = field(default_factory=GoalInfo)
+
+
+@dataclass
+class CancelGoalResponse(IdlStruct, typename="action_msgs::srv::dds_::CancelGoal_Response_"):
+    return_code: int8 = 0
+    goals_canceling: sequence[GoalInfo] = field(default_factory=list)
+
+
 def samples():
     """One message of each type with distinct, awkward values (odd string lengths, so that
     the alignment after them matters; inf and nan ranges; negative cells)."""
@@ -180,6 +276,31 @@ def samples():
         ]),
         "clock": Clock(clock=Time(sec=42, nanosec=43)),
         "string": String(data="stopped: scan missing or stale"),
+        "duration": Duration(sec=12, nanosec=345),
+        "send_goal_request": SendGoalRequest(
+            goal_id=UUID(uuid=list(range(1, 17))),
+            goal=NavigateToPoseGoal(pose=PoseStamped(header=Header(stamp=Time(sec=5, nanosec=6), frame_id="map"), pose=pose),
+                                    behavior_tree="bt"),
+        ),
+        "send_goal_response": SendGoalResponse(accepted=True, stamp=Time(sec=21, nanosec=22)),
+        "get_result_request": GetResultRequest(goal_id=UUID(uuid=list(range(1, 17)))),
+        "get_result_response": GetResultResponse(status=6, result=NavigateToPoseResult(error_code=206, error_msg="occupied")),
+        "feedback_message": FeedbackMessage(
+            goal_id=UUID(uuid=list(range(1, 17))),
+            feedback=NavigateToPoseFeedback(
+                current_pose=PoseStamped(header=Header(stamp=Time(sec=5, nanosec=6), frame_id="map"), pose=pose),
+                navigation_time=Duration(sec=3, nanosec=4), estimated_time_remaining=Duration(sec=7, nanosec=8),
+                number_of_recoveries=-2, distance_remaining=1.25,
+            ),
+        ),
+        "goal_status_array": GoalStatusArray(status_list=[
+            GoalStatus(goal_info=GoalInfo(goal_id=UUID(uuid=list(range(1, 17))), stamp=Time(sec=1, nanosec=2)), status=2),
+            GoalStatus(goal_info=GoalInfo(goal_id=UUID(uuid=[255] * 16), stamp=Time(sec=3, nanosec=4)), status=5),
+        ]),
+        "cancel_goal_request": CancelGoalRequest(goal_info=GoalInfo(goal_id=UUID(uuid=list(range(1, 17))), stamp=Time(sec=9, nanosec=10))),
+        "cancel_goal_response": CancelGoalResponse(return_code=0, goals_canceling=[
+            GoalInfo(goal_id=UUID(uuid=list(range(1, 17))), stamp=Time(sec=9, nanosec=10)),
+        ]),
     }
 
 
