@@ -8,6 +8,7 @@ use std::path::Path;
 
 use harmonav_field::FieldError;
 use harmonav_output::floor::FloorOutputs;
+use harmonav_rs::floorplan::LayerLevel;
 use harmonav_scenario::floorplan::{FloorPrepared, FloorScenario, StartsSpec};
 use harmonav_scenario::scenario::read_text;
 use harmonav_sim::floor::{FloorSummary, navigator, obstacle_name};
@@ -51,6 +52,17 @@ pub fn load_floor_starts(
     Ok(scenario.prepare(path)?)
 }
 
+/// `c_δ` over the walls and, for each start of the file, whether it lies below it
+/// (`FloorPrepared::start_certificates`), its error naming the file.
+pub fn certificates(prepared: &FloorPrepared) -> Result<(LayerLevel, Vec<bool>), CliError> {
+    prepared
+        .start_certificates()
+        .map_err(|e| CliError::Navigator {
+            scenario: prepared.path.clone(),
+            error: harmonav_rs::NavError::Floor(e),
+        })
+}
+
 /// `harmonav check` on a floor plan: the file loads and its map is solved.
 ///
 /// It also certifies `c_δ` over the walls (`FloorField::certify_layer_level`, docs/maths.md
@@ -80,12 +92,7 @@ pub fn cmd_check_floor(prepared: &FloorPrepared) -> Result<bool, CliError> {
             ),
         }
     }
-    let (level, below) = prepared
-        .start_certificates()
-        .map_err(|e| CliError::Navigator {
-            scenario: prepared.path.clone(),
-            error: harmonav_rs::NavError::Floor(e),
-        })?;
+    let (level, below) = certificates(prepared)?;
     out!(
         "c_δ = {:.6} certified on the edge of the certified region ({}, {} \
          cells{}): {} of {} starts below it, whose sublevel sets stay inside the certified \

@@ -5,13 +5,14 @@
 //! complete, and no staging folder).
 //!
 //! One file per command, each a thin call into harmonav-sim: [`run`], [`eval`], [`census`],
-//! [`sweep`] (`check` is the load alone); floor-plan files (`[floor_plan]`) go to [`floor`]
+//! [`sweep`] (`check` is the load alone, and with `--json` [`check`]'s one object); floor-plan files (`[floor_plan]`) go to [`floor`]
 //! (`run`, `eval`, `check`) and [`sweep`] (`cmd_sweep_floor`); the options they share and the
 //! loading of the scenario in [`args`], the errors in [`error`], the terminal output (control
 //! characters escaped) in [`text`].
 
 mod args;
 mod census;
+mod check;
 mod error;
 mod eval;
 mod floor;
@@ -116,8 +117,15 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// Validate a scenario file.
-    Check { scenario: PathBuf },
+    /// Validate a scenario file; on a floor plan, certify c_δ and say which starts lie below
+    /// it.
+    Check {
+        scenario: PathBuf,
+        /// Print one JSON object: the map's size and set-up time, c_δ, each start's
+        /// certificate and the certified fraction of the reachable free area.
+        #[arg(long)]
+        json: bool,
+    },
 }
 
 fn main() -> ExitCode {
@@ -239,14 +247,22 @@ fn dispatch(command: Command) -> Result<bool, CliError> {
             )
             .map_err(named)
         }
-        Command::Check { scenario } => {
+        Command::Check { scenario, json } => {
             if floor_plan(&scenario)? {
-                return floor::cmd_check_floor(&floor::load_floor(&scenario, &[])?);
+                let floor = floor::load_floor(&scenario, &[])?;
+                if json {
+                    return check::cmd_check_floor_json(&floor);
+                }
+                return floor::cmd_check_floor(&floor);
             }
-            load(&scenario, None, None).map(|_| {
-                out!("ok");
-                true
-            })
+            let clock = std::time::Instant::now();
+            let prepared = load(&scenario, None, None)?;
+            if json {
+                let setup_s = clock.elapsed().as_secs_f64();
+                return check::cmd_check_star_json(&scenario, &prepared, setup_s);
+            }
+            out!("ok");
+            Ok(true)
         }
     }
 }

@@ -9,7 +9,8 @@ use crate::args::{ModelArg, model};
 use crate::error::CliError;
 use crate::text::{out, print_json};
 
-fn threads() -> usize {
+/// The threads a command may use: the machine's cores (2 when unknown).
+pub fn threads() -> usize {
     std::thread::available_parallelism().map_or(2, |n| n.get())
 }
 

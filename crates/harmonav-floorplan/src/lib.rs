@@ -29,6 +29,8 @@
 //!   (parry), the certificate;
 //! - [`FloorTransform`] (`nav_transform` → [`FloorMapped`], [`Part`], [`NotFree`]);
 //! - [`FloorField`]: `Θ`, `∇Θ`, the direction, `k`, the destination stiffness;
+//! - [`CertifiedArea`] ([`FloorField::certified_area`]): the fraction of the robot's reachable
+//!   free space below the certified level `c_δ`, on a grid;
 //! - [`Geodesic`]: the shortest-path distance to the goal in `W_δ` (fast marching on a grid),
 //!   whose direction is the kinematic law's nominal heading;
 //! - [`RosMap`] (`load`, `outline`, `free_space`, `to_floor_map`), [`FloorMap::from_ros_map`],
@@ -61,6 +63,7 @@
 #![warn(missing_docs)]
 
 pub mod compose;
+pub mod coverage;
 pub mod geodesic;
 pub mod level;
 pub mod plan;
@@ -69,6 +72,7 @@ pub mod sector;
 pub mod theta;
 
 pub use compose::{FloorMapped, FloorTransform, NotFree, Part};
+pub use coverage::{CertifiedArea, MAX_AREA_SAMPLES, area_cell};
 pub use geodesic::Geodesic;
 pub use level::{LayerLevel, LayerSlide, LevelOptions};
 pub use plan::{CentrePolicy, FloorError, FloorMap, FloorOptions, Reach, UnknownCentrePolicy};

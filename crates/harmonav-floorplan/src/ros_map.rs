@@ -19,7 +19,7 @@
 //! free, else unknown, and **unknown counts as occupied** (see [`Cell`] for `scale` and `raw`).
 
 mod error;
-mod grid;
+pub(crate) mod grid;
 mod outline;
 mod pixels;
 mod yaml;
