@@ -58,10 +58,10 @@ pub mod truth;
 
 pub use movers::{MoverKindSpec, MoverSpec};
 pub use scenario::{
-    ControllerSpec, DEFAULT_ARRIVAL, DEFAULT_MU, ExpectSpec, FieldSpec, FleetRobotSpec,
+    BaseKind, ControllerSpec, DEFAULT_ARRIVAL, DEFAULT_MU, ExpectSpec, FieldSpec, FleetRobotSpec,
     MAX_FILE_BYTES, MAX_OBSTACLES, MAX_RECORDED_STATES, Model, PARAMETER_RANGE, Prepared,
     RobotSpec, Scenario, ScenarioError, ShapeSpec, SimSpec, build_shape,
 };
 pub use sensor::{LidarSensor, SensorKind, SensorSpec};
-pub use suites::{ADVERSARIAL, LONG, MOVERS, scenario_files};
+pub use suites::{ADVERSARIAL, DIFF, LONG, MOVERS, scenario_files};
 pub use truth::{Sensor, Truth};

@@ -141,6 +141,56 @@ impl Model {
     }
 }
 
+/// `[robot] base`: how the robot moves (issue 53; docs/unicycle.md, "Simulator").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum BaseKind {
+    /// The default: an omnidirectional robot, `ẋ = u` (or `m ẍ = f`), as before.
+    #[default]
+    Holonomic,
+    /// A differential drive (unicycle): `ẋ = v·e(θ)`, `θ̇ = ω`, `e(θ) = (cos θ, sin θ)`, with
+    /// `0 ≤ v ≤ v_max` (`[controller] v_max`) and `|ω| ≤ ω_max` (`[robot] omega_max`),
+    /// commanded by [`harmonav::Navigator::command_pose`].
+    Diff,
+}
+
+impl BaseKind {
+    /// `"holonomic"` or `"diff"`, as the scenario file spells it.
+    #[must_use]
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            Self::Holonomic => "holonomic",
+            Self::Diff => "diff",
+        }
+    }
+
+    /// Whether this is the default, [`BaseKind::Holonomic`] (not written back to a file).
+    #[must_use]
+    pub fn is_holonomic(&self) -> bool {
+        *self == Self::Holonomic
+    }
+}
+
+impl std::fmt::Display for BaseKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl std::str::FromStr for BaseKind {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "holonomic" => Ok(Self::Holonomic),
+            "diff" => Ok(Self::Diff),
+            _ => Err(format!(
+                "unknown base `{s}`; expected \"holonomic\" (the default) or \"diff\" (a \
+                 differential drive)"
+            )),
+        }
+    }
+}
+
 /// `[robot]`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -221,6 +271,19 @@ pub struct ControllerSpec {
     /// field keeps compiling.
     #[serde(skip)]
     pub control_period: Option<f64>,
+    /// The file's `[robot] base` (default [`BaseKind::Holonomic`]); written under `[robot]`
+    /// and kept here as `control_period` is.
+    #[serde(skip)]
+    pub base: BaseKind,
+    /// The file's `[robot] omega_max`, rad/s: a differential drive's top turn rate `ω_max`
+    /// (required with `base = "diff"`, refused without it).
+    #[serde(skip)]
+    pub omega_max: Option<f64>,
+    /// The file's `[robot] yaw`, rad: a differential drive's heading `θ(0)` at the start
+    /// (default 0, along `+x`; refused without `base = "diff"`). Not `heading`, which is a
+    /// floor plan's heading policy.
+    #[serde(skip)]
+    pub yaw: Option<f64>,
 }
 
 impl Default for ControllerSpec {
@@ -232,6 +295,9 @@ impl Default for ControllerSpec {
             speed: SpeedPolicy::default(),
             v_max: None,
             control_period: None,
+            base: BaseKind::Holonomic,
+            omega_max: None,
+            yaw: None,
         }
     }
 }
@@ -436,6 +502,17 @@ struct RobotFile {
     margin: f64,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     control_period: Option<f64>,
+    #[serde(
+        default,
+        deserialize_with = "de_policy",
+        serialize_with = "ser_policy",
+        skip_serializing_if = "BaseKind::is_holonomic"
+    )]
+    base: BaseKind,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    omega_max: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    yaw: Option<f64>,
 }
 
 impl From<ScenarioFile> for Scenario {
@@ -458,6 +535,9 @@ impl From<ScenarioFile> for Scenario {
             field: file.field,
             controller: ControllerSpec {
                 control_period: r.control_period,
+                base: r.base,
+                omega_max: r.omega_max,
+                yaw: r.yaw,
                 ..file.controller
             },
             sim: SimSpec {
@@ -488,6 +568,9 @@ impl From<Scenario> for ScenarioFile {
                 radius: r.radius,
                 margin: r.margin,
                 control_period: s.controller.control_period,
+                base: s.controller.base,
+                omega_max: s.controller.omega_max,
+                yaw: s.controller.yaw,
             },
             sensor: s.sensor,
             field: s.field,
@@ -532,6 +615,60 @@ impl Scenario {
             ));
         }
         toml::from_str::<Scenario>(text).map_err(|e| toml_error(path, text, &e))
+    }
+
+    /// The base's keys (`[robot] base`, `omega_max`, `yaw`, and `[controller] v_max` for a
+    /// differential drive): the field and the problem of the first that is wrong.
+    fn check_base(&self) -> Result<(), (&'static str, String)> {
+        let c = &self.controller;
+        let only = |key: &str| {
+            format!(
+                "only a differential-drive base takes `{key}`; add `base = \"diff\"` to [robot]"
+            )
+        };
+        if c.base == BaseKind::Holonomic {
+            if c.omega_max.is_some() {
+                return Err(("robot.omega_max", only("omega_max")));
+            }
+            if c.yaw.is_some() {
+                return Err(("robot.yaw", only("yaw")));
+            }
+            return Ok(());
+        }
+        let Some(omega_max) = c.omega_max else {
+            return Err((
+                "robot.omega_max",
+                "a differential-drive base (`base = \"diff\"`) needs its top turn rate, rad/s"
+                    .into(),
+            ));
+        };
+        parameter(omega_max).map_err(|p| ("robot.omega_max", p))?;
+        if c.v_max.is_none() {
+            return Err((
+                "controller.v_max",
+                "a differential-drive base (`base = \"diff\"`) needs its top forward speed, m/s"
+                    .into(),
+            ));
+        }
+        if let Some(yaw) = c.yaw
+            && !yaw.is_finite()
+        {
+            return Err(("robot.yaw", format!("must be finite (rad), got {yaw:e}")));
+        }
+        if self.robot.model == Model::Dynamic {
+            return Err((
+                "robot.base",
+                "a differential-drive base runs the kinematic law only (`model = \"kinematic\"`)"
+                    .into(),
+            ));
+        }
+        if !(self.sim.movers.is_empty() && self.sim.robots.is_empty()) {
+            return Err((
+                "robot.base",
+                "a differential-drive base does not run with [[movers]] or [[robots]] yet".into(),
+            ));
+        }
+        Ok(())
     }
 
     /// Validates the scenario and builds the workspace (see [`Prepared`]).
@@ -593,6 +730,7 @@ impl Scenario {
         if let Some(h) = c.control_period {
             control_period(h, self.sim.max_time).map_err(|p| f("robot.control_period", p))?;
         }
+        self.check_base().map_err(|(field, p)| f(field, p))?;
         if let Some(v) = self.expect.as_ref().and_then(|e| e.max_speed_below)
             && !(v.is_finite() && v > 0.0)
         {
@@ -971,6 +1109,24 @@ impl Prepared {
     /// The file's `[robot] control_period`, s (`None`: the law's default).
     pub fn control_period(&self) -> Option<f64> {
         self.scenario.controller.control_period
+    }
+
+    /// The robot's base for the navigator ([`harmonav::Options::with_base`]):
+    /// `Base::Diff { v_max, omega_max }` for `[robot] base = "diff"` (`v_max` the file's
+    /// `[controller] v_max`), `None` for the default holonomic base.
+    pub fn base(&self) -> Option<harmonav::Base> {
+        let c = &self.scenario.controller;
+        match (c.base, c.v_max, c.omega_max) {
+            (BaseKind::Diff, Some(v_max), Some(omega_max)) => {
+                Some(harmonav::Base::diff(v_max, omega_max))
+            }
+            _ => None,
+        }
+    }
+
+    /// A differential drive's start heading `θ(0)`, rad (`[robot] yaw`, default 0).
+    pub fn start_yaw(&self) -> f64 {
+        self.scenario.controller.yaw.unwrap_or(0.0)
     }
 }
 

@@ -23,8 +23,14 @@ pub const LONG: &str = "long";
 /// [`scenario_files`] skips the folder.
 pub const MOVERS: &str = "movers";
 
+/// The folder of the differential-drive scenarios (`scenarios/diff/`, issue 53): star worlds
+/// with `[robot] base = "diff"`, which run the kinematic law only, in the held-command loop
+/// (docs/unicycle.md, "Simulator"). `cargo xtask verify` flies each built-in and in rapier
+/// (`diff.*`); [`scenario_files`] skips the folder (the suites also run the other model).
+pub const DIFF: &str = "diff";
+
 /// Every scenario file (`*.toml`) below `dir`, recursively, sorted by path, except under
-/// [`ADVERSARIAL`], [`LONG`] and [`MOVERS`] folders: the suites that `cargo xtask verify` runs and must
+/// [`ADVERSARIAL`], [`LONG`], [`MOVERS`] and [`DIFF`] folders: the suites that `cargo xtask verify` runs and must
 /// pass.
 pub fn scenario_files(dir: &Path) -> std::io::Result<Vec<PathBuf>> {
     fn walk(dir: &Path, out: &mut Vec<PathBuf>) -> std::io::Result<()> {
@@ -33,7 +39,7 @@ pub fn scenario_files(dir: &Path) -> std::io::Result<Vec<PathBuf>> {
             // Floor plans have their own format and loop (`crate::floorplan`).
             if p.is_dir()
                 && p.file_name().is_some_and(|n| {
-                    n == ADVERSARIAL || n == LONG || n == MOVERS || n == FLOORPLANS
+                    n == ADVERSARIAL || n == LONG || n == MOVERS || n == DIFF || n == FLOORPLANS
                 })
             {
                 continue;

@@ -31,6 +31,10 @@ pub(crate) struct ClosedLoop<'a> {
     /// The heading of the last lidar scan, rad: the next one keeps it where the sector's axis
     /// has no value (at rest at a critical point, or in a margin band, where the law has none).
     pub yaw: f64,
+    /// A differential drive's heading `θ`, rad, set by the held-command loop each period: the
+    /// sector's axis and the lidar's heading are then `e(θ)`, the body's (its motion's
+    /// direction whenever it moves, `v ≥ 0`). `None` for a holonomic robot.
+    pub heading: Option<f64>,
 }
 
 impl<'a> ClosedLoop<'a> {
@@ -64,6 +68,10 @@ impl<'a> ClosedLoop<'a> {
         if let Some(h) = period.or(prepared.control_period()) {
             options = options.with_control_period(h);
         }
+        // After `v_max`: a differential drive caps the law's top speed at its own.
+        if let Some(base) = prepared.base() {
+            options = options.with_base(base);
+        }
         // The lidar's fit range for this law (eq. fitnear), for the navigator and the
         // scanner's claim alike.
         let lidar = truth.sensor.lidar().map(|l| l.for_law(&law, &options));
@@ -87,6 +95,7 @@ impl<'a> ClosedLoop<'a> {
             truth,
             scanner: lidar.map(Scanner::new),
             yaw: 0.0,
+            heading: prepared.base().map(|_| prepared.start_yaw()),
         };
         let Some(sensing) = truth.sensor.exact() else {
             // A lidar's first scan, at t = 0, is the driver's.
@@ -137,8 +146,11 @@ impl<'a> ClosedLoop<'a> {
     }
 
     /// The sector's axis at `(x, ẋ)` (eq. `sectoraxis`), `None` at rest at a critical point or
-    /// outside the free space.
+    /// outside the free space; a differential drive's heading `e(θ)` ([`ClosedLoop::heading`]).
     pub fn axis(&self, x: Vector2<f64>, v: Vector2<f64>) -> Option<Vector2<f64>> {
+        if let Some(yaw) = self.heading {
+            return Some(Vector2::new(yaw.cos(), yaw.sin()));
+        }
         let e = self.eval(x, v)?;
         axis(self.moving(v, &e), e.field.direction)
     }
@@ -248,6 +260,7 @@ impl<'a> ClosedLoop<'a> {
                 _ => 0.0,
             },
             critical: damping.is_some_and(|d| d.branch == Branch::Critical),
+            yaw: None,
         }
     }
 }

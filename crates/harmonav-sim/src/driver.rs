@@ -152,6 +152,12 @@ impl<'a, 'o> Driver<'a, 'o> {
         self.lp.eval(x, v)
     }
 
+    /// A differential drive's heading `θ`, rad, for the sensing from here on
+    /// ([`ClosedLoop::heading`]).
+    pub fn set_heading(&mut self, yaw: f64) {
+        self.lp.heading = Some(yaw);
+    }
+
     /// Whether the robot at `x` is within the goal tolerance.
     pub fn arrived(&self, x: Vector2<f64>) -> bool {
         (x - self.prepared.truth.goal()).norm() < self.prepared.scenario.sim.goal_tolerance

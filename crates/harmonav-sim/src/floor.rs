@@ -296,6 +296,7 @@ fn sample(nav: &FloorNavigator, t: f64, x: Vector2<f64>, v: Vector2<f64>) -> Sam
         lambda: damping.map(|d| d.lambda),
         energy_tolerance: 0.0,
         critical: damping.is_some_and(|d| d.branch == Branch::Critical),
+        yaw: None,
     }
 }
 

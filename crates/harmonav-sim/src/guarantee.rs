@@ -49,6 +49,8 @@ pub enum Kind {
     PerceivedOnlyGrows,
     /// A lidar: the navigator accepted every scan.
     ScansAccepted,
+    /// A differential drive: every `(v, ω)` held within `0 ≤ v ≤ v_max`, `|ω| ≤ ω_max`.
+    DiffBounds,
 }
 
 /// Why the robot lost the free space of its known obstacles.
@@ -269,6 +271,20 @@ pub enum Check {
         /// The run's.
         got: bool,
     },
+    /// [`Kind::DiffBounds`] (`[robot] base = "diff"`): the extremes of the commands held,
+    /// against the base's bounds (`0 ≤ v ≤ v_max`, `|ω| ≤ ω_max`; holds when none is exceeded).
+    DiffBounds {
+        /// The smallest forward speed `v` held, m/s (`≥ 0` holds: forward only).
+        min_v: f64,
+        /// The largest forward speed `v` held, m/s.
+        max_v: f64,
+        /// `v_max`, m/s.
+        v_max: f64,
+        /// The largest turn rate `|ω|` held, rad/s.
+        max_omega: f64,
+        /// `ω_max`, rad/s.
+        omega_max: f64,
+    },
     /// `[expect] max_speed_below`.
     ExpectMaxSpeedBelow {
         /// Largest speed, m/s.
@@ -307,6 +323,7 @@ impl Check {
             Self::PerceivedCoversTruth { .. } => Kind::PerceivedCoversTruth,
             Self::PerceivedOnlyGrows { .. } => Kind::PerceivedOnlyGrows,
             Self::ScansAccepted { .. } => Kind::ScansAccepted,
+            Self::DiffBounds { .. } => Kind::DiffBounds,
         }
     }
 
@@ -338,6 +355,7 @@ impl Check {
             Self::PerceivedCoversTruth { .. } => "perceived-covers-seen-truth",
             Self::PerceivedOnlyGrows { .. } => "perceived-shapes-only-grow",
             Self::ScansAccepted { .. } => "scans-accepted",
+            Self::DiffBounds { .. } => "diff-command-bounds",
         }
     }
 }
@@ -514,6 +532,17 @@ impl std::fmt::Display for Check {
                 }
             }
             Self::ScansAccepted { scans, .. } => write!(f, "{scans} scans observed"),
+            Self::DiffBounds {
+                min_v,
+                max_v,
+                v_max,
+                max_omega,
+                omega_max,
+            } => write!(
+                f,
+                "v ∈ [{min_v:.4}, {max_v:.4}] m/s (v_max {v_max}), |ω| ≤ {max_omega:.4} rad/s \
+                 (ω_max {omega_max})"
+            ),
         }
     }
 }

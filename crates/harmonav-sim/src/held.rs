@@ -10,7 +10,7 @@
 
 use harmonav::control::{Dynamic, Potential};
 use harmonav::{
-    Controller, DEFAULT_DYNAMIC_PERIOD, DEFAULT_KINEMATIC_PERIOD, Mode, Mover, NavError,
+    Base, Controller, DEFAULT_DYNAMIC_PERIOD, DEFAULT_KINEMATIC_PERIOD, Mode, Mover, NavError,
 };
 use harmonav_scenario::{Model, Prepared};
 use nalgebra::Vector2;
@@ -21,8 +21,9 @@ use crate::guarantee::{Check, FreeSpaceLoss, Guarantee};
 use crate::monitor::End;
 use crate::movers::MoverWorld;
 use crate::summary::{Physics, Run, RunError};
-use crate::trace::Event;
+use crate::trace::{Event, Sample};
 use crate::trajectory::Keep;
+use crate::unicycle::Diff;
 
 /// The run of `prepared` (with `model`, or the file's) in the held-command loop with its
 /// movers.
@@ -56,6 +57,15 @@ pub(crate) fn fly_with(
         });
     let mut d = Driver::start(prepared, model, Some(h), 0.0, warnings, observer)?;
     let mut world = MoverWorld::new(&sc.sim.movers, prepared.truth.radius);
+    // A differential drive (`crate::unicycle`): its heading, and the monitors of its arcs.
+    let mut diff = match prepared.base() {
+        Some(Base::Diff { v_max, omega_max }) => {
+            Some(Diff::new(v_max, omega_max, prepared.start_yaw()))
+        }
+        _ => None,
+    };
+    // The last command turned a differential drive in place: not at rest.
+    let mut turning = false;
     // A state recorded every `sim.dt`, to the nearest period; every other period's end judged.
     let record_every = (sc.sim.dt / h).round().max(1.0) as usize;
     let (mut x, mut v) = (prepared.start(), Vector2::zeros());
@@ -78,7 +88,7 @@ pub(crate) fn fly_with(
             }));
             break;
         }
-        let mut s = d.sample(t, x, v);
+        let mut s = state(&d, t, (x, v), diff.as_ref().map(|u| u.yaw));
         s.energy_tolerance = std::mem::take(&mut drift);
         reached = d.arrived(x);
         if periods % record_every == 0 || reached {
@@ -90,6 +100,9 @@ pub(crate) fn fly_with(
         if reached || t >= sc.sim.max_time {
             break;
         }
+        if let Some(u) = &diff {
+            d.set_heading(u.yaw);
+        }
         // Sensing at the period's start: discoveries, a lidar's scans when due.
         let found = d.sees(x, v);
         let mut discovered = !found.is_empty();
@@ -97,17 +110,30 @@ pub(crate) fn fly_with(
             break;
         }
         if d.scan_due(t) {
-            match d.scan(d.sample(t, x, v), x, v) {
+            match d.scan(state(&d, t, (x, v), diff.as_ref().map(|u| u.yaw)), x, v) {
                 None => break,
                 Some(changed) => discovered |= changed,
             }
         }
         if discovered {
-            d.record(d.sample(t, x, v), Keep::Pinned, true);
+            d.record(
+                state(&d, t, (x, v), diff.as_ref().map(|u| u.yaw)),
+                Keep::Pinned,
+                true,
+            );
         }
-        // Waiting for a mover is not a stall.
-        if d.at_rest(t, x, false, discovered || acted, reached) {
+        // Waiting for a mover is not a stall, nor is turning in place.
+        if d.at_rest(t, x, false, discovered || acted || turning, reached) {
             break;
+        }
+        if let Some(u) = diff.as_mut() {
+            // The arc of `(v, ω)` held for `h`, judged (no movers with a differential drive).
+            let c = d.nav_mut().command_pose(x, u.yaw)?;
+            turning = c.v == 0.0 && c.omega != 0.0;
+            (x, v) = u.period(&prepared.truth, x, &c, h);
+            periods += 1;
+            t = periods as f64 * h;
+            continue;
         }
         if filter {
             d.nav_mut().set_movers(world.reports())?;
@@ -139,10 +165,20 @@ pub(crate) fn fly_with(
         t = periods as f64 * h;
     }
     if d.last_recorded() != Some(t) {
-        d.record(d.sample(t, x, v), Keep::Pinned, acted);
+        d.record(
+            state(&d, t, (x, v), diff.as_ref().map(|u| u.yaw)),
+            Keep::Pinned,
+            acted,
+        );
     }
     let margin = prepared.margin();
-    let movers = (!world.is_empty()).then(|| world.guarantee(margin));
+    let mut more: Vec<Guarantee> = (!world.is_empty())
+        .then(|| world.guarantee(margin))
+        .into_iter()
+        .collect();
+    if let Some(u) = &diff {
+        more.extend(u.guarantees(margin));
+    }
     let mut run = d.finish_with(
         End {
             reached,
@@ -152,12 +188,30 @@ pub(crate) fn fly_with(
             rejected: 0,
             physics: Physics::Builtin,
         },
-        movers.into_iter().collect(),
+        more,
     );
     if !world.is_empty() {
         run.summary.movers = Some(world.report);
     }
+    run.summary.diff = diff.map(|u| u.report);
     Ok(run)
+}
+
+/// The state recorded at `t` at `(x, ẋ)`: [`Driver::sample`], and for a differential drive
+/// (its heading `yaw` given) that heading and its velocity `ẋ = v·e(θ)` (the law's `u` is not
+/// its motion).
+pub(crate) fn state(
+    d: &Driver,
+    t: f64,
+    (x, v): (Vector2<f64>, Vector2<f64>),
+    yaw: Option<f64>,
+) -> Sample {
+    let mut s = d.sample(t, x, v);
+    if yaw.is_some() {
+        s.v = [v.x, v.y];
+        s.yaw = yaw;
+    }
+    s
 }
 
 /// One robot of a fleet in flight.

@@ -85,6 +85,7 @@ pub mod summary;
 pub mod sweep;
 pub mod trace;
 pub mod trajectory;
+pub mod unicycle;
 pub mod warning;
 
 pub use driver::STALL_STEPS;

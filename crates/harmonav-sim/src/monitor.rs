@@ -355,6 +355,7 @@ impl Monitor {
             perception: None,
             movers: None,
             fleet: None,
+            diff: None,
         }
     }
 }
@@ -455,6 +456,7 @@ mod tests {
             lambda: Some(1.0),
             energy_tolerance,
             critical: true,
+            yaw: None,
         }
     }
 

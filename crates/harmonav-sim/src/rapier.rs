@@ -4,19 +4,20 @@
 //! the control law — its velocity for the kinematic model, a force for the dynamic one. It
 //! reports the contact events and the largest deviation from the built-in trajectory.
 
-use harmonav::Controller;
 use harmonav::control::Potential;
+use harmonav::{Base, Controller, PoseCommand};
 use harmonav_field::{Field, FieldEval};
 use harmonav_scenario::{Model, Prepared};
 use nalgebra::Vector2;
 
 use crate::driver::{Driver, Warnings};
 use crate::guarantee::{Check, FreeSpaceLoss, Guarantee};
-use crate::held::{euler_energy_error, potential};
+use crate::held::{euler_energy_error, potential, state};
 use crate::monitor::End;
 use crate::summary::{Physics, Run, RunError};
 use crate::trace::{Event, Sample};
 use crate::trajectory::Keep;
+use crate::unicycle::Diff;
 
 mod engine;
 pub mod floor;
@@ -104,6 +105,17 @@ pub(crate) fn rapier_observed(
         .map(|o| star(o, true))
         .chain([star(&truth.boundary, false)]);
     let mut engine = Engine::new(h, walls, (start, sc.robot.radius, sc.robot.mass), &gap_to);
+    // A differential drive: its body turns; each period's `(v, ω)` is judged as in the
+    // built-in loop (`crate::unicycle`), on the arc commanded from rapier's pose.
+    let mut diff = match prepared.base() {
+        Some(Base::Diff { v_max, omega_max }) => {
+            engine.set_yaw(prepared.start_yaw());
+            Some(Diff::new(v_max, omega_max, prepared.start_yaw()))
+        }
+        _ => None,
+    };
+    // The differential drive's command held over the current control period.
+    let mut pose: Option<PoseCommand> = None;
     let mut t = 0.0;
     let mut steps = 0;
     let mut reached = false;
@@ -114,8 +126,8 @@ pub(crate) fn rapier_observed(
     let mut engine_rise: f64 = 0.0;
     // The command held over the current control period.
     let mut command = Vector2::zeros();
-    let sample = |d: &Driver, t: f64, x, vel, drift: &mut f64| {
-        let mut s = d.sample(t, x, vel);
+    let sample = |d: &Driver, t: f64, x, vel, drift: &mut f64, yaw: Option<f64>| {
+        let mut s = state(d, t, (x, vel), yaw);
         s.energy_tolerance = std::mem::take(drift);
         s
     };
@@ -136,7 +148,8 @@ pub(crate) fn rapier_observed(
             // A discovery's second side is recorded where it happens (below), flagged there so
             // that the energy monitor does not count V's jump as a rise.
             let keep = if reached { Keep::Pinned } else { Keep::Grid };
-            d.record(sample(&d, t, x, vel, &mut drift), keep, false);
+            let yaw = diff.as_ref().map(|_| engine.yaw());
+            d.record(sample(&d, t, x, vel, &mut drift, yaw), keep, false);
         }
         reached = d.arrived(x);
         if reached || t >= sc.sim.max_time {
@@ -145,6 +158,10 @@ pub(crate) fn rapier_observed(
         // The loop's work at the start of each control period: sensing, then a new command,
         // held until the next.
         if steps % hold == 0 {
+            if let Some(u) = diff.as_mut() {
+                u.yaw = engine.yaw();
+                d.set_heading(u.yaw);
+            }
             // Sensing: discoveries at period granularity, a lidar's scans at the first period
             // at or after each scan time.
             let found = d.sees(x, vel);
@@ -154,7 +171,7 @@ pub(crate) fn rapier_observed(
             }
             if d.scan_due(t) {
                 // The side before an event carries the drift since the last recorded state.
-                let mut pre = d.sample(t, x, vel);
+                let mut pre = state(&d, t, (x, vel), diff.as_ref().map(|u| u.yaw));
                 pre.energy_tolerance = drift;
                 match d.scan(pre, x, vel) {
                     None => break,
@@ -168,12 +185,22 @@ pub(crate) fn rapier_observed(
             if discovered {
                 // The state right after a discovery, with the new Θ, k and λ: the switch of
                 // eq. `dissipationfun` may last only a few milliseconds.
-                d.record(sample(&d, t, x, vel, &mut drift), Keep::Pinned, true);
+                let yaw = diff.as_ref().map(|u| u.yaw);
+                d.record(sample(&d, t, x, vel, &mut drift, yaw), Keep::Pinned, true);
             }
-            if d.at_rest(t, x, false, discovered, reached) {
+            let turning = pose.is_some_and(|c| c.v == 0.0 && c.omega != 0.0);
+            if d.at_rest(t, x, false, discovered || turning, reached) {
                 break;
             }
+            if let Some(u) = diff.as_mut() {
+                // The law's `(v, ω)` (a custom controller is not taken for a differential
+                // drive), judged on its arc from rapier's pose.
+                let c = d.nav_mut().command_pose(x, u.yaw)?;
+                u.period(truth, x, &c, period);
+                pose = Some(c);
+            }
             command = match &drive {
+                _ if diff.is_some() => Vector2::zeros(),
                 Drive::Law => d.nav_mut().command(x, vel)?.value,
                 Drive::Custom(f) => {
                     let e = d.nav().field().eval(x)?;
@@ -181,7 +208,10 @@ pub(crate) fn rapier_observed(
                 }
             };
         }
-        engine.drive(model, command);
+        match pose {
+            Some(c) => engine.drive_unicycle(c.v, c.omega),
+            None => engine.drive(model, command),
+        }
         // Ψ and ∇Ψ at the step's start, under the field the command was made with.
         let before = potential(&d, x, vel);
         engine.step(&gap_to);
@@ -205,17 +235,27 @@ pub(crate) fn rapier_observed(
     }
     let (x, _) = engine.state();
     let contacts = engine.contacts();
+    let more = diff
+        .as_ref()
+        .map_or_else(Vec::new, |u| u.guarantees(prepared.margin()));
     let Run {
         mut summary,
         samples,
         scan_events,
-    } = d.finish(End {
-        reached,
-        time: t,
-        final_distance: (x - prepared.truth.goal()).norm(),
-        steps,
-        rejected: 0,
-        physics: Physics::Rapier,
+    } = d.finish_with(
+        End {
+            reached,
+            time: t,
+            final_distance: (x - prepared.truth.goal()).norm(),
+            steps,
+            rejected: 0,
+            physics: Physics::Rapier,
+        },
+        more,
+    );
+    summary.diff = diff.map(|mut u| {
+        u.report.final_yaw = engine.yaw();
+        u.report
     });
     summary.physics_contacts = Some(contacts);
     summary.guarantees.push(Guarantee::new(

@@ -292,15 +292,18 @@ pub fn run_without_filter(prepared: &Prepared, model: Option<Model>) -> Result<R
 }
 
 /// The built-in run, with the scenario's warnings or without ([`Warnings`]); a file with
-/// `[[movers]]` runs in the held-command loop (`held.rs`).
+/// `[[movers]]` or a differential-drive base runs in the held-command loop (`held.rs`).
 pub(crate) fn integrate(
     prepared: &Prepared,
     model: Option<Model>,
     warnings: Warnings,
     observer: &mut dyn FnMut(Event<'_>),
 ) -> Result<Run, RunError> {
-    if !(prepared.scenario.sim.movers.is_empty() && prepared.scenario.sim.robots.is_empty()) {
-        // Movers need the command held for the period their filter certifies.
+    if !(prepared.scenario.sim.movers.is_empty() && prepared.scenario.sim.robots.is_empty())
+        || prepared.base().is_some()
+    {
+        // Movers need the command held for the period their filter certifies; a differential
+        // drive's `(v, ω)` is certified on the arc it sweeps in one period.
         return crate::held::fly(prepared, model, warnings, observer);
     }
     let sc = &prepared.scenario;

@@ -114,6 +114,10 @@ pub struct Summary {
     /// (absent otherwise).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub fleet: Option<crate::movers::FleetReport>,
+    /// What a differential drive did (`[robot] base = "diff"`): its commands by how they were
+    /// formed, their extremes and the clearance along its arcs (absent for a holonomic robot).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub diff: Option<crate::unicycle::DiffReport>,
 }
 
 impl Summary {

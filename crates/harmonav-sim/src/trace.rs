@@ -37,6 +37,11 @@ pub struct Sample {
     /// Whether the damping is in its `V < μ_p` branch, critical at the goal (`λ_c` under the
     /// `"paper"` policy, `λ(x)` under `"auto"`), rather than switched (dynamic model).
     pub critical: bool,
+    /// The heading `θ`, rad, of a differential-drive robot (`[robot] base = "diff"`; docs/unicycle.md,
+    /// "Simulator"); `None` for a holonomic robot, whose recording shows the velocity's
+    /// direction (and whose JSON is as before).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub yaw: Option<f64>,
 }
 
 /// The velocity a [`Sample`] records: `ẋ` under the dynamic law; under the kinematic one the

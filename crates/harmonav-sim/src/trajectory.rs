@@ -126,6 +126,7 @@ mod tests {
             lambda: None,
             energy_tolerance: 0.0,
             critical: false,
+            yaw: None,
         }
     }
 

@@ -10,7 +10,8 @@ use harmonav_scenario::Model;
 use harmonav_transform::StarShape;
 use nalgebra::Vector2;
 use rapier2d_f64::prelude::{
-    ColliderBuilder, ColliderHandle, PhysicsWorld, RigidBodyBuilder, RigidBodyHandle, Vector,
+    ColliderBuilder, ColliderHandle, PhysicsWorld, RigidBodyBuilder, RigidBodyHandle, Rotation,
+    Vector,
 };
 
 /// rapier's ball touches a wall when the exact distance from its centre to the true shape is
@@ -132,6 +133,27 @@ impl Engine {
                 body.add_force(v(command), true);
             }
         }
+    }
+
+    /// The robot's heading `θ`, rad, in `(−π, π]`: its body's rotation (a differential drive).
+    pub(super) fn yaw(&self) -> f64 {
+        self.world.bodies[self.robot].rotation().angle()
+    }
+
+    /// Turns the robot's body to the heading `yaw`, rad (a differential drive's start).
+    pub(super) fn set_yaw(&mut self, yaw: f64) {
+        self.world.bodies[self.robot].set_rotation(Rotation::new(yaw), true);
+    }
+
+    /// Drives a differential drive for the next step: the body's linear velocity is set to
+    /// `v·e(θ)` along its heading `θ` now and its angular velocity to `ω`. rapier then moves it
+    /// `h·v·e(θ)` and turns it by `ωh` (exactly); set again at every step, the velocity follows
+    /// the heading, so the body never moves sideways by more than a step's turn.
+    pub(super) fn drive_unicycle(&mut self, v: f64, omega: f64) {
+        let body = &mut self.world.bodies[self.robot];
+        let yaw = body.rotation().angle();
+        body.set_linvel(Vector::new(v * yaw.cos(), v * yaw.sin()), true);
+        body.set_angvel(omega, true);
     }
 
     /// One fixed step, then its contact events: robot–wall pairs that started touching in

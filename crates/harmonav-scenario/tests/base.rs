@@ -1,0 +1,127 @@
+//! `[robot] base`, `omega_max` and `yaw` (issue 53, item 4): a differential-drive base read
+//! and refused by key, and a file without them read as before.
+
+use std::path::Path;
+
+use harmonav::Base;
+use harmonav_scenario::{BaseKind, Prepared, Scenario, ScenarioError};
+
+/// A star world: a disc of radius 5 around one rock, with `robot` after the `[robot]` keys
+/// below and `rest` after the table.
+fn star(robot: &str, rest: &str) -> String {
+    format!(
+        "name = \"star\"\n[workspace]\ntype = \"circle\"\ncenter = [0.0, 0.0]\nradius = 5.0\n\
+         [[obstacles]]\ntype = \"circle\"\ncenter = [0.0, 0.0]\nradius = 1.0\n[robot]\n\
+         model = \"kinematic\"\nstart = [-3.0, 0.2]\ngoal = [3.0, 0.0]\n{robot}\n{rest}"
+    )
+}
+
+fn load(text: &str) -> Result<Prepared, ScenarioError> {
+    let path = Path::new("star.toml");
+    Scenario::parse(path, text).and_then(|s| s.prepare(path))
+}
+
+const DIFF: &str = "base = \"diff\"\nomega_max = 2.0\nyaw = 3.0";
+const V_MAX: &str = "[controller]\nv_max = 0.5";
+
+#[test]
+fn a_diff_base_is_read_with_its_bounds_and_yaw() {
+    let p = load(&star(DIFF, V_MAX)).unwrap();
+    assert_eq!(p.scenario.controller.base, BaseKind::Diff);
+    assert_eq!(p.base(), Some(Base::diff(0.5, 2.0)));
+    assert_eq!(p.start_yaw(), 3.0);
+    // The yaw defaults to 0.
+    let p = load(&star("base = \"diff\"\nomega_max = 2.0", V_MAX)).unwrap();
+    assert_eq!(p.start_yaw(), 0.0);
+    // It round-trips through TOML, and a holonomic file writes none of the keys.
+    let text = toml::to_string(&load(&star(DIFF, V_MAX)).unwrap().scenario).unwrap();
+    assert!(
+        text.contains("base = \"diff\"") && text.contains("omega_max"),
+        "{text}"
+    );
+    assert_eq!(load(&text).unwrap().base(), Some(Base::diff(0.5, 2.0)));
+    let plain = toml::to_string(&load(&star("", "")).unwrap().scenario).unwrap();
+    assert!(!plain.contains("base") && !plain.contains("omega_max") && !plain.contains("yaw"));
+}
+
+#[test]
+fn without_a_base_the_robot_is_holonomic_as_before() {
+    let p = load(&star("", "")).unwrap();
+    assert_eq!(p.scenario.controller.base, BaseKind::Holonomic);
+    assert_eq!(p.base(), None);
+    assert_eq!(
+        load(&star("base = \"holonomic\"", "")).unwrap().base(),
+        None
+    );
+}
+
+/// Every refusal names its key.
+#[test]
+fn bad_values_are_refused_by_key() {
+    let refused = |robot: &str, rest: &str, field: &str, says: &str| {
+        let e = load(&star(robot, rest)).unwrap_err();
+        assert!(
+            e.to_string().contains(field) && e.problem.contains(says),
+            "{robot} / {rest}: {e}"
+        );
+    };
+    refused("base = \"tank\"", "", "base", "unknown base `tank`");
+    for bad in ["nan", "inf", "-1.0", "0.0"] {
+        let robot = format!("base = \"diff\"\nomega_max = {bad}");
+        refused(&robot, V_MAX, "robot.omega_max", "must be finite");
+        let rest = format!("[controller]\nv_max = {bad}");
+        refused(
+            "base = \"diff\"\nomega_max = 2.0",
+            &rest,
+            "controller.v_max",
+            "",
+        );
+    }
+    refused(
+        "base = \"diff\"\nomega_max = 2.0\nyaw = nan",
+        V_MAX,
+        "robot.yaw",
+        "finite",
+    );
+    refused(
+        "base = \"diff\"",
+        V_MAX,
+        "robot.omega_max",
+        "needs its top turn rate",
+    );
+    refused(
+        "base = \"diff\"\nomega_max = 2.0",
+        "",
+        "controller.v_max",
+        "top forward speed",
+    );
+    refused(
+        "omega_max = 2.0",
+        "",
+        "robot.omega_max",
+        "only a differential-drive base",
+    );
+    refused(
+        "yaw = 1.0",
+        "",
+        "robot.yaw",
+        "only a differential-drive base",
+    );
+    // The dynamic law: the navigator refuses it, the file says so by key.
+    let dynamic = star(DIFF, V_MAX).replace("model = \"kinematic\"", "model = \"dynamic\"");
+    let e = load(&dynamic).unwrap_err();
+    assert!(
+        e.field == "robot.base" && e.problem.contains("kinematic law only"),
+        "{e}"
+    );
+    // Not yet with movers.
+    let movers = format!(
+        "{V_MAX}\n[[movers]]\nradius = 0.25\nspeed_bound = 0.8\nstart = [0.0, -3.0]\n\
+         velocity = [0.0, 0.5]"
+    );
+    let e = load(&star(DIFF, &movers)).unwrap_err();
+    assert!(
+        e.field == "robot.base" && e.problem.contains("movers"),
+        "{e}"
+    );
+}
