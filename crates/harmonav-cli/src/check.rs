@@ -29,7 +29,7 @@ pub struct StartReport {
     pub certified: bool,
 }
 
-/// What `check --json` prints. `None` fields are left out (those of the other kind of file).
+/// What `check --json` prints: the keys of both kinds of file, then a floor plan's own.
 #[derive(Serialize)]
 pub struct CheckReport {
     /// The file, as given.
@@ -41,53 +41,51 @@ pub struct CheckReport {
     /// Seconds to set up: meshing and solving the harmonic map (floor plan), loading and
     /// validating the file (star world).
     pub setup_s: f64,
-    /// Floor plan: the holes of the walls.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub holes: Option<usize>,
-    /// Star world: the obstacles of the file.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub obstacles: Option<usize>,
-    /// Floor plan: `δ`, the uncertified layer's width, m.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub delta: Option<f64>,
-    /// Floor plan: `c_δ`, the certified lower bound of `Θ` on the edge of `W_δ`.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub level: Option<f64>,
-    /// Floor plan: the least `Θ` sampled on that edge (an upper bound of the true least).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub level_sampled: Option<f64>,
-    /// Floor plan: seconds to certify `c_δ`.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub level_s: Option<f64>,
     /// The fraction of the robot's reachable free area (centres at least radius + margin from
     /// the walls and from the file's obstacles, joined to `robot.start`) from which
     /// convergence is certified, in `[0, 1]`.
     pub certified_fraction: f64,
     /// How `certified_fraction` was found: `"grid"` (floor plan: samples below `c_δ` over the
-    /// reachable samples) or `"theorem"` (star world: 1, docs/floorplans.md).
+    /// reachable samples) or `"theorem"` (star world: 1).
     pub basis: &'static str,
-    /// Floor plan: the grid's cell, m.
+    /// Star world: the obstacles of the file.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub certified_grid_m: Option<f64>,
-    /// Floor plan: the samples of the reachable free area.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub reachable_samples: Option<usize>,
-    /// Floor plan: the reachable free area, m² (samples × cell²).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub reachable_area_m2: Option<f64>,
-    /// Floor plan: the uncertified part in the layer, where `Θ` is not defined (between
-    /// radius + margin and `δ` from the walls), as a fraction of the reachable area.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub uncertified_layer: Option<f64>,
-    /// Floor plan: the uncertified part in `W_δ`, at or above `c_δ` (or where `Θ` could not
-    /// be evaluated), as a fraction of the reachable area.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub uncertified_above_level: Option<f64>,
-    /// Floor plan: seconds to sample the certified fraction.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub fraction_s: Option<f64>,
+    pub obstacles: Option<usize>,
+    /// Floor plan: its own keys, at the same level.
+    #[serde(flatten, skip_serializing_if = "Option::is_none")]
+    pub floor: Option<FloorReport>,
     /// `robot.start`, then the file's `[starts]` (floor plan).
     pub starts: Vec<StartReport>,
+}
+
+/// The keys of `check --json` that only a floor plan has.
+#[derive(Serialize)]
+pub struct FloorReport {
+    /// The holes of the walls.
+    pub holes: usize,
+    /// `δ`, the uncertified layer's width, m.
+    pub delta: f64,
+    /// `c_δ`, the certified lower bound of `Θ` on the edge of `W_δ`.
+    pub level: f64,
+    /// The least `Θ` sampled on that edge (an upper bound of the true least); `None` when no
+    /// sample could be evaluated.
+    pub level_sampled: Option<f64>,
+    /// Seconds to certify `c_δ`.
+    pub level_s: f64,
+    /// The grid's cell, m.
+    pub certified_grid_m: f64,
+    /// The samples of the reachable free area.
+    pub reachable_samples: usize,
+    /// The reachable free area, m² (samples × cell²).
+    pub reachable_area_m2: f64,
+    /// The uncertified part in the layer, where `Θ` is not defined (between radius + margin
+    /// and `δ` from the walls), as a fraction of the reachable area.
+    pub uncertified_layer: f64,
+    /// The uncertified part in `W_δ`, at or above `c_δ` (or where `Θ` could not be
+    /// evaluated), as a fraction of the reachable area.
+    pub uncertified_above_level: f64,
+    /// Seconds to sample the certified fraction.
+    pub fraction_s: f64,
 }
 
 fn start(p: Vector2<f64>, certified: bool) -> StartReport {
@@ -123,33 +121,28 @@ pub fn cmd_check_floor_json(prepared: &FloorPrepared) -> Result<bool, CliError> 
         threads(),
     );
     let fraction_s = clock.elapsed().as_secs_f64();
-    let of_reachable = |n: usize| {
-        if area.reachable == 0 {
-            0.0
-        } else {
-            n as f64 / area.reachable as f64
-        }
-    };
     let floor = &prepared.floor;
     let report = CheckReport {
         file: prepared.path.display().to_string(),
         kind: "floor_plan",
         elements: floor.map().elements().len(),
         setup_s: prepared.setup_seconds,
-        holes: Some(floor.walls().holes().len()),
-        obstacles: None,
-        delta: Some(floor.delta()),
-        level: Some(level.certified()),
-        level_sampled: level.phi_sampled.is_finite().then(|| level.sampled()),
-        level_s: Some(level_s),
         certified_fraction: area.fraction(),
         basis: "grid",
-        certified_grid_m: Some(area.cell),
-        reachable_samples: Some(area.reachable),
-        reachable_area_m2: Some(area.reachable_area()),
-        uncertified_layer: Some(of_reachable(area.reachable - area.in_region)),
-        uncertified_above_level: Some(of_reachable(area.in_region - area.certified)),
-        fraction_s: Some(fraction_s),
+        obstacles: None,
+        floor: Some(FloorReport {
+            holes: floor.walls().holes().len(),
+            delta: floor.delta(),
+            level: level.certified(),
+            level_sampled: level.phi_sampled.is_finite().then(|| level.sampled()),
+            level_s,
+            certified_grid_m: area.cell,
+            reachable_samples: area.reachable,
+            reachable_area_m2: area.reachable_area(),
+            uncertified_layer: area.layer_fraction(),
+            uncertified_above_level: area.above_level_fraction(),
+            fraction_s,
+        }),
         starts: prepared
             .starts
             .iter()
@@ -177,20 +170,10 @@ pub fn cmd_check_star_json(
         kind: "star_world",
         elements: 0,
         setup_s,
-        holes: None,
-        obstacles: Some(prepared.scenario.obstacles.len()),
-        delta: None,
-        level: None,
-        level_sampled: None,
-        level_s: None,
         certified_fraction: 1.0,
         basis: "theorem",
-        certified_grid_m: None,
-        reachable_samples: None,
-        reachable_area_m2: None,
-        uncertified_layer: None,
-        uncertified_above_level: None,
-        fraction_s: None,
+        obstacles: Some(prepared.scenario.obstacles.len()),
+        floor: None,
         starts: vec![start(Vector2::new(r.start[0], r.start[1]), true)],
     };
     print_json(&report)?;

@@ -3,27 +3,10 @@
 //! certified fraction of the reachable free area; for a star world the theorem's; nothing on
 //! stdout for a bad file.
 
-use std::path::PathBuf;
-
 mod common;
 
-use common::harmonav;
+use common::{harmonav, scenario, scratch};
 use serde_json::Value;
-
-fn scenario(rel: &str) -> String {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../scenarios")
-        .join(rel)
-        .to_string_lossy()
-        .into_owned()
-}
-
-fn scratch(tag: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("harmonav-cli-check-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 /// `check FILE --json`, which must succeed and print exactly one JSON object.
 fn check_json(file: &str) -> Value {
@@ -112,7 +95,7 @@ fn a_floor_plan_gives_one_object_whose_starts_agree_with_the_text_check() {
 /// corridor (above `c_δ`) and a point beside the goal (below it).
 #[test]
 fn a_long_corridor_certifies_little_and_eval_agrees_on_its_points() {
-    let dir = scratch("corridor");
+    let dir = scratch("check-corridor");
     let file = dir.join("corridor.toml");
     std::fs::write(
         &file,
@@ -169,7 +152,7 @@ fn a_star_world_gives_the_theorems_fraction() {
 
 #[test]
 fn a_bad_file_exits_with_two_and_prints_nothing_on_stdout() {
-    let dir = scratch("bad");
+    let dir = scratch("check-bad");
     // A floor plan whose start lies in the U's wall, and a missing file.
     let bad = dir.join("bad.toml");
     let text = std::fs::read_to_string(scenario("floorplans/u-trap.toml"))

@@ -5,15 +5,7 @@ use std::process::Command;
 
 mod common;
 
-use common::harmonav;
-
-fn scenario(name: &str) -> String {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../scenarios")
-        .join(name)
-        .to_string_lossy()
-        .into_owned()
-}
+use common::{harmonav, scenario, scratch};
 
 #[test]
 fn run_json_has_the_documented_keys_and_exit_code_zero() {
@@ -319,14 +311,6 @@ fn an_interrupted_run_leaves_one_complete_output_set() {
         "{interrupted} interrupted, {completed} completed"
     );
     std::fs::remove_dir_all(&dir).unwrap();
-}
-
-/// A fresh folder for one test.
-fn scratch(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("harmonav-cli-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
 }
 
 /// Every entry below `d` with its content (files) or `None` (folders, links), sorted.

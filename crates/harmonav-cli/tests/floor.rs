@@ -6,21 +6,10 @@ use std::path::{Path, PathBuf};
 
 mod common;
 
-use common::harmonav;
+use common::{harmonav, scenario, scratch};
 
 fn floorplan(name: &str) -> String {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../scenarios/floorplans")
-        .join(name)
-        .to_string_lossy()
-        .into_owned()
-}
-
-fn scratch(tag: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("harmonav-cli-floor-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    scenario(&format!("floorplans/{name}"))
 }
 
 fn guarantee<'a>(v: &'a serde_json::Value, name: &str) -> &'a serde_json::Value {

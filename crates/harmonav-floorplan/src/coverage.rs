@@ -85,6 +85,20 @@ impl CertifiedArea {
         ratio(self.in_region, self.reachable)
     }
 
+    /// `(reachable − in_region) / reachable`: the uncertified part in the layer, where `Θ` is
+    /// not defined.
+    #[must_use]
+    pub fn layer_fraction(&self) -> f64 {
+        ratio(self.reachable - self.in_region, self.reachable)
+    }
+
+    /// `(in_region − certified) / reachable`: the uncertified part in `W_δ`, at or above
+    /// `c_δ` (or not evaluated).
+    #[must_use]
+    pub fn above_level_fraction(&self) -> f64 {
+        ratio(self.in_region - self.certified, self.reachable)
+    }
+
     /// The reachable free area, m² (`reachable · cell²`).
     #[must_use]
     pub fn reachable_area(&self) -> f64 {
