@@ -688,9 +688,11 @@ impl Navigator {
 
     /// Adds a newly sensed obstacle (its true shape; grown by `radius + margin` here) and
     /// returns its index. `k`, `Θ` and the damping state update (on a floor plan without a new
-    /// solve). Raises `ValueError` (and changes nothing) if it overlaps a known obstacle,
-    /// crosses the boundary (reaches a floor plan's boundary layer), or contains the goal or
-    /// the robot.
+    /// solve). In a star world a shape that reaches the boundary joins it (furniture against a
+    /// wall, docs/maths/12-range-scans.md §12.21). Raises `ValueError` (and changes nothing)
+    /// if it overlaps a known obstacle, reaches the boundary and cannot join it (the goal or the
+    /// robot behind it; on a floor plan, its boundary layer), or contains the goal or the
+    /// robot.
     fn add_obstacle(&self, py: Python<'_>, shape: &Shape) -> PyResult<usize> {
         self.state(py).add(shape).map_err(value_error)
     }

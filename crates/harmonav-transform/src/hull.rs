@@ -184,17 +184,9 @@ pub fn radial_hull_radii(
             }
             continue;
         }
-        let half = (rho / t).asin();
-        let first = ((beta - half) / step).floor() as i64;
-        let last = ((beta + half) / step).floor() as i64;
-        for k in first..=last {
-            let (lo, hi) = (k as f64 * step, (k + 1) as f64 * step);
-            let alpha = (beta.clamp(lo, hi) - beta).abs();
-            if alpha <= half {
-                let i = k.rem_euclid(g as i64) as usize;
-                m[i] = m[i].max(exit(t, rho, alpha));
-            }
-        }
+        disc_cells(t, beta, rho, g, |i, alpha| {
+            m[i] = m[i].max(exit(t, rho, alpha))
+        });
     }
     if m.contains(&0.0) {
         return Err(bad(
@@ -218,6 +210,25 @@ pub fn radial_hull_radii(
         })
         .collect();
     Ok(r)
+}
+
+/// For a disc of radius `rho` at distance `t > rho` from the centre in the direction `beta`
+/// (rad, in `[0, 2π)`), each cell `i` of the grid of `g` cells `[2πi/g, 2π(i+1)/g]` whose rays
+/// meet it, with the `|α|` of the cell nearest the disc's direction (`α = θ − beta`; the ray
+/// meets the disc iff `|α| ≤ asin(ρ/t)`). Eq. exit and eq. entry (module [`crate::carve`])
+/// are monotone in `|α|`, so that `α` gives their extreme over the cell.
+pub(crate) fn disc_cells(t: f64, beta: f64, rho: f64, g: usize, mut f: impl FnMut(usize, f64)) {
+    let step = TAU / g as f64;
+    let half = (rho / t).asin();
+    let first = ((beta - half) / step).floor() as i64;
+    let last = ((beta + half) / step).floor() as i64;
+    for k in first..=last {
+        let (lo, hi) = (k as f64 * step, (k + 1) as f64 * step);
+        let alpha = (beta.clamp(lo, hi) - beta).abs();
+        if alpha <= half {
+            f(k.rem_euclid(g as i64) as usize, alpha);
+        }
+    }
 }
 
 /// The smallest radius of curvature of the convex parts of a tabulated star, sampled at four

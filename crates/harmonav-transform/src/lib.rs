@@ -42,6 +42,7 @@
 
 #![warn(missing_docs)]
 
+pub mod carve;
 mod distance;
 mod error;
 pub mod hull;
@@ -55,6 +56,7 @@ pub mod shown;
 pub mod smooth;
 pub mod workspace;
 
+pub use carve::CARVE_CELLS;
 pub use error::ShapeError;
 pub use hull::HULL_CELLS;
 pub use index::{DiscIndex, Lookup};

@@ -47,7 +47,10 @@ pub enum NavError {
         /// The known obstacle.
         obstacle: usize,
     },
-    /// The added obstacle (grown) is not strictly inside the (shrunk) boundary.
+    /// The added obstacle (grown) reaches the (shrunk) boundary and cannot join it
+    /// (`joined`, eq. carve): the goal or the robot would be left behind it as seen from the
+    /// boundary's centre, or it holds that centre. (Before 2026-12-06 every obstacle that
+    /// reached the boundary was refused.)
     CrossesBoundary,
     /// The added obstacle (grown) contains the goal.
     ContainsGoal,
@@ -166,8 +169,9 @@ impl std::fmt::Display for NavError {
             ),
             Self::CrossesBoundary => write!(
                 f,
-                "the new obstacle is not strictly inside the workspace boundary (grown by \
-                 radius + margin)"
+                "the new obstacle reaches the workspace boundary (grown by radius + margin) \
+                 and cannot join it: the goal or the robot would be behind it as seen from the \
+                 boundary's centre, or it holds that centre"
             ),
             Self::ContainsGoal => write!(f, "the new obstacle contains the goal"),
             Self::ContainsRobot => {

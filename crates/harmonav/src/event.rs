@@ -22,6 +22,8 @@ pub struct ScanEvent {
     pub(crate) inner: Vec<StarShape>,
     /// For each obstacle kept from before the scan, its index before it.
     pub(crate) keep: Vec<usize>,
+    /// The robot's position at the scan.
+    pub(crate) robot: Vector2<f64>,
     pub(crate) state: ScanState,
     pub(crate) update: ScanUpdate,
 }
@@ -136,6 +138,7 @@ pub(crate) fn observe(
         obstacles,
         inner,
         keep,
+        robot: x,
         state: ScanState {
             perception,
             slots,

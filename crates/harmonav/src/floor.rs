@@ -21,7 +21,7 @@ use crate::hold::{self, Command, Mode};
 use crate::options::{HoldPolicy, Options};
 use crate::scanning::ScanState;
 use crate::space::Space;
-use crate::world::{Build, Core, Rules, World, evaluate, law_held};
+use crate::world::{Added, Build, Core, Rules, World, evaluate, law_held};
 
 /// How far below the level `phi_k(x_s)` of the point `x_s` where it began (a stall, or the
 /// shortest path turning against the law) an escape takes `phi_k` before the law resumes
@@ -178,7 +178,7 @@ impl Rules for FloorWorld {
     }
 
     /// `k`, `B` and the point world update, `H` is reused (no new solve).
-    fn admit(&mut self, grown: StarShape) -> Result<usize, NavError> {
+    fn admit(&mut self, grown: StarShape, _: Added<'_>, _: &Options) -> Result<usize, NavError> {
         self.field = self.field.with_obstacle(grown).map_err(NavError::Floor)?;
         Ok(self.field.transform().obstacles().count() - 1)
     }

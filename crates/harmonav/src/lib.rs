@@ -58,6 +58,7 @@ mod error;
 mod event;
 mod floor;
 mod hold;
+mod joined;
 mod law;
 mod movers;
 mod navigator;

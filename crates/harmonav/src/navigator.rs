@@ -19,7 +19,7 @@ use crate::movers::{self, KeepRight, Mover, Verdict};
 use crate::options::Options;
 use crate::space::Space;
 use crate::star::StarWorld;
-use crate::world::{Core, IntoWorld, World, evaluate};
+use crate::world::{Added, Core, IntoWorld, World, evaluate};
 
 /// An online navigator over a world `W` ([`StarWorld`] by default; [`FloorWorld`] for a
 /// floor plan, [`FloorNavigator`]): the navigation function `Θ` over the obstacles added so far,
@@ -133,16 +133,25 @@ impl<W: World> Navigator<W> {
     /// A shape found late, whose margin band already holds the robot, is accepted: the next
     /// [`Navigator::command`] leads out of the band ([`Mode::Recovering`](crate::Mode::Recovering)).
     ///
+    /// In a star world, a shape that reaches the boundary once grown (furniture against a
+    /// wall) joins it: the field's boundary is cut around it and its shadow as seen from the
+    /// boundary's centre (`docs/maths/12-range-scans.md` §12.21); the indices stay.
+    ///
     /// Errors (the navigator is then unchanged): the grown shape overlaps a known obstacle,
-    /// crosses the boundary (on a floor plan: reaches the boundary layer,
-    /// [`NavError::Floor`]), or contains the goal; the shape grown by `radius` alone contains
+    /// reaches the boundary and cannot join it ([`NavError::CrossesBoundary`]; on a floor
+    /// plan: reaches the boundary layer, [`NavError::Floor`]), or contains the goal; the shape grown by `radius` alone contains
     /// the robot's last commanded position; the shape cannot be grown.
     pub fn add_obstacle(&mut self, shape: StarShape) -> Result<usize, NavError> {
         let (grown, inner) = self
             .core
             .options
             .grow(&shape, self.core.last.map(|(x, _)| x))?;
-        let index = self.world.admit(grown)?;
+        let added = Added {
+            bodies: &self.core.inner,
+            body: inner.as_ref(),
+            robot: self.core.last.map(|(x, _)| x),
+        };
+        let index = self.world.admit(grown, added, &self.core.options)?;
         self.core.inner.extend(inner);
         self.core.speed_at_discovery = self.core.last.map_or(0.0, |(_, v)| v.norm());
         self.world.discovered();
@@ -406,7 +415,7 @@ impl<W: World> Navigator<W> {
 impl Navigator<StarWorld> {
     /// The known obstacles, grown by `radius + margin`, in the order they were added.
     pub fn obstacles(&self) -> &[StarShape] {
-        self.world.field.workspace().obstacles()
+        self.world.obstacles()
     }
 }
 

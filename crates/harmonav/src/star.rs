@@ -13,26 +13,61 @@ use crate::controller::{Controller, recovering};
 use crate::error::NavError;
 use crate::event::ScanEvent;
 use crate::hold::{self, Command};
+use crate::joined::{Joined, Known};
 use crate::options::{HoldPolicy, Options};
 use crate::scanning::ScanState;
-use crate::world::{Build, Core, Rules, World, evaluate, law_held};
+use crate::world::{Added, Build, Core, Rules, World, evaluate, law_held};
 
 /// A star world: `Θ` over the obstacles known so far, grown by `radius + margin` (in the order
 /// they were added), in the boundary shrunk by `radius + margin`; and the boundary shrunk by
 /// `radius` alone, inside which the robot's disc is clear of the true boundary.
+///
+/// An obstacle that reaches the boundary joins it (`docs/maths/12-range-scans.md` §12.21):
+/// the field's boundary is then the boundary with that obstacle and its shadow cut out, and the
+/// field's obstacles are the others; the navigator's indices stay as they were.
 #[derive(Clone, Debug)]
 pub struct StarWorld {
     pub(crate) field: Field,
     /// The boundary shrunk by `radius` (with a margin): the margin band of the boundary is
     /// inside it and outside the field's.
     pub(crate) inner_boundary: Option<StarShape>,
+    /// The obstacles that joined the boundary, and the boundaries before they did.
+    pub(crate) joined: Joined,
 }
 
-/// A field error at a point, as the navigator reports it.
-fn not_free(e: FieldError) -> NavError {
-    match e {
-        FieldError::InObstacle { obstacle } => NavError::InObstacle { obstacle },
-        _ => NavError::OutsideBoundary,
+impl StarWorld {
+    /// A field error at a point, as the navigator reports it (the navigator's obstacle index).
+    fn not_free(&self, e: FieldError) -> NavError {
+        match e {
+            FieldError::InObstacle { obstacle } => NavError::InObstacle {
+                obstacle: self.joined.navigator_index(obstacle),
+            },
+            _ => NavError::OutsideBoundary,
+        }
+    }
+
+    /// Every known obstacle, grown, in the navigator's order.
+    pub(crate) fn obstacles(&self) -> &[StarShape] {
+        self.joined
+            .all()
+            .unwrap_or_else(|| self.field.workspace().obstacles())
+    }
+
+    /// Takes the world `known` gives ([`Joined::rebuild`]).
+    fn rebuild(
+        &mut self,
+        known: Known<'_>,
+        options: &Options,
+        overlap: impl Fn(usize, usize) -> NavError,
+    ) -> Result<(), NavError> {
+        let goal = self.field.workspace().destination();
+        let rebuilt = self
+            .joined
+            .rebuild(&self.field, known, goal, options, overlap)?;
+        self.field = rebuilt.field;
+        self.inner_boundary = rebuilt.inner;
+        self.joined = rebuilt.joined;
+        Ok(())
     }
 }
 
@@ -60,9 +95,11 @@ impl Build for StarShape {
         let ws = Workspace::new(shrunk, Vec::new(), goal).map_err(|_| NavError::GoalNotFree)?;
         let field = Field::all_known_with(Arc::new(ws), options.k).map_err(NavError::Field)?;
         let controller = controller.in_world(field.workspace().boundary().radius_bounds().1)?;
+        let joined = Joined::new(field.workspace().boundary().clone(), inner_boundary.clone());
         let world = StarWorld {
             field,
             inner_boundary,
+            joined,
         };
         Ok((world, scan, controller))
     }
@@ -79,45 +116,75 @@ impl Rules for StarWorld {
     }
 
     fn eval(&self, x: Vector2<f64>, _: &Options) -> Result<FieldEval, NavError> {
-        self.field.eval(x).map_err(not_free)
+        self.field.eval(x).map_err(|e| self.not_free(e))
     }
 
     fn known(&self) -> Cow<'_, [StarShape]> {
-        Cow::Borrowed(self.field.workspace().obstacles())
+        Cow::Borrowed(self.obstacles())
     }
 
     fn k(&self) -> f64 {
         self.field.k()
     }
 
-    /// In place, validated before anything changes (`Field::push_obstacle`).
-    fn admit(&mut self, grown: StarShape) -> Result<usize, NavError> {
-        self.field.push_obstacle(grown).map_err(|e| match e {
-            FieldError::World(WorldError::Overlap { first, .. }) => {
-                NavError::Overlap { obstacle: first }
+    /// In place, validated before anything changes (`Field::push_obstacle`); an obstacle that
+    /// reaches the boundary joins it ([`Joined::rebuild`]).
+    fn admit(
+        &mut self,
+        grown: StarShape,
+        added: Added<'_>,
+        options: &Options,
+    ) -> Result<usize, NavError> {
+        let index = self.obstacles().len();
+        let joined = &self.joined;
+        match self.field.push_obstacle(grown.clone()) {
+            Ok(_) => {
+                if self.joined.any() {
+                    self.joined.push(grown);
+                }
+                Ok(index)
             }
-            FieldError::World(WorldError::InObstacle { .. }) => NavError::ContainsGoal,
-            FieldError::World(WorldError::OutsideBoundary { .. }) => NavError::CrossesBoundary,
-            e => NavError::Field(e),
-        })
+            Err(FieldError::World(WorldError::OutsideBoundary { .. })) => {
+                let mut all = self.obstacles().to_vec();
+                all.push(grown);
+                let mut bodies = added.bodies.to_vec();
+                bodies.extend(added.body.cloned());
+                let known = Known {
+                    grown: &all,
+                    bodies: &bodies,
+                    joined: self.joined.indices.clone(),
+                    robot: added.robot,
+                };
+                self.rebuild(known, options, |first, _| NavError::Overlap {
+                    obstacle: first,
+                })?;
+                Ok(index)
+            }
+            Err(e) => Err(match e {
+                FieldError::World(WorldError::Overlap { first, .. }) => NavError::Overlap {
+                    obstacle: joined.navigator_index(first),
+                },
+                FieldError::World(WorldError::InObstacle { .. }) => NavError::ContainsGoal,
+                e => NavError::Field(e),
+            }),
+        }
     }
 
     fn sensed(&mut self, event: &ScanEvent, options: &Options) -> Result<(), NavError> {
-        let boundary = self.field.workspace().boundary().clone();
         let before = |j: usize| event.keep.get(j).copied();
-        let goal = self.field.workspace().destination();
-        let ws = Workspace::new(boundary, event.obstacles.clone(), goal).map_err(|e| match e {
-            WorldError::Overlap { first, second } => NavError::NotStarWorld {
-                obstacle: before(first).or(before(second)),
-            },
-            WorldError::InObstacle { .. } => NavError::ContainsGoal,
-            _ => NavError::CrossesBoundary,
-        })?;
-        self.field = self
-            .field
-            .all_known_after(Arc::new(ws), options.k)
-            .map_err(NavError::Field)?;
-        Ok(())
+        // The obstacles that joined before and are kept, in the event's order.
+        let joined = (0..event.keep.len())
+            .filter(|&j| self.joined.indices.binary_search(&event.keep[j]).is_ok())
+            .collect();
+        let known = Known {
+            grown: &event.obstacles,
+            bodies: &event.inner,
+            joined,
+            robot: Some(event.robot),
+        };
+        self.rebuild(known, options, |first, second| NavError::NotStarWorld {
+            obstacle: before(first).or(before(second)),
+        })
     }
 
     /// The law under the hold; a kinematic command far below the law's speed (a rest point of
@@ -165,10 +232,12 @@ fn recover(
     error: NavError,
 ) -> Result<Command, NavError> {
     let band = match error {
-        NavError::InObstacle { obstacle } => match core.inner.get(obstacle) {
-            Some(inner) if !inner.contains(x) => Band::Obstacle(obstacle),
-            _ => return Err(error),
-        },
+        NavError::InObstacle { obstacle } => {
+            match (core.inner.get(obstacle), world.joined.field_index(obstacle)) {
+                (Some(inner), Some(i)) if !inner.contains(x) => Band::Obstacle(i),
+                _ => return Err(error),
+            }
+        }
         NavError::OutsideBoundary => match &world.inner_boundary {
             Some(inner) if inner.contains(x) => Band::Boundary,
             _ => return Err(error),

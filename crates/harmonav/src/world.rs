@@ -92,6 +92,18 @@ pub struct Core {
     pub(crate) keep_right: KeepRight,
 }
 
+/// What [`Rules::admit`] may need besides the grown shape: the known shapes grown by `radius`
+/// alone (the navigator's `inner`), the new one's, and the robot's last position (a star world
+/// whose boundary takes the shape in keeps the robot inside, [`crate::joined`]).
+pub struct Added<'a> {
+    /// The known obstacles grown by `radius` alone (empty without a margin).
+    pub(crate) bodies: &'a [StarShape],
+    /// The new obstacle grown by `radius` alone (`None` without a margin).
+    pub(crate) body: Option<&'a StarShape>,
+    /// The robot's last commanded position.
+    pub(crate) robot: Option<Vector2<f64>>,
+}
+
 /// The sealed half of [`World`]: the navigator's steps that differ between the worlds. The
 /// steps both share are the navigator's own, and [`evaluate`] and [`law_held`].
 pub trait Rules: Sized {
@@ -113,7 +125,12 @@ pub trait Rules: Sized {
     /// # Errors
     /// The world is then unchanged: the shape overlaps another, crosses the boundary (or
     /// reaches a floor plan's boundary layer), or contains the goal.
-    fn admit(&mut self, grown: StarShape) -> Result<usize, NavError>;
+    fn admit(
+        &mut self,
+        grown: StarShape,
+        added: Added<'_>,
+        options: &Options,
+    ) -> Result<usize, NavError>;
     /// Takes a scan's event: the obstacles become `event.obstacles`.
     ///
     /// # Errors

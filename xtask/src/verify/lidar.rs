@@ -35,7 +35,27 @@ pub fn checks() -> Vec<Check> {
         max_obstacle_depth: 0.3,
         ..kinematic.clone()
     };
+    // Furniture 0.02–0.3 m from the walls (issue 52), fitted from 2.5 m so that it is fitted
+    // from across the room: it joins the boundary instead of being refused.
+    let furnished = |law, h| LidarSuite {
+        furnished: true,
+        fit_range: Some(2.5),
+        ..LidarSuite::new(law, h)
+    };
+    let furnished_kinematic = furnished(Law::kinematic(1.0), 0.01);
+    let furnished_dynamic = LidarSuite {
+        seeds: 0..8,
+        ..furnished(Law::dynamic(1.0, 2.0), 0.001)
+    };
     vec![
+        Check::new("navigator.lidar.furnished-kinematic", move || {
+            safe(&furnished_kinematic, None)
+        })
+        .early(),
+        Check::new("navigator.lidar.furnished-dynamic", move || {
+            safe(&furnished_dynamic, Some((2.0f64 * 2.0 / 1.0).sqrt()))
+        })
+        .early(),
         Check::new("navigator.lidar.kinematic-discs", move || {
             safe(&discs, None)
         })
@@ -238,8 +258,8 @@ pub fn perception_line(s: &Summary) -> String {
 
 fn summary(r: &LidarReport) -> String {
     format!(
-        "{} runs: {} unsafe, {:.1} % arrived ({} stalled, {} refused{}), {} scans, {} events, \
-         true clearance ≥ {:.3} m, event clearance ≥ {:.3} m (first detections ≥ {:.3} m), {} \
+        "{} runs: {} unsafe, {:.1} % arrived ({} stalled, {} refused{}), {} scans, {} events \
+         ({} obstacles joined the boundary), true clearance ≥ {:.3} m, event clearance ≥ {:.3} m (first detections ≥ {:.3} m), {} \
          truth samples uncovered, \
          perceived/true area {:.1} (median), top speed {:.2} m/s",
         r.runs,
@@ -252,6 +272,7 @@ fn summary(r: &LidarReport) -> String {
             .map_or(String::new(), |(s, e)| format!(": world {s}: {e}")),
         r.scans,
         r.events,
+        r.joined,
         r.min_clearance,
         r.min_event_clearance,
         r.min_detection_clearance,

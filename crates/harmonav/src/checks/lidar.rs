@@ -46,6 +46,22 @@ pub struct LidarWorld {
 /// that the depth prior closes (a perceived shape reaches at most about `D` beyond its
 /// obstacle). Deterministic.
 pub fn lidar_world(seed: u64, discs_only: bool) -> LidarWorld {
+    lidar_world_with(seed, discs_only, false)
+}
+
+/// The gaps between a [`furnished_world`]'s furniture and the wall, m: the issue's "within
+/// 0.3 m of the walls", never touching.
+pub const FURNITURE_GAP: (f64, f64) = (0.02, 0.3);
+
+/// [`lidar_world`] with furniture against the wall: every other obstacle (the first, third, …)
+/// stands [`FURNITURE_GAP`] from the wall (its bounding disc's gap), the others, the start and
+/// the goal as there. Grown by a robot's radius, and fitted a depth `D` behind what the lidar
+/// saw, such an obstacle reaches the boundary and joins it (`harmonav_transform::carve`).
+pub fn furnished_world(seed: u64, discs_only: bool) -> LidarWorld {
+    lidar_world_with(seed, discs_only, true)
+}
+
+fn lidar_world_with(seed: u64, discs_only: bool, furnished: bool) -> LidarWorld {
     let mut rng = Rng::new(0x11DA_0000 ^ seed);
     let m = 3 + rng.below(4);
     let kinds = [Kind::Circle, Kind::Ellipse, Kind::Polygon, Kind::Star];
@@ -59,13 +75,28 @@ pub fn lidar_world(seed: u64, discs_only: bool) -> LidarWorld {
         } else {
             kinds[obstacles.len() % kinds.len()]
         };
-        let c = rng.point(LIDAR_WORLD_RADIUS - wall);
-        let size = rng_size(&mut rng);
+        let against = furnished && obstacles.len().is_multiple_of(2);
+        // The default worlds draw the centre, then the size (their seeds stay the same worlds).
+        let (c, size) = if against {
+            let size = rng_size(&mut rng);
+            let angle = rng.uniform(0.0, std::f64::consts::TAU);
+            let at = LIDAR_WORLD_RADIUS - size - rng.uniform(FURNITURE_GAP.0, FURNITURE_GAP.1);
+            (at * Vector2::new(angle.cos(), angle.sin()), size)
+        } else {
+            let c = rng.point(LIDAR_WORLD_RADIUS - wall);
+            (c, rng_size(&mut rng))
+        };
         let s = random::shape(&mut rng, kind, c, size);
         let r = bound(&s);
+        let to_wall = LIDAR_WORLD_RADIUS - c.norm() - r;
+        let placed = if against {
+            (FURNITURE_GAP.0..=FURNITURE_GAP.1).contains(&to_wall)
+        } else {
+            to_wall >= wall
+        };
         let fits = r <= 0.5
             && s.rho_min() >= 0.03
-            && c.norm() + r + wall <= LIDAR_WORLD_RADIUS
+            && placed
             && obstacles
                 .iter()
                 .all(|o| (o.centre() - c).norm() >= r + bound(o) + gap);
@@ -175,6 +206,8 @@ pub struct LidarFlight {
     pub error: Option<NavError>,
     /// Not reached, and the last 10 s moved the robot less than 1 cm.
     pub stalled: bool,
+    /// The known obstacles that joined the boundary by the end (`harmonav::joined`).
+    pub joined: usize,
 }
 
 impl LidarFlight {
@@ -269,6 +302,7 @@ pub fn fly_lidar(
         max_speed: 0.0,
         error: None,
         stalled: false,
+        joined: 0,
     };
     let mut previous: Vec<StarShape> = Vec::new();
     let (mut anchor, mut anchor_time) = (x, 0.0);
@@ -328,6 +362,7 @@ pub fn fly_lidar(
         }
     }
     f.stalled = !f.reached && f.error.is_none() && f.time - anchor_time >= 10.0;
+    f.joined = nav.obstacles().len() - nav.field().workspace().obstacles().len();
     let (mut seen, mut perceived) = (0.0, 0.0);
     for (_, p) in nav.perceived() {
         perceived += p.area();
@@ -352,6 +387,8 @@ pub struct LidarReport {
     pub reached: usize,
     /// Flights that stalled.
     pub stalled: usize,
+    /// Obstacles that joined the boundary, over all flights.
+    pub joined: usize,
     /// Flights ended by a refused scan (not a star world, a shape over the robot or the goal,
     /// crossing the boundary): `(seed, error)`.
     pub refused: Vec<(u64, NavError)>,
@@ -406,6 +443,9 @@ pub struct LidarSuite {
     /// The fit range `r_f`, m; `None` (the default): the law's recommended one
     /// ([`Options::recommended_fit_range`], eq. fitnear).
     pub fit_range: Option<f64>,
+    /// Furniture against the walls ([`furnished_world`]) instead of [`lidar_world`]'s 1.2 m
+    /// from them.
+    pub furnished: bool,
 }
 
 impl LidarSuite {
@@ -423,6 +463,7 @@ impl LidarSuite {
             range_noise: lidar.noise,
             max_obstacle_depth: LIDAR_WORLD_DEPTH,
             fit_range: None,
+            furnished: false,
         }
     }
 
@@ -436,7 +477,7 @@ impl LidarSuite {
         };
         let mut cons = Vec::new();
         for seed in self.seeds.clone() {
-            let world = lidar_world(seed, self.discs_only);
+            let world = lidar_world_with(seed, self.discs_only, self.furnished);
             for radius in [0.0, 0.1] {
                 let mut options = lidar_options(
                     &world,
@@ -465,6 +506,7 @@ impl LidarSuite {
                 r.runs += 1;
                 r.scans += f.scans;
                 r.events += f.events;
+                r.joined += f.joined;
                 r.uncovered += f.uncovered;
                 r.min_clearance = r.min_clearance.min(f.true_clearance);
                 r.max_speed = r.max_speed.max(f.max_speed);
