@@ -3,6 +3,7 @@
 
 mod adversarial;
 mod control;
+mod diff;
 mod field;
 mod floorplans;
 mod lidar;
@@ -140,6 +141,7 @@ fn checks() -> Vec<Check> {
     all.extend(scenarios::checks());
     all.extend(floorplans::checks());
     all.extend(movers::checks());
+    all.extend(diff::checks());
     all.extend(adversarial::checks());
     all
 }

@@ -20,7 +20,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use harmonav_scenario::{Prepared, Sensor};
 use harmonav_sim::summary::Run;
-use harmonav_sim::trace::Discovery;
+use harmonav_sim::trace::{Discovery, Sample};
 
 pub use crate::canvas::err;
 use crate::canvas::{Scale, scaled_svg};
@@ -214,6 +214,45 @@ pub(crate) fn draw_run(
     Ok(())
 }
 
+/// The most heading ticks [`draw_headings`] draws along a path.
+const HEADING_TICKS: usize = 40;
+
+/// A differential drive's heading along its path (`[robot] base = "diff"`, the samples'
+/// `yaw`): a short tick from the position along `e(θ) = (cos θ, sin θ)` at most
+/// [`HEADING_TICKS`] states evenly spaced in the recording, and at the first and the last.
+/// Draws nothing for a holonomic robot (no `yaw`).
+pub(crate) fn draw_headings(
+    chart: &mut Plane<'_, '_>,
+    samples: &[Sample],
+    s: Scale,
+) -> Result<(), String> {
+    let posed: Vec<(f64, f64, f64)> = samples
+        .iter()
+        .filter_map(|p| p.yaw.map(|yaw| (p.x[0], p.x[1], yaw)))
+        .collect();
+    let Some(&last) = posed.last() else {
+        return Ok(());
+    };
+    let every = posed.len().div_ceil(HEADING_TICKS).max(1);
+    // A tick of 12 backend pixels, in world units along the x axis of the plane.
+    let (x0, _) = chart.backend_coord(&(0.0, 0.0));
+    let (x1, _) = chart.backend_coord(&(1.0, 0.0));
+    let per_metre = f64::from((x1 - x0).abs().max(1));
+    let length = f64::from(s.px(12)) / per_metre;
+    let ticks = posed
+        .iter()
+        .step_by(every)
+        .chain([&last])
+        .map(|&(x, y, yaw)| {
+            PathElement::new(
+                vec![(x, y), (x + length * yaw.cos(), y + length * yaw.sin())],
+                s.stroke(BLACK, 1),
+            )
+        });
+    chart.draw_series(ticks).map_err(err)?;
+    Ok(())
+}
+
 /// Draws each name of `names` centred at its point, in order, where it overlaps no name
 /// already drawn ([`place_labels`]).
 pub(crate) fn draw_names(
@@ -318,6 +357,7 @@ pub fn trajectory_svg(prepared: &Prepared, run: &Run) -> Result<String, String> 
         let start = run.samples.first().map_or((0.0, 0.0), |p| (p.x[0], p.x[1]));
         let points = run.samples.iter().map(|p| (p.x[0], p.x[1]));
         draw_run(&mut chart, points, start, xy(truth.goal()), sc)?;
+        draw_headings(&mut chart, &run.samples, sc)?;
         // The names: the discovered obstacles (every one in a world of at most
         // LABEL_ALL_UP_TO), each only where it overlaps no name already placed.
         let named: Vec<usize> = if truth.obstacles.len() <= LABEL_ALL_UP_TO {

@@ -6,7 +6,7 @@
 //! |---|---|---|
 //! | `/scene` | `foxglove.SceneUpdate` | boundary (white), obstacles (grey: unknown, red: known; ids `obstacle/<name>`), goal; at t = 0 and each discovery |
 //! | `/theta` | `foxglove.Grid` | `Θ` of the known world on a [`GRID_CELLS`]² grid over the workspace (field `theta`, float32, NaN outside the free space); at t = 0 and each discovery |
-//! | `/robot/pose` | `foxglove.PoseInFrame` | the robot pose (heading: the velocity) at every recorded state |
+//! | `/robot/pose` | `foxglove.PoseInFrame` | the robot pose (heading: the velocity; a differential drive's body heading `θ`) at every recorded state |
 //! | `/tf` | `foxglove.FrameTransform` | `world → robot` at every recorded state |
 //! | `/sensor/sector` | `foxglove.SceneUpdate` | the sensing sector, once, in the `robot` frame (it follows `/tf`); sector sensing only |
 //! | `/robot/path` | `foxglove.SceneUpdate` | the path, one new line entity per [`PATH_PERIOD`] of simulated time (entities accumulate: the size is linear in the run's length) |
@@ -411,7 +411,8 @@ impl<'p> Stream<'p> {
             }
         }
         let (x, v) = (Vector2::from(s.x), Vector2::from(s.v));
-        let yaw = self.heading.at(v);
+        // A differential drive's heading is its body's (`[robot] base = "diff"`).
+        let yaw = s.yaw.unwrap_or_else(|| self.heading.at(v));
         let t = nanos(s.t);
         let ch = &self.ch;
         ch.pose.log_with_time(

@@ -1,7 +1,7 @@
 //! Differential-drive robots in the held-command loop (issue 53, item 4; docs/unicycle.md,
 //! "Simulator"): a file with `[robot] base = "diff"` runs in `held.rs`, which asks
 //! [`harmonav::Navigator::command_pose`] for `(v, ω)` at every period and moves the robot on
-//! the exact arc of the unicycle ([`Diff::period`]), and this module's monitors judge every arc:
+//! the exact arc of the unicycle (`Diff::period`), and this module's monitors judge every arc:
 //!
 //! ```text
 //! ẋ = v·e(θ),  θ̇ = ω,  e(θ) = (cos θ, sin θ);   held for h from (x₀, θ₀):
@@ -14,7 +14,7 @@
 //!   arc `Δℓ` apart with clearances `c₀`, `c₁` the clearance is at least `(c₀ + c₁ − Δℓ)/2`.
 //!   The points are spaced by a share of the clearance above the margin, so the bound is
 //!   within [`ARC_STEP_MIN`] of the margin where the arc comes close, and cheap elsewhere.
-//! - **The bounds** ([`Diff::guarantees`]): `0 ≤ v ≤ v_max`, `|ω| ≤ ω_max` for every command
+//! - **The bounds** (`Diff::guarantees`): `0 ≤ v ≤ v_max`, `|ω| ≤ ω_max` for every command
 //!   held, without tolerance.
 
 use harmonav::{PoseCommand, Steer, unicycle_arc};
@@ -249,9 +249,9 @@ mod tests {
     }
 
     /// The negative control of the arc monitor: the robot 0.1 mm clear of the disc, heading
-    /// along its tangent and turning into it (`v = 0.5`, `ω = −2`, `h = 0.05`; docs/unicycle.md
-    /// §3.3). The straight step along the heading and the two states' Lipschitz bound both pass
-    /// (a loop that integrated the arc as a straight line, or judged only its states, would see
+    /// along its tangent and turning into it (`v = 0.5`, `ω = −2`, `h = 0.05`; the case of
+    /// docs/unicycle.md §3.3). The straight step along the heading is clear at its states and at
+    /// 1 001 points between (a loop that integrated the arc as a straight line would see
     /// nothing); the arc goes about 1 mm in, and the arc monitor flags it.
     #[test]
     fn the_arc_monitor_flags_what_a_straight_judgement_misses() {

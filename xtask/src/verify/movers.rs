@@ -25,7 +25,12 @@ fn folder() -> PathBuf {
 
 /// The mover files, sorted; an unreadable folder yields none.
 fn files() -> Vec<PathBuf> {
-    let mut out: Vec<PathBuf> = std::fs::read_dir(folder())
+    toml_files(&folder())
+}
+
+/// The `*.toml` files of `folder` (not below it), sorted; an unreadable folder yields none.
+pub(super) fn toml_files(folder: &Path) -> Vec<PathBuf> {
+    let mut out: Vec<PathBuf> = std::fs::read_dir(folder)
         .map(|d| {
             d.filter_map(|e| e.ok().map(|e| e.path()))
                 .filter(|p| p.extension().is_some_and(|e| e == "toml"))
