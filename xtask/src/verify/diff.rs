@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 use harmonav_scenario::{BaseKind, Scenario};
 use harmonav_sim::physics::{Physics, simulate};
 
+use super::movers::{failed_names, per_file, toml_files};
 use super::{Check, Outcome, Verdict};
 
 fn folder() -> PathBuf {
@@ -18,20 +19,9 @@ fn folder() -> PathBuf {
 }
 
 pub fn checks() -> Vec<Check> {
-    let mut checks = Vec::new();
-    for file in super::movers::toml_files(&folder()) {
-        let stem = file
-            .file_stem()
-            .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
-        for physics in [Physics::Builtin, Physics::Rapier] {
-            let file = file.clone();
-            checks.push(Check::new(
-                format!("diff.{stem}.{}", physics.as_str()),
-                move || fly(&file, physics),
-            ));
-        }
-    }
-    checks
+    let files = toml_files(&folder());
+    let physics = [Physics::Builtin, Physics::Rapier].map(|p| (p, p.as_str()));
+    per_file(&files, "diff", &physics, fly)
 }
 
 /// One file under `physics`: every guarantee holds, the robot arrives, rapier sees no
@@ -71,12 +61,7 @@ fn fly(file: &Path, physics: Physics) -> Outcome {
         d.shortened,
         d.turning,
     );
-    let failed: Vec<&str> = s
-        .guarantees
-        .iter()
-        .filter(|g| !g.passed)
-        .map(|g| g.name())
-        .collect();
+    let failed = failed_names(&s.guarantees);
     if !failed.is_empty() || !s.reached || contacts > 0 {
         return Err(format!("{detail}; failed: {failed:?}"));
     }

@@ -10,6 +10,7 @@ use std::path::{Path, PathBuf};
 use harmonav_scenario::floorplan::{FileKind, FloorScenario};
 use harmonav_scenario::{Model, Scenario};
 use harmonav_sim::floor::FloorSummary;
+use harmonav_sim::guarantee::Guarantee;
 use harmonav_sim::movers::MoverReport;
 use harmonav_sim::physics::{Physics, simulate, simulate_floor};
 use harmonav_sim::run::run_without_filter;
@@ -42,22 +43,43 @@ pub(super) fn toml_files(folder: &Path) -> Vec<PathBuf> {
 }
 
 pub fn checks() -> Vec<Check> {
-    let mut checks = Vec::new();
-    for file in files() {
-        let stem = file
-            .file_stem()
-            .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
-        for model in [Model::Kinematic, Model::Dynamic] {
-            let file = file.clone();
-            checks.push(Check::new(
-                format!("movers.{stem}.{}", model.as_str()),
-                move || fly(&file, model),
-            ));
-        }
-    }
+    let models = [Model::Kinematic, Model::Dynamic].map(|m| (m, m.as_str()));
+    let mut checks = per_file(&files(), "movers", &models, fly);
     checks.push(Check::new("movers.person-crossing.blind", blind));
     checks.push(Check::new("movers.four-robots-swap.blind", blind_robots));
     checks
+}
+
+/// One check per file of `files` and per variant of `variants`, named
+/// `<prefix>.<stem>.<variant's name>`, flying `fly(file, variant)`.
+pub(super) fn per_file<V: Copy + Send + Sync + 'static>(
+    files: &[PathBuf],
+    prefix: &str,
+    variants: &[(V, &str)],
+    fly: fn(&Path, V) -> Outcome,
+) -> Vec<Check> {
+    let mut checks = Vec::new();
+    for file in files {
+        let stem = file
+            .file_stem()
+            .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+        for &(variant, name) in variants {
+            let file = file.clone();
+            checks.push(Check::new(format!("{prefix}.{stem}.{name}"), move || {
+                fly(&file, variant)
+            }));
+        }
+    }
+    checks
+}
+
+/// The names of the guarantees of `guarantees` that failed.
+pub(super) fn failed_names(guarantees: &[Guarantee]) -> Vec<&'static str> {
+    guarantees
+        .iter()
+        .filter(|g| !g.passed)
+        .map(|g| g.name())
+        .collect()
 }
 
 /// One file under `model`: every guarantee holds and no mover touches the robot.
@@ -79,12 +101,7 @@ fn fly(file: &Path, model: Model) -> Outcome {
             f.min_robot_clearance,
             prepared.margin(),
         );
-        let failed: Vec<&str> = s
-            .guarantees
-            .iter()
-            .filter(|g| !g.passed)
-            .map(|g| g.name())
-            .collect();
+        let failed = failed_names(&s.guarantees);
         let others_failed = f.others.iter().any(|o| !(o.reached && o.safe));
         if !failed.is_empty() || others_failed || f.robot_contacts > 0 {
             return Err(format!("{detail}; failed: {failed:?}"));
@@ -93,12 +110,7 @@ fn fly(file: &Path, model: Model) -> Outcome {
     }
     let m = s.movers.as_ref().ok_or("no mover report")?;
     let detail = detail(s.reached, s.time_s, m, prepared.margin());
-    let failed: Vec<&str> = s
-        .guarantees
-        .iter()
-        .filter(|g| !g.passed)
-        .map(|g| g.name())
-        .collect();
+    let failed = failed_names(&s.guarantees);
     if !failed.is_empty() || m.mover_contacts > 0 {
         return Err(format!("{detail}; failed: {failed:?}"));
     }
@@ -129,12 +141,7 @@ fn fly_floor(file: &Path, model: Model) -> Outcome {
     let s = FloorSummary::new(&prepared, Some(model), start, &run);
     let m = s.movers.as_ref().ok_or("no mover report")?;
     let detail = detail(s.reached, s.time_s, m, prepared.scenario.robot.margin);
-    let failed: Vec<&str> = s
-        .guarantees
-        .iter()
-        .filter(|g| !g.passed)
-        .map(|g| g.name())
-        .collect();
+    let failed = failed_names(&s.guarantees);
     if !failed.is_empty() || m.mover_contacts > 0 {
         return Err(format!("{detail}; failed: {failed:?}"));
     }
