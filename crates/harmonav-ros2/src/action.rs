@@ -202,10 +202,10 @@ impl<Q> Navigate<Q> {
         if self.active == Some(id) {
             self.active = None;
         }
-        let level = if status == GoalStatusEnum::Succeeded {
-            log::Level::Info
-        } else {
+        let level = if status == GoalStatusEnum::Aborted {
             log::Level::Warn
+        } else {
+            log::Level::Info
         };
         let why = if result.error_msg.is_empty() {
             String::new()

@@ -3,6 +3,20 @@
 //! with [`harmonav::Navigator`] (a disc around the robot, from scans alone) or
 //! [`harmonav::FloorNavigator`] (the floor plan from `/map`).
 //!
+//! It also serves Nav2's `navigate_to_pose` action (`nav2_msgs/action/NavigateToPose`, Jazzy's
+//! layout), so that goals come as from Nav2's navigator:
+//!
+//! ```sh
+//! ros2 action send_goal --feedback /navigate_to_pose nav2_msgs/action/NavigateToPose \
+//!     "{pose: {header: {frame_id: map}, pose: {position: {x: 3.4, y: 2.4}}}}"
+//! ```
+//!
+//! or `nav2_simple_commander`'s `BasicNavigator().goToPose(pose)` (without
+//! `waitUntilNav2Active`, which asks for lifecycle services this node does not have). One goal
+//! runs at a time; a new one preempts it, a cancel stops the robot; see [`action`] for the
+//! results and their error codes. The services use Fast DDS's request/reply mapping unless
+//! `service_mapping: cyclone` (clients on `rmw_cyclonedds_cpp`).
+//!
 //! This crate is a leaf: no other crate of the workspace depends on it, so a user of
 //! `harmonav` compiles no DDS.
 //!

@@ -3,7 +3,8 @@
 //! `harmonav-ros2 --ros-args --params-file params/example.yaml -p …`, drives the peer's
 //! simulated robot to its goal in a floor plan from `/map` and in an unknown room from
 //! `/scan` alone (holonomic, and a differential drive from scans), stops within the timeout when the scans stop (the negative control, with
-//! the stop disabled, fails that check), and publishes zero on SIGTERM.
+//! the stop disabled, fails that check), and publishes zero on SIGTERM; and serves the
+//! `navigate_to_pose` action (success with feedback, preemption, cancel, an occupied goal).
 //!
 //! **Only in a fresh network namespace**, so that no DDS discovery leaves the machine. The
 //! test runs when `HARMONAV_ROS2_E2E=1`, and then refuses (fails) unless this process's
@@ -171,9 +172,15 @@ fn case(
     (out, ok, text, code)
 }
 
+/// The tests take turns: node and peer time their periods on two cores.
+static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 #[test]
 fn drives_the_peers_robot_over_dds() {
     let Some(python) = guard() else { return };
+    let _turn = ONE_AT_A_TIME
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
     // A floor plan from /map (transient local, published before the node exists).
     let (out, ok, log, code) = case(&python, 23, "floor", &[], &["--world", "floor", "--arrive"]);
     assert!(ok, "floor plan: {out}\n{log}");
@@ -218,4 +225,37 @@ fn drives_the_peers_robot_over_dds() {
     assert!(!ok, "the negative control passed: {out}\n{log}");
     assert!(out.contains("\"moving_before_stale\": true"), "{out}");
     assert!(out.contains("\"stale_stop\": false"), "{out}");
+}
+
+/// Goals through the `navigate_to_pose` action, with the default "enhanced" service mapping
+/// (Fast DDS's) and with Cyclone's: success with feedback, preemption, cancel, a goal in an
+/// occupied cell.
+#[test]
+fn serves_navigate_to_pose_over_dds() {
+    let Some(python) = guard() else { return };
+    let _turn = ONE_AT_A_TIME
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    let (out, ok, log, code) = case(
+        &python,
+        27,
+        "action",
+        &[],
+        &["--world", "floor", "--action"],
+    );
+    assert!(ok, "navigate_to_pose: {out}\n{log}");
+    assert_eq!(code, Some(0), "{log}");
+    assert!(log.contains("navigate_to_pose: goal"), "{log}");
+
+    // The same through rmw_cyclonedds_cpp's service mapping (a header in the payload).
+    let (out, ok, log, code) = case(
+        &python,
+        28,
+        "action-cyclone",
+        &["service_mapping:=cyclone"],
+        &["--world", "floor", "--action", "--cyclone-mapping"],
+    );
+    assert!(ok, "navigate_to_pose, Cyclone's mapping: {out}\n{log}");
+    assert_eq!(code, Some(0), "{log}");
+    assert!(log.contains("Cyclone service mapping"), "{log}");
 }
