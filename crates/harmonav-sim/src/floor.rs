@@ -13,8 +13,8 @@ use harmonav_scenario::{LidarSensor, Model, ShapeSpec};
 use nalgebra::Vector2;
 use serde::Serialize;
 
+use crate::guarantee::MARGIN_TOLERANCE;
 use crate::guarantee::{Check, Guarantee};
-use crate::monitor::MARGIN_TOLERANCE;
 use crate::movers::{MoverReport, MoverWorld};
 use crate::scanner::{Scanner, Scene};
 use crate::summary::{PerceptionReport, Physics};

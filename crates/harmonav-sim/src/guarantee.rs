@@ -5,6 +5,11 @@ use harmonav::NavError;
 use serde::Serialize;
 use serde::ser::{SerializeStruct, Serializer};
 
+/// How far below `robot.margin` the measured clearance may fall and still pass: the offset
+/// outlines of non-circular shapes are Hermite tables (`StarShape::offset`) and the exact
+/// distances are refined to ~1e-9 m, so the grown shapes sit within this of the true offset.
+pub const MARGIN_TOLERANCE: f64 = 1e-6;
+
 /// A guarantee's kind, for consumers that group them (the verify matrix, the sweep's outcome).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Kind {

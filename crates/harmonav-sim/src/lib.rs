@@ -89,5 +89,5 @@ pub mod unicycle;
 pub mod warning;
 
 pub use driver::STALL_STEPS;
-pub use monitor::MARGIN_TOLERANCE;
+pub use guarantee::MARGIN_TOLERANCE;
 pub use scanner::DENSE;

@@ -7,16 +7,11 @@ use harmonav::{Controller, Navigator};
 use harmonav_scenario::{ExpectSpec, Model, Prepared, Truth};
 use nalgebra::Vector2;
 
-use crate::guarantee::{Check, Guarantee};
+use crate::guarantee::{Check, Guarantee, MARGIN_TOLERANCE};
 use crate::outcome::{Outcome, Rest};
 use crate::summary::Summary;
 use crate::trace::{Discovery, Event, Sample, ScanRecord};
 use crate::trajectory::{Keep, Trajectory};
-
-/// How far below `robot.margin` the measured clearance may fall and still pass: the offset
-/// outlines of non-circular shapes are Hermite tables (`StarShape::offset`) and the exact
-/// distances are refined to ~1e-9 m, so the grown shapes sit within this of the true offset.
-pub const MARGIN_TOLERANCE: f64 = 1e-6;
 
 /// How a run ended, as its integrator saw it.
 #[derive(Clone, Copy, Debug)]

@@ -22,8 +22,8 @@ use harmonav_scenario::Truth;
 use nalgebra::Vector2;
 use serde::Serialize;
 
+use crate::guarantee::MARGIN_TOLERANCE;
 use crate::guarantee::{Check, Guarantee};
-use crate::monitor::MARGIN_TOLERANCE;
 
 /// The spacing of the points along an arc, as a share of their clearance above the margin:
 /// the bound `(c₀ + c₁ − Δℓ)/2` then lies within `ARC_STEP_SHARE/2` of it (2.5 %).
