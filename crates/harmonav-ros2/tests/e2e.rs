@@ -5,6 +5,8 @@
 //! `/scan` alone (holonomic, and a differential drive from scans), stops within the timeout when the scans stop (the negative control, with
 //! the stop disabled, fails that check), and publishes zero on SIGTERM; and serves the
 //! `navigate_to_pose` action (success with feedback, preemption, cancel, an occupied goal).
+//! The same drives run against a real ROS 2 stack, `tests/rclpy_peer.py` (rclpy on Fast DDS
+//! from PyPI's wheels), when `HARMONAV_ROS2_RCLPY_PYTHON` names a Python that has them.
 //!
 //! **Only in a fresh network namespace**, so that no DDS discovery leaves the machine. The
 //! test runs when `HARMONAV_ROS2_E2E=1`, and then refuses (fails) unless this process's
@@ -13,7 +15,8 @@
 //! ```sh
 //! unshare -n sh -c 'ip link set lo up && ip link set lo multicast on &&
 //!   ip route add 224.0.0.0/4 dev lo &&
-//!   HARMONAV_ROS2_E2E=1 HARMONAV_ROS2_PYTHON=target/ros2-venv/bin/python \
+//!   HARMONAV_ROS2_E2E=1 HARMONAV_ROS2_PYTHON=$PWD/target/ros2-venv/bin/python \
+//!   HARMONAV_ROS2_RCLPY_PYTHON=$PWD/target/rclpy-venv/bin/python \
 //!   cargo test --offline -p harmonav-ros2 --test e2e'
 //! ```
 
@@ -91,12 +94,21 @@ fn node(domain: u16, overrides: &[&str], log: &Path) -> Child {
         .expect("the node starts")
 }
 
+/// A peer: the Python that runs it and its script in `tests/`.
+#[derive(Clone, Copy)]
+struct Peer<'a> {
+    python: &'a Path,
+    script: &'static str,
+}
+
 /// The peer's JSON line and exit status; the node is killed if it still runs.
-fn peer(python: &Path, domain: u16, args: &[&str], node: &mut Child, log: &Path) -> (String, bool) {
-    let mut p = Command::new(python)
-        .arg(crate_dir().join("tests/ros2_peer.py"))
+fn peer(peer: Peer, domain: u16, args: &[&str], node: &mut Child, log: &Path) -> (String, bool) {
+    let mut p = Command::new(peer.python)
+        .arg(crate_dir().join("tests").join(peer.script))
         .args(args)
         .env("ROS_DOMAIN_ID", domain.to_string())
+        // rclpy's middleware: Fast DDS (ignored by the Cyclone peer).
+        .env("RMW_IMPLEMENTATION", "rmw_fastrtps_cpp")
         .stdout(Stdio::piped())
         .stderr(Stdio::inherit())
         .spawn()
@@ -142,9 +154,24 @@ fn tmp(name: &str) -> PathBuf {
     dir.join(name)
 }
 
-/// One case: the node with `overrides`, the peer with `args` (SIGTERM at its end).
+/// One case: the node with `overrides`, the Cyclone peer with `args` (SIGTERM at its end).
 fn case(
     python: &Path,
+    domain: u16,
+    name: &str,
+    overrides: &[&str],
+    args: &[&str],
+) -> (String, bool, String, Option<i32>) {
+    let p = Peer {
+        python,
+        script: "ros2_peer.py",
+    };
+    case_with(p, domain, name, overrides, args)
+}
+
+/// One case against `p`.
+fn case_with(
+    p: Peer,
     domain: u16,
     name: &str,
     overrides: &[&str],
@@ -155,7 +182,7 @@ fn case(
     let pid = n.0.id().to_string();
     let mut all: Vec<&str> = args.to_vec();
     all.extend(["--node-pid", &pid]);
-    let (out, ok) = peer(python, domain, &all, &mut n.0, &log);
+    let (out, ok) = peer(p, domain, &all, &mut n.0, &log);
     let code = reap(&mut n.0);
     let text = read(&log);
     eprintln!("== {name}: peer {out}== node log (last lines):");
@@ -258,4 +285,46 @@ fn serves_navigate_to_pose_over_dds() {
     assert!(ok, "navigate_to_pose, Cyclone's mapping: {out}\n{log}");
     assert_eq!(code, Some(0), "{log}");
     assert!(log.contains("Cyclone service mapping"), "{log}");
+}
+
+/// The same drives against a real ROS 2 stack (`tests/rclpy_peer.py`: rclpy on
+/// `rmw_fastrtps_cpp`, PyPI's wheels of the ROS packages): a floor plan from `/map` and an
+/// unknown room from `/scan` alone, a stop when the scans stop, a zero after SIGTERM, and the
+/// node, its topics and their types in rclpy's graph. Skipped unless `HARMONAV_ROS2_RCLPY_PYTHON`
+/// names a Python with those wheels (`.ci/run` installs them).
+#[test]
+fn drives_the_rclpy_peers_robot_over_fast_dds() {
+    let Some(_) = guard() else { return };
+    let Some(python) = std::env::var_os("HARMONAV_ROS2_RCLPY_PYTHON").map(PathBuf::from) else {
+        eprintln!("skipped: set HARMONAV_ROS2_RCLPY_PYTHON to a Python with rclpy's wheels");
+        return;
+    };
+    assert!(
+        python.is_absolute(),
+        "HARMONAV_ROS2_RCLPY_PYTHON must be an absolute path: {python:?}"
+    );
+    let _turn = ONE_AT_A_TIME
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    let p = Peer {
+        python: &python,
+        script: "rclpy_peer.py",
+    };
+    // The map comes ~3 s late (a RustDDS reader of a Fast DDS transient-local writer).
+    let (out, ok, log, code) =
+        case_with(p, 31, "rclpy-floor", &[], &["--world", "floor", "--arrive"]);
+    assert!(ok, "rclpy, floor plan: {out}\n{log}");
+    assert!(out.contains("\"rmw\": \"rmw_fastrtps_cpp\""), "{out}");
+    assert_eq!(code, Some(0), "the node's exit after SIGTERM\n{log}");
+    assert!(log.contains("scan missing or stale"), "{log}");
+
+    let (out, ok, log, code) = case_with(
+        p,
+        32,
+        "rclpy-scans",
+        &["map_topic:=''"],
+        &["--world", "scans", "--arrive"],
+    );
+    assert!(ok, "rclpy, scans alone: {out}\n{log}");
+    assert_eq!(code, Some(0), "{log}");
 }

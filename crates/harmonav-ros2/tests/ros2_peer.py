@@ -1,14 +1,14 @@
-"""The independent peer of harmonav-ros2's end-to-end test (tests/e2e.rs): a robot simulator
-on Eclipse Cyclone DDS (PyPI `cyclonedds`), speaking ROS 2's wire names and QoS without any ROS
-install. It owns the truth (a room of axis-aligned boxes and discs), publishes what a robot
-would (`/map` transient local, `/scan` best effort from its own ray casting, `/odom`,
-`/tf_static` base_link → laser, `/goal_pose`), integrates `/cmd_vel` at 20 Hz as a holonomic
-base, and judges: arrival, no contact with its truth, a stop within the timeout when its scans
-stop, a zero command when the node is sent SIGTERM. With `--action` it sends its goals through
-the `navigate_to_pose` action instead (rosidl's wire layout, the "enhanced" service mapping's
-plain payloads): arrival with feedback and a succeeded result, a goal preempted by the next,
-a cancel that stops the robot, and a goal in an occupied cell aborted with its code. Prints one
-JSON line; exit 0 when every asked check passed, 1 otherwise.
+"""The independent peer of harmonav-ros2's end-to-end test (tests/e2e.rs): a robot simulator on
+Eclipse Cyclone DDS (PyPI `cyclonedds`), speaking ROS 2's wire names and QoS without any ROS
+install. It owns the truth (`peer_world.py`: a room of axis-aligned boxes and discs), publishes
+what a robot would (`/map` transient local, `/scan` best effort from its own ray casting,
+`/odom`, `/tf_static` base_link → laser, `/goal_pose`), integrates `/cmd_vel` at 20 Hz as a
+holonomic base, and judges: arrival, no contact with its truth, a stop within the timeout when
+its scans stop, a zero command when the node is sent SIGTERM. With `--action` it sends its goals
+through the `navigate_to_pose` action instead (rosidl's wire layout, the "enhanced" service
+mapping's plain payloads): arrival with feedback and a succeeded result, a goal preempted by the
+next, a cancel that stops the robot, and a goal in an occupied cell aborted with its code.
+Prints one JSON line; exit 0 when every asked check passed, 1 otherwise.
 
 Only for a private network namespace: the Rust test refuses to run it elsewhere."""
 
@@ -36,108 +36,28 @@ from cyclonedds.util import duration  # noqa: E402
 
 import ros2_msgs as m  # noqa: E402
 
-H = 0.05  # the simulator's period (20 Hz), the node's controller_frequency
-RADIUS = 0.1  # the robot's radius (the node's robot_radius)
-YAW = 0.3  # the robot's constant heading: base_link is turned against map
-LASER = 0.1  # the laser 0.1 m ahead of the base
-BEAMS = 1080
-RANGE_MAX = 3.5
+from peer_world import (  # noqa: E402
+    H, LASER, RADIUS, RANGE_MAX, RANGE_MIN, TOLERANCE, Robot, drive, scan_angles, scan_ranges,
+    worlds,
+)
 
 
-class World:
-    def __init__(self, room, boxes, discs, mapped_boxes, mapped_discs):
-        self.room = room  # (x0, y0, x1, y1): the free interior
-        self.boxes = boxes  # [(x0, y0, x1, y1)]
-        self.discs = discs  # [(cx, cy, r)]
-        self.mapped_boxes = mapped_boxes
-        self.mapped_discs = mapped_discs
-
-    def ray(self, p, a):
-        """Distance along the ray from p at angle a to the first surface."""
-        dx, dy = math.cos(a), math.sin(a)
-        best = math.inf
-        x0, y0, x1, y1 = self.room
-        for o, d, lo, hi in ((p[0], dx, x0, x1), (p[1], dy, y0, y1)):
-            if d > 1e-12:
-                best = min(best, (hi - o) / d)
-            elif d < -1e-12:
-                best = min(best, (lo - o) / d)
-        for bx0, by0, bx1, by1 in self.boxes:
-            tmin, tmax = 0.0, math.inf
-            ok = True
-            for o, d, lo, hi in ((p[0], dx, bx0, bx1), (p[1], dy, by0, by1)):
-                if abs(d) < 1e-12:
-                    if not lo <= o <= hi:
-                        ok = False
-                        break
-                else:
-                    t1, t2 = (lo - o) / d, (hi - o) / d
-                    tmin, tmax = max(tmin, min(t1, t2)), min(tmax, max(t1, t2))
-            if ok and tmin <= tmax:
-                best = min(best, tmin)
-        for cx, cy, r in self.discs:
-            fx, fy = p[0] - cx, p[1] - cy
-            b = fx * dx + fy * dy
-            c = fx * fx + fy * fy - r * r
-            disc = b * b - c
-            if disc >= 0:
-                t = -b - math.sqrt(disc)
-                if t >= 0:
-                    best = min(best, t)
-        return best
-
-    def clearance(self, p):
-        """Distance from p to the nearest surface of the truth."""
-        x0, y0, x1, y1 = self.room
-        d = min(p[0] - x0, x1 - p[0], p[1] - y0, y1 - p[1])
-        for bx0, by0, bx1, by1 in self.boxes:
-            ex = max(bx0 - p[0], 0.0, p[0] - bx1)
-            ey = max(by0 - p[1], 0.0, p[1] - by1)
-            d = min(d, math.hypot(ex, ey))
-        for cx, cy, r in self.discs:
-            d = min(d, math.hypot(p[0] - cx, p[1] - cy) - r)
-        return d
-
-    def grid(self, res=0.05):
-        """The map: the mapped shapes rasterised, walls 0.1 m thick, row 0 at the bottom."""
-        x0, y0, x1, y1 = self.room
-        ox, oy = x0 - 0.1, y0 - 0.1
-        w = int(round((x1 - x0 + 0.2) / res))
-        h = int(round((y1 - y0 + 0.2) / res))
-        data = []
-        for r in range(h):
-            for c in range(w):
-                x, y = ox + (c + 0.5) * res, oy + (r + 0.5) * res
-                occ = not (x0 <= x <= x1 and y0 <= y <= y1)
-                occ = occ or any(a <= x <= b and c_ <= y <= d for a, c_, b, d in self.mapped_boxes)
-                occ = occ or any(math.hypot(x - cx, y - cy) <= rr for cx, cy, rr in self.mapped_discs)
-                data.append(100 if occ else 0)
-        info = m.MapMetaData(resolution=res, width=w, height=h,
-                             origin=m.Pose(position=m.Point(x=ox, y=oy)))
-        return m.OccupancyGrid(header=m.Header(frame_id="map"), info=info, data=data)
-
-
-def worlds(name):
-    if name == "floor":
-        # A 4 × 3 m room with a mapped box in the middle.
-        box = (1.6, 1.0, 2.4, 2.0)
-        w = World((0.0, 0.0, 4.0, 3.0), [box], [], [box], [])
-        return w, (0.6, 0.6), (3.4, 2.4)
-    # A 20 m room whose walls the lidar never reaches, a disc across the straight line.
-    w = World((0.0, 0.0, 20.0, 20.0), [], [(10.0, 10.1, 0.4)], [], [])
-    return w, (8.0, 10.0), (12.0, 10.0)
+def grid_msg(world):
+    """The world's map as a `nav_msgs/OccupancyGrid` in `map`."""
+    ox, oy, w, h, data = world.grid()
+    info = m.MapMetaData(resolution=0.05, width=w, height=h,
+                         origin=m.Pose(position=m.Point(x=ox, y=oy)))
+    return m.OccupancyGrid(header=m.Header(frame_id="map"), info=info, data=data)
 
 
 def stamp(t):
     return m.Time(sec=int(t), nanosec=int((t - int(t)) * 1e9))
 
 
-class Peer:
+class Peer(Robot):
     def __init__(self, args):
+        super().__init__(args.world, args.diff)
         self.args = args
-        self.world, self.x, self.goal = worlds(args.world)
-        self.x = list(self.x)
-        self.yaw = YAW
         dp = DomainParticipant(int(os.environ.get("ROS_DOMAIN_ID", "0")))
         self.dp = dp
         rel = Policy.Reliability.Reliable(max_blocking_time=duration(seconds=1))
@@ -158,24 +78,12 @@ class Peer:
                                 qos=Qos(Policy.Reliability.BestEffort, Policy.History.KeepLast(10)))
         if args.action:
             self.action = ActionClient(dp, "navigate_to_pose", reliable, args.cyclone_mapping)
-        self.cmd = (0.0, 0.0)
-        self.cmds = 0
-        self.last_cmd_at = None
-        self.sideways = False
 
-    def take_cmds(self):
-        got = False
+    def poll(self):
         for s in self.cmd_r.take(N=100):
             if not isinstance(s, (m.Twist, m.TwistStamped)):
                 continue  # an InvalidSample: the writer's disposal when the node leaves
-            t = s.twist if self.args.stamped else s
-            self.cmd = (t.linear.x, t.angular.z if self.args.diff else t.linear.y)
-            if self.args.diff and t.linear.y != 0.0:
-                self.sideways = True
-            self.cmds += 1
-            self.last_cmd_at = time.monotonic()
-            got = True
-        return got
+            self.on_twist(s.twist if self.args.stamped else s)
 
     def odom(self):
         now = time.time()
@@ -185,65 +93,22 @@ class Peer:
                           pose=m.PoseWithCovariance(pose=pose))
 
     def scan(self):
-        lx, ly = self.x[0] + LASER * math.cos(self.yaw), self.x[1] + LASER * math.sin(self.yaw)
-        inc = 2 * math.pi / BEAMS
-        ranges = []
-        for i in range(BEAMS):
-            r = self.world.ray((lx, ly), self.yaw - math.pi + i * inc)
-            ranges.append(r if r < RANGE_MAX else math.inf)
+        amin, amax, inc = scan_angles()
+        ranges = scan_ranges(self.world, self.x, self.yaw)
         return m.LaserScan(header=m.Header(stamp=stamp(time.time()), frame_id="laser"),
-                           angle_min=-math.pi, angle_max=math.pi - inc, angle_increment=inc,
-                           scan_time=H, range_min=0.05, range_max=RANGE_MAX, ranges=ranges)
+                           angle_min=amin, angle_max=amax, angle_increment=inc,
+                           scan_time=H, range_min=RANGE_MIN, range_max=RANGE_MAX, ranges=ranges)
 
     def send_goal(self, g):
         self.goal = g
         self.goal_w.write(m.PoseStamped(header=m.Header(stamp=stamp(time.time()), frame_id="map"),
                                         pose=m.Pose(position=m.Point(x=g[0], y=g[1]))))
 
-    def tick(self, scans, latencies):
-        """One period: odometry, a scan (the answer's latency measured), the command held."""
-        start = time.monotonic()
+    def publish_odom(self):
         self.odom_w.write(self.odom())
-        if scans:
-            self.take_cmds()
-            s = self.scan()
-            sent = time.monotonic()
-            self.scan_w.write(s)
-            # The node answers each scan at once: wait for the next command (≤ one period).
-            while time.monotonic() - sent < H * 0.9:
-                if self.take_cmds():
-                    latencies.append(time.monotonic() - sent)
-                    break
-                time.sleep(0.0005)
-        else:
-            self.take_cmds()
-        if self.args.diff:
-            # A unicycle, exactly over the period: an arc of (v, ω).
-            v, w = self.cmd
-            turn = w * H
-            sinc = 1.0 - turn * turn / 24.0 if abs(turn) < 1e-4 else math.sin(turn / 2) / (turn / 2)
-            mid = self.yaw + turn / 2
-            self.x[0] += v * H * sinc * math.cos(mid)
-            self.x[1] += v * H * sinc * math.sin(mid)
-            self.yaw += turn
-        else:
-            vx, vy = self.cmd
-            c, s_ = math.cos(self.yaw), math.sin(self.yaw)
-            self.x[0] += H * (c * vx - s_ * vy)
-            self.x[1] += H * (s_ * vx + c * vy)
-        rest = H - (time.monotonic() - start)
-        if rest > 0:
-            time.sleep(rest)
 
-    def wait_for_node(self, timeout):
-        """Until the node's commands arrive (it publishes zero before any goal), with
-        odometry and scans going so that it sees a fresh robot."""
-        end = time.monotonic() + timeout
-        while time.monotonic() < end:
-            self.tick(True, [])
-            if self.cmds > 0:
-                return True
-        return False
+    def publish_scan(self):
+        self.scan_w.write(self.scan())
 
 
 def cyclone_wire(cls):
@@ -384,7 +249,7 @@ def run_action(peer, out):
     out["action_feedback"] = {"n": len(fb), "first": fb and round(fb[0], 3), "last": fb and round(fb[-1], 3)}
     c["goal_accepted"] = ok1 is True
     c["succeeded"] = r1 is not None and r1.status == SUCCEEDED and r1.result.error_code == 0
-    c["arrived_in_tolerance"] = d <= 0.15
+    c["arrived_in_tolerance"] = d <= TOLERANCE
     c["feedback_distance_falls"] = len(fb) > 5 and fb[0] > 1.0 and fb[-1] < 0.3
     c["no_contact"] = clearance[0] > RADIUS
     out["min_clearance"] = round(clearance[0], 4)
@@ -450,103 +315,25 @@ def main():
     args = ap.parse_args()
     peer = Peer(args)
     out = {"world": args.world, "checks": {}}
-    ok = True
 
     static = m.TransformStamped(header=m.Header(frame_id="base_link"), child_frame_id="laser",
                                 transform=m.Transform(translation=m.Vector3(x=LASER, z=0.2)))
     peer.tf_static_w.write(m.TFMessage(transforms=[static]))
     if peer.map_w is not None:
-        peer.map_w.write(peer.world.grid())
+        peer.map_w.write(grid_msg(peer.world))
     t0 = time.monotonic()
     if not peer.wait_for_node(30.0):
         print(json.dumps({"error": "no command from the node within 30 s"}))
         return 1
     out["discovery_s"] = round(time.monotonic() - t0, 3)
 
-    latencies = []
-    clearance = math.inf
-    goal = peer.goal
     if args.action:
         ok = run_action(peer, out)
         if args.node_pid:
             os.kill(args.node_pid, signal.SIGTERM)
             time.sleep(0.5)
-        out["ok"] = ok
-        print(json.dumps(out), flush=True)
-        return 0 if ok else 1
-    if args.arrive:
-        peer.send_goal(goal)
-        t1 = time.monotonic()
-        arrived_at = None
-        while time.monotonic() - t1 < args.max_time:
-            peer.tick(True, latencies)
-            clearance = min(clearance, peer.world.clearance(peer.x))
-            d = math.hypot(peer.x[0] - goal[0], peer.x[1] - goal[1])
-            if d <= 0.15 and peer.cmd == (0.0, 0.0):
-                arrived_at = time.monotonic() - t1
-                break
-        d = math.hypot(peer.x[0] - goal[0], peer.x[1] - goal[1])
-        out["checks"]["arrived"] = arrived_at is not None
-        out["arrival_s"] = arrived_at and round(arrived_at, 2)
-        out["final_distance"] = round(d, 4)
-        out["min_clearance"] = round(clearance, 4)
-        out["checks"]["no_contact"] = clearance > RADIUS
-        ok = ok and arrived_at is not None and clearance > RADIUS
-
-    # Stale scans: a new goal 4 m away (the robot is still on its way when the timeout
-    # expires, so a zero can only come from the stale-scan stop), moving, then scans stop.
-    start, far = worlds(args.world)[1:]
-    back = start if args.arrive else far
-    peer.send_goal(back)
-    moving = False
-    for _ in range(40):
-        peer.tick(True, latencies)
-        clearance = min(clearance, peer.world.clearance(peer.x))
-        if math.hypot(*peer.cmd) > 1e-3:
-            moving = True
-            break
-    out["checks"]["moving_before_stale"] = moving
-    stopped_after = None
-    t2 = time.monotonic()
-    while time.monotonic() - t2 < 3.0:
-        peer.tick(False, latencies)
-        if peer.cmd == (0.0, 0.0) and peer.last_cmd_at and peer.last_cmd_at > t2:
-            stopped_after = time.monotonic() - t2
-            break
-    out["stale_stop_after_s"] = stopped_after and round(stopped_after, 3)
-    # Within the timeout, plus one period each for the node's check, the peer's and the wire.
-    stop_ok = stopped_after is not None and stopped_after <= args.scan_timeout + 3 * H + 0.05
-    out["checks"]["stale_stop"] = stop_ok
-    ok = ok and moving and stop_ok
-
-    if args.node_pid:
-        # Moving again, then SIGTERM: the last command received must be zero.
-        for _ in range(40):
-            peer.tick(True, latencies)
-            if math.hypot(*peer.cmd) > 1e-3:
-                break
-        was_moving = math.hypot(*peer.cmd) > 1e-3
-        os.kill(args.node_pid, signal.SIGTERM)
-        end = time.monotonic() + 2.0
-        while time.monotonic() < end:
-            peer.take_cmds()
-            time.sleep(0.01)
-        zero = peer.cmd == (0.0, 0.0)
-        out["checks"]["moving_before_sigterm"] = was_moving
-        out["checks"]["zero_after_sigterm"] = zero
-        ok = ok and was_moving and zero
-
-    if latencies:
-        latencies.sort()
-        out["scan_to_cmd_ms"] = {
-            "n": len(latencies),
-            "median": round(1e3 * latencies[len(latencies) // 2], 2),
-            "p95": round(1e3 * latencies[int(0.95 * (len(latencies) - 1))], 2),
-            "max": round(1e3 * latencies[-1], 2),
-        }
-    if args.diff:
-        out["checks"]["no_sideways"] = not peer.sideways
-        ok = ok and not peer.sideways
+    else:
+        ok = drive(peer, args, out)
     out["ok"] = ok
     print(json.dumps(out), flush=True)
     return 0 if ok else 1
