@@ -14,7 +14,10 @@
 //!   the goal ends **canceled**;
 //! - arrival (within `goal_tolerance`) ends the goal **succeeded**;
 //! - stale data, a refused scan or command stop the robot but keep the goal running (the
-//!   bridge resumes when the data is fresh again).
+//!   bridge resumes when the data is fresh again), until the robot has not moved
+//!   `required_movement_radius` for `movement_time_allowance` (Nav2's progress checker, for
+//!   whatever reason it stands or crawls): then the goal is **aborted** with
+//!   [`code::FAILED_TO_MAKE_PROGRESS`] and the robot stopped.
 //!
 //! Feedback goes out with every command while a goal runs: the robot's pose, the straight-line
 //! distance to the goal, the time since acceptance and that distance over the commanded speed.
@@ -50,6 +53,10 @@ pub mod code {
     /// No navigator could be built for the goal, e.g. the robot or the goal is not in the free
     /// space the robot's radius leaves (`ComputePathToPose.NO_VALID_PATH`).
     pub const NO_VALID_PATH: u16 = 208;
+    /// The robot did not move `required_movement_radius` in `movement_time_allowance`
+    /// (`FollowPath.FAILED_TO_MAKE_PROGRESS`, Nav2's controller's code for its progress
+    /// checker).
+    pub const FAILED_TO_MAKE_PROGRESS: u16 = 105;
 }
 
 /// How many finished goals are kept (their results can still be asked for, and they stay in
@@ -437,6 +444,17 @@ impl<Q> Navigate<Q> {
             Some(Stop::NoNavigator(e)) => {
                 bridge.clear_goal();
                 self.finish(id, GoalStatusEnum::Aborted, code::NO_VALID_PATH, e.clone());
+                self.trim();
+                return None;
+            }
+            Some(Stop::NoProgress(e)) => {
+                // The bridge has cleared the goal already: the robot stands.
+                self.finish(
+                    id,
+                    GoalStatusEnum::Aborted,
+                    code::FAILED_TO_MAKE_PROGRESS,
+                    format!("failed to make progress: {e}"),
+                );
                 self.trim();
                 return None;
             }

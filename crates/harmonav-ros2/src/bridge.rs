@@ -181,6 +181,9 @@ pub enum Stop {
     ScanRefused,
     /// The navigator refused the command (the error).
     Refused(String),
+    /// The robot has not moved `required_movement_radius` in `movement_time_allowance`: the
+    /// goal is given up (cleared); the text says how long and why it stood.
+    NoProgress(String),
     /// Shutting down.
     Shutdown,
 }
@@ -197,6 +200,7 @@ impl std::fmt::Display for Stop {
             Self::NoNavigator(e) => write!(f, "no navigator for this goal: {e}"),
             Self::ScanRefused => f.write_str("the last scan was refused (halted)"),
             Self::Refused(e) => write!(f, "command refused: {e}"),
+            Self::NoProgress(e) => write!(f, "no progress, goal given up: {e}"),
             Self::Shutdown => f.write_str("shutting down"),
         }
     }
@@ -267,6 +271,9 @@ pub struct Bridge {
     /// Log lines since the last [`Bridge::drain_log`] (level, text).
     log: Vec<(log::Level, String)>,
     last_stop: Option<Stop>,
+    /// Where the robot last made progress (unknown before the first odometry of the goal)
+    /// and since when.
+    progress: Option<(Option<Vector2<f64>>, Instant)>,
 }
 
 impl Bridge {
@@ -289,6 +296,7 @@ impl Bridge {
             said: HashSet::new(),
             log: Vec::new(),
             last_stop: None,
+            progress: None,
         }
     }
 
@@ -388,6 +396,7 @@ impl Bridge {
         self.goal = Some(goal);
         self.dirty = true;
         self.arrived = false;
+        self.progress = Some((None, now));
         self.say(
             log::Level::Info,
             format!(
@@ -408,6 +417,7 @@ impl Bridge {
         self.dirty = false;
         self.build_error = None;
         self.arrived = false;
+        self.progress = None;
     }
 
     /// The goal in `global_frame`, if any.
@@ -625,7 +635,11 @@ impl Bridge {
     /// One control step at `now`: the command to publish (zero, with its reason, when
     /// stopped). Each stop is logged once when it begins.
     pub fn step(&mut self, now: Instant) -> Step {
-        let stop = self.step_inner(now);
+        let mut stop = self.step_inner(now);
+        if let Some(why) = self.no_progress(now, &stop) {
+            self.clear_goal();
+            stop = Err(Stop::NoProgress(why));
+        }
         match stop {
             Ok((u, mode)) => {
                 if self.last_stop.take().is_some() {
@@ -650,6 +664,45 @@ impl Bridge {
                 }
             }
         }
+    }
+
+    /// Nav2's progress check: `Some(why)` when the robot, on its way to a goal, has not moved
+    /// `required_movement_radius` from where it last did for `movement_time_allowance`.
+    fn no_progress(
+        &mut self,
+        now: Instant,
+        step: &Result<(Twist, &'static str), Stop>,
+    ) -> Option<String> {
+        let allowance = self.params.movement_time_allowance;
+        if allowance <= 0.0 || self.goal.is_none() || self.arrived {
+            return None;
+        }
+        let x = self.last_odom.map(|_| {
+            let p = self.robot_pose(now).0;
+            Vector2::new(p.x, p.y)
+        });
+        let radius = self.params.required_movement_radius;
+        let (at, since) = self.progress.get_or_insert((None, now));
+        match (*at, x) {
+            (None, Some(x)) => *at = Some(x),
+            (Some(b), Some(x)) if (x - b).norm() >= radius => {
+                *at = Some(x);
+                *since = now;
+            }
+            _ => {}
+        }
+        let waited = now.saturating_duration_since(*since).as_secs_f64();
+        if waited <= allowance {
+            return None;
+        }
+        let state = match step {
+            Ok((_, mode)) => format!("commanding, mode {mode}"),
+            Err(stop) => format!("stopped: {stop}"),
+        };
+        Some(format!(
+            "moved less than {radius} m in {waited:.1} s (movement_time_allowance {allowance} s; \
+             last {state})"
+        ))
     }
 
     fn step_inner(&mut self, now: Instant) -> Result<(Twist, &'static str), Stop> {

@@ -107,6 +107,14 @@ pub struct Params {
     pub transform_timeout: f64,
     /// Stop on stale data (the negative control of the tests turns it off; never on a robot).
     pub stale_stop: bool,
+    /// s: a goal during which the robot has not moved `required_movement_radius` for this long
+    /// (however it came to stand: refused commands, stale data, a stuck base) is given up,
+    /// aborted with Nav2's `FAILED_TO_MAKE_PROGRESS`, and the robot stopped (the name and
+    /// default of Nav2's `SimpleProgressChecker`); 0 never gives up.
+    pub movement_time_allowance: f64,
+    /// m: the distance from where the robot last made progress that counts as progress
+    /// (Nav2's `SimpleProgressChecker`).
+    pub required_movement_radius: f64,
     /// m: the lidar's range for the perception's priors (`Options::with_sensor`).
     pub sensor_range: f64,
     /// m: without a map, the radius of the disc around the robot (at the goal's arrival) that
@@ -152,6 +160,8 @@ impl Default for Params {
             odom_timeout: 0.5,
             transform_timeout: 1.0,
             stale_stop: true,
+            movement_time_allowance: 10.0,
+            required_movement_radius: 0.5,
             sensor_range: 3.5,
             scan_world_radius: 5.0,
             max_element: 0.2,
@@ -291,6 +301,13 @@ impl Params {
             "odom_timeout" => self.odom_timeout = positive(value)?,
             "transform_timeout" => self.transform_timeout = positive(value)?,
             "stale_stop" => self.stale_stop = flag(value)?,
+            "movement_time_allowance" => {
+                self.movement_time_allowance = float(value)?;
+                if self.movement_time_allowance < 0.0 {
+                    return Err(wrong("a number ≥ 0"));
+                }
+            }
+            "required_movement_radius" => self.required_movement_radius = positive(value)?,
             "sensor_range" => self.sensor_range = positive(value)?,
             "scan_world_radius" => self.scan_world_radius = positive(value)?,
             "max_element" => self.max_element = positive(value)?,
@@ -550,6 +567,18 @@ harmonav:
             p.apply_file("/**:\n  ros__parameters:\n    goal_tolerance: .nan\n")
                 .is_err()
         );
+        // The progress check: 0 turns it off, a negative allowance is refused.
+        p.apply_file("/**:\n  ros__parameters:\n    movement_time_allowance: 0\n")
+            .unwrap();
+        assert_eq!(p.movement_time_allowance, 0.0);
+        let e = p
+            .apply_file("/**:\n  ros__parameters:\n    movement_time_allowance: -1.0\n")
+            .unwrap_err();
+        assert!(e.0.contains("movement_time_allowance"), "{e}");
+        let e = p
+            .apply_file("/**:\n  ros__parameters:\n    required_movement_radius: 0\n")
+            .unwrap_err();
+        assert!(e.0.contains("required_movement_radius"), "{e}");
     }
 
     #[test]

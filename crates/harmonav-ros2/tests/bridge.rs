@@ -806,3 +806,134 @@ fn action_refused_goals_abort_with_codes() {
         Some(Stop::NoGoal)
     );
 }
+
+/// One period of a robot whose wheels do not turn: odometry (and a scan if `scans`) from the
+/// same pose, the bridge stepped, its command not integrated.
+fn stuck_step(sim: &mut Sim, bridge: &mut Bridge, scans: bool) -> harmonav_ros2::bridge::Step {
+    sim.t += Duration::from_secs_f64(H);
+    sim.steps += 1;
+    bridge.on_odom(&sim.odom(), sim.t);
+    if scans {
+        bridge.on_scan(&sim.scan(), sim.t);
+    }
+    bridge.step(sim.t)
+}
+
+/// Nav2's progress check. A robot that commands but does not move (stuck wheels) is given up
+/// after `movement_time_allowance`: the action goal aborted with `FAILED_TO_MAKE_PROGRESS` and
+/// a message that says why, the robot stopped from then on. So is one that stands because its
+/// scans stopped (a goal from `/goal_pose`: dropped, said once). A robot on its way is not,
+/// though its drive is longer than the allowance; and `movement_time_allowance: 0` never gives
+/// up (the negative control).
+#[test]
+fn a_goal_without_progress_is_aborted_and_the_robot_stopped() {
+    let allowance = 2.0;
+    let params = Params {
+        map_topic: String::new(),
+        movement_time_allowance: allowance,
+        ..Params::default()
+    };
+
+    // 1. Stuck wheels, an action goal.
+    let mut bridge = Bridge::new(params.clone());
+    let mut nav: Navigate<u32> = Navigate::new();
+    let mut sim = Sim::new(open_room(), [8.0, 10.0]);
+    bridge.on_tf(&laser_static(), sim.t, true);
+    let id = GoalId::new_random();
+    let start = sim.t;
+    assert!(nav.send_goal(id, &nav_goal(12.0, 10.0), &mut bridge, sim.t, RosTime::ZERO));
+    nav.result_request(id, 1);
+    let mut commanded = false;
+    let mut given_up = None;
+    for _ in 0..200 {
+        let s = stuck_step(&mut sim, &mut bridge, true);
+        let f = nav.after_step(&s, &mut bridge, sim.t, Time::default());
+        if let Some(Stop::NoProgress(why)) = &s.stop {
+            assert_eq!(s.twist, Twist::default());
+            assert!(f.is_none());
+            given_up = Some(((sim.t - start).as_secs_f64(), why.clone()));
+            break;
+        }
+        commanded |= s.stop.is_none() && s.twist.linear.x.hypot(s.twist.linear.y) > 1e-3;
+    }
+    assert!(commanded, "the navigator never commanded");
+    let (after, why) = given_up.expect("a stuck robot was never given up");
+    assert!(
+        after > allowance && after <= allowance + H + 1e-9,
+        "given up after {after} s"
+    );
+    assert!(why.contains("movement_time_allowance"), "{why}");
+    assert!(why.contains("commanding"), "{why}");
+    assert_eq!(nav.status(id), Some(GoalStatusEnum::Aborted));
+    let r = nav.result(id).unwrap();
+    assert_eq!(r.error_code, code::FAILED_TO_MAKE_PROGRESS);
+    assert_eq!(code::FAILED_TO_MAKE_PROGRESS, 105);
+    assert!(r.error_msg.contains("failed to make progress"), "{r:?}");
+    let replies = nav.take_replies();
+    assert_eq!(
+        (replies[0].to, replies[0].status),
+        (1, GoalStatusEnum::Aborted)
+    );
+    assert_eq!(bridge.goal(), None);
+    for _ in 0..5 {
+        let s = stuck_step(&mut sim, &mut bridge, true);
+        assert_eq!((s.twist, s.stop), (Twist::default(), Some(Stop::NoGoal)));
+    }
+
+    // 2. Scans stop on the way (a goal from the topic): stale, then given up.
+    let mut bridge = Bridge::new(params.clone());
+    let mut sim = Sim::new(open_room(), [8.0, 10.0]);
+    bridge.on_tf(&laser_static(), sim.t, true);
+    bridge.on_goal(&goal(12.0, 10.0), sim.t);
+    for _ in 0..5 {
+        assert_eq!(sim.step(&mut bridge, true).stop, None);
+    }
+    let mut stops = Vec::new();
+    for _ in 0..100 {
+        let s = sim.step(&mut bridge, false);
+        if let Some(stop) = s.stop {
+            if stops.last() != Some(&stop) {
+                stops.push(stop.clone());
+            }
+            if matches!(stop, Stop::NoProgress(_)) {
+                break;
+            }
+        }
+    }
+    assert!(
+        matches!(stops.as_slice(), [Stop::StaleScan, Stop::NoProgress(why)]
+            if why.contains("scan missing or stale")),
+        "{stops:?}"
+    );
+    assert_eq!(bridge.goal(), None);
+    let said = bridge
+        .drain_log()
+        .into_iter()
+        .filter(|(_, t)| t.contains("no progress"))
+        .count();
+    assert_eq!(said, 1);
+
+    // 3. On its way (4 m, longer than the allowance): never given up.
+    let mut bridge = Bridge::new(params.clone());
+    let mut sim = Sim::new(open_room(), [8.0, 10.0]);
+    bridge.on_tf(&laser_static(), sim.t, true);
+    bridge.on_goal(&goal(12.0, 10.0), sim.t);
+    let t0 = sim.t;
+    fly(&mut sim, &mut bridge, [12.0, 10.0], 4000);
+    assert!((sim.t - t0).as_secs_f64() > allowance);
+
+    // 4. The negative control: allowance 0, stuck for longer, still commanding.
+    let mut bridge = Bridge::new(Params {
+        movement_time_allowance: 0.0,
+        ..params
+    });
+    let mut sim = Sim::new(open_room(), [8.0, 10.0]);
+    bridge.on_tf(&laser_static(), sim.t, true);
+    bridge.on_goal(&goal(12.0, 10.0), sim.t);
+    for _ in 0..100 {
+        stuck_step(&mut sim, &mut bridge, true);
+    }
+    let s = stuck_step(&mut sim, &mut bridge, true);
+    assert_eq!(s.stop, None);
+    assert!(s.twist.linear.x.hypot(s.twist.linear.y) > 1e-3);
+}
