@@ -1,0 +1,557 @@
+"""harmonav inside navground (issue 54, item 5; docs/movers.md §9).
+
+Two navground components, registered by name when this module is imported (navground's Python
+register: ``class C(core.Behavior, name=...)``), so that navground's YAML experiments can name
+them; ``bench/crowds/pyproject.toml`` also declares them as navground plugins (entry points
+``navground_behaviors`` and ``navground_modulations``) for ``navground_py`` and
+``core.load_plugins()``:
+
+- ``Harmonav`` (:class:`HarmonavBehavior`): a navground ``Behavior`` that runs harmonav. Towards
+  a point target it keeps one ``harmonav.Navigator`` per target point (kinematic law, an empty
+  disc world around the target, the agent's radius and ``safety_margin``, ``control_period`` =
+  navground's time step, ``v_max`` = the target's speed); every period the agent's neighbours
+  (navground's state estimation) become ``harmonav.Mover``s with their radius, a position error
+  and a speed bound, and the navigator's command is filtered against them (and KeepRight turns
+  its nominal, docs/movers.md §7). With a direction target (navground's Corridor) or no target,
+  the nominal is navground's target velocity (or rest), turned by the same KeepRight rule
+  written here, and certified by ``harmonav.MoverFilter``. Every command passes through
+  ``compute_cmd_internal``: stops included, nothing bypasses the filter.
+- ``HarmonavFilter`` (:class:`MoverFilterModulation`): a navground ``BehaviorModulation`` that
+  puts ``harmonav.MoverFilter`` behind any behaviour's command (``post``): "ORCA + filter".
+
+Straight walls (navground ``LineSegment``s, the Corridor's) enter both as hard rows: a wall is
+given as a reciprocal mover of share 1 and speed 0, a disc of radius ``WALL_RADIUS`` tangent to
+the wall at the robot's foot point, whose row is then exactly the half-plane row of the wall
+(``n·u ≥ −β·d/h`` with ``n`` the wall's normal and ``d`` the grown distance to the line). Walls
+of finite length are treated as infinite lines (conservative, and exact for the Corridor).
+
+The theorem's assumptions in navground (docs/movers.md §3): (A1) Omni kinematics with
+``heading: idle``, so a held velocity is a straight step (an angular speed would make navground
+integrate an arc); (A2) a neighbour never moves faster than ``mover_speed_bound`` (navground's
+collision resolution can break it for agents that collide with each other); (A3) navground's
+Bounded state estimation with a range far above the reach (on a lattice navground may drop a
+neighbour for one step after a wrap: the benchmark counts those steps as sensing faults);
+(A4) ``peers: reciprocal`` only when every neighbour runs the same filter at the same period.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Optional
+
+import numpy as np
+from navground import core, sim
+
+import harmonav
+
+#: β, the hold's fraction (``harmonav::KINEMATIC_FRACTION``): a clearance keeps ≥ 1 − β of
+#: itself over a period.
+BETA = 0.5
+#: KeepRight (docs/movers.md §7), the Rust constants: anticipation horizon (s) and largest turn.
+ANTICIPATION = 3.0
+ANTICIPATION_TURN = math.radians(50.0)
+#: KeepRight's stuck rule: slower than this fraction of the nominal for STUCK_TIME s, away from
+#: the goal, turns the nominal clockwise by STUCK_TURN for STUCK_TURN_TIME s.
+STUCK_RATIO, STUCK_TIME = 0.2, 1.0
+STUCK_TURN, STUCK_TURN_TIME = math.radians(60.0), 2.0
+#: A straight wall as a disc tangent to it at the robot's foot point (m): its row is the wall's.
+WALL_RADIUS = 1.0e3
+
+#: The default bound on a neighbour's position error, m. navground stores positions in single
+#: precision (``core.uses_doubles()`` is False by default): each step rounds every position by
+#: up to half an ulp (2.4e-7 m per coordinate at 4–8 m), a report error (A2) and a tracking
+#: error of the hold (A1) at once, and while two agents press against each other for hundreds
+#: of periods these roundings add up (measured: with 1e-6 m, ORCA + filter in the Corridor went
+#: 6e-6 m below the margin; with 1e-5 m, never in the benchmark's runs).
+FLOAT_ERROR = 1.0e-5
+
+#: Mode codes of the per-period log (``HarmonavBehavior.modes``).
+MODES = ("law", "capped", "yielding", "overwhelmed", "refused", "other")
+_CODE = {name: i for i, name in enumerate(MODES)}
+
+
+def mode_code(mode: str) -> int:
+    return _CODE.get(mode, _CODE["other"])
+
+
+def clockwise(u: np.ndarray, angle: float) -> np.ndarray:
+    """``u`` turned clockwise by ``angle`` rad."""
+    s, c = math.sin(angle), math.cos(angle)
+    return np.array([c * u[0] + s * u[1], -s * u[0] + c * u[1]])
+
+
+class KeepRight:
+    """The deadlock rule of docs/movers.md §7 on a nominal velocity (it never touches safety:
+    the filter certifies whatever it is given). For the direction-task and modulation paths;
+    the ``Navigator`` path uses the Rust rule."""
+
+    def __init__(self) -> None:
+        self.slow = 0.0
+        self.turning = 0.0
+
+    def turn(self, x, u, neighbours, inflation: float) -> float:
+        """The clockwise turn of ``u`` at ``x``, rad: the stuck rule's while it turns, and the
+        anticipation's largest over ``neighbours`` (arrays: centres, radii, velocities)."""
+        turn = STUCK_TURN if self.turning > 0.0 else 0.0
+        p, r, v = neighbours
+        if len(r) == 0:
+            return turn
+        e = x - p
+        w = u - v
+        ww = np.einsum("ij,ij->i", w, w)
+        moving = ww > 0.0
+        if not moving.any():
+            return turn
+        e, w, ww, r = e[moving], w[moving], ww[moving], r[moving]
+        t = -np.einsum("ij,ij->i", e, w) / ww
+        miss = e + t[:, None] * w
+        close = (t > 0.0) & (t < ANTICIPATION) & \
+            (np.hypot(miss[:, 0], miss[:, 1]) < 2.0 * (inflation + r))
+        if close.any():
+            turn = max(turn, ANTICIPATION_TURN * (1.0 - float(t[close].min()) / ANTICIPATION))
+        return turn
+
+    def after(self, kept: float, wanted: float, yielded: bool, far: bool, h: float) -> None:
+        """Updates the memory after a period whose filtered speed was ``kept`` of ``wanted``."""
+        self.turning = max(self.turning - h, 0.0)
+        self.slow = self.slow + h if (yielded and far and kept < STUCK_RATIO * wanted) else 0.0
+        if self.slow >= STUCK_TIME:
+            self.slow, self.turning = 0.0, STUCK_TURN_TIME
+
+
+def neighbour_reach(radius: float, margin: float, v_max: float, speed_bound: float,
+                    error: float, h: float, other_radius, other_speed):
+    """Centre distance beyond which a neighbour changes nothing: its row cannot bind any
+    ``|u| ≤ v_max`` (``a_j ≤ −v_max``) and KeepRight's anticipation cannot see it
+    (``|e| ≥ 2R + T_a(v_max + |v̂|)``). Dropping such neighbours leaves every command bit for
+    bit the same, and keeps the Python loop short in large crowds. Works on arrays."""
+    grown = radius + margin + other_radius
+    row = grown + error + (speed_bound + v_max) * h / BETA
+    anticipation = 2.0 * grown + ANTICIPATION * (v_max + other_speed)
+    return np.maximum(row, anticipation) + 1e-6
+
+
+def neighbour_arrays(state) -> tuple:
+    """The neighbours of a navground ``GeometricState`` as arrays: centres (n, 2), radii (n,),
+    velocities (n, 2)."""
+    nbs = getattr(state, "neighbors", None) or []
+    if not nbs:
+        return np.zeros((0, 2)), np.zeros(0), np.zeros((0, 2))
+    p = np.array([nb.position for nb in nbs], dtype=float)
+    r = np.array([nb.radius for nb in nbs], dtype=float)
+    v = np.array([nb.velocity for nb in nbs], dtype=float)
+    return p, r, v
+
+
+def near_movers(x, arrays, body: tuple, v_max: float, bound: float, error: float, h: float,
+                kind: str) -> tuple:
+    """The neighbours that can matter (:func:`neighbour_reach`) as ``harmonav.Mover``s, and as
+    arrays ``(centres, radii, velocities)`` for KeepRight."""
+    p, r, v = arrays
+    if len(r) == 0:
+        return [], arrays
+    radius, margin = body
+    dist = np.hypot(p[:, 0] - x[0], p[:, 1] - x[1])
+    reach = neighbour_reach(radius, margin, v_max, bound, error, h, r,
+                            np.hypot(v[:, 0], v[:, 1]))
+    near = dist <= reach
+    p, r, v = p[near], r[near], v[near]
+    movers = [harmonav.Mover(c, s, bound, error, kind) for c, s in zip(p.tolist(), r.tolist())]
+    return movers, (p, r, v)
+
+
+#: The sensing of each agent whose state estimation is a ``HarmonavSensing``, by the identity
+#: of its behaviour object (navground hands the modulation the behaviour, not the agent).
+_SENSING: dict = {}
+
+
+class _WorldCache:
+    """Every agent's centre, radius and velocity at one world step, read once per step."""
+
+    def __init__(self) -> None:
+        self.key = None
+        self.p = self.r = self.v = None
+        self.periods = (None, None)
+        self.lines: list = []
+
+    def refresh(self, world) -> None:
+        key = (id(world), world.step, world.time)
+        if key == self.key:
+            return
+        agents = world.agents
+        self.key = key
+        self.p = np.array([a.position for a in agents], dtype=float).reshape(-1, 2)
+        self.r = np.array([a.radius for a in agents], dtype=float)
+        self.v = np.array([a.velocity for a in agents], dtype=float).reshape(-1, 2)
+        periods = []
+        for axis in (0, 1):
+            lattice = world.get_lattice(axis)
+            periods.append(None if lattice is None else float(lattice[1] - lattice[0]))
+        self.periods = tuple(periods)
+        self.lines = [(np.asarray(w.line.p1, dtype=float), np.asarray(w.line.p2, dtype=float))
+                      for w in world.walls]
+
+
+_WORLD = _WorldCache()
+
+
+class HarmonavSensing(sim.StateEstimation, name="HarmonavSensing"):
+    """Every other agent whose centre is within ``range`` of this one, with its exact centre,
+    radius and velocity: the information of navground's ``Bounded`` estimation, read from the
+    world once per step as arrays, and lattice-aware (on a wrapped world, navground 0.7's
+    ``Bounded`` can miss a neighbour for the step after it wraps, which breaks (A3)). It fills
+    nothing of the behaviour's ``GeometricState``: the harmonav behaviour and the
+    ``HarmonavFilter`` modulation read it; give a wrapped behaviour (ORCA) ``Bounded`` as well."""
+
+    def __init__(self, range: float = 5.0) -> None:
+        super().__init__()
+        self._range = float(range)
+        self.arrays = (np.zeros((0, 2)), np.zeros(0), np.zeros((0, 2)))
+        self.lines: list = []
+        self._behavior = None
+        self._index = 0
+
+    @property
+    @core.register(5.0, "sensing range (centre to centre), m")
+    def range(self) -> float:
+        return self._range
+
+    @range.setter
+    def range(self, value: float) -> None:
+        self._range = float(value)
+
+    def prepare(self, agent, world) -> None:
+        self._index = [a._uid for a in world.agents].index(agent._uid)
+        self._behavior = agent.behavior
+        if self._behavior is not None:
+            _SENSING[id(self._behavior)] = self
+
+    def close(self) -> None:
+        if self._behavior is not None:
+            _SENSING.pop(id(self._behavior), None)
+            self._behavior = None
+
+    def update(self, agent, world, state) -> None:
+        _WORLD.refresh(world)
+        i = self._index
+        x = _WORLD.p[i]
+        d = _WORLD.p - x
+        for axis, period in enumerate(_WORLD.periods):
+            if period:
+                d[:, axis] -= period * np.round(d[:, axis] / period)
+        near = np.hypot(d[:, 0], d[:, 1]) <= self._range
+        near[i] = False
+        self.arrays = (x + d[near], _WORLD.r[near], _WORLD.v[near])
+        self.lines = _WORLD.lines
+
+
+def sensed_lines(behavior, state) -> list:
+    """The straight walls of ``behavior`` (``(p0, p1)``): the world's, from its
+    ``HarmonavSensing``, else its ``GeometricState``'s line obstacles."""
+    sensing = _SENSING.get(id(behavior))
+    if sensing is not None:
+        return sensing.lines
+    return [(np.asarray(s.p1, dtype=float), np.asarray(s.p2, dtype=float))
+            for s in getattr(state, "line_obstacles", [])]
+
+
+def sensed_arrays(behavior, state) -> tuple:
+    """The neighbours of ``behavior``: from its ``HarmonavSensing`` if it has one, else from its
+    navground ``GeometricState``."""
+    sensing = _SENSING.get(id(behavior))
+    if sensing is not None:
+        return sensing.arrays
+    return neighbour_arrays(state)
+
+
+def wall_movers(x, lines, radius: float):
+    """Each straight wall (``(p0, p1)``) as a hard row: a reciprocal mover of share 1 and speed
+    0, a disc of radius ``WALL_RADIUS`` tangent to the wall's line at the robot's foot point on
+    the robot's side. ``[]`` for a wall the robot is not in front of (its foot point outside
+    the segment by more than the robot's radius would not matter here: walls are long)."""
+    out = []
+    for p0, p1 in lines:
+        t = p1 - p0
+        length = float(np.hypot(*t))
+        if length <= 0.0:
+            continue
+        t = t / length
+        n = np.array([-t[1], t[0]])
+        side = float((x - p0) @ n)
+        if side < 0.0:
+            n, side = -n, -side
+        foot = x - side * n
+        out.append(harmonav.Mover(foot - WALL_RADIUS * n, WALL_RADIUS, 0.0,
+                                  kind="reciprocal", share=1.0))
+    return out
+
+
+class _Log:
+    """Per-period counters and a compact log of modes (one byte a period). ``outside`` counts
+    the uncertified commands issued while every reported body was still farther than the
+    margin (a clearance within the position error ``ε``: navground's single-precision rounding
+    of clearances that decayed towards the margin), ``least`` is the least such clearance."""
+
+    def __init__(self) -> None:
+        self.modes = bytearray()
+        self.counts = [0] * len(MODES)
+        self.outside = 0
+
+    def add(self, mode: str, clearance: float = -1.0) -> None:
+        code = mode_code(mode)
+        self.modes.append(code)
+        self.counts[code] += 1
+        if mode == "overwhelmed" and clearance >= 0.0:
+            self.outside += 1
+
+    def summary(self) -> dict:
+        out = {name: self.counts[i] for i, name in enumerate(MODES)}
+        out["overwhelmed_outside_margin"] = self.outside
+        return out
+
+
+def least_clearance(x, movers: list, grown: float) -> float:
+    """The least ``|x − p̂_j| − (radius + margin + r_j)`` over ``movers`` (walls included)."""
+    return min((float(np.hypot(*(x - m.centre))) - grown - m.radius for m in movers),
+               default=float("inf"))
+
+
+class HarmonavBehavior(core.Behavior, name="Harmonav"):
+    """harmonav's kinematic law and certified mover filter as a navground behaviour."""
+
+    def __init__(self, kinematics: Optional[core.Kinematics] = None, radius: float = 0.0):
+        super().__init__(kinematics, radius)
+        self._state = core.GeometricState()
+        self._peers = "reciprocal"
+        self._speed_bound = -1.0
+        self._error = FLOAT_ERROR
+        self._world_radius = 10.0
+        self._filter = True
+        self._navigators: dict = {}
+        self._filters: dict = {}
+        self._keep_right = KeepRight()
+        self.log = _Log()
+
+    # --- YAML-settable properties ---------------------------------------------------------
+
+    @property
+    @core.register("reciprocal", "how the neighbours are given: 'reciprocal' (every neighbour "
+                   "runs this behaviour at the same period) or 'noncooperative'")
+    def peers(self) -> str:
+        return self._peers
+
+    @peers.setter
+    def peers(self, value: str) -> None:
+        if value not in ("reciprocal", "noncooperative"):
+            raise ValueError(f"peers: expected 'reciprocal' or 'noncooperative', got {value!r}")
+        self._peers = value
+
+    @property
+    @core.register(-1.0, "speed bound V of a non-cooperative neighbour, m/s (negative: the "
+                   "agent's own max_speed)")
+    def mover_speed_bound(self) -> float:
+        return self._speed_bound
+
+    @mover_speed_bound.setter
+    def mover_speed_bound(self, value: float) -> None:
+        self._speed_bound = float(value)
+
+    @property
+    @core.register(FLOAT_ERROR, "bound on a neighbour's position error, m (default: "
+                   "navground's single-precision rounding)")
+    def position_error(self) -> float:
+        return self._error
+
+    @position_error.setter
+    def position_error(self, value: float) -> None:
+        self._error = float(value)
+
+    @property
+    @core.register(10.0, "radius of the empty disc world around each target, m")
+    def world_radius(self) -> float:
+        return self._world_radius
+
+    @world_radius.setter
+    def world_radius(self, value: float) -> None:
+        self._world_radius = float(value)
+
+    @property
+    @core.register(True, "filter the commands against the neighbours (False: a negative "
+                   "control, harmonav's law alone)")
+    def use_filter(self) -> bool:
+        return self._filter
+
+    @use_filter.setter
+    def use_filter(self, value: bool) -> None:
+        self._filter = bool(value)
+
+    # --- navground hooks ------------------------------------------------------------------
+
+    def get_environment_state(self) -> core.EnvironmentState:
+        return self._state
+
+    def speed_bound(self) -> float:
+        return self._speed_bound if self._speed_bound >= 0.0 else float(self.max_speed)
+
+    def movers(self, x: np.ndarray, v_max: float, h: float) -> tuple:
+        """The neighbours as harmonav movers (those that can matter, see
+        :func:`neighbour_reach`), and as ``(centre, radius, velocity)`` for KeepRight."""
+        return near_movers(x, sensed_arrays(self, self._state),
+                           (float(self.radius), float(self.safety_margin)), v_max,
+                           self.speed_bound(), self._error, h, self._peers)
+
+    def navigator(self, goal: np.ndarray, x: np.ndarray, speed: float, h: float):
+        key = (round(float(goal[0]), 6), round(float(goal[1]), 6), round(speed, 9), h)
+        nav = self._navigators.get(key)
+        if nav is None:
+            reach = max(self._world_radius, 3.0 * float(np.hypot(*(x - goal))))
+            nav = harmonav.Navigator(harmonav.circle(goal, reach), goal, law="kinematic",
+                                     radius=float(self.radius),
+                                     margin=float(self.safety_margin), control_period=h,
+                                     v_max=speed)
+            self._navigators[key] = nav
+        return nav
+
+    def mover_filter(self, v_max: float, h: float):
+        key = (v_max, h)
+        f = self._filters.get(key)
+        if f is None:
+            f = harmonav.MoverFilter(float(self.radius), float(self.safety_margin), v_max, h)
+            self._filters[key] = f
+        return f
+
+    def compute_cmd_internal(self, time_step: float) -> core.Twist2:
+        h = float(time_step)
+        x = np.asarray(self.position, dtype=float)
+        grown = float(self.radius) + float(self.safety_margin)
+        speed = float(self.get_target_speed()) or float(self.optimal_speed)
+        speed = min(speed, float(self.max_speed))
+        movers, plain = self.movers(x, max(speed, float(self.max_speed)), h) if self._filter \
+            else ([], (np.zeros((0, 2)), np.zeros(0), np.zeros((0, 2))))
+        movers += wall_movers(x, sensed_lines(self, self._state), float(self.radius))
+        point = self.get_target_position(core.Frame.absolute)
+        if point is not None and not self.check_if_target_satisfied() and speed > 0.0:
+            nav = self.navigator(np.asarray(point, dtype=float), x, speed, h)
+            try:
+                nav.set_movers(movers)
+                u = nav.command(x)
+                mode = nav.mode
+                self.log.add(mode, least_clearance(x, movers, grown) if mode == "overwhelmed"
+                             else -1.0)
+            except ValueError:
+                # The robot's disc overlaps a reported body (InMover: A3 or A2 broken): no
+                # certified command exists; it rests.
+                u = np.zeros(2)
+                self.log.add("refused")
+            return self.twist_towards_velocity(u)
+        # A direction task (navground's Corridor), a reached target or none: the nominal is
+        # navground's target velocity (or rest), turned by KeepRight, certified by MoverFilter.
+        nominal = np.asarray(self.get_target_velocity(core.Frame.absolute), dtype=float)
+        if point is not None or not np.all(np.isfinite(nominal)):
+            nominal = np.zeros(2)
+        v_max = float(self.max_speed)
+        wanted = float(np.hypot(*nominal))
+        turn = self._keep_right.turn(x, nominal, plain,
+                                     float(self.radius) + float(self.safety_margin))
+        turned = clockwise(nominal, turn) if turn > 0.0 else nominal
+        try:
+            u, mode = self.mover_filter(v_max, h).filter(x, turned, movers)
+        except ValueError:
+            u, mode = np.zeros(2), "refused"
+        self.log.add(mode, least_clearance(x, movers, grown) if mode == "overwhelmed" else -1.0)
+        self._keep_right.after(float(np.hypot(*u)), wanted, mode != "law", wanted > 0.0, h)
+        return self.twist_towards_velocity(u)
+
+
+class MoverFilterModulation(core.BehaviorModulation, name="HarmonavFilter"):
+    """``harmonav.MoverFilter`` behind any navground behaviour: the behaviour's command (a
+    twist, its velocity in the world frame) is certified against the neighbours of the
+    behaviour's ``GeometricState`` (and its straight walls) for the agent's radius,
+    ``safety_margin``, ``max_speed`` and the time step. ``keep_right`` (default off) turns the
+    behaviour's command by KeepRight first (docs/movers.md §7)."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self._peers = "reciprocal"
+        self._speed_bound = -1.0
+        self._error = FLOAT_ERROR
+        self._keep_right_on = False
+        self._keep_right = KeepRight()
+        self._filter = None
+        self.log = _Log()
+
+    @property
+    @core.register("reciprocal", "'reciprocal' (every neighbour runs this filter at the same "
+                   "period) or 'noncooperative'")
+    def peers(self) -> str:
+        return self._peers
+
+    @peers.setter
+    def peers(self, value: str) -> None:
+        if value not in ("reciprocal", "noncooperative"):
+            raise ValueError(f"peers: expected 'reciprocal' or 'noncooperative', got {value!r}")
+        self._peers = value
+
+    @property
+    @core.register(-1.0, "speed bound V of a non-cooperative neighbour, m/s (negative: the "
+                   "agent's max_speed)")
+    def mover_speed_bound(self) -> float:
+        return self._speed_bound
+
+    @mover_speed_bound.setter
+    def mover_speed_bound(self, value: float) -> None:
+        self._speed_bound = float(value)
+
+    @property
+    @core.register(FLOAT_ERROR, "bound on a neighbour's position error, m (default: "
+                   "navground's single-precision rounding)")
+    def position_error(self) -> float:
+        return self._error
+
+    @position_error.setter
+    def position_error(self, value: float) -> None:
+        self._error = float(value)
+
+    @property
+    @core.register(False, "turn the behaviour's command by KeepRight before the filter")
+    def keep_right(self) -> bool:
+        return self._keep_right_on
+
+    @keep_right.setter
+    def keep_right(self, value: bool) -> None:
+        self._keep_right_on = bool(value)
+
+    def post(self, behavior: core.Behavior, time_step: float, cmd: core.Twist2) -> core.Twist2:
+        h = float(time_step)
+        state = behavior.environment_state
+        x = np.asarray(behavior.position, dtype=float)
+        radius, margin = float(behavior.radius), float(behavior.safety_margin)
+        v_max = float(behavior.max_speed)
+        if self._filter is None or self._filter.control_period != h:
+            self._filter = harmonav.MoverFilter(radius, margin, v_max, h)
+        bound = self._speed_bound if self._speed_bound >= 0.0 else v_max
+        nominal = np.asarray(behavior.to_frame(cmd, core.Frame.absolute).velocity, dtype=float)
+        movers, plain = near_movers(x, sensed_arrays(behavior, state), (radius, margin), v_max, bound,
+                                    self._error, h, self._peers)
+        lines = sensed_lines(behavior, state)
+        movers += wall_movers(x, lines, radius)
+        turned = nominal
+        if self._keep_right_on:
+            turn = self._keep_right.turn(x, nominal, plain, radius + margin)
+            if turn > 0.0:
+                turned = clockwise(nominal, turn)
+        try:
+            u, mode = self._filter.filter(x, turned, movers)
+        except ValueError:
+            u, mode = np.zeros(2), "refused"
+        self.log.add(mode, least_clearance(x, movers, radius + margin)
+                     if mode == "overwhelmed" else -1.0)
+        if self._keep_right_on:
+            wanted = float(np.hypot(*nominal))
+            self._keep_right.after(float(np.hypot(*u)), wanted, mode != "law", wanted > 0.0, h)
+        if mode == "law":
+            return cmd
+        return behavior.twist_towards_velocity(u)
+
+
+__all__ = ["HarmonavBehavior", "MoverFilterModulation", "HarmonavSensing", "KeepRight", "MODES"]
