@@ -309,6 +309,24 @@ const ARC_STEP: f64 = std::f64::consts::PI / 8.0;
 /// polyline (pieces of at most [`ARC_STEP`], corners at `s/cos(Δ/2)`), which lies outside the
 /// arc: the result is inside the true erosion, so it is conservative. `None` when an offset
 /// edge turns back (a feature thinner than `s`); crossings are left to `Domain::new`.
+/// The ring a shrunk plan's [`DomainError`] shows at (the first it names; the outer ring when
+/// it names none). Before issue 52 every such error said "at the outer ring", also for "the
+/// boundaries of hole 37 and hole 38 cross or touch".
+fn shrunk_ring(e: &DomainError) -> RingId {
+    match e {
+        DomainError::TooFewVertices { ring, .. }
+        | DomainError::NonFinite { ring, .. }
+        | DomainError::TooLarge { ring, .. }
+        | DomainError::DegenerateEdge { ring, .. }
+        | DomainError::SelfIntersecting { ring, .. }
+        | DomainError::WrongOrientation { ring, .. } => *ring,
+        DomainError::RingsMeet { first, .. } => *first,
+        DomainError::HoleOutside { hole } => RingId::Hole(*hole),
+        DomainError::HoleInHole { inner, .. } => RingId::Hole(*inner),
+        _ => RingId::Outer,
+    }
+}
+
 fn offset_ring(ring: &[Vector2<f64>], s: f64) -> Option<Vec<Vector2<f64>>> {
     let n = ring.len();
     let dir = |i: usize| {
@@ -456,7 +474,7 @@ impl FloorMap {
                     FloorError::Domain(e)
                 }
                 e => FloorError::TooNarrow {
-                    ring: RingId::Outer,
+                    ring: shrunk_ring(&e),
                     problem: e.to_string(),
                 },
             })?

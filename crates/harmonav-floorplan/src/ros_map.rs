@@ -18,6 +18,7 @@
 //! `x` the mean of the colour channels; `p > occupied_thresh` occupied, `p < free_thresh`
 //! free, else unknown, and **unknown counts as occupied** (see [`Cell`] for `scale` and `raw`).
 
+mod bridge;
 mod error;
 pub(crate) mod grid;
 mod outline;
@@ -147,6 +148,13 @@ pub struct Specks {
 
 /// The simplification's tolerance, in square pixels ([`MapOptions::simplify`]).
 pub const DEFAULT_SIMPLIFY: f64 = 0.5;
+
+/// Two rings of the opened free space closer than this many times the shrink of
+/// [`FloorMap::new`] (`s = radius + margin − δ`) are joined before it: each shrunk ring moves by
+/// up to `s/cos(π/16)` (its circumscribed arcs), so `2.04 s` would touch; the rest is room.
+/// The outline's walls within `ρ` (the opening's radius) of such a gap are joined by their
+/// convex hull, and the outline opened again.
+pub const JOIN_GAP: f64 = 2.5;
 
 /// Options of [`RosMap::to_floor_map`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -601,7 +609,7 @@ impl RosMap {
         goal: Vector2<f64>,
         options: &MapOptions,
     ) -> Result<MapOutline, MapError> {
-        let (poly, n) = self.traced(start, goal, options)?;
+        let (mut poly, n) = self.traced(start, goal, options)?;
         let rho = Self::opening_radius(options);
         if !(rho.is_finite() && rho > 0.0) {
             return Err(
@@ -615,7 +623,39 @@ impl RosMap {
             let l = self.to_map_frame(x);
             Point::new(l.x, l.y)
         };
-        let opened = outline::open(&poly, rho, local(goal), local(start)).map_err(|cut| {
+        // Walls that `FloorMap::new`'s shrink by `s` would make meet are joined in the outline,
+        // and the opening done again, which rounds the joints by ρ (issue 52: "the boundaries
+        // of hole 37 and hole 38 cross or touch" on SLAM clutter).
+        let shrink = options.floor.clearance - options.floor.max_element;
+        let mut round = 0;
+        loop {
+            let simplified = self.opened(&poly, rho, local(start), local(goal), options)?;
+            round += 1;
+            if shrink <= 0.0 || round > bridge::ROUNDS {
+                return Ok(self.to_outline(&simplified, n));
+            }
+            let spots = bridge::close_spots(&simplified, JOIN_GAP * shrink, 0.5 * rho);
+            if spots.is_empty() {
+                return Ok(self.to_outline(&simplified, n));
+            }
+            match bridge::join_at(&poly, &spots, rho, local(goal)) {
+                Some(joined) => poly = joined,
+                None => return Ok(self.to_outline(&simplified, n)),
+            }
+        }
+    }
+
+    /// `poly` opened by the robot's disc of radius `rho` about the goal's component
+    /// ([`RosMap::free_space`]) and simplified.
+    fn opened(
+        &self,
+        poly: &geo::Polygon<f64>,
+        rho: f64,
+        start: Point<f64>,
+        goal: Point<f64>,
+        options: &MapOptions,
+    ) -> Result<geo::Polygon<f64>, MapError> {
+        let opened = outline::open(poly, rho, goal, start).map_err(|cut| {
             self.error(MapProblem::TooNarrow {
                 point: match cut {
                     outline::Cut::Goal => MapPoint::Goal,
@@ -636,7 +676,7 @@ impl RosMap {
                 pixel: self.resolution,
             }));
         }
-        Ok(self.to_outline(&simplified, n))
+        Ok(simplified)
     }
 
     /// The floor plan of this map for a robot going from `start` to `goal` (world

@@ -508,6 +508,67 @@ fn the_opening_merges_holes_the_robot_cannot_pass_around() {
     assert!(floor.clearance(s) >= 0.0 && floor.clearance(g) >= 0.0);
 }
 
+/// Issue 52: two small islands of SLAM clutter 0.2 m apart (a patch of the Willow Garage map
+/// of 2010-02-18 at 0.1 m/px, `scenarios/floorplans/public/maps/willow-2010.png` about
+/// (43.7, 41.6)) both survive the robot-disc opening, which reaches between them from both
+/// sides, and outlined and simplified they end less than `2s` apart: `FloorMap::new`'s shrink
+/// by `s = radius + margin − δ` = 0.05 m made them meet ("the boundaries of hole 0 and hole 1
+/// cross or touch", on an outline the pipeline produced itself, under the defaults for a
+/// robot of radius 0.2 m with a 0.05 m margin). They are joined first.
+#[test]
+fn walls_the_shrink_would_join_are_joined_first() {
+    let dir = scratch("clutter");
+    let mut img = Img::new(60, 40, WALL);
+    img.rect(1, 1, 59, 39, FREE);
+    // The patch's two islands (rows and columns of the patch, placed at row 12, column 20).
+    let upper = [(5, 13), (5, 14), (6, 15)];
+    let lower = [
+        (8, 10),
+        (9, 9),
+        (9, 10),
+        (9, 11),
+        (10, 8),
+        (10, 9),
+        (10, 10),
+        (10, 11),
+        (11, 9),
+        (11, 10),
+        (12, 10),
+    ];
+    for (r, c) in upper.iter().chain(&lower) {
+        img.rect(20 + c, 12 + r, 21 + c, 13 + r, WALL);
+    }
+    let y = write_map(&dir, "clutter", &img, 0.1, [0.0, 0.0, 0.0]);
+    let map = RosMap::load(&y).unwrap();
+    let (s, g) = (v(0.6, 0.6), v(5.4, 3.4));
+    // The same opening (ρ = 0.25 m) without the shrink, handed to `FloorMap::new` as it was.
+    let opened = map
+        .free_space(s, g, &MapOptions::new(FloorOptions::new(0.25, 0.25)))
+        .unwrap();
+    assert_eq!(opened.holes.len(), 2);
+    let defaults = FloorOptions::new(0.2, 0.25);
+    let e =
+        harmonav_floorplan::FloorMap::new(opened.outer.clone(), opened.holes.clone(), &defaults)
+            .unwrap_err();
+    assert!(e.to_string().contains("cross or touch"), "{e}");
+    // It names the ring where it showed (it said "at the outer ring" for any two holes).
+    assert!(e.to_string().contains("valid floor plan at hole "), "{e}");
+    // Now: joined into one hole, and the plan builds with both points certified.
+    let floor = map
+        .to_floor_map(s, g, &MapOptions::new(defaults))
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(floor.walls().holes().len(), 1);
+    assert!(floor.clearance(s) >= 0.0 && floor.clearance(g) >= 0.0);
+    // Walls only grow, and by little.
+    let joined = map.free_space(s, g, &MapOptions::new(defaults)).unwrap();
+    assert!(
+        joined.area <= opened.area + 1e-9 && joined.area > opened.area - 0.2,
+        "{} against {}",
+        joined.area,
+        opened.area
+    );
+}
+
 /// File errors name the file and the problem: missing YAML, missing image, truncated image,
 /// not an image, a bad key, non-positive resolution, thresholds.
 #[test]
