@@ -20,7 +20,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use harmonav_scenario::{Prepared, Sensor};
 use harmonav_sim::summary::Run;
-use harmonav_sim::trace::{Discovery, Sample};
+use harmonav_sim::trace::{Discovery, MoverFrame, Sample};
 
 pub use crate::canvas::err;
 use crate::canvas::{Scale, scaled_svg};
@@ -331,7 +331,12 @@ pub fn trajectory_svg(prepared: &Prepared, run: &Run) -> Result<String, String> 
         _ => Vec::new(),
     };
     let sc = Scale::FINE;
-    scaled_svg((CHART.0, CHART.1 + 60), sc, |root| {
+    let extra = if run.mover_frames.is_empty() {
+        0
+    } else {
+        LEGEND_ROW
+    };
+    scaled_svg((CHART.0, CHART.1 + 60 + extra), sc, |root| {
         let (top, legend) = root.split_vertically(sc.px(CHART.1 as i32));
         let mut chart = plane(&top, &title, c, half, sc)?;
         chart
@@ -371,6 +376,7 @@ pub fn trajectory_svg(prepared: &Prepared, run: &Run) -> Result<String, String> 
             .collect();
         draw_names(&mut chart, &names, sc)?;
         let mut keys = run_keys();
+        draw_movers(&mut chart, &run.mover_frames, &mut keys, sc)?;
         if !sectors.is_empty() {
             keys.push((
                 "sector at a discovery",
@@ -463,6 +469,84 @@ pub(crate) enum Key {
     Patch(RGBColor, RGBColor),
 }
 
+/// The height of one more legend row (nominal px): a run with movers has one.
+pub(crate) const LEGEND_ROW: u32 = 24;
+
+/// A non-cooperative mover's colour on `trajectory.svg` (purple: the level lines take the
+/// oranges).
+const MOVER: RGBColor = RGBColor(145, 60, 185);
+
+/// A reciprocal mover's colour on `trajectory.svg` (another harmonav robot: blue).
+const PEER: RGBColor = RGBColor(50, 115, 230);
+
+/// Where the robot's command was `Overwhelmed` or refused, on `trajectory.svg` (red).
+const OVERWHELMED: RGBColor = RGBColor(215, 30, 30);
+
+/// The movers of a run (issue 54, item 4): each mover's track, its disc at the last frame and,
+/// faint, the disc it may reach within a control period there; the robot's positions where its
+/// command was `Yielding` (orange dots) or `Overwhelmed`/refused (red). Adds their keys to
+/// `keys`. Nothing without frames.
+pub(crate) fn draw_movers(
+    chart: &mut Plane<'_, '_>,
+    frames: &[MoverFrame],
+    keys: &mut Vec<(&'static str, Key)>,
+    s: Scale,
+) -> Result<(), String> {
+    let Some(last) = frames.last() else {
+        return Ok(());
+    };
+    let colour = |reciprocal| if reciprocal { PEER } else { MOVER };
+    for (i, m) in last.movers.iter().enumerate() {
+        let track: Vec<(f64, f64)> = frames
+            .iter()
+            .filter_map(|f| f.movers.get(i))
+            .map(|m| (m.position[0], m.position[1]))
+            .collect();
+        let c = colour(m.reciprocal);
+        draw_path(chart, track, s.stroke(c.mix(0.6), 1))?;
+        let disc = |r: f64| {
+            (0..=64)
+                .map(|j| {
+                    let a = std::f64::consts::TAU * f64::from(j) / 64.0;
+                    (m.position[0] + r * a.cos(), m.position[1] + r * a.sin())
+                })
+                .collect::<Vec<_>>()
+        };
+        chart
+            .draw_series([Polygon::new(disc(m.radius), c.mix(0.35).filled())])
+            .map_err(err)?;
+        draw_path(chart, disc(m.radius), s.stroke(c, 2))?;
+        draw_path(chart, disc(m.reach), s.stroke(c.mix(0.5), 1))?;
+    }
+    let marks = |mode: &'static str| {
+        frames
+            .iter()
+            .filter(move |f| f.mode == Some(mode))
+            .map(|f| (f.robot[0], f.robot[1]))
+    };
+    chart
+        .draw_series(marks("yielding").map(|p| Circle::new(p, s.px(3), MOVER.filled())))
+        .map_err(err)?;
+    let bad: Vec<(f64, f64)> = marks("overwhelmed").chain(marks("refused")).collect();
+    chart
+        .draw_series(
+            bad.iter()
+                .map(|&p| Circle::new(p, s.px(4), OVERWHELMED.filled())),
+        )
+        .map_err(err)?;
+    if last.movers.iter().any(|m| !m.reciprocal) {
+        keys.push(("mover", Key::Patch(RGBColor(222, 200, 235), MOVER)));
+    }
+    if last.movers.iter().any(|m| m.reciprocal) {
+        keys.push(("other robot", Key::Patch(RGBColor(190, 210, 245), PEER)));
+    }
+    keys.push(("yielding", Key::Dot(MOVER, 3)));
+    if !bad.is_empty() {
+        keys.push(("overwhelmed", Key::Dot(OVERWHELMED, 4)));
+    }
+    Ok(())
+}
+
 /// The legend's entries that every plane figure of a run has: the start, the goal, the path,
 /// and the obstacles, discovered and not.
 pub(crate) fn run_keys() -> Vec<(&'static str, Key)> {
@@ -515,10 +599,18 @@ pub(crate) fn draw_legend(
     };
     let width = |t: &str| (0.6 * 12.0 * t.chars().count() as f64).ceil() as i32;
     let mut x = 48;
+    // Keys that would run past the chart's width go on a row of their own (a run with movers
+    // has a few more).
+    let mut rest = Vec::new();
     for &(label, key) in keys {
+        let wide = 20 + width(label) + 18;
+        if x + wide > CHART.0 as i32 || !rest.is_empty() {
+            rest.push((label, key));
+            continue;
+        }
         draw_key(area, key, (x, 14), s)?;
         text(label, x + 20, 14)?;
-        x += 20 + width(label) + 18;
+        x += wide;
     }
     // The level sets: a coloured bar and its value each.
     text("Θ levels:", 48, 38)?;
@@ -528,6 +620,18 @@ pub(crate) fn draw_legend(
         let label = format!("{v}");
         text(&label, x + 20, 38)?;
         x += 20 + width(&label) + 12;
+    }
+    // Their own row, below the note's (the figure is [`LEGEND_ROW`] taller for them).
+    let y = if note.is_some() {
+        62 + LEGEND_ROW as i32
+    } else {
+        62
+    };
+    x = 48;
+    for (label, key) in rest {
+        draw_key(area, key, (x, y), s)?;
+        text(label, x + 20, y)?;
+        x += 20 + width(label) + 18;
     }
     match note {
         Some(note) => text(note, 48, 62),

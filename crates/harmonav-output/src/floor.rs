@@ -18,8 +18,8 @@ use crate::atomic::OutputError;
 use crate::canvas::{Scale, scaled_svg};
 use crate::drawing::{outline, ring, xy};
 use crate::figures::{
-    CHART, Key, LEVELS, PERCEIVED, draw_legend, draw_level_lines, draw_names, draw_obstacle,
-    draw_path, draw_run, err, plane, run_keys, run_title,
+    CHART, Key, LEGEND_ROW, LEVELS, PERCEIVED, draw_legend, draw_level_lines, draw_movers,
+    draw_names, draw_obstacle, draw_path, draw_run, err, plane, run_keys, run_title,
 };
 use crate::levels::ThetaGrid;
 use crate::record::Stream;
@@ -90,7 +90,12 @@ fn trajectory_with(
         summary.delta, summary.elements
     );
     let sc = Scale::FINE;
-    scaled_svg((CHART.0, CHART.1 + 76), sc, |root| {
+    let extra = if run.mover_frames.is_empty() {
+        0
+    } else {
+        LEGEND_ROW
+    };
+    scaled_svg((CHART.0, CHART.1 + 76 + extra), sc, |root| {
         let (top, legend) = root.split_vertically(sc.px(CHART.1 as i32));
         let mut chart = plane(&top, &title, c, half, sc)?;
         chart
@@ -152,6 +157,7 @@ fn trajectory_with(
         } else {
             keys.push(("perceived (lidar)", Key::Line(PERCEIVED, 2)));
         }
+        draw_movers(&mut chart, &run.mover_frames, &mut keys, sc)?;
         draw_legend(&legend, &keys, Some(&note), sc)
     })
 }

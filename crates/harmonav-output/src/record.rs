@@ -22,6 +22,12 @@
 //! | `/scan` | `foxglove.LaserScan` | every scan as the navigator got it, in the `world` frame at the sensor's pose (`+∞`: no return, NaN: a dropout) |
 //! | `/perceived` | `foxglove.SceneUpdate` | the perceived shapes (cyan, not grown), replaced at each event (the true ones stay on `/scene`) |
 //!
+//! A run with movers (`[[movers]]`, or other robots in `[[robots]]`) adds [`MOVER_TOPICS`]:
+//!
+//! | topic | schema | content |
+//! |---|---|---|
+//! | `/movers` | `foxglove.SceneUpdate` | every mover's disc (orange: non-cooperative, blue: reciprocal, ids `mover/<i>`) and, thinner, the disc it may reach within one control period as the filter sees it, replaced every [`harmonav_sim::trace::MOVER_FRAME_PERIOD`]; each change of the robot's mode (`yielding`, `overwhelmed`, …) is a line on `/log` |
+//!
 //! A floor plan's recording ([`Stream::create_floor`], issue 25) has the same topics but the
 //! sector: `/scene` holds the true walls (every ring, white) and the shrunk walls `∂W_s`
 //! (grey; the certified region `W_δ` lies `δ` inside them) in place of the boundary, `/theta` the floor plan's `Θ` as
@@ -44,7 +50,7 @@ use nalgebra::Vector2;
 use harmonav_scenario::Prepared;
 use harmonav_scenario::floorplan::FloorPrepared;
 use harmonav_sim::summary::Run;
-use harmonav_sim::trace::{Discovery, Event, Sample, ScanRecord};
+use harmonav_sim::trace::{Discovery, Event, MoverFrame, Sample, ScanRecord};
 
 use crate::atomic::AtomicFile;
 use crate::drawing::closed_outline;
@@ -65,6 +71,18 @@ pub const TOPICS: [&str; 8] = [
 
 /// The topics a run with a simulated lidar adds, in the order of the table above.
 pub const LIDAR_TOPICS: [&str; 2] = ["/scan", "/perceived"];
+
+/// The topics a run with movers adds, in the order of the table above.
+pub const MOVER_TOPICS: [&str; 1] = ["/movers"];
+
+/// A non-cooperative mover's colour on `/movers` (orange).
+const MOVER: [f64; 4] = [0.95, 0.55, 0.1, 1.0];
+
+/// A reciprocal mover's colour on `/movers` (another harmonav robot: blue).
+const PEER: [f64; 4] = [0.2, 0.45, 0.9, 1.0];
+
+/// Vertices of a mover's circle on `/movers`.
+const CIRCLE_VERTICES: usize = 32;
 
 pub use crate::world::GRID_CELLS;
 
@@ -132,6 +150,7 @@ struct Channels {
     state: Channel<HarmonavState>,
     scan: Channel<FoxScan>,
     perceived: Channel<SceneUpdate>,
+    movers: Channel<SceneUpdate>,
 }
 
 impl Channels {
@@ -149,6 +168,7 @@ impl Channels {
             state: ctx.channel_builder(state).build(),
             scan: ctx.channel_builder(scan).build(),
             perceived: ctx.channel_builder(perceived).build(),
+            movers: ctx.channel_builder(MOVER_TOPICS[0]).build(),
         }
     }
 }
@@ -183,6 +203,7 @@ pub fn replay(run: &Run, observer: &mut dyn FnMut(Event<'_>)) {
     }
     let mut discoveries = run.summary.discoveries.iter().peekable();
     let mut scans = run.scan_events.iter().peekable();
+    let mut frames = run.mover_frames.iter().peekable();
     let mut previous: Option<f64> = None;
     for s in &run.samples {
         // Discoveries at the start come first; a later one, and every scan event, between
@@ -199,12 +220,18 @@ pub fn replay(run: &Run, observer: &mut dyn FnMut(Event<'_>)) {
         }
         observer(Event::State(s));
         previous = Some(s.t);
+        while let Some(f) = frames.next_if(|f| f.t <= s.t) {
+            observer(Event::Movers(f));
+        }
     }
     for d in discoveries {
         observer(Event::Discovery(d));
     }
     for r in scans {
         observer(Event::Scan(r));
+    }
+    for f in frames {
+        observer(Event::Movers(f));
     }
 }
 
@@ -240,6 +267,8 @@ pub struct Stream<'p> {
     next_path: f64,
     critical: Option<bool>,
     last: Option<Sample>,
+    /// The robot's mode in the last movers' frame (its changes go to `/log`).
+    mode: Option<&'static str>,
     /// The first error met while logging (reported by [`Stream::finish`]).
     error: Option<RecordError>,
 }
@@ -306,6 +335,7 @@ impl<'p> Stream<'p> {
             next_path: PATH_PERIOD,
             critical: None,
             last: None,
+            mode: None,
             error: None,
         })
     }
@@ -323,6 +353,49 @@ impl<'p> Stream<'p> {
             }
             Event::State(s) => self.state(s),
             Event::Scan(r) => self.scan(r),
+            Event::Movers(f) => self.movers(f),
+        }
+    }
+
+    /// The movers' frame: their discs and reach on `/movers`, a change of mode on `/log`.
+    fn movers(&mut self, f: &MoverFrame) {
+        let (t, ch) = (f.t, &self.ch);
+        let circle = |c: [f64; 2], r: f64| {
+            (0..=CIRCLE_VERTICES).map(move |j| {
+                let a = std::f64::consts::TAU * j as f64 / CIRCLE_VERTICES as f64;
+                Vector2::new(c[0] + r * a.cos(), c[1] + r * a.sin())
+            })
+        };
+        let entities = f
+            .movers
+            .iter()
+            .enumerate()
+            .map(|(i, m)| {
+                let rgba = if m.reciprocal { PEER } else { MOVER };
+                let faint = [rgba[0], rgba[1], rgba[2], 0.4];
+                entity(
+                    t,
+                    "world",
+                    &format!("mover/{i}"),
+                    vec![
+                        line(circle(m.position, m.radius), rgba, 0.03),
+                        line(circle(m.position, m.reach), faint, 0.01),
+                    ],
+                )
+            })
+            .collect();
+        ch.movers.log_with_time(
+            &SceneUpdate {
+                deletions: Vec::new(),
+                entities,
+            },
+            nanos(t),
+        );
+        if f.mode.is_some() && f.mode != self.mode {
+            self.mode = f.mode;
+            let text = format!("mode {} at t = {t:.3} s", f.mode.unwrap_or_default());
+            ch.log
+                .log_with_time(&log_message(t, log::Level::Info, text), nanos(t));
         }
     }
 

@@ -569,3 +569,96 @@ fn a_scan_event_at_the_start_keeps_its_theta_on_the_recording() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A run with a mover (issue 54, item 4): `/movers` carries one frame every
+/// `MOVER_FRAME_PERIOD` (the mover's disc and its reach, `mover/0`, at the person's true
+/// position `start + v·t`), `/log` each change of the robot's mode (the person makes it
+/// yield), and `trajectory.svg` the mover's track and a legend row for it; the same file
+/// without its mover records no `/movers` and draws no mover.
+#[test]
+fn a_run_with_movers_records_and_draws_them() {
+    use harmonav_output::record::MOVER_TOPICS;
+    use harmonav_sim::trace::MOVER_FRAME_PERIOD;
+    let prepared = scenario("movers/person-crossing.toml");
+    let r = run(&prepared, None).unwrap();
+    let frames = &r.mover_frames;
+    assert!(frames.len() > 10, "{} frames", frames.len());
+    for w in frames.windows(2) {
+        assert!(
+            w[1].t - w[0].t >= MOVER_FRAME_PERIOD * (1.0 - 1e-9),
+            "{} {}",
+            w[0].t,
+            w[1].t
+        );
+    }
+    let h = prepared
+        .control_period()
+        .unwrap_or(harmonav::DEFAULT_KINEMATIC_PERIOD);
+    for f in frames {
+        let m = f.movers[0];
+        // The person walks from (0.3, −3.5) at (0, 1) m/s, reported exactly (ε = 0).
+        assert!((m.position[0] - 0.3).abs() < 1e-12, "{m:?}");
+        assert!(
+            (m.position[1] - (-3.5 + f.t)).abs() < 1e-9,
+            "{m:?} at {}",
+            f.t
+        );
+        assert!(
+            (m.reach - (0.25 + 1.0 * h)).abs() < 1e-12 && !m.reciprocal,
+            "{m:?}"
+        );
+    }
+    assert!(
+        frames.iter().any(|f| f.mode == Some("yielding")),
+        "the person makes it yield"
+    );
+    let dir = std::env::temp_dir().join(format!("harmonav-movers-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("run.mcap");
+    write_mcap(&path, &prepared, &r).unwrap();
+    let bytes = std::fs::read(&path).unwrap();
+    let (mut scenes, mut modes) = (Vec::new(), 0);
+    for m in mcap::MessageStream::new(&bytes).unwrap() {
+        let m = m.unwrap();
+        if m.channel.topic == MOVER_TOPICS[0] {
+            scenes.push(SceneUpdate::decode(&m.data[..]).unwrap());
+        }
+        if m.channel.topic == "/log"
+            && Log::decode(&m.data[..])
+                .unwrap()
+                .message
+                .starts_with("mode ")
+        {
+            modes += 1;
+        }
+    }
+    assert_eq!(scenes.len(), frames.len());
+    let first = &scenes[0].entities[0];
+    assert_eq!(first.id, "mover/0");
+    assert_eq!(first.lines.len(), 2, "the disc and its reach");
+    assert!(modes >= 2, "{modes} mode changes logged");
+    let svg = harmonav_output::figures::trajectory_svg(&prepared, &r).unwrap();
+    // The mover's purple (track, disc, reach) and the legend's row.
+    assert!(
+        svg.contains("#913CB9") && svg.contains("yielding"),
+        "the mover is drawn"
+    );
+    // The control: the same file without its mover.
+    let mut still = prepared.scenario.clone();
+    still.sim.movers.clear();
+    let quiet = still
+        .prepare(Path::new("movers/person-crossing.toml"))
+        .unwrap();
+    let q = run(&quiet, None).unwrap();
+    assert!(q.mover_frames.is_empty());
+    write_mcap(&path, &quiet, &q).unwrap();
+    let bytes = std::fs::read(&path).unwrap();
+    assert!(
+        mcap::MessageStream::new(&bytes)
+            .unwrap()
+            .all(|m| m.unwrap().channel.topic != MOVER_TOPICS[0])
+    );
+    let svg = harmonav_output::figures::trajectory_svg(&quiet, &q).unwrap();
+    assert!(!svg.contains("#913CB9") && !svg.contains("yielding"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

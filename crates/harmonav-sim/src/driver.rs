@@ -13,7 +13,7 @@ use crate::guarantee::Guarantee;
 use crate::monitor::{End, EnergyError, Recorder};
 use crate::outcome::rested_too_long;
 use crate::summary::{Run, RunError};
-use crate::trace::{Discovery, Event, Sample, ScanRecord};
+use crate::trace::{Discovery, Event, MOVER_FRAME_PERIOD, MoverFrame, Sample, ScanRecord};
 use crate::trajectory::Keep;
 use crate::warning::Warning;
 
@@ -59,6 +59,8 @@ pub(crate) struct Driver<'a, 'o> {
     warnings: Vec<Warning>,
     /// A lidar's scans that changed the obstacles.
     scan_events: Vec<ScanRecord>,
+    /// The movers' frames so far ([`Driver::movers`]).
+    mover_frames: Vec<MoverFrame>,
 }
 
 impl<'a, 'o> Driver<'a, 'o> {
@@ -114,6 +116,7 @@ impl<'a, 'o> Driver<'a, 'o> {
             state_error,
             warnings,
             scan_events: Vec::new(),
+            mover_frames: Vec::new(),
         })
     }
 
@@ -250,6 +253,19 @@ impl<'a, 'o> Driver<'a, 'o> {
         Some(changed)
     }
 
+    /// The movers at a recorded state (after it), handed to the observer and kept, if
+    /// [`MOVER_FRAME_PERIOD`] has passed since the last frame kept.
+    pub fn movers(&mut self, frame: MoverFrame) {
+        let due = self
+            .mover_frames
+            .last()
+            .is_none_or(|f| frame.t - f.t >= MOVER_FRAME_PERIOD * (1.0 - 1e-9));
+        if due {
+            self.rec.observe(Event::Movers(&frame));
+            self.mover_frames.push(frame);
+        }
+    }
+
     /// A guarantee lost on the way (a step-size collapse, the free space left): the run stops.
     pub fn abort(&mut self, lost: Guarantee) {
         self.aborted = Some(lost);
@@ -328,6 +344,7 @@ impl<'a, 'o> Driver<'a, 'o> {
             summary,
             samples,
             scan_events: self.scan_events,
+            mover_frames: self.mover_frames,
         }
     }
 }

@@ -18,7 +18,7 @@ use crate::guarantee::{Check, Guarantee};
 use crate::movers::{MoverReport, MoverWorld};
 use crate::scanner::{Scanner, Scene};
 use crate::summary::{PerceptionReport, Physics};
-use crate::trace::{Discovery, Event, Sample, recorded_velocity};
+use crate::trace::{Discovery, Event, MOVER_FRAME_PERIOD, MoverFrame, Sample, recorded_velocity};
 use crate::trajectory::{Keep, Trajectory};
 
 /// How a floor-plan run ended.
@@ -110,6 +110,9 @@ pub struct FloorRun {
     pub perceived: Vec<StarShape>,
     /// What the file's movers did (`None` without movers).
     pub movers: Option<MoverReport>,
+    /// The movers every [`crate::trace::MOVER_FRAME_PERIOD`] (empty without movers), as the
+    /// observer got them.
+    pub mover_frames: Vec<MoverFrame>,
 }
 
 /// The name of the `i`-th obstacle of a floor-plan file: its `name`, or `obstacles[i]`.
@@ -348,6 +351,7 @@ pub(crate) fn fly(
         perception: None,
         perceived: Vec::new(),
         movers: None,
+        mover_frames: Vec::new(),
     };
     // The file's movers (docs/movers.md §8): reported before every command of the law.
     let mut world = MoverWorld::new(&prepared.scenario.movers, r.radius);
@@ -362,6 +366,8 @@ pub(crate) fn fly(
     // robot's velocity), the state it ended at after the loop.
     let mut observed: Option<f64> = None;
     let kinematic = matches!(nav.controller(), Controller::Kinematic(_));
+    // How the last command was formed, for the movers' frames.
+    let mut last_mode: Option<&'static str> = None;
     for n in 0..=steps {
         out.time = n as f64 * h;
         // Monitors on the truth.
@@ -456,6 +462,18 @@ pub(crate) fn fly(
             [x.x, x.y],
             if discovered { Keep::Pinned } else { Keep::Grid },
         );
+        if !world.is_empty()
+            && out
+                .mover_frames
+                .last()
+                .is_none_or(|f| out.time - f.t >= MOVER_FRAME_PERIOD * (1.0 - 1e-9))
+        {
+            let frame = world.frame(out.time, x, last_mode, h);
+            if let Some(o) = observer.as_mut() {
+                o(Event::Movers(&frame));
+            }
+            out.mover_frames.push(frame);
+        }
         if custom.is_none() && !world.is_empty() {
             nav.set_movers(world.reports())?;
         }
@@ -511,6 +529,7 @@ pub(crate) fn fly(
                 .as_ref()
                 .is_some_and(|m| !matches!(m, harmonav::Mode::Overwhelmed { .. }));
             world.count(mode.as_ref());
+            last_mode = Some(mode.as_ref().map_or("refused", harmonav::Mode::as_str));
             world.period(x, next, h, certified);
         }
         x = next;

@@ -21,7 +21,7 @@ use crate::guarantee::{Check, FreeSpaceLoss, Guarantee};
 use crate::monitor::End;
 use crate::movers::MoverWorld;
 use crate::summary::{Physics, Run, RunError};
-use crate::trace::{Event, Sample};
+use crate::trace::{Event, MoverFrame, MoverMark, Sample};
 use crate::trajectory::Keep;
 use crate::unicycle::Diff;
 
@@ -66,6 +66,8 @@ pub(crate) fn fly_with(
     };
     // The last command turned a differential drive in place: not at rest.
     let mut turning = false;
+    // How the last command was formed, for the movers' frames.
+    let mut last_mode: Option<&'static str> = None;
     // A state recorded every `sim.dt`, to the nearest period; every other period's end judged.
     let record_every = (sc.sim.dt / h).round().max(1.0) as usize;
     let (mut x, mut v) = (prepared.start(), Vector2::zeros());
@@ -96,6 +98,9 @@ pub(crate) fn fly_with(
             d.record(s, keep, acted);
         } else {
             d.judge_event(&s, acted);
+        }
+        if !world.is_empty() {
+            d.movers(world.frame(t, x, last_mode, h));
         }
         if reached || t >= sc.sim.max_time {
             break;
@@ -148,6 +153,7 @@ pub(crate) fn fly_with(
             .as_ref()
             .is_some_and(|m| !matches!(m, Mode::Overwhelmed { .. }));
         world.count(mode.as_ref());
+        last_mode = Some(mode.as_ref().map_or("refused", Mode::as_str));
         acted = !certified || matches!(mode, Some(Mode::Yielding { .. }));
         let before = potential(&d, x, v);
         let (x1, v1) = match mode {
@@ -228,6 +234,8 @@ struct Flying<'a, 'o> {
     time: f64,
     speed: f64,
     mass: f64,
+    /// How its last command was formed (the movers' frames).
+    mode: Option<&'static str>,
 }
 
 /// The scenario of robot `i` of a fleet (0: `[robot]`, then the `[[robots]]`): the file with
@@ -303,6 +311,7 @@ fn fleet(
             time: 0.0,
             speed,
             mass,
+            mode: None,
         });
     }
     let mut report = crate::movers::FleetReport {
@@ -338,6 +347,23 @@ fn fleet(
                 (r.done, r.time) = (true, t);
             }
         }
+        // The first robot's frame, after its state: the scripted movers and the other robots
+        // (reciprocal while they fly).
+        let peers: Vec<MoverMark> = robots[1..]
+            .iter()
+            .map(|r| MoverMark {
+                position: [r.x.x, r.x.y],
+                radius,
+                reach: radius + r.speed * h,
+                reciprocal: !r.done,
+            })
+            .collect();
+        let first = &mut robots[0];
+        let frame = first.world.frame(t, first.x, first.mode, h);
+        first.d.movers(MoverFrame {
+            movers: frame.movers.into_iter().chain(peers).collect(),
+            ..frame
+        });
         if robots.iter().all(|r| r.done) {
             break;
         }
@@ -399,6 +425,7 @@ fn fleet(
                 .as_ref()
                 .is_some_and(|m| !matches!(m, Mode::Overwhelmed { .. }));
             r.world.count(mode.as_ref());
+            r.mode = Some(mode.as_ref().map_or("refused", Mode::as_str));
             r.acted = !certified || matches!(mode, Some(Mode::Yielding { .. }));
             let before = potential(&r.d, x, v);
             let (x1, v1) = match mode {

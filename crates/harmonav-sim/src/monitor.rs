@@ -413,6 +413,11 @@ impl<'o> Recorder<'o> {
         self.kept.push(s, keep);
     }
 
+    /// Any other event (the movers' frames), for the observer.
+    pub fn observe(&mut self, event: Event<'_>) {
+        (self.observer)(event);
+    }
+
     /// A lidar scan, for the observer.
     pub fn scanned(&mut self, scan: &ScanRecord) {
         (self.observer)(Event::Scan(scan));

@@ -15,6 +15,7 @@ use nalgebra::Vector2;
 use serde::Serialize;
 
 use crate::guarantee::{Check, Guarantee};
+use crate::trace::{MoverFrame, MoverMark};
 
 /// The least distance between two points moving straight and uniformly over the same interval,
 /// one from `a0` to `a1`, the other from `b0` to `b1`: `min_{s∈[0,1]} |d₀ + s(d₁ − d₀)|` with
@@ -151,6 +152,30 @@ impl MoverWorld {
             });
         }
         &self.reports
+    }
+
+    /// The movers now, the robot at `x` after a command formed as `mode` (control period `h`):
+    /// what the recording draws.
+    pub fn frame(&self, t: f64, x: Vector2<f64>, mode: Option<&'static str>, h: f64) -> MoverFrame {
+        MoverFrame {
+            t,
+            robot: [x.x, x.y],
+            mode,
+            movers: self
+                .specs
+                .iter()
+                .zip(&self.scripts)
+                .map(|(m, s)| {
+                    let p = s.position();
+                    MoverMark {
+                        position: [p.x, p.y],
+                        radius: m.radius,
+                        reach: m.radius + m.error + m.speed_bound * h,
+                        reciprocal: m.share().is_some(),
+                    }
+                })
+                .collect(),
+        }
     }
 
     /// The command of this period: `Some(mode)`, or `None` when it was refused.

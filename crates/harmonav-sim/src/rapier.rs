@@ -242,6 +242,7 @@ pub(crate) fn rapier_observed(
         mut summary,
         samples,
         scan_events,
+        mover_frames,
     } = d.finish_with(
         End {
             reached,
@@ -282,6 +283,7 @@ pub(crate) fn rapier_observed(
             summary,
             samples,
             scan_events,
+            mover_frames,
         },
         RapierReport {
             contacts,

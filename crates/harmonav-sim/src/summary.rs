@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize, Serializer};
 
 use crate::guarantee::{Guarantee, Kind};
 use crate::outcome::Outcome;
-use crate::trace::{Discovery, Sample, ScanRecord};
+use crate::trace::{Discovery, MoverFrame, Sample, ScanRecord};
 use crate::warning::Warning;
 
 /// Which integrator moves the robot.
@@ -206,6 +206,9 @@ pub struct Run {
     /// A lidar's scans that changed the obstacles (events), with the perceived shapes after
     /// each; every scan went to the observer.
     pub scan_events: Vec<ScanRecord>,
+    /// The movers every [`crate::trace::MOVER_FRAME_PERIOD`] (a file with `[[movers]]`;
+    /// empty otherwise), as the observer got them.
+    pub mover_frames: Vec<MoverFrame>,
 }
 
 /// Why a run could not start or go on (the run's guarantees are judged only on a run that

@@ -92,6 +92,42 @@ pub enum Event<'a> {
     /// A lidar scan (`[sensor] type = "lidar"`), after the navigator observed it (a scan that
     /// changed the obstacles comes between the two sides of its state, as a discovery does).
     Scan(&'a ScanRecord),
+    /// The movers (`[[movers]]`) at the time of a state, every [`MOVER_FRAME_PERIOD`] of
+    /// simulated time.
+    Movers(&'a MoverFrame),
+}
+
+/// Simulated seconds between two [`MoverFrame`]s of a run with movers (10 Hz: a person at
+/// 1.5 m/s moves 0.15 m between two).
+pub const MOVER_FRAME_PERIOD: f64 = 0.1;
+
+/// The movers at one instant, and how the robot's last command was formed: what the recording
+/// and `trajectory.svg` draw (issue 54, item 4).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct MoverFrame {
+    /// Time, s.
+    pub t: f64,
+    /// The robot's position.
+    pub robot: [f64; 2],
+    /// The mode of the robot's last command (`Mode::as_str`: `"yielding"`, `"overwhelmed"`,
+    /// …; `"refused"` when its disc overlapped a reported mover's), `None` before the first.
+    pub mode: Option<&'static str>,
+    /// Every mover, in the file's order.
+    pub movers: Vec<MoverMark>,
+}
+
+/// One mover in a [`MoverFrame`].
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct MoverMark {
+    /// Its true centre.
+    pub position: [f64; 2],
+    /// Its radius, m.
+    pub radius: f64,
+    /// The radius of the disc it may reach within one control period as the robot's filter
+    /// sees it: `radius + ε + V·h` (report error `ε`, speed bound `V`), m.
+    pub reach: f64,
+    /// Reciprocal (another harmonav robot taking a share), not non-cooperative.
+    pub reciprocal: bool,
 }
 
 /// One scan of a simulated lidar, as the navigator got it and what it made of it.

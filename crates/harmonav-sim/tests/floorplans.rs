@@ -456,7 +456,9 @@ fn an_observed_floor_run_hands_over_every_state_and_scan_of_the_same_run() {
                     events.push(r.time_s);
                 }
             }
-            Event::Discovery(_) | Event::Warning(_) => panic!("no exact sensing with a lidar"),
+            Event::Discovery(_) | Event::Warning(_) | Event::Movers(_) => {
+                panic!("no exact sensing nor movers here")
+            }
         })
         .unwrap();
     assert_eq!(observed.ending, FloorEnding::Reached);
