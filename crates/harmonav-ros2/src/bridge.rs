@@ -19,7 +19,10 @@ use harmonav::{
     World,
 };
 
-use crate::msgs::{self, OccupancyGrid, Odometry, PoseStamped, TFMessage, Twist, Vector3};
+use crate::msgs::{
+    self, ColorRGBA, Header, Marker, MarkerArray, OccupancyGrid, Odometry, Point, PoseStamped,
+    TFMessage, Time, Twist, Vector3,
+};
 use crate::params::{Base, LawKind, Params};
 use crate::tf::{Buffer, Lookup, Se2};
 
@@ -274,6 +277,8 @@ pub struct Bridge {
     /// Where the robot last made progress (unknown before the first odometry of the goal)
     /// and since when.
     progress: Option<(Option<Vector2<f64>>, Instant)>,
+    /// The outlines last given as markers (`None`: none given yet).
+    markers_sent: Option<Vec<Vec<[f64; 2]>>>,
 }
 
 impl Bridge {
@@ -297,6 +302,7 @@ impl Bridge {
             log: Vec::new(),
             last_stop: None,
             progress: None,
+            markers_sent: None,
         }
     }
 
@@ -448,6 +454,80 @@ impl Bridge {
     pub fn pose(&mut self, now: Instant) -> Option<Se2> {
         self.last_odom?;
         Some(self.robot_pose(now).0)
+    }
+
+    /// The perceived obstacles of the running navigator, grown by `robot_radius + margin`
+    /// (what the robot's centre keeps out of), as closed outlines in `global_frame`: the
+    /// obstacles the scans found (and, on a floor plan, not the map's walls). Empty without a
+    /// navigator.
+    #[must_use]
+    pub fn obstacle_outlines(&self) -> Vec<Vec<[f64; 2]>> {
+        let closed = |s: &StarShape| {
+            let mut v: Vec<[f64; 2]> = s.outline().map(|p| [p.x, p.y]).collect();
+            if let (Some(&first), Some(&last)) = (v.first(), v.last())
+                && first != last
+            {
+                v.push(first);
+            }
+            v
+        };
+        match &self.nav {
+            Some(Nav::Star(n)) => n.obstacles().iter().map(closed).collect(),
+            Some(Nav::Floor(n)) => n.field().transform().obstacles().map(closed).collect(),
+            None => Vec::new(),
+        }
+    }
+
+    /// The perceived obstacles ([`Bridge::obstacle_outlines`]) as a `MarkerArray` stamped
+    /// `stamp`, when they changed since the last call (the first call always gives one):
+    /// a `DELETEALL` (so that obstacles no longer perceived vanish), then one `LINE_STRIP` per
+    /// obstacle in `global_frame` (namespace `obstacles`, ids in the navigator's order).
+    pub fn obstacle_markers(&mut self, stamp: Time) -> Option<MarkerArray> {
+        let outlines = self.obstacle_outlines();
+        if self.markers_sent.as_ref() == Some(&outlines) {
+            return None;
+        }
+        let header = Header {
+            stamp,
+            frame_id: self.params.global_frame.clone(),
+        };
+        let mut markers = vec![Marker {
+            header: header.clone(),
+            ns: "obstacles".into(),
+            action: Marker::DELETEALL,
+            ..Marker::default()
+        }];
+        for (i, o) in outlines.iter().enumerate() {
+            markers.push(Marker {
+                header: header.clone(),
+                ns: "obstacles".into(),
+                id: i32::try_from(i).unwrap_or(i32::MAX),
+                kind: Marker::LINE_STRIP,
+                action: Marker::ADD,
+                scale: Vector3 {
+                    x: 0.02,
+                    y: 0.0,
+                    z: 0.0,
+                },
+                color: ColorRGBA {
+                    r: 1.0,
+                    g: 0.4,
+                    b: 0.0,
+                    a: 1.0,
+                },
+                points: o
+                    .iter()
+                    .map(|p| Point {
+                        x: p[0],
+                        y: p[1],
+                        z: 0.0,
+                    })
+                    .collect(),
+                ..Marker::default()
+            });
+        }
+        self.markers_sent = Some(outlines);
+        Some(MarkerArray { markers })
     }
 
     /// `/map`.

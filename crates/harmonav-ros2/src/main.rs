@@ -24,8 +24,9 @@ use serde::Serialize;
 use harmonav_ros2::action::{Navigate, cancel_goal_info};
 use harmonav_ros2::bridge::Bridge;
 use harmonav_ros2::msgs::{
-    Clock, Header, LaserScan, NavigateToPoseFeedback, NavigateToPoseGoal, NavigateToPoseResult,
-    OccupancyGrid, Odometry, PoseStamped, StringMsg, TFMessage, Time, Twist, TwistStamped,
+    Clock, Header, LaserScan, MarkerArray, NavigateToPoseFeedback, NavigateToPoseGoal,
+    NavigateToPoseResult, OccupancyGrid, Odometry, PoseStamped, StringMsg, TFMessage, Time, Twist,
+    TwistStamped,
 };
 use harmonav_ros2::params::{Cli, NODE_NAME, Params, ServiceWire, USAGE, parse_args};
 
@@ -409,6 +410,18 @@ fn run(params: Params, stop: &AtomicBool) -> Result<(), Fatal> {
         "String",
         qos(true, true, 1),
     )?;
+    // Latched, as RViz's marker displays take it (a volatile reader matches too).
+    let obstacles = if p.obstacles_topic.is_empty() {
+        None
+    } else {
+        Some(advertise::<MarkerArray>(
+            &mut node,
+            &p.obstacles_topic,
+            "visualization_msgs",
+            "MarkerArray",
+            qos(true, true, 1),
+        )?)
+    };
     let server = if p.action_name.is_empty() {
         None
     } else {
@@ -500,6 +513,13 @@ fn run(params: Params, stop: &AtomicBool) -> Result<(), Fatal> {
                 }
                 last_status = text;
             }
+            // After the command, off the scan → cmd_vel path.
+            if let Some(o) = &obstacles
+                && let Some(m) = bridge.obstacle_markers(stamp)
+                && let Err(e) = o.publish(m)
+            {
+                log::warn!("obstacle markers not published: {e:?}");
+            }
         }
         for (level, text) in bridge.drain_log() {
             log::log!(level, "{text}");
@@ -548,7 +568,7 @@ fn run(params: Params, stop: &AtomicBool) -> Result<(), Fatal> {
     // Entities before their node, the node before its context: RustDDS logs an error for
     // each reader or writer dropped after its participant's event loop has gone.
     drop((
-        cmd, status, scan, odom, goal, tf, tf_static, clock, map, server,
+        cmd, status, obstacles, scan, odom, goal, tf, tf_static, clock, map, server,
     ));
     drop(node);
     drop(context);

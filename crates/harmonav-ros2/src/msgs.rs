@@ -394,6 +394,111 @@ pub struct NavigateToPoseFeedback {
     pub distance_remaining: f32,
 }
 
+/// `std_msgs/msg/ColorRGBA`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct ColorRGBA {
+    /// Red, 0–1.
+    pub r: f32,
+    /// Green, 0–1.
+    pub g: f32,
+    /// Blue, 0–1.
+    pub b: f32,
+    /// Opacity, 0–1 (0 is invisible in RViz).
+    pub a: f32,
+}
+
+/// `visualization_msgs/msg/UVCoordinate`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct UVCoordinate {
+    /// u.
+    pub u: f32,
+    /// v.
+    pub v: f32,
+}
+
+/// `visualization_msgs/msg/MeshFile`.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct MeshFile {
+    /// The file's name.
+    pub filename: String,
+    /// Its bytes.
+    pub data: Vec<u8>,
+}
+
+/// `sensor_msgs/msg/CompressedImage`.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct CompressedImage {
+    /// Header.
+    pub header: Header,
+    /// `jpeg`, `png`, ….
+    pub format: String,
+    /// The compressed bytes.
+    pub data: Vec<u8>,
+}
+
+/// `visualization_msgs/msg/Marker` (Humble's layout onwards, with the texture and mesh
+/// fields).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Marker {
+    /// Header: the frame the points are in.
+    pub header: Header,
+    /// Namespace: with `id`, names the marker.
+    pub ns: String,
+    /// Id within the namespace.
+    pub id: i32,
+    /// [`Marker::LINE_STRIP`], ….
+    #[serde(rename = "type")]
+    pub kind: i32,
+    /// [`Marker::ADD`], [`Marker::DELETE`], [`Marker::DELETEALL`].
+    pub action: i32,
+    /// The pose of the marker's own frame in `header.frame_id`.
+    pub pose: Pose,
+    /// Scale (a line's width is `scale.x`).
+    pub scale: Vector3,
+    /// Colour.
+    pub color: ColorRGBA,
+    /// How long the marker lives; zero: until deleted.
+    pub lifetime: Duration,
+    /// Re-transform the marker into its frame every frame.
+    pub frame_locked: bool,
+    /// The points of a line strip, list, ….
+    pub points: Vec<Point>,
+    /// Per-point colours (empty: `color`).
+    pub colors: Vec<ColorRGBA>,
+    /// Texture (unused here).
+    pub texture_resource: String,
+    /// Texture (unused here).
+    pub texture: CompressedImage,
+    /// Texture coordinates (unused here).
+    pub uv_coordinates: Vec<UVCoordinate>,
+    /// Text (unused here).
+    pub text: String,
+    /// Mesh (unused here).
+    pub mesh_resource: String,
+    /// Mesh (unused here).
+    pub mesh_file: MeshFile,
+    /// Mesh (unused here).
+    pub mesh_use_embedded_materials: bool,
+}
+
+impl Marker {
+    /// `type`: a line through `points` in order.
+    pub const LINE_STRIP: i32 = 4;
+    /// `action`: add or replace.
+    pub const ADD: i32 = 0;
+    /// `action`: delete the marker `(ns, id)`.
+    pub const DELETE: i32 = 2;
+    /// `action`: delete every marker (of this publisher's topic).
+    pub const DELETEALL: i32 = 3;
+}
+
+/// `visualization_msgs/msg/MarkerArray`.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct MarkerArray {
+    /// The markers, applied in order.
+    pub markers: Vec<Marker>,
+}
+
 impl ros2_client::Message for NavigateToPoseGoal {}
 impl ros2_client::Message for NavigateToPoseResult {}
 impl ros2_client::Message for NavigateToPoseFeedback {}

@@ -69,6 +69,9 @@ pub struct Params {
     pub cmd_vel_topic: String,
     /// The status topic (`std_msgs/String`: mode and reasons).
     pub status_topic: String,
+    /// The perceived obstacles' topic (`visualization_msgs/MarkerArray`, their outlines as line
+    /// strips in `global_frame`, on each change); empty: none.
+    pub obstacles_topic: String,
     /// The `navigate_to_pose` action's name (Nav2's); empty: no action server.
     pub action_name: String,
     /// The request/reply mapping of the action's services: `enhanced` (Fast DDS, the default
@@ -142,6 +145,7 @@ impl Default for Params {
             goal_topic: "goal_pose".into(),
             cmd_vel_topic: "cmd_vel".into(),
             status_topic: "harmonav/status".into(),
+            obstacles_topic: "harmonav/obstacles".into(),
             action_name: "navigate_to_pose".into(),
             service_mapping: ServiceWire::Enhanced,
             controller_frequency: 20.0,
@@ -260,6 +264,7 @@ impl Params {
             "goal_topic" => self.goal_topic = text(value)?,
             "cmd_vel_topic" => self.cmd_vel_topic = text(value)?,
             "status_topic" => self.status_topic = text(value)?,
+            "obstacles_topic" => self.obstacles_topic = text(value)?,
             "action_name" => self.action_name = text(value)?,
             "service_mapping" => {
                 self.service_mapping = match text(value)?.as_str() {

@@ -937,3 +937,78 @@ fn a_goal_without_progress_is_aborted_and_the_robot_stopped() {
     assert_eq!(s.stop, None);
     assert!(s.twist.linear.x.hypot(s.twist.linear.y) > 1e-3);
 }
+
+/// The perceived obstacles as markers, only when they change: at first a `DELETEALL` alone;
+/// on the way past the disc, line strips in `map`, closed, of which one rings the true disc
+/// (no point of it inside the disc, its mean radius near the disc grown by `robot_radius +
+/// margin`, the perception's fit a little larger); nothing while they
+/// stay as they are; a `DELETEALL` alone once the goal is gone.
+#[test]
+fn perceived_obstacles_as_markers_when_they_change() {
+    let params = Params {
+        map_topic: String::new(),
+        ..Params::default()
+    };
+    let mut bridge = Bridge::new(params.clone());
+    let mut sim = Sim::new(open_room(), [8.0, 10.0]);
+    bridge.on_tf(&laser_static(), sim.t, true);
+    let first = bridge
+        .obstacle_markers(Time::default())
+        .expect("a first array");
+    assert_eq!(first.markers.len(), 1);
+    assert_eq!(first.markers[0].action, Marker::DELETEALL);
+    assert!(bridge.obstacle_markers(Time::default()).is_none());
+
+    bridge.on_goal(&goal(12.0, 10.0), sim.t);
+    let mut arrays = Vec::new();
+    let mut steps = 0;
+    for _ in 0..4000 {
+        let s = sim.step(&mut bridge, true);
+        steps += 1;
+        if let Some(m) = bridge.obstacle_markers(sim.stamp()) {
+            arrays.push(m);
+        }
+        if s.stop == Some(Stop::Arrived) {
+            break;
+        }
+    }
+    assert!(
+        !arrays.is_empty() && arrays.len() < steps / 2,
+        "{} arrays in {steps} steps",
+        arrays.len()
+    );
+    let last = arrays.last().unwrap();
+    assert_eq!(last.markers[0].action, Marker::DELETEALL);
+    let strips = &last.markers[1..];
+    assert!(!strips.is_empty(), "no obstacle perceived");
+    for (i, m) in strips.iter().enumerate() {
+        assert_eq!(
+            (m.kind, m.action, m.id, m.header.frame_id.as_str()),
+            (
+                Marker::LINE_STRIP,
+                Marker::ADD,
+                i32::try_from(i).unwrap(),
+                "map"
+            )
+        );
+        assert!(m.points.len() >= 4 && m.points.first() == m.points.last());
+        assert!(m.scale.x > 0.0 && m.color.a > 0.0);
+    }
+    let from_disc = |p: &Point| (p.x - 10.0).hypot(p.y - 10.1);
+    let ring = strips
+        .iter()
+        .find(|m| m.points.iter().all(|p| (0.4..1.0).contains(&from_disc(p))));
+    let grown = 0.4 + params.robot_radius + params.margin;
+    let ring = ring.unwrap_or_else(|| panic!("no strip rings the disc: {strips:?}"));
+    let mean = ring.points.iter().map(from_disc).sum::<f64>() / ring.points.len() as f64;
+    // The perception's fit is conservative: the outline lies around the grown disc, not in it.
+    assert!(
+        mean > grown - 0.05 && mean < grown + 0.25,
+        "mean radius {mean}, grown disc {grown}"
+    );
+
+    bridge.clear_goal();
+    let gone = bridge.obstacle_markers(sim.stamp()).expect("a change");
+    assert_eq!(gone.markers.len(), 1);
+    assert_eq!(gone.markers[0].action, Marker::DELETEALL);
+}

@@ -6,7 +6,9 @@ local), `/scan` (sensor-data QoS, best effort), `/odom` and `/goal_pose`, integr
 `/cmd_vel` at 20 Hz, and judges as the Cyclone peer does (`peer_world.drive`): arrival, no
 contact with its truth, a stop within the timeout when its scans stop, a zero command after
 SIGTERM; and, through rclpy's graph API, that the Rust node is listed with its topics and
-their types, and its status on `/harmonav/status`.
+their types, its status on `/harmonav/status`, and (in the room it knows from scans alone)
+its perceived obstacles on `/harmonav/obstacles` (`visualization_msgs/MarkerArray`) around
+the disc of the truth.
 
 Not here, for want of a wheel: nav2_msgs (so goals go through `/goal_pose`, not the
 `navigate_to_pose` action; the Cyclone peer tests the action) and tf2_msgs (so no
@@ -35,6 +37,7 @@ from rclpy.qos import (  # noqa: E402
 )
 from sensor_msgs.msg import LaserScan  # noqa: E402
 from std_msgs.msg import String  # noqa: E402
+from visualization_msgs.msg import Marker, MarkerArray  # noqa: E402
 
 from peer_world import H, RANGE_MAX, RANGE_MIN, Robot, drive, scan_angles, scan_ranges  # noqa: E402
 
@@ -59,6 +62,8 @@ class Peer(Robot):
         self.statuses = []
         n.create_subscription(Twist, "cmd_vel", self._on_cmd, 10)
         n.create_subscription(String, "harmonav/status", self._on_status, latched)
+        self.marker_arrays = []
+        n.create_subscription(MarkerArray, "harmonav/obstacles", self._on_markers, latched)
         self.executor = SingleThreadedExecutor()
         self.executor.add_node(n)
 
@@ -69,6 +74,10 @@ class Peer(Robot):
     def _on_status(self, s):
         self.events += 1
         self.statuses.append(s.data)
+
+    def _on_markers(self, a):
+        self.events += 1
+        self.marker_arrays.append(a)
 
     def poll(self):
         # Every callback ready now, without waiting.
@@ -135,6 +144,18 @@ def graph(peer, out):
     c["graph_odom_subscribed"] = n.count_subscribers("/odom") >= 1
 
 
+def markers(peer, out):
+    """The perceived obstacles on `/harmonav/obstacles`: some line strip in `map` rings each
+    disc of the truth (every point outside it, none more than 0.6 m away)."""
+    strips = [m for a in peer.marker_arrays for m in a.markers
+              if m.type == Marker.LINE_STRIP and m.action == Marker.ADD and m.header.frame_id == "map"]
+    out["marker_arrays"] = len(peer.marker_arrays)
+    for cx, cy, r in peer.world.discs:
+        out["checks"]["markers_ring_disc"] = any(
+            len(m.points) > 3 and all(r <= math.hypot(p.x - cx, p.y - cy) <= r + 0.6 for p in m.points)
+            for m in strips)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--world", choices=["floor", "scans"], required=True)
@@ -162,10 +183,11 @@ def main():
     graph(peer, out)
     ok = all(out["checks"].values())
     ok = drive(peer, args, out) and ok
+    markers(peer, out)
     moving = [s for s in peer.statuses if s.startswith("moving")]
     out["statuses"] = len(peer.statuses)
     out["checks"]["status_moving"] = bool(moving)
-    ok = ok and bool(moving)
+    ok = ok and bool(moving) and out["checks"].get("markers_ring_disc", True)
     out["ok"] = ok
     print(json.dumps(out), flush=True)
     peer.node.destroy_node()

@@ -240,6 +240,61 @@ class CancelGoalResponse(IdlStruct, typename="action_msgs::srv::dds_::CancelGoal
     goals_canceling: sequence[GoalInfo] = field(default_factory=list)
 
 
+@dataclass
+class ColorRGBA(IdlStruct, typename="std_msgs::msg::dds_::ColorRGBA_"):
+    r: float32 = 0.0
+    g: float32 = 0.0
+    b: float32 = 0.0
+    a: float32 = 0.0
+
+
+@dataclass
+class UVCoordinate(IdlStruct, typename="visualization_msgs::msg::dds_::UVCoordinate_"):
+    u: float32 = 0.0
+    v: float32 = 0.0
+
+
+@dataclass
+class MeshFile(IdlStruct, typename="visualization_msgs::msg::dds_::MeshFile_"):
+    filename: str = ""
+    data: sequence[uint8] = field(default_factory=list)
+
+
+@dataclass
+class CompressedImage(IdlStruct, typename="sensor_msgs::msg::dds_::CompressedImage_"):
+    header: Header = field(default_factory=Header)
+    format: str = ""
+    data: sequence[uint8] = field(default_factory=list)
+
+
+@dataclass
+class Marker(IdlStruct, typename="visualization_msgs::msg::dds_::Marker_"):
+    header: Header = field(default_factory=Header)
+    ns: str = ""
+    id: int32 = 0
+    type: int32 = 0
+    action: int32 = 0
+    pose: Pose = field(default_factory=Pose)
+    scale: Vector3 = field(default_factory=Vector3)
+    color: ColorRGBA = field(default_factory=ColorRGBA)
+    lifetime: Duration = field(default_factory=Duration)
+    frame_locked: bool = False
+    points: sequence[Point] = field(default_factory=list)
+    colors: sequence[ColorRGBA] = field(default_factory=list)
+    texture_resource: str = ""
+    texture: CompressedImage = field(default_factory=CompressedImage)
+    uv_coordinates: sequence[UVCoordinate] = field(default_factory=list)
+    text: str = ""
+    mesh_resource: str = ""
+    mesh_file: MeshFile = field(default_factory=MeshFile)
+    mesh_use_embedded_materials: bool = False
+
+
+@dataclass
+class MarkerArray(IdlStruct, typename="visualization_msgs::msg::dds_::MarkerArray_"):
+    markers: sequence[Marker] = field(default_factory=list)
+
+
 def samples():
     """One message of each type with distinct, awkward values (odd string lengths, so that
     the alignment after them matters; inf and nan ranges; negative cells)."""
@@ -300,6 +355,18 @@ def samples():
         "cancel_goal_request": CancelGoalRequest(goal_info=GoalInfo(goal_id=UUID(uuid=list(range(1, 17))), stamp=Time(sec=9, nanosec=10))),
         "cancel_goal_response": CancelGoalResponse(return_code=0, goals_canceling=[
             GoalInfo(goal_id=UUID(uuid=list(range(1, 17))), stamp=Time(sec=9, nanosec=10)),
+        ]),
+        "marker_array": MarkerArray(markers=[
+            Marker(header=Header(stamp=Time(sec=3, nanosec=4), frame_id="map"), ns="obstacles", id=0,
+                   type=0, action=3),
+            Marker(header=Header(stamp=Time(sec=3, nanosec=4), frame_id="map"), ns="obstacles", id=7,
+                   type=4, action=0, pose=pose, scale=Vector3(x=0.02),
+                   color=ColorRGBA(r=1.0, g=0.5, b=0.25, a=0.75), lifetime=Duration(sec=1, nanosec=2),
+                   frame_locked=True, points=[Point(x=1.0, y=2.0), Point(x=-3.5, y=0.25, z=1.0)],
+                   colors=[ColorRGBA(r=0.125)], texture_resource="t",
+                   texture=CompressedImage(header=Header(frame_id="cam"), format="png", data=[1, 2, 3]),
+                   uv_coordinates=[UVCoordinate(u=0.5, v=-1.0)], text="abc", mesh_resource="m",
+                   mesh_file=MeshFile(filename="f.stl", data=[9]), mesh_use_embedded_materials=True),
         ]),
     }
 
