@@ -13,17 +13,28 @@ use pyo3::types::{PyDict, PyTuple};
 use crate::convert::{array1, lock, point_like, value_error};
 
 /// The names of `Mover`'s arguments, in order (a dict given to `set_movers` has these keys).
-const FIELDS: [&str; 6] = ["centre", "radius", "speed_bound", "error", "kind", "share"];
+const FIELDS: [&str; 7] = [
+    "centre",
+    "radius",
+    "speed_bound",
+    "error",
+    "kind",
+    "share",
+    "velocity",
+];
 
 /// A moving disc as perception reports it: `centre` (m, array-like `[x, y]`), the body's
 /// `radius` (m, not grown), `speed_bound` (m/s: its speed never exceeds it), `error` (m: the
 /// report is within it of the true centre) and `kind`: `"noncooperative"` (a person, a robot of
 /// another stack: the robot keeps out of all it can reach) or `"reciprocal"` (another harmonav
 /// robot with the same filter and control period, taking `1 − share` of the avoidance; this
-/// robot takes `share`, ½ by default). Immutable, picklable; equal when every field is.
+/// robot takes `share`, ½ by default). `velocity` (m/s, array-like `[vx, vy]`, optional) is a
+/// tracked velocity: the certificate never uses it; KeepRight's anticipation does (docs/movers.md
+/// §7; without it a mover is anticipated as if at rest). Immutable, picklable; equal when every
+/// field is.
 ///
-/// Raises `ValueError` naming the field for a non-finite centre, a radius, speed bound or error
-/// outside `[0, 1e6]`, a share outside `[0, 1]`, or an unknown kind.
+/// Raises `ValueError` naming the field for a non-finite centre or velocity, a radius, speed
+/// bound or error outside `[0, 1e6]`, a share outside `[0, 1]`, or an unknown kind.
 #[pyclass(module = "harmonav", frozen, eq)]
 #[derive(Clone, Debug, PartialEq)]
 pub struct Mover {
@@ -35,13 +46,16 @@ pub struct Mover {
 impl Mover {
     /// A mover from its fields, checked (errors name `what.field`).
     fn checked(
-        centre: Vector2<f64>,
+        (centre, velocity): (Vector2<f64>, Option<Vector2<f64>>),
         (radius, speed_bound, error): (f64, f64, f64),
         kind: &str,
         share: f64,
         what: &str,
     ) -> PyResult<Self> {
-        let inner = RsMover::new(centre, radius, speed_bound).with_error(error);
+        let inner = RsMover {
+            velocity,
+            ..RsMover::new(centre, radius, speed_bound).with_error(error)
+        };
         let inner = match kind {
             "noncooperative" => inner,
             "reciprocal" => inner.reciprocal(share),
@@ -129,8 +143,12 @@ pub(crate) fn mover_from(obj: &Bound<'_, PyAny>, i: usize) -> PyResult<RsMover> 
             .map_err(|e| PyTypeError::new_err(format!("{what}.kind must be a string: {e}")))?,
         None => "noncooperative".to_owned(),
     };
+    let velocity = match d.get_item("velocity")? {
+        Some(v) if !v.is_none() => Some(point_like(&v, &format!("{what}.velocity"))?),
+        _ => None,
+    };
     let m = Mover::checked(
-        centre,
+        (centre, velocity),
         (
             real("radius", None)?,
             real("speed_bound", None)?,
@@ -159,7 +177,8 @@ pub(crate) fn movers_from(movers: &Bound<'_, PyAny>) -> PyResult<Vec<RsMover>> {
 #[pymethods]
 impl Mover {
     #[new]
-    #[pyo3(signature = (centre, radius, speed_bound, error=0.0, kind="noncooperative", share=0.5))]
+    #[pyo3(signature = (centre, radius, speed_bound, error=0.0, kind="noncooperative", share=0.5,
+                        velocity=None))]
     fn new(
         centre: &Bound<'_, PyAny>,
         radius: f64,
@@ -167,9 +186,20 @@ impl Mover {
         error: f64,
         kind: &str,
         share: f64,
+        velocity: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let centre = point_like(centre, "Mover.centre")?;
-        Self::checked(centre, (radius, speed_bound, error), kind, share, "Mover")
+        let velocity = match velocity {
+            Some(v) if !v.is_none() => Some(point_like(v, "Mover.velocity")?),
+            _ => None,
+        };
+        Self::checked(
+            (centre, velocity),
+            (radius, speed_bound, error),
+            kind,
+            share,
+            "Mover",
+        )
     }
 
     /// The reported centre, m, a (2,) array.
@@ -177,6 +207,15 @@ impl Mover {
     fn centre<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let c = self.inner.centre;
         array1(py, &[c.x, c.y], "centre")
+    }
+
+    /// The tracked velocity, m/s, a (2,) array, or `None`.
+    #[getter]
+    fn velocity<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyArray1<f64>>>> {
+        self.inner
+            .velocity
+            .map(|v| array1(py, &[v.x, v.y], "velocity"))
+            .transpose()
     }
 
     /// The body's radius (not grown), m.
@@ -223,6 +262,7 @@ impl Mover {
             m.inner.position_error,
             m.kind_str(),
             m.share,
+            m.inner.velocity.map(|v| [v.x, v.y]),
         )
             .into_pyobject(py)?;
         Ok((slf.get_type().into_any(), args))
@@ -234,8 +274,11 @@ impl Mover {
             MoverKind::Reciprocal { share } => format!(", share={share:?}"),
             _ => String::new(),
         };
+        let velocity = self.inner.velocity.map_or(String::new(), |v| {
+            format!(", velocity=[{:?}, {:?}]", v.x, v.y)
+        });
         format!(
-            "Mover(centre=[{:?}, {:?}], radius={:?}, speed_bound={:?}, error={:?}, kind='{}'{share})",
+            "Mover(centre=[{:?}, {:?}], radius={:?}, speed_bound={:?}, error={:?}, kind='{}'{share}{velocity})",
             c.x,
             c.y,
             self.inner.radius,
