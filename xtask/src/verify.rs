@@ -10,6 +10,7 @@ mod lidar;
 mod movers;
 mod navigator;
 mod potential;
+mod public;
 mod quality;
 pub(crate) mod scale;
 mod scenarios;
@@ -140,6 +141,7 @@ fn checks() -> Vec<Check> {
     all.extend(scale::checks());
     all.extend(scenarios::checks());
     all.extend(floorplans::checks());
+    all.extend(public::checks());
     all.extend(movers::checks());
     all.extend(diff::checks());
     all.extend(adversarial::checks());

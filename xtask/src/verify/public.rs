@@ -1,0 +1,193 @@
+//! Public ROS map_server maps (`scenarios/floorplans/public/`, issue 52): maps no one on the team
+//! drew, each cited in its `SOURCES.md`, with a robot of radius 0.2 m, a 0.05 m margin and
+//! every other setting the default. Each map that loads with the defaults within the verify
+//! budget is flown from every start of its file under both laws (built-in loop), with every
+//! guarantee of each run's summary; the path is compared with the grid geodesic in `W_δ`
+//! (`harmonav::floorplan::geodesic`). A map that does not load with the defaults is a target
+//! not met, with its message; a map that loads but too slowly for this suite is a target not met
+//! too, naming its measured set-up (docs/benchmarks.md, "Public maps (issue 52)").
+
+use std::path::{Path, PathBuf};
+
+use harmonav::floorplan::geodesic::Geodesic;
+use harmonav_scenario::Model;
+use harmonav_scenario::floorplan::{FLOORPLANS, FloorScenario};
+use harmonav_sim::floor::{FloorEnding, FloorSummary};
+use harmonav_sim::guarantee::Kind;
+use harmonav_sim::physics::{Physics, simulate_floor};
+use nalgebra::Vector2;
+
+use super::{Check, Outcome, Verdict};
+
+/// The suite's folder under `scenarios/floorplans/`.
+const PUBLIC: &str = "public";
+
+/// Maps that load with the defaults but whose set-up alone exceeds this suite's budget (about
+/// 20 s a map on the 2-core machine), with what was measured (`harmonav check --json` and
+/// `harmonav run --json`, release build, docs/benchmarks.md): reported as targets, not flown.
+const TOO_SLOW: &[(&str, &str)] = &[
+    (
+        "warehouse",
+        "set-up 65 s and 2.7 GB for 145 240 elements (`harmonav check`), against the issue's \
+         10 s and 1 GB",
+    ),
+    (
+        "willow-2010",
+        "loads since the map pipeline joins the walls its shrink would make meet (issue 52), \
+         but `harmonav check` did not finish in 900 s",
+    ),
+];
+
+/// Files that leave a default, and why: flown as they are, and a target not met however they
+/// fly, since issue 52 asks for every map under the defaults.
+const NOT_DEFAULTS: &[(&str, &str)] = &[(
+    "depot",
+    "flown with `speck_pixels = 0`: its posts are 1-2 px, and under the default 2 they are \
+     dropped as noise and the run from robot.start touches them (no-collision-with-map-pixels \
+     -0.0069 m kinematic, -0.0012 m dynamic)",
+)];
+
+fn files() -> Vec<PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../scenarios")
+        .join(FLOORPLANS)
+        .join(PUBLIC);
+    let mut out: Vec<_> = std::fs::read_dir(dir)
+        .map(|d| {
+            d.filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+                .collect()
+        })
+        .unwrap_or_default();
+    out.sort();
+    out
+}
+
+pub fn checks() -> Vec<Check> {
+    let mut all = Vec::new();
+    let every = files();
+    let count = every.len();
+    all.push(Check::new("floorplans.public.suite", move || suite(count)));
+    for file in every {
+        let name = file
+            .file_stem()
+            .map_or(String::new(), |s| s.to_string_lossy().into_owned());
+        let slow = TOO_SLOW.iter().find(|(n, _)| *n == name).map(|(_, w)| *w);
+        all.push(
+            Check::new(format!("floorplans.public.{name}"), move || match slow {
+                Some(why) => Ok(Verdict::Target(format!(
+                    "loads with the defaults but is not flown here: {why}"
+                ))),
+                None => fly(&file),
+            })
+            .early(),
+        );
+    }
+    all
+}
+
+/// The suite's size: at least six maps (issue 52's "Done when").
+fn suite(count: usize) -> Outcome {
+    let detail = format!(
+        "{count} public maps in scenarios/floorplans/public/ (sources: its SOURCES.md), \
+         {} not flown for their set-up time",
+        TOO_SLOW.len()
+    );
+    if count >= 6 {
+        Ok(Verdict::Held(detail))
+    } else {
+        Err(detail)
+    }
+}
+
+/// The median and the largest of `v` (NaN for none).
+fn median_max(v: &mut [f64]) -> (f64, f64) {
+    if v.is_empty() {
+        return (f64::NAN, f64::NAN);
+    }
+    v.sort_by(f64::total_cmp);
+    (v[v.len() / 2], v[v.len() - 1])
+}
+
+/// Every start of the file under both laws: a lost guarantee fails; a run that stays safe but
+/// does not arrive, or a map that does not load with the defaults, is a target not met.
+fn fly(file: &Path) -> Outcome {
+    let p = match FloorScenario::load(file) {
+        Ok(p) => p,
+        Err(e) => {
+            return Ok(Verdict::Target(format!(
+                "does not load with the defaults: {e}"
+            )));
+        }
+    };
+    let r = &p.scenario.robot;
+    let goal = Vector2::new(r.goal[0], r.goal[1]);
+    let geodesic = Geodesic::new(&p.floor, goal);
+    let (mut lost, mut missed) = (Vec::new(), Vec::new());
+    let mut laws = Vec::new();
+    for (law, model) in [("kinematic", Model::Kinematic), ("dynamic", Model::Dynamic)] {
+        let (mut reached, mut over_geodesic, mut over_line) = (0, Vec::new(), Vec::new());
+        let mut slowest = 0.0_f64;
+        for &start in &p.starts {
+            let run = simulate_floor(&p, Some(model), start, Physics::Builtin)
+                .map_err(|e| format!("{law} from {start:?}: {e}"))?;
+            let summary = FloorSummary::new(&p, Some(model), start, &run);
+            if let Some(g) = summary
+                .guarantees
+                .iter()
+                .find(|g| !g.passed && g.kind() != Kind::ReachedGoal)
+            {
+                lost.push(format!(
+                    "{law} from {start:?}: {} failed: {}",
+                    g.name(),
+                    g.detail()
+                ));
+            }
+            if matches!(run.ending, FloorEnding::Reached) {
+                reached += 1;
+                slowest = slowest.max(run.time);
+                if let Some(d) = geodesic.distance(start).filter(|d| *d > 0.0) {
+                    over_geodesic.push(run.path / d);
+                }
+                over_line.push(run.path / (start - goal).norm());
+            } else {
+                missed.push(format!(
+                    "{law} from {start:?}: {} at {:.3} m",
+                    run.ending.as_str(),
+                    run.final_distance
+                ));
+            }
+        }
+        let (gm, gw) = median_max(&mut over_geodesic);
+        let (lm, lw) = median_max(&mut over_line);
+        laws.push(format!(
+            "{law} {reached}/{} arrived (slowest {slowest:.1} s), path/geodesic median {gm:.3} \
+             worst {gw:.3}, path/straight median {lm:.3} worst {lw:.3}",
+            p.starts.len()
+        ));
+    }
+    let detail = format!(
+        "{}; N = {}, {} holes, δ = {} m, set-up {:.2} s{}",
+        laws.join("; "),
+        p.floor.map().elements().len(),
+        p.floor.walls().holes().len(),
+        p.floor.delta(),
+        p.setup_seconds,
+        if missed.is_empty() {
+            String::new()
+        } else {
+            format!("; not arrived: {}", missed.join("; "))
+        }
+    );
+    if let Some(first) = lost.first() {
+        return Err(format!("{detail}; {} unsafe, first: {first}", lost.len()));
+    }
+    let name = file
+        .file_stem()
+        .map_or(String::new(), |s| s.to_string_lossy().into_owned());
+    match NOT_DEFAULTS.iter().find(|(n, _)| *n == name) {
+        Some((_, why)) => Ok(Verdict::Target(format!("{detail}; {why}"))),
+        None if missed.is_empty() => Ok(Verdict::Held(detail)),
+        None => Ok(Verdict::Target(detail)),
+    }
+}
