@@ -50,7 +50,7 @@ use nalgebra::Vector2;
 use serde::Deserialize;
 
 pub use crate::kind::FileKind;
-use crate::scenario::{Model, ScenarioError, ShapeSpec, build_shape, err};
+use crate::scenario::{BaseKind, Model, ScenarioError, ShapeSpec, build_shape, err};
 use crate::sensor::{self, LidarSensor, SensorKind, SensorSpec, WallRoom};
 
 /// The folder of floor-plan scenarios under `scenarios/`.
@@ -145,6 +145,29 @@ pub struct FloorRobotSpec {
     /// same key as a star world's `[robot] control_period`.
     #[serde(default)]
     pub control_period: Option<f64>,
+    /// `"holonomic"` (the default) or `"diff"`: a differential drive commanded `(v, ω)` by
+    /// [`harmonav::Navigator::command_pose`], its top speed `v_max` (required with it), as a
+    /// star world's `[robot] base` (issue 53; docs/unicycle.md, "Simulator").
+    #[serde(default, deserialize_with = "crate::scenario::de_policy")]
+    pub base: BaseKind,
+    /// A differential drive's top turn rate `ω_max`, rad/s (required with `base = "diff"`).
+    #[serde(default)]
+    pub omega_max: Option<f64>,
+    /// A differential drive's heading `θ(0)` at the start, rad (default 0).
+    #[serde(default)]
+    pub yaw: Option<f64>,
+}
+
+impl FloorRobotSpec {
+    /// The base's keys it carries.
+    pub(crate) fn base_keys(&self) -> crate::scenario::BaseKeys {
+        crate::scenario::BaseKeys {
+            base: self.base,
+            omega_max: self.omega_max,
+            yaw: self.yaw,
+            v_max: self.v_max,
+        }
+    }
 }
 
 fn one() -> f64 {
@@ -320,6 +343,19 @@ impl FloorPrepared {
         self.scenario.robot.control_period
     }
 
+    /// `Base::Diff { v_max, omega_max }` for `[robot] base = "diff"`, `None` for a holonomic
+    /// robot (as a star world's [`crate::Prepared::base`]).
+    #[must_use]
+    pub fn base(&self) -> Option<harmonav::Base> {
+        self.scenario.robot.base_keys().base()
+    }
+
+    /// A differential drive's start heading `θ(0)`, rad (`[robot] yaw`, default 0).
+    #[must_use]
+    pub fn start_yaw(&self) -> f64 {
+        self.scenario.robot.yaw.unwrap_or(0.0)
+    }
+
     /// Whether `start` may start a run, as `robot.start` must: in the certified region `W_δ`,
     /// clear of every true obstacle grown by radius + margin, and, with
     /// `floor_plan.require_certified_start`, below `c_δ`; else the problem.
@@ -442,6 +478,9 @@ impl FloorScenario {
         if let Some(v) = r.v_max {
             crate::scenario::parameter(v).map_err(|p| f("robot.v_max", p))?;
         }
+        r.base_keys()
+            .check("robot.v_max", r.model, !self.movers.is_empty())
+            .map_err(|(key, p)| f(key, p))?;
         if let Some(h) = r.control_period {
             crate::scenario::control_period(h, self.sim.max_time)
                 .map_err(|p| f("robot.control_period", p))?;

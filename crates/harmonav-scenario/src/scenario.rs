@@ -191,6 +191,101 @@ impl std::str::FromStr for BaseKind {
     }
 }
 
+/// A robot's base keys as either file format reads them: `[robot] base`, `omega_max`, `yaw`
+/// and the top speed `v_max` (a star world's `[controller] v_max`, a floor plan's
+/// `[robot] v_max`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct BaseKeys {
+    pub base: BaseKind,
+    pub omega_max: Option<f64>,
+    pub yaw: Option<f64>,
+    pub v_max: Option<f64>,
+}
+
+impl BaseKeys {
+    /// The field and the problem of the first key that is wrong, `v_max_key` naming the top
+    /// speed's key: `omega_max` or `yaw` without a differential drive; a differential drive
+    /// without a positive, finite `omega_max` or without `v_max`, a yaw that is not finite, or
+    /// with the dynamic law (`model`) or with movers or other robots (`movers`).
+    pub fn check(
+        &self,
+        v_max_key: &'static str,
+        model: Model,
+        movers: bool,
+    ) -> Result<(), (&'static str, String)> {
+        let only = |key: &str| {
+            format!(
+                "only a differential-drive base takes `{key}`; add `base = \"diff\"` to [robot]"
+            )
+        };
+        if self.base == BaseKind::Holonomic {
+            if self.omega_max.is_some() {
+                return Err(("robot.omega_max", only("omega_max")));
+            }
+            if self.yaw.is_some() {
+                return Err(("robot.yaw", only("yaw")));
+            }
+            return Ok(());
+        }
+        let Some(omega_max) = self.omega_max else {
+            return Err((
+                "robot.omega_max",
+                "a differential-drive base (`base = \"diff\"`) needs its top turn rate, rad/s"
+                    .into(),
+            ));
+        };
+        parameter(omega_max).map_err(|p| ("robot.omega_max", p))?;
+        if self.v_max.is_none() {
+            return Err((
+                v_max_key,
+                "a differential-drive base (`base = \"diff\"`) needs its top forward speed, m/s"
+                    .into(),
+            ));
+        }
+        if let Some(yaw) = self.yaw
+            && !yaw.is_finite()
+        {
+            return Err(("robot.yaw", format!("must be finite (rad), got {yaw:e}")));
+        }
+        if model == Model::Dynamic {
+            return Err((
+                "robot.base",
+                "a differential-drive base runs the kinematic law only (`model = \"kinematic\"`)"
+                    .into(),
+            ));
+        }
+        if movers {
+            return Err((
+                "robot.base",
+                "a differential-drive base does not run with [[movers]] or [[robots]] yet".into(),
+            ));
+        }
+        Ok(())
+    }
+
+    /// `Base::Diff { v_max, omega_max }` for a differential drive, `None` for a holonomic one.
+    pub fn base(&self) -> Option<harmonav::Base> {
+        match (self.base, self.v_max, self.omega_max) {
+            (BaseKind::Diff, Some(v_max), Some(omega_max)) => {
+                Some(harmonav::Base::diff(v_max, omega_max))
+            }
+            _ => None,
+        }
+    }
+}
+
+impl ControllerSpec {
+    /// The base's keys it carries.
+    pub(crate) fn base_keys(&self) -> BaseKeys {
+        BaseKeys {
+            base: self.base,
+            omega_max: self.omega_max,
+            yaw: self.yaw,
+            v_max: self.v_max,
+        }
+    }
+}
+
 /// `[robot]`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -620,55 +715,11 @@ impl Scenario {
     /// The base's keys (`[robot] base`, `omega_max`, `yaw`, and `[controller] v_max` for a
     /// differential drive): the field and the problem of the first that is wrong.
     fn check_base(&self) -> Result<(), (&'static str, String)> {
-        let c = &self.controller;
-        let only = |key: &str| {
-            format!(
-                "only a differential-drive base takes `{key}`; add `base = \"diff\"` to [robot]"
-            )
-        };
-        if c.base == BaseKind::Holonomic {
-            if c.omega_max.is_some() {
-                return Err(("robot.omega_max", only("omega_max")));
-            }
-            if c.yaw.is_some() {
-                return Err(("robot.yaw", only("yaw")));
-            }
-            return Ok(());
-        }
-        let Some(omega_max) = c.omega_max else {
-            return Err((
-                "robot.omega_max",
-                "a differential-drive base (`base = \"diff\"`) needs its top turn rate, rad/s"
-                    .into(),
-            ));
-        };
-        parameter(omega_max).map_err(|p| ("robot.omega_max", p))?;
-        if c.v_max.is_none() {
-            return Err((
-                "controller.v_max",
-                "a differential-drive base (`base = \"diff\"`) needs its top forward speed, m/s"
-                    .into(),
-            ));
-        }
-        if let Some(yaw) = c.yaw
-            && !yaw.is_finite()
-        {
-            return Err(("robot.yaw", format!("must be finite (rad), got {yaw:e}")));
-        }
-        if self.robot.model == Model::Dynamic {
-            return Err((
-                "robot.base",
-                "a differential-drive base runs the kinematic law only (`model = \"kinematic\"`)"
-                    .into(),
-            ));
-        }
-        if !(self.sim.movers.is_empty() && self.sim.robots.is_empty()) {
-            return Err((
-                "robot.base",
-                "a differential-drive base does not run with [[movers]] or [[robots]] yet".into(),
-            ));
-        }
-        Ok(())
+        self.controller.base_keys().check(
+            "controller.v_max",
+            self.robot.model,
+            !(self.sim.movers.is_empty() && self.sim.robots.is_empty()),
+        )
     }
 
     /// Validates the scenario and builds the workspace (see [`Prepared`]).
@@ -1115,13 +1166,7 @@ impl Prepared {
     /// `Base::Diff { v_max, omega_max }` for `[robot] base = "diff"` (`v_max` the file's
     /// `[controller] v_max`), `None` for the default holonomic base.
     pub fn base(&self) -> Option<harmonav::Base> {
-        let c = &self.scenario.controller;
-        match (c.base, c.v_max, c.omega_max) {
-            (BaseKind::Diff, Some(v_max), Some(omega_max)) => {
-                Some(harmonav::Base::diff(v_max, omega_max))
-            }
-            _ => None,
-        }
+        self.scenario.controller.base_keys().base()
     }
 
     /// A differential drive's start heading `θ(0)`, rad (`[robot] yaw`, default 0).

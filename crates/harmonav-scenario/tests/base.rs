@@ -125,3 +125,53 @@ fn bad_values_are_refused_by_key() {
         "{e}"
     );
 }
+
+/// A floor plan: a 4 × 3 m room, with `robot` after the `[robot]` keys below and `rest` after
+/// the table.
+fn floor(robot: &str, rest: &str) -> String {
+    format!(
+        "name = \"room\"\n[floor_plan]\nouter = [[0.0, 0.0], [4.0, 0.0], [4.0, 3.0], [0.0, 3.0]]\n\
+         max_element = 0.1\n[robot]\nmodel = \"kinematic\"\nstart = [0.8, 0.8]\n\
+         goal = [3.2, 2.2]\nradius = 0.1\nmargin = 0.05\n{robot}\n{rest}"
+    )
+}
+
+fn load_floor(text: &str) -> Result<harmonav_scenario::floorplan::FloorPrepared, ScenarioError> {
+    let path = Path::new("room.toml");
+    harmonav_scenario::floorplan::FloorScenario::parse(path, text).and_then(|s| s.prepare(path))
+}
+
+/// A floor plan takes the same keys (its top speed is its own `[robot] v_max`), refused by the
+/// same rules, by key; without them the robot is holonomic as before.
+#[test]
+fn a_floor_plan_takes_the_same_base_keys() {
+    let p = load_floor(&floor(&format!("{DIFF}\nv_max = 0.5"), "")).unwrap();
+    assert_eq!(p.base(), Some(Base::diff(0.5, 2.0)));
+    assert_eq!(p.start_yaw(), 3.0);
+    let p = load_floor(&floor("", "")).unwrap();
+    assert_eq!((p.base(), p.start_yaw()), (None, 0.0));
+    let cases = [
+        (DIFF.to_string(), "robot.v_max"),
+        ("omega_max = 2.0".to_string(), "robot.omega_max"),
+        ("yaw = 1.0".to_string(), "robot.yaw"),
+        (
+            "base = \"diff\"\nv_max = 0.5".to_string(),
+            "robot.omega_max",
+        ),
+        (format!("{DIFF}\nv_max = 0.5\nomega_max_ = 1"), "omega_max_"),
+        (
+            "base = \"diff\"\nomega_max = -1.0\nv_max = 0.5".to_string(),
+            "robot.omega_max",
+        ),
+        ("base = \"unicycle\"".to_string(), "robot.base"),
+    ];
+    for (keys, field) in cases {
+        let e = load_floor(&floor(&keys, "")).unwrap_err();
+        assert!(
+            e.field == field || e.to_string().contains(field),
+            "{keys}: {e}"
+        );
+    }
+    let dynamic = floor(&format!("{DIFF}\nv_max = 0.5"), "").replace("kinematic", "dynamic");
+    assert_eq!(load_floor(&dynamic).unwrap_err().field, "robot.base");
+}

@@ -6,7 +6,7 @@
 
 use harmonav::control::Branch;
 use harmonav::perception::sim::Enclosure;
-use harmonav::{Controller, FloorNavigator, Law, NavError, Options, StarShape};
+use harmonav::{Base, Controller, FloorNavigator, Law, NavError, Options, StarShape};
 use harmonav_harmonic::Certificate;
 use harmonav_scenario::floorplan::FloorPrepared;
 use harmonav_scenario::{LidarSensor, Model, ShapeSpec};
@@ -20,6 +20,7 @@ use crate::scanner::{Scanner, Scene};
 use crate::summary::{PerceptionReport, Physics};
 use crate::trace::{Discovery, Event, MOVER_FRAME_PERIOD, MoverFrame, Sample, recorded_velocity};
 use crate::trajectory::{Keep, Trajectory};
+use crate::unicycle::{Diff, DiffReport};
 
 /// How a floor-plan run ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -113,6 +114,8 @@ pub struct FloorRun {
     /// The movers every [`crate::trace::MOVER_FRAME_PERIOD`] (empty without movers), as the
     /// observer got them.
     pub mover_frames: Vec<MoverFrame>,
+    /// A differential drive's commands and arcs (`[robot] base = "diff"`; `None` otherwise).
+    pub diff: Option<DiffReport>,
 }
 
 /// The name of the `i`-th obstacle of a floor-plan file: its `name`, or `obstacles[i]`.
@@ -156,6 +159,9 @@ pub(crate) fn navigator_and_lidar(
     }
     if let Some(h) = prepared.control_period() {
         options = options.with_control_period(h);
+    }
+    if let Some(base) = prepared.base() {
+        options = options.with_base(base);
     }
     let lidar = prepared
         .lidar
@@ -352,6 +358,7 @@ pub(crate) fn fly(
         perceived: Vec::new(),
         movers: None,
         mover_frames: Vec::new(),
+        diff: None,
     };
     // The file's movers (docs/movers.md §8): reported before every command of the law.
     let mut world = MoverWorld::new(&prepared.scenario.movers, r.radius);
@@ -368,6 +375,31 @@ pub(crate) fn fly(
     let kinematic = matches!(nav.controller(), Controller::Kinematic(_));
     // How the last command was formed, for the movers' frames.
     let mut last_mode: Option<&'static str> = None;
+    // A differential drive (`crate::unicycle`): its heading, and the monitors of its arcs. A
+    // custom controller or rapier (`hold` other than the built-in step) drives the
+    // holonomic robot only.
+    let mut diff = match (prepared.base(), custom) {
+        (Some(Base::Diff { v_max, omega_max }), None) => {
+            Some(Diff::new(v_max, omega_max, prepared.start_yaw()))
+        }
+        _ => None,
+    };
+    if let Some(u) = &diff {
+        yaw = u.yaw;
+    }
+    // The body disc's clearance from the true walls, obstacles and (on a map) pixels.
+    let truth_clearance = |p: Vector2<f64>| {
+        let pixels = prepared
+            .pixels
+            .as_ref()
+            .map_or(f64::INFINITY, |px| px.signed_distance(p) - r.radius);
+        prepared
+            .obstacles
+            .iter()
+            .map(|o| o.signed_distance(p) - r.radius)
+            .fold(floor.wall_distance(p) - r.radius, f64::min)
+            .min(pixels)
+    };
     for n in 0..=steps {
         out.time = n as f64 * h;
         // Monitors on the truth.
@@ -477,6 +509,36 @@ pub(crate) fn fly(
         if custom.is_none() && !world.is_empty() {
             nav.set_movers(world.reports())?;
         }
+        if let Some(u) = diff.as_mut() {
+            // The arc of `(v, ω)` held for `h`, judged along its length (no movers with a
+            // differential drive: the file is refused).
+            let c = match nav.command_pose(x, u.yaw) {
+                Ok(c) => c,
+                Err(e) => {
+                    out.ending = FloorEnding::Refused;
+                    out.error = Some(e);
+                    break;
+                }
+            };
+            out.escapes = nav.escapes();
+            out.commands += 1;
+            if let (Some(o), Some(mut s)) = (observer.as_mut(), pending) {
+                // Its motion `v·e(θ)` and heading, not the law's `u`.
+                (s.v, s.yaw) = ([vel.x, vel.y], Some(u.yaw));
+                o(Event::State(&s));
+                observed = Some(out.time);
+            }
+            let next;
+            (next, vel) = u.period_in(&truth_clearance, r.margin, x, &c, h);
+            yaw = u.yaw;
+            out.max_speed = out.max_speed.max(vel.norm());
+            // The arc's length: a chord is never longer, so the Lipschitz bound stays valid.
+            let length = c.v.abs() * h;
+            out.path += length;
+            last = Some((clearance, length));
+            x = next;
+            continue;
+        }
         let mut mode = None;
         let command = match custom {
             Some(law) => law(&nav, x, vel),
@@ -538,8 +600,13 @@ pub(crate) fn fly(
     if let Some(o) = observer.as_mut()
         && observed != Some(out.time)
     {
-        o(Event::State(&sample(&nav, out.time, x, vel)));
+        let mut s = sample(&nav, out.time, x, vel);
+        if let Some(u) = &diff {
+            (s.v, s.yaw) = ([vel.x, vel.y], Some(u.yaw));
+        }
+        o(Event::State(&s));
     }
+    out.diff = diff.map(|u| u.report);
     kept.push([x.x, x.y], Keep::Pinned);
     out.positions = kept.into_samples();
     out.k = nav.k();
@@ -613,6 +680,10 @@ pub struct FloorSummary {
     /// movers is as before).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub movers: Option<MoverReport>,
+    /// A differential drive's commands and arcs (`[robot] base = "diff"`; absent otherwise, so
+    /// that a holonomic robot's summary is as before).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub diff: Option<DiffReport>,
 }
 
 impl FloorSummary {
@@ -629,6 +700,10 @@ impl FloorSummary {
         let model = model.unwrap_or(r.model);
         let speed_bound = (model == Model::Dynamic).then(|| (2.0 * r.mu / r.mass).sqrt());
         let min_clearance = run.wall_clearance.min(run.obstacle_clearance);
+        // A differential drive's arcs, judged along their length (`crate::unicycle`).
+        let swept_clearance = run.diff.as_ref().map_or(run.swept_clearance, |d| {
+            run.swept_clearance.min(d.swept_clearance)
+        });
         let reached = run.ending == FloorEnding::Reached;
         let mut guarantees = vec![
             Guarantee::new(
@@ -648,12 +723,13 @@ impl FloorSummary {
                 min_clearance > 0.0 && min_clearance >= r.margin - MARGIN_TOLERANCE,
             ),
             Guarantee::new(
-                Check::NoCollisionBetweenStates {
-                    swept_clearance: run.swept_clearance,
-                },
-                run.swept_clearance > 0.0,
+                Check::NoCollisionBetweenStates { swept_clearance },
+                swept_clearance > 0.0,
             ),
         ];
+        if let Some(d) = &run.diff {
+            guarantees.push(d.bounds());
+        }
         if prepared.pixels.is_some() {
             guarantees.push(Guarantee::new(
                 Check::NoCollisionWithMap {
@@ -732,7 +808,7 @@ impl FloorSummary {
             max_speed: run.max_speed,
             speed_bound,
             min_clearance,
-            swept_clearance: run.swept_clearance,
+            swept_clearance,
             layer_clearance: run.layer_clearance,
             delta: prepared.floor.delta(),
             elements: prepared.floor.map().elements().len(),
@@ -746,6 +822,7 @@ impl FloorSummary {
             perception: run.perception.as_ref().map(|(r, _)| r.clone()),
             guarantees,
             movers: run.movers.clone(),
+            diff: run.diff.clone(),
         }
     }
 

@@ -105,6 +105,7 @@ fn floor_with(
         (Physics::Rapier, _) if !prepared.scenario.movers.is_empty() => {
             Err(RunError::MoversInRapier)
         }
+        (Physics::Rapier, _) if prepared.base().is_some() => Err(RunError::DiffFloorInRapier),
         (Physics::Builtin, None) => Ok(floor::run(prepared, model, start)?),
         (Physics::Builtin, Some(observer)) => {
             Ok(floor::run_observed(prepared, model, start, observer)?)

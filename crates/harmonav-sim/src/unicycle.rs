@@ -106,6 +106,20 @@ impl Diff {
         c: &PoseCommand,
         h: f64,
     ) -> (Vector2<f64>, Vector2<f64>) {
+        self.period_in(&|p| truth_clearance(truth, p), truth.margin, x, c, h)
+    }
+
+    /// [`Diff::period`] in any world: `clearance` the body disc's clearance from the true
+    /// shapes at a position (1-Lipschitz), `margin` the robot's (a floor plan's walls and
+    /// obstacles, `crate::floor`).
+    pub fn period_in(
+        &mut self,
+        clearance: &dyn Fn(Vector2<f64>) -> f64,
+        margin: f64,
+        x: Vector2<f64>,
+        c: &PoseCommand,
+        h: f64,
+    ) -> (Vector2<f64>, Vector2<f64>) {
         let r = &mut self.report;
         match c.steer {
             Steer::Ahead => r.ahead += 1,
@@ -117,7 +131,8 @@ impl Diff {
         r.max_v = r.max_v.max(c.v);
         r.max_omega = r.max_omega.max(c.omega.abs());
         r.total_turn += c.omega.abs() * h;
-        let (swept, points) = swept_clearance(truth, (x, self.yaw), (c.v, c.omega), h);
+        let (swept, points) =
+            swept_clearance_in(clearance, margin, (x, self.yaw), (c.v, c.omega), h);
         r.swept_clearance = r.swept_clearance.min(swept);
         r.arc_points += points;
         let (x1, yaw1) = unicycle_arc(x, self.yaw, c.v, c.omega, h);
@@ -130,8 +145,6 @@ impl Diff {
     /// kept, within [`MARGIN_TOLERANCE`]) and `diff-command-bounds`.
     pub fn guarantees(&self, margin: f64) -> Vec<Guarantee> {
         let r = &self.report;
-        // No command held (the robot started at its goal): nothing exceeded.
-        let min_v = if r.min_v.is_finite() { r.min_v } else { 0.0 };
         vec![
             Guarantee::new(
                 Check::NoCollisionBetweenStates {
@@ -139,17 +152,32 @@ impl Diff {
                 },
                 r.swept_clearance > 0.0 && r.swept_clearance >= margin - MARGIN_TOLERANCE,
             ),
-            Guarantee::new(
-                Check::DiffBounds {
-                    min_v,
-                    max_v: r.max_v,
-                    v_max: r.v_max,
-                    max_omega: r.max_omega,
-                    omega_max: r.omega_max,
-                },
-                min_v >= 0.0 && r.max_v <= r.v_max && r.max_omega <= r.omega_max,
-            ),
+            r.bounds(),
         ]
+    }
+}
+
+impl DiffReport {
+    /// The guarantee `diff-command-bounds`: `0 ≤ v ≤ v_max` and `|ω| ≤ ω_max` for every
+    /// command held, without tolerance.
+    #[must_use]
+    pub fn bounds(&self) -> Guarantee {
+        // No command held (the robot started at its goal): nothing exceeded.
+        let min_v = if self.min_v.is_finite() {
+            self.min_v
+        } else {
+            0.0
+        };
+        Guarantee::new(
+            Check::DiffBounds {
+                min_v,
+                max_v: self.max_v,
+                v_max: self.v_max,
+                max_omega: self.max_omega,
+                omega_max: self.omega_max,
+            },
+            min_v >= 0.0 && self.max_v <= self.v_max && self.max_omega <= self.omega_max,
+        )
     }
 }
 
@@ -167,14 +195,35 @@ impl Diff {
 #[must_use]
 pub fn swept_clearance(
     truth: &Truth,
+    pose: (Vector2<f64>, f64),
+    command: (f64, f64),
+    h: f64,
+) -> (f64, usize) {
+    swept_clearance_in(
+        &|p| truth_clearance(truth, p),
+        truth.margin,
+        pose,
+        command,
+        h,
+    )
+}
+
+/// The body disc's clearance from a star world's true obstacles and boundary at `p`.
+fn truth_clearance(truth: &Truth, p: Vector2<f64>) -> f64 {
+    let (obstacle, boundary) = truth.clearances(p);
+    obstacle.min(boundary)
+}
+
+/// [`swept_clearance`] with the clearance function `clearance` (1-Lipschitz) and the margin
+/// `margin` that spaces the points: any world's.
+#[must_use]
+pub fn swept_clearance_in(
+    clearance: &dyn Fn(Vector2<f64>) -> f64,
+    margin: f64,
     (x, yaw): (Vector2<f64>, f64),
     (v, omega): (f64, f64),
     h: f64,
 ) -> (f64, usize) {
-    let clearance = |p: Vector2<f64>| {
-        let (obstacle, boundary) = truth.clearances(p);
-        obstacle.min(boundary)
-    };
     let c0 = clearance(x);
     let length = v.abs() * h;
     if !(length > 0.0 && length.is_finite()) {
@@ -186,7 +235,7 @@ pub fn swept_clearance(
     let least = ARC_STEP_MIN.max(length / ARC_MAX_POINTS);
     let (mut l, mut c, mut worst, mut points) = (0.0, c0, c0, 1);
     while l < length {
-        let step = (ARC_STEP_SHARE * (c - truth.margin)).max(least);
+        let step = (ARC_STEP_SHARE * (c - margin)).max(least);
         let next = if l + step >= length { length } else { l + step };
         let c1 = clearance(at(next));
         worst = worst.min(0.5 * (c + c1 - (next - l)));

@@ -6,8 +6,12 @@
 
 use std::path::{Path, PathBuf};
 
+use harmonav_scenario::floorplan::{FileKind, FloorScenario};
 use harmonav_scenario::{BaseKind, Scenario};
-use harmonav_sim::physics::{Physics, simulate};
+use harmonav_sim::floor::FloorSummary;
+use harmonav_sim::physics::{Physics, simulate, simulate_floor};
+use harmonav_sim::summary::RunError;
+use nalgebra::Vector2;
 
 use super::movers::{failed_names, per_file, toml_files};
 use super::{Check, Outcome, Verdict};
@@ -25,8 +29,12 @@ pub fn checks() -> Vec<Check> {
 }
 
 /// One file under `physics`: every guarantee holds, the robot arrives, rapier sees no
-/// contact; the holonomic robot of the same file for comparison.
+/// contact; the holonomic robot of the same file for comparison. A floor plan goes to
+/// [`fly_floor`].
 fn fly(file: &Path, physics: Physics) -> Outcome {
+    if FileKind::of(file).map_err(|e| e.to_string())? == FileKind::FloorPlan {
+        return fly_floor(file, physics);
+    }
     let prepared = Scenario::load(file).map_err(|e| e.to_string())?;
     if prepared.base().is_none() {
         return Err("not a differential-drive file (`[robot] base = \"diff\"`)".into());
@@ -64,6 +72,56 @@ fn fly(file: &Path, physics: Physics) -> Outcome {
     let failed = failed_names(&s.guarantees);
     if !failed.is_empty() || !s.reached || contacts > 0 {
         return Err(format!("{detail}; failed: {failed:?}"));
+    }
+    Ok(Verdict::Held(detail))
+}
+
+/// A floor plan with a differential drive: built-in, every start (`robot.start` and the
+/// file's `[starts]`) arrives with every guarantee, against the holonomic robot of the same
+/// file; rapier must be refused by name (its arcs fly in the built-in loop only there).
+fn fly_floor(file: &Path, physics: Physics) -> Outcome {
+    let prepared = FloorScenario::load(file).map_err(|e| e.to_string())?;
+    if prepared.base().is_none() {
+        return Err("not a differential-drive file (`[robot] base = \"diff\"`)".into());
+    }
+    let start = Vector2::from(prepared.scenario.robot.start);
+    if physics == Physics::Rapier {
+        return match simulate_floor(&prepared, None, start, physics) {
+            Err(e @ RunError::DiffFloorInRapier) => Ok(Verdict::Held(format!("refused: {e}"))),
+            Err(e) => Err(format!("refused for another reason: {e}")),
+            Ok(_) => Err("rapier ran a floor plan's differential drive".into()),
+        };
+    }
+    let mut holonomic = prepared.scenario.clone();
+    holonomic.robot.base = BaseKind::Holonomic;
+    (holonomic.robot.omega_max, holonomic.robot.yaw) = (None, None);
+    let reference = holonomic.prepare(file).map_err(|e| e.to_string())?;
+    let (mut worst, mut ratios, mut swept) = (Vec::new(), Vec::new(), f64::INFINITY);
+    for &start in &prepared.starts {
+        let run =
+            simulate_floor(&prepared, None, start, Physics::Builtin).map_err(|e| e.to_string())?;
+        let s = FloorSummary::new(&prepared, None, start, &run);
+        let failed = failed_names(&s.guarantees);
+        if !failed.is_empty() || !s.reached {
+            worst.push(format!("({:.2}, {:.2}): {failed:?}", start.x, start.y));
+            continue;
+        }
+        swept = swept.min(s.swept_clearance);
+        let holo =
+            simulate_floor(&reference, None, start, Physics::Builtin).map_err(|e| e.to_string())?;
+        ratios.push(s.time_s / holo.time);
+    }
+    ratios.sort_by(f64::total_cmp);
+    let detail = format!(
+        "{} of {} starts reached with every guarantee; time over the holonomic robot's: median \
+         {:.2}, max {:.2}; swept clearance ≥ {swept:.4} m",
+        ratios.len(),
+        prepared.starts.len(),
+        ratios.get(ratios.len() / 2).copied().unwrap_or(f64::NAN),
+        ratios.last().copied().unwrap_or(f64::NAN),
+    );
+    if !worst.is_empty() {
+        return Err(format!("{detail}; failed: {}", worst.join(", ")));
     }
     Ok(Verdict::Held(detail))
 }

@@ -29,6 +29,10 @@ pub use crate::floor::FloorLaw;
 /// The run's [`FloorRun::contacts`] and [`FloorRun::max_deviation`] become the guarantees
 /// `physics-no-contact` and `physics-deviation` of its [`crate::floor::FloorSummary`].
 ///
+/// A floor plan with a differential drive is not for it (its loop moves the robot on the
+/// built-in arcs whatever the integrator): [`crate::physics::simulate_floor`] refuses rapier
+/// for one by name ([`crate::summary::RunError::DiffFloorInRapier`]).
+///
 /// # Errors
 /// The navigator could not be built (a message naming the parameter).
 pub fn run_floor_rapier(
