@@ -17,6 +17,11 @@
 //! results and their error codes. The services use Fast DDS's request/reply mapping unless
 //! `service_mapping: cyclone` (clients on `rmw_cyclonedds_cpp`).
 //!
+//! A goal during which the robot does not move `required_movement_radius` in
+//! `movement_time_allowance` is given up (Nav2's progress checker). The obstacles the node
+//! perceives go to RViz as `visualization_msgs/MarkerArray` line strips on
+//! `/harmonav/obstacles` ([`bridge::Bridge::obstacle_markers`]).
+//!
 //! This crate is a leaf: no other crate of the workspace depends on it, so a user of
 //! `harmonav` compiles no DDS.
 //!

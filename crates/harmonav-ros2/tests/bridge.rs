@@ -421,15 +421,22 @@ fn open_room() -> OccupancyGrid {
     })
 }
 
+/// A bridge with `params` and the robot at (8, 10) in [`open_room`], the laser's static
+/// transform given.
+fn in_open_room(params: Params) -> (Bridge, Sim) {
+    let mut bridge = Bridge::new(params);
+    let sim = Sim::new(open_room(), [8.0, 10.0]);
+    bridge.on_tf(&laser_static(), sim.t, true);
+    (bridge, sim)
+}
+
 #[test]
 fn scans_alone_arrive_and_stop_when_scans_stop() {
     let params = Params {
         map_topic: String::new(),
         ..Params::default()
     };
-    let mut bridge = Bridge::new(params.clone());
-    let mut sim = Sim::new(open_room(), [8.0, 10.0]);
-    bridge.on_tf(&laser_static(), sim.t, true);
+    let (mut bridge, mut sim) = in_open_room(params.clone());
     // No goal yet: zero, and why.
     assert_eq!(sim.step(&mut bridge, true).stop, Some(Stop::NoGoal));
     bridge.on_goal(&goal(12.0, 10.0), sim.t);
@@ -616,10 +623,8 @@ fn action_goal_succeeds_with_feedback() {
         map_topic: String::new(),
         ..Params::default()
     };
-    let mut bridge = Bridge::new(params.clone());
+    let (mut bridge, mut sim) = in_open_room(params.clone());
     let mut nav: Navigate<u32> = Navigate::new();
-    let mut sim = Sim::new(open_room(), [8.0, 10.0]);
-    bridge.on_tf(&laser_static(), sim.t, true);
     sim.step(&mut bridge, true);
     let id = GoalId::new_random();
     assert!(nav.send_goal(id, &nav_goal(12.0, 10.0), &mut bridge, sim.t, RosTime::ZERO));
@@ -671,10 +676,8 @@ fn action_preempt_cancel_and_refusals() {
         map_topic: String::new(),
         ..Params::default()
     };
-    let mut bridge = Bridge::new(params);
+    let (mut bridge, mut sim) = in_open_room(params);
     let mut nav: Navigate<u32> = Navigate::new();
-    let mut sim = Sim::new(open_room(), [8.0, 10.0]);
-    bridge.on_tf(&laser_static(), sim.t, true);
     let a = GoalId::new_random();
     assert!(nav.send_goal(a, &nav_goal(12.0, 10.0), &mut bridge, sim.t, RosTime::ZERO));
     nav.result_request(a, 1);
@@ -835,10 +838,8 @@ fn a_goal_without_progress_is_aborted_and_the_robot_stopped() {
     };
 
     // 1. Stuck wheels, an action goal.
-    let mut bridge = Bridge::new(params.clone());
+    let (mut bridge, mut sim) = in_open_room(params.clone());
     let mut nav: Navigate<u32> = Navigate::new();
-    let mut sim = Sim::new(open_room(), [8.0, 10.0]);
-    bridge.on_tf(&laser_static(), sim.t, true);
     let id = GoalId::new_random();
     let start = sim.t;
     assert!(nav.send_goal(id, &nav_goal(12.0, 10.0), &mut bridge, sim.t, RosTime::ZERO));
@@ -881,9 +882,7 @@ fn a_goal_without_progress_is_aborted_and_the_robot_stopped() {
     }
 
     // 2. Scans stop on the way (a goal from the topic): stale, then given up.
-    let mut bridge = Bridge::new(params.clone());
-    let mut sim = Sim::new(open_room(), [8.0, 10.0]);
-    bridge.on_tf(&laser_static(), sim.t, true);
+    let (mut bridge, mut sim) = in_open_room(params.clone());
     bridge.on_goal(&goal(12.0, 10.0), sim.t);
     for _ in 0..5 {
         assert_eq!(sim.step(&mut bridge, true).stop, None);
@@ -914,21 +913,17 @@ fn a_goal_without_progress_is_aborted_and_the_robot_stopped() {
     assert_eq!(said, 1);
 
     // 3. On its way (4 m, longer than the allowance): never given up.
-    let mut bridge = Bridge::new(params.clone());
-    let mut sim = Sim::new(open_room(), [8.0, 10.0]);
-    bridge.on_tf(&laser_static(), sim.t, true);
+    let (mut bridge, mut sim) = in_open_room(params.clone());
     bridge.on_goal(&goal(12.0, 10.0), sim.t);
     let t0 = sim.t;
     fly(&mut sim, &mut bridge, [12.0, 10.0], 4000);
     assert!((sim.t - t0).as_secs_f64() > allowance);
 
     // 4. The negative control: allowance 0, stuck for longer, still commanding.
-    let mut bridge = Bridge::new(Params {
+    let (mut bridge, mut sim) = in_open_room(Params {
         movement_time_allowance: 0.0,
         ..params
     });
-    let mut sim = Sim::new(open_room(), [8.0, 10.0]);
-    bridge.on_tf(&laser_static(), sim.t, true);
     bridge.on_goal(&goal(12.0, 10.0), sim.t);
     for _ in 0..100 {
         stuck_step(&mut sim, &mut bridge, true);
@@ -949,9 +944,7 @@ fn perceived_obstacles_as_markers_when_they_change() {
         map_topic: String::new(),
         ..Params::default()
     };
-    let mut bridge = Bridge::new(params.clone());
-    let mut sim = Sim::new(open_room(), [8.0, 10.0]);
-    bridge.on_tf(&laser_static(), sim.t, true);
+    let (mut bridge, mut sim) = in_open_room(params.clone());
     let first = bridge
         .obstacle_markers(Time::default())
         .expect("a first array");
