@@ -266,15 +266,22 @@ fn rerun(files: &[PathBuf]) -> Outcome {
     }
     let detail = format!(
         "{arrived}/{} runs arrived ({} plans, every start, both laws), {events} events, {seen} \
-         seen truth points covered{}",
+         seen truth points covered",
         runs.len(),
         plans.len(),
-        if missed.is_empty() {
-            String::new()
-        } else {
-            format!("; not arrived: {}", missed.join("; "))
-        }
     );
+    judged(detail, &lost, &missed)
+}
+
+/// The verdict on runs measured as `detail`: a lost guarantee (`lost`) fails, naming the first;
+/// runs that stayed safe but did not arrive (`missed`, appended to the detail) make it a target
+/// not met; else it held.
+pub(super) fn judged(detail: String, lost: &[String], missed: &[String]) -> Outcome {
+    let detail = if missed.is_empty() {
+        detail
+    } else {
+        format!("{detail}; not arrived: {}", missed.join("; "))
+    };
     if let Some(first) = lost.first() {
         return Err(format!("{detail}; {} unsafe, first: {first}", lost.len()));
     }
