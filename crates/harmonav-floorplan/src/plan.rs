@@ -99,7 +99,7 @@ impl std::fmt::Display for FloorError {
             }
             Self::TooNarrow { ring, problem } => write!(
                 f,
-                "the free space shrunk by radius + margin is not a valid floor plan at {ring} \
+                "the free space shrunk by radius + margin − δ is not a valid floor plan at {ring} \
                  (a passage narrower than the robot?): {problem}"
             ),
             Self::ContainsGoal { obstacle } => {

@@ -553,6 +553,7 @@ fn walls_the_shrink_would_join_are_joined_first() {
     assert!(e.to_string().contains("cross or touch"), "{e}");
     // It names the ring where it showed (it said "at the outer ring" for any two holes).
     assert!(e.to_string().contains("valid floor plan at hole "), "{e}");
+    assert!(e.to_string().contains("radius + margin − δ"), "{e}");
     // Now: joined into one hole, and the plan builds with both points certified.
     let floor = map
         .to_floor_map(s, g, &MapOptions::new(defaults))
