@@ -65,18 +65,23 @@ pub const FAR_FIELD_TOLERANCE: f64 = 1e-15;
 /// 2–3 µs, `L = 4` in 0.06 s and 8–12 µs; the error is the same (rounding, ~1e-14).
 const FAR_FIELD_MAX_LEVEL: u32 = 5;
 
-/// The far field's deepest level above [`DENSE_MAX_ELEMENTS`] elements: at level 5 an 84 000-
-/// element floor leaves about 1 000 near pieces per evaluation (a command took 283 µs); the
-/// tree's depth then follows its leaf size (8 pieces) down to this. Below, the level stays at
-/// [`FAR_FIELD_MAX_LEVEL`], so the maps that loaded before evaluate bit for bit as before.
+/// The far field's deepest level above [`DEEP_FAR_FIELD_ELEMENTS`] elements: at level 5 an
+/// 84 000-element floor leaves about 1 000 near pieces per evaluation (a command took 283 µs);
+/// the tree's depth then follows its leaf size (8 pieces) down to this. Below, the level stays
+/// at [`FAR_FIELD_MAX_LEVEL`], so the maps that loaded before evaluate as before.
 const FAR_FIELD_MAX_LEVEL_LARGE: u32 = 7;
 
+/// The elements above which the far field may go to [`FAR_FIELD_MAX_LEVEL_LARGE`] (the old
+/// cap of the dense solve).
+const DEEP_FAR_FIELD_ELEMENTS: usize = 5_000;
+
 /// The most elements [`Solver::Auto`] gives to the dense LU; above it, the iterative solve.
-/// It is the old cap of the dense solve (200 MB at `8(N + M + 1)²` bytes), kept so that every
-/// map that loaded before is solved bit for bit as before. The iterative solve is faster from
-/// about 1 500 elements (measured, docs/maths/13-harmonic-scaling.md), so this crossover is
-/// chosen for reproducibility, not speed.
-pub const DENSE_MAX_ELEMENTS: usize = 5_000;
+/// The crossover measured in docs/maths/13-harmonic-scaling.md (the iterative solve is faster
+/// from about 2 000 elements; at 4 851 elements, the TurtleBot3 world of the public maps, the
+/// dense LU took 3.8 s and 566 MB). Until 2026-12-06 it was 5 000, the old cap of the dense
+/// solve, kept so that every map that loaded before was solved bit for bit as before; every
+/// map of the suites but the public ones has fewer than 2 000.
+pub const DENSE_MAX_ELEMENTS: usize = 2_000;
 
 /// The most elements [`Solver::Dense`] takes: `8(N + M + 1)²` bytes, 1 GB at 11 000.
 pub const DENSE_LIMIT: usize = 11_000;
@@ -570,7 +575,7 @@ impl HarmonicMap {
         }
         let options = FmmOptions {
             tolerance,
-            max_level: if self.panels.len() > DENSE_MAX_ELEMENTS {
+            max_level: if self.panels.len() > DEEP_FAR_FIELD_ELEMENTS {
                 FAR_FIELD_MAX_LEVEL_LARGE
             } else {
                 FAR_FIELD_MAX_LEVEL

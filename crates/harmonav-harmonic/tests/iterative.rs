@@ -93,14 +93,23 @@ fn the_certificate_decides_the_same_on_both() {
     assert!((b.extremes.min_det - a.extremes.min_det).abs() <= 1e-8 * a.extremes.min_det.abs());
 }
 
+/// `Solver::Auto` solves densely up to the crossover (`DENSE_MAX_ELEMENTS`, bit for bit as
+/// `Solver::Dense`) and iteratively above it.
 #[test]
-fn the_default_keeps_the_dense_solve_up_to_the_old_cap() {
+fn the_default_solves_densely_up_to_the_crossover_and_iteratively_above() {
     let d = pillared_room();
     let map = HarmonicMap::new(&d, &MeshOptions::graded(0.1)).unwrap();
     assert!(map.elements().len() <= harmonav_harmonic::DENSE_MAX_ELEMENTS);
     assert_eq!(map.setup_cost().iterations, 0);
     let dense = HarmonicMap::new_with(&d, &MeshOptions::graded(0.1), Solver::Dense).unwrap();
     assert_eq!(map.punctures(), dense.punctures());
+    let fine = HarmonicMap::new(&d, &MeshOptions::graded(0.02)).unwrap();
+    assert!(
+        fine.elements().len() > harmonav_harmonic::DENSE_MAX_ELEMENTS,
+        "{} elements",
+        fine.elements().len()
+    );
+    assert!(fine.setup_cost().iterations > 0);
 }
 
 #[test]
