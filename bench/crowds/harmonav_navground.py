@@ -1,37 +1,42 @@
 """harmonav inside navground (issue 54, item 5; docs/movers.md §9).
 
-Two navground components, registered by name when this module is imported (navground's Python
+Three navground components, registered by name when this module is imported (navground's Python
 register: ``class C(core.Behavior, name=...)``), so that navground's YAML experiments can name
-them; ``bench/crowds/pyproject.toml`` also declares them as navground plugins (entry points
-``navground_behaviors`` and ``navground_modulations``) for ``navground_py`` and
-``core.load_plugins()``:
+them; ``bench/crowds/pyproject.toml`` also declares them as navground plugins (entry points) for
+``navground_py`` and ``core.load_plugins()``:
 
 - ``Harmonav`` (:class:`HarmonavBehavior`): a navground ``Behavior`` that runs harmonav. Towards
   a point target it keeps one ``harmonav.Navigator`` per target point (kinematic law, an empty
   disc world around the target, the agent's radius and ``safety_margin``, ``control_period`` =
   navground's time step, ``v_max`` = the target's speed); every period the agent's neighbours
-  (navground's state estimation) become ``harmonav.Mover``s with their radius, a position error
-  and a speed bound, and the navigator's command is filtered against them (and KeepRight turns
-  its nominal, docs/movers.md §7). With a direction target (navground's Corridor) or no target,
-  the nominal is navground's target velocity (or rest), turned by the same KeepRight rule
-  written here, and certified by ``harmonav.MoverFilter``. Every command passes through
-  ``compute_cmd_internal``: stops included, nothing bypasses the filter.
+  become ``harmonav.Mover``s with their radius, a position error and a speed bound, and the
+  navigator's command is filtered against them (the Rust KeepRight turns its nominal,
+  docs/movers.md §7). With a direction target (navground's Corridor) or no target, the nominal
+  is navground's target velocity (or rest), turned by the same KeepRight rule written here
+  (with the neighbours' velocities), and certified by ``harmonav.MoverFilter``. Every command
+  passes through ``compute_cmd_internal``: stops included, nothing bypasses the filter.
 - ``HarmonavFilter`` (:class:`MoverFilterModulation`): a navground ``BehaviorModulation`` that
   puts ``harmonav.MoverFilter`` behind any behaviour's command (``post``): "ORCA + filter".
+- ``HarmonavSensing`` (:class:`HarmonavSensing`): a ``StateEstimation`` with the information of
+  navground's ``Bounded`` (exact centres, radii and velocities within a range), read once per
+  step for the whole world and lattice-aware, and the world's straight walls. Without it the
+  two components above read the behaviour's ``GeometricState`` (``Bounded``), more slowly.
 
-Straight walls (navground ``LineSegment``s, the Corridor's) enter both as hard rows: a wall is
-given as a reciprocal mover of share 1 and speed 0, a disc of radius ``WALL_RADIUS`` tangent to
-the wall at the robot's foot point, whose row is then exactly the half-plane row of the wall
+Straight walls (navground's ``Wall``s, the Corridor's) enter both as hard rows: a wall is given
+as a reciprocal mover of share 1 and speed 0, a disc of radius ``WALL_RADIUS`` tangent to the
+wall at the robot's foot point, whose row is then exactly the half-plane row of the wall
 (``n·u ≥ −β·d/h`` with ``n`` the wall's normal and ``d`` the grown distance to the line). Walls
 of finite length are treated as infinite lines (conservative, and exact for the Corridor).
 
 The theorem's assumptions in navground (docs/movers.md §3): (A1) Omni kinematics with
 ``heading: idle``, so a held velocity is a straight step (an angular speed would make navground
-integrate an arc); (A2) a neighbour never moves faster than ``mover_speed_bound`` (navground's
-collision resolution can break it for agents that collide with each other); (A3) navground's
-Bounded state estimation with a range far above the reach (on a lattice navground may drop a
-neighbour for one step after a wrap: the benchmark counts those steps as sensing faults);
-(A4) ``peers: reciprocal`` only when every neighbour runs the same filter at the same period.
+integrate an arc), up to navground's single-precision rounding, which ``position_error``
+(``FLOAT_ERROR``) covers and :func:`recovered` keeps from accumulating; (A2) a neighbour never
+moves faster than ``mover_speed_bound`` (navground's collision resolution can break it for
+agents that collide with each other); (A3) a sensing range far above the reach (navground 0.7's
+``Bounded`` can miss a neighbour for the step after it wraps on a lattice: ``HarmonavSensing``
+does not); (A4) ``peers: reciprocal`` only when every neighbour runs the same filter at the same
+period: navground senses every agent, then computes every command, then moves them all.
 """
 
 from __future__ import annotations
@@ -78,6 +83,39 @@ def clockwise(u: np.ndarray, angle: float) -> np.ndarray:
     """``u`` turned clockwise by ``angle`` rad."""
     s, c = math.sin(angle), math.cos(angle)
     return np.array([c * u[0] + s * u[1], -s * u[0] + c * u[1]])
+
+
+def _peers(value: str) -> str:
+    if value not in ("reciprocal", "noncooperative"):
+        raise ValueError(f"peers: expected 'reciprocal' or 'noncooperative', got {value!r}")
+    return value
+
+
+def registered(name: str, default, doc: str, check=None) -> property:
+    """A navground property (YAML-settable, ``get``/``set`` by name) kept in ``self._<name>``,
+    of ``default``'s type, each value passed through ``check`` (default: the type)."""
+    kind = type(default)
+    check = check or kind
+    attr = "_" + name
+
+    def getter(self):
+        return getattr(self, attr, default)
+
+    getter.__name__ = name
+    getter.__annotations__ = {"return": kind}
+
+    def setter(self, value) -> None:
+        setattr(self, attr, check(value))
+
+    return property(core.register(default, doc)(getter), setter)
+
+
+#: The properties the behaviour and the modulation share.
+PEERS_DOC = ("how the neighbours are given: 'reciprocal' (every neighbour runs this filter at "
+             "the same period) or 'noncooperative'")
+BOUND_DOC = "speed bound V of a non-cooperative neighbour, m/s (negative: the agent's max_speed)"
+ERROR_DOC = ("bound on a neighbour's position error, m (default: navground's single-precision "
+             "rounding)")
 
 
 class KeepRight:
@@ -144,9 +182,10 @@ def neighbour_arrays(state) -> tuple:
 
 
 def near_movers(x, arrays, body: tuple, v_max: float, bound: float, error: float, h: float,
-                kind: str) -> tuple:
-    """The neighbours that can matter (:func:`neighbour_reach`) as ``harmonav.Mover``s, and as
-    arrays ``(centres, radii, velocities)`` for KeepRight."""
+                kind: str, tracked: bool = False) -> tuple:
+    """The neighbours that can matter (:func:`neighbour_reach`) as ``harmonav.Mover``s (with
+    their velocity as the tracked one if ``tracked``), and as arrays ``(centres, radii,
+    velocities)`` for the Python KeepRight."""
     p, r, v = arrays
     if len(r) == 0:
         return [], arrays
@@ -156,7 +195,10 @@ def near_movers(x, arrays, body: tuple, v_max: float, bound: float, error: float
                             np.hypot(v[:, 0], v[:, 1]))
     near = dist <= reach
     p, r, v = p[near], r[near], v[near]
-    movers = [harmonav.Mover(c, s, bound, error, kind) for c, s in zip(p.tolist(), r.tolist())]
+    # The tracked velocity feeds KeepRight's anticipation only, never a row.
+    vs = v.tolist() if tracked else [None] * len(r)
+    movers = [harmonav.Mover(c, s, bound, error, kind, 0.5, w)
+              for c, s, w in zip(p.tolist(), r.tolist(), vs)]
     return movers, (p, r, v)
 
 
@@ -316,17 +358,38 @@ def least_clearance(x, movers: list, grown: float) -> float:
                default=float("inf"))
 
 
+def recovered(mover_filter, x, u, movers: list, grown: float):
+    """After an ``Overwhelmed`` command: the velocity that leads out of every reciprocal mover
+    (and wall) whose reported clearance has fallen to 0 or below, instead of only not closing in.
+
+    The filter's hard rows keep ``u = 0`` feasible with ``max(d, 0)``, so once a clearance
+    rounds below 0 they only forbid closing in (``n·u ≥ 0``), and nothing brings it back:
+    navground's single-precision integration then drifts it further (a velocity component
+    smaller than half an ulp of the position, 2.4e-7 m at 4–8 m, is dropped every step, so
+    sliding along a neighbour closes in by up to that much per step, systematically). Such a
+    mover is given here as non-cooperative with speed bound 0, whose row
+    ``n·u ≥ −β·d/h > 0`` leads out. The command stays uncertified (Theorem 1 starts from
+    ``d > 0``): only what it does changes."""
+    changed = []
+    for m in movers:
+        d = float(np.hypot(*(x - m.centre))) - grown - m.radius - m.error
+        if m.kind == "reciprocal" and d <= 0.0:
+            changed.append(harmonav.Mover(m.centre, m.radius, 0.0, m.error))
+        else:
+            changed.append(m)
+    try:
+        v, _ = mover_filter.filter(x, u, changed)
+    except ValueError:
+        return u
+    return v
+
+
 class HarmonavBehavior(core.Behavior, name="Harmonav"):
     """harmonav's kinematic law and certified mover filter as a navground behaviour."""
 
     def __init__(self, kinematics: Optional[core.Kinematics] = None, radius: float = 0.0):
         super().__init__(kinematics, radius)
         self._state = core.GeometricState()
-        self._peers = "reciprocal"
-        self._speed_bound = -1.0
-        self._error = FLOAT_ERROR
-        self._world_radius = 10.0
-        self._filter = True
         self._navigators: dict = {}
         self._filters: dict = {}
         self._keep_right = KeepRight()
@@ -334,56 +397,17 @@ class HarmonavBehavior(core.Behavior, name="Harmonav"):
 
     # --- YAML-settable properties ---------------------------------------------------------
 
-    @property
-    @core.register("reciprocal", "how the neighbours are given: 'reciprocal' (every neighbour "
-                   "runs this behaviour at the same period) or 'noncooperative'")
-    def peers(self) -> str:
-        return self._peers
-
-    @peers.setter
-    def peers(self, value: str) -> None:
-        if value not in ("reciprocal", "noncooperative"):
-            raise ValueError(f"peers: expected 'reciprocal' or 'noncooperative', got {value!r}")
-        self._peers = value
-
-    @property
-    @core.register(-1.0, "speed bound V of a non-cooperative neighbour, m/s (negative: the "
-                   "agent's own max_speed)")
-    def mover_speed_bound(self) -> float:
-        return self._speed_bound
-
-    @mover_speed_bound.setter
-    def mover_speed_bound(self, value: float) -> None:
-        self._speed_bound = float(value)
-
-    @property
-    @core.register(FLOAT_ERROR, "bound on a neighbour's position error, m (default: "
-                   "navground's single-precision rounding)")
-    def position_error(self) -> float:
-        return self._error
-
-    @position_error.setter
-    def position_error(self, value: float) -> None:
-        self._error = float(value)
-
-    @property
-    @core.register(10.0, "radius of the empty disc world around each target, m")
-    def world_radius(self) -> float:
-        return self._world_radius
-
-    @world_radius.setter
-    def world_radius(self, value: float) -> None:
-        self._world_radius = float(value)
-
-    @property
-    @core.register(True, "filter the commands against the neighbours (False: a negative "
-                   "control, harmonav's law alone)")
-    def use_filter(self) -> bool:
-        return self._filter
-
-    @use_filter.setter
-    def use_filter(self, value: bool) -> None:
-        self._filter = bool(value)
+    peers = registered("peers", "reciprocal", PEERS_DOC, _peers)
+    mover_speed_bound = registered("mover_speed_bound", -1.0, BOUND_DOC)
+    position_error = registered("position_error", FLOAT_ERROR, ERROR_DOC)
+    world_radius = registered("world_radius", 10.0,
+                              "radius of the empty disc world around each target, m")
+    use_filter = registered("use_filter", True, "filter the commands against the neighbours "
+                            "(False: a negative control, harmonav's law alone)")
+    tracked_velocity = registered(
+        "tracked_velocity", False, "give the navigator's movers the neighbours' velocities "
+        "(KeepRight's anticipation only; off: a neighbour is anticipated at rest, which "
+        "measured better in Cross, Antipodal and the mixed crowd)")
 
     # --- navground hooks ------------------------------------------------------------------
 
@@ -391,20 +415,22 @@ class HarmonavBehavior(core.Behavior, name="Harmonav"):
         return self._state
 
     def speed_bound(self) -> float:
-        return self._speed_bound if self._speed_bound >= 0.0 else float(self.max_speed)
+        bound = self.mover_speed_bound
+        return bound if bound >= 0.0 else float(self.max_speed)
 
     def movers(self, x: np.ndarray, v_max: float, h: float) -> tuple:
         """The neighbours as harmonav movers (those that can matter, see
         :func:`neighbour_reach`), and as ``(centre, radius, velocity)`` for KeepRight."""
         return near_movers(x, sensed_arrays(self, self._state),
                            (float(self.radius), float(self.safety_margin)), v_max,
-                           self.speed_bound(), self._error, h, self._peers)
+                           self.speed_bound(), self.position_error, h, self.peers,
+                           self.tracked_velocity)
 
     def navigator(self, goal: np.ndarray, x: np.ndarray, speed: float, h: float):
         key = (round(float(goal[0]), 6), round(float(goal[1]), 6), round(speed, 9), h)
         nav = self._navigators.get(key)
         if nav is None:
-            reach = max(self._world_radius, 3.0 * float(np.hypot(*(x - goal))))
+            reach = max(self.world_radius, 3.0 * float(np.hypot(*(x - goal))))
             nav = harmonav.Navigator(harmonav.circle(goal, reach), goal, law="kinematic",
                                      radius=float(self.radius),
                                      margin=float(self.safety_margin), control_period=h,
@@ -426,7 +452,7 @@ class HarmonavBehavior(core.Behavior, name="Harmonav"):
         grown = float(self.radius) + float(self.safety_margin)
         speed = float(self.get_target_speed()) or float(self.optimal_speed)
         speed = min(speed, float(self.max_speed))
-        movers, plain = self.movers(x, max(speed, float(self.max_speed)), h) if self._filter \
+        movers, plain = self.movers(x, max(speed, float(self.max_speed)), h) if self.use_filter \
             else ([], (np.zeros((0, 2)), np.zeros(0), np.zeros((0, 2))))
         movers += wall_movers(x, sensed_lines(self, self._state), float(self.radius))
         point = self.get_target_position(core.Frame.absolute)
@@ -436,8 +462,11 @@ class HarmonavBehavior(core.Behavior, name="Harmonav"):
                 nav.set_movers(movers)
                 u = nav.command(x)
                 mode = nav.mode
-                self.log.add(mode, least_clearance(x, movers, grown) if mode == "overwhelmed"
-                             else -1.0)
+                least = -1.0
+                if mode == "overwhelmed":
+                    least = least_clearance(x, movers, grown)
+                    u = recovered(self.mover_filter(speed, h), x, u, movers, grown)
+                self.log.add(mode, least)
             except ValueError:
                 # The robot's disc overlaps a reported body (InMover: A3 or A2 broken): no
                 # certified command exists; it rests.
@@ -458,7 +487,11 @@ class HarmonavBehavior(core.Behavior, name="Harmonav"):
             u, mode = self.mover_filter(v_max, h).filter(x, turned, movers)
         except ValueError:
             u, mode = np.zeros(2), "refused"
-        self.log.add(mode, least_clearance(x, movers, grown) if mode == "overwhelmed" else -1.0)
+        least = -1.0
+        if mode == "overwhelmed":
+            least = least_clearance(x, movers, grown)
+            u = recovered(self.mover_filter(v_max, h), x, u, movers, grown)
+        self.log.add(mode, least)
         self._keep_right.after(float(np.hypot(*u)), wanted, mode != "law", wanted > 0.0, h)
         return self.twist_towards_velocity(u)
 
@@ -472,54 +505,15 @@ class MoverFilterModulation(core.BehaviorModulation, name="HarmonavFilter"):
 
     def __init__(self) -> None:
         super().__init__()
-        self._peers = "reciprocal"
-        self._speed_bound = -1.0
-        self._error = FLOAT_ERROR
-        self._keep_right_on = False
-        self._keep_right = KeepRight()
+        self._rule = KeepRight()
         self._filter = None
         self.log = _Log()
 
-    @property
-    @core.register("reciprocal", "'reciprocal' (every neighbour runs this filter at the same "
-                   "period) or 'noncooperative'")
-    def peers(self) -> str:
-        return self._peers
-
-    @peers.setter
-    def peers(self, value: str) -> None:
-        if value not in ("reciprocal", "noncooperative"):
-            raise ValueError(f"peers: expected 'reciprocal' or 'noncooperative', got {value!r}")
-        self._peers = value
-
-    @property
-    @core.register(-1.0, "speed bound V of a non-cooperative neighbour, m/s (negative: the "
-                   "agent's max_speed)")
-    def mover_speed_bound(self) -> float:
-        return self._speed_bound
-
-    @mover_speed_bound.setter
-    def mover_speed_bound(self, value: float) -> None:
-        self._speed_bound = float(value)
-
-    @property
-    @core.register(FLOAT_ERROR, "bound on a neighbour's position error, m (default: "
-                   "navground's single-precision rounding)")
-    def position_error(self) -> float:
-        return self._error
-
-    @position_error.setter
-    def position_error(self, value: float) -> None:
-        self._error = float(value)
-
-    @property
-    @core.register(False, "turn the behaviour's command by KeepRight before the filter")
-    def keep_right(self) -> bool:
-        return self._keep_right_on
-
-    @keep_right.setter
-    def keep_right(self, value: bool) -> None:
-        self._keep_right_on = bool(value)
+    peers = registered("peers", "reciprocal", PEERS_DOC, _peers)
+    mover_speed_bound = registered("mover_speed_bound", -1.0, BOUND_DOC)
+    position_error = registered("position_error", FLOAT_ERROR, ERROR_DOC)
+    keep_right = registered("keep_right", False,
+                            "turn the behaviour's command by KeepRight before the filter")
 
     def post(self, behavior: core.Behavior, time_step: float, cmd: core.Twist2) -> core.Twist2:
         h = float(time_step)
@@ -529,26 +523,29 @@ class MoverFilterModulation(core.BehaviorModulation, name="HarmonavFilter"):
         v_max = float(behavior.max_speed)
         if self._filter is None or self._filter.control_period != h:
             self._filter = harmonav.MoverFilter(radius, margin, v_max, h)
-        bound = self._speed_bound if self._speed_bound >= 0.0 else v_max
+        bound = self.mover_speed_bound if self.mover_speed_bound >= 0.0 else v_max
         nominal = np.asarray(behavior.to_frame(cmd, core.Frame.absolute).velocity, dtype=float)
-        movers, plain = near_movers(x, sensed_arrays(behavior, state), (radius, margin), v_max, bound,
-                                    self._error, h, self._peers)
+        movers, plain = near_movers(x, sensed_arrays(behavior, state), (radius, margin), v_max,
+                                    bound, self.position_error, h, self.peers)
         lines = sensed_lines(behavior, state)
         movers += wall_movers(x, lines, radius)
         turned = nominal
-        if self._keep_right_on:
-            turn = self._keep_right.turn(x, nominal, plain, radius + margin)
+        if self.keep_right:
+            turn = self._rule.turn(x, nominal, plain, radius + margin)
             if turn > 0.0:
                 turned = clockwise(nominal, turn)
         try:
             u, mode = self._filter.filter(x, turned, movers)
         except ValueError:
             u, mode = np.zeros(2), "refused"
-        self.log.add(mode, least_clearance(x, movers, radius + margin)
-                     if mode == "overwhelmed" else -1.0)
-        if self._keep_right_on:
+        least = -1.0
+        if mode == "overwhelmed":
+            least = least_clearance(x, movers, radius + margin)
+            u = recovered(self._filter, x, u, movers, radius + margin)
+        self.log.add(mode, least)
+        if self.keep_right:
             wanted = float(np.hypot(*nominal))
-            self._keep_right.after(float(np.hypot(*u)), wanted, mode != "law", wanted > 0.0, h)
+            self._rule.after(float(np.hypot(*u)), wanted, mode != "law", wanted > 0.0, h)
         if mode == "law":
             return cmd
         return behavior.twist_towards_velocity(u)
