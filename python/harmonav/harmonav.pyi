@@ -286,9 +286,15 @@ class Mover:
         error: float = 0.0,
         kind: str = "noncooperative",
         share: float = 0.5,
+        velocity: Optional[_Point] = None,
     ) -> None: ...
     @property
     def centre(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def velocity(self) -> Optional[npt.NDArray[np.float64]]:
+        """The tracked velocity (m/s), if given: never used by the certificate; KeepRight's
+        anticipation reads it."""
+        ...
     @property
     def radius(self) -> float: ...
     @property
