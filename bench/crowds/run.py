@@ -7,7 +7,7 @@ Every cell runs the same seeds (0 … N − 1) of navground's example configurat
 Omni kinematics with ``heading: idle``, the examples' radius, optimal and max speed, safety
 margin, sensing range, time step 0.1 s = control period), terminating when every agent is idle
 or stuck. Entries: ``ORCA``, ``HL`` (navground's), ``harmonav`` (the ``Harmonav`` behaviour of
-``harmonav_navground``: the kinematic law, the certified mover filter with every other agent as
+``harmonav.navground``: the kinematic law, the certified mover filter with every other agent as
 a reciprocal mover, KeepRight) and ``ORCA+filter`` (navground's ORCA with the ``HarmonavFilter``
 modulation). ``mixed``: Cross with one robot (harmonav with non-cooperative rows and
 V = 0.166 m/s, or ORCA, or HL) among 19 navground ``Dummy`` agents that ignore everyone.
@@ -37,9 +37,8 @@ import time
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, HERE)
 
-import harmonav_navground as hn  # noqa: E402  (registers Harmonav, HarmonavFilter, HarmonavSensing)
+from harmonav import navground as hn  # noqa: E402  (registers Harmonav, HarmonavFilter, HarmonavSensing)
 
 #: navground's example experiments (navground_examples_yaml/experiment/*.yaml), Omni with
 #: heading idle (the proof's straight hold), and the number of steps of 0.1 s.

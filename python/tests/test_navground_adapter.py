@@ -1,11 +1,9 @@
-"""The navground adapter of issue 54 (bench/crowds/harmonav_navground.py, docs/movers.md §9):
+"""The navground adapter of issue 54 (``harmonav.navground``, docs/movers.md §9):
 a tiny antipodal crowd in navground with the `Harmonav` behaviour arrives without contact and
 never below the margin, and ORCA behind the `HarmonavFilter` modulation never touches. Skipped
 when navground is not installed (it is not a dependency of harmonav), except in CI."""
 
 import os
-import pathlib
-import sys
 
 import numpy as np
 import pytest
@@ -15,9 +13,7 @@ if not os.environ.get("HARMONAV_REQUIRE_NAVGROUND"):
     pytest.importorskip("navground")
 from navground import core, sim  # noqa: E402
 
-CROWDS = pathlib.Path(__file__).resolve().parents[2] / "bench" / "crowds"
-sys.path.insert(0, str(CROWDS))
-import harmonav_navground as hn  # noqa: E402
+from harmonav import navground as hn  # noqa: E402
 
 MARGIN = 0.01
 

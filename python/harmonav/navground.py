@@ -1,9 +1,11 @@
-"""harmonav inside navground (issue 54, item 5; docs/movers.md §9).
+"""``harmonav.navground``: harmonav inside navground (issue 54, item 5; docs/movers.md §9).
 
-Three navground components, registered by name when this module is imported (navground's Python
-register: ``class C(core.Behavior, name=...)``), so that navground's YAML experiments can name
-them; ``bench/crowds/pyproject.toml`` also declares them as navground plugins (entry points) for
-``navground_py`` and ``core.load_plugins()``:
+Imported only when navground is installed: ``import harmonav`` never imports this module, and
+importing it without navground raises an ``ImportError`` that says so. Three navground
+components, registered by name when this module is imported (navground's Python register:
+``class C(core.Behavior, name=...)``), so that navground's YAML experiments can name them; the
+``harmonav`` package also declares them as navground plugins (entry points, python/pyproject.toml)
+for ``navground_py`` and ``core.load_plugins()``:
 
 - ``Harmonav`` (:class:`HarmonavBehavior`): a navground ``Behavior`` that runs harmonav. Towards
   a point target it keeps one ``harmonav.Navigator`` per target point (kinematic law, an empty
@@ -45,7 +47,13 @@ import math
 from typing import Optional
 
 import numpy as np
-from navground import core, sim
+
+try:
+    from navground import core, sim
+except ImportError as e:  # pragma: no cover - the message is the point
+    raise ImportError(
+        "harmonav.navground needs navground (pip install navground); harmonav itself does not"
+    ) from e
 
 import harmonav
 
