@@ -3,11 +3,20 @@
 import os
 import pathlib
 import shutil
+import signal
 
 import numpy as np
 import pytest
 
 import harmonav
+
+# A runner may start the tests with SIGINT ignored (a background job of a shell without job
+# control, as `cmd &` in a script). Python then installs no handler, `_thread.interrupt_main`
+# does nothing and child processes ignore Ctrl-C too, so the Ctrl-C tests (test_interrupt.py,
+# test_experiment.py, test_scenario.py) would fail for the launcher's sake: give them Python's
+# own handler, as a terminal does (children then start with the default disposition).
+if signal.getsignal(signal.SIGINT) == signal.SIG_IGN:
+    signal.signal(signal.SIGINT, signal.default_int_handler)
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
 SCENARIOS = REPO / "scenarios"
