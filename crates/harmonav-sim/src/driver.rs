@@ -13,7 +13,7 @@ use crate::guarantee::Guarantee;
 use crate::monitor::{End, EnergyError, Recorder};
 use crate::outcome::rested_too_long;
 use crate::summary::{Run, RunError};
-use crate::trace::{Discovery, Event, MOVER_FRAME_PERIOD, MoverFrame, Sample, ScanRecord};
+use crate::trace::{Discovery, Event, MoverFrame, Sample, ScanRecord, frame_due};
 use crate::trajectory::Keep;
 use crate::warning::Warning;
 
@@ -253,17 +253,17 @@ impl<'a, 'o> Driver<'a, 'o> {
         Some(changed)
     }
 
-    /// The movers at a recorded state (after it), handed to the observer and kept, if
-    /// [`MOVER_FRAME_PERIOD`] has passed since the last frame kept.
+    /// Whether a movers' frame at `t` is due ([`MOVER_FRAME_PERIOD`] since the last kept), so
+    /// that a loop builds one only then.
+    pub fn movers_due(&self, t: f64) -> bool {
+        frame_due(&self.mover_frames, t)
+    }
+
+    /// The movers at a recorded state (after it), handed to the observer and kept (a loop asks
+    /// [`Driver::movers_due`] first).
     pub fn movers(&mut self, frame: MoverFrame) {
-        let due = self
-            .mover_frames
-            .last()
-            .is_none_or(|f| frame.t - f.t >= MOVER_FRAME_PERIOD * (1.0 - 1e-9));
-        if due {
-            self.rec.observe(Event::Movers(&frame));
-            self.mover_frames.push(frame);
-        }
+        self.rec.observe(Event::Movers(&frame));
+        self.mover_frames.push(frame);
     }
 
     /// A guarantee lost on the way (a step-size collapse, the free space left): the run stops.

@@ -18,7 +18,7 @@ use crate::guarantee::{Check, Guarantee};
 use crate::movers::{MoverReport, MoverWorld};
 use crate::scanner::{Scanner, Scene};
 use crate::summary::{PerceptionReport, Physics};
-use crate::trace::{Discovery, Event, MOVER_FRAME_PERIOD, MoverFrame, Sample, recorded_velocity};
+use crate::trace::{Discovery, Event, MoverFrame, Sample, frame_due, recorded_velocity};
 use crate::trajectory::{Keep, Trajectory};
 use crate::unicycle::{Diff, DiffReport};
 
@@ -494,12 +494,7 @@ pub(crate) fn fly(
             [x.x, x.y],
             if discovered { Keep::Pinned } else { Keep::Grid },
         );
-        if !world.is_empty()
-            && out
-                .mover_frames
-                .last()
-                .is_none_or(|f| out.time - f.t >= MOVER_FRAME_PERIOD * (1.0 - 1e-9))
-        {
+        if !world.is_empty() && frame_due(&out.mover_frames, out.time) {
             let frame = world.frame(out.time, x, last_mode, h);
             if let Some(o) = observer.as_mut() {
                 o(Event::Movers(&frame));

@@ -21,7 +21,7 @@ use crate::guarantee::{Check, FreeSpaceLoss, Guarantee};
 use crate::monitor::End;
 use crate::movers::MoverWorld;
 use crate::summary::{Physics, Run, RunError};
-use crate::trace::{Event, MoverFrame, MoverMark, Sample};
+use crate::trace::{Event, MoverMark, Sample};
 use crate::trajectory::Keep;
 use crate::unicycle::Diff;
 
@@ -99,7 +99,7 @@ pub(crate) fn fly_with(
         } else {
             d.judge_event(&s, acted);
         }
-        if !world.is_empty() {
+        if !world.is_empty() && d.movers_due(t) {
             d.movers(world.frame(t, x, last_mode, h));
         }
         if reached || t >= sc.sim.max_time {
@@ -349,21 +349,21 @@ fn fleet(
         }
         // The first robot's frame, after its state: the scripted movers and the other robots
         // (reciprocal while they fly).
-        let peers: Vec<MoverMark> = robots[1..]
-            .iter()
-            .map(|r| MoverMark {
-                position: [r.x.x, r.x.y],
-                radius,
-                reach: radius + r.speed * h,
-                reciprocal: !r.done,
-            })
-            .collect();
-        let first = &mut robots[0];
-        let frame = first.world.frame(t, first.x, first.mode, h);
-        first.d.movers(MoverFrame {
-            movers: frame.movers.into_iter().chain(peers).collect(),
-            ..frame
-        });
+        if robots[0].d.movers_due(t) {
+            let peers: Vec<MoverMark> = robots[1..]
+                .iter()
+                .map(|r| MoverMark {
+                    position: [r.x.x, r.x.y],
+                    radius,
+                    reach: radius + r.speed * h,
+                    reciprocal: !r.done,
+                })
+                .collect();
+            let first = &mut robots[0];
+            let mut frame = first.world.frame(t, first.x, first.mode, h);
+            frame.movers.extend(peers);
+            first.d.movers(frame);
+        }
         if robots.iter().all(|r| r.done) {
             break;
         }

@@ -101,6 +101,14 @@ pub enum Event<'a> {
 /// 1.5 m/s moves 0.15 m between two).
 pub const MOVER_FRAME_PERIOD: f64 = 0.1;
 
+/// Whether a frame at `t` is due after the frames kept so far: none yet, or
+/// [`MOVER_FRAME_PERIOD`] since the last (up to rounding).
+pub(crate) fn frame_due(frames: &[MoverFrame], t: f64) -> bool {
+    frames
+        .last()
+        .is_none_or(|f| t - f.t >= MOVER_FRAME_PERIOD * (1.0 - 1e-9))
+}
+
 /// The movers at one instant, and how the robot's last command was formed: what the recording
 /// and `trajectory.svg` draw (issue 54, item 4).
 #[derive(Clone, Debug, PartialEq, Serialize)]

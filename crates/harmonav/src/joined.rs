@@ -90,16 +90,7 @@ impl Joined {
 
     /// The navigator's index of the field's obstacle `i`.
     pub(crate) fn navigator_index(&self, i: usize) -> usize {
-        // The `i`-th index that did not join.
-        let mut j = i;
-        for &k in &self.indices {
-            if k <= j {
-                j += 1;
-            } else {
-                break;
-            }
-        }
-        j
+        navigator_index(&self.indices, i)
     }
 
     /// The field's index of the navigator's obstacle `j`, `None` if it joined the boundary.
@@ -143,29 +134,29 @@ impl Joined {
                 .filter(|j| joined.binary_search(j).is_err())
                 .map(|j| known.grown[j].clone())
                 .collect();
-            let state = Joined {
-                boundary: self.boundary.clone(),
-                inner: self.inner.clone(),
-                indices: joined.clone(),
-                all: if joined.is_empty() {
-                    Vec::new()
-                } else {
-                    known.grown.to_vec()
-                },
-            };
             match Workspace::new(boundary, rest, goal) {
                 Ok(ws) => {
                     let field = field
                         .all_known_after(Arc::new(ws), options.k)
                         .map_err(NavError::Field)?;
+                    let all = if joined.is_empty() {
+                        Vec::new()
+                    } else {
+                        known.grown.to_vec()
+                    };
                     return Ok(Rebuilt {
                         field,
                         inner,
-                        joined: state,
+                        joined: Joined {
+                            boundary: self.boundary.clone(),
+                            inner: self.inner.clone(),
+                            indices: joined,
+                            all,
+                        },
                     });
                 }
                 Err(WorldError::OutsideBoundary { obstacle }) => {
-                    let j = state.navigator_index(obstacle);
+                    let j = navigator_index(&joined, obstacle);
                     if joined.len() >= MAX_JOINED {
                         return Err(NavError::CrossesBoundary);
                     }
@@ -174,8 +165,8 @@ impl Joined {
                 }
                 Err(WorldError::Overlap { first, second }) => {
                     return Err(overlap(
-                        state.navigator_index(first),
-                        state.navigator_index(second),
+                        navigator_index(&joined, first),
+                        navigator_index(&joined, second),
                     ));
                 }
                 Err(WorldError::InObstacle { .. }) => return Err(NavError::ContainsGoal),
@@ -205,4 +196,18 @@ impl Joined {
         };
         Ok((boundary, inner))
     }
+}
+
+/// The navigator's index of the field's obstacle `i` when the navigator's obstacles `joined`
+/// (sorted) joined the boundary: the `i`-th index not among them.
+fn navigator_index(joined: &[usize], i: usize) -> usize {
+    let mut j = i;
+    for &k in joined {
+        if k <= j {
+            j += 1;
+        } else {
+            break;
+        }
+    }
+    j
 }
