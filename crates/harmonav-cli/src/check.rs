@@ -8,7 +8,6 @@
 use std::path::Path;
 use std::time::Instant;
 
-use harmonav_rs::KPolicy;
 use harmonav_rs::floorplan::{FloorField, MAX_AREA_SAMPLES};
 use harmonav_scenario::Prepared;
 use harmonav_scenario::floorplan::FloorPrepared;
@@ -105,12 +104,13 @@ pub fn cmd_check_floor_json(prepared: &FloorPrepared) -> Result<bool, CliError> 
     let level_s = clock.elapsed().as_secs_f64();
     let r = &prepared.scenario.robot;
     let goal = Vector2::new(r.goal[0], r.goal[1]);
-    let field = FloorField::new(prepared.floor.clone(), goal, KPolicy::default()).map_err(|e| {
-        CliError::Navigator {
-            scenario: prepared.path.clone(),
-            error: harmonav_rs::NavError::Floor(e),
-        }
-    })?;
+    let field =
+        FloorField::new(prepared.floor.clone(), goal, prepared.scenario.field.k).map_err(|e| {
+            CliError::Navigator {
+                scenario: prepared.path.clone(),
+                error: harmonav_rs::NavError::Floor(e),
+            }
+        })?;
     let clock = Instant::now();
     let area = field.certified_area(
         &level,

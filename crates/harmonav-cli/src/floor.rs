@@ -1,8 +1,8 @@
 //! `run`, `eval` and `check` on a floor-plan file (a `[floor_plan]` table, issue 25): the
 //! user's loop around a `FloorNavigator` (`harmonav_sim::floor`), built-in or in rapier
 //! (`harmonav_sim::physics::simulate_floor_observed`), its summary and outputs
-//! (`harmonav_output::floor`); and the loading that `sweep` shares. The star-world options that
-//! have no meaning on a floor plan (`--k`, `--damping`, `census`) are refused by name.
+//! (`harmonav_output::floor`); and the loading that `sweep` shares. `--k` and `--damping` set the
+//! file's `[field] k` and `[controller] damping`, as in a star world.
 
 use std::path::Path;
 
@@ -15,33 +15,39 @@ use harmonav_sim::floor::{FloorSummary, navigator, obstacle_name};
 use harmonav_sim::physics::simulate_floor_observed;
 use harmonav_transform::Shown;
 
-use crate::args::model;
+use crate::args::{DampingArg, KArg, model};
 use crate::error::CliError;
 use crate::eval::{parse_points, print_rows};
 use crate::run::{RunArgs, print_guarantees, print_head};
 use crate::text::{out, print_json};
 
-/// Loads a floor-plan file (meshing and solving its harmonic map), refusing the star-world
-/// options the command was given (`given`: each option's name, whether it was given).
-pub fn load_floor(path: &Path, given: &[(&'static str, bool)]) -> Result<FloorPrepared, CliError> {
-    load_floor_starts(path, given, None, None)
+/// Loads a floor-plan file (meshing and solving its harmonic map), with `--k` and `--damping`
+/// overriding its `[field] k` and `[controller] damping` when given, as in a star world
+/// ([`crate::args::load`]).
+pub fn load_floor(
+    path: &Path,
+    k: Option<KArg>,
+    damping: Option<DampingArg>,
+) -> Result<FloorPrepared, CliError> {
+    load_floor_starts(path, k, damping, None, None)
 }
 
 /// [`load_floor`], with `--starts` and `--seed` (`sweep`) overriding the file's `[starts]`
 /// count and seed when given.
 pub fn load_floor_starts(
     path: &Path,
-    given: &[(&'static str, bool)],
+    k: Option<KArg>,
+    damping: Option<DampingArg>,
     count: Option<usize>,
     seed: Option<u64>,
 ) -> Result<FloorPrepared, CliError> {
-    if let Some((option, _)) = given.iter().find(|(_, g)| *g) {
-        return Err(CliError::NotForFloorPlans {
-            scenario: path.to_path_buf(),
-            option,
-        });
-    }
     let mut scenario = FloorScenario::parse(path, &read_text(path)?)?;
+    if let Some(k) = k {
+        scenario.field.k = k.into();
+    }
+    if let Some(d) = damping {
+        scenario.controller.damping = d.into();
+    }
     if count.is_some() || seed.is_some() {
         let file = scenario.starts.unwrap_or(StartsSpec { count: 0, seed: 1 });
         scenario.starts = Some(StartsSpec {

@@ -187,8 +187,7 @@ fn dispatch(command: Command) -> Result<bool, CliError> {
                 json,
             };
             if floor_plan(&scenario)? {
-                let given = [("--k", k.is_some()), ("--damping", damping.is_some())];
-                return floor::cmd_run_floor(&floor::load_floor(&scenario, &given)?, &args);
+                return floor::cmd_run_floor(&floor::load_floor(&scenario, k, damping)?, &args);
             }
             run::cmd_run(&load(&scenario, k, damping)?, &args)
         }
@@ -199,7 +198,7 @@ fn dispatch(command: Command) -> Result<bool, CliError> {
             json,
         } => {
             if floor_plan(&scenario)? {
-                let floor = floor::load_floor(&scenario, &[("--k", k.is_some())])?;
+                let floor = floor::load_floor(&scenario, k, None)?;
                 return floor::cmd_eval_floor(&floor, &at, json);
             }
             eval::cmd_eval(&load(&scenario, k, None)?, &at, json)
@@ -231,8 +230,7 @@ fn dispatch(command: Command) -> Result<bool, CliError> {
                 e => e,
             };
             if floor_plan(&scenario)? {
-                let given = [("--k", k.is_some()), ("--damping", damping.is_some())];
-                let floor = floor::load_floor_starts(&scenario, &given, starts, seed)?;
+                let floor = floor::load_floor_starts(&scenario, k, damping, starts, seed)?;
                 return sweep::cmd_sweep_floor(&floor, controller, json).map_err(named);
             }
             let starts = starts.ok_or(CliError::StartsRequired {
@@ -249,7 +247,7 @@ fn dispatch(command: Command) -> Result<bool, CliError> {
         }
         Command::Check { scenario, json } => {
             if floor_plan(&scenario)? {
-                let floor = floor::load_floor(&scenario, &[])?;
+                let floor = floor::load_floor(&scenario, None, None)?;
                 if json {
                     return check::cmd_check_floor_json(&floor);
                 }

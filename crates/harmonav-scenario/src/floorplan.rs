@@ -19,6 +19,11 @@
 //! heading = "auto"                              # or "paper" (kinematic: along −∇Θ)
 //! v_max = 0.22                                   # the kinematic law's top speed (default K√2)
 //! control_period = 0.01                          # s, the hold's and the loop's step (default: the law's)
+//! [field]
+//! k = "auto"                                     # or "paper" (k = n + 1), a star world's key
+//! [controller]
+//! damping = "governed"                           # a star world's damping and speed policies
+//! speed = "auto"
 //! [starts]                                       # seeded starts in W_δ, besides `start`
 //! count = 6
 //! seed = 1
@@ -252,6 +257,28 @@ pub struct FloorScenario {
     /// ([`crate::MoverSpec`], `docs/movers.md` §8).
     #[serde(default)]
     pub movers: Vec<crate::MoverSpec>,
+    /// `[field] k`: the `k` policy, a star world's table and key ([`crate::FieldSpec`]).
+    #[serde(default)]
+    pub field: crate::FieldSpec,
+    /// `[controller] damping` and `speed`: the laws' policies, a star world's keys.
+    #[serde(default)]
+    pub controller: FloorControllerSpec,
+}
+
+/// `[controller]` of a floor-plan scenario: the policies of the laws, under a star world's keys
+/// and names (`crate::ControllerSpec`'s `damping` and `speed`). A floor plan's gain, `μ` and
+/// `v_max` are `[robot]` keys, so this table refuses them by name.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FloorControllerSpec {
+    /// `damping = "paper"` (eq. `dissipationfun`), `"shaped"`, `"auto"`, `"fast"` or
+    /// `"governed"` (the default), see [`harmonav::DampingPolicy`].
+    #[serde(default, deserialize_with = "crate::scenario::de_policy")]
+    pub damping: harmonav::DampingPolicy,
+    /// `speed = "paper"` (eq. `kinctrl`, `K√(2Θ)`) or `"auto"` (the default), see
+    /// [`harmonav::SpeedPolicy`].
+    #[serde(default, deserialize_with = "crate::scenario::de_policy")]
+    pub speed: harmonav::SpeedPolicy,
 }
 
 /// A loaded and validated floor-plan scenario: the solved map and the true obstacles.
@@ -368,9 +395,8 @@ impl FloorPrepared {
         match &self.level {
             None => Ok(()),
             Some(level) => {
-                let field =
-                    FloorField::new(self.floor.clone(), v(r.goal), harmonav::KPolicy::default())
-                        .map_err(|e| format!("Θ cannot be built: {e}"))?;
+                let field = FloorField::new(self.floor.clone(), v(r.goal), self.scenario.field.k)
+                    .map_err(|e| format!("Θ cannot be built: {e}"))?;
                 below_level(&field, level, start)
             }
         }
@@ -384,7 +410,7 @@ impl FloorPrepared {
     /// As [`FloorField::new`] (the file's goal was checked on loading, so not expected).
     pub fn start_certificates(&self) -> Result<(LayerLevel, Vec<bool>), FloorError> {
         let goal = v(self.scenario.robot.goal);
-        let field = FloorField::new(self.floor.clone(), goal, harmonav::KPolicy::default())?;
+        let field = FloorField::new(self.floor.clone(), goal, self.scenario.field.k)?;
         let level = self
             .level
             .unwrap_or_else(|| field.certify_layer_level(&LevelOptions::default()));
@@ -707,7 +733,7 @@ impl FloorScenario {
         }
         // With `require_certified_start`: c_δ over the walls, and each start's phi_k below it.
         let certified = if self.floor_plan.require_certified_start {
-            let field = FloorField::new(floor.clone(), goal, harmonav::KPolicy::default())
+            let field = FloorField::new(floor.clone(), goal, self.field.k)
                 .map_err(|e| f("robot.goal", e.to_string()))?;
             let level = field.certify_layer_level(&LevelOptions::default());
             Some((field, level))

@@ -178,3 +178,38 @@ fn the_arrival_takes_either_name_in_either_format() {
         .unwrap_err();
     assert_eq!(e.field, "sim.arrival", "{e}");
 }
+
+/// `[field] k` and `[controller] damping`/`speed` are read alike in both formats: the same
+/// table, key and names; a floor plan's `[controller]` refuses the keys it keeps under
+/// `[robot]` (gain, `μ`, `v_max`), by name.
+#[test]
+fn both_formats_read_k_damping_and_speed_under_the_same_keys() {
+    use harmonav::{DampingPolicy, KPolicy, SpeedPolicy};
+    let rest = "[field]\nk = \"paper\"\n[controller]\ndamping = \"shaped\"\nspeed = \"paper\"";
+    let path = Path::new("star.toml");
+    let s = Scenario::parse(path, &star(ROBOT, rest)).unwrap();
+    assert_eq!(
+        (s.field.k, s.controller.damping, s.controller.speed),
+        (KPolicy::Paper, DampingPolicy::Shaped, SpeedPolicy::Paper)
+    );
+    let path = Path::new("floor.toml");
+    let f = FloorScenario::parse(path, &floor(ROBOT, rest)).unwrap();
+    assert_eq!(
+        (f.field.k, f.controller.damping, f.controller.speed),
+        (KPolicy::Paper, DampingPolicy::Shaped, SpeedPolicy::Paper)
+    );
+    // Absent: the defaults, the star world's.
+    let f = FloorScenario::parse(path, &floor(ROBOT, "")).unwrap();
+    assert_eq!(
+        (f.field.k, f.controller.damping, f.controller.speed),
+        Default::default()
+    );
+    for (text, key) in [
+        ("[controller]\ngain = 2.0", "gain"),
+        ("[controller]\ndamping = \"critical\"", "critical"),
+        ("[field]\nk = \"n+1\"", "n+1"),
+    ] {
+        let e = FloorScenario::parse(path, &floor(ROBOT, text)).unwrap_err();
+        assert!(e.to_string().contains(key), "{text}: {e}");
+    }
+}

@@ -151,9 +151,13 @@ pub(crate) fn navigator_and_lidar(
         Model::Kinematic => Law::kinematic(r.gain),
         Model::Dynamic => Law::dynamic(r.mass, r.mu),
     };
+    let sc = &prepared.scenario;
     let mut options = Options::default()
         .with_robot(r.radius, r.margin)
-        .with_heading(r.heading);
+        .with_heading(r.heading)
+        .with_k(sc.field.k)
+        .with_damping(sc.controller.damping)
+        .with_speed(sc.controller.speed);
     if let Some(v) = r.v_max {
         options = options.with_v_max(v);
     }
@@ -657,6 +661,13 @@ pub struct FloorSummary {
     pub centre: &'static str,
     /// The heading policy, `"auto"` or `"paper"` (`[robot] heading`), of either law.
     pub heading: &'static str,
+    /// The `k` policy (`[field] k`, by its name), as in a star world's summary.
+    #[serde(serialize_with = "crate::summary::by_name")]
+    pub k_policy: harmonav::KPolicy,
+    /// The damping policy of the dynamic law that ran (`[controller] damping`, by its name;
+    /// `null` for the kinematic model), as in a star world's summary.
+    #[serde(serialize_with = "crate::summary::by_name_if_any")]
+    pub damping: Option<harmonav::DampingPolicy>,
     /// Seconds spent meshing and solving the harmonic map.
     pub setup_s: f64,
     /// `k` at the end.
@@ -809,6 +820,8 @@ impl FloorSummary {
             elements: prepared.floor.map().elements().len(),
             centre: prepared.floor.centre_policy().as_str(),
             heading: r.heading.as_str(),
+            k_policy: sc.field.k,
+            damping: (model == Model::Dynamic).then_some(sc.controller.damping),
             setup_s: prepared.setup_seconds,
             k: run.k,
             commands: run.commands,

@@ -144,12 +144,15 @@ impl Summary {
 }
 
 /// A policy by its name in the scenario file (`KPolicy`, `DampingPolicy` print their names).
-fn by_name<S: Serializer, T: std::fmt::Display>(policy: &T, s: S) -> Result<S::Ok, S::Error> {
+pub(crate) fn by_name<S: Serializer, T: std::fmt::Display>(
+    policy: &T,
+    s: S,
+) -> Result<S::Ok, S::Error> {
     s.collect_str(policy)
 }
 
 /// [`by_name`] for an optional policy: `null` when there is none.
-fn by_name_if_any<S: Serializer, T: std::fmt::Display>(
+pub(crate) fn by_name_if_any<S: Serializer, T: std::fmt::Display>(
     policy: &Option<T>,
     s: S,
 ) -> Result<S::Ok, S::Error> {
