@@ -9,7 +9,8 @@
 //! (`sweep::start_problem`, then `robot.start`), the reference path `shortest::of_scenario`.
 //! The overshoot is the benchmark's (`harmonav_bench::quality::overshoot`); `guarantees_held`
 //! is `harmonav_sim::summary::Summary::safe`'s rule with the file's `[expect]` entries also left out, as they are
-//! not monitors of the law.
+//! not monitors of the law. A floor-plan file (a `[floor_plan]` table) takes its own loop,
+//! `physics::simulate_floor`, into the same record ([`floor`], issue 51).
 
 use std::collections::BTreeMap;
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -18,9 +19,10 @@ use std::path::PathBuf;
 use harmonav_bench::quality::{self, Cell, MAX_MARGIN, SensingKind};
 use harmonav_rs::{DampingPolicy, KPolicy, SpeedPolicy, Vector2};
 use harmonav_scenario::scenario::read_text;
+use harmonav_scenario::floorplan::FileKind;
 use harmonav_scenario::{Model, Prepared, Scenario, SensorSpec};
 use harmonav_sim::descent::descend;
-use harmonav_sim::guarantee::Kind;
+use harmonav_sim::guarantee::{Guarantee, Kind};
 use harmonav_sim::outcome::Outcome;
 use harmonav_sim::physics::{Physics, simulate};
 use harmonav_sim::pool::parallel_map;
@@ -32,6 +34,15 @@ use pyo3::types::{PyDict, PyList};
 
 use crate::convert::{integer, value_error};
 use crate::scenario::seed_arg;
+
+mod floor;
+
+/// A prepared world: a star world's scenario (a generated quality world or a file), or a
+/// floor-plan file with its map solved ([`floor::FloorWorld`]).
+enum PreparedWorld {
+    Star(Prepared),
+    Floor(floor::FloorWorld),
+}
 
 /// The most obstacles a generated quality world may have: the generator draws until the
 /// obstacles fit (0.2–0.5 m shapes 0.3 m apart in a 5 m disc), so a count it cannot place
@@ -238,8 +249,9 @@ fn preparation_key(c: &Config) -> String {
     )
 }
 
-/// The scenario of `c` with its overrides, validated by the scenario layer.
-fn prepare(c: &Config) -> Result<Prepared, String> {
+/// The world of `c` with its overrides, validated by the scenario layer: a floor-plan file (a
+/// `[floor_plan]` table) by [`floor::prepare`], every other world as a star world.
+fn prepare(c: &Config) -> Result<PreparedWorld, String> {
     let (mut scenario, path) = match &c.world {
         WorldSource::Quality { obstacles, seed } => {
             let margin = c.margin.unwrap_or(0.0);
@@ -270,6 +282,9 @@ fn prepare(c: &Config) -> Result<Prepared, String> {
                 Some(t) => t.clone(),
                 None => read_text(path).map_err(|e| e.to_string())?,
             };
+            if FileKind::of_text(&text) == FileKind::FloorPlan {
+                return floor::prepare(c, path, &text).map(PreparedWorld::Floor);
+            }
             let scenario = Scenario::parse(path, &text).map_err(|e| e.to_string())?;
             (scenario, path.clone())
         }
@@ -297,7 +312,10 @@ fn prepare(c: &Config) -> Result<Prepared, String> {
     if let Some(t) = c.max_time {
         scenario.sim.max_time = t;
     }
-    scenario.prepare(&path).map_err(|e| e.to_string())
+    scenario
+        .prepare(&path)
+        .map(PreparedWorld::Star)
+        .map_err(|e| e.to_string())
 }
 
 /// What one run measured (the record's outcome columns).
@@ -375,8 +393,24 @@ enum Ran {
     Run(Box<Measured>, Effective),
 }
 
-/// Runs `c` on its prepared scenario.
-fn run_one(c: &Config, prepared: &Prepared) -> Result<Ran, String> {
+/// Runs `c` on its prepared world.
+fn run_one(c: &Config, world: &PreparedWorld) -> Result<Ran, String> {
+    match world {
+        PreparedWorld::Star(p) => run_star(c, p),
+        PreparedWorld::Floor(w) => floor::run(c, w),
+    }
+}
+
+/// Whether every monitor of a run held but arrival and the file's `[expect]` entries (not
+/// monitors of the law): a record's `guarantees_held`.
+fn held(guarantees: &[Guarantee]) -> bool {
+    guarantees
+        .iter()
+        .all(|g| g.passed || matches!(g.kind(), Kind::ReachedGoal | Kind::Expect))
+}
+
+/// Runs `c` on a star world's prepared scenario.
+fn run_star(c: &Config, prepared: &Prepared) -> Result<Ran, String> {
     let mut p = prepared.clone();
     if let Some([x, y]) = c.start {
         if let Some(problem) = start_problem(prepared, Vector2::new(x, y)) {
@@ -417,10 +451,7 @@ fn run_one(c: &Config, prepared: &Prepared) -> Result<Ran, String> {
             rejected_steps: s.rejected_steps,
             recorded_states: s.recorded_states,
             overshoot: quality::overshoot(&run, p.truth.workspace.destination()),
-            guarantees_held: s
-                .guarantees
-                .iter()
-                .all(|g| g.passed || matches!(g.kind(), Kind::ReachedGoal | Kind::Expect)),
+            guarantees_held: held(&s.guarantees),
             all_passed: s.all_passed(),
             k_policy: s.k_policy.as_str(),
             guarantees: serde_json::to_string(&s.guarantees).map_err(|e| e.to_string())?,
@@ -517,7 +548,8 @@ fn configs(runs: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Result<Config, S
 /// returns one record (a dict) per run, in order.
 ///
 /// A configuration is a dict with `generator = "quality"`, `obstacles`, `seed` (a world of the
-/// motion-quality benchmark) or `scenario` (a file's path, which names it in errors) and
+/// motion-quality benchmark) or `scenario` (a file's path, which names it in errors and anchors
+/// a floor plan's `map`; a star world or a floor plan, [`floor`]) and
 /// optionally `scenario_text` (its text: then the file is not read); the overrides `model`
 /// (`"kinematic"`, `"dynamic"`: the robot model, the spec's `law`; `"descent"`: the normalised
 /// descent of `Θ` with every obstacle known, `harmonav_sim::descent::descend`), `k`, `damping`, `speed`
@@ -575,7 +607,7 @@ fn batch(configs: &[Result<Config, String>], threads: usize) -> Vec<Result<Ran, 
             Some(slot)
         })
         .collect();
-    let prepared: Vec<Result<Prepared, String>> =
+    let prepared: Vec<Result<PreparedWorld, String>> =
         parallel_map(&unique, threads, |c| guarded(|| prepare(c)));
     let jobs: Vec<(usize, Option<usize>)> = slots.into_iter().enumerate().collect();
     parallel_map(&jobs, threads, |&(i, slot)| {
@@ -698,8 +730,12 @@ pub fn random_start_points(
     let points = py
         .detach(|| {
             guarded(|| {
-                let p = prepare(&c)?;
-                random_starts(&p, count, seed).map_err(|e| format!("starts: {e}"))
+                match prepare(&c)? {
+                    PreparedWorld::Star(p) => {
+                        random_starts(&p, count, seed).map_err(|e| format!("starts: {e}"))
+                    }
+                    PreparedWorld::Floor(w) => floor::random_starts(&w, count, seed),
+                }
             })
         })
         .map_err(value_error)?;

@@ -312,14 +312,18 @@ pub fn path_length(r: &Run) -> f64 {
 /// arrived or not (the guarantee `no-overshoot-at-goal` judges only the critically damped
 /// last approach; this is the table's wider measure).
 pub fn overshoot(r: &Run, goal: Vector2<f64>) -> f64 {
-    let dist: Vec<f64> = r
-        .samples
-        .iter()
-        .map(|x| (Vector2::from(x.x) - goal).norm())
-        .collect();
+    overshoot_of(r.samples.iter().map(|x| x.x), goal)
+}
+
+/// [`overshoot`] of the states `path` (in time order) of any run, a floor plan's kept
+/// positions included: the largest rise of `|x − x_d|` above its running minimum over the last
+/// tenth of the states.
+pub fn overshoot_of(path: impl ExactSizeIterator<Item = [f64; 2]>, goal: Vector2<f64>) -> f64 {
+    let skip = path.len() * 9 / 10;
     let mut closest = f64::INFINITY;
     let mut rise: f64 = 0.0;
-    for &d in &dist[dist.len() * 9 / 10..] {
+    for x in path.skip(skip) {
+        let d = (Vector2::from(x) - goal).norm();
         closest = closest.min(d);
         rise = rise.max(d - closest);
     }

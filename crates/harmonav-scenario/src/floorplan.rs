@@ -402,6 +402,38 @@ impl FloorPrepared {
         }
     }
 
+    /// `count` seeded starts drawn as the file's `[starts]` are (the same rule, with `seed`):
+    /// in `W_δ`, clear of the true obstacles grown by radius + margin, more than 1 m from the
+    /// goal, able to reach it within `W_δ`, and below `c_δ` with
+    /// `floor_plan.require_certified_start`. What a study draws its starts from
+    /// (`harmonav.experiment`), without solving the map again.
+    ///
+    /// # Errors
+    /// No such start found in `10⁴·(count + 1)` tries, or `Θ` could not be built for the
+    /// level's test; in words.
+    pub fn random_starts(&self, count: usize, seed: u64) -> Result<Vec<Vector2<f64>>, String> {
+        let r = &self.scenario.robot;
+        let goal = v(r.goal);
+        let reach = self.floor.reach(goal);
+        let certified = match &self.level {
+            None => None,
+            Some(level) => Some((
+                FloorField::new(self.floor.clone(), goal, self.scenario.field.k)
+                    .map_err(|e| format!("Θ cannot be built: {e}"))?,
+                level,
+            )),
+        };
+        let inflation = r.radius + r.margin;
+        draw_starts(&self.floor, goal, count, seed, |p| {
+            placed(&self.floor, &self.obstacles, inflation, p).is_ok()
+                && reach.contains(p)
+                && certified
+                    .as_ref()
+                    .is_none_or(|(field, level)| below_level(field, level, p).is_ok())
+        })
+        .ok_or_else(|| format!("no free start found in 10⁴·{} tries", count + 1))
+    }
+
     /// `c_δ` over the walls (the level `floor_plan.require_certified_start` computed, or
     /// certified now with [`LevelOptions::default`]; docs/maths.md §13.5) and, for each of
     /// [`FloorPrepared::starts`], whether `Θ(x₀) < c_δ`: its sublevel set stays inside `W_δ`.
@@ -425,6 +457,35 @@ impl FloorPrepared {
 
 fn v(p: [f64; 2]) -> Vector2<f64> {
     Vector2::new(p[0], p[1])
+}
+
+/// `count` seeded starts of `floor`: points drawn uniformly in its bounding box from the seed,
+/// kept when more than 1 m from `goal`, more than `1.1·δ` from the walls shrunk by the robot
+/// (away from the layer by a little) and `accepted`; `None` after `10⁴·(count + 1)` tries.
+/// The one rule of a file's `[starts]` and of [`FloorPrepared::random_starts`].
+fn draw_starts(
+    floor: &FloorMap,
+    goal: Vector2<f64>,
+    count: usize,
+    seed: u64,
+    accepted: impl Fn(Vector2<f64>) -> bool,
+) -> Option<Vec<Vector2<f64>>> {
+    let (lo, hi) = floor.domain().bounding_box();
+    let delta = floor.delta();
+    let mut rng = Rng::new(seed);
+    let mut starts = Vec::with_capacity(count);
+    let mut tries = 0;
+    while starts.len() < count {
+        tries += 1;
+        if tries > 10_000 * (count + 1) {
+            return None;
+        }
+        let p = Vector2::new(rng.uniform(lo.x, hi.x), rng.uniform(lo.y, hi.y));
+        if (p - goal).norm() > 1.0 && floor.signed_distance(p) > 1.1 * delta && accepted(p) {
+            starts.push(p);
+        }
+    }
+    Some(starts)
 }
 
 /// The scenario field a domain error is about.
@@ -753,30 +814,18 @@ impl FloorScenario {
                     format!("at most {MAX_STARTS} starts, got {}", spec.count),
                 ));
             }
-            let (lo, hi) = floor.domain().bounding_box();
-            let mut rng = Rng::new(spec.seed);
-            let mut tries = 0;
-            while starts.len() < spec.count + 1 {
-                tries += 1;
-                if tries > 10_000 * (spec.count + 1) {
-                    let what = if certified.is_some() {
-                        "no free start below c_δ (floor_plan.require_certified_start)"
-                    } else {
-                        "no free start"
-                    };
-                    return Err(f("starts", format!("{what} found in 10⁴ tries")));
-                }
-                let p = Vector2::new(rng.uniform(lo.x, hi.x), rng.uniform(lo.y, hi.y));
-                // Away from the goal, and from the layer by a little.
-                if (p - goal).norm() > 1.0
-                    && floor.signed_distance(p) > 1.1 * delta
-                    && place(p).is_ok()
-                    && reach.contains(p)
-                    && below(p).is_ok()
-                {
-                    starts.push(p);
-                }
-            }
+            let drawn = draw_starts(&floor, goal, spec.count, spec.seed, |p| {
+                place(p).is_ok() && reach.contains(p) && below(p).is_ok()
+            });
+            let Some(drawn) = drawn else {
+                let what = if certified.is_some() {
+                    "no free start below c_δ (floor_plan.require_certified_start)"
+                } else {
+                    "no free start"
+                };
+                return Err(f("starts", format!("{what} found in 10⁴ tries")));
+            };
+            starts.extend(drawn);
         }
         let lidar = match &self.sensor {
             None => None,

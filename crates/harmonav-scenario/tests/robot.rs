@@ -213,3 +213,22 @@ fn both_formats_read_k_damping_and_speed_under_the_same_keys() {
         assert!(e.to_string().contains(key), "{text}: {e}");
     }
 }
+
+/// `FloorPrepared::random_starts` draws by the file's `[starts]` rule: the same count and seed
+/// give the file's own seeded starts, bit for bit, and another seed other starts, each a valid
+/// `robot.start`.
+#[test]
+fn random_starts_are_the_files_starts_rule() {
+    let path = Path::new("floor.toml");
+    let text = floor(ROBOT, "[starts]\ncount = 5\nseed = 9");
+    let p = FloorScenario::parse(path, &text)
+        .and_then(|s| s.prepare(path))
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(p.starts.len(), 6);
+    assert_eq!(p.random_starts(5, 9).unwrap(), p.starts[1..].to_vec());
+    let other = p.random_starts(5, 10).unwrap();
+    assert_ne!(other, p.starts[1..].to_vec());
+    for s in other {
+        p.check_start(s).unwrap_or_else(|e| panic!("{s:?}: {e}"));
+    }
+}

@@ -99,6 +99,13 @@ pub enum StartProblem {
     /// Inside the true workspace boundary, but closer to it than `robot.radius +
     /// robot.margin`.
     NearBoundary,
+    /// On a floor plan: not a start the file's `robot.start` could be (outside the certified
+    /// region `W_δ`, within radius + margin of a true obstacle, or above `c_δ` under
+    /// `require_certified_start`; `FloorPrepared::check_start`), said in words.
+    NotCertified {
+        /// What is wrong with it.
+        problem: String,
+    },
 }
 
 impl std::fmt::Display for StartProblem {
@@ -114,6 +121,7 @@ impl std::fmt::Display for StartProblem {
                 f,
                 "lies closer to the workspace boundary than robot.radius + robot.margin"
             ),
+            Self::NotCertified { problem } => write!(f, "is not a floor plan's start: {problem}"),
         }
     }
 }

@@ -4,7 +4,7 @@ naming the file, the field and what is wrong, and unknown keys are refused.
 
 Values that the Rust side knows (law, policy and physics names, the quality worlds' limits, a
 scenario file's validity) are checked by the Rust side itself (``harmonav.check_run_config``,
-``harmonav.Scenario.load``), so the spec cannot drift from the scenario layer.
+either format's preparation), so the spec cannot drift from the scenario layer.
 
 Limits, each checked before the thing it bounds is built, so that a small spec cannot ask for
 unbounded memory or time:
@@ -361,12 +361,17 @@ def _worlds(c: _Checker, value: Any) -> Tuple[World, ...]:
                 text = read_text(file)
             except SpecError as e:
                 raise c.fail(f, f"{e}") from None
+            # The file's path, absolute: it names the file in errors, and a floor plan's
+            # `map` is found relative to it from any working directory (a remote worker reads
+            # the map there; a star world needs only the text).
+            config = {"scenario": os.path.abspath(file), "scenario_text": text}
             try:
-                harmonav.Scenario.load(file)
+                # Either format (a `[floor_plan]` table or a star world), validated as the run
+                # will prepare it.
+                harmonav.check_run_config(config, prepare=True)
             except ValueError as e:
                 raise c.fail(f, f"{e}") from None
             label = os.path.relpath(file, base)
-            config = {"scenario": label, "scenario_text": text}
             out.append(World(label, None, label, None, config))
     return _unique(c, out, "worlds.scenarios")
 
