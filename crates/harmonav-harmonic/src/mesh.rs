@@ -9,8 +9,17 @@
 //!
 //! `h` the largest element length, `f` the corner fraction, `γ` the grading slope (element
 //! lengths grow geometrically away from a corner, ratio ≈ `1 + γ`) and `gap_e` the edge's
-//! distance to every non-adjacent edge (so a narrow passage gets elements no longer than its
-//! width). The edge gets `n = ⌈I⌉` elements, `I = ∫₀ᴸ dt / g(min(t, L − t))`, and node `i` sits
+//! distance to every non-adjacent edge that faces it across the free space (so a narrow
+//! passage gets elements no longer than its width).
+//!
+//! **Facing.** The free space is on the left of every edge, so two edges bound a passage
+//! between them only if each has a point strictly on the other's left; an edge wholly on the
+//! other's right or on its line (the next pieces of a polyline arc about a wall's corner, the
+//! steps of a pixel staircase, the far side of a thin wall, a collinear edge) is behind it, with
+//! no free space between them to resolve. Until 2026-12-06 every non-adjacent edge counted: on
+//! the shrunk outline of a ROS map, whose wall corners are circumscribed arcs of 22.5° pieces a
+//! few millimetres long, each arc piece took the next-but-one as a "passage" as wide as itself
+//! and was cut into about five elements (174 000 on `willow-2010` against 30 000 now). The edge gets `n = ⌈I⌉` elements, `I = ∫₀ᴸ dt / g(min(t, L − t))`, and node `i` sits
 //! where `∫₀ᵗ dt/g = i·I/n` (closed form: `∫₀ᵈ dt/(h₀ + γt) = ln(1 + γd/h₀)/γ`). Folds of the
 //! discrete map sit within about half an element of the boundary (notes §4), so grading
 //! narrows the fold layer at corners, where the density is singular.
@@ -190,7 +199,19 @@ fn validate(options: &MeshOptions, diameter: f64) -> Result<(), MeshError> {
     Ok(())
 }
 
-/// Each edge's distance to the nearest non-adjacent edge, as far as it matters: the mesh uses
+/// Whether the edges `[a, b]` and `[c, d]` (free space on the left of each) face each other: a
+/// point of each strictly on the other's left (the side tests are linear, so the end points
+/// decide). Every passage of free space between two edges has this; see the module docs.
+fn facing(a: Vector2<f64>, b: Vector2<f64>, c: Vector2<f64>, d: Vector2<f64>) -> bool {
+    let left = |p: Vector2<f64>, q: Vector2<f64>, x: Vector2<f64>| {
+        let (u, w) = (q - p, x - p);
+        u.x * w.y - u.y * w.x > 0.0
+    };
+    (left(a, b, c) || left(a, b, d)) && (left(c, d, a) || left(c, d, b))
+}
+
+/// Each edge's distance to the nearest non-adjacent edge that faces it ([`facing`]), as far as
+/// it matters: the mesh uses
 /// `min(h, gap_e)`, so only edges within `h` count, and a farther one is reported as `∞` (or
 /// as its own distance; either leaves `min(h, gap_e)` unchanged). The lower bound of the
 /// segment distance used is the four end-point distances (segments of valid rings do not
@@ -267,7 +288,7 @@ fn gaps(
                         let (r2, e2, c2, d2) = edges[m as usize];
                         let adjacent =
                             r2 == r && (e2 == e || (e2 + 1) % n == e || (e + 1) % n == e2);
-                        if !adjacent {
+                        if !adjacent && facing(a, b, c2, d2) {
                             let g = point_segment_distance(a, c2, d2)
                                 .min(point_segment_distance(b, c2, d2))
                                 .min(point_segment_distance(c2, a, b))
@@ -414,6 +435,69 @@ mod tests {
                 assert!((1.0 / 1.8..1.8).contains(&r), "{r}");
             }
         }
+    }
+
+    /// A narrow slot of free space (two walls facing each other 0.05 apart) still gets elements
+    /// no longer than its width, while a pillar's circumscribed polyline arc (pieces 0.02 long,
+    /// each 0.02 from the next-but-one, with the wall behind them) and a thin wall's two sides
+    /// (back to back, 0.01 apart) are not refined below their own lengths and `h`.
+    #[test]
+    fn only_edges_facing_across_the_free_space_narrow_the_elements() {
+        let v = Vector2::new;
+        let h = 0.2;
+        // A 4 × 4 room whose bottom wall has a slot 0.05 wide and 1 deep, a 16-gon pillar of
+        // radius 0.05 (pieces 0.0196 long) and a wall 2 long and 0.01 thick.
+        let outer = vec![
+            v(-2.0, -2.0),
+            v(0.0, -2.0),
+            v(0.0, -3.0),
+            v(0.05, -3.0),
+            v(0.05, -2.0),
+            v(2.0, -2.0),
+            v(2.0, 2.0),
+            v(-2.0, 2.0),
+        ];
+        let pillar: Vec<_> = (0..16)
+            .rev()
+            .map(|k| {
+                let t = std::f64::consts::TAU * f64::from(k) / 16.0;
+                v(-1.0 + 0.05 * t.cos(), 1.0 + 0.05 * t.sin())
+            })
+            .collect();
+        let wall = vec![v(-1.0, 0.0), v(-1.0, 0.01), v(1.0, 0.01), v(1.0, 0.0)];
+        let d = Domain::new(outer, vec![pillar, wall]).unwrap();
+        let m = mesh(&d, &MeshOptions::uniform(h)).unwrap();
+        let inside = |e: &Element, x0: f64, x1: f64, y0: f64, y1: f64| {
+            let c = e.midpoint();
+            (x0..=x1).contains(&c.x) && (y0..=y1).contains(&c.y)
+        };
+        // The slot's sides (x = 0 and x = 0.05, y in (−3, −2)): at most its width.
+        let slot: Vec<_> = m
+            .iter()
+            .filter(|e| e.ring == RingId::Outer && inside(e, -0.01, 0.06, -2.95, -2.05))
+            .collect();
+        assert!(!slot.is_empty());
+        assert!(slot.iter().all(|e| e.length() <= 0.05 + 1e-12));
+        // The pillar: one element per piece (uniform, each piece shorter than h).
+        let pillar = m.iter().filter(|e| e.ring == RingId::Hole(0)).count();
+        assert_eq!(pillar, 16);
+        // The thin wall's long sides: h-long elements, not 0.01.
+        let sides: Vec<_> = m
+            .iter()
+            .filter(|e| e.ring == RingId::Hole(1) && (e.b - e.a).x.abs() > 0.0)
+            .collect();
+        assert!(sides.iter().all(|e| e.length() > 0.1), "{sides:?}");
+        // The facing test itself: antiparallel walls across free space face; a wall and the
+        // one behind it, or the next-but-one piece of an arc about a wall, do not.
+        assert!(facing(v(0.0, 0.0), v(1.0, 0.0), v(1.0, 0.1), v(0.0, 0.1)));
+        assert!(!facing(
+            v(0.0, 0.0),
+            v(1.0, 0.0),
+            v(0.0, -0.1),
+            v(1.0, -0.1)
+        ));
+        assert!(!facing(v(0.0, 0.1), v(1.0, 0.1), v(1.0, 0.0), v(0.0, 0.0)));
+        assert!(!facing(v(0.0, 0.0), v(1.0, 0.0), v(2.0, 0.0), v(3.0, 0.0)));
     }
 
     #[test]
