@@ -278,32 +278,106 @@ pub const ANTICIPATION_TURN_DEG: f64 = 50.0;
 /// The filtered command is "slow" below this fraction of the nominal's speed.
 pub const STUCK_RATIO: f64 = 0.2;
 
-/// Slow for this long (s), away from the goal, and the nominal turns clockwise by
-/// [`STUCK_TURN_DEG`] for [`STUCK_TURN_TIME`].
+/// Slow for this long (s), away from the goal, and for [`STUCK_TURN_TIME`] the nominal heads
+/// for the freest direction ([`escape`]).
 pub const STUCK_TIME: f64 = 1.0;
 
-/// The stuck rule's turn, degrees.
-pub const STUCK_TURN_DEG: f64 = 60.0;
-
-/// How long the stuck rule turns, s.
+/// How long the stuck rule's escape lasts, s.
 pub const STUCK_TURN_TIME: f64 = 2.0;
 
+/// The escape's candidates: the nominal turned by every multiple of this angle, degrees.
+pub const ESCAPE_STEP_DEG: f64 = 15.0;
+
+/// How far ahead the escape measures a free run, in grown radii `ρ = radius + margin`: a
+/// direction is wholly free once the grown disc can move its own diameter along it.
+pub const ESCAPE_REACH: f64 = 2.0;
+
+/// The free run `ℓ(d)` of the robot's disc grown to `inflation` at `x` along the unit
+/// direction `d`, at most `cap`: the least root `t ≥ 0` of `|e_j + t·d| = R_j`
+/// (`e_j = x − p̂_j`, `R_j = inflation + r_j`) over the movers approached (`e_j·d < 0`),
+///
+/// ```text
+/// t_j = −e_j·d − √((e_j·d)² − |e_j|² + R_j²)                                     (eq. free run)
+/// ```
+///
+/// clamped at 0 (a mover already within `R_j` that `d` closes on stops the run at once).
+pub(crate) fn free_run(
+    movers: &[Mover],
+    x: Vector2<f64>,
+    d: Vector2<f64>,
+    inflation: f64,
+    cap: f64,
+) -> f64 {
+    let mut run = cap;
+    for m in movers {
+        let e = x - m.centre;
+        let b = e.dot(&d);
+        let reach = inflation + m.radius;
+        let disc = b * b - e.norm_squared() + reach * reach;
+        // Guard: moving away (or along), or a miss: this mover never stops the run.
+        if !(b < 0.0 && disc > 0.0) {
+            continue;
+        }
+        run = run.min((-b - disc.sqrt()).max(0.0));
+    }
+    run
+}
+
+/// The stuck rule's escape (docs/movers.md §7), a clockwise turn of the nominal `u` in
+/// `(−π, π]` rad (negative: anticlockwise): over `θ_k = k·`[`ESCAPE_STEP_DEG`], the largest
+///
+/// ```text
+/// score(θ) = min(ℓ(θ), L)·(2 + cos θ)/3,   L = ESCAPE_REACH·inflation           (eq. escape)
+/// ```
+///
+/// with `ℓ(θ)` the [`free_run`] along `u` turned by `θ` (`inflation = radius + margin`, the
+/// robot's grown radius): the freest direction, forward preferred to sideways to back.
+/// Candidates in the order `0, +1, −1, +2, …` and only a strictly larger score replaces the
+/// best, so ties go to the smaller turn, then to the right (keep right). 0 when `u = 0` or no
+/// direction is free (the nominal as it is: the robot waits).
+pub(crate) fn escape(movers: &[Mover], x: Vector2<f64>, u: Vector2<f64>, inflation: f64) -> f64 {
+    let speed = u.norm();
+    // Guard: no nominal (or a NaN): nothing to turn.
+    if speed.is_nan() || speed <= 0.0 {
+        return 0.0;
+    }
+    let d = u / speed;
+    let cap = ESCAPE_REACH * inflation;
+    let step = ESCAPE_STEP_DEG.to_radians();
+    // `ESCAPE_STEP_DEG` divides 180: k runs over −(n − 1) ..= n.
+    let n = (std::f64::consts::PI / step).round() as i32;
+    let (mut best, mut best_score) = (0.0, 0.0);
+    for j in 0..2 * n {
+        let k = if j % 2 == 1 { j / 2 + 1 } else { -(j / 2) };
+        let theta = f64::from(k) * step;
+        let run = free_run(movers, x, clockwise(d, theta), inflation, cap);
+        let score = run * (2.0 + theta.cos()) / 3.0;
+        if score > best_score * (1.0 + 1e-9) + 1e-12 {
+            (best, best_score) = (theta, score);
+        }
+    }
+    best
+}
+
 /// KeepRight's memory (docs/movers.md §7): how long the filtered command has been slow, and how
-/// long the stuck rule still turns. It changes only the nominal command, which the filter
+/// long the stuck rule's escape still runs. It changes only the nominal command, which the filter
 /// certifies whatever it is: it can cost time, never safety.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(crate) struct KeepRight {
     /// Seconds the filtered command has been below [`STUCK_RATIO`] of the nominal.
     pub slow: f64,
-    /// Seconds the stuck rule still turns the nominal.
+    /// Seconds the stuck rule's escape still runs.
     pub turning: f64,
 }
 
 impl KeepRight {
-    /// The clockwise turn of the nominal `u` at `x`, rad: the stuck rule's while it turns, and
-    /// the anticipation's: for each mover with `e = x − p̂_j`, `w = u − v̂_j` (`v̂_j` its tracked
-    /// velocity, 0 if none), `t* = −e·w/|w|²` and the miss `|e + t*w|`; if `0 < t* < T_a` and
-    /// the miss is below `2R_j` (`R_j = inflation + r_j`), `θ_max(1 − t*/T_a)`; the largest.
+    /// The clockwise turn of the nominal `u` at `x`, rad, in `[0, 2π)` (an anticlockwise turn
+    /// `θ` is `2π − θ`): while the stuck rule runs, its [`escape`] from the movers' geometry
+    /// now (eq. escape, chosen afresh every period: this memory is read-only here; 0: the
+    /// nominal as it is); else the anticipation's: for each mover with `e = x − p̂_j`,
+    /// `w = u − v̂_j` (`v̂_j` its tracked velocity, 0 if none), `t* = −e·w/|w|²` and the miss
+    /// `|e + t*w|`; if `0 < t* < T_a` and the miss is below `2R_j` (`R_j = inflation + r_j`),
+    /// `θ_max(1 − t*/T_a)`; the largest.
     pub(crate) fn turn(
         &self,
         movers: &[Mover],
@@ -311,11 +385,10 @@ impl KeepRight {
         u: Vector2<f64>,
         inflation: f64,
     ) -> f64 {
-        let mut turn: f64 = if self.turning > 0.0 {
-            STUCK_TURN_DEG.to_radians()
-        } else {
-            0.0
-        };
+        if self.turning > 0.0 {
+            return escape(movers, x, u, inflation).rem_euclid(std::f64::consts::TAU);
+        }
+        let mut turn: f64 = 0.0;
         for m in movers {
             let e = x - m.centre;
             let w = u - m.velocity.unwrap_or_else(Vector2::zeros);
