@@ -70,6 +70,8 @@ DEADLOCK_TIME = 5.0
 #: navground's collision record at step k is the period from pose k − 1 to pose k, whose
 #: command is the robot's k-th, checked against the recorded poses).
 EXPLAIN_PERIODS = 0
+#: The harmonav behaviour's ``deadlock_rule`` (``--rule``; None: the behaviour's default).
+RULE = None
 
 
 def behaviour_yaml(entry: str, s: dict, indent: str, peers: str = "reciprocal") -> str:
@@ -86,6 +88,8 @@ def behaviour_yaml(entry: str, s: dict, indent: str, peers: str = "reciprocal") 
     if entry == "harmonav":
         extra = "" if peers == "reciprocal" else \
             f", peers: noncooperative, mover_speed_bound: {MAX_SPEED}"
+        if RULE is not None:
+            extra += f", deadlock_rule: {RULE}"
         return (f"{indent}behavior: {{type: Harmonav, {common}{extra}}}\n"
                 f"{indent}state_estimations: [{sensing}]\n")
     if entry == "ORCA+filter":
@@ -410,9 +414,14 @@ def main(argv=None) -> int:
     ap.add_argument("--mixed-robots", default=",".join(MIXED_ROBOTS))
     ap.add_argument("--processes", type=int, default=2)
     ap.add_argument("--json", help="write every run's metrics and the summary here")
+    ap.add_argument("--rule", choices=hn.RULES,
+                    help="the harmonav behaviour's deadlock_rule on a direction task (the "
+                    "Corridor; towards a point the navigator's own rule runs); default: gap")
     ap.add_argument("--print-yaml", metavar="SCENARIO/ENTRY",
                     help="print one cell's navground experiment and exit")
     args = ap.parse_args(argv)
+    global RULE
+    RULE = args.rule
     if args.print_yaml:
         scenario, entry = args.print_yaml.split("/")
         print(experiment_yaml(scenario, entry))
@@ -444,7 +453,7 @@ def main(argv=None) -> int:
         import harmonav
         meta = dict(seeds=[args.start, args.start + args.seeds], processes=args.processes,
                     elapsed=elapsed, navground=version("navground"),
-                    harmonav=harmonav.__version__,
+                    harmonav=harmonav.__version__, rule=args.rule,
                     command=" ".join([os.path.basename(sys.executable)] + sys.argv))
         with open(args.json, "w") as f:
             json.dump(dict(meta=meta, summary=summary, runs=results), f, indent=1)

@@ -15,8 +15,9 @@ for ``navground_py`` and ``core.load_plugins()``:
   navigator's command is filtered against them (the Rust KeepRight turns its nominal,
   docs/movers.md §7). With a direction target (navground's Corridor) or no target, the nominal
   is navground's target velocity (or rest), turned by the same KeepRight rule written here
-  (with the neighbours' velocities), and certified by ``harmonav.MoverFilter``. Every command
-  passes through ``compute_cmd_internal``: stops included, nothing bypasses the filter.
+  (with the neighbours' velocities, and the walls in the stuck rule's free runs), and
+  certified by ``harmonav.MoverFilter``. Every command passes through
+  ``compute_cmd_internal``: stops included, nothing bypasses the filter.
 - ``HarmonavFilter`` (:class:`MoverFilterModulation`): a navground ``BehaviorModulation`` that
   puts ``harmonav.MoverFilter`` behind any behaviour's command (``post``): "ORCA + filter".
 - ``HarmonavSensing`` (:class:`HarmonavSensing`): a ``StateEstimation`` with the information of
@@ -64,7 +65,8 @@ BETA = 0.5
 ANTICIPATION = 3.0
 ANTICIPATION_TURN = math.radians(50.0)
 #: KeepRight's stuck rule: slower than this fraction of the nominal for STUCK_TIME s, away from
-#: the goal, turns the nominal clockwise by STUCK_TURN for STUCK_TURN_TIME s.
+#: the goal, fires: for STUCK_TURN_TIME s the nominal takes the escape of its rule (RULES;
+#: STUCK_TURN is the turn of the rules other than ``gap`` and ``gap-held``).
 STUCK_RATIO, STUCK_TIME = 0.2, 1.0
 STUCK_TURN, STUCK_TURN_TIME = math.radians(60.0), 2.0
 #: A straight wall as a disc tangent to it at the robot's foot point (m): its row is the wall's.
@@ -91,6 +93,12 @@ def clockwise(u: np.ndarray, angle: float) -> np.ndarray:
     """``u`` turned clockwise by ``angle`` rad."""
     s, c = math.sin(angle), math.cos(angle)
     return np.array([c * u[0] + s * u[1], -s * u[0] + c * u[1]])
+
+
+def _rule(value: str) -> str:
+    if value not in RULES:
+        raise ValueError(f"deadlock_rule: expected one of {RULES}, got {value!r}")
+    return value
 
 
 def _peers(value: str) -> str:
@@ -126,19 +134,139 @@ ERROR_DOC = ("bound on a neighbour's position error, m (default: navground's sin
              "rounding)")
 
 
+#: The stuck rule's escapes (docs/movers.md §7, each measured in the Corridor, §9), for the
+#: STUCK_TURN_TIME s after it fires: ``gap`` (the default, and the Rust navigator's rule) heads
+#: for the freest direction (:func:`escape_turn`) chosen afresh every period; ``gap-held``
+#: chooses it once when the rule fires and keeps it; ``right`` turns clockwise by STUCK_TURN
+#: (KeepRight before issue 54's Corridor fix); ``side`` turns by STUCK_TURN to the side with
+#: the longer free run; ``alternate`` turns right, then left, then back on successive firings;
+#: ``backoff`` turns right, then backs off.
+RULES = ("gap", "gap-held", "right", "side", "alternate", "backoff")
+#: How far ahead a free run is measured, in grown radii ``ρ + r`` of the robot (Rust's
+#: ``movers::ESCAPE_REACH``): a direction is wholly free once the robot's grown disc can move
+#: its own diameter along it.
+ESCAPE_REACH = 2.0
+#: The candidate escapes: the nominal turned by every multiple of this (Rust's
+#: ``ESCAPE_STEP_DEG``).
+ESCAPE_STEP = math.radians(15.0)
+
+
+def free_run(x, direction, neighbours, lines, inflation: float, cap: float) -> float:
+    """(eq. free run of docs/movers.md §7, Rust's ``movers::free_run`` with the walls added)
+    How far the robot's grown disc (radius ``inflation``) at ``x`` moves along the unit
+    ``direction`` before it touches a neighbour's body or a wall's line, at most ``cap``: the
+    least root ``t ≥ 0`` of ``|x + t·d − p_j| = inflation + r_j`` over the neighbours
+    approached (``(x − p_j)·d < 0``), and of ``(x − p₀)·n + t·d·n = inflation`` over the walls
+    approached; 0 for a neighbour already within reach that the direction closes on."""
+    t = cap
+    p, r, _ = neighbours
+    if len(r):
+        e = x - p
+        b = e @ direction
+        c = np.einsum("ij,ij->i", e, e) - (inflation + r) ** 2
+        closing = b < 0.0
+        disc = b * b - c
+        hit = closing & (disc > 0.0)
+        if hit.any():
+            roots = -b[hit] - np.sqrt(disc[hit])
+            t = min(t, max(float(roots.min()), 0.0))
+    for p0, p1 in lines:
+        tangent = p1 - p0
+        length = float(np.hypot(*tangent))
+        if length <= 0.0:
+            continue
+        n = np.array([-tangent[1], tangent[0]]) / length
+        side = float((x - p0) @ n)
+        if side < 0.0:
+            n, side = -n, -side
+        dn = float(direction @ n)
+        if dn < 0.0:
+            t = min(t, max((side - inflation) / -dn, 0.0))
+    return t
+
+
+def escape_turn(x, u, neighbours, lines, inflation: float) -> float:
+    """The ``gap`` rule's escape (eq. escape of docs/movers.md §7, Rust's ``movers::escape``
+    with the walls added), a clockwise turn of ``u`` (rad, in (−π, π]): over the turns
+    ``θ_k = k·ESCAPE_STEP``, the one with the largest ``min(ℓ(θ), L)·(2 + cos θ)/3``
+    (``L = ESCAPE_REACH·inflation``),
+    ``ℓ(θ)`` the free run (:func:`free_run`) along ``u`` turned by ``θ``: the freest direction,
+    forward preferred over sideways over back; ties go to the smaller turn, then to the right.
+    0 when ``u = 0`` or no direction is free (the nominal as it is: wait)."""
+    speed = float(np.hypot(*u))
+    if speed <= 0.0:
+        return 0.0
+    d = u / speed
+    cap = ESCAPE_REACH * inflation
+    steps = int(round(math.pi / ESCAPE_STEP))
+    best, best_score = 0.0, 0.0
+    # Order: 0, +1, −1, +2, −2, …: a strictly better score is needed to move away from 0 and
+    # from the right (clockwise, positive) side.
+    for k in [0] + [s * j for j in range(1, steps + 1) for s in (1, -1)]:
+        if k == -steps:
+            continue
+        theta = k * ESCAPE_STEP
+        score = free_run(x, clockwise(d, theta), neighbours, lines, inflation, cap) * \
+            (2.0 + math.cos(theta)) / 3.0
+        if score > best_score * (1.0 + 1e-9) + 1e-12:
+            best, best_score = theta, score
+    return best
+
+
 class KeepRight:
     """The deadlock rule of docs/movers.md §7 on a nominal velocity (it never touches safety:
-    the filter certifies whatever it is given). For the direction-task and modulation paths;
-    the ``Navigator`` path uses the Rust rule."""
+    the filter certifies whatever it is given): the anticipation, and the stuck rule with the
+    escape ``rule`` (one of :data:`RULES`). For the direction-task and modulation paths; the
+    ``Navigator`` path uses the Rust rule."""
 
-    def __init__(self) -> None:
+    def __init__(self, rule: str = "gap") -> None:
+        if rule not in RULES:
+            raise ValueError(f"deadlock rule: expected one of {RULES}, got {rule!r}")
+        self.rule = rule
         self.slow = 0.0
         self.turning = 0.0
+        #: The stuck rule's turn for the current window (None: choose at the next ``turn``).
+        self.escape: Optional[float] = None
+        #: Triggers since the robot last moved freely for STUCK_TIME, and how long it has.
+        self.triggers = 0
+        self.moving = 0.0
 
-    def turn(self, x, u, neighbours, inflation: float) -> float:
-        """The clockwise turn of ``u`` at ``x``, rad: the stuck rule's while it turns, and the
-        anticipation's largest over ``neighbours`` (arrays: centres, radii, velocities)."""
-        turn = STUCK_TURN if self.turning > 0.0 else 0.0
+    def stuck_turn(self, x, u, neighbours, lines, inflation: float) -> float:
+        """The stuck rule's clockwise turn now: ``gap``'s afresh, the others' chosen at the
+        first period after the rule fired and kept."""
+        if self.rule == "gap":
+            return escape_turn(x, u, neighbours, lines, inflation)
+        if self.escape is None:
+            rule = self.rule
+            if rule == "right":
+                self.escape = STUCK_TURN
+            elif rule == "side":
+                speed = float(np.hypot(*u))
+                if speed <= 0.0:
+                    self.escape = STUCK_TURN
+                else:
+                    d = u / speed
+                    cap = ESCAPE_REACH * inflation
+                    right = free_run(x, clockwise(d, STUCK_TURN), neighbours, lines, inflation,
+                                     cap)
+                    left = free_run(x, clockwise(d, -STUCK_TURN), neighbours, lines,
+                                    inflation, cap)
+                    self.escape = -STUCK_TURN if left > right + 1e-9 else STUCK_TURN
+            elif rule == "gap-held":
+                self.escape = escape_turn(x, u, neighbours, lines, inflation)
+            elif rule == "alternate":
+                self.escape = (STUCK_TURN, -STUCK_TURN, math.pi)[(self.triggers - 1) % 3]
+            else:  # backoff
+                self.escape = STUCK_TURN if self.triggers <= 1 else math.pi
+        return self.escape
+
+    def turn(self, x, u, neighbours, inflation: float, lines=()) -> float:
+        """The clockwise turn of ``u`` at ``x``, rad (negative: anticlockwise): the stuck
+        rule's while it turns, else the anticipation's largest over ``neighbours`` (arrays:
+        centres, radii, velocities); ``lines``: the straight walls, for the free runs."""
+        if self.turning > 0.0:
+            return self.stuck_turn(x, u, neighbours, lines, inflation)
+        turn = 0.0
         p, r, v = neighbours
         if len(r) == 0:
             return turn
@@ -160,9 +288,15 @@ class KeepRight:
     def after(self, kept: float, wanted: float, yielded: bool, far: bool, h: float) -> None:
         """Updates the memory after a period whose filtered speed was ``kept`` of ``wanted``."""
         self.turning = max(self.turning - h, 0.0)
-        self.slow = self.slow + h if (yielded and far and kept < STUCK_RATIO * wanted) else 0.0
+        slow = yielded and far and kept < STUCK_RATIO * wanted
+        self.slow = self.slow + h if slow else 0.0
+        self.moving = 0.0 if slow else self.moving + h
+        if self.moving >= STUCK_TIME:
+            self.triggers = 0
         if self.slow >= STUCK_TIME:
             self.slow, self.turning = 0.0, STUCK_TURN_TIME
+            self.triggers += 1
+            self.escape = None
 
 
 def neighbour_reach(radius: float, margin: float, v_max: float, speed_bound: float,
@@ -416,6 +550,10 @@ class HarmonavBehavior(core.Behavior, name="Harmonav"):
         "tracked_velocity", False, "give the navigator's movers the neighbours' velocities "
         "(KeepRight's anticipation only; off: a neighbour is anticipated at rest, which "
         "measured better in Cross, Antipodal and the mixed crowd)")
+    deadlock_rule = registered(
+        "deadlock_rule", "gap", "the stuck rule's escape on a direction task (the Corridor): "
+        "'gap' (the freest direction, as the Rust navigator), 'gap-held', 'right' (KeepRight "
+        "before the Corridor fix), 'side', 'alternate', 'backoff' (docs/movers.md §7)", _rule)
 
     # --- navground hooks ------------------------------------------------------------------
 
@@ -488,9 +626,12 @@ class HarmonavBehavior(core.Behavior, name="Harmonav"):
             nominal = np.zeros(2)
         v_max = float(self.max_speed)
         wanted = float(np.hypot(*nominal))
+        if self._keep_right.rule != self.deadlock_rule:
+            self._keep_right = KeepRight(self.deadlock_rule)
         turn = self._keep_right.turn(x, nominal, plain,
-                                     float(self.radius) + float(self.safety_margin))
-        turned = clockwise(nominal, turn) if turn > 0.0 else nominal
+                                     float(self.radius) + float(self.safety_margin),
+                                     sensed_lines(self, self._state))
+        turned = clockwise(nominal, turn) if turn != 0.0 else nominal
         try:
             u, mode = self.mover_filter(v_max, h).filter(x, turned, movers)
         except ValueError:
@@ -539,8 +680,8 @@ class MoverFilterModulation(core.BehaviorModulation, name="HarmonavFilter"):
         movers += wall_movers(x, lines, radius)
         turned = nominal
         if self.keep_right:
-            turn = self._rule.turn(x, nominal, plain, radius + margin)
-            if turn > 0.0:
+            turn = self._rule.turn(x, nominal, plain, radius + margin, lines)
+            if turn != 0.0:
                 turned = clockwise(nominal, turn)
         try:
             u, mode = self._filter.filter(x, turned, movers)
