@@ -138,6 +138,9 @@ class Navigator:
     ``|omega| ≤ omega_max`` (both required; ``v_max`` is still the kinematic law's top speed);
     ``base="holonomic"`` (the default) is ``command``'s robot. Kinematic law only. An unknown base,
     or a bound that is missing, not finite or not positive, is a ``ValueError`` naming it.
+    ``a_max`` (m/s²) and ``alpha_max`` (rad/s²), both or neither, add acceleration limits:
+    consecutive commands differ by at most ``a_max·h`` and ``alpha_max·h`` (the base starts at
+    rest), and every command leaves the base room to brake (docs/unicycle.md §10).
 
     ``set_movers([...])`` (issue 54) gives it the movers of this period (``Mover``); every
     command is then filtered against where they can reach within the period: ``mode`` is
@@ -174,6 +177,8 @@ class Navigator:
         free_memory: int = 16,
         base: str = "holonomic",
         omega_max: Optional[float] = None,
+        a_max: Optional[float] = None,
+        alpha_max: Optional[float] = None,
     ) -> None: ...
     def observe_scan(
         self,
@@ -229,13 +234,18 @@ class Navigator:
     @property
     def steer(self) -> Optional[str]:
         """How the last ``command_pose`` formed ``(v, omega)``: ``"ahead"``, ``"shortened"``,
-        ``"turning"`` or ``"stopped"``; ``None`` before it and after a ``command``."""
+        ``"turning"``, ``"stopped"`` or (with acceleration limits) ``"braking"``; ``None``
+        before it and after a ``command``."""
     @property
     def base(self) -> str:
         """``"holonomic"`` or ``"diff"``."""
     @property
     def omega_max(self) -> Optional[float]:
         """A differential-drive base's top turn rate, rad/s; ``None`` for a holonomic one."""
+    @property
+    def accel(self) -> Optional[Tuple[float, float]]:
+        """A differential-drive base's acceleration limits ``(a_max, alpha_max)``; ``None``
+        without them."""
     @property
     def mode(self) -> str:
         """How the last command was formed: ``"law"``, ``"capped"``, ``"recovering"``,
@@ -491,6 +501,8 @@ class _Options(TypedDict, total=False):
     free_memory: int
     base: str
     omega_max: Optional[float]
+    a_max: Optional[float]
+    alpha_max: Optional[float]
 
 class FloorNavigator(Navigator):
     """The navigator of a robot on a floor plan, a ``Navigator``: the walls are known (rings of

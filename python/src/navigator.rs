@@ -509,7 +509,17 @@ impl State {
         self.mode = c.mode;
         self.steer = Some(c.steer);
         let event = Event::Pose([x.x, x.y], yaw);
-        self.log.command(event, lifted, yielded(c.mode), movers);
+        // Under acceleration limits each command counts from the last: every one is replayed
+        // (the log grows with them, as with commands the mover filter changed).
+        let limited = matches!(
+            self.built.options.base,
+            Base::Diff {
+                accel: Some(_),
+                ..
+            }
+        );
+        self.log
+            .command(event, lifted || limited, yielded(c.mode), movers);
         Ok(c)
     }
 
@@ -665,7 +675,7 @@ impl Navigator {
                           damping='governed', rho_min=0.05, control_period=None, hold='auto', \
                           speed='auto', v_max=None, range_noise=0.02, max_obstacle_depth=1.0, \
                           growth_threshold=0.02, fit_range=None, free_memory=16, \
-                          base='holonomic', omega_max=None)"
+                          base='holonomic', omega_max=None, a_max=None, alpha_max=None)"
     )]
     fn new(
         boundary: &Shape,
@@ -785,6 +795,18 @@ impl Navigator {
     fn omega_max(&self, py: Python<'_>) -> Option<f64> {
         match self.state(py).built.options.base {
             Base::Diff { omega_max, .. } => Some(omega_max),
+            _ => None,
+        }
+    }
+
+    /// A differential-drive base's acceleration limits `(a_max, alpha_max)`, m/s² and rad/s²;
+    /// `None` without them (or for a holonomic base).
+    #[getter]
+    fn accel(&self, py: Python<'_>) -> Option<(f64, f64)> {
+        match self.state(py).built.options.base {
+            Base::Diff {
+                accel: Some(a), ..
+            } => Some((a.a_max, a.alpha_max)),
             _ => None,
         }
     }

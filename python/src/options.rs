@@ -15,7 +15,7 @@ use pyo3::types::{PyDict, PyTuple};
 use crate::convert::{integer, policy, value_error};
 
 /// The names of the options, in `Navigator(boundary, goal, …)`'s positional order.
-pub(crate) const NAMES: [&str; 21] = [
+pub(crate) const NAMES: [&str; 23] = [
     "law",
     "gain",
     "mass",
@@ -37,6 +37,8 @@ pub(crate) const NAMES: [&str; 21] = [
     "free_memory",
     "base",
     "omega_max",
+    "a_max",
+    "alpha_max",
 ];
 
 /// The options of a navigator over either world, as given (what pickle rebuilds it with):
@@ -67,6 +69,9 @@ pub(crate) struct Keywords {
     base: String,
     /// A differential-drive base's top turn rate, rad/s.
     omega_max: Option<f64>,
+    /// A differential-drive base's acceleration limits, m/s² and rad/s² (both or neither).
+    a_max: Option<f64>,
+    alpha_max: Option<f64>,
 }
 
 impl Default for Keywords {
@@ -95,6 +100,8 @@ impl Default for Keywords {
             free_memory: s.free_memory,
             base: o.base.as_str().to_owned(),
             omega_max: None,
+            a_max: None,
+            alpha_max: None,
         }
     }
 }
@@ -156,6 +163,8 @@ impl Keywords {
             "free_memory" => free_memory_count(value).map(|v| self.free_memory = v),
             "base" => value.extract().map(|v| self.base = v),
             "omega_max" => value.extract().map(|v| self.omega_max = v),
+            "a_max" => value.extract().map(|v| self.a_max = v),
+            "alpha_max" => value.extract().map(|v| self.alpha_max = v),
             _ => {
                 return Err(PyTypeError::new_err(format!(
                     "{class}() got an unexpected keyword argument '{name}'"
@@ -189,6 +198,8 @@ impl Keywords {
             self.free_memory.into_pyobject(py)?.into_any(),
             self.base.clone().into_pyobject(py)?.into_any(),
             self.omega_max.into_pyobject(py)?.into_any(),
+            self.a_max.into_pyobject(py)?.into_any(),
+            self.alpha_max.into_pyobject(py)?.into_any(),
         ])
     }
 
@@ -237,18 +248,26 @@ impl Keywords {
 }
 
 impl Keywords {
-    /// The base named `base` with its bounds: `"holonomic"` (today's robot; `omega_max` must
-    /// not be given) or `"diff"` (`v_max` and `omega_max` required, finite and positive). Each
+    /// The base named `base` with its bounds: `"holonomic"` (today's robot; `omega_max`,
+    /// `a_max` and `alpha_max` must not be given) or `"diff"` (`v_max` and `omega_max`
+    /// required, `a_max` and `alpha_max` both or neither, each finite and positive). Each
     /// error names the argument; the ranges are then checked by [`Options::validate`].
     fn base(&self) -> PyResult<Base> {
         match self.base.as_str() {
-            "holonomic" => match self.omega_max {
-                None => Ok(Base::Holonomic),
-                Some(_) => Err(value_error(
-                    "`omega_max` bounds a differential-drive base's turn rate: give \
-                     base=\"diff\" with it",
-                )),
-            },
+            "holonomic" => {
+                let given = [
+                    ("omega_max", self.omega_max, "turn rate"),
+                    ("a_max", self.a_max, "acceleration"),
+                    ("alpha_max", self.alpha_max, "turn acceleration"),
+                ];
+                match given.iter().find(|(_, v, _)| v.is_some()) {
+                    None => Ok(Base::Holonomic),
+                    Some((name, _, what)) => Err(value_error(format!(
+                        "`{name}` bounds a differential-drive base's {what}: give \
+                         base=\"diff\" with it"
+                    ))),
+                }
+            }
             "diff" => {
                 let bound = |name: &str, value: Option<f64>| match value {
                     None => Err(value_error(format!(
@@ -260,10 +279,23 @@ impl Keywords {
                         Shown(v)
                     ))),
                 };
-                Ok(Base::diff(
+                let base = Base::diff(
                     bound("v_max", self.v_max)?,
                     bound("omega_max", self.omega_max)?,
-                ))
+                );
+                match (self.a_max, self.alpha_max) {
+                    (None, None) => Ok(base),
+                    (a, alpha) => {
+                        let need = |name: &str, value: Option<f64>| match value {
+                            None => Err(value_error(format!(
+                                "`{name}` is required with the other acceleration limit \
+                                 (a_max, m/s², and alpha_max, rad/s²: both or neither)"
+                            ))),
+                            v => bound(name, v),
+                        };
+                        Ok(base.with_accel(need("a_max", a)?, need("alpha_max", alpha)?))
+                    }
+                }
             }
             other => Err(value_error(format!(
                 "unknown base \"{other}\": expected \"holonomic\" or \"diff\""

@@ -121,7 +121,7 @@ def test_a_pickle_holds_every_constructor_argument():
         margin=0.05, k="paper", damping="paper", rho_min=0.1, control_period=0.02, hold="paper",
         speed="paper", v_max=0.7,
         range_noise=0.03, max_obstacle_depth=1.5, growth_threshold=0.04, fit_range=2.0,
-        free_memory=3, base="holonomic", omega_max=None,
+        free_memory=3, base="holonomic", omega_max=None, a_max=None, alpha_max=None,
     )
     boundary = harmonav.circle([0, 0], 4.0)
     nav = harmonav.Navigator(boundary, [3.0, 0.0], **given)

@@ -164,6 +164,13 @@ BAD = [
     (dict(base="diff", v_max=0.5, omega_max=2e12), "`omega_max`"),
     (dict(omega_max=2.0), "`omega_max`.*base=\"diff\""),
     (dict(base="diff", v_max=0.5, omega_max=2.0, law="dynamic"), "`base`"),
+    (dict(base="diff", v_max=0.5, omega_max=2.0, a_max=1.0), "`alpha_max` is required"),
+    (dict(base="diff", v_max=0.5, omega_max=2.0, alpha_max=1.0), "`a_max` is required"),
+    (dict(base="diff", v_max=0.5, omega_max=2.0, a_max=-1.0, alpha_max=1.0),
+     "`a_max` must be finite and positive"),
+    (dict(base="diff", v_max=0.5, omega_max=2.0, a_max=1.0, alpha_max=float("nan")),
+     "`alpha_max`"),
+    (dict(a_max=1.0, alpha_max=1.0), "`a_max`.*base=\"diff\""),
 ]
 
 
@@ -199,7 +206,12 @@ def copies(nav):
         yield f"pickle {protocol}", pickle.loads(pickle.dumps(nav, protocol=protocol))
 
 
-@pytest.mark.parametrize("make", [diff_star, diff_floor], ids=["star", "floor"])
+def limited_star():
+    return diff_star(a_max=0.5, alpha_max=4.0)
+
+
+@pytest.mark.parametrize("make", [diff_star, diff_floor, limited_star],
+                         ids=["star", "floor", "accel"])
 def test_a_restored_diff_navigator_commands_bit_for_bit_as_the_original(make):
     nav = make()
     floor = hasattr(nav, "delta")
@@ -208,9 +220,10 @@ def test_a_restored_diff_navigator_commands_bit_for_bit_as_the_original(make):
         v, omega = nav.command_pose(x, yaw)
         x, yaw = arc(x, yaw, v, omega, H)
     _, _, state = nav.__reduce__()
-    # The last pose command is kept (it replaces the ones before it).
+    # The last pose command is kept (it replaces the ones before it); under acceleration
+    # limits every one, each counting from the last.
     assert state[-1] == ("pose", list(state[-1][1]), state[-1][2]) and state[-1][0] == "pose"
-    assert [e[0] for e in state].count("pose") == 1
+    assert [e[0] for e in state].count("pose") == (30 if nav.accel else 1)
     twins = list(copies(nav))
 
     def run(n, x, yaw):
@@ -241,3 +254,20 @@ def test_a_pickle_of_a_diff_navigator_rebuilds_it_with_its_base():
     # A state entry that does not parse is refused, naming the class and entry.
     with pytest.raises(TypeError, match="entry 0"):
         rebuilt.__setstate__([("pose", [0.0, 0.0])])
+
+
+def test_acceleration_limits_bound_every_change_and_the_robot_arrives_clear():
+    """`a_max` and `alpha_max`: from rest, consecutive commands differ by at most `a_max·h` and
+    `alpha_max·h`, every arc keeps the margin, and the robot arrives (docs/unicycle.md §10)."""
+    nav = limited_star()
+    assert nav.accel == (0.5, 4.0) and diff_star().accel is None
+    def clear(p):
+        assert clearance(p) >= RADIUS + MARGIN - 1e-9, p
+
+    x, yaw, commands = drive(nav, START.copy(), 0.0, 3000, clear)
+    assert np.linalg.norm(x - GOAL) < 0.05
+    last = (0.0, 0.0)
+    for v, omega in commands:
+        assert abs(v - last[0]) <= 0.5 * H * (1 + 1e-12), (v, last)
+        assert abs(omega - last[1]) <= 4.0 * H * (1 + 1e-12), (omega, last)
+        last = (v, omega)

@@ -161,6 +161,13 @@ pub struct FloorRobotSpec {
     /// A differential drive's heading `θ(0)` at the start, rad (default 0).
     #[serde(default)]
     pub yaw: Option<f64>,
+    /// A differential drive's acceleration limits, `a_max` m/s² and `alpha_max` rad/s² (both
+    /// or neither; [`harmonav::Accel`]), as a star world's `[robot]` keys.
+    #[serde(default)]
+    pub a_max: Option<f64>,
+    /// See `a_max`.
+    #[serde(default)]
+    pub alpha_max: Option<f64>,
 }
 
 impl FloorRobotSpec {
@@ -171,6 +178,8 @@ impl FloorRobotSpec {
             omega_max: self.omega_max,
             yaw: self.yaw,
             v_max: self.v_max,
+            a_max: self.a_max,
+            alpha_max: self.alpha_max,
         }
     }
 }

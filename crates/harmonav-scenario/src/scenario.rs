@@ -200,6 +200,8 @@ pub(crate) struct BaseKeys {
     pub omega_max: Option<f64>,
     pub yaw: Option<f64>,
     pub v_max: Option<f64>,
+    pub a_max: Option<f64>,
+    pub alpha_max: Option<f64>,
 }
 
 impl BaseKeys {
@@ -225,6 +227,12 @@ impl BaseKeys {
             if self.yaw.is_some() {
                 return Err(("robot.yaw", only("yaw")));
             }
+            if self.a_max.is_some() {
+                return Err(("robot.a_max", only("a_max")));
+            }
+            if self.alpha_max.is_some() {
+                return Err(("robot.alpha_max", only("alpha_max")));
+            }
             return Ok(());
         }
         let Some(omega_max) = self.omega_max else {
@@ -247,6 +255,25 @@ impl BaseKeys {
         {
             return Err(("robot.yaw", format!("must be finite (rad), got {yaw:e}")));
         }
+        match (self.a_max, self.alpha_max) {
+            (None, None) => {}
+            (Some(a), Some(alpha)) => {
+                parameter(a).map_err(|p| ("robot.a_max", p))?;
+                parameter(alpha).map_err(|p| ("robot.alpha_max", p))?;
+            }
+            (Some(_), None) => {
+                return Err((
+                    "robot.alpha_max",
+                    "acceleration limits take both `a_max` (m/s²) and `alpha_max` (rad/s²)".into(),
+                ));
+            }
+            (None, Some(_)) => {
+                return Err((
+                    "robot.a_max",
+                    "acceleration limits take both `a_max` (m/s²) and `alpha_max` (rad/s²)".into(),
+                ));
+            }
+        }
         if model == Model::Dynamic {
             return Err((
                 "robot.base",
@@ -263,14 +290,19 @@ impl BaseKeys {
         Ok(())
     }
 
-    /// `Base::Diff { v_max, omega_max }` for a differential drive, `None` for a holonomic one.
+    /// `Base::Diff { v_max, omega_max, accel }` for a differential drive (its acceleration
+    /// limits when `a_max` and `alpha_max` are given), `None` for a holonomic one.
     pub fn base(&self) -> Option<harmonav::Base> {
-        match (self.base, self.v_max, self.omega_max) {
+        let base = match (self.base, self.v_max, self.omega_max) {
             (BaseKind::Diff, Some(v_max), Some(omega_max)) => {
-                Some(harmonav::Base::diff(v_max, omega_max))
+                harmonav::Base::diff(v_max, omega_max)
             }
-            _ => None,
-        }
+            _ => return None,
+        };
+        Some(match (self.a_max, self.alpha_max) {
+            (Some(a), Some(alpha)) => base.with_accel(a, alpha),
+            _ => base,
+        })
     }
 }
 
@@ -282,6 +314,8 @@ impl ControllerSpec {
             omega_max: self.omega_max,
             yaw: self.yaw,
             v_max: self.v_max,
+            a_max: self.a_max,
+            alpha_max: self.alpha_max,
         }
     }
 }
@@ -379,6 +413,14 @@ pub struct ControllerSpec {
     /// floor plan's heading policy.
     #[serde(skip)]
     pub yaw: Option<f64>,
+    /// The file's `[robot] a_max`, m/s²: a differential drive's largest change of `v` per
+    /// second between commands ([`harmonav::Accel`]; with `alpha_max`, refused without a
+    /// differential drive).
+    #[serde(skip)]
+    pub a_max: Option<f64>,
+    /// The file's `[robot] alpha_max`, rad/s²: its largest change of `ω` per second.
+    #[serde(skip)]
+    pub alpha_max: Option<f64>,
 }
 
 impl Default for ControllerSpec {
@@ -393,6 +435,8 @@ impl Default for ControllerSpec {
             base: BaseKind::Holonomic,
             omega_max: None,
             yaw: None,
+            a_max: None,
+            alpha_max: None,
         }
     }
 }
@@ -608,6 +652,10 @@ struct RobotFile {
     omega_max: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     yaw: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    a_max: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    alpha_max: Option<f64>,
 }
 
 impl From<ScenarioFile> for Scenario {
@@ -633,6 +681,8 @@ impl From<ScenarioFile> for Scenario {
                 base: r.base,
                 omega_max: r.omega_max,
                 yaw: r.yaw,
+                a_max: r.a_max,
+                alpha_max: r.alpha_max,
                 ..file.controller
             },
             sim: SimSpec {
@@ -666,6 +716,8 @@ impl From<Scenario> for ScenarioFile {
                 base: s.controller.base,
                 omega_max: s.controller.omega_max,
                 yaw: s.controller.yaw,
+                a_max: s.controller.a_max,
+                alpha_max: s.controller.alpha_max,
             },
             sensor: s.sensor,
             field: s.field,

@@ -175,3 +175,25 @@ fn a_floor_plan_takes_the_same_base_keys() {
     let dynamic = floor(&format!("{DIFF}\nv_max = 0.5"), "").replace("kinematic", "dynamic");
     assert_eq!(load_floor(&dynamic).unwrap_err().field, "robot.base");
 }
+
+/// `[robot] a_max` and `alpha_max`: a differential drive's acceleration limits, both or
+/// neither, in either format; refused by name on a holonomic robot.
+#[test]
+fn acceleration_limits_are_read_and_checked_by_name() {
+    let text = |keys: &str| star(keys, V_MAX);
+    let diff = "base = \"diff\"\nomega_max = 2.0";
+    let p = load(&text(&format!("{diff}\na_max = 0.4\nalpha_max = 3.0"))).unwrap();
+    assert_eq!(p.base(), Some(Base::diff(0.5, 2.0).with_accel(0.4, 3.0)));
+    for (keys, field) in [
+        (format!("{diff}\na_max = 0.4"), "robot.alpha_max"),
+        (format!("{diff}\nalpha_max = 3.0"), "robot.a_max"),
+        (
+            format!("{diff}\na_max = -0.4\nalpha_max = 3.0"),
+            "robot.a_max",
+        ),
+        ("a_max = 0.4\nalpha_max = 3.0".to_string(), "robot.a_max"),
+    ] {
+        let e = load(&text(&keys)).unwrap_err();
+        assert!(e.to_string().contains(field), "{keys}: {e}");
+    }
+}

@@ -6,7 +6,7 @@
 
 use harmonav::control::Branch;
 use harmonav::perception::sim::Enclosure;
-use harmonav::{Base, Controller, FloorNavigator, Law, NavError, Options, StarShape};
+use harmonav::{Controller, FloorNavigator, Law, NavError, Options, StarShape};
 use harmonav_harmonic::Certificate;
 use harmonav_scenario::floorplan::FloorPrepared;
 use harmonav_scenario::{LidarSensor, Model, ShapeSpec};
@@ -382,11 +382,9 @@ pub(crate) fn fly(
     // A differential drive (`crate::unicycle`): its heading, and the monitors of its arcs. A
     // custom controller or rapier (`hold` other than the built-in step) drives the
     // holonomic robot only.
-    let mut diff = match (prepared.base(), custom) {
-        (Some(Base::Diff { v_max, omega_max }), None) => {
-            Some(Diff::new(v_max, omega_max, prepared.start_yaw()))
-        }
-        _ => None,
+    let mut diff = match custom {
+        None => Diff::of(prepared.base(), prepared.start_yaw()),
+        Some(_) => None,
     };
     if let Some(u) = &diff {
         yaw = u.yaw;
@@ -735,6 +733,7 @@ impl FloorSummary {
         ];
         if let Some(d) = &run.diff {
             guarantees.push(d.bounds());
+            guarantees.extend(d.accel_bounds());
         }
         if prepared.pixels.is_some() {
             guarantees.push(Guarantee::new(

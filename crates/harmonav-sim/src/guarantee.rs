@@ -56,6 +56,9 @@ pub enum Kind {
     ScansAccepted,
     /// A differential drive: every `(v, ω)` held within `0 ≤ v ≤ v_max`, `|ω| ≤ ω_max`.
     DiffBounds,
+    /// A differential drive with acceleration limits: consecutive commands within
+    /// `|Δv| ≤ a_max h`, `|Δω| ≤ α_max h`, from rest.
+    DiffAccel,
 }
 
 /// Why the robot lost the free space of its known obstacles.
@@ -290,6 +293,19 @@ pub enum Check {
         /// `ω_max`, rad/s.
         omega_max: f64,
     },
+    /// [`Kind::DiffAccel`] (`[robot] a_max` and `alpha_max`): the largest change between
+    /// consecutive commands (the first from rest), per second, against the limits (holds when
+    /// neither is exceeded by more than `1e-12` relative, the rounding of `v ± a_max h`).
+    DiffAccel {
+        /// The largest `|v⁺ − v|/h`, m/s².
+        max_dv: f64,
+        /// `a_max`, m/s².
+        a_max: f64,
+        /// The largest `|ω⁺ − ω|/h`, rad/s².
+        max_domega: f64,
+        /// `alpha_max`, rad/s².
+        alpha_max: f64,
+    },
     /// `[expect] max_speed_below`.
     ExpectMaxSpeedBelow {
         /// Largest speed, m/s.
@@ -329,6 +345,7 @@ impl Check {
             Self::PerceivedOnlyGrows { .. } => Kind::PerceivedOnlyGrows,
             Self::ScansAccepted { .. } => Kind::ScansAccepted,
             Self::DiffBounds { .. } => Kind::DiffBounds,
+            Self::DiffAccel { .. } => Kind::DiffAccel,
         }
     }
 
@@ -361,6 +378,7 @@ impl Check {
             Self::PerceivedOnlyGrows { .. } => "perceived-shapes-only-grow",
             Self::ScansAccepted { .. } => "scans-accepted",
             Self::DiffBounds { .. } => "diff-command-bounds",
+            Self::DiffAccel { .. } => "diff-accel-bounds",
         }
     }
 }
@@ -547,6 +565,16 @@ impl std::fmt::Display for Check {
                 f,
                 "v ∈ [{min_v:.4}, {max_v:.4}] m/s (v_max {v_max}), |ω| ≤ {max_omega:.4} rad/s \
                  (ω_max {omega_max})"
+            ),
+            Self::DiffAccel {
+                max_dv,
+                a_max,
+                max_domega,
+                alpha_max,
+            } => write!(
+                f,
+                "|Δv|/h ≤ {max_dv:.4} m/s² (a_max {a_max}), |Δω|/h ≤ {max_domega:.4} rad/s² \
+                 (α_max {alpha_max})"
             ),
         }
     }

@@ -10,7 +10,7 @@
 
 use harmonav::control::{Dynamic, Potential};
 use harmonav::{
-    Base, Controller, DEFAULT_DYNAMIC_PERIOD, DEFAULT_KINEMATIC_PERIOD, Mode, Mover, NavError,
+    Controller, DEFAULT_DYNAMIC_PERIOD, DEFAULT_KINEMATIC_PERIOD, Mode, Mover, NavError,
 };
 use harmonav_scenario::{Model, Prepared};
 use nalgebra::Vector2;
@@ -58,12 +58,7 @@ pub(crate) fn fly_with(
     let mut d = Driver::start(prepared, model, Some(h), 0.0, warnings, observer)?;
     let mut world = MoverWorld::new(&sc.sim.movers, prepared.truth.radius);
     // A differential drive (`crate::unicycle`): its heading, and the monitors of its arcs.
-    let mut diff = match prepared.base() {
-        Some(Base::Diff { v_max, omega_max }) => {
-            Some(Diff::new(v_max, omega_max, prepared.start_yaw()))
-        }
-        _ => None,
-    };
+    let mut diff = Diff::of(prepared.base(), prepared.start_yaw());
     // The last command turned a differential drive in place: not at rest.
     let mut turning = false;
     // How the last command was formed, for the movers' frames.

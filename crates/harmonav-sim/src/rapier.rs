@@ -5,7 +5,7 @@
 //! reports the contact events and the largest deviation from the built-in trajectory.
 
 use harmonav::control::Potential;
-use harmonav::{Base, Controller, PoseCommand};
+use harmonav::{Controller, PoseCommand};
 use harmonav_field::{Field, FieldEval};
 use harmonav_scenario::{Model, Prepared};
 use nalgebra::Vector2;
@@ -107,13 +107,10 @@ pub(crate) fn rapier_observed(
     let mut engine = Engine::new(h, walls, (start, sc.robot.radius, sc.robot.mass), &gap_to);
     // A differential drive: its body turns; each period's `(v, ω)` is judged as in the
     // built-in loop (`crate::unicycle`), on the arc commanded from rapier's pose.
-    let mut diff = match prepared.base() {
-        Some(Base::Diff { v_max, omega_max }) => {
-            engine.set_yaw(prepared.start_yaw());
-            Some(Diff::new(v_max, omega_max, prepared.start_yaw()))
-        }
-        _ => None,
-    };
+    let mut diff = Diff::of(prepared.base(), prepared.start_yaw());
+    if diff.is_some() {
+        engine.set_yaw(prepared.start_yaw());
+    }
     // The differential drive's command held over the current control period.
     let mut pose: Option<PoseCommand> = None;
     let mut t = 0.0;

@@ -17,7 +17,7 @@
 //! - **The bounds** (`Diff::guarantees`): `0 ≤ v ≤ v_max`, `|ω| ≤ ω_max` for every command
 //!   held, without tolerance.
 
-use harmonav::{PoseCommand, Steer, unicycle_arc};
+use harmonav::{Base, PoseCommand, Steer, unicycle_arc};
 use harmonav_scenario::Truth;
 use nalgebra::Vector2;
 use serde::Serialize;
@@ -68,6 +68,20 @@ pub struct DiffReport {
     pub swept_clearance: f64,
     /// Points of the arcs whose clearance was measured.
     pub arc_points: usize,
+    /// The acceleration limits `(a_max, alpha_max)` (`[robot] a_max`, `alpha_max`; `None`
+    /// without them).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub accel: Option<(f64, f64)>,
+    /// The largest `|v⁺ − v|/h` between consecutive commands, the first from rest, m/s²
+    /// (reported with acceleration limits).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_dv: Option<f64>,
+    /// The largest `|ω⁺ − ω|/h`, rad/s² (as `max_dv`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_domega: Option<f64>,
+    /// Commands at the most the base can brake ([`Steer::Braking`]; with acceleration limits).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub braking: Option<usize>,
 }
 
 /// The differential drive of a run in progress: its pose's heading and its monitors.
@@ -77,12 +91,25 @@ pub(crate) struct Diff {
     pub yaw: f64,
     /// What was measured so far.
     pub report: DiffReport,
+    /// The last command held, `(v, ω)` (`(0, 0)` at the start: at rest).
+    last: (f64, f64),
 }
 
 impl Diff {
-    /// A robot with the bounds `v_max`, `omega_max`, heading `yaw` at the start.
-    pub fn new(v_max: f64, omega_max: f64, yaw: f64) -> Self {
-        Self {
+    /// A robot on the differential-drive `base` (its bounds and acceleration limits), heading
+    /// `yaw` at the start; `None` for a holonomic base.
+    pub fn of(base: Option<Base>, yaw: f64) -> Option<Self> {
+        let Some(Base::Diff {
+            v_max,
+            omega_max,
+            accel,
+        }) = base
+        else {
+            return None;
+        };
+        let accel = accel.map(|a| (a.a_max, a.alpha_max));
+        let measured = accel.map(|_| 0.0);
+        Some(Self {
             yaw,
             report: DiffReport {
                 v_max,
@@ -91,9 +118,14 @@ impl Diff {
                 final_yaw: yaw,
                 min_v: f64::INFINITY,
                 swept_clearance: f64::INFINITY,
+                accel,
+                max_dv: measured,
+                max_domega: measured,
+                braking: accel.map(|_| 0),
                 ..DiffReport::default()
             },
-        }
+            last: (0.0, 0.0),
+        })
     }
 
     /// The robot at `x` holds `c` for `h` from the current heading: the command and the arc
@@ -125,8 +157,15 @@ impl Diff {
             Steer::Ahead => r.ahead += 1,
             Steer::Shortened { .. } => r.shortened += 1,
             Steer::Turning => r.turning += 1,
+            Steer::Braking => *r.braking.get_or_insert(0) += 1,
             _ => r.stopped += 1,
         }
+        if r.accel.is_some() {
+            let (v0, w0) = self.last;
+            r.max_dv = r.max_dv.map(|m| m.max((c.v - v0).abs() / h));
+            r.max_domega = r.max_domega.map(|m| m.max((c.omega - w0).abs() / h));
+        }
+        self.last = (c.v, c.omega);
         r.min_v = r.min_v.min(c.v);
         r.max_v = r.max_v.max(c.v);
         r.max_omega = r.max_omega.max(c.omega.abs());
@@ -142,10 +181,11 @@ impl Diff {
     }
 
     /// The guarantees of the run: `no-collision-between-states` along the arcs (the margin
-    /// kept, within [`MARGIN_TOLERANCE`]) and `diff-command-bounds`.
+    /// kept, within [`MARGIN_TOLERANCE`]), `diff-command-bounds`, and with acceleration
+    /// limits `diff-accel-bounds`.
     pub fn guarantees(&self, margin: f64) -> Vec<Guarantee> {
         let r = &self.report;
-        vec![
+        let mut out = vec![
             Guarantee::new(
                 Check::NoCollisionBetweenStates {
                     swept_clearance: r.swept_clearance,
@@ -153,11 +193,32 @@ impl Diff {
                 r.swept_clearance > 0.0 && r.swept_clearance >= margin - MARGIN_TOLERANCE,
             ),
             r.bounds(),
-        ]
+        ];
+        out.extend(r.accel_bounds());
+        out
     }
 }
 
 impl DiffReport {
+    /// The guarantee `diff-accel-bounds` with acceleration limits (`None` without): every
+    /// change between consecutive commands within the limits, to a relative `1e-12` (the
+    /// rounding of `v ± a_max h` and of the division by `h`).
+    #[must_use]
+    pub fn accel_bounds(&self) -> Option<Guarantee> {
+        let (a_max, alpha_max) = self.accel?;
+        let (max_dv, max_domega) = (self.max_dv.unwrap_or(0.0), self.max_domega.unwrap_or(0.0));
+        let within = |m: f64, limit: f64| m <= limit * (1.0 + 1e-12);
+        Some(Guarantee::new(
+            Check::DiffAccel {
+                max_dv,
+                a_max,
+                max_domega,
+                alpha_max,
+            },
+            within(max_dv, a_max) && within(max_domega, alpha_max),
+        ))
+    }
+
     /// The guarantee `diff-command-bounds`: `0 ≤ v ≤ v_max` and `|ω| ≤ ω_max` for every
     /// command held, without tolerance.
     #[must_use]
@@ -281,7 +342,7 @@ mod tests {
         let t = truth();
         for (v, omega) in [(0.5, 2.0), (0.3, -1.7), (0.4, 0.0), (0.0, 2.0)] {
             let (x0, yaw0, h) = (Vector2::new(-5.0, 1.0), 0.7, 0.1);
-            let mut d = Diff::new(0.5, 2.0, yaw0);
+            let mut d = Diff::of(Some(Base::diff(0.5, 2.0)), yaw0).unwrap();
             let (x1, v1) = d.period(&t, x0, &command(v, omega), h);
             let n = 20_000;
             let dt = h / f64::from(n);
@@ -324,7 +385,7 @@ mod tests {
         let (swept, points) = swept_clearance(&t, (x, yaw), (v, omega), h);
         assert!(swept < -5e-4, "the arc goes in: {swept} ({points} points)");
         // And the loop's monitor fails it.
-        let mut d = Diff::new(0.5, 2.0, yaw);
+        let mut d = Diff::of(Some(Base::diff(0.5, 2.0)), yaw).unwrap();
         d.period(&t, x, &command(v, omega), h);
         let g = d.guarantees(0.0);
         assert!(!g[0].passed && g[1].passed, "{g:?}");
@@ -346,7 +407,7 @@ mod tests {
             .fold(f64::INFINITY, f64::min);
         assert!(swept > 0.0 && swept <= dense, "{swept} {dense}");
         assert!(swept >= dense * (1.0 - ARC_STEP_SHARE) - ARC_STEP_MIN);
-        let mut d = Diff::new(0.5, 2.0, yaw);
+        let mut d = Diff::of(Some(Base::diff(0.5, 2.0)), yaw).unwrap();
         d.period(&t, x, &command(v, omega), h);
         assert!(d.guarantees(0.0).iter().all(|g| g.passed));
     }
@@ -358,13 +419,13 @@ mod tests {
         let t = truth();
         let x = Vector2::new(-5.0, 0.0);
         for (v, omega) in [(0.5 + 1e-12, 0.0), (0.2, -2.0 - 1e-12), (-0.1, 0.0)] {
-            let mut d = Diff::new(0.5, 2.0, 0.0);
+            let mut d = Diff::of(Some(Base::diff(0.5, 2.0)), 0.0).unwrap();
             d.period(&t, x, &command(0.5, 2.0), 0.1);
             d.period(&t, x, &command(v, omega), 0.1);
             let g = d.guarantees(0.0);
             assert!(g[0].passed && !g[1].passed, "{v} {omega}: {g:?}");
         }
-        let mut d = Diff::new(0.5, 2.0, 0.0);
+        let mut d = Diff::of(Some(Base::diff(0.5, 2.0)), 0.0).unwrap();
         d.period(&t, x, &command(0.5, -2.0), 0.1);
         assert!(d.guarantees(0.0)[1].passed);
     }

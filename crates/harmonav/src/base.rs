@@ -20,7 +20,29 @@ pub enum Base {
         v_max: f64,
         /// The top turn rate, rad/s, in [`crate::PARAMETER_RANGE`].
         omega_max: f64,
+        /// The acceleration limits between two commands (`None`: none, the default;
+        /// [`Base::with_accel`]).
+        accel: Option<Accel>,
     },
+}
+
+/// A differential drive's acceleration limits (issue 53, item 2; docs/unicycle.md §10):
+/// between two commands of [`Navigator::command_pose`](crate::Navigator::command_pose) held
+/// for the control period `h`,
+///
+/// ```text
+/// |v⁺ − v| ≤ a_max·h,   |ω⁺ − ω| ≤ alpha_max·h,
+/// ```
+///
+/// and the braking certificate (eq. brakedisc): every command leaves the disc the base can
+/// brake to rest in, radius `v⁺²/(2 a_max)` about the end of its arc, certified free, so
+/// that the most it can brake (`v⁺ = max(0, v − a_max h)`) is always safe.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Accel {
+    /// The largest change of the forward speed, m/s², in [`crate::PARAMETER_RANGE`].
+    pub a_max: f64,
+    /// The largest change of the turn rate, rad/s², in [`crate::PARAMETER_RANGE`].
+    pub alpha_max: f64,
 }
 
 impl Base {
@@ -28,7 +50,27 @@ impl Base {
     /// [`crate::Options::validate`].
     #[must_use]
     pub fn diff(v_max: f64, omega_max: f64) -> Self {
-        Self::Diff { v_max, omega_max }
+        Self::Diff {
+            v_max,
+            omega_max,
+            accel: None,
+        }
+    }
+
+    /// This base with the acceleration limits `a_max` (m/s²) and `alpha_max` (rad/s²)
+    /// ([`Accel`]); a holonomic base is returned as it is (it takes no such limits).
+    #[must_use]
+    pub fn with_accel(self, a_max: f64, alpha_max: f64) -> Self {
+        match self {
+            Self::Diff {
+                v_max, omega_max, ..
+            } => Self::Diff {
+                v_max,
+                omega_max,
+                accel: Some(Accel { a_max, alpha_max }),
+            },
+            Self::Holonomic => self,
+        }
     }
 
     /// The name used in logs and Python (`"holonomic"`, `"diff"`).
@@ -40,14 +82,24 @@ impl Base {
         }
     }
 
-    /// The bounds checked for `law`: `v_max` and `omega_max` finite and in
-    /// [`crate::PARAMETER_RANGE`] (the error names the field); a differential-drive base with
+    /// The bounds checked for `law`: `v_max`, `omega_max` (and `a_max`, `alpha_max` when
+    /// given) finite and in [`crate::PARAMETER_RANGE`] (the error names the field); a
+    /// differential-drive base with
     /// the dynamic law is [`NavError::InvalidOption`] naming `base` (not built in this
     /// release: the kinematic law only).
     pub(crate) fn validate(&self, law: &Law) -> Result<(), NavError> {
-        if let Self::Diff { v_max, omega_max } = *self {
+        if let Self::Diff {
+            v_max,
+            omega_max,
+            accel,
+        } = *self
+        {
             in_range("v_max", v_max)?;
             in_range("omega_max", omega_max)?;
+            if let Some(a) = accel {
+                in_range("a_max", a.a_max)?;
+                in_range("alpha_max", a.alpha_max)?;
+            }
             if matches!(law, Law::Dynamic { .. }) {
                 return Err(NavError::InvalidOption {
                     field: "base",

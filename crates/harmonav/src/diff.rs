@@ -53,10 +53,15 @@ pub enum Steer {
     Turning,
     /// `v = ω = 0`: at the goal, at a critical point of `Θ`, or halted ([`Mode::Halted`]).
     Stopped,
+    /// `v = max(0, v_last − a_max h)`: under acceleration limits ([`crate::Accel`]) the most
+    /// the base can brake, which the previous command's braking disc certifies (eq.
+    /// brakedisc); what it would have commanded was slower.
+    Braking,
 }
 
 impl Steer {
-    /// The name used in logs and Python (`"ahead"`, `"shortened"`, `"turning"`, `"stopped"`).
+    /// The name used in logs and Python (`"ahead"`, `"shortened"`, `"turning"`, `"stopped"`,
+    /// `"braking"`).
     #[must_use]
     pub fn as_str(&self) -> &'static str {
         match self {
@@ -64,6 +69,7 @@ impl Steer {
             Self::Shortened { .. } => "shortened",
             Self::Turning => "turning",
             Self::Stopped => "stopped",
+            Self::Braking => "braking",
         }
     }
 }
@@ -192,6 +198,77 @@ fn arc_hold(
     0.0
 }
 
+/// How a command's braking is certified (docs/unicycle.md §10): what the base may do next
+/// period at the most it can brake, `v_b = max(0, v − a_max h)`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) enum Brake {
+    /// Eq. brakedisc: the disc of radius `v²/(2 a_max)` about the end of the command's arc is
+    /// certified free; braking may turn at any rate within the limits.
+    #[default]
+    Disc,
+    /// Eq. brakearc: the arc of curvature `κ` from the command's pose, of length
+    /// `v h + v²/(2 a_max)` (the command's arc and its continuation), is certified free, and
+    /// `|κ| a_max ≤ alpha_max`; braking keeps to it, `ω_b = κ v_b`.
+    Arc(f64),
+}
+
+/// The braking certificate (docs/unicycle.md §10): the largest `v' ≤ v` (at most `|x − x_d|/h`,
+/// halving) such that, with `κ = ω/v'`, either (eq. brakearc) `|κ| a_max ≤ alpha_max` and the
+/// arc of curvature `κ` from `(x, yaw)` of length
+///
+/// ```text
+/// v'h + v'²/(2 a_max)
+/// ```
+///
+/// is certified free (sphere tracing in arc length), or (eq. brakedisc) the arc of `(v', ω)`
+/// over `h` is certified free and so is the disc the base brakes to rest in from its end,
+/// `c(x(h)) ≥ v'²/(2 a_max)` (`c` the certified clearance), whatever it turns meanwhile.
+/// `(0, Disc)` if none is found. A speed that falls at `a_max` from `v'` covers at most
+/// `v'²/(2 a_max)`.
+fn braked_arc(
+    space: &impl Space,
+    x: Vector2<f64>,
+    yaw: f64,
+    (v, omega): (f64, f64),
+    h: f64,
+    a: crate::base::Accel,
+) -> (f64, Brake) {
+    let mut v = v.min((x - space.goal()).norm() / h);
+    for _ in 0..2 * MAX_HALVINGS {
+        if v.is_nan() || v <= 0.0 {
+            return (0.0, Brake::Disc);
+        }
+        let kappa = omega / v;
+        let stop = v * v / (2.0 * a.a_max);
+        if kappa.abs() * a.a_max <= a.alpha_max {
+            let length = v * h + stop;
+            let free = hold::free_length_along(space, |l| arc_point(x, yaw, kappa, l), length);
+            if free >= length {
+                return (v, Brake::Arc(kappa));
+            }
+        }
+        if free_arc(space, x, yaw, v, omega, h) >= v * h {
+            let (end, _) = unicycle_arc(x, yaw, v, omega, h);
+            if space.clearance(end, stop, None) >= stop {
+                return (v, Brake::Disc);
+            }
+        }
+        v *= 0.5;
+    }
+    (0.0, Brake::Disc)
+}
+
+/// What a base's acceleration limits leave of the next command: the most it can brake
+/// (`floor`, with `floor_omega` its turn rate and `floor_brake` its certificate), and how the
+/// command itself is certified (`brake`).
+#[derive(Clone, Copy, Debug, Default)]
+struct Limits {
+    floor: f64,
+    floor_omega: f64,
+    floor_brake: Brake,
+    brake: Brake,
+}
+
 /// The signed angle from `a` to `b` (unit vectors), in `[−π, π]`.
 fn angle(a: Vector2<f64>, b: Vector2<f64>) -> f64 {
     (a.x * b.y - a.y * b.x).atan2(a.dot(&b))
@@ -233,9 +310,20 @@ impl<W: World> Navigator<W> {
     /// The base is [`Base::Holonomic`] ([`NavError::InvalidOption`] naming `base`); `yaw` not
     /// finite ([`NavError::NotFinite`], `"yaw"`); then as [`Navigator::command`].
     pub fn command_pose(&mut self, x: Vector2<f64>, yaw: f64) -> Result<PoseCommand, NavError> {
-        let pose = self.pose(x, yaw)?;
-        let (v, mode) = self.arc_among_movers(x, yaw, (pose.v, pose.omega), pose.mode)?;
-        let steer = if v < pose.v {
+        let (mut pose, limits) = self.pose(x, yaw)?;
+        let (mut v, mode, rebrake) =
+            self.arc_among_movers(x, yaw, (pose.v, pose.omega), pose.mode, limits.floor)?;
+        let mut brake = rebrake.unwrap_or(limits.brake);
+        if limits.floor > 0.0 && v <= limits.floor && v < pose.v {
+            // The movers asked for less than the base can brake to: it brakes as certified.
+            (v, pose.omega, brake) = (limits.floor, limits.floor_omega, limits.floor_brake);
+            pose.steer = Steer::Braking;
+        }
+        self.core.pose_command = (v, pose.omega);
+        self.core.brake = brake;
+        let steer = if pose.steer == Steer::Braking {
+            Steer::Braking
+        } else if v < pose.v {
             if v > 0.0 {
                 Steer::Shortened { scale: v / pose.v }
             } else if pose.omega != 0.0 {
@@ -254,9 +342,15 @@ impl<W: World> Navigator<W> {
         })
     }
 
-    /// [`Navigator::command_pose`] before the movers' rows.
-    fn pose(&mut self, x: Vector2<f64>, yaw: f64) -> Result<PoseCommand, NavError> {
-        let Base::Diff { v_max, omega_max } = self.core.options.base else {
+    /// [`Navigator::command_pose`] before the movers' rows, and what the acceleration limits
+    /// leave ([`Limits`]; none without them).
+    fn pose(&mut self, x: Vector2<f64>, yaw: f64) -> Result<(PoseCommand, Limits), NavError> {
+        let Base::Diff {
+            v_max,
+            omega_max,
+            accel,
+        } = self.core.options.base
+        else {
             return Err(NavError::InvalidOption {
                 field: "base",
                 value: f64::NAN,
@@ -265,6 +359,102 @@ impl<W: World> Navigator<W> {
         if !yaw.is_finite() {
             return Err(NavError::NotFinite { what: "yaw" });
         }
+        let want = self.aligned(x, yaw, v_max, omega_max)?;
+        Ok(match accel {
+            None => (want, Limits::default()),
+            Some(a) => self.accelerated(want, x, yaw, a),
+        })
+    }
+
+    /// The acceleration limits `a` applied to `want` (docs/unicycle.md §10): `ω` within
+    /// `alpha_max·h` of the last command's, `v` at most `a_max·h` above it and at most
+    /// `√(2 a_max |x − x_d|)`, and, under [`HoldPolicy::Auto`], shortened until its braking is
+    /// certified ([`braked_arc`]); never below `v_b = max(0, v_last − a_max h)`, the most the
+    /// base can brake ([`Steer::Braking`]), which the last command's certificate covers: on
+    /// its arc (`ω_b = κ v_b`, eq. brakearc) or within its disc (eq. brakedisc), since
+    /// `v_b h + v_b²/(2a) ≤ v_last²/(2a)`.
+    fn accelerated(
+        &self,
+        want: PoseCommand,
+        x: Vector2<f64>,
+        yaw: f64,
+        a: crate::base::Accel,
+    ) -> (PoseCommand, Limits) {
+        let h = self.core.period;
+        let (v0, w0) = self.core.pose_command;
+        let floor = (v0 - a.a_max * h).max(0.0);
+        let omega = want.omega.clamp(w0 - a.alpha_max * h, w0 + a.alpha_max * h);
+        let (floor_omega, floor_brake) = match self.core.brake {
+            Brake::Arc(kappa) if floor > 0.0 => (kappa * floor, Brake::Arc(kappa)),
+            _ => (omega, Brake::Disc),
+        };
+        // The goal is approached at a speed the base can shed before it (`v² ≤ 2 a_max |x −
+        // x_d|`, the braking profile of the "auto" speed policy): without it the robot
+        // overshot the goal and came back in loops the turn-rate limit made wide.
+        let to_goal = (x - self.goal()).norm();
+        let mut v = want
+            .v
+            .min(v0 + a.a_max * h)
+            .min((2.0 * a.a_max * to_goal).sqrt());
+        let mut brake = Brake::Disc;
+        if let Mode::Recovering(_) = want.mode {
+            // Inside a margin band no braking is certified (the clearance is negative): the
+            // recovery's own straight step, a prefix of the one the hold certified, once the
+            // turn rate has come to the recovery's.
+            if omega != want.omega {
+                v = 0.0;
+            }
+        } else if self.core.options.hold == HoldPolicy::Auto && v > floor {
+            (v, brake) = braked_arc(self.world.field(), x, yaw, (v, omega), h, a);
+        }
+        let limits = Limits {
+            floor,
+            floor_omega,
+            floor_brake,
+            brake,
+        };
+        if floor > 0.0 && (v < floor || (v == floor && floor > want.v)) {
+            let pose = PoseCommand {
+                v: floor,
+                omega: floor_omega,
+                steer: Steer::Braking,
+                ..want
+            };
+            return (
+                pose,
+                Limits {
+                    brake: floor_brake,
+                    ..limits
+                },
+            );
+        }
+        let steer = if v == want.v {
+            want.steer
+        } else if v > 0.0 {
+            Steer::Shortened { scale: v / want.v }
+        } else if omega != 0.0 {
+            Steer::Turning
+        } else {
+            Steer::Stopped
+        };
+        let pose = PoseCommand {
+            v,
+            omega,
+            steer,
+            ..want
+        };
+        (pose, limits)
+    }
+
+    /// Aligned descent within `v_max` and `omega_max`, its arc held (the command of a base
+    /// without acceleration limits).
+    fn aligned(
+        &mut self,
+        x: Vector2<f64>,
+        yaw: f64,
+        v_max: f64,
+        omega_max: f64,
+    ) -> Result<PoseCommand, NavError> {
         let held = self.command(x, Vector2::zeros())?;
         let h = self.core.period;
         let stopped = PoseCommand {
@@ -363,9 +553,10 @@ impl<W: World> Navigator<W> {
         yaw: f64,
         (v, omega): (f64, f64),
         mode: Mode,
-    ) -> Result<(f64, Mode), NavError> {
+        floor: f64,
+    ) -> Result<(f64, Mode, Option<Brake>), NavError> {
         if self.core.movers.is_empty() {
-            return Ok((v, mode));
+            return Ok((v, mode, None));
         }
         let h = self.core.period;
         let body = (x, self.core.options.radius, self.core.options.margin);
@@ -381,12 +572,23 @@ impl<W: World> Navigator<W> {
             }
         }
         let mut kept = cap;
-        if kept < v && kept > 0.0 && self.core.options.hold == HoldPolicy::Auto {
-            // The shorter arc is another curve: certified again.
+        let mut rebrake = None;
+        if kept < v && kept > floor && self.core.options.hold == HoldPolicy::Auto {
             // The shorter arc is another curve: certified free again (the filter drops the
-            // descent of `Θ` while it acts, docs/movers.md §2).
-            kept = arc_hold(self.world.field(), x, yaw, None, (kept, omega), h);
+            // descent of `Θ` while it acts, docs/movers.md §2), with its braking under
+            // acceleration limits.
+            kept = match self.core.options.base {
+                Base::Diff { accel: Some(a), .. } => {
+                    let (kept, brake) = braked_arc(self.world.field(), x, yaw, (kept, omega), h, a);
+                    rebrake = Some(brake);
+                    kept
+                }
+                _ => arc_hold(self.world.field(), x, yaw, None, (kept, omega), h),
+            };
         }
+        // Under acceleration limits the base cannot be slower than `floor`: a row that asks
+        // for less is not met (Overwhelmed below).
+        kept = kept.max(floor);
         let worst = |speed: f64| {
             self.core
                 .rows
@@ -397,16 +599,16 @@ impl<W: World> Navigator<W> {
         let (mover, shortfall) = worst(kept);
         let inside = self.core.rows.iter().any(|row| row.inside);
         if kept < least || shortfall > 0.0 || inside {
-            return Ok((kept, Mode::Overwhelmed { mover, shortfall }));
+            return Ok((kept, Mode::Overwhelmed { mover, shortfall }, rebrake));
         }
         if kept < v {
             let scale = if v > 0.0 { kept / v } else { 0.0 };
-            return Ok((kept, Mode::Yielding { mover, scale }));
+            return Ok((kept, Mode::Yielding { mover, scale }, rebrake));
         }
         // The arc meets every row, whatever the holonomic command it steers by did.
         Ok(match mode {
-            Mode::Overwhelmed { mover, .. } => (v, Mode::Yielding { mover, scale: 1.0 }),
-            mode => (v, mode),
+            Mode::Overwhelmed { mover, .. } => (v, Mode::Yielding { mover, scale: 1.0 }, None),
+            mode => (v, mode, None),
         })
     }
 

@@ -78,7 +78,7 @@ pub use harmonav_potential as potential;
 pub use harmonav_sensing as sensing;
 pub use harmonav_transform as transform;
 
-pub use base::Base;
+pub use base::{Accel, Base};
 pub use certified::{BLIND, Band, CANDIDATES};
 pub use controller::{Controller, Evaluation};
 pub use diff::{GOAL_GAIN_RATIO, PoseCommand, RECOVERY_ALIGNMENT, Steer, TURN_GAIN, unicycle_arc};

@@ -113,6 +113,8 @@ impl<W: World> Navigator<W> {
             rows: Vec::new(),
             yielded: false,
             keep_right: KeepRight::default(),
+            pose_command: (0.0, 0.0),
+            brake: crate::diff::Brake::Disc,
         };
         let nav = Self { core, world };
         // Guard: λ_c (eq. critdamp) overflowed for m = μ = 1e308; within the ranges it is

@@ -90,6 +90,12 @@ pub struct Core {
     pub(crate) yielded: bool,
     /// The deadlock rule's memory (it turns the nominal command only).
     pub(crate) keep_right: KeepRight,
+    /// The `(v, ω)` of the last successful `command_pose` (`(0, 0)` before the first: the
+    /// base starts at rest), from which a base's acceleration limits count
+    /// ([`crate::Accel`]).
+    pub(crate) pose_command: (f64, f64),
+    /// How the last `command_pose`'s braking was certified, under acceleration limits.
+    pub(crate) brake: crate::diff::Brake,
 }
 
 /// What [`Rules::admit`] may need besides the grown shape: the known shapes grown by `radius`
