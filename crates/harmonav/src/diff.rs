@@ -413,7 +413,8 @@ impl<W: World> Navigator<W> {
             floor_brake,
             brake,
         };
-        if floor > 0.0 && (v < floor || (v == floor && floor > want.v)) {
+        // At or below `v_b` only the braking command is certified (by the last command).
+        if floor > 0.0 && v <= floor {
             let pose = PoseCommand {
                 v: floor,
                 omega: floor_omega,
