@@ -263,10 +263,16 @@ def mixed_metrics(agents, collisions, log, gaps, pi, pj, moved) -> dict:
     mine = (pi == 0) | (pj == 0)
     swept = np.flatnonzero((gaps[:, mine] <= 0.0).any(1)) + 1
     bad = (hn.MODES.index("overwhelmed"), hn.MODES.index("refused"))
-    unexplained, bound_broken = 0, 0
+    unexplained, bound_broken, unjudged = 0, 0, 0
     bound = 0.166 * TIME_STEP * (1.0 + 1e-4)
     for k in starts:
         if log is None:
+            continue
+        if k >= len(log.modes):
+            # The run's last record (step = steps): the robot logged no command for it, so
+            # the episode cannot be judged (it was once counted as unexplained: an empty
+            # window has no uncertified command).
+            unjudged += 1
             continue
         window = log.modes[max(0, k - EXPLAIN_PERIODS):k + 1]
         if not any(code in bad for code in window):
@@ -281,6 +287,7 @@ def mixed_metrics(agents, collisions, log, gaps, pi, pj, moved) -> dict:
     if log is not None:
         out["unexplained_episodes"] = unexplained
         out["unexplained_with_speed_bound_broken"] = bound_broken
+        out["unjudged_episodes"] = unjudged
         out["robot_uncertified"] = sum(1 for c in log.modes if c in bad)
         out["robot_commands"] = len(log.modes)
     return out
@@ -357,6 +364,7 @@ def summarise(runs: list, scenario: str) -> dict:
     if scenario == "mixed":
         for key in ("robot_contact_episodes", "robot_swept_contact_episodes",
                     "unexplained_episodes", "unexplained_with_speed_bound_broken",
+                    "unjudged_episodes",
                     "robot_uncertified", "robot_commands"):
             vals = [r[key] for r in runs if key in r]
             if vals:
