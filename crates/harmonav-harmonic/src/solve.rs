@@ -181,31 +181,53 @@ fn assemble<'a>(
         region: None,
     };
     let far = Operator::new(&sources, &targets, &options)?;
-    let mut near_start = Vec::with_capacity(n + 1);
-    let mut near_col = Vec::new();
-    let mut near_val = Vec::new();
-    let mut acc = vec![0.0; n];
-    let mut mark = vec![usize::MAX; n];
-    let mut touched: Vec<usize> = Vec::new();
-    near_start.push(0);
-    for (i, p) in panels.iter().enumerate() {
-        far.near(i, |piece| {
-            let j = piece.source;
-            if mark[j] != i {
-                mark[j] = i;
-                touched.push(j);
+    // The near matrix, rows by collocation point: each half of the rows on its own thread
+    // (each row is computed alone, so the matrix is the one-thread matrix bit for bit).
+    let rows = |range: Range<usize>| -> (Vec<usize>, Vec<u32>, Vec<f64>) {
+        let mut lengths = Vec::with_capacity(range.len());
+        let mut cols = Vec::new();
+        let mut vals = Vec::new();
+        let mut acc = vec![0.0; n];
+        let mut mark = vec![usize::MAX; n];
+        let mut touched: Vec<usize> = Vec::new();
+        for i in range {
+            let p = &panels[i];
+            far.near(i, |piece| {
+                let j = piece.source;
+                if mark[j] != i {
+                    mark[j] = i;
+                    touched.push(j);
+                }
+                acc[j] += piece_value(panels, p.centre, piece);
+            });
+            touched.sort_unstable();
+            for &j in &touched {
+                cols.push(j as u32);
+                vals.push(acc[j]);
+                acc[j] = 0.0;
             }
-            acc[j] += piece_value(panels, p.centre, piece);
-        });
-        touched.sort_unstable();
-        for &j in &touched {
-            near_col.push(j as u32);
-            near_val.push(acc[j]);
-            acc[j] = 0.0;
+            lengths.push(touched.len());
+            touched.clear();
         }
-        touched.clear();
-        near_start.push(near_col.len());
+        (lengths, cols, vals)
+    };
+    let (first, second) = std::thread::scope(|scope| {
+        let handle = scope.spawn(|| rows(n / 2..n));
+        let first = rows(0..n / 2);
+        // A panic in the other thread is re-raised here.
+        let second = handle
+            .join()
+            .unwrap_or_else(|e| std::panic::resume_unwind(e));
+        (first, second)
+    });
+    let mut near_start = Vec::with_capacity(n + 1);
+    near_start.push(0);
+    for length in first.0.iter().chain(&second.0) {
+        near_start.push(near_start[near_start.len() - 1] + length);
     }
+    let (mut near_col, mut near_val) = (first.1, first.2);
+    near_col.extend(second.1);
+    near_val.extend(second.2);
     Ok(System {
         panels,
         ring_of,
