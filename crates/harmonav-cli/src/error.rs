@@ -46,13 +46,6 @@ pub enum CliError {
     },
     /// The JSON output could not be made.
     Json(serde_json::Error),
-    /// An option of star worlds given with a floor-plan file.
-    NotForFloorPlans {
-        /// The scenario file.
-        scenario: PathBuf,
-        /// The option (`--physics rapier`, `--k`, `--damping`, or a command).
-        option: &'static str,
-    },
     /// `sweep` on a star world without `--starts`.
     StartsRequired {
         /// The scenario file.
@@ -91,13 +84,6 @@ impl std::fmt::Display for CliError {
                 write!(f, "{}: {error}", scenario.display())
             }
             Self::Json(e) => write!(f, "cannot write the JSON output: {e}"),
-            Self::NotForFloorPlans { scenario, option } => write!(
-                f,
-                "{}: {option} is for star worlds; a floor plan (a `[floor_plan]` file) runs \
-                 its loop under the `auto` policies, and supports `run` (built-in or rapier), \
-                 `eval`, `sweep` and `check` (docs/maths.md §13)",
-                scenario.display()
-            ),
             Self::StartsRequired { scenario } => write!(
                 f,
                 "{}: `sweep` on a star world needs --starts N (seeded random starts); a floor \

@@ -205,10 +205,8 @@ fn dispatch(command: Command) -> Result<bool, CliError> {
         }
         Command::Census { scenario, k, json } => {
             if floor_plan(&scenario)? {
-                return Err(CliError::NotForFloorPlans {
-                    scenario,
-                    option: "`census`",
-                });
+                let floor = floor::load_floor(&scenario, k, None)?;
+                return census::cmd_census_floor(&floor, json);
             }
             census::cmd_census(&load(&scenario, k, None)?, json)
         }

@@ -164,7 +164,7 @@ fn eval_on_a_floor_plan_agrees_with_finite_differences_and_names_bad_points() {
 }
 
 #[test]
-fn check_solves_the_map_and_census_is_refused() {
+fn check_solves_the_map() {
     let file = floorplan("u-trap.toml");
     let (code, out, err) = harmonav(&["check", &file]);
     assert_eq!(code, 0, "{err}");
@@ -177,12 +177,6 @@ fn check_solves_the_map_and_census_is_refused() {
     );
     assert!(out.contains("start (1.000, 2.100): above c_δ"), "{out}");
     assert!(out.contains("start (5.024, 0.762): certified"), "{out}");
-    let (code, out, err) = harmonav(&["census", &file]);
-    assert_eq!(code, 2, "{out}");
-    assert!(
-        err.contains("`census` is for star worlds") && err.contains("u-trap.toml"),
-        "{err}"
-    );
     // A bad floor plan is named by its field, as every scenario error is.
     let dir = scratch("bad");
     let bad = dir.join("bad.toml");
@@ -311,4 +305,44 @@ fn k_and_damping_set_a_floor_plans_policies() {
     let (code, _, err) = harmonav(&["sweep", &file, "--damping", "critical"]);
     assert_eq!(code, 2);
     assert!(err.contains("paper") && err.contains("governed"), "{err}");
+}
+
+/// `census` on a floor plan (theorem `isNF` through `Phi`): the U-trap's `Θ` over its hole and
+/// its pillar has the goal as its one minimum and one saddle per hole and obstacle, whose
+/// Hessian has one negative and one positive eigenvalue; the goal's is positive definite.
+#[test]
+fn census_on_a_floor_plan_finds_the_goal_and_one_saddle_per_hole_and_obstacle() {
+    let file = floorplan("u-trap.toml");
+    let (code, out, err) = harmonav(&["census", &file, "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(
+        (v["minima"].as_u64(), v["saddles"].as_u64()),
+        (Some(1), Some(2)),
+        "{v}"
+    );
+    assert_eq!(v["outside_certified_region"].as_u64(), Some(0), "{v}");
+    let points = v["points"].as_array().unwrap();
+    assert_eq!(
+        (points[0]["x"].as_f64(), points[0]["y"].as_f64()),
+        (Some(6.8), Some(2.5))
+    );
+    let e0 = points[0]["eigenvalues"].as_array().unwrap();
+    assert!(e0[0].as_f64().unwrap() > 0.0, "{v}");
+    // Each saddle's Hessian is indefinite (crates/harmonav-floorplan/tests/census.rs checks
+    // that `∇Θ` vanishes there).
+    for p in &points[1..] {
+        assert_eq!(p["kind"], "saddle");
+        let e = p["eigenvalues"].as_array().unwrap();
+        assert!(
+            e[0].as_f64().unwrap() < 0.0 && e[1].as_f64().unwrap() > 0.0,
+            "{p}"
+        );
+    }
+    let (code, text, err) = harmonav(&["census", &file]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        text.starts_with("1 minimum, 2 saddles, 0 degenerate (M = 2"),
+        "{text}"
+    );
 }

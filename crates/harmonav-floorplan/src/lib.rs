@@ -62,6 +62,7 @@
 
 #![warn(missing_docs)]
 
+pub mod census;
 pub mod compose;
 pub mod coverage;
 pub mod geodesic;
