@@ -12,7 +12,7 @@
 use harmonav_field::FieldEval;
 use nalgebra::Vector2;
 
-use crate::base::Base;
+use crate::base::{Base, Brake};
 use crate::controller::Controller;
 use crate::error::NavError;
 use crate::hold::{self, KINEMATIC_FRACTION, MAX_HALVINGS, Mode};
@@ -196,20 +196,6 @@ fn arc_hold(
         v *= 0.5;
     }
     0.0
-}
-
-/// How a command's braking is certified (docs/unicycle.md §10): what the base may do next
-/// period at the most it can brake, `v_b = max(0, v − a_max h)`.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub(crate) enum Brake {
-    /// Eq. brakedisc: the disc of radius `v²/(2 a_max)` about the end of the command's arc is
-    /// certified free; braking may turn at any rate within the limits.
-    #[default]
-    Disc,
-    /// Eq. brakearc: the arc of curvature `κ` from the command's pose, of length
-    /// `v h + v²/(2 a_max)` (the command's arc and its continuation), is certified free, and
-    /// `|κ| a_max ≤ alpha_max`; braking keeps to it, `ω_b = κ v_b`.
-    Arc(f64),
 }
 
 /// The braking certificate (docs/unicycle.md §10): the largest `v' ≤ v` (at most `|x − x_d|/h`,

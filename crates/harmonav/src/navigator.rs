@@ -114,7 +114,7 @@ impl<W: World> Navigator<W> {
             yielded: false,
             keep_right: KeepRight::default(),
             pose_command: (0.0, 0.0),
-            brake: crate::diff::Brake::Disc,
+            brake: crate::base::Brake::Disc,
         };
         let nav = Self { core, world };
         // Guard: λ_c (eq. critdamp) overflowed for m = μ = 1e308; within the ranges it is

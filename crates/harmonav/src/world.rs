@@ -95,7 +95,7 @@ pub struct Core {
     /// ([`crate::Accel`]).
     pub(crate) pose_command: (f64, f64),
     /// How the last `command_pose`'s braking was certified, under acceleration limits.
-    pub(crate) brake: crate::diff::Brake,
+    pub(crate) brake: crate::base::Brake,
 }
 
 /// What [`Rules::admit`] may need besides the grown shape: the known shapes grown by `radius`
