@@ -189,7 +189,7 @@ pub fn sweep_floor(
     .collect()
 }
 
-/// A floor-plan run's [`Outcome`], in the order of [`Outcome::of`] ([`floor_outcome_of`]): a
+/// A floor-plan run's [`Outcome`], in the order of [`Outcome::of`] (`floor_outcome_of`): a
 /// failed safety verdict is never counted as reached.
 #[must_use]
 pub fn floor_outcome(summary: &FloorSummary, run: &FloorRun) -> Outcome {
