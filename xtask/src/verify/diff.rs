@@ -46,6 +46,7 @@ fn fly(file: &Path, physics: Physics) -> Outcome {
     let mut holonomic = prepared.scenario.clone();
     holonomic.controller.base = BaseKind::Holonomic;
     (holonomic.controller.omega_max, holonomic.controller.yaw) = (None, None);
+    (holonomic.controller.a_max, holonomic.controller.alpha_max) = (None, None);
     let reference = holonomic
         .prepare(file)
         .map_err(|e| e.to_string())
@@ -95,6 +96,7 @@ fn fly_floor(file: &Path, physics: Physics) -> Outcome {
     let mut holonomic = prepared.scenario.clone();
     holonomic.robot.base = BaseKind::Holonomic;
     (holonomic.robot.omega_max, holonomic.robot.yaw) = (None, None);
+    (holonomic.robot.a_max, holonomic.robot.alpha_max) = (None, None);
     let reference = holonomic.prepare(file).map_err(|e| e.to_string())?;
     let (mut worst, mut ratios, mut swept) = (Vec::new(), Vec::new(), f64::INFINITY);
     for &start in &prepared.starts {
