@@ -18,8 +18,8 @@ use std::path::PathBuf;
 
 use harmonav_bench::quality::{self, Cell, MAX_MARGIN, SensingKind};
 use harmonav_rs::{DampingPolicy, KPolicy, SpeedPolicy, Vector2};
-use harmonav_scenario::scenario::read_text;
 use harmonav_scenario::floorplan::FileKind;
+use harmonav_scenario::scenario::read_text;
 use harmonav_scenario::{Model, Prepared, Scenario, SensorSpec};
 use harmonav_sim::descent::descend;
 use harmonav_sim::guarantee::{Guarantee, Kind};
@@ -729,13 +729,11 @@ pub fn random_start_points(
     let c = self::config(config).map_err(value_error)?;
     let points = py
         .detach(|| {
-            guarded(|| {
-                match prepare(&c)? {
-                    PreparedWorld::Star(p) => {
-                        random_starts(&p, count, seed).map_err(|e| format!("starts: {e}"))
-                    }
-                    PreparedWorld::Floor(w) => floor::random_starts(&w, count, seed),
+            guarded(|| match prepare(&c)? {
+                PreparedWorld::Star(p) => {
+                    random_starts(&p, count, seed).map_err(|e| format!("starts: {e}"))
                 }
+                PreparedWorld::Floor(w) => floor::random_starts(&w, count, seed),
             })
         })
         .map_err(value_error)?;

@@ -511,13 +511,7 @@ impl State {
         let event = Event::Pose([x.x, x.y], yaw);
         // Under acceleration limits each command counts from the last: every one is replayed
         // (the log grows with them, as with commands the mover filter changed).
-        let limited = matches!(
-            self.built.options.base,
-            Base::Diff {
-                accel: Some(_),
-                ..
-            }
-        );
+        let limited = matches!(self.built.options.base, Base::Diff { accel: Some(_), .. });
         self.log
             .command(event, lifted || limited, yielded(c.mode), movers);
         Ok(c)
@@ -804,9 +798,7 @@ impl Navigator {
     #[getter]
     fn accel(&self, py: Python<'_>) -> Option<(f64, f64)> {
         match self.state(py).built.options.base {
-            Base::Diff {
-                accel: Some(a), ..
-            } => Some((a.a_max, a.alpha_max)),
+            Base::Diff { accel: Some(a), .. } => Some((a.a_max, a.alpha_max)),
             _ => None,
         }
     }
