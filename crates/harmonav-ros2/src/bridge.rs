@@ -662,10 +662,16 @@ impl Bridge {
         let p = &self.params;
         let base = match p.base {
             Base::Holonomic => harmonav::Base::Holonomic,
-            Base::Diff => harmonav::Base::diff(
-                if p.v_max > 0.0 { p.v_max } else { DIFF_V_MAX },
-                p.omega_max,
-            ),
+            Base::Diff => {
+                let v_max = if p.v_max > 0.0 { p.v_max } else { DIFF_V_MAX };
+                let base = harmonav::Base::diff(v_max, p.omega_max);
+                // `Params::validate`: both limits positive, or both 0 (none).
+                if p.a_max > 0.0 {
+                    base.with_accel(p.a_max, p.alpha_max)
+                } else {
+                    base
+                }
+            }
         };
         let mut o = Options::default()
             .with_base(base)

@@ -102,6 +102,11 @@ pub struct Params {
     pub base: Base,
     /// rad/s: a differential-drive base's top turn rate.
     pub omega_max: f64,
+    /// m/s² and rad/s²: a differential-drive base's acceleration limits (`harmonav::Accel`,
+    /// docs/unicycle.md §10); 0 for both: none. Both or neither.
+    pub a_max: f64,
+    /// See `a_max`.
+    pub alpha_max: f64,
     /// s: a scan older than this stops the robot.
     pub scan_timeout: f64,
     /// s: odometry older than this stops the robot.
@@ -160,6 +165,8 @@ impl Default for Params {
             enable_stamped_cmd_vel: false,
             base: Base::Holonomic,
             omega_max: 1.0,
+            a_max: 0.0,
+            alpha_max: 0.0,
             scan_timeout: 0.5,
             odom_timeout: 0.5,
             transform_timeout: 1.0,
@@ -302,6 +309,8 @@ impl Params {
                 }
             }
             "omega_max" => self.omega_max = positive(value)?,
+            "a_max" => self.a_max = float(value)?,
+            "alpha_max" => self.alpha_max = float(value)?,
             "scan_timeout" => self.scan_timeout = positive(value)?,
             "odom_timeout" => self.odom_timeout = positive(value)?,
             "transform_timeout" => self.transform_timeout = positive(value)?,
@@ -385,6 +394,16 @@ impl Params {
         if self.base == Base::Diff && self.law == LawKind::Dynamic {
             return Err(ParamError(
                 "base = \"diff\" takes the kinematic law only (law = \"kinematic\")".into(),
+            ));
+        }
+        let limit = |v: f64| v.is_finite() && v >= 0.0;
+        if !(limit(self.a_max) && limit(self.alpha_max))
+            || (self.a_max > 0.0) != (self.alpha_max > 0.0)
+        {
+            return Err(ParamError(
+                "a_max (m/s²) and alpha_max (rad/s²): both positive (acceleration limits of a \
+                 diff base) or both 0 (none)"
+                    .into(),
             ));
         }
         if !(0.0 <= self.free_thresh
@@ -600,5 +619,18 @@ harmonav:
             panic!()
         };
         assert_eq!(p.base, Base::Diff);
+        // Acceleration limits: both or neither.
+        for (given, ok) in [
+            (&["a_max:=0.5", "alpha_max:=3.0"][..], true),
+            (&["a_max:=0.5"][..], false),
+            (&["alpha_max:=3.0"][..], false),
+            (&["a_max:=-0.5", "alpha_max:=3.0"][..], false),
+        ] {
+            let mut all = vec!["--ros-args"];
+            for g in given {
+                all.extend(["-p", g]);
+            }
+            assert_eq!(parse_args(&args(&all), &none).is_ok(), ok, "{given:?}");
+        }
     }
 }
