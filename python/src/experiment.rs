@@ -238,6 +238,37 @@ fn config(dict: &Bound<'_, PyDict>) -> Result<Config, String> {
     })
 }
 
+/// The file keys both formats give the grid's overrides: `[field] k`, `[controller] damping`
+/// and `speed`, `[robot] margin`, `[sim] max_time`.
+struct Keys<'a> {
+    k: &'a mut KPolicy,
+    damping: &'a mut DampingPolicy,
+    speed: &'a mut SpeedPolicy,
+    margin: &'a mut f64,
+    max_time: &'a mut f64,
+}
+
+impl Config {
+    /// Sets each of `keys` this configuration overrides (`None`: the world's own).
+    fn set_keys(&self, keys: Keys<'_>) {
+        if let Some(k) = self.k {
+            *keys.k = k;
+        }
+        if let Some(d) = self.damping {
+            *keys.damping = d;
+        }
+        if let Some(s) = self.speed {
+            *keys.speed = s;
+        }
+        if let Some(m) = self.margin {
+            *keys.margin = m;
+        }
+        if let Some(t) = self.max_time {
+            *keys.max_time = t;
+        }
+    }
+}
+
 /// Everything a prepared scenario depends on (not the start, the physics or the
 /// measurements): runs that share it share one preparation.
 fn preparation_key(c: &Config) -> String {
@@ -289,15 +320,13 @@ fn prepare(c: &Config) -> Result<PreparedWorld, String> {
             (scenario, path.clone())
         }
     };
-    if let Some(k) = c.k {
-        scenario.field.k = k;
-    }
-    if let Some(d) = c.damping {
-        scenario.controller.damping = d;
-    }
-    if let Some(s) = c.speed {
-        scenario.controller.speed = s;
-    }
+    c.set_keys(Keys {
+        k: &mut scenario.field.k,
+        damping: &mut scenario.controller.damping,
+        speed: &mut scenario.controller.speed,
+        margin: &mut scenario.robot.margin,
+        max_time: &mut scenario.sim.max_time,
+    });
     match c.sensing {
         None => {}
         Some(SensingKind::Global) => scenario.sensor = None,
@@ -305,12 +334,6 @@ fn prepare(c: &Config) -> Result<PreparedWorld, String> {
         Some(SensingKind::Sector) => {
             scenario.sensor = Some(SensorSpec::sector(PAPER_SECTOR.0, PAPER_SECTOR.1));
         }
-    }
-    if let Some(m) = c.margin {
-        scenario.robot.margin = m;
-    }
-    if let Some(t) = c.max_time {
-        scenario.sim.max_time = t;
     }
     scenario
         .prepare(&path)

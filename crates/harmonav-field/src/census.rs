@@ -5,7 +5,7 @@ use harmonav_potential::CriticalKind;
 use harmonav_potential::checks::{FD_STEP, fd_jacobian};
 use nalgebra::{Matrix2, Vector2};
 
-use crate::field::{Field, FieldError};
+use crate::field::{Field, FieldError, FieldEval};
 
 /// What a critical point of `Θ` is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -54,20 +54,39 @@ pub struct Census {
     pub degenerate: usize,
 }
 
+/// `H(Θ)(x)` of a navigation function `σ∘φ_k∘Phi` evaluated by `eval`, by central differences
+/// of the analytic `∇Θ` with step [`FD_STEP`] (`H_ij ≈ (∂_j Θ_i(x + s e_j) − ∂_j Θ_i(x − s
+/// e_j)) / 2s`), symmetrised: `Phi` has no closed-form second derivative. The Hessian of a star
+/// world's [`Field::hessian`] and of a floor plan's.
+///
+/// # Errors
+/// `eval`'s error at a difference point (one that leaves the free space).
+pub fn fd_hessian(
+    eval: impl Fn(Vector2<f64>) -> Result<FieldEval, FieldError>,
+    x: Vector2<f64>,
+) -> Result<Matrix2<f64>, FieldError> {
+    let (ex, ey) = (Vector2::new(FD_STEP, 0.0), Vector2::new(0.0, FD_STEP));
+    for p in [x + ex, x - ex, x + ey, x - ey] {
+        eval(p)?;
+    }
+    let g = |y| eval(y).map_or(Vector2::zeros(), |e| e.gradient);
+    let m = fd_jacobian(g, x, FD_STEP);
+    Ok(0.5 * (m + m.transpose()))
+}
+
+/// The eigenvalues of a symmetric Hessian, ascending (a census point's `eigenvalues`).
+#[must_use]
+pub fn ascending_eigenvalues(h: Matrix2<f64>) -> [f64; 2] {
+    let e = h.symmetric_eigenvalues();
+    [e[0].min(e[1]), e[0].max(e[1])]
+}
+
 impl Field {
-    /// `H(Θ)(x)` by central differences of the analytic `∇Θ` with step [`FD_STEP`]
-    /// (`H_ij ≈ (∂_j Θ_i(x + s e_j) − ∂_j Θ_i(x − s e_j)) / 2s`), symmetrised. `Phi` has no
-    /// closed-form second derivative, so this is the Hessian of the composed field. Errors if a
-    /// difference point leaves the free space. Where `sigma'` underflows (`Θ` within 1e-16 of
-    /// 1, far from the goal) the gradient and so this Hessian are 0.
+    /// `H(Θ)(x)` ([`fd_hessian`]). Errors if a difference point leaves the free space. Where
+    /// `sigma'` underflows (`Θ` within 1e-16 of 1, far from the goal) the gradient and so this
+    /// Hessian are 0.
     pub fn hessian(&self, x: Vector2<f64>) -> Result<Matrix2<f64>, FieldError> {
-        let (ex, ey) = (Vector2::new(FD_STEP, 0.0), Vector2::new(0.0, FD_STEP));
-        for p in [x + ex, x - ex, x + ey, x - ey] {
-            self.eval(p)?;
-        }
-        let g = |y| self.eval(y).map_or(Vector2::zeros(), |e| e.gradient);
-        let m = fd_jacobian(g, x, FD_STEP);
-        Ok(0.5 * (m + m.transpose()))
+        fd_hessian(|y| self.eval(y), x)
     }
 
     /// The census of `Θ`: [`Field::critical_points`] typed, with the eigenvalues of
@@ -94,10 +113,7 @@ impl Field {
                     CriticalType::Saddle
                 }
             };
-            let eigenvalues = self.hessian(c.x).ok().map(|h| {
-                let e = h.symmetric_eigenvalues();
-                [e[0].min(e[1]), e[0].max(e[1])]
-            });
+            let eigenvalues = self.hessian(c.x).ok().map(ascending_eigenvalues);
             census.points.push(CensusPoint {
                 x: c.x,
                 kind,

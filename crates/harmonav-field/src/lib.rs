@@ -46,6 +46,6 @@ pub mod descent;
 mod field;
 mod k_policy;
 
-pub use census::{Census, CensusPoint, CriticalType};
+pub use census::{Census, CensusPoint, CriticalType, ascending_eigenvalues, fd_hessian};
 pub use field::{Critical, Field, FieldError, FieldEval};
 pub use k_policy::{AUTO_FACTOR, KPolicy, LAYER_FACTOR, UnknownKPolicy, layer_ratio};

@@ -3,9 +3,10 @@
 //! back into `W_δ` by Newton's method on `Phi`, each typed by the Hessian of `Θ`, as a star
 //! world's census ([`harmonav_field::Census`]).
 
-use harmonav_field::{Census, CensusPoint, CriticalType, FieldError};
+use harmonav_field::{
+    Census, CensusPoint, CriticalType, FieldError, ascending_eigenvalues, fd_hessian,
+};
 use harmonav_potential::CriticalKind;
-use harmonav_potential::checks::{FD_STEP, fd_jacobian};
 use nalgebra::{Matrix2, Vector2};
 
 use crate::theta::FloorField;
@@ -89,20 +90,13 @@ impl FloorField {
         ((h - m.h).norm() < PREIMAGE_TOLERANCE).then_some(x)
     }
 
-    /// `H(Θ)(x)` by central differences of the analytic `∇Θ` with step [`FD_STEP`],
-    /// symmetrised, as [`harmonav_field::Field::hessian`]. Errors if a difference point leaves
-    /// `W_δ` or enters a sensed obstacle.
+    /// `H(Θ)(x)` ([`harmonav_field::fd_hessian`]), as a star world's.
     ///
     /// # Errors
-    /// As [`FloorField::eval`] at a difference point.
+    /// As [`FloorField::eval`] at a difference point (one that leaves `W_δ` or enters a
+    /// sensed obstacle).
     pub fn hessian(&self, x: Vector2<f64>) -> Result<Matrix2<f64>, FieldError> {
-        let (ex, ey) = (Vector2::new(FD_STEP, 0.0), Vector2::new(0.0, FD_STEP));
-        for p in [x + ex, x - ex, x + ey, x - ey] {
-            self.eval(p)?;
-        }
-        let g = |y| self.eval(y).map_or(Vector2::zeros(), |e| e.gradient);
-        let m = fd_jacobian(g, x, FD_STEP);
-        Ok(0.5 * (m + m.transpose()))
+        fd_hessian(|y| self.eval(y), x)
     }
 
     /// The census of `Θ` on the floor plan: the goal, then each saddle of `phi_k` whose
@@ -118,12 +112,7 @@ impl FloorField {
             saddles: 0,
             degenerate: 0,
         };
-        let eigenvalues = |x: Vector2<f64>| {
-            self.hessian(x).ok().map(|h| {
-                let e = h.symmetric_eigenvalues();
-                [e[0].min(e[1]), e[0].max(e[1])]
-            })
-        };
+        let eigenvalues = |x: Vector2<f64>| self.hessian(x).ok().map(ascending_eigenvalues);
         census.points.push(CensusPoint {
             x: goal,
             kind: CriticalType::Minimum,

@@ -26,7 +26,7 @@ use harmonav_sim::outcome::{Outcome, StartProblem};
 use harmonav_sim::physics::simulate_floor;
 use harmonav_sim::sweep::{check_count, floor_outcome};
 
-use super::{Config, Effective, Measured, Ran, held};
+use super::{Config, Effective, Keys, Measured, Ran, held};
 
 /// A floor-plan world as prepared, and its reference geodesic once a run asked for it.
 pub(super) struct FloorWorld {
@@ -53,21 +53,13 @@ pub(super) fn prepare(c: &Config, path: &Path, text: &str) -> Result<FloorWorld,
         ));
     }
     let mut s = FloorScenario::parse(path, text).map_err(|e| e.to_string())?;
-    if let Some(k) = c.k {
-        s.field.k = k;
-    }
-    if let Some(d) = c.damping {
-        s.controller.damping = d;
-    }
-    if let Some(v) = c.speed {
-        s.controller.speed = v;
-    }
-    if let Some(m) = c.margin {
-        s.robot.margin = m;
-    }
-    if let Some(t) = c.max_time {
-        s.sim.max_time = t;
-    }
+    c.set_keys(Keys {
+        k: &mut s.field.k,
+        damping: &mut s.controller.damping,
+        speed: &mut s.controller.speed,
+        margin: &mut s.robot.margin,
+        max_time: &mut s.sim.max_time,
+    });
     let prepared = s.prepare(path).map_err(|e| e.to_string())?;
     Ok(FloorWorld {
         prepared,
