@@ -171,6 +171,8 @@ pub struct MapOptions {
     /// The Visvalingam–Whyatt tolerance in square pixels: a vertex goes while the triangle it
     /// makes with its neighbours is smaller than `simplify · res²`. Each removal changes the
     /// area by less than that (docs/maths.md §13.1 bounds the total). `0` keeps every vertex.
+    /// An upper bound: where it would move the walls by more than one pixel (or leave an
+    /// invalid polygon) it is halved until they stay within a pixel of the traced ones.
     pub simplify: f64,
 }
 
@@ -566,8 +568,10 @@ impl RosMap {
                 most: MAX_TRACED_HOLES,
             }));
         }
+        // At most one pixel from the traced walls (the robot's margin is kept from the map's
+        // pixels, not from a wall the simplification moved).
         let eps = options.simplify.max(0.0) * res * res;
-        Ok((outline::simplify(&poly, eps), n))
+        Ok((outline::simplify(&poly, eps, res), n))
     }
 
     /// The outline of the free pixels 4-connected to the goal's (after the specks), by marching
@@ -638,7 +642,7 @@ impl RosMap {
             if spots.is_empty() {
                 return Ok(self.to_outline(&simplified, n));
             }
-            match bridge::join_at(&poly, &spots, rho, local(goal)) {
+            match bridge::join_at(&poly, &simplified, &spots, rho, local(goal)) {
                 Some(joined) => poly = joined,
                 None => return Ok(self.to_outline(&simplified, n)),
             }
@@ -665,17 +669,9 @@ impl RosMap {
             })
         })?;
         let eps = options.simplify.max(0.0) * self.resolution * self.resolution;
-        let simplified = outline::simplify(&opened, eps);
-        // A vertex removed lies within its triangle's height of the new edge; a tolerance too
-        // large for the map moves the walls by more than a pixel, which is refused.
-        let moved = outline::moved(&opened, &simplified);
-        if moved > self.resolution {
-            return Err(self.error(MapProblem::Simplified {
-                simplify: options.simplify,
-                moved,
-                pixel: self.resolution,
-            }));
-        }
+        // Within one pixel of the opened walls: the tolerance is lowered where it would move
+        // them farther (`outline::simplify`).
+        let simplified = outline::simplify(&opened, eps, self.resolution);
         Ok(simplified)
     }
 

@@ -803,18 +803,46 @@ fn far_field_matches_the_direct_sum_on_the_suite_maps() {
     }
 }
 
-/// A simplification that moves the walls by more than a pixel is refused by name (it would
-/// keep the robot from walls that are not the map's); the default moves them by less.
+/// The least distance from `x` to the rings of `o` (its walls), m.
+fn to_walls(o: &harmonav_floorplan::MapOutline, x: Vector2<f64>) -> f64 {
+    std::iter::once(&o.outer)
+        .chain(&o.holes)
+        .flat_map(|r| (0..r.len()).map(move |i| (r[i], r[(i + 1) % r.len()])))
+        .map(|(a, b)| {
+            let d = b - a;
+            let t = ((x - a).dot(&d) / d.norm_squared()).clamp(0.0, 1.0);
+            (a + t * d - x).norm()
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// `simplify` is an upper bound: a tolerance that would move the walls by more than a pixel
+/// is halved until each of the two simplifications (the traced outline, the opened one)
+/// keeps them within a pixel. Before, such a tolerance was refused, and with
+/// `speck_pixels = 0` the default 0.5 was refused on `fetch-office` (a speck's short ring
+/// moved 1.28 px). Measured against the walls traced without any simplification: each vertex
+/// of the unsimplified outline lies within two pixels (one per simplification) of the
+/// simplified walls.
 #[test]
-fn a_simplification_that_moves_the_walls_is_refused() {
+fn a_simplification_too_coarse_for_the_map_is_lowered() {
     let yaml = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../scenarios/floorplans/maps/office.yaml");
     let map = RosMap::load(&yaml).unwrap();
     let (s, g) = (v(1.5, 1.5), v(8.5, 6.5));
     let options = MapOptions::new(FloorOptions::new(0.2, 0.2));
-    map.free_space(s, g, &options).unwrap();
-    for simplify in [100.0, 1000.0] {
-        let e = map
+    let exact = map
+        .free_space(
+            s,
+            g,
+            &MapOptions {
+                simplify: 0.0,
+                ..options
+            },
+        )
+        .unwrap();
+    let pixel = map.resolution();
+    for simplify in [options.simplify, 100.0, 1000.0] {
+        let o = map
             .free_space(
                 s,
                 g,
@@ -823,12 +851,15 @@ fn a_simplification_that_moves_the_walls_is_refused() {
                     ..options
                 },
             )
-            .unwrap_err();
-        assert!(
-            matches!(e.problem, MapProblem::Simplified { moved, pixel, .. } if moved > pixel),
-            "{e}"
-        );
-        assert!(e.to_string().contains("`simplify`"), "{e}");
+            .unwrap();
+        let worst = std::iter::once(&exact.outer)
+            .chain(&exact.holes)
+            .flatten()
+            .map(|&x| to_walls(&o, x))
+            .fold(0.0, f64::max);
+        println!("simplify {simplify}: walls moved ≤ {worst:.4} m");
+        assert!(worst <= 2.0 * pixel + 1e-9, "simplify {simplify}: {worst}");
+        assert!(o.outer.len() <= exact.outer.len());
     }
 }
 

@@ -742,7 +742,6 @@ impl FloorScenario {
                             e.to_string(),
                         ),
                         MapProblem::Unreachable => f("robot.goal", e.to_string()),
-                        MapProblem::Simplified { .. } => f("floor_plan.simplify", e.to_string()),
                         MapProblem::SpeckTooLarge { .. } => {
                             f("floor_plan.speck_pixels", e.to_string())
                         }

@@ -112,11 +112,16 @@ fn nearest_on_segment(p: Coord<f64>, a: Coord<f64>, b: Coord<f64>) -> Coord<f64>
     }
 }
 
-/// `poly` with the walls (its complement) within `reach` of each of `spots` joined: the convex
-/// hull of those within a disc of radius `reach` about a spot is taken out of `poly`, and the
-/// part holding `goal` kept (`None` if none does).
+/// `poly` with the walls within `reach` of each of `spots` joined: the convex hull of the
+/// complement of `opened` (`poly` opened by the robot's disc, where the spots were found)
+/// within a disc of radius `reach` about a spot is taken out of `poly`, and the part holding
+/// `goal` kept (`None` if none does). The hull is of the opened walls, not of `poly`'s: a gap
+/// may lie between walls that the opening grew (an arc of the disc about a corner it cannot
+/// enter), and a hull of `poly`'s walls alone leaves it open round after round (`willow-full`
+/// with every speck kept: the same spot for all [`ROUNDS`]).
 pub(crate) fn join_at(
     poly: &Polygon<f64>,
+    opened: &Polygon<f64>,
     spots: &[Coord<f64>],
     reach: f64,
     goal: Point<f64>,
@@ -134,7 +139,7 @@ pub(crate) fn join_at(
             ),
             Vec::new(),
         );
-        let walls = disc.difference(poly);
+        let walls = disc.difference(opened);
         if !walls.0.is_empty() {
             hulls = hulls.union(&walls.convex_hull());
         }
@@ -167,7 +172,7 @@ mod tests {
         );
         let spots = close_spots(&close, 0.125, 0.1);
         assert_eq!(spots.len(), 1);
-        let joined = join_at(&close, &spots, 0.2, Point::new(3.5, 3.5)).unwrap();
+        let joined = join_at(&close, &close, &spots, 0.2, Point::new(3.5, 3.5)).unwrap();
         assert_eq!(joined.interiors().len(), 1, "{joined:?}");
         assert!(close_spots(&joined, 0.125, 0.1).is_empty());
         let apart = Polygon::new(outer, vec![square(1.0, 1.0, 0.5), square(1.8, 1.8, 0.5)]);

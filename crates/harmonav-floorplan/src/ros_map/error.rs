@@ -172,17 +172,6 @@ pub enum MapProblem {
     /// The start's free pixels are not connected to the goal's (4-connected): the goal cannot
     /// be reached from it.
     Unreachable,
-    /// The simplification (`MapOptions::simplify`) moved a vertex of the outline more than
-    /// one pixel from the simplified walls: the walls the robot is kept from would no longer
-    /// be the map's.
-    Simplified {
-        /// The tolerance, square pixels.
-        simplify: f64,
-        /// The largest distance from a vertex of the outline to the simplified walls, m.
-        moved: f64,
-        /// One pixel, m.
-        pixel: f64,
-    },
     /// The robot cannot get from the start to the goal: every free path passes a gap narrower
     /// than `2 × clearance` (the robot's diameter plus its margins), or the point itself is
     /// closer than `clearance` to a wall.
@@ -304,18 +293,6 @@ impl fmt::Display for MapProblem {
                 f,
                 "the goal is unreachable from the start: they lie in different free areas of \
                  the map"
-            ),
-            Self::Simplified {
-                simplify,
-                moved,
-                pixel,
-            } => write!(
-                f,
-                "`simplify` = {simplify:e} square pixels moves the walls by {:.4} m, more \
-                 than one pixel ({} m): the robot would no longer be kept from the map's \
-                 walls; lower it",
-                Shown(*moved),
-                Shown(*pixel)
             ),
             Self::TooNarrow { point, clearance } => match point {
                 MapPoint::Goal => write!(
