@@ -539,7 +539,7 @@ class FloorNavigator(Navigator):
         start: _Point,
         goal: _Point,
         *,
-        speck_pixels: int = 2,
+        speck_pixels: int = 0,
         simplify: float = 0.5,
         max_element: float = 0.2,
         centre: str = "solve",

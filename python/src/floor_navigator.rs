@@ -157,13 +157,14 @@ impl FloorNavigator {
 
     /// The navigator on the ROS map_server map at `yaml` (its image relative to it) for a robot
     /// going from `start` to `goal` (world coordinates): the free component holding the goal,
-    /// specks of at most `speck_pixels` dropped, the outline simplified by `simplify` square
+    /// specks of at most `speck_pixels` dropped (default 0: every occupied island is kept, a
+    /// post of one pixel is an obstacle), the outline simplified by at most `simplify` square
     /// pixels (`docs/maths.md` §13.1), shrunk by `radius + margin`. The other arguments are the
     /// constructor's. Raises `ValueError` naming the file and the problem: a missing or
     /// truncated image, a start or goal in a wall or unknown space or outside the image, a goal
     /// not reachable from the start, a passage narrower than the robot.
     #[staticmethod]
-    #[pyo3(signature = (yaml, start, goal, *, speck_pixels=2, simplify=0.5, max_element=0.2,
+    #[pyo3(signature = (yaml, start, goal, *, speck_pixels=0, simplify=0.5, max_element=0.2,
                         centre="solve", heading="auto", **options))]
     #[allow(clippy::too_many_arguments)]
     fn from_map(

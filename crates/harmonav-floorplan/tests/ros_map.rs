@@ -319,7 +319,8 @@ fn the_goal_component_is_kept_and_another_is_unreachable() {
 }
 
 /// Occupied specks of at most `speck_pixels` pixels are dropped; larger ones are holes; with
-/// `speck_pixels = 0` every one is a hole. Specks touching the wall are the wall's.
+/// `speck_pixels = 0` (the default) every one is a hole. Specks touching the wall are the
+/// wall's.
 #[test]
 fn specks_below_the_size_are_dropped() {
     let dir = scratch("specks");
@@ -336,6 +337,8 @@ fn specks_below_the_size_are_dropped() {
     let (s, g) = (v(0.5, 0.5), v(3.0, 3.0));
     let mut o = opts();
     let holes = |o: &MapOptions| map.outline(s, g, o).unwrap().holes.len();
+    assert_eq!(holes(&o), 4, "the default keeps every island");
+    o.speck_pixels = 2;
     assert_eq!(holes(&o), 1, "only the 4-pixel block");
     o.speck_pixels = 3;
     assert_eq!(holes(&o), 1);

@@ -516,8 +516,8 @@ fn an_observed_floor_run_hands_over_every_state_and_scan_of_the_same_run() {
 
 /// A 5 m × 5 m room at 0.05 m/pixel with a square pillar of `side` pixels in the middle of the
 /// straight path from (0.8, 2.5) to (4.2, 2.5), written with its YAML and a floor-plan file
-/// (`speck_pixels` as given) in a scratch folder; the file's path.
-fn pillar_room(tag: &str, side: usize, speck_pixels: usize) -> PathBuf {
+/// (`speck_pixels` as given, the default when `None`) in a scratch folder; the file's path.
+fn pillar_room(tag: &str, side: usize, speck_pixels: Option<usize>) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("harmonav-pillar-{tag}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let n = 100;
@@ -542,12 +542,13 @@ fn pillar_room(tag: &str, side: usize, speck_pixels: usize) -> PathBuf {
     )
     .unwrap();
     let file = dir.join("pillar.toml");
+    let speck = speck_pixels.map_or(String::new(), |n| format!("speck_pixels = {n}\n"));
     std::fs::write(
         &file,
         format!(
-            "name = \"pillar\"\n[floor_plan]\nmap = \"pillar.yaml\"\nspeck_pixels = \
-             {speck_pixels}\n[robot]\nmodel = \"kinematic\"\nstart = [0.8, 2.5]\ngoal = [4.2, \
-             2.5]\nradius = 0.1\nmargin = 0.1\n"
+            "name = \"pillar\"\n[floor_plan]\nmap = \"pillar.yaml\"\n{speck}[robot]\n\
+             model = \"kinematic\"\nstart = [0.8, 2.5]\ngoal = [4.2, 2.5]\nradius = 0.1\n\
+             margin = 0.1\n"
         ),
     )
     .unwrap();
@@ -563,7 +564,7 @@ fn pillar_room(tag: &str, side: usize, speck_pixels: usize) -> PathBuf {
 /// clearance disc (D1's 10⁶) is refused, naming the field; `check` lists what was dropped.
 #[test]
 fn a_map_run_is_judged_against_the_maps_pixels_whatever_the_pipeline_dropped() {
-    let dropped = FloorScenario::load(&pillar_room("dropped", 7, 50)).unwrap();
+    let dropped = FloorScenario::load(&pillar_room("dropped", 7, Some(50))).unwrap();
     assert_eq!(dropped.floor.walls().holes().len(), 0);
     let specks = dropped.specks.unwrap();
     assert_eq!((specks.count, specks.largest), (1, 49), "{specks:?}");
@@ -590,7 +591,7 @@ fn a_map_run_is_judged_against_the_maps_pixels_whatever_the_pipeline_dropped() {
     assert!(!failed.contains(&"no-collision"), "{failed:?}");
     assert!(r.pixel_clearance <= 0.0 && r.wall_clearance > 0.0, "{r:?}");
 
-    let kept = FloorScenario::load(&pillar_room("kept", 7, 2)).unwrap();
+    let kept = FloorScenario::load(&pillar_room("kept", 7, Some(2))).unwrap();
     assert_eq!(kept.floor.walls().holes().len(), 1);
     assert_eq!(kept.specks.unwrap().count, 0);
     let r = run(&kept, Some(Model::Kinematic), kept.starts[0]).unwrap();
@@ -601,9 +602,38 @@ fn a_map_run_is_judged_against_the_maps_pixels_whatever_the_pipeline_dropped() {
         "{r:?}"
     );
 
-    let e = FloorScenario::load(&pillar_room("huge", 20, 1_000_000)).unwrap_err();
+    let e = FloorScenario::load(&pillar_room("huge", 20, Some(1_000_000))).unwrap_err();
     assert_eq!(e.field, "floor_plan.speck_pixels", "{e}");
     assert!(e.problem.contains("at most 50 pixels"), "{e}");
+}
+
+/// Issue 52: the default `speck_pixels` (0 since 2026-12-06) keeps a one-pixel post on the
+/// straight path: it is a hole of the floor plan, and the run arrives with every guarantee,
+/// its margin kept from the map's own pixels. The control is the old default, 2: the post is
+/// dropped as SLAM noise and the run goes through it (what the public maps' seeded runs did,
+/// down to −10 mm).
+#[test]
+fn a_one_pixel_post_is_kept_by_default() {
+    let kept = FloorScenario::load(&pillar_room("post-default", 1, None)).unwrap();
+    assert_eq!(kept.floor.walls().holes().len(), 1);
+    assert_eq!(kept.specks.unwrap().count, 0);
+    let r = run(&kept, Some(Model::Kinematic), kept.starts[0]).unwrap();
+    assert_eq!(r.ending, FloorEnding::Reached, "{r:?}");
+    assert!(r.pixel_clearance > 0.0, "{r:?}");
+    assert!(
+        FloorSummary::new(&kept, Some(Model::Kinematic), kept.starts[0], &r).all_passed(),
+        "{r:?}"
+    );
+
+    let dropped = FloorScenario::load(&pillar_room("post-2", 1, Some(2))).unwrap();
+    assert_eq!(dropped.floor.walls().holes().len(), 0);
+    assert_eq!(dropped.specks.unwrap().count, 1);
+    let r = run(&dropped, Some(Model::Kinematic), dropped.starts[0]).unwrap();
+    assert!(r.pixel_clearance <= 0.0, "{r:?}");
+    assert!(
+        !FloorSummary::new(&dropped, Some(Model::Kinematic), dropped.starts[0], &r).all_passed(),
+        "{r:?}"
+    );
 }
 
 /// Issue 56, D8: an obstacle whose grown shape is not star-shaped is refused when the file is
