@@ -44,7 +44,7 @@ const NOT_FLOWN: &[(&str, &str)] = &[
     ),
     (
         "willow-full",
-        "83 305 elements, set-up 18 s of CPU (goal 10 s); `harmonav sweep` from every start \
+        "83 305 elements, set-up 16 s of CPU (goal 10 s); `harmonav sweep` from every start \
          with the defaults: kinematic 5/5 arrive, dynamic 4/5 (robot.start times out at \
          120 s), 0 collisions with the map's pixels",
     ),

@@ -80,9 +80,10 @@ pub(crate) fn simplify(poly: &Polygon<f64>, epsilon: f64, max_moved: f64) -> Pol
             break;
         }
         let s = poly.simplify_vw_preserve(eps);
-        if s.is_valid()
-            && s.interiors().len() == poly.interiors().len()
+        // The cheap tests first: geo's validity check compares every pair of rings.
+        if s.interiors().len() == poly.interiors().len()
             && moved(poly, &s) <= max_moved
+            && s.is_valid()
         {
             return s;
         }
