@@ -143,9 +143,18 @@ pub fn run(options: &Options) -> ExitCode {
         for (name, near) in [("far", false), ("near", true)] {
             put(
                 &format!("navigator_command_ns_m6_kinematic_movers_20_{name}"),
-                navigator_command_movers_ns(kinematic, near),
+                navigator_command_movers_ns(near),
             );
         }
+    }
+    // A differential-drive base's command (issue 53: target ≤ 30 µs per command; docs/unicycle.md,
+    // docs/benchmarks.md): the poses of a closed-loop flight replayed, without and with
+    // acceleration limits, in a disc world and on a floor plan, and with 20 movers.
+    if wants("diff_command")
+        && let Err(e) = diff_command_figures(&mut put)
+    {
+        eprintln!("xtask bench: the differential-drive benchmark failed: {e}");
+        return ExitCode::FAILURE;
     }
     // Memory of a long run, side by side with a short one (docs/benchmarks.md): the peak
     // resident memory the run adds, sampled every 5 ms.
@@ -430,33 +439,16 @@ fn navigator_command_ns(law: harmonav::Law, hold: harmonav::HoldPolicy) -> f64 {
 
 /// [`navigator_command_ns`] under the kinematic law with 20 movers (radius 0.3 m, 1 m/s) set
 /// before each command: `near`, all within reach of the period (0.5 to 3 cm clear of their
-/// rows' discs, round the state); else 20 m away. ns per call, `set_movers` included.
-fn navigator_command_movers_ns(law: harmonav::Law, near: bool) -> f64 {
-    use harmonav::{Mover, Navigator, Options, Vector2};
-    let (ws, states) = control_world();
-    let options = Options::default();
-    let mut nav = Navigator::new(ws.boundary().clone(), ws.destination(), law, options)
-        .expect("valid benchmark world");
-    for o in &ws.obstacles()[..6] {
-        nav.add_obstacle(o.clone())
-            .expect("valid benchmark obstacle");
-    }
-    let reach = options.inflation() + 0.3;
-    let movers: Vec<Vec<Mover>> = states
+/// rows' discs, round the state); else 20 m away. ns per call, `set_movers` included. The world
+/// and the movers are `harmonav_bench::diff`'s (`control_world`, `ring`), shared with the
+/// criterion bench `diff_command`.
+fn navigator_command_movers_ns(near: bool) -> f64 {
+    use harmonav_bench::diff;
+    let (mut nav, states) = diff::control_world();
+    let inflation = nav.options().inflation();
+    let movers: Vec<_> = states
         .iter()
-        .map(|&(x, _)| {
-            (0..20)
-                .map(|j| {
-                    let a = std::f64::consts::TAU * f64::from(j) / 20.0;
-                    let d = if near {
-                        reach + 0.005 + 0.025 * f64::from(j % 5) / 4.0
-                    } else {
-                        20.0 + reach
-                    };
-                    Mover::new(x + d * Vector2::new(a.cos(), a.sin()), 0.3, 1.0)
-                })
-                .collect()
-        })
+        .map(|&(x, _)| diff::ring(x, inflation, near))
         .collect();
     let reps = 5;
     median_ns(15, (reps * states.len()) as f64, || {
@@ -467,6 +459,97 @@ fn navigator_command_movers_ns(law: harmonav::Law, near: bool) -> f64 {
             }
         }
     })
+}
+
+/// One `Navigator::command_pose` of a differential-drive base (issue 53, target ≤ 30 µs;
+/// `harmonav_bench::diff`): the poses of a closed-loop flight replayed in order on a fresh
+/// copy of the navigator, with `movers` set before each command when given. µs per command:
+/// `(median, worst)`, the median of 15 replays (each timed whole, the copy included), and the
+/// slowest single command (each command's least time over 5 replays, so that a preemption of
+/// this shared machine is not read as a slow command).
+fn command_pose_us<W: harmonav::World + Clone>(
+    flight: &harmonav_bench::diff::Flight<W>,
+    movers: Option<&[Vec<harmonav::Mover>]>,
+) -> (f64, f64) {
+    use harmonav_bench::diff;
+    let n = flight.poses.len();
+    let median = median_ns(15, 1e3 * n as f64, || {
+        let mut nav = flight.nav.clone();
+        black_box(diff::replay(&mut nav, &flight.poses, movers));
+    });
+    let mut least = vec![f64::INFINITY; n];
+    for _ in 0..5 {
+        let mut nav = flight.nav.clone();
+        for (i, &(x, yaw)) in flight.poses.iter().enumerate() {
+            if let Some(m) = movers {
+                nav.set_movers(&m[i]).expect("valid movers");
+            }
+            let t = Instant::now();
+            let _ = black_box(nav.command_pose(black_box(x), black_box(yaw)));
+            least[i] = least[i].min(t.elapsed().as_nanos() as f64 / 1e3);
+        }
+    }
+    (median, least.iter().copied().fold(0.0, f64::max))
+}
+
+/// The `diff_command_pose_us_*` figures (issue 53: each ≤ 30 µs per command, release build;
+/// with 20 movers issue 54's ≤ 20 µs within reach, ≤ 1 µs more than none out of reach), put
+/// by `put`: in the seeded disc world of `harmonav_bench::diff` and on the L room floor plan,
+/// without and with acceleration limits, and in the disc world with 20 movers; with each
+/// flight's commands and whether it arrived (1) within its 120 s.
+fn diff_command_figures(put: &mut impl FnMut(&str, f64)) -> Result<(), String> {
+    use harmonav_bench::diff;
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    for accel in [false, true] {
+        let suffix = if accel { "_accel" } else { "" };
+        let discs = diff::disc_world(accel)?;
+        let floor = diff::floor_plan(&root, accel)?;
+        let flights = [
+            (
+                "discs10",
+                command_pose_us(&discs, None),
+                discs.poses.len(),
+                discs.arrived,
+            ),
+            (
+                "floor_l_room",
+                command_pose_us(&floor, None),
+                floor.poses.len(),
+                floor.arrived,
+            ),
+        ];
+        for (world, (median, worst), commands, arrived) in flights {
+            put(&format!("diff_command_pose_us_{world}{suffix}"), median);
+            put(&format!("diff_command_pose_us_{world}{suffix}_max"), worst);
+            put(
+                &format!("diff_command_pose_commands_{world}{suffix}"),
+                commands as f64,
+            );
+            put(
+                &format!("diff_command_pose_arrived_{world}{suffix}"),
+                f64::from(u8::from(arrived)),
+            );
+        }
+    }
+    let discs = diff::disc_world(false)?;
+    let inflation = discs.nav.options().inflation();
+    for (name, near) in [("far", false), ("near", true)] {
+        let rings: Vec<_> = discs
+            .poses
+            .iter()
+            .map(|&(x, _)| diff::ring(x, inflation, near))
+            .collect();
+        let (median, worst) = command_pose_us(&discs, Some(&rings));
+        put(
+            &format!("diff_command_pose_us_discs10_movers_20_{name}"),
+            median,
+        );
+        put(
+            &format!("diff_command_pose_us_discs10_movers_20_{name}_max"),
+            worst,
+        );
+    }
+    Ok(())
 }
 
 /// `Navigator::observe_scan` on a scan of `beams` beams (360°, 3 m, 2 cm noise, 1 % dropouts)

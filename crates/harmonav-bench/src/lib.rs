@@ -5,7 +5,8 @@
 //! closed loop as the CLI, each path compared with the independent shortest path
 //! (`harmonav_sim::shortest`) ([`quality`]), and the tables of a study from its per-run records
 //! ([`table`]: the one implementation, which `harmonav.experiment report` also calls), and the
-//! hostile round's worst-case scan ([`hostile`], for the benches).
+//! hostile round's worst-case scan ([`hostile`], for the benches), and the worlds of the
+//! per-command cost of a differential-drive base and of a command with movers ([`diff`]).
 //! `cargo xtask quality`, `cargo xtask bench` and `cargo xtask verify` (`quality.*`) call it.
 //!
 //! May depend on: harmonav-scenario (the worlds are written as scenarios) and harmonav-sim
@@ -14,6 +15,7 @@
 
 #![warn(missing_docs)]
 
+pub mod diff;
 pub mod hostile;
 pub mod quality;
 pub mod table;

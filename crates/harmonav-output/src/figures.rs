@@ -19,6 +19,7 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use harmonav_scenario::{Prepared, Sensor};
+use harmonav_sim::movers::FleetRobot;
 use harmonav_sim::summary::Run;
 use harmonav_sim::trace::{Discovery, MoverFrame, Sample};
 
@@ -376,7 +377,16 @@ pub fn trajectory_svg(prepared: &Prepared, run: &Run) -> Result<String, String> 
             .collect();
         draw_names(&mut chart, &names, sc)?;
         let mut keys = run_keys();
-        draw_movers(&mut chart, &run.mover_frames, &mut keys, sc)?;
+        // A `[[robots]]` file: the file's movers from the frames, the other robots from their
+        // own trajectories.
+        let scripted = s
+            .fleet
+            .as_ref()
+            .map(|_| s.movers.as_ref().map_or(0, |m| m.movers));
+        draw_movers(&mut chart, &run.mover_frames, scripted, &mut keys, sc)?;
+        if let Some(fleet) = &s.fleet {
+            draw_robots(&mut chart, &fleet.others, truth.radius, &mut keys, sc)?;
+        }
         if !sectors.is_empty() {
             keys.push((
                 "sector at a discovery",
@@ -485,10 +495,13 @@ const OVERWHELMED: RGBColor = RGBColor(215, 30, 30);
 /// The movers of a run (issue 54, item 4): each mover's track, its disc at the last frame and,
 /// faint, the disc it may reach within a control period there; the robot's positions where its
 /// command was `Yielding` (orange dots) or `Overwhelmed`/refused (red). Adds their keys to
-/// `keys`. Nothing without frames.
+/// `keys`. Nothing without frames. `only`: the first so many marks of each frame (the file's
+/// movers; the other robots of a `[[robots]]` file, which follow them, are drawn from their
+/// own trajectories by [`draw_robots`]); `None`: every mark.
 pub(crate) fn draw_movers(
     chart: &mut Plane<'_, '_>,
     frames: &[MoverFrame],
+    only: Option<usize>,
     keys: &mut Vec<(&'static str, Key)>,
     s: Scale,
 ) -> Result<(), String> {
@@ -496,7 +509,8 @@ pub(crate) fn draw_movers(
         return Ok(());
     };
     let colour = |reciprocal| if reciprocal { PEER } else { MOVER };
-    for (i, m) in last.movers.iter().enumerate() {
+    let drawn = &last.movers[..only.unwrap_or(usize::MAX).min(last.movers.len())];
+    for (i, m) in drawn.iter().enumerate() {
         let track: Vec<(f64, f64)> = frames
             .iter()
             .filter_map(|f| f.movers.get(i))
@@ -534,10 +548,10 @@ pub(crate) fn draw_movers(
                 .map(|&p| Circle::new(p, s.px(4), OVERWHELMED.filled())),
         )
         .map_err(err)?;
-    if last.movers.iter().any(|m| !m.reciprocal) {
+    if drawn.iter().any(|m| !m.reciprocal) {
         keys.push(("mover", Key::Patch(RGBColor(222, 200, 235), MOVER)));
     }
-    if last.movers.iter().any(|m| m.reciprocal) {
+    if drawn.iter().any(|m| m.reciprocal) {
         keys.push(("other robot", Key::Patch(RGBColor(190, 210, 245), PEER)));
     }
     keys.push(("yielding", Key::Dot(MOVER, 3)));
@@ -545,6 +559,65 @@ pub(crate) fn draw_movers(
         keys.push(("overwhelmed", Key::Dot(OVERWHELMED, 4)));
     }
     Ok(())
+}
+
+/// The other robots of a `[[robots]]` file, each from its own recorded states
+/// ([`FleetRobot::samples`]): its path (blue), its start (a blue dot, labelled `R1`, `R2`, …
+/// just above it, in the file's order), its goal (a blue ring), its body of radius `radius` at its last state
+/// and, for a differential drive, its heading ticks ([`draw_headings`]). Adds their key to
+/// `keys`. Nothing without other robots.
+pub(crate) fn draw_robots(
+    chart: &mut Plane<'_, '_>,
+    others: &[FleetRobot],
+    radius: f64,
+    keys: &mut Vec<(&'static str, Key)>,
+    s: Scale,
+) -> Result<(), String> {
+    if others.is_empty() {
+        return Ok(());
+    }
+    let mut labels = Vec::with_capacity(others.len());
+    for (k, robot) in others.iter().enumerate() {
+        let points = robot.samples.iter().map(|p| (p.x[0], p.x[1]));
+        let path = drawable(points, |p| chart.backend_coord(p));
+        chart
+            .draw_series(LineSeries::new(path, s.stroke(PEER, 2)))
+            .map_err(err)?;
+        draw_headings(chart, &robot.samples, s)?;
+        let (start, goal) = (xy_of(robot.start), xy_of(robot.goal));
+        chart
+            .draw_series([
+                Circle::new(start, s.px(4), PEER.filled()),
+                Circle::new(goal, s.px(6), s.stroke(PEER, 2)),
+            ])
+            .map_err(err)?;
+        if let Some(last) = robot.samples.last() {
+            let body: Vec<(f64, f64)> = (0..=64)
+                .map(|j| {
+                    let a = std::f64::consts::TAU * f64::from(j) / 64.0;
+                    (last.x[0] + radius * a.cos(), last.x[1] + radius * a.sin())
+                })
+                .collect();
+            chart
+                .draw_series([Polygon::new(body.clone(), PEER.mix(0.35).filled())])
+                .map_err(err)?;
+            draw_path(chart, body, s.stroke(PEER, 1))?;
+        }
+        // Above the start, clear of its dot and body.
+        labels.push((format!("R{}", k + 1), (start.0, start.1 + 3.0 * radius)));
+    }
+    let names: Vec<(&str, (f64, f64))> = labels
+        .iter()
+        .map(|(name, at)| (name.as_str(), *at))
+        .collect();
+    draw_names(chart, &names, s)?;
+    keys.push(("other robots", Key::Line(PEER, 2)));
+    Ok(())
+}
+
+/// A point of a file as the plane's coordinates.
+fn xy_of(p: [f64; 2]) -> (f64, f64) {
+    (p[0], p[1])
 }
 
 /// The legend's entries that every plane figure of a run has: the start, the goal, the path,

@@ -19,7 +19,7 @@ use crate::canvas::{Scale, scaled_svg};
 use crate::drawing::{outline, ring, xy};
 use crate::figures::{
     CHART, Key, LEGEND_ROW, LEVELS, PERCEIVED, draw_legend, draw_level_lines, draw_movers,
-    draw_names, draw_obstacle, draw_path, draw_run, err, plane, run_keys, run_title,
+    draw_names, draw_obstacle, draw_path, draw_robots, draw_run, err, plane, run_keys, run_title,
 };
 use crate::levels::ThetaGrid;
 use crate::record::Stream;
@@ -157,7 +157,17 @@ fn trajectory_with(
         } else {
             keys.push(("perceived (lidar)", Key::Line(PERCEIVED, 2)));
         }
-        draw_movers(&mut chart, &run.mover_frames, &mut keys, sc)?;
+        // A `[[robots]]` file: the file's movers from the frames, the other robots from their
+        // own trajectories.
+        let scripted = run
+            .fleet
+            .as_ref()
+            .map(|_| run.movers.as_ref().map_or(0, |m| m.movers));
+        draw_movers(&mut chart, &run.mover_frames, scripted, &mut keys, sc)?;
+        if let Some(fleet) = &run.fleet {
+            let radius = prepared.scenario.robot.radius;
+            draw_robots(&mut chart, &fleet.others, radius, &mut keys, sc)?;
+        }
         draw_legend(&legend, &keys, Some(&note), sc)
     })
 }
@@ -204,8 +214,12 @@ impl<'p> FloorOutputs<'p> {
         summary: &FloorSummary,
         run: &FloorRun,
     ) -> Result<Vec<PathBuf>, OutputError> {
-        let Self { set, prepared } = self;
+        let Self { mut set, prepared } = self;
         check_output_dir(&set.dir)?;
+        // A floor plan with `[[robots]]`: the other robots' own trajectories.
+        if let Some(fleet) = &run.fleet {
+            set.stream.robots(&fleet.others);
+        }
         let content =
             |file: &'static str| move |problem: String| OutputError::Content { file, problem };
         let svg = match set.stream.floor_base() {

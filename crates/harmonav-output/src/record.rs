@@ -28,6 +28,17 @@
 //! |---|---|---|
 //! | `/movers` | `foxglove.SceneUpdate` | every mover's disc (orange: non-cooperative, blue: reciprocal, ids `mover/<i>`) and, thinner, the disc it may reach within one control period as the filter sees it, replaced every [`harmonav_sim::trace::MOVER_FRAME_PERIOD`]; each change of the robot's mode (`yielding`, `overwhelmed`, …) is a line on `/log` |
 //!
+//! A run with `[[robots]]` adds, for each robot after the first (`i` = 1, 2, … in the file's
+//! order of `[[robots]]`), its own trajectory ([`Stream::robots`], logged when the run ends:
+//! its messages are stamped with their simulated times, as the first robot's):
+//!
+//! | topic | schema | content |
+//! |---|---|---|
+//! | `/robots/<i>/pose` | `foxglove.PoseInFrame` | its pose at every recorded state (heading as the first robot's) |
+//! | `/tf` | `foxglove.FrameTransform` | `world → robot_<i>` at every recorded state |
+//! | `/robots/<i>/path` | `foxglove.SceneUpdate` | its path, blue, one new line entity per [`PATH_PERIOD`] |
+//! | `/robots/<i>/state` | `harmonavstate.HarmonavState` | its state, as `/harmonav/state` |
+//!
 //! A floor plan's recording ([`Stream::create_floor`], issue 25) has the same topics but the
 //! sector: `/scene` holds the true walls (every ring, white) and the shrunk walls `∂W_s`
 //! (grey; the certified region `W_δ` lies `δ` inside them) in place of the boundary, `/theta` the floor plan's `Θ` as
@@ -49,6 +60,7 @@ use nalgebra::Vector2;
 
 use harmonav_scenario::Prepared;
 use harmonav_scenario::floorplan::FloorPrepared;
+use harmonav_sim::movers::FleetRobot;
 use harmonav_sim::summary::Run;
 use harmonav_sim::trace::{Discovery, Event, MoverFrame, Sample, ScanRecord};
 
@@ -81,6 +93,9 @@ const MOVER: [f64; 4] = [0.95, 0.55, 0.1, 1.0];
 /// A reciprocal mover's colour on `/movers` (another harmonav robot: blue).
 const PEER: [f64; 4] = [0.2, 0.45, 0.9, 1.0];
 
+/// The other robots' paths on `/robots/<i>/path` (blue, as they are on `/movers`).
+const ROBOT_PATH_COLOUR: [f64; 4] = PEER;
+
 /// Vertices of a mover's circle on `/movers`.
 const CIRCLE_VERTICES: usize = 32;
 
@@ -91,6 +106,88 @@ pub const PATH_PERIOD: f64 = 0.5;
 
 /// Vertices of the path are at least this far apart, m (every state is on `/robot/pose`).
 pub const PATH_SPACING: f64 = 0.01;
+
+/// The first robot's path on `/robot/path` (yellow).
+const PATH_COLOUR: [f64; 4] = [1.0, 0.8, 0.1, 1.0];
+
+/// A path logged as it grows: one new line entity every [`PATH_PERIOD`] of simulated time
+/// (`/robot/path`, and each other robot's `/robots/<i>/path`), vertices at least
+/// [`PATH_SPACING`] apart.
+struct PathLog {
+    points: Vec<Vector2<f64>>,
+    n: usize,
+    next: f64,
+    colour: [f64; 4],
+}
+
+impl PathLog {
+    fn new(colour: [f64; 4]) -> Self {
+        Self {
+            points: Vec::new(),
+            n: 0,
+            next: PATH_PERIOD,
+            colour,
+        }
+    }
+
+    /// A state at `x` at `t`: the update to log, when one is due.
+    fn push(&mut self, x: Vector2<f64>, t: f64) -> Option<SceneUpdate> {
+        if self
+            .points
+            .last()
+            .is_none_or(|p: &Vector2<f64>| (x - p).norm() >= PATH_SPACING)
+        {
+            self.points.push(x);
+        }
+        if t >= self.next { self.flush(t) } else { None }
+    }
+
+    /// The path since the last update as one line entity at `t` (`None` with fewer than two
+    /// vertices); the next one starts where it ends.
+    fn flush(&mut self, t: f64) -> Option<SceneUpdate> {
+        let mut update = None;
+        if self.points.len() >= 2 {
+            let id = format!("path-{:05}", self.n);
+            update = Some(SceneUpdate {
+                deletions: Vec::new(),
+                entities: vec![entity(
+                    t,
+                    "world",
+                    &id,
+                    vec![line(self.points.iter().copied(), self.colour, 0.02)],
+                )],
+            });
+            self.n += 1;
+            let keep = self.points.len() - 1;
+            self.points.drain(..keep);
+        }
+        self.next = ((t / PATH_PERIOD).floor() + 1.0) * PATH_PERIOD;
+        update
+    }
+
+    /// The last segment, ending at the last state `x` at `t`.
+    fn end(&mut self, x: Vector2<f64>, t: f64) -> Option<SceneUpdate> {
+        if self.points.last() != Some(&x) {
+            self.points.push(x);
+        }
+        self.flush(t)
+    }
+}
+
+/// The transform `world → child` at `x`, heading `yaw`, at `t`.
+fn transform(t: f64, child: &str, x: Vector2<f64>, yaw: f64) -> FrameTransform {
+    FrameTransform {
+        timestamp: stamp(t),
+        parent_frame_id: "world".into(),
+        child_frame_id: child.into(),
+        translation: Some(Vector3 {
+            x: x.x,
+            y: x.y,
+            z: 0.0,
+        }),
+        rotation: Some(yaw_quaternion(yaw)),
+    }
+}
 
 /// harmonav's state at a recorded instant: the message of `/harmonav/state` (its Protobuf
 /// schema, `harmonavstate.HarmonavState`, is derived from this struct by `foxglove`).
@@ -190,6 +287,9 @@ impl Heading {
 pub fn write_mcap(path: &Path, prepared: &Prepared, run: &Run) -> Result<(), RecordError> {
     let mut stream = Stream::create(path, prepared)?;
     replay(run, &mut |e| stream.observe(e));
+    if let Some(fleet) = &run.summary.fleet {
+        stream.robots(&fleet.others);
+    }
     stream.finish()
 }
 
@@ -245,7 +345,7 @@ pub struct Stream<'p> {
     file: AtomicFile,
     writer: foxglove::McapWriterHandle<BufWriter<File>>,
     /// The recording's own context: the channels log into it only while it lives.
-    _ctx: Arc<Context>,
+    ctx: Arc<Context>,
     ch: Channels,
     k_policy: String,
     /// The damping policy the dynamic law's states are labelled with (a star world's file's;
@@ -262,9 +362,8 @@ pub struct Stream<'p> {
     /// Discoveries not yet logged (they are logged with the next state).
     pending: Vec<Discovery>,
     heading: Heading,
-    path_points: Vec<Vector2<f64>>,
-    path_n: usize,
-    next_path: f64,
+    /// `/robot/path`.
+    trail: PathLog,
     critical: Option<bool>,
     last: Option<Sample>,
     /// The robot's mode in the last movers' frame (its changes go to `/log`).
@@ -321,7 +420,7 @@ impl<'p> Stream<'p> {
             path: path.to_path_buf(),
             file,
             writer,
-            _ctx: ctx,
+            ctx,
             ch,
             k_policy,
             damping,
@@ -330,9 +429,7 @@ impl<'p> Stream<'p> {
             perceived_shown: false,
             pending: Vec::new(),
             heading: Heading(0.0),
-            path_points: Vec::new(),
-            path_n: 0,
-            next_path: PATH_PERIOD,
+            trail: PathLog::new(PATH_COLOUR),
             critical: None,
             last: None,
             mode: None,
@@ -496,20 +593,7 @@ impl<'p> Stream<'p> {
             },
             t,
         );
-        ch.tf.log_with_time(
-            &FrameTransform {
-                timestamp: stamp(s.t),
-                parent_frame_id: "world".into(),
-                child_frame_id: "robot".into(),
-                translation: Some(Vector3 {
-                    x: x.x,
-                    y: x.y,
-                    z: 0.0,
-                }),
-                rotation: Some(yaw_quaternion(yaw)),
-            },
-            t,
-        );
+        ch.tf.log_with_time(&transform(s.t, "robot", x, yaw), t);
         ch.state
             .log_with_time(&state(s, &self.k_policy, &self.damping), t);
         if s.lambda.is_some() && self.critical.is_some_and(|c| c != s.critical) {
@@ -525,54 +609,66 @@ impl<'p> Stream<'p> {
                 .log_with_time(&log_message(s.t, log::Level::Warning, text), t);
         }
         self.critical = s.lambda.map(|_| s.critical);
-        if self
-            .path_points
-            .last()
-            .is_none_or(|p: &Vector2<f64>| (x - p).norm() >= PATH_SPACING)
-        {
-            self.path_points.push(x);
-        }
-        if s.t >= self.next_path {
-            self.flush_path(s.t);
+        if let Some(update) = self.trail.push(x, s.t) {
+            self.ch.path.log_with_time(&update, nanos(s.t));
         }
         self.last = Some(s.clone());
     }
 
-    /// Logs the path since the last update as one line entity at `t`; the next one starts
-    /// where it ends.
-    fn flush_path(&mut self, t: f64) {
-        if self.path_points.len() >= 2 {
-            let id = format!("path-{:05}", self.path_n);
-            let update = SceneUpdate {
-                deletions: Vec::new(),
-                entities: vec![entity(
+    /// The trajectories of the robots after the first of a run with `[[robots]]` (`others`,
+    /// in the file's order; `harmonav_sim::movers::FleetRobot::samples`), each on its own
+    /// topics (`/robots/<i>/pose`, `/robots/<i>/path`, `/robots/<i>/state`, and `/tf`'s
+    /// `world → robot_<i>`), stamped with their simulated times. Called once, when the run has
+    /// ended ([`crate::set::Outputs::finish`], [`crate::floor::FloorOutputs::finish`],
+    /// [`write_mcap`]); nothing without other robots.
+    pub fn robots(&mut self, others: &[FleetRobot]) {
+        for (k, robot) in others.iter().enumerate() {
+            let i = k + 1;
+            let ctx = &self.ctx;
+            let pose_ch = ctx
+                .channel_builder(format!("/robots/{i}/pose"))
+                .build::<PoseInFrame>();
+            let path_ch = ctx
+                .channel_builder(format!("/robots/{i}/path"))
+                .build::<SceneUpdate>();
+            let state_ch = ctx
+                .channel_builder(format!("/robots/{i}/state"))
+                .build::<HarmonavState>();
+            let child = format!("robot_{i}");
+            let (mut heading, mut path) = (Heading(0.0), PathLog::new(ROBOT_PATH_COLOUR));
+            for s in &robot.samples {
+                let (x, v) = (Vector2::from(s.x), Vector2::from(s.v));
+                let yaw = s.yaw.unwrap_or_else(|| heading.at(v));
+                let t = nanos(s.t);
+                pose_ch.log_with_time(
+                    &PoseInFrame {
+                        timestamp: stamp(s.t),
+                        frame_id: "world".into(),
+                        pose: Some(pose(x, yaw)),
+                    },
                     t,
-                    "world",
-                    &id,
-                    vec![line(
-                        self.path_points.iter().copied(),
-                        [1.0, 0.8, 0.1, 1.0],
-                        0.02,
-                    )],
-                )],
-            };
-            self.ch.path.log_with_time(&update, nanos(t));
-            self.path_n += 1;
-            let keep = self.path_points.len() - 1;
-            self.path_points.drain(..keep);
+                );
+                self.ch.tf.log_with_time(&transform(s.t, &child, x, yaw), t);
+                state_ch.log_with_time(&state(s, &self.k_policy, &self.damping), t);
+                if let Some(update) = path.push(x, s.t) {
+                    path_ch.log_with_time(&update, t);
+                }
+            }
+            if let Some(last) = robot.samples.last()
+                && let Some(update) = path.end(Vector2::from(last.x), last.t)
+            {
+                path_ch.log_with_time(&update, nanos(last.t));
+            }
         }
-        self.next_path = ((t / PATH_PERIOD).floor() + 1.0) * PATH_PERIOD;
     }
 
     /// Ends the recording at the last state (its path's last segment) and moves it into place;
     /// the first error met while logging, if any, instead (and nothing is left).
     pub fn finish(mut self) -> Result<(), RecordError> {
-        if let Some(last) = self.last.take() {
-            let x = Vector2::from(last.x);
-            if self.path_points.last() != Some(&x) {
-                self.path_points.push(x);
-            }
-            self.flush_path(last.t);
+        if let Some(last) = self.last.take()
+            && let Some(update) = self.trail.end(Vector2::from(last.x), last.t)
+        {
+            self.ch.path.log_with_time(&update, nanos(last.t));
         }
         if let Some(e) = self.error {
             return Err(e);

@@ -158,8 +158,12 @@ impl<'p> Outputs<'p> {
     /// untouched (a failing rename while moving the set, an I/O fault, can leave a mix).
     /// Returns the paths, `summary.json` first.
     pub fn finish(self, run: &Run) -> Result<Vec<std::path::PathBuf>, OutputError> {
-        let Self { set, prepared } = self;
+        let Self { mut set, prepared } = self;
         check_output_dir(&set.dir)?;
+        // A run with `[[robots]]`: the other robots' own trajectories.
+        if let Some(fleet) = &run.summary.fleet {
+            set.stream.robots(&fleet.others);
+        }
         let content =
             |file: &'static str| move |problem: String| OutputError::Content { file, problem };
         let mut figures = vec![(

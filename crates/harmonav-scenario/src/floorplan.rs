@@ -266,6 +266,12 @@ pub struct FloorScenario {
     /// ([`crate::MoverSpec`], `docs/movers.md` §8).
     #[serde(default)]
     pub movers: Vec<crate::MoverSpec>,
+    /// More harmonav robots, each like `[robot]` with its own start and goal, each running its
+    /// own floor navigator on the same map with the others as reciprocal movers: a star
+    /// world's `[[robots]]`, the same keys and checks ([`crate::FleetRobotSpec`],
+    /// `docs/movers.md` §8).
+    #[serde(default)]
+    pub robots: Vec<crate::FleetRobotSpec>,
     /// `[field] k`: the `k` policy, a star world's table and key ([`crate::FieldSpec`]).
     #[serde(default)]
     pub field: crate::FieldSpec,
@@ -575,7 +581,7 @@ impl FloorScenario {
             crate::scenario::parameter(v).map_err(|p| f("robot.v_max", p))?;
         }
         r.base_keys()
-            .check("robot.v_max", r.model, !self.movers.is_empty())
+            .check("robot.v_max", r.model)
             .map_err(|(key, p)| f(key, p))?;
         if let Some(h) = r.control_period {
             crate::scenario::control_period(h, self.sim.max_time)
@@ -608,6 +614,23 @@ impl FloorScenario {
         }
         crate::movers::check_all(&self.movers, r.start, r.radius)
             .map_err(|(field, p)| f(&field, p))?;
+        if !self.robots.is_empty() {
+            // Both ask one goal's questions of the one robot; a fleet flies from its starts.
+            if self.starts.is_some() {
+                return Err(f(
+                    "starts",
+                    "seeded starts run one robot; a file with [[robots]] flies each robot from \
+                     its own start"
+                        .into(),
+                ));
+            }
+            if self.floor_plan.require_certified_start {
+                return Err(f(
+                    "floor_plan.require_certified_start",
+                    "certifies the starts of robot.goal only, not built for [[robots]]".into(),
+                ));
+            }
+        }
         let s = &self.sim;
         for (name, value) in [
             ("sim.max_time", s.max_time),
@@ -814,6 +837,31 @@ impl FloorScenario {
             Some((field, level)) => below_level(field, level, p),
         };
         below(start).map_err(|p| f("robot.start", p))?;
+        // `[[robots]]`: the star world's keys and checks, each start and goal placed as
+        // robot.start is (in W_δ, clear of the grown obstacles) and each start able to reach
+        // its goal within W_δ.
+        crate::scenario::check_fleet(
+            &self.robots,
+            (r.start, r.radius),
+            &self.movers,
+            r.base == BaseKind::Diff,
+            place,
+        )
+        .map_err(|(field, p)| f(&field, p))?;
+        for (i, robot) in self.robots.iter().enumerate() {
+            let (start, goal) = (v(robot.start), v(robot.goal));
+            if !floor.reach(goal).contains(start) {
+                return Err(f(
+                    &format!("robots[{i}].start"),
+                    format!(
+                        "its goal cannot be reached from {start:?} within the certified region \
+                         (at least max(radius + margin, δ) = {:.4} m from the walls): a passage \
+                         between them is narrower than the robot with its margin",
+                        floor.shrink() + delta
+                    ),
+                ));
+            }
+        }
         let mut starts = vec![start];
         if let Some(spec) = self.starts {
             if spec.count > MAX_STARTS {

@@ -208,12 +208,12 @@ impl BaseKeys {
     /// The field and the problem of the first key that is wrong, `v_max_key` naming the top
     /// speed's key: `omega_max` or `yaw` without a differential drive; a differential drive
     /// without a positive, finite `omega_max` or without `v_max`, a yaw that is not finite, or
-    /// with the dynamic law (`model`) or with movers or other robots (`movers`).
+    /// with the dynamic law (`model`). Movers and other robots are taken (the held-command
+    /// loop flies a differential drive's arcs among them, docs/movers.md §8).
     pub fn check(
         &self,
         v_max_key: &'static str,
         model: Model,
-        movers: bool,
     ) -> Result<(), (&'static str, String)> {
         let only = |key: &str| {
             format!(
@@ -279,12 +279,6 @@ impl BaseKeys {
                 "robot.base",
                 "a differential-drive base runs the kinematic law only (`model = \"kinematic\"`)"
                     .into(),
-            ));
-        }
-        if movers {
-            return Err((
-                "robot.base",
-                "a differential-drive base does not run with [[movers]] or [[robots]] yet".into(),
             ));
         }
         Ok(())
@@ -468,7 +462,8 @@ pub struct SimSpec {
     pub robots: Vec<FleetRobotSpec>,
 }
 
-/// One `[[robots]]` entry: a robot like `[robot]` with its own start and goal.
+/// One `[[robots]]` entry: a robot like `[robot]` with its own start and goal, in a star world
+/// and in a floor plan alike (one check, `check_fleet`, for both).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FleetRobotSpec {
@@ -478,6 +473,77 @@ pub struct FleetRobotSpec {
     /// Goal position.
     #[serde(deserialize_with = "crate::points::point")]
     pub goal: [f64; 2],
+    /// A differential drive's heading at the start, rad (only with `[robot] base = "diff"`,
+    /// whose `yaw` it replaces for this robot; default: `[robot] yaw`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub yaw: Option<f64>,
+}
+
+/// Every `[[robots]]` entry of a file, star world or floor plan (issue 54; docs/movers.md §8),
+/// checked: at most [`MAX_MOVERS`] of them; each `start` and `goal` finite and accepted by the
+/// world's `free` (its own rule for `robot.start`; else the problem, in words); each start's
+/// disc (of the first robot's `radius`, all robots being alike) clear of the discs of the
+/// robots before it, `[robot]` at `first` the first of them; every mover clear of each start
+/// (as [`MoverSpec::check`] asks of `robot.start`); `yaw` only on a differential drive
+/// (`diff`), and finite. On the first that is wrong, its key (`robots`, `robots[i].start`,
+/// `movers[k].start`, …) and the problem.
+pub(crate) fn check_fleet(
+    robots: &[FleetRobotSpec],
+    (first, radius): ([f64; 2], f64),
+    movers: &[MoverSpec],
+    diff: bool,
+    free: impl Fn(Vector2<f64>) -> Result<(), String>,
+) -> Result<(), (String, String)> {
+    if robots.len() > MAX_MOVERS {
+        return Err((
+            "robots".into(),
+            format!(
+                "{} robots; at most {MAX_MOVERS} are supported",
+                robots.len()
+            ),
+        ));
+    }
+    let mut starts = vec![first];
+    for (i, robot) in robots.iter().enumerate() {
+        let field = |key: &str| format!("robots[{i}].{key}");
+        for (key, p) in [("start", robot.start), ("goal", robot.goal)] {
+            check_point(p, "").map_err(|e| (field(key), e))?;
+            free(Vector2::from(p)).map_err(|e| (field(key), e))?;
+        }
+        for (j, other) in starts.iter().enumerate() {
+            let gap = (Vector2::from(robot.start) - Vector2::from(*other)).norm() - 2.0 * radius;
+            if gap <= 0.0 {
+                let whose = if j == 0 {
+                    "robot.start".to_string()
+                } else {
+                    format!("robots[{}].start", j - 1)
+                };
+                return Err((
+                    field("start"),
+                    format!("the robot's disc overlaps the one at {whose} (gap {gap:e} m)"),
+                ));
+            }
+        }
+        starts.push(robot.start);
+        for (k, m) in movers.iter().enumerate() {
+            m.check(robot.start, radius)
+                .map_err(|(_, p)| (format!("movers[{k}].start"), format!("{p} (robots[{i}])")))?;
+        }
+        match robot.yaw {
+            Some(_) if !diff => {
+                return Err((
+                    field("yaw"),
+                    "only a differential-drive base takes `yaw`; add `base = \"diff\"` to [robot]"
+                        .into(),
+                ));
+            }
+            Some(yaw) if !yaw.is_finite() => {
+                return Err((field("yaw"), format!("must be finite (rad), got {yaw:e}")));
+            }
+            _ => {}
+        }
+    }
+    Ok(())
 }
 
 impl Default for SimSpec {
@@ -767,11 +833,9 @@ impl Scenario {
     /// The base's keys (`[robot] base`, `omega_max`, `yaw`, and `[controller] v_max` for a
     /// differential drive): the field and the problem of the first that is wrong.
     fn check_base(&self) -> Result<(), (&'static str, String)> {
-        self.controller.base_keys().check(
-            "controller.v_max",
-            self.robot.model,
-            !(self.sim.movers.is_empty() && self.sim.robots.is_empty()),
-        )
+        self.controller
+            .base_keys()
+            .check("controller.v_max", self.robot.model)
     }
 
     /// Validates the scenario and builds the workspace (see [`Prepared`]).
@@ -1009,58 +1073,31 @@ impl Scenario {
             ),
         })?;
         workspace.check_free(start, "start").map_err(world_error)?;
-        if self.sim.robots.len() > MAX_MOVERS {
-            return Err(f(
-                "robots",
-                format!(
-                    "{} robots; at most {MAX_MOVERS} are supported",
-                    self.sim.robots.len()
-                ),
-            ));
-        }
-        let mut starts = vec![r.start];
-        for (i, robot) in self.sim.robots.iter().enumerate() {
-            let field = |key: &str| format!("robots[{i}].{key}");
-            for (key, p) in [("start", robot.start), ("goal", robot.goal)] {
-                check_point(p, "").map_err(|e| f(&field(key), e))?;
-                // Free of the grown obstacles and inside the shrunk boundary, as robot.start.
-                let clear = workspace
-                    .obstacles()
-                    .iter()
-                    .all(|o| o.signed_distance(Vector2::from(p)) > 0.0)
-                    && workspace.boundary().signed_distance(Vector2::from(p)) < 0.0;
-                if !clear {
-                    return Err(f(
-                        &field(key),
-                        format!(
-                            "lies within robot.radius + robot.margin = {inflation} m of an \
-                             obstacle or the boundary"
-                        ),
-                    ));
-                }
+        // Free of the grown obstacles and inside the shrunk boundary, as robot.start.
+        let free = |p: Vector2<f64>| {
+            let clear = workspace
+                .obstacles()
+                .iter()
+                .all(|o| o.signed_distance(p) > 0.0)
+                && workspace.boundary().signed_distance(p) < 0.0;
+            if clear {
+                Ok(())
+            } else {
+                Err(format!(
+                    "lies within robot.radius + robot.margin = {inflation} m of an obstacle or \
+                     the boundary"
+                ))
             }
-            for (j, other) in starts.iter().enumerate() {
-                let gap =
-                    (Vector2::from(robot.start) - Vector2::from(*other)).norm() - 2.0 * r.radius;
-                if gap <= 0.0 {
-                    let whose = if j == 0 {
-                        "robot.start".to_string()
-                    } else {
-                        format!("robots[{}].start", j - 1)
-                    };
-                    return Err(f(
-                        &field("start"),
-                        format!("the robot's disc overlaps the one at {whose} (gap {gap:e} m)"),
-                    ));
-                }
-            }
-            starts.push(robot.start);
-            for (k, m) in self.sim.movers.iter().enumerate() {
-                m.check(robot.start, r.radius).map_err(|(_, p)| {
-                    f(&format!("movers[{k}].start"), format!("{p} (robots[{i}])"))
-                })?;
-            }
-        }
+        };
+        let diff = self.controller.base == BaseKind::Diff;
+        check_fleet(
+            &self.sim.robots,
+            (r.start, r.radius),
+            &self.sim.movers,
+            diff,
+            free,
+        )
+        .map_err(|(field, p)| f(&field, p))?;
         let lidar = self
             .sensor
             .as_ref()

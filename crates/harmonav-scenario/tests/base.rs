@@ -114,15 +114,41 @@ fn bad_values_are_refused_by_key() {
         e.field == "robot.base" && e.problem.contains("kinematic law only"),
         "{e}"
     );
-    // Not yet with movers.
+    // `[[robots]]`: a start heading only on a differential drive, and finite.
+    let robots = "[[robots]]\nstart = [3.0, 0.2]\ngoal = [-3.0, 0.0]\nyaw = 1.0";
+    refused(
+        "",
+        robots,
+        "robots[0].yaw",
+        "only a differential-drive base",
+    );
+    let robots = format!("{V_MAX}\n[[robots]]\nstart = [3.0, 0.2]\ngoal = [-3.0, 0.0]\nyaw = nan");
+    refused(DIFF, &robots, "robots[0].yaw", "finite");
+}
+
+/// A differential drive takes movers and other robots (docs/movers.md §8), each robot with
+/// its own start heading or `[robot]`'s.
+#[test]
+fn a_diff_base_takes_movers_and_robots() {
     let movers = format!(
         "{V_MAX}\n[[movers]]\nradius = 0.25\nspeed_bound = 0.8\nstart = [0.0, -3.0]\n\
          velocity = [0.0, 0.5]"
     );
-    let e = load(&star(DIFF, &movers)).unwrap_err();
-    assert!(
-        e.field == "robot.base" && e.problem.contains("movers"),
-        "{e}"
+    let p = load(&star(DIFF, &movers)).unwrap();
+    assert_eq!(p.base(), Some(Base::diff(0.5, 2.0)));
+    assert_eq!(p.scenario.sim.movers.len(), 1);
+    let robots = format!(
+        "{V_MAX}\n[[robots]]\nstart = [3.0, 0.2]\ngoal = [-3.0, 0.0]\nyaw = 1.5\n\
+         [[robots]]\nstart = [0.0, 3.0]\ngoal = [0.0, -3.0]"
+    );
+    let p = load(&star(DIFF, &robots)).unwrap();
+    let yaws: Vec<Option<f64>> = p.scenario.sim.robots.iter().map(|r| r.yaw).collect();
+    assert_eq!(yaws, [Some(1.5), None]);
+    // Written back with its yaw, and read again.
+    let text = toml::to_string(&p.scenario).unwrap();
+    assert_eq!(
+        load(&text).unwrap().scenario.sim.robots,
+        p.scenario.sim.robots
     );
 }
 

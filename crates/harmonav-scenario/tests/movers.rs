@@ -202,3 +202,88 @@ fn bad_robots_are_refused_by_name() {
         assert!(e.contains(&format!("`{field}`")), "{robots}: {e}");
     }
 }
+
+/// A floor plan takes `[[robots]]` with the star world's keys and checks (one `check_fleet`
+/// for both formats), each start and goal placed as `robot.start` is (in the certified
+/// region, clear of the grown obstacles); `[starts]` and `require_certified_start` ask one
+/// robot's questions and are refused with robots.
+#[test]
+fn a_floor_plan_takes_robots_with_the_star_worlds_keys() {
+    const PLAN: &str = r#"
+name = "corridor"
+[floor_plan]
+outer = [[0.0, 0.0], [6.0, 0.0], [6.0, 2.0], [0.0, 2.0]]
+max_element = 0.2
+[robot]
+model = "kinematic"
+start = [0.5, 1.0]
+goal = [5.5, 1.0]
+radius = 0.1
+margin = 0.05
+[[obstacles]]
+type = "circle"
+center = [3.0, 1.0]
+radius = 0.2
+"#;
+    let path = Path::new("f.toml");
+    let load = |text: &str| {
+        harmonav_scenario::floorplan::FloorScenario::parse(path, text)
+            .and_then(|s| s.prepare(path))
+            .map(|p| (p.scenario.robots.len(), p.starts.len()))
+            .map_err(|e| e.to_string())
+    };
+    let with = |rest: &str| load(&format!("{PLAN}{rest}"));
+    let good = "[[robots]]\nstart = [5.5, 1.0]\ngoal = [0.5, 1.0]\n";
+    assert_eq!(with(good), Ok((1, 1)));
+    for (rest, field, says) in [
+        (
+            "[[robots]]\nstart = [0.6, 1.0]\ngoal = [5.0, 0.5]\n",
+            "robots[0].start",
+            "overlaps the one at robot.start",
+        ),
+        (
+            "[[robots]]\nstart = [5.5, 1.0]\ngoal = [5.95, 1.0]\n",
+            "robots[0].goal",
+            "certified region",
+        ),
+        (
+            "[[robots]]\nstart = [3.0, 1.3]\ngoal = [0.5, 0.5]\n",
+            "robots[0].start",
+            "obstacles[0]",
+        ),
+        ("[[robots]]\nstart = [5.5, 1.0]\n", "robots[0]", "goal"),
+        (
+            "[[robots]]\nstart = [5.5, 1.0]\ngoal = [1.0, 1.0]\n[[robots]]\nstart = [4.0, nan]\ngoal = [1.0, 1.5]\n",
+            "robots[1].start",
+            "NaN",
+        ),
+        (
+            "[[robots]]\nstart = [5.5, 1.0]\ngoal = [1.0, 1.0]\nyaw = 1.0\n",
+            "robots[0].yaw",
+            "only a differential-drive base",
+        ),
+        (
+            "[[movers]]\nradius = 0.2\nspeed_bound = 0.5\nstart = [5.2, 1.0]\nvelocity = [0.0, 0.1]\n\
+             [[robots]]\nstart = [5.5, 1.0]\ngoal = [0.5, 1.5]\n",
+            "movers[0].start",
+            "(robots[0])",
+        ),
+        (
+            "[starts]\ncount = 2\n[[robots]]\nstart = [5.5, 1.0]\ngoal = [0.5, 1.5]\n",
+            "starts",
+            "[[robots]]",
+        ),
+    ] {
+        let e = with(rest).unwrap_err();
+        assert!(
+            e.starts_with("f.toml") && e.contains(&format!("`{field}`")) && e.contains(says),
+            "{rest}: {e}"
+        );
+    }
+    let certified = format!("{PLAN}{good}").replace(
+        "max_element = 0.2\n",
+        "max_element = 0.2\nrequire_certified_start = true\n",
+    );
+    let e = load(&certified).unwrap_err();
+    assert!(e.contains("`floor_plan.require_certified_start`"), "{e}");
+}

@@ -6,7 +6,7 @@
 
 use harmonav::control::Branch;
 use harmonav::perception::sim::Enclosure;
-use harmonav::{Controller, FloorNavigator, Law, NavError, Options, StarShape};
+use harmonav::{Controller, FloorNavigator, Law, Mover, NavError, Options, StarShape};
 use harmonav_harmonic::Certificate;
 use harmonav_scenario::floorplan::FloorPrepared;
 use harmonav_scenario::{LidarSensor, Model, ShapeSpec};
@@ -15,10 +15,10 @@ use serde::Serialize;
 
 use crate::guarantee::MARGIN_TOLERANCE;
 use crate::guarantee::{Check, Guarantee};
-use crate::movers::{MoverReport, MoverWorld};
+use crate::movers::{FleetReport, FleetRobot, MoverReport, MoverWorld, Sweep};
 use crate::scanner::{Scanner, Scene};
 use crate::summary::{PerceptionReport, Physics};
-use crate::trace::{Discovery, Event, MoverFrame, Sample, frame_due, recorded_velocity};
+use crate::trace::{Discovery, Event, MoverFrame, MoverMark, Sample, frame_due, recorded_velocity};
 use crate::trajectory::{Keep, Trajectory};
 use crate::unicycle::{Diff, DiffReport};
 
@@ -116,6 +116,9 @@ pub struct FloorRun {
     pub mover_frames: Vec<MoverFrame>,
     /// A differential drive's commands and arcs (`[robot] base = "diff"`; `None` otherwise).
     pub diff: Option<DiffReport>,
+    /// A file with `[[robots]]`: the other robots and the clearances between all of them
+    /// (the lockstep loop of the robots; this run is the first robot's). `None` otherwise.
+    pub fleet: Option<FleetReport>,
 }
 
 /// The name of the `i`-th obstacle of a floor-plan file: its `name`, or `obstacles[i]`.
@@ -194,6 +197,9 @@ pub fn run(
     model: Option<Model>,
     start: Vector2<f64>,
 ) -> Result<FloorRun, NavError> {
+    if !prepared.scenario.robots.is_empty() {
+        return fleet(prepared, model, start, None, true);
+    }
     fly(prepared, model, start, None, &mut |held| held.euler(), None)
 }
 
@@ -209,6 +215,9 @@ pub fn run_observed(
     start: Vector2<f64>,
     observer: &mut dyn FnMut(Event<'_>),
 ) -> Result<FloorRun, NavError> {
+    if !prepared.scenario.robots.is_empty() {
+        return fleet(prepared, model, start, Some(observer), true);
+    }
     fly(
         prepared,
         model,
@@ -313,101 +322,195 @@ fn sample(nav: &FloorNavigator, t: f64, x: Vector2<f64>, v: Vector2<f64>) -> Sam
     }
 }
 
-/// The loop of [`run`] with its integrator `hold` (the built-in step, or rapier's), with
-/// `custom` a controller other than the law, and with `observer` the run's events as they are
-/// made ([`run_observed`]; the samples' evaluations are made only for an observer).
-pub(crate) fn fly(
-    prepared: &FloorPrepared,
-    model: Option<Model>,
-    start: Vector2<f64>,
-    custom: Option<FloorLaw<'_>>,
-    hold: &mut dyn FnMut(&Held) -> State,
-    mut observer: Option<&mut dyn FnMut(Event<'_>)>,
-) -> Result<FloorRun, NavError> {
+/// The body disc's clearance at `p` from the true walls, obstacles and (on a map) pixels of
+/// `prepared`.
+fn body_clearance(prepared: &FloorPrepared, p: Vector2<f64>) -> f64 {
     let r = &prepared.scenario.robot;
-    let goal = Vector2::from(r.goal);
-    let (mut nav, lidar) = navigator_and_lidar(prepared, model)?;
-    let mut scanner = lidar.map(Scanner::new);
-    let walls = scanner.as_ref().map(|_| nav.walls().clone());
-    let mut yaw = 0.0;
-    let h = nav.control_period();
-    let sim = prepared.scenario.sim;
-    let steps = (sim.max_time / h).ceil() as usize;
-    let floor = &prepared.floor;
-    let (mut x, mut vel) = (start, Vector2::zeros());
-    let mut known = vec![false; prepared.obstacles.len()];
-    let mut kept = Trajectory::default();
-    let mut out = FloorRun {
-        ending: FloorEnding::TimedOut,
-        time: 0.0,
-        wall_clearance: f64::INFINITY,
-        pixel_clearance: f64::INFINITY,
-        obstacle_clearance: f64::INFINITY,
-        swept_clearance: f64::INFINITY,
-        layer_clearance: f64::INFINITY,
-        final_distance: (x - goal).norm(),
-        path: 0.0,
-        max_speed: 0.0,
-        sensed: 0,
-        discoveries: Vec::new(),
-        k: nav.k(),
-        commands: 0,
-        escapes: 0,
-        positions: Vec::new(),
-        error: None,
-        physics: Physics::Builtin,
-        contacts: None,
-        max_deviation: None,
-        perception: None,
-        perceived: Vec::new(),
-        movers: None,
-        mover_frames: Vec::new(),
-        diff: None,
-    };
-    // The file's movers (docs/movers.md §8): reported before every command of the law.
-    let mut world = MoverWorld::new(&prepared.scenario.movers, r.radius);
-    let mass = match nav.controller() {
-        Controller::Dynamic(law) => law.mass(),
-        Controller::Kinematic(_) => 1.0,
-    };
-    // The disc's clearance at the previous state and the length of the step since.
-    let mut last: Option<(f64, f64)> = None;
-    // The time of the last state handed to the observer: a state the loop goes on from is
-    // handed after its scan and discoveries and with the command held from it (the kinematic
-    // robot's velocity), the state it ended at after the loop.
-    let mut observed: Option<f64> = None;
-    let kinematic = matches!(nav.controller(), Controller::Kinematic(_));
-    // How the last command was formed, for the movers' frames.
-    let mut last_mode: Option<&'static str> = None;
-    // A differential drive (`crate::unicycle`): its heading, and the monitors of its arcs. A
-    // custom controller or rapier (`hold` other than the built-in step) drives the
-    // holonomic robot only.
-    let mut diff = match custom {
-        None => Diff::of(prepared.base(), prepared.start_yaw()),
-        Some(_) => None,
-    };
-    if let Some(u) = &diff {
-        yaw = u.yaw;
+    let pixels = prepared
+        .pixels
+        .as_ref()
+        .map_or(f64::INFINITY, |px| px.signed_distance(p) - r.radius);
+    prepared
+        .obstacles
+        .iter()
+        .map(|o| o.signed_distance(p) - r.radius)
+        .fold(prepared.floor.wall_distance(p) - r.radius, f64::min)
+        .min(pixels)
+}
+
+/// The other robots of a fleet as one robot's loop sees them in a period ([`fleet`]): the
+/// movers its navigator is given besides the file's, and their marks in its movers' frames.
+#[derive(Clone, Copy, Default)]
+pub(crate) struct Peers<'p> {
+    /// The other robots as movers (reciprocal while they fly).
+    pub movers: &'p [Mover],
+    /// Their marks in the movers' frames (the first robot's recording only).
+    pub marks: &'p [MoverMark],
+}
+
+/// One robot's loop of [`fly`] in flight, between two of its steps: so that the robots of a
+/// fleet ([`fleet`]) can fly in lockstep. Each control period is [`Flight::judge`] (the
+/// monitors at the state, arrival, the time limit), then [`Flight::act`] (perception, the
+/// command, its hold); [`Flight::finish`] makes the run.
+pub(crate) struct Flight<'a, 'c, 'h, 'o> {
+    prepared: &'a FloorPrepared,
+    custom: Option<FloorLaw<'c>>,
+    hold: &'h mut dyn FnMut(&Held) -> State,
+    observer: Option<&'o mut dyn FnMut(Event<'_>)>,
+    nav: FloorNavigator,
+    scanner: Option<Scanner>,
+    walls: Option<std::sync::Arc<harmonav::perception::Walls>>,
+    yaw: f64,
+    h: f64,
+    /// The last control period the run may reach.
+    pub steps: usize,
+    x: Vector2<f64>,
+    vel: Vector2<f64>,
+    known: Vec<bool>,
+    kept: Trajectory<[f64; 2]>,
+    out: FloorRun,
+    /// The file's movers (docs/movers.md §8): reported before every command of the law.
+    world: MoverWorld,
+    mass: f64,
+    /// The disc's clearance at the previous state and the length of the step since.
+    last: Option<(f64, f64)>,
+    /// The disc's clearance at the state [`Flight::judge`] judged last.
+    clearance: f64,
+    /// The time of the last state handed to the observer: a state the loop goes on from is
+    /// handed after its scan and discoveries and with the command held from it (the kinematic
+    /// robot's velocity), the state it ended at after the loop.
+    observed: Option<f64>,
+    kinematic: bool,
+    /// How the last command was formed, for the movers' frames.
+    last_mode: Option<&'static str>,
+    /// A differential drive (`crate::unicycle`): its heading, and the monitors of its arcs. A
+    /// custom controller or rapier (`hold` other than the built-in step) drives the holonomic
+    /// robot only.
+    diff: Option<Diff>,
+    /// The movers (the file's and the peers') are handed to the navigator (`false`: a
+    /// negative control, the robot blind to them).
+    filter: bool,
+    /// How the robot moved over the period of the last [`Flight::act`], and whether its
+    /// command was certified (at rest and certified before the first, and after the end).
+    pub swept: (Sweep, bool),
+}
+
+impl<'a, 'c, 'h, 'o> Flight<'a, 'c, 'h, 'o> {
+    /// The loop of `prepared` from `start` under `model`, before its first period.
+    pub(crate) fn new(
+        prepared: &'a FloorPrepared,
+        model: Option<Model>,
+        start: Vector2<f64>,
+        custom: Option<FloorLaw<'c>>,
+        hold: &'h mut dyn FnMut(&Held) -> State,
+        observer: Option<&'o mut dyn FnMut(Event<'_>)>,
+    ) -> Result<Self, NavError> {
+        let r = &prepared.scenario.robot;
+        let goal = Vector2::from(r.goal);
+        let (nav, lidar) = navigator_and_lidar(prepared, model)?;
+        let scanner = lidar.map(Scanner::new);
+        let walls = scanner.as_ref().map(|_| nav.walls().clone());
+        let h = nav.control_period();
+        let steps = (prepared.scenario.sim.max_time / h).ceil() as usize;
+        let out = FloorRun {
+            ending: FloorEnding::TimedOut,
+            time: 0.0,
+            wall_clearance: f64::INFINITY,
+            pixel_clearance: f64::INFINITY,
+            obstacle_clearance: f64::INFINITY,
+            swept_clearance: f64::INFINITY,
+            layer_clearance: f64::INFINITY,
+            final_distance: (start - goal).norm(),
+            path: 0.0,
+            max_speed: 0.0,
+            sensed: 0,
+            discoveries: Vec::new(),
+            k: nav.k(),
+            commands: 0,
+            escapes: 0,
+            positions: Vec::new(),
+            error: None,
+            physics: Physics::Builtin,
+            contacts: None,
+            max_deviation: None,
+            perception: None,
+            perceived: Vec::new(),
+            movers: None,
+            mover_frames: Vec::new(),
+            diff: None,
+            fleet: None,
+        };
+        let world = MoverWorld::new(&prepared.scenario.movers, r.radius);
+        let mass = match nav.controller() {
+            Controller::Dynamic(law) => law.mass(),
+            Controller::Kinematic(_) => 1.0,
+        };
+        let kinematic = matches!(nav.controller(), Controller::Kinematic(_));
+        let diff = match custom {
+            None => Diff::of(prepared.base(), prepared.start_yaw()),
+            Some(_) => None,
+        };
+        let yaw = diff.as_ref().map_or(0.0, |u| u.yaw);
+        Ok(Self {
+            prepared,
+            custom,
+            hold,
+            observer,
+            nav,
+            scanner,
+            walls,
+            yaw,
+            h,
+            steps,
+            x: start,
+            vel: Vector2::zeros(),
+            known: vec![false; prepared.obstacles.len()],
+            kept: Trajectory::default(),
+            out,
+            world,
+            mass,
+            last: None,
+            clearance: f64::INFINITY,
+            observed: None,
+            kinematic,
+            last_mode: None,
+            diff,
+            filter: true,
+            swept: (Sweep::Straight(start, start), true),
+        })
     }
-    // The body disc's clearance from the true walls, obstacles and (on a map) pixels.
-    let truth_clearance = |p: Vector2<f64>| {
-        let pixels = prepared
-            .pixels
-            .as_ref()
-            .map_or(f64::INFINITY, |px| px.signed_distance(p) - r.radius);
-        prepared
-            .obstacles
-            .iter()
-            .map(|o| o.signed_distance(p) - r.radius)
-            .fold(floor.wall_distance(p) - r.radius, f64::min)
-            .min(pixels)
-    };
-    for n in 0..=steps {
-        out.time = n as f64 * h;
+
+    /// The robot blind to the movers and to the other robots (a negative control).
+    pub(crate) fn blind(mut self) -> Self {
+        self.filter = false;
+        self
+    }
+
+    /// The robot's position now.
+    pub(crate) fn position(&self) -> Vector2<f64> {
+        self.x
+    }
+
+    /// The robot's top speed: the kinematic law's `v_max`, the dynamic law's speed bound.
+    pub(crate) fn speed_bound(&self) -> f64 {
+        match self.nav.controller() {
+            Controller::Dynamic(law) => law.speed_bound(),
+            Controller::Kinematic(law) => law.v_max(),
+        }
+    }
+
+    /// The monitors at the state of period `n` on the truth, then arrival and the time limit:
+    /// `false` when the run ends here.
+    pub(crate) fn judge(&mut self, n: usize) -> bool {
+        let prepared = self.prepared;
+        let (r, floor, x) = (&prepared.scenario.robot, &prepared.floor, self.x);
+        let out = &mut self.out;
+        self.swept = (Sweep::Straight(x, x), true);
+        out.time = n as f64 * self.h;
         // Monitors on the truth.
         if !floor.walls().contains(x) {
             out.ending = FloorEnding::Left;
-            break;
+            return false;
         }
         let wall = floor.wall_distance(x) - r.radius;
         // On a map, the map's own non-free pixels too (issue 56, D1): the floor plan's outline
@@ -426,52 +529,65 @@ pub(crate) fn fly(
         out.obstacle_clearance = out.obstacle_clearance.min(obstacle);
         out.layer_clearance = out.layer_clearance.min(floor.clearance(x));
         let clearance = wall.min(obstacle).min(pixels);
-        if let Some((before, step)) = last {
+        self.clearance = clearance;
+        if let Some((before, step)) = self.last {
             out.swept_clearance = out.swept_clearance.min(0.5 * (before + clearance - step));
         }
         if out.wall_clearance <= 0.0 || out.obstacle_clearance <= 0.0 || out.pixel_clearance <= 0.0
         {
             out.ending = FloorEnding::Collision;
-            break;
+            return false;
         }
-        out.final_distance = (x - goal).norm();
-        if out.final_distance < sim.arrival {
+        out.final_distance = (x - Vector2::from(r.goal)).norm();
+        if out.final_distance < prepared.scenario.sim.arrival {
             out.ending = FloorEnding::Reached;
-            break;
+            return false;
         }
-        if n == steps {
-            break;
-        }
+        n != self.steps
+    }
+
+    /// The rest of the period after [`Flight::judge`]: perception, the command (given the
+    /// file's movers and `peers`), its hold. `false`: the navigator refused, the run ends.
+    ///
+    /// # Errors
+    /// The navigator refused a sensed obstacle or the movers (as [`fly`]).
+    pub(crate) fn act(&mut self, peers: Peers<'_>) -> Result<bool, NavError> {
+        let prepared = self.prepared;
+        let r = &prepared.scenario.robot;
+        let sim = prepared.scenario.sim;
+        let (h, x) = (self.h, self.x);
+        let out = &mut self.out;
+        let nav = &mut self.nav;
         // Perception: a scan when one is due, or a true obstacle within range of the robot's
         // disc becomes known.
         let mut discovered = false;
-        if let (Some(scanner), Some(walls)) = (scanner.as_mut(), walls.as_ref())
+        if let (Some(scanner), Some(walls)) = (self.scanner.as_mut(), self.walls.as_ref())
             && scanner.due(out.time)
         {
             let scene = Scene {
                 obstacles: &prepared.obstacles,
                 enclosure: Enclosure::Walls(walls),
             };
-            match scanner.scan(&mut nav, scene, out.time, x, yaw) {
+            match scanner.scan(nav, scene, out.time, x, self.yaw) {
                 Ok(record) => {
                     discovered = record.perceived.is_some();
-                    if let Some(o) = observer.as_mut() {
+                    if let Some(o) = self.observer.as_mut() {
                         o(Event::Scan(&record));
                     }
                 }
                 Err(e) => {
                     out.ending = FloorEnding::Refused;
                     out.error = Some(e);
-                    break;
+                    return Ok(false);
                 }
             }
         }
-        let exact = if scanner.is_some() {
+        let exact = if self.scanner.is_some() {
             &[][..]
         } else {
             &prepared.obstacles[..]
         };
-        for (i, (o, seen)) in exact.iter().zip(&mut known).enumerate() {
+        for (i, (o, seen)) in exact.iter().zip(&mut self.known).enumerate() {
             if !*seen && o.signed_distance(x) - r.radius < sim.sensor_range {
                 nav.add_obstacle(o.clone())?;
                 *seen = true;
@@ -484,132 +600,354 @@ pub(crate) fn fly(
                     position: [x.x, x.y],
                     axis: [0.0; 2],
                 };
-                if let Some(o) = observer.as_mut() {
+                if let Some(o) = self.observer.as_mut() {
                     o(Event::Discovery(&discovery));
                 }
                 out.discoveries.push(discovery);
             }
         }
         // Sampled before the command (which moves the navigator's state on).
-        let pending = observer.is_some().then(|| sample(&nav, out.time, x, vel));
-        kept.push(
+        let pending = self
+            .observer
+            .is_some()
+            .then(|| sample(nav, out.time, x, self.vel));
+        self.kept.push(
             [x.x, x.y],
             if discovered { Keep::Pinned } else { Keep::Grid },
         );
-        if !world.is_empty() && frame_due(&out.mover_frames, out.time) {
-            let frame = world.frame(out.time, x, last_mode, h);
-            if let Some(o) = observer.as_mut() {
+        let world = &mut self.world;
+        let movers = !(world.is_empty() && peers.movers.is_empty());
+        if !(world.is_empty() && peers.marks.is_empty()) && frame_due(&out.mover_frames, out.time) {
+            let mut frame = world.frame(out.time, x, self.last_mode, h);
+            frame.movers.extend_from_slice(peers.marks);
+            if let Some(o) = self.observer.as_mut() {
                 o(Event::Movers(&frame));
             }
             out.mover_frames.push(frame);
         }
-        if custom.is_none() && !world.is_empty() {
-            nav.set_movers(world.reports())?;
+        if self.custom.is_none() && movers && self.filter {
+            nav.set_movers(world.reports_with(peers.movers.iter().copied()))?;
         }
-        if let Some(u) = diff.as_mut() {
-            // The arc of `(v, ω)` held for `h`, judged along its length (no movers with a
-            // differential drive: the file is refused).
-            let c = match nav.command_pose(x, u.yaw) {
+        if let Some(u) = self.diff.as_mut() {
+            // The arc of `(v, ω)` held for `h`, judged along its length against the walls and
+            // obstacles and, with movers, against every mover (`crate::movers::Sweep::Arc`).
+            let yaw = u.yaw;
+            let (c, mode) = match crate::held::pose_command(nav, x, yaw, movers) {
                 Ok(c) => c,
                 Err(e) => {
                     out.ending = FloorEnding::Refused;
                     out.error = Some(e);
-                    break;
+                    return Ok(false);
                 }
             };
             out.escapes = nav.escapes();
             out.commands += 1;
-            if let (Some(o), Some(mut s)) = (observer.as_mut(), pending) {
+            if let (Some(o), Some(mut s)) = (self.observer.as_mut(), pending) {
                 // Its motion `v·e(θ)` and heading, not the law's `u`.
-                (s.v, s.yaw) = ([vel.x, vel.y], Some(u.yaw));
+                (s.v, s.yaw) = ([self.vel.x, self.vel.y], Some(u.yaw));
                 o(Event::State(&s));
-                observed = Some(out.time);
+                self.observed = Some(out.time);
             }
             let next;
-            (next, vel) = u.period_in(&truth_clearance, r.margin, x, &c, h);
-            yaw = u.yaw;
-            out.max_speed = out.max_speed.max(vel.norm());
+            (next, self.vel) = u.period_in(&|p| body_clearance(prepared, p), r.margin, x, &c, h);
+            self.yaw = u.yaw;
+            out.max_speed = out.max_speed.max(self.vel.norm());
             // The arc's length: a chord is never longer, so the Lipschitz bound stays valid.
             let length = c.v.abs() * h;
             out.path += length;
-            last = Some((clearance, length));
-            x = next;
-            continue;
+            self.last = Some((self.clearance, length));
+            let certified = mode.is_some_and(|m| !matches!(m, harmonav::Mode::Overwhelmed { .. }));
+            let arc = Sweep::Arc {
+                x,
+                yaw,
+                v: c.v,
+                omega: c.omega,
+            };
+            if movers {
+                self.last_mode = Some(mode.as_ref().map_or("refused", harmonav::Mode::as_str));
+            }
+            if !world.is_empty() {
+                world.count(mode.as_ref());
+                world.period_along(&arc, h, certified);
+            }
+            self.swept = (arc, certified);
+            self.x = next;
+            return Ok(true);
         }
         let mut mode = None;
-        let command = match custom {
-            Some(law) => law(&nav, x, vel),
-            None => match nav.command(x, vel) {
+        let command = match self.custom {
+            Some(law) => law(nav, x, self.vel),
+            None => match nav.command(x, self.vel) {
                 Ok(c) => {
                     out.escapes = nav.escapes();
                     mode = Some(c.mode);
                     c.value
                 }
                 // The reported bodies overlap: no certified command; the robot stops.
-                Err(NavError::InMover { .. }) if !world.is_empty() => {
-                    if kinematic {
+                Err(NavError::InMover { .. }) if movers => {
+                    if self.kinematic {
                         Vector2::zeros()
                     } else {
-                        -mass * vel / h
+                        -self.mass * self.vel / h
                     }
                 }
                 Err(e) => {
                     out.ending = FloorEnding::Refused;
                     out.error = Some(e);
-                    break;
+                    return Ok(false);
                 }
             },
         };
         out.commands += 1;
-        if let (Some(o), Some(mut s)) = (observer.as_mut(), pending) {
-            if kinematic {
+        if let (Some(o), Some(mut s)) = (self.observer.as_mut(), pending) {
+            if self.kinematic {
                 s.v = [command.x, command.y];
             }
             o(Event::State(&s));
-            observed = Some(out.time);
+            self.observed = Some(out.time);
         }
         let next;
-        (next, vel) = hold(&Held {
+        (next, self.vel) = (self.hold)(&Held {
             controller: nav.controller(),
             h,
             x,
-            v: vel,
+            v: self.vel,
             command,
         });
-        out.max_speed = out.max_speed.max(vel.norm());
+        out.max_speed = out.max_speed.max(self.vel.norm());
         let step = (next - x).norm();
         if step > 0.0 {
-            yaw = (next.y - x.y).atan2(next.x - x.x);
+            self.yaw = (next.y - x.y).atan2(next.x - x.x);
         }
         out.path += step;
-        last = Some((clearance, step));
+        self.last = Some((self.clearance, step));
+        let certified = mode
+            .as_ref()
+            .is_some_and(|m| !matches!(m, harmonav::Mode::Overwhelmed { .. }));
+        if movers {
+            self.last_mode = Some(mode.as_ref().map_or("refused", harmonav::Mode::as_str));
+        }
         if !world.is_empty() {
-            let certified = mode
-                .as_ref()
-                .is_some_and(|m| !matches!(m, harmonav::Mode::Overwhelmed { .. }));
             world.count(mode.as_ref());
-            last_mode = Some(mode.as_ref().map_or("refused", harmonav::Mode::as_str));
             world.period(x, next, h, certified);
         }
-        x = next;
+        self.swept = (Sweep::Straight(x, next), certified);
+        self.x = next;
+        Ok(true)
     }
-    out.movers = (!world.is_empty()).then(|| world.report.clone());
-    if let Some(o) = observer.as_mut()
-        && observed != Some(out.time)
-    {
-        let mut s = sample(&nav, out.time, x, vel);
-        if let Some(u) = &diff {
-            (s.v, s.yaw) = ([vel.x, vel.y], Some(u.yaw));
+
+    /// The robot's run alone (no other robots), every period to its end.
+    ///
+    /// # Errors
+    /// As [`Flight::act`].
+    fn alone(mut self) -> Result<FloorRun, NavError> {
+        for n in 0..=self.steps {
+            if !(self.judge(n) && self.act(Peers::default())?) {
+                break;
+            }
         }
-        o(Event::State(&s));
+        Ok(self.finish())
     }
-    out.diff = diff.map(|u| u.report);
-    kept.push([x.x, x.y], Keep::Pinned);
-    out.positions = kept.into_samples();
-    out.k = nav.k();
-    out.perception = scanner.map(|s| s.judge(&nav, &prepared.obstacles));
-    out.perceived = nav.perceived().map(|(_, p)| p.shape().clone()).collect();
-    Ok(out)
+
+    /// The run, after its last period.
+    pub(crate) fn finish(mut self) -> FloorRun {
+        let (x, vel) = (self.x, self.vel);
+        let mut out = self.out;
+        out.movers = (!self.world.is_empty()).then(|| self.world.report.clone());
+        if let Some(o) = self.observer.as_mut()
+            && self.observed != Some(out.time)
+        {
+            let mut s = sample(&self.nav, out.time, x, vel);
+            if let Some(u) = &self.diff {
+                (s.v, s.yaw) = ([vel.x, vel.y], Some(u.yaw));
+            }
+            o(Event::State(&s));
+        }
+        out.diff = self.diff.map(|u| u.report);
+        self.kept.push([x.x, x.y], Keep::Pinned);
+        out.positions = self.kept.into_samples();
+        out.k = self.nav.k();
+        out.perception = self
+            .scanner
+            .map(|s| s.judge(&self.nav, &self.prepared.obstacles));
+        out.perceived = self
+            .nav
+            .perceived()
+            .map(|(_, p)| p.shape().clone())
+            .collect();
+        out
+    }
+}
+
+/// The loop of [`run`] with its integrator `hold` (the built-in step, or rapier's), with
+/// `custom` a controller other than the law, and with `observer` the run's events as they are
+/// made ([`run_observed`]; the samples' evaluations are made only for an observer).
+pub(crate) fn fly(
+    prepared: &FloorPrepared,
+    model: Option<Model>,
+    start: Vector2<f64>,
+    custom: Option<FloorLaw<'_>>,
+    hold: &mut dyn FnMut(&Held) -> State,
+    observer: Option<&mut dyn FnMut(Event<'_>)>,
+) -> Result<FloorRun, NavError> {
+    Flight::new(prepared, model, start, custom, hold, observer)?.alone()
+}
+
+/// A loop's observer of events.
+type Observer<'a> = dyn FnMut(Event<'_>) + 'a;
+
+/// The scenario of robot `i` of a floor plan's fleet (0: `[robot]` from `start`, then the
+/// `[[robots]]`): the file with that start, goal and (a differential drive) start heading and
+/// no other robots, on the same solved map (not solved again).
+fn member(prepared: &FloorPrepared, i: usize, start: Vector2<f64>) -> FloorPrepared {
+    let mut p = prepared.clone();
+    let sc = &mut p.scenario;
+    if i > 0 {
+        let r = sc.robots[i - 1].clone();
+        (sc.robot.start, sc.robot.goal) = (r.start, r.goal);
+        if let Some(yaw) = r.yaw {
+            sc.robot.yaw = Some(yaw);
+        }
+    } else {
+        sc.robot.start = [start.x, start.y];
+    }
+    sc.robots.clear();
+    p.starts = vec![Vector2::from(sc.robot.start)];
+    p
+}
+
+/// A floor plan with `[[robots]]` (docs/movers.md §8), the first robot from `start`: every
+/// robot flies its own loop ([`Flight`], its own [`FloorNavigator`] on the one solved map) in
+/// lockstep at the control period, its navigator given the file's movers and the other robots
+/// (reciprocal, share ½, exact positions; one whose run has ended as a non-cooperative mover
+/// at rest), as in a star world. The run is the first robot's, its `fleet` the others and the
+/// clearances between all of them ([`FloorSummary`] judges `no-collision-between-robots`).
+/// Only the first robot's events go to `observer`. `filter: false` (a negative control): no
+/// robot is given the movers or the other robots.
+fn fleet(
+    prepared: &FloorPrepared,
+    model: Option<Model>,
+    start: Vector2<f64>,
+    observer: Option<&mut dyn FnMut(Event<'_>)>,
+    filter: bool,
+) -> Result<FloorRun, NavError> {
+    let n = prepared.scenario.robots.len() + 1;
+    let members: Vec<FloorPrepared> = (0..n).map(|i| member(prepared, i, start)).collect();
+    let radius = prepared.scenario.robot.radius;
+    let mut holds: Vec<fn(&Held) -> State> = vec![|held: &Held| held.euler(); n];
+    // The other robots' states as their loops hand them over (their own trajectories).
+    let mut tracks: Vec<Trajectory<Sample>> = (1..n).map(|_| Trajectory::default()).collect();
+    let mut keep: Vec<Box<Observer<'_>>> = tracks
+        .iter_mut()
+        .map(|track| {
+            Box::new(move |e: Event<'_>| {
+                if let Event::State(s) = e {
+                    track.push(s.clone(), Keep::Grid);
+                }
+            }) as Box<Observer<'_>>
+        })
+        .collect();
+    // The caller's observer, for the first robot, behind a borrow as short as the others'.
+    let mut observer = observer;
+    let given = observer.is_some();
+    let mut first = |e: Event<'_>| {
+        if let Some(o) = observer.as_mut() {
+            o(e);
+        }
+    };
+    let mut observers: Vec<Option<&mut Observer<'_>>> =
+        vec![given.then_some(&mut first as &mut Observer<'_>)];
+    observers.extend(keep.iter_mut().map(|k| Some(&mut **k as &mut Observer<'_>)));
+    let mut flights = Vec::with_capacity(n);
+    for ((p, hold), o) in members.iter().zip(holds.iter_mut()).zip(observers) {
+        let from = Vector2::from(p.scenario.robot.start);
+        let flight = Flight::new(p, model, from, None, hold, o)?;
+        flights.push(if filter { flight } else { flight.blind() });
+    }
+    let (h, steps) = (flights[0].h, flights[0].steps);
+    let mut ended = vec![false; n];
+    let mut report = FleetReport {
+        min_robot_clearance: f64::INFINITY,
+        ..FleetReport::default()
+    };
+    let mut touching = vec![false; n * n];
+    for step in 0..=steps {
+        for (f, done) in flights.iter_mut().zip(&mut ended) {
+            if !*done && !f.judge(step) {
+                *done = true;
+            }
+        }
+        if ended.iter().all(|&done| done) {
+            break;
+        }
+        let at: Vec<(Vector2<f64>, f64, bool)> = flights
+            .iter()
+            .zip(&ended)
+            .map(|(f, &done)| (f.position(), f.speed_bound(), done))
+            .collect();
+        let marks = crate::movers::peer_marks(&at[1..], radius, h);
+        for (i, f) in flights.iter_mut().enumerate() {
+            if ended[i] {
+                continue;
+            }
+            let movers: Vec<Mover> = crate::movers::peers(&at, i, radius).collect();
+            let peers = Peers {
+                movers: &movers,
+                marks: if i == 0 { &marks } else { &[] },
+            };
+            if !f.act(peers)? {
+                ended[i] = true;
+            }
+        }
+        let swept: Vec<(Sweep, bool)> = flights.iter().map(|f| f.swept).collect();
+        report.period(&swept, &mut touching, radius, h);
+    }
+    let mut runs: Vec<FloorRun> = flights.into_iter().map(Flight::finish).collect();
+    drop(keep);
+    // Never empty: `[robot]` is robot 0.
+    let mut lead = runs.remove(0);
+    report.others = runs
+        .into_iter()
+        .zip(&members[1..])
+        .zip(tracks)
+        .map(|((run, p), track)| {
+            let from = Vector2::from(p.scenario.robot.start);
+            let s = FloorSummary::new(p, model, from, &run);
+            FleetRobot {
+                start: p.scenario.robot.start,
+                goal: p.scenario.robot.goal,
+                reached: s.reached,
+                time_s: s.time_s,
+                final_distance: s.final_distance,
+                safe: s.safe(),
+                movers: s.movers,
+                samples: track.into_samples(),
+            }
+        })
+        .collect();
+    lead.fleet = Some(report);
+    Ok(lead)
+}
+
+/// [`run`] with the robot blind to the movers (its navigator never given them) while they
+/// still move and every contact is judged; in a file with `[[robots]]`, every robot blind to
+/// the movers and to the others: the negative control of `no-collision-with-movers` and
+/// `no-collision-between-robots` on a floor plan.
+///
+/// # Errors
+/// The navigator could not be built (a message naming the parameter).
+pub fn run_without_filter(
+    prepared: &FloorPrepared,
+    model: Option<Model>,
+    start: Vector2<f64>,
+) -> Result<FloorRun, NavError> {
+    if !prepared.scenario.robots.is_empty() {
+        return fleet(prepared, model, start, None, false);
+    }
+    let mut hold = |held: &Held| held.euler();
+    Flight::new(prepared, model, start, None, &mut hold, None)?
+        .blind()
+        .alone()
 }
 
 /// The judgement of a floor-plan run (`harmonav run` on a `[floor_plan]` file, its
@@ -688,6 +1026,10 @@ pub struct FloorSummary {
     /// that a holonomic robot's summary is as before).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub diff: Option<DiffReport>,
+    /// A file with `[[robots]]`: the other robots and the clearances between all of them, as
+    /// a star world's summary (absent otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fleet: Option<FleetReport>,
 }
 
 impl FloorSummary {
@@ -797,6 +1139,11 @@ impl FloorSummary {
         if let Some(report) = &run.movers {
             guarantees.push(crate::movers::judged(report, r.margin));
         }
+        if let Some(fleet) = &run.fleet {
+            let others_unsafe = fleet.others.iter().filter(|o| !o.safe).count();
+            let robots = fleet.others.len() + 1;
+            guarantees.push(crate::movers::fleet_judged(fleet, robots, others_unsafe));
+        }
         Self {
             name: sc.name.clone(),
             model,
@@ -830,7 +1177,22 @@ impl FloorSummary {
             guarantees,
             movers: run.movers.clone(),
             diff: run.diff.clone(),
+            fleet: run.fleet.clone(),
         }
+    }
+
+    /// Whether every guarantee but arrival (and a lidar's `scans-accepted`: a refused scan
+    /// stops the robot, it does not endanger it) held, as a star world's
+    /// [`crate::summary::Summary::safe`].
+    #[must_use]
+    pub fn safe(&self) -> bool {
+        self.guarantees.iter().all(|g| {
+            g.passed
+                || matches!(
+                    g.kind(),
+                    crate::guarantee::Kind::ReachedGoal | crate::guarantee::Kind::ScansAccepted
+                )
+        })
     }
 
     /// Whether every guarantee held, arrival included.

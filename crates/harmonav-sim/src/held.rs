@@ -10,7 +10,8 @@
 
 use harmonav::control::{Dynamic, Potential};
 use harmonav::{
-    Controller, DEFAULT_DYNAMIC_PERIOD, DEFAULT_KINEMATIC_PERIOD, Mode, Mover, NavError,
+    Controller, DEFAULT_DYNAMIC_PERIOD, DEFAULT_KINEMATIC_PERIOD, Mode, NavError, Navigator,
+    PoseCommand, Steer,
 };
 use harmonav_scenario::{Model, Prepared};
 use nalgebra::Vector2;
@@ -19,9 +20,9 @@ use crate::driver::{Driver, Warnings};
 use crate::golden::held;
 use crate::guarantee::{Check, FreeSpaceLoss, Guarantee};
 use crate::monitor::End;
-use crate::movers::MoverWorld;
+use crate::movers::{MoverWorld, Sweep, fleet_judged, peer_marks, peers};
 use crate::summary::{Physics, Run, RunError};
-use crate::trace::{Event, MoverMark, Sample};
+use crate::trace::{Event, Sample};
 use crate::trajectory::Keep;
 use crate::unicycle::Diff;
 
@@ -127,10 +128,30 @@ pub(crate) fn fly_with(
             break;
         }
         if let Some(u) = diff.as_mut() {
-            // The arc of `(v, ω)` held for `h`, judged (no movers with a differential drive).
-            let c = d.nav_mut().command_pose(x, u.yaw)?;
+            // The arc of `(v, ω)` held for `h`, judged along its length against the shapes
+            // and, with movers, against every mover (`crate::movers::Sweep::Arc`).
+            if filter && !world.is_empty() {
+                d.nav_mut().set_movers(world.reports())?;
+            }
+            let yaw = u.yaw;
+            let (c, mode) = pose_command(d.nav_mut(), x, yaw, !world.is_empty())?;
             turning = c.v == 0.0 && c.omega != 0.0;
-            (x, v) = u.period(&prepared.truth, x, &c, h);
+            let x1;
+            (x1, v) = u.period(&prepared.truth, x, &c, h);
+            if !world.is_empty() {
+                let certified = mode.is_some_and(|m| !matches!(m, Mode::Overwhelmed { .. }));
+                world.count(mode.as_ref());
+                last_mode = Some(mode.as_ref().map_or("refused", Mode::as_str));
+                acted = !certified || matches!(mode, Some(Mode::Yielding { .. }));
+                let arc = Sweep::Arc {
+                    x,
+                    yaw,
+                    v: c.v,
+                    omega: c.omega,
+                };
+                world.period_along(&arc, h, certified);
+            }
+            x = x1;
             periods += 1;
             t = periods as f64 * h;
             continue;
@@ -198,6 +219,31 @@ pub(crate) fn fly_with(
     Ok(run)
 }
 
+/// The `(v, ω)` of a differential drive at the pose `(x, yaw)`
+/// ([`Navigator::command_pose`]) and the mode it was formed in; the mode `None` when it was
+/// refused because the robot's disc overlaps a reported mover's (`NavError::InMover`, only
+/// with `movers`): no certified command, the robot holds still, `(0, 0)`.
+pub(crate) fn pose_command(
+    nav: &mut Navigator<impl harmonav::World>,
+    x: Vector2<f64>,
+    yaw: f64,
+    movers: bool,
+) -> Result<(PoseCommand, Option<Mode>), NavError> {
+    match nav.command_pose(x, yaw) {
+        Ok(c) => Ok((c, Some(c.mode))),
+        Err(NavError::InMover { .. }) if movers => {
+            let stopped = PoseCommand {
+                v: 0.0,
+                omega: 0.0,
+                mode: Mode::Halted,
+                steer: Steer::Stopped,
+            };
+            Ok((stopped, None))
+        }
+        Err(e) => Err(e),
+    }
+}
+
 /// The state recorded at `t` at `(x, ẋ)`: [`Driver::sample`], and for a differential drive
 /// (its heading `yaw` given) that heading and its velocity `ẋ = v·e(θ)` (the law's `u` is not
 /// its motion).
@@ -231,15 +277,23 @@ struct Flying<'a, 'o> {
     mass: f64,
     /// How its last command was formed (the movers' frames).
     mode: Option<&'static str>,
+    /// A differential drive: its heading and the monitors of its arcs (`None`: holonomic).
+    diff: Option<Diff>,
+    /// Its last command turned it in place (a differential drive): not at rest.
+    turning: bool,
 }
 
 /// The scenario of robot `i` of a fleet (0: `[robot]`, then the `[[robots]]`): the file with
-/// that start and goal, no other robots, and its own movers.
+/// that start, goal and (a differential drive) start heading, no other robots, and its own
+/// movers.
 fn member(prepared: &Prepared, i: usize) -> Result<Prepared, RunError> {
     let mut sc = prepared.scenario.clone();
     if i > 0 {
         let r = &sc.sim.robots[i - 1];
         (sc.robot.start, sc.robot.goal) = (r.start, r.goal);
+        if let Some(yaw) = r.yaw {
+            sc.controller.yaw = Some(yaw);
+        }
         // `[expect]` speaks of the first robot.
         sc.expect = None;
     }
@@ -307,6 +361,8 @@ fn fleet(
             speed,
             mass,
             mode: None,
+            diff: Diff::of(p.base(), p.start_yaw()),
+            turning: false,
         });
     }
     let mut report = crate::movers::FleetReport {
@@ -329,7 +385,7 @@ fn fleet(
                 (r.done, r.time) = (true, t);
                 continue;
             }
-            let mut s = r.d.sample(t, x, v);
+            let mut s = state(&r.d, t, (x, v), r.diff.as_ref().map(|u| u.yaw));
             s.energy_tolerance = std::mem::take(&mut r.drift);
             r.reached = r.d.arrived(x);
             if periods.is_multiple_of(record_every) || r.reached {
@@ -342,74 +398,83 @@ fn fleet(
                 (r.done, r.time) = (true, t);
             }
         }
+        let at: Vec<(Vector2<f64>, f64, bool)> =
+            robots.iter().map(|r| (r.x, r.speed, r.done)).collect();
         // The first robot's frame, after its state: the scripted movers and the other robots
         // (reciprocal while they fly).
         if robots[0].d.movers_due(t) {
-            let peers: Vec<MoverMark> = robots[1..]
-                .iter()
-                .map(|r| MoverMark {
-                    position: [r.x.x, r.x.y],
-                    radius,
-                    reach: radius + r.speed * h,
-                    reciprocal: !r.done,
-                })
-                .collect();
             let first = &mut robots[0];
             let mut frame = first.world.frame(t, first.x, first.mode, h);
-            frame.movers.extend(peers);
+            frame.movers.extend(peer_marks(&at[1..], radius, h));
             first.d.movers(frame);
         }
         if robots.iter().all(|r| r.done) {
             break;
         }
-        let at: Vec<(Vector2<f64>, f64, bool)> =
-            robots.iter().map(|r| (r.x, r.speed, r.done)).collect();
-        let mut next = Vec::with_capacity(n);
+        // How each robot moves over the period, and whether its command was certified.
+        let mut next: Vec<(Sweep, bool)> = Vec::with_capacity(n);
         for (i, r) in robots.iter_mut().enumerate() {
+            let still = Sweep::Straight(r.x, r.x);
             if r.done {
-                next.push((r.x, true));
+                next.push((still, true));
                 continue;
             }
             let (x, v) = (r.x, r.v);
+            let yaw = r.diff.as_ref().map(|u| u.yaw);
+            if let Some(yaw) = yaw {
+                r.d.set_heading(yaw);
+            }
             let found = r.d.sees(x, v);
             let mut discovered = !found.is_empty();
             if discovered && !r.d.discover(t, &found, x, v) {
                 (r.done, r.time) = (true, t);
-                next.push((x, true));
+                next.push((still, true));
                 continue;
             }
             if r.d.scan_due(t) {
-                match r.d.scan(r.d.sample(t, x, v), x, v) {
+                match r.d.scan(state(&r.d, t, (x, v), yaw), x, v) {
                     None => {
                         (r.done, r.time) = (true, t);
-                        next.push((x, true));
+                        next.push((still, true));
                         continue;
                     }
                     Some(changed) => discovered |= changed,
                 }
             }
             if discovered {
-                r.d.record(r.d.sample(t, x, v), Keep::Pinned, true);
+                r.d.record(state(&r.d, t, (x, v), yaw), Keep::Pinned, true);
             }
-            if r.d.at_rest(t, x, false, discovered || r.acted, false) {
+            if r.d
+                .at_rest(t, x, false, discovered || r.acted || r.turning, false)
+            {
                 (r.done, r.time) = (true, t);
-                next.push((x, true));
+                next.push((still, true));
                 continue;
             }
-            let peers =
-                at.iter()
-                    .enumerate()
-                    .filter(|(j, _)| *j != i)
-                    .map(|(_, &(p, speed, done))| {
-                        if done {
-                            Mover::new(p, radius, 0.0)
-                        } else {
-                            Mover::new(p, radius, speed).reciprocal(0.5)
-                        }
-                    });
             if filter {
-                let movers = r.world.reports_with(peers);
+                let movers = r.world.reports_with(peers(&at, i, radius));
                 r.d.nav_mut().set_movers(movers)?;
+            }
+            if let Some(u) = r.diff.as_mut() {
+                // A differential drive: the arc of its `(v, ω)`, judged along its length.
+                let yaw = u.yaw;
+                let (c, mode) = pose_command(r.d.nav_mut(), x, yaw, true)?;
+                let certified = mode.is_some_and(|m| !matches!(m, Mode::Overwhelmed { .. }));
+                r.turning = c.v == 0.0 && c.omega != 0.0;
+                r.world.count(mode.as_ref());
+                r.mode = Some(mode.as_ref().map_or("refused", Mode::as_str));
+                r.acted = !certified || matches!(mode, Some(Mode::Yielding { .. }));
+                let (x1, v1) = u.period(&prepared.truth, x, &c, h);
+                let arc = Sweep::Arc {
+                    x,
+                    yaw,
+                    v: c.v,
+                    omega: c.omega,
+                };
+                r.world.period_along(&arc, h, certified);
+                (r.x, r.v) = (x1, v1);
+                next.push((arc, certified));
+                continue;
             }
             let (command, mode) = match r.d.nav_mut().command(x, v) {
                 Ok(c) => (c.value, Some(c.mode)),
@@ -434,26 +499,18 @@ fn fleet(
             }
             r.world.period(x, x1, h, certified);
             (r.x, r.v) = (x1, v1);
-            next.push((x1, certified));
+            next.push((Sweep::Straight(x, x1), certified));
         }
-        // Every two robots along the period.
-        for i in 0..n {
-            for j in i + 1..n {
-                let least = crate::movers::closest_approach(at[i].0, next[i].0, at[j].0, next[j].0)
-                    - 2.0 * radius;
-                report.min_robot_clearance = report.min_robot_clearance.min(least);
-                let now = least <= 0.0;
-                report.robot_contacts += usize::from(now && !touching[i * n + j]);
-                report.contacts_after_certified += usize::from(now && next[i].1 && next[j].1);
-                touching[i * n + j] = now;
-            }
-        }
+        // Every two robots along the period (exact for straight steps, within
+        // `ARC_TOLERANCE` below the truth along arcs).
+        report.period(&next, &mut touching, radius, h);
         periods += 1;
         t = periods as f64 * h;
     }
     let margin = prepared.margin();
-    // The others first (the first robot's guarantee counts those that lost one of theirs).
-    let mut others: Vec<crate::summary::Summary> = Vec::with_capacity(n - 1);
+    // The others first (the first robot's guarantee counts those that lost one of theirs),
+    // with their recorded states.
+    let mut others: Vec<(crate::summary::Summary, Vec<Sample>)> = Vec::with_capacity(n - 1);
     let mut first = None;
     for (i, r) in robots.into_iter().enumerate().rev() {
         let Flying {
@@ -464,27 +521,23 @@ fn fleet(
             acted,
             reached,
             time,
+            diff,
             ..
         } = r;
         if d.last_recorded() != Some(time) {
-            d.record(d.sample(time, x, v), Keep::Pinned, acted);
+            let yaw = diff.as_ref().map(|u| u.yaw);
+            d.record(state(&d, time, (x, v), yaw), Keep::Pinned, acted);
         }
         let mut extra: Vec<Guarantee> = Vec::new();
         if !world.is_empty() {
             extra.push(world.guarantee(margin));
         }
+        if let Some(u) = &diff {
+            extra.extend(u.guarantees(margin));
+        }
         if i == 0 {
-            let others_unsafe = others.iter().filter(|s| !s.safe()).count();
-            extra.push(Guarantee::new(
-                Check::NoCollisionBetweenRobots {
-                    robots: n,
-                    contacts: report.robot_contacts,
-                    after_certified: report.contacts_after_certified,
-                    min_clearance: report.min_robot_clearance,
-                    others_unsafe,
-                },
-                report.contacts_after_certified == 0 && others_unsafe == 0,
-            ));
+            let others_unsafe = others.iter().filter(|(s, _)| !s.safe()).count();
+            extra.push(fleet_judged(&report, n, others_unsafe));
         }
         let goal = d.nav().goal();
         let mut run = d.finish_with(
@@ -499,25 +552,27 @@ fn fleet(
             extra,
         );
         run.summary.movers = (!world.is_empty()).then(|| world.report.clone());
+        run.summary.diff = diff.map(|u| u.report);
         if i == 0 {
             first = Some(run);
         } else {
-            others.push(run.summary);
+            others.push((run.summary, run.samples));
         }
     }
     let mut first = first.ok_or(RunError::StartNotFree)?;
     report.others = others
-        .iter()
+        .into_iter()
         .rev()
         .zip(&sc.sim.robots)
-        .map(|(s, r)| crate::movers::FleetRobot {
+        .map(|((s, samples), r)| crate::movers::FleetRobot {
             start: r.start,
             goal: r.goal,
             reached: s.reached,
             time_s: s.time_s,
             final_distance: s.final_distance,
             safe: s.safe(),
-            movers: s.movers.clone(),
+            movers: s.movers,
+            samples,
         })
         .collect();
     first.summary.fleet = Some(report);

@@ -102,7 +102,9 @@ fn floor_with(
     observer: Option<&mut dyn FnMut(Event<'_>)>,
 ) -> Result<FloorRun, RunError> {
     match (physics, observer) {
-        (Physics::Rapier, _) if !prepared.scenario.movers.is_empty() => {
+        (Physics::Rapier, _)
+            if !(prepared.scenario.movers.is_empty() && prepared.scenario.robots.is_empty()) =>
+        {
             Err(RunError::MoversInRapier)
         }
         (Physics::Rapier, _) if prepared.base().is_some() => Err(RunError::DiffFloorInRapier),

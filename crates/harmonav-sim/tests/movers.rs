@@ -127,3 +127,218 @@ fn four_robots_blind_to_each_other_collide() {
     );
     assert!(!run.summary.all_passed());
 }
+
+/// A differential drive among walkers (`diff-walkers.toml`): `command_pose` is given the
+/// movers every period and certifies each arc against their reach; the monitor bounds every
+/// clearance along the arcs (docs/movers.md §8). No contact under a certified command, every
+/// guarantee held, and the filter acted.
+#[test]
+fn a_diff_robot_among_walkers_never_touches_one_under_a_certified_arc() {
+    let prepared = Scenario::load(&file("diff-walkers.toml")).unwrap();
+    assert!(prepared.base().is_some());
+    let run = simulate(&prepared, None, Physics::Builtin).unwrap();
+    let s = &run.summary;
+    let m = s.movers.as_ref().expect("a mover report");
+    let d = s.diff.as_ref().expect("a differential-drive report");
+    println!("reached {} in {:.2} s, {m:?}, {d:?}", s.reached, s.time_s);
+    assert!(s.all_passed(), "{:?}", s.guarantees);
+    assert_eq!(m.contacts_after_certified, 0);
+    assert_eq!(m.mover_contacts, 0);
+    assert_eq!(
+        m.certified_commands + m.overwhelmed_commands + m.refused_commands,
+        s.steps,
+        "one command a period"
+    );
+    assert!(m.yielding_commands > 0, "the filter acted");
+    // The dynamic law is refused for a differential drive, by name.
+    let e = simulate(&prepared, Some(Model::Dynamic), Physics::Builtin).unwrap_err();
+    assert!(e.to_string().contains("base"), "{e}");
+}
+
+/// The negative control: the same robot never given the movers (`set_movers` not called, the
+/// arcs certified against the known shapes only) drives into a walker, and
+/// `no-collision-with-movers` fails.
+#[test]
+fn blind_to_the_walkers_the_diff_robot_touches_one() {
+    let prepared = Scenario::load(&file("diff-walkers.toml")).unwrap();
+    let run = run_without_filter(&prepared, None).unwrap();
+    let m = run.summary.movers.as_ref().unwrap();
+    println!("{m:?}");
+    assert!(
+        m.mover_contacts > 0 && m.contacts_after_certified > 0,
+        "{m:?}"
+    );
+    assert_eq!(m.yielding_commands, 0);
+    let g = run
+        .summary
+        .guarantees
+        .iter()
+        .find(|g| g.name() == "no-collision-with-movers")
+        .unwrap();
+    assert!(!g.passed);
+}
+
+/// Four differential drives swapping across an empty disc, each facing its goal: every robot
+/// is a differential drive (`[robot] base = "diff"`, each `[[robots]]` entry with its own
+/// start heading), each certifies its arcs against the others' rows (reciprocal, share ½).
+fn diff_swap() -> harmonav_scenario::Prepared {
+    let text = r#"
+        name = "diff-swap"
+        [workspace]
+        type = "circle"
+        center = [0.0, 0.0]
+        radius = 6.0
+        [robot]
+        model = "kinematic"
+        base = "diff"
+        omega_max = 2.0
+        yaw = 0.0
+        control_period = 0.1
+        start = [-3.0, 0.1]
+        goal = [3.0, 0.1]
+        radius = 0.2
+        margin = 0.05
+        [controller]
+        v_max = 0.5
+        [sim]
+        dt = 0.1
+        max_time = 80.0
+        [[robots]]
+        start = [3.0, -0.1]
+        goal = [-3.0, -0.1]
+        yaw = 3.14159
+        [[robots]]
+        start = [0.1, 3.0]
+        goal = [0.1, -3.0]
+        yaw = -1.5708
+        [[robots]]
+        start = [-0.1, -3.0]
+        goal = [-0.1, 3.0]
+        yaw = 1.5708
+    "#;
+    let path = Path::new("diff-swap.toml");
+    Scenario::parse(path, text).unwrap().prepare(path).unwrap()
+}
+
+#[test]
+fn four_diff_robots_swap_places_without_touching() {
+    let prepared = diff_swap();
+    let run = simulate(&prepared, None, Physics::Builtin).unwrap();
+    let s = &run.summary;
+    let f = s.fleet.as_ref().expect("a fleet report");
+    println!(
+        "reached {} in {:.2} s; {f:?}; {:?}",
+        s.reached, s.time_s, s.diff
+    );
+    assert!(s.all_passed(), "{:?}", s.guarantees);
+    assert!(s.diff.is_some(), "the first robot's arcs are reported");
+    assert!(f.others.iter().all(|o| o.reached && o.safe), "{f:?}");
+    assert_eq!(f.robot_contacts, 0);
+    assert!(f.min_robot_clearance >= prepared.margin() - 1e-9, "{f:?}");
+}
+
+/// The negative control: the four differential drives blind to each other collide.
+#[test]
+fn four_diff_robots_blind_to_each_other_collide() {
+    let prepared = diff_swap();
+    let run = run_without_filter(&prepared, None).unwrap();
+    let f = run.summary.fleet.as_ref().unwrap();
+    println!("{f:?}");
+    assert!(
+        f.robot_contacts > 0 && f.contacts_after_certified > 0,
+        "{f:?}"
+    );
+    assert!(!run.summary.all_passed());
+}
+
+/// A floor plan with `[[robots]]` (`floor-corridor-swap.toml`): four robots swap rooms
+/// through a corridor, each with its own floor navigator on the one map, the others given as
+/// reciprocal movers; under both laws every robot arrives with every guarantee, and no two
+/// touch (each keeps its margin from the others' bodies).
+#[test]
+fn four_robots_swap_rooms_on_a_floor_plan_without_touching() {
+    use harmonav_scenario::floorplan::FloorScenario;
+    use harmonav_sim::floor::FloorSummary;
+    use harmonav_sim::physics::simulate_floor;
+    let prepared = FloorScenario::load(&file("floor-corridor-swap.toml")).unwrap();
+    let start = nalgebra::Vector2::from(prepared.scenario.robot.start);
+    let margin = prepared.scenario.robot.margin;
+    for model in [Model::Kinematic, Model::Dynamic] {
+        let run = simulate_floor(&prepared, Some(model), start, Physics::Builtin).unwrap();
+        let s = FloorSummary::new(&prepared, Some(model), start, &run);
+        let f = s.fleet.as_ref().expect("a fleet report");
+        println!(
+            "{model:?}: reached {} in {:.2} s, {f:?}",
+            s.reached, s.time_s
+        );
+        assert_eq!(f.others.len(), 3);
+        assert!(s.all_passed(), "{model:?}: {:?}", s.guarantees);
+        assert!(f.others.iter().all(|o| o.reached && o.safe), "{f:?}");
+        assert_eq!(f.robot_contacts, 0);
+        assert!(f.min_robot_clearance >= margin - 1e-9, "{f:?}");
+        assert!(
+            s.guarantees
+                .iter()
+                .any(|g| g.name() == "no-collision-between-robots" && g.passed)
+        );
+    }
+    assert!(simulate_floor(&prepared, None, start, Physics::Rapier).is_err());
+}
+
+/// The negative control on a floor plan: the four robots blind to each other collide in the
+/// corridor, and `no-collision-between-robots` fails.
+#[test]
+fn four_robots_blind_to_each_other_collide_on_a_floor_plan() {
+    use harmonav_scenario::floorplan::FloorScenario;
+    use harmonav_sim::floor::{FloorSummary, run_without_filter};
+    let prepared = FloorScenario::load(&file("floor-corridor-swap.toml")).unwrap();
+    let start = nalgebra::Vector2::from(prepared.scenario.robot.start);
+    let run = run_without_filter(&prepared, None, start).unwrap();
+    let s = FloorSummary::new(&prepared, None, start, &run);
+    let f = s.fleet.as_ref().unwrap();
+    println!("{f:?}");
+    assert!(
+        f.robot_contacts > 0 && f.contacts_after_certified > 0,
+        "{f:?}"
+    );
+    let g = s
+        .guarantees
+        .iter()
+        .find(|g| g.name() == "no-collision-between-robots")
+        .unwrap();
+    assert!(!g.passed);
+}
+
+/// The same swap with every robot a differential drive (`[robot] base = "diff"`, the robots
+/// from the right facing left): each floor navigator's `command_pose` certifies its arcs
+/// against the others; every robot arrives with every guarantee, no two touch.
+#[test]
+fn four_diff_robots_swap_rooms_on_a_floor_plan_without_touching() {
+    use harmonav_scenario::floorplan::FloorScenario;
+    use harmonav_sim::floor::FloorSummary;
+    use harmonav_sim::physics::simulate_floor;
+    let text = std::fs::read_to_string(file("floor-corridor-swap.toml"))
+        .unwrap()
+        .replace(
+            "v_max = 0.5\n",
+            "v_max = 0.5\nbase = \"diff\"\nomega_max = 2.0\ncontrol_period = 0.1\n",
+        )
+        .replace("goal = [0.7, 2.0]\n", "goal = [0.7, 2.0]\nyaw = 3.14159\n")
+        .replace("goal = [0.7, 1.0]\n", "goal = [0.7, 1.0]\nyaw = 3.14159\n");
+    let path = Path::new("floor-corridor-swap-diff.toml");
+    let prepared = FloorScenario::parse(path, &text)
+        .unwrap()
+        .prepare(path)
+        .unwrap();
+    assert!(prepared.base().is_some());
+    let start = nalgebra::Vector2::from(prepared.scenario.robot.start);
+    let run = simulate_floor(&prepared, None, start, Physics::Builtin).unwrap();
+    let s = FloorSummary::new(&prepared, None, start, &run);
+    let f = s.fleet.as_ref().expect("a fleet report");
+    println!("reached {} in {:.2} s, {f:?}", s.reached, s.time_s);
+    assert!(s.all_passed(), "{:?}", s.guarantees);
+    assert!(s.diff.is_some());
+    assert!(f.others.iter().all(|o| o.reached && o.safe), "{f:?}");
+    assert_eq!(f.robot_contacts, 0);
+    assert!(f.min_robot_clearance >= prepared.scenario.robot.margin - 1e-9);
+}

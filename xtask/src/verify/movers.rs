@@ -2,8 +2,11 @@
 //! flown under both laws in the held-command loop, with the movers reported to the navigator
 //! each period. Every guarantee must hold, arrival included, and no mover may touch the robot
 //! (`no-collision-with-movers`: 0 contacts; with `[[robots]]`, `no-collision-between-robots`
-//! and every robot arrived). Negative controls fly the crossing with the robot blind to the
-//! movers, and the four robots blind to each other: each must record a contact.
+//! and every robot arrived). A differential drive (`[robot] base = "diff"`) flies the
+//! kinematic law, its arcs certified by `command_pose`; under the dynamic law its file must be
+//! refused by name. Negative controls fly the crossing with the robot blind to the movers, the
+//! differential drive blind to its walkers, and the four robots blind to each other: each must
+//! record a contact.
 
 use std::path::{Path, PathBuf};
 
@@ -11,7 +14,7 @@ use harmonav_scenario::floorplan::{FileKind, FloorScenario};
 use harmonav_scenario::{Model, Scenario};
 use harmonav_sim::floor::FloorSummary;
 use harmonav_sim::guarantee::Guarantee;
-use harmonav_sim::movers::MoverReport;
+use harmonav_sim::movers::{FleetReport, MoverReport};
 use harmonav_sim::physics::{Physics, simulate, simulate_floor};
 use harmonav_sim::run::run_without_filter;
 use nalgebra::Vector2;
@@ -46,7 +49,12 @@ pub fn checks() -> Vec<Check> {
     let models = [Model::Kinematic, Model::Dynamic].map(|m| (m, m.as_str()));
     let mut checks = per_file(&files(), "movers", &models, fly);
     checks.push(Check::new("movers.person-crossing.blind", blind));
+    checks.push(Check::new("movers.diff-walkers.blind", blind_diff));
     checks.push(Check::new("movers.four-robots-swap.blind", blind_robots));
+    checks.push(Check::new(
+        "movers.floor-corridor-swap.blind",
+        blind_floor_robots,
+    ));
     checks
 }
 
@@ -88,30 +96,50 @@ fn fly(file: &Path, model: Model) -> Outcome {
         return fly_floor(file, model);
     }
     let prepared = Scenario::load(file).map_err(|e| e.to_string())?;
+    if prepared.base().is_some() && model == Model::Dynamic {
+        // A differential drive runs the kinematic law only: refused by name.
+        return match simulate(&prepared, Some(model), Physics::Builtin) {
+            Err(e) if e.to_string().contains("base") => Ok(Verdict::Held(format!("refused: {e}"))),
+            Err(e) => Err(format!("refused for another reason: {e}")),
+            Ok(_) => Err("the dynamic law ran a differential drive".into()),
+        };
+    }
     let run = simulate(&prepared, Some(model), Physics::Builtin).map_err(|e| e.to_string())?;
     let s = &run.summary;
     if let Some(f) = &s.fleet {
-        let detail = format!(
-            "{} robots: all reached {}, last at {:.2} s; {} contacts between robots, min \
-             clearance between two {:.3} m (margin {} m)",
-            f.others.len() + 1,
-            s.reached && f.others.iter().all(|o| o.reached),
-            f.others.iter().map(|o| o.time_s).fold(s.time_s, f64::max),
-            f.robot_contacts,
-            f.min_robot_clearance,
-            prepared.margin(),
-        );
-        let failed = failed_names(&s.guarantees);
-        let others_failed = f.others.iter().any(|o| !(o.reached && o.safe));
-        if !failed.is_empty() || others_failed || f.robot_contacts > 0 {
-            return Err(format!("{detail}; failed: {failed:?}"));
-        }
-        return Ok(Verdict::Held(detail));
+        return fleet(f, s.reached, s.time_s, &s.guarantees, prepared.margin());
     }
     let m = s.movers.as_ref().ok_or("no mover report")?;
     let detail = detail(s.reached, s.time_s, m, prepared.margin());
     let failed = failed_names(&s.guarantees);
     if !failed.is_empty() || m.mover_contacts > 0 {
+        return Err(format!("{detail}; failed: {failed:?}"));
+    }
+    Ok(Verdict::Held(detail))
+}
+
+/// A run with `[[robots]]`, star world or floor plan (the first robot's arrival `reached` at
+/// `time_s`, its `guarantees`): every guarantee held, every robot arrived safe, no two robots
+/// touched.
+fn fleet(
+    f: &FleetReport,
+    reached: bool,
+    time_s: f64,
+    guarantees: &[Guarantee],
+    margin: f64,
+) -> Outcome {
+    let detail = format!(
+        "{} robots: all reached {}, last at {:.2} s; {} contacts between robots, min \
+         clearance between two {:.3} m (margin {margin} m)",
+        f.others.len() + 1,
+        reached && f.others.iter().all(|o| o.reached),
+        f.others.iter().map(|o| o.time_s).fold(time_s, f64::max),
+        f.robot_contacts,
+        f.min_robot_clearance,
+    );
+    let failed = failed_names(guarantees);
+    let others_failed = f.others.iter().any(|o| !(o.reached && o.safe));
+    if !failed.is_empty() || others_failed || f.robot_contacts > 0 {
         return Err(format!("{detail}; failed: {failed:?}"));
     }
     Ok(Verdict::Held(detail))
@@ -139,8 +167,12 @@ fn fly_floor(file: &Path, model: Model) -> Outcome {
     let run = simulate_floor(&prepared, Some(model), start, Physics::Builtin)
         .map_err(|e| e.to_string())?;
     let s = FloorSummary::new(&prepared, Some(model), start, &run);
+    let margin = prepared.scenario.robot.margin;
+    if let Some(f) = &s.fleet {
+        return fleet(f, s.reached, s.time_s, &s.guarantees, margin);
+    }
     let m = s.movers.as_ref().ok_or("no mover report")?;
-    let detail = detail(s.reached, s.time_s, m, prepared.scenario.robot.margin);
+    let detail = detail(s.reached, s.time_s, m, margin);
     let failed = failed_names(&s.guarantees);
     if !failed.is_empty() || m.mover_contacts > 0 {
         return Err(format!("{detail}; failed: {failed:?}"));
@@ -183,6 +215,20 @@ fn blind() -> Outcome {
     })
 }
 
+/// The negative control of a differential drive among movers: the robot of
+/// `diff-walkers.toml` never given the movers (its arcs certified against the known shapes
+/// only) runs into the person it should follow, and `no-collision-with-movers` fails.
+fn blind_diff() -> Outcome {
+    must_fail("diff-walkers.toml", "no-collision-with-movers", |s| {
+        let m = s.movers.as_ref()?;
+        let detail = format!(
+            "differential drive without set_movers: {} contacts, min mover clearance {:.3} m",
+            m.mover_contacts, m.min_mover_clearance
+        );
+        Some((m.mover_contacts, detail))
+    })
+}
+
 /// The negative control of the fleet: the four robots blind to each other collide, and
 /// `no-collision-between-robots` fails.
 fn blind_robots() -> Outcome {
@@ -198,4 +244,29 @@ fn blind_robots() -> Outcome {
             Some((f.robot_contacts, detail))
         },
     )
+}
+
+/// The negative control of a floor plan's fleet: the four robots of `floor-corridor-swap.toml`
+/// blind to each other meet in the corridor, and `no-collision-between-robots` fails.
+fn blind_floor_robots() -> Outcome {
+    let file = folder().join("floor-corridor-swap.toml");
+    let prepared = FloorScenario::load(&file).map_err(|e| e.to_string())?;
+    let start = Vector2::from(prepared.scenario.robot.start);
+    let run = harmonav_sim::floor::run_without_filter(&prepared, None, start)
+        .map_err(|e| e.to_string())?;
+    let s = FloorSummary::new(&prepared, None, start, &run);
+    let f = s.fleet.as_ref().ok_or("no fleet report")?;
+    let detail = format!(
+        "robots blind to each other: {} contacts, min clearance between two {:.3} m",
+        f.robot_contacts, f.min_robot_clearance
+    );
+    let judged = s
+        .guarantees
+        .iter()
+        .find(|g| g.name() == "no-collision-between-robots")
+        .is_some_and(|g| !g.passed);
+    if f.robot_contacts == 0 || !judged {
+        return Err(format!("the negative control saw no failure: {detail}"));
+    }
+    Ok(Verdict::Held(detail))
 }
