@@ -229,8 +229,8 @@ pub enum RunError {
     StartNotFree,
     /// A rapier run was asked of a build without the feature `rapier`.
     NoRapier,
-    /// A rapier run was asked of a file with `[[movers]]`: movers are flown by the built-in
-    /// held-command loop only (docs/movers.md §8).
+    /// A rapier run was asked of a file with `[[movers]]` or `[[robots]]`: both are flown by the
+    /// built-in held-command loop only (docs/movers.md §8).
     MoversInRapier,
     /// A rapier run was asked of a floor plan with a differential drive (`[robot] base =
     /// "diff"`): its arcs are flown by the built-in loop only there (a star world's rapier run
@@ -258,7 +258,8 @@ impl std::fmt::Display for RunError {
             ),
             Self::Robot { robot, problem } => write!(f, "robot {robot}: {problem}"),
             Self::MoversInRapier => f.write_str(
-                "a file with [[movers]] runs in the built-in held-command loop only (not rapier)",
+                "a file with [[movers]] or [[robots]] runs in the built-in held-command loop only (not \
+                 rapier)",
             ),
             Self::DiffFloorInRapier => f.write_str(
                 "a floor plan with a differential drive (robot.base = \"diff\") runs in the \
