@@ -632,7 +632,7 @@ impl<'a, 'c, 'h, 'o> Flight<'a, 'c, 'h, 'o> {
             // The arc of `(v, ω)` held for `h`, judged along its length against the walls and
             // obstacles and, with movers, against every mover (`crate::movers::Sweep::Arc`).
             let yaw = u.yaw;
-            let (c, mode) = match crate::held::pose_command(nav, x, yaw, movers) {
+            let (c, mode) = match crate::unicycle::pose_command(nav, x, yaw, movers) {
                 Ok(c) => c,
                 Err(e) => {
                     out.ending = FloorEnding::Refused;

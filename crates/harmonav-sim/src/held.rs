@@ -9,10 +9,7 @@
 //! here instead ([`crate::run::run`] comes here), and a file without movers never does.
 
 use harmonav::control::{Dynamic, Potential};
-use harmonav::{
-    Controller, DEFAULT_DYNAMIC_PERIOD, DEFAULT_KINEMATIC_PERIOD, Mode, NavError, Navigator,
-    PoseCommand, Steer,
-};
+use harmonav::{Controller, DEFAULT_DYNAMIC_PERIOD, DEFAULT_KINEMATIC_PERIOD, Mode, NavError};
 use harmonav_scenario::{Model, Prepared};
 use nalgebra::Vector2;
 
@@ -24,7 +21,7 @@ use crate::movers::{MoverWorld, Sweep, fleet_judged, peer_marks, peers};
 use crate::summary::{Physics, Run, RunError};
 use crate::trace::{Event, Sample};
 use crate::trajectory::Keep;
-use crate::unicycle::Diff;
+use crate::unicycle::{Diff, pose_command};
 
 /// The run of `prepared` (with `model`, or the file's) in the held-command loop with its
 /// movers.
@@ -217,31 +214,6 @@ pub(crate) fn fly_with(
     }
     run.summary.diff = diff.map(|u| u.report);
     Ok(run)
-}
-
-/// The `(v, ω)` of a differential drive at the pose `(x, yaw)`
-/// ([`Navigator::command_pose`]) and the mode it was formed in; the mode `None` when it was
-/// refused because the robot's disc overlaps a reported mover's (`NavError::InMover`, only
-/// with `movers`): no certified command, the robot holds still, `(0, 0)`.
-pub(crate) fn pose_command(
-    nav: &mut Navigator<impl harmonav::World>,
-    x: Vector2<f64>,
-    yaw: f64,
-    movers: bool,
-) -> Result<(PoseCommand, Option<Mode>), NavError> {
-    match nav.command_pose(x, yaw) {
-        Ok(c) => Ok((c, Some(c.mode))),
-        Err(NavError::InMover { .. }) if movers => {
-            let stopped = PoseCommand {
-                v: 0.0,
-                omega: 0.0,
-                mode: Mode::Halted,
-                steer: Steer::Stopped,
-            };
-            Ok((stopped, None))
-        }
-        Err(e) => Err(e),
-    }
 }
 
 /// The state recorded at `t` at `(x, ẋ)`: [`Driver::sample`], and for a differential drive

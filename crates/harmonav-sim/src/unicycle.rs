@@ -17,7 +17,7 @@
 //! - **The bounds** (`Diff::guarantees`): `0 ≤ v ≤ v_max`, `|ω| ≤ ω_max` for every command
 //!   held, without tolerance.
 
-use harmonav::{Base, PoseCommand, Steer, unicycle_arc};
+use harmonav::{Base, Mode, NavError, Navigator, PoseCommand, Steer, unicycle_arc};
 use harmonav_scenario::Truth;
 use nalgebra::Vector2;
 use serde::Serialize;
@@ -304,6 +304,31 @@ pub fn swept_clearance_in(
         points += 1;
     }
     (worst, points)
+}
+
+/// The `(v, ω)` of a differential drive at the pose `(x, yaw)`
+/// ([`Navigator::command_pose`]) and the mode it was formed in; the mode `None` when it was
+/// refused because the robot's disc overlaps a reported mover's (`NavError::InMover`, only
+/// with `movers`): no certified command, the robot holds still, `(0, 0)`.
+pub(crate) fn pose_command(
+    nav: &mut Navigator<impl harmonav::World>,
+    x: Vector2<f64>,
+    yaw: f64,
+    movers: bool,
+) -> Result<(PoseCommand, Option<Mode>), NavError> {
+    match nav.command_pose(x, yaw) {
+        Ok(c) => Ok((c, Some(c.mode))),
+        Err(NavError::InMover { .. }) if movers => {
+            let stopped = PoseCommand {
+                v: 0.0,
+                omega: 0.0,
+                mode: Mode::Halted,
+                steer: Steer::Stopped,
+            };
+            Ok((stopped, None))
+        }
+        Err(e) => Err(e),
+    }
 }
 
 #[cfg(test)]
