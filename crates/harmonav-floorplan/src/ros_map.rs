@@ -172,9 +172,11 @@ pub struct MapOptions {
     /// Occupied islands (8-connected non-free pixels not touching the image's edge) of at most
     /// this many pixels become free: SLAM's salt noise. `0`, the default, keeps every island.
     /// An island dropped is an obstacle the floor plan does not see: set this only below the
-    /// smallest real obstacle (a post is often one or two pixels). At most [`max_speck_pixels`] (the robot's clearance disc; above,
-    /// [`MapProblem::SpeckTooLarge`]); [`RosMap::specks`] lists what goes, and a run is judged
-    /// against the map's own pixels ([`OccupiedPixels`]). Free islands not 4-connected to the goal's pixel are all dropped (unreachable).
+    /// smallest real obstacle (a post is often one or two pixels). At most
+    /// [`max_speck_pixels`] (the robot's clearance disc; above, [`MapProblem::SpeckTooLarge`]);
+    /// [`RosMap::specks`] lists what goes, and a run is judged against the map's own pixels
+    /// ([`OccupiedPixels`]). Free islands not 4-connected to the goal's pixel are all dropped
+    /// (unreachable).
     pub speck_pixels: usize,
     /// The Visvalingam–Whyatt tolerance in square pixels: a vertex goes while the triangle it
     /// makes with its neighbours is smaller than `simplify · res²`. Each removal changes the
