@@ -14,6 +14,9 @@ use nalgebra::Vector2;
 /// memory than the shorter lists save.
 const MAX_BANDS: usize = 4096;
 
+/// The most edges listed, per vertex: beyond it the bands are halved.
+const MAX_LISTED: usize = 16;
+
 /// Vertices per band, on average (the list of a band holds about this many edges plus the long
 /// ones through it).
 const EDGES_PER_BAND: usize = 4;
@@ -41,21 +44,38 @@ impl Bands {
         let y0 = ys.clone().fold(f64::INFINITY, f64::min);
         let y1 = ys.fold(f64::NEG_INFINITY, f64::max);
         let vertices: usize = rings.iter().map(Vec::len).sum();
-        let count = (vertices / EDGES_PER_BAND).clamp(1, MAX_BANDS);
-        #[allow(clippy::cast_precision_loss)] // count ≤ MAX_BANDS
-        let scale = if y1 > y0 {
-            count as f64 / (y1 - y0)
-        } else {
-            0.0
-        };
         let mut bands = Self {
             y0,
             y1,
-            scale,
-            count,
+            scale: 0.0,
+            count: (vertices / EDGES_PER_BAND).clamp(1, MAX_BANDS),
             starts: Vec::new(),
             edges: Vec::new(),
         };
+        // Fewer bands while the listed edges would exceed `MAX_LISTED` per vertex (edges that
+        // span the height, a comb of tall walls, are listed once per band).
+        loop {
+            #[allow(clippy::cast_precision_loss)] // count ≤ MAX_BANDS
+            let scale = if y1 > y0 {
+                bands.count as f64 / (y1 - y0)
+            } else {
+                0.0
+            };
+            bands.scale = scale;
+            let listed: usize = rings
+                .iter()
+                .flat_map(|ring| {
+                    let n = ring.len();
+                    (0..n).map(move |i| (ring[i].y, ring[(i + 1) % n].y))
+                })
+                .map(|(a, b)| bands.band(a.max(b)) - bands.band(a.min(b)) + 1)
+                .sum();
+            if listed <= MAX_LISTED * vertices || bands.count == 1 {
+                break;
+            }
+            bands.count /= 2;
+        }
+        let count = bands.count;
         let mut lists: Vec<Vec<(usize, usize)>> = vec![Vec::new(); count];
         for (r, ring) in rings.iter().enumerate() {
             let n = ring.len();
@@ -117,5 +137,45 @@ impl Bands {
             return false;
         }
         outer
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A comb of 200 teeth as tall as the domain: every tooth's sides span every band, so the
+    /// bands are halved until at most `MAX_LISTED` edges per vertex are listed; the answers
+    /// stay the whole rings' (checked on a grid).
+    #[test]
+    fn a_comb_of_tall_walls_lists_a_bounded_number_of_edges() {
+        let mut ring = vec![Vector2::new(0.0, -1.0), Vector2::new(400.0, -1.0)];
+        for k in (0..200).rev() {
+            let x = 2.0 * f64::from(k);
+            ring.extend([
+                Vector2::new(x + 2.0, 100.0),
+                Vector2::new(x + 1.0, 100.0),
+                Vector2::new(x + 1.0, 0.0),
+                Vector2::new(x, 0.0),
+            ]);
+        }
+        ring.pop();
+        ring.push(Vector2::new(0.0, 100.0));
+        let rings = vec![ring];
+        let bands = Bands::new(&rings);
+        let vertices = rings[0].len();
+        assert!(
+            bands.edges.len() <= MAX_LISTED * vertices,
+            "{}",
+            bands.edges.len()
+        );
+        assert!(bands.count < (vertices / EDGES_PER_BAND).clamp(1, MAX_BANDS));
+        let whole = |p: Vector2<f64>| super::super::ring_contains(&rings[0], p);
+        for i in 0..400 {
+            for j in 0..50 {
+                let p = Vector2::new(f64::from(i) + 0.25, 2.0 * f64::from(j) - 0.5);
+                assert_eq!(bands.contains(&rings, p), whole(p), "{p:?}");
+            }
+        }
     }
 }
