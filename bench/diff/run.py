@@ -69,7 +69,7 @@ MARGIN_TOL = 1e-6
 WHEEL_AXIS = 2.0 * V_MAX / OMEGA_MAX  # 2WDiff: ω_max = 2·(wheel speed)/axis
 HL_RANGE = 20.0
 ARENA_WALLS = 64
-#: The naive law's turn gain (harmonav's TURN_GAIN).
+#: The naive law's turn gain (harmonav's TURN_GAIN until 2026-12-06; 10 since, docs/unicycle.md section 11).
 NAIVE_GAIN = 4.0
 
 ENTRIES = ("harmonav", "holonomic", "HL", "HL-Ahead", "naive")

@@ -3,7 +3,7 @@
 //! and cannot move sideways. [`Navigator::command_pose`] steers it by **aligned descent**
 //! (docs/unicycle.md): turn towards the held descent direction `d_h` of `Θ`
 //! (`ω = k_ω φ`, `φ` the angle from the heading to `d_h`), drive forward only at the speed the
-//! heading's projection on it allows (`v = s·cos⁺φ`), both scaled together into the limits;
+//! heading's projection on it allows (`v = s·cos⁺φ`), the turn rate clamped into its limit;
 //! then the **arc hold**: the arc that `(v, ω)` held for the control period sweeps is certified
 //! free by sphere tracing in arc length and `Θ` must fall at its end, shortening only `v`.
 //! Turning in place moves no point of a disc robot whose axle is at its centre, so it is always
@@ -24,8 +24,10 @@ use crate::world::World;
 
 /// `k_ω` of aligned descent, 1/s: `ω = k_ω φ` before the limits. The gain in force is
 /// `min(k_ω, 1/h)`, so the heading never overshoots the target within a period
-/// (docs/unicycle.md §2).
-pub const TURN_GAIN: f64 = 4.0;
+/// (docs/unicycle.md section 2). 10 since 2026-12-06 (was 4): at 10 Hz the heading meets the
+/// descent direction in one period once the turn rate is not saturated; measured in
+/// docs/unicycle.md section 11.
+pub const TURN_GAIN: f64 = 10.0;
 
 /// `k_g / k_ω`: near the goal the forward speed is at most `k_g|x − x_d|` with
 /// `k_g = GOAL_GAIN_RATIO·k` (`k` the turn gain in force); `k_g < k` makes the heading error
@@ -36,14 +38,34 @@ pub const GOAL_GAIN_RATIO: f64 = 0.5;
 /// this angle (rad) of the way out, then drives straight (`ω = 0`) along it.
 pub const RECOVERY_ALIGNMENT: f64 = 1e-6;
 
+/// The arc search (docs/unicycle.md section 11) runs when the held holonomic command was
+/// shortened below this fraction of the law's step ([`Mode::Capped`]) or stepped from rest
+/// ([`Mode::FromRest`]): the field is stiff there (next to a saddle of `Θ` by a grown shape,
+/// `−∇Θ` turns round within millimetres) and the heading cannot follow `d_h`. It runs too
+/// whenever aligned descent would turn in place (`v = 0`), on a base without acceleration
+/// limits.
+const STIFF_SCALE: f64 = 0.5;
+
+/// The arc search tries the turn rates `ω_max·j/ARC_SEARCH` for `j = −ARC_SEARCH ..=
+/// ARC_SEARCH` (five arcs), each at the top speed, through the same arc hold.
+const ARC_SEARCH: i32 = 2;
+
+/// The arc search's hold tries each arc at most this many times (`v` shortened to the certified
+/// length or halved between tries), so that one search costs at most `5 × 6` traces and
+/// evaluations of `Θ`; an arc it gives up on is not taken.
+const SEARCH_TRIES: u32 = 6;
+
 /// How the `(v, ω)` of [`Navigator::command_pose`] was formed from the held direction.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
 pub enum Steer {
     /// Aligned descent as it is: `v = s·cos⁺φ`, `ω = kφ`, within the limits; its arc certified.
+    /// Also an arc of the arc search (where the field is stiff, docs/unicycle.md section 11) at
+    /// the top speed `min(s, v_max, k_g|x − x_d|)`.
     Ahead,
     /// The arc hold shortened `v` to `scale ∈ (0, 1)` of aligned descent's (its arc was not
-    /// certified free, or `Θ` did not fall at its end); `ω` kept.
+    /// certified free, or `Θ` did not fall at its end); `ω` kept. For an arc of the arc search,
+    /// `scale` is of the top speed.
     Shortened {
         /// The fraction of `v` kept.
         scale: f64,
@@ -175,10 +197,24 @@ fn arc_hold(
     (v, omega): (f64, f64),
     h: f64,
 ) -> f64 {
+    arc_hold_to(space, x, yaw, descent, (v, omega), h, 2 * MAX_HALVINGS).0
+}
+
+/// [`arc_hold`], with `phi_k` at the end of the returned arc (`+∞` when `descent` is `None` or
+/// no arc was found).
+fn arc_hold_to(
+    space: &impl Space,
+    x: Vector2<f64>,
+    yaw: f64,
+    descent: Option<&FieldEval>,
+    (v, omega): (f64, f64),
+    h: f64,
+    tries: u32,
+) -> (f64, f64) {
     let mut v = v.min((x - space.goal()).norm() / h);
-    for _ in 0..2 * MAX_HALVINGS {
+    for _ in 0..tries {
         if v.is_nan() || v <= 0.0 {
-            return 0.0;
+            return (0.0, f64::INFINITY);
         }
         let length = v * h;
         let free = free_arc(space, x, yaw, v, omega, h);
@@ -187,15 +223,43 @@ fn arc_hold(
             continue;
         }
         let Some(e) = descent else {
-            return v;
+            return (v, f64::INFINITY);
         };
         let (end, _) = unicycle_arc(x, yaw, v, omega, h);
-        if space.eval(end).is_ok_and(|e1| e1.phi < e.phi) {
-            return v;
+        if let Ok(e1) = space.eval(end)
+            && e1.phi < e.phi
+        {
+            return (v, e1.phi);
         }
         v *= 0.5;
     }
-    0.0
+    (0.0, f64::INFINITY)
+}
+
+/// The arc search (docs/unicycle.md section 11): among the arcs of the turn rates
+/// `ω_max·j/`[`ARC_SEARCH`] at the top speed `top`, each through [`arc_hold_to`] (certified free,
+/// `phi_k` lower at its end than at `x`, shortening `v` only), the one whose end has the least
+/// `phi_k`, if it is lower than `best` (`phi_k` at the end of the aligned arc, `+∞` if that
+/// one does not move). `None`: no arc beats it. Only the nominal command changes: every arc
+/// returned passed the same certificate as aligned descent's.
+fn arc_search(
+    space: &impl Space,
+    x: Vector2<f64>,
+    yaw: f64,
+    e: &FieldEval,
+    (top, omega_max): (f64, f64),
+    h: f64,
+    mut best: f64,
+) -> Option<(f64, f64)> {
+    let mut found = None;
+    for j in -ARC_SEARCH..=ARC_SEARCH {
+        let omega = omega_max * f64::from(j) / f64::from(ARC_SEARCH);
+        let (v, phi) = arc_hold_to(space, x, yaw, Some(e), (top, omega), h, SEARCH_TRIES);
+        if v > 0.0 && phi < best {
+            (best, found) = (phi, Some((v, omega)));
+        }
+    }
+    found
 }
 
 /// The braking certificate (docs/unicycle.md §10): the largest `v' ≤ v` (at most `|x − x_d|/h`,
@@ -271,14 +335,19 @@ impl<W: World> Navigator<W> {
     /// `d_h` and `k = min(`[`TURN_GAIN`]`, 1/h)`,
     ///
     /// ```text
-    /// ω = k φ,   v = min(s(x), v_max, k_g|x − x_d|) · cos⁺φ,   k_g = GOAL_GAIN_RATIO·k,
+    /// ω = clamp(k φ, ±ω_max),   v = min(s(x), v_max, k_g|x − x_d|) · cos⁺φ,   k_g = GOAL_GAIN_RATIO·k
     /// ```
     ///
-    /// both scaled by `min(1, ω_max/|ω|)` (the curvature `ω/v` kept). Then, under
+    /// (the robot drives while its turn rate is saturated). Then, under
     /// [`HoldPolicy::Auto`] (the default), the arc hold: `v` alone is shortened until the arc that
     /// `(v, ω)` sweeps over `h` is certified free (sphere tracing in arc length against the
     /// certified clearance) and `Θ` falls at its end; `v = 0` (turning in place) needs no
-    /// certificate. So, held as given for `h`, the robot's disc never touches a known grown
+    /// certificate. Where the field is stiff (the held command [`Mode::Capped`] below
+    /// ½ or [`Mode::FromRest`]) or aligned descent would turn in place, the arc search: the
+    /// arcs of five turn rates at the
+    /// top speed through the same hold, the one whose end has the least `Θ` kept if it beats
+    /// aligned descent's (reported [`Steer::Ahead`] at the top speed, else
+    /// [`Steer::Shortened`]). So, held as given for `h`, the robot's disc never touches a known grown
     /// shape (or a floor plan's boundary layer), `Θ` never rises, `0 ≤ v ≤ v_max` and
     /// `|ω| ≤ ω_max`. Under [`HoldPolicy::Paper`] the aligned `(v, ω)` is returned unchecked.
     ///
@@ -486,13 +555,13 @@ impl<W: World> Navigator<W> {
             (Controller::Kinematic(law), Some(e)) => law.speed(e, to_goal).max(s),
             _ => s,
         };
-        let mut v = s.min(v_max).min(GOAL_GAIN_RATIO * k * to_goal) * phi.cos().max(0.0);
-        if omega.abs() > omega_max {
-            let c = omega_max / omega.abs();
-            omega = omega.signum() * omega_max;
-            v *= c;
-        }
-        let aligned = v;
+        let top = s.min(v_max).min(GOAL_GAIN_RATIO * k * to_goal);
+        let mut v = top * phi.cos().max(0.0);
+        // The turn rate alone is clamped: the robot drives while it turns at `ω_max` (measured,
+        // docs/unicycle.md section 11: scaling `v` with it, the curvature kept, cost 1–3 % of
+        // the time against HL and up to 8 % in the files that start facing away).
+        omega = omega.clamp(-omega_max, omega_max);
+        let mut aligned = v;
         // The law's own commands descend `Θ`; an escape follows the shortest path and a command
         // the mover filter changed dodges: their arcs need only be certified free (without
         // this a diff robot escaping on a floor plan turned in place for ever).
@@ -503,6 +572,34 @@ impl<W: World> Navigator<W> {
                 (_, false) => arc_hold(field, x, yaw, None, (v, omega), h),
                 (None, true) => 0.0,
             };
+        }
+        let stiff = match held.mode {
+            Mode::Capped { scale } => scale < STIFF_SCALE,
+            Mode::FromRest => true,
+            _ => false,
+        };
+        // Under acceleration limits the searched arc is rarely reachable from a turn in place
+        // (the turn rate changes by `alpha_max·h` at most): there the search runs only where
+        // the field is stiff (measured, docs/unicycle.md section 11).
+        let limited = matches!(self.core.options.base, Base::Diff { accel: Some(_), .. });
+        let trigger = stiff || (v <= 0.0 && !limited);
+        if let (Some(e), true, true) = (&e, descends, trigger)
+            && self.core.options.hold == HoldPolicy::Auto
+        {
+            // Next to a saddle of `Θ` by a grown shape `d_h` turns round within millimetres
+            // and the heading chases it (docs/unicycle.md section 11): the arc search picks
+            // the certified arc that lowers `Θ` most, usually along the shape, away from the
+            // saddle.
+            let best = if v > 0.0 {
+                let (end, _) = unicycle_arc(x, yaw, v, omega, h);
+                field.eval(end).map_or(f64::INFINITY, |e1| e1.phi)
+            } else {
+                f64::INFINITY
+            };
+            if let Some(found) = arc_search(field, x, yaw, e, (top, omega_max), h, best) {
+                (v, omega) = found;
+                aligned = top;
+            }
         }
         let steer = if v == aligned && v > 0.0 {
             Steer::Ahead

@@ -649,3 +649,80 @@ fn a_pursuer_never_touches_a_certified_arc() {
         "a blind robot must be touched: {touched_blind}/10"
     );
 }
+
+/// The slowest world of docs/unicycle.md section 9 (`bench/diff/run.py`, `uniform` seed 30, 12
+/// discs, the start facing away from the goal, margin 5 cm): the flow of `Θ` from the start
+/// runs into the saddle by the grown shape of the disc at (−0.62, 1.48), where `−∇Θ` turns round
+/// within millimetres (docs/unicycle.md section 11). Every arc `command_pose` holds is free (the
+/// true body clearance at 501 points, against the margin), certified by
+/// `Navigator::free_arc_length`, and `Θ` falls over every period that moves; the robot leaves
+/// the saddle and arrives. The law before the arc search crawled along that disc for 36 s here
+/// and arrived in 53.7 s (HL: 18.2 s); the bound below fails for it.
+#[test]
+fn the_saddle_by_a_disc_is_left_on_certified_arcs() {
+    let margin = 0.05;
+    let discs = [
+        (0.7307455896705514, 0.05376485298617284, 0.35345567344929346),
+        (-0.17140948319338634, -2.627390182826059, 0.3001483461184486),
+        (0.1938090386120871, -1.5326232102769197, 0.3519662994833838),
+        (
+            -1.4294222596815318,
+            -0.004955566899312486,
+            0.4650556513933113,
+        ),
+        (3.0855590312484007, -0.9377868458771589, 0.4379017195774482),
+        (0.91797084452244, 2.82058428970781, 0.35090000184693737),
+        (-2.0790124146583016, -2.710988969596333, 0.49782966854530586),
+        (2.210273982973581, 2.4408189922189667, 0.2721670938235108),
+        (1.128617766880758, -3.209777217964478, 0.4035358579361768),
+        (1.5783970423958098, -0.893429514665668, 0.3234795144980099),
+        (-2.1459234885039846, 1.7228623714494316, 0.5419603425870881),
+        (-0.624318259711684, 1.4829494473516815, 0.4653449758052478),
+    ];
+    let world = DiscWorld {
+        discs: discs
+            .iter()
+            .map(|&(x, y, r)| (Vector2::new(x, y), r))
+            .collect(),
+        start: Vector2::new(0.3297502532229733, 3.9863849250291152),
+        goal: Vector2::new(-1.4368314421745583, -3.733030324920838),
+        yaw: 1.345821232523676,
+    };
+    let options = Options::default()
+        .with_robot(RADIUS, margin)
+        .with_control_period(H)
+        .with_v_max(V_MAX)
+        .with_base(Base::diff(V_MAX, OMEGA_MAX));
+    let mut nav = world.navigator(options);
+    let (mut x, mut yaw) = (world.start, world.yaw);
+    let (mut arrived, mut closest, mut moved) = (None, f64::INFINITY, 0);
+    for n in 0..1200 {
+        let c = nav.command_pose(x, yaw).unwrap();
+        assert!((0.0..=V_MAX).contains(&c.v) && c.omega.abs() <= OMEGA_MAX);
+        if c.v > 0.0 {
+            moved += 1;
+            assert_eq!(
+                nav.free_arc_length(x, yaw, c.v, c.omega),
+                c.v * H,
+                "at {x:?}"
+            );
+            let (end, _) = unicycle_arc(x, yaw, c.v, c.omega, H);
+            let theta = |p| nav.evaluate(p, Vector2::zeros()).unwrap().field.value;
+            assert!(theta(end) <= theta(x), "Θ rose at {x:?}: {c:?}");
+        }
+        let low = arc_min(|p| world.body_clearance(p), x, yaw, (c.v, c.omega), H);
+        closest = closest.min(low);
+        assert!(low >= margin - 1e-9, "inside the margin at {x:?}: {low}");
+        (x, yaw) = unicycle_arc(x, yaw, c.v, c.omega, H);
+        if (x - world.goal).norm() < 0.01 {
+            arrived = Some((n + 1) as f64 * H);
+            break;
+        }
+    }
+    println!(
+        "saddle by a disc: arrived {arrived:?} s, {moved} periods moving, closest body \
+         clearance {:+.2} mm (margin {margin})",
+        closest * 1e3
+    );
+    assert!(arrived.is_some_and(|t| t < 30.0), "{arrived:?}");
+}
