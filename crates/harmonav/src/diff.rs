@@ -38,6 +38,17 @@ pub const GOAL_GAIN_RATIO: f64 = 0.5;
 /// this angle (rad) of the way out, then drives straight (`ω = 0`) along it.
 pub const RECOVERY_ALIGNMENT: f64 = 1e-6;
 
+/// The arrival test of the goal heading ([`Navigator::set_goal_heading`]), m: the position has
+/// arrived when `|x − x_d| <` this, the same test as [`crate::checks::fly`]'s (it is
+/// [`crate::checks::GOAL_TOLERANCE`]) and the 1 cm the differential-drive tests and the
+/// scenarios' default `sim.arrival` use.
+pub const GOAL_ARRIVAL: f64 = crate::checks::GOAL_TOLERANCE;
+
+/// The heading tolerance of the goal heading, rad: once the position has arrived
+/// ([`GOAL_ARRIVAL`]), [`Navigator::command_pose`] turns in place until
+/// `|wrap(θ_g − θ)| <` this, then commands `(0, 0)` ([`Steer::Arrived`]).
+pub const GOAL_HEADING_TOLERANCE: f64 = 1e-3;
+
 /// The arc search (docs/unicycle.md section 11) runs when the held holonomic command was
 /// shortened below this fraction of the law's step ([`Mode::Capped`]) or stepped from rest
 /// ([`Mode::FromRest`]): the field is stiff there (next to a saddle of `Θ` by a grown shape,
@@ -73,6 +84,12 @@ pub enum Steer {
     /// `v = 0`, `ω ≠ 0`: turning in place (the heading is not a descent direction, no forward
     /// arc was certified, or a recovery is turning towards its way out).
     Turning,
+    /// `v = 0`: the position has arrived ([`GOAL_ARRIVAL`]) and the base turns in place to the
+    /// goal yaw of [`Navigator::set_goal_heading`], `ω = clamp(k·wrap(θ_g − θ), ±ω_cap)`.
+    ToGoalHeading,
+    /// `v = ω = 0`: the position has arrived and the heading is within
+    /// [`GOAL_HEADING_TOLERANCE`] of the goal yaw ([`Navigator::set_goal_heading`]).
+    Arrived,
     /// `v = ω = 0`: at the goal, at a critical point of `Θ`, or halted ([`Mode::Halted`]).
     Stopped,
     /// `v = max(0, v_last − a_max h)`: under acceleration limits ([`crate::Accel`]) the most
@@ -83,7 +100,7 @@ pub enum Steer {
 
 impl Steer {
     /// The name used in logs and Python (`"ahead"`, `"shortened"`, `"turning"`, `"stopped"`,
-    /// `"braking"`).
+    /// `"braking"`, `"to-goal-heading"`, `"arrived"`).
     #[must_use]
     pub fn as_str(&self) -> &'static str {
         match self {
@@ -92,6 +109,8 @@ impl Steer {
             Self::Turning => "turning",
             Self::Stopped => "stopped",
             Self::Braking => "braking",
+            Self::ToGoalHeading => "to-goal-heading",
+            Self::Arrived => "arrived",
         }
     }
 }
@@ -414,11 +433,101 @@ impl<W: World> Navigator<W> {
         if !yaw.is_finite() {
             return Err(NavError::NotFinite { what: "yaw" });
         }
+        if let Some(goal_yaw) = self.core.goal_yaw
+            && (x - self.goal()).norm() < GOAL_ARRIVAL
+        {
+            let want = self.turn_to_goal_heading(x, yaw, goal_yaw, omega_max, accel)?;
+            let (mut pose, limits) = match accel {
+                None => (want, Limits::default()),
+                Some(a) => self.accelerated(want, x, yaw, a),
+            };
+            if pose.steer == Steer::Arrived && pose.omega != 0.0 {
+                // The turn-rate acceleration limit kept some of the last turn.
+                pose.steer = Steer::ToGoalHeading;
+            }
+            return Ok((pose, limits));
+        }
         let want = self.aligned(x, yaw, v_max, omega_max)?;
         Ok(match accel {
             None => (want, Limits::default()),
             Some(a) => self.accelerated(want, x, yaw, a),
         })
+    }
+
+    /// The goal heading's command once the position has arrived (before the acceleration
+    /// limits and the movers): with `e = wrap(θ_g − θ) ∈ [−π, π]` and `k = min(`[`TURN_GAIN`]`,
+    /// 1/h)` (as aligned descent's, so the heading never overshoots within a period),
+    ///
+    /// ```text
+    /// v = 0,   ω = clamp(k e, ±ω_cap),   ω_cap = ω_max  (or min(ω_max, √(2 alpha_max |e|)))
+    /// ```
+    ///
+    /// ([`Steer::ToGoalHeading`]; the `√` under acceleration limits, so that the turn rate can
+    /// be shed before the goal yaw), and `(0, 0)` ([`Steer::Arrived`]) once `|e| <`
+    /// [`GOAL_HEADING_TOLERANCE`]. Turning in place moves no point of a disc robot whose axle
+    /// is at its centre: the body occupies the same disc all period, so the command is safe
+    /// whatever `ω` is, and the position keeps its certificate (it does not move). The held
+    /// holonomic command is still formed (its mode reported, a refused scan halting the robot:
+    /// [`Steer::Stopped`]).
+    fn turn_to_goal_heading(
+        &mut self,
+        x: Vector2<f64>,
+        yaw: f64,
+        goal_yaw: f64,
+        omega_max: f64,
+        accel: Option<crate::base::Accel>,
+    ) -> Result<PoseCommand, NavError> {
+        let held = self.command(x, Vector2::zeros())?;
+        let stopped = PoseCommand {
+            v: 0.0,
+            omega: 0.0,
+            mode: held.mode,
+            steer: Steer::Stopped,
+        };
+        if held.mode == Mode::Halted {
+            return Ok(stopped);
+        }
+        let e = |a: f64| Vector2::new(a.cos(), a.sin());
+        let error = angle(e(yaw), e(goal_yaw));
+        if error.abs() < GOAL_HEADING_TOLERANCE {
+            return Ok(PoseCommand {
+                steer: Steer::Arrived,
+                ..stopped
+            });
+        }
+        let k = TURN_GAIN.min(1.0 / self.core.period);
+        let cap = accel.map_or(omega_max, |a| {
+            omega_max.min((2.0 * a.alpha_max * error.abs()).sqrt())
+        });
+        Ok(PoseCommand {
+            omega: (k * error).clamp(-cap, cap),
+            steer: Steer::ToGoalHeading,
+            ..stopped
+        })
+    }
+
+    /// Sets the goal yaw `θ_g` (rad, map frame) a differential-drive base finishes at (`None`:
+    /// none, the default; Nav2's goals carry one). Once the position has arrived, `|x − x_d| <`
+    /// [`GOAL_ARRIVAL`], [`Navigator::command_pose`] turns in place, `v = 0`,
+    /// `ω = clamp(k·wrap(θ_g − θ), ±ω_max)` ([`Steer::ToGoalHeading`]; within the acceleration
+    /// limits, if any), until `|wrap(θ_g − θ)| <` [`GOAL_HEADING_TOLERANCE`], then commands
+    /// `(0, 0)` ([`Steer::Arrived`]); away from the goal it is not read. Without a goal yaw
+    /// `command_pose` is what it was, bit for bit. [`Navigator::command`] does not read it.
+    ///
+    /// # Errors
+    /// A non-finite yaw: [`NavError::NotFinite`] naming `"goal_yaw"`, the navigator unchanged.
+    pub fn set_goal_heading(&mut self, yaw: Option<f64>) -> Result<(), NavError> {
+        if yaw.is_some_and(|y| !y.is_finite()) {
+            return Err(NavError::NotFinite { what: "goal_yaw" });
+        }
+        self.core.goal_yaw = yaw;
+        Ok(())
+    }
+
+    /// The goal yaw of [`Navigator::set_goal_heading`] (`None`: none).
+    #[must_use]
+    pub fn goal_heading(&self) -> Option<f64> {
+        self.core.goal_yaw
     }
 
     /// The acceleration limits `a` applied to `want` (docs/unicycle.md §10): `ω` within

@@ -96,6 +96,9 @@ pub struct Core {
     pub(crate) pose_command: (f64, f64),
     /// How the last `command_pose`'s braking was certified, under acceleration limits.
     pub(crate) brake: crate::base::Brake,
+    /// The goal yaw of a differential-drive base, rad (`Navigator::set_goal_heading`; `None`:
+    /// none, the default).
+    pub(crate) goal_yaw: Option<f64>,
 }
 
 /// What [`Rules::admit`] may need besides the grown shape: the known shapes grown by `radius`
