@@ -219,6 +219,19 @@ class Navigator:
         ``ValueError`` (and nothing changed) on a holonomic navigator (naming ``base``), for a
         non-finite pose, and where ``command`` would raise. With movers set, the direction is
         the filtered one but the arc is not certified against the movers."""
+    def set_goal_heading(self, yaw: Optional[float]) -> None:
+        """Sets the goal yaw (rad, map frame) a differential-drive robot finishes at, or clears
+        it (``None``, the default: ``command_pose`` as without one, bit for bit). Once the
+        position is within 1 cm of the goal, ``command_pose`` turns in place: ``v = 0``,
+        ``omega = clamp(k·wrap(yaw − θ), ±omega_max)`` (``k = min(10, 1/control_period)``;
+        within the acceleration limits, if any), ``steer == "to-goal-heading"``, until the
+        heading is within 1e-3 rad of it, then ``(0, 0)`` with ``steer == "arrived"``. Turning in
+        place is safe for a disc robot with its axle at its centre (docs/unicycle.md section
+        3.5). A non-finite yaw raises ``ValueError`` naming ``goal_yaw`` and changes nothing.
+        Kept by pickle and copy."""
+    @property
+    def goal_heading(self) -> Optional[float]:
+        """The goal yaw of ``set_goal_heading``, rad; ``None`` without one."""
     def set_movers(self, movers: Sequence[Union[Mover, Dict[str, Any]]]) -> None:
         """Replaces the movers (``Mover``s, or dicts with its argument names as keys); ``[]``
         clears them. All or nothing: an invalid mover is a ``ValueError`` naming
@@ -234,8 +247,9 @@ class Navigator:
     @property
     def steer(self) -> Optional[str]:
         """How the last ``command_pose`` formed ``(v, omega)``: ``"ahead"``, ``"shortened"``,
-        ``"turning"``, ``"stopped"`` or (with acceleration limits) ``"braking"``; ``None``
-        before it and after a ``command``."""
+        ``"turning"``, ``"stopped"``, (with acceleration limits) ``"braking"``, or (with a goal
+        yaw, ``set_goal_heading``) ``"to-goal-heading"`` and ``"arrived"``; ``None`` before it
+        and after a ``command``."""
     @property
     def base(self) -> str:
         """``"holonomic"`` or ``"diff"``."""

@@ -164,6 +164,8 @@ enum Event {
     Pose([f64; 2], f64),
     /// `set_movers(movers)` (issue 54): in force until the next.
     Movers(Vec<RsMover>),
+    /// `set_goal_heading(yaw)` (issue 53): in force until the next.
+    GoalHeading(Option<f64>),
     /// `observe_scan(...)` that changed the obstacles, or that ended a halt (a scan that
     /// changed nothing otherwise leaves no state to replay).
     Scan(Box<(Pose, LaserScan)>),
@@ -313,8 +315,17 @@ impl Log {
         }
     }
 
+    /// A successful `set_goal_heading`: replaces the one set since the last other event.
+    fn goal_heading(&mut self, yaw: Option<f64>) {
+        match self.events.last_mut() {
+            Some(Event::GoalHeading(g)) => *g = yaw,
+            _ => self.events.push(Event::GoalHeading(yaw)),
+        }
+    }
+
     /// The log as pickle stores it: `("add", shape)`, `("command", x, v)`, `("pose", x, yaw)`,
-    /// `("movers", [Mover, …])` and `("scan", pose, ranges, angles)` entries.
+    /// `("movers", [Mover, …])`, `("goal-heading", yaw or None)` and `("scan", pose, ranges,
+    /// angles)` entries.
     fn to_python<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         let entries = self
             .events
@@ -324,6 +335,7 @@ impl Log {
                     Event::Add(shape) => ("add", Bound::new(py, shape.clone())?).into_pyobject(py),
                     Event::Command(x, v) => ("command", *x, *v).into_pyobject(py),
                     Event::Pose(x, yaw) => ("pose", *x, *yaw).into_pyobject(py),
+                    Event::GoalHeading(yaw) => ("goal-heading", *yaw).into_pyobject(py),
                     Event::Movers(movers) => {
                         let movers = movers
                             .iter()
@@ -517,6 +529,14 @@ impl State {
         Ok(c)
     }
 
+    /// Sets the goal yaw of a differential-drive base, and records it; the Rust navigator
+    /// refuses a non-finite one and changes nothing.
+    fn set_goal_heading(&mut self, yaw: Option<f64>) -> Result<(), NavError> {
+        each!(&mut self.inner, nav => nav.set_goal_heading(yaw))?;
+        self.log.goal_heading(yaw);
+        Ok(())
+    }
+
     /// Replaces the movers, and records them.
     fn set_movers(&mut self, movers: Vec<RsMover>) -> Result<(), NavError> {
         each!(&mut self.inner, nav => nav.set_movers(&movers))?;
@@ -539,6 +559,7 @@ impl State {
                     }
                 },
                 Event::Movers(movers) => self.set_movers(movers),
+                Event::GoalHeading(yaw) => self.set_goal_heading(yaw),
                 Event::Scan(b) => {
                     let (pose, scan) = *b;
                     self.scan(pose, scan).map(drop)
@@ -599,7 +620,7 @@ fn event(entry: &Bound<'_, PyAny>, i: usize, class: &str) -> PyResult<Event> {
         PyTypeError::new_err(format!(
             "{class} state, entry {i}: {problem}; expected (\"add\", Shape), \
              (\"command\", [x, y], [vx, vy]), (\"pose\", [x, y], yaw), (\"movers\", \
-             [Mover, …]) or (\"scan\", [x, y, yaw], ranges, [angle_min, angle_increment, \
+             [Mover, …]), (\"goal-heading\", yaw or None) or (\"scan\", [x, y, yaw], ranges, [angle_min, angle_increment, \
              range_min, range_max])"
         ))
     };
@@ -628,6 +649,10 @@ fn event(entry: &Bound<'_, PyAny>, i: usize, class: &str) -> PyResult<Event> {
             Ok(Event::Pose([x.x, x.y], yaw))
         }
         ("movers", [_, movers]) => Ok(Event::Movers(movers_from(movers)?)),
+        ("goal-heading", [_, yaw]) => Ok(Event::GoalHeading(
+            yaw.extract::<Option<f64>>()
+                .map_err(|e| bad(e.to_string()))?,
+        )),
         (tag @ ("scan" | "refused-scan"), [_, pose, ranges, angles]) => {
             let [x, y, yaw] = pose.extract::<[f64; 3]>().map_err(|e| bad(e.to_string()))?;
             let ranges = ranges
@@ -726,7 +751,8 @@ impl Navigator {
     /// rad): forward speed `0 ≤ v ≤ v_max` (m/s) and turn rate `|omega| ≤ omega_max` (rad/s) by
     /// aligned descent, the arc they sweep over the period certified free (`docs/unicycle.md`).
     /// `mode` then says how the held direction was formed, `steer` how `(v, omega)` was
-    /// (`"ahead"`, `"shortened"`, `"turning"`, `"stopped"`). Raises `ValueError` (and changes
+    /// (`"ahead"`, `"shortened"`, `"turning"`, `"stopped"`, `"braking"`; with a goal heading
+    /// `"to-goal-heading"` and `"arrived"`, `set_goal_heading`). Raises `ValueError` (and changes
     /// nothing) on a holonomic navigator (naming `base`), for a non-finite pose, and where
     /// `command` would.
     fn command_pose(
@@ -738,6 +764,24 @@ impl Navigator {
         let x = point_like(position, "position")?;
         let c = self.state(py).pose(x, yaw)?;
         Ok((c.v, c.omega))
+    }
+
+    /// Sets the goal yaw (rad, map frame) a differential-drive robot finishes at, or clears it
+    /// (`None`, the default: `command_pose` as without, bit for bit). Once the position is
+    /// within 1 cm of the goal (`harmonav::GOAL_ARRIVAL`), `command_pose` turns in place,
+    /// `v = 0`, `omega = clamp(k·wrap(yaw − θ), ±omega_max)` within the acceleration limits
+    /// (`steer == "to-goal-heading"`), until the heading is within 1e-3 rad of it, then returns
+    /// `(0, 0)` (`steer == "arrived"`); docs/unicycle.md section 3.5. A non-finite yaw is a
+    /// `ValueError` naming `goal_yaw`, the navigator unchanged. Pickled with the navigator.
+    #[pyo3(signature = (yaw))]
+    fn set_goal_heading(&self, py: Python<'_>, yaw: Option<f64>) -> PyResult<()> {
+        self.state(py).set_goal_heading(yaw).map_err(value_error)
+    }
+
+    /// The goal yaw of `set_goal_heading`, rad; `None` without one.
+    #[getter]
+    fn goal_heading(&self, py: Python<'_>) -> Option<f64> {
+        each!(&self.state(py).inner, nav => nav.goal_heading())
     }
 
     /// Replaces the movers (issue 54, `docs/movers.md`): a list of `Mover` (or of dicts with
@@ -771,8 +815,10 @@ impl Navigator {
     }
 
     /// How the last `command_pose` formed `(v, omega)`: `"ahead"` (aligned descent as it is),
-    /// `"shortened"` (the arc hold shortened `v`), `"turning"` (`v = 0`, turning in place) or
-    /// `"stopped"`; `None` before the first and after a `command`.
+    /// `"shortened"` (the arc hold shortened `v`), `"turning"` (`v = 0`, turning in place),
+    /// `"stopped"`, `"braking"` (acceleration limits), `"to-goal-heading"` (at the goal,
+    /// turning to the goal yaw) or `"arrived"` (at the goal yaw); `None` before the first and
+    /// after a `command`.
     #[getter]
     fn steer(&self, py: Python<'_>) -> Option<&'static str> {
         self.state(py).steer.as_ref().map(Steer::as_str)
