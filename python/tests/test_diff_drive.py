@@ -271,3 +271,50 @@ def test_acceleration_limits_bound_every_change_and_the_robot_arrives_clear():
         assert abs(v - last[0]) <= 0.5 * H * (1 + 1e-12), (v, last)
         assert abs(omega - last[1]) <= 4.0 * H * (1 + 1e-12), (omega, last)
         last = (v, omega)
+
+
+def heading_error(goal_yaw, yaw):
+    return math.atan2(math.sin(goal_yaw - yaw), math.cos(goal_yaw - yaw))
+
+
+@pytest.mark.parametrize("make", [diff_star, limited_star], ids=["star", "accel"])
+def test_a_goal_heading_is_reached_by_turning_in_place_at_the_goal(make):
+    """`set_goal_heading`: at the goal (within 1 cm) the robot turns in place to the goal yaw,
+    then stands (`"arrived"`); copies and pickles keep the yaw; a bad yaw is refused by name.
+    The negative control: the same loop without it ends facing elsewhere (docs/unicycle.md
+    section 3.5)."""
+    goal_yaw = math.pi / 2
+    nav = make()
+    assert nav.goal_heading is None
+    nav.set_goal_heading(goal_yaw)
+    assert nav.goal_heading == goal_yaw
+    x, yaw, turning = START.copy(), math.pi, 0
+    for _ in range(1500):
+        v, omega = nav.command_pose(x, yaw)
+        assert 0.0 <= v <= V_MAX and abs(omega) <= OMEGA_MAX, (v, omega)
+        if nav.steer == "to-goal-heading":
+            turning += 1
+            assert v == 0.0 and np.linalg.norm(x - GOAL) < 0.01, (v, x)
+        for t in np.linspace(H / 8, H, 8):
+            assert clearance(arc(x, yaw, v, omega, t)[0]) > RADIUS
+        x, yaw = arc(x, yaw, v, omega, H)
+        if nav.steer == "arrived":
+            break
+    assert nav.steer == "arrived" and turning > 0
+    assert abs(heading_error(goal_yaw, yaw)) < 1e-3
+    assert np.linalg.norm(x - GOAL) < 0.01
+    for how, twin in copies(nav):
+        assert twin.goal_heading == goal_yaw, how
+        assert twin.command_pose(x, yaw) == (0.0, 0.0) and twin.steer == "arrived", how
+    for bad in [float("nan"), float("inf")]:
+        with pytest.raises(ValueError, match="goal_yaw"):
+            nav.set_goal_heading(bad)
+        assert nav.goal_heading == goal_yaw
+    nav.set_goal_heading(None)
+    assert nav.goal_heading is None
+
+    # Without a goal yaw the robot arrives facing wherever it approached from.
+    free = make()
+    x, yaw, _ = drive(free, START.copy(), math.pi, 1500, lambda p: None, tolerance=0.01)
+    assert np.linalg.norm(x - GOAL) < 0.01
+    assert abs(heading_error(goal_yaw, yaw)) > 1e-3
