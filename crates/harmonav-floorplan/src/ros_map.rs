@@ -157,6 +157,18 @@ pub struct Specks {
 /// The simplification's tolerance, in square pixels ([`MapOptions::simplify`]).
 pub const DEFAULT_SIMPLIFY: f64 = 0.5;
 
+/// How far the first simplification (of the traced pixel outline) may move a wall, pixels:
+/// its tolerance is halved until no vertex of the traced rings lies farther than this from the
+/// simplified ones. At the default tolerance a pixel staircase loses vertices up to `√2.5 ≈
+/// 1.58` px off the new edges (measured on the public maps: 0.45–1.58), which this keeps; a
+/// tolerance as large as the map, which removed whole walls, is lowered.
+pub const TRACED_MOVE_PIXELS: f64 = 2.0;
+
+/// How far the second simplification (of the outline opened by the robot's disc) may move a
+/// wall, pixels, likewise: the opened rings are smooth, and a vertex off by more than a pixel
+/// is a speck's short ring (1.28 px on `fetch-office`) or a tolerance too large.
+pub const OPENED_MOVE_PIXELS: f64 = 1.0;
+
 /// Two rings of the opened free space closer than this many times the shrink of
 /// [`FloorMap::new`] (`s = radius + margin − δ`) are joined before it: each shrunk ring moves by
 /// up to `s/cos(π/16)` (its circumscribed arcs), so `2.04 s` would touch; the rest is room.
@@ -181,8 +193,9 @@ pub struct MapOptions {
     /// The Visvalingam–Whyatt tolerance in square pixels: a vertex goes while the triangle it
     /// makes with its neighbours is smaller than `simplify · res²`. Each removal changes the
     /// area by less than that (docs/maths.md §13.1 bounds the total). `0` keeps every vertex.
-    /// An upper bound: where it would move the walls by more than one pixel (or leave an
-    /// invalid polygon) it is halved until they stay within a pixel of the traced ones.
+    /// An upper bound: where it would move the walls farther than [`TRACED_MOVE_PIXELS`] (the
+    /// traced outline) or [`OPENED_MOVE_PIXELS`] (the opened one), or leave an invalid polygon,
+    /// it is halved until they stay that close.
     pub simplify: f64,
 }
 
@@ -578,10 +591,10 @@ impl RosMap {
                 most: MAX_TRACED_HOLES,
             }));
         }
-        // At most one pixel from the traced walls (the robot's margin is kept from the map's
-        // pixels, not from a wall the simplification moved).
+        // At most `TRACED_MOVE_PIXELS` from the traced walls: the default never comes near it,
+        // a tolerance as large as the map (which removed whole walls) is lowered.
         let eps = options.simplify.max(0.0) * res * res;
-        Ok((outline::simplify(&poly, eps, res), n))
+        Ok((outline::simplify(&poly, eps, TRACED_MOVE_PIXELS * res), n))
     }
 
     /// The outline of the free pixels 4-connected to the goal's (after the specks), by marching
@@ -681,7 +694,7 @@ impl RosMap {
         let eps = options.simplify.max(0.0) * self.resolution * self.resolution;
         // Within one pixel of the opened walls: the tolerance is lowered where it would move
         // them farther (`outline::simplify`).
-        let simplified = outline::simplify(&opened, eps, self.resolution);
+        let simplified = outline::simplify(&opened, eps, OPENED_MOVE_PIXELS * self.resolution);
         Ok(simplified)
     }
 

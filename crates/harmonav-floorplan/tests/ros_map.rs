@@ -819,13 +819,13 @@ fn to_walls(o: &harmonav_floorplan::MapOutline, x: Vector2<f64>) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
-/// `simplify` is an upper bound: a tolerance that would move the walls by more than a pixel
-/// is halved until each of the two simplifications (the traced outline, the opened one)
-/// keeps them within a pixel. Before, such a tolerance was refused, and with
-/// `speck_pixels = 0` the default 0.5 was refused on `fetch-office` (a speck's short ring
-/// moved 1.28 px). Measured against the walls traced without any simplification: each vertex
-/// of the unsimplified outline lies within two pixels (one per simplification) of the
-/// simplified walls.
+/// `simplify` is an upper bound: a tolerance that would move the walls too far is halved until
+/// the traced outline's simplification keeps them within `TRACED_MOVE_PIXELS` (2) and the
+/// opened outline's within `OPENED_MOVE_PIXELS` (1). Before, a tolerance that moved the opened
+/// walls by more than a pixel was refused, and with `speck_pixels = 0` the default 0.5 was
+/// refused on `fetch-office` (a speck's short ring moved 1.28 px). Measured against the walls
+/// traced without any simplification: each vertex of the unsimplified outline lies within
+/// three pixels (2 + 1) of the simplified walls.
 #[test]
 fn a_simplification_too_coarse_for_the_map_is_lowered() {
     let yaml = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -861,7 +861,7 @@ fn a_simplification_too_coarse_for_the_map_is_lowered() {
             .map(|&x| to_walls(&o, x))
             .fold(0.0, f64::max);
         println!("simplify {simplify}: walls moved ≤ {worst:.4} m");
-        assert!(worst <= 2.0 * pixel + 1e-9, "simplify {simplify}: {worst}");
+        assert!(worst <= 3.0 * pixel + 1e-9, "simplify {simplify}: {worst}");
         assert!(o.outer.len() <= exact.outer.len());
     }
 }
