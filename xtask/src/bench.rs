@@ -15,6 +15,9 @@ use harmonav_control::DampingPolicy;
 use harmonav_field::KPolicy;
 use harmonav_potential::{BatchGradient, PointWorld, Vector2, arrangements};
 use harmonav_scenario::Model;
+// The control-step figures' world (8 seeded mixed obstacles, 1024 states), shared with the
+// criterion benches.
+use harmonav_bench::diff::control_workspace as control_world;
 
 use crate::quality;
 
@@ -393,22 +396,6 @@ fn field_eval_ns_discs20() -> Result<(f64, f64), String> {
         }
     });
     Ok((one, many))
-}
-
-/// A robot state `(x, ẋ)`.
-type State = (Vector2<f64>, Vector2<f64>);
-
-/// The world of the control-step figures: 8 mixed obstacles (the first 6 known), and 1024
-/// states `(x, ẋ)` in its free space.
-fn control_world() -> (harmonav_transform::Workspace, Vec<State>) {
-    use harmonav_transform::random::{self, Kind, Rng};
-    let kinds = [Kind::Circle, Kind::Ellipse, Kind::Polygon, Kind::Star];
-    let mut rng = Rng::new(6);
-    let ws = random::workspace(&mut rng, 8, &kinds, Kind::Star, 0.15);
-    let states = (0..1024)
-        .map(|_| (random::free_point(&mut rng, &ws, 1e-3), rng.point(1.0)))
-        .collect();
-    (ws, states)
 }
 
 /// One `Navigator::command` of `law` (default policies but the hold `hold`) with 6 known

@@ -206,15 +206,10 @@ pub fn replay<W: World + Clone>(
     moved
 }
 
-/// The world of `cargo xtask bench`'s `navigator_command_ns_m6*` figures (issue 54's mover
-/// figures): 8 seeded mixed-shape obstacles (circles, ellipses, polygons, stars; seed 6) of
-/// which the first 6 are given to a kinematic navigator with the default options, and 1024
-/// states `(x, ẋ)` in its free space.
-///
-/// # Panics
-/// Never: the world is valid.
+/// The seeded world of `cargo xtask bench`'s control-step figures: 8 mixed-shape obstacles
+/// (circles, ellipses, polygons, stars; seed 6) and 1024 states `(x, ẋ)` in its free space.
 #[must_use]
-pub fn control_world() -> (Navigator, Vec<State>) {
+pub fn control_workspace() -> (harmonav::transform::Workspace, Vec<State>) {
     use harmonav::transform::random::{self, Kind};
     let kinds = [Kind::Circle, Kind::Ellipse, Kind::Polygon, Kind::Star];
     let mut rng = Rng::new(6);
@@ -222,6 +217,18 @@ pub fn control_world() -> (Navigator, Vec<State>) {
     let states = (0..1024)
         .map(|_| (random::free_point(&mut rng, &ws, 1e-3), rng.point(1.0)))
         .collect();
+    (ws, states)
+}
+
+/// The world of `cargo xtask bench`'s `navigator_command_ns_m6*` figures (issue 54's mover
+/// figures): [`control_workspace`], its first 6 obstacles given to a kinematic navigator with
+/// the default options.
+///
+/// # Panics
+/// Never: the world is valid.
+#[must_use]
+pub fn control_world() -> (Navigator, Vec<State>) {
+    let (ws, states) = control_workspace();
     let mut nav = Navigator::new(
         ws.boundary().clone(),
         ws.destination(),
