@@ -12,7 +12,9 @@
 //!   [`code::NO_VALID_PATH`] (Nav2's planner codes, the ones its navigator passes on);
 //! - a cancel stops the robot (the bridge forgets the goal, so the next command is zero) and
 //!   the goal ends **canceled**;
-//! - arrival (within `goal_tolerance`) ends the goal **succeeded**;
+//! - arrival (within `goal_tolerance`; on a `diff` base with `use_goal_orientation`, at the
+//!   goal's yaw after the turn in place, [`Bridge::set_goal`]) ends the goal **succeeded**;
+//! - a goal whose quaternion is not a rotation is **rejected** when its orientation is used;
 //! - stale data, a refused scan or command stop the robot but keep the goal running (the
 //!   bridge resumes when the data is fresh again), until the robot has not moved
 //!   `required_movement_radius` for `movement_time_allowance` (Nav2's progress checker, for

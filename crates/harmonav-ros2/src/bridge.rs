@@ -15,8 +15,8 @@ use std::time::{Duration, Instant};
 
 use harmonav::floorplan::ros_map::{MapOptions, RosMap};
 use harmonav::{
-    FloorMap, FloorNavigator, FloorOptions, Law, Mode, Navigator, Options, StarShape, Vector2,
-    World,
+    FloorMap, FloorNavigator, FloorOptions, Law, Mode, Navigator, Options, StarShape, Steer,
+    Vector2, World,
 };
 
 use crate::msgs::{
@@ -260,6 +260,8 @@ pub struct Bridge {
     tf: Buffer,
     map: Option<Arc<RosMap>>,
     goal: Option<Vector2<f64>>,
+    /// The goal's yaw in `global_frame`, when it is used ([`Bridge::uses_goal_orientation`]).
+    goal_yaw: Option<f64>,
     nav: Option<Nav>,
     /// The goal (and map version) the navigator was built for needs rebuilding.
     dirty: bool,
@@ -290,6 +292,7 @@ impl Bridge {
             tf: Buffer::new(),
             map: None,
             goal: None,
+            goal_yaw: None,
             nav: None,
             dirty: false,
             build_error: None,
@@ -381,35 +384,72 @@ impl Bridge {
         }
     }
 
-    /// Navigates to `m` (its position; the orientation is not used) from now on, in place of
-    /// any goal before it; returns it in `global_frame`.
+    /// Whether goals' orientations are used: a `diff` base with `use_goal_orientation` (a
+    /// holonomic base never turns, so it reads none).
+    #[must_use]
+    pub fn uses_goal_orientation(&self) -> bool {
+        self.params.base == Base::Diff && self.params.use_goal_orientation
+    }
+
+    /// Navigates to `m` from now on, in place of any goal before it; returns its position in
+    /// `global_frame`. The pose is taken into `global_frame` as a whole, `T ∘ (x, y, θ)` with
+    /// `T` the frame's transform, so the goal's yaw is `θ` plus `T`'s rotation. When
+    /// [`Bridge::uses_goal_orientation`], that yaw is the navigator's goal heading
+    /// (`Navigator::set_goal_heading`): the robot drives to within `GOAL_ARRIVAL` (1 cm),
+    /// turns in place to it, and has arrived only when `command_pose` says so
+    /// ([`Steer::Arrived`]); otherwise the orientation is not read and arrival is within
+    /// `goal_tolerance`.
     ///
     /// # Errors
-    /// A position that is not finite (the goal before it stays).
+    /// A position that is not finite; when the orientation is used, a quaternion that is not a
+    /// rotation (a component not finite, or all four zero: "no orientation" is the identity,
+    /// `w = 1`, as ROS 2's message default and RViz send). The goal before it stays.
     pub fn set_goal(&mut self, m: &PoseStamped, now: Instant) -> Result<Vector2<f64>, BadMessage> {
         let p = &m.pose.position;
         if !(p.x.is_finite() && p.y.is_finite()) {
             return Err(BadMessage("goal dropped: not finite".into()));
         }
+        let yaw = if self.uses_goal_orientation() {
+            Some(goal_yaw(&m.pose.orientation)?)
+        } else {
+            None
+        };
         let frame = if m.header.frame_id.is_empty() {
             self.params.global_frame.clone()
         } else {
             m.header.frame_id.clone()
         };
         let (t, _) = self.transform(&self.params.global_frame.clone(), &frame, now);
-        let g = t.compose(&Se2::new(p.x, p.y, 0.0));
+        let g = t.compose(&Se2::new(p.x, p.y, yaw.unwrap_or(0.0)));
         let goal = Vector2::new(g.x, g.y);
         self.goal = Some(goal);
+        self.goal_yaw = yaw.map(|_| g.yaw);
         self.dirty = true;
         self.arrived = false;
         self.progress = Some((None, now));
+        let heading = self
+            .goal_yaw
+            .map_or(String::new(), |y| format!(", yaw {y:.3} rad"));
         self.say(
             log::Level::Info,
             format!(
-                "goal ({:.3}, {:.3}) in {}",
+                "goal ({:.3}, {:.3}){heading} in {}",
                 g.x, g.y, self.params.global_frame
             ),
         );
+        if self.goal_yaw.is_some() {
+            self.say_once(
+                "goal yaw tolerance",
+                log::Level::Info,
+                format!(
+                    "a goal with a yaw is reached within {} m and {} rad (harmonav's \
+                     GOAL_ARRIVAL, then a turn in place to GOAL_HEADING_TOLERANCE); \
+                     goal_tolerance is not read for it",
+                    harmonav::GOAL_ARRIVAL,
+                    harmonav::GOAL_HEADING_TOLERANCE
+                ),
+            );
+        }
         Ok(goal)
     }
 
@@ -419,6 +459,7 @@ impl Bridge {
         if self.goal.take().is_some() {
             self.say(log::Level::Info, "goal cleared".into());
         }
+        self.goal_yaw = None;
         self.nav = None;
         self.dirty = false;
         self.build_error = None;
@@ -430,6 +471,13 @@ impl Bridge {
     #[must_use]
     pub fn goal(&self) -> Option<Vector2<f64>> {
         self.goal
+    }
+
+    /// The goal's yaw in `global_frame` (rad, in `(−π, π]`), when the goal's orientation is
+    /// used ([`Bridge::uses_goal_orientation`]) and a goal is set.
+    #[must_use]
+    pub fn goal_yaw(&self) -> Option<f64> {
+        self.goal_yaw
     }
 
     /// Whether the point `g` (in `global_frame`) lies in a free cell of `/map`.
@@ -695,7 +743,7 @@ impl Bridge {
     }
 
     /// Builds the navigator for the goal from the robot's pose: on the floor plan of `/map`,
-    /// or without one in a disc around the robot.
+    /// or without one in a disc around the robot; its goal heading is the goal's yaw, if used.
     fn build(&mut self, x: Vector2<f64>, goal: Vector2<f64>) -> Result<Nav, String> {
         let law = self.law();
         let options = self.options(&law);
@@ -703,7 +751,9 @@ impl Bridge {
         if p.map_topic.is_empty() {
             let r = p.scan_world_radius.max((goal - x).norm() + 1.0);
             let disc = StarShape::circle(x, r).map_err(|e| e.to_string())?;
-            let nav = Navigator::new(disc, goal, law, options).map_err(|e| e.to_string())?;
+            let mut nav = Navigator::new(disc, goal, law, options).map_err(|e| e.to_string())?;
+            nav.set_goal_heading(self.goal_yaw)
+                .map_err(|e| e.to_string())?;
             return Ok(Nav::Star(Box::new(nav)));
         }
         let Some(map) = &self.map else {
@@ -713,8 +763,10 @@ impl Bridge {
         let plan: FloorMap = map
             .to_floor_map(x, goal, &MapOptions::new(floor))
             .map_err(|e| e.to_string())?;
-        let nav =
+        let mut nav =
             FloorNavigator::new(Arc::new(plan), goal, law, options).map_err(|e| e.to_string())?;
+        nav.set_goal_heading(self.goal_yaw)
+            .map_err(|e| e.to_string())?;
         Ok(Nav::Floor(Box::new(nav)))
     }
 
@@ -791,6 +843,23 @@ impl Bridge {
         ))
     }
 
+    /// Marks the goal reached at `pose` ([`Stop::Arrived`] until the next goal), said once.
+    fn reached(&mut self, pose: Se2) -> Stop {
+        if !self.arrived {
+            let yaw = if self.goal_yaw.is_some() {
+                format!(", yaw {:.4} rad", pose.yaw)
+            } else {
+                String::new()
+            };
+            self.say(
+                log::Level::Info,
+                format!("goal reached at ({:.3}, {:.3}){yaw}", pose.x, pose.y),
+            );
+        }
+        self.arrived = true;
+        Stop::Arrived
+    }
+
     fn step_inner(&mut self, now: Instant) -> Result<(Twist, &'static str), Stop> {
         let p = self.params.clone();
         let fresh = |t: Option<Instant>, timeout: f64| {
@@ -820,15 +889,9 @@ impl Bridge {
             return Err(Stop::StaleTransform);
         }
         let x = Vector2::new(pose.x, pose.y);
-        if self.arrived || (x - goal).norm() <= p.goal_tolerance {
-            if !self.arrived {
-                self.say(
-                    log::Level::Info,
-                    format!("goal reached at ({:.3}, {:.3})", x.x, x.y),
-                );
-            }
-            self.arrived = true;
-            return Err(Stop::Arrived);
+        // A goal with a yaw has arrived when the navigator says so (below), not here.
+        if self.arrived || (self.goal_yaw.is_none() && (x - goal).norm() <= p.goal_tolerance) {
+            return Err(self.reached(pose));
         }
         if self.dirty {
             self.dirty = false;
@@ -878,6 +941,10 @@ impl Bridge {
             if cmd.mode == Mode::Halted {
                 return Err(Stop::ScanRefused);
             }
+            if cmd.steer == Steer::Arrived {
+                // At the position (1 cm) and the goal yaw (1e-3 rad): the command is (0, 0).
+                return Err(self.reached(pose));
+            }
             return Ok((
                 Twist {
                     linear: Vector3 {
@@ -926,6 +993,20 @@ impl Bridge {
             cmd.mode.as_str(),
         ))
     }
+}
+
+/// The goal's yaw from its orientation, the yaw of the normalised quaternion.
+///
+/// # Errors
+/// A quaternion that is not a rotation: a component not finite, or all four (near) zero.
+fn goal_yaw(q: &msgs::Quaternion) -> Result<f64, BadMessage> {
+    q.yaw().ok_or_else(|| {
+        BadMessage(format!(
+            "goal dropped: its orientation ({}, {}, {}, {}) is not a rotation (a component not \
+             finite, or all zero; for no orientation send the identity, w = 1)",
+            q.x, q.y, q.z, q.w
+        ))
+    })
 }
 
 /// The navigator's command at `x` (velocity state `v`), its error as text.

@@ -94,8 +94,17 @@ pub struct Params {
     /// m/s: the kinematic law's top speed (≤ 0: the law's own, `K√2`; a differential-drive
     /// base's top forward speed, 0.5 m/s when ≤ 0).
     pub v_max: f64,
-    /// m: arrival radius.
+    /// m: arrival radius. Not read for a goal with a yaw (`use_goal_orientation` on a `diff`
+    /// base): that goal is reached when harmonav's `command_pose` reports it arrived, within
+    /// `GOAL_ARRIVAL` (1 cm) of the position and then turned in place to within
+    /// `GOAL_HEADING_TOLERANCE` (1e-3 rad) of the yaw.
     pub goal_tolerance: f64,
+    /// A `diff` base finishes at the goal's yaw (the orientation of `/goal_pose` and of the
+    /// action's goals, in `global_frame`), by turning in place once at the position
+    /// (`Navigator::set_goal_heading`); false: the orientation is ignored and arrival is within
+    /// `goal_tolerance`, as before. Ignored for a `holonomic` base, which never turns
+    /// (`angular.z` is 0) and reads no goal orientation.
+    pub use_goal_orientation: bool,
     /// Publish `TwistStamped` instead of `Twist` (Nav2's name).
     pub enable_stamped_cmd_vel: bool,
     /// `holonomic` or `diff`.
@@ -162,6 +171,7 @@ impl Default for Params {
             mu: 10.0,
             v_max: 0.0,
             goal_tolerance: 0.1,
+            use_goal_orientation: true,
             enable_stamped_cmd_vel: false,
             base: Base::Holonomic,
             omega_max: 1.0,
@@ -300,6 +310,7 @@ impl Params {
             "mu" => self.mu = positive(value)?,
             "v_max" => self.v_max = float(value)?,
             "goal_tolerance" => self.goal_tolerance = positive(value)?,
+            "use_goal_orientation" => self.use_goal_orientation = flag(value)?,
             "enable_stamped_cmd_vel" => self.enable_stamped_cmd_vel = flag(value)?,
             "base" => {
                 self.base = match text(value)?.as_str() {
@@ -619,6 +630,31 @@ harmonav:
             panic!()
         };
         assert_eq!(p.base, Base::Diff);
+        assert!(
+            p.use_goal_orientation,
+            "a diff base reads the goal's yaw by default"
+        );
+        let (Cli::Run(p), _) = parse_args(
+            &args(&[
+                "--ros-args",
+                "-p",
+                "base:=diff",
+                "-p",
+                "use_goal_orientation:=false",
+            ]),
+            &none,
+        )
+        .unwrap() else {
+            panic!()
+        };
+        assert!(!p.use_goal_orientation);
+        assert!(
+            parse_args(
+                &args(&["--ros-args", "-p", "use_goal_orientation:=1"]),
+                &none
+            )
+            .is_err()
+        );
         // Acceleration limits: both or neither.
         for (given, ok) in [
             (&["a_max:=0.5", "alpha_max:=3.0"][..], true),

@@ -1005,3 +1005,306 @@ fn perceived_obstacles_as_markers_when_they_change() {
     assert_eq!(gone.markers.len(), 1);
     assert_eq!(gone.markers[0].action, Marker::DELETEALL);
 }
+
+// The goal's yaw on a differential-drive base (`use_goal_orientation`, harmonav's
+// `Navigator::set_goal_heading`).
+
+use std::f64::consts::FRAC_PI_2;
+
+use harmonav::{GOAL_ARRIVAL, GOAL_HEADING_TOLERANCE};
+
+/// `a` in `(−π, π]`.
+fn wrap(a: f64) -> f64 {
+    a.sin().atan2(a.cos())
+}
+
+/// Whether the bridge's goal yaw is `yaw` (to rounding: the quaternion's round trip).
+fn goal_yaw_is(bridge: &Bridge, yaw: f64) -> bool {
+    bridge.goal_yaw().is_some_and(|y| (y - yaw).abs() < 1e-12)
+}
+
+/// A goal at `(x, y)` with yaw `yaw` in `frame`.
+fn goal_in(frame: &str, x: f64, y: f64, yaw: f64) -> PoseStamped {
+    let mut g = goal(x, y);
+    g.header.frame_id = frame.into();
+    g.pose.orientation = Quaternion::from_yaw(yaw);
+    g
+}
+
+/// A diff base from scans alone at (8, 10) facing away from the goals (yaw 2), in
+/// [`open_room`]; `use_goal_orientation` as given.
+fn diff_in_open_room(use_goal_orientation: bool) -> (Bridge, Sim, Params) {
+    let params = Params {
+        map_topic: String::new(),
+        base: harmonav_ros2::params::Base::Diff,
+        use_goal_orientation,
+        ..Params::default()
+    };
+    let (bridge, mut sim) = in_open_room(params.clone());
+    sim.diff = true;
+    sim.yaw = 2.0;
+    (bridge, sim, params)
+}
+
+/// What a drive to a goal with a yaw shows: the steps spent within `goal_tolerance` of the
+/// goal before arrival, and the smallest clearance met.
+struct Drive {
+    within_tolerance: u32,
+    clearance: f64,
+}
+
+/// Steps the diff robot until [`Stop::Arrived`] (at most `max` steps; panics without it).
+fn drive_to(sim: &mut Sim, bridge: &mut Bridge, g: [f64; 2], max: u32) -> Drive {
+    let tolerance = bridge.params().goal_tolerance;
+    let mut drive = Drive {
+        within_tolerance: 0,
+        clearance: f64::INFINITY,
+    };
+    for _ in 0..max {
+        let d = (sim.x[0] - g[0]).hypot(sim.x[1] - g[1]);
+        let s = sim.step(bridge, true);
+        drive.clearance = drive.clearance.min(sim.clearance());
+        if s.stop == Some(Stop::Arrived) {
+            return drive;
+        }
+        if d <= tolerance {
+            drive.within_tolerance += 1;
+        }
+        assert!(
+            matches!(s.stop, None | Some(Stop::StaleScan | Stop::StaleOdom)),
+            "stopped: {:?} at {:?}; log: {:?}",
+            s.stop,
+            sim.x,
+            bridge.drain_log()
+        );
+    }
+    panic!(
+        "not arrived after {max} steps at {:?}, yaw {}; log: {:?}",
+        sim.x,
+        sim.yaw,
+        bridge.drain_log()
+    );
+}
+
+/// A diff base given a goal with yaw π/2 on `/goal_pose` drives to within `GOAL_ARRIVAL` of it
+/// (not stopping at `goal_tolerance`), turns in place and is declared arrived only at the yaw,
+/// within `GOAL_HEADING_TOLERANCE`; then it stands. A second goal at the robot's own position
+/// is a turn in place alone. The negative control: with `use_goal_orientation: false` the same
+/// drive ends within `goal_tolerance`, the yaw far from π/2.
+#[test]
+fn differential_drive_finishes_at_the_goal_yaw() {
+    let g = [12.0, 10.0];
+    let (mut bridge, mut sim, params) = diff_in_open_room(true);
+    bridge.on_goal(&goal_in("map", g[0], g[1], FRAC_PI_2), sim.t);
+    assert!(goal_yaw_is(&bridge, FRAC_PI_2));
+    let drive = drive_to(&mut sim, &mut bridge, g, 4000);
+    let d = (sim.x[0] - g[0]).hypot(sim.x[1] - g[1]);
+    let e = wrap(sim.yaw - FRAC_PI_2);
+    assert!(d < GOAL_ARRIVAL, "arrived {d} m from the goal");
+    assert!(
+        e.abs() < GOAL_HEADING_TOLERANCE,
+        "arrived {e} rad off the goal yaw"
+    );
+    assert!(
+        drive.within_tolerance > 0,
+        "never within goal_tolerance before arriving: the test shows nothing"
+    );
+    assert!(
+        drive.clearance > params.robot_radius,
+        "contact: {}",
+        drive.clearance
+    );
+    for _ in 0..10 {
+        let s = sim.step(&mut bridge, true);
+        assert_eq!((s.twist, s.stop), (Twist::default(), Some(Stop::Arrived)));
+    }
+    let log: Vec<String> = bridge.drain_log().into_iter().map(|(_, t)| t).collect();
+    assert!(
+        log.iter()
+            .any(|l| l.contains("goal reached") && l.contains("yaw")),
+        "{log:?}"
+    );
+
+    // A goal at the robot's own position: it turns in place to −π/2, and moves not.
+    let here = sim.x;
+    bridge.on_goal(&goal_in("map", here[0], here[1], -FRAC_PI_2), sim.t);
+    drive_to(&mut sim, &mut bridge, here, 400);
+    assert!(
+        wrap(sim.yaw + FRAC_PI_2).abs() < GOAL_HEADING_TOLERANCE,
+        "yaw {}",
+        sim.yaw
+    );
+    assert!((sim.x[0] - here[0]).hypot(sim.x[1] - here[1]) < 1e-12);
+
+    // The negative control: the orientation ignored.
+    let (mut bridge, mut sim, _) = diff_in_open_room(false);
+    bridge.on_goal(&goal_in("map", g[0], g[1], FRAC_PI_2), sim.t);
+    assert_eq!(bridge.goal_yaw(), None);
+    fly(&mut sim, &mut bridge, g, 4000);
+    let e = wrap(sim.yaw - FRAC_PI_2);
+    assert!(
+        e.abs() > 0.5,
+        "the yaw reached π/2 ({e} off) without being asked"
+    );
+}
+
+/// A goal in another frame: its pose is taken into `map` whole, the yaw rotated by the frame's
+/// transform (a static `map → dock`, yaw 1): `(0.5, 0)` at yaw π/2 − 1 in `dock` is
+/// `dock`'s origin plus 0.5 m along yaw 1, at yaw π/2 in `map`, where the robot ends.
+#[test]
+fn a_goal_yaw_in_another_frame_is_rotated_into_the_global_frame() {
+    let (mut bridge, mut sim, _) = diff_in_open_room(true);
+    let dock = TFMessage {
+        transforms: vec![TransformStamped {
+            header: Header {
+                stamp: Time::default(),
+                frame_id: "map".into(),
+            },
+            child_frame_id: "dock".into(),
+            transform: Transform {
+                translation: Vector3 {
+                    x: 11.5,
+                    y: 9.5,
+                    z: 0.0,
+                },
+                rotation: Quaternion::from_yaw(1.0),
+            },
+        }],
+    };
+    bridge.on_tf(&dock, sim.t, true);
+    let g = [11.5 + 0.5 * 1f64.cos(), 9.5 + 0.5 * 1f64.sin()];
+    bridge.on_goal(&goal_in("dock", 0.5, 0.0, FRAC_PI_2 - 1.0), sim.t);
+    let at = bridge.goal().unwrap();
+    assert!(
+        (at.x - g[0]).abs() < 1e-12 && (at.y - g[1]).abs() < 1e-12,
+        "{at:?}"
+    );
+    let yaw = bridge.goal_yaw().unwrap();
+    assert!((yaw - FRAC_PI_2).abs() < 1e-12, "goal yaw {yaw}");
+    drive_to(&mut sim, &mut bridge, g, 4000);
+    assert!(
+        wrap(sim.yaw - FRAC_PI_2).abs() < GOAL_HEADING_TOLERANCE,
+        "yaw {}",
+        sim.yaw
+    );
+    assert!((sim.x[0] - g[0]).hypot(sim.x[1] - g[1]) < GOAL_ARRIVAL);
+}
+
+/// A goal whose quaternion is not a rotation (all zero, or a component not finite) is dropped
+/// on `/goal_pose` (said) and rejected by the action; the goal before it stays, yaw and all.
+/// Where the orientation is not read (a holonomic base, or `use_goal_orientation: false`) the
+/// same goals are taken, as before.
+#[test]
+fn a_goal_quaternion_that_is_not_a_rotation_is_rejected() {
+    let zero = |x, y| {
+        let mut g = goal(x, y);
+        g.pose.orientation = Quaternion {
+            x: 0.0,
+            y: 0.0,
+            z: 0.0,
+            w: 0.0,
+        };
+        g
+    };
+    let nan = |x, y| {
+        let mut g = goal_in("map", x, y, 0.0);
+        g.pose.orientation.z = f64::NAN;
+        g
+    };
+    let (mut bridge, sim, _) = diff_in_open_room(true);
+    let before = goal_in("map", 12.0, 10.0, FRAC_PI_2);
+    bridge.set_goal(&before, sim.t).unwrap();
+    for bad in [zero(9.0, 9.0), nan(9.0, 9.0)] {
+        let e = bridge.set_goal(&bad, sim.t).unwrap_err();
+        assert!(e.0.contains("not a rotation"), "{e}");
+        assert_eq!(bridge.goal().map(|g| (g.x, g.y)), Some((12.0, 10.0)));
+        assert!(goal_yaw_is(&bridge, FRAC_PI_2));
+    }
+    bridge.drain_log();
+    bridge.on_goal(&zero(9.0, 9.0), sim.t);
+    let log = bridge.drain_log();
+    assert!(
+        log.iter()
+            .any(|(l, t)| *l == log::Level::Warn && t.contains("w = 1")),
+        "{log:?}"
+    );
+    assert!(goal_yaw_is(&bridge, FRAC_PI_2));
+
+    // Through the action: rejected, the running goal runs on.
+    let mut nav: Navigate<u32> = Navigate::new();
+    let a = GoalId::new_random();
+    assert!(nav.send_goal(
+        a,
+        &NavigateToPoseGoal {
+            pose: before.clone(),
+            behavior_tree: String::new(),
+        },
+        &mut bridge,
+        sim.t,
+        RosTime::ZERO
+    ));
+    let b = GoalId::new_random();
+    assert!(!nav.send_goal(
+        b,
+        &NavigateToPoseGoal {
+            pose: zero(9.0, 9.0),
+            behavior_tree: String::new(),
+        },
+        &mut bridge,
+        sim.t,
+        RosTime::ZERO
+    ));
+    assert_eq!((nav.active(), nav.status(b)), (Some(a), None));
+    assert!(goal_yaw_is(&bridge, FRAC_PI_2));
+
+    // Not read, so not checked: a holonomic base and the parameter off take them.
+    let holonomic = Params {
+        map_topic: String::new(),
+        ..Params::default()
+    };
+    for params in [holonomic, diff_in_open_room(false).2] {
+        let mut bridge = Bridge::new(params);
+        for g in [zero(9.0, 9.0), nan(9.5, 9.0)] {
+            let at = bridge.set_goal(&g, sim.t).unwrap();
+            assert_eq!(
+                (at.x, at.y, bridge.goal_yaw()),
+                (g.pose.position.x, 9.0, None)
+            );
+        }
+    }
+}
+
+/// Through the action, a diff base's goal with a yaw succeeds only once the robot has turned to
+/// it: while within `goal_tolerance` of the position but not yet at the yaw, it is executing.
+#[test]
+fn action_goal_with_a_yaw_succeeds_after_the_turn() {
+    let (mut bridge, mut sim, params) = diff_in_open_room(true);
+    let mut nav: Navigate<u32> = Navigate::new();
+    let id = GoalId::new_random();
+    let g = NavigateToPoseGoal {
+        pose: goal_in("map", 12.0, 10.0, FRAC_PI_2),
+        behavior_tree: String::new(),
+    };
+    assert!(nav.send_goal(id, &g, &mut bridge, sim.t, RosTime::ZERO));
+    let mut executing_near = 0;
+    for _ in 0..4000 {
+        let (s, _) = action_step(&mut sim, &mut bridge, &mut nav);
+        if s.stop == Some(Stop::Arrived) {
+            break;
+        }
+        let d = (sim.x[0] - 12.0).hypot(sim.x[1] - 10.0);
+        if d <= params.goal_tolerance && nav.status(id) == Some(GoalStatusEnum::Executing) {
+            executing_near += 1;
+        }
+    }
+    assert_eq!(nav.status(id), Some(GoalStatusEnum::Succeeded));
+    assert!(
+        wrap(sim.yaw - FRAC_PI_2).abs() < GOAL_HEADING_TOLERANCE,
+        "yaw {}",
+        sim.yaw
+    );
+    assert!(
+        executing_near > 0,
+        "succeeded as soon as within goal_tolerance"
+    );
+}
