@@ -1,7 +1,8 @@
 //! The node's logic without DDS ([`Bridge`]): REP 117's range classes, every bad message, the
 //! grid → map_server pipeline, the stops, and closed loops of a holonomic robot through ROS
 //! messages (a disc from scans alone, and the floor plan of an occupancy grid), with a
-//! negative control of the stale-scan stop.
+//! negative control of the stale-scan stop; and a differential drive that finishes at the
+//! goal's yaw (with its negative control, `use_goal_orientation: false`).
 
 use std::time::{Duration, Instant};
 
@@ -1306,5 +1307,38 @@ fn action_goal_with_a_yaw_succeeds_after_the_turn() {
     assert!(
         executing_near > 0,
         "succeeded as soon as within goal_tolerance"
+    );
+}
+
+/// On the floor plan of `/map` too (the other navigator): a diff base ends at the goal's yaw.
+#[test]
+fn differential_drive_on_a_floor_plan_finishes_at_the_goal_yaw() {
+    let room = grid(84, 64, 0.05, (-0.1, -0.1), |x, y| {
+        let wall = !(0.0..4.0).contains(&x) || !(0.0..3.0).contains(&y);
+        let bx = (1.6..2.4).contains(&x) && (1.0..2.0).contains(&y);
+        if wall || bx { 100 } else { 0 }
+    });
+    let params = Params {
+        base: harmonav_ros2::params::Base::Diff,
+        ..Params::default()
+    };
+    let mut bridge = Bridge::new(params.clone());
+    let mut sim = Sim::new(room.clone(), [0.6, 0.6]);
+    sim.diff = true;
+    bridge.on_tf(&laser_static(), sim.t, true);
+    bridge.on_map(&room);
+    let g = [3.4, 2.4];
+    bridge.on_goal(&goal_in("map", g[0], g[1], -3.0), sim.t);
+    let drive = drive_to(&mut sim, &mut bridge, g, 4000);
+    assert!(
+        wrap(sim.yaw + 3.0).abs() < GOAL_HEADING_TOLERANCE,
+        "yaw {}",
+        sim.yaw
+    );
+    assert!((sim.x[0] - g[0]).hypot(sim.x[1] - g[1]) < GOAL_ARRIVAL);
+    assert!(
+        drive.clearance > params.robot_radius,
+        "contact: {}",
+        drive.clearance
     );
 }
