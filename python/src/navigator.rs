@@ -927,6 +927,14 @@ impl Navigator {
         each!(&self.state(py).inner, nav => nav.k())
     }
 
+    /// The indices (among `obstacles`) of the obstacles that joined the workspace's boundary
+    /// or a floor plan's walls: furniture against a wall, whose gap to the wall is closed (on
+    /// a floor plan the harmonic map is solved again). Sorted; empty while none did.
+    #[getter]
+    fn joined(&self, py: Python<'_>) -> Vec<usize> {
+        each!(&self.state(py).inner, nav => nav.joined().to_vec())
+    }
+
     /// How many obstacles are known.
     #[getter]
     fn obstacle_count(&self, py: Python<'_>) -> usize {

@@ -200,3 +200,28 @@ def test_obstacles_lists_the_added_shapes_and_perceived_only_the_scanned():
     nav = harmonav.Navigator(harmonav.circle([0, 0], 10.0), goal=[8, 0])
     nav.add_obstacle(harmonav.circle([0, 3], 0.5))
     assert len(nav.obstacles) == 1 and nav.obstacles[0].contains([0, 3])
+
+
+def test_furniture_against_a_wall_joins_the_walls_and_the_loop_stays_clear():
+    """A table 0.1 m from the L room's south wall, on the straight path: the walls' own field
+    cannot take it (its band reaches the boundary layer), so it joins the walls (`joined`, the
+    harmonic map solved again) instead of being refused, and a Python loop past it arrives with
+    the robot's disc clear of the walls and the table (NumPy distances)."""
+    nav = l_room()
+    table = harmonav.circle([3.5, 0.5], 0.4)
+    assert nav.add_obstacle(table) == 0
+    assert nav.joined == [0] and nav.obstacle_count == 1
+    walls = edges(L_OUTER, L_PILLAR)
+    x, h = np.array([1.0, 5.4]), nav.control_period
+    closest = np.inf
+    for _ in range(6000):
+        x = x + h * nav.command(x)
+        closest = min(closest, distance(x, walls), np.linalg.norm(x - [3.5, 0.5]) - 0.4)
+        if np.linalg.norm(x - nav.goal) < 0.05:
+            break
+    assert np.linalg.norm(x - nav.goal) < 0.05, x
+    assert closest > RADIUS, closest
+    # The same table in the open joins nothing.
+    other = l_room()
+    other.add_obstacle(harmonav.circle([3.5, 1.0], 0.2))
+    assert other.joined == []

@@ -27,6 +27,8 @@
 //! Catalogue:
 //! - [`FloorMap`], [`FloorOptions`], typed [`FloorError`]: walls, `H`, `δ`, wall distances
 //!   (parry), the certificate;
+//! - [`FloorMap::carved`], [`enclosing_polygon`]: sensed furniture against the walls joins
+//!   them (a new solve of `H`);
 //! - [`FloorTransform`] (`nav_transform` → [`FloorMapped`], [`Part`], [`NotFree`]);
 //! - [`FloorField`]: `Θ`, `∇Θ`, the direction, `k`, the destination stiffness;
 //! - [`CertifiedArea`] ([`FloorField::certified_area`]): the fraction of the robot's reachable
@@ -62,6 +64,7 @@
 
 #![warn(missing_docs)]
 
+pub mod carve;
 pub mod census;
 pub mod compose;
 pub mod coverage;
@@ -72,6 +75,7 @@ pub mod ros_map;
 pub mod sector;
 pub mod theta;
 
+pub use carve::enclosing_polygon;
 pub use compose::{FloorMapped, FloorTransform, NotFree, Part};
 pub use coverage::{CertifiedArea, MAX_AREA_SAMPLES, area_cell};
 pub use geodesic::Geodesic;

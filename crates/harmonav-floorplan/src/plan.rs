@@ -66,6 +66,12 @@ pub enum FloorError {
     /// A point of the point world (a puncture, a sensed centre's or the goal's image) lies on
     /// or beyond the unit circle: a map that failed there.
     PointOnCircle,
+    /// Obstacles joined to the walls ([`FloorMap::carved`]) would leave `what` (`"goal"` or
+    /// `"robot"`) outside the free space that is left (behind them, or inside one).
+    CutOff {
+        /// What is cut off.
+        what: &'static str,
+    },
 }
 
 impl std::fmt::Display for FloorError {
@@ -110,6 +116,11 @@ impl std::fmt::Display for FloorError {
             Self::PointOnCircle => write!(
                 f,
                 "a point of the point world maps onto or beyond the unit circle"
+            ),
+            Self::CutOff { what } => write!(
+                f,
+                "a sensed obstacle reaches the walls and would join them, but the {what} would \
+                 then be cut off from the free space (behind the obstacle or in it)"
             ),
         }
     }
@@ -220,7 +231,7 @@ fn twice_area(ring: &[Vector2<f64>]) -> f64 {
 }
 
 /// The ring in the orientation `ccw` (reversed if it has the other one).
-fn oriented(mut ring: Vec<Vector2<f64>>, ccw: bool) -> Vec<Vector2<f64>> {
+pub(crate) fn oriented(mut ring: Vec<Vector2<f64>>, ccw: bool) -> Vec<Vector2<f64>> {
     if (twice_area(&ring) > 0.0) != ccw {
         ring.reverse();
     }
@@ -261,7 +272,7 @@ pub struct FloorMap {
 }
 
 /// The rings of a domain, outer first.
-fn rings(d: &Domain) -> impl Iterator<Item = &[Vector2<f64>]> {
+pub(crate) fn rings(d: &Domain) -> impl Iterator<Item = &[Vector2<f64>]> {
     std::iter::once(d.outer()).chain(d.holes().iter().map(Vec::as_slice))
 }
 
@@ -481,9 +492,23 @@ impl FloorMap {
         } else {
             truth.clone()
         };
-        let map = HarmonicMap::new(&domain, &MeshOptions::graded(h))?;
+        Self::solved(truth, &domain, delta, shrink, c, options.centre)
+    }
+
+    /// The floor whose true walls are `truth` and whose shrunk free space `W_s` is `domain`
+    /// (`truth` shrunk by `shrink`, less any cut, [`FloorMap::carved`]): `H` meshed at `δ` and
+    /// solved on `domain`, the edge of the certified region and its images.
+    pub(crate) fn solved(
+        truth: Domain,
+        domain: &Domain,
+        delta: f64,
+        shrink: f64,
+        clearance: f64,
+        centre: CentrePolicy,
+    ) -> Result<Self, FloorError> {
+        let map = HarmonicMap::new(domain, &MeshOptions::graded(delta))?;
         let walls = polyline(&truth);
-        let boundary = polyline(&domain);
+        let boundary = polyline(domain);
         let edge = layer_edge(map.domain(), &boundary, delta, false);
         // Over every ring: near a hole the layer maps next to its puncture (the U's pocket
         // squeezes it to 2e-4), which widens S's band to MAX_BAND. Measured: taking r_δ along
@@ -499,10 +524,10 @@ impl FloorMap {
             boundary,
             delta,
             shrink,
-            clearance: c,
+            clearance,
             edge,
             edge_images,
-            centre: options.centre,
+            centre,
         })
     }
 
@@ -581,6 +606,32 @@ impl FloorMap {
     #[must_use]
     pub fn shrink(&self) -> f64 {
         self.shrink
+    }
+
+    /// `v` moved onto `∂W_s` when it lies within `snap` of it: onto the nearer end of the
+    /// nearest edge when that is within `snap` too, else onto the edge; `v` otherwise.
+    /// ([`FloorMap::carved`]: geo's polygon difference rounds its vertices to about 1e-9 of the
+    /// plan's size, which would move walls outwards.)
+    pub(crate) fn snapped(&self, v: Vector2<f64>, snap: f64) -> Vector2<f64> {
+        let (proj, _) = self
+            .boundary
+            .project_local_point_and_get_feature(PVector::new(v.x, v.y));
+        let on = Vector2::new(proj.point.x, proj.point.y);
+        let gap = (on - v).norm();
+        if gap.is_nan() || gap > snap {
+            return v;
+        }
+        let edge = self.boundary.segment(proj.subshape);
+        [edge.a, edge.b]
+            .iter()
+            .map(|p| Vector2::new(p.x, p.y))
+            .find(|p| (p - v).norm() <= snap)
+            .unwrap_or(on)
+    }
+
+    /// The clearance the floor was asked to keep (`radius + margin`, [`FloorOptions::new`]).
+    pub(crate) fn clearance_asked(&self) -> f64 {
+        self.clearance
     }
 
     /// `true` when `radius + margin < δ`: the robot keeps the larger `δ` from the walls (the

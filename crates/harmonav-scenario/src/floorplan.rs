@@ -811,14 +811,17 @@ impl FloorScenario {
             ));
         }
         for (i, o) in obstacles.iter().enumerate() {
-            // The grown shape lies within radius + margin of the true one (FloorMap::star_room).
-            if floor.star_room(o) <= r.radius + r.margin {
+            // Furniture near or against a wall joins the walls when sensed (FloorMap::carved);
+            // one whose centre is not in the free space is not furniture of this room.
+            if !floor.walls().contains(o.centre()) {
+                let c = o.centre();
                 return Err(f(
                     &format!("obstacles[{i}]"),
                     format!(
-                        "grown by radius + margin, it reaches within δ = {delta:.4} m of the \
-                         walls shrunk by the robot (sensed obstacles must lie inside the \
-                         certified region)"
+                        "its centre ({}, {}) is not in the floor plan's free space (inside a \
+                         wall or outside the outer ring)",
+                        Shown(c.x),
+                        Shown(c.y)
                     ),
                 ));
             }

@@ -597,6 +597,14 @@ impl StarShape {
             .collect()
     }
 
+    /// Whether `other` is this very shape: a clone of it (or both of one original), which
+    /// share their certified outline. Shapes built apart are never the same, even when equal
+    /// (a cheap test of "unchanged", for a caller that keeps what it built from a shape).
+    #[must_use]
+    pub fn is_clone_of(&self, other: &StarShape) -> bool {
+        Arc::ptr_eq(&self.outline, &other.outline)
+    }
+
     /// The centre about which the shape is star-shaped (the obstacle's point `P_i`).
     pub fn centre(&self) -> Vector2<f64> {
         self.centre

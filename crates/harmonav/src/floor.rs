@@ -17,7 +17,9 @@ use crate::certified::{self, Band};
 use crate::controller::{Controller, Evaluation, moving_along, recovering};
 use crate::error::NavError;
 use crate::event::ScanEvent;
+use crate::floor_joined::FloorJoined;
 use crate::hold::{self, Command, Mode};
+use crate::joined::Known;
 use crate::options::{HoldPolicy, Options};
 use crate::scanning::ScanState;
 use crate::space::Space;
@@ -79,6 +81,9 @@ pub struct FloorWorld {
     pub(crate) escapes: usize,
     /// The point the robot has stayed within `δ/4` of, and for how many periods.
     pub(crate) anchor: Option<(Vector2<f64>, usize)>,
+    /// The obstacles that joined the walls, and the floor before they did
+    /// ([`crate::floor_joined`]).
+    pub(crate) joined: FloorJoined,
 }
 
 /// A floor navigator's step: the escape after the command and the point the robot stays near.
@@ -130,8 +135,10 @@ impl Build for Arc<FloorMap> {
             .map_err(|e| NavError::Perception(PerceptionError::Walls(e)))?;
         let walls = Arc::new(walls);
         let scan = ScanState::in_walls(walls.clone(), &options.scan, options.rho_min, inflation)?;
+        let joined = FloorJoined::new(field.floor().clone());
         let world = FloorWorld {
             field,
+            joined,
             walls,
             escape: None,
             early_level: None,
@@ -156,7 +163,9 @@ impl Rules for FloorWorld {
     /// of the walls, [`NavError::BoundaryLayer`].
     fn eval(&self, x: Vector2<f64>, options: &Options) -> Result<FieldEval, NavError> {
         self.field.eval(x).map_err(|e| match e {
-            FieldError::InObstacle { obstacle } => NavError::InObstacle { obstacle },
+            FieldError::InObstacle { obstacle } => NavError::InObstacle {
+                obstacle: self.joined.navigator_index(obstacle),
+            },
             FieldError::NotFinite => NavError::NotFinite { what: "position" },
             _ => match self.field.locate(x) {
                 Some(NotFree::BoundaryLayer)
@@ -170,27 +179,69 @@ impl Rules for FloorWorld {
     }
 
     fn known(&self) -> Cow<'_, [StarShape]> {
-        Cow::Owned(self.field.transform().obstacles().cloned().collect())
+        match self.joined.all() {
+            Some(all) => Cow::Borrowed(all),
+            None => Cow::Owned(self.field.transform().obstacles().cloned().collect()),
+        }
     }
 
     fn k(&self) -> f64 {
         self.field.k()
     }
 
-    /// `k`, `B` and the point world update, `H` is reused (no new solve).
-    fn admit(&mut self, grown: StarShape, _: Added<'_>, _: &Options) -> Result<usize, NavError> {
-        self.field = self.field.with_obstacle(grown).map_err(NavError::Floor)?;
-        Ok(self.field.transform().obstacles().count() - 1)
+    fn joined(&self) -> &[usize] {
+        &self.joined.indices
+    }
+
+    /// `k`, `B` and the point world update, `H` is reused (no new solve); an obstacle that
+    /// reaches the boundary layer joins the walls ([`crate::floor_joined`]: `H` is solved
+    /// again).
+    fn admit(
+        &mut self,
+        grown: StarShape,
+        added: Added<'_>,
+        options: &Options,
+    ) -> Result<usize, NavError> {
+        let mut all = self.known().into_owned();
+        let index = all.len();
+        if !self.joined.any() {
+            match self.field.with_obstacle(grown.clone()) {
+                Ok(field) => {
+                    self.field = field;
+                    return Ok(index);
+                }
+                Err(FloorError::ObstacleNearWall { .. }) => {}
+                Err(e) => return Err(NavError::Floor(e)),
+            }
+        }
+        all.push(grown);
+        let mut bodies = added.bodies.to_vec();
+        bodies.extend(added.body.cloned());
+        let known = Known {
+            grown: &all,
+            bodies: &bodies,
+            joined: self.joined.indices.clone(),
+            robot: added.robot,
+        };
+        self.rebuild(known, options)?;
+        Ok(index)
     }
 
     /// Every new or grown shape is handed to the field as a sensed obstacle
-    /// ([`FloorField::with_sensed`]: `k` and `B` update, `H` is reused).
-    fn sensed(&mut self, event: &ScanEvent, _: &Options) -> Result<(), NavError> {
-        self.field = self
-            .field
-            .with_sensed(&event.obstacles)
-            .map_err(NavError::Floor)?;
-        Ok(())
+    /// ([`FloorField::with_sensed`]: `k` and `B` update, `H` is reused); one that reaches the
+    /// boundary layer joins the walls ([`crate::floor_joined`]: `H` is solved again).
+    fn sensed(&mut self, event: &ScanEvent, options: &Options) -> Result<(), NavError> {
+        // The obstacles that joined before and are kept, in the event's order.
+        let joined = (0..event.keep.len())
+            .filter(|&j| self.joined.indices.binary_search(&event.keep[j]).is_ok())
+            .collect();
+        let known = Known {
+            grown: &event.obstacles,
+            bodies: &event.inner,
+            joined,
+            robot: Some(event.robot),
+        };
+        self.rebuild(known, options)
     }
 
     /// The escapes (`phi_k` changes with `k` and the point world: the levels before and after
@@ -228,6 +279,18 @@ impl Rules for FloorWorld {
             world.early_level = Some(e.level);
         }
         world.escape = escape;
+    }
+}
+
+impl FloorWorld {
+    /// Takes the field `known` gives, with the obstacles that reach the boundary layer joined
+    /// to the walls ([`FloorJoined::rebuild`]); unchanged on error.
+    fn rebuild(&mut self, known: Known<'_>, options: &Options) -> Result<(), NavError> {
+        let overlap = |first, second| NavError::Floor(FloorError::Overlap { first, second });
+        let (field, joined) = self.joined.rebuild(&self.field, known, options, overlap)?;
+        self.field = field;
+        self.joined = joined;
+        Ok(())
     }
 }
 
@@ -354,12 +417,13 @@ impl Floor<'_> {
         })
     }
 
-    /// The way out of sensed obstacle `i`'s margin band, as [`crate::Navigator`]'s: along the
+    /// The way out of the margin band of the navigator's obstacle `j` (the field's `i`), as [`crate::Navigator`]'s: along the
     /// ray from its centre to the grown shape's edge, plus half the edge's clearance from
     /// everything else (at most half the margin).
-    fn recover(&self, x: Vector2<f64>, v: Vector2<f64>, i: usize) -> Result<Command, NavError> {
-        let error = NavError::InObstacle { obstacle: i };
-        let Some(inner) = self.core.inner.get(i) else {
+    fn recover(&self, x: Vector2<f64>, v: Vector2<f64>, j: usize) -> Result<Command, NavError> {
+        let error = NavError::InObstacle { obstacle: j };
+        let (Some(inner), Some(i)) = (self.core.inner.get(j), self.world.joined.field_index(j))
+        else {
             return Err(error);
         };
         if inner.contains(x) {
@@ -399,8 +463,9 @@ impl Floor<'_> {
     /// walls): along `−n`, `n` the unit vector to the nearest point of `∂W_s`, for
     /// `δ − sd(x) + δ/4` (a quarter of `δ` into `W_δ`), halved until the segment is certified:
     /// `sd` grows along it and, by the 1-Lipschitz chord bound `c ≥ (c(x) + c(y) − L)/2`, it
-    /// keeps the disc clear of the true walls (`c` the wall distance less the radius) and the
-    /// sensed obstacles grown by `radius + margin` (their certified distances). Held for the
+    /// keeps the disc clear of the true walls (`c` the wall distance less the radius), the
+    /// sensed obstacles grown by `radius + margin` (their certified distances) and the bodies
+    /// of the obstacles joined to the walls ([`FloorJoined::body_clearance`]). Held for the
     /// period, the command moves along a prefix of that segment (its speed capped as a band's
     /// recovery is). [`NavError::BoundaryLayer`] if no halving certifies.
     fn leave_layer(&self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Command, NavError> {
@@ -415,13 +480,15 @@ impl Floor<'_> {
                 .field
                 .clearance(z, f64::INFINITY, Some(Band::Boundary))
         };
-        let (w0, s0) = (walls(x), sensed(x));
+        let joined = |z: Vector2<f64>| self.world.joined.body_clearance(z);
+        let (w0, s0, j0) = (walls(x), sensed(x), joined(x));
         let mut length = delta - sd + 0.25 * delta;
         for _ in 0..=hold::MAX_HALVINGS {
             let y = x + length * dir;
             if floor.signed_distance(y) > sd
                 && w0 + walls(y) - length > 0.0
                 && s0 + sensed(y) - length > 0.0
+                && j0 + joined(y) - length > 0.0
             {
                 return Ok(recovering(
                     &self.core.controller,

@@ -200,7 +200,7 @@ impl Joined {
 
 /// The navigator's index of the field's obstacle `i` when the navigator's obstacles `joined`
 /// (sorted) joined the boundary: the `i`-th index not among them.
-fn navigator_index(joined: &[usize], i: usize) -> usize {
+pub(crate) fn navigator_index(joined: &[usize], i: usize) -> usize {
     let mut j = i;
     for &k in joined {
         if k <= j {

@@ -57,6 +57,7 @@ mod diff;
 mod error;
 mod event;
 mod floor;
+mod floor_joined;
 mod hold;
 mod joined;
 mod law;

@@ -130,20 +130,23 @@ impl<W: World> Navigator<W> {
     /// Adds an obstacle that the robot's perception has just found (its true shape; it is grown
     /// by `radius + margin` here). `k`, `Phi` and the dynamic law's discovery state (`|ẋ(T_n)|`,
     /// the speed of the last commanded state) update (on a floor plan `B` and the point world;
-    /// `H` is reused, no new solve). Returns its index. Allocates (with
-    /// [`Navigator::observe_scan`], the only calls that do).
+    /// `H` is reused, no new solve, unless the shape joins the walls). Returns its index.
+    /// Allocates (with [`Navigator::observe_scan`], the only calls that do).
     ///
     /// A shape found late, whose margin band already holds the robot, is accepted: the next
     /// [`Navigator::command`] leads out of the band ([`Mode::Recovering`](crate::Mode::Recovering)).
     ///
     /// In a star world, a shape that reaches the boundary once grown (furniture against a
     /// wall) joins it: the field's boundary is cut around it and its shadow as seen from the
-    /// boundary's centre (`docs/maths/12-range-scans.md` §12.21); the indices stay.
+    /// boundary's centre (`docs/maths/12-range-scans.md` §12.21); on a floor plan, a shape
+    /// whose band reaches the boundary layer joins the walls (`H` solved again without it and
+    /// its gap, §12.22). The indices stay; [`Navigator::joined`] lists the joined ones.
     ///
     /// Errors (the navigator is then unchanged): the grown shape overlaps a known obstacle,
     /// reaches the boundary and cannot join it ([`NavError::CrossesBoundary`]; on a floor
-    /// plan: reaches the boundary layer, [`NavError::Floor`]), or contains the goal; the shape grown by `radius` alone contains
-    /// the robot's last commanded position; the shape cannot be grown.
+    /// plan [`NavError::Floor`], e.g. `CutOff` when the goal or the robot would be behind it),
+    /// or contains the goal; the shape grown by `radius` alone contains the robot's last
+    /// commanded position; the shape cannot be grown.
     pub fn add_obstacle(&mut self, shape: StarShape) -> Result<usize, NavError> {
         let (grown, inner) = self
             .core
@@ -367,6 +370,22 @@ impl<W: World> Navigator<W> {
     /// a [`harmonav_floorplan::FloorField`] on a floor plan.
     pub fn field(&self) -> &W::Field {
         self.world.field()
+    }
+
+    /// Every known obstacle, grown by `radius + margin`, in the navigator's order (the indices
+    /// of [`Navigator::add_obstacle`] and [`Navigator::perceived`]), those joined to the
+    /// boundary or walls included. A star world's `obstacles` borrows the same list.
+    pub fn known_obstacles(&self) -> std::borrow::Cow<'_, [StarShape]> {
+        self.world.known()
+    }
+
+    /// The indices of the known obstacles (as [`Navigator::add_obstacle`] returned them, or
+    /// [`Navigator::perceived`] gives them) that joined the workspace's boundary (a star world,
+    /// `docs/maths/12-range-scans.md` §12.21) or a floor plan's walls (`H` solved again,
+    /// §12.22): furniture against a wall, whose gap to the wall is closed. Sorted; empty while
+    /// none did.
+    pub fn joined(&self) -> &[usize] {
+        self.world.joined()
     }
 
     /// `k` of `phi_k` for the known obstacles (on a floor plan: the holes and the sensed

@@ -65,11 +65,12 @@ impl<W: World> Navigator<W> {
     ///
     /// On a floor plan hits within `max(ε, ε_g)` of the true walls (or nearer them than
     /// `g_w − ε` under the wall prior) are explained, fits are kept out of the walls (and `g_w`
-    /// from them), and a changed shape must lie in the certified region with its growth
-    /// ([`crate::FloorError::ObstacleNearWall`], decided by [`crate::FloorMap::star_room`]): a
-    /// fit grown by `radius + margin` that comes within `δ` of the walls shrunk by the robot
-    /// cannot be taken by the harmonic map's construction, whose holes are solved once
-    /// (`docs/maths.md` §12.17). A sensor outside the walls is [`NavError::Perception`].
+    /// from them). A changed shape that does not lie in the certified region with its growth
+    /// (decided by [`crate::FloorMap::star_room`], `docs/maths.md` §12.17) joins the walls
+    /// ([`crate::FloorMap::carved`], §12.22): `H` is solved again without it and its gap to the
+    /// wall, and [`Navigator::joined`] lists it; a join that would cut off the goal or the
+    /// robot is [`crate::FloorError::CutOff`]. A sensor outside the walls is
+    /// [`NavError::Perception`].
     ///
     /// A refused scan changes nothing in `Θ` or the perception; what it saw is not certified
     /// against, so every [`Navigator::command`] after it halts the robot

@@ -127,6 +127,10 @@ impl Rules for StarWorld {
         self.field.k()
     }
 
+    fn joined(&self) -> &[usize] {
+        &self.joined.indices
+    }
+
     /// In place, validated before anything changes (`Field::push_obstacle`); an obstacle that
     /// reaches the boundary joins it ([`Joined::rebuild`]).
     fn admit(

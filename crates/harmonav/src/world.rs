@@ -129,6 +129,9 @@ pub trait Rules: Sized {
     fn known(&self) -> Cow<'_, [StarShape]>;
     /// `k` of `phi_k`.
     fn k(&self) -> f64;
+    /// The navigator's indices of the known obstacles that joined the boundary or the walls
+    /// (furniture against a wall), sorted.
+    fn joined(&self) -> &[usize];
     /// Admits the grown obstacle `grown` (validated before anything changes); its index.
     ///
     /// # Errors

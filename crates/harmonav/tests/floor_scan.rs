@@ -7,12 +7,14 @@
 use std::sync::Arc;
 
 use harmonav::checks::lidar::{shrunk, uncovered};
+use harmonav::field::KPolicy;
+use harmonav::floorplan::FloorField;
 use harmonav::perception::sim::{Enclosure, Lidar};
 use harmonav::perception::{PerceptionError, Walls};
 use harmonav::transform::random::Rng;
 use harmonav::{
-    FloorMap, FloorNavigator, FloorOptions, Law, NavError, Options, Pose, ScanOptions, StarShape,
-    Vector2,
+    FloorError, FloorMap, FloorNavigator, FloorOptions, Law, NavError, Options, Pose, ScanOptions,
+    StarShape, Vector2,
 };
 
 fn v(x: f64, y: f64) -> Vector2<f64> {
@@ -79,13 +81,28 @@ struct Flight {
     shrunk: usize,
     /// Perceived shapes at the end.
     perceived: usize,
+    /// The obstacles that joined the walls.
+    joined: Vec<usize>,
+    /// Of those, how many the walls' own field refuses (`ObstacleNearWall`).
+    refused_alone: usize,
     error: Option<NavError>,
 }
 
 /// The user's loop at 100 Hz with a scan every 0.1 s from `start` to `goal`.
 fn fly(start: Vector2<f64>, goal: Vector2<f64>, depth: f64, noise: f64, seed: u64) -> Flight {
+    fly_among(&furniture(), start, goal, depth, noise, seed)
+}
+
+/// [`fly`] among the furniture `truth`.
+fn fly_among(
+    truth: &[StarShape],
+    start: Vector2<f64>,
+    goal: Vector2<f64>,
+    depth: f64,
+    noise: f64,
+    seed: u64,
+) -> Flight {
     let (floor, walls) = room();
-    let truth = furniture();
     let law = Law::kinematic(1.0);
     let mut nav = FloorNavigator::new(floor, goal, law, options(depth, noise)).unwrap();
     let mut rng = Rng::new(seed);
@@ -109,13 +126,13 @@ fn fly(start: Vector2<f64>, goal: Vector2<f64>, depth: f64, noise: f64, seed: u6
         }
         if step % 10 == 0 {
             let pose = Pose::new(x.x, x.y, 0.0);
-            let scan = lidar().scan_in(&pose, &truth, Enclosure::Walls(&walls), &mut rng);
+            let scan = lidar().scan_in(&pose, truth, Enclosure::Walls(&walls), &mut rng);
             match nav.observe_scan(pose, &scan) {
                 Ok(u) if u.changed() => {
                     f.events += 1;
                     let now: Vec<StarShape> =
                         nav.perceived().map(|(_, p)| p.shape().clone()).collect();
-                    f.uncovered += uncovered(&truth, &now);
+                    f.uncovered += uncovered(truth, &now);
                     f.shrunk += shrunk(&previous, &now);
                     previous = now;
                 }
@@ -140,6 +157,21 @@ fn fly(start: Vector2<f64>, goal: Vector2<f64>, depth: f64, noise: f64, seed: u6
         x = next;
     }
     f.perceived = nav.perceived().count();
+    f.joined = nav.joined().to_vec();
+    // Each joined obstacle, offered to the walls' field as it stood before (no join), is
+    // refused: without the join its scan was refused.
+    let (floor, _) = room();
+    let bare = FloorField::new(floor, goal, KPolicy::default()).unwrap();
+    f.refused_alone = f
+        .joined
+        .iter()
+        .filter(|&&j| {
+            matches!(
+                bare.with_obstacle(nav.known_obstacles()[j].clone()),
+                Err(FloorError::ObstacleNearWall { .. })
+            )
+        })
+        .count();
     f
 }
 
@@ -175,6 +207,52 @@ fn the_floor_lidar_loop_is_safe_and_its_check_fails_when_the_noise_bound_is_wron
         control > 0,
         "a zero noise bound against 1 cm of noise went unnoticed"
     );
+}
+
+/// Furniture as rooms have it (issue 52): a sideboard 0.15 m from the south wall, a cabinet
+/// 0.2 m from the east wall, a plant 0.25 m from both walls of a corner, a chair 0.15 m below
+/// the pillar, and the table in the open.
+fn furnished() -> Vec<StarShape> {
+    let block = |a: Vector2<f64>, b: Vector2<f64>| {
+        StarShape::rounded_polygon(&[a, v(b.x, a.y), b, v(a.x, b.y)], 0.05).unwrap()
+    };
+    vec![
+        block(v(3.0, 0.15), v(4.6, 0.6)),
+        block(v(9.2, 1.5), v(9.8, 2.5)),
+        StarShape::circle(v(0.5, 5.5), 0.25).unwrap(),
+        StarShape::circle(v(5.0, 3.45), 0.2).unwrap(),
+        StarShape::circle(v(2.5, 2.0), 0.3).unwrap(),
+    ]
+}
+
+/// Furniture within 0.3 m of the walls, seen by the lidar alone: every scan is accepted, the
+/// pieces near a wall join the walls (`H` solved again), and every flight arrives with the
+/// robot's disc clear of the true walls and furniture along every step, every piece it met
+/// contained. The control: each joined obstacle is refused by the walls' own field
+/// (`ObstacleNearWall`), which before 2026-12-06 refused the scan and halted the robot.
+#[test]
+fn furniture_near_the_walls_joins_them_and_every_scan_is_accepted() {
+    let trips = [
+        (v(0.8, 0.8), v(9.2, 5.2)),
+        (v(9.2, 0.8), v(1.0, 5.2)),
+        (v(5.0, 2.2), v(0.9, 4.6)),
+    ];
+    let (mut joined, mut refused) = (0, 0);
+    for (start, goal) in trips {
+        for seed in 0..2 {
+            let f = fly_among(&furnished(), start, goal, 1.7, 0.01, seed);
+            assert!(
+                f.error.is_none() && f.reached,
+                "{start:?} seed {seed}: {f:?}"
+            );
+            assert!(f.swept > 0.0, "{f:?}");
+            assert_eq!((f.uncovered, f.shrunk), (0, 0), "{f:?}");
+            joined += f.joined.len();
+            refused += f.refused_alone;
+        }
+    }
+    assert!(joined >= 6, "{joined} joined");
+    assert_eq!(refused, joined);
 }
 
 /// Hits on the walls are explained (a scan of the bare room changes nothing, from anywhere),
