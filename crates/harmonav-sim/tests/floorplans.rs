@@ -177,11 +177,18 @@ fn bad_floor_plans_name_the_file_field_and_problem() {
         "robot.radius",
         "in [0, 1e9] m",
     );
+    // Furniture against a wall loads (it joins the walls when sensed, docs/maths.md §12.22);
+    // one whose centre is in a wall or outside is named.
     let obstacle = "\n[[obstacles]]\ntype = \"circle\"\ncenter = [0.3, 2.0]\nradius = 0.2\n";
+    let path = Path::new("bad.toml");
+    let text = format!("{}{obstacle}", good(square, robot));
+    let loaded = FloorScenario::parse(path, &text).and_then(|s| s.prepare(path));
+    assert!(loaded.is_ok(), "{:?}", loaded.err());
+    let outside = "\n[[obstacles]]\ntype = \"circle\"\ncenter = [-0.3, 2.0]\nradius = 0.2\n";
     check(
-        &format!("{}{obstacle}", good(square, robot)),
+        &format!("{}{outside}", good(square, robot)),
         "obstacles[0]",
-        "within δ",
+        "not in the floor plan's free space",
     );
     // An unknown key names its line.
     let e = FloorScenario::parse(
