@@ -7,8 +7,8 @@ use std::sync::{Arc, Mutex};
 
 use harmonav_rs::Vector2;
 use harmonav_rs::{
-    Base, FloorMap, FloorNavigator as RsFloorNavigator, LaserScan, Law, Mode, Mover as RsMover,
-    MoverKind, NavError, Navigator as RsNavigator, Options, Pose, PoseCommand,
+    Base, EscapeMemory, FloorMap, FloorNavigator as RsFloorNavigator, LaserScan, Law, Mode,
+    Mover as RsMover, MoverKind, NavError, Navigator as RsNavigator, Options, Pose, PoseCommand,
     ScanUpdate as RsScanUpdate, Steer,
 };
 use numpy::PyArray1;
@@ -172,6 +172,9 @@ enum Event {
     /// `observe_scan(...)` that was refused: the navigator halts until a scan is accepted
     /// (`Mode::Halted`), so a copy must too; replayed, it must be refused again.
     Refused(Box<(Pose, LaserScan)>),
+    /// A floor navigator's escape memory (`FloorNavigator::escape_memory`), which replaying
+    /// the calls does not rebuild: pickle puts it first, and it is taken back after every call.
+    Escapes(EscapeMemory),
 }
 
 /// The calls that made a navigator's state since construction, which pickle replays: every
@@ -183,7 +186,8 @@ enum Event {
 /// command and the deadlock rule's memory (KeepRight: how long the robot has been held slow,
 /// how long it still turns; docs/movers.md §7): this log determines them all (a scan that
 /// changed nothing is not kept, and with it the free space it showed, which later fits leave
-/// out). `FloorNavigator` also remembers the hold's escapes, which the log does not determine.
+/// out). `FloorNavigator` also remembers the hold's escapes, which the log does not determine:
+/// pickle stores them apart (`("escapes", …)`, `FloorNavigator::escape_memory`).
 ///
 /// Why the filter's commands are kept: KeepRight's memory is private to the Rust navigator
 /// and changes only at commands the filter changed (or turned: the filter then changes them
@@ -336,6 +340,7 @@ impl Log {
                     Event::Command(x, v) => ("command", *x, *v).into_pyobject(py),
                     Event::Pose(x, yaw) => ("pose", *x, *yaw).into_pyobject(py),
                     Event::GoalHeading(yaw) => ("goal-heading", *yaw).into_pyobject(py),
+                    Event::Escapes(m) => escapes_entry(py, m),
                     Event::Movers(movers) => {
                         let movers = movers
                             .iter()
@@ -548,6 +553,7 @@ impl State {
     /// it did (a refused scan must be refused again).
     fn replay(&mut self, events: Vec<Event>) -> PyResult<()> {
         let class = self.class();
+        let mut escapes = None;
         for (i, e) in events.into_iter().enumerate() {
             let replayed = match e {
                 Event::Add(shape) => self.add(&shape).map(drop),
@@ -573,8 +579,22 @@ impl State {
                     }
                     Ok(())
                 }
+                Event::Escapes(memory) => {
+                    if matches!(self.inner, Inner::Star(_)) {
+                        return Err(value_error(format!(
+                            "{class} state, entry {i}: a star world's navigator has no escapes"
+                        )));
+                    }
+                    escapes = Some((i, memory));
+                    Ok(())
+                }
             };
             replayed.map_err(|e| value_error(format!("{class} state, entry {i}: {e}")))?;
+        }
+        // The escape memory after every call: the calls' own commands leave one of their own.
+        if let (Some((i, memory)), Inner::Floor(nav)) = (escapes, &mut self.inner) {
+            nav.set_escape_memory(memory)
+                .map_err(|e| value_error(format!("{class} state, entry {i}: {e}")))?;
         }
         Ok(())
     }
@@ -614,14 +634,38 @@ impl Navigator {
     }
 }
 
+/// A floor navigator's escape memory as pickle stores it: `("escapes", level or None, early,
+/// early_level or None, count, [x, y] or None, periods)`.
+fn escapes_entry<'py>(py: Python<'py>, m: &EscapeMemory) -> PyResult<Bound<'py, PyTuple>> {
+    let (level, early) = match m.escape {
+        Some((level, early)) => (Some(level), early),
+        None => (None, false),
+    };
+    let (anchor, periods) = match m.anchor {
+        Some((a, n)) => (Some([a.x, a.y]), n),
+        None => (None, 0),
+    };
+    (
+        "escapes",
+        level,
+        early,
+        m.early_level,
+        m.escapes,
+        anchor,
+        periods,
+    )
+        .into_pyobject(py)
+}
+
 /// One entry of a pickled state of a `class` navigator, parsed.
 fn event(entry: &Bound<'_, PyAny>, i: usize, class: &str) -> PyResult<Event> {
     let bad = |problem: String| {
         PyTypeError::new_err(format!(
             "{class} state, entry {i}: {problem}; expected (\"add\", Shape), \
              (\"command\", [x, y], [vx, vy]), (\"pose\", [x, y], yaw), (\"movers\", \
-             [Mover, …]), (\"goal-heading\", yaw or None) or (\"scan\", [x, y, yaw], ranges, [angle_min, angle_increment, \
-             range_min, range_max])"
+             [Mover, …]), (\"goal-heading\", yaw or None), (\"scan\", [x, y, yaw], ranges, [angle_min, angle_increment, \
+             range_min, range_max]) or (\"escapes\", level or None, early, early_level or None, \
+             count, [x, y] or None, periods)"
         ))
     };
     let parts = entry
@@ -649,6 +693,25 @@ fn event(entry: &Bound<'_, PyAny>, i: usize, class: &str) -> PyResult<Event> {
             Ok(Event::Pose([x.x, x.y], yaw))
         }
         ("movers", [_, movers]) => Ok(Event::Movers(movers_from(movers)?)),
+        ("escapes", [_, level, early, early_level, count, anchor, periods]) => {
+            let get = |e: PyErr| bad(e.to_string());
+            let escape = match level.extract::<Option<f64>>().map_err(get)? {
+                Some(level) => Some((level, early.extract::<bool>().map_err(get)?)),
+                None => None,
+            };
+            let anchor = match anchor.extract::<Option<[f64; 2]>>().map_err(get)? {
+                Some([x, y]) => {
+                    Some((Vector2::new(x, y), periods.extract::<usize>().map_err(get)?))
+                }
+                None => None,
+            };
+            Ok(Event::Escapes(EscapeMemory {
+                escape,
+                early_level: early_level.extract::<Option<f64>>().map_err(get)?,
+                escapes: count.extract::<usize>().map_err(get)?,
+                anchor,
+            }))
+        }
         ("goal-heading", [_, yaw]) => Ok(Event::GoalHeading(
             yaw.extract::<Option<f64>>()
                 .map_err(|e| bad(e.to_string()))?,
@@ -990,15 +1053,21 @@ impl Navigator {
     /// state)`, the true walls as rings however it was made (from rings or from a map), the
     /// map solved again on unpickling (from the same rings: the same map). The state is the
     /// list of calls that made it (`("add", shape)`, `("command", x, v)`, `("pose", x, yaw)`,
-    /// `("movers", [Mover, …])`, `("scan", …)`), replayed by `__setstate__`.
+    /// `("movers", [Mover, …])`, `("scan", …)`), replayed by `__setstate__`, and on a floor
+    /// plan its escape memory first (`("escapes", …)`, taken back after every call), which the
+    /// calls do not determine.
     fn __reduce__<'py>(
         slf: &Bound<'py, Self>,
     ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>, Bound<'py, PyList>)> {
         let py = slf.py();
         // Copied out under the lock, turned into Python objects after it.
-        let (built, log) = {
+        let (built, log, escapes) = {
             let s = slf.get().state(py);
-            (s.built.clone(), s.log.clone())
+            let escapes = match &s.inner {
+                Inner::Floor(nav) => Some(nav.escape_memory()),
+                Inner::Star(_) => None,
+            };
+            (s.built.clone(), s.log.clone(), escapes)
         };
         let goal = [built.goal.x, built.goal.y];
         let class = slf.get_type().into_any();
@@ -1027,7 +1096,11 @@ impl Navigator {
                 )
             }
         };
-        Ok((call, args, log.to_python(py)?))
+        let state = log.to_python(py)?;
+        if let Some(m) = escapes {
+            state.insert(0, escapes_entry(py, &m)?)?;
+        }
+        Ok((call, args, state))
     }
 
     /// Restores a pickled state: the navigator as constructed (a floor plan's on the same map,

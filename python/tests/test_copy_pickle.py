@@ -240,10 +240,10 @@ def test_a_floor_navigator_pickle_holds_its_walls_and_keywords():
     assert partial.keywords["speed"] == "paper" and partial.keywords["v_max"] == 0.5
     outer, goal, holes = args
     assert len(outer) == len(ROOM) and len(holes) == 1 and list(goal) == [5.4, 1.0]
-    assert [e[0] for e in state] == ["command", "add", "command"]
+    assert [e[0] for e in state] == ["escapes", "command", "add", "command"]
     # The state replays on the navigator as it is, and a corrupt one changes nothing.
     k = nav.k
-    with pytest.raises(ValueError, match="FloorNavigator state, entry 3"):
+    with pytest.raises(ValueError, match="FloorNavigator state, entry 4"):
         nav.__setstate__(state + [("add", harmonav.circle([5.4, 1.0], 0.3))])
     with pytest.raises(TypeError, match="FloorNavigator state, entry 0"):
         nav.__setstate__([("teleport", [0, 0])])

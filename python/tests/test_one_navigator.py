@@ -112,6 +112,33 @@ def test_a_pickled_floor_navigator_drives_the_same_path_bit_for_bit():
     assert partial.keywords["sensor"] == (1.5, 90.0) and partial.keywords["rho_min"] == 0.08
 
 
+def test_a_floor_navigator_pickled_during_an_escape_goes_on_escaping_bit_for_bit():
+    """Issue 51: a floor navigator pickled while an escape is under way (the long L room, whose
+    corner holds the law at a rest point of its slide) commands every later step exactly as
+    the original, its escape memory (the escape, its levels, the count and the point it stays
+    near) taken back after every call. The control: the same calls with another memory (none
+    under way, and the last escape against the law begun far above, so that none may begin)
+    command otherwise."""
+    outer = np.array([[0.0, 0.0], [6.0, 0.0], [6.0, 2.0], [2.0, 2.0], [2.0, 6.0], [0.0, 6.0]])
+    nav = harmonav.FloorNavigator(outer, [5.4, 1.0], radius=0.1, margin=0.1, max_element=0.1)
+    x = np.array([1.0, 5.4])
+    for _ in range(20000):
+        x = x + nav.control_period * nav.command(x)
+        if nav.mode == "escaping":
+            break
+    assert nav.mode == "escaping" and nav.escapes >= 1, (x, nav.mode)
+    call, args, state = nav.__reduce__()
+    assert state[0][0] == "escapes" and state[0][1] is not None, state[0]
+    twin = pickle.loads(pickle.dumps(nav))
+    mine = copy.deepcopy(nav)
+    ours, theirs = floor_loop(mine, x, 300), floor_loop(twin, x, 300)
+    assert np.array_equal(ours, theirs)
+    assert twin.escapes == mine.escapes
+    other = call(*args)
+    other.__setstate__([("escapes", None, False, -1e300, 0, None, 0)] + state[1:])
+    assert not np.array_equal(floor_loop(other, x, 300), ours)
+
+
 BAD = [
     (dict(gian=2.0), TypeError, "unexpected keyword argument 'gian'"),
     (dict(mu=-1.0), ValueError, "`mu` must be finite and positive, got -1"),

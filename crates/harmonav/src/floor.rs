@@ -61,7 +61,21 @@ pub(crate) struct Escape {
     /// Begun against the law (the shortest path's heading more than 90° from the descent
     /// direction), not after a stall; it also ends when blocked in the sense of
     /// [`ESCAPE_BLOCKED`].
-    early: bool,
+    pub(crate) early: bool,
+}
+
+/// What a floor navigator remembers of its escapes ([`Mode::Escaping`], docs/maths.md §13.7)
+/// between commands, as [`crate::FloorNavigator::escape_memory`] gives it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EscapeMemory {
+    /// The escape under way: `phi_k` where it began, and whether it began against the law.
+    pub escape: Option<(f64, bool)>,
+    /// `phi_k` where the last escape against the law began (eq. escape-levels).
+    pub early_level: Option<f64>,
+    /// Escapes begun so far.
+    pub escapes: usize,
+    /// The point the robot has stayed within `δ/4` of, and for how many periods.
+    pub anchor: Option<(Vector2<f64>, usize)>,
 }
 
 /// A floor plan as a navigator's world: `Θ` over the holes and the sensed obstacles (grown by

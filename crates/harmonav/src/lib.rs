@@ -88,7 +88,7 @@ pub use diff::{
 };
 pub use error::NavError;
 pub use event::{grow_perceived, grow_perceived_as};
-pub use floor::{ESCAPE_BLOCKED, ESCAPE_DROP, ESCAPE_STALL, FloorWorld};
+pub use floor::{ESCAPE_BLOCKED, ESCAPE_DROP, ESCAPE_STALL, EscapeMemory, FloorWorld};
 pub use harmonav_control::{DampingPolicy, HeadingPolicy, SpeedPolicy};
 pub use harmonav_field::KPolicy;
 pub use harmonav_floorplan::{CentrePolicy, FloorError, FloorMap, FloorOptions};

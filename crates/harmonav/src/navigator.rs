@@ -12,7 +12,7 @@ use crate::controller::{
     Controller, Evaluation, controller, discovery_speed_after, finite, finite_lambda_c, halted,
 };
 use crate::error::NavError;
-use crate::floor::FloorWorld;
+use crate::floor::{Escape, EscapeMemory, FloorWorld};
 use crate::hold::{self, Command};
 use crate::law::Law;
 use crate::movers::{self, KeepRight, Mover, Verdict};
@@ -457,6 +457,46 @@ impl Navigator<FloorWorld> {
     /// `phi_k` where the current escape began, `None` when not escaping.
     pub fn escape_level(&self) -> Option<f64> {
         self.world.escape.map(|e| e.level)
+    }
+
+    /// What the floor world remembers of its escapes between commands: a copy rebuilt by
+    /// replaying the calls that made this navigator (Python's pickle) does not rebuild it, and
+    /// takes it back with [`Navigator::set_escape_memory`].
+    pub fn escape_memory(&self) -> EscapeMemory {
+        let w = &self.world;
+        EscapeMemory {
+            escape: w.escape.map(|e| (e.level, e.early)),
+            early_level: w.early_level,
+            escapes: w.escapes,
+            anchor: w.anchor,
+        }
+    }
+
+    /// Takes back what [`Navigator::escape_memory`] gave (of this navigator or of one with the
+    /// same obstacles): the next commands are then those the original would give. It changes
+    /// only the nominal command (an escape's heading, when one begins or ends); every command
+    /// stays certified by the hold.
+    ///
+    /// # Errors
+    /// [`NavError::NotFinite`] (`"escape memory"`) for a level or anchor that is not finite
+    /// (the navigator unchanged).
+    pub fn set_escape_memory(&mut self, memory: EscapeMemory) -> Result<(), NavError> {
+        let finite = memory.escape.is_none_or(|(level, _)| level.is_finite())
+            && memory.early_level.is_none_or(f64::is_finite)
+            && memory
+                .anchor
+                .is_none_or(|(a, _)| a.x.is_finite() && a.y.is_finite());
+        if !finite {
+            return Err(NavError::NotFinite {
+                what: "escape memory",
+            });
+        }
+        let w = &mut self.world;
+        w.escape = memory.escape.map(|(level, early)| Escape { level, early });
+        w.early_level = memory.early_level;
+        w.escapes = memory.escapes;
+        w.anchor = memory.anchor;
+        Ok(())
     }
 }
 

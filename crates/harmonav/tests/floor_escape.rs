@@ -136,3 +136,53 @@ fn kinematic_escapes_from_starts_on_both_sides_of_the_bar() {
         assert!(f.arrived && !f.starts.is_empty(), "{s:?}: {f:?}");
     }
 }
+
+/// The escape memory round-trips: a navigator given another memory mid-escape (none under
+/// way, and the last escape against the law begun far above, so that none may begin) commands
+/// otherwise than the original (the control), and given the original's memory back it
+/// commands every later period exactly as the original. A memory that is not finite is
+/// refused and changes nothing.
+#[test]
+fn the_escape_memory_taken_back_restores_the_commands_bit_for_bit() {
+    let options = Options::default().with_robot(0.1, 0.1);
+    let mut nav =
+        FloorNavigator::new(bar_room(), v(GOAL.0, GOAL.1), Law::kinematic(1.0), options).unwrap();
+    let h = nav.control_period();
+    let mut x = v(3.0, 1.3);
+    for _ in 0..20_000 {
+        x += h * nav.command(x, Vector2::zeros()).unwrap().value;
+        if nav.escape_level().is_some() {
+            break;
+        }
+    }
+    let memory = nav.escape_memory();
+    assert!(memory.escape.is_some() && memory.escapes >= 1, "{memory:?}");
+    let path = |n: &mut FloorNavigator, mut x: Vector2<f64>| {
+        (0..300)
+            .map(|_| {
+                x += h * n.command(x, Vector2::zeros()).unwrap().value;
+                x
+            })
+            .collect::<Vec<_>>()
+    };
+    let mut forgetful = nav.clone();
+    let other = harmonav::EscapeMemory {
+        escape: None,
+        early_level: Some(-1e300),
+        escapes: 0,
+        anchor: None,
+    };
+    forgetful.set_escape_memory(other).unwrap();
+    let mut restored = forgetful.clone();
+    let ours = path(&mut nav.clone(), x);
+    assert_ne!(path(&mut forgetful, x), ours);
+    restored.set_escape_memory(memory).unwrap();
+    assert_eq!(path(&mut restored, x), ours);
+    let bad = harmonav::EscapeMemory {
+        escape: Some((f64::NAN, false)),
+        ..memory
+    };
+    let before = restored.escape_memory();
+    assert!(restored.set_escape_memory(bad).is_err());
+    assert_eq!(restored.escape_memory(), before);
+}
