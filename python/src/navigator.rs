@@ -585,6 +585,11 @@ impl State {
                             "{class} state, entry {i}: a star world's navigator has no escapes"
                         )));
                     }
+                    if escapes.is_some() {
+                        return Err(value_error(format!(
+                            "{class} state, entry {i}: a second escape memory"
+                        )));
+                    }
                     escapes = Some((i, memory));
                     Ok(())
                 }
@@ -695,16 +700,17 @@ fn event(entry: &Bound<'_, PyAny>, i: usize, class: &str) -> PyResult<Event> {
         ("movers", [_, movers]) => Ok(Event::Movers(movers_from(movers)?)),
         ("escapes", [_, level, early, early_level, count, anchor, periods]) => {
             let get = |e: PyErr| bad(e.to_string());
-            let escape = match level.extract::<Option<f64>>().map_err(get)? {
-                Some(level) => Some((level, early.extract::<bool>().map_err(get)?)),
-                None => None,
-            };
-            let anchor = match anchor.extract::<Option<[f64; 2]>>().map_err(get)? {
-                Some([x, y]) => {
-                    Some((Vector2::new(x, y), periods.extract::<usize>().map_err(get)?))
-                }
-                None => None,
-            };
+            // Every slot of its type, whether or not it is read.
+            let early = early.extract::<bool>().map_err(get)?;
+            let periods = periods.extract::<usize>().map_err(get)?;
+            let escape = level
+                .extract::<Option<f64>>()
+                .map_err(get)?
+                .map(|level| (level, early));
+            let anchor = anchor
+                .extract::<Option<[f64; 2]>>()
+                .map_err(get)?
+                .map(|[x, y]| (Vector2::new(x, y), periods));
             Ok(Event::Escapes(EscapeMemory {
                 escape,
                 early_level: early_level.extract::<Option<f64>>().map_err(get)?,

@@ -137,6 +137,13 @@ def test_a_floor_navigator_pickled_during_an_escape_goes_on_escaping_bit_for_bit
     other = call(*args)
     other.__setstate__([("escapes", None, False, -1e300, 0, None, 0)] + state[1:])
     assert not np.array_equal(floor_loop(other, x, 300), ours)
+    # A corrupt memory is refused and changes nothing: a slot of the wrong type, two of them.
+    before = twin.__reduce__()[2]
+    with pytest.raises(TypeError, match="entry 0"):
+        twin.__setstate__([("escapes", None, "no", None, 0, None, 0)] + state[1:])
+    with pytest.raises(ValueError, match="a second escape memory"):
+        twin.__setstate__(state + [state[0]])
+    assert twin.__reduce__()[2] == before
 
 
 BAD = [

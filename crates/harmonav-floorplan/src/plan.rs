@@ -72,6 +72,14 @@ pub enum FloorError {
         /// What is cut off.
         what: &'static str,
     },
+    /// More sensed obstacles would join the walls than a caller allows (each join solves `H`
+    /// again).
+    TooManyJoined {
+        /// How many would.
+        count: usize,
+        /// The most allowed.
+        max: usize,
+    },
 }
 
 impl std::fmt::Display for FloorError {
@@ -116,6 +124,11 @@ impl std::fmt::Display for FloorError {
             Self::PointOnCircle => write!(
                 f,
                 "a point of the point world maps onto or beyond the unit circle"
+            ),
+            Self::TooManyJoined { count, max } => write!(
+                f,
+                "{count} sensed obstacles would join the walls; at most {max} may (each join \
+                 solves the harmonic map again)"
             ),
             Self::CutOff { what } => write!(
                 f,
@@ -609,24 +622,35 @@ impl FloorMap {
     }
 
     /// `v` moved onto `∂W_s` when it lies within `snap` of it: onto the nearer end of the
-    /// nearest edge when that is within `snap` too, else onto the edge; `v` otherwise.
-    /// ([`FloorMap::carved`]: geo's polygon difference rounds its vertices to about 1e-9 of the
-    /// plan's size, which would move walls outwards.)
-    pub(crate) fn snapped(&self, v: Vector2<f64>, snap: f64) -> Vector2<f64> {
+    /// nearest edge when that end is within `snap` too (then `true`: one of `∂W_s`'s own
+    /// vertices), else onto the edge; `v` otherwise. ([`FloorMap::carved`]: geo's polygon
+    /// difference rounds its vertices to about 1e-9 of the plan's size, which would move walls
+    /// outwards.)
+    pub(crate) fn snapped(&self, v: Vector2<f64>, snap: f64) -> (Vector2<f64>, bool) {
         let (proj, _) = self
             .boundary
             .project_local_point_and_get_feature(PVector::new(v.x, v.y));
         let on = Vector2::new(proj.point.x, proj.point.y);
         let gap = (on - v).norm();
         if gap.is_nan() || gap > snap {
-            return v;
+            return (v, false);
         }
         let edge = self.boundary.segment(proj.subshape);
-        [edge.a, edge.b]
-            .iter()
-            .map(|p| Vector2::new(p.x, p.y))
-            .find(|p| (p - v).norm() <= snap)
-            .unwrap_or(on)
+        let (a, b) = (
+            Vector2::new(edge.a.x, edge.a.y),
+            Vector2::new(edge.b.x, edge.b.y),
+        );
+        // The nearer end: on an edge shorter than `snap` both ends are within it.
+        let end = if (a - v).norm() <= (b - v).norm() {
+            a
+        } else {
+            b
+        };
+        if (end - v).norm() <= snap {
+            (end, true)
+        } else {
+            (on, false)
+        }
     }
 
     /// The clearance the floor was asked to keep (`radius + margin`, [`FloorOptions::new`]).

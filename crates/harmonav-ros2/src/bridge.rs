@@ -521,7 +521,8 @@ impl Bridge {
         };
         match &self.nav {
             Some(Nav::Star(n)) => n.obstacles().iter().map(closed).collect(),
-            Some(Nav::Floor(n)) => n.field().transform().obstacles().map(closed).collect(),
+            // Every known obstacle in the navigator's order, those joined to the walls included.
+            Some(Nav::Floor(n)) => n.known_obstacles().iter().map(closed).collect(),
             None => Vec::new(),
         }
     }

@@ -275,10 +275,14 @@ impl Rules for FloorWorld {
     ) -> Result<(Command, FloorStep), NavError> {
         let radius = 0.25 * world.field.floor().delta();
         let anchor = match world.anchor {
-            Some((a, n)) if (x - a).norm() < radius => (a, n + 1),
+            Some((a, n)) if (x - a).norm() < radius => (a, n.saturating_add(1)),
             _ => (x, 0),
         };
-        let (command, escape) = Floor { core, world }.held(x, v, anchor.1)?;
+        let (mut command, escape) = Floor { core, world }.held(x, v, anchor.1)?;
+        // The mode names the navigator's obstacle (the field's index differs after a join).
+        if let Mode::Recovering(Band::Obstacle(i)) = command.mode {
+            command.mode = Mode::Recovering(Band::Obstacle(world.joined.navigator_index(i)));
+        }
         Ok((command, FloorStep { escape, anchor }))
     }
 
@@ -288,7 +292,7 @@ impl Rules for FloorWorld {
         // An escape that begins moves the robot: the watch starts again.
         let begins = escape.is_some() && escape != world.escape;
         world.anchor = Some(if begins { (x, 0) } else { anchor });
-        world.escapes += usize::from(begins);
+        world.escapes = world.escapes.saturating_add(usize::from(begins));
         if let Some(e) = escape.filter(|e| begins && e.early) {
             world.early_level = Some(e.level);
         }

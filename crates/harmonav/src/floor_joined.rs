@@ -19,9 +19,12 @@
 //! With no obstacle joined nothing changes, bit for bit: the field is built as before.
 //!
 //! A join is refused when the goal or the robot would be cut off ([`FloorError::CutOff`]:
-//! behind the obstacle, or the robot not in the new `W_s`), and after [`MAX_JOINED`]; the
-//! scan (or `add_obstacle`) is then refused as before, and the navigator unchanged.
+//! behind the obstacle, or the robot not in the new `W_s`), and beyond [`MAX_JOINED`]
+//! ([`FloorError::TooManyJoined`]); the scan (or `add_obstacle`) is then refused as before,
+//! and the navigator unchanged. Every obstacle that reaches the layer joins in one pass (one
+//! solve).
 
+use std::cmp::Ordering;
 use std::sync::Arc;
 
 use harmonav_floorplan::{FloorError, FloorField, FloorMap};
@@ -102,9 +105,9 @@ impl FloorJoined {
     /// goal, `k` policy and shortest path; its floor is kept when the cuts are the same).
     ///
     /// # Errors
-    /// [`FloorError::CutOff`] when the goal or the robot would be cut off; more than
-    /// [`MAX_JOINED`] joined ([`FloorError::ObstacleNearWall`] of the last); `overlap` of the
-    /// navigator's indices when two obstacles overlap; the floor's other errors.
+    /// [`FloorError::CutOff`] when the goal or the robot would be cut off;
+    /// [`FloorError::TooManyJoined`] beyond [`MAX_JOINED`]; `overlap` of the navigator's
+    /// indices when two obstacles overlap; the floor's other errors.
     pub(crate) fn rebuild(
         &self,
         field: &FloorField,
@@ -115,7 +118,10 @@ impl FloorJoined {
         let goal = field.transform().goal();
         // Grown by `radius` holds the obstacle grown by `s` when `margin ≤ δ` (module docs).
         let by_body = options.margin <= self.base.delta();
-        let body = |j: usize| known.bodies.get(j).unwrap_or(&known.grown[j]);
+        // The bodies only when there is one for every obstacle (none without a margin): a list
+        // that does not line up with the grown shapes is not used.
+        let bodies = (known.bodies.len() == known.grown.len()).then_some(known.bodies);
+        let body = |j: usize| bodies.map_or(&known.grown[j], |b| &b[j]);
         let mut joined = known.joined;
         loop {
             let cuts: Vec<StarShape> = joined
@@ -135,17 +141,39 @@ impl FloorJoined {
             } else if same {
                 field.floor().clone()
             } else {
-                Arc::new(self.base.carved(&cuts, goal)?)
+                let carved = Arc::new(self.base.carved(&cuts, goal)?);
+                // A new cut must leave the robot in the free space (not behind or in it).
+                if let Some(x) = known.robot
+                    && carved.signed_distance(x).partial_cmp(&0.0) != Some(Ordering::Greater)
+                {
+                    return Err(FloorError::CutOff { what: "robot" }.into());
+                }
+                carved
             };
-            if let (false, Some(x)) = (joined.is_empty(), known.robot)
-                && floor.signed_distance(x).partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
-            {
-                return Err(FloorError::CutOff { what: "robot" }.into());
-            }
             let rest: Vec<StarShape> = (0..known.grown.len())
                 .filter(|j| joined.binary_search(j).is_err())
                 .map(|j| known.grown[j].clone())
                 .collect();
+            // Every obstacle that reaches this floor's layer joins at once (the field's own
+            // test, `FloorMap::star_room`), one solve of `H` for them all.
+            let near: Vec<usize> = rest
+                .iter()
+                .enumerate()
+                .filter(|(_, o)| floor.star_room(o).partial_cmp(&0.0) != Some(Ordering::Greater))
+                .map(|(i, _)| navigator_index(&joined, i))
+                .collect();
+            if !near.is_empty() {
+                if joined.len() + near.len() > MAX_JOINED {
+                    return Err(FloorError::TooManyJoined {
+                        count: joined.len() + near.len(),
+                        max: MAX_JOINED,
+                    }
+                    .into());
+                }
+                joined.extend(near);
+                joined.sort_unstable();
+                continue;
+            }
             let built = if Arc::ptr_eq(&floor, field.floor()) {
                 field.with_sensed(&rest)
             } else {
@@ -174,12 +202,8 @@ impl FloorJoined {
                     };
                     return Ok((field, joined));
                 }
-                Err(FloorError::ObstacleNearWall { obstacle }) if joined.len() < MAX_JOINED => {
-                    let j = navigator_index(&joined, obstacle);
-                    let at = joined.partition_point(|&k| k < j);
-                    joined.insert(at, j);
-                }
                 Err(FloorError::ObstacleNearWall { obstacle }) => {
+                    // Not found by the test above (the same one): kept as the field's error.
                     return Err(FloorError::ObstacleNearWall {
                         obstacle: navigator_index(&joined, obstacle),
                     }
