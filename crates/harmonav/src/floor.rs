@@ -435,9 +435,9 @@ impl Floor<'_> {
         })
     }
 
-    /// The way out of the margin band of the navigator's obstacle `j` (the field's `i`), as [`crate::Navigator`]'s: along the
-    /// ray from its centre to the grown shape's edge, plus half the edge's clearance from
-    /// everything else (at most half the margin).
+    /// The way out of the margin band of the navigator's obstacle `j` (the field's `i`), as
+    /// [`crate::Navigator`]'s: along the ray from its centre to the grown shape's edge, plus
+    /// half the edge's clearance from everything else (at most half the margin).
     fn recover(&self, x: Vector2<f64>, v: Vector2<f64>, j: usize) -> Result<Command, NavError> {
         let error = NavError::InObstacle { obstacle: j };
         let (Some(inner), Some(i)) = (self.core.inner.get(j), self.world.joined.field_index(j))
