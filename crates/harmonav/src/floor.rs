@@ -187,6 +187,17 @@ impl Rules for FloorWorld {
                 {
                     NavError::BoundaryLayer
                 }
+                // In a joined obstacle's cut (outside the carved `W_s`, inside the floor's own),
+                // the disc clear of the walls and of every joined body: led out as from the
+                // layer (`leave_layer`).
+                Some(NotFree::Outside)
+                    if self.joined.any()
+                        && self.joined.base_signed_distance(x) > 0.0
+                        && self.field.floor().wall_distance(x) > options.radius
+                        && self.joined.body_clearance(x) > 0.0 =>
+                {
+                    NavError::BoundaryLayer
+                }
                 _ => NavError::OutsideBoundary,
             },
         })
@@ -478,8 +489,9 @@ impl Floor<'_> {
     }
 
     /// The way out of the walls' boundary layer (`sd(x) < δ`, the robot's disc clear of the
-    /// walls): along `−n`, `n` the unit vector to the nearest point of `∂W_s`, for
-    /// `δ − sd(x) + δ/4` (a quarter of `δ` into `W_δ`), halved until the segment is certified:
+    /// walls): along `−n`, `n` the unit vector to the nearest point of `∂W_s` (along `n` from
+    /// inside a joined obstacle's cut, `sd(x) < 0`), for `δ − sd(x) + δ/4` (a quarter of `δ`
+    /// into `W_δ`), halved until the segment is certified:
     /// `sd` grows along it and, by the 1-Lipschitz chord bound `c ≥ (c(x) + c(y) − L)/2`, it
     /// keeps the disc clear of the true walls (`c` the wall distance less the radius), the
     /// sensed obstacles grown by `radius + margin` (their certified distances) and the bodies
@@ -490,8 +502,11 @@ impl Floor<'_> {
         // Also from the edge itself (`sd = δ`, `law_or_in`): the step is then
         // a quarter of δ inwards.
         let floor = self.world.field.floor();
-        let dir = -floor.toward_boundary(x).ok_or(NavError::BoundaryLayer)?;
         let (sd, delta) = (floor.signed_distance(x), floor.delta());
+        // Away from the nearest point of `∂W_s`, or towards it from inside a joined
+        // obstacle's cut (`sd < 0`, [`Rules::eval`]).
+        let toward = floor.toward_boundary(x).ok_or(NavError::BoundaryLayer)?;
+        let dir = if sd < 0.0 { toward } else { -toward };
         let walls = |z: Vector2<f64>| floor.wall_distance(z) - self.core.options.radius;
         let sensed = |z: Vector2<f64>| {
             self.world

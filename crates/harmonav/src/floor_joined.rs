@@ -90,6 +90,11 @@ impl FloorJoined {
         }
     }
 
+    /// `sd(x)` on the floor before any obstacle joined (`FloorMap::signed_distance`).
+    pub(crate) fn base_signed_distance(&self, x: Vector2<f64>) -> f64 {
+        self.base.signed_distance(x)
+    }
+
     /// A certified lower bound on the distance from `x` to the joined obstacles' bodies,
     /// less `radius` (`+∞` with none joined): positive when the robot's disc at `x` is clear
     /// of every joined obstacle. 1-Lipschitz.

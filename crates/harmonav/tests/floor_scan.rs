@@ -255,6 +255,50 @@ fn furniture_near_the_walls_joins_them_and_every_scan_is_accepted() {
     assert_eq!(refused, joined);
 }
 
+/// A robot inside a joined obstacle's cut (pushed there: outside the carved `W_s`, its disc
+/// clear of the table) is led out as from the walls' layer, not refused: the margin (0.2 m)
+/// is above `δ` (0.1 m), so the cut holds the table grown by `radius + margin` and its margin
+/// band lies in it. From a point of that band the robot leaves with its disc clear of the table
+/// at every step (chord bound on the true distance) and arrives. Before, `command` there was
+/// an error (`OutsideBoundary`).
+#[test]
+fn a_robot_inside_a_joined_cut_is_led_out_clear_of_the_table() {
+    let outer = vec![v(0.0, 0.0), v(10.0, 0.0), v(10.0, 6.0), v(0.0, 6.0)];
+    let floor = Arc::new(FloorMap::new(outer, vec![], &FloorOptions::new(0.1, 0.3)).unwrap());
+    let goal = v(9.0, 5.2);
+    let options = Options::default()
+        .with_robot(0.1, 0.2)
+        .with_control_period(0.01);
+    let mut nav = FloorNavigator::new(floor, goal, Law::kinematic(1.0), options).unwrap();
+    let table = StarShape::circle(v(3.0, 0.45), 0.3).unwrap();
+    assert_eq!(nav.add_obstacle(table.clone()).unwrap(), 0);
+    assert_eq!(nav.joined(), &[0]);
+    // In the table's margin band (0.1 < distance − 0.3 < 0.3), above it.
+    let mut x = v(3.0, 0.45 + 0.3 + 0.2);
+    assert!(nav.field().floor().signed_distance(x) < 0.0);
+    let clear = |p: Vector2<f64>| table.signed_distance(p) - 0.1;
+    let mut swept = f64::INFINITY;
+    let mut out = None;
+    for step in 0..4000 {
+        let c = nav.command(x, Vector2::zeros()).unwrap();
+        if step == 0 {
+            assert_eq!(c.mode, harmonav::Mode::Recovering(harmonav::Band::Boundary));
+        }
+        let next = x + 0.01 * c.value;
+        swept = swept.min(0.5 * (clear(x) + clear(next) - (next - x).norm()));
+        x = next;
+        if out.is_none() && nav.field().floor().clearance(x) >= 0.0 {
+            out = Some(step);
+        }
+        if (x - goal).norm() < 0.05 {
+            break;
+        }
+    }
+    assert!(out.is_some_and(|s| s < 100), "{out:?}");
+    assert!(swept > 0.0, "{swept}");
+    assert!((x - goal).norm() < 0.05, "{x:?}");
+}
+
 /// Hits on the walls are explained (a scan of the bare room changes nothing, from anywhere),
 /// and so are returns past them; a sensor outside the walls is a typed error that changes
 /// nothing.
