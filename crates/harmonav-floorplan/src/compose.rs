@@ -3,6 +3,7 @@
 
 use std::sync::Arc;
 
+use harmonav_harmonic::Enclosure;
 use harmonav_transform::StarShape;
 use harmonav_transform::nav::WIDTH_FACTOR;
 use harmonav_transform::radial::{obstacle_map, outer_map};
@@ -326,6 +327,11 @@ impl FloorTransform {
         self.bands.iter().map(|b| b.eps)
     }
 
+    /// `a`, the centre of the recentring map `M_a` (0 when the plan is not recentred).
+    pub(crate) fn recentre(&self) -> Vector2<f64> {
+        self.centre
+    }
+
     /// `S`'s band width `ε_0` (in the disk) and gain `A`.
     #[must_use]
     pub fn outer_band(&self) -> (f64, f64) {
@@ -359,6 +365,14 @@ impl FloorTransform {
             .map()
             .enclosure(x, rho)
             .map_err(|_| Unenclosed::Disk)?;
+        self.sector_of(&e)
+    }
+
+    /// [`FloorTransform::enclose`] from `H`'s enclosure of the disc (no band check).
+    ///
+    /// # Errors
+    /// [`Unenclosed::Disk`] as [`FloorTransform::enclose`].
+    pub(crate) fn sector_of(&self, e: &Enclosure) -> Result<Sector, Unenclosed> {
         let (w, r) = (e.eval.value, e.radius);
         // Guard: M_a's image disc needs the disc strictly inside the unit disk (the pole 1/ā
         // outside it), and S is finite only there; NaN or ∞ fail the comparisons too.
@@ -458,7 +472,7 @@ impl FloorTransform {
 /// `B(w, r)` on the line through the pole `1/ā` meets the circle at right angles, so its image
 /// is a line through the image circle's centre, and the images of its two ends are opposite
 /// points of that circle. Returns the image's centre and radius (`(w, r)` when `a = 0`).
-fn mobius_disc(a: Vector2<f64>, w: Vector2<f64>, r: f64) -> (Vector2<f64>, f64) {
+pub(crate) fn mobius_disc(a: Vector2<f64>, w: Vector2<f64>, r: f64) -> (Vector2<f64>, f64) {
     if a == Vector2::zeros() || r == 0.0 {
         return (mobius(a, w).0, 0.0_f64.max(r));
     }

@@ -8,13 +8,15 @@
 //! bounding box ([`area_cell`]); the component is the start's 4-connected component of the
 //! free samples (the crate's one labelling of a mask, as for a map's pixels).
 //!
-//! A sample is *certified* when it lies in `W_δ` and `Θ < c_δ` there (compared in `phi_k`,
-//! [`LayerLevel::holds`]): the continuous law's sublevel set through it stays inside `W_δ`,
-//! where `H` is certified, so convergence from it is proven (docs/maths.md §13.5). The
+//! A sample is *certified* when it lies in `W_δ` and `Θ < c_δ` or `Θ < c_s` there (compared
+//! in `phi_k`, [`LayerLevel::holds`]): the continuous law's sublevel set through it stays
+//! inside `W_δ`, where `H` is certified (docs/maths.md §13.5), or its slide along `∂W_δ`
+//! cannot rest there (§13.9, when the level was found by `FloorField::certify_level`), so
+//! convergence from it is proven. The
 //! fraction is the certified samples over the reachable ones, an area fraction to the grid's
 //! resolution (each sample stands for one cell). What is not certified is reported in two
 //! parts: the layer between `r` and `δ` from the walls (where `Θ` is not defined, only when
-//! `δ > r`), and the part of `W_δ` above `c_δ`.
+//! `δ > r`), and the part of `W_δ` above the level.
 
 use harmonav_transform::StarShape;
 use nalgebra::Vector2;
@@ -65,7 +67,7 @@ pub struct CertifiedArea {
     /// Of those, the samples in `W_δ` (at least `δ` from the walls shrunk by `s`), where `Θ`
     /// is defined.
     pub in_region: usize,
-    /// Of those, the samples where `Θ < c_δ`: convergence certified.
+    /// Of those, the samples where [`LayerLevel::holds`]: convergence certified.
     pub certified: usize,
     /// Samples in `W_δ` where `Θ` could not be evaluated (counted as not certified).
     pub skipped: usize,
@@ -92,8 +94,8 @@ impl CertifiedArea {
         ratio(self.reachable - self.in_region, self.reachable)
     }
 
-    /// `(in_region − certified) / reachable`: the uncertified part in `W_δ`, at or above
-    /// `c_δ` (or not evaluated).
+    /// `(in_region − certified) / reachable`: the uncertified part in `W_δ`, at or above the
+    /// level (or not evaluated).
     #[must_use]
     pub fn above_level_fraction(&self) -> f64 {
         ratio(self.in_region - self.certified, self.reachable)

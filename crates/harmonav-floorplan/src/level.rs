@@ -72,6 +72,13 @@ pub struct LayerLevel {
     /// origin and at 1e7 m; when it is all of them `phi_sampled` is `+∞`, which a report must
     /// not print as a value of `Θ`).
     pub skipped: usize,
+    /// `c_s` in `phi_k` (docs/maths.md §13.9, [`crate::SlideLevel`]): below it the projected
+    /// descent cannot rest on `∂W_δ`, so it converges even where it slides; `+∞` when no rest
+    /// point is possible, `−∞` when not computed ([`FloorField::certify_layer_level`] alone).
+    pub phi_slide: f64,
+    /// The centre of the cell that set `phi_slide`: where a rest point of the slide may be
+    /// (`None` when none is possible or it was not computed).
+    pub slide_at: Option<Vector2<f64>>,
 }
 
 impl LayerLevel {
@@ -88,11 +95,25 @@ impl LayerLevel {
     }
 
     /// Whether a start with `phi_k(Phi(x₀)) = phi` is certified: `Θ(x₀) < c_δ`, so the
-    /// continuous law's sublevel set through it stays inside `W_δ` (compared in `phi_k`, which
-    /// `sigma` orders the same way without rounding to 1).
+    /// continuous law's sublevel set through it stays inside `W_δ` (§13.5), or `Θ(x₀) < c_s`,
+    /// so the projected descent from it cannot rest on `∂W_δ` (§13.9); compared in `phi_k`,
+    /// which `sigma` orders the same way without rounding to 1.
     #[must_use]
     pub fn holds(&self, phi: f64) -> bool {
-        phi < self.phi_certified
+        phi < self.phi_certified || phi < self.phi_slide
+    }
+
+    /// `sigma(max(c_δ, c_s))` in `phi_k`: the level of `Θ` below which convergence is
+    /// certified (1 when the slide has no possible rest point).
+    #[must_use]
+    pub fn convergence(&self) -> f64 {
+        sigma(self.phi_certified.max(self.phi_slide))
+    }
+
+    /// `c_s = sigma(phi_slide)` (0 when not computed, 1 when no rest point is possible).
+    #[must_use]
+    pub fn slide(&self) -> f64 {
+        sigma(self.phi_slide)
     }
 }
 
@@ -133,7 +154,7 @@ impl FloorField {
     }
 
     /// The least `phi_k` on a sector, from below (`−∞` if it may hold `P_d`).
-    fn phi_lower(&self, a: &Sector) -> f64 {
+    pub(crate) fn phi_lower(&self, a: &Sector) -> f64 {
         let world = self.point_world();
         let near = a.min_distance(world.destination());
         let far: f64 = world
@@ -142,6 +163,18 @@ impl FloorField {
             .map(|&p| a.max_distance(p).powi(2).ln())
             .sum();
         near.powi(2).ln() - far / world.k()
+    }
+
+    /// `c_δ` ([`FloorField::certify_layer_level`]) and `c_s`
+    /// ([`FloorField::certify_slide_level`]) with the same options: the level below which
+    /// convergence is certified ([`LayerLevel::holds`], docs/maths.md §13.5 and §13.9).
+    #[must_use]
+    pub fn certify_level(&self, options: &LevelOptions) -> LayerLevel {
+        let mut level = self.certify_layer_level(options);
+        let slide = self.certify_slide_level(options);
+        level.phi_slide = slide.phi_certified;
+        level.slide_at = slide.at;
+        level
     }
 
     /// `c_δ` certified: a lower bound of `Θ` on `∂W_δ` by the covering of the module docs, next
@@ -177,6 +210,8 @@ impl FloorField {
             evaluations: 0,
             unresolved: 0,
             skipped,
+            phi_slide: f64::NEG_INFINITY,
+            slide_at: None,
         };
         while let Some((c, w, depth)) = stack.pop() {
             let rho = w * std::f64::consts::SQRT_2;

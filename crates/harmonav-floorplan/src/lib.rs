@@ -73,6 +73,7 @@ pub mod level;
 pub mod plan;
 pub mod ros_map;
 pub mod sector;
+pub mod slide;
 pub mod theta;
 
 pub use carve::enclosing_polygon;
@@ -86,4 +87,5 @@ pub use ros_map::{
     OccupiedPixels, RosMap, Specks, max_speck_pixels,
 };
 pub use sector::{Sector, Unenclosed};
+pub use slide::{DirectionArc, SLIDE_WORK, SlideLevel};
 pub use theta::{FloorField, SADDLE_GUARD};

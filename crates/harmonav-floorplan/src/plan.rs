@@ -615,6 +615,11 @@ impl FloorMap {
         self.delta
     }
 
+    /// `∂W_s`, the walls shrunk by `s` (parry), whose distance is `sd`.
+    pub(crate) fn shrunk_boundary(&self) -> &Polyline {
+        &self.boundary
+    }
+
     /// `s = max(radius + margin − δ, 0)`: how far the walls were shrunk to give `W_s`.
     #[must_use]
     pub fn shrink(&self) -> f64 {

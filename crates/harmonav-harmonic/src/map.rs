@@ -283,6 +283,9 @@ pub struct Enclosure {
     pub eval: MapEval,
     /// `r` with `H(B(x, ρ)) ⊂ B(H(x), r)` (infinite when the disc meets an element).
     pub radius: f64,
+    /// `[e_u, e_v]` with `|∇u(y) − ∇u(x)| ≤ e_u` and `|∇v(y) − ∇v(x)| ≤ e_v` on the disc: the
+    /// rows of `J_H` over it (infinite when the disc meets an element).
+    pub gradient_radius: [f64; 2],
 }
 
 /// Data that several evaluations share: the value, Jacobian and (for the certificate) the
@@ -822,6 +825,15 @@ impl HarmonicMap {
     /// infinite when the disc meets an element. Used to bound `Θ` over a cell
     /// (`harmonav-floorplan`'s certified `c_δ`, docs/maths.md §13.5).
     ///
+    /// The rows of `J_H` over the disc, each the better of the first- and second-order bounds
+    /// of §13.5 (`A = ∇²u(x)` exact, `‖A‖₂ = |F''|`, `T_u` the third-derivative bound):
+    ///
+    /// ```text
+    /// |∇u(x + e) − ∇u(x)| ≤ e_u = min(ρ·H_u, ρ‖A‖₂ + ½ρ²·T_u),   v likewise      (eq. jacball)
+    /// ```
+    ///
+    /// (the direction of `∇Θ` over a cell, `harmonav-floorplan`'s slide level, §13.9).
+    ///
     /// # Errors
     /// [`EvalError::NonFinite`] for a NaN or infinite point, [`EvalError::AtElementEnd`] at an
     /// element's end point; a negative or NaN `rho` is [`EvalError::NonFinite`].
@@ -832,9 +844,18 @@ impl HarmonicMap {
         let b = self.eval_bounded(x, Some(rho))?;
         let [hu, hv] = b.hessian;
         let radius = rho * b.eval.jacobian.norm() + 0.5 * rho * rho * hu.hypot(hv);
+        // ‖A‖₂ of a symmetric traceless [[p, q], [q, −p]] is √(p² + q²) (eigenvalues ±).
+        let row = |first: f64, a: &Matrix2<f64>, third: f64| {
+            (rho * first).min(rho * a[(0, 0)].hypot(a[(0, 1)]) + 0.5 * rho * rho * third)
+        };
+        let gradient_radius = [
+            row(hu, &b.hessian_at[0], b.third[0]),
+            row(hv, &b.hessian_at[1], b.third[1]),
+        ];
         Ok(Enclosure {
             eval: b.eval,
             radius,
+            gradient_radius,
         })
     }
 

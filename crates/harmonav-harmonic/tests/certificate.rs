@@ -73,6 +73,54 @@ fn bad_options_are_typed_errors() {
     ));
 }
 
+/// Eq. jacball: the rows of `J_H` over a disc stay within `gradient_radius` of `J_H(x)` at 400
+/// points of each disc, and the bound is not vacuous: somewhere a row moves more than a third
+/// of it (so a radius a third of the true one, or the first-order term dropped where it is the
+/// smaller, fails here).
+#[test]
+fn the_jacobian_rows_stay_within_their_radius_over_the_disc() {
+    let d = u_world();
+    let map = HarmonicMap::new(&d, &MeshOptions::graded(0.2)).unwrap();
+    let mut tightest = 0.0_f64;
+    for &(x, y) in &[
+        (0.6, 1.25),
+        (-0.85, 1.2),
+        (0.0, 0.0),
+        (1.5, -1.5),
+        (1.3, 0.3),
+    ] {
+        let c = v(x, y);
+        let sd = d.signed_distance(c);
+        for frac in [0.2, 0.5, 0.9] {
+            let rho = frac * sd;
+            let e = map.enclosure(c, rho).unwrap();
+            let j0 = e.eval.jacobian;
+            for i in 0..400 {
+                let t = i as f64 * 0.618_033_988_749_895 * std::f64::consts::TAU;
+                let r = if i < 200 {
+                    rho
+                } else {
+                    rho * (i - 200) as f64 / 200.0
+                };
+                let j = map.eval(c + v(r * t.cos(), r * t.sin())).unwrap().jacobian;
+                for row in 0..2 {
+                    let moved = (j.row(row) - j0.row(row)).norm();
+                    let bound = e.gradient_radius[row];
+                    assert!(
+                        moved <= bound,
+                        "disc about {c:?}, ρ {rho}, row {row}: {moved} > {bound}"
+                    );
+                    tightest = tightest.max(moved / bound);
+                }
+            }
+        }
+    }
+    assert!(
+        tightest > 1.0 / 3.0,
+        "the bound is loose everywhere: {tightest}"
+    );
+}
+
 /// `H(B(x, ρ)) ⊂ B(H(x), r)`: 400 points of each disc (its rim and a spiral inside) map within
 /// `r` of `H(x)`, for discs about reflex and convex corners of the U world and in the open; the
 /// first-order part `ρ‖J_H(x)‖_F` alone is exceeded by some of them, so the curvature term is
