@@ -468,8 +468,10 @@ class FloorPlan:
         """``c_δ`` certified over the walls (docs/maths.md §13.5), without the GIL: ``c_delta``
         (a lower bound of ``Θ`` on the edge of the certified region), ``c_delta_sampled``,
         ``phi_certified`` and ``phi_sampled`` (the same in ``phi_k``), ``evaluations``,
-        ``unresolved`` and ``starts_certified`` (one bool per row of ``starts``: ``Θ(x₀) <
-        c_δ``: the continuous law's sublevel set through it stays inside ``W_δ``)."""
+        ``unresolved``, ``c_slide`` and ``phi_slide`` (``c_s``, below which the slide along
+        that edge cannot rest, §13.9: 1 and ``inf`` when it rests nowhere) and
+        ``starts_certified`` (one bool per row of ``starts``: ``Θ(x₀) < c_δ`` or ``< c_s``:
+        convergence from it is certified)."""
     def run(
         self,
         model: Optional[str] = None,

@@ -157,9 +157,10 @@ impl FloorPlan {
     /// `c_delta` (a lower bound of `Θ` on the edge of the certified region), `c_delta_sampled`
     /// (the least `Θ` at its samples), the same two as `phi_certified` and `phi_sampled` (in
     /// `phi_k`, where `Θ` rounds to 1 near the walls), `evaluations`, `unresolved` (cells left
-    /// at the depth limit) and `starts_certified`, one bool per row of `starts`: `Θ(x₀) < c_δ`,
-    /// so the continuous law's sublevel set through it stays inside `W_δ` (the others run under
-    /// the hold, clear at every step).
+    /// at the depth limit), `c_slide` and `phi_slide` (`c_s`, below which the slide along that
+    /// edge cannot rest, docs/maths.md §13.9: 1 and `inf` when it rests nowhere) and
+    /// `starts_certified`, one bool per row of `starts`: `Θ(x₀) < c_δ` or `< c_s`, so its
+    /// convergence is certified (the others run under the hold, clear at every step).
     fn certify_level<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let p = &self.prepared;
         let (level, starts) = py
@@ -172,6 +173,8 @@ impl FloorPlan {
         d.set_item("phi_sampled", level.phi_sampled)?;
         d.set_item("evaluations", level.evaluations)?;
         d.set_item("unresolved", level.unresolved)?;
+        d.set_item("c_slide", level.slide())?;
+        d.set_item("phi_slide", level.phi_slide)?;
         d.set_item("starts_certified", starts)?;
         Ok(d)
     }

@@ -144,3 +144,5 @@ def test_the_certified_level_bounds_the_layer_edge_and_marks_the_starts():
     assert len(flags) == len(plan.starts)
     # The start beside the goal lies below c_δ; the file's start, across the U, does not.
     assert flags[1] and not flags[0], flags
+    # c_s (§13.9): the slide may rest in the U's pocket, at or above c_δ.
+    assert c["c_delta"] <= c["c_slide"] < 1.0 and c["phi_slide"] >= c["phi_certified"]

@@ -44,8 +44,8 @@ pub struct CheckReport {
     /// the walls and from the file's obstacles, joined to `robot.start`) from which
     /// convergence is certified, in `[0, 1]`.
     pub certified_fraction: f64,
-    /// How `certified_fraction` was found: `"grid"` (floor plan: samples below `c_δ` over the
-    /// reachable samples) or `"theorem"` (star world: 1).
+    /// How `certified_fraction` was found: `"grid"` (floor plan: samples below `c_δ` or `c_s`
+    /// over the reachable samples) or `"theorem"` (star world: 1).
     pub basis: &'static str,
     /// Star world: the obstacles of the file.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -69,6 +69,12 @@ pub struct FloorReport {
     /// The least `Θ` sampled on that edge (an upper bound of the true least); `None` when no
     /// sample could be evaluated.
     pub level_sampled: Option<f64>,
+    /// `c_s`, the certified least `Θ` where the slide along that edge may rest
+    /// (docs/maths.md §13.9): 1 when it cannot rest anywhere, 0 when not computed. A start is
+    /// certified below `c_δ` or `c_s`.
+    pub slide_level: f64,
+    /// Where a rest point of the slide may lie (the cell that set `c_s`), if anywhere.
+    pub slide_rest_at: Option<[f64; 2]>,
     /// Seconds to certify `c_δ`.
     pub level_s: f64,
     /// The grid's cell, m.
@@ -80,8 +86,8 @@ pub struct FloorReport {
     /// The uncertified part in the layer, where `Θ` is not defined (between radius + margin
     /// and `δ` from the walls), as a fraction of the reachable area.
     pub uncertified_layer: f64,
-    /// The uncertified part in `W_δ`, at or above `c_δ` (or where `Θ` could not be
-    /// evaluated), as a fraction of the reachable area.
+    /// The uncertified part in `W_δ`, at or above both `c_δ` and `c_s` (or where `Θ` could
+    /// not be evaluated), as a fraction of the reachable area.
     pub uncertified_above_level: f64,
     /// Seconds to sample the certified fraction.
     pub fraction_s: f64,
@@ -135,6 +141,8 @@ pub fn cmd_check_floor_json(prepared: &FloorPrepared) -> Result<bool, CliError> 
             delta: floor.delta(),
             level: level.certified(),
             level_sampled: level.phi_sampled.is_finite().then(|| level.sampled()),
+            slide_level: level.slide(),
+            slide_rest_at: level.slide_at.map(|p| [p.x, p.y]),
             level_s,
             certified_grid_m: area.cell,
             reachable_samples: area.reachable,

@@ -69,12 +69,36 @@ pub fn certificates(prepared: &FloorPrepared) -> Result<(LayerLevel, Vec<bool>),
         })
 }
 
+/// What `check` says of `c_s` (docs/maths.md §13.9).
+fn slide_line(level: &LayerLevel) -> String {
+    if level.phi_slide == f64::INFINITY {
+        "c_s = 1: the slide along that edge has no rest point, so convergence is certified from \
+         every start of the certified region"
+            .to_string()
+    } else if level.phi_slide == f64::NEG_INFINITY {
+        "c_s not computed (the map is too large for its covering, or a cell could not be \
+         bounded): c_δ alone certifies"
+            .to_string()
+    } else {
+        format!(
+            "c_s = {:.6} (phi_k {:.4}): below it the slide along that edge cannot rest{}",
+            level.slide(),
+            level.phi_slide,
+            level.slide_at.map_or(String::new(), |p| format!(
+                "; a rest point may lie near ({:.3}, {:.3})",
+                p.x, p.y
+            ))
+        )
+    }
+}
+
 /// `harmonav check` on a floor plan: the file loads and its map is solved.
 ///
-/// It also certifies `c_δ` over the walls (`FloorField::certify_layer_level`, docs/maths.md
-/// §13.5) and says which of the file's starts lie below it: from those the continuous law's
-/// sublevel set stays inside `W_δ` (convergence certified where `H`'s certificate holds); from
-/// the others the hold still keeps every step clear.
+/// It also certifies `c_δ` and `c_s` over the walls (`FloorField::certify_level`,
+/// docs/maths.md §13.5 and §13.9) and says which of the file's starts lie below one of them:
+/// from those convergence is certified (the continuous law's sublevel set stays inside `W_δ`,
+/// or its slide along `∂W_δ` cannot rest there); from the others the hold still keeps every
+/// step clear.
 pub fn cmd_check_floor(prepared: &FloorPrepared) -> Result<bool, CliError> {
     out!(
         "ok: floor plan, {} boundary elements, {} holes, δ = {} m, solved in {:.2} s",
@@ -100,9 +124,7 @@ pub fn cmd_check_floor(prepared: &FloorPrepared) -> Result<bool, CliError> {
     }
     let (level, below) = certificates(prepared)?;
     out!(
-        "c_δ = {:.6} certified on the edge of the certified region ({}, {} \
-         cells{}): {} of {} starts below it, whose sublevel sets stay inside the certified \
-         region; the others run under the hold, clear at every step",
+        "c_δ = {:.6} certified on the edge of the certified region ({}, {} cells{})",
         level.certified(),
         match (level.phi_sampled.is_finite(), level.skipped) {
             (true, 0) => format!("sampled least Θ {:.6}", level.sampled()),
@@ -117,7 +139,12 @@ pub fn cmd_check_floor(prepared: &FloorPrepared) -> Result<bool, CliError> {
             format!(", {} at the depth limit", level.unresolved)
         } else {
             String::new()
-        },
+        }
+    );
+    out!("{}", slide_line(&level));
+    out!(
+        "{} of {} starts certified (below c_δ or c_s); the others run under the hold, clear \
+         at every step",
         below.iter().filter(|&&b| b).count(),
         below.len()
     );
@@ -126,7 +153,7 @@ pub fn cmd_check_floor(prepared: &FloorPrepared) -> Result<bool, CliError> {
             "  start ({:.3}, {:.3}): {}",
             s.x,
             s.y,
-            if *b { "certified" } else { "above c_δ" }
+            if *b { "certified" } else { "not certified" }
         );
     }
     Ok(true)

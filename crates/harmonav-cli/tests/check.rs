@@ -51,6 +51,12 @@ fn a_floor_plan_gives_one_object_whose_starts_agree_with_the_text_check() {
     assert!(f(&v, "setup_s") > 0.0);
     let (level, fraction) = (f(&v, "level"), f(&v, "certified_fraction"));
     assert!(level > 0.0 && level < 1.0, "{v}");
+    // c_s (§13.9): a rest point of the slide may lie in the U's pocket, at or above c_δ.
+    let slide = f(&v, "slide_level");
+    assert!(
+        slide >= level && slide < 1.0 && v["slide_rest_at"].is_array(),
+        "{v}"
+    );
     assert!((0.0..=1.0).contains(&fraction), "{v}");
     assert_eq!(f(&v, "certified_grid_m"), 0.05);
     assert!(v["reachable_samples"].as_u64().unwrap() > 1000, "{v}");
@@ -71,14 +77,14 @@ fn a_floor_plan_gives_one_object_whose_starts_agree_with_the_text_check() {
             if *certified {
                 "certified"
             } else {
-                "above c_δ"
+                "not certified"
             }
         );
         assert!(text.contains(&line), "{line} not in\n{text}");
     }
     assert!(
         text.contains(&format!(
-            "{} of 7 starts below it",
+            "{} of 7 starts certified",
             s.iter().filter(|(_, c)| *c).count()
         )),
         "{text}"
@@ -90,11 +96,14 @@ fn a_floor_plan_gives_one_object_whose_starts_agree_with_the_text_check() {
     );
 }
 
-/// The negative control: in a long corridor with the goal at one end, `c_δ` certifies little,
-/// and `Θ` from `eval` (another path: the navigator's field) agrees about a start far down the
-/// corridor (above `c_δ`) and a point beside the goal (below it).
+/// In a long corridor with the goal at one end, `c_δ` certifies little, and `Θ` from `eval`
+/// (another path: the navigator's field) agrees about a start far down the corridor (above
+/// `c_δ`) and a point beside the goal (below it); but the slide along `∂W_δ` has no rest point
+/// (`c_s` = 1, docs/maths.md §13.9), so every start is certified. The negative control: a bar
+/// with the goal just behind it, whose slide has attracting rest points below the bar, is
+/// not all certified, and `c_s` names a place by the bar.
 #[test]
-fn a_long_corridor_certifies_little_and_eval_agrees_on_its_points() {
+fn a_long_corridor_is_certified_by_its_slide_and_a_bar_with_the_goal_behind_it_is_not() {
     let dir = scratch("check-corridor");
     let file = dir.join("corridor.toml");
     std::fs::write(
@@ -119,11 +128,12 @@ max_time = 100.0
     .unwrap();
     let file = file.to_str().unwrap();
     let v = check_json(file);
-    let fraction = f(&v, "certified_fraction");
-    assert!(fraction < 0.05, "{v}");
+    assert_eq!(f(&v, "certified_fraction"), 1.0, "{v}");
+    assert_eq!(f(&v, "slide_level"), 1.0, "{v}");
+    assert!(v["slide_rest_at"].is_null(), "{v}");
     let s = starts(&v);
     assert_eq!(s.len(), 5, "{v}");
-    assert_eq!(s[0], ([15.0, 0.5], false));
+    assert!(s.iter().all(|(_, c)| *c), "{v}");
     let (code, out, err) = harmonav(&["eval", file, "--at", "15,0.5", "--at", "1.1,0.5", "--json"]);
     assert_eq!(code, 0, "{err}");
     let rows: Value = serde_json::from_str(&out).unwrap();
@@ -133,6 +143,36 @@ max_time = 100.0
         "{rows} against c_δ = {level}"
     );
     assert!(f(&rows[1], "value") < level, "{rows} against c_δ = {level}");
+
+    let bar = dir.join("bar.toml");
+    std::fs::write(
+        &bar,
+        r#"name = "bar"
+[floor_plan]
+outer = [[0.0, 0.0], [6.0, 0.0], [6.0, 4.0], [0.0, 4.0]]
+holes = [[[1.0, 1.8], [5.0, 1.8], [5.0, 2.2], [1.0, 2.2]]]
+max_element = 0.1
+[robot]
+model = "kinematic"
+start = [3.0, 0.8]
+goal = [3.0, 2.6]
+radius = 0.15
+margin = 0.05
+[sim]
+max_time = 100.0
+"#,
+    )
+    .unwrap();
+    let v = check_json(bar.to_str().unwrap());
+    let fraction = f(&v, "certified_fraction");
+    assert!(fraction < 1.0, "{v}");
+    let slide = f(&v, "slide_level");
+    assert!(slide < 1.0 && slide >= f(&v, "level"), "{v}");
+    let at = v["slide_rest_at"].as_array().unwrap();
+    let (x, y) = (at[0].as_f64().unwrap(), at[1].as_f64().unwrap());
+    // Measured: (4.87, 2.40), by the bar's end on the goal's side (the covering's least
+    // bound; the attracting rest points below the bar lie higher in Θ).
+    assert!((0.8..5.2).contains(&x) && (1.4..2.6).contains(&y), "{v}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -172,10 +172,10 @@ fn check_solves_the_map() {
     // c_δ certified over the walls, and each start's place against it (the start beside the
     // goal, (5.02, 0.76), below it; the file's start across the U above it).
     assert!(
-        out.contains("c_δ = 0.") && out.contains("of 7 starts below it"),
+        out.contains("c_δ = 0.") && out.contains("c_s = ") && out.contains("of 7 starts certified"),
         "{out}"
     );
-    assert!(out.contains("start (1.000, 2.100): above c_δ"), "{out}");
+    assert!(out.contains("start (1.000, 2.100): not certified"), "{out}");
     assert!(out.contains("start (5.024, 0.762): certified"), "{out}");
     // A bad floor plan is named by its field, as every scenario error is.
     let dir = scratch("bad");

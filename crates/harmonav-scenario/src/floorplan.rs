@@ -358,21 +358,24 @@ fn placed(
     Ok(())
 }
 
-/// Whether `p` lies below the certified level `c_δ` (`floor_plan.require_certified_start`), so
-/// that its sublevel set stays inside `W_δ`; else why not.
+/// Whether `p` lies below the certified level `max(c_δ, c_s)`
+/// (`floor_plan.require_certified_start`, docs/maths.md §13.5 and §13.9), so that its convergence
+/// is certified; else why not.
 fn below_level(field: &FloorField, level: &LayerLevel, p: Vector2<f64>) -> Result<(), String> {
     match field.eval(p) {
         Ok(e) if level.holds(e.phi) => Ok(()),
         Ok(e) => Err(format!(
             "{p:?} has Θ = {:.6} (phi_k {:.4}), not below c_δ = {:.6} (phi_k {:.4}), the \
-             certified least Θ on the edge of the certified region: its sublevel set reaches \
-             that edge, so its convergence is not certified \
-             (floor_plan.require_certified_start = true; without it the hold still keeps \
-             every step clear)",
+             certified least Θ on the edge of the certified region, nor below c_s = {:.6} \
+             (phi_k {:.4}), the least Θ where the slide along that edge may rest: its \
+             convergence is not certified (floor_plan.require_certified_start = true; without \
+             it the hold still keeps every step clear)",
             e.value,
             e.phi,
             level.certified(),
-            level.phi_certified
+            level.phi_certified,
+            level.slide(),
+            level.phi_slide
         )),
         Err(e) => Err(format!("{p:?}: Θ cannot be evaluated: {e}")),
     }
@@ -449,9 +452,10 @@ impl FloorPrepared {
         .ok_or_else(|| format!("no free start found in 10⁴·{} tries", count + 1))
     }
 
-    /// `c_δ` over the walls (the level `floor_plan.require_certified_start` computed, or
-    /// certified now with [`LevelOptions::default`]; docs/maths.md §13.5) and, for each of
-    /// [`FloorPrepared::starts`], whether `Θ(x₀) < c_δ`: its sublevel set stays inside `W_δ`.
+    /// `c_δ` and `c_s` over the walls (the level `floor_plan.require_certified_start`
+    /// computed, or certified now with [`LevelOptions::default`]; docs/maths.md §13.5 and
+    /// §13.9) and, for each of [`FloorPrepared::starts`], whether `Θ(x₀) < max(c_δ, c_s)`: its
+    /// convergence is certified ([`LayerLevel::holds`]).
     ///
     /// # Errors
     /// As [`FloorField::new`] (the file's goal was checked on loading, so not expected).
@@ -460,7 +464,7 @@ impl FloorPrepared {
         let field = FloorField::new(self.floor.clone(), goal, self.scenario.field.k)?;
         let level = self
             .level
-            .unwrap_or_else(|| field.certify_layer_level(&LevelOptions::default()));
+            .unwrap_or_else(|| field.certify_level(&LevelOptions::default()));
         let below = self
             .starts
             .iter()
@@ -830,7 +834,7 @@ impl FloorScenario {
         let certified = if self.floor_plan.require_certified_start {
             let field = FloorField::new(floor.clone(), goal, self.field.k)
                 .map_err(|e| f("robot.goal", e.to_string()))?;
-            let level = field.certify_layer_level(&LevelOptions::default());
+            let level = field.certify_level(&LevelOptions::default());
             Some((field, level))
         } else {
             None

@@ -199,8 +199,8 @@ fn bad_floor_plans_name_the_file_field_and_problem() {
     assert!(e.line.is_some() && e.problem.contains("speed"), "{e}");
 }
 
-/// `[floor_plan] require_certified_start`: a start above the certified `c_δ` is refused by
-/// name with both levels, one below it is run, and every seeded start is drawn below it (each
+/// `[floor_plan] require_certified_start`: a start above the certified `c_δ` and `c_s` is
+/// refused by name with both levels, one below them is run, and every seeded start is drawn below it (each
 /// checked against the level recomputed here); without the option the same far start loads.
 #[test]
 fn a_required_certificate_refuses_the_starts_above_c_delta_and_draws_the_others_below() {
@@ -233,7 +233,7 @@ fn a_required_certificate_refuses_the_starts_above_c_delta_and_draws_the_others_
     for &s in &p.starts {
         let e = field.eval(s).unwrap();
         assert!(
-            level.holds(e.phi) && e.value < level.certified(),
+            level.holds(e.phi) && e.value < level.convergence(),
             "{s:?}: {e:?}, {level:?}"
         );
     }
@@ -242,8 +242,8 @@ fn a_required_certificate_refuses_the_starts_above_c_delta_and_draws_the_others_
         far.starts
             .iter()
             .any(|&s| !level.holds(field.eval(s).unwrap().phi)),
-        "every start of the plain draw was below c_δ = {}",
-        level.certified()
+        "every start of the plain draw was below max(c_δ, c_s) = {}",
+        level.convergence()
     );
 }
 

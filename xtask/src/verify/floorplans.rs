@@ -152,7 +152,8 @@ fn fly(file: &Path, model: Model, physics: Physics) -> Outcome {
 /// of docs/maths.md §13.5 every suite map is); a fold, `|H| ≥ 1` or area left undecided
 /// fails, and the sampled `min det J_H` must be positive. Then `c_δ`, certified on
 /// `∂W_δ` over the walls (it must be bounded: a cell left unbounded fails), and how many starts
-/// lie below it (docs/maths.md §13.5).
+/// lie below it or below `c_s`, where the slide along `∂W_δ` may rest (docs/maths.md §13.5,
+/// §13.9).
 fn certify(file: &Path) -> Outcome {
     let p = FloorScenario::load(file).map_err(|e| e.to_string())?;
     let c = certificate(&p, CERTIFY_BUDGET)?;
@@ -172,7 +173,7 @@ fn certify(file: &Path) -> Outcome {
         format!(
             "{} on W_δ (δ = {} m): certified {:.2} m², undecided {:.3} m², {} evaluations, \
              sampled min det J_H {:.1e}, max |H| {:.4}; c_δ = {:.4} certified on ∂W_δ \
-             (sampled {:.4}, {} cells, {} unresolved), {below}/{} starts below it; −∇Θ into \
+             (sampled {:.4}, {} cells, {} unresolved), c_s = {}, {below}/{} starts certified; −∇Θ into \
              the layer at {}/{} edge samples, {} attracting rest points of the slide there{}",
             c.verdict.as_str(),
             c.delta,
@@ -185,6 +186,11 @@ fn certify(file: &Path) -> Outcome {
             level.sampled(),
             level.evaluations,
             level.unresolved,
+            if level.phi_slide == f64::INFINITY {
+                "1 (no rest point)".to_string()
+            } else {
+                format!("{:.4}", level.slide())
+            },
             p.starts.len(),
             slide.into,
             slide.samples,
