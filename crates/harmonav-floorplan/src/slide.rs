@@ -239,8 +239,8 @@ pub struct SlideLevel {
     pub evaluations: usize,
     /// Cells left not free at the depth or budget limit (each bounds `phi_certified`).
     pub unresolved: usize,
-    /// `true` when the first covering alone exceeded [`SLIDE_WORK`]: not computed
-    /// (`phi_certified` is `−∞`, and `c_δ` alone certifies).
+    /// `true` when not computed (`phi_certified` is `−∞`, and `c_δ` alone certifies): the
+    /// first covering alone exceeded [`SLIDE_WORK`], or the field has a sensed obstacle.
     pub skipped: bool,
 }
 
@@ -466,8 +466,8 @@ impl FloorField {
     /// over the cells of a covering of `∂W_δ` where the projected descent may rest. The cells
     /// start on the grid of [`FloorField::certify_layer_level`] (half-diagonal `δ/3`), are kept
     /// while they may meet `∂W_δ`, and one not proven free is split in four up to
-    /// `options.max_depth` and `options.max_evaluations` (and [`SLIDE_WORK`]). The walls' field only: with sensed
-    /// obstacles every cell is left unproven (`phi_certified` is then the covering's `c_δ`).
+    /// `options.max_depth` and `options.max_evaluations` (and [`SLIDE_WORK`]). The walls' field
+    /// only: with a sensed obstacle it is not run ([`SlideLevel::skipped`]).
     #[must_use]
     pub fn certify_slide_level(&self, options: &LevelOptions) -> SlideLevel {
         let floor = self.floor();
@@ -505,7 +505,9 @@ impl FloorField {
             unresolved: 0,
             skipped: heap.len() > most,
         };
-        if out.skipped {
+        // With a sensed obstacle the walls' covering proves nothing (module docs): not run.
+        if out.skipped || self.transform().obstacles().next().is_some() {
+            out.skipped = true;
             out.phi_certified = f64::NEG_INFINITY;
             return out;
         }
@@ -517,8 +519,7 @@ impl FloorField {
             }
             out.evaluations += 1;
             let e = self.floor().map().enclosure(cell.centre, rho).ok();
-            let banded = self.transform().obstacles().next().is_some();
-            let phi = match e.as_ref().filter(|_| !banded) {
+            let phi = match e.as_ref() {
                 Some(e) => self
                     .transform()
                     .sector_of(e)

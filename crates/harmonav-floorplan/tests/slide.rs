@@ -10,6 +10,7 @@ use std::sync::Arc;
 
 use harmonav_field::KPolicy;
 use harmonav_floorplan::{CentrePolicy, FloorField, FloorMap, FloorOptions, LevelOptions};
+use harmonav_transform::StarShape;
 use nalgebra::Vector2;
 
 fn v(x: f64, y: f64) -> Vector2<f64> {
@@ -122,6 +123,15 @@ fn the_l_rooms_slide_is_proven_free_of_rest_points() {
         level.holds(1e300) && level.convergence() == 1.0,
         "{level:?}"
     );
+    // With a sensed obstacle the walls' covering proves nothing: not run, c_δ alone.
+    let rock = StarShape::circle(v(1.0, 3.5), 0.2).unwrap();
+    let sensed = field.with_obstacle(rock).unwrap();
+    let slide = sensed.certify_slide_level(&LevelOptions::default());
+    assert!(
+        slide.skipped && slide.phi_certified == f64::NEG_INFINITY,
+        "{slide:?}"
+    );
+    assert_eq!(slide.evaluations, 0);
 }
 
 /// The negative control: below a bar with the goal just behind it the slide has attracting
