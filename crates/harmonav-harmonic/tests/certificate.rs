@@ -7,6 +7,7 @@ use common::*;
 use harmonav_harmonic::{
     CertifyError, CertifyOptions, HarmonicMap, MeshOptions, Verdict, certify, sampled_check,
 };
+use nalgebra::Vector2;
 
 #[test]
 fn a_delta_inside_the_boundary_layer_finds_the_corner_fold() {
@@ -73,6 +74,19 @@ fn bad_options_are_typed_errors() {
     ));
 }
 
+/// 400 points of the disc `B(c, ρ)`: 200 on its rim and a spiral of 200 inside.
+fn disc_points(c: Vector2<f64>, rho: f64) -> impl Iterator<Item = Vector2<f64>> {
+    (0..400).map(move |i| {
+        let t = i as f64 * 0.618_033_988_749_895 * std::f64::consts::TAU;
+        let r = if i < 200 {
+            rho
+        } else {
+            rho * (i - 200) as f64 / 200.0
+        };
+        c + v(r * t.cos(), r * t.sin())
+    })
+}
+
 /// Eq. jacball: the rows of `J_H` over a disc stay within `gradient_radius` of `J_H(x)` at 400
 /// points of each disc, and the bound is not vacuous: somewhere a row moves more than a third
 /// of it (so a radius a third of the true one, or the first-order term dropped where it is the
@@ -95,14 +109,8 @@ fn the_jacobian_rows_stay_within_their_radius_over_the_disc() {
             let rho = frac * sd;
             let e = map.enclosure(c, rho).unwrap();
             let j0 = e.eval.jacobian;
-            for i in 0..400 {
-                let t = i as f64 * 0.618_033_988_749_895 * std::f64::consts::TAU;
-                let r = if i < 200 {
-                    rho
-                } else {
-                    rho * (i - 200) as f64 / 200.0
-                };
-                let j = map.eval(c + v(r * t.cos(), r * t.sin())).unwrap().jacobian;
+            for p in disc_points(c, rho) {
+                let j = map.eval(p).unwrap().jacobian;
                 for row in 0..2 {
                     let moved = (j.row(row) - j0.row(row)).norm();
                     let bound = e.gradient_radius[row];
@@ -146,14 +154,7 @@ fn the_enclosure_holds_the_image_of_its_disc() {
             assert!(e.radius.is_finite() && e.radius > 0.0, "{e:?}");
             let first = rho * e.eval.jacobian.norm();
             let mut worst = 0.0_f64;
-            for i in 0..400 {
-                let t = i as f64 * 0.618_033_988_749_895 * std::f64::consts::TAU;
-                let r = if i < 200 {
-                    rho
-                } else {
-                    rho * (i - 200) as f64 / 200.0
-                };
-                let p = c + v(r * t.cos(), r * t.sin());
+            for p in disc_points(c, rho) {
                 worst = worst.max((map.eval(p).unwrap().value - e.eval.value).norm());
             }
             assert!(

@@ -32,7 +32,7 @@ use harmonav_transform::StarShape;
 use nalgebra::Vector2;
 
 use crate::error::NavError;
-use crate::joined::{Known, navigator_index};
+use crate::joined::{Known, field_index, navigator_index};
 use crate::options::Options;
 
 /// The most obstacles that may join a floor plan's walls (each join solves `H` again).
@@ -84,10 +84,7 @@ impl FloorJoined {
 
     /// The field's index of the navigator's obstacle `j`, `None` if it joined the walls.
     pub(crate) fn field_index(&self, j: usize) -> Option<usize> {
-        match self.indices.binary_search(&j) {
-            Ok(_) => None,
-            Err(before) => Some(j - before),
-        }
+        field_index(&self.indices, j)
     }
 
     /// `sd(x)` on the floor before any obstacle joined (`FloorMap::signed_distance`).

@@ -95,10 +95,7 @@ impl Joined {
 
     /// The field's index of the navigator's obstacle `j`, `None` if it joined the boundary.
     pub(crate) fn field_index(&self, j: usize) -> Option<usize> {
-        match self.indices.binary_search(&j) {
-            Ok(_) => None,
-            Err(before) => Some(j - before),
-        }
+        field_index(&self.indices, j)
     }
 
     /// The field over `known`'s obstacles towards `goal`, with the obstacles that reach the
@@ -195,6 +192,16 @@ impl Joined {
             None => None,
         };
         Ok((boundary, inner))
+    }
+}
+
+/// The field's index of the navigator's obstacle `j` when the navigator's obstacles `joined`
+/// (sorted) joined the boundary (or the walls): `None` if `j` is among them, else `j` less
+/// how many joined before it. The inverse of [`navigator_index`].
+pub(crate) fn field_index(joined: &[usize], j: usize) -> Option<usize> {
+    match joined.binary_search(&j) {
+        Ok(_) => None,
+        Err(before) => Some(j - before),
     }
 }
 
