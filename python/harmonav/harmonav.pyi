@@ -222,7 +222,7 @@ class Navigator:
     def set_goal_heading(self, yaw: Optional[float]) -> None:
         """Sets the goal yaw (rad, map frame) a differential-drive robot finishes at, or clears
         it (``None``, the default: ``command_pose`` as without one, bit for bit). Once the
-        position is within 1 cm of the goal, ``command_pose`` turns in place: ``v = 0``,
+        position is within 1 cm of the goal (``set_goal_tolerance``), ``command_pose`` turns in place: ``v = 0``,
         ``omega = clamp(k·wrap(yaw − θ), ±omega_max)`` (``k = min(10, 1/control_period)``;
         within the acceleration limits, if any), ``steer == "to-goal-heading"``, until the
         heading is within 1e-3 rad of it, then ``(0, 0)`` with ``steer == "arrived"``. Turning in
@@ -232,6 +232,16 @@ class Navigator:
     @property
     def goal_heading(self) -> Optional[float]:
         """The goal yaw of ``set_goal_heading``, rad; ``None`` without one."""
+    def set_goal_tolerance(self, xy: float = 0.01, yaw: float = 1e-3) -> None:
+        """Where a goal with a yaw (``set_goal_heading``) has arrived: the turn in place begins
+        within ``xy`` m of the goal and ends within ``yaw`` rad of the goal yaw (Nav2's
+        ``xy_goal_tolerance`` and ``yaw_goal_tolerance``). Turning in place is safe anywhere,
+        so no tolerance weakens a certificate. A bound that is not finite and positive raises
+        ``ValueError`` naming ``xy_goal_tolerance`` or ``yaw_goal_tolerance`` and changes
+        nothing. Kept by pickle and copy."""
+    @property
+    def goal_tolerance(self) -> Tuple[float, float]:
+        """``(xy, yaw)`` of ``set_goal_tolerance``: m and rad."""
     def set_movers(self, movers: Sequence[Union[Mover, Dict[str, Any]]]) -> None:
         """Replaces the movers (``Mover``s, or dicts with its argument names as keys); ``[]``
         clears them. All or nothing: an invalid mover is a ``ValueError`` naming

@@ -7,9 +7,9 @@ use std::sync::{Arc, Mutex};
 
 use harmonav_rs::Vector2;
 use harmonav_rs::{
-    Base, EscapeMemory, FloorMap, FloorNavigator as RsFloorNavigator, LaserScan, Law, Mode,
-    Mover as RsMover, MoverKind, NavError, Navigator as RsNavigator, Options, Pose, PoseCommand,
-    ScanUpdate as RsScanUpdate, Steer,
+    Base, EscapeMemory, FloorMap, FloorNavigator as RsFloorNavigator, GoalTolerance, LaserScan,
+    Law, Mode, Mover as RsMover, MoverKind, NavError, Navigator as RsNavigator, Options, Pose,
+    PoseCommand, ScanUpdate as RsScanUpdate, Steer,
 };
 use numpy::PyArray1;
 use pyo3::exceptions::PyTypeError;
@@ -166,6 +166,8 @@ enum Event {
     Movers(Vec<RsMover>),
     /// `set_goal_heading(yaw)` (issue 53): in force until the next.
     GoalHeading(Option<f64>),
+    /// `set_goal_tolerance(xy, yaw)` (issue 53): in force until the next.
+    GoalTolerance(f64, f64),
     /// `observe_scan(...)` that changed the obstacles, or that ended a halt (a scan that
     /// changed nothing otherwise leaves no state to replay).
     Scan(Box<(Pose, LaserScan)>),
@@ -327,9 +329,17 @@ impl Log {
         }
     }
 
+    /// A successful `set_goal_tolerance`: replaces the one set since the last other event.
+    fn goal_tolerance(&mut self, t: GoalTolerance) {
+        match self.events.last_mut() {
+            Some(Event::GoalTolerance(xy, yaw)) => (*xy, *yaw) = (t.xy, t.yaw),
+            _ => self.events.push(Event::GoalTolerance(t.xy, t.yaw)),
+        }
+    }
+
     /// The log as pickle stores it: `("add", shape)`, `("command", x, v)`, `("pose", x, yaw)`,
-    /// `("movers", [Mover, …])`, `("goal-heading", yaw or None)` and `("scan", pose, ranges,
-    /// angles)` entries.
+    /// `("movers", [Mover, …])`, `("goal-heading", yaw or None)`, `("goal-tolerance", xy, yaw)`
+    /// and `("scan", pose, ranges, angles)` entries.
     fn to_python<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         let entries = self
             .events
@@ -340,6 +350,9 @@ impl Log {
                     Event::Command(x, v) => ("command", *x, *v).into_pyobject(py),
                     Event::Pose(x, yaw) => ("pose", *x, *yaw).into_pyobject(py),
                     Event::GoalHeading(yaw) => ("goal-heading", *yaw).into_pyobject(py),
+                    Event::GoalTolerance(xy, yaw) => {
+                        ("goal-tolerance", *xy, *yaw).into_pyobject(py)
+                    }
                     Event::Escapes(m) => escapes_entry(py, m),
                     Event::Movers(movers) => {
                         let movers = movers
@@ -542,6 +555,14 @@ impl State {
         Ok(())
     }
 
+    /// Sets where a goal with a yaw has arrived, and records it; the Rust navigator refuses a
+    /// bound that is not finite and positive and changes nothing.
+    fn set_goal_tolerance(&mut self, t: GoalTolerance) -> Result<(), NavError> {
+        each!(&mut self.inner, nav => nav.set_goal_tolerance(t))?;
+        self.log.goal_tolerance(t);
+        Ok(())
+    }
+
     /// Replaces the movers, and records them.
     fn set_movers(&mut self, movers: Vec<RsMover>) -> Result<(), NavError> {
         each!(&mut self.inner, nav => nav.set_movers(&movers))?;
@@ -566,6 +587,7 @@ impl State {
                 },
                 Event::Movers(movers) => self.set_movers(movers),
                 Event::GoalHeading(yaw) => self.set_goal_heading(yaw),
+                Event::GoalTolerance(xy, yaw) => self.set_goal_tolerance(GoalTolerance { xy, yaw }),
                 Event::Scan(b) => {
                     let (pose, scan) = *b;
                     self.scan(pose, scan).map(drop)
@@ -668,7 +690,7 @@ fn event(entry: &Bound<'_, PyAny>, i: usize, class: &str) -> PyResult<Event> {
         PyTypeError::new_err(format!(
             "{class} state, entry {i}: {problem}; expected (\"add\", Shape), \
              (\"command\", [x, y], [vx, vy]), (\"pose\", [x, y], yaw), (\"movers\", \
-             [Mover, …]), (\"goal-heading\", yaw or None), (\"scan\", [x, y, yaw], ranges, [angle_min, angle_increment, \
+             [Mover, …]), (\"goal-heading\", yaw or None), (\"goal-tolerance\", xy, yaw), (\"scan\", [x, y, yaw], ranges, [angle_min, angle_increment, \
              range_min, range_max]) or (\"escapes\", level or None, early, early_level or None, \
              count, [x, y] or None, periods)"
         ))
@@ -722,6 +744,10 @@ fn event(entry: &Bound<'_, PyAny>, i: usize, class: &str) -> PyResult<Event> {
             yaw.extract::<Option<f64>>()
                 .map_err(|e| bad(e.to_string()))?,
         )),
+        ("goal-tolerance", [_, xy, yaw]) => {
+            let get = |v: &Bound<'_, PyAny>| v.extract::<f64>().map_err(|e| bad(e.to_string()));
+            Ok(Event::GoalTolerance(get(xy)?, get(yaw)?))
+        }
         (tag @ ("scan" | "refused-scan"), [_, pose, ranges, angles]) => {
             let [x, y, yaw] = pose.extract::<[f64; 3]>().map_err(|e| bad(e.to_string()))?;
             let ranges = ranges
@@ -837,9 +863,10 @@ impl Navigator {
 
     /// Sets the goal yaw (rad, map frame) a differential-drive robot finishes at, or clears it
     /// (`None`, the default: `command_pose` as without, bit for bit). Once the position is
-    /// within 1 cm of the goal (`harmonav::GOAL_ARRIVAL`), `command_pose` turns in place,
-    /// `v = 0`, `omega = clamp(k·wrap(yaw − θ), ±omega_max)` within the acceleration limits
-    /// (`steer == "to-goal-heading"`), until the heading is within 1e-3 rad of it, then returns
+    /// within 1 cm of the goal (`harmonav::GOAL_ARRIVAL`; `set_goal_tolerance`), `command_pose`
+    /// turns in place, `v = 0`, `omega = clamp(k·wrap(yaw − θ), ±omega_max)` within the
+    /// acceleration limits (`steer == "to-goal-heading"`), until the heading is within 1e-3 rad
+    /// of it (`set_goal_tolerance`), then returns
     /// `(0, 0)` (`steer == "arrived"`); docs/unicycle.md section 3.5. A non-finite yaw is a
     /// `ValueError` naming `goal_yaw`, the navigator unchanged. Pickled with the navigator.
     #[pyo3(signature = (yaw))]
@@ -851,6 +878,27 @@ impl Navigator {
     #[getter]
     fn goal_heading(&self, py: Python<'_>) -> Option<f64> {
         each!(&self.state(py).inner, nav => nav.goal_heading())
+    }
+
+    /// Sets where a goal with a yaw (`set_goal_heading`) has arrived: the turn in place begins
+    /// within `xy` m of the goal and ends within `yaw` rad of the goal yaw (Nav2's
+    /// `xy_goal_tolerance` and `yaw_goal_tolerance`; the defaults 0.01 m and 1e-3 rad,
+    /// `harmonav::GoalTolerance`). Turning in place is safe anywhere, so no tolerance weakens a
+    /// certificate. A bound that is not finite and positive is a `ValueError` naming
+    /// `xy_goal_tolerance` or `yaw_goal_tolerance`, the navigator unchanged. Pickled with the
+    /// navigator.
+    #[pyo3(signature = (xy=harmonav_rs::GOAL_ARRIVAL, yaw=harmonav_rs::GOAL_HEADING_TOLERANCE))]
+    fn set_goal_tolerance(&self, py: Python<'_>, xy: f64, yaw: f64) -> PyResult<()> {
+        self.state(py)
+            .set_goal_tolerance(GoalTolerance { xy, yaw })
+            .map_err(value_error)
+    }
+
+    /// `(xy, yaw)` of `set_goal_tolerance`: m and rad.
+    #[getter]
+    fn goal_tolerance(&self, py: Python<'_>) -> (f64, f64) {
+        let t = each!(&self.state(py).inner, nav => nav.goal_tolerance());
+        (t.xy, t.yaw)
     }
 
     /// Replaces the movers (issue 54, `docs/movers.md`): a list of `Mover` (or of dicts with

@@ -318,3 +318,53 @@ def test_a_goal_heading_is_reached_by_turning_in_place_at_the_goal(make):
     x, yaw, _ = drive(free, START.copy(), math.pi, 1500, lambda p: None, tolerance=0.01)
     assert np.linalg.norm(x - GOAL) < 0.01
     assert abs(heading_error(goal_yaw, yaw)) > 1e-3
+
+
+@pytest.mark.parametrize("make", [diff_star, limited_star], ids=["star", "accel"])
+def test_a_goal_tolerance_ends_the_turn_where_it_says(make):
+    """`set_goal_tolerance(xy, yaw)` (Nav2's `xy_goal_tolerance`, `yaw_goal_tolerance`): the
+    turn in place begins at the first pose within `xy` of the goal and the robot stands within
+    `xy` and `yaw`; copies and pickles keep it; a bad bound is refused by name. The negative
+    control: the default tolerance (0.01 m) drives on past the first pose within 0.3 m."""
+    goal_yaw, xy, tol = math.pi / 2, 0.3, 0.05
+    nav = make()
+    assert nav.goal_tolerance == (0.01, 1e-3)
+    nav.set_goal_heading(goal_yaw)
+    nav.set_goal_tolerance(xy=xy, yaw=tol)
+    assert nav.goal_tolerance == (xy, tol)
+    limited = make is limited_star
+    x, yaw, within, last = START.copy(), math.pi, None, 0.0
+    for _ in range(1500):
+        v, omega = nav.command_pose(x, yaw)
+        if within is None and np.linalg.norm(x - GOAL) < xy:
+            within = x.copy()
+        if within is not None:
+            # It stops at once, or brakes as fast as the limits allow (then stands).
+            assert v == 0.0 or (limited and v < last), (v, last, x)
+        last = v
+        x, yaw = arc(x, yaw, v, omega, H)
+        if nav.steer == "arrived":
+            break
+    assert nav.steer == "arrived" and within is not None
+    if not limited:
+        assert np.array_equal(x, within), (x, within)
+    assert 0.01 < np.linalg.norm(x - GOAL) < xy
+    assert abs(heading_error(goal_yaw, yaw)) < tol
+    for how, twin in copies(nav):
+        assert twin.goal_tolerance == (xy, tol), how
+        assert twin.command_pose(x, yaw) == (0.0, 0.0) and twin.steer == "arrived", how
+    for kw, name in [({"xy": 0.0}, "xy_goal_tolerance"), ({"yaw": float("nan")}, "yaw_goal_tolerance")]:
+        with pytest.raises(ValueError, match=name):
+            nav.set_goal_tolerance(**kw)
+        assert nav.goal_tolerance == (xy, tol)
+
+    # The default drives on: it is still moving at the first pose within 0.3 m.
+    free = make()
+    free.set_goal_heading(goal_yaw)
+    x, yaw = START.copy(), math.pi
+    for _ in range(1500):
+        v, omega = free.command_pose(x, yaw)
+        if np.linalg.norm(x - GOAL) < xy:
+            break
+        x, yaw = arc(x, yaw, v, omega, H)
+    assert v > 0.0, v

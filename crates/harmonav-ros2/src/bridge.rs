@@ -395,10 +395,10 @@ impl Bridge {
     /// `global_frame`. The pose is taken into `global_frame` as a whole, `T ∘ (x, y, θ)` with
     /// `T` the frame's transform, so the goal's yaw is `θ` plus `T`'s rotation. When
     /// [`Bridge::uses_goal_orientation`], that yaw is the navigator's goal heading
-    /// (`Navigator::set_goal_heading`): the robot drives to within `GOAL_ARRIVAL` (1 cm),
-    /// turns in place to it, and has arrived only when `command_pose` says so
-    /// ([`Steer::Arrived`]); otherwise the orientation is not read and arrival is within
-    /// `goal_tolerance`.
+    /// (`Navigator::set_goal_heading`): the robot drives to within `xy_goal_tolerance` (default
+    /// `GOAL_ARRIVAL`, 1 cm), turns in place to within `yaw_goal_tolerance` of it, and has
+    /// arrived only when `command_pose` says so ([`Steer::Arrived`]); otherwise the
+    /// orientation is not read and arrival is within [`Params::arrival_radius`].
     ///
     /// # Errors
     /// A position that is not finite; when the orientation is used, a quaternion that is not a
@@ -438,15 +438,15 @@ impl Bridge {
             ),
         );
         if self.goal_yaw.is_some() {
+            let t = self.params.goal_tolerance();
             self.say_once(
                 "goal yaw tolerance",
                 log::Level::Info,
                 format!(
-                    "a goal with a yaw is reached within {} m and {} rad (harmonav's \
-                     GOAL_ARRIVAL, then a turn in place to GOAL_HEADING_TOLERANCE); \
-                     goal_tolerance is not read for it",
-                    harmonav::GOAL_ARRIVAL,
-                    harmonav::GOAL_HEADING_TOLERANCE
+                    "a goal with a yaw is reached within {} m (xy_goal_tolerance), then a turn \
+                     in place to within {} rad (yaw_goal_tolerance); goal_tolerance is not read \
+                     for it",
+                    t.xy, t.yaw
                 ),
             );
         }
@@ -755,6 +755,8 @@ impl Bridge {
             let mut nav = Navigator::new(disc, goal, law, options).map_err(|e| e.to_string())?;
             nav.set_goal_heading(self.goal_yaw)
                 .map_err(|e| e.to_string())?;
+            nav.set_goal_tolerance(p.goal_tolerance())
+                .map_err(|e| e.to_string())?;
             return Ok(Nav::Star(Box::new(nav)));
         }
         let Some(map) = &self.map else {
@@ -767,6 +769,8 @@ impl Bridge {
         let mut nav =
             FloorNavigator::new(Arc::new(plan), goal, law, options).map_err(|e| e.to_string())?;
         nav.set_goal_heading(self.goal_yaw)
+            .map_err(|e| e.to_string())?;
+        nav.set_goal_tolerance(p.goal_tolerance())
             .map_err(|e| e.to_string())?;
         Ok(Nav::Floor(Box::new(nav)))
     }
@@ -891,7 +895,7 @@ impl Bridge {
         }
         let x = Vector2::new(pose.x, pose.y);
         // A goal with a yaw has arrived when the navigator says so (below), not here.
-        if self.arrived || (self.goal_yaw.is_none() && (x - goal).norm() <= p.goal_tolerance) {
+        if self.arrived || (self.goal_yaw.is_none() && (x - goal).norm() <= p.arrival_radius()) {
             return Err(self.reached(pose));
         }
         if self.dirty {
@@ -943,7 +947,7 @@ impl Bridge {
                 return Err(Stop::ScanRefused);
             }
             if cmd.steer == Steer::Arrived {
-                // At the position (1 cm) and the goal yaw (1e-3 rad): the command is (0, 0).
+                // At the position and the goal yaw (`Params::goal_tolerance`): (0, 0).
                 return Err(self.reached(pose));
             }
             return Ok((

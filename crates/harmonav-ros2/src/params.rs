@@ -94,11 +94,21 @@ pub struct Params {
     /// m/s: the kinematic law's top speed (≤ 0: the law's own, `K√2`; a differential-drive
     /// base's top forward speed, 0.5 m/s when ≤ 0).
     pub v_max: f64,
-    /// m: arrival radius. Not read for a goal with a yaw (`use_goal_orientation` on a `diff`
-    /// base): that goal is reached when harmonav's `command_pose` reports it arrived, within
-    /// `GOAL_ARRIVAL` (1 cm) of the position and then turned in place to within
-    /// `GOAL_HEADING_TOLERANCE` (1e-3 rad) of the yaw.
+    /// m: arrival radius of a goal without a yaw (unless `xy_goal_tolerance` is given). A goal
+    /// with a yaw (`use_goal_orientation` on a `diff` base) is reached when harmonav's
+    /// `command_pose` reports it arrived: within `xy_goal_tolerance` (default
+    /// `GOAL_ARRIVAL`, 1 cm) of the position and then turned in place to within
+    /// `yaw_goal_tolerance` of the yaw.
     pub goal_tolerance: f64,
+    /// m: Nav2's goal checker's name. Given, it is the position tolerance of every goal: the
+    /// arrival radius of a goal without a yaw (`goal_tolerance` is then not read) and the
+    /// radius where a goal with a yaw turns in place (`harmonav::GoalTolerance::xy`). `None`
+    /// (not given): `goal_tolerance`, and 1 cm (`GOAL_ARRIVAL`) for a goal with a yaw.
+    pub xy_goal_tolerance: Option<f64>,
+    /// rad: where the turn in place to a goal's yaw ends (`harmonav::GoalTolerance::yaw`;
+    /// Nav2's goal checker's name). Default harmonav's `GOAL_HEADING_TOLERANCE`, 1e-3 rad (Nav2's
+    /// is 0.25).
+    pub yaw_goal_tolerance: f64,
     /// A `diff` base finishes at the goal's yaw (the orientation of `/goal_pose` and of the
     /// action's goals, in `global_frame`), by turning in place once at the position
     /// (`Navigator::set_goal_heading`); false: the orientation is ignored and arrival is within
@@ -171,6 +181,8 @@ impl Default for Params {
             mu: 10.0,
             v_max: 0.0,
             goal_tolerance: 0.1,
+            xy_goal_tolerance: None,
+            yaw_goal_tolerance: harmonav::GOAL_HEADING_TOLERANCE,
             use_goal_orientation: true,
             enable_stamped_cmd_vel: false,
             base: Base::Holonomic,
@@ -189,6 +201,25 @@ impl Default for Params {
             occupied_thresh: 0.65,
             free_thresh: 0.25,
             use_sim_time: false,
+        }
+    }
+}
+
+impl Params {
+    /// m: the arrival radius of a goal without a yaw, `xy_goal_tolerance` if given, else
+    /// `goal_tolerance`.
+    #[must_use]
+    pub fn arrival_radius(&self) -> f64 {
+        self.xy_goal_tolerance.unwrap_or(self.goal_tolerance)
+    }
+
+    /// Where a goal with a yaw has arrived (`Navigator::set_goal_tolerance`):
+    /// `xy_goal_tolerance` if given (else harmonav's 1 cm) and `yaw_goal_tolerance`.
+    #[must_use]
+    pub fn goal_tolerance(&self) -> harmonav::GoalTolerance {
+        harmonav::GoalTolerance {
+            xy: self.xy_goal_tolerance.unwrap_or(harmonav::GOAL_ARRIVAL),
+            yaw: self.yaw_goal_tolerance,
         }
     }
 }
@@ -310,6 +341,8 @@ impl Params {
             "mu" => self.mu = positive(value)?,
             "v_max" => self.v_max = float(value)?,
             "goal_tolerance" => self.goal_tolerance = positive(value)?,
+            "xy_goal_tolerance" => self.xy_goal_tolerance = Some(positive(value)?),
+            "yaw_goal_tolerance" => self.yaw_goal_tolerance = positive(value)?,
             "use_goal_orientation" => self.use_goal_orientation = flag(value)?,
             "enable_stamped_cmd_vel" => self.enable_stamped_cmd_vel = flag(value)?,
             "base" => {
@@ -614,6 +647,39 @@ harmonav:
             .apply_file("/**:\n  ros__parameters:\n    required_movement_radius: 0\n")
             .unwrap_err();
         assert!(e.0.contains("required_movement_radius"), "{e}");
+    }
+
+    /// Nav2's goal checker's names: `xy_goal_tolerance`, given, is the position tolerance of
+    /// every goal (in place of `goal_tolerance`, and for a goal with a yaw in place of 1 cm);
+    /// `yaw_goal_tolerance` ends the turn; neither given, nothing changes; a bad value is
+    /// refused by name.
+    #[test]
+    fn nav2_goal_tolerances() {
+        let mut p = Params::default();
+        assert_eq!(p.arrival_radius(), p.goal_tolerance);
+        assert_eq!(p.goal_tolerance(), harmonav::GoalTolerance::default());
+        p.apply_file(
+            "/**:\n  ros__parameters:\n    xy_goal_tolerance: 0.25\n    yaw_goal_tolerance: 0.2\n",
+        )
+        .unwrap();
+        assert_eq!(p.arrival_radius(), 0.25);
+        assert_eq!(
+            p.goal_tolerance(),
+            harmonav::GoalTolerance { xy: 0.25, yaw: 0.2 }
+        );
+        for bad in [
+            "xy_goal_tolerance: 0",
+            "yaw_goal_tolerance: -0.1",
+            "xy_goal_tolerance: .inf",
+        ] {
+            let mut q = p.clone();
+            let e = q
+                .apply_file(&format!("/**:\n  ros__parameters:\n    {bad}\n"))
+                .unwrap_err();
+            let name = bad.split(':').next().unwrap();
+            assert!(e.0.contains(name), "{e}");
+            assert_eq!(q.goal_tolerance(), p.goal_tolerance(), "{bad}");
+        }
     }
 
     #[test]

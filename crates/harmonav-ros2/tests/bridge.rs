@@ -1149,6 +1149,51 @@ fn differential_drive_finishes_at_the_goal_yaw() {
     );
 }
 
+/// Nav2's `xy_goal_tolerance` (0.3 m) and `yaw_goal_tolerance` (0.05 rad): a goal with a yaw
+/// turns in place from the first pose within 0.3 m (the robot ends farther than the default
+/// 1 cm, which the test above reaches) and is reached within 0.05 rad; a goal without a yaw
+/// (the orientation ignored) is reached within 0.3 m, not `goal_tolerance`'s 0.1 m.
+#[test]
+fn nav2_goal_tolerances_end_the_drive() {
+    let g = [12.0, 10.0];
+    let (xy, yaw) = (0.3, 0.05);
+    for use_goal_orientation in [true, false] {
+        let params = Params {
+            map_topic: String::new(),
+            base: harmonav_ros2::params::Base::Diff,
+            use_goal_orientation,
+            xy_goal_tolerance: Some(xy),
+            yaw_goal_tolerance: yaw,
+            ..Params::default()
+        };
+        let (mut bridge, mut sim) = in_open_room(params.clone());
+        sim.diff = true;
+        sim.yaw = 2.0;
+        bridge.on_goal(&goal_in("map", g[0], g[1], FRAC_PI_2), sim.t);
+        let drive = drive_to(&mut sim, &mut bridge, g, 4000);
+        let d = (sim.x[0] - g[0]).hypot(sim.x[1] - g[1]);
+        assert!(
+            d <= xy,
+            "{use_goal_orientation}: arrived {d} m from the goal"
+        );
+        assert!(
+            drive.clearance > params.robot_radius,
+            "contact: {}",
+            drive.clearance
+        );
+        if use_goal_orientation {
+            assert!(
+                d > GOAL_ARRIVAL,
+                "drove on to {d} m: the tolerance was not read"
+            );
+            let e = wrap(sim.yaw - FRAC_PI_2);
+            assert!(e.abs() < yaw, "arrived {e} rad off the goal yaw");
+        } else {
+            assert!(d > params.goal_tolerance, "{d}: goal_tolerance was read");
+        }
+    }
+}
+
 /// A goal in another frame: its pose is taken into `map` whole, the yaw rotated by the frame's
 /// transform (a static `map → dock`, yaw 1): `(0.5, 0)` at yaw π/2 − 1 in `dock` is
 /// `dock`'s origin plus 0.5 m along yaw 1, at yaw π/2 in `map`, where the robot ends.

@@ -38,16 +38,40 @@ pub const GOAL_GAIN_RATIO: f64 = 0.5;
 /// this angle (rad) of the way out, then drives straight (`ω = 0`) along it.
 pub const RECOVERY_ALIGNMENT: f64 = 1e-6;
 
-/// The arrival test of the goal heading ([`Navigator::set_goal_heading`]), m: the position has
-/// arrived when `|x − x_d| <` this, the same test as [`crate::checks::fly`]'s (it is
-/// [`crate::checks::GOAL_TOLERANCE`]) and the 1 cm the differential-drive tests and the
-/// scenarios' default `sim.arrival` use.
+/// The default arrival test of the goal heading ([`Navigator::set_goal_heading`],
+/// [`GoalTolerance::xy`]), m: the position has arrived when `|x − x_d| <` this, the same test
+/// as [`crate::checks::fly`]'s (it is [`crate::checks::GOAL_TOLERANCE`]) and the 1 cm the
+/// differential-drive tests and the scenarios' default `sim.arrival` use.
 pub const GOAL_ARRIVAL: f64 = crate::checks::GOAL_TOLERANCE;
 
-/// The heading tolerance of the goal heading, rad: once the position has arrived
-/// ([`GOAL_ARRIVAL`]), [`Navigator::command_pose`] turns in place until
+/// The default heading tolerance of the goal heading ([`GoalTolerance::yaw`]), rad: once the
+/// position has arrived ([`GOAL_ARRIVAL`]), [`Navigator::command_pose`] turns in place until
 /// `|wrap(θ_g − θ)| <` this, then commands `(0, 0)` ([`Steer::Arrived`]).
 pub const GOAL_HEADING_TOLERANCE: f64 = 1e-3;
+
+/// Where a differential-drive base has arrived at a goal with a yaw
+/// ([`Navigator::set_goal_heading`], [`Navigator::set_goal_tolerance`]): the turn in place
+/// begins once `|x − x_d| < xy`, and ends ([`Steer::Arrived`]) once
+/// `|wrap(θ_g − θ)| < yaw`. Nav2's goal checker calls them `xy_goal_tolerance` and
+/// `yaw_goal_tolerance`. The default is [`GOAL_ARRIVAL`] and [`GOAL_HEADING_TOLERANCE`]
+/// (1 cm, 1e-3 rad). Either is a stopping rule only: turning in place is safe anywhere
+/// (a disc robot's body does not move), so no tolerance weakens a certificate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GoalTolerance {
+    /// m: the turn in place begins within this distance of the goal.
+    pub xy: f64,
+    /// rad: the turn ends within this angle of the goal yaw.
+    pub yaw: f64,
+}
+
+impl Default for GoalTolerance {
+    fn default() -> Self {
+        Self {
+            xy: GOAL_ARRIVAL,
+            yaw: GOAL_HEADING_TOLERANCE,
+        }
+    }
+}
 
 /// The arc search (docs/unicycle.md section 11) runs when the held holonomic command was
 /// shortened below this fraction of the law's step ([`Mode::Capped`]) or stepped from rest
@@ -84,11 +108,11 @@ pub enum Steer {
     /// `v = 0`, `ω ≠ 0`: turning in place (the heading is not a descent direction, no forward
     /// arc was certified, or a recovery is turning towards its way out).
     Turning,
-    /// `v = 0`: the position has arrived ([`GOAL_ARRIVAL`]) and the base turns in place to the
+    /// `v = 0`: the position has arrived ([`GoalTolerance::xy`]) and the base turns in place to the
     /// goal yaw of [`Navigator::set_goal_heading`], `ω = clamp(k·wrap(θ_g − θ), ±ω_cap)`.
     ToGoalHeading,
     /// `v = ω = 0`: the position has arrived and the heading is within
-    /// [`GOAL_HEADING_TOLERANCE`] of the goal yaw ([`Navigator::set_goal_heading`]).
+    /// [`GoalTolerance::yaw`] of the goal yaw ([`Navigator::set_goal_heading`]).
     Arrived,
     /// `v = ω = 0`: at the goal, at a critical point of `Θ`, or halted ([`Mode::Halted`]).
     Stopped,
@@ -434,7 +458,7 @@ impl<W: World> Navigator<W> {
             return Err(NavError::NotFinite { what: "yaw" });
         }
         if let Some(goal_yaw) = self.core.goal_yaw
-            && (x - self.goal()).norm() < GOAL_ARRIVAL
+            && (x - self.goal()).norm() < self.core.goal_tolerance.xy
         {
             let want = self.turn_to_goal_heading(x, yaw, goal_yaw, omega_max, accel)?;
             let (mut pose, limits) = match accel {
@@ -464,7 +488,7 @@ impl<W: World> Navigator<W> {
     ///
     /// ([`Steer::ToGoalHeading`]; the `√` under acceleration limits, so that the turn rate can
     /// be shed before the goal yaw), and `(0, 0)` ([`Steer::Arrived`]) once `|e| <`
-    /// [`GOAL_HEADING_TOLERANCE`]. Turning in place moves no point of a disc robot whose axle
+    /// the yaw tolerance ([`GoalTolerance::yaw`], default [`GOAL_HEADING_TOLERANCE`]). Turning in place moves no point of a disc robot whose axle
     /// is at its centre: the body occupies the same disc all period, so the command is safe
     /// whatever `ω` is, and the position keeps its certificate (it does not move). The held
     /// holonomic command is still formed (its mode reported, a refused scan halting the robot:
@@ -489,7 +513,7 @@ impl<W: World> Navigator<W> {
         }
         let e = |a: f64| Vector2::new(a.cos(), a.sin());
         let error = angle(e(yaw), e(goal_yaw));
-        if error.abs() < GOAL_HEADING_TOLERANCE {
+        if error.abs() < self.core.goal_tolerance.yaw {
             return Ok(PoseCommand {
                 steer: Steer::Arrived,
                 ..stopped
@@ -508,9 +532,10 @@ impl<W: World> Navigator<W> {
 
     /// Sets the goal yaw `θ_g` (rad, map frame) a differential-drive base finishes at (`None`:
     /// none, the default; Nav2's goals carry one). Once the position has arrived, `|x − x_d| <`
-    /// [`GOAL_ARRIVAL`], [`Navigator::command_pose`] turns in place, `v = 0`,
-    /// `ω = clamp(k·wrap(θ_g − θ), ±ω_max)` ([`Steer::ToGoalHeading`]; within the acceleration
-    /// limits, if any), until `|wrap(θ_g − θ)| <` [`GOAL_HEADING_TOLERANCE`], then commands
+    /// [`GoalTolerance::xy`] (default [`GOAL_ARRIVAL`]), [`Navigator::command_pose`] turns in
+    /// place, `v = 0`, `ω = clamp(k·wrap(θ_g − θ), ±ω_max)` ([`Steer::ToGoalHeading`]; within
+    /// the acceleration limits, if any), until `|wrap(θ_g − θ)| <` [`GoalTolerance::yaw`]
+    /// (default [`GOAL_HEADING_TOLERANCE`]), then commands
     /// `(0, 0)` ([`Steer::Arrived`]); away from the goal it is not read. Without a goal yaw
     /// `command_pose` is what it was, bit for bit. [`Navigator::command`] does not read it.
     ///
@@ -528,6 +553,33 @@ impl<W: World> Navigator<W> {
     #[must_use]
     pub fn goal_heading(&self) -> Option<f64> {
         self.core.goal_yaw
+    }
+
+    /// Sets where a goal with a yaw has arrived ([`GoalTolerance`]: the turn in place begins
+    /// within `xy` of the goal and ends within `yaw` of the goal yaw; Nav2's
+    /// `xy_goal_tolerance` and `yaw_goal_tolerance`). Without a goal yaw it is not read, and
+    /// with the default `command_pose` is what it was, bit for bit.
+    ///
+    /// # Errors
+    /// A bound that is not finite and positive: [`NavError::InvalidOption`] naming
+    /// `"xy_goal_tolerance"` or `"yaw_goal_tolerance"`, the navigator unchanged.
+    pub fn set_goal_tolerance(&mut self, tolerance: GoalTolerance) -> Result<(), NavError> {
+        for (field, value) in [
+            ("xy_goal_tolerance", tolerance.xy),
+            ("yaw_goal_tolerance", tolerance.yaw),
+        ] {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(NavError::InvalidOption { field, value });
+            }
+        }
+        self.core.goal_tolerance = tolerance;
+        Ok(())
+    }
+
+    /// Where a goal with a yaw has arrived ([`Navigator::set_goal_tolerance`]).
+    #[must_use]
+    pub fn goal_tolerance(&self) -> GoalTolerance {
+        self.core.goal_tolerance
     }
 
     /// The acceleration limits `a` applied to `want` (docs/unicycle.md §10): `ω` within

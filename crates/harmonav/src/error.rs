@@ -126,6 +126,8 @@ fn expected(field: &str) -> String {
         "max_obstacle_depth" => "must be finite and in (0, 100] m".to_string(),
         "jump_distance" => "must be finite and in [0, 100] m".to_string(),
         "order" => "must be an integer from 1 to 16".to_string(),
+        "xy_goal_tolerance" => "must be finite and positive, m".to_string(),
+        "yaw_goal_tolerance" => "must be finite and positive, rad".to_string(),
         "free_memory" => format!(
             "must be an integer from 0 to {}",
             harmonav_perception::perception::MAX_FREE_MEMORY

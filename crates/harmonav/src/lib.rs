@@ -83,8 +83,8 @@ pub use base::{Accel, Base};
 pub use certified::{BLIND, Band, CANDIDATES};
 pub use controller::{Controller, Evaluation};
 pub use diff::{
-    GOAL_ARRIVAL, GOAL_GAIN_RATIO, GOAL_HEADING_TOLERANCE, PoseCommand, RECOVERY_ALIGNMENT, Steer,
-    TURN_GAIN, unicycle_arc,
+    GOAL_ARRIVAL, GOAL_GAIN_RATIO, GOAL_HEADING_TOLERANCE, GoalTolerance, PoseCommand,
+    RECOVERY_ALIGNMENT, Steer, TURN_GAIN, unicycle_arc,
 };
 pub use error::NavError;
 pub use event::{grow_perceived, grow_perceived_as};

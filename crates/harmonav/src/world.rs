@@ -99,6 +99,8 @@ pub struct Core {
     /// The goal yaw of a differential-drive base, rad (`Navigator::set_goal_heading`; `None`:
     /// none, the default).
     pub(crate) goal_yaw: Option<f64>,
+    /// Where a goal with a yaw has arrived (`Navigator::set_goal_tolerance`).
+    pub(crate) goal_tolerance: crate::diff::GoalTolerance,
 }
 
 /// What [`Rules::admit`] may need besides the grown shape: the known shapes grown by `radius`

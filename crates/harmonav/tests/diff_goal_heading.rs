@@ -7,8 +7,8 @@
 use std::f64::consts::PI;
 
 use harmonav::{
-    Base, GOAL_ARRIVAL, GOAL_HEADING_TOLERANCE, Law, NavError, Navigator, Options, PoseCommand,
-    StarShape, Steer, Vector2, unicycle_arc,
+    Base, GOAL_ARRIVAL, GOAL_HEADING_TOLERANCE, GoalTolerance, Law, NavError, Navigator, Options,
+    PoseCommand, StarShape, Steer, Vector2, unicycle_arc,
 };
 
 const RADIUS: f64 = 0.18;
@@ -104,7 +104,7 @@ fn fly(
         );
         if c.steer == Steer::ToGoalHeading {
             assert_eq!(c.v, 0.0, "{c:?}");
-            assert!((x - goal()).norm() < GOAL_ARRIVAL, "{x:?}");
+            assert!((x - goal()).norm() < nav.goal_tolerance().xy, "{x:?}");
         }
         run.max_dv = run.max_dv.max((c.v - last.0).abs() / H);
         run.max_domega = run.max_domega.max((c.omega - last.1).abs() / H);
@@ -286,4 +286,103 @@ fn a_bad_goal_yaw_is_refused_by_name() {
         holonomic.command_pose(goal(), 0.0),
         Err(NavError::InvalidOption { field: "base", .. })
     ));
+}
+
+/// Nav2's tolerances (`set_goal_tolerance`, xy 0.25 m and yaw 0.05 rad): the turn in place
+/// begins at the first pose within 0.25 m of the goal (no command after it drives), and the
+/// loop ends `Arrived` within 0.25 m and 0.05 rad, and stays. The tolerance takes effect: some
+/// run ends farther from the goal than the default's 1 cm (where the test above ends every
+/// run), and every run ends in fewer periods than with the default.
+#[test]
+fn a_goal_tolerance_ends_the_drive_where_it_says() {
+    let tolerance = GoalTolerance {
+        xy: 0.25,
+        yaw: 0.05,
+    };
+    for base in [
+        Base::diff(V_MAX, OMEGA_MAX),
+        Base::diff(V_MAX, OMEGA_MAX).with_accel(A_MAX, ALPHA_MAX),
+    ] {
+        let mut farthest: f64 = 0.0;
+        for goal_yaw in GOAL_YAWS {
+            for yaw in START_YAWS {
+                let mut nav = navigator(base);
+                nav.set_goal_heading(Some(goal_yaw)).unwrap();
+                nav.set_goal_tolerance(tolerance).unwrap();
+                assert_eq!(nav.goal_tolerance(), tolerance);
+                let run = fly(&mut nav, yaw, PERIODS, |_, c| c.steer == Steer::Arrived);
+                let n = run
+                    .arrived
+                    .unwrap_or_else(|| panic!("{yaw} {goal_yaw}: {run:?}"));
+                let to_goal = (run.x - goal()).norm();
+                assert!(to_goal < tolerance.xy, "{yaw}: {to_goal}");
+                assert!(wrap(goal_yaw - run.yaw).abs() < tolerance.yaw, "{run:?}");
+                assert!(run.closest > 0.0, "{yaw}: {}", run.closest);
+                // Once within xy the base only turns: replay the positions.
+                let first = run
+                    .commands
+                    .iter()
+                    .position(|c| matches!(c.steer, Steer::ToGoalHeading | Steer::Arrived))
+                    .unwrap();
+                assert!(run.commands[first..].iter().all(|c| c.v == 0.0), "{yaw}");
+                farthest = farthest.max(to_goal);
+                let mut default = navigator(base);
+                default.set_goal_heading(Some(goal_yaw)).unwrap();
+                let reference = fly(&mut default, yaw, PERIODS, |_, c| c.steer == Steer::Arrived);
+                assert!(
+                    n < reference.arrived.unwrap(),
+                    "{yaw} {goal_yaw}: {n} periods, {:?} with the default",
+                    reference.arrived
+                );
+                for _ in 0..10 {
+                    let c = nav.command_pose(run.x, run.yaw).unwrap();
+                    assert_eq!((c.v, c.omega, c.steer), (0.0, 0.0, Steer::Arrived), "{c:?}");
+                }
+            }
+        }
+        println!("tolerance 0.25 m: farthest arrival {farthest:.3} m from the goal");
+        assert!(farthest > GOAL_ARRIVAL, "{farthest}");
+    }
+}
+
+/// A tolerance that is not finite and positive is refused by the parameter's name and leaves
+/// the navigator unchanged.
+#[test]
+fn a_bad_goal_tolerance_is_refused_by_name() {
+    let mut nav = navigator(Base::diff(V_MAX, OMEGA_MAX));
+    assert_eq!(nav.goal_tolerance(), GoalTolerance::default());
+    assert_eq!(
+        GoalTolerance::default(),
+        GoalTolerance {
+            xy: GOAL_ARRIVAL,
+            yaw: GOAL_HEADING_TOLERANCE
+        }
+    );
+    for (bad, name) in [
+        (GoalTolerance { xy: 0.0, yaw: 0.1 }, "xy_goal_tolerance"),
+        (
+            GoalTolerance {
+                xy: f64::NAN,
+                yaw: 0.1,
+            },
+            "xy_goal_tolerance",
+        ),
+        (GoalTolerance { xy: 0.1, yaw: -1.0 }, "yaw_goal_tolerance"),
+        (
+            GoalTolerance {
+                xy: 0.1,
+                yaw: f64::INFINITY,
+            },
+            "yaw_goal_tolerance",
+        ),
+    ] {
+        let e = nav.set_goal_tolerance(bad).unwrap_err();
+        assert!(
+            matches!(e, NavError::InvalidOption { field, .. } if field == name),
+            "{e:?}"
+        );
+        assert!(e.to_string().contains(name), "{e}");
+        assert!(e.to_string().contains("positive"), "{e}");
+        assert_eq!(nav.goal_tolerance(), GoalTolerance::default());
+    }
 }
