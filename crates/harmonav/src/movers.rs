@@ -6,13 +6,16 @@
 //! R_j = ρ + r_j,  d_j = |x − p̂_j| − R_j − ε_j,  n_j = (x − p̂_j)/|x − p̂_j|        (ρ = radius + margin)
 //! g_j(τ) ≥ d_j + τ(n_j·u − V_j)                 for the held x(τ) = x + τu    (eq. reach)
 //! non-cooperative:  n_j·u ≥ V_j − β·d_j/h       ⇒  g_j(τ) ≥ (1 − βτ/h)·d_j on [0, h]
-//! reciprocal (share α, its peer 1 − α):  n_j·u ≥ −α·β·max(d_j, 0)/h
+//! reciprocal (share α, its peer 1 − α):  n_j·u − η_j|u| ≥ −α·β·max(d_j, 0)/h,  η_j = min(2, 2ε_j/|x − p̂_j|)
 //! ```
 //!
 //! `g_j` is the true gap between the robot's disc grown by its margin and mover `j`'s disc
 //! (`|x(τ) − p_j(τ)| − R_j`, at least `|x(τ) − p̂_j| − ε_j − V_jτ − R_j` because the mover is within
 //! `ε_j + V_jτ` of its report), and the tangent-plane bound `|y − p| ≥ n·(y − p)` of a convex set
-//! makes each row a half-plane on the held velocity. `β` is the hold's
+//! makes each row a half-plane on the held velocity. A reciprocal row is robust to the report's
+//! error (eq. robust): the true direction `n` between the two robots is within `η_j` of `n_j`,
+//! so the row holds for `n`; it is taken as the four half-planes of eq. robust (one, today's
+//! row, when `ε_j = 0`). `β` is the hold's
 //! [`crate::KINEMATIC_FRACTION`]: over a period a mover's clearance keeps at least half its value.
 //! The command the hold produced is kept when it meets every row (then it is bit for bit the
 //! command without movers); otherwise it is projected onto the rows and the static certificate
@@ -36,8 +39,8 @@ pub enum MoverKind {
     /// robot out of everything it can reach within the period.
     NonCooperative,
     /// Another harmonav robot running the same filter with the same control period, sampled at
-    /// the same instants, both using the same positions: each takes `share` of the pair's
-    /// avoidance (the two shares add to 1; ½ by default).
+    /// the same instants, each reporting the other within its `position_error` (exactly, when
+    /// 0): each takes `share` of the pair's avoidance (the two shares add to 1; ½ by default).
     Reciprocal {
         /// This robot's share, in `[0, 1]`.
         share: f64,
@@ -164,20 +167,73 @@ pub(crate) fn rows(
         }
         let n = diff / dist;
         let d = dist - (radius + margin + m.radius) - (m.position_error + extra);
-        let (a, hard) = match m.kind {
-            MoverKind::NonCooperative => (m.speed_bound - beta * d / h, false),
-            // `max(d, 0)`: a clearance decayed to 0 must keep `u = 0` feasible.
-            MoverKind::Reciprocal { share } => (-share * beta * d.max(0.0) / h, true),
-        };
-        rows.push(Row {
+        let row = |n, a, hard| Row {
             n,
             a,
             hard,
             mover: j,
             inside: d <= 0.0,
-        });
+        };
+        match m.kind {
+            MoverKind::NonCooperative => rows.push(row(n, m.speed_bound - beta * d / h, false)),
+            MoverKind::Reciprocal { share } => {
+                // `max(d, 0)`: a clearance decayed to 0 must keep `u = 0` feasible.
+                let c = -share * beta * d.max(0.0) / h;
+                let eta = robust_tilt(m.position_error, dist);
+                if eta == 0.0 {
+                    rows.push(row(n, c, true));
+                } else {
+                    for (n, a) in robust_rows(n, c, eta) {
+                        rows.push(row(n, a, true));
+                    }
+                }
+            }
+        }
     }
     Ok(())
+}
+
+/// `η = min(2, 2ε/|x − p̂|)`: the true unit direction `n = (x − p)/|x − p|` from a peer
+/// reported at `p̂ = p + e`, `|e| ≤ ε`, is within `η` of the reported one
+/// `n̂ = (x − p̂)/|x − p̂|` (eq. robust):
+///
+/// ```text
+/// n̂ − n = (â − a)/|â| + a(1/|â| − 1/|a|)  ⇒  |n̂ − n| ≤ 2|â − a|/|â| ≤ 2ε/|x − p̂|   (â = x − p̂, a = x − p)
+/// ```
+///
+/// and `|n̂ − n| ≤ 2` for unit vectors. `0` exactly when `ε = 0`.
+pub(crate) fn robust_tilt(error: f64, dist: f64) -> f64 {
+    if error == 0.0 {
+        0.0
+    } else {
+        (2.0 * error / dist).min(2.0)
+    }
+}
+
+/// The four half-planes `(n_k, a_k)`, `n_k·u ≥ a_k`, whose intersection lies inside
+/// `{u : n̂·u − η|u| ≥ c}` (eq. robust): with `s = n̂·u`, `w = t̂·u` (`t̂ ⊥ n̂`), `|u| ≤ |s| + |w|`,
+/// so `s − η|s| − η|w| ≥ c` suffices, and that is the least of the four
+///
+/// ```text
+/// (1 − σ₁η)·s − σ₂η·w ≥ c,   σ₁, σ₂ ∈ {−1, 1}                                    (eq. robust)
+/// ```
+///
+/// each normalised (`|(1 − σ₁η, σ₂η)| ≥ η > 0`). For `c ≤ 0` every one admits `u = 0`. Then
+/// for the true direction `n`, `n·u ≥ n̂·u − |n − n̂||u| ≥ c`: the reciprocal row holds as if
+/// the positions were exact.
+pub(crate) fn robust_rows(
+    n: Vector2<f64>,
+    c: f64,
+    eta: f64,
+) -> impl Iterator<Item = (Vector2<f64>, f64)> {
+    let t = Vector2::new(-n.y, n.x);
+    [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)]
+        .into_iter()
+        .map(move |(s1, s2): (f64, f64)| {
+            let v = n * (1.0 - s1 * eta) - t * (s2 * eta);
+            let norm = v.norm();
+            (v / norm, c / norm)
+        })
 }
 
 /// The velocity `u` filtered against `rows` with the static set `|u| ≤ r` (and, if the first
@@ -551,6 +607,148 @@ impl Verdict {
             Self::Kept => kept,
             Self::Yielding { mover, scale } => crate::Mode::Yielding { mover, scale },
             Self::Overwhelmed { mover, shortfall } => crate::Mode::Overwhelmed { mover, shortfall },
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use harmonav_transform::random::Rng;
+
+    const RADIUS: f64 = 0.2;
+    const MARGIN: f64 = 0.05;
+    const H: f64 = 0.1;
+    const V_MAX: f64 = 1.5;
+
+    /// Robot `i`'s filtered command: its nominal `u` against its peer as it sees it (`report`,
+    /// declared with `error`, share `share`); `None` when not certified. `plain`: the row of
+    /// before eq. robust (`n̂` as if exact, `d` still shrunk by `ε`), the negative control.
+    fn command(
+        x: Vector2<f64>,
+        report: Vector2<f64>,
+        (error, share): (f64, f64),
+        u: Vector2<f64>,
+        plain: bool,
+    ) -> Option<Vector2<f64>> {
+        let peer = Mover::new(report, RADIUS, V_MAX)
+            .with_error(error)
+            .reciprocal(share);
+        let mut buffer = Vec::new();
+        rows(&[peer], (x, RADIUS, MARGIN), H, 0.0, &mut buffer).ok()?;
+        if plain {
+            let first = buffer[0];
+            let n = (x - report).normalize();
+            let d = (x - report).norm() - (RADIUS + MARGIN + RADIUS) - error;
+            buffer = vec![Row {
+                n,
+                a: -share * KINEMATIC_FRACTION * d.max(0.0) / H,
+                ..first
+            }];
+        }
+        match filter(&buffer, (u, true), V_MAX, |_| true, V_MAX) {
+            (v, Verdict::Kept | Verdict::Yielding { .. }) => Some(v),
+            (_, Verdict::Overwhelmed { .. }) => None,
+        }
+    }
+
+    /// The worst of `g(τ) − (1 − βτ/h)·d` over the period for the true positions and the
+    /// commands held (`g` the true gap of the grown disc to the peer's body, `d` at `τ = 0`).
+    fn worst_decay(x: [Vector2<f64>; 2], u: [Vector2<f64>; 2]) -> f64 {
+        let reach = 2.0 * RADIUS + MARGIN;
+        let d = (x[0] - x[1]).norm() - reach;
+        (0..=200)
+            .map(|k| {
+                let tau = H * f64::from(k) / 200.0;
+                let g = (x[0] - x[1] + tau * (u[0] - u[1])).norm() - reach;
+                g - (1.0 - KINEMATIC_FRACTION * tau / H) * d
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// Eq. robust: two reciprocal robots, each reporting the other within its own `ε`
+    /// (0.02–0.5 m, drawn per pair), with shares adding to 1 and nominal commands towards each
+    /// other: whenever both commands are certified, the true gap keeps at least `(1 − βτ/h)` of
+    /// its value over the period, in 20 000 draws (Theorem 1 of docs/movers.md with the
+    /// errors). The negative control: the row of before (the reported normal taken as exact)
+    /// breaks it in some draws. With `ε = 0` the row is the one of before, bit for bit.
+    #[test]
+    fn the_robust_reciprocal_row_holds_for_the_true_positions() {
+        let mut rng = Rng::new(54);
+        let (mut checked, mut broken_plain, mut worst) = (0, 0, f64::INFINITY);
+        for _ in 0..20_000 {
+            let x0 = Vector2::zeros();
+            let angle = rng.uniform(-3.2, 3.2);
+            let gap = rng.uniform(0.0, 0.3);
+            let x1 = (2.0 * RADIUS + MARGIN + gap) * Vector2::new(angle.cos(), angle.sin());
+            let errors = [rng.uniform(0.02, 0.5), rng.uniform(0.02, 0.5)];
+            let share = rng.uniform(0.0, 1.0);
+            // Each sees the other's body within its error (on the disc's edge: the worst).
+            let seen = |p: Vector2<f64>, e: f64, rng: &mut Rng| {
+                let a = rng.uniform(-3.2, 3.2);
+                p + e * rng.uniform(0.5, 1.0) * Vector2::new(a.cos(), a.sin())
+            };
+            let (r0, r1) = (seen(x1, errors[0], &mut rng), seen(x0, errors[1], &mut rng));
+            // Nominals roughly at each other (the case the rows are for), at up to v_max.
+            let towards = |from: Vector2<f64>, to: Vector2<f64>, rng: &mut Rng| {
+                let a = rng.uniform(-1.4, 1.4);
+                let d = (to - from).normalize();
+                let (c, s) = (a.cos(), a.sin());
+                V_MAX * rng.uniform(0.3, 1.0) * Vector2::new(c * d.x - s * d.y, s * d.x + c * d.y)
+            };
+            let (n0, n1) = (towards(x0, x1, &mut rng), towards(x1, x0, &mut rng));
+            let ok = |plain| {
+                let u0 = command(x0, r0, (errors[0], share), n0, plain)?;
+                let u1 = command(x1, r1, (errors[1], 1.0 - share), n1, plain)?;
+                Some(worst_decay([x0, x1], [u0, u1]))
+            };
+            if let Some(w) = ok(false) {
+                checked += 1;
+                worst = worst.min(w);
+                assert!(w >= -1e-12, "robust rows broke the decay by {w}");
+            }
+            if ok(true).is_some_and(|w| w < -1e-9) {
+                broken_plain += 1;
+            }
+        }
+        println!(
+            "robust rows: {checked} certified pairs, worst slack {worst:e}; \
+             the plain row broke {broken_plain}"
+        );
+        assert!(checked > 2_000, "{checked}");
+        assert!(broken_plain > 0, "the negative control shows nothing");
+    }
+
+    /// With `ε = 0` a reciprocal mover gives one row, today's; with `ε > 0` four, each
+    /// admitting `u = 0` and each tilted from `n̂` by at most `atan(η/(1 − η))`.
+    #[test]
+    fn an_exact_report_keeps_the_one_row() {
+        let x = Vector2::new(0.3, -0.1);
+        let p = Vector2::new(1.2, 0.5);
+        let mut buffer = Vec::new();
+        let peer = Mover::new(p, RADIUS, 1.0).reciprocal(0.5);
+        rows(&[peer], (x, RADIUS, MARGIN), H, 0.0, &mut buffer).unwrap();
+        assert_eq!(buffer.len(), 1);
+        let n = (x - p).normalize();
+        let d = (x - p).norm() - (2.0 * RADIUS + MARGIN);
+        assert_eq!(buffer[0].n, n);
+        assert_eq!(buffer[0].a, -0.5 * KINEMATIC_FRACTION * d / H);
+        let error = 0.1;
+        rows(
+            &[peer.with_error(error)],
+            (x, RADIUS, MARGIN),
+            H,
+            0.0,
+            &mut buffer,
+        )
+        .unwrap();
+        assert_eq!(buffer.len(), 4);
+        let eta = 2.0 * error / (x - p).norm();
+        for row in &buffer {
+            assert!(row.hard && row.a <= 0.0 && row.slack(Vector2::zeros()) >= 0.0);
+            assert!((row.n.norm() - 1.0).abs() < 1e-15);
+            let least = (1.0 - eta) / ((1.0 - eta).powi(2) + eta * eta).sqrt();
+            assert!(row.n.dot(&n) >= least - 1e-12, "{row:?}");
         }
     }
 }

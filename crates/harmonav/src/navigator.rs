@@ -262,7 +262,8 @@ impl<W: World> Navigator<W> {
         }
         self.core.movers.clear();
         self.core.movers.extend_from_slice(movers);
-        self.core.rows.reserve(movers.len());
+        // Up to four rows per mover (a reciprocal one with a position error, eq. robust).
+        self.core.rows.reserve(4 * movers.len());
         Ok(())
     }
 
