@@ -46,6 +46,13 @@ pub enum CliError {
     },
     /// The JSON output could not be made.
     Json(serde_json::Error),
+    /// `--starts` above a floor-plan sweep's cap (`harmonav_scenario::floorplan::MAX_STARTS`).
+    FloorStarts {
+        /// The scenario file.
+        scenario: PathBuf,
+        /// `--starts` as given.
+        count: usize,
+    },
     /// `sweep` on a star world without `--starts`.
     StartsRequired {
         /// The scenario file.
@@ -84,6 +91,14 @@ impl std::fmt::Display for CliError {
                 write!(f, "{}: {error}", scenario.display())
             }
             Self::Json(e) => write!(f, "cannot write the JSON output: {e}"),
+            Self::FloorStarts { scenario, count } => write!(
+                f,
+                "--starts: a floor-plan sweep flies at most {} starts, got {count} ({}; a star \
+                 world's sweep takes up to {})",
+                harmonav_scenario::floorplan::MAX_STARTS,
+                scenario.display(),
+                harmonav_sim::sweep::MAX_STARTS
+            ),
             Self::StartsRequired { scenario } => write!(
                 f,
                 "{}: `sweep` on a star world needs --starts N (seeded random starts); a floor \

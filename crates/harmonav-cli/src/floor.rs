@@ -48,6 +48,13 @@ pub fn load_floor_starts(
     if let Some(d) = damping {
         scenario.controller.damping = d.into();
     }
+    if let Some(count) = count.filter(|&c| c > harmonav_scenario::floorplan::MAX_STARTS) {
+        // The file's own cap, named as the flag that set it (issue 56, D19.4).
+        return Err(CliError::FloorStarts {
+            scenario: path.to_path_buf(),
+            count,
+        });
+    }
     if count.is_some() || seed.is_some() {
         let file = scenario.starts.unwrap_or(StartsSpec { count: 0, seed: 1 });
         scenario.starts = Some(StartsSpec {

@@ -249,13 +249,15 @@ fn sweep_on_a_floor_plan_runs_the_files_starts() {
     let (code, out, err) = harmonav(&["sweep", &file, "--starts", "1"]);
     assert_eq!(code, 0, "{err}");
     assert!(out.starts_with("2 of 2 starts reached the goal"), "{out}");
-    // More seeded starts than a floor-plan file takes: named by its field.
+    // More seeded starts than a floor-plan file takes: named by the flag that asked for them
+    // (issue 56, D19.4; before, by the file's `starts.count`, which the file did not set).
     let (code, _, err) = harmonav(&["sweep", &file, "--starts", "65"]);
     assert_eq!(code, 2);
     assert!(
-        err.contains("starts.count") && err.contains("u-trap.toml"),
+        err.contains("--starts") && err.contains("at most 64") && err.contains("u-trap.toml"),
         "{err}"
     );
+    assert!(!err.contains("starts.count"), "{err}");
     // A star world still needs --starts.
     let star = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("../../scenarios/shapes/mixed.toml")

@@ -34,6 +34,7 @@ use nalgebra::{Matrix2, Vector2};
 
 pub use error::{MapError, MapPoint, MapProblem};
 pub use pixels::OccupiedPixels;
+pub use yaml::RESOLUTION_RANGE;
 
 use crate::{FloorMap, FloorOptions};
 

@@ -549,6 +549,9 @@ impl FloorScenario {
         // A star world given where a floor plan is expected (issue 56, D11 and D19.13): said
         // so, not "unknown field `controller`".
         if FileKind::of_text(text) == FileKind::Star {
+            if crate::scenario::is_map_yaml(text) {
+                return Err(crate::scenario::map_yaml_error(path));
+            }
             return Err(err(
                 path,
                 "floor_plan",

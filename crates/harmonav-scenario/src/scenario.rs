@@ -1364,11 +1364,30 @@ pub(crate) fn obstacle_names(
 /// whole `[[obstacles]]` array), else the table at the error and the key on its line, so that
 /// a wrong type names its field.
 pub(crate) fn toml_error(path: &Path, text: &str, e: &toml::de::Error) -> ScenarioError {
+    if is_map_yaml(text) {
+        return map_yaml_error(path);
+    }
     let problem = e.message().trim().to_string();
     let Some(span) = e.span() else {
         return err(path, "", None, problem);
     };
     let start = span.start.min(text.len());
+    // A key missing at the top level: its span is empty at the start (or the whole document),
+    // which the table scan below would blame on the first table ("`floor_plan`: missing field
+    // `name`").
+    if start == 0
+        && (span.end == 0 || span.end >= text.trim_end().len())
+        && let Some(key) = problem
+            .strip_prefix("missing field `")
+            .and_then(|r| r.strip_suffix('`'))
+    {
+        return err(
+            path,
+            key,
+            None,
+            "missing: a top-level key of the file".into(),
+        );
+    }
     if let Some(i) = failing_obstacle(text) {
         return err(
             path,
@@ -1391,6 +1410,32 @@ pub(crate) fn toml_error(path: &Path, text: &str, e: &toml::de::Error) -> Scenar
         (false, Some(k)) => format!("{table}.{k}"),
     };
     err(path, &field, Some(line), problem)
+}
+
+/// Whether `text` (which is not TOML) reads as a ROS map_server YAML: top-level `image:` and
+/// `resolution:` keys (issue 56, D19.12: such a file given as the scenario got "key with no
+/// value, expected `=`").
+pub(crate) fn is_map_yaml(text: &str) -> bool {
+    let key = |name: &str| {
+        text.lines().any(|l| {
+            l.strip_prefix(name)
+                .is_some_and(|r| r.trim_start().starts_with(':'))
+        })
+    };
+    key("image") && key("resolution")
+}
+
+/// The error of a map_server YAML given as the scenario ([`is_map_yaml`]).
+pub(crate) fn map_yaml_error(path: &Path) -> ScenarioError {
+    err(
+        path,
+        "",
+        None,
+        "this is a map_server YAML (a map's `image`, `resolution` and `origin`), not a \
+         scenario: name it in a floor-plan file, `[floor_plan] map = \"FILE.yaml\"` (README, \
+         \"Floor plans\")"
+            .into(),
+    )
 }
 
 pub(crate) fn err(path: &Path, field: &str, line: Option<usize>, problem: String) -> ScenarioError {

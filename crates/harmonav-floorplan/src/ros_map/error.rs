@@ -102,7 +102,7 @@ pub enum MapProblem {
         /// What was found (as written in the file, abridged).
         found: String,
     },
-    /// `resolution` is not a finite positive number of metres per pixel.
+    /// `resolution` is not a number of metres per pixel in [`super::RESOLUTION_RANGE`].
     Resolution(f64),
     /// A threshold is not a finite number in `[0, 1]`.
     Threshold {
@@ -213,7 +213,9 @@ impl fmt::Display for MapProblem {
             } => write!(f, "`{field}` must be {expected}, found `{found}`"),
             Self::Resolution(r) => write!(
                 f,
-                "`resolution` must be a finite positive number of metres per pixel, found {}",
+                "`resolution` must be a number of metres per pixel in [{:e}, {:e}], found {}",
+                super::yaml::RESOLUTION_RANGE.0,
+                super::yaml::RESOLUTION_RANGE.1,
                 Shown(*r)
             ),
             Self::Threshold { field, value } => {

@@ -61,15 +61,26 @@ fn invalid(field: &'static str, expected: &'static str, y: &Yaml) -> MapProblem 
     }
 }
 
-/// A number: YAML reals and integers (`resolution: 1`, `origin: [-10, -10, 0]` are common).
+/// A number: YAML reals and integers (`resolution: 1`, `origin: [-10, -10, 0]` are common),
+/// and a quoted one (`resolution: "0.05"`), which map_server's yaml-cpp reads as the number
+/// (issue 56, D19.6).
 fn number(y: &Yaml) -> Option<f64> {
     match y {
         Yaml::Real(_) => y.as_f64(),
         #[allow(clippy::cast_precision_loss)] // map coordinates are far below 2^53
         Yaml::Integer(i) => Some(*i as f64),
+        Yaml::String(s) => match Yaml::from_str(s.trim()) {
+            q @ (Yaml::Real(_) | Yaml::Integer(_)) => number(&q),
+            _ => None,
+        },
         _ => None,
     }
 }
+
+/// The resolutions a map may have, m/pixel: a micron to a kilometre per pixel. Outside, the
+/// pixel geometry is below what the outline's arithmetic resolves (issue 56, D19.7: at
+/// `1e-300` the outline lost the goal's pixel) or coarser than any robot.
+pub const RESOLUTION_RANGE: (f64, f64) = (1e-6, 1e3);
 
 fn get<'a>(doc: &'a Yaml, field: &'static str) -> Result<&'a Yaml, MapProblem> {
     match &doc[field] {
@@ -135,7 +146,8 @@ pub(crate) fn parse(text: &str) -> Result<MapYaml, MapProblem> {
     let resolution = {
         let y = get(doc, "resolution")?;
         let r = number(y).ok_or_else(|| invalid("resolution", "a number (m/pixel)", y))?;
-        if !(r.is_finite() && r > 0.0) {
+        let (lo, hi) = RESOLUTION_RANGE;
+        if !(r.is_finite() && (lo..=hi).contains(&r)) {
             return Err(MapProblem::Resolution(r));
         }
         r
@@ -151,6 +163,8 @@ pub(crate) fn parse(text: &str) -> Result<MapYaml, MapProblem> {
     let negate = match get(doc, "negate")? {
         Yaml::Integer(0) | Yaml::Boolean(false) => false,
         Yaml::Integer(1) | Yaml::Boolean(true) => true,
+        y @ Yaml::String(_) if number(y) == Some(0.0) => false,
+        y @ Yaml::String(_) if number(y) == Some(1.0) => true,
         y => return Err(invalid("negate", "0 or 1 (or false / true)", y)),
     };
     let occupied_thresh = threshold(doc, "occupied_thresh")?;
@@ -253,6 +267,9 @@ mod tests {
         check(GOOD.replace("0.05", "0"), "resolution");
         check(GOOD.replace("0.05", ".nan"), "resolution");
         check(GOOD.replace("0.05", "fine"), "resolution");
+        check(GOOD.replace("0.05", "1e-300"), "resolution");
+        check(GOOD.replace("0.05", "\"1e-300\""), "resolution");
+        check(GOOD.replace("0.05", "2e3"), "resolution");
         check(GOOD.replace("[-1.0, 2, 0.0]", "[1, 2]"), "origin");
         check(GOOD.replace("[-1.0, 2, 0.0]", "[1, .inf, 0]"), "origin");
         check(GOOD.replace("negate: 0", "negate: 2"), "negate");
@@ -261,6 +278,45 @@ mod tests {
         check(GOOD.replace("0.196", "0.7"), "free_thresh");
         check(format!("{GOOD}mode: fancy\n"), "mode");
         check(GOOD.replace("m.pgm", "''"), "image");
+    }
+
+    /// Quoted numbers are numbers, as map_server's yaml-cpp reads them (issue 56, D19.6); a
+    /// quoted word is still refused by name.
+    #[test]
+    fn quoted_numbers_are_numbers() {
+        let plain = parse(GOOD).unwrap();
+        let quoted = GOOD
+            .replace("0.05", "\"0.05\"")
+            .replace("[-1.0, 2, 0.0]", "['-1.0', \"2\", 0.0]")
+            .replace("negate: 0", "negate: \"0\"")
+            .replace("0.65", "' 0.65'")
+            .replace("0.196", "\"0.196\"");
+        let q = parse(&quoted).unwrap();
+        assert_eq!(
+            (
+                q.resolution,
+                q.origin,
+                q.negate,
+                q.occupied_thresh,
+                q.free_thresh
+            ),
+            (
+                plain.resolution,
+                plain.origin,
+                plain.negate,
+                plain.occupied_thresh,
+                plain.free_thresh
+            )
+        );
+        assert!(
+            parse(&GOOD.replace("negate: 0", "negate: \"1\""))
+                .unwrap()
+                .negate
+        );
+        let e = parse(&GOOD.replace("0.05", "\"fine\"")).unwrap_err();
+        assert!(e.to_string().contains("resolution"), "{e}");
+        let e = parse(&GOOD.replace("negate: 0", "negate: \"2\"")).unwrap_err();
+        assert!(e.to_string().contains("negate"), "{e}");
     }
 
     #[test]
