@@ -152,3 +152,13 @@ def test_complex_and_boolean_ranges_are_refused():
     ):
         u = nav.observe_scan([-3, 0], 0.0, ranges, a0, da, 3.0)
         assert not u.changed
+
+
+def test_an_obstacle_that_cannot_grow_is_not_blamed_on_robot_radius():
+    """Issue 56, D19.10: `add_obstacle` of a shape that loses its star shape when grown by
+    radius + margin said "`robot.radius`: offsetting the shape…"; the navigator is unchanged."""
+    nav = harmonav.Navigator(harmonav.circle([0, 0], 5), goal=[2, 2], radius=0.1, margin=0.1)
+    with pytest.raises(ValueError, match="radius \\+ margin") as e:
+        nav.add_obstacle(harmonav.star([0, -2], 0.3, [[1000, 0.01, 0.0]]))
+    assert "robot.radius" not in str(e.value) and "star shape" in str(e.value)
+    assert nav.obstacle_count == 0

@@ -241,15 +241,27 @@ pub fn cmd_eval_floor(
     for o in &prepared.obstacles {
         nav.add_obstacle(o.clone()).map_err(navigator_error)?;
     }
-    let why = |err: FieldError| match err {
+    let why = |x, err: FieldError| match err {
         FieldError::InObstacle { obstacle } => {
             format!("inside obstacle {}", obstacle_name(prepared, obstacle))
+        }
+        // Inside the room but closer than δ to a wall (issue 56, D19.1: it was called "on or
+        // outside the workspace boundary").
+        FieldError::Outside
+            if nav.field().locate(x) == Some(harmonav_rs::floorplan::NotFree::BoundaryLayer) =>
+        {
+            format!(
+                "in the boundary layer (closer than radius + margin to a wall, within δ = {} m \
+                 of the solved region's edge): outside the certified region W_δ, where Θ is \
+                 evaluated",
+                Shown(nav.field().floor().delta())
+            )
         }
         err => err.to_string(),
     };
     let rows: Vec<_> = points
         .iter()
-        .map(|&x| (x, nav.field().eval(x).map_err(why)))
+        .map(|&x| (x, nav.field().eval(x).map_err(|e| why(x, e))))
         .collect();
     print_rows(&rows, json)
 }

@@ -133,8 +133,10 @@ fn eval_on_a_floor_plan_agrees_with_finite_differences_and_names_bad_points() {
         at(-h, 0.0),
         at(0.0, h),
         at(0.0, -h),
-        "1.0,4.0".to_string(), // inside the pillar (a hole of the plan)
-        "3.5,0.9".to_string(), // inside the box
+        "1.0,4.0".to_string(),  // inside the pillar (a hole of the plan)
+        "3.5,0.9".to_string(),  // inside the box
+        "0.18,3.0".to_string(), // in the boundary layer (0.15–0.2 m from the wall)
+        "0.1,3.0".to_string(),  // the robot's disc across the wall
     ];
     let mut args = vec!["eval", file.as_str(), "--json"];
     for p in &points {
@@ -161,6 +163,17 @@ fn eval_on_a_floor_plan_agrees_with_finite_differences_and_names_bad_points() {
     }
     assert!(v[5]["error"].is_string(), "{v}");
     assert_eq!(v[6]["error"], "inside obstacle box");
+    // Named as the layer it is (issue 56, D19.1: "on or outside the workspace boundary").
+    let layer = v[7]["error"].as_str().unwrap();
+    assert!(
+        layer.contains("boundary layer") && layer.contains("δ = 0.05 m"),
+        "{layer}"
+    );
+    let outside = v[8]["error"].as_str().unwrap();
+    assert!(
+        outside.contains("outside") && !outside.contains("layer"),
+        "{outside}"
+    );
 }
 
 #[test]

@@ -666,7 +666,7 @@ impl FloorScenario {
                 if let Err(e) = shape.offset(grow) {
                     return Err(f(
                         &format!("obstacles[{j}]"),
-                        format!("grown by {by} = {} m: {e}", Shown(grow)),
+                        format!("grown by {by} = {} m: {}", Shown(grow), e.problem()),
                     ));
                 }
             }

@@ -59,3 +59,22 @@ fn a_map_yaml_is_not_a_scenario() {
     let e = Scenario::parse(path, "image = \nresolution: 1\n").unwrap_err();
     assert!(!e.to_string().contains("map_server"), "{e}");
 }
+
+/// An obstacle that cannot be grown by `radius + margin` is named as `obstacles[0]`, and the
+/// problem is not blamed on `robot.radius` (issue 56, D19.10: "`robot.radius`: offsetting the
+/// shape by 0.2 makes it lose its star shape").
+#[test]
+fn an_obstacle_that_cannot_grow_is_named() {
+    let text = format!(
+        "name = \"f09\"\n{FLOOR}radius = 0.1\nmargin = 0.1\n[[obstacles]]\ntype = \"star\"\n\
+         center = [0.0, 0.0]\nradius = 0.3\nharmonics = [[1000, 0.01, 0.0]]\n"
+    );
+    let path = Path::new("f09.toml");
+    let Err(e) = FloorScenario::parse(path, &text).unwrap().prepare(path) else {
+        panic!("an obstacle that cannot be grown was taken");
+    };
+    let message = e.to_string();
+    assert_eq!(e.field, "obstacles[0]", "{message}");
+    assert!(message.contains("star shape"), "{message}");
+    assert!(!message.contains("`robot.radius`"), "{message}");
+}

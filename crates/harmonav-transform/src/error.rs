@@ -27,6 +27,20 @@ pub enum ShapeError {
     },
 }
 
+impl ShapeError {
+    /// What is wrong, without the field: for a caller that names the field itself (the
+    /// offset's own parameter is called `robot.radius`, but a navigator grows a shape by
+    /// `radius + margin`, and the shape at fault is the obstacle; issue 56, D19.10).
+    #[must_use]
+    pub fn problem(&self) -> String {
+        match self {
+            Self::NonFinite { .. } => "NaN or infinite number".into(),
+            Self::NotPositive { value, .. } => format!("must be positive, got {value:e}"),
+            Self::Invalid { problem, .. } => problem.clone(),
+        }
+    }
+}
+
 impl fmt::Display for ShapeError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {

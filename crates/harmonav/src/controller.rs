@@ -206,16 +206,22 @@ pub(crate) fn controller(law: &Law, options: &Options) -> Result<Controller, Nav
     })
 }
 
-/// The state `(x, ẋ)` a law may be evaluated at: finite coordinates, and a finite `|ẋ|`.
+/// The state `(x, ẋ)` a law may be evaluated at: finite coordinates, and a finite `|ẋ|²`.
 /// Guard: components of 1.5e308 are finite but `|ẋ|` overflows, and with it `|ẋ(T_n)|` at the
 /// next discovery and the damping `(m/d_min)|ẋ(T_n)|` (eq. `dissipationfun`).
 pub(crate) fn finite_state(x: Vector2<f64>, v: Vector2<f64>) -> Result<(), NavError> {
     finite(x, "position")?;
     finite(v, "velocity")?;
-    if v.norm().is_finite() {
+    // Guard: `|ẋ|²` overflows (about 1.3e154 m/s) before `|ẋ|` does; the energy
+    // `½m|ẋ|²` and every `λ(t)` after it would be infinite. The velocity is finite, so it is
+    // named as out of range, not as "not finite" (issue 56, D19.2).
+    if v.norm_squared().is_finite() {
         Ok(())
     } else {
-        Err(NavError::NotFinite { what: "velocity" })
+        Err(NavError::InvalidOption {
+            field: "velocity",
+            value: v.norm(),
+        })
     }
 }
 

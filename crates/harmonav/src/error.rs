@@ -126,6 +126,9 @@ fn expected(field: &str) -> String {
         "max_obstacle_depth" => "must be finite and in (0, 100] m".to_string(),
         "jump_distance" => "must be finite and in [0, 100] m".to_string(),
         "order" => "must be an integer from 1 to 16".to_string(),
+        "velocity" => "its speed |ẋ| must be below about 1e154 m/s (the energy ½m|ẋ|² \
+                       overflows above it)"
+            .to_string(),
         "xy_goal_tolerance" => "must be finite and positive, m".to_string(),
         "yaw_goal_tolerance" => "must be finite and positive, rad".to_string(),
         "free_memory" => format!(
@@ -152,7 +155,12 @@ impl std::fmt::Display for NavError {
                 write!(f, "`{field}`: {}, got {value:e}", expected(field))
             }
             Self::Sensor(e) => write!(f, "sensor: {e}"),
-            Self::Shape(e) => write!(f, "growing the shape by radius + margin: {e}"),
+            Self::Shape(e) => write!(
+                f,
+                "the shape cannot be offset by radius + margin (an obstacle grown, the \
+                 boundary shrunk): {}",
+                e.problem()
+            ),
             Self::NotFinite { what } => write!(f, "the {what} is not finite"),
             Self::GoalNotFree => write!(
                 f,

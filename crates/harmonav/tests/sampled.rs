@@ -301,12 +301,27 @@ fn no_option_the_navigator_accepts_makes_a_nan() {
             other => panic!("{field}: {other:?}"),
         }
     }
-    // Finite components whose norm overflows: refused, not an infinite discovery speed.
+    // Finite components whose norm (or its square, the energy's) overflows: refused, not an
+    // infinite discovery speed, and named as out of range, not "not finite" (issue 56, D19.2).
     let mut nav = Navigator::new(boundary.clone(), goal, Law::dynamic(1.0, 10.0), d).unwrap();
-    let huge = Vector2::new(1.5e308, 1.5e308);
-    assert_eq!(
-        nav.command(Vector2::new(-3.0, 0.0), huge),
-        Err(NavError::NotFinite { what: "velocity" })
+    for huge in [Vector2::new(1.5e308, 1.5e308), Vector2::new(1e200, 0.0)] {
+        let e = nav.command(Vector2::new(-3.0, 0.0), huge).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                NavError::InvalidOption {
+                    field: "velocity",
+                    ..
+                }
+            ),
+            "{e:?}"
+        );
+        assert!(e.to_string().contains("1e154"), "{e}");
+    }
+    // 1e150 m/s is absurd but its energy is finite: the law answers.
+    assert!(
+        nav.command(Vector2::new(-3.0, 0.0), Vector2::new(1e150, 0.0))
+            .is_ok()
     );
     let rock = StarShape::circle(Vector2::new(0.0, 0.5), 1.0).unwrap();
     let mut rng = Rng::new(3);
