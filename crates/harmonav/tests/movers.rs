@@ -268,6 +268,86 @@ fn reciprocal_robots_swap_places_keeping_their_margins() {
     }
 }
 
+/// A swap of `n` navigators on a circle (radius so that neighbours start 1 m apart, at least
+/// 1.5 m), control period `h`, for 60 s, each given the others as reciprocal movers (share ½)
+/// when `filtered`: the least true gap between two bodies (ten instants per period), the
+/// robots arrived, and the commands not certified.
+fn swap(n: usize, h: f64, filtered: bool) -> (f64, usize, usize) {
+    let r = (n as f64 / std::f64::consts::TAU).max(1.5);
+    let starts: Vec<Vector2<f64>> = (0..n)
+        .map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / n as f64 + 0.01;
+            r * v(a.cos(), a.sin())
+        })
+        .collect();
+    let boundary = StarShape::circle(Vector2::zeros(), 10.0).unwrap();
+    let options = Options::default()
+        .with_robot(RADIUS, MARGIN)
+        .with_control_period(h);
+    let mut navs: Vec<Navigator> = starts
+        .iter()
+        .map(|s| Navigator::new(boundary.clone(), -s, Law::kinematic(1.0), options).unwrap())
+        .collect();
+    let mut x = starts.clone();
+    let (mut closest, mut uncertified) = (f64::INFINITY, 0);
+    for _ in 0..(60.0 / h).round() as usize {
+        let mut u = Vec::with_capacity(n);
+        for i in 0..n {
+            if filtered {
+                let others: Vec<Mover> = (0..n)
+                    .filter(|&j| j != i)
+                    .map(|j| Mover::new(x[j], RADIUS, std::f64::consts::SQRT_2).reciprocal(0.5))
+                    .collect();
+                navs[i].set_movers(&others).unwrap();
+            }
+            let c = navs[i].command(x[i], Vector2::zeros()).unwrap();
+            uncertified += usize::from(!c.certified());
+            u.push(c.value);
+        }
+        for k in 1..=10 {
+            let t = h * f64::from(k) / 10.0;
+            for i in 0..n {
+                for j in i + 1..n {
+                    let d = (x[i] + t * u[i] - x[j] - t * u[j]).norm() - 2.0 * RADIUS;
+                    closest = closest.min(d);
+                }
+            }
+        }
+        for i in 0..n {
+            x[i] += h * u[i];
+        }
+    }
+    let arrived = (0..n).filter(|&i| (x[i] + starts[i]).norm() < 0.05).count();
+    (closest, arrived, uncertified)
+}
+
+/// Issue 54's reciprocal swaps of 2 to 32 robots at control periods of 0.05, 0.1 and 0.2 s:
+/// every command certified, and no robot's disc grown by its margin touches another's body
+/// (Theorem 2, F2). The negative control: the same swaps with the filter off collide.
+#[test]
+fn reciprocal_swaps_of_2_to_32_robots_at_several_periods() {
+    for h in [0.05, 0.1, 0.2] {
+        for n in [2usize, 4, 8, 16, 32] {
+            let (closest, arrived, uncertified) = swap(n, h, true);
+            println!(
+                "h = {h} s, n = {n}: closest {closest:.4} m, {arrived}/{n} arrived, \
+                 {uncertified} commands not certified"
+            );
+            assert_eq!(uncertified, 0, "h = {h}, n = {n}");
+            assert!(
+                closest >= MARGIN - 1e-9,
+                "h = {h}, n = {n}: two robots came {closest} m apart"
+            );
+        }
+    }
+    let (closest, _, _) = swap(8, 0.1, false);
+    println!("the filter off, n = 8: closest {closest:.4} m");
+    assert!(
+        closest < 0.0,
+        "without the filter no robots touched: {closest}"
+    );
+}
+
 /// `n` robots on a circle of radius 1.5 m, each driving straight at the circle's far side at
 /// 1.4 m/s (a nominal that would collide at the centre), filtered by `MoverFilter` against the
 /// others as reciprocal movers (share ½) that it sees within `error` of their true centres (a
