@@ -14,11 +14,15 @@ and so is everything outside the image (a one-pixel border of obstacle pixels ar
 
 The robot of every file: a disc of radius 0.2 m, safety margin 0.05 m, holonomic, top speed
 1.41 m/s (harmonav's kinematic law's default ``v_max``), from the file's ``robot.start`` and
-its four seeded ``[starts]`` to its ``robot.goal``, 240 s at most. The starts are the ones
-``harmonav check FILE --json`` prints (``starts[].position``, cached in ``--cache``); where
-``check`` cannot give them (the map does not load, or ``check`` takes longer than
-``--check-timeout``), ``robot.start`` and four starts of ours (seed 52, uniform over the cells
-of the A* grid that reach the goal, more than 1 m from it), marked in the table.
+its four seeded ``[starts]`` to its ``robot.goal``, 240 s at most. The starts are harmonav's
+own: by default (``--starts-from auto``) from its Python bindings, ``FloorPlan.load(FILE).starts``
+(the same Rust code, ``FloorScenario::load``, draws them as for ``harmonav check``; seconds even on
+``willow-full``, where ``check`` also certifies the map and takes minutes); without the bindings,
+or with ``--starts-from check``, the ones ``harmonav check FILE --json`` prints
+(``starts[].position``, cached in ``--cache``). Where neither gives them (the map does not load,
+or ``check`` takes longer than ``--check-timeout``), ``robot.start`` and four starts of ours
+(seed 52, uniform over the cells of the A* grid that reach the goal, more than 1 m from it),
+marked † in the table; ``--own-starts a,b`` asks for these on the maps named.
 
 Entries, both in navground 0.7's own loop (``World.update(0.1)``, control period 0.1 s):
 
@@ -43,20 +47,30 @@ estimation over a range of the map's diagonal (every wall known). The walls: eve
 between the free component that holds the goal (4-connected free pixels) and anything else,
 merged into maximal straight segments along each grid line.
 
+navground's collision resolution is off (``World.ignore_collisions``; ``--resolve-collisions``
+turns it on): with it, a disc driven into a wall is pushed back out before its position is
+recorded, so the judge reads about 0 mm where the disc was in the wall, and a run pressed against
+a wall for minutes counted as no contact.
+
 Judged by an independent check on the map's pixels: each period's motion is the straight
 segment between navground's recorded positions (omnidirectional: navground integrates a
 constant velocity over the step), sampled every centimetre; at each sample the least distance
 from the robot's centre to the squares of the obstacle pixels nearby (exact point-to-square
-distance); a contact is a distance below the radius (clearance < 0). navground's own
-collision events (``World.collisions`` non-empty after a step) are counted too. Arrival: the
+distance); a contact is a distance below the radius (clearance < 0). With
+``--resolve-collisions``, navground's own collision events (``World.collisions`` non-empty after
+a step) are counted too (navground records none while it ignores collisions). Arrival: the
 centre within 0.05 m of the goal within 240 s; time the first such time, path the length
 driven until then. (harmonav's arrival tolerance is 0.01 m, but HL at a 0.1 s period dithers
 a few centimetres about the goal, sometimes for tens of seconds; each run goes on for up to
-10 s after arrival, and the first time within 0.01 m, if any, is in the JSON.) The geodesic: the 8-connected Dijkstra distance (√2 diagonals) on the
-inflated grid from the start's cell to the goal's, plus the two straight offsets from the start
-and goal to their cells' centres (an 8-connected path is up to 8 % longer than the straight
-lines it stands for, so a ratio below 1 is no error; the JSON also has the pruned polyline's
-length, ``any_angle``).
+10 s after arrival, and the first time within 0.01 m, if any, is in the JSON.)
+
+The geodesic: the 8-connected Dijkstra distance (√2 diagonals) on the inflated grid from the
+start's cell to the goal's, plus the two straight offsets from the start and goal to their
+cells' centres (an 8-connected path is up to 8 % longer than the straight lines it stands for,
+so a ratio below 1 is no error). The table also gives the path over the length of the pruned
+waypoint polyline (``any_angle``, per run in the JSON): the A* path with line-of-sight
+shortcuts, 1–10 % shorter than the 8-connected geodesic on these maps and no shorter than the
+any-angle geodesic of the inflated grid, so this ratio, if anything, understates the detour.
 """
 
 from __future__ import annotations
@@ -93,9 +107,11 @@ SAMPLE_STEP = 0.01
 OWN_STARTS = 4
 OWN_SEED = 52
 ENTRIES = ("HL+A*", "HL")
-#: ``--ignore-collisions``: navground neither records collisions nor pushes the disc back out
-#: of a wall, so the judge sees every overlap on the recorded positions.
-IGNORE_COLLISIONS = False
+#: navground's ``World.ignore_collisions``: on by default, so that navground neither records
+#: collisions nor pushes the disc back out of a wall and the judge sees every overlap on the
+#: recorded positions; ``--resolve-collisions`` turns navground's resolution (its own default)
+#: back on, and its collision events are then counted.
+IGNORE_COLLISIONS = True
 MAPS = ("lse-arena", "tb3-world", "tb3-sandbox", "small-house", "small-warehouse", "depot",
         "warehouse", "fetch-office", "willow-2010", "willow-full")
 PUBLIC = "scenarios/floorplans/public"
@@ -351,6 +367,22 @@ def fly(m: dict, walls: np.ndarray, start, goal, waypoints: list, sensing_range:
 # --- per map ----------------------------------------------------------------------------------
 
 
+def python_starts(name: str) -> tuple:
+    """The file's starts from harmonav's Python bindings, ``FloorPlan.load(FILE).starts``:
+    ``robot.start`` then the seeded ``[starts]``, drawn by the same Rust code as ``check``'s
+    (``FloorScenario::load``), in seconds where ``check`` also certifies the map (minutes on the
+    large ones). ``(None, reason)`` when the bindings are missing or the file does not load."""
+    try:
+        import harmonav
+    except ImportError as e:
+        return None, f"no harmonav Python bindings ({e})"
+    try:
+        starts = harmonav.FloorPlan.load(f"{PUBLIC}/{name}.toml").starts
+    except Exception as e:  # the bindings' own error types; the message says what failed
+        return None, f"FloorPlan.load: {e}"[:200]
+    return [[float(x), float(y)] for x, y in np.asarray(starts, float)], "harmonav.FloorPlan"
+
+
 def harmonav_starts(name: str, harmonav: str, cache: str, timeout: float) -> tuple:
     """``harmonav check --json``'s starts, cached; ``(None, reason)`` when it gives none."""
     out = os.path.join(cache, f"{name}.check.json")
@@ -380,9 +412,12 @@ def prepare(name: str, args) -> dict:
     goal = robot["goal"]
     walls = wall_segments(m, goal)
     field = plan_field(m, goal)
-    if name in args.own_starts:
-        starts, source = None, "--own-starts"
-    else:
+    starts, source = None, "--own-starts"
+    if name not in args.own_starts and args.starts_from in ("auto", "python"):
+        starts, source = python_starts(name)
+        if starts is None:
+            print(f"{name}: {source}", file=sys.stderr, flush=True)
+    if starts is None and name not in args.own_starts and args.starts_from in ("auto", "check"):
         starts, source = harmonav_starts(name, args.harmonav, args.cache, args.check_timeout)
     own = starts is None
     if own:
@@ -418,12 +453,15 @@ def summarise(runs: list) -> dict:
     ok = [r for r in runs if r["arrived"]]
     times = [r["time"] for r in ok]
     ratio = [r["path"] / r["geodesic"] for r in ok]
+    ratio_aa = [r["path"] / r["any_angle"] for r in ok]
     flown = [r for r in runs if not r.get("unreachable")]
     return dict(starts=len(runs), arrived=len(ok),
                 time_median=float(np.median(times)) if times else None,
                 time_max=max(times) if times else None,
                 path_over_geodesic_median=float(np.median(ratio)) if ratio else None,
                 path_over_geodesic_max=max(ratio) if ratio else None,
+                path_over_any_angle_median=float(np.median(ratio_aa)) if ratio_aa else None,
+                path_over_any_angle_max=max(ratio_aa) if ratio_aa else None,
                 runs_with_contact=sum(r["contact_periods"] > 0 for r in flown),
                 least_clearance=min((r["least_clearance"] for r in flown), default=None),
                 runs_with_collision_event=sum(r["collision_steps"] > 0 for r in flown),
@@ -435,20 +473,24 @@ def fmt(x, spec=".2f") -> str:
 
 
 def table(summary: dict, meta: dict) -> str:
+    events = not IGNORE_COLLISIONS  # navground records no collision when it ignores them
     lines = ["| map | walls | entry | arrived | time median (worst) s | path / geodesic median "
-             "(worst) | runs with contact | least clearance mm | navground collisions |",
-             "|---|---|---|---|---|---|---|---|---|"]
+             "(worst) | path / any-angle median (worst) | runs with contact | least clearance mm |"
+             + (" navground collisions |" if events else ""),
+             "|---|---|---|---|---|---|---|---|---|" + ("---|" if events else "")]
     for name, cells in summary.items():
         mark = "†" if meta[name]["own_starts"] else ""
         for entry, s in cells.items():
+            least = None if s["least_clearance"] is None else 1000 * s["least_clearance"]
             lines.append(
                 f"| `{name}`{mark} | {meta[name]['walls']} | {entry} | {s['arrived']}/{s['starts']} | "
                 f"{fmt(s['time_median'], '.1f')} ({fmt(s['time_max'], '.1f')}) | "
                 f"{fmt(s['path_over_geodesic_median'], '.3f')} "
                 f"({fmt(s['path_over_geodesic_max'], '.3f')}) | "
-                f"{s['runs_with_contact']}/{s['starts']} | "
-                f"{fmt(None if s['least_clearance'] is None else 1000 * s['least_clearance'], '+.1f')}"
-                f" | {s['runs_with_collision_event']}/{s['starts']} |")
+                f"{fmt(s['path_over_any_angle_median'], '.3f')} "
+                f"({fmt(s['path_over_any_angle_max'], '.3f')}) | "
+                f"{s['runs_with_contact']}/{s['starts']} | {fmt(least, '+.1f')} |"
+                + (f" {s['runs_with_collision_event']}/{s['starts']} |" if events else ""))
     return "\n".join(lines)
 
 
@@ -460,16 +502,24 @@ def main(argv=None) -> int:
                     help="the CLI whose `check --json` gives the starts")
     ap.add_argument("--cache", default="/tmp/hlmaps", help="where check's JSON is kept")
     ap.add_argument("--check-timeout", type=float, default=300.0)
+    ap.add_argument("--starts-from", choices=("auto", "python", "check"), default="auto",
+                    help="the file's starts from harmonav's Python bindings "
+                         "(FloorPlan.load(FILE).starts, seconds) or `harmonav check --json` "
+                         "(minutes on the large maps); auto: the bindings if importable, else "
+                         "check")
     ap.add_argument("--own-starts", default="", type=lambda v: [n for n in v.split(",") if n],
                     help="maps whose starts are drawn here without asking check "
                          "(willow-2010: check takes more than 900 s)")
     ap.add_argument("--processes", type=int, default=2)
     ap.add_argument("--json", help="write every run and the summary here")
-    ap.add_argument("--ignore-collisions", action="store_true",
-                    help="navground's World.ignore_collisions: no resolution, no events")
+    ap.add_argument("--resolve-collisions", action="store_true",
+                    help="navground's default collision resolution (a disc in a wall is pushed "
+                         "back out, so the judge sees about 0 mm there) and its collision "
+                         "events; by default World.ignore_collisions is set and the judge sees "
+                         "the raw overlap")
     args = ap.parse_args(argv)
     global IGNORE_COLLISIONS
-    IGNORE_COLLISIONS = args.ignore_collisions
+    IGNORE_COLLISIONS = not args.resolve_collisions
     os.makedirs(args.cache, exist_ok=True)
     names = [n for n in args.maps.split(",") if n]
     entries = [e for e in args.entries.split(",") if e]
