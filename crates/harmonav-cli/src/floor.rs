@@ -158,8 +158,8 @@ pub fn cmd_check_floor(prepared: &FloorPrepared) -> Result<bool, CliError> {
     for (s, b) in prepared.starts.iter().zip(&below) {
         out!(
             "  start ({:.3}, {:.3}): {}",
-            s.x,
-            s.y,
+            Shown(s.x),
+            Shown(s.y),
             if *b { "certified" } else { "not certified" }
         );
     }

@@ -7,6 +7,7 @@ use harmonav_scenario::Prepared;
 use harmonav_sim::guarantee::Guarantee;
 use harmonav_sim::physics::simulate_observed;
 use harmonav_sim::summary::Summary;
+use harmonav_transform::Shown;
 
 use crate::args::{ModelArg, PhysicsArg, model};
 use crate::error::CliError;
@@ -89,8 +90,10 @@ pub fn print_head(
     let [time_s, final_distance, min_clearance, max_speed] = motion;
     out!(
         "  time {time_s:.3} s, final distance {final_distance:.2e} m, min clearance \
-         {min_clearance:.4} m, max speed {max_speed:.3} m/s{}",
-        speed_bound.map_or(String::new(), |b| format!(" (bound {b:.3})"))
+         {:.4} m, max speed {:.3} m/s{}",
+        Shown(min_clearance),
+        Shown(max_speed),
+        speed_bound.map_or(String::new(), |b| format!(" (bound {:.3})", Shown(b)))
     );
     if !reached {
         out!("  outcome: {outcome}");

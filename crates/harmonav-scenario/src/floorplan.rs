@@ -340,9 +340,10 @@ fn placed(
         // negative zero as 0 (issue 56, D18).
         return Err(format!(
             "{at} is {:.4} m inside the walls shrunk by s = {:.4} m (radius + margin − δ, at \
-             least 0), less than δ = {delta:.4} m: not in the certified region{}",
-            Shown(sd + 0.0),
-            floor.shrink(),
+             least 0), less than δ = {:.4} m: not in the certified region{}",
+            Shown(sd),
+            Shown(floor.shrink()),
+            Shown(delta),
             if sd <= 0.0 {
                 "; it is outside the shrunk walls (in a wall, outside, or within s of a wall)"
             } else {
@@ -810,10 +811,12 @@ impl FloorScenario {
             return Err(f(
                 "robot.start",
                 format!(
-                    "the goal cannot be reached from {start:?} within the certified region \
+                    "the goal cannot be reached from ({}, {}) within the certified region \
                      (at least max(radius + margin, δ) = {:.4} m from the walls): a passage \
                      between them is narrower than the robot with its margin",
-                    floor.shrink() + delta
+                    Shown(start.x),
+                    Shown(start.y),
+                    Shown(floor.shrink() + delta)
                 ),
             ));
         }
@@ -864,10 +867,12 @@ impl FloorScenario {
                 return Err(f(
                     &format!("robots[{i}].start"),
                     format!(
-                        "its goal cannot be reached from {start:?} within the certified region \
+                        "its goal cannot be reached from ({}, {}) within the certified region \
                          (at least max(radius + margin, δ) = {:.4} m from the walls): a passage \
                          between them is narrower than the robot with its margin",
-                        floor.shrink() + delta
+                        Shown(start.x),
+                        Shown(start.y),
+                        Shown(floor.shrink() + delta)
                     ),
                 ));
             }

@@ -10,7 +10,7 @@ use harmonav::MIN_APERTURE_DEG;
 use harmonav_control::{DampingPolicy, SpeedPolicy};
 use harmonav_field::{Field, FieldError, KPolicy};
 use harmonav_sensing::Sector;
-use harmonav_transform::{RobotWorldError, StarShape, Workspace, WorldError};
+use harmonav_transform::{RobotWorldError, Shown, StarShape, Workspace, WorldError};
 
 use nalgebra::Vector2;
 
@@ -1017,9 +1017,10 @@ impl Scenario {
                 f(
                     point_field(what),
                     format!(
-                        "lies {:.4} m from obstacle {}, closer than robot.radius + robot.margin = {inflation} m",
-                        true_obstacles[obstacle].signed_distance(p),
-                        name_of(obstacle)
+                        "lies {:.4} m from obstacle {}, closer than robot.radius + robot.margin = {} m",
+                        Shown(true_obstacles[obstacle].signed_distance(p)),
+                        name_of(obstacle),
+                        Shown(inflation)
                     ),
                 )
             }
@@ -1038,8 +1039,9 @@ impl Scenario {
                     point_field(what),
                     format!(
                         "lies {:.4} m from the workspace boundary, closer than robot.radius + \
-                         robot.margin = {inflation} m",
-                        -true_boundary.signed_distance(p)
+                         robot.margin = {} m",
+                        Shown(-true_boundary.signed_distance(p)),
+                        Shown(inflation)
                     ),
                 )
             }

@@ -2,6 +2,7 @@
 //! name and detail line are derived from that. No consumer matches a guarantee by its text.
 
 use harmonav::NavError;
+use harmonav_transform::Shown;
 use serde::Serialize;
 use serde::ser::{SerializeStruct, Serializer};
 
@@ -393,8 +394,10 @@ impl std::fmt::Display for Check {
                 max_time_s,
             } => write!(
                 f,
-                "final distance {final_distance:.2e} m (tolerance {tolerance}) at t = {time_s:.3} s \
-                 (max {max_time_s} s)"
+                "final distance {final_distance:.2e} m (tolerance {}) at t = {time_s:.3} s \
+                 (max {} s)",
+                Shown(*tolerance),
+                Shown(*max_time_s)
             ),
             Self::NoCollision {
                 min_clearance,
@@ -420,7 +423,12 @@ impl std::fmt::Display for Check {
                 write!(f, "{}", list.join(", "))
             }
             Self::SpeedBelowBound { max_speed, bound } => {
-                write!(f, "max speed {max_speed:.3} m/s < √(2μ/m) = {bound:.3} m/s")
+                write!(
+                    f,
+                    "max speed {:.3} m/s < √(2μ/m) = {:.3} m/s",
+                    Shown(*max_speed),
+                    Shown(*bound)
+                )
             }
             Self::EnergyNonIncreasing {
                 largest_rise,
@@ -482,7 +490,12 @@ impl std::fmt::Display for Check {
                 write!(f, "expected {expected:?}, got {got:?}")
             }
             Self::ExpectMaxSpeedBelow { max_speed, limit } => {
-                write!(f, "max speed {max_speed:.3} m/s, limit {limit} m/s")
+                write!(
+                    f,
+                    "max speed {:.3} m/s, limit {} m/s",
+                    Shown(*max_speed),
+                    Shown(*limit)
+                )
             }
             Self::NoCollisionWithMap {
                 min_pixel_clearance,
@@ -630,6 +643,34 @@ impl Serialize for Guarantee {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Extreme values print in scientific notation, not hundreds of digits (issue 56, D18:
+    /// `sim.arrival = 1e-300` printed "tolerance 0.000…" with 300 zeros, a bound of 1.4e-9
+    /// printed "0.000").
+    #[test]
+    fn extreme_values_print_shortly() {
+        let reached = Check::ReachedGoal {
+            final_distance: 0.5,
+            tolerance: 1e-300,
+            time_s: 1.0,
+            max_time_s: 120.0,
+        }
+        .to_string();
+        assert!(
+            reached.contains("(tolerance 1e-300)") && reached.contains("(max 120 s)"),
+            "{reached}"
+        );
+        let speed = Check::SpeedBelowBound {
+            max_speed: 1e-9,
+            bound: 1.4e-9,
+        }
+        .to_string();
+        assert!(
+            speed.contains("1.000e-9 m/s") && speed.contains("1.400e-9 m/s"),
+            "{speed}"
+        );
+        assert!(reached.len() < 100 && speed.len() < 100);
+    }
 
     #[test]
     fn json_carries_name_verdict_detail_and_measured_values() {

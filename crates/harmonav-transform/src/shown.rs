@@ -20,7 +20,8 @@ impl Shown {
 
 impl fmt::Display for Shown {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let v = self.0;
+        // `+ 0.0` prints a negative zero as 0 (issue 56, D18: "-0.0000 m").
+        let v = self.0 + 0.0;
         let plain = v == 0.0 || !v.is_finite() || (Self::SMALL..Self::LARGE).contains(&v.abs());
         match (plain, f.precision()) {
             (true, None) => write!(f, "{v}"),
@@ -40,6 +41,10 @@ mod tests {
         assert_eq!(Shown(0.25).to_string(), "0.25");
         assert_eq!(format!("{:.4}", Shown(-0.2)), "-0.2000");
         assert_eq!(Shown(0.0).to_string(), "0");
+        // A negative zero is 0 (issue 56, D18: "-0.0000 m" for a start on the wall).
+        assert_eq!(Shown(-0.0).to_string(), "0");
+        assert_eq!(format!("{:.4}", Shown(-0.0)), "0.0000");
+        assert_eq!(format!("{:.3}", Shown(1.4e-9)), "1.400e-9");
         assert_eq!(Shown(123_456_789.0).to_string(), "123456789");
         assert_eq!(Shown(1e300).to_string(), "1e300");
         assert_eq!(format!("{:.4}", Shown(-1e200)), "-1.0000e200");
