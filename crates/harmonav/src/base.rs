@@ -124,3 +124,38 @@ pub(crate) enum Brake {
     /// `|κ| a_max ≤ alpha_max`; braking keeps to it, `ω_b = κ v_b`.
     Arc(f64),
 }
+
+/// The default arrival test of the goal heading ([`crate::Navigator::set_goal_heading`],
+/// [`GoalTolerance::xy`]), m: the position has arrived when `|x − x_d| <` this, the same test
+/// as [`crate::checks::fly`]'s (it equals [`crate::checks::GOAL_TOLERANCE`]) and the 1 cm the
+/// differential-drive tests and the scenarios' default `sim.arrival` use.
+pub const GOAL_ARRIVAL: f64 = 0.01;
+
+/// The default heading tolerance of the goal heading ([`GoalTolerance::yaw`]), rad: once the
+/// position has arrived ([`GOAL_ARRIVAL`]), [`crate::Navigator::command_pose`] turns in place
+/// until `|wrap(θ_g − θ)| <` this, then commands `(0, 0)` ([`crate::Steer::Arrived`]).
+pub const GOAL_HEADING_TOLERANCE: f64 = 1e-3;
+
+/// Where a differential-drive base has arrived at a goal with a yaw
+/// ([`crate::Navigator::set_goal_heading`], [`crate::Navigator::set_goal_tolerance`]): the
+/// turn in place begins once `|x − x_d| < xy`, and ends ([`crate::Steer::Arrived`]) once
+/// `|wrap(θ_g − θ)| < yaw`. Nav2's goal checker calls them `xy_goal_tolerance` and
+/// `yaw_goal_tolerance`. The default is [`GOAL_ARRIVAL`] and [`GOAL_HEADING_TOLERANCE`]
+/// (1 cm, 1e-3 rad). Either is a stopping rule only: turning in place is safe anywhere
+/// (a disc robot's body does not move), so no tolerance weakens a certificate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GoalTolerance {
+    /// m: the turn in place begins within this distance of the goal.
+    pub xy: f64,
+    /// rad: the turn ends within this angle of the goal yaw.
+    pub yaw: f64,
+}
+
+impl Default for GoalTolerance {
+    fn default() -> Self {
+        Self {
+            xy: GOAL_ARRIVAL,
+            yaw: GOAL_HEADING_TOLERANCE,
+        }
+    }
+}

@@ -12,7 +12,7 @@
 use harmonav_field::FieldEval;
 use nalgebra::Vector2;
 
-use crate::base::{Base, Brake};
+use crate::base::{Base, Brake, GOAL_ARRIVAL, GoalTolerance};
 use crate::controller::Controller;
 use crate::error::NavError;
 use crate::hold::{self, KINEMATIC_FRACTION, MAX_HALVINGS, Mode};
@@ -38,40 +38,9 @@ pub const GOAL_GAIN_RATIO: f64 = 0.5;
 /// this angle (rad) of the way out, then drives straight (`ω = 0`) along it.
 pub const RECOVERY_ALIGNMENT: f64 = 1e-6;
 
-/// The default arrival test of the goal heading ([`Navigator::set_goal_heading`],
-/// [`GoalTolerance::xy`]), m: the position has arrived when `|x − x_d| <` this, the same test
-/// as [`crate::checks::fly`]'s (it is [`crate::checks::GOAL_TOLERANCE`]) and the 1 cm the
-/// differential-drive tests and the scenarios' default `sim.arrival` use.
-pub const GOAL_ARRIVAL: f64 = crate::checks::GOAL_TOLERANCE;
-
-/// The default heading tolerance of the goal heading ([`GoalTolerance::yaw`]), rad: once the
-/// position has arrived ([`GOAL_ARRIVAL`]), [`Navigator::command_pose`] turns in place until
-/// `|wrap(θ_g − θ)| <` this, then commands `(0, 0)` ([`Steer::Arrived`]).
-pub const GOAL_HEADING_TOLERANCE: f64 = 1e-3;
-
-/// Where a differential-drive base has arrived at a goal with a yaw
-/// ([`Navigator::set_goal_heading`], [`Navigator::set_goal_tolerance`]): the turn in place
-/// begins once `|x − x_d| < xy`, and ends ([`Steer::Arrived`]) once
-/// `|wrap(θ_g − θ)| < yaw`. Nav2's goal checker calls them `xy_goal_tolerance` and
-/// `yaw_goal_tolerance`. The default is [`GOAL_ARRIVAL`] and [`GOAL_HEADING_TOLERANCE`]
-/// (1 cm, 1e-3 rad). Either is a stopping rule only: turning in place is safe anywhere
-/// (a disc robot's body does not move), so no tolerance weakens a certificate.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct GoalTolerance {
-    /// m: the turn in place begins within this distance of the goal.
-    pub xy: f64,
-    /// rad: the turn ends within this angle of the goal yaw.
-    pub yaw: f64,
-}
-
-impl Default for GoalTolerance {
-    fn default() -> Self {
-        Self {
-            xy: GOAL_ARRIVAL,
-            yaw: GOAL_HEADING_TOLERANCE,
-        }
-    }
-}
+// `GOAL_ARRIVAL` is the 1 cm of `checks::fly`'s arrival test, checked here: `base` cannot
+// name `checks` (it would close a module cycle).
+const _: () = assert!(GOAL_ARRIVAL == crate::checks::GOAL_TOLERANCE);
 
 /// The arc search (docs/unicycle.md section 11) runs when the held holonomic command was
 /// shortened below this fraction of the law's step ([`Mode::Capped`]) or stepped from rest
@@ -487,9 +456,9 @@ impl<W: World> Navigator<W> {
     /// ```
     ///
     /// ([`Steer::ToGoalHeading`]; the `√` under acceleration limits, so that the turn rate can
-    /// be shed before the goal yaw), and `(0, 0)` ([`Steer::Arrived`]) once `|e| <`
-    /// the yaw tolerance ([`GoalTolerance::yaw`], default [`GOAL_HEADING_TOLERANCE`]). Turning in place moves no point of a disc robot whose axle
-    /// is at its centre: the body occupies the same disc all period, so the command is safe
+    /// be shed before the goal yaw), and `(0, 0)` ([`Steer::Arrived`]) once `|e| <` the yaw
+    /// tolerance ([`GoalTolerance::yaw`], default [`crate::GOAL_HEADING_TOLERANCE`]). Turning
+    /// in place moves no point of a disc robot whose axle is at its centre: the body occupies the same disc all period, so the command is safe
     /// whatever `ω` is, and the position keeps its certificate (it does not move). The held
     /// holonomic command is still formed (its mode reported, a refused scan halting the robot:
     /// [`Steer::Stopped`]).
@@ -535,7 +504,7 @@ impl<W: World> Navigator<W> {
     /// [`GoalTolerance::xy`] (default [`GOAL_ARRIVAL`]), [`Navigator::command_pose`] turns in
     /// place, `v = 0`, `ω = clamp(k·wrap(θ_g − θ), ±ω_max)` ([`Steer::ToGoalHeading`]; within
     /// the acceleration limits, if any), until `|wrap(θ_g − θ)| <` [`GoalTolerance::yaw`]
-    /// (default [`GOAL_HEADING_TOLERANCE`]), then commands
+    /// (default [`crate::GOAL_HEADING_TOLERANCE`]), then commands
     /// `(0, 0)` ([`Steer::Arrived`]); away from the goal it is not read. Without a goal yaw
     /// `command_pose` is what it was, bit for bit. [`Navigator::command`] does not read it.
     ///

@@ -79,13 +79,10 @@ pub use harmonav_potential as potential;
 pub use harmonav_sensing as sensing;
 pub use harmonav_transform as transform;
 
-pub use base::{Accel, Base};
+pub use base::{Accel, Base, GOAL_ARRIVAL, GOAL_HEADING_TOLERANCE, GoalTolerance};
 pub use certified::{BLIND, Band, CANDIDATES};
 pub use controller::{Controller, Evaluation};
-pub use diff::{
-    GOAL_ARRIVAL, GOAL_GAIN_RATIO, GOAL_HEADING_TOLERANCE, GoalTolerance, PoseCommand,
-    RECOVERY_ALIGNMENT, Steer, TURN_GAIN, unicycle_arc,
-};
+pub use diff::{GOAL_GAIN_RATIO, PoseCommand, RECOVERY_ALIGNMENT, Steer, TURN_GAIN, unicycle_arc};
 pub use error::NavError;
 pub use event::{grow_perceived, grow_perceived_as};
 pub use floor::{ESCAPE_BLOCKED, ESCAPE_DROP, ESCAPE_STALL, EscapeMemory, FloorWorld};

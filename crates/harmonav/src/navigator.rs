@@ -116,7 +116,7 @@ impl<W: World> Navigator<W> {
             pose_command: (0.0, 0.0),
             brake: crate::base::Brake::Disc,
             goal_yaw: None,
-            goal_tolerance: crate::diff::GoalTolerance::default(),
+            goal_tolerance: crate::base::GoalTolerance::default(),
         };
         let nav = Self { core, world };
         // Guard: λ_c (eq. critdamp) overflowed for m = μ = 1e308; within the ranges it is

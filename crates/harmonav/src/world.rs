@@ -100,7 +100,7 @@ pub struct Core {
     /// none, the default).
     pub(crate) goal_yaw: Option<f64>,
     /// Where a goal with a yaw has arrived (`Navigator::set_goal_tolerance`).
-    pub(crate) goal_tolerance: crate::diff::GoalTolerance,
+    pub(crate) goal_tolerance: crate::base::GoalTolerance,
 }
 
 /// What [`Rules::admit`] may need besides the grown shape: the known shapes grown by `radius`
