@@ -20,7 +20,7 @@ use nalgebra::Vector2;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Row {
     /// The unit normal, from the mover's reported centre towards the robot (tilted by up to
-    /// `atan(η/(1 − η))` for a reciprocal mover with a position error, eq. robust).
+    /// `atan(η/(1 − η))`, `η < 1`, for a reciprocal mover with a position error, eq. robust).
     pub n: Vector2<f64>,
     /// The bound.
     pub a: f64,
