@@ -232,10 +232,11 @@ class Navigator:
     @property
     def goal_heading(self) -> Optional[float]:
         """The goal yaw of ``set_goal_heading``, rad; ``None`` without one."""
-    def set_goal_tolerance(self, xy: float = 0.01, yaw: float = 1e-3) -> None:
+    def set_goal_tolerance(self, xy: Optional[float] = None, yaw: Optional[float] = None) -> None:
         """Where a goal with a yaw (``set_goal_heading``) has arrived: the turn in place begins
         within ``xy`` m of the goal and ends within ``yaw`` rad of the goal yaw (Nav2's
-        ``xy_goal_tolerance`` and ``yaw_goal_tolerance``). Turning in place is safe anywhere,
+        ``xy_goal_tolerance`` and ``yaw_goal_tolerance``; defaults 0.01 m and 1e-3 rad; a bound
+        not given keeps its value). Turning in place is safe anywhere,
         so no tolerance weakens a certificate. A bound that is not finite and positive raises
         ``ValueError`` naming ``xy_goal_tolerance`` or ``yaw_goal_tolerance`` and changes
         nothing. Kept by pickle and copy."""

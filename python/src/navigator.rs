@@ -883,14 +883,24 @@ impl Navigator {
     /// Sets where a goal with a yaw (`set_goal_heading`) has arrived: the turn in place begins
     /// within `xy` m of the goal and ends within `yaw` rad of the goal yaw (Nav2's
     /// `xy_goal_tolerance` and `yaw_goal_tolerance`; the defaults 0.01 m and 1e-3 rad,
-    /// `harmonav::GoalTolerance`). Turning in place is safe anywhere, so no tolerance weakens a
-    /// certificate. A bound that is not finite and positive is a `ValueError` naming
-    /// `xy_goal_tolerance` or `yaw_goal_tolerance`, the navigator unchanged. Pickled with the
-    /// navigator.
-    #[pyo3(signature = (xy=harmonav_rs::GOAL_ARRIVAL, yaw=harmonav_rs::GOAL_HEADING_TOLERANCE))]
-    fn set_goal_tolerance(&self, py: Python<'_>, xy: f64, yaw: f64) -> PyResult<()> {
-        self.state(py)
-            .set_goal_tolerance(GoalTolerance { xy, yaw })
+    /// `harmonav::GoalTolerance`); a bound not given keeps its value. Turning in place is safe
+    /// anywhere, so no tolerance weakens a certificate against the known shapes. A bound that is
+    /// not finite and positive is a `ValueError` naming `xy_goal_tolerance` or
+    /// `yaw_goal_tolerance`, the navigator unchanged. Pickled with the navigator.
+    #[pyo3(signature = (xy=None, yaw=None))]
+    fn set_goal_tolerance(
+        &self,
+        py: Python<'_>,
+        xy: Option<f64>,
+        yaw: Option<f64>,
+    ) -> PyResult<()> {
+        let mut state = self.state(py);
+        let now = each!(&state.inner, nav => nav.goal_tolerance());
+        state
+            .set_goal_tolerance(GoalTolerance {
+                xy: xy.unwrap_or(now.xy),
+                yaw: yaw.unwrap_or(now.yaw),
+            })
             .map_err(value_error)
     }
 

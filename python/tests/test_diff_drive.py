@@ -332,6 +332,11 @@ def test_a_goal_tolerance_ends_the_turn_where_it_says(make):
     nav.set_goal_heading(goal_yaw)
     nav.set_goal_tolerance(xy=xy, yaw=tol)
     assert nav.goal_tolerance == (xy, tol)
+    # A bound not given keeps its value.
+    nav.set_goal_tolerance(xy=0.5)
+    assert nav.goal_tolerance == (0.5, tol)
+    nav.set_goal_tolerance(xy=xy)
+    assert nav.goal_tolerance == (xy, tol)
     limited = make is limited_star
     x, yaw, within, last = START.copy(), math.pi, None, 0.0
     for _ in range(1500):

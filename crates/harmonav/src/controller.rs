@@ -220,7 +220,8 @@ pub(crate) fn finite_state(x: Vector2<f64>, v: Vector2<f64>) -> Result<(), NavEr
     } else {
         Err(NavError::InvalidOption {
             field: "velocity",
-            value: v.norm(),
+            // `hypot`, not `norm` (`√|ẋ|²`, infinite here): the speed as it is.
+            value: v.x.hypot(v.y),
         })
     }
 }

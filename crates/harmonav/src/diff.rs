@@ -527,7 +527,8 @@ impl<W: World> Navigator<W> {
     /// Sets where a goal with a yaw has arrived ([`GoalTolerance`]: the turn in place begins
     /// within `xy` of the goal and ends within `yaw` of the goal yaw; Nav2's
     /// `xy_goal_tolerance` and `yaw_goal_tolerance`). Without a goal yaw it is not read, and
-    /// with the default `command_pose` is what it was, bit for bit.
+    /// with the default `command_pose` is what it was, bit for bit. Under acceleration limits
+    /// the base brakes first and may roll out of the radius and back in (it is not latched).
     ///
     /// # Errors
     /// A bound that is not finite and positive: [`NavError::InvalidOption`] naming

@@ -262,7 +262,10 @@ impl<W: World> Navigator<W> {
         }
         self.core.movers.clear();
         self.core.movers.extend_from_slice(movers);
-        // Up to four rows per mover (a reciprocal one with a position error, eq. robust).
+        // Up to four rows per mover (a reciprocal one with a position error, eq. robust); the
+        // rows are rebuilt at every command, so the buffer is cleared first (`reserve` counts
+        // from the length).
+        self.core.rows.clear();
         self.core.rows.reserve(4 * movers.len());
         Ok(())
     }

@@ -334,6 +334,7 @@ fn reciprocal_swaps_of_2_to_32_robots_at_several_periods() {
                  {uncertified} commands not certified"
             );
             assert_eq!(uncertified, 0, "h = {h}, n = {n}");
+            assert_eq!(arrived, n, "h = {h}: {arrived} of {n} arrived");
             assert!(
                 closest >= MARGIN - 1e-9,
                 "h = {h}, n = {n}: two robots came {closest} m apart"

@@ -69,10 +69,13 @@ fn number(y: &Yaml) -> Option<f64> {
         Yaml::Real(_) => y.as_f64(),
         #[allow(clippy::cast_precision_loss)] // map coordinates are far below 2^53
         Yaml::Integer(i) => Some(*i as f64),
-        Yaml::String(s) => match Yaml::from_str(s.trim()) {
-            q @ (Yaml::Real(_) | Yaml::Integer(_)) => number(&q),
-            _ => None,
-        },
+        // A decimal number only (YAML's own `0x10`, `0o7` and `.inf` forms are not what
+        // yaml-cpp's `as<double>` reads in a string).
+        Yaml::String(s) => s.trim().parse::<f64>().ok().filter(|_| {
+            s.trim()
+                .bytes()
+                .all(|b| b.is_ascii_digit() || b"+-.eE".contains(&b))
+        }),
         _ => None,
     }
 }
@@ -104,7 +107,8 @@ fn threshold(doc: &Yaml, field: &'static str) -> Result<f64, MapProblem> {
     Ok(v)
 }
 
-/// Parses and checks the keys: `image` (a non-empty string), `resolution` (> 0, finite),
+/// Parses and checks the keys: `image` (a non-empty string), `resolution` (in
+/// [`RESOLUTION_RANGE`]),
 /// `origin` (`[x, y, yaw]`, finite), `negate` (`0`/`1` as map_server writes it, or a boolean),
 /// `occupied_thresh` and `free_thresh` (in `[0, 1]`, `free < occupied`), optional `mode`
 /// (`trinary`, the default, `scale` or `raw`). Other keys are ignored, as map_server does.
@@ -163,8 +167,8 @@ pub(crate) fn parse(text: &str) -> Result<MapYaml, MapProblem> {
     let negate = match get(doc, "negate")? {
         Yaml::Integer(0) | Yaml::Boolean(false) => false,
         Yaml::Integer(1) | Yaml::Boolean(true) => true,
-        y @ Yaml::String(_) if number(y) == Some(0.0) => false,
-        y @ Yaml::String(_) if number(y) == Some(1.0) => true,
+        Yaml::String(s) if s.trim() == "0" => false,
+        Yaml::String(s) if s.trim() == "1" => true,
         y => return Err(invalid("negate", "0 or 1 (or false / true)", y)),
     };
     let occupied_thresh = threshold(doc, "occupied_thresh")?;
@@ -315,8 +319,15 @@ mod tests {
         );
         let e = parse(&GOOD.replace("0.05", "\"fine\"")).unwrap_err();
         assert!(e.to_string().contains("resolution"), "{e}");
-        let e = parse(&GOOD.replace("negate: 0", "negate: \"2\"")).unwrap_err();
-        assert!(e.to_string().contains("negate"), "{e}");
+        for bad in ["\"2\"", "\"1.0\""] {
+            let e = parse(&GOOD.replace("negate: 0", &format!("negate: {bad}"))).unwrap_err();
+            assert!(e.to_string().contains("negate"), "{e}");
+        }
+        // YAML's other number forms are not decimal numbers in a string.
+        for bad in ["\"0x10\"", "\"0o7\"", "\".inf\"", "\"\""] {
+            let e = parse(&GOOD.replace("0.05", bad)).unwrap_err();
+            assert!(e.to_string().contains("resolution"), "{bad}: {e}");
+        }
     }
 
     #[test]
