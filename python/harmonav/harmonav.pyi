@@ -310,8 +310,9 @@ class Mover:
     """A moving disc as perception reports it (issue 54): ``centre`` (m), the body's ``radius``
     (m), ``speed_bound`` (m/s), the report's ``error`` bound (m) and ``kind``:
     ``"noncooperative"`` (a person, a robot of another stack) or ``"reciprocal"`` (another
-    harmonav robot taking ``1 − share`` of the avoidance). Immutable and picklable; a bad field
-    is a ``ValueError`` naming it."""
+    harmonav robot taking ``1 − share`` of the avoidance; its ``error`` is allowed, the row is
+    robust to it, docs/movers.md eq. robust). Immutable and picklable; a bad field is a
+    ``ValueError`` naming it."""
 
     def __init__(
         self,

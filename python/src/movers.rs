@@ -28,7 +28,8 @@ const FIELDS: [&str; 7] = [
 /// report is within it of the true centre) and `kind`: `"noncooperative"` (a person, a robot of
 /// another stack: the robot keeps out of all it can reach) or `"reciprocal"` (another harmonav
 /// robot with the same filter and control period, taking `1 − share` of the avoidance; this
-/// robot takes `share`, ½ by default). `velocity` (m/s, array-like `[vx, vy]`, optional) is a
+/// robot takes `share`, ½ by default; each robot's `error` for the other is allowed, the row
+/// is robust to it, docs/movers.md eq. robust). `velocity` (m/s, array-like `[vx, vy]`, optional) is a
 /// tracked velocity: the certificate never uses it; KeepRight's anticipation does (docs/movers.md
 /// §7; without it a mover is anticipated as if at rest). Immutable, picklable; equal when every
 /// field is.

@@ -170,9 +170,13 @@ impl std::fmt::Display for NavError {
             Self::InObstacle { obstacle } => {
                 write!(f, "the position lies inside known obstacle {obstacle}")
             }
-            Self::OutsideBoundary => {
-                write!(f, "the position lies on or outside the workspace boundary")
-            }
+            // The centre may be inside the walls: what is out is the robot's disc (grown by
+            // the margin for `evaluate` and `theta`; issue 56, D19.1).
+            Self::OutsideBoundary => write!(
+                f,
+                "the position lies on or outside the workspace boundary shrunk by the robot's \
+                 radius: the robot's disc reaches a wall or the boundary"
+            ),
             Self::Overlap { obstacle } => write!(
                 f,
                 "the new obstacle overlaps known obstacle {obstacle} (grown by radius + margin)"
