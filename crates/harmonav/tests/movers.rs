@@ -210,6 +210,32 @@ fn a_pursuer_at_its_bound_never_touches_a_certified_robot() {
     assert!(overwhelmed_runs <= 20, "{overwhelmed_runs}");
 }
 
+/// `n` points on the circle of radius `r` about the origin, the first at angle `offset`.
+fn on_circle(n: usize, r: f64, offset: f64) -> Vec<Vector2<f64>> {
+    (0..n)
+        .map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / n as f64 + offset;
+            r * v(a.cos(), a.sin())
+        })
+        .collect()
+}
+
+/// The least gap between two robots' bodies over one period held from `x` at `u` (ten
+/// instants), m.
+fn closest_over_period(x: &[Vector2<f64>], u: &[Vector2<f64>], h: f64) -> f64 {
+    let mut closest = f64::INFINITY;
+    for k in 1..=10 {
+        let t = h * f64::from(k) / 10.0;
+        for i in 0..x.len() {
+            for j in i + 1..x.len() {
+                let d = (x[i] + t * u[i] - x[j] - t * u[j]).norm() - 2.0 * RADIUS;
+                closest = closest.min(d);
+            }
+        }
+    }
+    closest
+}
+
 /// `n` harmonav robots on a circle swap places, each filtering against the others as
 /// reciprocal movers (share ½, each peer reported with its body radius), sampled together: no
 /// robot's disc grown by its margin touches another's body, and with KeepRight every robot
@@ -218,12 +244,7 @@ fn a_pursuer_at_its_bound_never_touches_a_certified_robot() {
 #[test]
 fn reciprocal_robots_swap_places_keeping_their_margins() {
     for n in 2..=8usize {
-        let starts: Vec<Vector2<f64>> = (0..n)
-            .map(|i| {
-                let a = std::f64::consts::TAU * i as f64 / n as f64 + 0.01;
-                4.0 * v(a.cos(), a.sin())
-            })
-            .collect();
+        let starts = on_circle(n, 4.0, 0.01);
         let mut navs: Vec<Navigator> = starts
             .iter()
             .map(|s| navigator(Law::kinematic(1.0), -s))
@@ -241,15 +262,7 @@ fn reciprocal_robots_swap_places_keeping_their_margins() {
                 navs[i].set_movers(&others).unwrap();
                 u.push(navs[i].command(x[i], Vector2::zeros()).unwrap().value);
             }
-            for k in 1..=10 {
-                let t = h * f64::from(k) / 10.0;
-                for i in 0..n {
-                    for j in i + 1..n {
-                        let d = (x[i] + t * u[i] - x[j] - t * u[j]).norm() - 2.0 * RADIUS;
-                        closest = closest.min(d);
-                    }
-                }
-            }
+            closest = closest.min(closest_over_period(&x, &u, h));
             for i in 0..n {
                 x[i] += h * u[i];
             }
@@ -274,12 +287,7 @@ fn reciprocal_robots_swap_places_keeping_their_margins() {
 /// robots arrived, and the commands not certified.
 fn swap(n: usize, h: f64, filtered: bool) -> (f64, usize, usize) {
     let r = (n as f64 / std::f64::consts::TAU).max(1.5);
-    let starts: Vec<Vector2<f64>> = (0..n)
-        .map(|i| {
-            let a = std::f64::consts::TAU * i as f64 / n as f64 + 0.01;
-            r * v(a.cos(), a.sin())
-        })
-        .collect();
+    let starts = on_circle(n, r, 0.01);
     let boundary = StarShape::circle(Vector2::zeros(), 10.0).unwrap();
     let options = Options::default()
         .with_robot(RADIUS, MARGIN)
@@ -304,15 +312,7 @@ fn swap(n: usize, h: f64, filtered: bool) -> (f64, usize, usize) {
             uncertified += usize::from(!c.certified());
             u.push(c.value);
         }
-        for k in 1..=10 {
-            let t = h * f64::from(k) / 10.0;
-            for i in 0..n {
-                for j in i + 1..n {
-                    let d = (x[i] + t * u[i] - x[j] - t * u[j]).norm() - 2.0 * RADIUS;
-                    closest = closest.min(d);
-                }
-            }
-        }
+        closest = closest.min(closest_over_period(&x, &u, h));
         for i in 0..n {
             x[i] += h * u[i];
         }
@@ -361,12 +361,7 @@ fn noisy_crossing(n: usize, error: f64, declared: f64, seed: u64) -> f64 {
     let mut filters: Vec<MoverFilter> = (0..n)
         .map(|_| MoverFilter::new(RADIUS, MARGIN, 1.5, h).unwrap())
         .collect();
-    let starts: Vec<Vector2<f64>> = (0..n)
-        .map(|i| {
-            let a = std::f64::consts::TAU * i as f64 / n as f64;
-            1.5 * v(a.cos(), a.sin())
-        })
-        .collect();
+    let starts = on_circle(n, 1.5, 0.0);
     let mut x = starts.clone();
     let mut closest = f64::INFINITY;
     for _ in 0..300 {
@@ -398,15 +393,7 @@ fn noisy_crossing(n: usize, error: f64, declared: f64, seed: u64) -> f64 {
                 },
             );
         }
-        for k in 1..=10 {
-            let t = h * f64::from(k) / 10.0;
-            for i in 0..n {
-                for j in i + 1..n {
-                    let d = (x[i] + t * u[i] - x[j] - t * u[j]).norm() - 2.0 * RADIUS;
-                    closest = closest.min(d);
-                }
-            }
-        }
+        closest = closest.min(closest_over_period(&x, &u, h));
         for i in 0..n {
             x[i] += h * u[i];
         }
