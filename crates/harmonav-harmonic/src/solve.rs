@@ -33,6 +33,10 @@ use harmonav_multipole::{C64, FmmError, Operator, Options as FmmOptions, Piece, 
 
 use crate::kernel::{self, Panel};
 
+mod near;
+
+use near::NearMatrix;
+
 /// The tolerance of the multipole product: `|Δ(G_far k)_i| ≤ tol·Σ_j 2|k_j||E_j|`.
 pub(crate) const PRODUCT_TOLERANCE: f64 = 1e-12;
 
@@ -67,9 +71,7 @@ struct System<'a> {
     holes: usize,
     mean: f64,
     far: Operator,
-    near_start: Vec<usize>,
-    near_col: Vec<u32>,
-    near_val: Vec<f64>,
+    near: NearMatrix,
 }
 
 impl System<'_> {
@@ -87,10 +89,7 @@ impl System<'_> {
         self.far.apply(weights, far);
         let c = x[n + self.holes];
         for i in 0..n {
-            let mut s = far[i];
-            for e in self.near_start[i]..self.near_start[i + 1] {
-                s += self.near_val[e] * x[self.near_col[e] as usize];
-            }
+            let mut s = self.near.add_row(i, x, far[i]);
             let r = self.ring_of[i];
             if r > 0 {
                 s -= x[n + r - 1];
@@ -183,8 +182,8 @@ fn assemble<'a>(
     let far = Operator::new(&sources, &targets, &options)?;
     // The near matrix, rows by collocation point: each half of the rows on its own thread
     // (each row is computed alone, so the matrix is the one-thread matrix bit for bit).
-    let rows = |range: Range<usize>| -> (Vec<usize>, Vec<u32>, Vec<f64>) {
-        let mut lengths = Vec::with_capacity(range.len());
+    let rows = |range: Range<usize>| -> NearMatrix {
+        let mut block = NearMatrix::new();
         let mut cols = Vec::new();
         let mut vals = Vec::new();
         let mut acc = vec![0.0; n];
@@ -201,15 +200,17 @@ fn assemble<'a>(
                 acc[j] += piece_value(panels, p.centre, piece);
             });
             touched.sort_unstable();
+            cols.clear();
+            vals.clear();
             for &j in &touched {
                 cols.push(j as u32);
                 vals.push(acc[j]);
                 acc[j] = 0.0;
             }
-            lengths.push(touched.len());
+            block.push_row(&cols, &vals);
             touched.clear();
         }
-        (lengths, cols, vals)
+        block
     };
     let (first, second) = std::thread::scope(|scope| {
         let handle = scope.spawn(|| rows(n / 2..n));
@@ -220,23 +221,15 @@ fn assemble<'a>(
             .unwrap_or_else(|e| std::panic::resume_unwind(e));
         (first, second)
     });
-    let mut near_start = Vec::with_capacity(n + 1);
-    near_start.push(0);
-    for length in first.0.iter().chain(&second.0) {
-        near_start.push(near_start[near_start.len() - 1] + length);
-    }
-    let (mut near_col, mut near_val) = (first.1, first.2);
-    near_col.extend(second.1);
-    near_val.extend(second.2);
+    let mut near = first;
+    near.append(second);
     Ok(System {
         panels,
         ring_of,
         holes: ranges.len() - 1,
         mean,
         far,
-        near_start,
-        near_col,
-        near_val,
+        near,
     })
 }
 
