@@ -139,7 +139,9 @@ pub const GOAL_HEADING_TOLERANCE: f64 = 1e-3;
 /// Where a differential-drive base has arrived at a goal with a yaw
 /// ([`crate::Navigator::set_goal_heading`], [`crate::Navigator::set_goal_tolerance`]): the
 /// turn in place begins once `|x − x_d| < xy`, and ends ([`crate::Steer::Arrived`]) once
-/// `|wrap(θ_g − θ)| < yaw`. Nav2's goal checker calls them `xy_goal_tolerance` and
+/// `|wrap(θ_g − θ)| < yaw`; `xy` latches ([`crate::Navigator::set_goal_stateful`], Nav2's
+/// `stateful`: the turn, once begun, goes on wherever a braking base rolls to). Nav2's goal
+/// checker calls them `xy_goal_tolerance` and
 /// `yaw_goal_tolerance`. The default is [`GOAL_ARRIVAL`] and [`GOAL_HEADING_TOLERANCE`]
 /// (1 cm, 1e-3 rad). Either is a stopping rule only: turning in place is safe anywhere
 /// (a disc robot's body does not move), so no tolerance weakens a certificate.

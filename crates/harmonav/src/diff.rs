@@ -331,6 +331,11 @@ struct Limits {
     brake: Brake,
 }
 
+/// Whether two goal yaws are the same, bit for bit (`None` equal to `None` only).
+fn same_bits(a: Option<f64>, b: Option<f64>) -> bool {
+    a.map(f64::to_bits) == b.map(f64::to_bits)
+}
+
 /// The signed angle from `a` to `b` (unit vectors), in `[−π, π]`.
 fn angle(a: Vector2<f64>, b: Vector2<f64>) -> f64 {
     (a.x * b.y - a.y * b.x).atan2(a.dot(&b))
@@ -380,6 +385,11 @@ impl<W: World> Navigator<W> {
         let (mut pose, limits) = self.pose(x, yaw)?;
         let (mut v, mode, rebrake) =
             self.arc_among_movers(x, yaw, (pose.v, pose.omega), pose.mode, limits.floor)?;
+        if self.core.goal_yaw.is_some() && self.final_phase(x) {
+            // Nav2's `stateful` goal checker: the position stays arrived for this goal
+            // (`Navigator::set_goal_stateful`), set by a command that succeeded only.
+            self.core.goal_latched = self.core.goal_stateful;
+        }
         let mut brake = rebrake.unwrap_or(limits.brake);
         if limits.floor > 0.0 && v <= limits.floor && v < pose.v {
             // The movers asked for less than the base can brake to: it brakes as certified.
@@ -427,7 +437,7 @@ impl<W: World> Navigator<W> {
             return Err(NavError::NotFinite { what: "yaw" });
         }
         if let Some(goal_yaw) = self.core.goal_yaw
-            && (x - self.goal()).norm() < self.core.goal_tolerance.xy
+            && self.final_phase(x)
         {
             let want = self.turn_to_goal_heading(x, yaw, goal_yaw, omega_max, accel)?;
             let (mut pose, limits) = match accel {
@@ -445,6 +455,13 @@ impl<W: World> Navigator<W> {
             None => (want, Limits::default()),
             Some(a) => self.accelerated(want, x, yaw, a),
         })
+    }
+
+    /// Whether the pose `x` is in the final phase of a goal with a yaw: within
+    /// [`GoalTolerance::xy`] of the goal, or the position latched
+    /// ([`Navigator::set_goal_stateful`]).
+    fn final_phase(&self, x: Vector2<f64>) -> bool {
+        self.core.goal_latched || (x - self.goal()).norm() < self.core.goal_tolerance.xy
     }
 
     /// The goal heading's command once the position has arrived (before the acceleration
@@ -507,12 +524,17 @@ impl<W: World> Navigator<W> {
     /// (default [`crate::GOAL_HEADING_TOLERANCE`]), then commands
     /// `(0, 0)` ([`Steer::Arrived`]); away from the goal it is not read. Without a goal yaw
     /// `command_pose` is what it was, bit for bit. [`Navigator::command`] does not read it.
+    /// A different yaw (or `None`) releases the position latch ([`Navigator::goal_latched`]);
+    /// the same yaw again keeps it.
     ///
     /// # Errors
     /// A non-finite yaw: [`NavError::NotFinite`] naming `"goal_yaw"`, the navigator unchanged.
     pub fn set_goal_heading(&mut self, yaw: Option<f64>) -> Result<(), NavError> {
         if yaw.is_some_and(|y| !y.is_finite()) {
             return Err(NavError::NotFinite { what: "goal_yaw" });
+        }
+        if !same_bits(self.core.goal_yaw, yaw) {
+            self.core.goal_latched = false;
         }
         self.core.goal_yaw = yaw;
         Ok(())
@@ -527,8 +549,10 @@ impl<W: World> Navigator<W> {
     /// Sets where a goal with a yaw has arrived ([`GoalTolerance`]: the turn in place begins
     /// within `xy` of the goal and ends within `yaw` of the goal yaw; Nav2's
     /// `xy_goal_tolerance` and `yaw_goal_tolerance`). Without a goal yaw it is not read, and
-    /// with the default `command_pose` is what it was, bit for bit. Under acceleration limits
-    /// the base brakes first and may roll out of the radius and back in (it is not latched).
+    /// with the default `command_pose` is what it was, bit for bit. The radius latches
+    /// ([`Navigator::set_goal_stateful`]): under acceleration limits the base brakes first and
+    /// may roll out of it, and then keeps braking and turning in place, never driving back.
+    /// A different tolerance releases the latch; the same one again keeps it.
     ///
     /// # Errors
     /// A bound that is not finite and positive: [`NavError::InvalidOption`] naming
@@ -542,6 +566,9 @@ impl<W: World> Navigator<W> {
                 return Err(NavError::InvalidOption { field, value });
             }
         }
+        if self.core.goal_tolerance != tolerance {
+            self.core.goal_latched = false;
+        }
         self.core.goal_tolerance = tolerance;
         Ok(())
     }
@@ -550,6 +577,58 @@ impl<W: World> Navigator<W> {
     #[must_use]
     pub fn goal_tolerance(&self) -> GoalTolerance {
         self.core.goal_tolerance
+    }
+
+    /// Whether the position tolerance of a goal with a yaw latches (Nav2's goal checker
+    /// parameter `stateful`; `true`, the default, as Nav2's). Latched: once
+    /// [`Navigator::command_pose`] has been given a pose within [`GoalTolerance::xy`] of the
+    /// goal (with a goal yaw set, [`Navigator::set_goal_heading`]), every later command is the
+    /// final phase, wherever the pose is: under acceleration limits the most the base can
+    /// brake ([`Steer::Braking`], `v_b = max(0, v_last − a_max h)`) until it is at rest, then
+    /// the turn in place ([`Steer::ToGoalHeading`], `v = 0`) until within
+    /// [`GoalTolerance::yaw`] ([`Steer::Arrived`]). It never drives back towards the goal
+    /// position: without the latch a base that rolled out of the radius while braking drove
+    /// back in and braked again. The latch holds after [`Steer::Arrived`] too (a pose pushed
+    /// out afterwards is not driven back; set the goal yaw again to re-arm). The goal itself
+    /// is fixed for a navigator's life (a new goal is a new navigator, with no latch); a
+    /// different goal yaw, tolerance or `stateful` releases the latch.
+    ///
+    /// Why the latch cannot weaken a certificate: the latched commands are of two kinds, both
+    /// certified already without it. (1) `v = 0`: the unicycle `ẋ = v e(θ)`, `θ̇ = ω` gives
+    /// `x(t) = x(0)` for every `t` in the period whatever `ω`, so the body, the disc
+    /// `B(x(t), r)` of a robot whose axle is at its centre, is the same disc all period: the
+    /// one it occupied at the pose, clear (the last command's arc, certified, ended there);
+    /// `Θ(x(t)) = Θ(x(0))` does not rise. (2) Braking, `v_b`: the last command's braking
+    /// certificate covers it (eq. brakedisc: the disc of radius `v_last²/(2 a_max)` about
+    /// the end of its arc, certified free, holds every arc of length `v_b h + v_b²/(2a) ≤
+    /// v_last²/(2a)`; eq. brakearc: its arc), the same command the unlatched base brakes
+    /// with today. Without acceleration limits a base in the final phase commands `v = 0`, so
+    /// in a closed loop with exact poses it never leaves the radius and the latch changes
+    /// nothing, bit for bit; it acts only where the pose leaves the radius by itself (a
+    /// braking base, a localisation jump).
+    ///
+    /// Unlatched (`false`): the final phase is decided afresh at every command by
+    /// `|x − x_d| < xy`, the behaviour before 2026-12-07. Setting a different value releases
+    /// the latch.
+    pub fn set_goal_stateful(&mut self, stateful: bool) {
+        if self.core.goal_stateful != stateful {
+            self.core.goal_latched = false;
+        }
+        self.core.goal_stateful = stateful;
+    }
+
+    /// Whether the position tolerance latches ([`Navigator::set_goal_stateful`]).
+    #[must_use]
+    pub fn goal_stateful(&self) -> bool {
+        self.core.goal_stateful
+    }
+
+    /// Whether the position tolerance is latched: a pose within [`GoalTolerance::xy`] of the
+    /// goal has been commanded ([`Navigator::command_pose`], with a goal yaw) since the goal
+    /// yaw, the tolerance or `stateful` last changed ([`Navigator::set_goal_stateful`]).
+    #[must_use]
+    pub fn goal_latched(&self) -> bool {
+        self.core.goal_latched
     }
 
     /// The acceleration limits `a` applied to `want` (docs/unicycle.md §10): `ω` within

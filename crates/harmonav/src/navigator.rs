@@ -117,6 +117,8 @@ impl<W: World> Navigator<W> {
             brake: crate::base::Brake::Disc,
             goal_yaw: None,
             goal_tolerance: crate::base::GoalTolerance::default(),
+            goal_stateful: true,
+            goal_latched: false,
         };
         let nav = Self { core, world };
         // Guard: λ_c (eq. critdamp) overflowed for m = μ = 1e308; within the ranges it is

@@ -101,6 +101,12 @@ pub struct Core {
     pub(crate) goal_yaw: Option<f64>,
     /// Where a goal with a yaw has arrived (`Navigator::set_goal_tolerance`).
     pub(crate) goal_tolerance: crate::base::GoalTolerance,
+    /// Whether the position tolerance latches (`Navigator::set_goal_stateful`; Nav2's
+    /// `stateful`, default true).
+    pub(crate) goal_stateful: bool,
+    /// A pose within `goal_tolerance.xy` of the goal has been commanded since the goal yaw,
+    /// the tolerance or `goal_stateful` last changed (`Navigator::goal_latched`).
+    pub(crate) goal_latched: bool,
 }
 
 /// What [`Rules::admit`] may need besides the grown shape: the known shapes grown by `radius`

@@ -76,6 +76,28 @@ struct Run {
     max_domega: f64,
     /// The period of the first `Steer::Arrived`.
     arrived: Option<usize>,
+    /// Some pose given was within `GoalTolerance::xy` of the goal.
+    reached: bool,
+    /// The speed of the last command before the first pose within `xy`, m/s.
+    entry_speed: f64,
+    /// The path length driven from the first pose within `xy` on, m.
+    rolled: f64,
+}
+
+impl Run {
+    /// The latch (`set_goal_stateful`, the default): from the first pose within `xy` the base
+    /// only brakes, at `a_max` (`v_b = max(0, v − a_max h)`), so it rolls at most
+    /// `v²/(2 a_max)` from there (`v` the speed it entered with; 0 without limits), and ends
+    /// within `xy` plus that.
+    fn check_roll_out(&self, base: Base, xy: f64, label: &str) {
+        let bound = match base {
+            Base::Diff { accel: Some(a), .. } => self.entry_speed.powi(2) / (2.0 * a.a_max),
+            _ => 0.0,
+        };
+        assert!(self.rolled <= bound * (1.0 + 1e-9), "{label}: {self:?}");
+        let to_goal = (self.x - goal()).norm();
+        assert!(to_goal < xy + self.rolled, "{label}: {to_goal}");
+    }
 }
 
 /// Drives from `start()` at `yaw` for `periods`, or until `stop` says so after a command.
@@ -94,6 +116,9 @@ fn fly(
         max_dv: 0.0,
         max_domega: 0.0,
         arrived: None,
+        reached: false,
+        entry_speed: 0.0,
+        rolled: 0.0,
     };
     let mut last = (0.0, 0.0);
     for n in 0..periods {
@@ -102,9 +127,16 @@ fn fly(
             (0.0..=V_MAX).contains(&c.v) && c.omega.abs() <= OMEGA_MAX,
             "{c:?}"
         );
+        // Within xy, or latched there (`set_goal_stateful`): a braking base may roll out.
+        if !run.reached && (x - goal()).norm() < nav.goal_tolerance().xy {
+            (run.reached, run.entry_speed) = (true, last.0);
+        }
+        if run.reached {
+            run.rolled += c.v * H;
+        }
         if c.steer == Steer::ToGoalHeading {
             assert_eq!(c.v, 0.0, "{c:?}");
-            assert!((x - goal()).norm() < nav.goal_tolerance().xy, "{x:?}");
+            assert!(run.reached, "{x:?}");
         }
         run.max_dv = run.max_dv.max((c.v - last.0).abs() / H);
         run.max_domega = run.max_domega.max((c.omega - last.1).abs() / H);
@@ -140,7 +172,7 @@ fn the_loop_ends_at_the_goal_yaw_from_every_start() {
             Base::diff(V_MAX, OMEGA_MAX).with_accel(A_MAX, ALPHA_MAX),
         ),
     ] {
-        let mut turning_max = 0;
+        let (mut turning_max, mut rolled_max) = (0, 0.0_f64);
         for goal_yaw in GOAL_YAWS {
             for yaw in START_YAWS {
                 let mut nav = navigator(base);
@@ -167,7 +199,9 @@ fn the_loop_ends_at_the_goal_yaw_from_every_start() {
                     error.abs() < GOAL_HEADING_TOLERANCE,
                     "{label} {yaw}: {error}"
                 );
-                assert!(to_goal < GOAL_ARRIVAL, "{label} {yaw}: {to_goal}");
+                // Within 1 cm plus what it rolls while braking (the latch: none without limits).
+                run.check_roll_out(base, GOAL_ARRIVAL, &format!("{label} {yaw} {goal_yaw}"));
+                rolled_max = rolled_max.max(run.rolled);
                 assert!(run.closest > 0.0, "{label} {yaw}: {}", run.closest);
                 if let Base::Diff { accel: Some(a), .. } = base {
                     assert!(run.max_dv <= a.a_max * (1.0 + 1e-9), "{}", run.max_dv);
@@ -186,6 +220,7 @@ fn the_loop_ends_at_the_goal_yaw_from_every_start() {
         }
         // Some start needed turning at the goal, or the test would not test the turn.
         assert!(turning_max > 0, "{label}");
+        println!("{label}: the longest roll from the first pose within 1 cm {rolled_max:.1e} m");
     }
 }
 
@@ -303,7 +338,7 @@ fn a_goal_tolerance_ends_the_drive_where_it_says() {
         Base::diff(V_MAX, OMEGA_MAX),
         Base::diff(V_MAX, OMEGA_MAX).with_accel(A_MAX, ALPHA_MAX),
     ] {
-        let mut farthest: f64 = 0.0;
+        let (mut farthest, mut sooner) = (0.0_f64, 0);
         for goal_yaw in GOAL_YAWS {
             for yaw in START_YAWS {
                 let mut nav = navigator(base);
@@ -315,7 +350,7 @@ fn a_goal_tolerance_ends_the_drive_where_it_says() {
                     .arrived
                     .unwrap_or_else(|| panic!("{yaw} {goal_yaw}: {run:?}"));
                 let to_goal = (run.x - goal()).norm();
-                assert!(to_goal < tolerance.xy, "{yaw}: {to_goal}");
+                run.check_roll_out(base, tolerance.xy, &format!("{yaw} {goal_yaw}"));
                 assert!(wrap(goal_yaw - run.yaw).abs() < tolerance.yaw, "{run:?}");
                 assert!(run.closest > 0.0, "{yaw}: {}", run.closest);
                 // Once within xy the base only turns: replay the positions.
@@ -329,19 +364,27 @@ fn a_goal_tolerance_ends_the_drive_where_it_says() {
                 let mut default = navigator(base);
                 default.set_goal_heading(Some(goal_yaw)).unwrap();
                 let reference = fly(&mut default, yaw, PERIODS, |_, c| c.steer == Steer::Arrived);
+                // Not slower; under acceleration limits the default radius latches too (since
+                // 2026-12-07) and one run arrives in the same period either way.
+                let m = reference.arrived.unwrap();
                 assert!(
-                    n < reference.arrived.unwrap(),
-                    "{yaw} {goal_yaw}: {n} periods, {:?} with the default",
-                    reference.arrived
+                    n <= m,
+                    "{yaw} {goal_yaw}: {n} periods, {m} with the default"
                 );
+                sooner += usize::from(n < m);
                 for _ in 0..10 {
                     let c = nav.command_pose(run.x, run.yaw).unwrap();
                     assert_eq!((c.v, c.omega, c.steer), (0.0, 0.0, Steer::Arrived), "{c:?}");
                 }
             }
         }
-        println!("tolerance 0.25 m: farthest arrival {farthest:.3} m from the goal");
+        let runs = GOAL_YAWS.len() * START_YAWS.len();
+        println!(
+            "tolerance 0.25 m: farthest arrival {farthest:.3} m from the goal, {sooner}/{runs} \
+             runs sooner than with the default"
+        );
         assert!(farthest > GOAL_ARRIVAL, "{farthest}");
+        assert!(sooner + 1 >= runs, "{sooner}/{runs}");
     }
 }
 
@@ -384,5 +427,268 @@ fn a_bad_goal_tolerance_is_refused_by_name() {
         assert!(e.to_string().contains(name), "{e}");
         assert!(e.to_string().contains("positive"), "{e}");
         assert_eq!(nav.goal_tolerance(), GoalTolerance::default());
+    }
+}
+
+/// The scenarios where an unlatched base rolls out of `xy` while braking: the test's own
+/// limits (`a_max` 0.5, `alpha_max` 4) with a 2 cm radius, and a slow turn-rate limit
+/// (`alpha_max` 1) with Nav2's 0.25 m.
+const ROLL_OUT: [(f64, f64, f64); 2] = [(0.02, A_MAX, ALPHA_MAX), (0.25, A_MAX, 1.0)];
+
+/// One closed-loop run to a goal yaw under acceleration limits, `stateful` or not, until
+/// `Arrived` or `PERIODS`.
+#[derive(Debug)]
+struct Latched {
+    /// The command and the pose it was given.
+    steps: Vec<(Vector2<f64>, PoseCommand)>,
+    /// The final pose.
+    x: Vector2<f64>,
+    yaw: f64,
+    /// The index of the first command given a pose within `xy`.
+    first_within: Option<usize>,
+    /// The least true body clearance along every arc, m.
+    closest: f64,
+}
+
+impl Latched {
+    /// Whether a command after the first pose within `xy` is aligned descent's (the base
+    /// drives towards the goal position again, or turns to do so).
+    fn drove_again(&self) -> bool {
+        let Some(first) = self.first_within else {
+            return false;
+        };
+        self.steps[first..].iter().any(|(_, c)| {
+            matches!(
+                c.steer,
+                Steer::Ahead | Steer::Shortened { .. } | Steer::Turning
+            )
+        })
+    }
+
+    /// Whether some pose after the first within `xy` is outside it.
+    fn left(&self, xy: f64) -> bool {
+        let Some(first) = self.first_within else {
+            return false;
+        };
+        let outside = |x: &Vector2<f64>| (x - goal()).norm() >= xy;
+        self.steps[first..].iter().any(|(x, _)| outside(x)) || outside(&self.x)
+    }
+}
+
+fn fly_latched(
+    (xy, a_max, alpha_max): (f64, f64, f64),
+    stateful: bool,
+    yaw: f64,
+    goal_yaw: f64,
+) -> (Navigator, Latched) {
+    let mut nav = navigator(Base::diff(V_MAX, OMEGA_MAX).with_accel(a_max, alpha_max));
+    nav.set_goal_heading(Some(goal_yaw)).unwrap();
+    nav.set_goal_tolerance(GoalTolerance { xy, yaw: 0.05 })
+        .unwrap();
+    nav.set_goal_stateful(stateful);
+    assert_eq!(nav.goal_stateful(), stateful);
+    let (mut x, mut yaw) = (start(), yaw);
+    let mut run = Latched {
+        steps: Vec::new(),
+        x,
+        yaw,
+        first_within: None,
+        closest: f64::INFINITY,
+    };
+    let mut last = (0.0, 0.0);
+    for n in 0..PERIODS {
+        let c = nav.command_pose(x, yaw).unwrap();
+        assert!(
+            (0.0..=V_MAX).contains(&c.v) && c.omega.abs() <= OMEGA_MAX,
+            "{c:?}"
+        );
+        assert!((c.v - last.0).abs() <= a_max * H * (1.0 + 1e-9), "{c:?}");
+        assert!(
+            (c.omega - last.1).abs() <= alpha_max * H * (1.0 + 1e-9),
+            "{c:?}"
+        );
+        last = (c.v, c.omega);
+        if run.first_within.is_none() && (x - goal()).norm() < xy {
+            run.first_within = Some(n);
+        }
+        assert_eq!(nav.goal_latched(), stateful && run.first_within.is_some());
+        for i in 0..=SAMPLES {
+            let p = unicycle_arc(x, yaw, c.v, c.omega, H * i as f64 / SAMPLES as f64).0;
+            run.closest = run.closest.min(clearance(p));
+        }
+        run.steps.push((x, c));
+        (x, yaw) = unicycle_arc(x, yaw, c.v, c.omega, H);
+        if c.steer == Steer::Arrived {
+            break;
+        }
+    }
+    (run.x, run.yaw) = (x, yaw);
+    (nav, run)
+}
+
+/// Nav2's `stateful` goal checker (`set_goal_stateful`, default true): under acceleration
+/// limits, once the base has been given a pose within `xy` it only brakes (the most it can,
+/// `v` falling by `a_max h` a period) and turns in place, never drives again, even where it
+/// rolls out of the radius; it ends `Arrived` within the yaw tolerance and stays, the body
+/// clear along every arc and every command within the limits. The negative control: the same
+/// runs unlatched (`stateful` false, the behaviour before) roll out and drive back in, in some
+/// runs of each scenario. A run that never leaves the radius is the same, bit for bit, either
+/// way.
+#[test]
+fn the_latched_radius_never_drives_again() {
+    for scenario in ROLL_OUT {
+        let xy = scenario.0;
+        let (mut left, mut drove_unlatched, mut outside_at_end) = (0, 0, 0);
+        for goal_yaw in GOAL_YAWS {
+            for yaw in START_YAWS {
+                let (mut nav, run) = fly_latched(scenario, true, yaw, goal_yaw);
+                let label = format!("{scenario:?} start {yaw} goal {goal_yaw}");
+                let first = run
+                    .first_within
+                    .unwrap_or_else(|| panic!("{label}: {run:?}"));
+                assert!(!run.drove_again(), "{label}: {run:?}");
+                // After the first pose within xy: braking (v falling by a_max h to 0), then v = 0.
+                let mut v_last = run.steps[first.saturating_sub(1)].1.v;
+                for (_, c) in &run.steps[first..] {
+                    if c.v > 0.0 {
+                        assert_eq!(c.steer, Steer::Braking, "{label}: {c:?}");
+                        assert!(c.v < v_last, "{label}: {c:?}");
+                    }
+                    v_last = c.v;
+                }
+                let (_, end) = run.steps.last().unwrap();
+                assert_eq!(end.steer, Steer::Arrived, "{label}: {run:?}");
+                assert!(wrap(goal_yaw - run.yaw).abs() < 0.05, "{label}");
+                assert!(run.closest > 0.0, "{label}: {}", run.closest);
+                for _ in 0..10 {
+                    let c = nav.command_pose(run.x, run.yaw).unwrap();
+                    assert_eq!((c.v, c.omega, c.steer), (0.0, 0.0, Steer::Arrived), "{c:?}");
+                }
+                let (_, unlatched) = fly_latched(scenario, false, yaw, goal_yaw);
+                if run.left(xy) {
+                    left += 1;
+                    outside_at_end += usize::from((run.x - goal()).norm() >= xy);
+                } else {
+                    let same = run.steps.iter().zip(&unlatched.steps);
+                    assert_eq!(run.steps.len(), unlatched.steps.len(), "{label}");
+                    for ((_, a), (_, b)) in same {
+                        assert_eq!(
+                            (a.v.to_bits(), a.omega.to_bits()),
+                            (b.v.to_bits(), b.omega.to_bits())
+                        );
+                        assert_eq!(a.steer, b.steer, "{label}");
+                    }
+                }
+                drove_unlatched += usize::from(unlatched.drove_again());
+            }
+        }
+        let runs = GOAL_YAWS.len() * START_YAWS.len();
+        println!(
+            "{scenario:?}: latched, {left}/{runs} runs roll out of xy ({outside_at_end} end \
+             outside it), none drives again; unlatched, {drove_unlatched}/{runs} drive again"
+        );
+        assert!(
+            left > 0,
+            "{scenario:?}: no run rolls out: the test shows nothing"
+        );
+        assert!(
+            drove_unlatched > 0,
+            "{scenario:?}: the negative control never drove again"
+        );
+    }
+}
+
+/// The latch releases when the goal yaw, the tolerance or `stateful` changes (the same value
+/// again keeps it), is never set unlatched or without a goal yaw, and after a release the
+/// base drives again from outside the radius.
+#[test]
+fn the_latch_releases_when_the_goal_changes() {
+    let base = Base::diff(V_MAX, OMEGA_MAX).with_accel(A_MAX, ALPHA_MAX);
+    let tolerance = GoalTolerance { xy: 0.1, yaw: 0.05 };
+    let near = goal() + Vector2::new(0.05, 0.0);
+    let far = goal() + Vector2::new(-1.0, 0.3);
+    let latched = || {
+        let mut nav = navigator(base);
+        nav.set_goal_heading(Some(1.0)).unwrap();
+        nav.set_goal_tolerance(tolerance).unwrap();
+        assert!(nav.goal_stateful());
+        assert!(!nav.goal_latched());
+        nav.command_pose(far, 0.0).unwrap();
+        assert!(!nav.goal_latched(), "latched away from the goal");
+        let c = nav.command_pose(near, 0.0).unwrap();
+        assert_eq!(c.steer, Steer::ToGoalHeading);
+        assert!(nav.goal_latched());
+        // Far from the goal, latched: still the turn in place.
+        let c = nav.command_pose(far, 0.0).unwrap();
+        assert_eq!((c.v, c.steer), (0.0, Steer::ToGoalHeading), "{c:?}");
+        nav
+    };
+    let mut nav = latched();
+    nav.set_goal_heading(Some(1.0)).unwrap();
+    nav.set_goal_tolerance(tolerance).unwrap();
+    nav.set_goal_stateful(true);
+    assert!(nav.goal_latched(), "the same values released the latch");
+    type Change = fn(&mut Navigator);
+    let changes: [(&str, Change); 4] = [
+        ("goal yaw", |n| n.set_goal_heading(Some(1.5)).unwrap()),
+        ("no goal yaw", |n| n.set_goal_heading(None).unwrap()),
+        ("tolerance", |n| {
+            n.set_goal_tolerance(GoalTolerance { xy: 0.1, yaw: 0.06 })
+                .unwrap();
+        }),
+        ("stateful", |n| n.set_goal_stateful(false)),
+    ];
+    for (what, change) in changes {
+        let mut nav = latched();
+        change(&mut nav);
+        assert!(!nav.goal_latched(), "{what}");
+        // Released: from far away it is aligned descent again (it turns towards the goal
+        // first: the goal is behind-left of yaw 0 there).
+        let c = nav.command_pose(far, 0.0).unwrap();
+        assert!(
+            !matches!(c.steer, Steer::ToGoalHeading | Steer::Arrived),
+            "{what}: {c:?}"
+        );
+        // Unlatched or without a goal yaw, a pose within xy does not latch.
+        if what == "stateful" || what == "no goal yaw" {
+            nav.command_pose(near, 0.0).unwrap();
+            assert!(!nav.goal_latched(), "{what}");
+        }
+    }
+}
+
+/// Without acceleration limits a base in the final phase commands `v = 0` and never leaves the
+/// radius, so the latch changes nothing: latched and unlatched closed loops are the same, bit
+/// for bit, with the default tolerance and Nav2's 0.25 m.
+#[test]
+fn without_limits_the_latch_changes_nothing() {
+    for xy in [GOAL_ARRIVAL, 0.25] {
+        for goal_yaw in GOAL_YAWS {
+            for yaw in START_YAWS {
+                let commands = |stateful: bool| {
+                    let mut nav = navigator(Base::diff(V_MAX, OMEGA_MAX));
+                    nav.set_goal_heading(Some(goal_yaw)).unwrap();
+                    nav.set_goal_tolerance(GoalTolerance {
+                        xy,
+                        yaw: GOAL_HEADING_TOLERANCE,
+                    })
+                    .unwrap();
+                    nav.set_goal_stateful(stateful);
+                    let run = fly(&mut nav, yaw, PERIODS, |_, c| c.steer == Steer::Arrived);
+                    assert!(run.arrived.is_some(), "{xy} {yaw} {goal_yaw}");
+                    assert_eq!(nav.goal_latched(), stateful);
+                    run.commands
+                };
+                let (a, b) = (commands(true), commands(false));
+                assert_eq!(a.len(), b.len());
+                for (a, b) in a.iter().zip(&b) {
+                    assert_eq!(
+                        (a.v.to_bits(), a.omega.to_bits()),
+                        (b.v.to_bits(), b.omega.to_bits())
+                    );
+                    assert_eq!((a.mode, a.steer), (b.mode, b.steer));
+                }
+            }
+        }
     }
 }
