@@ -232,17 +232,29 @@ class Navigator:
     @property
     def goal_heading(self) -> Optional[float]:
         """The goal yaw of ``set_goal_heading``, rad; ``None`` without one."""
-    def set_goal_tolerance(self, xy: Optional[float] = None, yaw: Optional[float] = None) -> None:
+    def set_goal_tolerance(
+        self, xy: Optional[float] = None, yaw: Optional[float] = None, stateful: Optional[bool] = None
+    ) -> None:
         """Where a goal with a yaw (``set_goal_heading``) has arrived: the turn in place begins
         within ``xy`` m of the goal and ends within ``yaw`` rad of the goal yaw (Nav2's
         ``xy_goal_tolerance`` and ``yaw_goal_tolerance``; defaults 0.01 m and 1e-3 rad; a bound
-        not given keeps its value). Turning in place is safe anywhere,
-        so no tolerance weakens a certificate. A bound that is not finite and positive raises
-        ``ValueError`` naming ``xy_goal_tolerance`` or ``yaw_goal_tolerance`` and changes
-        nothing. Kept by pickle and copy."""
+        not given keeps its value). ``stateful`` (Nav2's, default True): once a pose within
+        ``xy`` has been commanded the radius latches (``goal_latched``): the robot only brakes
+        (under acceleration limits) and turns in place, wherever it rolls, never driving back;
+        False decides afresh at each command. A different tolerance releases the latch.
+        Turning in place is safe anywhere, so no tolerance weakens a certificate. A bound that
+        is not finite and positive raises ``ValueError`` naming ``xy_goal_tolerance`` or
+        ``yaw_goal_tolerance`` and changes nothing. Kept by pickle and copy (the latch too)."""
     @property
     def goal_tolerance(self) -> Tuple[float, float]:
         """``(xy, yaw)`` of ``set_goal_tolerance``: m and rad."""
+    @property
+    def goal_stateful(self) -> bool:
+        """Whether the goal's radius latches (``set_goal_tolerance(stateful=…)``)."""
+    @property
+    def goal_latched(self) -> bool:
+        """Whether the goal's radius is latched: a pose within ``xy`` has been commanded since
+        the goal yaw or the tolerance last changed."""
     def set_movers(self, movers: Sequence[Union[Mover, Dict[str, Any]]]) -> None:
         """Replaces the movers (``Mover``s, or dicts with its argument names as keys); ``[]``
         clears them. All or nothing: an invalid mover is a ``ValueError`` naming

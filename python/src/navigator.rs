@@ -166,8 +166,8 @@ enum Event {
     Movers(Vec<RsMover>),
     /// `set_goal_heading(yaw)` (issue 53): in force until the next.
     GoalHeading(Option<f64>),
-    /// `set_goal_tolerance(xy, yaw)` (issue 53): in force until the next.
-    GoalTolerance(f64, f64),
+    /// `set_goal_tolerance(xy, yaw, stateful)` (issue 53): in force until the next.
+    GoalTolerance(f64, f64, bool),
     /// `observe_scan(...)` that changed the obstacles, or that ended a halt (a scan that
     /// changed nothing otherwise leaves no state to replay).
     Scan(Box<(Pose, LaserScan)>),
@@ -330,15 +330,18 @@ impl Log {
     }
 
     /// A successful `set_goal_tolerance`: replaces the one set since the last other event.
-    fn goal_tolerance(&mut self, t: GoalTolerance) {
+    fn goal_tolerance(&mut self, t: GoalTolerance, stateful: bool) {
         match self.events.last_mut() {
-            Some(Event::GoalTolerance(xy, yaw)) => (*xy, *yaw) = (t.xy, t.yaw),
-            _ => self.events.push(Event::GoalTolerance(t.xy, t.yaw)),
+            Some(Event::GoalTolerance(xy, yaw, s)) => (*xy, *yaw, *s) = (t.xy, t.yaw, stateful),
+            _ => self
+                .events
+                .push(Event::GoalTolerance(t.xy, t.yaw, stateful)),
         }
     }
 
     /// The log as pickle stores it: `("add", shape)`, `("command", x, v)`, `("pose", x, yaw)`,
-    /// `("movers", [Mover, …])`, `("goal-heading", yaw or None)`, `("goal-tolerance", xy, yaw)`
+    /// `("movers", [Mover, …])`, `("goal-heading", yaw or None)`, `("goal-tolerance", xy, yaw,
+    /// stateful)`
     /// and `("scan", pose, ranges, angles)` entries.
     fn to_python<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         let entries = self
@@ -350,8 +353,8 @@ impl Log {
                     Event::Command(x, v) => ("command", *x, *v).into_pyobject(py),
                     Event::Pose(x, yaw) => ("pose", *x, *yaw).into_pyobject(py),
                     Event::GoalHeading(yaw) => ("goal-heading", *yaw).into_pyobject(py),
-                    Event::GoalTolerance(xy, yaw) => {
-                        ("goal-tolerance", *xy, *yaw).into_pyobject(py)
+                    Event::GoalTolerance(xy, yaw, stateful) => {
+                        ("goal-tolerance", *xy, *yaw, *stateful).into_pyobject(py)
                     }
                     Event::Escapes(m) => escapes_entry(py, m),
                     Event::Movers(movers) => {
@@ -531,19 +534,22 @@ impl State {
                  v_max and omega_max); this one is holonomic: use command",
             ));
         }
-        let (c, lifted, movers) = each!(&mut self.inner, nav => {
-            let before = nav.discovery_speed();
+        let (c, lifted, latched, movers) = each!(&mut self.inner, nav => {
+            let (before, was) = (nav.discovery_speed(), nav.goal_latched());
             let c = nav.command_pose(x, yaw).map_err(value_error)?;
-            (c, nav.discovery_speed().to_bits() != before.to_bits(), !nav.movers().is_empty())
+            let lifted = nav.discovery_speed().to_bits() != before.to_bits();
+            (c, lifted, nav.goal_latched() && !was, !nav.movers().is_empty())
         });
         self.mode = c.mode;
         self.steer = Some(c.steer);
         let event = Event::Pose([x.x, x.y], yaw);
         // Under acceleration limits each command counts from the last: every one is replayed
-        // (the log grows with them, as with commands the mover filter changed).
+        // (the log grows with them, as with commands the mover filter changed). The command
+        // that latched the goal's position tolerance (`Navigator::goal_latched`) is replayed
+        // too, so that a copy is latched: the later ones, wherever their poses, turn in place.
         let limited = matches!(self.built.options.base, Base::Diff { accel: Some(_), .. });
         self.log
-            .command(event, lifted || limited, yielded(c.mode), movers);
+            .command(event, lifted || limited || latched, yielded(c.mode), movers);
         Ok(c)
     }
 
@@ -555,11 +561,15 @@ impl State {
         Ok(())
     }
 
-    /// Sets where a goal with a yaw has arrived, and records it; the Rust navigator refuses a
-    /// bound that is not finite and positive and changes nothing.
-    fn set_goal_tolerance(&mut self, t: GoalTolerance) -> Result<(), NavError> {
-        each!(&mut self.inner, nav => nav.set_goal_tolerance(t))?;
-        self.log.goal_tolerance(t);
+    /// Sets where a goal with a yaw has arrived and whether its radius latches, and records
+    /// them; the Rust navigator refuses a bound that is not finite and positive and changes
+    /// nothing.
+    fn set_goal_tolerance(&mut self, t: GoalTolerance, stateful: bool) -> Result<(), NavError> {
+        each!(&mut self.inner, nav => {
+            nav.set_goal_tolerance(t)?;
+            nav.set_goal_stateful(stateful);
+        });
+        self.log.goal_tolerance(t, stateful);
         Ok(())
     }
 
@@ -587,7 +597,9 @@ impl State {
                 },
                 Event::Movers(movers) => self.set_movers(movers),
                 Event::GoalHeading(yaw) => self.set_goal_heading(yaw),
-                Event::GoalTolerance(xy, yaw) => self.set_goal_tolerance(GoalTolerance { xy, yaw }),
+                Event::GoalTolerance(xy, yaw, stateful) => {
+                    self.set_goal_tolerance(GoalTolerance { xy, yaw }, stateful)
+                }
                 Event::Scan(b) => {
                     let (pose, scan) = *b;
                     self.scan(pose, scan).map(drop)
@@ -690,7 +702,7 @@ fn event(entry: &Bound<'_, PyAny>, i: usize, class: &str) -> PyResult<Event> {
         PyTypeError::new_err(format!(
             "{class} state, entry {i}: {problem}; expected (\"add\", Shape), \
              (\"command\", [x, y], [vx, vy]), (\"pose\", [x, y], yaw), (\"movers\", \
-             [Mover, …]), (\"goal-heading\", yaw or None), (\"goal-tolerance\", xy, yaw), (\"scan\", [x, y, yaw], ranges, [angle_min, angle_increment, \
+             [Mover, …]), (\"goal-heading\", yaw or None), (\"goal-tolerance\", xy, yaw[, stateful]), (\"scan\", [x, y, yaw], ranges, [angle_min, angle_increment, \
              range_min, range_max]) or (\"escapes\", level or None, early, early_level or None, \
              count, [x, y] or None, periods)"
         ))
@@ -744,9 +756,15 @@ fn event(entry: &Bound<'_, PyAny>, i: usize, class: &str) -> PyResult<Event> {
             yaw.extract::<Option<f64>>()
                 .map_err(|e| bad(e.to_string()))?,
         )),
+        // Without `stateful` (a state pickled before 2026-12-07): the default, latched.
         ("goal-tolerance", [_, xy, yaw]) => {
             let get = |v: &Bound<'_, PyAny>| v.extract::<f64>().map_err(|e| bad(e.to_string()));
-            Ok(Event::GoalTolerance(get(xy)?, get(yaw)?))
+            Ok(Event::GoalTolerance(get(xy)?, get(yaw)?, true))
+        }
+        ("goal-tolerance", [_, xy, yaw, stateful]) => {
+            let get = |v: &Bound<'_, PyAny>| v.extract::<f64>().map_err(|e| bad(e.to_string()));
+            let stateful = stateful.extract::<bool>().map_err(|e| bad(e.to_string()))?;
+            Ok(Event::GoalTolerance(get(xy)?, get(yaw)?, stateful))
         }
         (tag @ ("scan" | "refused-scan"), [_, pose, ranges, angles]) => {
             let [x, y, yaw] = pose.extract::<[f64; 3]>().map_err(|e| bad(e.to_string()))?;
@@ -883,25 +901,45 @@ impl Navigator {
     /// Sets where a goal with a yaw (`set_goal_heading`) has arrived: the turn in place begins
     /// within `xy` m of the goal and ends within `yaw` rad of the goal yaw (Nav2's
     /// `xy_goal_tolerance` and `yaw_goal_tolerance`; the defaults 0.01 m and 1e-3 rad,
-    /// `harmonav::GoalTolerance`); a bound not given keeps its value. Turning in place is safe
-    /// anywhere, so no tolerance weakens a certificate against the known shapes. A bound that is
-    /// not finite and positive is a `ValueError` naming `xy_goal_tolerance` or
-    /// `yaw_goal_tolerance`, the navigator unchanged. Pickled with the navigator.
-    #[pyo3(signature = (xy=None, yaw=None))]
+    /// `harmonav::GoalTolerance`); a bound not given keeps its value. `stateful` (Nav2's goal
+    /// checker's, default True, `Navigator::set_goal_stateful`): once a pose within `xy` has
+    /// been commanded, the robot only brakes (under acceleration limits) and turns in place
+    /// until within `yaw`, wherever it rolls, never driving back (`goal_latched`); False
+    /// decides at each command. Turning in place is safe anywhere, so no tolerance weakens a
+    /// certificate against the known shapes. A bound that is not finite and positive is a
+    /// `ValueError` naming `xy_goal_tolerance` or `yaw_goal_tolerance`, the navigator
+    /// unchanged. Pickled with the navigator (the command that latched is replayed).
+    #[pyo3(signature = (xy=None, yaw=None, stateful=None))]
     fn set_goal_tolerance(
         &self,
         py: Python<'_>,
         xy: Option<f64>,
         yaw: Option<f64>,
+        stateful: Option<bool>,
     ) -> PyResult<()> {
         let mut state = self.state(py);
-        let now = each!(&state.inner, nav => nav.goal_tolerance());
+        let (now, was) = each!(&state.inner, nav => (nav.goal_tolerance(), nav.goal_stateful()));
+        let t = GoalTolerance {
+            xy: xy.unwrap_or(now.xy),
+            yaw: yaw.unwrap_or(now.yaw),
+        };
         state
-            .set_goal_tolerance(GoalTolerance {
-                xy: xy.unwrap_or(now.xy),
-                yaw: yaw.unwrap_or(now.yaw),
-            })
+            .set_goal_tolerance(t, stateful.unwrap_or(was))
             .map_err(value_error)
+    }
+
+    /// Whether the goal's position tolerance latches (`set_goal_tolerance(stateful=…)`).
+    #[getter]
+    fn goal_stateful(&self, py: Python<'_>) -> bool {
+        each!(&self.state(py).inner, nav => nav.goal_stateful())
+    }
+
+    /// Whether the goal's position tolerance is latched: a pose within `xy` of the goal has
+    /// been commanded (`command_pose`, with a goal yaw) since the goal yaw or the tolerance
+    /// last changed; from then on the robot only brakes and turns in place.
+    #[getter]
+    fn goal_latched(&self, py: Python<'_>) -> bool {
+        each!(&self.state(py).inner, nav => nav.goal_latched())
     }
 
     /// `(xy, yaw)` of `set_goal_tolerance`: m and rad.

@@ -297,6 +297,7 @@ def test_a_goal_heading_is_reached_by_turning_in_place_at_the_goal(make):
         assert 0.0 <= v <= V_MAX and abs(omega) <= OMEGA_MAX, (v, omega)
         if entry is None and np.linalg.norm(x - GOAL) < 0.01:
             entry = last
+        assert nav.goal_latched == (entry is not None)
         if entry is not None:
             rolled += v * H
         if nav.steer == "to-goal-heading":
@@ -382,3 +383,64 @@ def test_a_goal_tolerance_ends_the_turn_where_it_says(make):
             break
         x, yaw = arc(x, yaw, v, omega, H)
     assert v > 0.0, v
+
+
+@pytest.mark.parametrize("make", [diff_star, diff_floor, limited_star],
+                         ids=["star", "floor", "accel"])
+def test_the_goal_radius_latches_and_copies_keep_the_latch(make):
+    """`set_goal_tolerance(stateful=…)` (Nav2's goal checker's `stateful`, default True): once
+    `command_pose` has had a pose within `xy` of the goal, the robot only turns in place there,
+    wherever the pose is (`goal_latched`); copies and pickles keep the latch, although the
+    latching command is followed by others (without acceleration limits the log keeps only
+    the last command unless told). The negative control: unlatched (`stateful=False`) the same
+    far pose drives. A different tolerance releases the latch."""
+    nav = make()
+    assert nav.goal_stateful is True and nav.goal_latched is False
+    nav.set_goal_heading(math.pi / 2)
+    nav.set_goal_tolerance(xy=0.1, yaw=0.05)
+    goal = np.asarray(L_GOAL if make is diff_floor else GOAL)
+    near, far = goal + np.array([0.05, 0.0]), goal + np.array([-1.0, 0.2])
+    nav.command_pose(far, 0.0)
+    assert not nav.goal_latched
+    nav.command_pose(near, 0.0)
+    assert nav.goal_latched and nav.steer == "to-goal-heading"
+    for _ in range(3):
+        v, _ = nav.command_pose(far, 0.0)
+        assert v == 0.0 and nav.steer == "to-goal-heading"
+    for how, twin in copies(nav):
+        assert twin.goal_latched and twin.goal_stateful, how
+        assert twin.command_pose(far, 0.0) == nav.command_pose(far, 0.0), how
+        assert twin.steer == "to-goal-heading", how
+    state = nav.__reduce__()[2]
+    assert ("goal-tolerance", 0.1, 0.05, True) in [tuple(e) for e in state]
+
+    off = make()
+    off.set_goal_heading(math.pi / 2)
+    off.set_goal_tolerance(xy=0.1, yaw=0.05, stateful=False)
+    assert off.goal_stateful is False and off.goal_tolerance == (0.1, 0.05)
+    off.command_pose(near, 0.0)
+    assert not off.goal_latched
+    for _ in range(3):
+        off.command_pose(far, 0.0)
+    assert off.steer not in ("to-goal-heading", "arrived"), off.steer
+    for how, twin in copies(off):
+        assert twin.goal_stateful is False, how
+
+    nav.set_goal_tolerance(yaw=0.06)
+    assert not nav.goal_latched and nav.goal_stateful
+
+
+def test_a_goal_tolerance_entry_without_stateful_is_latched():
+    """A state pickled before `stateful` (`("goal-tolerance", xy, yaw)`) restores latched, the
+    default; a `stateful` that is not a bool is refused, naming the entry."""
+    nav = diff_star()
+    nav.set_goal_heading(1.0)
+    nav.set_goal_tolerance(xy=0.2, yaw=0.1, stateful=False)
+    cls, args, state = nav.__reduce__()
+    old = [e[:3] if e[0] == "goal-tolerance" else e for e in state]
+    rebuilt = cls(*args)
+    rebuilt.__setstate__(old)
+    assert rebuilt.goal_tolerance == (0.2, 0.1) and rebuilt.goal_stateful is True
+    bad = [("goal-tolerance", 0.2, 0.1, "yes") if e[0] == "goal-tolerance" else e for e in state]
+    with pytest.raises(TypeError, match="entry"):
+        cls(*args).__setstate__(bad)
