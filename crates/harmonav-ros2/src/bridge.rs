@@ -445,8 +445,8 @@ impl Bridge {
                 format!(
                     "a goal with a yaw is reached within {} m (xy_goal_tolerance), then a turn \
                      in place to within {} rad (yaw_goal_tolerance); goal_tolerance is not read \
-                     for it",
-                    t.xy, t.yaw
+                     for it; the radius latches: {} (stateful)",
+                    t.xy, t.yaw, self.params.stateful
                 ),
             );
         }
@@ -757,6 +757,7 @@ impl Bridge {
                 .map_err(|e| e.to_string())?;
             nav.set_goal_tolerance(p.goal_tolerance())
                 .map_err(|e| e.to_string())?;
+            nav.set_goal_stateful(p.stateful);
             return Ok(Nav::Star(Box::new(nav)));
         }
         let Some(map) = &self.map else {
@@ -772,6 +773,7 @@ impl Bridge {
             .map_err(|e| e.to_string())?;
         nav.set_goal_tolerance(p.goal_tolerance())
             .map_err(|e| e.to_string())?;
+        nav.set_goal_stateful(p.stateful);
         Ok(Nav::Floor(Box::new(nav)))
     }
 

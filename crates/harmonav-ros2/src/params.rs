@@ -103,12 +103,21 @@ pub struct Params {
     /// m: Nav2's goal checker's name. Given, it is the position tolerance of every goal: the
     /// arrival radius of a goal without a yaw (`goal_tolerance` is then not read) and the
     /// radius where a goal with a yaw turns in place (`harmonav::GoalTolerance::xy`). `None`
-    /// (not given): `goal_tolerance`, and 1 cm (`GOAL_ARRIVAL`) for a goal with a yaw.
+    /// (not given): `goal_tolerance`, and 1 cm (`GOAL_ARRIVAL`) for a goal with a yaw. Also
+    /// read under a goal checker's name ([`GoalCheckerKeys`]), as `yaw_goal_tolerance` and
+    /// `stateful` are.
     pub xy_goal_tolerance: Option<f64>,
     /// rad: where the turn in place to a goal's yaw ends (`harmonav::GoalTolerance::yaw`;
     /// Nav2's goal checker's name). Default harmonav's `GOAL_HEADING_TOLERANCE`, 1e-3 rad (Nav2's
     /// is 0.25).
     pub yaw_goal_tolerance: f64,
+    /// Nav2's goal checker's `stateful`: the position tolerance of a goal with a yaw latches
+    /// (`Navigator::set_goal_stateful`): once within `xy_goal_tolerance`, the base only brakes
+    /// and turns in place, wherever it rolls. Default true, as Nav2's.
+    pub stateful: bool,
+    /// Nav2's goal checker keys under a plugin's name (`goal_checker_plugins`,
+    /// `<name>.xy_goal_tolerance`, …) as given, taken by [`Params::resolve`].
+    pub goal_checker: GoalCheckerKeys,
     /// A `diff` base finishes at the goal's yaw (the orientation of `/goal_pose` and of the
     /// action's goals, in `global_frame`), by turning in place once at the position
     /// (`Navigator::set_goal_heading`); false: the orientation is ignored and arrival is within
@@ -183,6 +192,8 @@ impl Default for Params {
             goal_tolerance: 0.1,
             xy_goal_tolerance: None,
             yaw_goal_tolerance: harmonav::GOAL_HEADING_TOLERANCE,
+            stateful: true,
+            goal_checker: GoalCheckerKeys::default(),
             use_goal_orientation: true,
             enable_stamped_cmd_vel: false,
             base: Base::Holonomic,
@@ -224,6 +235,98 @@ impl Params {
     }
 }
 
+/// The goal checker keys of Nav2's parameter files, as given, before [`Params::resolve`].
+///
+/// Nav2's controller_server names its goal checkers in `goal_checker_plugins` (default
+/// `["goal_checker"]`) and reads each one's keys under its name, e.g.
+///
+/// ```yaml
+/// goal_checker_plugins: ["general_goal_checker"]
+/// general_goal_checker:
+///   plugin: "nav2_controller::SimpleGoalChecker"
+///   xy_goal_tolerance: 0.25
+///   yaw_goal_tolerance: 0.25
+///   stateful: true
+/// ```
+///
+/// The node has one goal checker: the keys `xy_goal_tolerance`, `yaw_goal_tolerance` and
+/// `stateful` are read under the first name of `goal_checker_plugins` (`<name>.plugin` is
+/// accepted and not read; keys under the other names listed are accepted and not read, as
+/// the node does not pick a checker per goal). Without `goal_checker_plugins`, under any one
+/// name (two names is an error naming a key of each). The bare keys (the node's own, before
+/// the namespaced ones were read) still work; given both ways with different values is an
+/// error naming both keys.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct GoalCheckerKeys {
+    /// `goal_checker_plugins`, if given.
+    pub plugins: Option<Vec<String>>,
+    /// The bare keys given (`xy_goal_tolerance`, …), the last value of each.
+    bare: Vec<(&'static str, Value)>,
+    /// The namespaced keys given: the plugin's name, the key, the value; the last of each.
+    namespaced: Vec<(String, &'static str, Value)>,
+}
+
+/// The goal checker's keys, bare or under a plugin's name.
+const CHECKER_KEYS: [&str; 3] = ["xy_goal_tolerance", "yaw_goal_tolerance", "stateful"];
+
+impl GoalCheckerKeys {
+    /// Records `value`, already checked, for `key` (bare: `plugin` `None`); a later value
+    /// replaces an earlier one.
+    fn record(&mut self, plugin: Option<&str>, key: &'static str, value: Value) {
+        match plugin {
+            None => {
+                self.bare.retain(|(k, _)| *k != key);
+                self.bare.push((key, value));
+            }
+            Some(p) => {
+                self.namespaced.retain(|(q, k, _)| !(q == p && *k == key));
+                self.namespaced.push((p.to_owned(), key, value));
+            }
+        }
+    }
+
+    /// The plugin whose keys are read: the first of `goal_checker_plugins`, else the one name
+    /// keys were given under; `None` when no key was given under a name.
+    fn chosen(&self) -> Result<Option<String>, ParamError> {
+        if let Some(plugins) = &self.plugins {
+            if let Some((p, k, _)) = self.namespaced.iter().find(|(p, ..)| !plugins.contains(p)) {
+                return Err(ParamError(format!(
+                    "parameter {p}.{k}: {p} is not in goal_checker_plugins {plugins:?}"
+                )));
+            }
+            return Ok(plugins.first().cloned());
+        }
+        let mut names = self.namespaced.iter();
+        let Some((first, k1, _)) = names.next() else {
+            return Ok(None);
+        };
+        if let Some((other, k2, _)) = names.find(|(p, ..)| p != first) {
+            return Err(ParamError(format!(
+                "parameters {first}.{k1} and {other}.{k2}: two goal checkers; name the one to \
+                 read in goal_checker_plugins"
+            )));
+        }
+        Ok(Some(first.clone()))
+    }
+
+    /// The value of `key` under `plugin`, checked against the bare key's.
+    fn value(&self, plugin: &str, key: &str) -> Result<Option<&Value>, ParamError> {
+        let under = self
+            .namespaced
+            .iter()
+            .find(|(p, k, _)| p == plugin && *k == key)
+            .map(|(.., v)| v);
+        let bare = self.bare.iter().find(|(k, _)| *k == key).map(|(_, v)| v);
+        match (under, bare) {
+            (Some(a), Some(b)) if !a.same(b) => Err(ParamError(format!(
+                "parameters {key} ({b:?}) and {plugin}.{key} ({a:?}) differ: give one"
+            ))),
+            (Some(a), _) => Ok(Some(a)),
+            (None, _) => Ok(None),
+        }
+    }
+}
+
 /// A parameter that could not be taken.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ParamError(pub String);
@@ -247,6 +350,8 @@ pub enum Value {
     Float(f64),
     /// A string.
     Str(String),
+    /// A list of strings (`goal_checker_plugins`).
+    StrList(Vec<String>),
 }
 
 impl Value {
@@ -256,8 +361,28 @@ impl Value {
             Yaml::Integer(i) => Self::Int(*i),
             Yaml::Real(_) => Self::Float(y.as_f64()?),
             Yaml::String(s) => Self::Str(s.clone()),
+            Yaml::Array(items) => Self::StrList(
+                items
+                    .iter()
+                    .map(|i| i.as_str().map(str::to_owned))
+                    .collect::<Option<_>>()?,
+            ),
             _ => return None,
         })
+    }
+
+    /// The same value: numbers compared as numbers (`1` and `1.0` are the same).
+    fn same(&self, other: &Self) -> bool {
+        #[allow(clippy::cast_precision_loss)]
+        let number = |v: &Self| match *v {
+            Self::Int(i) => Some(i as f64),
+            Self::Float(f) => Some(f),
+            _ => None,
+        };
+        match (number(self), number(other)) {
+            (Some(a), Some(b)) => a == b,
+            _ => self == other,
+        }
     }
 
     /// A command-line value (`-p name:=value`): YAML's reading of the text.
@@ -341,8 +466,26 @@ impl Params {
             "mu" => self.mu = positive(value)?,
             "v_max" => self.v_max = float(value)?,
             "goal_tolerance" => self.goal_tolerance = positive(value)?,
-            "xy_goal_tolerance" => self.xy_goal_tolerance = Some(positive(value)?),
-            "yaw_goal_tolerance" => self.yaw_goal_tolerance = positive(value)?,
+            "xy_goal_tolerance" => {
+                self.xy_goal_tolerance = Some(positive(value)?);
+                self.goal_checker
+                    .record(None, "xy_goal_tolerance", value.clone());
+            }
+            "yaw_goal_tolerance" => {
+                self.yaw_goal_tolerance = positive(value)?;
+                self.goal_checker
+                    .record(None, "yaw_goal_tolerance", value.clone());
+            }
+            "stateful" => {
+                self.stateful = flag(value)?;
+                self.goal_checker.record(None, "stateful", value.clone());
+            }
+            "goal_checker_plugins" => {
+                self.goal_checker.plugins = Some(match value {
+                    Value::StrList(names) if !names.is_empty() => names.clone(),
+                    _ => return Err(wrong("a non-empty list of names")),
+                });
+            }
             "use_goal_orientation" => self.use_goal_orientation = flag(value)?,
             "enable_stamped_cmd_vel" => self.enable_stamped_cmd_vel = flag(value)?,
             "base" => {
@@ -372,7 +515,54 @@ impl Params {
             "occupied_thresh" => self.occupied_thresh = float(value)?,
             "free_thresh" => self.free_thresh = float(value)?,
             "use_sim_time" => self.use_sim_time = flag(value)?,
-            _ => return Err(ParamError(format!("unknown parameter {name}"))),
+            _ => return self.set_namespaced(name, value),
+        }
+        Ok(())
+    }
+
+    /// A goal checker's key under its plugin's name (`<plugin>.xy_goal_tolerance`, …,
+    /// [`GoalCheckerKeys`]): checked as the bare key is (the error names the namespaced key)
+    /// and recorded for [`Params::resolve`]; `<plugin>.plugin` takes any string.
+    fn set_namespaced(&mut self, name: &str, value: &Value) -> Result<(), ParamError> {
+        let unknown = || ParamError(format!("unknown parameter {name}"));
+        let (plugin, key) = name.rsplit_once('.').ok_or_else(unknown)?;
+        if key == "plugin" {
+            return match value {
+                Value::Str(_) => Ok(()),
+                _ => Err(ParamError(format!(
+                    "parameter {name}: expected a string, got {value:?}"
+                ))),
+            };
+        }
+        let key = CHECKER_KEYS
+            .into_iter()
+            .find(|k| *k == key)
+            .ok_or_else(unknown)?;
+        // The bare key's checks, on a scratch copy (the error renamed to the full name).
+        let mut scratch = Params::default();
+        scratch.set(key, value).map_err(|e| {
+            ParamError(e.0.replacen(&format!("parameter {key}"), &format!("parameter {name}"), 1))
+        })?;
+        self.goal_checker.record(Some(plugin), key, value.clone());
+        Ok(())
+    }
+
+    /// Takes the goal checker's keys given under a plugin's name ([`GoalCheckerKeys`]) into
+    /// `xy_goal_tolerance`, `yaw_goal_tolerance` and `stateful`, once every file and `-p` has
+    /// been read ([`parse_args`] calls it).
+    ///
+    /// # Errors
+    /// A key under a name that is not in `goal_checker_plugins`, keys under two names without
+    /// it, or a key given bare and namespaced with different values (naming both).
+    pub fn resolve(&mut self) -> Result<(), ParamError> {
+        let Some(plugin) = self.goal_checker.chosen()? else {
+            return Ok(());
+        };
+        for key in CHECKER_KEYS {
+            if let Some(value) = self.goal_checker.value(&plugin, key)?.cloned() {
+                // Checked when given; `set` also records it as if bare, which only repeats it.
+                self.set(key, &value)?;
+            }
         }
         Ok(())
     }
@@ -528,6 +718,7 @@ pub fn parse_args(
             }
         }
     }
+    params.resolve()?;
     params.validate()?;
     Ok((Cli::Run(Box::new(params)), level))
 }
@@ -679,6 +870,121 @@ harmonav:
             let name = bad.split(':').next().unwrap();
             assert!(e.0.contains(name), "{e}");
             assert_eq!(q.goal_tolerance(), p.goal_tolerance(), "{bad}");
+        }
+    }
+
+    /// A parameter file's `/**` section with these lines of parameters, read and resolved as
+    /// `parse_args` does.
+    fn resolved(lines: &str) -> Result<Params, ParamError> {
+        let mut p = Params::default();
+        let body: String = lines.lines().map(|l| format!("    {l}\n")).collect();
+        p.apply_file(&format!("/**:\n  ros__parameters:\n{body}"))?;
+        p.resolve()?;
+        Ok(p)
+    }
+
+    /// Nav2's goal checker keys under the plugin's name (`goal_checker_plugins`): read as the
+    /// bare keys are; `stateful` defaults to true and switches the latch; `<name>.plugin` is
+    /// accepted; without `goal_checker_plugins` any one name is read; the bare keys still work
+    /// alone, and agreeing with the namespaced ones.
+    #[test]
+    fn nav2_namespaced_goal_checker() {
+        let nav2 = "goal_checker_plugins: [\"general_goal_checker\"]
+general_goal_checker:
+  plugin: \"nav2_controller::SimpleGoalChecker\"
+  xy_goal_tolerance: 0.25
+  yaw_goal_tolerance: 0.05
+  stateful: false";
+        let p = resolved(nav2).unwrap();
+        assert_eq!(
+            p.goal_tolerance(),
+            harmonav::GoalTolerance {
+                xy: 0.25,
+                yaw: 0.05
+            }
+        );
+        assert_eq!(p.arrival_radius(), 0.25);
+        assert!(!p.stateful);
+        assert!(Params::default().stateful, "Nav2's default");
+        // Without goal_checker_plugins: the one name given.
+        let p = resolved("precise.xy_goal_tolerance: 0.05\nprecise.stateful: true").unwrap();
+        assert_eq!(p.xy_goal_tolerance, Some(0.05));
+        assert!(p.stateful);
+        // Several plugins listed: the first one's keys are read, the others' accepted.
+        let p = resolved(
+            "goal_checker_plugins: [a, b]\na.xy_goal_tolerance: 0.3\nb.xy_goal_tolerance: 0.1",
+        )
+        .unwrap();
+        assert_eq!(p.xy_goal_tolerance, Some(0.3));
+        // Bare keys alone (today's contract), and both forms agreeing (1 and 1.0 too).
+        let p = resolved("xy_goal_tolerance: 0.2\nstateful: false").unwrap();
+        assert_eq!((p.xy_goal_tolerance, p.stateful), (Some(0.2), false));
+        let p = resolved("yaw_goal_tolerance: 1\ng.yaw_goal_tolerance: 1.0").unwrap();
+        assert_eq!(p.yaw_goal_tolerance, 1.0);
+        // The command line's -p takes a namespaced key and a list, after the file.
+        let read =
+            |_: &str| Ok("/**:\n  ros__parameters:\n    c.xy_goal_tolerance: 0.4\n".to_owned());
+        let (Cli::Run(p), _) = parse_args(
+            &args(&[
+                "--ros-args",
+                "--params-file",
+                "f.yaml",
+                "-p",
+                "goal_checker_plugins:=[c]",
+                "-p",
+                "c.stateful:=false",
+            ]),
+            &read,
+        )
+        .unwrap() else {
+            panic!()
+        };
+        assert_eq!((p.xy_goal_tolerance, p.stateful), (Some(0.4), false));
+    }
+
+    /// What the namespaced keys refuse, naming the keys: different bare and namespaced values
+    /// (both named), a bad value (the namespaced name), a name not in `goal_checker_plugins`,
+    /// two names without it, an unknown key under a name, a bad `goal_checker_plugins`.
+    #[test]
+    fn nav2_namespaced_goal_checker_errors() {
+        for (lines, names) in [
+            (
+                "xy_goal_tolerance: 0.3\ngc.xy_goal_tolerance: 0.25",
+                &["xy_goal_tolerance (", "gc.xy_goal_tolerance"][..],
+            ),
+            (
+                "gc.stateful: true\nstateful: false",
+                &["stateful (", "gc.stateful"][..],
+            ),
+            (
+                "gc.xy_goal_tolerance: 0",
+                &["gc.xy_goal_tolerance", "> 0"][..],
+            ),
+            (
+                "gc.yaw_goal_tolerance: .nan",
+                &["gc.yaw_goal_tolerance"][..],
+            ),
+            ("gc.stateful: 1", &["gc.stateful", "true or false"][..]),
+            (
+                "goal_checker_plugins: [gc]\nother.xy_goal_tolerance: 0.2",
+                &["other.xy_goal_tolerance", "goal_checker_plugins"][..],
+            ),
+            (
+                "a.xy_goal_tolerance: 0.2\nb.yaw_goal_tolerance: 0.2",
+                &["a.xy_goal_tolerance", "b.yaw_goal_tolerance"][..],
+            ),
+            (
+                "gc.trans_stopped_velocity: 0.2",
+                &["unknown parameter gc.trans_stopped_velocity"][..],
+            ),
+            ("gc.plugin: 3", &["gc.plugin"][..]),
+            ("goal_checker_plugins: []", &["goal_checker_plugins"][..]),
+            ("goal_checker_plugins: gc", &["goal_checker_plugins"][..]),
+        ] {
+            let e = resolved(lines).unwrap_err();
+            for name in names {
+                assert!(e.0.contains(name), "{lines}: {e}");
+            }
         }
     }
 

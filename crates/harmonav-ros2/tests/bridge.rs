@@ -1194,6 +1194,59 @@ fn nav2_goal_tolerances_end_the_drive() {
     }
 }
 
+/// Nav2's goal checker keys under the plugin's name, in a parameter file as Nav2's
+/// controller_server takes them (`goal_checker_plugins`, `general_goal_checker.*`), drive as
+/// the bare keys do: the same tolerance, `stateful`, and end pose, bit for bit; the goal's log
+/// line says the radius does not latch (`stateful: false`).
+#[test]
+fn nav2_namespaced_goal_checker_keys_drive_as_the_bare_ones() {
+    use harmonav_ros2::params::{Cli, parse_args};
+    let g = [12.0, 10.0];
+    let file = "/**:
+  ros__parameters:
+    map_topic: ''
+    base: diff
+    goal_checker_plugins: [general_goal_checker]
+    general_goal_checker:
+      plugin: nav2_controller::SimpleGoalChecker
+      xy_goal_tolerance: 0.3
+      yaw_goal_tolerance: 0.05
+      stateful: false
+";
+    let args: Vec<String> = ["--ros-args", "--params-file", "f.yaml"]
+        .map(String::from)
+        .to_vec();
+    let (Cli::Run(namespaced), _) = parse_args(&args, &|_| Ok(file.to_owned())).unwrap() else {
+        panic!()
+    };
+    let bare = Params {
+        map_topic: String::new(),
+        base: harmonav_ros2::params::Base::Diff,
+        xy_goal_tolerance: Some(0.3),
+        yaw_goal_tolerance: 0.05,
+        stateful: false,
+        ..Params::default()
+    };
+    assert_eq!(namespaced.goal_tolerance(), bare.goal_tolerance());
+    assert_eq!(namespaced.stateful, bare.stateful);
+    let ends = [*namespaced, bare].map(|params| {
+        let (mut bridge, mut sim) = in_open_room(params);
+        sim.diff = true;
+        sim.yaw = 2.0;
+        bridge.on_goal(&goal_in("map", g[0], g[1], FRAC_PI_2), sim.t);
+        drive_to(&mut sim, &mut bridge, g, 4000);
+        let log: Vec<String> = bridge.drain_log().into_iter().map(|(_, t)| t).collect();
+        assert!(
+            log.iter().any(|l| l.contains("latches: false (stateful)")),
+            "{log:?}"
+        );
+        (sim.x, sim.yaw)
+    });
+    assert_eq!(ends[0], ends[1]);
+    let d = (ends[0].0[0] - g[0]).hypot(ends[0].0[1] - g[1]);
+    assert!(GOAL_ARRIVAL < d && d <= 0.3, "{d}");
+}
+
 /// A goal in another frame: its pose is taken into `map` whole, the yaw rotated by the frame's
 /// transform (a static `map → dock`, yaw 1): `(0.5, 0)` at yaw π/2 − 1 in `dock` is
 /// `dock`'s origin plus 0.5 m along yaw 1, at yaw π/2 in `map`, where the robot ends.
