@@ -33,8 +33,10 @@ use harmonav_multipole::{C64, FmmError, Operator, Options as FmmOptions, Piece, 
 
 use crate::kernel::{self, Panel};
 
+mod gmres;
 mod near;
 
+use gmres::Gmres;
 use near::NearMatrix;
 
 /// The tolerance of the multipole product: `|Δ(G_far k)_i| ≤ tol·Σ_j 2|k_j||E_j|`.
@@ -43,12 +45,6 @@ pub(crate) const PRODUCT_TOLERANCE: f64 = 1e-12;
 /// GMRES stops at `‖b − A x‖₂ ≤ rtol·‖b‖₂` (its recursive estimate; the true residual is
 /// measured after).
 pub(crate) const GMRES_TOLERANCE: f64 = 1e-12;
-
-/// The Krylov basis kept between restarts.
-const RESTART: usize = 60;
-
-/// Most GMRES iterations per right-hand side.
-const MAX_ITERATIONS: usize = 600;
 
 /// Pieces per occupied leaf the multipole tree aims at.
 const LEAF_SIZE: usize = 64;
@@ -79,23 +75,29 @@ impl System<'_> {
         self.panels.len() + self.holes + 1
     }
 
-    /// `y = A x` (module docs).
-    fn apply(&self, x: &[f64], y: &mut [f64], scratch: &mut (Vec<f64>, Vec<f64>)) {
+    /// `G_far (2k)` at every collocation point into `far`, from the densities `k` of `x`.
+    fn far_part(&self, x: &[f64], (weights, far): &mut Scratch) {
         let n = self.panels.len();
-        let (weights, far) = scratch;
         weights.clear();
         weights.extend(x[..n].iter().map(|k| 2.0 * k));
         far.resize(n, 0.0);
         self.far.apply(weights, far);
-        let c = x[n + self.holes];
-        for i in 0..n {
-            let mut s = self.near.add_row(i, x, far[i]);
-            let r = self.ring_of[i];
-            if r > 0 {
-                s -= x[n + r - 1];
-            }
-            y[i] = s + c;
+    }
+
+    /// Row `i < N` of `A x` from its single-layer part `s` (far and near): minus the ring's
+    /// puncture, plus the constant.
+    fn collocation_row(&self, i: usize, x: &[f64], mut s: f64) -> f64 {
+        let n = self.panels.len();
+        let r = self.ring_of[i];
+        if r > 0 {
+            s -= x[n + r - 1];
         }
+        s + x[n + self.holes]
+    }
+
+    /// The charge rows `y[N..]` of `A x`.
+    fn charge_rows(&self, x: &[f64], y: &mut [f64]) {
+        let n = self.panels.len();
         for v in &mut y[n..] {
             *v = 0.0;
         }
@@ -105,6 +107,76 @@ impl System<'_> {
             y[row] += 2.0 * p.half / self.mean * x[j];
         }
     }
+
+    /// `y = A x` (module docs) on one thread.
+    #[cfg(test)]
+    fn apply(&self, x: &[f64], y: &mut [f64], scratch: &mut Scratch) {
+        self.far_part(x, scratch);
+        for (i, yi) in y[..self.panels.len()].iter_mut().enumerate() {
+            *yi = self.collocation_row(i, x, self.near.add_row(i, x, scratch.1[i]));
+        }
+        self.charge_rows(x, y);
+    }
+
+    /// `y_c = A x_c` for one or two products `(x_c, y_c)`, on two threads: the far parts one
+    /// per thread, then the collocation rows halved between them, the near block read once
+    /// for both vectors ([`NearMatrix::add_row2`]). Each `y_c` is [`System::apply`]'s bit for
+    /// bit (the same sums in the same order).
+    fn apply_pair(&self, products: &mut [(&[f64], &mut [f64])], scratch: &mut [Scratch; 2]) {
+        let n = self.panels.len();
+        let [s0, s1] = scratch;
+        match products {
+            [(x0, _)] => self.far_part(x0, s0),
+            [(x0, _), (x1, _)] => std::thread::scope(|scope| {
+                let handle = scope.spawn(|| self.far_part(x1, s1));
+                self.far_part(x0, s0);
+                join(handle);
+            }),
+            _ => unreachable!("one or two products"),
+        }
+        let (f0, f1) = (&s0.1, &s1.1);
+        let half = n / 2;
+        let rows = |start: usize, ys: &mut [&mut [f64]], xs: &[&[f64]]| match (ys, xs) {
+            ([y0], [x0]) => {
+                for (k, y) in y0.iter_mut().enumerate() {
+                    let i = start + k;
+                    *y = self.collocation_row(i, x0, self.near.add_row(i, x0, f0[i]));
+                }
+            }
+            ([y0, y1], [x0, x1]) => {
+                for (k, (a, b)) in y0.iter_mut().zip(y1.iter_mut()).enumerate() {
+                    let i = start + k;
+                    let [p, q] = self.near.add_row2(i, [x0, x1], [f0[i], f1[i]]);
+                    *a = self.collocation_row(i, x0, p);
+                    *b = self.collocation_row(i, x1, q);
+                }
+            }
+            _ => unreachable!("one or two products"),
+        };
+        let xs: Vec<&[f64]> = products.iter().map(|(x, _)| *x).collect();
+        let (mut low, mut high): (Vec<&mut [f64]>, Vec<&mut [f64]>) = products
+            .iter_mut()
+            .map(|(_, y)| y[..n].split_at_mut(half))
+            .unzip();
+        std::thread::scope(|scope| {
+            let handle = scope.spawn(|| rows(half, &mut high, &xs));
+            rows(0, &mut low, &xs);
+            join(handle);
+        });
+        for (x, y) in products.iter_mut() {
+            self.charge_rows(x, y);
+        }
+    }
+}
+
+/// A product's buffers: the far field's weights and its values at the collocation points.
+type Scratch = (Vec<f64>, Vec<f64>);
+
+/// Joins a scoped thread, re-raising its panic here.
+fn join<T>(handle: std::thread::ScopedJoinHandle<'_, T>) -> T {
+    handle
+        .join()
+        .unwrap_or_else(|e| std::panic::resume_unwind(e))
 }
 
 /// `W_j(c_i)` of the dense matrix (`crate::map`'s entry, bit for bit).
@@ -369,98 +441,6 @@ impl Preconditioner {
     }
 }
 
-/// Restarted GMRES with right preconditioning: `A M⁻¹ y = b`, `x = M⁻¹ y`, modified
-/// Gram–Schmidt and Givens rotations; stops at `‖b − A x‖₂ ≤ rtol‖b‖₂` (the recursive
-/// estimate) or after `max_iterations`. Returns `x` and the iterations taken.
-fn gmres(
-    b: &[f64],
-    mut apply_a: impl FnMut(&[f64], &mut [f64]),
-    mut apply_m: impl FnMut(&[f64], &mut [f64]),
-    rtol: f64,
-) -> (Vec<f64>, usize) {
-    let n = b.len();
-    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
-    let norm_b = dot(b, b).sqrt();
-    let mut x = vec![0.0; n];
-    if norm_b == 0.0 {
-        return (x, 0);
-    }
-    let mut iterations = 0;
-    let mut w = vec![0.0; n];
-    let mut t = vec![0.0; n];
-    let mut r = b.to_vec();
-    loop {
-        let beta = dot(&r, &r).sqrt();
-        if beta <= rtol * norm_b || iterations >= MAX_ITERATIONS {
-            return (x, iterations);
-        }
-        let mut v: Vec<Vec<f64>> = vec![r.iter().map(|ri| ri / beta).collect()];
-        let mut h = vec![vec![0.0; RESTART]; RESTART + 1];
-        let (mut cs, mut sn) = (vec![0.0; RESTART], vec![0.0; RESTART]);
-        let mut g = vec![0.0; RESTART + 1];
-        g[0] = beta;
-        let mut k = 0;
-        while k < RESTART && iterations < MAX_ITERATIONS {
-            apply_m(&v[k], &mut t);
-            apply_a(&t, &mut w);
-            iterations += 1;
-            for (i, vi) in v.iter().enumerate() {
-                let hik = dot(&w, vi);
-                h[i][k] = hik;
-                for (wj, vj) in w.iter_mut().zip(vi) {
-                    *wj -= hik * vj;
-                }
-            }
-            let hn = dot(&w, &w).sqrt();
-            h[k + 1][k] = hn;
-            for i in 0..k {
-                let (a, bb) = (h[i][k], h[i + 1][k]);
-                h[i][k] = cs[i] * a + sn[i] * bb;
-                h[i + 1][k] = -sn[i] * a + cs[i] * bb;
-            }
-            let (a, bb) = (h[k][k], h[k + 1][k]);
-            let d = a.hypot(bb);
-            (cs[k], sn[k]) = if d == 0.0 {
-                (1.0, 0.0)
-            } else {
-                (a / d, bb / d)
-            };
-            h[k][k] = d;
-            h[k + 1][k] = 0.0;
-            g[k + 1] = -sn[k] * g[k];
-            g[k] *= cs[k];
-            k += 1;
-            if g[k].abs() <= rtol * norm_b || hn == 0.0 {
-                break;
-            }
-            v.push(w.iter().map(|wi| wi / hn).collect());
-        }
-        // y = H⁻¹ g (upper triangular, k × k), x += M⁻¹ V y.
-        let mut y = vec![0.0; k];
-        for i in (0..k).rev() {
-            let mut s = g[i];
-            for j in i + 1..k {
-                s -= h[i][j] * y[j];
-            }
-            y[i] = s / h[i][i];
-        }
-        let mut u = vec![0.0; n];
-        for (vi, yi) in v.iter().zip(&y) {
-            for (uj, vj) in u.iter_mut().zip(vi) {
-                *uj += yi * vj;
-            }
-        }
-        apply_m(&u, &mut t);
-        for (xi, ti) in x.iter_mut().zip(&t) {
-            *xi += ti;
-        }
-        apply_a(&x, &mut w);
-        for ((ri, bi), wi) in r.iter_mut().zip(b).zip(&w) {
-            *ri = bi - wi;
-        }
-    }
-}
-
 /// Solves the system of `crate::map` for both right-hand sides (`rhs[c][i]`, rows as the
 /// dense matrix's) iteratively; returns the solutions (unknowns as the dense solve's columns)
 /// and the statistics.
@@ -479,17 +459,33 @@ pub(crate) fn solve(
         assembly,
         ..Stats::default()
     };
-    // One component per thread (the product and the preconditioner are read-only).
-    let component = |b: &[f64]| -> (Vec<f64>, usize, f64) {
-        let mut scratch = (Vec::new(), Vec::new());
-        let (x, it) = gmres(
-            b,
-            |x, y| system.apply(x, y, &mut scratch),
-            |r, z| pre.apply(r, z),
-            GMRES_TOLERANCE,
-        );
-        let mut y = vec![0.0; size];
-        system.apply(&x, &mut y, &mut scratch);
+    // The two components side by side: each solver's preconditioner and Arnoldi step on its
+    // own thread, then both products in one pass over the near block (`System::apply_pair`).
+    let mut solvers = rhs.map(|b| Gmres::new(b, GMRES_TOLERANCE));
+    let mut scratch: [Scratch; 2] = Default::default();
+    loop {
+        let [a, b] = &mut solvers;
+        let asked = std::thread::scope(|scope| {
+            let handle = scope.spawn(|| b.advance(|r, z| pre.apply(r, z)));
+            let first = a.advance(|r, z| pre.apply(r, z));
+            [first, join(handle)]
+        });
+        let mut products: Vec<(&[f64], &mut [f64])> = Vec::with_capacity(2);
+        for (solver, asked) in solvers.iter_mut().zip(asked) {
+            if asked {
+                products.push(solver.input_output());
+            }
+        }
+        if products.is_empty() {
+            break;
+        }
+        system.apply_pair(&mut products, &mut scratch);
+    }
+    let [(xu, iu), (xv, iv)] = solvers.map(Gmres::finish);
+    // The true residuals, from a last product of each solution.
+    let (mut yu, mut yv) = (vec![0.0; size], vec![0.0; size]);
+    system.apply_pair(&mut [(&xu, &mut yu), (&xv, &mut yv)], &mut scratch);
+    let relative = |y: &[f64], b: &[f64]| {
         let num: f64 = y.iter().zip(b).map(|(a, b)| (a - b) * (a - b)).sum();
         let den: f64 = b.iter().map(|b| b * b).sum();
         let rel = if den > 0.0 {
@@ -497,19 +493,74 @@ pub(crate) fn solve(
         } else {
             num.sqrt()
         };
-        (x, it, if rel.is_finite() { rel } else { f64::INFINITY })
+        if rel.is_finite() { rel } else { f64::INFINITY }
     };
-    let (u, v) = std::thread::scope(|scope| {
-        let handle = scope.spawn(|| component(rhs[1]));
-        let u = component(rhs[0]);
-        // A panic in the other thread is re-raised here.
-        let v = handle
-            .join()
-            .unwrap_or_else(|e| std::panic::resume_unwind(e));
-        (u, v)
-    });
+    let u = (xu, iu, relative(&yu, rhs[0]));
+    let v = (xv, iv, relative(&yv, rhs[1]));
     stats.iterations = u.1 + v.1;
     stats.residual = u.2.max(v.2);
     let out = [u.0, v.0];
     Ok((out, stats))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Panels along a polygon's edges, `per_edge` a side, in the order of its vertices.
+    fn ring(vertices: &[[f64; 2]], per_edge: usize) -> Vec<Panel> {
+        let mut panels = Vec::new();
+        for (e, a) in vertices.iter().enumerate() {
+            let b = vertices[(e + 1) % vertices.len()];
+            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+            let length = dx.hypot(dy);
+            for k in 0..per_edge {
+                let t = (k as f64 + 0.5) / per_edge as f64;
+                panels.push(Panel {
+                    centre: [a[0] + t * dx, a[1] + t * dy],
+                    tangent: [dx / length, dy / length],
+                    half: 0.5 * length / per_edge as f64,
+                    ku: 0.0,
+                    kv: 0.0,
+                });
+            }
+        }
+        panels
+    }
+
+    /// The two-thread product of one or two vectors is the one-thread product, bit for bit,
+    /// on a room of 1 200 elements with two pillars (a far field of several levels).
+    #[test]
+    fn the_paired_product_is_the_single_one() {
+        let mut panels = ring(&[[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]], 250);
+        let outer = panels.len();
+        panels.extend(ring(
+            &[[-0.5, -0.5], [-0.5, -0.2], [-0.2, -0.2], [-0.2, -0.5]],
+            25,
+        ));
+        let first = panels.len();
+        panels.extend(ring(&[[0.3, 0.3], [0.3, 0.6], [0.6, 0.6], [0.6, 0.3]], 25));
+        let ranges = [0..outer, outer..first, first..panels.len()];
+        let mean = panels.iter().map(|p| 2.0 * p.half).sum::<f64>() / panels.len() as f64;
+        let system = assemble(&panels, &ranges, mean).unwrap();
+        assert!(system.far.levels() >= 3, "{} levels", system.far.levels());
+        let size = system.size();
+        let x0: Vec<f64> = (0..size).map(|i| (i as f64 * 0.731).sin()).collect();
+        let x1: Vec<f64> = (0..size).map(|i| (i as f64 * 0.217).cos() - 0.3).collect();
+        let mut scratch: [Scratch; 2] = Default::default();
+        let single = |x: &[f64], scratch: &mut [Scratch; 2]| {
+            let mut y = vec![0.0; size];
+            system.apply(x, &mut y, &mut scratch[0]);
+            y
+        };
+        let (r0, r1) = (single(&x0, &mut scratch), single(&x1, &mut scratch));
+        let (mut y0, mut y1) = (vec![f64::NAN; size], vec![f64::NAN; size]);
+        system.apply_pair(&mut [(&x0, &mut y0), (&x1, &mut y1)], &mut scratch);
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&y0), bits(&r0));
+        assert_eq!(bits(&y1), bits(&r1));
+        let mut y = vec![f64::NAN; size];
+        system.apply_pair(&mut [(&x1, &mut y)], &mut scratch);
+        assert_eq!(bits(&y), bits(&r1));
+    }
 }

@@ -86,6 +86,25 @@ impl NearMatrix {
         s
     }
 
+    /// [`NearMatrix::add_row`] for two vectors in one pass over the row's entries: each sum
+    /// is added in the same order as alone, so each is `add_row`'s bit for bit.
+    pub(super) fn add_row2(&self, i: usize, x: [&[f64]; 2], s: [f64; 2]) -> [f64; 2] {
+        let [mut s0, mut s1] = s;
+        let mut e = self.value_start[i];
+        for run in &self.runs[self.run_start[i]..self.run_start[i + 1]] {
+            let first = run.first as usize;
+            let len = run.len as usize;
+            let values = &self.values[e..e + len];
+            let (x0, x1) = (&x[0][first..first + len], &x[1][first..first + len]);
+            for ((v, a), b) in values.iter().zip(x0).zip(x1) {
+                s0 += v * a;
+                s1 += v * b;
+            }
+            e += len;
+        }
+        [s0, s1]
+    }
+
     /// The stored entries.
     #[cfg(test)]
     fn entries(&self) -> usize {
@@ -133,6 +152,10 @@ mod tests {
                 s += vj * x[*cj as usize];
             }
             assert_eq!(first.add_row(i, &x, 0.25).to_bits(), s.to_bits(), "row {i}");
+            let y: Vec<f64> = x.iter().map(|xi| 3.0 - xi).collect();
+            let [p, q] = first.add_row2(i, [&x, &y], [0.25, -1.0]);
+            assert_eq!(p.to_bits(), s.to_bits(), "row {i}");
+            assert_eq!(q.to_bits(), first.add_row(i, &y, -1.0).to_bits(), "row {i}");
         }
     }
 }
