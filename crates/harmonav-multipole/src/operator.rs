@@ -258,14 +258,42 @@ impl Operator {
     }
 
     /// The far part of the product (module docs) with one weight per source, into `out` (one
-    /// value per target, overwritten).
+    /// value per target, overwritten), at the tree's order `p`.
     ///
     /// # Panics
     /// When `weights` or `out` has the wrong length.
     pub fn apply(&self, weights: &[f64], out: &mut [f64]) {
+        self.apply_order(weights, out, self.p);
+    }
+
+    /// The order of a product within `tolerance`: `min(p, q)` with `q` the order
+    /// [`Options::tolerance`] would give (`⌈ln(tol)/ln 0.55⌉ + 2`, at least 4), so that
+    /// [`Operator::apply_order`] with it is within `tol·A`, or within the tree's own tolerance
+    /// if that is finer. A tolerance that is not in `(0, 1)` gives `p`.
+    pub fn order_for(&self, tolerance: f64) -> usize {
+        if tolerance > 0.0 && tolerance < 1.0 {
+            order(tolerance).min(self.p)
+        } else {
+            self.p
+        }
+    }
+
+    /// [`Operator::apply`] with every expansion truncated at order `q ≤ p` (a larger `q` is
+    /// `p`): the product of the same tree built at the tolerance of order `q`, so within that
+    /// tolerance's `tol·A` ([`Operator::order_for`]). M2L, M2M and L2L cost `q²` per box and
+    /// P2M and L2P `q` per piece, so a product at `q = p/2` costs about a quarter of the
+    /// multipole part: what an inexact Krylov solver asks for once its residual has fallen
+    /// (harmonav-harmonic's GMRES, docs/maths/13-harmonic-scaling.md). With `q = p` it is
+    /// [`Operator::apply`] bit for bit.
+    ///
+    /// # Panics
+    /// When `weights` or `out` has the wrong length.
+    pub fn apply_order(&self, weights: &[f64], out: &mut [f64], q: usize) {
         assert_eq!(weights.len(), self.sources, "one weight per source");
         assert_eq!(out.len(), self.targets.len(), "one output per target");
+        // The expansions keep their stride `p + 1`; only the first `q + 1` terms are used.
         let terms = self.p + 1;
+        let used = q.clamp(1, self.p) + 1;
         let zero = C64::new(0.0, 0.0);
         let top = self.levels as usize;
         // Upward: P2M at the leaves, M2M to the root.
@@ -279,7 +307,10 @@ impl Operator {
             let a = &mut multipoles[top][slot * terms..(slot + 1) * terms];
             for k in self.leaf_start[leaf] as usize..self.leaf_start[leaf + 1] as usize {
                 let q = weights[self.pieces[k].source];
-                for (am, um) in a.iter_mut().zip(&self.unit_p2m[k * terms..(k + 1) * terms]) {
+                for (am, um) in a[..used]
+                    .iter_mut()
+                    .zip(&self.unit_p2m[k * terms..(k + 1) * terms])
+                {
                     *am += um * q;
                 }
             }
@@ -296,8 +327,8 @@ impl Operator {
                 let ps = self.mslot[l as usize][parent] as usize;
                 let d = (self.centre(l + 1, cx, cy) - self.centre(l, px, py)) / wl;
                 m2m(
-                    &mut parents[ps * terms..(ps + 1) * terms],
-                    &childs[slot * terms..(slot + 1) * terms],
+                    &mut parents[ps * terms..ps * terms + used],
+                    &childs[slot * terms..slot * terms + used],
                     d,
                     &self.binom,
                 );
@@ -319,7 +350,7 @@ impl Operator {
             for (slot, &b) in boxes.iter().enumerate() {
                 let (ix, iy) = (b as usize % nl, b as usize / nl);
                 let c = self.centre(l, ix, iy);
-                let out = &mut locals[slot * terms..(slot + 1) * terms];
+                let out = &mut locals[slot * terms..slot * terms + used];
                 if l >= 2 {
                     let (px, py) = (ix / 2, iy / 2);
                     let ps = self.lslot[l as usize - 1][py * (nl / 2) + px];
@@ -328,7 +359,7 @@ impl Operator {
                         let d = (c - self.centre(l - 1, px, py)) / self.width(l - 1);
                         l2l(
                             out,
-                            &parent_locals[ps * terms..(ps + 1) * terms],
+                            &parent_locals[ps * terms..ps * terms + used],
                             d,
                             &self.binom,
                         );
@@ -351,8 +382,8 @@ impl Operator {
                         &mut locals,
                         &multipoles[l as usize],
                         pairs,
-                        offset,
-                        wl,
+                        (offset, wl),
+                        used - 1,
                         &mut scratch,
                     );
                 }
@@ -362,8 +393,8 @@ impl Operator {
         // L2P: the value of each target's leaf expansion, Re Σ b̃_m ζ^m.
         for (i, &leaf) in self.target_leaf.iter().enumerate() {
             let slot = self.lslot[top][leaf as usize] as usize;
-            let b = &parent_locals[slot * terms..(slot + 1) * terms];
-            let zeta = &self.powers[i * terms..(i + 1) * terms];
+            let b = &parent_locals[slot * terms..slot * terms + used];
+            let zeta = &self.powers[i * terms..i * terms + used];
             out[i] = b
                 .iter()
                 .zip(zeta)
@@ -374,18 +405,18 @@ impl Operator {
 
     /// M2L of every `(target slot, source slot)` pair in `pairs`, all at the scaled offset
     /// `z̃0 = offset` (box width `w`), into `locals`: [`crate::expansion::m2l`]'s formula with
-    /// the inner sums of all pairs as one matrix product `T S` (module docs).
+    /// the inner sums of all pairs as one matrix product `T S` (module docs), at order `p`
+    /// (at most the tree's; `T`'s leading `p × p` block).
     fn m2l_batch(
         &self,
         locals: &mut [C64],
         multipoles: &[C64],
         pairs: &[(u32, u32)],
-        offset: C64,
-        w: f64,
+        (offset, w): (C64, f64),
+        p: usize,
         (s_buf, r_buf): &mut (Vec<f64>, Vec<f64>),
     ) {
-        let p = self.p;
-        let terms = p + 1;
+        let terms = self.p + 1;
         let m = pairs.len();
         let inv = C64::new(1.0, 0.0) / offset;
         let log = (-(offset * w)).ln();
@@ -421,7 +452,7 @@ impl Operator {
         let mut r = DMatrixViewMut::from_slice(r_buf, p, 2 * m);
         r.gemm(
             1.0,
-            &self.table,
+            &self.table.view((0, 0), (p, p)),
             &DMatrixView::from_slice(s_buf, p, 2 * m),
             0.0,
         );
@@ -604,7 +635,14 @@ mod tests {
                 let offset = C64::new(f64::from(dx), f64::from(dy));
                 let pairs = [(0u32, 2u32), (1, 0), (0, 1)];
                 let mut batched = vec![C64::new(0.0, 0.0); 2 * terms];
-                op.m2l_batch(&mut batched, &multipoles, &pairs, offset, w, &mut scratch);
+                op.m2l_batch(
+                    &mut batched,
+                    &multipoles,
+                    &pairs,
+                    (offset, w),
+                    p,
+                    &mut scratch,
+                );
                 let mut pairwise = vec![C64::new(0.0, 0.0); 2 * terms];
                 for &(t, s) in &pairs {
                     let (t, s) = (t as usize, s as usize);
@@ -624,10 +662,9 @@ mod tests {
         assert!(worst < 1e-13, "{worst:e}");
     }
 
-    /// The far part plus the near pieces (by quadrature) is the whole sum, to the tolerance, on
-    /// segments along two nested squares' boundaries with targets at their midpoints.
-    #[test]
-    fn far_plus_near_is_the_direct_sum() {
+    /// Segments along two nested squares' boundaries with targets beside their midpoints,
+    /// their weights, and `A = Σ_j |q_j| L_j`.
+    fn nested_squares() -> (Vec<Source>, Vec<C64>, Vec<f64>, f64) {
         let mut sources = Vec::new();
         for (half, count, c) in [
             (1.0, 200, C64::new(0.0, 0.0)),
@@ -655,15 +692,6 @@ mod tests {
         let weights: Vec<f64> = (0..sources.len())
             .map(|j| ((j * 37 % 11) as f64 - 5.0) * 0.3)
             .collect();
-        let options = Options {
-            tolerance: 1e-12,
-            leaf_size: 4,
-            ..Options::default()
-        };
-        let op = Operator::new(&sources, &targets, &options).unwrap();
-        assert!(op.levels() >= 3);
-        let mut out = vec![0.0; targets.len()];
-        op.apply(&weights, &mut out);
         let total: f64 = sources
             .iter()
             .zip(&weights)
@@ -672,6 +700,15 @@ mod tests {
                 Source::Point(_) => q.abs(),
             })
             .sum();
+        (sources, targets, weights, total)
+    }
+
+    /// The largest error of the far part at order `q` plus the near pieces (closed form)
+    /// against the direct sum over every target.
+    fn worst_error(op: &Operator, case: &(Vec<Source>, Vec<C64>, Vec<f64>, f64), q: usize) -> f64 {
+        let (sources, targets, weights, _) = case;
+        let mut out = vec![0.0; targets.len()];
+        op.apply_order(weights, &mut out, q);
         let mut worst = 0.0_f64;
         for (i, &z) in targets.iter().enumerate() {
             let mut near = 0.0;
@@ -682,7 +719,7 @@ mod tests {
             });
             let direct: f64 = sources
                 .iter()
-                .zip(&weights)
+                .zip(weights)
                 .map(|(s, q)| match *s {
                     Source::Segment(a, b) => q * segment_potential(z, a, b),
                     Source::Point(p) => q * (z - p).norm().ln(),
@@ -690,6 +727,61 @@ mod tests {
                 .sum();
             worst = worst.max((out[i] + near - direct).abs());
         }
-        assert!(worst <= 1e-12 * total + 1e-11, "{worst:e} (A = {total})");
+        worst
+    }
+
+    /// The far part plus the near pieces is the whole sum, to the tolerance, on segments along
+    /// two nested squares' boundaries.
+    #[test]
+    fn far_plus_near_is_the_direct_sum() {
+        let case = nested_squares();
+        let options = Options {
+            tolerance: 1e-12,
+            leaf_size: 4,
+            ..Options::default()
+        };
+        let op = Operator::new(&case.0, &case.1, &options).unwrap();
+        assert!(op.levels() >= 3);
+        let mut full = vec![0.0; case.1.len()];
+        op.apply(&case.2, &mut full);
+        let mut at_p = vec![0.0; case.1.len()];
+        op.apply_order(&case.2, &mut at_p, op.order());
+        assert_eq!(full, at_p, "apply is apply_order at p");
+        let worst = worst_error(&op, &case, op.order());
+        assert!(
+            worst <= 1e-12 * case.3 + 1e-11,
+            "{worst:e} (A = {})",
+            case.3
+        );
+    }
+
+    /// A product at a lower order is within that order's tolerance, and truncated (at 1e-4
+    /// and 1e-6 its error is well above the full order's: the negative control that the order
+    /// is used).
+    #[test]
+    fn a_lower_order_keeps_its_own_tolerance() {
+        let case = nested_squares();
+        let options = Options {
+            tolerance: 1e-12,
+            leaf_size: 4,
+            ..Options::default()
+        };
+        let op = Operator::new(&case.0, &case.1, &options).unwrap();
+        let full = worst_error(&op, &case, op.order());
+        assert_eq!(op.order_for(1e-13), op.order());
+        assert_eq!(op.order_for(2.0), op.order());
+        for tol in [1e-4, 1e-6, 1e-9] {
+            let q = op.order_for(tol);
+            assert!(q < op.order(), "{tol:e}: {q}");
+            let worst = worst_error(&op, &case, q);
+            assert!(worst <= tol * case.3, "{tol:e}, q = {q}: {worst:e}");
+            // (Far below its bound at 1e-9, the truncation sinks into the rounding.)
+            if tol >= 1e-6 {
+                assert!(
+                    worst > 100.0 * full,
+                    "{tol:e}, q = {q}: {worst:e} against {full:e}"
+                );
+            }
+        }
     }
 }
