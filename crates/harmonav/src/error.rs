@@ -140,6 +140,14 @@ fn expected(field: &str) -> String {
                         max_obstacle_depth)"
             .to_string(),
         "check_spacing" => "must be finite and in [1e-4, max_obstacle_depth/4] m".to_string(),
+        // `movers::STUCK_TIME` and `STUCK_TURN_TIME` (not named: `movers` depends on this
+        // module).
+        "mover_memory.slow" => "must be finite and in [0, 1) s (how long KeepRight has seen \
+                                the robot held slow, docs/movers.md §7)"
+            .to_string(),
+        "mover_memory.turning" => "must be finite and in [0, 2] s (how long KeepRight's \
+                                   escape still runs, docs/movers.md §7)"
+            .to_string(),
         "base" => "a differential-drive base takes the kinematic law only (the dynamic law \
                    is not built for it)"
             .to_string(),

@@ -95,7 +95,7 @@ pub use hold::{
     MAX_HALVINGS, MAX_TRACE_BALLS, Mode, REST_DIRECTIONS, REST_SCALE, SPEED_SLACK,
 };
 pub use law::Law;
-pub use movers::{Filtered, MAX_MOVER, Mover, MoverFilter, MoverKind};
+pub use movers::{Filtered, MAX_MOVER, Mover, MoverFilter, MoverKind, MoverMemory};
 pub use nalgebra::Vector2;
 pub use navigator::{FloorNavigator, Navigator};
 pub use options::{

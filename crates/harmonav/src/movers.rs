@@ -424,6 +424,46 @@ pub(crate) fn escape(movers: &[Mover], x: Vector2<f64>, u: Vector2<f64>, inflati
     best
 }
 
+/// What a navigator remembers of its movers between commands, as
+/// [`crate::Navigator::mover_memory`] gives it and [`crate::Navigator::set_mover_memory`] takes
+/// it back: KeepRight's memory (docs/movers.md §7) and whether the filter changed the last
+/// command. A copy rebuilt by replaying the calls that made a navigator (Python's pickle)
+/// needs it to replay only some of the commands. It changes only the nominal command (the
+/// deadlock rule's turn) and the dynamic law's discovery speed (after a command the filter
+/// changed); every command stays certified by the filter.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct MoverMemory {
+    /// Seconds the filtered command has been below ⅕ of the nominal's speed (`STUCK_RATIO`),
+    /// away from the goal: in `[0, 1)` s (at `STUCK_TIME` = 1 s the stuck rule's escape begins
+    /// and this starts again from 0).
+    pub slow: f64,
+    /// Seconds the stuck rule's escape still runs: in `[0, 2]` s (`STUCK_TURN_TIME`).
+    pub turning: f64,
+    /// Whether the mover filter changed the last command: the next command then takes the
+    /// speed `|ẋ|` as a discovery speed under the dynamic law ([`crate::Navigator::command`]).
+    pub yielded: bool,
+}
+
+impl MoverMemory {
+    /// The memory if every field is in its range, else [`NavError::InvalidOption`] naming it
+    /// (`mover_memory.slow`, `mover_memory.turning`).
+    pub(crate) fn validate(self) -> Result<Self, NavError> {
+        if !(self.slow.is_finite() && (0.0..STUCK_TIME).contains(&self.slow)) {
+            return Err(NavError::InvalidOption {
+                field: "mover_memory.slow",
+                value: self.slow,
+            });
+        }
+        if !(self.turning.is_finite() && (0.0..=STUCK_TURN_TIME).contains(&self.turning)) {
+            return Err(NavError::InvalidOption {
+                field: "mover_memory.turning",
+                value: self.turning,
+            });
+        }
+        Ok(self)
+    }
+}
+
 /// KeepRight's memory (docs/movers.md §7): how long the filtered command has been slow, and how
 /// long the stuck rule's escape still runs. It changes only the nominal command, which the filter
 /// certifies whatever it is: it can cost time, never safety.
@@ -629,6 +669,36 @@ mod tests {
     const MARGIN: f64 = 0.05;
     const H: f64 = 0.1;
     const V_MAX: f64 = 1.5;
+
+    /// The mover memory's ranges, as `validate` checks them and its errors state them (the
+    /// error module writes the constants out): the ends of each range are in or out as said.
+    #[test]
+    fn the_mover_memorys_ranges_are_the_constants() {
+        let m = |slow, turning| MoverMemory {
+            slow,
+            turning,
+            yielded: true,
+        };
+        assert!(m(0.0, 0.0).validate().is_ok());
+        assert!(
+            m(STUCK_TIME.next_down(), STUCK_TURN_TIME)
+                .validate()
+                .is_ok()
+        );
+        for (bad, field) in [
+            (m(STUCK_TIME, 0.0), "mover_memory.slow"),
+            (m(0.0, STUCK_TURN_TIME.next_up()), "mover_memory.turning"),
+        ] {
+            let e = bad.validate().unwrap_err();
+            assert!(matches!(e, NavError::InvalidOption { field: f, .. } if f == field));
+            let range = if field.ends_with("slow") {
+                format!("[0, {STUCK_TIME})")
+            } else {
+                format!("[0, {STUCK_TURN_TIME}]")
+            };
+            assert!(e.to_string().contains(&range), "{e}");
+        }
+    }
 
     /// Robot `i`'s filtered command: its nominal `u` against its peer as it sees it (`report`,
     /// declared with `error`, share `share`); `None` when not certified. `plain`: the row of

@@ -15,7 +15,7 @@ use crate::error::NavError;
 use crate::floor::{Escape, EscapeMemory, FloorWorld};
 use crate::hold::{self, Command};
 use crate::law::Law;
-use crate::movers::{self, KeepRight, Mover, Verdict};
+use crate::movers::{self, KeepRight, Mover, MoverMemory, Verdict};
 use crate::options::Options;
 use crate::space::Space;
 use crate::star::StarWorld;
@@ -275,6 +275,39 @@ impl<W: World> Navigator<W> {
     /// The movers of the last [`Navigator::set_movers`].
     pub fn movers(&self) -> &[Mover] {
         &self.core.movers
+    }
+
+    /// What the navigator remembers of its movers between commands: KeepRight's memory
+    /// (docs/movers.md §7) and whether the filter changed the last command. A copy rebuilt by
+    /// replaying the calls that made this navigator (Python's pickle) takes it back with
+    /// [`Navigator::set_mover_memory`], so that the commands the filter changed need not be
+    /// replayed. The default (all zero, `false`) before the first command and while no mover
+    /// has held the robot.
+    pub fn mover_memory(&self) -> MoverMemory {
+        MoverMemory {
+            slow: self.core.keep_right.slow,
+            turning: self.core.keep_right.turning,
+            yielded: self.core.yielded,
+        }
+    }
+
+    /// Takes back what [`Navigator::mover_memory`] gave (of this navigator or of one with the
+    /// same obstacles, movers and last state): the next commands are then those the original
+    /// would give. It changes only the nominal command (KeepRight's turn) and, under the
+    /// dynamic law, the discovery speed the next command takes; every command stays certified.
+    ///
+    /// # Errors
+    /// [`NavError::InvalidOption`] naming `mover_memory.slow` (not finite or outside
+    /// `[0, 1)` s) or `mover_memory.turning` (not finite or outside `[0, 2]` s); the navigator
+    /// is then unchanged.
+    pub fn set_mover_memory(&mut self, memory: MoverMemory) -> Result<(), NavError> {
+        let memory = memory.validate()?;
+        self.core.keep_right = KeepRight {
+            slow: memory.slow,
+            turning: memory.turning,
+        };
+        self.core.yielded = memory.yielded;
+        Ok(())
     }
 
     /// `command` filtered against the movers at `(x, ẋ)`, and whether the filter changed it.

@@ -4,7 +4,9 @@
 //! with a negative control that fails without the filter (or without its speed term).
 
 use harmonav::transform::random::Rng;
-use harmonav::{Law, Mode, Mover, MoverFilter, NavError, Navigator, Options, StarShape, Vector2};
+use harmonav::{
+    Law, Mode, Mover, MoverFilter, MoverMemory, NavError, Navigator, Options, StarShape, Vector2,
+};
 
 const RADIUS: f64 = 0.2;
 const MARGIN: f64 = 0.05;
@@ -542,6 +544,88 @@ fn movers_out_of_reach_change_nothing() {
             }
         }
     }
+}
+
+/// The mover memory round trip (`Navigator::mover_memory`, `set_mover_memory`): a wall of movers
+/// holds the robot slow, so that KeepRight counts how long and then turns (docs/movers.md §7).
+/// At several moments, slow and mid-turn, a navigator rebuilt from the last command alone with
+/// the original's memory set gives its memory back and commands as the original, bit for bit,
+/// for 60 more periods. Negative control: without the memory set, the rebuilt one commands
+/// otherwise somewhere. A memory out of range is refused by name, the navigator unchanged.
+#[test]
+fn the_mover_memory_round_trips_and_a_bad_one_is_refused_by_name() {
+    let wall: Vec<Mover> = (0..11)
+        .map(|i| Mover::new(v(-1.0, -3.0 + 0.6 * f64::from(i)), 0.3, 1.0))
+        .collect();
+    let fresh = || {
+        let boundary = StarShape::circle(Vector2::zeros(), 6.0).unwrap();
+        let options = Options::default()
+            .with_robot(RADIUS, MARGIN)
+            .with_control_period(0.05);
+        let mut nav = Navigator::new(boundary, v(3.0, 0.0), Law::kinematic(1.0), options).unwrap();
+        nav.set_movers(&wall).unwrap();
+        nav
+    };
+    let run = |mut nav: Navigator, mut x: Vector2<f64>| {
+        let mut out = Vec::new();
+        for _ in 0..60 {
+            let c = nav.command(x, Vector2::zeros()).unwrap();
+            out.push((c.value.x.to_bits(), c.value.y.to_bits(), c.mode));
+            x += 0.05 * c.value;
+        }
+        out
+    };
+    let mut nav = fresh();
+    let mut x = v(-3.0, 0.0);
+    let (mut seen, mut forgetful) = ((false, false), 0);
+    for t in 1..=220 {
+        let last = x;
+        x += 0.05 * nav.command(x, Vector2::zeros()).unwrap().value;
+        let memory = nav.mover_memory();
+        seen.0 |= memory.slow > 0.0;
+        seen.1 |= memory.turning > 0.0;
+        if t % 20 != 0 {
+            continue;
+        }
+        let mut rebuilt = fresh();
+        rebuilt.command(last, Vector2::zeros()).unwrap();
+        forgetful += usize::from(run(rebuilt.clone(), x) != run(nav.clone(), x));
+        rebuilt.set_mover_memory(memory).unwrap();
+        assert_eq!(rebuilt.mover_memory(), memory, "t = {t}");
+        assert_eq!(run(rebuilt, x), run(nav.clone(), x), "t = {t}");
+    }
+    assert!(
+        seen.0 && seen.1,
+        "the wall neither held the robot slow nor made it turn"
+    );
+    assert!(forgetful > 0, "the negative control did not fail");
+
+    let good = nav.mover_memory();
+    let (slow, turning) = ("mover_memory.slow", "mover_memory.turning");
+    let with = |slow, turning| MoverMemory {
+        slow,
+        turning,
+        yielded: !good.yielded,
+    };
+    let cases = [
+        (with(-0.1, 0.0), slow),
+        (with(1.0, 0.0), slow),
+        (with(f64::NAN, 0.0), slow),
+        (with(0.0, -1e-9), turning),
+        (with(0.0, 2.5), turning),
+        (with(0.5, f64::INFINITY), turning),
+    ];
+    for (bad, name) in cases {
+        match nav.set_mover_memory(bad) {
+            Err(e @ NavError::InvalidOption { field, .. }) => {
+                assert_eq!(field, name);
+                assert!(e.to_string().contains(name), "{e}");
+            }
+            other => panic!("{bad:?}: {other:?}"),
+        }
+        assert_eq!(nav.mover_memory(), good);
+    }
+    assert_eq!(fresh().mover_memory(), MoverMemory::default());
 }
 
 /// Bad movers are typed errors naming the mover and the field, and leave the navigator's
