@@ -8,8 +8,8 @@ use std::sync::{Arc, Mutex};
 use harmonav_rs::Vector2;
 use harmonav_rs::{
     Base, EscapeMemory, FloorMap, FloorNavigator as RsFloorNavigator, GoalTolerance, LaserScan,
-    Law, Mode, Mover as RsMover, MoverKind, NavError, Navigator as RsNavigator, Options, Pose,
-    PoseCommand, ScanUpdate as RsScanUpdate, Steer,
+    Law, Mode, Mover as RsMover, MoverKind, MoverMemory, NavError, Navigator as RsNavigator,
+    Options, Pose, PoseCommand, ScanUpdate as RsScanUpdate, Steer,
 };
 use numpy::PyArray1;
 use pyo3::exceptions::PyTypeError;
@@ -177,39 +177,49 @@ enum Event {
     /// A floor navigator's escape memory (`FloorNavigator::escape_memory`), which replaying
     /// the calls does not rebuild: pickle puts it first, and it is taken back after every call.
     Escapes(EscapeMemory),
+    /// The mover memory (`Navigator::mover_memory`: KeepRight's and whether the filter changed
+    /// the last command), set where it stands: before a kept command made from a memory the
+    /// calls kept before it do not rebuild, and last in a pickle (the memory now).
+    MoverMemory(MoverMemory),
 }
 
 /// The calls that made a navigator's state since construction, which pickle replays: every
 /// added obstacle, every scan that changed the obstacles, and of the commands the last one
-/// before each of those and at the end, every one that lifted the dynamic law's discovery
-/// speed (a recovery out of a margin band), every one the mover filter changed and the one
-/// after it, with the movers in force at each. `Navigator`'s state is the known obstacles, the
-/// movers, the discovery speed, the last commanded state, whether the filter changed the last
-/// command and the deadlock rule's memory (KeepRight: how long the robot has been held slow,
-/// how long it still turns; docs/movers.md §7): this log determines them all (a scan that
-/// changed nothing is not kept, and with it the free space it showed, which later fits leave
-/// out). `FloorNavigator` also remembers the hold's escapes, which the log does not determine:
-/// pickle stores them apart (`("escapes", …)`, `FloorNavigator::escape_memory`).
+/// before each of those and at the end, and every one that lifted the dynamic law's discovery
+/// speed (a recovery out of a margin band, or the first command after one the mover filter
+/// changed), with the movers in force at each. `Navigator`'s state is the known obstacles, the
+/// movers, the discovery speed, the last commanded state and the mover memory
+/// (`Navigator::mover_memory`: whether the filter changed the last command, and the deadlock
+/// rule's memory, KeepRight: how long the robot has been held slow, how long it still turns;
+/// docs/movers.md §7): this log determines them all (a scan that changed nothing is not kept,
+/// and with it the free space it showed, which later fits leave out). `FloorNavigator` also
+/// remembers the hold's escapes, which the log does not determine: pickle stores them apart
+/// (`("escapes", …)`, `FloorNavigator::escape_memory`).
 ///
-/// Why the filter's commands are kept: KeepRight's memory is private to the Rust navigator
-/// and changes only at commands the filter changed (or turned: the filter then changes them
-/// too); a command it kept, with movers, clears it. So a command the filter kept, made from a
-/// state where the memory is clear and the last command was not changed, leaves the state as
-/// it found it but for the last position, and the next command may replace it; any other is
-/// replayed.
+/// Why the filter's commands are not kept (they were until 2026-12-07, so that a robot held by
+/// movers for an hour pickled an hour of commands): the mover memory is read from the Rust
+/// navigator before and after each command, and set where the replay would not rebuild it
+/// (`("mover-memory", …)`). A command the filter changed leaves only that memory besides what
+/// any command leaves (the last state, and a lift of the discovery speed, which keeps the
+/// command); so it is superseded by the next command as any other, and the memory it made is
+/// set before the next command kept, if that one does not find it already (`replayed`).
+/// Pickle puts the memory now last (`Navigator::__reduce__`) when it is not the default or
+/// movers were set on a floor plan (whose replay is not exact: D16 in docs/known-limits.md).
+/// A state pickled before this has no such entry and keeps every command the filter changed:
+/// it replays as it did.
 #[derive(Clone, Default)]
 struct Log {
     events: Vec<Event>,
     /// Whether the last command must be replayed, not replaced by the next command: it
-    /// lifted the discovery speed, the mover filter changed it, or the state it was made from
-    /// was not clear (see [`Log::clear`]).
+    /// lifted the discovery speed (or must be replayed for a reason of its own: acceleration
+    /// limits, the goal latch; see [`State::pose`]).
     keep_last: bool,
-    /// Whether the mover filter changed the last command (the next command then lifts the
-    /// dynamic law's discovery speed).
-    last_yielded: bool,
-    /// Whether KeepRight's memory may not be clear: set by a command the filter changed,
-    /// cleared by one it kept with movers in force (a command without movers leaves it).
-    memory: bool,
+    /// The mover memory a replay of `events` has after the last of them: the original's after
+    /// each kept command (replayed from the memory it was made from).
+    replayed: MoverMemory,
+    /// `replayed` before the last command and the `MoverMemory` entry set for it, if any: what
+    /// it is again once the next command supersedes that one.
+    before_last: MoverMemory,
     /// Whether the last scan was refused (the navigator halts).
     halted: bool,
 }
@@ -261,18 +271,19 @@ impl Log {
         }
     }
 
-    /// Whether the state after the last command is clear: no KeepRight memory, and the last
-    /// command not changed by the filter.
-    fn clear(&self) -> bool {
-        !self.memory && !self.last_yielded
+    /// Whether `set_movers` was ever recorded (the list may since have been cleared).
+    fn had_movers(&self) -> bool {
+        self.events.iter().any(|e| matches!(e, Event::Movers(_)))
     }
 
-    /// A successful `command` or `command_pose` (`event`); `lifted`: it changed the
-    /// discovery speed; `yielded`: the mover filter changed it; `movers`: movers were in force.
-    /// It supersedes the previous command unless that one must be replayed (`keep_last`), and
-    /// with it the `set_movers` between them: only the movers in force at each kept command
-    /// are kept.
-    fn command(&mut self, event: Event, lifted: bool, yielded: bool, movers: bool) {
+    /// A successful `command` or `command_pose` (`event`), made from the mover memory
+    /// `memory.0` and leaving `memory.1`; `keep`: it must be replayed, not superseded (it
+    /// lifted the discovery speed, or a reason of the caller's). It supersedes the previous
+    /// command unless that one must be replayed (`keep_last`), and with it the `set_movers`
+    /// between them and the mover memory set for it: only the movers in force at each kept
+    /// command are kept, and the memory it was made from is set before it when the replay
+    /// would not have it.
+    fn command(&mut self, event: Event, keep: bool, memory: (MoverMemory, MoverMemory)) {
         // The movers set since the last event that is not `set_movers`: the latest is in force.
         let mut latest = None;
         while let Some(Event::Movers(_)) = self.events.last() {
@@ -287,6 +298,10 @@ impl Log {
             )
         {
             self.events.pop();
+            if let Some(Event::MoverMemory(_)) = self.events.last() {
+                self.events.pop();
+            }
+            self.replayed = self.before_last;
         }
         if let Some(latest) = latest {
             match self.events.last_mut() {
@@ -303,14 +318,14 @@ impl Log {
                 }
             }
         }
-        self.events.push(event);
-        self.keep_last = lifted || yielded || !self.clear();
-        self.last_yielded = yielded;
-        if yielded {
-            self.memory = true;
-        } else if movers {
-            self.memory = false;
+        let (before, after) = memory;
+        self.before_last = self.replayed;
+        if !same_memory(&self.replayed, &before) {
+            self.events.push(Event::MoverMemory(before));
         }
+        self.events.push(event);
+        self.replayed = after;
+        self.keep_last = keep;
     }
 
     /// A successful `set_movers`: replaces the list set since the last other event.
@@ -341,8 +356,8 @@ impl Log {
 
     /// The log as pickle stores it: `("add", shape)`, `("command", x, v)`, `("pose", x, yaw)`,
     /// `("movers", [Mover, …])`, `("goal-heading", yaw or None)`, `("goal-tolerance", xy, yaw,
-    /// stateful)`
-    /// and `("scan", pose, ranges, angles)` entries.
+    /// stateful)`, `("mover-memory", slow, turning, yielded)` and `("scan", pose, ranges,
+    /// angles)` entries.
     fn to_python<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         let entries = self
             .events
@@ -357,6 +372,7 @@ impl Log {
                         ("goal-tolerance", *xy, *yaw, *stateful).into_pyobject(py)
                     }
                     Event::Escapes(m) => escapes_entry(py, m),
+                    Event::MoverMemory(m) => mover_memory_entry(py, m),
                     Event::Movers(movers) => {
                         let movers = movers
                             .iter()
@@ -460,9 +476,12 @@ fn same_movers(a: &[RsMover], b: &[RsMover]) -> bool {
     a.len() == b.len() && a.iter().zip(b).all(|(p, q)| bits(p) == bits(q))
 }
 
-/// Whether the mover filter changed a command of this mode (Rust's `yielded`).
-fn yielded(mode: Mode) -> bool {
-    matches!(mode, Mode::Yielding { .. } | Mode::Overwhelmed { .. })
+/// Whether two mover memories are the same bit for bit (a replay must not take `-0.0` for
+/// `0.0`).
+fn same_memory(a: &MoverMemory, b: &MoverMemory) -> bool {
+    a.slow.to_bits() == b.slow.to_bits()
+        && a.turning.to_bits() == b.turning.to_bits()
+        && a.yielded == b.yielded
 }
 
 /// `Θ`, or a `ValueError` when it is not finite.
@@ -513,15 +532,16 @@ impl State {
     /// The command at `(x, v)`, and recorded. The Rust navigator refuses a non-finite command
     /// (`NavError::NonFiniteCommand`) and changes nothing on any error.
     fn issue(&mut self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Vector2<f64>, NavError> {
-        let (c, lifted, movers) = each!(&mut self.inner, nav => {
-            let before = nav.discovery_speed();
+        let (c, lifted, memory) = each!(&mut self.inner, nav => {
+            let (before, was) = (nav.discovery_speed(), nav.mover_memory());
             let c = nav.command(x, v)?;
-            (c, nav.discovery_speed().to_bits() != before.to_bits(), !nav.movers().is_empty())
+            let lifted = nav.discovery_speed().to_bits() != before.to_bits();
+            (c, lifted, (was, nav.mover_memory()))
         });
         self.mode = c.mode;
         self.steer = None;
         let event = Event::Command([x.x, x.y], [v.x, v.y]);
-        self.log.command(event, lifted, yielded(c.mode), movers);
+        self.log.command(event, lifted, memory);
         Ok(c.value)
     }
 
@@ -534,22 +554,23 @@ impl State {
                  v_max and omega_max); this one is holonomic: use command",
             ));
         }
-        let (c, lifted, latched, movers) = each!(&mut self.inner, nav => {
-            let (before, was) = (nav.discovery_speed(), nav.goal_latched());
+        let (c, lifted, latched, memory) = each!(&mut self.inner, nav => {
+            let (before, was, memory) =
+                (nav.discovery_speed(), nav.goal_latched(), nav.mover_memory());
             let c = nav.command_pose(x, yaw).map_err(value_error)?;
             let lifted = nav.discovery_speed().to_bits() != before.to_bits();
-            (c, lifted, nav.goal_latched() && !was, !nav.movers().is_empty())
+            (c, lifted, nav.goal_latched() && !was, (memory, nav.mover_memory()))
         });
         self.mode = c.mode;
         self.steer = Some(c.steer);
         let event = Event::Pose([x.x, x.y], yaw);
         // Under acceleration limits each command counts from the last: every one is replayed
-        // (the log grows with them, as with commands the mover filter changed). The command
+        // (the log grows with them). The command
         // that latched the goal's position tolerance (`Navigator::goal_latched`) is replayed
         // too, so that a copy is latched: the later ones, wherever their poses, turn in place.
         let limited = matches!(self.built.options.base, Base::Diff { accel: Some(_), .. });
         self.log
-            .command(event, lifted || limited || latched, yielded(c.mode), movers);
+            .command(event, lifted || limited || latched, memory);
         Ok(c)
     }
 
@@ -612,6 +633,11 @@ impl State {
                         )));
                     }
                     Ok(())
+                }
+                // Where it stands: before the kept command made from it, or last (the memory
+                // now, after every call).
+                Event::MoverMemory(memory) => {
+                    each!(&mut self.inner, nav => nav.set_mover_memory(memory))
                 }
                 Event::Escapes(memory) => {
                     if matches!(self.inner, Inner::Star(_)) {
@@ -696,6 +722,12 @@ fn escapes_entry<'py>(py: Python<'py>, m: &EscapeMemory) -> PyResult<Bound<'py, 
         .into_pyobject(py)
 }
 
+/// A navigator's mover memory as pickle stores it: `("mover-memory", slow, turning,
+/// yielded)` (`Navigator::mover_memory`; seconds, seconds, bool).
+fn mover_memory_entry<'py>(py: Python<'py>, m: &MoverMemory) -> PyResult<Bound<'py, PyTuple>> {
+    ("mover-memory", m.slow, m.turning, m.yielded).into_pyobject(py)
+}
+
 /// One entry of a pickled state of a `class` navigator, parsed.
 fn event(entry: &Bound<'_, PyAny>, i: usize, class: &str) -> PyResult<Event> {
     let bad = |problem: String| {
@@ -703,8 +735,9 @@ fn event(entry: &Bound<'_, PyAny>, i: usize, class: &str) -> PyResult<Event> {
             "{class} state, entry {i}: {problem}; expected (\"add\", Shape), \
              (\"command\", [x, y], [vx, vy]), (\"pose\", [x, y], yaw), (\"movers\", \
              [Mover, …]), (\"goal-heading\", yaw or None), (\"goal-tolerance\", xy, yaw[, stateful]), (\"scan\", [x, y, yaw], ranges, [angle_min, angle_increment, \
-             range_min, range_max]) or (\"escapes\", level or None, early, early_level or None, \
-             count, [x, y] or None, periods)"
+             range_min, range_max]), (\"mover-memory\", slow, turning, yielded) or \
+             (\"escapes\", level or None, early, early_level or None, count, [x, y] or None, \
+             periods)"
         ))
     };
     let parts = entry
@@ -732,6 +765,16 @@ fn event(entry: &Bound<'_, PyAny>, i: usize, class: &str) -> PyResult<Event> {
             Ok(Event::Pose([x.x, x.y], yaw))
         }
         ("movers", [_, movers]) => Ok(Event::Movers(movers_from(movers)?)),
+        // Checked where it is set (`Navigator::set_mover_memory`: a `ValueError` naming the
+        // field).
+        ("mover-memory", [_, slow, turning, yielded]) => {
+            let get = |e: PyErr| bad(e.to_string());
+            Ok(Event::MoverMemory(MoverMemory {
+                slow: slow.extract::<f64>().map_err(get)?,
+                turning: turning.extract::<f64>().map_err(get)?,
+                yielded: yielded.extract::<bool>().map_err(get)?,
+            }))
+        }
         ("escapes", [_, level, early, early_level, count, anchor, periods]) => {
             let get = |e: PyErr| bad(e.to_string());
             // Every slot of its type, whether or not it is read.
@@ -1155,21 +1198,26 @@ impl Navigator {
     /// state)`, the true walls as rings however it was made (from rings or from a map), the
     /// map solved again on unpickling (from the same rings: the same map). The state is the
     /// list of calls that made it (`("add", shape)`, `("command", x, v)`, `("pose", x, yaw)`,
-    /// `("movers", [Mover, …])`, `("scan", …)`), replayed by `__setstate__`, and on a floor
-    /// plan its escape memory first (`("escapes", …)`, taken back after every call), which the
-    /// calls do not determine.
+    /// `("movers", [Mover, …])`, `("scan", …)`), replayed by `__setstate__`, on a floor plan
+    /// its escape memory first (`("escapes", …)`, taken back after every call), which the
+    /// calls do not determine, and the mover memory (`("mover-memory", slow, turning,
+    /// yielded)`, `Navigator::mover_memory`) where the kept calls do not rebuild it: last (the
+    /// memory now, set after every call) and before a kept command made from another (`Log`
+    /// in python/src/navigator.rs). A state without it (pickled before 2026-12-07, with every command the filter
+    /// changed) replays as it did.
     fn __reduce__<'py>(
         slf: &Bound<'py, Self>,
     ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>, Bound<'py, PyList>)> {
         let py = slf.py();
         // Copied out under the lock, turned into Python objects after it.
-        let (built, log, escapes) = {
+        let (built, log, escapes, memory) = {
             let s = slf.get().state(py);
             let escapes = match &s.inner {
                 Inner::Floor(nav) => Some(nav.escape_memory()),
                 Inner::Star(_) => None,
             };
-            (s.built.clone(), s.log.clone(), escapes)
+            let memory = each!(&s.inner, nav => nav.mover_memory());
+            (s.built.clone(), s.log.clone(), escapes, memory)
         };
         let goal = [built.goal.x, built.goal.y];
         let class = slf.get_type().into_any();
@@ -1201,6 +1249,12 @@ impl Navigator {
         let state = log.to_python(py)?;
         if let Some(m) = escapes {
             state.insert(0, escapes_entry(py, &m)?)?;
+        }
+        // The memory now, set after every call: a star world's replay rebuilds the default
+        // exactly; a floor plan's, among movers, may not (its escape memory is set last).
+        let floor_among_movers = escapes.is_some() && log.had_movers();
+        if !same_memory(&memory, &MoverMemory::default()) || floor_among_movers {
+            state.append(mover_memory_entry(py, &memory)?)?;
         }
         Ok((call, args, state))
     }
