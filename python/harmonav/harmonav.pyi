@@ -130,8 +130,10 @@ class Navigator:
     a keyword that is not an option raises ``TypeError`` naming it. Both worlds check their
     options in one place.
     ``copy.copy``, ``copy.deepcopy`` and pickle give an independent navigator with the same
-    known obstacles and state (the speed at the latest discovery, the last position): it
-    commands exactly as the original.
+    known obstacles and state (the speed at the latest discovery, the last position, the
+    movers and the deadlock rule's memory among them): it commands exactly as the original.
+    Pickle stores the calls that made the state and that memory (``("mover-memory", …)``), not
+    every command the mover filter changed: its size does not grow with a wait among movers.
 
     ``base="diff"`` (issue 53) makes it a differential-drive robot's navigator, commanded by
     ``command_pose(position, yaw)`` → ``(v, omega)`` with ``0 ≤ v ≤ v_max`` and
