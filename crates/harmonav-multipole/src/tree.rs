@@ -110,6 +110,10 @@ impl std::error::Error for FmmError {}
 /// The deepest leaf level [`Options::max_level`] allows.
 const MAX_LEVEL: u32 = 8;
 
+/// The first level whose downward pass runs on two threads (`4^5` boxes: below it a thread
+/// costs more than it saves, and the point world's small trees stay on the caller's thread).
+const PARALLEL_LEVEL: u32 = 5;
+
 /// The Barnes–Hut acceptance ratio outside the root box: a box's multipole serves `z` when the
 /// disc about its centre that holds its pieces (radius `w/√2`) is at most `ρ` of the distance.
 const RHO_OUTSIDE: f64 = 0.5;
@@ -469,52 +473,85 @@ impl<const C: usize> Fmm<C> {
         let binom = pascal(2 * self.p);
         let table = m2l_table(self.p);
         let mut parent_locals = vec![C64::new(0.0, 0.0); C * terms];
-        let mut parent_n = 1usize;
         for l in 1..=self.levels {
-            let (nl, wl) = (1usize << l, self.width(l));
+            let nl = 1usize << l;
             let mut locals = vec![C64::new(0.0, 0.0); nl * nl * C * terms];
-            for iy in 0..nl {
-                for ix in 0..nl {
-                    let b = iy * nl + ix;
-                    let c = self.centre(l, ix, iy);
-                    let out = &mut locals[b * C * terms..(b + 1) * C * terms];
-                    // L2L from the parent.
-                    let (px, py) = (ix / 2, iy / 2);
-                    let parent = py * parent_n + px;
-                    let d = (c - self.centre(l - 1, px, py)) / self.width(l - 1);
-                    for ch in 0..C {
-                        let ps = (parent * C + ch) * terms;
-                        l2l(
-                            &mut out[ch * terms..(ch + 1) * terms],
-                            &parent_locals[ps..ps + terms],
-                            d,
-                            &binom,
+            let row = nl * C * terms;
+            let fill = |rows: std::ops::Range<usize>, out: &mut [C64]| {
+                for (k, iy) in rows.enumerate() {
+                    for ix in 0..nl {
+                        let start = k * row + ix * C * terms;
+                        self.local_of_box(
+                            (l, ix, iy),
+                            &mut out[start..start + C * terms],
+                            &parent_locals,
+                            (&binom, &table),
                         );
                     }
-                    // M2L: the children of the parent's neighbours that are not adjacent.
-                    for (sx, sy) in interaction_list(ix, iy, nl) {
-                        let s = sy * nl + sx;
-                        if self.counts[l as usize][s] == 0 {
-                            continue;
-                        }
-                        let z0 = self.centre(l, sx, sy) - c;
-                        for ch in 0..C {
-                            let ss = (s * C + ch) * terms;
-                            m2l(
-                                &mut out[ch * terms..(ch + 1) * terms],
-                                &self.multipoles[l as usize][ss..ss + terms],
-                                z0,
-                                wl,
-                                &table,
-                            );
-                        }
-                    }
                 }
+            };
+            if l >= PARALLEL_LEVEL {
+                // Each box's expansion is computed alone, so the two halves of the rows on two
+                // threads give the one-thread expansions bit for bit.
+                let (low, high) = locals.split_at_mut(nl / 2 * row);
+                std::thread::scope(|scope| {
+                    let handle = scope.spawn(|| fill(nl / 2..nl, high));
+                    fill(0..nl / 2, low);
+                    handle
+                        .join()
+                        .unwrap_or_else(|e| std::panic::resume_unwind(e));
+                });
+            } else {
+                fill(0..nl, &mut locals);
             }
             parent_locals = locals;
-            parent_n = nl;
         }
         self.locals = parent_locals;
+    }
+
+    /// The local expansions (all channels) of box `(ix, iy)` of level `l ≥ 1` into `out`: L2L
+    /// from its parent's (`parent_locals`, level `l − 1`) and M2L from its interaction list.
+    fn local_of_box(
+        &self,
+        (l, ix, iy): (u32, usize, usize),
+        out: &mut [C64],
+        parent_locals: &[C64],
+        (binom, table): (&[Vec<f64>], &[f64]),
+    ) {
+        let terms = self.p + 1;
+        let (nl, wl) = (1usize << l, self.width(l));
+        let c = self.centre(l, ix, iy);
+        // L2L from the parent.
+        let (px, py) = (ix / 2, iy / 2);
+        let parent = py * (nl / 2) + px;
+        let d = (c - self.centre(l - 1, px, py)) / self.width(l - 1);
+        for ch in 0..C {
+            let ps = (parent * C + ch) * terms;
+            l2l(
+                &mut out[ch * terms..(ch + 1) * terms],
+                &parent_locals[ps..ps + terms],
+                d,
+                binom,
+            );
+        }
+        // M2L: the children of the parent's neighbours that are not adjacent.
+        for (sx, sy) in interaction_list(ix, iy, nl) {
+            let s = sy * nl + sx;
+            if self.counts[l as usize][s] == 0 {
+                continue;
+            }
+            let z0 = self.centre(l, sx, sy) - c;
+            for ch in 0..C {
+                let ss = (s * C + ch) * terms;
+                m2l(
+                    &mut out[ch * terms..(ch + 1) * terms],
+                    &self.multipoles[l as usize][ss..ss + terms],
+                    z0,
+                    wl,
+                    table,
+                );
+            }
+        }
     }
 
     fn eval_with<const SECOND: bool>(&self, z: C64, mut near: impl FnMut(&Piece)) -> [Values; C] {
