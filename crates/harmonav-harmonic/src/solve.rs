@@ -192,6 +192,15 @@ type Product<'a> = (&'a [f64], &'a mut [f64], f64);
 /// A product's buffers: the far field's weights and its values at the collocation points.
 type Scratch = (Vec<f64>, Vec<f64>);
 
+/// `f` of the two halves of `0..n`, the second on another thread: `[f(0..n/2), f(n/2..n)]`.
+fn halves<T: Send>(n: usize, f: impl Fn(Range<usize>) -> T + Sync) -> [T; 2] {
+    std::thread::scope(|scope| {
+        let handle = scope.spawn(|| f(n / 2..n));
+        let first = f(0..n / 2);
+        [first, join(handle)]
+    })
+}
+
 /// Joins a scoped thread, re-raising its panic here.
 fn join<T>(handle: std::thread::ScopedJoinHandle<'_, T>) -> T {
     handle
@@ -304,16 +313,7 @@ fn assemble<'a>(
         }
         block
     };
-    let (first, second) = std::thread::scope(|scope| {
-        let handle = scope.spawn(|| rows(n / 2..n));
-        let first = rows(0..n / 2);
-        // A panic in the other thread is re-raised here.
-        let second = handle
-            .join()
-            .unwrap_or_else(|e| std::panic::resume_unwind(e));
-        (first, second)
-    });
-    let mut near = first;
+    let [mut near, second] = halves(n, rows);
     near.append(second);
     Ok(System {
         panels,
@@ -358,19 +358,23 @@ impl Preconditioner {
             }
         }
         let ell = |j: usize| 2.0 * panels[j].half / mean;
-        let local: Vec<PartialPivLu<f64>> = clusters
-            .iter()
-            .map(|c| {
-                let s = c.len();
-                let m = Mat::<f64>::from_fn(s + 1, s + 1, |row, col| match (row < s, col < s) {
-                    (true, true) => entry(panels, c.start + row, c.start + col),
-                    (true, false) => 1.0,
-                    (false, true) => ell(c.start + col),
-                    (false, false) => 0.0,
-                });
-                m.partial_piv_lu()
-            })
-            .collect();
+        let factor = |c: &Range<usize>| {
+            let s = c.len();
+            let m = Mat::<f64>::from_fn(s + 1, s + 1, |row, col| match (row < s, col < s) {
+                (true, true) => entry(panels, c.start + row, c.start + col),
+                (true, false) => 1.0,
+                (false, true) => ell(c.start + col),
+                (false, false) => 0.0,
+            });
+            m.partial_piv_lu()
+        };
+        // Each block alone, the halves on two threads: the one-thread blocks bit for bit.
+        let local: Vec<PartialPivLu<f64>> = halves(clusters.len(), |range| {
+            clusters[range].iter().map(factor).collect::<Vec<_>>()
+        })
+        .into_iter()
+        .flatten()
+        .collect();
         // Cluster centroids (length-weighted), lengths and radii.
         let nc = clusters.len();
         let mut centroid = Vec::with_capacity(nc);
@@ -394,26 +398,37 @@ impl Preconditioner {
             radius.push(r);
         }
         let size = nc + holes + 1;
+        let coarse_entry = |i: usize, j: usize| {
+            let d = (centroid[i][0] - centroid[j][0]).hypot(centroid[i][1] - centroid[j][1]);
+            if d > 3.0 * (radius[i] + radius[j]) {
+                length[j] * (d * d).ln()
+            } else {
+                // Exact on the diagonal; between near clusters the mean over at most
+                // eight evenly spaced rows of I (a preconditioner needs no more).
+                let ci = clusters[i].clone();
+                let rows = if i == j { ci.len() } else { ci.len().min(8) };
+                let mut s = 0.0;
+                for k in 0..rows {
+                    let ii = ci.start + k * ci.len() / rows;
+                    for jj in clusters[j].clone() {
+                        s += entry(panels, ii, jj);
+                    }
+                }
+                s / rows as f64
+            }
+        };
+        // The cluster rows of A_c, the halves on two threads (each entry alone).
+        let rows: Vec<f64> = halves(nc, |range| {
+            range
+                .flat_map(|i| (0..nc).map(move |j| (i, j)))
+                .map(|(i, j)| coarse_entry(i, j))
+                .collect::<Vec<_>>()
+        })
+        .concat();
         let mut ac = Mat::<f64>::zeros(size, size);
         for i in 0..nc {
             for j in 0..nc {
-                let d = (centroid[i][0] - centroid[j][0]).hypot(centroid[i][1] - centroid[j][1]);
-                ac[(i, j)] = if d > 3.0 * (radius[i] + radius[j]) {
-                    length[j] * (d * d).ln()
-                } else {
-                    // Exact on the diagonal; between near clusters the mean over at most
-                    // eight evenly spaced rows of I (a preconditioner needs no more).
-                    let ci = clusters[i].clone();
-                    let rows = if i == j { ci.len() } else { ci.len().min(8) };
-                    let mut s = 0.0;
-                    for k in 0..rows {
-                        let ii = ci.start + k * ci.len() / rows;
-                        for jj in clusters[j].clone() {
-                            s += entry(panels, ii, jj);
-                        }
-                    }
-                    s / rows as f64
-                };
+                ac[(i, j)] = rows[i * nc + j];
             }
             let r = cluster_ring[i];
             if r > 0 {
