@@ -281,7 +281,31 @@ impl Domain {
         outer: Vec<Vector2<f64>>,
         holes: Vec<Vec<Vector2<f64>>>,
     ) -> Result<Self, DomainError> {
-        if holes.len() > MAX_HOLES {
+        Self::validated(outer, holes, true)
+    }
+
+    /// Whether [`Domain::new`] would accept the rings but for its caps on holes and vertices
+    /// ([`MAX_HOLES`], [`MAX_VERTICES`]): the same checks, in the same order, for any number of
+    /// rings (a traced map outline before its opening may hold thousands of specks). The sweep
+    /// of the edges costs about `O(V log V)` on a map's rings.
+    ///
+    /// # Errors
+    /// [`Domain::new`]'s, but for [`DomainError::TooManyHoles`] and
+    /// [`DomainError::TooManyVertices`].
+    pub fn check(
+        outer: Vec<Vector2<f64>>,
+        holes: Vec<Vec<Vector2<f64>>>,
+    ) -> Result<(), DomainError> {
+        Self::validated(outer, holes, false).map(|_| ())
+    }
+
+    /// [`Domain::new`] with (`capped`) or without its caps.
+    fn validated(
+        outer: Vec<Vector2<f64>>,
+        holes: Vec<Vec<Vector2<f64>>>,
+        capped: bool,
+    ) -> Result<Self, DomainError> {
+        if capped && holes.len() > MAX_HOLES {
             return Err(DomainError::TooManyHoles {
                 count: holes.len(),
                 max: MAX_HOLES,
@@ -291,7 +315,7 @@ impl Domain {
         rings.push(outer);
         rings.extend(holes);
         let count: usize = rings.iter().map(Vec::len).sum();
-        if count > MAX_VERTICES + rings.len() {
+        if capped && count > MAX_VERTICES + rings.len() {
             return Err(DomainError::TooManyVertices {
                 count,
                 max: MAX_VERTICES,
@@ -330,7 +354,7 @@ impl Domain {
             }
         }
         let count: usize = rings.iter().map(Vec::len).sum();
-        if count > MAX_VERTICES {
+        if capped && count > MAX_VERTICES {
             return Err(DomainError::TooManyVertices {
                 count,
                 max: MAX_VERTICES,
@@ -578,6 +602,42 @@ mod tests {
             let r = far.x.hypot(far.y);
             assert!((d.signed_distance(far) / r + 1.0).abs() < 1e-12, "{far:?}");
         }
+    }
+
+    /// `check` is `new` without the caps: a room with more pillars than a domain takes passes
+    /// it (and `new` names the cap), and the same room with two pillars overlapping fails both
+    /// with the same error.
+    #[test]
+    fn the_check_is_new_without_its_caps() {
+        let room = || square(v(0.0, 0.0), 100.0, true);
+        let pillars = |n: usize| -> Vec<Vec<Vector2<f64>>> {
+            (0..n)
+                .map(|i| {
+                    let c = v(-90.0 + 2.0 * (i % 80) as f64, -90.0 + 2.0 * (i / 80) as f64);
+                    square(c, 0.5, false)
+                })
+                .collect()
+        };
+        let many = MAX_HOLES + 200;
+        assert!(Domain::check(room(), pillars(many)).is_ok());
+        assert_eq!(
+            Domain::new(room(), pillars(many)).unwrap_err(),
+            DomainError::TooManyHoles {
+                count: many,
+                max: MAX_HOLES
+            }
+        );
+        let mut overlapping = pillars(many);
+        overlapping.push(square(v(-89.5, -89.5), 0.5, false));
+        let e = Domain::check(room(), overlapping.clone()).unwrap_err();
+        let meet = |second| DomainError::RingsMeet {
+            first: RingId::Hole(0),
+            second: RingId::Hole(second),
+        };
+        assert_eq!(e, meet(many));
+        overlapping.truncate(3);
+        overlapping.push(square(v(-89.5, -89.5), 0.5, false));
+        assert_eq!(Domain::new(room(), overlapping).unwrap_err(), meet(3));
     }
 
     #[test]

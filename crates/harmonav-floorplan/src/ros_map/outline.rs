@@ -91,20 +91,20 @@ pub(crate) fn simplify(poly: &Polygon<f64>, epsilon: f64, max_moved: f64) -> Pol
     poly.clone()
 }
 
-/// Whether `poly` is a valid polygon (geo's `Validation`). [`harmonav_harmonic::Domain::new`]
+/// Whether `poly` is a valid polygon (geo's `Validation`). [`harmonav_harmonic::Domain::check`]
 /// decides first: it accepts only what geo accepts (no ring crosses or touches itself or
 /// another, to `GAP_TOLERANCE` of the diameter; every hole inside the outer ring and outside
 /// the others), in one sweep of the edges sorted by `x`, where geo's check compares every pair
-/// of edges of a ring (0.4–0.6 s of `fetch-office`'s and `willow-2010`'s outlines;
-/// docs/benchmarks.md, "Set-up of the large maps"). What it refuses, geo decides: rings that
-/// touch at a point (geo allows it), or more holes or vertices than a domain takes. The answer
-/// is therefore geo's.
+/// of edges of a ring (0.4–0.6 s of `fetch-office`'s and `willow-2010`'s outlines, 0.9 s of
+/// `willow-full`'s traced one with its 1 298 specks; docs/benchmarks.md, "Set-up of the large
+/// maps"). What it refuses, geo decides: rings that touch at a point or come within the gap
+/// tolerance (geo allows both). The answer is therefore geo's.
 fn valid(poly: &Polygon<f64>) -> bool {
     use harmonav_harmonic::domain::Domain;
     use nalgebra::Vector2;
     let (outer, holes) = rings(poly);
     let ring = |r: Vec<Coord<f64>>| r.into_iter().map(|c| Vector2::new(c.x, c.y)).collect();
-    Domain::new(ring(outer), holes.into_iter().map(ring).collect()).is_ok() || poly.is_valid()
+    Domain::check(ring(outer), holes.into_iter().map(ring).collect()).is_ok() || poly.is_valid()
 }
 
 /// Why the opening failed.
