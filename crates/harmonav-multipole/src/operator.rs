@@ -662,9 +662,12 @@ mod tests {
         assert!(worst < 1e-13, "{worst:e}");
     }
 
+    /// Sources, targets, weights and `A = Σ_j |q_j| L_j`.
+    type Case = (Vec<Source>, Vec<C64>, Vec<f64>, f64);
+
     /// Segments along two nested squares' boundaries with targets beside their midpoints,
     /// their weights, and `A = Σ_j |q_j| L_j`.
-    fn nested_squares() -> (Vec<Source>, Vec<C64>, Vec<f64>, f64) {
+    fn nested_squares() -> Case {
         let mut sources = Vec::new();
         for (half, count, c) in [
             (1.0, 200, C64::new(0.0, 0.0)),
@@ -703,9 +706,20 @@ mod tests {
         (sources, targets, weights, total)
     }
 
+    /// [`nested_squares`] and its operator at tolerance 1e-12, four pieces a leaf.
+    fn nested_squares_operator() -> (Operator, Case) {
+        let case = nested_squares();
+        let options = Options {
+            tolerance: 1e-12,
+            leaf_size: 4,
+            ..Options::default()
+        };
+        (Operator::new(&case.0, &case.1, &options).unwrap(), case)
+    }
+
     /// The largest error of the far part at order `q` plus the near pieces (closed form)
     /// against the direct sum over every target.
-    fn worst_error(op: &Operator, case: &(Vec<Source>, Vec<C64>, Vec<f64>, f64), q: usize) -> f64 {
+    fn worst_error(op: &Operator, case: &Case, q: usize) -> f64 {
         let (sources, targets, weights, _) = case;
         let mut out = vec![0.0; targets.len()];
         op.apply_order(weights, &mut out, q);
@@ -734,13 +748,7 @@ mod tests {
     /// two nested squares' boundaries.
     #[test]
     fn far_plus_near_is_the_direct_sum() {
-        let case = nested_squares();
-        let options = Options {
-            tolerance: 1e-12,
-            leaf_size: 4,
-            ..Options::default()
-        };
-        let op = Operator::new(&case.0, &case.1, &options).unwrap();
+        let (op, case) = nested_squares_operator();
         assert!(op.levels() >= 3);
         let mut full = vec![0.0; case.1.len()];
         op.apply(&case.2, &mut full);
@@ -760,13 +768,7 @@ mod tests {
     /// is used).
     #[test]
     fn a_lower_order_keeps_its_own_tolerance() {
-        let case = nested_squares();
-        let options = Options {
-            tolerance: 1e-12,
-            leaf_size: 4,
-            ..Options::default()
-        };
-        let op = Operator::new(&case.0, &case.1, &options).unwrap();
+        let (op, case) = nested_squares_operator();
         let full = worst_error(&op, &case, op.order());
         assert_eq!(op.order_for(1e-13), op.order());
         assert_eq!(op.order_for(2.0), op.order());
