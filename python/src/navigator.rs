@@ -338,19 +338,27 @@ impl Log {
 
     /// A successful `set_goal_heading`: replaces the one set since the last other event.
     fn goal_heading(&mut self, yaw: Option<f64>) {
-        match self.events.last_mut() {
-            Some(Event::GoalHeading(g)) => *g = yaw,
-            _ => self.events.push(Event::GoalHeading(yaw)),
+        let same = |g: &Option<f64>| g.map(f64::to_bits) == yaw.map(f64::to_bits);
+        if !matches!(self.events.last(), Some(Event::GoalHeading(g)) if same(g)) {
+            self.events.push(Event::GoalHeading(yaw));
         }
     }
 
-    /// A successful `set_goal_tolerance`: replaces the one set since the last other event.
+    /// A successful `set_goal_tolerance`: recorded unless it repeats the entry just before it.
+    ///
+    /// Why a different value is not merged into the entry before it (as a repeated one is):
+    /// a different value releases the goal latch (`Navigator::set_goal_stateful`) and the same
+    /// one keeps it, so `xy = 0.3` then `xy = 0.1` after a latching command releases it, where
+    /// a merged `xy = 0.1` alone would replay as the same value and keep it (the same for
+    /// `set_goal_heading` and `stateful`).
     fn goal_tolerance(&mut self, t: GoalTolerance, stateful: bool) {
-        match self.events.last_mut() {
-            Some(Event::GoalTolerance(xy, yaw, s)) => (*xy, *yaw, *s) = (t.xy, t.yaw, stateful),
-            _ => self
-                .events
-                .push(Event::GoalTolerance(t.xy, t.yaw, stateful)),
+        let same = |xy: &f64, yaw: &f64, s: &bool| {
+            xy.to_bits() == t.xy.to_bits() && yaw.to_bits() == t.yaw.to_bits() && *s == stateful
+        };
+        if !matches!(self.events.last(), Some(Event::GoalTolerance(xy, yaw, s)) if same(xy, yaw, s))
+        {
+            self.events
+                .push(Event::GoalTolerance(t.xy, t.yaw, stateful));
         }
     }
 
@@ -799,10 +807,11 @@ fn event(entry: &Bound<'_, PyAny>, i: usize, class: &str) -> PyResult<Event> {
             yaw.extract::<Option<f64>>()
                 .map_err(|e| bad(e.to_string()))?,
         )),
-        // Without `stateful` (a state pickled before 2026-12-07): the default, latched.
+        // Without `stateful` (a state pickled before 2026-12-07, when the radius did not
+        // latch): unlatched, so that it replays as it did.
         ("goal-tolerance", [_, xy, yaw]) => {
             let get = |v: &Bound<'_, PyAny>| v.extract::<f64>().map_err(|e| bad(e.to_string()));
-            Ok(Event::GoalTolerance(get(xy)?, get(yaw)?, true))
+            Ok(Event::GoalTolerance(get(xy)?, get(yaw)?, false))
         }
         ("goal-tolerance", [_, xy, yaw, stateful]) => {
             let get = |v: &Bound<'_, PyAny>| v.extract::<f64>().map_err(|e| bad(e.to_string()));

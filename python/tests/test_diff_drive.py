@@ -430,17 +430,46 @@ def test_the_goal_radius_latches_and_copies_keep_the_latch(make):
     assert not nav.goal_latched and nav.goal_stateful
 
 
-def test_a_goal_tolerance_entry_without_stateful_is_latched():
-    """A state pickled before `stateful` (`("goal-tolerance", xy, yaw)`) restores latched, the
-    default; a `stateful` that is not a bool is refused, naming the entry."""
+@pytest.mark.parametrize("release", ["tolerance", "heading", "stateful"])
+def test_a_setter_that_released_the_latch_releases_it_in_copies(release):
+    """After a latching command, a setter call with another value releases the latch even if
+    the next call sets the first value back (the same value alone keeps it): a copy must
+    replay both calls, not one merged entry, and so be unlatched and command as the original
+    does at a far pose (it drives; a latched copy would turn in place)."""
+    nav = diff_star()
+    nav.set_goal_heading(math.pi / 2)
+    nav.set_goal_tolerance(xy=0.1, yaw=0.05)
+    near, far = np.asarray(GOAL) + np.array([0.05, 0.0]), np.asarray(GOAL) + np.array([-1.0, 0.2])
+    nav.command_pose(near, 0.0)
+    assert nav.goal_latched
+    if release == "tolerance":
+        nav.set_goal_tolerance(xy=0.3)
+        nav.set_goal_tolerance(xy=0.1)
+    elif release == "heading":
+        nav.set_goal_heading(None)
+        nav.set_goal_heading(math.pi / 2)
+    else:
+        nav.set_goal_tolerance(stateful=False)
+        nav.set_goal_tolerance(stateful=True)
+    assert not nav.goal_latched
+    for how, twin in copies(nav):
+        assert not twin.goal_latched, how
+        assert twin.command_pose(far, 0.0) == nav.command_pose(far, 0.0), how
+        assert nav.steer not in ("to-goal-heading", "arrived"), how
+
+
+def test_a_goal_tolerance_entry_without_stateful_is_unlatched():
+    """A state pickled before `stateful` (`("goal-tolerance", xy, yaw)`, when the radius did
+    not latch) restores unlatched, as it ran; a `stateful` that is not a bool is refused,
+    naming the entry."""
     nav = diff_star()
     nav.set_goal_heading(1.0)
-    nav.set_goal_tolerance(xy=0.2, yaw=0.1, stateful=False)
+    nav.set_goal_tolerance(xy=0.2, yaw=0.1, stateful=True)
     cls, args, state = nav.__reduce__()
     old = [e[:3] if e[0] == "goal-tolerance" else e for e in state]
     rebuilt = cls(*args)
     rebuilt.__setstate__(old)
-    assert rebuilt.goal_tolerance == (0.2, 0.1) and rebuilt.goal_stateful is True
+    assert rebuilt.goal_tolerance == (0.2, 0.1) and rebuilt.goal_stateful is False
     bad = [("goal-tolerance", 0.2, 0.1, "yes") if e[0] == "goal-tolerance" else e for e in state]
     with pytest.raises(TypeError, match="entry"):
         cls(*args).__setstate__(bad)
