@@ -286,8 +286,10 @@ impl Domain {
 
     /// Whether [`Domain::new`] would accept the rings but for its caps on holes and vertices
     /// ([`MAX_HOLES`], [`MAX_VERTICES`]): the same checks, in the same order, for any number of
-    /// rings (a traced map outline before its opening may hold thousands of specks). The sweep
-    /// of the edges costs about `O(V log V)` on a map's rings.
+    /// rings (a traced map outline before its opening may hold thousands of specks). The cost
+    /// is [`Domain::new`]'s: the sweep of the edges sorted by `x` (about `O(V log V)` on a
+    /// map's rings, up to `O(V²)` when long edges span many others in `x`) and one point of
+    /// each hole against every ring, `O(H·V)`.
     ///
     /// # Errors
     /// [`Domain::new`]'s, but for [`DomainError::TooManyHoles`] and

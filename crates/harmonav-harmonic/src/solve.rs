@@ -31,8 +31,10 @@
 //! attainable residual by about `ε‖b‖`, so the multipole part of the Arnoldi products is taken
 //! within `PRODUCT_TOLERANCE·‖b‖/‖r_k‖`, at most `RELAXED_TOLERANCE` (`Operator::apply_order`:
 //! a lower expansion order, `p` = 49 down to 26). Each cycle's true residual `b − A x` is a
-//! full-order product, and GMRES stops only when that one is below `rtol‖b‖`, so the relaxed
-//! products can cost a restart but never the accuracy.
+//! full-order product, and GMRES stops only when that one is below `rtol‖b‖` (or at
+//! `MAX_ITERATIONS`, when the map then accepts up to `MAX_SOLVE_RESIDUAL` or refuses): the
+//! relaxed products can cost restarts, which bring that cap nearer, but not the accuracy of a
+//! solve that converges.
 
 use std::ops::Range;
 
