@@ -14,6 +14,8 @@
 //! less a tolerance, up to a depth and an evaluation budget.
 
 use harmonav_potential::sigma;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
 use nalgebra::Vector2;
 
 use crate::sector::Sector;
@@ -183,21 +185,32 @@ impl FloorField {
     /// distance from `∂W_δ`, and cells that may meet them are split until they do not.
     #[must_use]
     pub fn certify_layer_level(&self, options: &LevelOptions) -> LayerLevel {
+        self.layer_level(options, true)
+    }
+
+    /// [`FloorField::certify_layer_level`], its covering on two threads while the budget
+    /// allows (`parallel`) or on one.
+    fn layer_level(&self, options: &LevelOptions, parallel: bool) -> LayerLevel {
         let floor = self.floor();
         let delta = floor.delta();
-        let (mut sampled, mut skipped) = (f64::INFINITY, 0);
-        for (p, _) in self.edge_samples() {
-            match self.eval(p) {
-                Ok(e) => sampled = sampled.min(e.phi),
-                Err(_) => skipped += 1,
-            }
-        }
+        let edge: Vec<Vector2<f64>> = self.edge_samples().map(|(p, _)| p).collect();
+        // The least sampled phi and the samples that could not be evaluated, the halves of the
+        // samples on two threads (a minimum and a count: the same whatever the order).
+        let [a, b] = halves(edge.len(), |range| {
+            edge[range]
+                .iter()
+                .fold((f64::INFINITY, 0), |(m, k), &p| match self.eval(p) {
+                    Ok(e) => (m.min(e.phi), k),
+                    Err(_) => (m, k + 1),
+                })
+        });
+        let (sampled, skipped) = (a.0.min(b.0), a.1 + b.1);
         let target = sampled - options.tolerance;
         let (lo, hi) = floor.map().domain().bounding_box();
         let w0 = delta / (3.0 * std::f64::consts::SQRT_2);
         let nx = ((hi.x - lo.x) / (2.0 * w0)).ceil().max(1.0) as usize;
         let ny = ((hi.y - lo.y) / (2.0 * w0)).ceil().max(1.0) as usize;
-        let mut stack: Vec<(Vector2<f64>, f64, u32)> = Vec::new();
+        let mut stack: Vec<Cell> = Vec::new();
         for i in 0..nx {
             for j in 0..ny {
                 let c = lo + Vector2::new(2.0 * i as f64 + 1.0, 2.0 * j as f64 + 1.0) * w0;
@@ -213,28 +226,39 @@ impl FloorField {
             phi_slide: f64::NEG_INFINITY,
             slide_at: None,
         };
+        // Within the budget, which cells are split does not depend on the order they are taken
+        // in (a cell is split when its bound is below the target and it is not at the depth
+        // limit), and the result is a minimum and two counts: the two halves of the first grid
+        // on two threads give the one-thread result. Once the budget binds the order matters
+        // (`can_split` below): then the covering runs again on one thread, as it always did.
+        let evaluations = AtomicUsize::new(0);
+        let half = stack.len() / 2;
+        let [first, second] = halves(2, |part| {
+            let cells = if part.start == 0 {
+                &stack[..half]
+            } else {
+                &stack[half..]
+            };
+            parallel
+                .then(|| self.layer_cells_within(cells.to_vec(), target, options, &evaluations))
+                .flatten()
+        });
+        if let (Some(first), Some(second)) = (first, second) {
+            out.phi_certified = out.phi_certified.min(first.0).min(second.0);
+            out.unresolved = first.1 + second.1;
+            out.evaluations = evaluations.into_inner();
+            return out;
+        }
         while let Some((c, w, depth)) = stack.pop() {
-            let rho = w * std::f64::consts::SQRT_2;
-            let sd = floor.signed_distance(c);
-            // sd is 1-Lipschitz: a cell with |sd(c) − δ| > ρ does not meet ∂W_δ.
-            if (sd - delta).abs().partial_cmp(&rho) == Some(std::cmp::Ordering::Greater)
-                || sd.is_nan()
-            {
+            let Some(phi) = self.layer_cell(c, w) else {
                 continue;
-            }
+            };
             let can_split = depth < options.max_depth && out.evaluations < options.max_evaluations;
             out.evaluations += 1;
-            let phi = match self.transform().enclose(c, rho) {
-                Ok(a) => self.phi_lower(&a),
-                Err(_) => f64::NEG_INFINITY,
-            };
             if phi >= target {
                 out.phi_certified = out.phi_certified.min(phi);
             } else if can_split {
-                let h = w / 2.0;
-                for (sx, sy) in [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)] {
-                    stack.push((c + Vector2::new(sx, sy) * h, h, depth + 1));
-                }
+                push_children(&mut stack, (c, w, depth));
             } else {
                 out.unresolved += 1;
                 out.phi_certified = out.phi_certified.min(phi);
@@ -242,6 +266,78 @@ impl FloorField {
         }
         out
     }
+
+    /// The lower bound of `phi_k` on the cell of centre `c` and half-side `w`, or `None` when
+    /// the cell does not meet `∂W_δ` (`sd` is 1-Lipschitz: a cell with `|sd(c) − δ| > ρ`
+    /// cannot). `−∞` when the cell cannot be enclosed.
+    fn layer_cell(&self, c: Vector2<f64>, w: f64) -> Option<f64> {
+        let floor = self.floor();
+        let rho = w * std::f64::consts::SQRT_2;
+        let sd = floor.signed_distance(c);
+        if (sd - floor.delta()).abs().partial_cmp(&rho) == Some(std::cmp::Ordering::Greater)
+            || sd.is_nan()
+        {
+            return None;
+        }
+        Some(match self.transform().enclose(c, rho) {
+            Ok(a) => self.phi_lower(&a),
+            Err(_) => f64::NEG_INFINITY,
+        })
+    }
+
+    /// The covering of `stack`'s cells with no budget but the shared count `evaluations`:
+    /// the least bound of the final cells and how many were left unresolved at the depth
+    /// limit, or `None` as soon as the count passes `options.max_evaluations` (the budget
+    /// binds, and the one-thread order decides).
+    fn layer_cells_within(
+        &self,
+        mut stack: Vec<Cell>,
+        target: f64,
+        options: &LevelOptions,
+        evaluations: &AtomicUsize,
+    ) -> Option<(f64, usize)> {
+        let (mut least, mut unresolved) = (f64::INFINITY, 0);
+        while let Some((c, w, depth)) = stack.pop() {
+            let Some(phi) = self.layer_cell(c, w) else {
+                continue;
+            };
+            if evaluations.fetch_add(1, Ordering::Relaxed) >= options.max_evaluations {
+                return None;
+            }
+            if phi >= target {
+                least = least.min(phi);
+            } else if depth < options.max_depth {
+                push_children(&mut stack, (c, w, depth));
+            } else {
+                unresolved += 1;
+                least = least.min(phi);
+            }
+        }
+        Some((least, unresolved))
+    }
+}
+
+/// A cell of the covering: centre, half-side, depth.
+type Cell = (Vector2<f64>, f64, u32);
+
+/// The four children of a cell, pushed in the covering's order.
+fn push_children(stack: &mut Vec<Cell>, (c, w, depth): Cell) {
+    let h = w / 2.0;
+    for (sx, sy) in [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)] {
+        stack.push((c + Vector2::new(sx, sy) * h, h, depth + 1));
+    }
+}
+
+/// `[f(0..n/2), f(n/2..n)]`, the second on another thread.
+fn halves<T: Send>(n: usize, f: impl Fn(std::ops::Range<usize>) -> T + Sync) -> [T; 2] {
+    std::thread::scope(|scope| {
+        let handle = scope.spawn(|| f(n / 2..n));
+        let first = f(0..n / 2);
+        let second = handle
+            .join()
+            .unwrap_or_else(|e| std::panic::resume_unwind(e));
+        [first, second]
+    })
 }
 
 /// What [`FloorField::layer_slide`] found on the samples of `∂W_δ`.
@@ -313,5 +409,55 @@ impl FloorField {
             last = Some((p, n, flow));
         }
         out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::Arc;
+
+    use harmonav_field::KPolicy;
+
+    use super::*;
+    use crate::{FloorMap, FloorOptions};
+
+    /// A 6 × 4 m room with a U-shaped hole (the U trap of tests/level.rs), goal in its pocket.
+    fn u_trap() -> FloorField {
+        let v = Vector2::new;
+        let room = vec![v(0.0, 0.0), v(6.0, 0.0), v(6.0, 4.0), v(0.0, 4.0)];
+        let u = vec![
+            v(2.0, 1.0),
+            v(4.0, 1.0),
+            v(4.0, 3.0),
+            v(3.5, 3.0),
+            v(3.5, 1.6),
+            v(2.5, 1.6),
+            v(2.5, 3.0),
+            v(2.0, 3.0),
+        ];
+        let floor = FloorMap::new(room, vec![u], &FloorOptions::new(0.1, 0.2)).unwrap();
+        FloorField::new(Arc::new(floor), v(3.0, 2.2), KPolicy::default()).unwrap()
+    }
+
+    /// The covering on two threads is the one-thread covering, field for field, within the
+    /// budget; when the budget binds it gives way to the one-thread order (whose result then
+    /// differs from the unbounded one: a lower certified bound).
+    #[test]
+    fn the_two_thread_covering_is_the_one_thread_covering() {
+        let field = u_trap();
+        let options = LevelOptions::default();
+        let one = field.layer_level(&options, false);
+        assert_eq!(field.layer_level(&options, true), one);
+        assert!(one.evaluations > 1_000 && one.evaluations < options.max_evaluations);
+        let tight = LevelOptions {
+            max_evaluations: one.evaluations / 2,
+            ..options
+        };
+        let bound = field.layer_level(&tight, false);
+        assert_eq!(field.layer_level(&tight, true), bound);
+        assert!(
+            bound.phi_certified < one.phi_certified,
+            "{bound:?} against {one:?}"
+        );
     }
 }
