@@ -269,6 +269,43 @@ pub struct GoalCheckerKeys {
 /// The goal checker's keys, bare or under a plugin's name.
 const CHECKER_KEYS: [&str; 3] = ["xy_goal_tolerance", "yaw_goal_tolerance", "stateful"];
 
+/// Nav2's other goal checker keys (`SimpleGoalChecker`, `StoppedGoalChecker`), under a
+/// plugin's name (`name`): checked for their type and accepted unread, so that a Nav2
+/// parameter file loads (`None` for any other key). `trans_stopped_velocity` and
+/// `rot_stopped_velocity` (non-negative): harmonav's arrival commands `(0, 0)` itself;
+/// `path_length_tolerance` (non-negative): there is no global path; `symmetric_yaw_tolerance`:
+/// `false` only (accepting the goal yaw + 180° is not built, and ignoring `true` would turn
+/// the robot where the user asked it not to).
+fn ignored_checker_key(name: &str, key: &str, value: &Value) -> Option<Result<(), ParamError>> {
+    let number = |v: &Value| match *v {
+        Value::Float(x) => Some(x),
+        Value::Int(i) => Some(i as f64),
+        _ => None,
+    };
+    Some(match key {
+        "trans_stopped_velocity" | "rot_stopped_velocity" | "path_length_tolerance" => {
+            match number(value) {
+                Some(x) if x.is_finite() && x >= 0.0 => Ok(()),
+                _ => Err(ParamError(format!(
+                    "parameter {name}: expected a finite number ≥ 0, got {value:?} (Nav2's goal \
+                     checker key; accepted and not read by harmonav)"
+                ))),
+            }
+        }
+        "symmetric_yaw_tolerance" => match value {
+            Value::Bool(false) => Ok(()),
+            Value::Bool(true) => Err(ParamError(format!(
+                "parameter {name}: true is not supported (harmonav turns to the goal yaw \
+                 itself, not to it or its opposite); remove it or set it false"
+            ))),
+            _ => Err(ParamError(format!(
+                "parameter {name}: expected true or false, got {value:?}"
+            ))),
+        },
+        _ => return None,
+    })
+}
+
 impl GoalCheckerKeys {
     /// Records `value`, already checked, for `key` (bare: `plugin` `None`); a later value
     /// replaces an earlier one.
@@ -533,6 +570,9 @@ impl Params {
                     "parameter {name}: expected a string, got {value:?}"
                 ))),
             };
+        }
+        if let Some(ignored) = ignored_checker_key(name, key, value) {
+            return ignored;
         }
         let key = CHECKER_KEYS
             .into_iter()
@@ -906,6 +946,17 @@ general_goal_checker:
         assert_eq!(p.arrival_radius(), 0.25);
         assert!(!p.stateful);
         assert!(Params::default().stateful, "Nav2's default");
+        // A StoppedGoalChecker's block loads; its other keys are accepted unread.
+        let stopped = "goal_checker_plugins: [\"stopped\"]
+stopped:
+  plugin: \"nav2_controller::StoppedGoalChecker\"
+  trans_stopped_velocity: 0.25
+  rot_stopped_velocity: 0.25
+  path_length_tolerance: 1
+  symmetric_yaw_tolerance: false
+  xy_goal_tolerance: 0.2";
+        let p = resolved(stopped).unwrap();
+        assert_eq!(p.xy_goal_tolerance, Some(0.2));
         // Without goal_checker_plugins: the one name given.
         let p = resolved("precise.xy_goal_tolerance: 0.05\nprecise.stateful: true").unwrap();
         assert_eq!(p.xy_goal_tolerance, Some(0.05));
@@ -974,8 +1025,16 @@ general_goal_checker:
                 &["a.xy_goal_tolerance", "b.yaw_goal_tolerance"][..],
             ),
             (
-                "gc.trans_stopped_velocity: 0.2",
-                &["unknown parameter gc.trans_stopped_velocity"][..],
+                "gc.trans_stopped_velocity: -0.2",
+                &["gc.trans_stopped_velocity", "≥ 0"][..],
+            ),
+            (
+                "gc.symmetric_yaw_tolerance: true",
+                &["gc.symmetric_yaw_tolerance", "not supported"][..],
+            ),
+            (
+                "gc.xy_goal_tolerance_typo: 0.2",
+                &["unknown parameter gc.xy_goal_tolerance_typo"][..],
             ),
             ("gc.plugin: 3", &["gc.plugin"][..]),
             ("goal_checker_plugins: []", &["goal_checker_plugins"][..]),
