@@ -421,22 +421,20 @@ mod tests {
     use super::*;
     use crate::{FloorMap, FloorOptions};
 
-    /// A 6 × 4 m room with a U-shaped hole (the U trap of tests/level.rs), goal in its pocket.
-    fn u_trap() -> FloorField {
+    /// A 6 × 4 m room with an L-shaped pillar, the goal beside it.
+    fn pillared_room() -> FloorField {
         let v = Vector2::new;
         let room = vec![v(0.0, 0.0), v(6.0, 0.0), v(6.0, 4.0), v(0.0, 4.0)];
-        let u = vec![
-            v(2.0, 1.0),
-            v(4.0, 1.0),
-            v(4.0, 3.0),
-            v(3.5, 3.0),
-            v(3.5, 1.6),
-            v(2.5, 1.6),
-            v(2.5, 3.0),
-            v(2.0, 3.0),
+        let pillar = vec![
+            v(2.5, 1.5),
+            v(4.0, 1.5),
+            v(4.0, 2.0),
+            v(3.0, 2.0),
+            v(3.0, 2.8),
+            v(2.5, 2.8),
         ];
-        let floor = FloorMap::new(room, vec![u], &FloorOptions::new(0.1, 0.2)).unwrap();
-        FloorField::new(Arc::new(floor), v(3.0, 2.2), KPolicy::default()).unwrap()
+        let floor = FloorMap::new(room, vec![pillar], &FloorOptions::new(0.1, 0.2)).unwrap();
+        FloorField::new(Arc::new(floor), v(3.5, 2.6), KPolicy::default()).unwrap()
     }
 
     /// The covering on two threads is the one-thread covering, field for field, within the
@@ -444,7 +442,7 @@ mod tests {
     /// differs from the unbounded one: a lower certified bound).
     #[test]
     fn the_two_thread_covering_is_the_one_thread_covering() {
-        let field = u_trap();
+        let field = pillared_room();
         let options = LevelOptions::default();
         let one = field.layer_level(&options, false);
         assert_eq!(field.layer_level(&options, true), one);
