@@ -18,6 +18,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use nalgebra::Vector2;
 
+use crate::halves::both;
 use crate::sector::Sector;
 use crate::theta::FloorField;
 
@@ -196,14 +197,15 @@ impl FloorField {
         let edge: Vec<Vector2<f64>> = self.edge_samples().map(|(p, _)| p).collect();
         // The least sampled phi and the samples that could not be evaluated, the halves of the
         // samples on two threads (a minimum and a count: the same whatever the order).
-        let [a, b] = halves(edge.len(), |range| {
-            edge[range]
-                .iter()
+        let least = |part: &[Vector2<f64>]| {
+            part.iter()
                 .fold((f64::INFINITY, 0), |(m, k), &p| match self.eval(p) {
                     Ok(e) => (m.min(e.phi), k),
                     Err(_) => (m, k + 1),
                 })
-        });
+        };
+        let (low, high) = edge.split_at(edge.len() / 2);
+        let (a, b) = both(|| least(low), || least(high));
         let (sampled, skipped) = (a.0.min(b.0), a.1 + b.1);
         let target = sampled - options.tolerance;
         let (lo, hi) = floor.map().domain().bounding_box();
@@ -232,17 +234,13 @@ impl FloorField {
         // on two threads give the one-thread result. Once the budget binds the order matters
         // (`can_split` below): then the covering runs again on one thread, as it always did.
         let evaluations = AtomicUsize::new(0);
-        let half = stack.len() / 2;
-        let [first, second] = halves(2, |part| {
-            let cells = if part.start == 0 {
-                &stack[..half]
-            } else {
-                &stack[half..]
-            };
+        let (low, high) = stack.split_at(stack.len() / 2);
+        let within = |cells: &[Cell]| {
             parallel
                 .then(|| self.layer_cells_within(cells.to_vec(), target, options, &evaluations))
                 .flatten()
-        });
+        };
+        let (first, second) = both(|| within(low), || within(high));
         if let (Some(first), Some(second)) = (first, second) {
             out.phi_certified = out.phi_certified.min(first.0).min(second.0);
             out.unresolved = first.1 + second.1;
@@ -326,18 +324,6 @@ fn push_children(stack: &mut Vec<Cell>, (c, w, depth): Cell) {
     for (sx, sy) in [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)] {
         stack.push((c + Vector2::new(sx, sy) * h, h, depth + 1));
     }
-}
-
-/// `[f(0..n/2), f(n/2..n)]`, the second on another thread.
-fn halves<T: Send>(n: usize, f: impl Fn(std::ops::Range<usize>) -> T + Sync) -> [T; 2] {
-    std::thread::scope(|scope| {
-        let handle = scope.spawn(|| f(n / 2..n));
-        let first = f(0..n / 2);
-        let second = handle
-            .join()
-            .unwrap_or_else(|e| std::panic::resume_unwind(e));
-        [first, second]
-    })
 }
 
 /// What [`FloorField::layer_slide`] found on the samples of `∂W_δ`.

@@ -69,6 +69,7 @@ pub mod census;
 pub mod compose;
 pub mod coverage;
 pub mod geodesic;
+mod halves;
 pub mod level;
 pub mod plan;
 pub mod ros_map;

@@ -432,28 +432,11 @@ fn layer_edge(
             }
         }
     }
-    in_halves(&candidates, |&p| {
+    // About 70 000 samples on a 60 m floor, each a wall query and a containment test.
+    crate::halves::filter_map(&candidates, |&p| {
         let d = walls.distance_to_local_point(PVector::new(p.x, p.y), false);
         ((d - delta).abs() <= 1e-9 * delta.max(1.0) && domain.contains(p)).then_some(p)
     })
-}
-
-/// `items.iter().filter_map(f)` in order, the second half on another thread (each item alone,
-/// so the result is the one-thread result): the layer's edge has about 70 000 samples on a
-/// 60 m floor, each a wall query, a containment test and an evaluation of `H`.
-fn in_halves<T: Sync, U: Send>(items: &[T], f: impl Fn(&T) -> Option<U> + Sync) -> Vec<U> {
-    let (low, high) = items.split_at(items.len() / 2);
-    let run = |part: &[T]| part.iter().filter_map(&f).collect::<Vec<U>>();
-    let (mut first, second) = std::thread::scope(|scope| {
-        let handle = scope.spawn(|| run(high));
-        let first = run(low);
-        let second = handle
-            .join()
-            .unwrap_or_else(|e| std::panic::resume_unwind(e));
-        (first, second)
-    });
-    first.extend(second);
-    first
 }
 
 impl FloorMap {
@@ -542,7 +525,7 @@ impl FloorMap {
         // Over every ring: near a hole the layer maps next to its puncture (the U's pocket
         // squeezes it to 2e-4), which widens S's band to MAX_BAND. Measured: taking r_δ along
         // the outer ring alone narrowed the band and the L room's far starts stalled.
-        let edge_images = in_halves(&edge, |&p| map.eval(p).ok().map(|e| e.value));
+        let edge_images = crate::halves::filter_map(&edge, |&p| map.eval(p).ok().map(|e| e.value));
         Ok(Self {
             map,
             truth,
