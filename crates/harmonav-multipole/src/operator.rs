@@ -37,9 +37,7 @@
 use nalgebra::{DMatrix, DMatrixView, DMatrixViewMut};
 
 use crate::expansion::{C64, l2l, m2l_table, m2m, p2m_point, p2m_segment, pascal};
-use crate::tree::{
-    FmmError, Options, Piece, Source, children, depth, grid_cuts, interaction_list, order,
-};
+use crate::tree::{FmmError, Options, Piece, Source, children, depth, interaction_list, order};
 
 const NONE: u32 = u32::MAX;
 
@@ -481,48 +479,14 @@ impl Operator {
         cell((z.im - self.origin.im) / self.side) * n + cell((z.re - self.origin.re) / self.side)
     }
 
-    /// Cuts the sources at the leaf grid lines (as [`crate::Fmm`]) and groups them by leaf.
+    /// Cuts the sources at the leaf grid lines (as [`crate::Fmm`]) and groups them by leaf
+    /// ([`crate::tree::cut`]).
     fn cut(&mut self, sources: &[Source]) {
-        let n = 1usize << self.levels;
-        let w = self.width(self.levels);
-        let mut tagged: Vec<(usize, Piece)> = Vec::with_capacity(2 * sources.len());
-        for (j, s) in sources.iter().enumerate() {
-            match *s {
-                Source::Point(z) => tagged.push((
-                    self.leaf_of(z),
-                    Piece {
-                        source: j,
-                        shape: *s,
-                    },
-                )),
-                Source::Segment(a, b) => {
-                    let ts = grid_cuts(a, b, self.origin, w);
-                    for pair in ts.windows(2) {
-                        let (p0, p1) = (a + (b - a) * pair[0], a + (b - a) * pair[1]);
-                        if p0 == p1 {
-                            continue;
-                        }
-                        tagged.push((
-                            self.leaf_of((p0 + p1) * 0.5),
-                            Piece {
-                                source: j,
-                                shape: Source::Segment(p0, p1),
-                            },
-                        ));
-                    }
-                }
-            }
-        }
-        tagged.sort_by_key(|(leaf, _)| *leaf);
-        let mut start = vec![0u32; n * n + 1];
-        for (leaf, _) in &tagged {
-            start[leaf + 1] += 1;
-        }
-        for i in 0..n * n {
-            start[i + 1] += start[i];
-        }
-        self.leaf_start = start;
-        self.pieces = tagged.into_iter().map(|(_, p)| p).collect();
+        let grid = (self.origin, self.width(self.levels), 1usize << self.levels);
+        let (start, pieces) = crate::tree::cut(sources, grid, |z| self.leaf_of(z));
+        // Offsets as `u32`, as every other index of the operator.
+        self.leaf_start = start.into_iter().map(|s| s as u32).collect();
+        self.pieces = pieces;
     }
 
     /// The occupied boxes of every level: with pieces, with targets.

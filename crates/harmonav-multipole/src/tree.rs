@@ -361,48 +361,11 @@ impl<const C: usize> Fmm<C> {
         Some(cell(v) * n + cell(u))
     }
 
-    /// Cuts the sources into pieces at the leaf grid lines and groups them by leaf.
+    /// Cuts the sources into pieces at the leaf grid lines and groups them by leaf ([`cut`]).
     fn cut(&mut self, sources: &[Source]) {
-        let n = 1usize << self.levels;
-        let w = self.width(self.levels);
-        let mut tagged: Vec<(usize, Piece)> = Vec::with_capacity(sources.len());
-        let leaf = |fmm: &Self, z: C64| fmm.leaf_of(z).expect("the root box holds every source");
-        for (j, s) in sources.iter().enumerate() {
-            match *s {
-                Source::Point(z) => tagged.push((
-                    leaf(self, z),
-                    Piece {
-                        source: j,
-                        shape: *s,
-                    },
-                )),
-                Source::Segment(a, b) => {
-                    let ts = grid_cuts(a, b, self.origin, w);
-                    for pair in ts.windows(2) {
-                        let (p0, p1) = (a + (b - a) * pair[0], a + (b - a) * pair[1]);
-                        if p0 == p1 {
-                            continue;
-                        }
-                        tagged.push((
-                            leaf(self, (p0 + p1) * 0.5),
-                            Piece {
-                                source: j,
-                                shape: Source::Segment(p0, p1),
-                            },
-                        ));
-                    }
-                }
-            }
-        }
-        tagged.sort_by_key(|(leaf, _)| *leaf);
-        self.leaf_start = vec![0; n * n + 1];
-        for (leaf, _) in &tagged {
-            self.leaf_start[leaf + 1] += 1;
-        }
-        for i in 0..n * n {
-            self.leaf_start[i + 1] += self.leaf_start[i];
-        }
-        self.pieces = tagged.into_iter().map(|(_, p)| p).collect();
+        let grid = (self.origin, self.width(self.levels), 1usize << self.levels);
+        let leaf = |z| self.leaf_of(z).expect("the root box holds every source");
+        (self.leaf_start, self.pieces) = cut(sources, grid, leaf);
     }
 
     /// P2M at the leaves, M2M up to the root.
@@ -783,6 +746,55 @@ pub(crate) fn interaction_list(
 /// The parameters `t ∈ [0, 1]` at which the segment `a → b` crosses the lines of the grid of
 /// spacing `w` from `origin` (both ends included, sorted, without repeats): the segment's
 /// pieces between them each lie in one leaf.
+/// The sources cut into pieces at the leaf grid lines of `(origin, w, n)` (an `n × n` grid of
+/// boxes of width `w` from `origin`; [`grid_cuts`]) and grouped by leaf, `leaf(z)` the leaf of
+/// a point: `(start, pieces)`, the pieces of leaf `i` being `pieces[start[i]..start[i + 1]]`, in
+/// the order of their sources. A cut of zero length is dropped. Used by [`crate::Fmm`] and
+/// [`crate::Operator`] alike.
+pub(crate) fn cut(
+    sources: &[Source],
+    (origin, w, n): (C64, f64, usize),
+    leaf: impl Fn(C64) -> usize,
+) -> (Vec<usize>, Vec<Piece>) {
+    let mut tagged: Vec<(usize, Piece)> = Vec::with_capacity(2 * sources.len());
+    for (j, s) in sources.iter().enumerate() {
+        match *s {
+            Source::Point(z) => tagged.push((
+                leaf(z),
+                Piece {
+                    source: j,
+                    shape: *s,
+                },
+            )),
+            Source::Segment(a, b) => {
+                let ts = grid_cuts(a, b, origin, w);
+                for pair in ts.windows(2) {
+                    let (p0, p1) = (a + (b - a) * pair[0], a + (b - a) * pair[1]);
+                    if p0 == p1 {
+                        continue;
+                    }
+                    tagged.push((
+                        leaf((p0 + p1) * 0.5),
+                        Piece {
+                            source: j,
+                            shape: Source::Segment(p0, p1),
+                        },
+                    ));
+                }
+            }
+        }
+    }
+    tagged.sort_by_key(|(leaf, _)| *leaf);
+    let mut start = vec![0; n * n + 1];
+    for (leaf, _) in &tagged {
+        start[leaf + 1] += 1;
+    }
+    for i in 0..n * n {
+        start[i + 1] += start[i];
+    }
+    (start, tagged.into_iter().map(|(_, p)| p).collect())
+}
+
 pub(crate) fn grid_cuts(a: C64, b: C64, origin: C64, w: f64) -> Vec<f64> {
     let mut ts = vec![0.0, 1.0];
     for (lo, hi, o) in [(a.re, b.re, origin.re), (a.im, b.im, origin.im)] {
