@@ -148,6 +148,10 @@ fn expected(field: &str) -> String {
         "mover_memory.turning" => "must be finite and in [0, 2] s (how long KeepRight's \
                                    escape still runs, docs/movers.md §7)"
             .to_string(),
+        "force_bound" => format!(
+            "must be finite and in [{lo:e}, {hi:e}] N, and is the dynamic law's only (the \
+             kinematic law commands velocities)"
+        ),
         "base" => "a differential-drive base takes the kinematic law only (the dynamic law \
                    is not built for it)"
             .to_string(),

@@ -73,11 +73,17 @@ pub enum Mode {
         /// The largest shortfall, m/s.
         shortfall: f64,
     },
+    /// Under a force bound ([`crate::Options::force_bound`]): the full brake, `|f| = F`
+    /// against the velocity (or to rest within the period), and the way it brakes to rest is
+    /// not certified free of the known shapes: the robot was handed a state it cannot stop
+    /// from in the free space it knows (a start at speed, an obstacle found within its
+    /// braking distance). [`Command::certified`] is false (docs/movers.md §2.5).
+    Braking,
 }
 
 impl Mode {
     /// The name used in logs, JSON and Python (`"law"`, `"capped"`, `"recovering"`,
-    /// `"escaping"`, `"from-rest"`, `"halted"`, `"yielding"`, `"overwhelmed"`).
+    /// `"escaping"`, `"from-rest"`, `"halted"`, `"yielding"`, `"overwhelmed"`, `"braking"`).
     #[must_use]
     pub fn as_str(&self) -> &'static str {
         match self {
@@ -89,6 +95,7 @@ impl Mode {
             Self::Halted => "halted",
             Self::Yielding { .. } => "yielding",
             Self::Overwhelmed { .. } => "overwhelmed",
+            Self::Braking => "braking",
         }
     }
 }
@@ -105,11 +112,12 @@ pub struct Command {
 impl Command {
     /// Whether the command is certified to keep the robot clear over the period: false only
     /// for [`Mode::Overwhelmed`] (a mover's reach could not be kept out of) and
+    /// [`Mode::Braking`] (a force-bounded robot's way to rest is not certified free), and
     /// [`crate::HoldPolicy::Paper`]'s unchecked law is not told apart (its mode is
     /// [`Mode::Law`]).
     #[must_use]
     pub fn certified(&self) -> bool {
-        !matches!(self.mode, Mode::Overwhelmed { .. })
+        !matches!(self.mode, Mode::Overwhelmed { .. } | Mode::Braking)
     }
 }
 

@@ -50,6 +50,7 @@
 #![warn(missing_docs)]
 
 mod base;
+mod braking;
 mod certified;
 pub mod checks;
 mod controller;

@@ -8,12 +8,13 @@ use harmonav_perception::Walls;
 use harmonav_transform::StarShape;
 use nalgebra::Vector2;
 
+use crate::braking;
 use crate::controller::{
     Controller, Evaluation, controller, discovery_speed_after, finite, finite_lambda_c, halted,
 };
 use crate::error::NavError;
 use crate::floor::{Escape, EscapeMemory, FloorWorld};
-use crate::hold::{self, Command};
+use crate::hold::{self, Command, Mode};
 use crate::law::Law;
 use crate::movers::{self, KeepRight, Mover, MoverMemory, Verdict};
 use crate::options::Options;
@@ -212,7 +213,15 @@ impl<W: World> Navigator<W> {
                 v,
                 self.core.period,
                 &mut self.core.last,
-            );
+            )
+            .map(|c| Command {
+                value: self
+                    .core
+                    .options
+                    .force_bound
+                    .map_or(c.value, |f| braking::clip(c.value, f)),
+                ..c
+            });
         }
         let before = self.core.speed_at_discovery;
         if self.core.yielded {
@@ -222,6 +231,7 @@ impl<W: World> Navigator<W> {
         }
         let result = W::held(&self.core, &self.world, x, v).and_then(|(command, step)| {
             let (command, yielded, memory) = self.filtered(x, v, command)?;
+            let (command, yielded) = self.braked(x, v, command, yielded)?;
             if command.value.iter().all(|c| c.is_finite()) {
                 Ok((command, step, yielded, memory))
             } else {
@@ -322,7 +332,11 @@ impl<W: World> Navigator<W> {
         command: Command,
     ) -> Result<(Command, bool, KeepRight), NavError> {
         let memory = self.core.keep_right;
-        if self.core.movers.is_empty() {
+        // Under a force bound the movers are kept out of by the braking certificate
+        // ([`Navigator::braked`]), not by the rows of one period.
+        let bounded = self.core.options.force_bound.is_some()
+            && matches!(self.core.controller, Controller::Dynamic(_));
+        if self.core.movers.is_empty() || bounded {
             return Ok((command, false, memory));
         }
         let h = self.core.period;
@@ -375,6 +389,52 @@ impl<W: World> Navigator<W> {
         }
         let mode = verdict.mode_or(command.mode);
         Ok((Command { value, mode }, true, memory))
+    }
+
+    /// The dynamic law's command under a force bound `F` ([`Options::force_bound`],
+    /// `crate::braking`, docs/movers.md §2.5): within `|f| ≤ F`, and certified to leave the
+    /// robot a way to brake to rest inside the known free space and out of every mover's
+    /// reach; the command itself if it is (bit for bit), else the nearest such force towards
+    /// the full brake ([`Mode::Capped`], or [`Mode::Yielding`] where a mover binds), else the
+    /// full brake ([`Mode::Braking`] or [`Mode::Overwhelmed`], not certified). A way out of a
+    /// band ([`Mode::Recovering`], [`Mode::Escaping`]) is only scaled to `F`. `yielded`:
+    /// whether a mover changed the command (returned as is without a bound).
+    fn braked(
+        &self,
+        x: Vector2<f64>,
+        v: Vector2<f64>,
+        command: Command,
+        yielded: bool,
+    ) -> Result<(Command, bool), NavError> {
+        let (Some(force_bound), Controller::Dynamic(law)) =
+            (self.core.options.force_bound, &self.core.controller)
+        else {
+            return Ok((command, yielded));
+        };
+        if matches!(command.mode, Mode::Recovering(_) | Mode::Escaping) {
+            let value = braking::clip(command.value, force_bound);
+            return Ok((Command { value, ..command }, yielded));
+        }
+        let options = &self.core.options;
+        let (value, verdict) = braking::certify(
+            self.world.field(),
+            &self.core.movers,
+            (x, options.radius, options.margin),
+            (v, command.value),
+            (law.mass(), self.core.period, force_bound),
+        )?;
+        let by_mover = matches!(
+            verdict,
+            braking::Verdict::Overwhelmed { .. }
+                | braking::Verdict::Shortened { mover: Some(_), .. }
+        );
+        Ok((
+            Command {
+                value,
+                mode: verdict.mode_or(command.mode),
+            },
+            yielded || by_mover,
+        ))
     }
 
     /// The continuous law at the state `(x, ẋ)` with what it is made of (`Θ`, `∇Θ`, the

@@ -92,6 +92,12 @@ pub struct Options {
     /// differential-drive base ([`Base::Diff`]) is commanded by
     /// [`crate::Navigator::command_pose`] (docs/unicycle.md).
     pub base: Base,
+    /// The dynamic law's force bound `F`, N: every force commanded has `|f| ≤ F`, and every
+    /// certified one leaves the robot a way to brake to rest at `a = F/m` within the known free
+    /// space and out of every mover's reach (passive safety, docs/movers.md §2.5). `None` (the
+    /// default): no bound, the hold may stop the robot within one period. Refused with the
+    /// kinematic law, which commands velocities.
+    pub force_bound: Option<f64>,
 }
 
 impl Default for Options {
@@ -111,6 +117,7 @@ impl Default for Options {
             control_period: None,
             hold: HoldPolicy::default(),
             base: Base::default(),
+            force_bound: None,
         }
     }
 }
@@ -195,6 +202,16 @@ impl Options {
     pub fn with_control_period(self, h: f64) -> Self {
         Self {
             control_period: Some(h),
+            ..self
+        }
+    }
+
+    /// The dynamic law's force bound `F`, N ([`Options::force_bound`]), in
+    /// [`PARAMETER_RANGE`].
+    #[must_use]
+    pub fn with_force_bound(self, force_bound: f64) -> Self {
+        Self {
+            force_bound: Some(force_bound),
             ..self
         }
     }
@@ -349,6 +366,16 @@ impl Options {
         self.scan.validate(self.rho_min)?;
         in_range("control_period", self.period_for(law))?;
         self.base.validate(law)?;
+        if let Some(f) = self.force_bound {
+            in_range("force_bound", f)?;
+            // A kinematic robot is commanded velocities: a force bound would not bind.
+            if matches!(law, Law::Kinematic { .. }) {
+                return Err(NavError::InvalidOption {
+                    field: "force_bound",
+                    value: f,
+                });
+            }
+        }
         Ok(())
     }
 }

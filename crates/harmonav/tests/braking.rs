@@ -1,0 +1,375 @@
+//! A force-bounded dynamic robot (`Options::force_bound`, issue 54, docs/movers.md §2.5): every
+//! force is within the bound, and every certified command leaves the robot a way to brake to
+//! rest inside the known free space and out of every mover's reach (passive safety). Each
+//! claim with a negative control that fails without the certificate.
+
+mod common;
+
+use harmonav::transform::random::Rng;
+use harmonav::{
+    FloorNavigator, Law, Mode, Mover, NavError, Navigator, Options, StarShape, Vector2,
+};
+
+const RADIUS: f64 = 0.2;
+const MARGIN: f64 = 0.05;
+/// 1 kg, `μ = 10`: a speed bound of `√20` ≈ 4.5 m/s.
+const LAW: Law = Law::Dynamic {
+    mass: 1.0,
+    mu: 10.0,
+};
+
+fn v(x: f64, y: f64) -> Vector2<f64> {
+    Vector2::new(x, y)
+}
+
+/// A seeded world in a disc of radius 6 m: up to five discs of radius 0.3–0.8 m, 0.8 m apart
+/// at least, and a start and a goal clear of them by 0.6 m.
+struct World {
+    discs: Vec<(Vector2<f64>, f64)>,
+    start: Vector2<f64>,
+    goal: Vector2<f64>,
+}
+
+fn world(rng: &mut Rng) -> World {
+    let point = |rng: &mut Rng, r: f64| {
+        v(
+            r * (2.0 * rng.uniform(0.0, 1.0) - 1.0),
+            r * (2.0 * rng.uniform(0.0, 1.0) - 1.0),
+        )
+    };
+    let mut discs: Vec<(Vector2<f64>, f64)> = Vec::new();
+    for _ in 0..40 {
+        if discs.len() == 5 {
+            break;
+        }
+        let (c, r) = (point(rng, 3.0), rng.uniform(0.3, 0.8));
+        if discs.iter().all(|(d, s)| (c - d).norm() > r + s + 0.8) {
+            discs.push((c, r));
+        }
+    }
+    let clear = |p: Vector2<f64>, discs: &[(Vector2<f64>, f64)]| {
+        p.norm() < 4.5 && discs.iter().all(|(c, r)| (p - c).norm() > r + 0.6)
+    };
+    let (mut start, mut goal) = (point(rng, 4.5), point(rng, 4.5));
+    while !clear(start, &discs) {
+        start = point(rng, 4.5);
+    }
+    while !clear(goal, &discs) || (goal - start).norm() < 3.0 {
+        goal = point(rng, 4.5);
+    }
+    World { discs, start, goal }
+}
+
+fn navigator(w: &World, options: Options) -> Navigator {
+    let boundary = StarShape::circle(Vector2::zeros(), 6.0).unwrap();
+    let mut nav =
+        Navigator::new(boundary, w.goal, LAW, options.with_robot(RADIUS, MARGIN)).unwrap();
+    for &(c, r) in &w.discs {
+        nav.add_obstacle(StarShape::circle(c, r).unwrap()).unwrap();
+    }
+    nav
+}
+
+/// The robot disc's least clearance from the true discs and the boundary along the segment
+/// from `a` to `b` (exact: the nearest point of the segment to each centre; `|p|` is largest at
+/// an end).
+fn clearance(w: &World, a: Vector2<f64>, b: Vector2<f64>) -> f64 {
+    let nearest = |c: Vector2<f64>| {
+        let d = b - a;
+        let t = if d == Vector2::zeros() {
+            0.0
+        } else {
+            ((c - a).dot(&d) / d.norm_squared()).clamp(0.0, 1.0)
+        };
+        (a + t * d - c).norm()
+    };
+    w.discs
+        .iter()
+        .map(|&(c, r)| nearest(c) - r)
+        .fold(6.0 - a.norm().max(b.norm()), f64::min)
+        - RADIUS
+}
+
+/// What a closed loop at `h` did: the least clearance along the held steps, the largest force, the commands not certified, and whether it
+/// arrived within 5 cm.
+struct Flight {
+    least: f64,
+    force: f64,
+    uncertified: usize,
+    capped: usize,
+    arrived: bool,
+}
+
+/// The user's loop for `periods` periods of `h`: `v += h f/m, x += h v` (semi-implicit Euler),
+/// the force `clip`ped by the caller's own bound (`f64::INFINITY`: none).
+fn fly(w: &World, nav: &mut Navigator, h: f64, periods: usize, clip: f64) -> Flight {
+    let (mut x, mut vel) = (w.start, Vector2::zeros());
+    let mut flight = Flight {
+        least: f64::INFINITY,
+        force: 0.0,
+        uncertified: 0,
+        capped: 0,
+        arrived: false,
+    };
+    for _ in 0..periods {
+        let Ok(c) = nav.command(x, vel) else {
+            // Inside a grown obstacle with no way out: judged by the clearance already taken.
+            break;
+        };
+        let mut f = c.value;
+        if f.norm() > clip {
+            f *= clip / f.norm();
+        }
+        flight.force = flight.force.max(f.norm());
+        flight.uncertified += usize::from(!c.certified());
+        flight.capped += usize::from(matches!(c.mode, Mode::Capped { .. }));
+        vel += h * f;
+        let next = x + h * vel;
+        flight.least = flight.least.min(clearance(w, x, next));
+        x = next;
+        if (x - w.goal).norm() < 0.05 && vel.norm() < 0.05 {
+            flight.arrived = true;
+            break;
+        }
+    }
+    flight
+}
+
+/// Property: in 40 seeded disc worlds at 50 Hz with `F` = 1.5 N (`a` = 1.5 m/s², a third of
+/// what reaching the speed bound in a second takes), every force is within `F`, every command
+/// is certified, the robot never comes within its margin of a disc or the boundary (the exact
+/// distance along every held step), and the runs arrive (40 of 40 measured). Negative
+/// control: the same navigator without the bound, its force clipped to `F` by the caller
+/// (today's hold, then a base that saturates), touches a disc in most of the same worlds (30
+/// of 40 measured): that hold counted on stopping within a period.
+#[test]
+fn a_force_bounded_robot_keeps_every_certificate_and_never_touches() {
+    let (h, bound) = (0.02, 1.5);
+    let mut rng = Rng::new(2054);
+    let (mut arrived, mut capped, mut violated, mut touched) = (0, 0, 0, 0);
+    for case in 0..40 {
+        let w = world(&mut rng);
+        let options = Options::default().with_control_period(h);
+        let mut nav = navigator(&w, options.with_force_bound(bound));
+        let run = fly(&w, &mut nav, h, 3000, f64::INFINITY);
+        assert!(run.force <= bound, "case {case}: |f| = {}", run.force);
+        assert_eq!(run.uncertified, 0, "case {case}");
+        assert!(
+            run.least >= MARGIN - 1e-9,
+            "case {case}: clearance {}",
+            run.least
+        );
+        arrived += usize::from(run.arrived);
+        capped += run.capped;
+        let mut free = navigator(&w, options);
+        let clipped = fly(&w, &mut free, h, 3000, bound);
+        violated += usize::from(clipped.least < MARGIN);
+        touched += usize::from(clipped.least < 0.0);
+    }
+    assert!(capped > 0, "the certificate never bound");
+    assert!(arrived >= 36, "{arrived}/40 arrived");
+    // Measured: 31 of 40 within the margin, 30 of them touching.
+    assert!(
+        violated >= 10 && touched >= 10,
+        "the negative control: {violated} within the margin, {touched} touching"
+    );
+}
+
+/// With a bound that never binds the commands are the unbounded navigator's, bit for bit.
+#[test]
+fn a_bound_that_never_binds_changes_nothing() {
+    let mut rng = Rng::new(7);
+    let w = world(&mut rng);
+    let options = Options::default().with_control_period(0.01);
+    let mut bounded = navigator(&w, options.with_force_bound(1e9));
+    let mut free = navigator(&w, options);
+    let (mut x, mut vel) = (w.start, Vector2::zeros());
+    for _ in 0..500 {
+        let a = bounded.command(x, vel).unwrap();
+        let b = free.command(x, vel).unwrap();
+        assert_eq!(a, b);
+        vel += 0.01 * b.value;
+        x += 0.01 * vel;
+    }
+}
+
+/// The backup of eq. backupmover against an oracle: from 2 000 seeded states with movers that
+/// close in at their speed bound, every certified command's manoeuvre (the period, then the
+/// full brake to rest, simulated as the user's loop) keeps the robot's grown disc out of every
+/// mover's reach at every step. Negative control: the movers reported with a speed bound of 0
+/// give certified commands that the oracle, with the true bound, refutes.
+#[test]
+fn every_certified_backup_keeps_out_of_every_reach() {
+    let (h, bound) = (0.05, 2.0);
+    let mut rng = Rng::new(541);
+    let (mut certified, mut refuted_blind) = (0, 0);
+    for case in 0..2000 {
+        let goal = v(rng.uniform(-3.0, 3.0), rng.uniform(-3.0, 3.0));
+        let x = v(rng.uniform(-3.0, 3.0), rng.uniform(-3.0, 3.0));
+        let vel = v(rng.uniform(-1.5, 1.5), rng.uniform(-1.5, 1.5));
+        if (x - goal).norm() < 0.5 {
+            continue;
+        }
+        let movers: Vec<Mover> = (0..1 + case % 3)
+            .map(|_| {
+                let centre = x + v(rng.uniform(-3.0, 3.0), rng.uniform(-3.0, 3.0));
+                Mover::new(centre, 0.25, rng.uniform(0.2, 1.5)).with_error(rng.uniform(0.0, 0.05))
+            })
+            .filter(|m| (m.centre - x).norm() > RADIUS + m.radius + 0.05)
+            .collect();
+        let boundary = StarShape::circle(Vector2::zeros(), 20.0).unwrap();
+        let options = Options::default()
+            .with_robot(RADIUS, MARGIN)
+            .with_control_period(h)
+            .with_force_bound(bound);
+        let mut nav = Navigator::new(boundary.clone(), goal, LAW, options).unwrap();
+        nav.set_movers(&movers).unwrap();
+        let c = nav.command(x, vel).unwrap();
+        assert!(c.value.norm() <= bound, "case {case}");
+        if c.certified() {
+            certified += 1;
+            let gap = backup_gap(x, vel, c.value, h, bound, &movers);
+            assert!(gap >= 0.0, "case {case}: {gap} ({:?})", c.mode);
+        }
+        let blind: Vec<Mover> = movers
+            .iter()
+            .map(|m| Mover::new(m.centre, m.radius, 0.0).with_error(m.position_error))
+            .collect();
+        let mut nav = Navigator::new(boundary, goal, LAW, options).unwrap();
+        nav.set_movers(&blind).unwrap();
+        let c = nav.command(x, vel).unwrap();
+        if c.certified() && backup_gap(x, vel, c.value, h, bound, &movers) < 0.0 {
+            refuted_blind += 1;
+        }
+    }
+    // Measured: 1 407 certified; 160 of the blind commands refuted.
+    assert!(certified > 1000, "{certified}");
+    assert!(refuted_blind > 0, "the blind movers were never refuted");
+}
+
+/// The least, over the manoeuvre of `f` from `(x, vel)` (the period, then `|f| = F` against the
+/// velocity until rest, each period as the user's loop holds it) and over the instants `t` of
+/// its states and of points along the steps between them while the robot moves, of the robot's distance to mover `j`'s
+/// reported centre less `R + m + r_j + ε_j + V_j t`: the gap to the reachable disc.
+fn backup_gap(
+    x: Vector2<f64>,
+    vel: Vector2<f64>,
+    f: Vector2<f64>,
+    h: f64,
+    bound: f64,
+    movers: &[Mover],
+) -> f64 {
+    let gap = |p: Vector2<f64>, t: f64| {
+        movers
+            .iter()
+            .map(|m| {
+                (p - m.centre).norm()
+                    - (RADIUS + MARGIN + m.radius + m.position_error)
+                    - m.speed_bound * t
+            })
+            .fold(f64::INFINITY, f64::min)
+    };
+    let (mut p, mut u, mut t) = (x, vel + h * f, 0.0);
+    let mut least = gap(p, 0.0);
+    // While the robot moves; at rest a mover may come to it (passive safety).
+    while u != Vector2::zeros() {
+        let next = p + h * u;
+        // Along the step the distance falls by at most the step, the reach grows by `V h`.
+        for k in 1..=8 {
+            let s = f64::from(k) / 8.0;
+            least = least.min(gap(p + s * (next - p), t + s * h));
+        }
+        p = next;
+        t += h;
+        let speed = u.norm();
+        u = if speed <= h * bound {
+            Vector2::zeros()
+        } else {
+            u * (1.0 - h * bound * (1.0 - 4.0 * f64::EPSILON) / speed)
+        };
+    }
+    least
+}
+
+/// A bound that is not finite and positive, or one given to the kinematic law, is refused by
+/// name, and the message says what it must be.
+#[test]
+fn bad_force_bounds_are_refused_by_name() {
+    let boundary = StarShape::circle(Vector2::zeros(), 5.0).unwrap();
+    for (law, f) in [
+        (LAW, f64::NAN),
+        (LAW, 0.0),
+        (LAW, -1.0),
+        (LAW, f64::INFINITY),
+        (Law::kinematic(1.0), 2.0),
+    ] {
+        let e = Navigator::new(
+            boundary.clone(),
+            v(1.0, 0.0),
+            law,
+            Options::default().with_force_bound(f),
+        )
+        .unwrap_err();
+        assert!(
+            matches!(
+                e,
+                NavError::InvalidOption {
+                    field: "force_bound",
+                    ..
+                }
+            ),
+            "{e:?}"
+        );
+        assert!(e.to_string().contains("dynamic law"), "{e}");
+    }
+}
+
+/// A robot handed a state it cannot stop from (2 m/s towards a wall 0.5 m away, `a` = 1 m/s²:
+/// 2 m to stop) is braked at the bound, and told so: `Mode::Braking`, not certified; once it
+/// has slowed enough the commands are certified again.
+#[test]
+fn a_state_that_cannot_stop_in_time_is_braked_and_not_certified() {
+    let boundary = StarShape::circle(Vector2::zeros(), 3.0).unwrap();
+    let options = Options::default()
+        .with_robot(RADIUS, MARGIN)
+        .with_control_period(0.01)
+        .with_force_bound(1.0);
+    let mut nav = Navigator::new(boundary, v(-2.0, 0.0), LAW, options).unwrap();
+    let (x, vel) = (v(2.2, 0.0), v(2.0, 0.0));
+    let c = nav.command(x, vel).unwrap();
+    assert_eq!(c.mode, Mode::Braking);
+    assert!(!c.certified());
+    assert!((c.value + v(1.0, 0.0)).norm() < 1e-12, "{:?}", c.value);
+    // From rest there: certified.
+    let c = nav.command(x, Vector2::zeros()).unwrap();
+    assert!(c.certified(), "{:?}", c.mode);
+}
+
+/// A floor plan takes the same bound (one navigator over either world): in the L room at
+/// 50 Hz with `F` = 1 N, from the end of one arm to the end of the other, every force is
+/// within `F`, the disc stays clear of the walls along every held step (`common::held_step`)
+/// and the robot arrives.
+#[test]
+fn a_force_bounded_robot_on_a_floor_plan_arrives_within_the_bound() {
+    let floor = common::l_room();
+    let (h, bound) = (0.02, 1.0);
+    let options = Options::default()
+        .with_robot(0.1, 0.1)
+        .with_control_period(h)
+        .with_force_bound(bound);
+    let goal = v(3.5, 0.75);
+    let mut nav = FloorNavigator::new(floor.clone(), goal, LAW, options).unwrap();
+    let (mut x, mut vel) = (v(0.75, 3.5), Vector2::zeros());
+    let mut arrived = false;
+    for _ in 0..6000 {
+        let c = nav.command(x, vel).unwrap();
+        assert!(c.value.norm() <= bound, "{:?} at {x:?}", c.value);
+        assert!(c.certified(), "{:?} at {x:?}", c.mode);
+        x = common::held_step(&floor, LAW, h, x, &mut vel, c.value);
+        if (x - goal).norm() < 0.05 && vel.norm() < 0.05 {
+            arrived = true;
+            break;
+        }
+    }
+    assert!(arrived, "at {x:?}");
+}
