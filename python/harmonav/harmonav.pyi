@@ -149,6 +149,13 @@ class Navigator:
     ``"yielding"`` when the filter changed it, ``"overwhelmed"`` (and ``certified`` False) when
     no command could be certified against them.
 
+    ``force_bound`` (N, the dynamic law only) bounds every force, ``|f| ≤ F``, and certifies a
+    command only if the robot can still brake to rest at ``F/m`` inside the known free space
+    and out of every mover's reach (docs/movers.md §2): ``mode`` is ``"bounded"`` when the
+    bound changed the command, ``"braking"`` (and ``certified`` False) when even the full
+    brake's way to rest is not certified. Not finite, not positive, or with the kinematic law:
+    a ``ValueError`` naming it.
+
     Threads: calls on one navigator are serialised by a lock inside it; a call made while
     another thread's call runs (``observe_scan`` releases the GIL) waits for it instead of
     failing.
@@ -181,6 +188,7 @@ class Navigator:
         omega_max: Optional[float] = None,
         a_max: Optional[float] = None,
         alpha_max: Optional[float] = None,
+        force_bound: Optional[float] = None,
     ) -> None: ...
     def observe_scan(
         self,
@@ -545,6 +553,7 @@ class _Options(TypedDict, total=False):
     omega_max: Optional[float]
     a_max: Optional[float]
     alpha_max: Optional[float]
+    force_bound: Optional[float]
 
 class FloorNavigator(Navigator):
     """The navigator of a robot on a floor plan, a ``Navigator``: the walls are known (rings of

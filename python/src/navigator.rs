@@ -63,6 +63,12 @@ use crate::shapes::{Shape, from_perceived};
 /// (a saddle of `Θ`, a narrow valley), is the steepest certified descent among 16 directions
 /// (`"from-rest"`, §10.1). `hold="paper"` gives the continuous law sampled as is.
 ///
+/// `force_bound` (N, dynamic law only; default `None`) bounds every force, `|f| ≤ F`, and
+/// certifies each command only if the robot can still brake to rest at `F/m` inside the
+/// known free space and out of every mover's reach (docs/movers.md §2): `mode` is
+/// `"bounded"` when the bound changed the command, `"braking"` (and `certified` False) when
+/// even the full brake's way to rest is not certified (a start at speed, say).
+///
 /// Invalid parameters raise `ValueError` with the Rust `NavError`'s message, which names the
 /// parameter (every range is the scenario files'; `d_min`, the speed bound and `λ_c` are
 /// checked finite); a keyword that is not an option is a `TypeError` naming it. Both worlds
@@ -859,7 +865,8 @@ impl Navigator {
                           damping='governed', rho_min=0.05, control_period=None, hold='auto', \
                           speed='auto', v_max=None, range_noise=0.02, max_obstacle_depth=1.0, \
                           growth_threshold=0.02, fit_range=None, free_memory=16, \
-                          base='holonomic', omega_max=None, a_max=None, alpha_max=None)"
+                          base='holonomic', omega_max=None, a_max=None, alpha_max=None, \
+                          force_bound=None)"
     )]
     fn new(
         boundary: &Shape,
@@ -1025,10 +1032,11 @@ impl Navigator {
     }
 
     /// Whether the last command is certified to keep the robot clear over the period: False
-    /// only when it could not be certified against a mover (`mode == "overwhelmed"`).
+    /// only when it could not be certified against a mover (`mode == "overwhelmed"`), or a
+    /// force-bounded robot's way to rest could not be (`mode == "braking"`).
     #[getter]
     fn certified(&self, py: Python<'_>) -> bool {
-        !matches!(self.state(py).mode, Mode::Overwhelmed { .. })
+        self.state(py).mode.certified()
     }
 
     /// How the last `command_pose` formed `(v, omega)`: `"ahead"` (aligned descent as it is),

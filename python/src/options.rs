@@ -15,7 +15,7 @@ use pyo3::types::{PyDict, PyTuple};
 use crate::convert::{integer, policy, value_error};
 
 /// The names of the options, in `Navigator(boundary, goal, …)`'s positional order.
-pub(crate) const NAMES: [&str; 23] = [
+pub(crate) const NAMES: [&str; 24] = [
     "law",
     "gain",
     "mass",
@@ -39,6 +39,7 @@ pub(crate) const NAMES: [&str; 23] = [
     "omega_max",
     "a_max",
     "alpha_max",
+    "force_bound",
 ];
 
 /// The options of a navigator over either world, as given (what pickle rebuilds it with):
@@ -72,6 +73,8 @@ pub(crate) struct Keywords {
     /// A differential-drive base's acceleration limits, m/s² and rad/s² (both or neither).
     a_max: Option<f64>,
     alpha_max: Option<f64>,
+    /// The dynamic law's force bound `F`, N (issue 54: the braking certificate).
+    force_bound: Option<f64>,
 }
 
 impl Default for Keywords {
@@ -102,6 +105,7 @@ impl Default for Keywords {
             omega_max: None,
             a_max: None,
             alpha_max: None,
+            force_bound: o.force_bound,
         }
     }
 }
@@ -165,6 +169,7 @@ impl Keywords {
             "omega_max" => value.extract().map(|v| self.omega_max = v),
             "a_max" => value.extract().map(|v| self.a_max = v),
             "alpha_max" => value.extract().map(|v| self.alpha_max = v),
+            "force_bound" => value.extract().map(|v| self.force_bound = v),
             _ => {
                 return Err(PyTypeError::new_err(format!(
                     "{class}() got an unexpected keyword argument '{name}'"
@@ -200,6 +205,7 @@ impl Keywords {
             self.omega_max.into_pyobject(py)?.into_any(),
             self.a_max.into_pyobject(py)?.into_any(),
             self.alpha_max.into_pyobject(py)?.into_any(),
+            self.force_bound.into_pyobject(py)?.into_any(),
         ])
     }
 
@@ -242,6 +248,9 @@ impl Keywords {
         }
         // After `with_v_max`: a differential-drive base caps the law's speed at its own bound.
         options = options.with_base(self.base()?);
+        if let Some(f) = self.force_bound {
+            options = options.with_force_bound(f);
+        }
         options.validate(&law).map_err(value_error)?;
         Ok((law, options))
     }

@@ -168,6 +168,11 @@ pub struct FloorRobotSpec {
     /// See `a_max`.
     #[serde(default)]
     pub alpha_max: Option<f64>,
+    /// The dynamic law's force bound `F`, N ([`harmonav::Options::with_force_bound`], the
+    /// braking certificate), as a star world's `[robot] force_bound` (a kinematic run of the
+    /// file has no force to bound).
+    #[serde(default)]
+    pub force_bound: Option<f64>,
 }
 
 impl FloorRobotSpec {
@@ -594,6 +599,9 @@ impl FloorScenario {
         if let Some(h) = r.control_period {
             crate::scenario::control_period(h, self.sim.max_time)
                 .map_err(|p| f("robot.control_period", p))?;
+        }
+        if let Some(force) = r.force_bound {
+            crate::scenario::parameter(force).map_err(|p| f("robot.force_bound", p))?;
         }
         let h = self.floor_plan.max_element;
         if !(h.is_finite() && h > 0.0 && h <= harmonav_transform::MAX_LENGTH) {

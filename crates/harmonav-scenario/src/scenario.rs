@@ -415,6 +415,12 @@ pub struct ControllerSpec {
     /// The file's `[robot] alpha_max`, rad/s²: its largest change of `ω` per second.
     #[serde(skip)]
     pub alpha_max: Option<f64>,
+    /// The file's `[robot] force_bound`, N: the dynamic law's force bound `F`
+    /// ([`harmonav::Options::with_force_bound`], the braking certificate; a kinematic run of
+    /// the file, under `--model kinematic`, has no force to bound). A file with one runs in
+    /// the held-command loop, as a file with movers does.
+    #[serde(skip)]
+    pub force_bound: Option<f64>,
 }
 
 impl Default for ControllerSpec {
@@ -431,6 +437,7 @@ impl Default for ControllerSpec {
             yaw: None,
             a_max: None,
             alpha_max: None,
+            force_bound: None,
         }
     }
 }
@@ -722,6 +729,8 @@ struct RobotFile {
     a_max: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     alpha_max: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    force_bound: Option<f64>,
 }
 
 impl From<ScenarioFile> for Scenario {
@@ -749,6 +758,7 @@ impl From<ScenarioFile> for Scenario {
                 yaw: r.yaw,
                 a_max: r.a_max,
                 alpha_max: r.alpha_max,
+                force_bound: r.force_bound,
                 ..file.controller
             },
             sim: SimSpec {
@@ -784,6 +794,7 @@ impl From<Scenario> for ScenarioFile {
                 yaw: s.controller.yaw,
                 a_max: s.controller.a_max,
                 alpha_max: s.controller.alpha_max,
+                force_bound: s.controller.force_bound,
             },
             sensor: s.sensor,
             field: s.field,
@@ -896,6 +907,9 @@ impl Scenario {
         }
         if let Some(h) = c.control_period {
             control_period(h, self.sim.max_time).map_err(|p| f("robot.control_period", p))?;
+        }
+        if let Some(force) = c.force_bound {
+            in_range("robot.force_bound", force)?;
         }
         self.check_base().map_err(|(field, p)| f(field, p))?;
         if let Some(v) = self.expect.as_ref().and_then(|e| e.max_speed_below)

@@ -232,3 +232,35 @@ fn random_starts_are_the_files_starts_rule() {
         p.check_start(s).unwrap_or_else(|e| panic!("{s:?}: {e}"));
     }
 }
+
+/// `[robot] force_bound` (issue 54, the braking certificate) is read alike in both formats,
+/// round-trips in a star world, and a bad value is refused naming the key and the file.
+#[test]
+fn both_formats_read_the_force_bound_and_refuse_a_bad_one() {
+    let with = format!("{ROBOT}\nforce_bound = 2.5");
+    let path = Path::new("star.toml");
+    let parsed = Scenario::parse(path, &star(&with, "")).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(parsed.controller.force_bound, Some(2.5));
+    let text = toml::to_string(&parsed).unwrap();
+    assert!(text.contains("force_bound = 2.5"), "{text}");
+    assert_eq!(Scenario::parse(path, &text).unwrap(), parsed);
+    let path = Path::new("floor.toml");
+    let floor_plan =
+        FloorScenario::parse(path, &floor(&with, "")).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(floor_plan.robot.force_bound, Some(2.5));
+    for value in ["0.0", "-1.0", "nan", "inf"] {
+        let robot = format!("{ROBOT}\nforce_bound = {value}");
+        let path = Path::new("star-bad.toml");
+        let e = Scenario::parse(path, &star(&robot, ""))
+            .and_then(|s| s.prepare(path))
+            .unwrap_err();
+        assert_eq!(e.field, "robot.force_bound", "{value}: {e}");
+        assert!(e.to_string().starts_with("star-bad.toml"), "{e}");
+        let path = Path::new("floor-bad.toml");
+        let e = FloorScenario::parse(path, &floor(&robot, ""))
+            .and_then(|s| s.prepare(path))
+            .unwrap_err();
+        assert_eq!(e.field, "robot.force_bound", "{value}: {e}");
+        assert!(e.to_string().starts_with("floor-bad.toml"), "{e}");
+    }
+}

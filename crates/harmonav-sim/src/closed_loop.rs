@@ -72,6 +72,9 @@ impl<'a> ClosedLoop<'a> {
         if let Some(base) = prepared.base() {
             options = options.with_base(base);
         }
+        if let (Some(force), Model::Dynamic) = (sc.controller.force_bound, model) {
+            options = options.with_force_bound(force);
+        }
         // The lidar's fit range for this law (eq. fitnear), for the navigator and the
         // scanner's claim alike.
         let lidar = truth.sensor.lidar().map(|l| l.for_law(&law, &options));

@@ -170,6 +170,9 @@ pub(crate) fn navigator_and_lidar(
     if let Some(base) = prepared.base() {
         options = options.with_base(base);
     }
+    if let (Some(force), Model::Dynamic) = (r.force_bound, model.unwrap_or(r.model)) {
+        options = options.with_force_bound(force);
+    }
     let lidar = prepared
         .lidar
         .map(|(l, rho)| (l.for_law(&law, &options), rho));
@@ -656,7 +659,7 @@ impl<'a, 'c, 'h, 'o> Flight<'a, 'c, 'h, 'o> {
             let length = c.v.abs() * h;
             out.path += length;
             self.last = Some((self.clearance, length));
-            let certified = mode.is_some_and(|m| !matches!(m, harmonav::Mode::Overwhelmed { .. }));
+            let certified = mode.is_some_and(|m| m.certified());
             let arc = Sweep::Arc {
                 x,
                 yaw,
@@ -721,9 +724,7 @@ impl<'a, 'c, 'h, 'o> Flight<'a, 'c, 'h, 'o> {
         }
         out.path += step;
         self.last = Some((self.clearance, step));
-        let certified = mode
-            .as_ref()
-            .is_some_and(|m| !matches!(m, harmonav::Mode::Overwhelmed { .. }));
+        let certified = mode.as_ref().is_some_and(|m| m.certified());
         if movers {
             self.last_mode = Some(mode.as_ref().map_or("refused", harmonav::Mode::as_str));
         }

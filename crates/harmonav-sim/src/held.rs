@@ -136,10 +136,11 @@ pub(crate) fn fly_with(
             let x1;
             (x1, v) = u.period(&prepared.truth, x, &c, h);
             if !world.is_empty() {
-                let certified = mode.is_some_and(|m| !matches!(m, Mode::Overwhelmed { .. }));
+                let certified = mode.is_some_and(|m| m.certified());
                 world.count(mode.as_ref());
                 last_mode = Some(mode.as_ref().map_or("refused", Mode::as_str));
-                acted = !certified || matches!(mode, Some(Mode::Yielding { .. }));
+                acted = !certified
+                    || matches!(mode, Some(Mode::Yielding { .. } | Mode::Bounded { .. }));
                 let arc = Sweep::Arc {
                     x,
                     yaw,
@@ -162,12 +163,10 @@ pub(crate) fn fly_with(
             Err(NavError::InMover { .. }) => (-mass * v / h, None),
             Err(e) => return Err(e.into()),
         };
-        let certified = mode
-            .as_ref()
-            .is_some_and(|m| !matches!(m, Mode::Overwhelmed { .. }));
+        let certified = mode.as_ref().is_some_and(|m| m.certified());
         world.count(mode.as_ref());
         last_mode = Some(mode.as_ref().map_or("refused", Mode::as_str));
-        acted = !certified || matches!(mode, Some(Mode::Yielding { .. }));
+        acted = !certified || matches!(mode, Some(Mode::Yielding { .. } | Mode::Bounded { .. }));
         let before = potential(&d, x, v);
         let (x1, v1) = match mode {
             Some(_) => held(d.nav().controller(), h, x, v, command),
@@ -431,11 +430,12 @@ fn fleet(
                 // A differential drive: the arc of its `(v, ω)`, judged along its length.
                 let yaw = u.yaw;
                 let (c, mode) = pose_command(r.d.nav_mut(), x, yaw, true)?;
-                let certified = mode.is_some_and(|m| !matches!(m, Mode::Overwhelmed { .. }));
+                let certified = mode.is_some_and(|m| m.certified());
                 r.turning = c.v == 0.0 && c.omega != 0.0;
                 r.world.count(mode.as_ref());
                 r.mode = Some(mode.as_ref().map_or("refused", Mode::as_str));
-                r.acted = !certified || matches!(mode, Some(Mode::Yielding { .. }));
+                r.acted = !certified
+                    || matches!(mode, Some(Mode::Yielding { .. } | Mode::Bounded { .. }));
                 let (x1, v1) = u.period(&prepared.truth, x, &c, h);
                 let arc = Sweep::Arc {
                     x,
@@ -453,12 +453,11 @@ fn fleet(
                 Err(NavError::InMover { .. }) => (-r.mass * v / h, None),
                 Err(e) => return Err(e.into()),
             };
-            let certified = mode
-                .as_ref()
-                .is_some_and(|m| !matches!(m, Mode::Overwhelmed { .. }));
+            let certified = mode.as_ref().is_some_and(|m| m.certified());
             r.world.count(mode.as_ref());
             r.mode = Some(mode.as_ref().map_or("refused", Mode::as_str));
-            r.acted = !certified || matches!(mode, Some(Mode::Yielding { .. }));
+            r.acted =
+                !certified || matches!(mode, Some(Mode::Yielding { .. } | Mode::Bounded { .. }));
             let before = potential(&r.d, x, v);
             let (x1, v1) = match mode {
                 Some(_) => held(r.d.nav().controller(), h, x, v, command),

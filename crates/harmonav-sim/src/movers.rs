@@ -186,9 +186,11 @@ pub fn closest_approach(
 pub struct MoverReport {
     /// Movers in the file.
     pub movers: usize,
-    /// Commands in a certified mode (anything but `Overwhelmed`), `Yielding` included.
+    /// Commands in a certified mode (anything but `Overwhelmed` and `Braking`), `Yielding`
+    /// included.
     pub certified_commands: usize,
-    /// Commands the filter could not certify (`Mode::Overwhelmed`).
+    /// Commands not certified: the filter's `Mode::Overwhelmed`, or a force-bounded robot's
+    /// `Mode::Braking` (its way to rest not certified).
     pub overwhelmed_commands: usize,
     /// Certified commands the filter changed (`Mode::Yielding`).
     pub yielding_commands: usize,
@@ -330,7 +332,8 @@ impl MoverWorld {
         let r = &mut self.report;
         match mode {
             None => r.refused_commands += 1,
-            Some(Mode::Overwhelmed { .. }) => r.overwhelmed_commands += 1,
+            // Not certified: overwhelmed by a mover, or a force-bounded robot's brake.
+            Some(m) if !m.certified() => r.overwhelmed_commands += 1,
             Some(m) => {
                 r.certified_commands += 1;
                 r.yielding_commands += usize::from(matches!(m, Mode::Yielding { .. }));

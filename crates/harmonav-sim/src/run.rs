@@ -301,9 +301,11 @@ pub(crate) fn integrate(
 ) -> Result<Run, RunError> {
     if !(prepared.scenario.sim.movers.is_empty() && prepared.scenario.sim.robots.is_empty())
         || prepared.base().is_some()
+        || prepared.scenario.controller.force_bound.is_some()
     {
         // Movers need the command held for the period their filter certifies; a differential
-        // drive's `(v, ω)` is certified on the arc it sweeps in one period.
+        // drive's `(v, ω)` is certified on the arc it sweeps in one period; a force bound's
+        // braking certificate is the held command's.
         return crate::held::fly(prepared, model, warnings, observer);
     }
     let sc = &prepared.scenario;

@@ -1,5 +1,5 @@
 //! The braking certificate of a force-bounded dynamic robot ([`crate::Options::force_bound`],
-//! issue 54, docs/movers.md §2.5): passive safety. Without a bound the dynamic hold may stop
+//! issue 54, docs/movers.md §2): passive safety. Without a bound the dynamic hold may stop
 //! the robot within one period (`h|v⁺| ≤ c·d(x)`); with `|f| ≤ F` it needs `|v|²/2a`
 //! (`a = F/m`) to stop, and a command that is safe for one period can leave it no way to stop
 //! in time. A command is certified here when, after it, the robot can still brake to rest
@@ -90,7 +90,7 @@ pub(crate) enum Verdict {
 }
 
 impl Verdict {
-    /// The mode of a command `kept` that this verdict changed.
+    /// The mode of the command, `kept` the hold's.
     pub(crate) fn mode_or(self, kept: Mode) -> Mode {
         match self {
             Self::Kept => kept,
@@ -98,10 +98,7 @@ impl Verdict {
                 scale,
                 mover: Some(mover),
             } => Mode::Yielding { mover, scale },
-            Self::Shortened { scale, mover: None } => match kept {
-                Mode::Law | Mode::Capped { .. } => Mode::Capped { scale },
-                other => other,
-            },
+            Self::Shortened { scale, mover: None } => Mode::Bounded { scale },
             Self::Braking => Mode::Braking,
             Self::Overwhelmed { mover, shortfall } => Mode::Overwhelmed { mover, shortfall },
         }

@@ -213,7 +213,11 @@ pub fn fly(
             Mode::FromRest => flight.capped += 1,
             // These flights stop at a refused scan, before any halted command, and have no
             // movers.
-            Mode::Halted | Mode::Yielding { .. } | Mode::Overwhelmed { .. } | Mode::Braking => {}
+            Mode::Halted
+            | Mode::Yielding { .. }
+            | Mode::Overwhelmed { .. }
+            | Mode::Bounded { .. }
+            | Mode::Braking => {}
         }
         let c = command.value;
         integrator.advance(law, h, c, &mut x, &mut v);

@@ -73,17 +73,34 @@ pub enum Mode {
         /// The largest shortfall, m/s.
         shortfall: f64,
     },
+    /// Under a force bound ([`crate::Options::force_bound`]): the command was scaled to the
+    /// bound `|f| ≤ F`, or moved towards the full brake until the way it brakes to rest is
+    /// certified free (the braking certificate, docs/movers.md §2); `scale` of the speed
+    /// after the period that was asked for. The law is then not followed exactly, and its
+    /// energy `V` may rise.
+    Bounded {
+        /// The speed kept.
+        scale: f64,
+    },
     /// Under a force bound ([`crate::Options::force_bound`]): the full brake, `|f| = F`
     /// against the velocity (or to rest within the period), and the way it brakes to rest is
     /// not certified free of the known shapes: the robot was handed a state it cannot stop
     /// from in the free space it knows (a start at speed, an obstacle found within its
-    /// braking distance). [`Command::certified`] is false (docs/movers.md §2.5).
+    /// braking distance). [`Command::certified`] is false (docs/movers.md §2).
     Braking,
 }
 
 impl Mode {
+    /// Whether a command formed this way is certified ([`Command::certified`]): all but
+    /// [`Mode::Overwhelmed`] and [`Mode::Braking`].
+    #[must_use]
+    pub fn certified(&self) -> bool {
+        !matches!(self, Mode::Overwhelmed { .. } | Mode::Braking)
+    }
+
     /// The name used in logs, JSON and Python (`"law"`, `"capped"`, `"recovering"`,
-    /// `"escaping"`, `"from-rest"`, `"halted"`, `"yielding"`, `"overwhelmed"`, `"braking"`).
+    /// `"escaping"`, `"from-rest"`, `"halted"`, `"yielding"`, `"overwhelmed"`, `"bounded"`,
+    /// `"braking"`).
     #[must_use]
     pub fn as_str(&self) -> &'static str {
         match self {
@@ -95,6 +112,7 @@ impl Mode {
             Self::Halted => "halted",
             Self::Yielding { .. } => "yielding",
             Self::Overwhelmed { .. } => "overwhelmed",
+            Self::Bounded { .. } => "bounded",
             Self::Braking => "braking",
         }
     }
@@ -117,7 +135,7 @@ impl Command {
     /// [`Mode::Law`]).
     #[must_use]
     pub fn certified(&self) -> bool {
-        !matches!(self.mode, Mode::Overwhelmed { .. } | Mode::Braking)
+        self.mode.certified()
     }
 }
 

@@ -392,10 +392,10 @@ impl<W: World> Navigator<W> {
     }
 
     /// The dynamic law's command under a force bound `F` ([`Options::force_bound`],
-    /// `crate::braking`, docs/movers.md §2.5): within `|f| ≤ F`, and certified to leave the
+    /// `crate::braking`, docs/movers.md §2): within `|f| ≤ F`, and certified to leave the
     /// robot a way to brake to rest inside the known free space and out of every mover's
     /// reach; the command itself if it is (bit for bit), else the nearest such force towards
-    /// the full brake ([`Mode::Capped`], or [`Mode::Yielding`] where a mover binds), else the
+    /// the full brake ([`Mode::Bounded`], or [`Mode::Yielding`] where a mover binds), else the
     /// full brake ([`Mode::Braking`] or [`Mode::Overwhelmed`], not certified). A way out of a
     /// band ([`Mode::Recovering`], [`Mode::Escaping`]) is only scaled to `F`. `yielded`:
     /// whether a mover changed the command (returned as is without a bound).

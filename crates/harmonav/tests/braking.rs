@@ -1,4 +1,4 @@
-//! A force-bounded dynamic robot (`Options::force_bound`, issue 54, docs/movers.md §2.5): every
+//! A force-bounded dynamic robot (`Options::force_bound`, issue 54, docs/movers.md §2): every
 //! force is within the bound, and every certified command leaves the robot a way to brake to
 //! rest inside the known free space and out of every mover's reach (passive safety). Each
 //! claim with a negative control that fails without the certificate.
@@ -96,7 +96,7 @@ struct Flight {
     least: f64,
     force: f64,
     uncertified: usize,
-    capped: usize,
+    bounded: usize,
     arrived: bool,
 }
 
@@ -108,7 +108,7 @@ fn fly(w: &World, nav: &mut Navigator, h: f64, periods: usize, clip: f64) -> Fli
         least: f64::INFINITY,
         force: 0.0,
         uncertified: 0,
-        capped: 0,
+        bounded: 0,
         arrived: false,
     };
     for _ in 0..periods {
@@ -122,7 +122,7 @@ fn fly(w: &World, nav: &mut Navigator, h: f64, periods: usize, clip: f64) -> Fli
         }
         flight.force = flight.force.max(f.norm());
         flight.uncertified += usize::from(!c.certified());
-        flight.capped += usize::from(matches!(c.mode, Mode::Capped { .. }));
+        flight.bounded += usize::from(matches!(c.mode, Mode::Bounded { .. }));
         vel += h * f;
         let next = x + h * vel;
         flight.least = flight.least.min(clearance(w, x, next));
@@ -146,7 +146,7 @@ fn fly(w: &World, nav: &mut Navigator, h: f64, periods: usize, clip: f64) -> Fli
 fn a_force_bounded_robot_keeps_every_certificate_and_never_touches() {
     let (h, bound) = (0.02, 1.5);
     let mut rng = Rng::new(2054);
-    let (mut arrived, mut capped, mut violated, mut touched) = (0, 0, 0, 0);
+    let (mut arrived, mut bounded, mut violated, mut touched) = (0, 0, 0, 0);
     for case in 0..40 {
         let w = world(&mut rng);
         let options = Options::default().with_control_period(h);
@@ -160,13 +160,13 @@ fn a_force_bounded_robot_keeps_every_certificate_and_never_touches() {
             run.least
         );
         arrived += usize::from(run.arrived);
-        capped += run.capped;
+        bounded += run.bounded;
         let mut free = navigator(&w, options);
         let clipped = fly(&w, &mut free, h, 3000, bound);
         violated += usize::from(clipped.least < MARGIN);
         touched += usize::from(clipped.least < 0.0);
     }
-    assert!(capped > 0, "the certificate never bound");
+    assert!(bounded > 0, "the certificate never bound");
     assert!(arrived >= 36, "{arrived}/40 arrived");
     // Measured: 31 of 40 within the margin, 30 of them touching.
     assert!(
