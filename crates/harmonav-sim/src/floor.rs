@@ -78,6 +78,8 @@ pub struct FloorRun {
     pub path: f64,
     /// The largest speed `|ẋ|`, m/s.
     pub max_speed: f64,
+    /// The largest force `|f|` held (the dynamic law; 0 for the kinematic law), N.
+    pub max_force: f64,
     /// Obstacles sensed and added.
     pub sensed: usize,
     /// The sensed obstacles in order: name, index, time, and the robot's position then (the
@@ -426,6 +428,7 @@ impl<'a, 'c, 'h, 'o> Flight<'a, 'c, 'h, 'o> {
             final_distance: (start - goal).norm(),
             path: 0.0,
             max_speed: 0.0,
+            max_force: 0.0,
             sensed: 0,
             discoveries: Vec::new(),
             k: nav.k(),
@@ -686,12 +689,13 @@ impl<'a, 'c, 'h, 'o> Flight<'a, 'c, 'h, 'o> {
                     mode = Some(c.mode);
                     c.value
                 }
-                // The reported bodies overlap: no certified command; the robot stops.
+                // The reported bodies overlap: no certified command; the robot stops (as hard
+                // as its force bound lets it).
                 Err(NavError::InMover { .. }) if movers => {
                     if self.kinematic {
                         Vector2::zeros()
                     } else {
-                        -self.mass * self.vel / h
+                        crate::held::stop(self.mass, self.vel, h, nav.options().force_bound)
                     }
                 }
                 Err(e) => {
@@ -702,6 +706,9 @@ impl<'a, 'c, 'h, 'o> Flight<'a, 'c, 'h, 'o> {
             },
         };
         out.commands += 1;
+        if !self.kinematic {
+            out.max_force = out.max_force.max(command.norm());
+        }
         if let (Some(o), Some(mut s)) = (self.observer.as_mut(), pending) {
             if self.kinematic {
                 s.v = [command.x, command.y];
@@ -1085,6 +1092,9 @@ impl FloorSummary {
                 },
                 run.pixel_clearance > 0.0,
             ));
+        }
+        if let (Some(bound), Model::Dynamic) = (r.force_bound, model) {
+            guarantees.push(crate::guarantee::force_within(run.max_force, bound));
         }
         guarantees.extend([
             Guarantee::new(

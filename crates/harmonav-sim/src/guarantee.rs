@@ -60,6 +60,8 @@ pub enum Kind {
     /// A differential drive with acceleration limits: consecutive commands within
     /// `|Δv| ≤ a_max h`, `|Δω| ≤ α_max h`, from rest.
     DiffAccel,
+    /// A force-bounded dynamic robot (`[robot] force_bound`): every force held `|f| ≤ F`.
+    ForceWithinBound,
 }
 
 /// Why the robot lost the free space of its known obstacles.
@@ -307,6 +309,13 @@ pub enum Check {
         /// `alpha_max`, rad/s².
         alpha_max: f64,
     },
+    /// [`Kind::ForceWithinBound`].
+    ForceWithinBound {
+        /// The largest `|f|` held, N.
+        max_force: f64,
+        /// `F`, N.
+        bound: f64,
+    },
     /// `[expect] max_speed_below`.
     ExpectMaxSpeedBelow {
         /// Largest speed, m/s.
@@ -347,6 +356,7 @@ impl Check {
             Self::ScansAccepted { .. } => Kind::ScansAccepted,
             Self::DiffBounds { .. } => Kind::DiffBounds,
             Self::DiffAccel { .. } => Kind::DiffAccel,
+            Self::ForceWithinBound { .. } => Kind::ForceWithinBound,
         }
     }
 
@@ -380,6 +390,7 @@ impl Check {
             Self::ScansAccepted { .. } => "scans-accepted",
             Self::DiffBounds { .. } => "diff-command-bounds",
             Self::DiffAccel { .. } => "diff-accel-bounds",
+            Self::ForceWithinBound { .. } => "force-within-bound",
         }
     }
 }
@@ -589,8 +600,20 @@ impl std::fmt::Display for Check {
                 "|Δv|/h ≤ {max_dv:.4} m/s² (a_max {a_max}), |Δω|/h ≤ {max_domega:.4} rad/s² \
                  (α_max {alpha_max})"
             ),
+            Self::ForceWithinBound { max_force, bound } => {
+                write!(f, "max |f| {max_force:.4} N ≤ F = {bound} N")
+            }
         }
     }
+}
+
+/// The guarantee of a force-bounded run: every force held, the largest `max_force`, within
+/// `bound` (`[robot] force_bound`).
+pub(crate) fn force_within(max_force: f64, bound: f64) -> Guarantee {
+    Guarantee::new(
+        Check::ForceWithinBound { max_force, bound },
+        max_force <= bound,
+    )
 }
 
 /// A guarantee with its verdict. In JSON: `{"name", "passed", "detail", "measured"}`.

@@ -70,6 +70,8 @@ pub(crate) fn fly_with(
     let mut drift = 0.0;
     // The command of the last period was changed by the filter (or refused): `V` may rise.
     let mut acted = false;
+    // The largest force held (the dynamic law), N: judged against a force bound.
+    let mut max_force: f64 = 0.0;
     let mass = match d.nav().controller() {
         Controller::Dynamic(law) => law.mass(),
         Controller::Kinematic(_) => 1.0,
@@ -157,12 +159,17 @@ pub(crate) fn fly_with(
         if filter {
             d.nav_mut().set_movers(world.reports())?;
         }
+        let bound = d.nav().options().force_bound;
         let (command, mode) = match d.nav_mut().command(x, v) {
             Ok(c) => (c.value, Some(c.mode)),
-            // The reported bodies overlap: no certified command; the robot stops.
-            Err(NavError::InMover { .. }) => (-mass * v / h, None),
+            // The reported bodies overlap: no certified command; the robot stops (as hard as
+            // its force bound lets it).
+            Err(NavError::InMover { .. }) => (stop(mass, v, h, bound), None),
             Err(e) => return Err(e.into()),
         };
+        if matches!(d.nav().controller(), Controller::Dynamic(_)) {
+            max_force = max_force.max(command.norm());
+        }
         let certified = mode.as_ref().is_some_and(|m| m.certified());
         world.count(mode.as_ref());
         last_mode = Some(mode.as_ref().map_or("refused", Mode::as_str));
@@ -197,6 +204,11 @@ pub(crate) fn fly_with(
     if let Some(u) = &diff {
         more.extend(u.guarantees(margin));
     }
+    if let (Some(bound), Controller::Dynamic(_)) =
+        (d.nav().options().force_bound, d.nav().controller())
+    {
+        more.push(crate::guarantee::force_within(max_force, bound));
+    }
     let mut run = d.finish_with(
         End {
             reached,
@@ -213,6 +225,17 @@ pub(crate) fn fly_with(
     }
     run.summary.diff = diff.map(|u| u.report);
     Ok(run)
+}
+
+/// The force that stops a robot of mass `mass` at velocity `v` within one period `h`,
+/// `−m v/h`, scaled to `|f| ≤ F` under a force bound `bound` (the base can brake no harder):
+/// what the loops hold when no command is certified (the bodies overlap).
+pub(crate) fn stop(mass: f64, v: Vector2<f64>, h: f64, bound: Option<f64>) -> Vector2<f64> {
+    let f = -mass * v / h;
+    match bound {
+        Some(b) if f.norm() > b => f * (b * (1.0 - 4.0 * f64::EPSILON) / f.norm()),
+        _ => f,
+    }
 }
 
 /// The state recorded at `t` at `(x, ẋ)`: [`Driver::sample`], and for a differential drive
@@ -450,7 +473,10 @@ fn fleet(
             }
             let (command, mode) = match r.d.nav_mut().command(x, v) {
                 Ok(c) => (c.value, Some(c.mode)),
-                Err(NavError::InMover { .. }) => (-r.mass * v / h, None),
+                Err(NavError::InMover { .. }) => {
+                    let bound = r.d.nav().options().force_bound;
+                    (stop(r.mass, v, h, bound), None)
+                }
                 Err(e) => return Err(e.into()),
             };
             let certified = mode.as_ref().is_some_and(|m| m.certified());

@@ -342,3 +342,44 @@ fn four_diff_robots_swap_rooms_on_a_floor_plan_without_touching() {
     assert_eq!(f.robot_contacts, 0);
     assert!(f.min_robot_clearance >= prepared.scenario.robot.margin - 1e-9);
 }
+
+/// A force-bounded robot (issue 54, `[robot] force_bound`): its runs are judged by
+/// `force-within-bound` under the dynamic law, in a star world with a mover and on a floor
+/// plan, and every guarantee holds; a kinematic run of the same file has no such guarantee.
+#[test]
+fn a_force_bounded_run_is_judged_against_its_bound_in_either_world() {
+    use harmonav_scenario::floorplan::FloorScenario;
+    use harmonav_sim::floor::FloorSummary;
+    use harmonav_sim::physics::simulate_floor;
+
+    let force = |g: &[harmonav_sim::guarantee::Guarantee]| {
+        g.iter()
+            .find(|g| g.name() == "force-within-bound")
+            .map(|g| (g.passed, g.check.to_string()))
+    };
+    let prepared = Scenario::load(&file("person-crossing-force-bound.toml")).unwrap();
+    let run = simulate(&prepared, Some(Model::Dynamic), Physics::Builtin).unwrap();
+    let s = &run.summary;
+    assert!(s.all_passed() && s.reached, "{:?}", s.guarantees);
+    let (passed, detail) = force(&s.guarantees).expect("force-within-bound");
+    assert!(passed && detail.contains("F = 2 N"), "{detail}");
+    let run = simulate(&prepared, Some(Model::Kinematic), Physics::Builtin).unwrap();
+    assert_eq!(force(&run.summary.guarantees), None);
+
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/floorplans/l-room.toml");
+    let text = std::fs::read_to_string(&path).unwrap().replace(
+        "mu = 2.0\n",
+        "mu = 2.0\nforce_bound = 0.5\ncontrol_period = 0.01\n",
+    );
+    assert!(text.contains("force_bound = 0.5"));
+    let p = FloorScenario::parse(&path, &text)
+        .and_then(|s| s.prepare(&path))
+        .unwrap();
+    let start = nalgebra::Vector2::new(1.0, 5.4);
+    let r = simulate_floor(&p, None, start, Physics::Builtin).unwrap();
+    let summary = FloorSummary::new(&p, None, start, &r);
+    assert!(summary.all_passed(), "{:?}", summary.guarantees);
+    assert!(r.max_force <= 0.5 && r.max_force > 0.49, "{}", r.max_force);
+    let (passed, _) = force(&summary.guarantees).expect("force-within-bound");
+    assert!(passed);
+}

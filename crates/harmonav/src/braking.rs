@@ -46,8 +46,8 @@ fn within(force_bound: f64) -> f64 {
 }
 
 /// The force `f` scaled down to `|f| ≤ F` (unchanged if it is within): the force bound alone,
-/// for the commands that lead out of a band ([`Mode::Recovering`], [`Mode::Escaping`]) and
-/// the halt after a refused scan.
+/// for the way out of the margin band ([`Mode::Recovering`]) and the halt after a refused
+/// scan.
 pub(crate) fn clip(f: Vector2<f64>, force_bound: f64) -> Vector2<f64> {
     let norm = f.norm();
     if norm > force_bound {

@@ -396,8 +396,8 @@ impl<W: World> Navigator<W> {
     /// robot a way to brake to rest inside the known free space and out of every mover's
     /// reach; the command itself if it is (bit for bit), else the nearest such force towards
     /// the full brake ([`Mode::Bounded`], or [`Mode::Yielding`] where a mover binds), else the
-    /// full brake ([`Mode::Braking`] or [`Mode::Overwhelmed`], not certified). A way out of a
-    /// band ([`Mode::Recovering`], [`Mode::Escaping`]) is only scaled to `F`. `yielded`:
+    /// full brake ([`Mode::Braking`] or [`Mode::Overwhelmed`], not certified). The way out of
+    /// the margin band ([`Mode::Recovering`]) is only scaled to `F`. `yielded`:
     /// whether a mover changed the command (returned as is without a bound).
     fn braked(
         &self,
@@ -411,7 +411,7 @@ impl<W: World> Navigator<W> {
         else {
             return Ok((command, yielded));
         };
-        if matches!(command.mode, Mode::Recovering(_) | Mode::Escaping) {
+        if matches!(command.mode, Mode::Recovering(_)) {
             let value = braking::clip(command.value, force_bound);
             return Ok((Command { value, ..command }, yielded));
         }
