@@ -126,19 +126,25 @@ pub fn run(options: &Options) -> ExitCode {
         let kinematic = Law::kinematic(1.0);
         put(
             "navigator_command_ns_m6",
-            navigator_command_ns(dynamic, HoldPolicy::Auto),
+            navigator_command_ns(dynamic, HoldPolicy::Auto, None),
         );
         put(
             "navigator_command_ns_m6_hold_paper",
-            navigator_command_ns(dynamic, HoldPolicy::Paper),
+            navigator_command_ns(dynamic, HoldPolicy::Paper, None),
+        );
+        // The braking certificate of a force bound (docs/movers.md §2), side by side: 1 N binds
+        // at most of the states (each then traces up to 42 segments).
+        put(
+            "navigator_command_ns_m6_force_bound",
+            navigator_command_ns(dynamic, HoldPolicy::Auto, Some(1.0)),
         );
         put(
             "navigator_command_ns_m6_kinematic",
-            navigator_command_ns(kinematic, HoldPolicy::Auto),
+            navigator_command_ns(kinematic, HoldPolicy::Auto, None),
         );
         put(
             "navigator_command_ns_m6_kinematic_hold_paper",
-            navigator_command_ns(kinematic, HoldPolicy::Paper),
+            navigator_command_ns(kinematic, HoldPolicy::Paper, None),
         );
         // The mover filter (docs/movers.md), side by side with the lines above: 20 movers out
         // of reach (the filter only checks its rows; target: within 1 µs of no movers) and 20
@@ -398,18 +404,22 @@ fn field_eval_ns_discs20() -> Result<(f64, f64), String> {
     Ok((one, many))
 }
 
-/// One `Navigator::command` of `law` (default policies but the hold `hold`) with 6 known
-/// obstacles, at the states of [`control_step_ns`]'s world; ns per call.
-fn navigator_command_ns(law: harmonav::Law, hold: harmonav::HoldPolicy) -> f64 {
+/// One `Navigator::command` of `law` (default policies but the hold `hold`, and the force
+/// bound `force_bound` if given) with 6 known obstacles, at the states of
+/// [`control_step_ns`]'s world; ns per call.
+fn navigator_command_ns(
+    law: harmonav::Law,
+    hold: harmonav::HoldPolicy,
+    force_bound: Option<f64>,
+) -> f64 {
     use harmonav::{Navigator, Options};
     let (ws, states) = control_world();
-    let mut nav = Navigator::new(
-        ws.boundary().clone(),
-        ws.destination(),
-        law,
-        Options::default().with_hold(hold),
-    )
-    .expect("valid benchmark world");
+    let mut options = Options::default().with_hold(hold);
+    if let Some(f) = force_bound {
+        options = options.with_force_bound(f);
+    }
+    let mut nav = Navigator::new(ws.boundary().clone(), ws.destination(), law, options)
+        .expect("valid benchmark world");
     for o in &ws.obstacles()[..6] {
         nav.add_obstacle(o.clone())
             .expect("valid benchmark obstacle");
