@@ -19,15 +19,17 @@
 //! (`|x − p̂_j| − (radius + margin + r_j) − ε_j`): every point of the manoeuvre lies within
 //! `L(s)` of `x`, and by its end the mover has come at most `V_j T(s)` nearer.
 //!
-//! **Recursive feasibility.** After a certified command the full brake `v⁺⁺ = v⁺ − h a·v⁺/|v⁺|`
-//! (or 0) is certified again: its own manoeuvre, from `x⁺ = x + h v⁺` along the same direction,
-//! has length `h s' + s'²/2a ≤ s²/2a` (`s' = s − h a`; the difference is `h²a/2`), the tail of
-//! the segment just certified; and for a mover whose report moved by at most `V_j h`,
-//! `d_j' ≥ d_j − h s − V_j h` while `L(s') + V_j T(s') ≤ L(s) − h s + V_j(T(s) − h)`. So a robot
-//! that starts certified (at rest, say) always has a certified command, and if a contact
-//! happens the robot is at rest and the mover came to it (Fraichard's inevitable collision
-//! states). The sphere tracing is evaluated afresh each period; should it fail to certify the
-//! brake, the brake is still commanded, as [`Mode::Braking`] (not certified).
+//! **Recursive feasibility** against the known shapes. After a certified command the full brake
+//! `v⁺⁺ = v⁺ − h a·v⁺/|v⁺|` (or 0) is certified again: its own manoeuvre, from `x⁺ = x + h v⁺`
+//! along the same direction, has length `h s' + s'²/2a ≤ s²/2a` (`s' = s − h a`; the
+//! difference is `h²a/2`), the tail of the segment just certified. So a robot that starts
+//! certified (at rest, say) in a world that does not change always has a certified command.
+//! Against a mover only for `s > h a` and reports that move by at most `V_j h` between periods
+//! (`d_j' ≥ d_j − h s − V_j h` while `L(s') + V_j T(s') ≤ L(s) − h s + V_j(T(s) − h)`); a mover
+//! that closes in on a robot slower than that overwhelms it, and if a contact happens the robot
+//! is braking or at rest and the mover came to it (Fraichard's inevitable collision states).
+//! The sphere tracing is evaluated afresh each period; should it fail to certify the brake,
+//! the brake is still commanded, as [`Mode::Braking`] (not certified).
 
 use nalgebra::Vector2;
 
@@ -63,16 +65,24 @@ pub(crate) fn backup_length(s: f64, h: f64, a: f64) -> f64 {
     h * s + s * s / (2.0 * a)
 }
 
-/// The largest speed `s` with `L(s) + V T(s) ≤ d` (eq. backupmover):
-/// `s = −a h − V + a√(h² + V²/a² + 2d/a)`, the larger root of `s²/2a + s(h + V/a) + V h − d`.
-/// Negative when `d < V h` (the mover can reach the robot within the period even at rest);
-/// `−∞` when the discriminant is negative (`d` far below zero).
+/// The largest speed `s` with `L(s) + V T(s) ≤ d` (eq. backupmover), the larger root of
+/// `s²/2a + s(h + V/a) + V h − d`:
+///
+/// ```text
+/// s = −B + √D = 2a(d − V h)/(B + √D),   B = a h + V,   D = B² + 2a(d − V h) = a²h² + V² + 2ad
+/// ```
+///
+/// Numerical guard: the second form, which subtracts nothing (the first loses `ulp(B)` to
+/// cancellation, measured −0.09 m of `d` at `a` = 1e-15 m/s²). Negative when `d < V h` (the
+/// mover can reach the robot within the period even at rest); `−∞` when `D < 0` (`d` far
+/// below zero).
 pub(crate) fn mover_cap(d: f64, speed_bound: f64, h: f64, a: f64) -> f64 {
-    let disc = h * h + (speed_bound / a).powi(2) + 2.0 * d / a;
+    let b = a * h + speed_bound;
+    let disc = b * b + 2.0 * a * (d - speed_bound * h);
     if disc < 0.0 {
         return f64::NEG_INFINITY;
     }
-    -a * h - speed_bound + a * disc.sqrt()
+    2.0 * a * (d - speed_bound * h) / (b + disc.sqrt())
 }
 
 /// What [`certify`] did with the command.
@@ -105,6 +115,98 @@ impl Verdict {
     }
 }
 
+/// A robot at `x` moving at `v` under a force bound: what its manoeuvre after a force `f`
+/// must clear (eq. backup, eq. backupmover).
+struct Backup<'a, S> {
+    space: &'a S,
+    x: Vector2<f64>,
+    v: Vector2<f64>,
+    /// `m`, `h`, `a = F/m` (`F` four ulps within, [`within`]).
+    mass: f64,
+    h: f64,
+    a: f64,
+    /// The least of the movers' caps on the speed after the period, and whose it is.
+    cap: (f64, Option<usize>),
+}
+
+impl<'a, S: Space> Backup<'a, S> {
+    /// Errors: a reported mover's body overlaps the robot's ([`NavError::InMover`]).
+    fn new(
+        space: &'a S,
+        movers: &[Mover],
+        (x, radius, margin): (Vector2<f64>, f64, f64),
+        v: Vector2<f64>,
+        (mass, h, force_bound): (f64, f64, f64),
+    ) -> Result<Self, NavError> {
+        let a = within(force_bound) / mass;
+        let mut cap = (f64::INFINITY, None);
+        for (j, m) in movers.iter().enumerate() {
+            let dist = (x - m.centre).norm();
+            if dist <= radius + m.radius {
+                return Err(NavError::InMover { mover: j });
+            }
+            let d = dist - (radius + margin + m.radius) - m.position_error;
+            let s = mover_cap(d, m.speed_bound, h, a);
+            if s < cap.0 {
+                cap = (s, Some(j));
+            }
+        }
+        Ok(Self {
+            space,
+            x,
+            v,
+            mass,
+            h,
+            a,
+            cap,
+        })
+    }
+
+    /// `v⁺ = v + h f/m`.
+    fn speed_after(&self, f: Vector2<f64>) -> Vector2<f64> {
+        self.v + (self.h / self.mass) * f
+    }
+
+    /// Whether `|v⁺|` is within every mover's cap (eq. backupmover).
+    fn clear_of_movers(&self, f: Vector2<f64>) -> bool {
+        self.speed_after(f).norm() <= self.cap.0
+    }
+
+    /// Whether the manoeuvre after `f` is certified: clear of the movers, and its segment of
+    /// length `L(s)` along `v⁺` free of the known shapes (sphere tracing).
+    fn certified(&self, f: Vector2<f64>) -> bool {
+        let next = self.speed_after(f);
+        let s = next.norm();
+        if !self.clear_of_movers(f) {
+            return false;
+        }
+        let want = backup_length(s, self.h, self.a);
+        s == 0.0 || hold::free_length(self.space, self.x, next / s, want) >= want
+    }
+
+    /// The full brake: to rest within the period if the bound allows, else `a` against `v`.
+    fn brake(&self) -> Vector2<f64> {
+        let speed = self.v.norm();
+        if speed <= self.a * self.h {
+            -(self.mass / self.h) * self.v
+        } else {
+            -(self.a * self.mass / speed) * self.v
+        }
+    }
+
+    /// The verdict on the full brake `brake` when it is not certified.
+    fn not_certified(&self, brake: Vector2<f64>) -> Verdict {
+        let s = self.speed_after(brake).norm();
+        match self.cap {
+            (c, Some(mover)) if s > c => Verdict::Overwhelmed {
+                mover,
+                shortfall: s - c.max(0.0),
+            },
+            _ => Verdict::Braking,
+        }
+    }
+}
+
 /// The robot at `x` (radius, margin), velocity `v`, asked for the force `f` by the hold: `f`
 /// itself when it is within `F` and certified (eq. backup, eq. backupmover), else the force
 /// on the segment from the full brake to `f` (scaled to `F`) nearest `f` that is certified
@@ -114,66 +216,27 @@ impl Verdict {
 pub(crate) fn certify(
     space: &impl Space,
     movers: &[Mover],
-    (x, radius, margin): (Vector2<f64>, f64, f64),
+    body: (Vector2<f64>, f64, f64),
     (v, f): (Vector2<f64>, Vector2<f64>),
     (mass, h, force_bound): (f64, f64, f64),
 ) -> Result<(Vector2<f64>, Verdict), NavError> {
-    let a = within(force_bound) / mass;
-    // The movers' caps on the speed after the period, the least and whose it is.
-    let mut cap = (f64::INFINITY, None);
-    for (j, m) in movers.iter().enumerate() {
-        let dist = (x - m.centre).norm();
-        if dist <= radius + m.radius {
-            return Err(NavError::InMover { mover: j });
-        }
-        let d = dist - (radius + margin + m.radius) - m.position_error;
-        let s = mover_cap(d, m.speed_bound, h, a);
-        if s < cap.0 {
-            cap = (s, Some(j));
-        }
-    }
-    let speed_after = |f: Vector2<f64>| v + (h / mass) * f;
-    let certified = |f: Vector2<f64>| {
-        let next = speed_after(f);
-        let s = next.norm();
-        if s > cap.0 {
-            return false;
-        }
-        let want = backup_length(s, h, a);
-        s == 0.0 || hold::free_length(space, x, next / s, want) >= want
-    };
+    let b = Backup::new(space, movers, body, v, (mass, h, force_bound))?;
     let asked = clip(f, force_bound);
-    if certified(asked) {
+    if b.certified(asked) {
         if asked == f {
             return Ok((f, Verdict::Kept));
         }
-        let scale = ratio(speed_after(asked).norm(), speed_after(f).norm());
+        let scale = ratio(b.speed_after(asked).norm(), b.speed_after(f).norm());
         return Ok((asked, Verdict::Shortened { scale, mover: None }));
     }
-    // The full brake: to rest within the period if the bound allows, else `a` against `v`.
-    let speed = v.norm();
-    let brake = if speed * mass / h <= within(force_bound) {
-        -(mass / h) * v
-    } else {
-        -(a * mass / speed) * v
-    };
-    if !certified(brake) {
-        let s = speed_after(brake).norm();
-        return Ok((
-            brake,
-            match cap {
-                (c, Some(mover)) if s > c => Verdict::Overwhelmed {
-                    mover,
-                    shortfall: s - c.max(0.0),
-                },
-                _ => Verdict::Braking,
-            },
-        ));
+    let brake = b.brake();
+    if !b.certified(brake) {
+        return Ok((brake, b.not_certified(brake)));
     }
     let (mut lo, mut hi) = (0.0, 1.0);
     for _ in 0..BISECTIONS {
         let mid = 0.5 * (lo + hi);
-        if certified(brake + mid * (asked - brake)) {
+        if b.certified(brake + mid * (asked - brake)) {
             lo = mid;
         } else {
             hi = mid;
@@ -181,10 +244,55 @@ pub(crate) fn certify(
     }
     let chosen = brake + lo * (asked - brake);
     // The mover binds if the next candidate out was over its cap.
-    let beyond = speed_after(brake + hi * (asked - brake)).norm();
-    let mover = cap.1.filter(|_| beyond > cap.0);
-    let scale = ratio(speed_after(chosen).norm(), speed_after(f).norm());
+    let mover = b
+        .cap
+        .1
+        .filter(|_| !b.clear_of_movers(brake + hi * (asked - brake)));
+    let scale = ratio(b.speed_after(chosen).norm(), b.speed_after(f).norm());
     Ok((chosen, Verdict::Shortened { scale, mover }))
+}
+
+/// The halt after a refused scan under the bound (the halt's own force is not used): the full
+/// brake, kept if its way to rest is certified (eq. backup, eq. backupmover), else not
+/// certified. Errors as [`certify`].
+pub(crate) fn halt(
+    space: &impl Space,
+    movers: &[Mover],
+    body: (Vector2<f64>, f64, f64),
+    (v, _): (Vector2<f64>, Vector2<f64>),
+    (mass, h, force_bound): (f64, f64, f64),
+) -> Result<(Vector2<f64>, Verdict), NavError> {
+    let b = Backup::new(space, movers, body, v, (mass, h, force_bound))?;
+    let brake = b.brake();
+    Ok(if b.certified(brake) {
+        (brake, Verdict::Kept)
+    } else {
+        (brake, b.not_certified(brake))
+    })
+}
+
+/// The way out of the margin band, `f`, under the bound. The band lies inside a grown shape,
+/// where the known shapes certify nothing; without a bound the way out leads into the free
+/// space within the period. Under it: `f` scaled to `F`, kept (as `Recovering`) while the
+/// velocity after it still points out along the way out (`v⁺·v⁺_out > 0`, `v⁺_out` the
+/// velocity `f` asked for) and is clear of every mover's cap: the robot then leaves the band
+/// over several periods instead of one. Otherwise (moving into the shape faster than the bound
+/// can turn, or a mover within reach) the full brake, not certified. Errors as [`certify`].
+pub(crate) fn recovering(
+    space: &impl Space,
+    movers: &[Mover],
+    body: (Vector2<f64>, f64, f64),
+    (v, f): (Vector2<f64>, Vector2<f64>),
+    (mass, h, force_bound): (f64, f64, f64),
+) -> Result<(Vector2<f64>, Verdict), NavError> {
+    let b = Backup::new(space, movers, body, v, (mass, h, force_bound))?;
+    let scaled = clip(f, force_bound);
+    let out = b.speed_after(f);
+    if b.clear_of_movers(scaled) && (scaled == f || b.speed_after(scaled).dot(&out) > 0.0) {
+        return Ok((scaled, Verdict::Kept));
+    }
+    let brake = b.brake();
+    Ok((brake, b.not_certified(brake)))
 }
 
 /// `kept/asked`, 0 when nothing was asked.

@@ -82,11 +82,12 @@ pub enum Mode {
         /// The speed kept.
         scale: f64,
     },
-    /// Under a force bound ([`crate::Options::force_bound`]): the full brake, `|f| = F`
-    /// against the velocity (or to rest within the period), and the way it brakes to rest is
-    /// not certified free of the known shapes: the robot was handed a state it cannot stop
-    /// from in the free space it knows (a start at speed, an obstacle found within its
-    /// braking distance). [`Command::certified`] is false (docs/movers.md §2).
+    /// Under a force bound ([`crate::Options::force_bound`]): the full brake, `|f| = F` (to
+    /// rounding) against the velocity (or to rest within the period), and the way it brakes
+    /// to rest is not certified free of the known shapes: the robot was handed a state it
+    /// cannot stop from in the free space it knows (a start at speed, an obstacle found within
+    /// its braking distance, a way out of the margin band it cannot follow, a halt after a
+    /// refused scan). [`Command::certified`] is false (docs/movers.md §2).
     Braking,
 }
 

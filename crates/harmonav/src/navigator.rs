@@ -207,21 +207,14 @@ impl<W: World> Navigator<W> {
     /// ([`NavError::BoundaryLayer`]), a non-finite command (a guard).
     pub fn command(&mut self, x: Vector2<f64>, v: Vector2<f64>) -> Result<Command, NavError> {
         if self.core.scan_refused {
-            return halted(
+            let c = halted(
                 &self.core.controller,
                 x,
                 v,
                 self.core.period,
                 &mut self.core.last,
-            )
-            .map(|c| Command {
-                value: self
-                    .core
-                    .options
-                    .force_bound
-                    .map_or(c.value, |f| braking::clip(c.value, f)),
-                ..c
-            });
+            )?;
+            return self.braked(x, v, c, false).map(|(c, _)| c);
         }
         let before = self.core.speed_at_discovery;
         if self.core.yielded {
@@ -396,8 +389,11 @@ impl<W: World> Navigator<W> {
     /// robot a way to brake to rest inside the known free space and out of every mover's
     /// reach; the command itself if it is (bit for bit), else the nearest such force towards
     /// the full brake ([`Mode::Bounded`], or [`Mode::Yielding`] where a mover binds), else the
-    /// full brake ([`Mode::Braking`] or [`Mode::Overwhelmed`], not certified). The way out of
-    /// the margin band ([`Mode::Recovering`]) is only scaled to `F`. `yielded`:
+    /// full brake ([`Mode::Braking`] or [`Mode::Overwhelmed`], not certified). The halt after
+    /// a refused scan ([`Mode::Halted`]) is the full brake, kept `Halted` only if its way to
+    /// rest is certified; the way out of the margin band ([`Mode::Recovering`]) is scaled to
+    /// `F` and kept while it still leads out and clear of the movers' caps, else braked (not
+    /// certified; `crate::braking::recovering`). `yielded`:
     /// whether a mover changed the command (returned as is without a bound).
     fn braked(
         &self,
@@ -411,12 +407,13 @@ impl<W: World> Navigator<W> {
         else {
             return Ok((command, yielded));
         };
-        if matches!(command.mode, Mode::Recovering(_)) {
-            let value = braking::clip(command.value, force_bound);
-            return Ok((Command { value, ..command }, yielded));
-        }
         let options = &self.core.options;
-        let (value, verdict) = braking::certify(
+        let certify = match command.mode {
+            Mode::Halted => braking::halt,
+            Mode::Recovering(_) => braking::recovering,
+            _ => braking::certify,
+        };
+        let (value, verdict) = certify(
             self.world.field(),
             &self.core.movers,
             (x, options.radius, options.margin),

@@ -94,9 +94,10 @@ pub struct Options {
     pub base: Base,
     /// The dynamic law's force bound `F`, N: every force commanded has `|f| ≤ F`, and every
     /// certified one leaves the robot a way to brake to rest at `a = F/m` within the known free
-    /// space and out of every mover's reach (passive safety, docs/movers.md §2). `None` (the
-    /// default): no bound, the hold may stop the robot within one period. Refused with the
-    /// kinematic law, which commands velocities.
+    /// space and out of every mover's reach (passive safety, docs/movers.md §2), but a way out
+    /// of the margin band ([`crate::Mode::Recovering`]: inside a grown shape nothing is
+    /// certified against it; it leads out). `None` (the default): no bound, the hold may stop
+    /// the robot within one period. Refused with the kinematic law, which commands velocities.
     pub force_bound: Option<f64>,
 }
 

@@ -7,7 +7,8 @@ mod common;
 
 use harmonav::transform::random::Rng;
 use harmonav::{
-    FloorNavigator, Law, Mode, Mover, NavError, Navigator, Options, StarShape, Vector2,
+    FloorNavigator, LaserScan, Law, Mode, Mover, NavError, Navigator, Options, Pose, StarShape,
+    Vector2,
 };
 
 const RADIUS: f64 = 0.2;
@@ -372,4 +373,139 @@ fn a_force_bounded_robot_on_a_floor_plan_arrives_within_the_bound() {
         }
     }
     assert!(arrived, "at {x:?}");
+}
+
+/// The positions of the manoeuvre after `f` from `(x, vel)`: the period, then `|f| = F`
+/// against the velocity until rest, as the user's loop holds it (mass 1).
+fn manoeuvre(
+    x: Vector2<f64>,
+    vel: Vector2<f64>,
+    f: Vector2<f64>,
+    h: f64,
+    bound: f64,
+) -> Vec<Vector2<f64>> {
+    let (mut p, mut u) = (x, vel + h * f);
+    let mut out = vec![p];
+    while u != Vector2::zeros() {
+        p += h * u;
+        out.push(p);
+        let s = u.norm();
+        u = if s <= h * bound {
+            Vector2::zeros()
+        } else {
+            u * (1.0 - h * bound * (1.0 - 4.0 * f64::EPSILON) / s)
+        };
+    }
+    out
+}
+
+/// The hostile round of 2026-12-07 (D1): a robot in the margin band moving at 1 m/s into the
+/// shape cannot follow the way out under `F` = 0.5 N; it was given `Recovering`, certified,
+/// though its brake ends 0.70 m inside the true disc. Now it is braked and told so.
+#[test]
+fn a_way_out_beyond_the_bound_is_braked_and_not_certified() {
+    let (h, bound) = (0.01, 0.5);
+    let options = Options::default()
+        .with_robot(0.2, 0.1)
+        .with_control_period(h)
+        .with_force_bound(bound);
+    let boundary = StarShape::circle(Vector2::zeros(), 5.0).unwrap();
+    let mut nav = Navigator::new(boundary, v(-3.0, 0.0), LAW, options).unwrap();
+    nav.add_obstacle(StarShape::circle(v(1.0, 0.0), 0.5).unwrap())
+        .unwrap();
+    // 0.75 from the centre: inside the grown disc (0.8), clear of the true one by 0.25.
+    let (x, vel) = (v(0.25, 0.0), v(1.0, 0.0));
+    let c = nav.command(x, vel).unwrap();
+    let deepest = manoeuvre(x, vel, c.value, h, bound)
+        .iter()
+        .map(|p| (p - v(1.0, 0.0)).norm() - 0.5 - 0.2)
+        .fold(f64::INFINITY, f64::min);
+    assert!(deepest < 0.0, "{deepest}");
+    assert_eq!(c.mode, Mode::Braking);
+    assert!(!c.certified() && c.value.norm() <= bound);
+    // At rest in the band the way out is within the bound: kept, as without one.
+    let c = nav.command(x, Vector2::zeros()).unwrap();
+    assert!(matches!(c.mode, Mode::Recovering(_)), "{:?}", c.mode);
+}
+
+/// The hostile round (D2): after a refused scan the halt was certified, though only scaled to
+/// `F`: from 2 m/s, 0.55 m from the grown boundary, its brake runs 1.4 m past it, and a mover
+/// was within reach. Now the halt is the full brake and certified only if its way to rest is.
+#[test]
+fn the_halt_after_a_refused_scan_is_certified_only_if_its_brake_is() {
+    let (h, bound) = (0.01, 1.0);
+    let options = Options::default()
+        .with_robot(0.2, 0.05)
+        .with_control_period(h)
+        .with_force_bound(bound);
+    let boundary = StarShape::circle(Vector2::zeros(), 3.0).unwrap();
+    let mut nav = Navigator::new(boundary, v(-2.0, 0.0), LAW, options).unwrap();
+    let bad = LaserScan {
+        angle_min: 0.0,
+        angle_increment: 0.0,
+        range_min: 0.0,
+        range_max: 3.0,
+        ranges: vec![1.0; 4],
+    };
+    assert!(nav.observe_scan(Pose::new(0.0, 0.0, 0.0), &bad).is_err());
+    let c = nav.command(v(2.2, 0.0), v(2.0, 0.0)).unwrap();
+    assert_eq!(c.mode, Mode::Braking);
+    assert!(!c.certified() && c.value.norm() <= bound);
+    nav.set_movers(&[Mover::new(v(2.2, 0.8), 0.2, 1.0)])
+        .unwrap();
+    let c = nav.command(v(2.2, 0.0), v(2.0, 0.0)).unwrap();
+    assert!(matches!(c.mode, Mode::Overwhelmed { .. }), "{:?}", c.mode);
+    // Slow and in the open: the halt's brake is certified, and it is still `Halted`.
+    nav.set_movers(&[]).unwrap();
+    let c = nav.command(v(0.0, 0.0), v(0.3, 0.0)).unwrap();
+    assert_eq!(c.mode, Mode::Halted);
+    assert!(c.certified());
+}
+
+/// The hostile round (D4): eq. backupmover's cap at the ends of the accepted ranges. At
+/// `a` = 1e-15 m/s² (1e-9 N on 1e6 kg) and 1e18 m/s², robots moving straight at a mover at
+/// about their cap: every certified command keeps `d ≥ L(s) + V T(s)` to rounding. Negative
+/// control: the cap as first written, `−ah − V + a√(h² + V²/a² + 2d/a)`, exceeds the exact
+/// one by far more than that at the small `a`.
+#[test]
+fn the_mover_cap_holds_at_the_ends_of_the_ranges() {
+    let (h, speed_bound) = (0.01, 1.0);
+    let mut cancelled: f64 = 0.0;
+    for (bound, mass) in [(1e-9, 1e6), (1e9, 1e-9)] {
+        let a = bound / mass;
+        let options = Options::default()
+            .with_robot(RADIUS, MARGIN)
+            .with_control_period(h)
+            .with_force_bound(bound);
+        let mover = Mover::new(v(1.0, 0.0), 0.2, speed_bound);
+        let mut rng = Rng::new(3);
+        let (mut certified, mut worst) = (0, f64::INFINITY);
+        for _ in 0..200 {
+            let x = v(rng.uniform(-0.3, -0.1), rng.uniform(-0.1, 0.1));
+            let d = (x - mover.centre).norm() - (RADIUS + MARGIN + 0.2);
+            let b = a * h + speed_bound;
+            let root = (b * b + 2.0 * a * (d - speed_bound * h)).sqrt();
+            let cap = 2.0 * a * (d - speed_bound * h) / (b + root);
+            let first =
+                -a * h - speed_bound + a * (h * h + (speed_bound / a).powi(2) + 2.0 * d / a).sqrt();
+            cancelled = cancelled.max((first - cap) / a * speed_bound);
+            let vel = (mover.centre - x).normalize() * cap * rng.uniform(0.9, 1.1);
+            let boundary = StarShape::circle(Vector2::zeros(), 20.0).unwrap();
+            let law = Law::dynamic(mass, 10.0);
+            let mut nav = Navigator::new(boundary, v(5.0, 0.0), law, options).unwrap();
+            nav.set_movers(&[mover]).unwrap();
+            let c = nav.command(x, vel).unwrap();
+            if !c.certified() {
+                continue;
+            }
+            certified += 1;
+            let s = (vel + h * c.value / mass).norm();
+            let used = h * s + s * s / (2.0 * a) + speed_bound * (h + s / a);
+            worst = worst.min(d - used);
+        }
+        assert!(certified > 20, "{bound} N: {certified}");
+        assert!(worst >= -1e-12, "{bound} N on {mass} kg: {worst}");
+    }
+    // The first form's error in `V·s/a`, metres of `d`: measured 0.09 m.
+    assert!(cancelled > 1e-3, "{cancelled}");
 }
