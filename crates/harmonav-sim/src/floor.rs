@@ -695,7 +695,7 @@ impl<'a, 'c, 'h, 'o> Flight<'a, 'c, 'h, 'o> {
                     if self.kinematic {
                         Vector2::zeros()
                     } else {
-                        crate::held::stop(self.mass, self.vel, h, nav.options().force_bound)
+                        crate::movers::stop(self.mass, self.vel, h, nav.options().force_bound)
                     }
                 }
                 Err(e) => {

@@ -17,7 +17,7 @@ use crate::driver::{Driver, Warnings};
 use crate::golden::held;
 use crate::guarantee::{Check, FreeSpaceLoss, Guarantee};
 use crate::monitor::End;
-use crate::movers::{MoverWorld, Sweep, fleet_judged, peer_marks, peers};
+use crate::movers::{MoverWorld, Sweep, fleet_judged, peer_marks, peers, stop};
 use crate::summary::{Physics, Run, RunError};
 use crate::trace::{Event, Sample};
 use crate::trajectory::Keep;
@@ -225,17 +225,6 @@ pub(crate) fn fly_with(
     }
     run.summary.diff = diff.map(|u| u.report);
     Ok(run)
-}
-
-/// The force that stops a robot of mass `mass` at velocity `v` within one period `h`,
-/// `−m v/h`, scaled to `|f| ≤ F` under a force bound `bound` (the base can brake no harder):
-/// what the loops hold when no command is certified (the bodies overlap).
-pub(crate) fn stop(mass: f64, v: Vector2<f64>, h: f64, bound: Option<f64>) -> Vector2<f64> {
-    let f = -mass * v / h;
-    match bound {
-        Some(b) if f.norm() > b => f * (b * (1.0 - 4.0 * f64::EPSILON) / f.norm()),
-        _ => f,
-    }
 }
 
 /// The state recorded at `t` at `(x, ẋ)`: [`Driver::sample`], and for a differential drive

@@ -124,6 +124,17 @@ fn least_over(
         .fold(f64::INFINITY, f64::min)
 }
 
+/// The force that stops a robot of mass `mass` at velocity `v` within one period `h`,
+/// `−m v/h`, scaled to `|f| ≤ F` under a force bound `bound` (the base can brake no harder):
+/// what the loops hold when no command is certified (the bodies overlap).
+pub(crate) fn stop(mass: f64, v: Vector2<f64>, h: f64, bound: Option<f64>) -> Vector2<f64> {
+    let f = -mass * v / h;
+    match bound {
+        Some(b) if f.norm() > b => f * (b * (1.0 - 4.0 * f64::EPSILON) / f.norm()),
+        _ => f,
+    }
+}
+
 /// A lower bound on the least distance between two robots' centres moving as `a` and `b` over
 /// one period of length `h`: exact for two straight motions ([`closest_approach`]), within
 /// [`ARC_TOLERANCE`] below the truth when either is an arc.
