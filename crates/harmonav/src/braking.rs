@@ -48,8 +48,7 @@ fn within(force_bound: f64) -> f64 {
 }
 
 /// The force `f` scaled down to `|f| ≤ F` (unchanged if it is within): the force bound alone,
-/// for the way out of the margin band ([`Mode::Recovering`]) and the halt after a refused
-/// scan.
+/// the first candidate of [`certify`] and the way out of the margin band's ([`recovering`]).
 pub(crate) fn clip(f: Vector2<f64>, force_bound: f64) -> Vector2<f64> {
     let norm = f.norm();
     if norm > force_bound {
@@ -88,7 +87,9 @@ pub(crate) fn mover_cap(d: f64, speed_bound: f64, h: f64, a: f64) -> f64 {
 /// What [`certify`] did with the command.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum Verdict {
-    /// Within the force bound and certified as it was.
+    /// The command keeps its mode: the hold's, within the bound and certified as it was (bit
+    /// for bit); a halt's brake whose way to rest is certified; a way out of the band scaled
+    /// to the bound that still leads out.
     Kept,
     /// Scaled to the force bound, or moved towards the brake until certified: `scale` of the
     /// speed asked for; `mover` binds, if one does.
