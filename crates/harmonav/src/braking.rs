@@ -48,7 +48,8 @@ fn within(force_bound: f64) -> f64 {
 }
 
 /// The force `f` scaled down to `|f| ≤ F` (unchanged if it is within): the force bound alone,
-/// the first candidate of [`certify`] and the way out of the margin band's ([`recovering`]).
+/// the first candidate of [`Backup::certify`] and the way out of the margin band's
+/// ([`Backup::recovering`]).
 pub(crate) fn clip(f: Vector2<f64>, force_bound: f64) -> Vector2<f64> {
     let norm = f.norm();
     if norm > force_bound {
@@ -84,7 +85,7 @@ pub(crate) fn mover_cap(d: f64, speed_bound: f64, h: f64, a: f64) -> f64 {
     2.0 * a * (d - speed_bound * h) / (b + disc.sqrt())
 }
 
-/// What [`certify`] did with the command.
+/// What [`bounded`] did with the command.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum Verdict {
     /// The command keeps its mode: the hold's, within the bound and certified as it was (bit
@@ -208,92 +209,92 @@ impl<'a, S: Space> Backup<'a, S> {
     }
 }
 
-/// The robot at `x` (radius, margin), velocity `v`, asked for the force `f` by the hold: `f`
-/// itself when it is within `F` and certified (eq. backup, eq. backupmover), else the force
-/// on the segment from the full brake to `f` (scaled to `F`) nearest `f` that is certified
-/// (bisection), else the full brake. `mass`, `h`: the robot's mass and control period.
+/// The robot at `x` (radius, margin), velocity `v`, given the force `f` in mode `mode` by the
+/// hold, under the bound `F` (`mass`, `h`: the robot's mass and control period): the force to
+/// hold and what became of it. A halt after a refused scan ([`Mode::Halted`]) is
+/// [`Backup::halt`], a way out of the margin band ([`Mode::Recovering`]) is
+/// [`Backup::recovering`], every other command is [`Backup::certify`].
 ///
 /// Errors: a reported mover's body overlaps the robot's ([`NavError::InMover`]).
-pub(crate) fn certify(
+pub(crate) fn bounded(
     space: &impl Space,
     movers: &[Mover],
     body: (Vector2<f64>, f64, f64),
-    (v, f): (Vector2<f64>, Vector2<f64>),
+    (v, f, mode): (Vector2<f64>, Vector2<f64>, Mode),
     (mass, h, force_bound): (f64, f64, f64),
 ) -> Result<(Vector2<f64>, Verdict), NavError> {
     let b = Backup::new(space, movers, body, v, (mass, h, force_bound))?;
-    let asked = clip(f, force_bound);
-    if b.certified(asked) {
-        if asked == f {
-            return Ok((f, Verdict::Kept));
-        }
-        let scale = ratio(b.speed_after(asked).norm(), b.speed_after(f).norm());
-        return Ok((asked, Verdict::Shortened { scale, mover: None }));
-    }
-    let brake = b.brake();
-    if !b.certified(brake) {
-        return Ok((brake, b.not_certified(brake)));
-    }
-    let (mut lo, mut hi) = (0.0, 1.0);
-    for _ in 0..BISECTIONS {
-        let mid = 0.5 * (lo + hi);
-        if b.certified(brake + mid * (asked - brake)) {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    let chosen = brake + lo * (asked - brake);
-    // The mover binds if the next candidate out was over its cap.
-    let mover = b
-        .cap
-        .1
-        .filter(|_| !b.clear_of_movers(brake + hi * (asked - brake)));
-    let scale = ratio(b.speed_after(chosen).norm(), b.speed_after(f).norm());
-    Ok((chosen, Verdict::Shortened { scale, mover }))
-}
-
-/// The halt after a refused scan under the bound (the halt's own force is not used): the full
-/// brake, kept if its way to rest is certified (eq. backup, eq. backupmover), else not
-/// certified. Errors as [`certify`].
-pub(crate) fn halt(
-    space: &impl Space,
-    movers: &[Mover],
-    body: (Vector2<f64>, f64, f64),
-    (v, _): (Vector2<f64>, Vector2<f64>),
-    (mass, h, force_bound): (f64, f64, f64),
-) -> Result<(Vector2<f64>, Verdict), NavError> {
-    let b = Backup::new(space, movers, body, v, (mass, h, force_bound))?;
-    let brake = b.brake();
-    Ok(if b.certified(brake) {
-        (brake, Verdict::Kept)
-    } else {
-        (brake, b.not_certified(brake))
+    Ok(match mode {
+        Mode::Halted => b.halt(),
+        Mode::Recovering(_) => b.recovering(f, force_bound),
+        _ => b.certify(f, force_bound),
     })
 }
 
-/// The way out of the margin band, `f`, under the bound. The band lies inside a grown shape,
-/// where the known shapes certify nothing; without a bound the way out leads into the free
-/// space within the period. Under it: `f` scaled to `F`, kept (as `Recovering`) while the
-/// velocity after it still points out along the way out (`v⁺·v⁺_out > 0`, `v⁺_out` the
-/// velocity `f` asked for) and is clear of every mover's cap: the robot then leaves the band
-/// over several periods instead of one. Otherwise (moving into the shape faster than the bound
-/// can turn, or a mover within reach) the full brake, not certified. Errors as [`certify`].
-pub(crate) fn recovering(
-    space: &impl Space,
-    movers: &[Mover],
-    body: (Vector2<f64>, f64, f64),
-    (v, f): (Vector2<f64>, Vector2<f64>),
-    (mass, h, force_bound): (f64, f64, f64),
-) -> Result<(Vector2<f64>, Verdict), NavError> {
-    let b = Backup::new(space, movers, body, v, (mass, h, force_bound))?;
-    let scaled = clip(f, force_bound);
-    let out = b.speed_after(f);
-    if b.clear_of_movers(scaled) && (scaled == f || b.speed_after(scaled).dot(&out) > 0.0) {
-        return Ok((scaled, Verdict::Kept));
+impl<S: Space> Backup<'_, S> {
+    /// `f` itself when it is within `F` and certified (eq. backup, eq. backupmover), else the
+    /// force on the segment from the full brake to `f` (scaled to `F`) nearest `f` that is
+    /// certified (bisection), else the full brake.
+    fn certify(&self, f: Vector2<f64>, force_bound: f64) -> (Vector2<f64>, Verdict) {
+        let asked = clip(f, force_bound);
+        if self.certified(asked) {
+            if asked == f {
+                return (f, Verdict::Kept);
+            }
+            let scale = ratio(self.speed_after(asked).norm(), self.speed_after(f).norm());
+            return (asked, Verdict::Shortened { scale, mover: None });
+        }
+        let brake = self.brake();
+        if !self.certified(brake) {
+            return (brake, self.not_certified(brake));
+        }
+        let (mut lo, mut hi) = (0.0, 1.0);
+        for _ in 0..BISECTIONS {
+            let mid = 0.5 * (lo + hi);
+            if self.certified(brake + mid * (asked - brake)) {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        let chosen = brake + lo * (asked - brake);
+        // The mover binds if the next candidate out was over its cap.
+        let mover = self
+            .cap
+            .1
+            .filter(|_| !self.clear_of_movers(brake + hi * (asked - brake)));
+        let scale = ratio(self.speed_after(chosen).norm(), self.speed_after(f).norm());
+        (chosen, Verdict::Shortened { scale, mover })
     }
-    let brake = b.brake();
-    Ok((brake, b.not_certified(brake)))
+
+    /// The halt after a refused scan (the halt's own force is not used): the full brake, kept
+    /// if its way to rest is certified (eq. backup, eq. backupmover), else not certified.
+    fn halt(&self) -> (Vector2<f64>, Verdict) {
+        let brake = self.brake();
+        if self.certified(brake) {
+            (brake, Verdict::Kept)
+        } else {
+            (brake, self.not_certified(brake))
+        }
+    }
+
+    /// The way out of the margin band, `f`. The band lies inside a grown shape, where the
+    /// known shapes certify nothing; without a bound the way out leads into the free space
+    /// within the period. Under it: `f` scaled to `F`, kept (as `Recovering`) while the
+    /// velocity after it still points out along the way out (`v⁺·v⁺_out > 0`, `v⁺_out` the
+    /// velocity `f` asked for) and is clear of every mover's cap: the robot then leaves the
+    /// band over several periods instead of one. Otherwise (moving into the shape faster than
+    /// the bound can turn, or a mover within reach) the full brake, not certified.
+    fn recovering(&self, f: Vector2<f64>, force_bound: f64) -> (Vector2<f64>, Verdict) {
+        let scaled = clip(f, force_bound);
+        let out = self.speed_after(f);
+        if self.clear_of_movers(scaled) && (scaled == f || self.speed_after(scaled).dot(&out) > 0.0)
+        {
+            return (scaled, Verdict::Kept);
+        }
+        let brake = self.brake();
+        (brake, self.not_certified(brake))
+    }
 }
 
 /// `kept/asked`, 0 when nothing was asked.

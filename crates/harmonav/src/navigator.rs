@@ -14,7 +14,7 @@ use crate::controller::{
 };
 use crate::error::NavError;
 use crate::floor::{Escape, EscapeMemory, FloorWorld};
-use crate::hold::{self, Command, Mode};
+use crate::hold::{self, Command};
 use crate::law::Law;
 use crate::movers::{self, KeepRight, Mover, MoverMemory, Verdict};
 use crate::options::Options;
@@ -385,16 +385,16 @@ impl<W: World> Navigator<W> {
     }
 
     /// The dynamic law's command under a force bound `F` ([`Options::force_bound`],
-    /// `crate::braking`, docs/movers.md §2): within `|f| ≤ F`, and certified to leave the
-    /// robot a way to brake to rest inside the known free space and out of every mover's
+    /// `crate::braking::bounded`, docs/movers.md §2): within `|f| ≤ F`, and certified to leave
+    /// the robot a way to brake to rest inside the known free space and out of every mover's
     /// reach; the command itself if it is (bit for bit), else the nearest such force towards
-    /// the full brake ([`Mode::Bounded`], or [`Mode::Yielding`] where a mover binds), else the
-    /// full brake ([`Mode::Braking`] or [`Mode::Overwhelmed`], not certified). The halt after
-    /// a refused scan ([`Mode::Halted`]) is the full brake, kept `Halted` only if its way to
-    /// rest is certified; the way out of the margin band ([`Mode::Recovering`]) is scaled to
-    /// `F` and kept while it still leads out and clear of the movers' caps, else braked (not
-    /// certified; `crate::braking::recovering`). `yielded`:
-    /// whether a mover changed the command (returned as is without a bound).
+    /// the full brake (`Mode::Bounded`, or `Mode::Yielding` where a mover binds), else the
+    /// full brake (`Mode::Braking` or `Mode::Overwhelmed`, not certified). The halt after a
+    /// refused scan (`Mode::Halted`) is the full brake, kept `Halted` only if its way to rest
+    /// is certified; the way out of the margin band (`Mode::Recovering`) is scaled to `F` and
+    /// kept while it still leads out and clear of the movers' caps, else braked (not
+    /// certified). `yielded`: whether a mover changed the command (returned as is without a
+    /// bound).
     fn braked(
         &self,
         x: Vector2<f64>,
@@ -408,16 +408,11 @@ impl<W: World> Navigator<W> {
             return Ok((command, yielded));
         };
         let options = &self.core.options;
-        let certify = match command.mode {
-            Mode::Halted => braking::halt,
-            Mode::Recovering(_) => braking::recovering,
-            _ => braking::certify,
-        };
-        let (value, verdict) = certify(
+        let (value, verdict) = braking::bounded(
             self.world.field(),
             &self.core.movers,
             (x, options.radius, options.margin),
-            (v, command.value),
+            (v, command.value, command.mode),
             (law.mass(), self.core.period, force_bound),
         )?;
         let by_mover = matches!(
