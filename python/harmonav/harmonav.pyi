@@ -294,6 +294,9 @@ class Navigator:
         """A differential-drive base's acceleration limits ``(a_max, alpha_max)``; ``None``
         without them."""
     @property
+    def force_bound(self) -> Optional[float]:
+        """The dynamic law's force bound, N (``force_bound=``); ``None`` without one."""
+    @property
     def mode(self) -> str:
         """How the last command was formed: ``"law"``, ``"capped"``, ``"recovering"``,
         ``"from-rest"`` (where the kinematic law's held step had come to rest away from the goal,

@@ -1074,6 +1074,13 @@ impl Navigator {
         }
     }
 
+    /// The dynamic law's force bound `F`, N (`force_bound=`, docs/movers.md §2); `None`
+    /// without one.
+    #[getter]
+    fn force_bound(&self, py: Python<'_>) -> Option<f64> {
+        self.state(py).built.options.force_bound
+    }
+
     /// Observes one range scan (the fields of `sensor_msgs/LaserScan`) taken at `position`
     /// (array-like `[x, y]`, the robot's centre) with `heading` (rad, the scan's angle 0):
     /// `ranges` (m, a 1-D array-like of real numbers: booleans and complex numbers are a

@@ -56,6 +56,7 @@ def test_every_force_is_within_the_bound_and_the_robot_arrives_around_a_disc():
 def test_a_pickled_copy_keeps_the_bound_and_commands_as_the_original():
     nav = star()
     twin = pickle.loads(pickle.dumps(nav))
+    assert (nav.force_bound, twin.force_bound, star(force_bound=None).force_bound) == (F, F, None)
     x, v = np.array([-4.0, 0.0]), np.zeros(2)
     for _ in range(200):
         f, g = nav.command(x, v), twin.command(x, v)
