@@ -179,7 +179,8 @@ impl<'a, S: Space> Backup<'a, S> {
     fn certified(&self, f: Vector2<f64>) -> bool {
         let next = self.speed_after(f);
         let s = next.norm();
-        if !self.clear_of_movers(f) {
+        // Eq. backupmover ([`Backup::clear_of_movers`], on the speed just computed).
+        if s > self.cap.0 {
             return false;
         }
         let want = backup_length(s, self.h, self.a);
