@@ -250,9 +250,9 @@ pub fn run_with_states(
         start,
         None,
         &mut |held| {
-            let (x, v) = held.euler();
-            states.push(x);
-            (x, v)
+            let moved = held.euler();
+            states.push(moved.x);
+            moved
         },
         None,
     )?;
@@ -263,11 +263,31 @@ pub fn run_with_states(
 /// velocity for the kinematic model, the force for the dynamic one).
 pub type FloorLaw<'a> = &'a dyn Fn(&FloorNavigator, Vector2<f64>, Vector2<f64>) -> Vector2<f64>;
 
-/// A position and a velocity.
-pub(crate) type State = (Vector2<f64>, Vector2<f64>);
+/// Where a held control period left the robot: its position, its velocity and, for a
+/// differential drive, its heading (rad).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Moved {
+    /// Position at the period's end.
+    pub x: Vector2<f64>,
+    /// Velocity at the period's end.
+    pub v: Vector2<f64>,
+    /// A differential drive's heading at the period's end (`None` for a holonomic robot).
+    pub yaw: Option<f64>,
+}
+
+/// A differential drive's command held over a period: `(v, ω)` from the heading `yaw`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PoseHeld {
+    /// Heading at the period's start, rad.
+    pub yaw: f64,
+    /// Forward speed, m/s.
+    pub v: f64,
+    /// Turn rate, rad/s.
+    pub omega: f64,
+}
 
 /// One control period of the loop: the state at its start, the command held over it, the
-/// law and the period. An integrator (`hold` of [`fly`]) returns the state at its end.
+/// law and the period. An integrator (`hold` of [`fly`]) returns where it left the robot.
 pub(crate) struct Held<'a> {
     /// The law (the model, and the dynamic law's mass).
     pub controller: &'a Controller,
@@ -277,22 +297,37 @@ pub(crate) struct Held<'a> {
     pub x: Vector2<f64>,
     /// Velocity at the period's start.
     pub v: Vector2<f64>,
-    /// The command held: velocity (kinematic) or force (dynamic).
+    /// The command held: velocity (kinematic) or force (dynamic); for a differential drive,
+    /// zero and [`Held::pose`] instead.
     pub command: Vector2<f64>,
+    /// A differential drive's `(v, ω)` (`None` for a holonomic robot).
+    pub pose: Option<PoseHeld>,
 }
 
 impl Held<'_> {
     /// The built-in step: `x += h·u` (kinematic, `ẋ = u`), or `v += h·f/m, x += h·v` (dynamic,
-    /// semi-implicit Euler). Returns the position and velocity at the period's end.
+    /// semi-implicit Euler); a differential drive moves on the exact arc of its `(v, ω)`
+    /// ([`harmonav::unicycle_arc`], the arc its monitor judged), its velocity `v·e(θ)` at the
+    /// arc's end.
     #[must_use]
-    pub(crate) fn euler(&self) -> State {
-        match self.controller {
+    pub(crate) fn euler(&self) -> Moved {
+        if let Some(p) = self.pose {
+            let (x, yaw) = harmonav::unicycle_arc(self.x, p.yaw, p.v, p.omega, self.h);
+            let v = p.v * Vector2::new(yaw.cos(), yaw.sin());
+            return Moved {
+                x,
+                v,
+                yaw: Some(yaw),
+            };
+        }
+        let (x, v) = match self.controller {
             Controller::Kinematic(_) => (self.x + self.h * self.command, self.command),
             Controller::Dynamic(law) => {
                 let v = self.v + self.h * self.command / law.mass();
                 (self.x + self.h * v, v)
             }
-        }
+        };
+        Moved { x, v, yaw: None }
     }
 }
 
@@ -360,7 +395,7 @@ pub(crate) struct Peers<'p> {
 pub(crate) struct Flight<'a, 'c, 'h, 'o> {
     prepared: &'a FloorPrepared,
     custom: Option<FloorLaw<'c>>,
-    hold: &'h mut dyn FnMut(&Held) -> State,
+    hold: &'h mut dyn FnMut(&Held) -> Moved,
     observer: Option<&'o mut dyn FnMut(Event<'_>)>,
     nav: FloorNavigator,
     scanner: Option<Scanner>,
@@ -407,7 +442,7 @@ impl<'a, 'c, 'h, 'o> Flight<'a, 'c, 'h, 'o> {
         model: Option<Model>,
         start: Vector2<f64>,
         custom: Option<FloorLaw<'c>>,
-        hold: &'h mut dyn FnMut(&Held) -> State,
+        hold: &'h mut dyn FnMut(&Held) -> Moved,
         observer: Option<&'o mut dyn FnMut(Event<'_>)>,
     ) -> Result<Self, NavError> {
         let r = &prepared.scenario.robot;
@@ -654,12 +689,36 @@ impl<'a, 'c, 'h, 'o> Flight<'a, 'c, 'h, 'o> {
                 o(Event::State(&s));
                 self.observed = Some(out.time);
             }
-            let next;
-            (next, self.vel) = u.period_in(&|p| body_clearance(prepared, p), r.margin, x, &c, h);
+            // The arc judged from the pose now; then the integrator moves the robot: the
+            // built-in one on that exact arc, rapier's body along its heading.
+            let (exact, _) = u.period_in(&|p| body_clearance(prepared, p), r.margin, x, &c, h);
+            let moved = (self.hold)(&Held {
+                controller: nav.controller(),
+                h,
+                x,
+                v: self.vel,
+                command: Vector2::zeros(),
+                pose: Some(PoseHeld {
+                    yaw,
+                    v: c.v,
+                    omega: c.omega,
+                }),
+            });
+            let next = moved.x;
+            self.vel = moved.v;
+            if let Some(turned) = moved.yaw {
+                (u.yaw, u.report.final_yaw) = (turned, turned);
+            }
             self.yaw = u.yaw;
             out.max_speed = out.max_speed.max(self.vel.norm());
-            // The arc's length: a chord is never longer, so the Lipschitz bound stays valid.
-            let length = c.v.abs() * h;
+            // The arc's length (a chord is never longer); if an integrator left the arc
+            // (rapier), at least the distance it moved: the Lipschitz bound stays valid.
+            let arc = c.v.abs() * h;
+            let length = if next == exact {
+                arc
+            } else {
+                arc.max((next - x).norm())
+            };
             out.path += length;
             self.last = Some((self.clearance, length));
             let certified = mode.is_some_and(|m| m.certified());
@@ -716,14 +775,16 @@ impl<'a, 'c, 'h, 'o> Flight<'a, 'c, 'h, 'o> {
             o(Event::State(&s));
             self.observed = Some(out.time);
         }
-        let next;
-        (next, self.vel) = (self.hold)(&Held {
+        let moved = (self.hold)(&Held {
             controller: nav.controller(),
             h,
             x,
             v: self.vel,
             command,
+            pose: None,
         });
+        let next = moved.x;
+        self.vel = moved.v;
         out.max_speed = out.max_speed.max(self.vel.norm());
         let step = (next - x).norm();
         if step > 0.0 {
@@ -795,7 +856,7 @@ pub(crate) fn fly(
     model: Option<Model>,
     start: Vector2<f64>,
     custom: Option<FloorLaw<'_>>,
-    hold: &mut dyn FnMut(&Held) -> State,
+    hold: &mut dyn FnMut(&Held) -> Moved,
     observer: Option<&mut dyn FnMut(Event<'_>)>,
 ) -> Result<FloorRun, NavError> {
     Flight::new(prepared, model, start, custom, hold, observer)?.alone()
@@ -842,7 +903,7 @@ fn fleet(
     let n = prepared.scenario.robots.len() + 1;
     let members: Vec<FloorPrepared> = (0..n).map(|i| member(prepared, i, start)).collect();
     let radius = prepared.scenario.robot.radius;
-    let mut holds: Vec<fn(&Held) -> State> = vec![|held: &Held| held.euler(); n];
+    let mut holds: Vec<fn(&Held) -> Moved> = vec![|held: &Held| held.euler(); n];
     // The other robots' states as their loops hand them over (their own trajectories).
     let mut tracks: Vec<Trajectory<Sample>> = (1..n).map(|_| Trajectory::default()).collect();
     let mut keep: Vec<Box<Observer<'_>>> = tracks

@@ -107,7 +107,6 @@ fn floor_with(
         {
             Err(RunError::MoversInRapier)
         }
-        (Physics::Rapier, _) if prepared.base().is_some() => Err(RunError::DiffFloorInRapier),
         (Physics::Builtin, None) => Ok(floor::run(prepared, model, start)?),
         (Physics::Builtin, Some(observer)) => {
             Ok(floor::run_observed(prepared, model, start, observer)?)

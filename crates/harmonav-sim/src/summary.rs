@@ -232,10 +232,6 @@ pub enum RunError {
     /// A rapier run was asked of a file with `[[movers]]` or `[[robots]]`: both are flown by the
     /// built-in held-command loop only (docs/movers.md §8).
     MoversInRapier,
-    /// A rapier run was asked of a floor plan with a differential drive (`[robot] base =
-    /// "diff"`): its arcs are flown by the built-in loop only there (a star world's rapier run
-    /// drives one).
-    DiffFloorInRapier,
     /// Robot `robot` of a file with `[[robots]]` (0: `[robot]`) could not be prepared with its
     /// own start and goal.
     Robot {
@@ -260,10 +256,6 @@ impl std::fmt::Display for RunError {
             Self::MoversInRapier => f.write_str(
                 "a file with [[movers]] or [[robots]] runs in the built-in held-command loop only (not \
                  rapier)",
-            ),
-            Self::DiffFloorInRapier => f.write_str(
-                "a floor plan with a differential drive (robot.base = \"diff\") runs in the \
-                 built-in loop only (not rapier; a star world's rapier run drives one)",
             ),
         }
     }

@@ -283,3 +283,54 @@ fn a_controller_driving_into_a_floor_plan_wall_makes_contacts() {
     // No reference was given: the deviation is not judged.
     assert_eq!(r.max_deviation, None);
 }
+
+/// Issue 53: a floor plan's differential drive in rapier. Its body is driven along its heading
+/// (`(v, ω)` set at every 1 ms step) and each period's arc is judged from the pose rapier
+/// made: from every start of the L room, it arrives with every guarantee of the built-in loop,
+/// no contact event, every recorded velocity along the recorded heading (a body turned only
+/// by `ω`, never pushed sideways: within the turn of one rapier step), and the heading turns.
+/// Until 2026-12-07 rapier refused the file by name.
+#[test]
+fn a_floor_plans_differential_drive_flies_in_rapier_along_its_heading() {
+    use harmonav_sim::physics::{Physics, simulate_floor_observed};
+    use harmonav_sim::trace::Event;
+    let p = harmonav_scenario::floorplan::FloorScenario::load(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/diff/floor-l-room.toml"),
+    )
+    .unwrap();
+    let omega_max = p.scenario.robot.omega_max.unwrap();
+    assert!(p.starts.len() > 1);
+    for &start in &p.starts {
+        let mut samples = Vec::new();
+        let r = simulate_floor_observed(&p, None, start, Physics::Rapier, &mut |e| {
+            if let Event::State(s) = e {
+                samples.push(s.clone());
+            }
+        })
+        .unwrap();
+        let summary = FloorSummary::new(&p, None, start, &r);
+        assert_eq!(
+            r.ending,
+            FloorEnding::Reached,
+            "{start}: {:?}",
+            summary.guarantees
+        );
+        assert!(summary.all_passed(), "{start}: {:?}", summary.guarantees);
+        assert_eq!(summary.physics_contacts, Some(0));
+        let diff = r.diff.as_ref().expect("a differential drive's report");
+        let yaws: Vec<f64> = samples.iter().map(|s| s.yaw.expect("a heading")).collect();
+        assert_eq!(diff.final_yaw, *yaws.last().unwrap());
+        let turned = yaws.iter().fold(0.0_f64, |m, y| m.max((y - yaws[0]).abs()));
+        assert!(turned > 0.1, "{start}: the body never turned");
+        for s in &samples {
+            let v = Vector2::from(s.v);
+            let e = Vector2::new(s.yaw.unwrap().cos(), s.yaw.unwrap().sin());
+            let sideways = (v.x * e.y - v.y * e.x).abs();
+            assert!(
+                sideways <= v.norm() * omega_max * 1e-3 + 1e-12,
+                "{start}: at t = {} the velocity {v:?} leaves the heading by {sideways} m/s",
+                s.t
+            );
+        }
+    }
+}

@@ -10,8 +10,6 @@ use harmonav_scenario::floorplan::{FileKind, FloorScenario};
 use harmonav_scenario::{BaseKind, Scenario};
 use harmonav_sim::floor::FloorSummary;
 use harmonav_sim::physics::{Physics, simulate, simulate_floor};
-use harmonav_sim::summary::RunError;
-use nalgebra::Vector2;
 
 use super::movers::{failed_names, per_file, toml_files};
 use super::{Check, Outcome, Verdict};
@@ -77,21 +75,13 @@ fn fly(file: &Path, physics: Physics) -> Outcome {
     Ok(Verdict::Held(detail))
 }
 
-/// A floor plan with a differential drive: built-in, every start (`robot.start` and the
-/// file's `[starts]`) arrives with every guarantee, against the holonomic robot of the same
-/// file; rapier must be refused by name (its arcs fly in the built-in loop only there).
+/// A floor plan with a differential drive under `physics`: every start (`robot.start` and the
+/// file's `[starts]`) arrives with every guarantee (rapier: with 0 contacts), against the
+/// holonomic robot of the same file (built-in).
 fn fly_floor(file: &Path, physics: Physics) -> Outcome {
     let prepared = FloorScenario::load(file).map_err(|e| e.to_string())?;
     if prepared.base().is_none() {
         return Err("not a differential-drive file (`[robot] base = \"diff\"`)".into());
-    }
-    let start = Vector2::from(prepared.scenario.robot.start);
-    if physics == Physics::Rapier {
-        return match simulate_floor(&prepared, None, start, physics) {
-            Err(e @ RunError::DiffFloorInRapier) => Ok(Verdict::Held(format!("refused: {e}"))),
-            Err(e) => Err(format!("refused for another reason: {e}")),
-            Ok(_) => Err("rapier ran a floor plan's differential drive".into()),
-        };
     }
     let mut holonomic = prepared.scenario.clone();
     holonomic.robot.base = BaseKind::Holonomic;
@@ -99,11 +89,12 @@ fn fly_floor(file: &Path, physics: Physics) -> Outcome {
     (holonomic.robot.a_max, holonomic.robot.alpha_max) = (None, None);
     let reference = holonomic.prepare(file).map_err(|e| e.to_string())?;
     let (mut worst, mut ratios, mut swept) = (Vec::new(), Vec::new(), f64::INFINITY);
+    let mut contacts = 0;
     for &start in &prepared.starts {
-        let run =
-            simulate_floor(&prepared, None, start, Physics::Builtin).map_err(|e| e.to_string())?;
+        let run = simulate_floor(&prepared, None, start, physics).map_err(|e| e.to_string())?;
         let s = FloorSummary::new(&prepared, None, start, &run);
         let failed = failed_names(&s.guarantees);
+        contacts += s.physics_contacts.unwrap_or(0);
         if !failed.is_empty() || !s.reached {
             worst.push(format!("({:.2}, {:.2}): {failed:?}", start.x, start.y));
             continue;
@@ -116,7 +107,7 @@ fn fly_floor(file: &Path, physics: Physics) -> Outcome {
     ratios.sort_by(f64::total_cmp);
     let detail = format!(
         "{} of {} starts reached with every guarantee; time over the holonomic robot's: median \
-         {:.2}, max {:.2}; swept clearance ≥ {swept:.4} m",
+         {:.2}, max {:.2}; swept clearance ≥ {swept:.4} m; {contacts} contacts",
         ratios.len(),
         prepared.starts.len(),
         ratios.get(ratios.len() / 2).copied().unwrap_or(f64::NAN),

@@ -4,8 +4,8 @@
 //! one static polyline collider whose index buffer closes each ring; each sensed obstacle is
 //! a static collider as in a star world (`rapier/engine.rs`); the robot is the dynamic
 //! ball of the star-world harness, driven by the floor navigator's command (its velocity for
-//! the kinematic model, a force for the dynamic one), held over the control period in
-//! rapier steps of at most 1 ms. Contacts are counted as in a star world
+//! the kinematic model, a force for the dynamic one; a differential drive's `(v, ω)` along
+//! its body's heading), held over the control period in rapier steps of at most 1 ms. Contacts are counted as in a star world
 //! (`Engine::step`, shared), and the monitors of the built-in loop judge the states
 //! rapier makes.
 
@@ -16,7 +16,7 @@ use nalgebra::Vector2;
 
 use super::engine::{Engine, rings, star};
 use super::{Drive, RapierReport};
-use crate::floor::{FloorRun, Held, fly, navigator};
+use crate::floor::{FloorRun, Held, Moved, fly, navigator};
 use crate::summary::Physics;
 use crate::trace::Event;
 
@@ -29,9 +29,9 @@ pub use crate::floor::FloorLaw;
 /// The run's [`FloorRun::contacts`] and [`FloorRun::max_deviation`] become the guarantees
 /// `physics-no-contact` and `physics-deviation` of its [`crate::floor::FloorSummary`].
 ///
-/// A floor plan with a differential drive is not for it (its loop moves the robot on the
-/// built-in arcs whatever the integrator): [`crate::physics::simulate_floor`] refuses rapier
-/// for one by name ([`crate::summary::RunError::DiffFloorInRapier`]).
+/// A differential drive's body turns: at every rapier step its velocity is set to `v·e(θ)`
+/// along its heading now and its turn rate to `ω` (`Engine::drive_unicycle`, as in a star
+/// world), and each period's arc is judged from the pose rapier made.
 ///
 /// # Errors
 /// The navigator could not be built (a message naming the parameter).
@@ -80,10 +80,19 @@ pub(crate) fn rapier_floor_observed(
         (start, r.radius, r.mass),
         &gap,
     );
+    // A differential drive: the body turns, driven along its heading at every step.
+    if prepared.base().is_some() {
+        engine.set_yaw(prepared.start_yaw());
+    }
     let (mut steps, mut max_deviation) = (0usize, 0.0f64);
     let mut hold = |held: &Held| {
-        engine.drive(model, held.command);
+        if held.pose.is_none() {
+            engine.drive(model, held.command);
+        }
         for _ in 0..substeps {
+            if let Some(p) = held.pose {
+                engine.drive_unicycle(p.v, p.omega);
+            }
             engine.step(&gap);
         }
         steps += 1;
@@ -91,7 +100,11 @@ pub(crate) fn rapier_floor_observed(
         if let Some(reference) = builtin.and_then(|b| b.get(steps)) {
             max_deviation = max_deviation.max((x - reference).norm());
         }
-        (x, v)
+        Moved {
+            x,
+            v,
+            yaw: held.pose.map(|_| engine.yaw()),
+        }
     };
     let custom = match drive {
         Drive::Law => None,
