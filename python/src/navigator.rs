@@ -940,7 +940,7 @@ impl Navigator {
 
     /// Sets the goal yaw (rad, map frame) a differential-drive robot finishes at, or clears it
     /// (`None`, the default: `command_pose` as without, bit for bit). Once the position is
-    /// within 1 cm of the goal (`harmonav::GOAL_ARRIVAL`; `set_goal_tolerance`), `command_pose`
+    /// within 1 cm of the goal (`harmonav::tuning::GOAL_ARRIVAL`; `set_goal_tolerance`), `command_pose`
     /// turns in place, `v = 0`, `omega = clamp(k·wrap(yaw − θ), ±omega_max)` within the
     /// acceleration limits (`steer == "to-goal-heading"`), until the heading is within 1e-3 rad
     /// of it (`set_goal_tolerance`), then returns

@@ -593,7 +593,7 @@ fn a_run_with_movers_records_and_draws_them() {
     }
     let h = prepared
         .control_period()
-        .unwrap_or(harmonav::DEFAULT_KINEMATIC_PERIOD);
+        .unwrap_or(harmonav::tuning::DEFAULT_KINEMATIC_PERIOD);
     for f in frames {
         let m = f.movers[0];
         // The person walks from (0.3, −3.5) at (0, 1) m/s, reported exactly (ε = 0).

@@ -191,7 +191,7 @@ impl Default for Params {
             v_max: 0.0,
             goal_tolerance: 0.1,
             xy_goal_tolerance: None,
-            yaw_goal_tolerance: harmonav::GOAL_HEADING_TOLERANCE,
+            yaw_goal_tolerance: harmonav::tuning::GOAL_HEADING_TOLERANCE,
             stateful: true,
             goal_checker: GoalCheckerKeys::default(),
             use_goal_orientation: true,
@@ -229,7 +229,9 @@ impl Params {
     #[must_use]
     pub fn goal_tolerance(&self) -> harmonav::GoalTolerance {
         harmonav::GoalTolerance {
-            xy: self.xy_goal_tolerance.unwrap_or(harmonav::GOAL_ARRIVAL),
+            xy: self
+                .xy_goal_tolerance
+                .unwrap_or(harmonav::tuning::GOAL_ARRIVAL),
             yaw: self.yaw_goal_tolerance,
         }
     }

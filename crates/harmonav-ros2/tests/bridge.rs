@@ -1012,7 +1012,7 @@ fn perceived_obstacles_as_markers_when_they_change() {
 
 use std::f64::consts::FRAC_PI_2;
 
-use harmonav::{GOAL_ARRIVAL, GOAL_HEADING_TOLERANCE};
+use harmonav::tuning::{GOAL_ARRIVAL, GOAL_HEADING_TOLERANCE};
 
 /// `a` in `(−π, π]`.
 fn wrap(a: f64) -> f64 {

@@ -944,14 +944,14 @@ fn floor_lidar(
         ));
     }
     if !(spec.aperture_deg.is_finite()
-        && spec.aperture_deg >= harmonav::MIN_APERTURE_DEG
+        && spec.aperture_deg >= harmonav::tuning::MIN_APERTURE_DEG
         && spec.aperture_deg <= 360.0)
     {
         return Err(f(
             "aperture_deg",
             format!(
                 "must be in (0, 360] and at least {}°, got {:e}",
-                harmonav::MIN_APERTURE_DEG,
+                harmonav::tuning::MIN_APERTURE_DEG,
                 spec.aperture_deg
             ),
         ));

@@ -221,7 +221,7 @@ impl MoverSpec {
             }
         }
         if let Some(r) = &self.random_walk {
-            let (lo, hi) = harmonav::PARAMETER_RANGE;
+            let (lo, hi) = harmonav::tuning::PARAMETER_RANGE;
             if !(r.turn_every.is_finite() && (lo..=hi).contains(&r.turn_every)) {
                 return bad(
                     "random_walk.turn_every",

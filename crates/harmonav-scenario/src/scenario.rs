@@ -6,7 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
-use harmonav::MIN_APERTURE_DEG;
+use harmonav::tuning::MIN_APERTURE_DEG;
 use harmonav_control::{DampingPolicy, SpeedPolicy};
 use harmonav_field::{Field, FieldError, KPolicy};
 use harmonav_sensing::Sector;
@@ -591,9 +591,9 @@ pub const MAX_RECORDED_STATES: f64 = 1e9;
 
 /// The range of the physical parameters (`robot.mass`, `controller.gain`, `controller.mu`,
 /// `controller.v_max`, `sensor.range`, `sensor.rho_min`, `sim.dt`, `sim.max_time`, `sim.goal_tolerance`): the
-/// navigator's own ([`harmonav::PARAMETER_RANGE`]); outside it the closed loop cannot be
+/// navigator's own ([`harmonav::tuning::PARAMETER_RANGE`]); outside it the closed loop cannot be
 /// integrated in `f64` (a `dt` of 1e-300 or a mass of 5e-324 stopped at t = 0).
-pub use harmonav::PARAMETER_RANGE;
+pub use harmonav::tuning::PARAMETER_RANGE;
 
 /// `[expect]`: what a run of this scenario must show (checked by the CLI and `xtask verify`).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]

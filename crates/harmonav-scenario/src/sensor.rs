@@ -26,7 +26,8 @@ use std::f64::consts::TAU;
 
 use harmonav::perception::perception::MAX_FREE_MEMORY;
 use harmonav::perception::sim::Lidar;
-use harmonav::{DEFAULT_FREE_MEMORY, FIT_BEYOND_DEPTH, Law, Options, ScanOptions};
+use harmonav::tuning::{DEFAULT_FREE_MEMORY, FIT_BEYOND_DEPTH};
+use harmonav::{Law, Options, ScanOptions};
 use harmonav_transform::StarShape;
 use serde::{Deserialize, Serialize};
 
@@ -77,12 +78,12 @@ pub struct SensorSpec {
     /// comes from `r_f − D`. When given it serves both laws and must exceed `D`. Default, at
     /// most `range`: the robot's radius and margin, the noise bound and three scans at top
     /// speed (eq. fitnear, [`harmonav::Options::recommended_fit_range`], §12.16, §12.18), or
-    /// `D +` [`harmonav::FIT_BEYOND_DEPTH`] under the dynamic law with the paper's damping.
+    /// `D +` [`harmonav::tuning::FIT_BEYOND_DEPTH`] under the dynamic law with the paper's damping.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fit_range: Option<f64>,
     /// Lidar: how many earlier scans' free evidence the fits also leave out (eq. memory,
     /// §12.11), at most `harmonav::perception::perception::MAX_FREE_MEMORY`; default
-    /// [`harmonav::DEFAULT_FREE_MEMORY`].
+    /// [`harmonav::tuning::DEFAULT_FREE_MEMORY`].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub free_memory: Option<usize>,
     /// Lidar: which free evidence of a scan the fits leave out: `"fan"` (the default) or

@@ -9,7 +9,8 @@
 //! here instead ([`crate::run::run`] comes here), and a file without movers never does.
 
 use harmonav::control::{Dynamic, Potential};
-use harmonav::{Controller, DEFAULT_DYNAMIC_PERIOD, DEFAULT_KINEMATIC_PERIOD, Mode, NavError};
+use harmonav::tuning::{DEFAULT_DYNAMIC_PERIOD, DEFAULT_KINEMATIC_PERIOD};
+use harmonav::{Controller, Mode, NavError};
 use harmonav_scenario::{Model, Prepared};
 use nalgebra::Vector2;
 

@@ -193,7 +193,7 @@ fn the_kinematic_law_fits_only_what_it_comes_near() {
     assert!((dynamic - expected).abs() < 1e-12, "{dynamic}");
     let paper = options.with_damping(harmonav::DampingPolicy::Paper);
     let dynamic = l.for_law(&Law::dynamic(1.0, 2.0), &paper).scan.fit_range;
-    assert_eq!(dynamic, depth + harmonav::FIT_BEYOND_DEPTH);
+    assert_eq!(dynamic, depth + harmonav::tuning::FIT_BEYOND_DEPTH);
 
     let perceived = |text: &str| {
         let s = run(&paper_world_with(text), None).unwrap().summary;
@@ -207,7 +207,7 @@ fn the_kinematic_law_fits_only_what_it_comes_near() {
         "seed = 1",
         &format!(
             "seed = 1\nfit_range = {}",
-            depth + harmonav::FIT_BEYOND_DEPTH
+            depth + harmonav::tuning::FIT_BEYOND_DEPTH
         ),
         1,
     ));

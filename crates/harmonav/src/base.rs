@@ -16,9 +16,9 @@ pub enum Base {
     /// `|ω| ≤ omega_max` (rad/s). Kinematic law only ([`Law::Kinematic`]); the dynamic law is
     /// refused at construction (`base`).
     Diff {
-        /// The top forward speed, m/s, in [`crate::PARAMETER_RANGE`].
+        /// The top forward speed, m/s, in [`crate::tuning::PARAMETER_RANGE`].
         v_max: f64,
-        /// The top turn rate, rad/s, in [`crate::PARAMETER_RANGE`].
+        /// The top turn rate, rad/s, in [`crate::tuning::PARAMETER_RANGE`].
         omega_max: f64,
         /// The acceleration limits between two commands (`None`: none, the default;
         /// [`Base::with_accel`]).
@@ -39,9 +39,9 @@ pub enum Base {
 /// that the most it can brake (`v⁺ = max(0, v − a_max h)`) is always safe.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Accel {
-    /// The largest change of the forward speed, m/s², in [`crate::PARAMETER_RANGE`].
+    /// The largest change of the forward speed, m/s², in [`crate::tuning::PARAMETER_RANGE`].
     pub a_max: f64,
-    /// The largest change of the turn rate, rad/s², in [`crate::PARAMETER_RANGE`].
+    /// The largest change of the turn rate, rad/s², in [`crate::tuning::PARAMETER_RANGE`].
     pub alpha_max: f64,
 }
 
@@ -83,7 +83,7 @@ impl Base {
     }
 
     /// The bounds checked for `law`: `v_max`, `omega_max` (and `a_max`, `alpha_max` when
-    /// given) finite and in [`crate::PARAMETER_RANGE`] (the error names the field); a
+    /// given) finite and in [`crate::tuning::PARAMETER_RANGE`] (the error names the field); a
     /// differential-drive base with
     /// the dynamic law is [`NavError::InvalidOption`] naming `base` (not built in this
     /// release: the kinematic law only).

@@ -39,7 +39,7 @@ pub enum Mode {
     /// On a floor plan under the heading policy `"auto"`: the hold had stalled at a rest point
     /// of its slide on the edge of the certified region (a local minimum of `Θ` there, not of
     /// `Θ` itself), or the shortest path turned more than 90° from the law's descent, and the
-    /// robot follows the shortest path until `phi_k` is [`crate::ESCAPE_DROP`] below the level
+    /// robot follows the shortest path until `phi_k` is [`crate::tuning::ESCAPE_DROP`] below the level
     /// where it began, or until blocked (docs/maths.md §13.7).
     Escaping,
     /// In a star world under [`crate::HoldPolicy::Auto`], the kinematic law's held step had

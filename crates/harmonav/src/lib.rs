@@ -70,6 +70,7 @@ mod scan;
 mod scanning;
 mod space;
 mod star;
+pub mod tuning;
 mod world;
 
 pub use harmonav_control as control;
@@ -80,32 +81,28 @@ pub use harmonav_potential as potential;
 pub use harmonav_sensing as sensing;
 pub use harmonav_transform as transform;
 
-pub use base::{Accel, Base, GOAL_ARRIVAL, GOAL_HEADING_TOLERANCE, GoalTolerance};
-pub use certified::{BLIND, Band, CANDIDATES};
+pub use base::{Accel, Base, GoalTolerance};
+pub use certified::Band;
 pub use controller::{Controller, Evaluation};
-pub use diff::{GOAL_GAIN_RATIO, PoseCommand, RECOVERY_ALIGNMENT, Steer, TURN_GAIN, unicycle_arc};
+pub use diff::{PoseCommand, Steer, unicycle_arc};
 pub use error::NavError;
 pub use event::{grow_perceived, grow_perceived_as};
-pub use floor::{ESCAPE_BLOCKED, ESCAPE_DROP, ESCAPE_STALL, EscapeMemory, FloorWorld};
+pub use floor::{EscapeMemory, FloorWorld};
 pub use harmonav_control::{DampingPolicy, HeadingPolicy, SpeedPolicy};
 pub use harmonav_field::KPolicy;
 pub use harmonav_floorplan::{CentrePolicy, FloorError, FloorMap, FloorOptions};
 pub use harmonav_transform::{ShapeError, StarShape};
-pub use hold::{
-    CHORD_AFTER_HALVINGS, CHORD_SUBSTEPS, Command, DYNAMIC_FRACTION, KINEMATIC_FRACTION,
-    MAX_HALVINGS, MAX_TRACE_BALLS, Mode, REST_DIRECTIONS, REST_SCALE, SPEED_SLACK,
-};
+pub use hold::{Command, Mode};
 pub use law::Law;
-pub use movers::{Filtered, MAX_MOVER, Mover, MoverFilter, MoverKind, MoverMemory};
+pub use movers::{Filtered, Mover, MoverFilter, MoverKind, MoverMemory};
 pub use nalgebra::Vector2;
 pub use navigator::{FloorNavigator, Navigator};
-pub use options::{
-    DEFAULT_DYNAMIC_PERIOD, DEFAULT_KINEMATIC_PERIOD, HoldPolicy, MIN_APERTURE_DEG, Options,
-    PARAMETER_RANGE, UnknownHoldPolicy,
-};
+pub use options::{HoldPolicy, Options, UnknownHoldPolicy};
 pub use scan::{LaserScan, Perceived, Pose, StarForm};
-pub use scanning::{DEFAULT_FREE_MEMORY, FIT_BEYOND_DEPTH, ScanOptions, ScanUpdate};
+pub use scanning::{ScanOptions, ScanUpdate};
 pub use star::StarWorld;
+#[allow(deprecated)]
+pub use tuning::root::*;
 pub use world::{IntoWorld, World};
 
 /// The README's code compiles and runs (checked by `cargo test --doc`).

@@ -53,12 +53,12 @@ pub struct Navigator<W = StarWorld> {
 /// **Escapes.** Where a hole's barrier is thinner than the layer, the hold can press the robot
 /// against the edge of `W_δ` at a local minimum of `Θ` there (a rest point of its slide,
 /// [`FloorField::layer_slide`](harmonav_floorplan::FloorField::layer_slide)). Under the heading policy `"auto"`, a robot that has stayed
-/// within `δ/4` of one point for [`ESCAPE_STALL`](crate::ESCAPE_STALL) s next to that edge follows the shortest path
-/// ([`Mode::Escaping`](crate::Mode::Escaping), each step certified free) until `phi_k` is [`ESCAPE_DROP`](crate::ESCAPE_DROP) below where
+/// within `δ/4` of one point for [`ESCAPE_STALL`](crate::tuning::ESCAPE_STALL) s next to that edge follows the shortest path
+/// ([`Mode::Escaping`](crate::Mode::Escaping), each step certified free) until `phi_k` is [`ESCAPE_DROP`](crate::tuning::ESCAPE_DROP) below where
 /// it stalled, then the law resumes. It does so without a stall, anywhere, where the shortest
 /// path's heading `g` turns more than 90° from the law's descent direction `d` (`d·g < 0`) and
-/// `phi_k` is [`ESCAPE_DROP`](crate::ESCAPE_DROP) below where the last such escape began; such an escape also ends
-/// when blocked ([`ESCAPE_BLOCKED`](crate::ESCAPE_BLOCKED); docs/maths.md §13.7, eq. escape-levels).
+/// `phi_k` is [`ESCAPE_DROP`](crate::tuning::ESCAPE_DROP) below where the last such escape began; such an escape also ends
+/// when blocked ([`ESCAPE_BLOCKED`](crate::tuning::ESCAPE_BLOCKED); docs/maths.md §13.7, eq. escape-levels).
 ///
 /// ```
 /// use std::sync::Arc;

@@ -11,7 +11,7 @@ use crate::base::Base;
 use crate::error::NavError;
 pub(crate) use crate::error::in_range;
 use crate::law::Law;
-pub use crate::ranges::{MIN_APERTURE_DEG, PARAMETER_RANGE};
+use crate::ranges::MIN_APERTURE_DEG;
 use crate::scanning::{FIT_BEYOND_DEPTH, FIT_SCANS_AHEAD, ScanOptions};
 
 /// The control period assumed for [`Law::Kinematic`] when none is given: 100 Hz, s.
@@ -187,7 +187,7 @@ impl Options {
         Self { heading, ..self }
     }
 
-    /// The kinematic law's top speed `v_max`, m/s, in [`PARAMETER_RANGE`] (ignored by the
+    /// The kinematic law's top speed `v_max`, m/s, in [`PARAMETER_RANGE`](crate::tuning::PARAMETER_RANGE) (ignored by the
     /// dynamic law, whose speed bound is `√(2μ/m)`).
     #[must_use]
     pub fn with_v_max(self, v_max: f64) -> Self {
@@ -208,7 +208,7 @@ impl Options {
     }
 
     /// The dynamic law's force bound `F`, N ([`Options::force_bound`]), in
-    /// [`PARAMETER_RANGE`].
+    /// [`PARAMETER_RANGE`](crate::tuning::PARAMETER_RANGE).
     #[must_use]
     pub fn with_force_bound(self, force_bound: f64) -> Self {
         Self {
@@ -293,7 +293,7 @@ impl Options {
     }
 
     /// `d_min(θ)` of eq. `dmin` for this sensor and `ρ_min`, after checking both against
-    /// [`PARAMETER_RANGE`] and [`MIN_APERTURE_DEG`]; errors name the field.
+    /// [`PARAMETER_RANGE`](crate::tuning::PARAMETER_RANGE) and [`MIN_APERTURE_DEG`](crate::tuning::MIN_APERTURE_DEG); errors name the field.
     ///
     /// Under the paper's damping ([`DampingPolicy::Paper`]) with a finite
     /// [`ScanOptions::fit_range`] `r_f`, the sector reaches at most `r_f − D`: an obstacle seen
@@ -351,9 +351,9 @@ impl Options {
 
     /// Checks every option against its range, with `law` (which sets the default period):
     /// `radius` and `margin` finite, `≥ 0` and at most [`MAX_LENGTH`]; the sensor and `ρ_min` as
-    /// in [`Options::d_min`]; the control period and `v_max` (if given) in [`PARAMETER_RANGE`];
+    /// in [`Options::d_min`]; the control period and `v_max` (if given) in [`PARAMETER_RANGE`](crate::tuning::PARAMETER_RANGE);
     /// the scan options as in [`ScanOptions::validate`]; a differential-drive base's `v_max` and
-    /// `omega_max` in [`PARAMETER_RANGE`], and only with the kinematic law (else `base`).
+    /// `omega_max` in [`PARAMETER_RANGE`](crate::tuning::PARAMETER_RANGE), and only with the kinematic law (else `base`).
     pub fn validate(&self, law: &Law) -> Result<(), NavError> {
         if let Some(v) = self.v_max {
             in_range("v_max", v)?;

@@ -6,9 +6,10 @@
 
 use std::f64::consts::PI;
 
+use harmonav::tuning::{GOAL_ARRIVAL, GOAL_HEADING_TOLERANCE};
 use harmonav::{
-    Base, GOAL_ARRIVAL, GOAL_HEADING_TOLERANCE, GoalTolerance, Law, NavError, Navigator, Options,
-    PoseCommand, StarShape, Steer, Vector2, unicycle_arc,
+    Base, GoalTolerance, Law, NavError, Navigator, Options, PoseCommand, StarShape, Steer, Vector2,
+    unicycle_arc,
 };
 
 const RADIUS: f64 = 0.18;

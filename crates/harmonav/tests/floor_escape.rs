@@ -9,9 +9,9 @@ mod common;
 
 use std::sync::Arc;
 
+use harmonav::tuning::{ESCAPE_DROP, ESCAPE_STALL};
 use harmonav::{
-    ESCAPE_DROP, ESCAPE_STALL, FloorMap, FloorNavigator, FloorOptions, HeadingPolicy, Law, Mode,
-    Options, Vector2,
+    FloorMap, FloorNavigator, FloorOptions, HeadingPolicy, Law, Mode, Options, Vector2,
 };
 
 fn v(x: f64, y: f64) -> Vector2<f64> {

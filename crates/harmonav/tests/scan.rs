@@ -463,7 +463,7 @@ fn the_lidar_loop_is_safe_and_its_check_fails_when_the_depth_prior_is_wrong() {
     };
     let suite = LidarSuite {
         seeds: 0..4,
-        fit_range: Some(near.max_obstacle_depth + harmonav::FIT_BEYOND_DEPTH),
+        fit_range: Some(near.max_obstacle_depth + harmonav::tuning::FIT_BEYOND_DEPTH),
         ..near.clone()
     };
     let r = suite.run().unwrap();
