@@ -112,6 +112,7 @@ impl<W: World> Navigator<W> {
             scan_refused: false,
             movers: Vec::new(),
             rows: Vec::new(),
+            along: Vec::new(),
             yielded: false,
             keep_right: KeepRight::default(),
             pose_command: (0.0, 0.0),

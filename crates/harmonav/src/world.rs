@@ -86,6 +86,9 @@ pub struct Core {
     pub(crate) movers: Vec<Mover>,
     /// The filter's rows, rebuilt at each command (their capacity kept: no allocation).
     pub(crate) rows: Vec<Row>,
+    /// A differential drive's `m_j` of each row along its arc (`command_pose`), rebuilt with
+    /// the rows (their capacity kept).
+    pub(crate) along: Vec<f64>,
     /// The last command was changed by the mover filter.
     pub(crate) yielded: bool,
     /// The deadlock rule's memory (it turns the nominal command only).
