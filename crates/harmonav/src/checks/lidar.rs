@@ -152,7 +152,7 @@ pub fn suite_lidar() -> Lidar {
 /// the lidar's, so `d_min = r − D`: the room left when a first fit reaches `D` in front of the
 /// truth, docs/maths.md §12.6), the world's `ρ_min`, the scan priors `range_noise` (`ε`)
 /// and `max_obstacle_depth` (`D`), and the dynamic law's recommended fit range `D +`
-/// [`crate::tuning::FIT_BEYOND_DEPTH`] (which cuts the sector of `d_min` to 0.5 m, §12.11;
+/// [`crate::scanning::FIT_BEYOND_DEPTH`] (which cuts the sector of `d_min` to 0.5 m, §12.11;
 /// [`LidarSuite::run`] takes each law's, [`Options::recommended_fit_range`]).
 pub fn lidar_options(
     world: &LidarWorld,
@@ -166,7 +166,7 @@ pub fn lidar_options(
         .with_scan(ScanOptions {
             range_noise,
             max_obstacle_depth,
-            fit_range: max_obstacle_depth + crate::tuning::FIT_BEYOND_DEPTH,
+            fit_range: max_obstacle_depth + crate::scanning::FIT_BEYOND_DEPTH,
             ..ScanOptions::default()
         })
 }
