@@ -22,7 +22,7 @@
 //!   terminal speed spans the whole bound
 //!   `√(2μ/m)`, and a governor that keeps the speed below `0.9·√(2μ/m)`.
 //!
-//! [`checks`] measures the laws' properties (corollary `critdamp` at the goal, eq.
+//! `checks` (the feature `checks`) measures the laws' properties (corollary `critdamp` at the goal, eq.
 //! `totalenergy` and corollary `boundedvel` along the closed loop, eq. `kinctrl`'s decrease of
 //! `Θ`) for this crate's tests and `cargo xtask verify`.
 //!
@@ -64,6 +64,7 @@
 
 #![warn(missing_docs)]
 
+#[cfg(feature = "checks")]
 pub mod checks;
 mod damping;
 mod heading;

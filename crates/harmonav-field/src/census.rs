@@ -2,7 +2,7 @@
 //! the destination and `M` saddles, each non-degenerate unless proposition `Morse` applies).
 
 use harmonav_potential::CriticalKind;
-use harmonav_potential::checks::{FD_STEP, fd_jacobian};
+use harmonav_potential::fd::{FD_STEP, fd_jacobian};
 use nalgebra::{Matrix2, Vector2};
 
 use crate::field::{Field, FieldError, FieldEval};

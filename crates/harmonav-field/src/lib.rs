@@ -16,7 +16,7 @@
 //! (the only allocations), and evaluates `Θ`, `∇Θ` and the unit descent direction
 //! `−∇Θ/|∇Θ|` without allocating.
 //!
-//! [`checks`] measures `Θ`'s properties (`Phi` a diffeomorphism, the limits at the goal and the
+//! `checks` (the feature `checks`) measures `Θ`'s properties (`Phi` a diffeomorphism, the limits at the goal and the
 //! boundaries, theorem `isNF`'s critical points, convergence of the descent) for this crate's
 //! tests and `cargo xtask verify`.
 //!
@@ -41,6 +41,7 @@
 #![warn(missing_docs)]
 
 mod census;
+#[cfg(feature = "checks")]
 pub mod checks;
 pub mod descent;
 mod field;

@@ -48,10 +48,12 @@
 
 pub mod arrangements;
 pub mod batch;
+#[cfg(feature = "checks")]
 pub mod checks;
 pub mod critical;
 mod error;
 pub mod far;
+pub mod fd;
 pub mod named;
 pub mod sigma;
 pub mod terms;

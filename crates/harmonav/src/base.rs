@@ -127,7 +127,7 @@ pub(crate) enum Brake {
 
 /// The default arrival test of the goal heading ([`crate::Navigator::set_goal_heading`],
 /// [`GoalTolerance::xy`]), m: the position has arrived when `|x − x_d| <` this, the same test
-/// as [`crate::checks::fly`]'s (it equals [`crate::checks::GOAL_TOLERANCE`]) and the 1 cm the
+/// as `checks::fly`'s (it equals `checks::GOAL_TOLERANCE`, feature `checks`) and the 1 cm the
 /// differential-drive tests and the scenarios' default `sim.arrival` use.
 pub const GOAL_ARRIVAL: f64 = 0.01;
 

@@ -12,7 +12,7 @@
 use harmonav_field::FieldEval;
 use nalgebra::Vector2;
 
-use crate::base::{Base, Brake, GOAL_ARRIVAL, GoalTolerance};
+use crate::base::{Base, Brake, GoalTolerance};
 use crate::controller::Controller;
 use crate::error::NavError;
 use crate::hold::{self, KINEMATIC_FRACTION, MAX_HALVINGS, Mode};
@@ -38,9 +38,10 @@ pub const GOAL_GAIN_RATIO: f64 = 0.5;
 /// this angle (rad) of the way out, then drives straight (`ω = 0`) along it.
 pub const RECOVERY_ALIGNMENT: f64 = 1e-6;
 
-// `GOAL_ARRIVAL` is the 1 cm of `checks::fly`'s arrival test, checked here: `base` cannot
-// name `checks` (it would close a module cycle).
-const _: () = assert!(GOAL_ARRIVAL == crate::checks::GOAL_TOLERANCE);
+// `GOAL_ARRIVAL` is the 1 cm of `checks::fly`'s arrival test, checked here (with the
+// feature `checks`): `base` cannot name `checks` (it would close a module cycle).
+#[cfg(feature = "checks")]
+const _: () = assert!(crate::base::GOAL_ARRIVAL == crate::checks::GOAL_TOLERANCE);
 
 /// The arc search (docs/unicycle.md section 11) runs when the held holonomic command was
 /// shortened below this fraction of the law's step ([`Mode::Capped`]) or stepped from rest
@@ -539,7 +540,7 @@ impl<W: World> Navigator<W> {
 
     /// Sets the goal yaw `θ_g` (rad, map frame) a differential-drive base finishes at (`None`:
     /// none, the default; Nav2's goals carry one). Once the position has arrived, `|x − x_d| <`
-    /// [`GoalTolerance::xy`] (default [`GOAL_ARRIVAL`]), [`Navigator::command_pose`] turns in
+    /// [`GoalTolerance::xy`] (default [`GOAL_ARRIVAL`](crate::tuning::GOAL_ARRIVAL)), [`Navigator::command_pose`] turns in
     /// place, `v = 0`, `ω = clamp(k·wrap(θ_g − θ), ±ω_max)` ([`Steer::ToGoalHeading`]; within
     /// the acceleration limits, if any), until `|wrap(θ_g − θ)| <` [`GoalTolerance::yaw`]
     /// (default [`crate::GOAL_HEADING_TOLERANCE`]), then commands

@@ -52,6 +52,7 @@
 mod base;
 mod braking;
 mod certified;
+#[cfg(feature = "checks")]
 pub mod checks;
 mod controller;
 mod diff;
