@@ -16,46 +16,36 @@ use serde::Serialize;
 use crate::guarantee::MARGIN_TOLERANCE;
 use crate::guarantee::{Check, Guarantee};
 use crate::movers::{FleetReport, FleetRobot, MoverReport, MoverWorld, Sweep};
+use crate::outcome::Outcome;
 use crate::scanner::{Scanner, Scene};
 use crate::summary::{PerceptionReport, Physics};
 use crate::trace::{Discovery, Event, MoverFrame, MoverMark, Sample, frame_due, recorded_velocity};
 use crate::trajectory::{Keep, Trajectory};
 use crate::unicycle::{Diff, DiffReport};
 
-/// How a floor-plan run ended.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum FloorEnding {
-    /// Within the arrival threshold of the goal.
-    Reached,
-    /// The robot's disc touched a true wall or obstacle.
-    Collision,
-    /// The robot's centre left the floor plan (or entered a hole).
-    Left,
-    /// The time limit passed first.
-    TimedOut,
-    /// The navigator refused a command (the error is in [`FloorRun::error`]).
-    Refused,
-}
-
-impl FloorEnding {
-    /// The name for JSON and tables.
-    #[must_use]
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Self::Reached => "reached",
-            Self::Collision => "collision",
-            Self::Left => "left",
-            Self::TimedOut => "timed_out",
-            Self::Refused => "refused",
-        }
+/// The name of a floor-plan run's [`Outcome`] in its `summary.json` (`outcome`: a string,
+/// as before the two worlds shared one outcome type; the CLI's and Python's contract):
+/// `"reached"`, `"collision"`, `"left"`, `"timed_out"`, or `"refused"` (a command or a scan).
+#[must_use]
+pub fn outcome_name(outcome: &Outcome) -> &'static str {
+    match outcome {
+        Outcome::Reached { .. } => "reached",
+        Outcome::Collision => "collision",
+        Outcome::LeftWorkspace => "left",
+        Outcome::CommandRefused { .. } | Outcome::ScanRefused { .. } => "refused",
+        _ => "timed_out",
     }
 }
 
 /// What one run measured.
 #[derive(Clone, Debug)]
 pub struct FloorRun {
-    /// How it ended.
-    pub ending: FloorEnding,
+    /// How it ended: [`Outcome::Reached`], [`Outcome::Collision`] (the disc touched a true
+    /// wall, obstacle or map pixel), [`Outcome::LeftWorkspace`] (the centre left the plan or
+    /// entered a hole), [`Outcome::TimedOut`], or [`Outcome::CommandRefused`] (the navigator
+    /// refused a command or a scan; the error in [`FloorRun::error`]). The monitors' verdicts
+    /// are judged with it by [`crate::sweep::floor_outcome`].
+    pub outcome: Outcome,
     /// Simulated time, s.
     pub time: f64,
     /// The smallest distance from the robot's centre to a true wall, minus its radius (its
@@ -453,7 +443,9 @@ impl<'a, 'c, 'h, 'o> Flight<'a, 'c, 'h, 'o> {
         let h = nav.control_period();
         let steps = (prepared.scenario.sim.max_time / h).ceil() as usize;
         let out = FloorRun {
-            ending: FloorEnding::TimedOut,
+            outcome: Outcome::TimedOut {
+                time: prepared.scenario.sim.max_time,
+            },
             time: 0.0,
             wall_clearance: f64::INFINITY,
             pixel_clearance: f64::INFINITY,
@@ -550,7 +542,7 @@ impl<'a, 'c, 'h, 'o> Flight<'a, 'c, 'h, 'o> {
         out.time = n as f64 * self.h;
         // Monitors on the truth.
         if !floor.walls().contains(x) {
-            out.ending = FloorEnding::Left;
+            out.outcome = Outcome::LeftWorkspace;
             return false;
         }
         let wall = floor.wall_distance(x) - r.radius;
@@ -576,12 +568,12 @@ impl<'a, 'c, 'h, 'o> Flight<'a, 'c, 'h, 'o> {
         }
         if out.wall_clearance <= 0.0 || out.obstacle_clearance <= 0.0 || out.pixel_clearance <= 0.0
         {
-            out.ending = FloorEnding::Collision;
+            out.outcome = Outcome::Collision;
             return false;
         }
         out.final_distance = (x - Vector2::from(r.goal)).norm();
         if out.final_distance < prepared.scenario.sim.arrival {
-            out.ending = FloorEnding::Reached;
+            out.outcome = Outcome::Reached { time: out.time };
             return false;
         }
         n != self.steps
@@ -617,7 +609,10 @@ impl<'a, 'c, 'h, 'o> Flight<'a, 'c, 'h, 'o> {
                     }
                 }
                 Err(e) => {
-                    out.ending = FloorEnding::Refused;
+                    out.outcome = Outcome::CommandRefused {
+                        time: out.time,
+                        reason: e.to_string(),
+                    };
                     out.error = Some(e);
                     return Ok(false);
                 }
@@ -676,7 +671,10 @@ impl<'a, 'c, 'h, 'o> Flight<'a, 'c, 'h, 'o> {
             let (c, mode) = match crate::unicycle::pose_command(nav, x, yaw, movers) {
                 Ok(c) => c,
                 Err(e) => {
-                    out.ending = FloorEnding::Refused;
+                    out.outcome = Outcome::CommandRefused {
+                        time: out.time,
+                        reason: e.to_string(),
+                    };
                     out.error = Some(e);
                     return Ok(false);
                 }
@@ -758,7 +756,10 @@ impl<'a, 'c, 'h, 'o> Flight<'a, 'c, 'h, 'o> {
                     }
                 }
                 Err(e) => {
-                    out.ending = FloorEnding::Refused;
+                    out.outcome = Outcome::CommandRefused {
+                        time: out.time,
+                        reason: e.to_string(),
+                    };
                     out.error = Some(e);
                     return Ok(false);
                 }
@@ -1038,7 +1039,7 @@ pub struct FloorSummary {
     pub goal: [f64; 2],
     /// Within `sim.arrival` of the goal.
     pub reached: bool,
-    /// How the run ended ([`FloorEnding::as_str`]).
+    /// How the run ended ([`outcome_name`]).
     pub outcome: &'static str,
     /// The navigator's refusal, if it refused.
     pub error: Option<String>,
@@ -1119,7 +1120,7 @@ impl FloorSummary {
         let swept_clearance = run.diff.as_ref().map_or(run.swept_clearance, |d| {
             run.swept_clearance.min(d.swept_clearance)
         });
-        let reached = run.ending == FloorEnding::Reached;
+        let reached = run.outcome.reached();
         let mut guarantees = vec![
             Guarantee::new(
                 Check::ReachedGoal {
@@ -1162,14 +1163,14 @@ impl FloorSummary {
                 Check::StayedInWorkspace {
                     min_boundary_distance: run.wall_clearance,
                 },
-                run.wall_clearance > 0.0 && run.ending != FloorEnding::Left,
+                run.wall_clearance > 0.0 && run.outcome != Outcome::LeftWorkspace,
             ),
             Guarantee::new(
                 Check::StayedInCertifiedRegion {
                     min_layer_clearance: run.layer_clearance,
                     delta: prepared.floor.delta(),
                 },
-                run.layer_clearance >= 0.0 && run.ending != FloorEnding::Left,
+                run.layer_clearance >= 0.0 && run.outcome != Outcome::LeftWorkspace,
             ),
             Guarantee::new(
                 Check::Discoveries {
@@ -1224,7 +1225,7 @@ impl FloorSummary {
             start: [start.x, start.y],
             goal: r.goal,
             reached,
-            outcome: run.ending.as_str(),
+            outcome: outcome_name(&run.outcome),
             error: run.error.as_ref().map(ToString::to_string),
             time_s: run.time,
             final_distance: run.final_distance,

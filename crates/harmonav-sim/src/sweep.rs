@@ -12,7 +12,7 @@ use serde::Serialize;
 use harmonav_scenario::floorplan::FloorPrepared;
 use harmonav_scenario::{Model, Prepared};
 
-use crate::floor::{self, FloorEnding, FloorRun, FloorSummary};
+use crate::floor::{self, FloorRun, FloorSummary};
 use crate::guarantee::{Guarantee, Kind};
 pub use crate::outcome::{Outcome, StartProblem};
 use crate::pool::parallel_map;
@@ -193,47 +193,32 @@ pub fn sweep_floor(
 /// failed safety verdict is never counted as reached.
 #[must_use]
 pub fn floor_outcome(summary: &FloorSummary, run: &FloorRun) -> Outcome {
-    floor_outcome_of(
-        &summary.guarantees,
-        run.ending,
-        run.time,
-        run.error.as_ref(),
-    )
+    floor_outcome_of(&summary.guarantees, &run.outcome, run.time)
 }
 
-/// The outcome of a floor-plan run that ended with `ending` at `time` (`error`: why a command
-/// or scan was refused) with its `guarantees`: every failed guarantee is judged before
-/// arrival, as in a star world. A collision: `no-collision` (and a map's pixels), or
-/// `no-collision-between-states` (the swept bound, a contact between two states); leaving the
-/// workspace: `stayed-in-workspace`, or `stayed-in-certified-region` (the region `W_δ` the
-/// guarantee is about). Issue 51: a run that reached the goal after failing either of the
-/// latter two counted as reached.
-fn floor_outcome_of(
-    guarantees: &[Guarantee],
-    ending: FloorEnding,
-    time: f64,
-    error: Option<&harmonav::NavError>,
-) -> Outcome {
+/// The outcome of a floor-plan run that ended with `ended` at `time` with its `guarantees`:
+/// every failed guarantee is judged before arrival, as in a star world. A collision:
+/// `no-collision` (and a map's pixels), or `no-collision-between-states` (the swept bound, a
+/// contact between two states); leaving the workspace: `stayed-in-workspace`, or
+/// `stayed-in-certified-region` (the region `W_δ` the guarantee is about). Issue 51: a run that
+/// reached the goal after failing either of the latter two counted as reached. A run that ran
+/// out of time is timed out at `time`, where its loop stopped.
+fn floor_outcome_of(guarantees: &[Guarantee], ended: &Outcome, time: f64) -> Outcome {
     let failed = |kind: Kind| guarantees.iter().any(|g| g.kind() == kind && !g.passed);
     if failed(Kind::NoCollision)
         || failed(Kind::NoCollisionBetweenStates)
-        || ending == FloorEnding::Collision
+        || *ended == Outcome::Collision
     {
         Outcome::Collision
     } else if failed(Kind::StayedInWorkspace)
         || failed(Kind::StayedInCertifiedRegion)
-        || ending == FloorEnding::Left
+        || *ended == Outcome::LeftWorkspace
     {
         Outcome::LeftWorkspace
-    } else if ending == FloorEnding::Reached {
-        Outcome::Reached { time }
-    } else if ending == FloorEnding::Refused {
-        Outcome::CommandRefused {
-            time,
-            reason: error.map_or_else(String::new, ToString::to_string),
-        }
-    } else {
+    } else if let Outcome::TimedOut { .. } = ended {
         Outcome::TimedOut { time }
+    } else {
+        ended.clone()
     }
 }
 
@@ -379,7 +364,8 @@ mod tests {
     #[test]
     fn every_failed_floor_guarantee_is_judged_before_arrival() {
         use crate::guarantee::Check;
-        let reached = |g: Vec<Guarantee>| floor_outcome_of(&g, FloorEnding::Reached, 3.0, None);
+        let reached =
+            |g: Vec<Guarantee>| floor_outcome_of(&g, &Outcome::Reached { time: 3.0 }, 3.0);
         let swept = Guarantee::new(
             Check::NoCollisionBetweenStates {
                 swept_clearance: -0.01,

@@ -5,7 +5,8 @@ use std::path::{Path, PathBuf};
 
 use harmonav_scenario::Model;
 use harmonav_scenario::floorplan::{FLOORPLANS, FloorScenario};
-use harmonav_sim::floor::{FloorEnding, FloorSummary, run};
+use harmonav_sim::floor::{FloorSummary, outcome_name, run};
+use harmonav_sim::outcome::Outcome;
 
 fn files() -> Vec<PathBuf> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -39,13 +40,13 @@ fn every_floor_plan_start_arrives_under_both_laws() {
                 eprintln!(
                     "{} {model:?} {start:?}: {} in {:.1} s, walls {:.3}, obstacles {:.3}, layer {:.3}",
                     file.display(),
-                    r.ending.as_str(),
+                    outcome_name(&r.outcome),
                     r.time,
                     r.wall_clearance,
                     r.obstacle_clearance,
                     r.layer_clearance
                 );
-                assert_eq!(r.ending, FloorEnding::Reached, "{r:?}");
+                assert!(r.outcome.reached(), "{r:?}");
                 assert!(r.wall_clearance > 0.0 && r.obstacle_clearance > 0.0);
                 assert!(r.layer_clearance >= 0.0, "left W_δ: {r:?}");
                 // The swept bound: below the clearance at the states, by at most half of
@@ -311,23 +312,20 @@ fn in_the_office_the_heading_force_speeds_the_dynamic_robot_and_the_slide_frees_
         let r = run(&p, Some(model), start).unwrap();
         eprintln!(
             "office, {model:?}, heading {heading}: {} in {:.1} s, {:.2} m from the goal",
-            r.ending.as_str(),
+            outcome_name(&r.outcome),
             r.time,
             r.final_distance
         );
         assert!(r.wall_clearance > 0.0 && r.obstacle_clearance > 0.0);
         assert!(r.layer_clearance >= 0.0, "left W_δ: {}", r.layer_clearance);
         assert!(r.sensed >= 1, "the corridor chair sensed");
-        (r.ending, r.final_distance)
+        (r.outcome.reached(), r.final_distance)
     };
     let auto = fly(Model::Dynamic, "auto");
     let paper = fly(Model::Dynamic, "paper");
-    assert_eq!(auto.0, FloorEnding::Reached, "{auto:?}");
-    assert!(
-        paper.0 != FloorEnding::Reached && paper.1 > 1.0,
-        "{paper:?}"
-    );
-    assert_eq!(fly(Model::Kinematic, "paper").0, FloorEnding::Reached);
+    assert!(auto.0, "{auto:?}");
+    assert!(!paper.0 && paper.1 > 1.0, "{paper:?}");
+    assert!(fly(Model::Kinematic, "paper").0);
 }
 
 /// `[floor_plan] map`: a ROS map_server map relative to the scenario file; its problems name
@@ -419,23 +417,23 @@ fn the_maze_arrives_with_the_goal_at_the_disk_centre_and_not_without() {
         eprintln!(
             "maze, centre = {centre}, heading = {heading}: {} in {:.1} s, {:.2} m from the goal, walls {:.3}, {} \
              escapes",
-            r.ending.as_str(),
+            outcome_name(&r.outcome),
             r.time,
             r.final_distance,
             r.wall_clearance,
             r.escapes
         );
         assert!(r.wall_clearance > 0.0 && r.layer_clearance >= 0.0, "{r:?}");
-        endings.push((r.ending, r.escapes));
+        endings.push((r.outcome.reached(), r.escapes));
     }
     std::fs::remove_dir_all(&tmp).ok();
     // Under "auto" both arrive (the escapes carry "solve"); along the descent of Θ alone
     // ("paper", no escape) only the recentred map arrives.
     assert!(
-        endings[0].0 == FloorEnding::Reached
-            && endings[1].0 == FloorEnding::Reached
-            && endings[2] == (FloorEnding::Reached, 0)
-            && endings[3].0 != FloorEnding::Reached
+        endings[0].0
+            && endings[1].0
+            && endings[2] == (true, 0)
+            && !endings[3].0
             && endings[3].1 == 0,
         "{endings:?}"
     );
@@ -468,7 +466,7 @@ fn an_observed_floor_run_hands_over_every_state_and_scan_of_the_same_run() {
             }
         })
         .unwrap();
-    assert_eq!(observed.ending, FloorEnding::Reached);
+    assert!(observed.outcome.reached());
     assert_eq!(observed.positions, silent.positions, "the same run");
     let report = observed.perception.as_ref().unwrap().0.clone();
     assert_eq!((scans, events.len()), (report.scans, report.events));
@@ -581,7 +579,7 @@ fn a_map_run_is_judged_against_the_maps_pixels_whatever_the_pipeline_dropped() {
         "{at:?}"
     );
     let r = run(&dropped, Some(Model::Kinematic), dropped.starts[0]).unwrap();
-    assert_eq!(r.ending, FloorEnding::Collision, "{r:?}");
+    assert_eq!(r.outcome, Outcome::Collision, "{r:?}");
     let s = FloorSummary::new(&dropped, Some(Model::Kinematic), dropped.starts[0], &r);
     let failed: Vec<_> = s
         .guarantees
@@ -602,7 +600,7 @@ fn a_map_run_is_judged_against_the_maps_pixels_whatever_the_pipeline_dropped() {
     assert_eq!(kept.floor.walls().holes().len(), 1);
     assert_eq!(kept.specks.unwrap().count, 0);
     let r = run(&kept, Some(Model::Kinematic), kept.starts[0]).unwrap();
-    assert_eq!(r.ending, FloorEnding::Reached, "{r:?}");
+    assert!(r.outcome.reached(), "{r:?}");
     assert!(r.pixel_clearance > 0.0, "{r:?}");
     assert!(
         FloorSummary::new(&kept, Some(Model::Kinematic), kept.starts[0], &r).all_passed(),
@@ -625,7 +623,7 @@ fn a_one_pixel_post_is_kept_by_default() {
     assert_eq!(kept.floor.walls().holes().len(), 1);
     assert_eq!(kept.specks.unwrap().count, 0);
     let r = run(&kept, Some(Model::Kinematic), kept.starts[0]).unwrap();
-    assert_eq!(r.ending, FloorEnding::Reached, "{r:?}");
+    assert!(r.outcome.reached(), "{r:?}");
     assert!(r.pixel_clearance > 0.0, "{r:?}");
     assert!(
         FloorSummary::new(&kept, Some(Model::Kinematic), kept.starts[0], &r).all_passed(),
@@ -702,7 +700,7 @@ fn a_floor_plan_file_sets_the_top_speed() {
     let slow = load(room("v_max = 0.22\n")).unwrap();
     let r_fast = run(&fast, None, fast.starts[0]).unwrap();
     let r_slow = run(&slow, None, slow.starts[0]).unwrap();
-    assert_eq!(r_slow.ending, FloorEnding::Reached, "{r_slow:?}");
+    assert!(r_slow.outcome.reached(), "{r_slow:?}");
     assert!(
         r_slow.max_speed <= 0.22 * (1.0 + 1e-9),
         "{}",
@@ -735,7 +733,7 @@ fn a_floor_plan_file_sets_the_control_period() {
         assert_eq!(nav.control_period(), law_default);
         // One command per period: the loop steps by the file's period.
         let r = run(&set, Some(model), set.starts[0]).unwrap();
-        assert_eq!(r.ending, FloorEnding::Reached, "{r:?}");
+        assert!(r.outcome.reached(), "{r:?}");
         assert_eq!(r.time, r.commands as f64 * 0.02, "{r:?}");
     }
     check(

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 
 use harmonav_scenario::floorplan::{FLOORPLANS, FloorPrepared, FloorScenario};
 use harmonav_scenario::{Model, SensorSpec};
-use harmonav_sim::floor::{FloorEnding, FloorSummary, certificate};
+use harmonav_sim::floor::{FloorSummary, certificate, outcome_name};
 use harmonav_sim::guarantee::Kind;
 use harmonav_sim::physics::{Physics, simulate_floor};
 use harmonav_sim::pool::parallel_map;
@@ -107,17 +107,16 @@ fn fly(file: &Path, model: Model, physics: Physics) -> Outcome {
         walls = walls.min(r.wall_clearance);
         obstacles = obstacles.min(r.obstacle_clearance);
         layer = layer.min(r.layer_clearance);
-        match r.ending {
-            FloorEnding::Reached => {
-                reached += 1;
-                slowest = slowest.max(r.time);
-            }
-            e => bad.push(format!(
+        if r.outcome.reached() {
+            reached += 1;
+            slowest = slowest.max(r.time);
+        } else {
+            bad.push(format!(
                 "{start:?}: {} at {:.3} m ({:?})",
-                e.as_str(),
+                outcome_name(&r.outcome),
                 r.final_distance,
                 r.error
-            )),
+            ));
         }
     }
     let n = p.starts.len();

@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use harmonav::floorplan::geodesic::Geodesic;
 use harmonav_scenario::Model;
 use harmonav_scenario::floorplan::{FLOORPLANS, FloorScenario};
-use harmonav_sim::floor::{FloorEnding, FloorSummary};
+use harmonav_sim::floor::{FloorSummary, outcome_name};
 use harmonav_sim::guarantee::Kind;
 use harmonav_sim::physics::{Physics, simulate_floor};
 use nalgebra::Vector2;
@@ -129,7 +129,7 @@ fn fly(file: &Path) -> Outcome {
                     g.detail()
                 ));
             }
-            if matches!(run.ending, FloorEnding::Reached) {
+            if run.outcome.reached() {
                 reached += 1;
                 slowest = slowest.max(run.time);
                 if let Some(d) = geodesic.distance(start).filter(|d| *d > 0.0) {
@@ -139,7 +139,7 @@ fn fly(file: &Path) -> Outcome {
             } else {
                 missed.push(format!(
                     "{law} from {start:?}: {} at {:.3} m",
-                    run.ending.as_str(),
+                    outcome_name(&run.outcome),
                     run.final_distance
                 ));
             }
