@@ -7,11 +7,15 @@
 //! (kinematic) or `v += h·f/m, x += h·v` (dynamic, semi-implicit Euler). Perception is the
 //! file's: the sector sensor of a star world (its discoveries at the state of the last
 //! command), the exact obstacles within `sim.sensor_range` on a floor plan, or the lidar's
-//! scans when they are due. Nothing is judged: a trace records what the navigator did.
+//! scans when they are due. A file's movers (`[[movers]]`) are reported to the navigator
+//! before every command (`set_movers`, as `crate::held` does) and move by their scripts; a
+//! differential drive (`[robot] base = "diff"`) asks `command_pose` from its heading and moves
+//! on the exact arc. (`[[robots]]`: the first robot alone.) Nothing is judged: a trace records
+//! what the navigator did.
 //!
 //! One line per period: `t x.x x.y v.x v.y command.x command.y mode`, each number as the 16
-//! hex digits of `f64::to_bits`; then `end <why>` (the periods ran out, the goal was reached
-//! within 1e-9 m, or the navigator's error).
+//! hex digits of `f64::to_bits` (a differential drive's command is `(v, ω)`); then `end <why>`
+//! (the periods ran out, the goal was reached within 1e-9 m, or the navigator's error).
 
 use std::fmt::Write as _;
 
@@ -22,6 +26,7 @@ use harmonav_scenario::{Model, Prepared};
 use nalgebra::Vector2;
 
 use crate::closed_loop::ClosedLoop;
+use crate::movers::MoverWorld;
 use crate::scanner::{Scanner, Scene};
 
 /// One period of a trace, appended to `out` as a line of raw bits.
@@ -49,6 +54,45 @@ pub(crate) fn held(
     }
 }
 
+/// One period of a trace: the command (a differential drive's `(v, ω)`), its mode, and the
+/// position and velocity after its hold.
+struct Step {
+    command: Vector2<f64>,
+    mode: &'static str,
+    x: Vector2<f64>,
+    v: Vector2<f64>,
+}
+
+/// A period's command, either base's, from `(x, v)` and the heading `yaw` (a differential
+/// drive's, updated to the arc's end), held for the control period.
+fn command_and_hold<W: harmonav::World>(
+    nav: &mut harmonav::Navigator<W>,
+    diff: bool,
+    (x, v): (Vector2<f64>, Vector2<f64>),
+    yaw: &mut f64,
+) -> Result<Step, harmonav::NavError> {
+    let h = nav.control_period();
+    if diff {
+        let c = nav.command_pose(x, *yaw)?;
+        let (next, turned) = harmonav::unicycle_arc(x, *yaw, c.v, c.omega, h);
+        *yaw = turned;
+        return Ok(Step {
+            command: Vector2::new(c.v, c.omega),
+            mode: c.mode.as_str(),
+            x: next,
+            v: c.v * Vector2::new(turned.cos(), turned.sin()),
+        });
+    }
+    let c = nav.command(x, v)?;
+    let (next, vel) = held(nav.controller(), h, x, v, c.value);
+    Ok(Step {
+        command: c.value,
+        mode: c.mode.as_str(),
+        x: next,
+        v: vel,
+    })
+}
+
 /// The trace of a star world's robot under `model` from the file's start, `periods` periods.
 ///
 /// # Errors
@@ -60,7 +104,11 @@ pub fn star(prepared: &Prepared, model: Model, periods: usize) -> Result<String,
     let goal = lp.nav.goal();
     let mut out = String::new();
     let mut log = Vec::new();
+    let mut movers = MoverWorld::new(&prepared.scenario.sim.movers, prepared.truth.radius);
+    let diff = prepared.base().is_some();
+    let mut yaw = prepared.start_yaw();
     for n in 0..periods {
+        lp.heading = diff.then_some(yaw);
         let t = n as f64 * h;
         if (x - goal).norm() < 1e-9 {
             out.push_str("end reached\n");
@@ -82,15 +130,22 @@ pub fn star(prepared: &Prepared, model: Model, periods: usize) -> Result<String,
                 return Ok(out);
             }
         }
-        let c = match lp.nav.command(x, v) {
-            Ok(c) => c,
+        if !movers.is_empty()
+            && let Err(e) = lp.nav.set_movers(movers.reports())
+        {
+            let _ = writeln!(out, "end {e}");
+            return Ok(out);
+        }
+        let step = match command_and_hold(&mut lp.nav, diff, (x, v), &mut yaw) {
+            Ok(step) => step,
             Err(e) => {
                 let _ = writeln!(out, "end {e}");
                 return Ok(out);
             }
         };
-        line(&mut out, t, x, v, c.value, c.mode.as_str());
-        (x, v) = held(lp.nav.controller(), h, x, v, c.value);
+        line(&mut out, t, x, v, step.command, step.mode);
+        movers.period(x, step.x, h, true);
+        (x, v) = (step.x, step.v);
     }
     out.push_str("end periods\n");
     Ok(out)
@@ -116,7 +171,9 @@ pub fn floor(
     let (mut x, mut v) = (start, Vector2::zeros());
     let goal = nav.goal();
     let mut known = vec![false; prepared.obstacles.len()];
-    let mut yaw = 0.0;
+    let diff = prepared.base().is_some();
+    let mut yaw = if diff { prepared.start_yaw() } else { 0.0 };
+    let mut movers = MoverWorld::new(&prepared.scenario.movers, radius);
     let mut out = String::new();
     for n in 0..periods {
         let t = n as f64 * h;
@@ -145,20 +202,25 @@ pub fn floor(
                 }
             }
         }
-        let c = match nav.command(x, v) {
-            Ok(c) => c,
+        if !movers.is_empty()
+            && let Err(e) = nav.set_movers(movers.reports())
+        {
+            let _ = writeln!(out, "end {e}");
+            return Ok(out);
+        }
+        let step = match command_and_hold(&mut nav, diff, (x, v), &mut yaw) {
+            Ok(step) => step,
             Err(e) => {
                 let _ = writeln!(out, "end {e}");
                 return Ok(out);
             }
         };
-        line(&mut out, t, x, v, c.value, c.mode.as_str());
-        let next;
-        (next, v) = held(nav.controller(), h, x, v, c.value);
-        if next != x {
-            yaw = (next.y - x.y).atan2(next.x - x.x);
+        line(&mut out, t, x, v, step.command, step.mode);
+        movers.period(x, step.x, h, true);
+        if !diff && step.x != x {
+            yaw = (step.x.y - x.y).atan2(step.x.x - x.x);
         }
-        x = next;
+        (x, v) = (step.x, step.v);
     }
     out.push_str("end periods\n");
     Ok(out)
