@@ -109,6 +109,7 @@ mod boxes;
 mod enclosure;
 pub mod fit;
 pub mod free;
+pub mod growth;
 pub mod perceived;
 pub mod perception;
 pub mod scan;

@@ -12,8 +12,8 @@
 
 use std::f64::consts::TAU;
 
-use harmonav::checks::lidar::shrunk;
 use harmonav::perception::Reading;
+use harmonav::perception::growth::shrunk;
 use harmonav::perception::sim::{Enclosure, Lidar};
 use harmonav::{
     FloorNavigator, LaserScan, NavError, Navigator, Perceived, Pose, ScanUpdate, StarShape,
@@ -324,7 +324,7 @@ fn coverage(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use harmonav::checks::lidar::GROWTH_SAMPLES;
+    use harmonav::perception::growth::GROWTH_SAMPLES;
 
     /// A shape that shrinks is caught, one that grows or stays is not.
     #[test]

@@ -4,8 +4,6 @@
 //! step measured against the truth. The crate's tests and `cargo xtask verify`'s
 //! `navigator.lidar.*` call these functions.
 
-use std::f64::consts::TAU;
-
 use harmonav_perception::sim::Lidar;
 use harmonav_transform::StarShape;
 use harmonav_transform::random::{self, Kind, Rng};
@@ -221,18 +219,7 @@ impl LidarFlight {
 /// Boundary samples per true obstacle in the containment check.
 const TRUTH_SAMPLES: usize = 256;
 
-/// Boundary samples per perceived shape in the growth check.
-pub const GROWTH_SAMPLES: usize = 64;
-
-/// How far outside a later perceived shape a point of an earlier one's boundary may be, m
-/// (the refined distance's rounding: the point lies on the boundary of the same, unchanged
-/// shape).
-pub const GROWTH_TOLERANCE: f64 = 1e-9;
-
-/// `n` points of the boundary of `s`, evenly in angle about its centre.
-fn samples(s: &StarShape, n: usize) -> impl Iterator<Item = Vector2<f64>> + '_ {
-    (0..n).map(move |j| s.boundary_point(TAU * j as f64 / n as f64))
-}
+pub use harmonav_perception::growth::{GROWTH_SAMPLES, GROWTH_TOLERANCE, samples, shrunk};
 
 /// The containment check: for every true obstacle that some perceived shape meets (contains
 /// one of its boundary samples or its centre), the number of its boundary samples outside
@@ -251,22 +238,6 @@ pub fn uncovered(truth: &[StarShape], perceived: &[StarShape]) -> usize {
             }
         })
         .sum()
-}
-
-/// The growth check: the points of [`GROWTH_SAMPLES`] on each boundary of `before` that lie
-/// more than [`GROWTH_TOLERANCE`] outside every shape of `after` (0 when shapes only grow).
-/// A point of an old boundary may lie on the new one (the same shape, unchanged): `contains`
-/// is not decided there, the refined distance is.
-pub fn shrunk(before: &[StarShape], after: &[StarShape]) -> usize {
-    before
-        .iter()
-        .flat_map(|s| samples(s, GROWTH_SAMPLES))
-        .filter(|&p| {
-            !after
-                .iter()
-                .any(|s| s.signed_distance(p) <= GROWTH_TOLERANCE)
-        })
-        .count()
 }
 
 /// The robot's own loop in `world` under `law` and `options`, holding each command for `h`
