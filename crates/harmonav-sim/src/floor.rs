@@ -23,6 +23,61 @@ use crate::trace::{Discovery, Event, MoverFrame, MoverMark, Sample, frame_due, r
 use crate::trajectory::{Keep, Trajectory};
 use crate::unicycle::{Diff, DiffReport};
 
+/// How a floor-plan run ended: replaced by the star world's [`Outcome`] in
+/// [`FloorRun::outcome`] (2026-12-07), kept for one release.
+#[deprecated(note = "a floor-plan run ends with `Outcome` (`FloorRun::outcome`, `outcome_name`)")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FloorEnding {
+    /// Within the arrival threshold of the goal.
+    Reached,
+    /// The robot's disc touched a true wall or obstacle.
+    Collision,
+    /// The robot's centre left the floor plan (or entered a hole).
+    Left,
+    /// The time limit passed first.
+    TimedOut,
+    /// The navigator refused a command (the error is in [`FloorRun::error`]).
+    Refused,
+}
+
+#[allow(deprecated)]
+impl FloorEnding {
+    /// The name for JSON and tables ([`outcome_name`]).
+    #[must_use]
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::Reached => "reached",
+            Self::Collision => "collision",
+            Self::Left => "left",
+            Self::TimedOut => "timed_out",
+            Self::Refused => "refused",
+        }
+    }
+}
+
+#[allow(deprecated)]
+impl From<&Outcome> for FloorEnding {
+    fn from(outcome: &Outcome) -> Self {
+        match outcome {
+            Outcome::Reached { .. } => Self::Reached,
+            Outcome::Collision => Self::Collision,
+            Outcome::LeftWorkspace => Self::Left,
+            Outcome::CommandRefused { .. } | Outcome::ScanRefused { .. } => Self::Refused,
+            _ => Self::TimedOut,
+        }
+    }
+}
+
+#[allow(deprecated)]
+impl FloorRun {
+    /// How the run ended, as before 2026-12-07 ([`FloorRun::outcome`] is the typed outcome).
+    #[deprecated(note = "use the field `outcome` (an `Outcome`)")]
+    #[must_use]
+    pub fn ending(&self) -> FloorEnding {
+        FloorEnding::from(&self.outcome)
+    }
+}
+
 /// The name of a floor-plan run's [`Outcome`] in its `summary.json` (`outcome`: a string,
 /// as before the two worlds shared one outcome type; the CLI's and Python's contract):
 /// `"reached"`, `"collision"`, `"left"`, `"timed_out"`, or `"refused"` (a command or a scan).
@@ -576,7 +631,11 @@ impl<'a, 'c, 'h, 'o> Flight<'a, 'c, 'h, 'o> {
             out.outcome = Outcome::Reached { time: out.time };
             return false;
         }
-        n != self.steps
+        if n == self.steps {
+            out.outcome = Outcome::TimedOut { time: out.time };
+            return false;
+        }
+        true
     }
 
     /// The rest of the period after [`Flight::judge`]: perception, the command (given the
@@ -709,8 +768,9 @@ impl<'a, 'c, 'h, 'o> Flight<'a, 'c, 'h, 'o> {
             }
             self.yaw = u.yaw;
             out.max_speed = out.max_speed.max(self.vel.norm());
-            // The arc's length (a chord is never longer); if an integrator left the arc
-            // (rapier), at least the distance it moved: the Lipschitz bound stays valid.
+            // The arc's length, the path of the built-in step (a chord is never longer). Under
+            // rapier the speed is set to |v| at every 1 ms step, so its path is the same length
+            // (to rounding, measured); the chord guards a step that contacts pushed farther.
             let arc = c.v.abs() * h;
             let length = if next == exact {
                 arc

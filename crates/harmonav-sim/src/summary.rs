@@ -232,6 +232,10 @@ pub enum RunError {
     /// A rapier run was asked of a file with `[[movers]]` or `[[robots]]`: both are flown by the
     /// built-in held-command loop only (docs/movers.md §8).
     MoversInRapier,
+    /// Never returned since 2026-12-07, when a floor plan's differential drive began to fly in
+    /// rapier; kept for one release so that code naming it compiles.
+    #[deprecated(note = "rapier flies a floor plan's differential drive since 2026-12-07")]
+    DiffFloorInRapier,
     /// Robot `robot` of a file with `[[robots]]` (0: `[robot]`) could not be prepared with its
     /// own start and goal.
     Robot {
@@ -253,6 +257,11 @@ impl std::fmt::Display for RunError {
                 "this build has no rapier integrator: enable harmonav-sim's feature `rapier`",
             ),
             Self::Robot { robot, problem } => write!(f, "robot {robot}: {problem}"),
+            #[allow(deprecated)]
+            Self::DiffFloorInRapier => f.write_str(
+                "a floor plan with a differential drive (robot.base = \"diff\") ran in the \
+                 built-in loop only before 2026-12-07",
+            ),
             Self::MoversInRapier => f.write_str(
                 "a file with [[movers]] or [[robots]] runs in the built-in held-command loop only (not \
                  rapier)",

@@ -742,3 +742,26 @@ fn a_floor_plan_file_sets_the_control_period() {
         "must be finite",
     );
 }
+
+/// A run that runs out of periods is timed out at the time its loop stopped (`steps·h`, past
+/// a `max_time` that is not a multiple of the period), the time the sweep counts; the
+/// deprecated `FloorRun::ending` still names it (found by the review of 2026-12-07: the
+/// outcome kept `max_time`).
+#[test]
+#[allow(deprecated)]
+fn a_timed_out_floor_run_ends_where_its_loop_stopped() {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenarios")
+        .join(FLOORPLANS)
+        .join("map-office.toml");
+    let mut p = FloorScenario::load(&file).unwrap_or_else(|e| panic!("{e}"));
+    let start = p.starts[1];
+    p.scenario.sim.max_time = 0.305;
+    let r = run(&p, Some(Model::Kinematic), start).unwrap();
+    let s = FloorSummary::new(&p, Some(Model::Kinematic), start, &r);
+    assert!(r.time > 0.305, "{}", r.time);
+    assert_eq!(r.outcome, Outcome::TimedOut { time: r.time });
+    assert_eq!(r.outcome, harmonav_sim::sweep::floor_outcome(&s, &r));
+    assert_eq!(r.ending(), harmonav_sim::floor::FloorEnding::TimedOut);
+    assert_eq!(s.outcome, "timed_out");
+}
