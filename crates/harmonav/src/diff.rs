@@ -496,7 +496,7 @@ impl<W: World> Navigator<W> {
     ///
     /// ([`Steer::ToGoalHeading`]; the `√` under acceleration limits, so that the turn rate can
     /// be shed before the goal yaw), and `(0, 0)` ([`Steer::Arrived`]) once `|e| <` the yaw
-    /// tolerance ([`GoalTolerance::yaw`], default [`crate::GOAL_HEADING_TOLERANCE`]). Turning
+    /// tolerance ([`GoalTolerance::yaw`], default [`GOAL_HEADING_TOLERANCE`](crate::tuning::GOAL_HEADING_TOLERANCE)). Turning
     /// in place moves no point of a disc robot whose axle is at its centre: the body occupies the same disc all period, so the command is safe
     /// whatever `ω` is, and the position keeps its certificate (it does not move). The held
     /// holonomic command is still formed (its mode reported, a refused scan halting the robot:
@@ -543,7 +543,7 @@ impl<W: World> Navigator<W> {
     /// [`GoalTolerance::xy`] (default [`GOAL_ARRIVAL`](crate::tuning::GOAL_ARRIVAL)), [`Navigator::command_pose`] turns in
     /// place, `v = 0`, `ω = clamp(k·wrap(θ_g − θ), ±ω_max)` ([`Steer::ToGoalHeading`]; within
     /// the acceleration limits, if any), until `|wrap(θ_g − θ)| <` [`GoalTolerance::yaw`]
-    /// (default [`crate::GOAL_HEADING_TOLERANCE`]), then commands
+    /// (default [`GOAL_HEADING_TOLERANCE`](crate::tuning::GOAL_HEADING_TOLERANCE)), then commands
     /// `(0, 0)` ([`Steer::Arrived`]); away from the goal it is not read. Without a goal yaw
     /// `command_pose` is what it was, bit for bit. [`Navigator::command`] does not read it.
     /// A different yaw (or `None`) releases the position latch ([`Navigator::goal_latched`]);

@@ -16,7 +16,7 @@
 //! error (eq. robust): the true direction `n` between the two robots is within `η_j` of `n_j`,
 //! so the row holds for `n`; it is taken as the four half-planes of eq. robust (one, today's
 //! row, when `ε_j = 0`). `β` is the hold's
-//! [`crate::KINEMATIC_FRACTION`]: over a period a mover's clearance keeps at least half its value.
+//! [`KINEMATIC_FRACTION`](crate::tuning::KINEMATIC_FRACTION): over a period a mover's clearance keeps at least half its value.
 //! The command the hold produced is kept when it meets every row (then it is bit for bit the
 //! command without movers); otherwise it is projected onto the rows and the static certificate
 //! ([`program`]), or, when no velocity meets them all, the least largest shortfall is taken and

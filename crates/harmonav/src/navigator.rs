@@ -88,7 +88,7 @@ impl<W: World> Navigator<W> {
     /// `FloorOptions::new(h, radius + margin)`).
     ///
     /// Errors: a law parameter (`gain`, `mass`, `mu`) or option outside its range
-    /// ([`crate::PARAMETER_RANGE`], [`Options::validate`]; the error names the field), a
+    /// ([`PARAMETER_RANGE`](crate::tuning::PARAMETER_RANGE), [`Options::validate`]; the error names the field), a
     /// boundary that cannot be shrunk by `radius + margin` (a floor whose `δ` is less than
     /// `radius + margin`: [`NavError::InvalidOption`], `margin`), a goal that is not finite or
     /// not strictly inside the free space.
@@ -181,7 +181,7 @@ impl<W: World> Navigator<W> {
     /// - kinematic (`x += h·u`): the step stays within half the certified distance to the
     ///   nearest known grown shape (on a floor plan: and to the boundary layer), and `Θ`
     ///   strictly decreases over it ([`Mode::Capped`](crate::Mode::Capped) when the law's step was shortened; not
-    ///   during an escape, [`Mode::Escaping`](crate::Mode::Escaping), which ends [`crate::ESCAPE_DROP`] below where
+    ///   during an escape, [`Mode::Escaping`](crate::Mode::Escaping), which ends [`ESCAPE_DROP`](crate::tuning::ESCAPE_DROP) below where
     ///   it began, or blocked);
     /// - dynamic (`v += h·f/m, x += h·v`, or the exact hold of `f`): the damping acts
     ///   implicitly, `h|v⁺|` stays within a quarter of the certified distance, and
