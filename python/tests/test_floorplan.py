@@ -46,6 +46,18 @@ def test_a_floor_plan_flies_in_rapier_with_the_walls_as_colliders():
         plan.run(physics="bullet")
 
 
+def test_a_floor_plans_differential_drive_flies_in_rapier():
+    """Issue 53: a floor plan with `base = "diff"` runs in rapier too (refused by name before
+    2026-12-07): the body driven along its heading, every guarantee held, no contact."""
+    plan = harmonav.FloorPlan.load(ROOT / "scenarios" / "diff" / "floor-l-room.toml")
+    s = plan.run(physics="rapier").summary
+    assert s["reached"] and s["physics"] == "rapier" and s["physics_contacts"] == 0
+    names = {g["name"]: g["passed"] for g in s["guarantees"]}
+    assert all(names.values()), names
+    assert {"diff-command-bounds", "physics-no-contact"} <= names.keys()
+    assert s["diff"]["max_v"] <= 0.5 and s["diff"]["max_omega"] <= 2.0
+
+
 def test_a_floor_plan_with_a_lidar_perceives_its_furniture_from_scans(tmp_path):
     """`[sensor] type = "lidar"` in a floor plan (issue 26 in issue 25's maps): the furniture
     comes from the scans alone, the summary judges the perception as a star world's does, and

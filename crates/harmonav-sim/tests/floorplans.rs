@@ -76,6 +76,15 @@ fn every_floor_plan_start_arrives_under_both_laws() {
     }
 }
 
+/// The suite's office, a ROS map (`map-office.toml`).
+fn office() -> harmonav_scenario::floorplan::FloorPrepared {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenarios")
+        .join(FLOORPLANS)
+        .join("map-office.toml");
+    FloorScenario::load(&file).unwrap_or_else(|e| panic!("{e}"))
+}
+
 fn check(text: &str, field: &str, problem: &str) {
     let path = Path::new("bad.toml");
     let e = FloorScenario::parse(path, text)
@@ -297,11 +306,7 @@ fn the_heading_of_a_floor_plan_file_reaches_its_navigator() {
 ///   obstacles' bands it stopped on the chair's shell (0 of 2 starts).
 #[test]
 fn in_the_office_the_heading_force_speeds_the_dynamic_robot_and_the_slide_frees_the_chair() {
-    let file = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../scenarios")
-        .join(FLOORPLANS)
-        .join("map-office.toml");
-    let mut p = FloorScenario::load(&file).unwrap_or_else(|e| panic!("{e}"));
+    let mut p = office();
     let start = p.starts[1];
     p.scenario.sim.max_time = 60.0;
     // μ = 1, the floor plans' default when §13.4 was measured (issue 51 made it 10, a star
@@ -750,11 +755,7 @@ fn a_floor_plan_file_sets_the_control_period() {
 #[test]
 #[allow(deprecated)]
 fn a_timed_out_floor_run_ends_where_its_loop_stopped() {
-    let file = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../scenarios")
-        .join(FLOORPLANS)
-        .join("map-office.toml");
-    let mut p = FloorScenario::load(&file).unwrap_or_else(|e| panic!("{e}"));
+    let mut p = office();
     let start = p.starts[1];
     p.scenario.sim.max_time = 0.305;
     let r = run(&p, Some(Model::Kinematic), start).unwrap();
