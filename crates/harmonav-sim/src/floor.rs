@@ -357,21 +357,14 @@ impl Held<'_> {
     #[must_use]
     pub(crate) fn euler(&self) -> Moved {
         if let Some(p) = self.pose {
-            let (x, yaw) = harmonav::unicycle_arc(self.x, p.yaw, p.v, p.omega, self.h);
-            let v = p.v * Vector2::new(yaw.cos(), yaw.sin());
+            let (x, yaw, v) = crate::step::arc_step(self.x, p.yaw, p.v, p.omega, self.h);
             return Moved {
                 x,
                 v,
                 yaw: Some(yaw),
             };
         }
-        let (x, v) = match self.controller {
-            Controller::Kinematic(_) => (self.x + self.h * self.command, self.command),
-            Controller::Dynamic(law) => {
-                let v = self.v + self.h * self.command / law.mass();
-                (self.x + self.h * v, v)
-            }
-        };
+        let (x, v) = crate::step::held(self.controller, self.h, self.x, self.v, self.command);
         Moved { x, v, yaw: None }
     }
 }

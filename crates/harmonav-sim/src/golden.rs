@@ -19,7 +19,6 @@
 
 use std::fmt::Write as _;
 
-use harmonav::Controller;
 use harmonav::perception::sim::Enclosure;
 use harmonav_scenario::floorplan::FloorPrepared;
 use harmonav_scenario::{Model, Prepared};
@@ -28,6 +27,7 @@ use nalgebra::Vector2;
 use crate::closed_loop::ClosedLoop;
 use crate::movers::MoverWorld;
 use crate::scanner::{Scanner, Scene};
+use crate::step::{arc_step, held};
 
 /// One period of a trace, appended to `out` as a line of raw bits.
 fn line(out: &mut String, t: f64, x: Vector2<f64>, v: Vector2<f64>, c: Vector2<f64>, mode: &str) {
@@ -35,23 +35,6 @@ fn line(out: &mut String, t: f64, x: Vector2<f64>, v: Vector2<f64>, c: Vector2<f
         let _ = write!(out, "{:016x} ", z.to_bits());
     }
     let _ = writeln!(out, "{mode}");
-}
-
-/// The held step of `controller` over `h` from `(x, v)` under `command`.
-pub(crate) fn held(
-    controller: &Controller,
-    h: f64,
-    x: Vector2<f64>,
-    v: Vector2<f64>,
-    command: Vector2<f64>,
-) -> (Vector2<f64>, Vector2<f64>) {
-    match controller {
-        Controller::Kinematic(_) => (x + h * command, command),
-        Controller::Dynamic(law) => {
-            let v = v + h * command / law.mass();
-            (x + h * v, v)
-        }
-    }
 }
 
 /// One period of a trace: the command (a differential drive's `(v, ω)`), its mode, and the
@@ -74,13 +57,13 @@ fn command_and_hold<W: harmonav::World>(
     let h = nav.control_period();
     if diff {
         let c = nav.command_pose(x, *yaw)?;
-        let (next, turned) = harmonav::unicycle_arc(x, *yaw, c.v, c.omega, h);
+        let (next, turned, vel) = arc_step(x, *yaw, c.v, c.omega, h);
         *yaw = turned;
         return Ok(Step {
             command: Vector2::new(c.v, c.omega),
             mode: c.mode.as_str(),
             x: next,
-            v: c.v * Vector2::new(turned.cos(), turned.sin()),
+            v: vel,
         });
     }
     let c = nav.command(x, v)?;

@@ -15,10 +15,10 @@ use harmonav_scenario::{Model, Prepared};
 use nalgebra::Vector2;
 
 use crate::driver::{Driver, Warnings};
-use crate::golden::held;
 use crate::guarantee::{Check, FreeSpaceLoss, Guarantee};
 use crate::monitor::End;
 use crate::movers::{MoverWorld, Sweep, fleet_judged, peer_marks, peers, stop};
+use crate::step::held;
 use crate::summary::{Physics, Run, RunError};
 use crate::trace::{Event, Sample};
 use crate::trajectory::Keep;

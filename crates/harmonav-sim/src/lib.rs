@@ -81,6 +81,7 @@ pub mod rapier;
 pub mod run;
 mod scanner;
 pub mod shortest;
+mod step;
 pub mod summary;
 pub mod sweep;
 pub mod trace;

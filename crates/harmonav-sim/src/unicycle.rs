@@ -174,10 +174,10 @@ impl Diff {
             swept_clearance_in(clearance, margin, (x, self.yaw), (c.v, c.omega), h);
         r.swept_clearance = r.swept_clearance.min(swept);
         r.arc_points += points;
-        let (x1, yaw1) = unicycle_arc(x, self.yaw, c.v, c.omega, h);
+        let (x1, yaw1, v1) = crate::step::arc_step(x, self.yaw, c.v, c.omega, h);
         self.yaw = yaw1;
         r.final_yaw = yaw1;
-        (x1, c.v * Vector2::new(yaw1.cos(), yaw1.sin()))
+        (x1, v1)
     }
 
     /// The guarantees of the run: `no-collision-between-states` along the arcs (the margin
