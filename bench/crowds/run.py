@@ -10,7 +10,8 @@ or stuck. Entries: ``ORCA``, ``HL`` (navground's), ``harmonav`` (the ``Harmonav`
 ``harmonav.navground``: the kinematic law, the certified mover filter with every other agent as
 a reciprocal mover, KeepRight) and ``ORCA+filter`` (navground's ORCA with the ``HarmonavFilter``
 modulation). ``mixed``: Cross with one robot (harmonav with non-cooperative rows and
-V = 0.166 m/s, or ORCA, or HL) among 19 navground ``Dummy`` agents that ignore everyone.
+V = 0.166 m/s, the same with a ``comfort`` of 0.1 m (``harmonav+comfort``, ``--comfort``), or
+ORCA, or HL) among 19 navground ``Dummy`` agents that ignore everyone.
 
     python bench/crowds/run.py --seeds 100 --json crowds.json
 
@@ -21,7 +22,7 @@ and pair-periods below the safety margin, deadlocks (runs ending with every agen
 some has not arrived, or with an agent stuck for its last 5 s), Cross throughput (waypoints
 reached per agent in 300 s), Antipodal arrival and makespan, Corridor efficacy, harmonav's
 modes; mixed: the robot's contact episodes and those not preceded by an ``Overwhelmed`` (or
-refused) command in the period the contact began in.
+refused) command in the period the contact began in, and the waypoints the robot reached.
 """
 
 from __future__ import annotations
@@ -59,7 +60,7 @@ MAX_SPEED = 0.166
 TIME_STEP = 0.1
 AGENTS = 20
 ENTRIES = ("ORCA", "HL", "harmonav", "ORCA+filter")
-MIXED_ROBOTS = ("harmonav", "ORCA", "HL")
+MIXED_ROBOTS = ("harmonav", "harmonav+comfort", "ORCA", "HL")
 #: A body gap below the margin by more than this is a margin violation (navground stores
 #: positions in single precision: 4 m carries a rounding of 2.4e-7 m).
 FLOAT_TOLERANCE = 1e-6
@@ -72,6 +73,9 @@ DEADLOCK_TIME = 5.0
 EXPLAIN_PERIODS = 0
 #: The harmonav behaviour's ``deadlock_rule`` (``--rule``; None: the behaviour's default).
 RULE = None
+#: The ``comfort`` of the entry ``harmonav+comfort`` (``--comfort``), m.
+DEFAULT_COMFORT = 0.1
+COMFORT = DEFAULT_COMFORT
 
 
 def behaviour_yaml(entry: str, s: dict, indent: str, peers: str = "reciprocal") -> str:
@@ -85,11 +89,13 @@ def behaviour_yaml(entry: str, s: dict, indent: str, peers: str = "reciprocal") 
     if entry in ("ORCA", "HL"):
         return (f"{indent}behavior: {{type: {entry}, {common}}}\n"
                 f"{indent}state_estimation: {bounded}\n")
-    if entry == "harmonav":
+    if entry in ("harmonav", "harmonav+comfort"):
         extra = "" if peers == "reciprocal" else \
             f", peers: noncooperative, mover_speed_bound: {MAX_SPEED}"
         if RULE is not None:
             extra += f", deadlock_rule: {RULE}"
+        if entry == "harmonav+comfort":
+            extra += f", comfort: {COMFORT}"
         return (f"{indent}behavior: {{type: Harmonav, {common}{extra}}}\n"
                 f"{indent}state_estimations: [{sensing}]\n")
     if entry == "ORCA+filter":
@@ -252,6 +258,8 @@ def measure(run, scenario: str, entry: str) -> dict:
         out["modes"] = counts
     if scenario == "mixed":
         out.update(mixed_metrics(agents, collisions, logs[0], gaps, pi, pj, moved))
+        # The robot's own progress: contacts avoided by standing still would show here.
+        out["robot_waypoints"] = reached[0]
     return out
 
 
@@ -370,6 +378,7 @@ def summarise(runs: list, scenario: str) -> dict:
             if vals:
                 out[key] = sum(vals)
         out["runs_with_robot_contact"] = sum(1 for r in runs if r["robot_contact_episodes"])
+        out["robot_waypoints"] = statistics.fmean(r["robot_waypoints"] for r in runs)
     return out
 
 
@@ -401,7 +410,8 @@ def table(summary: dict) -> str:
     if mixed:
         lines += ["", "| robot among 19 Dummy (Cross) | runs with robot contact | contact "
                   "episodes | certified while contact began | of those, a Dummy over its bound "
-                  "| uncertified commands |", "|---|---|---|---|---|---|"]
+                  "| uncertified commands | the robot's waypoints |",
+                  "|---|---|---|---|---|---|---|"]
         for key, c in mixed:
             entry = key.split("/")[1]
             unexplained = c.get("unexplained_episodes", "—")
@@ -409,7 +419,8 @@ def table(summary: dict) -> str:
             unc = (f"{c['robot_uncertified']}/{c['robot_commands']}"
                    if "robot_uncertified" in c else "—")
             lines.append(f"| {entry} | {c['runs_with_robot_contact']}/{c['runs']} | "
-                         f"{c['robot_contact_episodes']} | {unexplained} | {broken} | {unc} |")
+                         f"{c['robot_contact_episodes']} | {unexplained} | {broken} | {unc} | "
+                         f"{c['robot_waypoints']:.2f} |")
     return "\n".join(lines)
 
 
@@ -425,11 +436,15 @@ def main(argv=None) -> int:
     ap.add_argument("--rule", choices=hn.RULES,
                     help="the harmonav behaviour's deadlock_rule on a direction task (the "
                     "Corridor; towards a point the navigator's own rule runs); default: gap")
+    ap.add_argument("--comfort", type=float, default=DEFAULT_COMFORT,
+                    help="the comfort of the mixed robot harmonav+comfort, m (default "
+                    f"{DEFAULT_COMFORT})")
     ap.add_argument("--print-yaml", metavar="SCENARIO/ENTRY",
                     help="print one cell's navground experiment and exit")
     args = ap.parse_args(argv)
-    global RULE
+    global RULE, COMFORT
     RULE = args.rule
+    COMFORT = args.comfort
     if args.print_yaml:
         scenario, entry = args.print_yaml.split("/")
         print(experiment_yaml(scenario, entry))
@@ -461,7 +476,7 @@ def main(argv=None) -> int:
         import harmonav
         meta = dict(seeds=[args.start, args.start + args.seeds], processes=args.processes,
                     elapsed=elapsed, navground=version("navground"),
-                    harmonav=harmonav.__version__, rule=args.rule,
+                    harmonav=harmonav.__version__, rule=args.rule, comfort=args.comfort,
                     command=" ".join([os.path.basename(sys.executable)] + sys.argv))
         with open(args.json, "w") as f:
             json.dump(dict(meta=meta, summary=summary, runs=results), f, indent=1)

@@ -156,6 +156,11 @@ class Navigator:
     brake's way to rest is not certified. Not finite, not positive, or with the kinematic law:
     a ``ValueError`` naming it.
 
+    ``comfort`` (m, default 0) is a distance the command keeps beyond the margin from every
+    non-cooperative mover where it can (docs/movers.md §7, "Comfort"): it turns the nominal
+    command only, and the mover filter still certifies every command. Negative or not finite:
+    a ``ValueError`` naming it.
+
     Threads: calls on one navigator are serialised by a lock inside it; a call made while
     another thread's call runs (``observe_scan`` releases the GIL) waits for it instead of
     failing.
@@ -189,6 +194,7 @@ class Navigator:
         a_max: Optional[float] = None,
         alpha_max: Optional[float] = None,
         force_bound: Optional[float] = None,
+        comfort: float = 0.0,
     ) -> None: ...
     def observe_scan(
         self,
@@ -296,6 +302,9 @@ class Navigator:
     @property
     def force_bound(self) -> Optional[float]:
         """The dynamic law's force bound, N (``force_bound=``); ``None`` without one."""
+    @property
+    def comfort(self) -> float:
+        """The comfort distance from non-cooperative movers, m (``comfort=``); 0 for none."""
     @property
     def mode(self) -> str:
         """How the last command was formed: ``"law"``, ``"capped"``, ``"recovering"``,
@@ -557,6 +566,7 @@ class _Options(TypedDict, total=False):
     a_max: Optional[float]
     alpha_max: Optional[float]
     force_bound: Optional[float]
+    comfort: float
 
 class FloorNavigator(Navigator):
     """The navigator of a robot on a floor plan, a ``Navigator``: the walls are known (rings of

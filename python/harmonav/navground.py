@@ -550,6 +550,10 @@ class HarmonavBehavior(core.Behavior, name="Harmonav"):
         "tracked_velocity", False, "give the navigator's movers the neighbours' velocities "
         "(KeepRight's anticipation only; off: a neighbour is anticipated at rest, which "
         "measured better in Cross, Antipodal and the mixed crowd)")
+    comfort = registered(
+        "comfort", 0.0, "distance kept beyond the safety margin from non-cooperative "
+        "neighbours where possible, m (harmonav.Navigator's comfort=: the nominal command only, "
+        "the filter still certifies every command; docs/movers.md §7)")
     deadlock_rule = registered(
         "deadlock_rule", "gap", "the stuck rule's escape on a direction task (the Corridor): "
         "'gap' (the freest direction, as the Rust navigator), 'gap-held', 'right' (KeepRight "
@@ -573,14 +577,15 @@ class HarmonavBehavior(core.Behavior, name="Harmonav"):
                            self.tracked_velocity)
 
     def navigator(self, goal: np.ndarray, x: np.ndarray, speed: float, h: float):
-        key = (round(float(goal[0]), 6), round(float(goal[1]), 6), round(speed, 9), h)
+        comfort = float(self.comfort)
+        key = (round(float(goal[0]), 6), round(float(goal[1]), 6), round(speed, 9), h, comfort)
         nav = self._navigators.get(key)
         if nav is None:
             reach = max(self.world_radius, 3.0 * float(np.hypot(*(x - goal))))
             nav = harmonav.Navigator(harmonav.circle(goal, reach), goal, law="kinematic",
                                      radius=float(self.radius),
                                      margin=float(self.safety_margin), control_period=h,
-                                     v_max=speed)
+                                     v_max=speed, comfort=comfort)
             self._navigators[key] = nav
         return nav
 

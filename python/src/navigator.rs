@@ -69,6 +69,11 @@ use crate::shapes::{Shape, from_perceived};
 /// `"bounded"` when the bound changed the command, `"braking"` (and `certified` False) when
 /// even the full brake's way to rest is not certified (a start at speed, say).
 ///
+/// `comfort` (m, default 0) is a distance the command keeps beyond the margin from every
+/// non-cooperative mover where it can (docs/movers.md §7, "Comfort"): it turns the nominal
+/// command only, and the mover filter still certifies every command. Negative or not finite:
+/// a `ValueError` naming it.
+///
 /// Invalid parameters raise `ValueError` with the Rust `NavError`'s message, which names the
 /// parameter (every range is the scenario files'; `d_min`, the speed bound and `λ_c` are
 /// checked finite); a keyword that is not an option is a `TypeError` naming it. Both worlds
@@ -866,7 +871,7 @@ impl Navigator {
                           speed='auto', v_max=None, range_noise=0.02, max_obstacle_depth=1.0, \
                           growth_threshold=0.02, fit_range=None, free_memory=16, \
                           base='holonomic', omega_max=None, a_max=None, alpha_max=None, \
-                          force_bound=None)"
+                          force_bound=None, comfort=0.0)"
     )]
     fn new(
         boundary: &Shape,
@@ -1079,6 +1084,13 @@ impl Navigator {
     #[getter]
     fn force_bound(&self, py: Python<'_>) -> Option<f64> {
         self.state(py).built.options.force_bound
+    }
+
+    /// The comfort distance from non-cooperative movers, m (`comfort=`, docs/movers.md §7); 0
+    /// for none.
+    #[getter]
+    fn comfort(&self, py: Python<'_>) -> f64 {
+        self.state(py).built.options.comfort
     }
 
     /// Observes one range scan (the fields of `sensor_msgs/LaserScan`) taken at `position`

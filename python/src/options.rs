@@ -15,7 +15,7 @@ use pyo3::types::{PyDict, PyTuple};
 use crate::convert::{integer, policy, value_error};
 
 /// The names of the options, in `Navigator(boundary, goal, …)`'s positional order.
-pub(crate) const NAMES: [&str; 24] = [
+pub(crate) const NAMES: [&str; 25] = [
     "law",
     "gain",
     "mass",
@@ -40,6 +40,7 @@ pub(crate) const NAMES: [&str; 24] = [
     "a_max",
     "alpha_max",
     "force_bound",
+    "comfort",
 ];
 
 /// The options of a navigator over either world, as given (what pickle rebuilds it with):
@@ -75,6 +76,8 @@ pub(crate) struct Keywords {
     alpha_max: Option<f64>,
     /// The dynamic law's force bound `F`, N (issue 54: the braking certificate).
     force_bound: Option<f64>,
+    /// The comfort distance from non-cooperative movers, m (docs/movers.md §7).
+    comfort: f64,
 }
 
 impl Default for Keywords {
@@ -106,6 +109,7 @@ impl Default for Keywords {
             a_max: None,
             alpha_max: None,
             force_bound: o.force_bound,
+            comfort: o.comfort,
         }
     }
 }
@@ -170,6 +174,7 @@ impl Keywords {
             "a_max" => value.extract().map(|v| self.a_max = v),
             "alpha_max" => value.extract().map(|v| self.alpha_max = v),
             "force_bound" => value.extract().map(|v| self.force_bound = v),
+            "comfort" => value.extract().map(|v| self.comfort = v),
             _ => {
                 return Err(PyTypeError::new_err(format!(
                     "{class}() got an unexpected keyword argument '{name}'"
@@ -206,6 +211,7 @@ impl Keywords {
             self.a_max.into_pyobject(py)?.into_any(),
             self.alpha_max.into_pyobject(py)?.into_any(),
             self.force_bound.into_pyobject(py)?.into_any(),
+            self.comfort.into_pyobject(py)?.into_any(),
         ])
     }
 
@@ -251,6 +257,7 @@ impl Keywords {
         if let Some(f) = self.force_bound {
             options = options.with_force_bound(f);
         }
+        options = options.with_comfort(self.comfort);
         options.validate(&law).map_err(value_error)?;
         Ok((law, options))
     }

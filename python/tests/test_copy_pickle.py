@@ -122,7 +122,7 @@ def test_a_pickle_holds_every_constructor_argument():
         speed="paper", v_max=0.7,
         range_noise=0.03, max_obstacle_depth=1.5, growth_threshold=0.04, fit_range=2.0,
         free_memory=3, base="holonomic", omega_max=None, a_max=None, alpha_max=None,
-        force_bound=3.0,
+        force_bound=3.0, comfort=0.2,
     )
     boundary = harmonav.circle([0, 0], 4.0)
     nav = harmonav.Navigator(boundary, [3.0, 0.0], **given)

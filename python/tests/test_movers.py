@@ -511,3 +511,49 @@ def test_a_pursuer_never_reaches_a_certified_diff_robot():
                 assert gap >= -1e-9, gap
         x, yaw = arc(x, yaw, v, omega, H)
         p = p + H * w
+
+
+# --- comfort (docs/movers.md §7, "Comfort") -----------------------------------------------
+
+
+def walked_at(nav, goal, n=200):
+    """A robot waiting at `goal` while a person (radius 0.2 m, bound 0.2 m/s) walks at it at
+    0.15 m/s from 2 m away: the least body gap beyond the margin, every command certified."""
+    x, least = np.array(goal, dtype=float), math.inf
+    h = nav.control_period
+    for k in range(n):
+        person = np.array([goal[0] - 2.0 + 0.15 * h * k, goal[1] + 0.05])
+        nav.set_movers([harmonav.Mover(person, 0.2, 0.2)])
+        x = x + h * nav.command(x)
+        assert nav.certified, nav.mode
+        least = min(least, np.hypot(*(x - person - [0.15 * h, 0.0])) - RADIUS - MARGIN - 0.2)
+    return least
+
+
+@pytest.mark.parametrize("make", [star, floor], ids=["star", "floor"])
+def test_comfort_keeps_a_person_at_a_distance_and_pickles(make):
+    goal = [3.0, 0.0] if make is star else [2.8, 1.0]
+    here = dict(control_period=0.1)
+    if make is floor:
+        nav = harmonav.FloorNavigator(L_OUTER, goal, radius=RADIUS, margin=MARGIN, v_max=1.0,
+                                      max_element=0.1, comfort=0.3, **here)
+        plain = harmonav.FloorNavigator(L_OUTER, goal, radius=RADIUS, margin=MARGIN, v_max=1.0,
+                                        max_element=0.1, **here)
+    else:
+        nav, plain = star(comfort=0.3, **here), star(**here)
+    assert (nav.comfort, plain.comfort) == (0.3, 0.0)
+    # Negative control: without comfort the person comes within 0.1 m of the margin. On the
+    # floor plan 10 s: later the robot, stepped aside, stands against the wall (y = 2, the
+    # static set wins) and the person passes 0.25 m beyond its margin.
+    n = 150 if make is star else 100
+    assert walked_at(nav, goal, n) >= 0.27
+    assert walked_at(plain, goal, n) < 0.1
+    for how, twin in copies(nav):
+        assert twin.comfort == 0.3, how
+        assert walked_at(twin, goal, 20) == walked_at(copy.deepcopy(nav), goal, 20), how
+
+
+@pytest.mark.parametrize("bad", [-0.1, math.nan, math.inf])
+def test_a_bad_comfort_is_a_value_error_naming_it(bad):
+    with pytest.raises(ValueError, match="comfort"):
+        star(comfort=bad)

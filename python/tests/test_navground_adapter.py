@@ -89,3 +89,23 @@ def test_orca_behind_the_filter_never_touches():
     assert least_gap(run) >= MARGIN
     logs = [a.behavior.modulations[0].log for a in run.world.agents]
     assert all(len(log.modes) > 0 for log in logs)
+
+
+@pytest.mark.parametrize("comfort", [0.0, 0.1])
+def test_the_comfort_property_keeps_noncooperative_neighbours_farther(comfort):
+    """Four Harmonav agents that take each other as non-cooperative, with `comfort` (the
+    navigator's `comfort=`, docs/movers.md §7): never touch, and with 0.1 m keep 0.1 m more
+    than the margin (the control, 0: within 0.05 m). With the comfort they do not all arrive:
+    each waits for the others to keep their distance (comfort is for people, not peers)."""
+    behavior = ("{type: Harmonav, optimal_speed: 0.08, safety_margin: %s, heading: idle, "
+                "peers: noncooperative, comfort: %s}" % (MARGIN, comfort))
+    exp = sim.load_experiment(experiment(behavior, "[{type: HarmonavSensing, range: 10.0}]"))
+    run = exp.run_once(0)
+    assert np.asarray(run.collisions).size == 0
+    assert all(a.behavior.comfort == pytest.approx(comfort) for a in run.world.agents)
+    gap = least_gap(run)
+    if comfort:
+        assert gap >= MARGIN + 0.9 * comfort
+    else:
+        assert MARGIN <= gap < MARGIN + 0.05
+        assert all(a.task.done() for a in run.world.agents)

@@ -192,8 +192,8 @@ def test_options_may_still_be_given_in_order_to_a_star_navigator():
                                   by_name.command([-2.0, 0.5], [0.3, 0.0]))
     with pytest.raises(TypeError, match="multiple values for argument 'law'"):
         harmonav.Navigator(harmonav.circle([0, 0], 4.0), [3.0, 0.0], "dynamic", law="kinematic")
-    with pytest.raises(TypeError, match="at most 26 positional arguments"):
-        harmonav.Navigator(harmonav.circle([0, 0], 4.0), [3.0, 0.0], *([None] * 25))
+    with pytest.raises(TypeError, match="at most 27 positional arguments"):
+        harmonav.Navigator(harmonav.circle([0, 0], 4.0), [3.0, 0.0], *([None] * 26))
     # A floor plan's options are keywords only, as before.
     with pytest.raises(TypeError):
         harmonav.FloorNavigator(SQUARE, [4.0, 4.0], None, 0.2)

@@ -173,6 +173,11 @@ pub struct FloorRobotSpec {
     /// file has no force to bound).
     #[serde(default)]
     pub force_bound: Option<f64>,
+    /// The distance the nominal command keeps beyond the margin from the non-cooperative
+    /// movers where it can, m (default 0; [`harmonav::Options::comfort`]), as a star world's
+    /// `[robot] comfort`.
+    #[serde(default)]
+    pub comfort: f64,
 }
 
 impl FloorRobotSpec {
@@ -578,7 +583,11 @@ impl FloorScenario {
     pub fn prepare(self, path: &Path) -> Result<FloorPrepared, ScenarioError> {
         let f = |field: &str, problem: String| err(path, field, None, problem);
         let r = &self.robot;
-        for (name, value) in [("robot.radius", r.radius), ("robot.margin", r.margin)] {
+        for (name, value) in [
+            ("robot.radius", r.radius),
+            ("robot.margin", r.margin),
+            ("robot.comfort", r.comfort),
+        ] {
             crate::scenario::length(value).map_err(|p| f(name, p))?;
         }
         // Both laws' parameters, whichever the file names: a run may take the other

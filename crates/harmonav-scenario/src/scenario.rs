@@ -421,6 +421,11 @@ pub struct ControllerSpec {
     /// the held-command loop, as a file with movers does.
     #[serde(skip)]
     pub force_bound: Option<f64>,
+    /// The file's `[robot] comfort`, m (default 0): the distance the nominal command keeps
+    /// beyond the margin from the non-cooperative movers where it can
+    /// ([`harmonav::Options::comfort`], docs/movers.md §7).
+    #[serde(skip)]
+    pub comfort: f64,
 }
 
 impl Default for ControllerSpec {
@@ -438,6 +443,7 @@ impl Default for ControllerSpec {
             a_max: None,
             alpha_max: None,
             force_bound: None,
+            comfort: 0.0,
         }
     }
 }
@@ -731,6 +737,13 @@ struct RobotFile {
     alpha_max: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     force_bound: Option<f64>,
+    #[serde(default, skip_serializing_if = "no_comfort")]
+    comfort: f64,
+}
+
+/// A comfort of 0 (the default, none) is left out of a written file.
+fn no_comfort(comfort: &f64) -> bool {
+    *comfort == 0.0
 }
 
 impl From<ScenarioFile> for Scenario {
@@ -759,6 +772,7 @@ impl From<ScenarioFile> for Scenario {
                 a_max: r.a_max,
                 alpha_max: r.alpha_max,
                 force_bound: r.force_bound,
+                comfort: r.comfort,
                 ..file.controller
             },
             sim: SimSpec {
@@ -795,6 +809,7 @@ impl From<Scenario> for ScenarioFile {
                 a_max: s.controller.a_max,
                 alpha_max: s.controller.alpha_max,
                 force_bound: s.controller.force_bound,
+                comfort: s.controller.comfort,
             },
             sensor: s.sensor,
             field: s.field,
@@ -887,7 +902,11 @@ impl Scenario {
         check_point(r.start, "robot.start").map_err(|p| f("robot.start", p))?;
         check_point(r.goal, "robot.goal").map_err(|p| f("robot.goal", p))?;
         in_range("robot.mass", r.mass)?;
-        for (name, v) in [("robot.radius", r.radius), ("robot.margin", r.margin)] {
+        for (name, v) in [
+            ("robot.radius", r.radius),
+            ("robot.margin", r.margin),
+            ("robot.comfort", self.controller.comfort),
+        ] {
             length(v).map_err(|p| f(name, p))?;
         }
         // Every shape is offset by the robot radius plus the clearance margin; an error caused by

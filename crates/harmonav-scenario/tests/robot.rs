@@ -264,3 +264,38 @@ fn both_formats_read_the_force_bound_and_refuse_a_bad_one() {
         assert!(e.to_string().starts_with("floor-bad.toml"), "{e}");
     }
 }
+
+/// `[robot] comfort` (docs/movers.md §7) is read alike in both formats, round-trips in a star
+/// world (left out at its default 0), and a bad value is refused naming the key and the file.
+#[test]
+fn both_formats_read_the_comfort_and_refuse_a_bad_one() {
+    let with = format!("{ROBOT}\ncomfort = 0.3");
+    let path = Path::new("star.toml");
+    let parsed = Scenario::parse(path, &star(&with, "")).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(parsed.controller.comfort, 0.3);
+    let text = toml::to_string(&parsed).unwrap();
+    assert!(text.contains("comfort = 0.3"), "{text}");
+    assert_eq!(Scenario::parse(path, &text).unwrap(), parsed);
+    let plain = Scenario::parse(path, &star(ROBOT, "")).unwrap();
+    assert_eq!(plain.controller.comfort, 0.0);
+    assert!(!toml::to_string(&plain).unwrap().contains("comfort"));
+    let path = Path::new("floor.toml");
+    let floor_plan =
+        FloorScenario::parse(path, &floor(&with, "")).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(floor_plan.robot.comfort, 0.3);
+    for value in ["-0.1", "nan", "inf"] {
+        let robot = format!("{ROBOT}\ncomfort = {value}");
+        let path = Path::new("star-bad.toml");
+        let e = Scenario::parse(path, &star(&robot, ""))
+            .and_then(|s| s.prepare(path))
+            .unwrap_err();
+        assert_eq!(e.field, "robot.comfort", "{value}: {e}");
+        assert!(e.to_string().starts_with("star-bad.toml"), "{e}");
+        let path = Path::new("floor-bad.toml");
+        let e = FloorScenario::parse(path, &floor(&robot, ""))
+            .and_then(|s| s.prepare(path))
+            .unwrap_err();
+        assert_eq!(e.field, "robot.comfort", "{value}: {e}");
+        assert!(e.to_string().starts_with("floor-bad.toml"), "{e}");
+    }
+}

@@ -75,6 +75,7 @@ impl<'a> ClosedLoop<'a> {
         if let (Some(force), Model::Dynamic) = (sc.controller.force_bound, model) {
             options = options.with_force_bound(force);
         }
+        options = options.with_comfort(sc.controller.comfort);
         // The lidar's fit range for this law (eq. fitnear), for the navigator and the
         // scanner's claim alike.
         let lidar = truth.sensor.lidar().map(|l| l.for_law(&law, &options));

@@ -220,6 +220,7 @@ pub(crate) fn navigator_and_lidar(
     if let (Some(force), Model::Dynamic) = (r.force_bound, model.unwrap_or(r.model)) {
         options = options.with_force_bound(force);
     }
+    let options = options.with_comfort(r.comfort);
     let lidar = prepared
         .lidar
         .map(|(l, rho)| (l.for_law(&law, &options), rho));

@@ -115,7 +115,7 @@ pub(crate) fn in_range(field: &'static str, value: f64) -> Result<f64, NavError>
 fn expected(field: &str) -> String {
     let (lo, hi) = PARAMETER_RANGE;
     match field {
-        "radius" | "margin" => format!(
+        "radius" | "margin" | "comfort" => format!(
             "must be finite and in [0, {:e}] m",
             harmonav_transform::MAX_LENGTH
         ),

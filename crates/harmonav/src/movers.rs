@@ -331,6 +331,42 @@ pub(crate) fn filter(
     }
 }
 
+/// The comfort stage (docs/movers.md §7, "Comfort"): the nominal `u` projected onto the
+/// non-cooperative rows of a margin grown by `comfort` (eq. comfort),
+///
+/// ```text
+/// n_j·u ≥ V_j − β·(d_j − c)/h     (d_j the clearance of [`rows`], c = comfort)   (eq. comfort)
+/// ```
+///
+/// within `|u| ≤ r`, or, when none meets them all, their least largest shortfall: `u` as
+/// given (bit for bit, `trusted` kept) when `comfort` is 0, no mover is non-cooperative or
+/// `u` already meets every such row; else the turned nominal, not trusted, which the mover
+/// filter then certifies as it certifies KeepRight's turn. Only the nominal changes: a robot
+/// keeps its distance from people who do not avoid it where it can, and every certificate is
+/// the filter's as before. `rows_buf` is scratch (cleared, its capacity kept); the body and
+/// `(h, extra)` as in [`rows`], whose errors it returns.
+pub(crate) fn comfort(
+    movers: &[Mover],
+    (x, radius, margin): (Vector2<f64>, f64, f64),
+    (h, extra, comfort): (f64, f64, f64),
+    rows_buf: &mut Vec<Row>,
+    (u, trusted): (Vector2<f64>, bool),
+    r: f64,
+) -> Result<(Vector2<f64>, bool), NavError> {
+    let noncooperative = |m: &Mover| m.kind == MoverKind::NonCooperative;
+    if comfort == 0.0 || !movers.iter().any(noncooperative) {
+        return Ok((u, trusted));
+    }
+    rows(movers, (x, radius, margin + comfort), h, extra, rows_buf)?;
+    // The reciprocal rows are hard and the peers take their share: comfort is for the others.
+    rows_buf.retain(|row| !row.hard);
+    if rows_buf.iter().all(|row| row.slack(u) >= 0.0) {
+        return Ok((u, trusted));
+    }
+    let (v, _) = filter(rows_buf, (u, false), r, |_| true, r);
+    Ok((v, false))
+}
+
 /// How long ahead KeepRight's anticipation looks, s: a mover whose closest approach to the
 /// nominal relative motion comes within this time and closer than `2R_j` turns the nominal
 /// clockwise (docs/movers.md §7).
@@ -872,6 +908,33 @@ mod tests {
         );
         assert!(checked > 2_000, "{checked}");
         assert!(broken_old > 0, "the negative control shows nothing");
+    }
+
+    /// The comfort stage returns the nominal bit for bit (its trust kept) with no comfort, with
+    /// reciprocal movers only, and where the nominal meets its rows; else a turned nominal,
+    /// not trusted, that meets every comfort row when one can (eq. comfort).
+    #[test]
+    fn the_comfort_turns_only_a_nominal_that_comes_too_close() {
+        let x = Vector2::new(0.0, 0.0);
+        let body = (x, 0.2, 0.05);
+        let person = Mover::new(Vector2::new(0.7, 0.0), 0.2, 0.2);
+        let peer = person.reciprocal(0.5);
+        let towards = (Vector2::new(0.5, 0.1), true);
+        let mut buf = Vec::new();
+        let same = |movers: &[Mover], c: f64, u, buf: &mut Vec<Row>| {
+            comfort(movers, body, (0.1, 0.0, c), buf, u, 1.0).unwrap()
+        };
+        assert_eq!(same(&[person], 0.0, towards, &mut buf), towards);
+        assert_eq!(same(&[peer], 0.3, towards, &mut buf), towards);
+        let away = (Vector2::new(-0.5, 0.1), true);
+        assert_eq!(same(&[person], 0.3, away, &mut buf), away);
+        let (u, trusted) = same(&[person], 0.3, towards, &mut buf);
+        assert!(!trusted && u != towards.0);
+        // The comfort's row: `n·u ≥ V − β(d − c)/h`, `n = (−1, 0)`, `d = 0.7 − 0.45`.
+        let row = 0.2 - KINEMATIC_FRACTION * (0.25 - 0.3) / 0.1;
+        assert!(-u.x >= row - 1e-12, "{u:?} against {row}");
+        // With the same distance as margin alone the nominal met the filter's row already.
+        assert!(-towards.0.x >= 0.2 - KINEMATIC_FRACTION * 0.25 / 0.1);
     }
 
     /// With `ε = 0` a reciprocal mover gives one row, today's; with `ε > 0` four, each

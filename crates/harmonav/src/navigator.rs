@@ -348,31 +348,37 @@ impl<W: World> Navigator<W> {
                 (u, true)
             }
         };
+        let comfort = options.comfort;
         let (value, verdict, speeds) = match &self.core.controller {
             Controller::Kinematic(law) => {
-                movers::rows(&self.core.movers, body, h, 0.0, &mut self.core.rows)?;
                 let v_max = law.v_max();
+                let nominal = turned(command.value, &self.core.movers);
+                let (movers, rows) = (&self.core.movers, &mut self.core.rows);
+                // The comfort stage turns the nominal first (its rows in the same scratch).
+                let nominal =
+                    movers::comfort(movers, body, (h, 0.0, comfort), rows, nominal, v_max)?;
+                movers::rows(movers, body, h, 0.0, rows)?;
                 let d = field.clearance(x, 2.0 * h * v_max / hold::KINEMATIC_FRACTION, None);
                 let small = v_max.min(hold::KINEMATIC_FRACTION * d.max(0.0) / h);
                 let certified = |u: Vector2<f64>| {
                     let length = h * u.norm();
                     length == 0.0 || hold::free_length(field, x, u / u.norm(), length) >= length
                 };
-                let nominal = turned(command.value, &self.core.movers);
-                let (u, verdict) =
-                    movers::filter(&self.core.rows, nominal, v_max, certified, small);
+                let (u, verdict) = movers::filter(rows, nominal, v_max, certified, small);
                 (u, verdict, (u.norm(), command.value.norm()))
             }
             Controller::Dynamic(law) => {
                 let (m, bound) = (law.mass(), law.speed_bound());
                 let extra = 0.5 * h * (v.norm() + bound);
-                movers::rows(&self.core.movers, body, h, extra, &mut self.core.rows)?;
                 let next = v + (h / m) * command.value;
                 let cap = (1.0 - hold::SPEED_SLACK) * bound;
                 let d = field.clearance(x, 2.0 * h * cap / hold::DYNAMIC_FRACTION, None);
                 let r = cap.min(hold::DYNAMIC_FRACTION * d.max(0.0) / h);
                 let nominal = turned(next, &self.core.movers);
-                let (after, verdict) = movers::filter(&self.core.rows, nominal, r, |_| true, r);
+                let (movers, rows) = (&self.core.movers, &mut self.core.rows);
+                let nominal = movers::comfort(movers, body, (h, extra, comfort), rows, nominal, r)?;
+                movers::rows(movers, body, h, extra, rows)?;
+                let (after, verdict) = movers::filter(rows, nominal, r, |_| true, r);
                 ((m / h) * (after - v), verdict, (after.norm(), next.norm()))
             }
         };

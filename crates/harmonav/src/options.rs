@@ -99,6 +99,11 @@ pub struct Options {
     /// certified against it; it leads out). `None` (the default): no bound, the hold may stop
     /// the robot within one period. Refused with the kinematic law, which commands velocities.
     pub force_bound: Option<f64>,
+    /// Comfort distance `c`, m (default 0: none): the nominal command keeps `c` more than the
+    /// margin from every non-cooperative mover when it can (docs/movers.md §7, "Comfort"). It
+    /// turns the nominal only; the mover filter certifies the result, so every guarantee is
+    /// unchanged. In `[0, MAX_LENGTH]`.
+    pub comfort: f64,
 }
 
 impl Default for Options {
@@ -119,6 +124,7 @@ impl Default for Options {
             hold: HoldPolicy::default(),
             base: Base::default(),
             force_bound: None,
+            comfort: 0.0,
         }
     }
 }
@@ -215,6 +221,12 @@ impl Options {
             force_bound: Some(force_bound),
             ..self
         }
+    }
+
+    /// The comfort distance `c`, m ([`Options::comfort`]).
+    #[must_use]
+    pub fn with_comfort(self, comfort: f64) -> Self {
+        Self { comfort, ..self }
     }
 
     /// The hold policy.
@@ -350,7 +362,7 @@ impl Options {
     }
 
     /// Checks every option against its range, with `law` (which sets the default period):
-    /// `radius` and `margin` finite, `≥ 0` and at most [`MAX_LENGTH`]; the sensor and `ρ_min` as
+    /// `radius`, `margin` and `comfort` finite, `≥ 0` and at most [`MAX_LENGTH`]; the sensor and `ρ_min` as
     /// in [`Options::d_min`]; the control period and `v_max` (if given) in [`PARAMETER_RANGE`](crate::tuning::PARAMETER_RANGE);
     /// the scan options as in [`ScanOptions::validate`]; a differential-drive base's `v_max` and
     /// `omega_max` in [`PARAMETER_RANGE`](crate::tuning::PARAMETER_RANGE), and only with the kinematic law (else `base`).
@@ -358,7 +370,11 @@ impl Options {
         if let Some(v) = self.v_max {
             in_range("v_max", v)?;
         }
-        for (field, value) in [("radius", self.radius), ("margin", self.margin)] {
+        for (field, value) in [
+            ("radius", self.radius),
+            ("margin", self.margin),
+            ("comfort", self.comfort),
+        ] {
             if !(value.is_finite() && (0.0..=MAX_LENGTH).contains(&value)) {
                 return Err(NavError::InvalidOption { field, value });
             }

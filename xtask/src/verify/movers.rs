@@ -6,7 +6,7 @@
 //! kinematic law, its arcs certified by `command_pose`; under the dynamic law its file must be
 //! refused by name. Negative controls fly the crossing with the robot blind to the movers, the
 //! differential drive blind to its walkers, and the four robots blind to each other: each must
-//! record a contact.
+//! record a contact. The crossing flown with `[robot] comfort` keeps the person farther away.
 
 use std::path::{Path, PathBuf};
 
@@ -49,6 +49,7 @@ pub fn checks() -> Vec<Check> {
     let models = [Model::Kinematic, Model::Dynamic].map(|m| (m, m.as_str()));
     let mut checks = per_file(&files(), "movers", &models, fly);
     checks.push(Check::new("movers.person-crossing.blind", blind));
+    checks.push(Check::new("movers.person-crossing.comfort", comfort));
     checks.push(Check::new("movers.diff-walkers.blind", blind_diff));
     checks.push(Check::new("movers.four-robots-swap.blind", blind_robots));
     checks.push(Check::new(
@@ -198,6 +199,39 @@ fn must_fail(
         .is_some_and(|g| !g.passed);
     if contacts == 0 || !judged {
         return Err(format!("the negative control saw no failure: {detail}"));
+    }
+    Ok(Verdict::Held(detail))
+}
+
+/// The crossing with `[robot] comfort = 0.6` (docs/movers.md §7, "Comfort"): every guarantee
+/// held, arrived, no contact, and the person kept at least `margin + 0.9·c` away; the file as
+/// it is (its own negative control) lets the person closer than that.
+fn comfort() -> Outcome {
+    const COMFORT: f64 = 0.6;
+    let mut prepared =
+        Scenario::load(&folder().join("person-crossing.toml")).map_err(|e| e.to_string())?;
+    let fly = |prepared: &harmonav_scenario::Prepared| {
+        let run = simulate(prepared, None, Physics::Builtin).map_err(|e| e.to_string())?;
+        let m = run.summary.movers.clone().ok_or("no mover report")?;
+        Ok::<_, String>((run.summary, m))
+    };
+    let (_, plain) = fly(&prepared)?;
+    prepared.scenario.controller.comfort = COMFORT;
+    let (s, m) = fly(&prepared)?;
+    let kept = prepared.margin() + 0.9 * COMFORT;
+    let detail = format!(
+        "comfort {COMFORT} m: {}; without: min mover clearance {:.3} m",
+        detail(s.reached, s.time_s, &m, prepared.margin()),
+        plain.min_mover_clearance
+    );
+    let failed = failed_names(&s.guarantees);
+    if !failed.is_empty()
+        || !s.reached
+        || m.mover_contacts > 0
+        || m.min_mover_clearance < kept
+        || plain.min_mover_clearance >= kept
+    {
+        return Err(format!("{detail}; failed: {failed:?}"));
     }
     Ok(Verdict::Held(detail))
 }
