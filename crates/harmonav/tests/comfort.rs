@@ -1,8 +1,10 @@
 //! The comfort stage of the mover filter (`Options::comfort`, docs/movers.md §7 "Comfort"): the
 //! nominal command keeps `c` beyond the margin from a non-cooperative mover where it can (with a
-//! negative control: without it the robot passes closer), every command stays certified by
+//! negative control: without it the person comes closer), every command stays certified by
 //! the filter exactly as before (the exact oracle of one period), and a comfort out of range is
 //! refused by name.
+
+mod common;
 
 use harmonav::transform::random::Rng;
 use harmonav::tuning::KINEMATIC_FRACTION;
@@ -26,22 +28,9 @@ fn navigator(goal: Vector2<f64>, comfort: f64) -> Navigator {
     Navigator::new(boundary, goal, Law::kinematic(1.0), options).unwrap()
 }
 
-/// The least, over `τ ∈ [0, h]`, of `|x + τu − p̂| − (R + ε + Vτ)` (convex in `τ`: golden-section
-/// search to 1e-12 s, plus the ends), the gap to the mover's reachable disc.
+/// The exact oracle of one period at 10 Hz for this file's robot ([`common::reach_gap`]).
 fn reach_gap(x: Vector2<f64>, u: Vector2<f64>, m: &Mover) -> f64 {
-    let r = RADIUS + MARGIN + m.radius + m.position_error;
-    let g = |t: f64| (x + t * u - m.centre).norm() - r - m.speed_bound * t;
-    let (mut a, mut b) = (0.0, H);
-    let phi = 0.5 * (5f64.sqrt() - 1.0);
-    while b - a > 1e-12 {
-        let (c, d) = (b - phi * (b - a), a + phi * (b - a));
-        if g(c) < g(d) {
-            b = d;
-        } else {
-            a = c;
-        }
-    }
-    g(0.0).min(g(H)).min(g(0.5 * (a + b)))
+    common::reach_gap(x, u, H, RADIUS + MARGIN, m)
 }
 
 /// A robot waiting at its goal `(0, 0)` while a person (radius 0.2 m, speed bound 0.2 m/s)

@@ -3,6 +3,8 @@
 //! exact oracle and in closed loops with pursuing, crossing and reciprocal movers; each claim
 //! with a negative control that fails without the filter (or without its speed term).
 
+mod common;
+
 use harmonav::transform::random::Rng;
 use harmonav::{
     Law, Mode, Mover, MoverFilter, MoverMemory, NavError, Navigator, Options, StarShape, Vector2,
@@ -35,23 +37,9 @@ fn at_10_hz(goal: Vector2<f64>) -> Navigator {
     Navigator::new(boundary, goal, Law::kinematic(1.0), options).unwrap()
 }
 
-/// The exact oracle of one period: the least, over `τ ∈ [0, h]`, of
-/// `|x + τu − p̂| − (R + ε + Vτ)`, the gap to the mover's reachable disc (a convex function of
-/// `τ`: minimised by golden-section search to 1e-12 s, plus the ends).
+/// The exact oracle of one period for this file's robot ([`common::reach_gap`]).
 fn reach_gap(x: Vector2<f64>, u: Vector2<f64>, h: f64, m: &Mover) -> f64 {
-    let r = RADIUS + MARGIN + m.radius + m.position_error;
-    let g = |t: f64| (x + t * u - m.centre).norm() - r - m.speed_bound * t;
-    let (mut a, mut b) = (0.0, h);
-    let phi = 0.5 * (5f64.sqrt() - 1.0);
-    while b - a > 1e-12 {
-        let (c, d) = (b - phi * (b - a), a + phi * (b - a));
-        if g(c) < g(d) {
-            b = d;
-        } else {
-            a = c;
-        }
-    }
-    g(0.0).min(g(h)).min(g(0.5 * (a + b)))
+    common::reach_gap(x, u, h, RADIUS + MARGIN, m)
 }
 
 /// Property: over 3 000 seeded states, movers and nominal commands, every command the

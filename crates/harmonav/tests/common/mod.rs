@@ -1,10 +1,10 @@
-//! Floor plans shared by the facade's tests.
+//! Floor plans and the mover filter's exact oracle, shared by the facade's tests.
 
 #![allow(dead_code)] // each test binary uses part of it
 
 use std::sync::Arc;
 
-use harmonav::{FloorMap, FloorOptions, Law, Vector2};
+use harmonav::{FloorMap, FloorOptions, Law, Mover, Vector2};
 
 /// The L room: 4 m arms 1.5 m wide, reflex corner (1.5, 1.5); `h = 0.1` m, so `δ = 0.1` m, and
 /// radius + margin 0.2 m, so `W_s` is the walls shrunk by 0.1 m.
@@ -46,4 +46,24 @@ pub fn held_step(
     );
     assert!(c0 + c1 - (next - x).norm() > 0.0, "{x:?} → {next:?}");
     next
+}
+
+/// The exact oracle of one period of a robot grown by `inflation` (radius + margin) holding `u`
+/// from `x` for `h`: the least, over `τ ∈ [0, h]`, of `|x + τu − p̂| − (inflation + r + ε + Vτ)`,
+/// the gap to the mover's reachable disc (convex in `τ`: golden-section search to 1e-12 s, plus
+/// the ends).
+pub fn reach_gap(x: Vector2<f64>, u: Vector2<f64>, h: f64, inflation: f64, m: &Mover) -> f64 {
+    let r = inflation + m.radius + m.position_error;
+    let g = |t: f64| (x + t * u - m.centre).norm() - r - m.speed_bound * t;
+    let (mut a, mut b) = (0.0, h);
+    let phi = 0.5 * (5f64.sqrt() - 1.0);
+    while b - a > 1e-12 {
+        let (c, d) = (b - phi * (b - a), a + phi * (b - a));
+        if g(c) < g(d) {
+            b = d;
+        } else {
+            a = c;
+        }
+    }
+    g(0.0).min(g(h)).min(g(0.5 * (a + b)))
 }
