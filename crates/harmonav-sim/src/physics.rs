@@ -36,11 +36,8 @@ pub fn simulate_observed(
 ) -> Result<Run, RunError> {
     match physics {
         Physics::Builtin => integrate(prepared, model, Warnings::Find, observer),
-        Physics::Rapier
-            if !(prepared.scenario.sim.movers.is_empty()
-                && prepared.scenario.sim.robots.is_empty()) =>
-        {
-            Err(RunError::MoversInRapier)
+        Physics::Rapier if !prepared.scenario.sim.robots.is_empty() => {
+            Err(RunError::RobotsInRapier)
         }
         #[cfg(feature = "rapier")]
         Physics::Rapier => {
@@ -102,10 +99,8 @@ fn floor_with(
     observer: Option<&mut dyn FnMut(Event<'_>)>,
 ) -> Result<FloorRun, RunError> {
     match (physics, observer) {
-        (Physics::Rapier, _)
-            if !(prepared.scenario.movers.is_empty() && prepared.scenario.robots.is_empty()) =>
-        {
-            Err(RunError::MoversInRapier)
+        (Physics::Rapier, _) if !prepared.scenario.robots.is_empty() => {
+            Err(RunError::RobotsInRapier)
         }
         (Physics::Builtin, None) => Ok(floor::run(prepared, model, start)?),
         (Physics::Builtin, Some(observer)) => {

@@ -2,10 +2,12 @@
 //! obstacles and the boundary (a ball for circles, closed polylines through the true
 //! boundary otherwise), the robot a dynamic ball (zero gravity, no rapier damping) driven by
 //! the control law — its velocity for the kinematic model, a force for the dynamic one. It
-//! reports the contact events and the largest deviation from the built-in trajectory.
+//! reports the contact events and the largest deviation from the built-in trajectory. A
+//! file's `[[movers]]` are reported to the navigator at every control period's start and
+//! judged along every rapier step (they are not rapier bodies); `[[robots]]` are refused.
 
 use harmonav::control::Potential;
-use harmonav::{Controller, PoseCommand};
+use harmonav::{Controller, Mode, NavError, PoseCommand};
 use harmonav_field::{Field, FieldEval};
 use harmonav_scenario::{Model, Prepared};
 use nalgebra::Vector2;
@@ -14,10 +16,11 @@ use crate::driver::{Driver, Warnings};
 use crate::guarantee::{Check, FreeSpaceLoss, Guarantee};
 use crate::held::{euler_energy_error, potential, state};
 use crate::monitor::End;
+use crate::movers::{MoverWorld, stop};
 use crate::summary::{Physics, Run, RunError};
 use crate::trace::{Event, Sample};
 use crate::trajectory::Keep;
-use crate::unicycle::Diff;
+use crate::unicycle::{Diff, pose_command};
 
 mod engine;
 pub mod floor;
@@ -69,8 +72,8 @@ pub(crate) fn rapier_observed(
     warnings: Warnings,
     observer: &mut dyn FnMut(Event<'_>),
 ) -> Result<(Run, RapierReport), RunError> {
-    if !(prepared.scenario.sim.movers.is_empty() && prepared.scenario.sim.robots.is_empty()) {
-        return Err(RunError::MoversInRapier);
+    if !prepared.scenario.sim.robots.is_empty() {
+        return Err(RunError::RobotsInRapier);
     }
     let sc = &prepared.scenario;
     let truth = &prepared.truth;
@@ -123,6 +126,12 @@ pub(crate) fn rapier_observed(
     let mut engine_rise: f64 = 0.0;
     // The command held over the current control period.
     let mut command = Vector2::zeros();
+    // The file's movers (docs/movers.md §8): reported to the navigator at every period's start,
+    // moved by their scripts and judged along every rapier step; `certified`: the command in
+    // force was certified, `acted`: the filter changed it (or refused), so `V` may rise.
+    let mut world = MoverWorld::new(&sc.sim.movers, truth.radius);
+    let (mut last_mode, mut certified, mut acted): (Option<&'static str>, bool, bool) =
+        (None, true, false);
     let sample = |d: &Driver, t: f64, x, vel, drift: &mut f64, yaw: Option<f64>| {
         let mut s = state(d, t, (x, vel), yaw);
         s.energy_tolerance = std::mem::take(drift);
@@ -146,7 +155,10 @@ pub(crate) fn rapier_observed(
             // that the energy monitor does not count V's jump as a rise.
             let keep = if reached { Keep::Pinned } else { Keep::Grid };
             let yaw = diff.as_ref().map(|_| engine.yaw());
-            d.record(sample(&d, t, x, vel, &mut drift, yaw), keep, false);
+            d.record(sample(&d, t, x, vel, &mut drift, yaw), keep, acted);
+        }
+        if !world.is_empty() && d.movers_due(t) {
+            d.movers(world.frame(t, x, last_mode, period));
         }
         reached = d.arrived(x);
         if reached || t >= sc.sim.max_time {
@@ -189,21 +201,50 @@ pub(crate) fn rapier_observed(
             if d.at_rest(t, x, false, discovered || turning, reached) {
                 break;
             }
+            if !world.is_empty() {
+                d.nav_mut().set_movers(world.reports())?;
+            }
+            // How the command was formed (`None`: refused, the reported bodies overlap).
+            let mut mode = None;
             if let Some(u) = diff.as_mut() {
                 // The law's `(v, ω)` (a custom controller is not taken for a differential
                 // drive), judged on its arc from rapier's pose.
-                let c = d.nav_mut().command_pose(x, u.yaw)?;
+                let (c, formed) = pose_command(d.nav_mut(), x, u.yaw, !world.is_empty())?;
                 u.period(truth, x, &c, period);
-                pose = Some(c);
+                (pose, mode) = (Some(c), formed);
             }
             command = match &drive {
                 _ if diff.is_some() => Vector2::zeros(),
-                Drive::Law => d.nav_mut().command(x, vel)?.value,
+                Drive::Law => match d.nav_mut().command(x, vel) {
+                    Ok(c) => {
+                        mode = Some(c.mode);
+                        c.value
+                    }
+                    // The reported bodies overlap: no certified command; the robot stops (as
+                    // hard as its force bound lets it), as in the built-in loop.
+                    Err(NavError::InMover { .. }) if !world.is_empty() => {
+                        match d.nav().controller() {
+                            Controller::Kinematic(_) => Vector2::zeros(),
+                            Controller::Dynamic(law) => {
+                                let bound = d.nav().options().force_bound;
+                                stop(law.mass(), vel, period, bound)
+                            }
+                        }
+                    }
+                    Err(e) => return Err(e.into()),
+                },
                 Drive::Custom(f) => {
                     let e = d.nav().field().eval(x)?;
                     f(d.nav().field(), &e, x, vel)
                 }
             };
+            if !world.is_empty() {
+                certified = mode.as_ref().is_some_and(|m| m.certified());
+                world.count(mode.as_ref());
+                last_mode = Some(mode.as_ref().map_or("refused", Mode::as_str));
+                acted = !certified
+                    || matches!(mode, Some(Mode::Yielding { .. } | Mode::Bounded { .. }));
+            }
         }
         match pose {
             Some(c) => engine.drive_unicycle(c.v, c.omega),
@@ -214,6 +255,10 @@ pub(crate) fn rapier_observed(
         engine.step(&gap_to);
         steps += 1;
         t = steps as f64 * h;
+        if !world.is_empty() {
+            // One rapier step of `h` ≤ 1 ms: its chord against where every mover went.
+            world.period(x, engine.state().0, h, certified);
+        }
         if let (Controller::Dynamic(law), Some(p0)) = (d.nav().controller(), before) {
             // The law's semi-implicit Euler step, and the step rapier made.
             let ve = vel + h * command / law.mass();
@@ -232,9 +277,12 @@ pub(crate) fn rapier_observed(
     }
     let (x, _) = engine.state();
     let contacts = engine.contacts();
-    let more = diff
+    let mut more = diff
         .as_ref()
         .map_or_else(Vec::new, |u| u.guarantees(prepared.margin()));
+    if !world.is_empty() {
+        more.push(world.guarantee(prepared.margin()));
+    }
     let Run {
         mut summary,
         samples,
@@ -256,6 +304,9 @@ pub(crate) fn rapier_observed(
         u.report
     });
     summary.physics_contacts = Some(contacts);
+    if !world.is_empty() {
+        summary.movers = Some(world.report);
+    }
     summary.guarantees.push(Guarantee::new(
         Check::PhysicsContacts { contacts },
         contacts == 0,

@@ -229,9 +229,14 @@ pub enum RunError {
     StartNotFree,
     /// A rapier run was asked of a build without the feature `rapier`.
     NoRapier,
-    /// A rapier run was asked of a file with `[[movers]]` or `[[robots]]`: both are flown by the
-    /// built-in held-command loop only (docs/movers.md §8).
+    /// Never returned since 2026-12-07, when rapier began to fly files with movers; a file
+    /// with robots gets [`RunError::RobotsInRapier`]. Kept for one release so that code naming
+    /// it compiles.
+    #[deprecated(note = "rapier flies files with movers since 2026-12-07; see RobotsInRapier")]
     MoversInRapier,
+    /// A rapier run was asked of a file with `[[robots]]`: several robots fly in the built-in
+    /// held-command loop only (docs/movers.md §8).
+    RobotsInRapier,
     /// Never returned since 2026-12-07, when a floor plan's differential drive began to fly in
     /// rapier; kept for one release so that code naming it compiles.
     #[deprecated(note = "rapier flies a floor plan's differential drive since 2026-12-07")]
@@ -262,9 +267,14 @@ impl std::fmt::Display for RunError {
                 "a floor plan with a differential drive (robot.base = \"diff\") ran in the \
                  built-in loop only before 2026-12-07",
             ),
+            #[allow(deprecated)]
             Self::MoversInRapier => f.write_str(
-                "a file with [[movers]] or [[robots]] runs in the built-in held-command loop only (not \
-                 rapier)",
+                "a file with [[movers]] ran in the built-in held-command loop only before \
+                 2026-12-07",
+            ),
+            Self::RobotsInRapier => f.write_str(
+                "a file with [[robots]] runs in the built-in held-command loop only (not rapier): \
+                 several robots are not one rapier world",
             ),
         }
     }

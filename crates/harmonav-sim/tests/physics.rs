@@ -329,3 +329,56 @@ fn a_floor_plans_differential_drive_flies_in_rapier_along_its_heading() {
         }
     }
 }
+
+/// A file with movers flies in rapier (since 2026-12-07): the person of
+/// `movers/person-crossing.toml` is reported every period and judged along every rapier step;
+/// the law keeps every guarantee with 0 contacts. Negative control: a controller that drives
+/// straight at the goal at 1.21 m/s, into the person's path when they cross it (the movers
+/// still reported, judged and moved), is seen to touch them: contact episodes counted and
+/// the least mover clearance below 0 (its commands are not the filter's, so Theorem 1 does not
+/// cover them and the guarantee counts the contacts without failing).
+#[test]
+fn a_file_with_movers_flies_in_rapier_and_its_movers_are_judged() {
+    let prepared = scenario("movers/person-crossing.toml");
+    let (r, report) = run_rapier(&prepared, None, Drive::Law, None).unwrap();
+    let m = r.summary.movers.as_ref().expect("a mover report");
+    assert!(
+        r.summary.reached && r.summary.all_passed(),
+        "{:?}",
+        r.summary.guarantees
+    );
+    assert_eq!((report.contacts, m.mover_contacts), (0, 0));
+    assert!(m.min_mover_clearance >= prepared.margin(), "{m:?}");
+    assert!(
+        m.yielding_commands > 0,
+        "the person was never in the way: {m:?}"
+    );
+    let goal = prepared.truth.goal();
+    let straight = |_: &harmonav_field::Field,
+                    _: &harmonav_field::FieldEval,
+                    x: Vector2<f64>,
+                    _: Vector2<f64>| 1.21 * (goal - x).normalize();
+    let (blind, _) = run_rapier(&prepared, None, Drive::Custom(&straight), None).unwrap();
+    let m = blind.summary.movers.as_ref().expect("a mover report");
+    assert!(
+        m.mover_contacts > 0,
+        "the straight drive missed the person: {m:?}"
+    );
+    assert!(m.min_mover_clearance < 0.0, "{m:?}");
+    assert_eq!(m.certified_commands, 0, "{m:?}");
+}
+
+/// A file with `[[robots]]` is refused by name in rapier (several robots are not one rapier
+/// world), not run without its other robots.
+#[test]
+fn a_file_with_robots_is_refused_in_rapier_by_name() {
+    let prepared = scenario("movers/four-robots-swap.toml");
+    let e =
+        harmonav_sim::physics::simulate(&prepared, None, harmonav_sim::physics::Physics::Rapier)
+            .unwrap_err();
+    assert!(
+        matches!(e, harmonav_sim::summary::RunError::RobotsInRapier),
+        "{e}"
+    );
+    assert!(e.to_string().contains("[[robots]]"), "{e}");
+}

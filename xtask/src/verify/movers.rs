@@ -48,6 +48,16 @@ pub(super) fn toml_files(folder: &Path) -> Vec<PathBuf> {
 pub fn checks() -> Vec<Check> {
     let models = [Model::Kinematic, Model::Dynamic].map(|m| (m, m.as_str()));
     let mut checks = per_file(&files(), "movers", &models, fly);
+    let in_rapier = [Model::Kinematic, Model::Dynamic].map(|m| {
+        (
+            m,
+            match m {
+                Model::Kinematic => "rapier-kinematic",
+                Model::Dynamic => "rapier-dynamic",
+            },
+        )
+    });
+    checks.extend(per_file(&files(), "movers", &in_rapier, fly_rapier));
     checks.push(Check::new("movers.person-crossing.blind", blind));
     checks.push(Check::new("movers.person-crossing.comfort", comfort));
     checks.push(Check::new("movers.diff-walkers.blind", blind_diff));
@@ -113,6 +123,54 @@ fn fly(file: &Path, model: Model) -> Outcome {
     let m = s.movers.as_ref().ok_or("no mover report")?;
     let detail = detail(s.reached, s.time_s, m, prepared.margin());
     let failed = failed_names(&s.guarantees);
+    if !failed.is_empty() || m.mover_contacts > 0 {
+        return Err(format!("{detail}; failed: {failed:?}"));
+    }
+    Ok(Verdict::Held(detail))
+}
+
+/// One file under `model` in rapier (the movers judged along every rapier step): every
+/// guarantee holds, rapier's `physics-no-contact` included, and no mover touches the robot. A
+/// file with `[[robots]]` must be refused by name (several robots are not one rapier world),
+/// as a differential drive under the dynamic law.
+fn fly_rapier(file: &Path, model: Model) -> Outcome {
+    let kind = FileKind::of(file).map_err(|e| e.to_string())?;
+    let run = if kind == FileKind::FloorPlan {
+        let prepared = FloorScenario::load(file).map_err(|e| e.to_string())?;
+        let start = Vector2::from(prepared.scenario.robot.start);
+        simulate_floor(&prepared, Some(model), start, Physics::Rapier)
+            .map(|run| FloorSummary::new(&prepared, Some(model), start, &run))
+            .map(|s| (s.reached, s.time_s, s.guarantees, s.movers))
+    } else {
+        let prepared = Scenario::load(file).map_err(|e| e.to_string())?;
+        simulate(&prepared, Some(model), Physics::Rapier).map(|r| {
+            let s = r.summary;
+            (s.reached, s.time_s, s.guarantees, s.movers)
+        })
+    };
+    let (reached, time_s, guarantees, movers) = match run {
+        Err(e @ harmonav_sim::summary::RunError::RobotsInRapier) => {
+            return Ok(Verdict::Held(format!("refused: {e}")));
+        }
+        Err(e) if e.to_string().contains("base") && model == Model::Dynamic => {
+            return Ok(Verdict::Held(format!("refused: {e}")));
+        }
+        Err(e) => return Err(e.to_string()),
+        Ok(run) => run,
+    };
+    let m = movers.ok_or("no mover report")?;
+    let margin = match kind {
+        FileKind::FloorPlan => {
+            FloorScenario::load(file)
+                .map_err(|e| e.to_string())?
+                .scenario
+                .robot
+                .margin
+        }
+        _ => Scenario::load(file).map_err(|e| e.to_string())?.margin(),
+    };
+    let detail = detail(reached, time_s, &m, margin);
+    let failed = failed_names(&guarantees);
     if !failed.is_empty() || m.mover_contacts > 0 {
         return Err(format!("{detail}; failed: {failed:?}"));
     }
