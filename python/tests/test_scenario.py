@@ -156,3 +156,17 @@ def test_ctrl_c_stops_a_sweep_between_parts():
     elapsed = time.monotonic() - t0
     timer.join()
     assert elapsed < 5.0, f"interrupted after {elapsed:.1f} s"
+
+
+def test_a_file_with_movers_runs_in_rapier_and_one_with_robots_is_refused():
+    """Since 2026-12-07 rapier flies a file with movers (docs/movers.md §8): the person's
+    crossing arrives with every guarantee, its movers judged; several robots are refused by
+    name."""
+    sc = harmonav.Scenario.load(SCENARIOS / "movers" / "person-crossing.toml")
+    s = sc.run(physics="rapier").summary
+    assert s["physics"] == "rapier" and s["reached"], s["guarantees"]
+    assert all(g["passed"] for g in s["guarantees"]), s["guarantees"]
+    assert s["movers"]["mover_contacts"] == 0 and s["physics_contacts"] == 0
+    robots = harmonav.Scenario.load(SCENARIOS / "movers" / "four-robots-swap.toml")
+    with pytest.raises(ValueError, match=r"\[\[robots\]\].*rapier"):
+        robots.run(physics="rapier")
