@@ -134,21 +134,22 @@ fn fly(file: &Path, model: Model) -> Outcome {
 /// file with `[[robots]]` must be refused by name (several robots are not one rapier world),
 /// as a differential drive under the dynamic law.
 fn fly_rapier(file: &Path, model: Model) -> Outcome {
-    let kind = FileKind::of(file).map_err(|e| e.to_string())?;
-    let run = if kind == FileKind::FloorPlan {
+    let run = if FileKind::of(file).map_err(|e| e.to_string())? == FileKind::FloorPlan {
         let prepared = FloorScenario::load(file).map_err(|e| e.to_string())?;
         let start = Vector2::from(prepared.scenario.robot.start);
+        let margin = prepared.scenario.robot.margin;
         simulate_floor(&prepared, Some(model), start, Physics::Rapier)
             .map(|run| FloorSummary::new(&prepared, Some(model), start, &run))
-            .map(|s| (s.reached, s.time_s, s.guarantees, s.movers))
+            .map(|s| (s.reached, s.time_s, s.guarantees, s.movers, margin))
     } else {
         let prepared = Scenario::load(file).map_err(|e| e.to_string())?;
+        let margin = prepared.margin();
         simulate(&prepared, Some(model), Physics::Rapier).map(|r| {
             let s = r.summary;
-            (s.reached, s.time_s, s.guarantees, s.movers)
+            (s.reached, s.time_s, s.guarantees, s.movers, margin)
         })
     };
-    let (reached, time_s, guarantees, movers) = match run {
+    let (reached, time_s, guarantees, movers, margin) = match run {
         Err(e @ harmonav_sim::summary::RunError::RobotsInRapier) => {
             return Ok(Verdict::Held(format!("refused: {e}")));
         }
@@ -159,16 +160,6 @@ fn fly_rapier(file: &Path, model: Model) -> Outcome {
         Ok(run) => run,
     };
     let m = movers.ok_or("no mover report")?;
-    let margin = match kind {
-        FileKind::FloorPlan => {
-            FloorScenario::load(file)
-                .map_err(|e| e.to_string())?
-                .scenario
-                .robot
-                .margin
-        }
-        _ => Scenario::load(file).map_err(|e| e.to_string())?.margin(),
-    };
     let detail = detail(reached, time_s, &m, margin);
     let failed = failed_names(&guarantees);
     if !failed.is_empty() || m.mover_contacts > 0 {
