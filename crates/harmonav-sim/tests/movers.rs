@@ -67,10 +67,21 @@ fn blind_to_the_movers_the_robot_touches_one() {
     assert!(!g.passed);
 }
 
+/// Since 2026-12-07 rapier flies a file with movers (one robot) and refuses one with robots
+/// by name (it refused both before).
 #[test]
-fn rapier_refuses_a_file_with_movers() {
+fn rapier_flies_a_file_with_movers_and_refuses_one_with_robots() {
     let prepared = Scenario::load(&file("person-crossing.toml")).unwrap();
-    assert!(simulate(&prepared, None, Physics::Rapier).is_err());
+    let run = simulate(&prepared, None, Physics::Rapier).unwrap();
+    let m = run.summary.movers.as_ref().unwrap();
+    assert!(run.summary.all_passed(), "{:?}", run.summary.guarantees);
+    assert_eq!(m.mover_contacts, 0);
+    let robots = Scenario::load(&file("four-robots-swap.toml")).unwrap();
+    let e = simulate(&robots, None, Physics::Rapier).unwrap_err();
+    assert!(
+        matches!(e, harmonav_sim::summary::RunError::RobotsInRapier),
+        "{e}"
+    );
 }
 
 #[test]
@@ -91,7 +102,11 @@ fn a_floor_plan_with_a_mover_yields_and_arrives() {
         );
         assert!(m.yielding_commands > 0 && m.mover_contacts == 0, "{m:?}");
     }
-    assert!(simulate_floor(&prepared, None, start, Physics::Rapier).is_err());
+    // In rapier too (since 2026-12-07): the walls as colliders, the mover judged by the monitor.
+    let run = simulate_floor(&prepared, None, start, Physics::Rapier).unwrap();
+    let s = FloorSummary::new(&prepared, None, start, &run);
+    assert!(s.all_passed(), "{:?}", s.guarantees);
+    assert_eq!(s.movers.as_ref().unwrap().mover_contacts, 0);
 }
 
 #[test]
