@@ -360,11 +360,7 @@ impl FloorTransform {
         {
             return Err(Unenclosed::Band);
         }
-        let e = self
-            .floor
-            .map()
-            .enclosure(x, rho)
-            .map_err(|_| Unenclosed::Disk)?;
+        let e = self.floor.enclosure(x, rho).map_err(|_| Unenclosed::Disk)?;
         self.sector_of(&e)
     }
 

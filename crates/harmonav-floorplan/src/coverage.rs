@@ -147,23 +147,76 @@ fn nearest_free(
     best.map(|(_, n)| n)
 }
 
-impl FloorField {
-    /// The certified fraction of the robot's reachable free space (module docs): the free
-    /// space of clearance `inflation` (radius + margin) about the true walls and `obstacles`
-    /// (as given, not grown), the component of `start`, sampled at the centres of a grid of
-    /// cell [`area_cell`]`(·, inflation, max_samples)`; each sample in `W_δ` is evaluated
-    /// (`Θ` of this field) against `level`. The evaluations run on `threads` threads (at
-    /// least one). Deterministic: the counts do not depend on `threads`.
+/// The robot's reachable free space sampled on a grid ([`FloorField::reachable_region`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Region {
+    /// The grid's cell, m (each sample stands for `cell²` of area).
+    pub cell: f64,
+    /// Samples in the robot's reachable free space (the start's component); 0 when no free
+    /// sample lies within two cells of the start.
+    pub reachable: usize,
+    /// Of those, the samples in `W_δ`, where `Θ` is defined, in grid order.
+    pub samples: Vec<Vector2<f64>>,
+    /// The grid's corner, its columns and rows, and the index in `samples` of each grid cell
+    /// (`usize::MAX` where it holds none), row-major.
+    grid: (Vector2<f64>, usize, usize, Vec<usize>),
+}
+
+impl Region {
+    /// The index in [`Region::samples`] of the sample of `p`'s grid cell, if it has one.
     #[must_use]
-    pub fn certified_area(
+    pub fn sample_at(&self, p: Vector2<f64>) -> Option<usize> {
+        let (lo, nx, ny, index) = &self.grid;
+        let g = (p - lo) / self.cell;
+        if !(g.x >= 0.0 && g.y >= 0.0 && g.x < *nx as f64 && g.y < *ny as f64) {
+            return None;
+        }
+        let n = index[g.y as usize * nx + g.x as usize];
+        (n != usize::MAX).then_some(n)
+    }
+}
+
+/// `judge` on each of `items`, split among `threads` threads (at least one), the results in
+/// the items' order; an item whose thread failed gets `failed`. Deterministic: the results do
+/// not depend on `threads`.
+pub(crate) fn on_threads<T: Sync, R: Send + Clone>(
+    items: &[T],
+    threads: usize,
+    failed: R,
+    judge: impl Fn(&T) -> R + Sync,
+) -> Vec<R> {
+    let chunk = items.len().div_ceil(threads.max(1)).max(1);
+    let judge = &judge;
+    std::thread::scope(|scope| {
+        let handles: Vec<_> = items
+            .chunks(chunk)
+            .map(|part| {
+                (
+                    part.len(),
+                    scope.spawn(move || part.iter().map(judge).collect::<Vec<R>>()),
+                )
+            })
+            .collect();
+        handles
+            .into_iter()
+            .flat_map(|(n, h)| h.join().unwrap_or_else(|_| vec![failed.clone(); n]))
+            .collect()
+    })
+}
+
+impl FloorField {
+    /// The robot's reachable free space (module docs): the free space of clearance
+    /// `inflation` (radius + margin) about the true walls and `obstacles` (as given, not
+    /// grown), the component of `start`, sampled at the centres of a grid of cell
+    /// [`area_cell`]`(·, inflation, max_samples)`; its samples in `W_δ` are kept.
+    #[must_use]
+    pub fn reachable_region(
         &self,
-        level: &LayerLevel,
         start: Vector2<f64>,
         inflation: f64,
         obstacles: &[StarShape],
         max_samples: usize,
-        threads: usize,
-    ) -> CertifiedArea {
+    ) -> Region {
         let floor = self.floor();
         let (lo, hi) = floor.walls().bounding_box();
         let cell = area_cell(hi - lo, inflation, max_samples);
@@ -178,48 +231,53 @@ impl FloorField {
                     && obstacles.iter().all(|o| o.signed_distance(p) > inflation)
             })
             .collect();
-        let mut out = CertifiedArea {
+        let mut out = Region {
             cell,
             reachable: 0,
-            in_region: 0,
-            certified: 0,
-            skipped: 0,
+            samples: Vec::new(),
+            grid: (lo, nx, ny, vec![usize::MAX; nx * ny]),
         };
         let Some(seed) = nearest_free(&free, nx, ny, at, start, lo, cell) else {
             return out;
         };
         let (label, _) = components(&free, nx, ny, false);
         let mine = label[seed];
-        let region: Vec<Vector2<f64>> = (0..nx * ny)
-            .filter(|&n| mine != NONE && label[n] == mine)
-            .map(|n| at(n % nx, n / nx))
-            .inspect(|_| out.reachable += 1)
-            .filter(|&p| floor.clearance(p) >= 0.0)
-            .collect();
-        out.in_region = region.len();
-        // Θ at each sample of W_δ: Some(certified) or None (not evaluated).
-        let judge = |part: &[Vector2<f64>]| -> (usize, usize) {
-            part.iter().fold((0, 0), |(c, s), &p| match self.eval(p) {
-                Ok(e) if level.holds(e.phi) => (c + 1, s),
-                Ok(_) => (c, s),
-                Err(_) => (c, s + 1),
-            })
-        };
-        let threads = threads.max(1);
-        let chunk = region.len().div_ceil(threads).max(1);
-        let (certified, skipped) = std::thread::scope(|scope| {
-            let handles: Vec<_> = region
-                .chunks(chunk)
-                .map(|part| (part.len(), scope.spawn(move || judge(part))))
-                .collect();
-            // A part whose thread failed counts as not evaluated.
-            handles
-                .into_iter()
-                .map(|(n, h)| h.join().unwrap_or((0, n)))
-                .fold((0, 0), |(a, b), (c, s)| (a + c, b + s))
-        });
-        out.certified = certified;
-        out.skipped = skipped;
+        for n in (0..nx * ny).filter(|&n| mine != NONE && label[n] == mine) {
+            out.reachable += 1;
+            let p = at(n % nx, n / nx);
+            if floor.clearance(p) >= 0.0 {
+                out.grid.3[n] = out.samples.len();
+                out.samples.push(p);
+            }
+        }
         out
+    }
+
+    /// The certified fraction of the robot's reachable free space (module docs): each sample
+    /// of [`FloorField::reachable_region`] in `W_δ` is evaluated (`Θ` of this field) against
+    /// `level`. The evaluations run on `threads` threads (at least one). Deterministic: the
+    /// counts do not depend on `threads`.
+    #[must_use]
+    pub fn certified_area(
+        &self,
+        level: &LayerLevel,
+        start: Vector2<f64>,
+        inflation: f64,
+        obstacles: &[StarShape],
+        max_samples: usize,
+        threads: usize,
+    ) -> CertifiedArea {
+        let region = self.reachable_region(start, inflation, obstacles, max_samples);
+        // Θ at each sample of W_δ: Some(certified) or None (not evaluated).
+        let judged = on_threads(&region.samples, threads, None, |&p| {
+            self.eval(p).ok().map(|e| level.holds(e.phi))
+        });
+        CertifiedArea {
+            cell: region.cell,
+            reachable: region.reachable,
+            in_region: region.samples.len(),
+            certified: judged.iter().filter(|j| **j == Some(true)).count(),
+            skipped: judged.iter().filter(|j| j.is_none()).count(),
+        }
     }
 }

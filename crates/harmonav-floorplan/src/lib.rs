@@ -33,6 +33,8 @@
 //! - [`FloorField`]: `Θ`, `∇Θ`, the direction, `k`, the destination stiffness;
 //! - [`CertifiedArea`] ([`FloorField::certified_area`]): the fraction of the robot's reachable
 //!   free space below the certified level `c_δ`, on a grid;
+//! - [`Funnels`] ([`FloorField::funnels`]): a chain of certified funnels towards several goals
+//!   over the same `H`, whose union certifies convergence to the file's goal;
 //! - [`Geodesic`]: the shortest-path distance to the goal in `W_δ` (fast marching on a grid),
 //!   whose direction is the kinematic law's nominal heading;
 //! - [`RosMap`] (`load`, `outline`, `free_space`, `to_floor_map`), [`FloorMap::from_ros_map`],
@@ -68,6 +70,7 @@ pub mod carve;
 pub mod census;
 pub mod compose;
 pub mod coverage;
+pub mod funnel;
 pub mod geodesic;
 mod halves;
 pub mod level;
@@ -79,7 +82,8 @@ pub mod theta;
 
 pub use carve::enclosing_polygon;
 pub use compose::{FloorMapped, FloorTransform, NotFree, Part};
-pub use coverage::{CertifiedArea, MAX_AREA_SAMPLES, area_cell};
+pub use coverage::{CertifiedArea, MAX_AREA_SAMPLES, Region, area_cell};
+pub use funnel::{FUNNEL_MARGIN, Funnel, FunnelOptions, Funnels};
 pub use geodesic::Geodesic;
 pub use level::{LayerLevel, LayerSlide, LevelOptions};
 pub use plan::{CentrePolicy, FloorError, FloorMap, FloorOptions, Reach, UnknownCentrePolicy};

@@ -2,14 +2,17 @@
 //! and the certified region `W_δ` in which navigation is claimed.
 
 use harmonav_harmonic::{
-    Certificate, CertifyError, CertifyOptions, Domain, DomainError, HarmonicMap, MeshOptions,
-    RingId, SolveError, certify,
+    Certificate, CertifyError, CertifyOptions, Domain, DomainError, Enclosure, EvalError,
+    HarmonicMap, MeshOptions, RingId, SolveError, certify,
 };
 use harmonav_transform::Shown;
 use nalgebra::Vector2;
 use parry2d_f64::math::Vector as PVector;
 use parry2d_f64::query::PointQuery;
 use parry2d_f64::shape::{Polyline, Segment};
+use std::collections::HashMap;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Why a floor plan could not be built.
 #[derive(Clone, Debug, PartialEq)]
@@ -282,6 +285,39 @@ pub struct FloorMap {
     /// [`crate::FloorTransform`]).
     edge_images: Vec<Vector2<f64>>,
     centre: CentrePolicy,
+    /// `H`'s enclosures of discs, remembered while a [`FloorMap::remember_enclosures`] guard
+    /// lives.
+    memo: Memo,
+}
+
+/// `H`'s enclosures of discs by the bits of `(x, y, ρ)`, kept while `users > 0` (a chain of
+/// funnels certifies each of its goals over the same cells of `∂W_δ`, and the enclosure of `H`
+/// over a cell does not depend on the goal). A clone, and a map whose `H` changes, start empty.
+#[derive(Debug, Default)]
+struct Memo {
+    users: AtomicUsize,
+    table: Mutex<HashMap<[u64; 3], Enclosure>>,
+}
+
+impl Clone for Memo {
+    fn clone(&self) -> Self {
+        Self::default()
+    }
+}
+
+/// While it lives, [`FloorMap::enclosure`] remembers what it computed
+/// ([`FloorMap::remember_enclosures`]); the last guard dropped forgets it.
+#[derive(Debug)]
+pub struct RememberEnclosures<'a>(&'a FloorMap);
+
+impl Drop for RememberEnclosures<'_> {
+    fn drop(&mut self) {
+        if self.0.memo.users.fetch_sub(1, Ordering::SeqCst) == 1
+            && let Ok(mut table) = self.0.memo.table.lock()
+        {
+            table.clear();
+        }
+    }
 }
 
 /// The rings of a domain, outer first.
@@ -537,6 +573,7 @@ impl FloorMap {
             edge,
             edge_images,
             centre,
+            memo: Memo::default(),
         })
     }
 
@@ -550,7 +587,44 @@ impl FloorMap {
     /// [`FloorError::Solve`] for a tolerance outside `[1e-15, 1e-2]`.
     pub fn with_far_field(mut self, tolerance: Option<f64>) -> Result<Self, FloorError> {
         self.map = self.map.with_far_field(tolerance)?;
+        self.memo = Memo::default();
         Ok(self)
+    }
+
+    /// `H`'s enclosure of the disc `B(x, ρ)` ([`HarmonicMap::enclosure`]), remembered while a
+    /// guard of [`FloorMap::remember_enclosures`] lives: the same value either way (a pure
+    /// function of `x`, `ρ` and `H`), computed once per disc.
+    ///
+    /// # Errors
+    /// As [`HarmonicMap::enclosure`].
+    pub fn enclosure(&self, x: Vector2<f64>, rho: f64) -> Result<Enclosure, EvalError> {
+        if self.memo.users.load(Ordering::SeqCst) == 0 {
+            return self.map.enclosure(x, rho);
+        }
+        let key = [x.x.to_bits(), x.y.to_bits(), rho.to_bits()];
+        if let Some(e) = self
+            .memo
+            .table
+            .lock()
+            .ok()
+            .and_then(|t| t.get(&key).copied())
+        {
+            return Ok(e);
+        }
+        let e = self.map.enclosure(x, rho)?;
+        if let Ok(mut table) = self.memo.table.lock() {
+            table.insert(key, e);
+        }
+        Ok(e)
+    }
+
+    /// Remember `H`'s enclosures ([`FloorMap::enclosure`]) until the guard is dropped: for
+    /// certifying many goals over one map ([`crate::FloorField::funnels`]). About 100 bytes a
+    /// disc.
+    #[must_use]
+    pub fn remember_enclosures(&self) -> RememberEnclosures<'_> {
+        self.memo.users.fetch_add(1, Ordering::SeqCst);
+        RememberEnclosures(self)
     }
 
     /// The harmonic map `H`.

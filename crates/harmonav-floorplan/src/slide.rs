@@ -348,7 +348,7 @@ impl FloorField {
     /// hold 0).
     #[must_use]
     pub fn descent_arc(&self, x: Vector2<f64>, rho: f64) -> Option<DirectionArc> {
-        let e = self.floor().map().enclosure(x, rho).ok()?;
+        let e = self.floor().enclosure(x, rho).ok()?;
         let (bx, by) = self.descent_box_of(&e)?;
         DirectionArc::of_box(bx, by)
     }
@@ -446,7 +446,7 @@ impl FloorField {
     /// [`FloorField::descent_arc`] misses [`FloorField::normal_arc`].
     #[must_use]
     pub fn slide_free(&self, x: Vector2<f64>, rho: f64) -> bool {
-        match self.floor().map().enclosure(x, rho) {
+        match self.floor().enclosure(x, rho) {
             Ok(e) => self.slide_free_of(x, rho, &e),
             Err(_) => false,
         }
@@ -518,7 +518,7 @@ impl FloorField {
                 continue;
             }
             out.evaluations += 1;
-            let e = self.floor().map().enclosure(cell.centre, rho).ok();
+            let e = self.floor().enclosure(cell.centre, rho).ok();
             let phi = match e.as_ref() {
                 Some(e) => self
                     .transform()

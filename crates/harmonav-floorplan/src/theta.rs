@@ -228,6 +228,25 @@ impl FloorField {
         .with_saddle_guards()
     }
 
+    /// The same field with `other`'s shortest-path distance ([`FloorField::with_geodesic`],
+    /// shared, not marched again; none if `other` has none) and its own saddles' guard discs: a
+    /// funnel's field ([`crate::Funnels`]) keeps the heading towards the file's goal.
+    #[must_use]
+    pub fn with_geodesic_of(self, other: &FloorField) -> Self {
+        match &other.geodesic {
+            Some(g) => Self {
+                geodesic: Some(g.clone()),
+                ..self
+            }
+            .with_saddle_guards(),
+            None => Self {
+                geodesic: None,
+                guards: Vec::new(),
+                ..self
+            },
+        }
+    }
+
     /// The guard discs about the saddles of the point world: centre `P_s` and radius
     /// [`SADDLE_GUARD`] times the distance from `P_s` to the nearest of `P_d` and the `P_i`.
     fn with_saddle_guards(self) -> Self {
