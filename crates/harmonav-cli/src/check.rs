@@ -6,9 +6,10 @@
 //! Everything is computed before anything is printed: an error leaves stdout empty.
 
 use std::path::Path;
+use std::sync::Arc;
 use std::time::Instant;
 
-use harmonav_rs::floorplan::{FloorField, MAX_AREA_SAMPLES};
+use harmonav_rs::floorplan::{FloorField, FunnelOptions, MAX_AREA_SAMPLES};
 use harmonav_scenario::Prepared;
 use harmonav_scenario::floorplan::FloorPrepared;
 use nalgebra::Vector2;
@@ -45,7 +46,9 @@ pub struct CheckReport {
     /// convergence is certified, in `[0, 1]`.
     pub certified_fraction: f64,
     /// How `certified_fraction` was found: `"grid"` (floor plan: samples below `c_δ` or `c_s`
-    /// over the reachable samples) or `"theorem"` (star world: 1).
+    /// over the reachable samples), `"funnels"` (a floor plan whose navigator follows a chain
+    /// of funnels, `floor_plan.funnels`: the samples in their union) or `"theorem"` (star
+    /// world: 1).
     pub basis: &'static str,
     /// Star world: the obstacles of the file.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -91,6 +94,30 @@ pub struct FloorReport {
     pub uncertified_above_level: f64,
     /// Seconds to sample the certified fraction.
     pub fraction_s: f64,
+    /// With `--funnels`: the chain of certified funnels (docs/maths.md §13.10).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub funnels: Option<FunnelReport>,
+}
+
+/// What `check --json --funnels` reports of the chain of funnels (`FloorField::funnels`).
+#[derive(Serialize)]
+pub struct FunnelReport {
+    /// Funnels in the chain, the file's goal's included.
+    pub count: usize,
+    /// The fraction of the reachable free area in their union, on the same grid as
+    /// `certified_fraction`.
+    pub certified_fraction: f64,
+    /// The most switches from a funnel to the file's goal.
+    pub deepest: usize,
+    /// Each funnel's goal, `[x, y]`, and its parent's index (`null` for the file's goal).
+    pub goals: Vec<([f64; 2], Option<usize>)>,
+    /// For each start of `starts`: whether it lies in a funnel.
+    pub starts: Vec<bool>,
+    /// Seconds to build the chain (`None` when the file's own was built at load).
+    pub seconds: Option<f64>,
+    /// Whether the navigator follows it (`floor_plan.funnels = true`): then
+    /// `certified_fraction` and `starts[].certified` are the chain's.
+    pub followed: bool,
 }
 
 fn start(p: Vector2<f64>, certified: bool) -> StartReport {
@@ -104,7 +131,7 @@ fn start(p: Vector2<f64>, certified: bool) -> StartReport {
 /// (`FloorPrepared::start_certificates`), and the certified fraction on a grid
 /// (`FloorField::certified_area` of the walls' `Θ`, before any obstacle is sensed, as for the
 /// starts).
-pub fn cmd_check_floor_json(prepared: &FloorPrepared) -> Result<bool, CliError> {
+pub fn cmd_check_floor_json(prepared: &FloorPrepared, funnels: bool) -> Result<bool, CliError> {
     let clock = Instant::now();
     let (level, below) = certificates(prepared)?;
     let level_s = clock.elapsed().as_secs_f64();
@@ -127,14 +154,65 @@ pub fn cmd_check_floor_json(prepared: &FloorPrepared) -> Result<bool, CliError> 
         threads(),
     );
     let fraction_s = clock.elapsed().as_secs_f64();
+    // The chain of funnels: the file's (`floor_plan.funnels`, which the navigator follows),
+    // or built here for `--funnels`.
+    let chain = match &prepared.funnels {
+        Some(chain) => Some((chain.clone(), None)),
+        None if funnels => {
+            let clock = Instant::now();
+            let options = FunnelOptions {
+                threads: threads(),
+                ..FunnelOptions::default()
+            };
+            let chain = field.funnels(
+                Some(level),
+                prepared.starts[0],
+                r.radius + r.margin,
+                &prepared.obstacles,
+                &options,
+            );
+            Some((Arc::new(chain), Some(clock.elapsed().as_secs_f64())))
+        }
+        None => None,
+    };
+    let funnels = chain.as_ref().map(|(chain, seconds)| FunnelReport {
+        count: chain.funnels.len(),
+        certified_fraction: chain.fraction(),
+        deepest: (0..chain.funnels.len())
+            .map(|i| chain.depth(i))
+            .max()
+            .unwrap_or(0),
+        goals: chain
+            .funnels
+            .iter()
+            .map(|f| ([f.goal.x, f.goal.y], f.parent))
+            .collect(),
+        starts: prepared
+            .starts
+            .iter()
+            .map(|&p| chain.entry(p).is_some())
+            .collect(),
+        seconds: *seconds,
+        followed: prepared.funnels.is_some(),
+    });
+    // What the navigator certifies: the chain's union when it follows one.
+    let followed = funnels.as_ref().filter(|f| f.followed);
+    let (certified_fraction, basis) = match followed {
+        Some(f) => (f.certified_fraction, "funnels"),
+        None => (area.fraction(), "grid"),
+    };
+    let below: Vec<bool> = match followed {
+        Some(f) => f.starts.clone(),
+        None => below,
+    };
     let floor = &prepared.floor;
     let report = CheckReport {
         file: prepared.path.display().to_string(),
         kind: "floor_plan",
         elements: floor.map().elements().len(),
         setup_s: prepared.setup_seconds,
-        certified_fraction: area.fraction(),
-        basis: "grid",
+        certified_fraction,
+        basis,
         obstacles: None,
         floor: Some(FloorReport {
             holes: floor.walls().holes().len(),
@@ -150,6 +228,7 @@ pub fn cmd_check_floor_json(prepared: &FloorPrepared) -> Result<bool, CliError> 
             uncertified_layer: area.layer_fraction(),
             uncertified_above_level: area.above_level_fraction(),
             fraction_s,
+            funnels,
         }),
         starts: prepared
             .starts

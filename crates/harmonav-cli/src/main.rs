@@ -125,6 +125,11 @@ enum Command {
         /// certificate and the certified fraction of the reachable free area.
         #[arg(long)]
         json: bool,
+        /// With --json on a floor plan: also build a chain of certified funnels towards
+        /// intermediate goals (docs/maths.md §13.10) and report the fraction their union
+        /// certifies.
+        #[arg(long, requires = "json")]
+        funnels: bool,
     },
 }
 
@@ -243,11 +248,15 @@ fn dispatch(command: Command) -> Result<bool, CliError> {
             )
             .map_err(named)
         }
-        Command::Check { scenario, json } => {
+        Command::Check {
+            scenario,
+            json,
+            funnels,
+        } => {
             if floor_plan(&scenario)? {
                 let floor = floor::load_floor(&scenario, None, None)?;
                 if json {
-                    return check::cmd_check_floor_json(&floor);
+                    return check::cmd_check_floor_json(&floor, funnels);
                 }
                 return floor::cmd_check_floor(&floor);
             }

@@ -208,3 +208,41 @@ fn a_bad_file_exits_with_two_and_prints_nothing_on_stdout() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A file whose navigator follows a chain of funnels (`floor_plan.funnels`, docs/maths.md
+/// §13.10): `certified_fraction` and the starts are the chain's (`"basis": "funnels"`), and
+/// `funnels` describes it; `--funnels` reports a chain for a file without the key, leaving
+/// `certified_fraction` the goal's own; `--funnels` without `--json` is refused.
+#[test]
+fn a_chain_of_funnels_is_reported_and_counted_when_the_file_follows_it() {
+    let dir = scratch("check-funnels");
+    let room = "name = \"room\"\n[floor_plan]\nouter = [[0.0, 0.0], [4.0, 0.0], [4.0, 3.0], \
+                [0.0, 3.0]]\nmax_element = 0.1\nFUNNELS[robot]\nmodel = \"kinematic\"\n\
+                start = [0.8, 0.8]\ngoal = [3.2, 2.2]\nradius = 0.1\nmargin = 0.05\n";
+    let followed = dir.join("followed.toml");
+    std::fs::write(&followed, room.replace("FUNNELS", "funnels = true\n")).unwrap();
+    let v = check_json(followed.to_str().unwrap());
+    assert_eq!(v["basis"], "funnels", "{v}");
+    assert_eq!(v["funnels"]["followed"], true, "{v}");
+    assert_eq!(v["funnels"]["count"], 1, "{v}");
+    assert_eq!(
+        f(&v, "certified_fraction"),
+        f(&v["funnels"], "certified_fraction")
+    );
+    assert!(v["funnels"]["seconds"].is_null(), "{v}");
+    assert!(starts(&v).iter().all(|(_, c)| *c), "{v}");
+    let plain = dir.join("plain.toml");
+    std::fs::write(&plain, room.replace("FUNNELS", "")).unwrap();
+    let file = plain.to_str().unwrap();
+    let v = check_json(file);
+    assert!(v.get("funnels").is_none(), "{v}");
+    let (code, out, err) = harmonav(&["check", file, "--json", "--funnels"]);
+    assert_eq!(code, 0, "{err}");
+    let v: Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["basis"], "grid", "{v}");
+    assert_eq!(v["funnels"]["followed"], false, "{v}");
+    assert!(f(&v["funnels"], "seconds") >= 0.0, "{v}");
+    let (code, out, err) = harmonav(&["check", file, "--funnels"]);
+    assert_ne!(code, 0);
+    assert!(out.is_empty() && err.contains("--json"), "{err}");
+}

@@ -10,6 +10,7 @@
 //! max_element = 0.2                              # boundary element h (m)
 //! centre = "solve"                               # or "goal" (the goal at the disk centre)
 //! require_certified_start = false                # true: only starts with Θ(x₀) < c_δ
+//! funnels = false                                # true: follow a chain of certified funnels (kinematic)
 //! [robot]
 //! model = "kinematic"                            # or "dynamic" (mass, mu)
 //! start = [1, 2.5]
@@ -45,8 +46,8 @@ use std::sync::Arc;
 
 use harmonav::{CentrePolicy, FloorMap, FloorOptions, HeadingPolicy, StarShape};
 use harmonav_floorplan::{
-    FloorError, FloorField, LayerLevel, LevelOptions, MapOptions, MapPoint, MapProblem,
-    OccupiedPixels, RosMap, Specks,
+    FloorError, FloorField, FunnelOptions, Funnels, LayerLevel, LevelOptions, MapOptions, MapPoint,
+    MapProblem, OccupiedPixels, RosMap, Specks,
 };
 use harmonav_harmonic::{DomainError, MeshError, RingId, SolveError};
 use harmonav_transform::Shown;
@@ -101,6 +102,13 @@ pub struct FloorPlanSpec {
     /// clear of every obstacle at every step, but that is all that is certified above `c_δ`.
     #[serde(default)]
     pub require_certified_start: bool,
+    /// Build a chain of certified funnels towards intermediate goals at load
+    /// ([`harmonav_floorplan::FloorField::funnels`], docs/maths.md §13.10) and have the
+    /// navigator follow it ([`harmonav::FloorNavigator::set_funnels`]): convergence is then
+    /// certified from their union. The kinematic law only; seconds to minutes of set-up (each
+    /// funnel certifies its own `c_δ` and `c_s`). Default `false`.
+    #[serde(default)]
+    pub funnels: bool,
 }
 
 fn default_element() -> f64 {
@@ -323,6 +331,8 @@ pub struct FloorPrepared {
     pub setup_seconds: f64,
     /// `c_δ` over the walls, when `floor_plan.require_certified_start` asked for it.
     pub level: Option<LayerLevel>,
+    /// The chain of certified funnels, when `floor_plan.funnels` asked for it.
+    pub funnels: Option<Arc<Funnels>>,
     /// The lidar of `[sensor]`, if any, and the curvature prior `ρ_min` of its fits.
     pub lidar: Option<(LidarSensor, f64)>,
     /// With `floor_plan.map`: the map's own non-free pixels, against which a run's collision
@@ -656,6 +666,21 @@ impl FloorScenario {
                 ));
             }
         }
+        if self.floor_plan.funnels {
+            if r.model != Model::Kinematic {
+                return Err(f(
+                    "floor_plan.funnels",
+                    "the funnels are sublevel sets of Θ and certify the kinematic law;                      robot.model is \"dynamic\""
+                        .into(),
+                ));
+            }
+            if !self.robots.is_empty() {
+                return Err(f(
+                    "floor_plan.funnels",
+                    "a chain of funnels leads to robot.goal only, not built for [[robots]]".into(),
+                ));
+            }
+        }
         let s = &self.sim;
         for (name, value) in [
             ("sim.max_time", s.max_time),
@@ -921,6 +946,27 @@ impl FloorScenario {
                 Some(floor_lidar(spec, &floor, &obstacles).map_err(|(field, p)| f(&field, p))?)
             }
         };
+        // The chain of funnels over the walls (before any obstacle is sensed), from the level
+        // of `require_certified_start` when it was certified.
+        let funnels = if self.floor_plan.funnels {
+            let field = match &certified {
+                Some((field, _)) => field.clone(),
+                None => FloorField::new(floor.clone(), goal, self.field.k)
+                    .map_err(|e| f("robot.goal", e.to_string()))?,
+            };
+            let threads = std::thread::available_parallelism().map_or(1, |n| n.get().min(4));
+            let options = FunnelOptions {
+                threads,
+                ..FunnelOptions::default()
+            };
+            let level = certified.as_ref().map(|(_, level)| *level);
+            let inflation = r.radius + r.margin;
+            Some(Arc::new(
+                field.funnels(level, start, inflation, &obstacles, &options),
+            ))
+        } else {
+            None
+        };
         Ok(FloorPrepared {
             path: path.to_path_buf(),
             scenario: self,
@@ -928,6 +974,7 @@ impl FloorScenario {
             obstacles,
             starts,
             setup_seconds,
+            funnels,
             level: certified.map(|(_, level)| level),
             lidar,
             pixels,

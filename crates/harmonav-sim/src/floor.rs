@@ -228,7 +228,10 @@ pub(crate) fn navigator_and_lidar(
         Some((l, rho)) => l.options(options, *rho),
         None => options,
     };
-    let nav = FloorNavigator::new(prepared.floor.clone(), Vector2::from(r.goal), law, options)?;
+    let mut nav = FloorNavigator::new(prepared.floor.clone(), Vector2::from(r.goal), law, options)?;
+    if let Some(chain) = &prepared.funnels {
+        nav.set_funnels(chain.clone())?;
+    }
     Ok((nav, lidar.map(|(l, _)| l)))
 }
 

@@ -99,6 +99,12 @@ pub enum NavError {
         /// The mover's index.
         mover: usize,
     },
+    /// [`crate::FloorNavigator::set_funnels`]: the chain of funnels does not fit this
+    /// navigator (`reason` says why). The navigator keeps what it followed.
+    InvalidFunnels {
+        /// Why.
+        reason: &'static str,
+    },
 }
 
 /// `value` if it is finite and within [`PARAMETER_RANGE`], else the error naming `field`.
@@ -233,6 +239,7 @@ impl std::fmt::Display for NavError {
                 f,
                 "the robot's disc overlaps mover {mover} as reported: no command is certified"
             ),
+            Self::InvalidFunnels { reason } => write!(f, "the chain of funnels {reason}"),
         }
     }
 }

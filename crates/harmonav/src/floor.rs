@@ -8,7 +8,7 @@ use std::sync::Arc;
 
 use harmonav_control::HeadingPolicy;
 use harmonav_field::{FieldError, FieldEval};
-use harmonav_floorplan::{FloorError, FloorField, FloorMap, NotFree};
+use harmonav_floorplan::{FloorError, FloorField, FloorMap, Funnels, NotFree};
 use harmonav_perception::{PerceptionError, Walls};
 use harmonav_transform::StarShape;
 use nalgebra::Vector2;
@@ -98,12 +98,29 @@ pub struct FloorWorld {
     /// The obstacles that joined the walls, and the floor before they did
     /// ([`crate::floor_joined`]).
     pub(crate) joined: FloorJoined,
+    /// The chain of certified funnels followed, if any ([`crate::FloorNavigator::set_funnels`]).
+    pub(crate) funnels: Option<FunnelRun>,
+}
+
+/// The chain of certified funnels a floor navigator follows (docs/maths.md §13.10): while the
+/// robot is in funnel `i`, `field` is `Θ_i` (towards the funnel's goal, with the sensed
+/// obstacles and the shortest path to the navigator's goal); the navigator moves to `i`'s
+/// parent once the robot lies in the parent's funnel ([`harmonav_floorplan::Funnel::holds`]),
+/// never back.
+#[derive(Clone, Debug)]
+pub(crate) struct FunnelRun {
+    pub(crate) chain: Arc<Funnels>,
+    /// The funnel whose goal `field` runs towards; `None` while the robot has been in none
+    /// (`field` then runs towards the navigator's goal, as without a chain).
+    pub(crate) current: Option<usize>,
 }
 
 /// A floor navigator's step: the escape after the command and the point the robot stays near.
 pub struct FloorStep {
     escape: Option<Escape>,
     anchor: (Vector2<f64>, usize),
+    /// The funnel entered at this command, and its field.
+    funnel: Option<(usize, FloorField)>,
 }
 
 impl Build for Arc<FloorMap> {
@@ -158,6 +175,7 @@ impl Build for Arc<FloorMap> {
             early_level: None,
             escapes: 0,
             anchor: None,
+            funnels: None,
         };
         Ok((world, scan, controller))
     }
@@ -171,6 +189,13 @@ impl Rules for FloorWorld {
 
     fn field(&self) -> &FloorField {
         &self.field
+    }
+
+    fn goal(&self) -> Vector2<f64> {
+        self.funnels.as_ref().map_or_else(
+            || self.field.transform().goal(),
+            |run| run.chain.funnels[0].goal,
+        )
     }
 
     /// `Θ` at `x` with the navigator's errors: in the boundary layer with the robot's disc clear
@@ -289,17 +314,41 @@ impl Rules for FloorWorld {
             Some((a, n)) if (x - a).norm() < radius => (a, n.saturating_add(1)),
             _ => (x, 0),
         };
+        // Entering a funnel (or its parent): the command is that of its field.
+        let funnel = world.funnel_switch(x);
+        let view;
+        let world = match &funnel {
+            Some((j, field)) => {
+                view = world.entering(*j, field.clone());
+                &view
+            }
+            None => world,
+        };
         let (mut command, escape) = Floor { core, world }.held(x, v, anchor.1)?;
         // The mode names the navigator's obstacle (the field's index differs after a join).
         if let Mode::Recovering(Band::Obstacle(i)) = command.mode {
             command.mode = Mode::Recovering(Band::Obstacle(world.joined.navigator_index(i)));
         }
-        Ok((command, FloorStep { escape, anchor }))
+        Ok((
+            command,
+            FloorStep {
+                escape,
+                anchor,
+                funnel,
+            },
+        ))
     }
 
     fn after(&mut self, x: Vector2<f64>, step: FloorStep) {
         let world = self;
-        let FloorStep { escape, anchor } = step;
+        let FloorStep {
+            escape,
+            anchor,
+            funnel,
+        } = step;
+        if let Some((j, field)) = funnel {
+            *world = world.entering(j, field);
+        }
         // An escape that begins moves the robot: the watch starts again.
         let begins = escape.is_some() && escape != world.escape;
         world.anchor = Some(if begins { (x, 0) } else { anchor });
@@ -313,13 +362,92 @@ impl Rules for FloorWorld {
 
 impl FloorWorld {
     /// Takes the field `known` gives, with the obstacles that reach the boundary layer joined
-    /// to the walls ([`FloorJoined::rebuild`]); unchanged on error.
+    /// to the walls ([`FloorJoined::rebuild`]); unchanged on error. In a funnel the field stays
+    /// that funnel's (or, if its goal cannot take the obstacles, the goal's, and the robot in no
+    /// funnel); an obstacle that joins the walls solves `H` again, and the chain, certified
+    /// over the old `H`, is dropped.
     fn rebuild(&mut self, known: Known<'_>, options: &Options) -> Result<(), NavError> {
         let overlap = |first, second| NavError::Floor(FloorError::Overlap { first, second });
-        let (field, joined) = self.joined.rebuild(&self.field, known, options, overlap)?;
+        let root = self.root_field()?;
+        let (field, joined) = self.joined.rebuild(&root, known, options, overlap)?;
+        let run = self.funnels.take().filter(|_| !joined.any());
         self.field = field;
         self.joined = joined;
+        if let Some(mut run) = run {
+            let inside = run.current.filter(|&j| j != 0);
+            match inside.and_then(|j| self.funnel_field(&run.chain, j).map(|f| (j, f))) {
+                Some((_, f)) => self.field = f,
+                None if inside.is_some() => run.current = None,
+                None => {}
+            }
+            self.funnels = Some(run);
+        }
         Ok(())
+    }
+
+    /// The field towards the navigator's goal with the sensed obstacles: `field` itself
+    /// outside the funnels or in the goal's own.
+    pub(crate) fn root_field(&self) -> Result<FloorField, NavError> {
+        match &self.funnels {
+            Some(run) if run.current.is_some_and(|j| j != 0) => {
+                let obstacles: Vec<StarShape> =
+                    self.field.transform().obstacles().cloned().collect();
+                let root = run.chain.funnels[0].field.with_sensed(&obstacles)?;
+                Ok(root.with_geodesic_of(&self.field))
+            }
+            _ => Ok(self.field.clone()),
+        }
+    }
+
+    /// Funnel `j`'s field with the sensed obstacles and the shortest path of `field`; `None`
+    /// if its goal cannot take them (an obstacle over it).
+    fn funnel_field(&self, chain: &Funnels, j: usize) -> Option<FloorField> {
+        let obstacles: Vec<StarShape> = self.field.transform().obstacles().cloned().collect();
+        let field = chain.funnels.get(j)?.field.with_sensed(&obstacles).ok()?;
+        Some(field.with_geodesic_of(&self.field))
+    }
+
+    /// The funnel the robot at `x` enters, and its field: in funnel `i`, its parent (or the
+    /// parent's, on up) once that holds `x` ([`harmonav_floorplan::Funnel::holds`]); in none,
+    /// the least funnel that holds `x`. `None` when it stays where it is (or the funnel's
+    /// field cannot be built, [`FloorWorld::funnel_field`]).
+    fn funnel_switch(&self, x: Vector2<f64>) -> Option<(usize, FloorField)> {
+        let run = self.funnels.as_ref()?;
+        let chain = &run.chain;
+        let target = match run.current {
+            Some(i) => {
+                let mut j = i;
+                while let Some(p) = chain.funnels[j].parent
+                    && chain.funnels[p].holds(x)
+                {
+                    j = p;
+                }
+                (j != i).then_some(j)
+            }
+            None => chain.entry(x),
+        }?;
+        Some((target, self.funnel_field(chain, target)?))
+    }
+
+    /// This world in funnel `j` with its field `field`: the escapes forgotten (the levels of
+    /// `phi_k` change with the goal).
+    fn entering(&self, j: usize, field: FloorField) -> Self {
+        let mut world = Self {
+            field,
+            escape: None,
+            early_level: None,
+            ..self.clone()
+        };
+        if let Some(run) = &mut world.funnels {
+            run.current = Some(j);
+        }
+        world
+    }
+
+    /// In a funnel of the chain: the law converges without an escape (and an escape along the
+    /// shortest path could leave the funnel).
+    fn in_funnel(&self) -> bool {
+        self.funnels.as_ref().is_some_and(|r| r.current.is_some())
     }
 }
 
@@ -348,6 +476,9 @@ impl Floor<'_> {
         };
         if self.core.options.hold == HoldPolicy::Paper {
             return Ok((law_held(self.core, self.world, x, v, &eval), None));
+        }
+        if self.world.in_funnel() {
+            return Ok((self.law_or_in(x, v, &eval), None));
         }
         let field = &self.world.field;
         // Every escape follows the shortest path's heading `g` (none without the geodesic).

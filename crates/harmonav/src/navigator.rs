@@ -13,7 +13,7 @@ use crate::controller::{
     Controller, Evaluation, controller, discovery_speed_after, finite, finite_lambda_c, halted,
 };
 use crate::error::NavError;
-use crate::floor::{Escape, EscapeMemory, FloorWorld};
+use crate::floor::{Escape, EscapeMemory, FloorWorld, FunnelRun};
 use crate::hold::{self, Command};
 use crate::law::Law;
 use crate::movers::{self, KeepRight, Mover, MoverMemory, Verdict};
@@ -21,6 +21,7 @@ use crate::options::Options;
 use crate::space::Space;
 use crate::star::StarWorld;
 use crate::world::{Added, Core, IntoWorld, World, evaluate};
+use harmonav_floorplan::Funnels;
 
 /// An online navigator over a world `W` ([`StarWorld`] by default; [`FloorWorld`] for a
 /// floor plan, [`FloorNavigator`]): the navigation function `Θ` over the obstacles added so far,
@@ -338,7 +339,7 @@ impl<W: World> Navigator<W> {
         let body = (x, options.radius, options.margin);
         let inflation = options.inflation();
         let field = self.world.field();
-        let far = (x - field.goal()).norm() > 2.0 * inflation;
+        let far = (x - self.world.goal()).norm() > 2.0 * inflation;
         // KeepRight turns the nominal only (docs/movers.md §7); the filter certifies it.
         let turned = |u: Vector2<f64>, movers: &[Mover]| {
             let turn = memory.turn(movers, x, u, inflation);
@@ -457,7 +458,7 @@ impl<W: World> Navigator<W> {
 
     /// The goal.
     pub fn goal(&self) -> Vector2<f64> {
-        self.world.field().goal()
+        self.world.goal()
     }
 
     /// The law in use.
@@ -541,6 +542,68 @@ impl Navigator<StarWorld> {
 }
 
 impl Navigator<FloorWorld> {
+    /// Follows the chain of certified funnels `chain` (docs/maths.md §13.10; built by
+    /// [`harmonav_floorplan::FloorField::funnels`] on this navigator's walls): from every
+    /// point of their union the kinematic law's convergence to the goal is certified (the
+    /// walls' `Θ`, before any obstacle is sensed, as `c_δ` and `c_s`). At each command the
+    /// robot in funnel `i` moves to `i`'s parent once the parent's funnel holds it (in none,
+    /// to the least funnel that holds it); in a funnel `Θ` runs towards its goal, the
+    /// shortest path's heading still towards the navigator's goal, and no escape begins. An
+    /// obstacle that joins the walls (a new `H`) drops the chain. Replaces a chain followed
+    /// before.
+    ///
+    /// # Errors
+    /// [`NavError::InvalidFunnels`] (the navigator unchanged) when the law is not the
+    /// kinematic one (the funnels are sublevel sets of `Θ`, not of the dynamic law's energy),
+    /// the chain's goal, floor or `k` policy is not this navigator's, or an obstacle has
+    /// joined the walls.
+    pub fn set_funnels(&mut self, chain: Arc<Funnels>) -> Result<(), NavError> {
+        let bad = |reason| Err(NavError::InvalidFunnels { reason });
+        let Some(root) = chain.funnels.first() else {
+            return bad("is empty");
+        };
+        if !matches!(self.core.controller, Controller::Kinematic(_)) {
+            return bad("needs the kinematic law");
+        }
+        if root.goal != self.goal() {
+            return bad("leads to another goal");
+        }
+        if self.world.joined.any() || !Arc::ptr_eq(root.field.floor(), self.world.field.floor()) {
+            return bad("was built on another floor plan (or an obstacle has joined the walls)");
+        }
+        if root.field.k_policy() != self.world.field.k_policy() {
+            return bad("was built with another k policy");
+        }
+        self.clear_funnels()?;
+        self.world.funnels = Some(FunnelRun {
+            chain,
+            current: None,
+        });
+        Ok(())
+    }
+
+    /// Stops following the chain of funnels ([`Navigator::set_funnels`]): `Θ` runs towards
+    /// the goal again.
+    ///
+    /// # Errors
+    /// As [`Navigator::add_obstacle`] if the goal's field cannot take the sensed obstacles
+    /// (the navigator unchanged).
+    pub fn clear_funnels(&mut self) -> Result<(), NavError> {
+        let root = self.world.root_field()?;
+        self.world.field = root;
+        self.world.funnels = None;
+        Ok(())
+    }
+
+    /// The chain of funnels followed, if any, and the funnel the robot was last in (`None`
+    /// before the first command in one).
+    pub fn funnels(&self) -> Option<(&Arc<Funnels>, Option<usize>)> {
+        self.world
+            .funnels
+            .as_ref()
+            .map(|run| (&run.chain, run.current))
+    }
+
     /// The floor plan's true walls as polygon rings, against which
     /// [`Navigator::observe_scan`] explains hits (and a simulator casts its lidar).
     pub fn walls(&self) -> &Arc<Walls> {

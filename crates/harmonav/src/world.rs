@@ -133,6 +133,11 @@ pub trait Rules: Sized {
     type Step;
     /// `Θ` (read only).
     fn field(&self) -> &Self::Field;
+    /// The navigator's goal (a floor plan's chain of funnels runs `Θ` towards intermediate
+    /// goals, [`crate::FloorNavigator::set_funnels`]).
+    fn goal(&self) -> Vector2<f64> {
+        self.field().goal()
+    }
     /// `Θ`, `∇Θ` and the direction at `x` with the navigator's errors (`options`: the robot's
     /// size, to tell a boundary layer from a collision).
     fn eval(&self, x: Vector2<f64>, options: &Options) -> Result<FieldEval, NavError>;

@@ -69,7 +69,68 @@ pub fn checks() -> Vec<Check> {
             .early(),
         );
     }
+    for file in funnel_files() {
+        let name = file
+            .file_stem()
+            .map_or(String::new(), |s| s.to_string_lossy().into_owned());
+        all.push(Check::new(format!("floorplan.funnels.{name}"), move || funnels(&file)).early());
+    }
     all
+}
+
+/// The files of `scenarios/floorplans/funnels/`, whose navigator follows a chain of funnels.
+fn funnel_files() -> Vec<PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../scenarios")
+        .join(FLOORPLANS)
+        .join("funnels");
+    let mut out: Vec<_> = std::fs::read_dir(dir)
+        .map(|d| {
+            d.filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+                .collect()
+        })
+        .unwrap_or_default();
+    out.sort();
+    out
+}
+
+/// A file whose navigator follows a chain of certified funnels (`floor_plan.funnels`,
+/// docs/maths.md §13.10; the kinematic law only): the chain certifies at least 90 % of the
+/// reachable free area and every start, and every start arrives, built-in and in rapier, with
+/// every guarantee of [`fly`] and no escape (in a funnel the law converges without one).
+fn funnels(file: &Path) -> Outcome {
+    let p = FloorScenario::load(file).map_err(|e| e.to_string())?;
+    let chain = p.funnels.clone().ok_or("floor_plan.funnels is not set")?;
+    let covered = p
+        .starts
+        .iter()
+        .filter(|&&x| chain.entry(x).is_some())
+        .count();
+    let mut bad = Vec::new();
+    let mut detail = Vec::new();
+    for physics in [Physics::Builtin, Physics::Rapier] {
+        match fly_prepared(&p, Model::Kinematic, physics, true) {
+            Ok(Verdict::Held(d)) => detail.push(format!("{physics:?}: {d}")),
+            Ok(v) => bad.push(format!("{physics:?}: {v:?}")),
+            Err(e) => bad.push(format!("{physics:?}: {e}")),
+        }
+    }
+    let n = p.starts.len();
+    outcome(
+        chain.fraction() >= 0.9 && covered == n && bad.is_empty(),
+        format!(
+            "{} funnels certify {:.1} % of the reachable area and {covered}/{n} starts; {}{}",
+            chain.funnels.len(),
+            100.0 * chain.fraction(),
+            detail.join("; "),
+            if bad.is_empty() {
+                String::new()
+            } else {
+                format!("; {}", bad.join("; "))
+            }
+        ),
+    )
 }
 
 /// Every start arrives within the file's `sim.arrival`, with no collision with the true walls
@@ -78,6 +139,11 @@ pub fn checks() -> Vec<Check> {
 /// reference of the deviation) also with no contact event.
 fn fly(file: &Path, model: Model, physics: Physics) -> Outcome {
     let p = FloorScenario::load(file).map_err(|e| e.to_string())?;
+    fly_prepared(&p, model, physics, false)
+}
+
+/// [`fly`] on a loaded file; with `no_escape`, an escape also fails it.
+fn fly_prepared(p: &FloorPrepared, model: Model, physics: Physics, no_escape: bool) -> Outcome {
     let (mut reached, mut bad) = (0, Vec::new());
     let (mut walls, mut obstacles, mut layer, mut slowest) =
         (f64::INFINITY, f64::INFINITY, f64::INFINITY, 0.0_f64);
@@ -85,7 +151,7 @@ fn fly(file: &Path, model: Model, physics: Physics) -> Outcome {
     // With a lidar: scans, events, and the seen truth points (uncovered ones fail the run).
     let mut lidar: Option<(usize, usize, usize)> = None;
     for &start in &p.starts {
-        let r = simulate_floor(&p, Some(model), start, physics).map_err(|e| e.to_string())?;
+        let r = simulate_floor(p, Some(model), start, physics).map_err(|e| e.to_string())?;
         if let Some((report, _)) = &r.perception {
             let l = lidar.get_or_insert((0, 0, 0));
             l.0 += report.scans;
@@ -95,7 +161,7 @@ fn fly(file: &Path, model: Model, physics: Physics) -> Outcome {
         contacts += r.contacts.unwrap_or(0);
         escapes += r.escapes;
         deviation = deviation.max(r.max_deviation.unwrap_or(0.0));
-        let summary = FloorSummary::new(&p, Some(model), start, &r);
+        let summary = FloorSummary::new(p, Some(model), start, &r);
         // Arrival is reported with the ending below.
         if let Some(g) = summary
             .guarantees
@@ -130,7 +196,12 @@ fn fly(file: &Path, model: Model, physics: Physics) -> Outcome {
         ),
     };
     outcome(
-        bad.is_empty() && walls > 0.0 && obstacles > 0.0 && layer >= 0.0 && contacts == 0,
+        bad.is_empty()
+            && walls > 0.0
+            && obstacles > 0.0
+            && layer >= 0.0
+            && contacts == 0
+            && !(no_escape && escapes > 0),
         format!(
             "{reached}/{n} within {} m (slowest {slowest:.1} s, {escapes} escapes), 0 collisions: \
              wall clearance {walls:.3} m, obstacles {obstacles:.3} m, layer {layer:.1e} m{rapier}{scans}; N = {}, δ = {} m, setup {:.2} s{}",
