@@ -163,6 +163,21 @@ pub fn cmd_check_floor(prepared: &FloorPrepared) -> Result<bool, CliError> {
             if *b { "certified" } else { "not certified" }
         );
     }
+    if let Some(chain) = &prepared.funnels {
+        let inside = prepared
+            .starts
+            .iter()
+            .filter(|&&p| chain.entry(p).is_some())
+            .count();
+        out!(
+            "floor_plan.funnels: a chain of {} funnel{} certifies convergence from {:.1} % of \
+             the reachable free area and {inside} of {} starts (docs/maths.md §13.10)",
+            chain.funnels.len(),
+            if chain.funnels.len() == 1 { "" } else { "s" },
+            100.0 * chain.fraction(),
+            prepared.starts.len()
+        );
+    }
     Ok(true)
 }
 

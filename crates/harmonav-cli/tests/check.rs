@@ -231,6 +231,9 @@ fn a_chain_of_funnels_is_reported_and_counted_when_the_file_follows_it() {
     );
     assert!(v["funnels"]["seconds"].is_null(), "{v}");
     assert!(starts(&v).iter().all(|(_, c)| *c), "{v}");
+    let (code, out, err) = harmonav(&["check", followed.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("a chain of 1 funnel certifies"), "{out}");
     let plain = dir.join("plain.toml");
     std::fs::write(&plain, room.replace("FUNNELS", "")).unwrap();
     let file = plain.to_str().unwrap();
