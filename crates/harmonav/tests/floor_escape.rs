@@ -7,22 +7,11 @@
 
 mod common;
 
-use std::sync::Arc;
-
 use harmonav::tuning::{ESCAPE_DROP, ESCAPE_STALL};
-use harmonav::{
-    FloorMap, FloorNavigator, FloorOptions, HeadingPolicy, Law, Mode, Options, Vector2,
-};
+use harmonav::{FloorNavigator, HeadingPolicy, Law, Mode, Options, Vector2};
 
 fn v(x: f64, y: f64) -> Vector2<f64> {
     Vector2::new(x, y)
-}
-
-/// A 6 × 4 m room with a 4 m bar across it; `h = δ = 0.1` m, radius and margin 0.1 m.
-fn bar_room() -> Arc<FloorMap> {
-    let room = vec![v(0.0, 0.0), v(6.0, 0.0), v(6.0, 4.0), v(0.0, 4.0)];
-    let bar = vec![v(1.0, 1.8), v(5.0, 1.8), v(5.0, 2.2), v(1.0, 2.2)];
-    Arc::new(FloorMap::new(room, vec![bar], &FloorOptions::new(0.1, 0.2)).unwrap())
 }
 
 const GOAL: (f64, f64) = (3.0, 2.6);
@@ -46,7 +35,7 @@ struct Flight {
 /// began (no sensed obstacle blocks one here; the dynamic robot's escapes against the law may
 /// end blocked by the dynamic hold's cap next to the edge, and the law resumes).
 fn fly(law: Law, heading: HeadingPolicy, start: Vector2<f64>, seconds: f64) -> Flight {
-    let floor = bar_room();
+    let floor = common::bar_room();
     let goal = v(GOAL.0, GOAL.1);
     let options = Options::default()
         .with_robot(0.1, 0.1)
@@ -145,8 +134,13 @@ fn kinematic_escapes_from_starts_on_both_sides_of_the_bar() {
 #[test]
 fn the_escape_memory_taken_back_restores_the_commands_bit_for_bit() {
     let options = Options::default().with_robot(0.1, 0.1);
-    let mut nav =
-        FloorNavigator::new(bar_room(), v(GOAL.0, GOAL.1), Law::kinematic(1.0), options).unwrap();
+    let mut nav = FloorNavigator::new(
+        common::bar_room(),
+        v(GOAL.0, GOAL.1),
+        Law::kinematic(1.0),
+        options,
+    )
+    .unwrap();
     let h = nav.control_period();
     let mut x = v(3.0, 1.3);
     for _ in 0..20_000 {

@@ -12,20 +12,11 @@ use std::sync::Arc;
 
 use harmonav::floorplan::{FloorField, FunnelOptions, Funnels};
 use harmonav::{
-    FloorMap, FloorNavigator, FloorOptions, HeadingPolicy, KPolicy, Law, Mode, NavError, Options,
-    Vector2,
+    FloorMap, FloorNavigator, HeadingPolicy, KPolicy, Law, Mode, NavError, Options, Vector2,
 };
 
 fn v(x: f64, y: f64) -> Vector2<f64> {
     Vector2::new(x, y)
-}
-
-/// The bar room of `floor_escape.rs`: 6 × 4 m, a 4 m bar across it; `h = δ = 0.1` m, radius
-/// and margin 0.1 m.
-fn bar_room() -> Arc<FloorMap> {
-    let room = vec![v(0.0, 0.0), v(6.0, 0.0), v(6.0, 4.0), v(0.0, 4.0)];
-    let bar = vec![v(1.0, 1.8), v(5.0, 1.8), v(5.0, 2.2), v(1.0, 2.2)];
-    Arc::new(FloorMap::new(room, vec![bar], &FloorOptions::new(0.1, 0.2)).unwrap())
 }
 
 const GOAL: Vector2<f64> = Vector2::new(3.0, 2.6);
@@ -115,7 +106,7 @@ fn fly(floor: &Arc<FloorMap>, nav: &mut FloorNavigator, seconds: f64) -> Flight 
 
 #[test]
 fn the_chain_leads_around_the_bar_where_the_flow_of_theta_alone_rests() {
-    let floor = bar_room();
+    let floor = common::bar_room();
     let chain = chain(&floor);
     // The start lies in a funnel other than the goal's (the goal's own level does not reach
     // under the bar).
@@ -147,7 +138,7 @@ fn the_chain_leads_around_the_bar_where_the_flow_of_theta_alone_rests() {
 
 #[test]
 fn a_chain_that_does_not_fit_is_refused_and_the_navigator_unchanged() {
-    let floor = bar_room();
+    let floor = common::bar_room();
     let chain = chain(&floor);
     // The dynamic law: the funnels are sublevel sets of Θ, not of its energy.
     let mut nav = navigator(&floor, Law::dynamic(1.0, 1.0));
@@ -161,7 +152,7 @@ fn a_chain_that_does_not_fit_is_refused_and_the_navigator_unchanged() {
     let e = other.set_funnels(chain.clone()).unwrap_err();
     assert!(e.to_string().contains("another goal"), "{e}");
     // Another floor (the same walls solved again).
-    let mut again = navigator(&bar_room(), Law::kinematic(1.0));
+    let mut again = navigator(&common::bar_room(), Law::kinematic(1.0));
     let e = again.set_funnels(chain).unwrap_err();
     assert!(e.to_string().contains("another floor plan"), "{e}");
     assert!(again.funnels().is_none());

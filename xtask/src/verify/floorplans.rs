@@ -24,18 +24,14 @@ use super::{Check, Outcome, Verdict, outcome};
 const CERTIFY_BUDGET: usize = 300_000;
 
 fn files() -> Vec<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+    super::movers::toml_files(&folder())
+}
+
+/// `scenarios/floorplans/`.
+fn folder() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../scenarios")
-        .join(FLOORPLANS);
-    let mut out: Vec<_> = std::fs::read_dir(dir)
-        .map(|d| {
-            d.filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-                .collect()
-        })
-        .unwrap_or_default();
-    out.sort();
-    out
+        .join(FLOORPLANS)
 }
 
 pub fn checks() -> Vec<Check> {
@@ -80,19 +76,7 @@ pub fn checks() -> Vec<Check> {
 
 /// The files of `scenarios/floorplans/funnels/`, whose navigator follows a chain of funnels.
 fn funnel_files() -> Vec<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../scenarios")
-        .join(FLOORPLANS)
-        .join("funnels");
-    let mut out: Vec<_> = std::fs::read_dir(dir)
-        .map(|d| {
-            d.filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-                .collect()
-        })
-        .unwrap_or_default();
-    out.sort();
-    out
+    super::movers::toml_files(&folder().join("funnels"))
 }
 
 /// A file whose navigator follows a chain of certified funnels (`floor_plan.funnels`,

@@ -21,6 +21,16 @@ pub fn l_room() -> Arc<FloorMap> {
     Arc::new(FloorMap::new(room, vec![], &FloorOptions::new(0.1, 0.2)).unwrap())
 }
 
+/// A 6 × 4 m room with a 4 m bar across it; `h = δ = 0.1` m, for radius and margin 0.1 m:
+/// below the bar the hold's slide has attracting rest points (`floor_escape.rs`,
+/// `funnels.rs`).
+pub fn bar_room() -> Arc<FloorMap> {
+    let v = Vector2::new;
+    let room = vec![v(0.0, 0.0), v(6.0, 0.0), v(6.0, 4.0), v(0.0, 4.0)];
+    let bar = vec![v(1.0, 1.8), v(5.0, 1.8), v(5.0, 2.2), v(1.0, 2.2)];
+    Arc::new(FloorMap::new(room, vec![bar], &FloorOptions::new(0.1, 0.2)).unwrap())
+}
+
 /// One period `h` of the user's loop holding `command`: `x + h·u` (kinematic), or
 /// `v += h·f/m, x += h·v` (dynamic, semi-implicit Euler; `vel` updated). Asserts that the disc
 /// of radius 0.1 m stays clear of the walls along the step (the chord bound of the
