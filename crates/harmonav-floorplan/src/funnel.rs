@@ -26,8 +26,9 @@
 //! [`FloorField::funnels`] builds the chain greedily on the grid of
 //! [`FloorField::reachable_region`]: the uncovered sample nearest the goal along the shortest
 //! path ([`Geodesic`]) is walked towards the goal until it enters a funnel; the goal of the
-//! next funnel is the point of largest clearance on the next [`FunnelOptions::inward`] m of
-//! that walk inside the funnels (so the new funnel reaches out from the covered part).
+//! next funnel is that point, on the frontier of the covered part (so the new funnel reaches
+//! out from it), or with [`FunnelOptions::inward`] > 0 the point of largest clearance on the
+//! next `inward` m of the walk inside that funnel.
 
 use std::sync::Arc;
 
@@ -52,7 +53,8 @@ pub struct FunnelOptions {
     /// Stop once this fraction of the reachable samples is covered (default 0.99).
     pub target: f64,
     /// How far, m, past its entry into the funnels the walk looks for the next goal (the point
-    /// of largest clearance; default 1).
+    /// of largest clearance; default 0: the entry itself, which measured best, docs/maths.md
+    /// §13.10).
     pub inward: f64,
     /// The certificate of each funnel ([`FloorField::certify_level`]).
     pub level: LevelOptions,
