@@ -670,7 +670,8 @@ impl FloorScenario {
             if r.model != Model::Kinematic {
                 return Err(f(
                     "floor_plan.funnels",
-                    "the funnels are sublevel sets of Θ and certify the kinematic law;                      robot.model is \"dynamic\""
+                    "the funnels are sublevel sets of Θ and certify the kinematic law; \
+                     robot.model is \"dynamic\""
                         .into(),
                 ));
             }

@@ -33,7 +33,11 @@ fn a_chain_is_built_for_the_kinematic_law_and_refused_by_key_otherwise() {
     assert!(p.funnels.is_none());
     let e = load(&floor("dynamic", "")).unwrap_err();
     assert_eq!(e.field, "floor_plan.funnels", "{e}");
-    assert!(e.to_string().contains("kinematic"), "{e}");
+    assert!(
+        e.to_string()
+            .contains("certify the kinematic law; robot.model is \"dynamic\""),
+        "{e}"
+    );
     let robots = "[[robots]]\nstart = [0.8, 2.2]\ngoal = [3.2, 0.8]\n";
     let e = load(&floor("kinematic", robots)).unwrap_err();
     assert_eq!(e.field, "floor_plan.funnels", "{e}");
