@@ -248,10 +248,9 @@ impl FloorField {
                 level,
                 covered: 0,
             };
-            let mut mine = covered.clone();
-            funnel.covered = cover(&funnel, samples, &mut mine, options.threads);
+            // `cover` marks only what the funnel newly holds: with nothing, nothing changed.
+            funnel.covered = cover(&funnel, samples, &mut covered, options.threads);
             if funnel.covered > 0 {
-                covered = mine;
                 count += funnel.covered;
                 chain.push(Arc::new(funnel));
             }

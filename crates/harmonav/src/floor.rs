@@ -390,9 +390,7 @@ impl FloorWorld {
     pub(crate) fn root_field(&self) -> Result<FloorField, NavError> {
         match &self.funnels {
             Some(run) if run.current.is_some_and(|j| j != 0) => {
-                let obstacles: Vec<StarShape> =
-                    self.field.transform().obstacles().cloned().collect();
-                let root = run.chain.funnels[0].field.with_sensed(&obstacles)?;
+                let root = run.chain.funnels[0].field.with_sensed(&self.sensed())?;
                 Ok(root.with_geodesic_of(&self.field))
             }
             _ => Ok(self.field.clone()),
@@ -402,8 +400,12 @@ impl FloorWorld {
     /// Funnel `j`'s field with the sensed obstacles and the shortest path of `field`; `None`
     /// if its goal cannot take them (an obstacle over it).
     fn funnel_field(&self, chain: &Funnels, j: usize) -> Option<FloorField> {
-        let obstacles: Vec<StarShape> = self.field.transform().obstacles().cloned().collect();
-        let field = chain.funnels.get(j)?.field.with_sensed(&obstacles).ok()?;
+        let field = chain
+            .funnels
+            .get(j)?
+            .field
+            .with_sensed(&self.sensed())
+            .ok()?;
         Some(field.with_geodesic_of(&self.field))
     }
 
@@ -442,6 +444,11 @@ impl FloorWorld {
             run.current = Some(j);
         }
         world
+    }
+
+    /// The sensed obstacles in the field (grown), which a funnel's field takes too.
+    fn sensed(&self) -> Vec<StarShape> {
+        self.field.transform().obstacles().cloned().collect()
     }
 
     /// In a funnel of the chain: the law converges without an escape (and an escape along the
