@@ -178,10 +178,7 @@ pub fn cmd_check_floor_json(prepared: &FloorPrepared, funnels: bool) -> Result<b
     let funnels = chain.as_ref().map(|(chain, seconds)| FunnelReport {
         count: chain.funnels.len(),
         certified_fraction: chain.fraction(),
-        deepest: (0..chain.funnels.len())
-            .map(|i| chain.depth(i))
-            .max()
-            .unwrap_or(0),
+        deepest: chain.deepest(),
         goals: chain
             .funnels
             .iter()

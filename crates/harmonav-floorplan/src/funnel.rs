@@ -132,6 +132,10 @@ pub struct Funnels {
     pub in_region: usize,
     /// Of those, the samples in some funnel.
     pub certified: usize,
+    /// The samples in `W_δ` that no funnel holds (`in_region − certified` of them): where
+    /// convergence is not certified (with the reachable part of the layer, `reachable −
+    /// in_region` samples, which the chain cannot hold).
+    pub uncovered: Vec<Vector2<f64>>,
 }
 
 impl Funnels {
@@ -149,6 +153,16 @@ impl Funnels {
     #[must_use]
     pub fn entry(&self, x: Vector2<f64>) -> Option<usize> {
         self.funnels.iter().position(|f| f.holds(x))
+    }
+
+    /// The most switches from a funnel to the file's goal ([`Funnels::depth`]; 0 for a chain
+    /// of one).
+    #[must_use]
+    pub fn deepest(&self) -> usize {
+        (0..self.funnels.len())
+            .map(|i| self.depth(i))
+            .max()
+            .unwrap_or(0)
     }
 
     /// The depth of funnel `i`: the switches from it to the file's goal.
@@ -183,6 +197,7 @@ impl FloorField {
         let region: Region =
             self.reachable_region(start, inflation, obstacles, options.max_samples);
         let samples = &region.samples;
+        let _memo = self.floor().remember_enclosures();
         let level = root.unwrap_or_else(|| self.certify_level(&options.level));
         let mut covered = vec![false; samples.len()];
         let mut chain: Vec<Arc<Funnel>> = Vec::new();
@@ -261,6 +276,12 @@ impl FloorField {
             reachable: region.reachable,
             in_region: samples.len(),
             certified: count,
+            uncovered: samples
+                .iter()
+                .zip(&covered)
+                .filter(|&(_, &c)| !c)
+                .map(|(&p, _)| p)
+                .collect(),
         }
     }
 

@@ -61,18 +61,18 @@ fn the_chain_covers_the_u_room_and_each_goal_lies_in_its_parent() {
     }
     // The count, independently: every reachable sample of W_δ that some funnel holds.
     let region = field.reachable_region(start, 0.2, &[], MAX_AREA_SAMPLES);
-    let held = region
-        .samples
-        .iter()
-        .filter(|&&p| {
-            chain.funnels.iter().any(|f| {
-                f.field
-                    .eval(p)
-                    .is_ok_and(|e| e.phi < f.phi_level() - FUNNEL_MARGIN)
-            })
+    let (held, free): (Vec<_>, Vec<_>) = region.samples.iter().partition(|&&p| {
+        chain.funnels.iter().any(|f| {
+            f.field
+                .eval(p)
+                .is_ok_and(|e| e.phi < f.phi_level() - FUNNEL_MARGIN)
         })
-        .count();
-    assert_eq!(held, chain.certified);
+    });
+    assert_eq!(held.len(), chain.certified);
+    // The uncovered samples are the others, in the region's order.
+    let free: Vec<Vector2<f64>> = free.into_iter().copied().collect();
+    assert_eq!(chain.uncovered, free);
+    assert_eq!(chain.in_region, chain.certified + chain.uncovered.len());
     let covered: usize = chain.funnels.iter().map(|f| f.covered).sum();
     assert_eq!(covered, chain.certified);
     // Behind the U, where the goal's own level does not reach: in a funnel, the least that
