@@ -9,6 +9,7 @@
 use std::path::{Path, PathBuf};
 
 use harmonav::FloorNavigator;
+use harmonav::floorplan::Funnels;
 use harmonav_scenario::floorplan::FloorPrepared;
 use harmonav_sim::floor::{FloorRun, FloorSummary, navigator};
 use harmonav_sim::trace::Event;
@@ -18,7 +19,7 @@ use crate::atomic::OutputError;
 use crate::canvas::{Scale, scaled_svg};
 use crate::drawing::{outline, ring, xy};
 use crate::figures::{
-    CHART, Key, LEGEND_ROW, LEVELS, PERCEIVED, draw_legend, draw_level_lines, draw_movers,
+    CHART, Key, LEGEND_ROW, LEVELS, PERCEIVED, Plane, draw_legend, draw_level_lines, draw_movers,
     draw_names, draw_obstacle, draw_path, draw_robots, draw_run, err, plane, run_keys, run_title,
 };
 use crate::levels::ThetaGrid;
@@ -34,6 +35,10 @@ const FLOOR_LEVEL_CELLS: usize = 160;
 
 const WALL_FILL: RGBColor = RGBColor(120, 120, 120);
 const EDGE: RGBColor = RGBColor(150, 150, 150);
+/// A chain of funnels' goals and the links to their parents (teal).
+const FUNNEL: RGBColor = RGBColor(0, 140, 140);
+/// The part of `W_δ` that no funnel holds (light yellow).
+const UNCERTIFIED: RGBColor = RGBColor(250, 230, 140);
 
 /// `trajectory.svg` of a floor-plan run: `summary` and `run` from the same run of `prepared`.
 /// Drawn like a star world's ([`crate::figures::trajectory_svg`]: at [`Scale::FINE`], the
@@ -85,12 +90,23 @@ fn trajectory_with(
             run.perceived.iter().any(|p| p.contains(c))
         }))
         .collect();
-    let note = format!(
-        "certified region: δ = {} m inside the grey lines; {} boundary elements",
-        summary.delta, summary.elements
-    );
+    let funnels = prepared.funnels.as_deref();
+    let note = match funnels {
+        None => format!(
+            "certified region: δ = {} m inside the grey lines; {} boundary elements",
+            summary.delta, summary.elements
+        ),
+        Some(chain) => format!(
+            "δ = {} m inside the grey lines; {} elements; {} funnels certify {:.1} % of the \
+             reachable area",
+            summary.delta,
+            summary.elements,
+            chain.funnels.len(),
+            100.0 * chain.fraction()
+        ),
+    };
     let sc = Scale::FINE;
-    let extra = if run.mover_frames.is_empty() {
+    let extra = if run.mover_frames.is_empty() && funnels.is_none() {
         0
     } else {
         LEGEND_ROW
@@ -104,6 +120,9 @@ fn trajectory_with(
                 RGBColor(250, 250, 250).filled(),
             )])
             .map_err(err)?;
+        if let Some(chain) = funnels {
+            draw_uncovered(&mut chart, chain)?;
+        }
         draw_level_lines(&mut chart, &levels, sc)?;
         // The certified region's outer edge: the shrunk walls ∂W_s (W_δ lies δ inside them).
         let domain = floor.domain();
@@ -126,6 +145,9 @@ fn trajectory_with(
         }
         for p in &run.perceived {
             draw_path(&mut chart, outline(p), sc.stroke(PERCEIVED, 2))?;
+        }
+        if let Some(chain) = funnels {
+            draw_chain(&mut chart, chain, sc)?;
         }
         let points = run.positions.iter().map(|p| (p[0], p[1]));
         let (start, goal) = (summary.start, summary.goal);
@@ -150,6 +172,10 @@ fn trajectory_with(
         draw_names(&mut chart, &names, sc)?;
         let mut keys = run_keys();
         keys.push(("walls", Key::Patch(WALL_FILL, BLACK)));
+        if funnels.is_some() {
+            keys.push(("funnel goals", Key::Dot(FUNNEL, 3)));
+            keys.push(("not certified", Key::Patch(UNCERTIFIED, UNCERTIFIED)));
+        }
         // One row holds seven keys: the perceived shapes take the certified edge's place (the
         // note below names the grey lines).
         if run.perceived.is_empty() {
@@ -170,6 +196,51 @@ fn trajectory_with(
         }
         draw_legend(&legend, &keys, Some(&note), sc)
     })
+}
+
+/// The samples of `W_δ` that no funnel of `chain` holds, each row's neighbouring samples drawn
+/// as one rectangle of the grid's cell (a few hundred rectangles, not one per sample).
+fn draw_uncovered(chart: &mut Plane<'_, '_>, chain: &Funnels) -> Result<(), String> {
+    let h = 0.5 * chain.cell;
+    let mut samples: Vec<(f64, f64)> = chain.uncovered.iter().map(|p| (p.y, p.x)).collect();
+    samples.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    // Runs `(y, x_first, x_last)` of samples one cell apart on one row.
+    let mut runs: Vec<(f64, f64, f64)> = Vec::new();
+    for (y, x) in samples {
+        match runs.last_mut() {
+            Some((ry, _, last)) if (*ry - y).abs() < 1e-6 * h && x - *last < 3.0 * h => *last = x,
+            _ => runs.push((y, x, x)),
+        }
+    }
+    chart
+        .draw_series(runs.into_iter().map(|(y, a, b)| {
+            Rectangle::new([(a - h, y - h), (b + h, y + h)], UNCERTIFIED.filled())
+        }))
+        .map_err(err)?;
+    Ok(())
+}
+
+/// The chain's goals (teal dots) and a thin line from each to its parent's goal.
+fn draw_chain(chart: &mut Plane<'_, '_>, chain: &Funnels, s: Scale) -> Result<(), String> {
+    for f in &chain.funnels {
+        if let Some(p) = f.parent {
+            let parent = chain.funnels[p].goal;
+            draw_path(
+                chart,
+                vec![xy(f.goal), xy(parent)],
+                s.stroke(FUNNEL.mix(0.7), 1),
+            )?;
+        }
+    }
+    chart
+        .draw_series(
+            chain
+                .funnels
+                .iter()
+                .map(|f| Circle::new(xy(f.goal), s.px(3), FUNNEL.filled())),
+        )
+        .map_err(err)?;
+    Ok(())
 }
 
 /// A floor-plan run's outputs being written while it goes, as a star world's

@@ -41,7 +41,9 @@
 //!
 //! A floor plan's recording ([`Stream::create_floor`], issue 25) has the same topics but the
 //! sector: `/scene` holds the true walls (every ring, white) and the shrunk walls `∂W_s`
-//! (grey; the certified region `W_δ` lies `δ` inside them) in place of the boundary, `/theta` the floor plan's `Θ` as
+//! (grey; the certified region `W_δ` lies `δ` inside them) in place of the boundary, with a
+//! chain of funnels (`floor_plan.funnels`) their goals and the links to their parents (teal,
+//! the entity `funnels`), `/theta` the floor plan's `Θ` as
 //! the robot knew it over the walls' bounding square (NaN outside the certified region), and
 //! `/harmonav/state` the floor navigator's own evaluation at every state (`V` of the floor's
 //! `Θ` under the dynamic law).

@@ -2,8 +2,8 @@
 //! floor plan's, each with its scene, its `Θ` grids and its policies; and `Θ` of a floor plan
 //! as the robot knew it ([`FloorTheta`]), shared with the floor-plan figure.
 
-use foxglove::messages::{Grid, SceneUpdate, SpherePrimitive, Vector3};
-use harmonav::floorplan::FloorField;
+use foxglove::messages::{Grid, SceneEntity, SceneUpdate, SpherePrimitive, Vector3};
+use harmonav::floorplan::{FloorField, Funnels};
 use harmonav::{FloorNavigator, StarShape};
 use harmonav_field::Field;
 use harmonav_scenario::floorplan::FloorPrepared;
@@ -37,6 +37,8 @@ const UNKNOWN: [f64; 4] = [0.6, 0.6, 0.6, 1.0];
 const KNOWN: [f64; 4] = [0.9, 0.2, 0.2, 1.0];
 const EDGE: [f64; 4] = [0.5, 0.5, 0.5, 1.0];
 const GOAL: [f64; 4] = [0.2, 0.8, 0.3, 1.0];
+/// A chain of funnels' goals and their links to their parents (teal, as `trajectory.svg`).
+const FUNNEL: [f64; 4] = [0.0, 0.55, 0.55, 1.0];
 
 impl<'p> World<'p> {
     /// The floor plan of `prepared`, with the navigator of its runs
@@ -76,6 +78,9 @@ impl<'p> World<'p> {
                 entities.push(entity(t, "world", "walls", lines));
                 let lines = rings(domain.outer(), domain.holes(), EDGE, 0.01);
                 entities.push(entity(t, "world", "shrunk-walls", lines));
+                if let Some(chain) = prepared.funnels.as_deref() {
+                    entities.push(funnels_entity(chain, t));
+                }
                 let names = (0..prepared.obstacles.len()).map(|i| obstacle_name(prepared, i));
                 let goal = Vector2::from(prepared.scenario.robot.goal);
                 (names.zip(&prepared.obstacles).collect(), goal)
@@ -256,4 +261,33 @@ impl FloorTheta {
     pub(crate) fn at(&self, p: Vector2<f64>) -> Option<f64> {
         self.0.eval(p).ok().map(|e| e.value)
     }
+}
+
+/// The entity `funnels` of a floor plan's `/scene`: a line from each funnel's goal to its
+/// parent's and a small sphere at each goal (the chain the navigator follows, docs/maths.md
+/// §13.10).
+fn funnels_entity(chain: &Funnels, t: f64) -> SceneEntity {
+    let links = chain
+        .funnels
+        .iter()
+        .filter_map(|f| {
+            let parent = chain.funnels.get(f.parent?)?.goal;
+            Some(line([f.goal, parent].into_iter(), FUNNEL, 0.01))
+        })
+        .collect();
+    let mut e = entity(t, "world", "funnels", links);
+    e.spheres = chain
+        .funnels
+        .iter()
+        .map(|f| SpherePrimitive {
+            pose: Some(pose(f.goal, 0.0)),
+            size: Some(Vector3 {
+                x: 0.06,
+                y: 0.06,
+                z: 0.06,
+            }),
+            color: color(FUNNEL),
+        })
+        .collect();
+    e
 }
