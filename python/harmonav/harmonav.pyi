@@ -579,6 +579,12 @@ class FloorNavigator(Navigator):
     leaves the navigator as it was. ``mode`` may also be ``"escaping"`` (along the shortest path
     from a rest point of the hold).
 
+    ``funnels=True`` (the kinematic law only) builds a chain of certified funnels towards
+    intermediate goals over the walls (docs/maths.md §13.10; seconds to a minute on a map of a
+    thousand elements) and follows it: convergence to the goal is then certified from every
+    point of their union, most of the reachable free area where the goal's own level certifies
+    little (``funnels``, ``funnel_at``).
+
     ``copy`` and ``deepcopy`` give an independent navigator with the same walls (the solved map
     shared), obstacles and state. Pickle stores the true walls as rings, the goal, the keyword
     arguments and the calls that made the state; unpickling solves the map again and replays
@@ -595,6 +601,7 @@ class FloorNavigator(Navigator):
         max_element: float = 0.2,
         centre: str = "solve",
         heading: str = "auto",
+        funnels: bool = False,
         **options: Unpack[_Options],
     ) -> None: ...
     @staticmethod
@@ -608,6 +615,7 @@ class FloorNavigator(Navigator):
         max_element: float = 0.2,
         centre: str = "solve",
         heading: str = "auto",
+        funnels: bool = False,
         **options: Unpack[_Options],
     ) -> FloorNavigator:
         """The navigator on a ROS map_server map (the free component holding the goal; start
@@ -623,6 +631,15 @@ class FloorNavigator(Navigator):
     @property
     def escapes(self) -> int:
         """Escapes begun from rest points of the hold's slide (docs/maths.md §13.7)."""
+    @property
+    def funnels(self) -> Optional[Dict[str, Any]]:
+        """The chain followed (``funnels=True``), or ``None``: ``count``,
+        ``certified_fraction`` (of the free area reachable from the goal), ``deepest``,
+        ``goals`` (each ``((x, y), parent index or None)``) and ``current`` (the funnel the
+        robot was last in, or ``None``)."""
+    def funnel_at(self, x: _Point) -> Optional[int]:
+        """The funnel the robot would follow from ``x`` (``None``: convergence from ``x`` is not
+        certified by the chain, or there is no chain)."""
     def __copy__(self) -> FloorNavigator: ...
     def __deepcopy__(self, memo: Any) -> FloorNavigator: ...
 

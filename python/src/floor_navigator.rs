@@ -3,8 +3,8 @@
 
 use std::sync::Arc;
 
-use harmonav_rs::floorplan::MapOptions;
-use harmonav_rs::{FloorMap, FloorNavigator as RsFloorNavigator, FloorOptions, Vector2};
+use harmonav_rs::floorplan::{FunnelOptions, Funnels, MapOptions};
+use harmonav_rs::{FloorMap, FloorNavigator as RsFloorNavigator, FloorOptions, Law, Vector2};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
@@ -32,6 +32,13 @@ use crate::options::{FloorKeywords, Keywords};
 /// plan's own; the other keyword arguments (`law`, `gain`, `mass`, `mu`, `sensor`, `radius`,
 /// `margin`, `k`, `damping`, `rho_min`, `control_period`, `hold`, `speed`, `v_max` and the
 /// scan's priors) are `Navigator`'s, with its defaults, checked as it checks them.
+///
+/// `funnels=True` (the kinematic law only; `ValueError` otherwise) builds a chain of certified
+/// funnels towards intermediate goals over the walls (`docs/maths.md` §13.10), without the GIL,
+/// and the navigator follows it: convergence to the goal is then certified from every point of
+/// their union (`funnels`, `funnel_at`). It costs seconds to a minute on a map of a thousand
+/// boundary elements; the chain is built over the free space reachable from the goal, so it
+/// does not depend on a start and pickle rebuilds the same one.
 ///
 /// Invalid arguments raise `ValueError` naming the field (a map's error names the file); walls
 /// that the robot's clearance would erase, a goal outside `W_δ`, or a map whose start and goal
@@ -82,7 +89,8 @@ fn rings(holes: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<Vec<Vector2<f64>>>> {
 
 /// A floor plan's navigator: its options checked (`Navigator`'s, then the floor's) before
 /// `solve` solves the map with the floor's options (without the GIL), and the navigator built
-/// on it towards `goal`.
+/// on it towards `goal`; with `funnels=True` the chain of certified funnels is built next
+/// (without the GIL) and the navigator follows it.
 fn on_floor<E: std::fmt::Display + Send>(
     py: Python<'_>,
     keywords: Keywords,
@@ -92,11 +100,25 @@ fn on_floor<E: std::fmt::Display + Send>(
 ) -> PyResult<PyClassInitializer<FloorNavigator>> {
     let (law, options) = keywords.check()?;
     let (floor_options, options) = floor.check(options)?;
-    let map = py.detach(|| solve(&floor_options)).map_err(value_error)?;
+    if floor.funnels && !matches!(law, Law::Kinematic { .. }) {
+        return Err(PyValueError::new_err(
+            "`funnels=True` needs law=\"kinematic\": the funnels are sublevel sets of Θ and \
+             certify the kinematic law, not the dynamic law's energy (docs/maths.md §13.10)",
+        ));
+    }
+    let map = Arc::new(py.detach(|| solve(&floor_options)).map_err(value_error)?);
+    let funnels = if floor.funnels {
+        let nav =
+            RsFloorNavigator::new(Arc::clone(&map), goal, law, options).map_err(value_error)?;
+        Some(py.detach(|| chain(&nav, options.radius + options.margin)))
+    } else {
+        None
+    };
     let built = Built {
         workspace: Workspace::Floor {
-            map: Arc::new(map),
+            map,
             keywords: floor,
+            funnels,
         },
         goal,
         keywords,
@@ -105,6 +127,21 @@ fn on_floor<E: std::fmt::Display + Send>(
     };
     let state = py.detach(|| State::new(built))?;
     Ok(PyClassInitializer::from(Navigator::holding(state)).add_subclass(FloorNavigator))
+}
+
+/// The chain of certified funnels towards `nav`'s goal over its walls
+/// ([`harmonav_rs::floorplan::FloorField::funnels`], default options on up to four threads),
+/// over the free space of clearance `inflation` reachable from the goal: the same chain
+/// whichever the start, so a pickled navigator rebuilds it exactly.
+fn chain(nav: &RsFloorNavigator, inflation: f64) -> Arc<Funnels> {
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get().min(4));
+    let options = FunnelOptions {
+        threads,
+        ..FunnelOptions::default()
+    };
+    let field = nav.field();
+    let goal = field.transform().goal();
+    Arc::new(field.funnels(None, goal, inflation, &[], &options))
 }
 
 impl FloorNavigator {
@@ -129,7 +166,7 @@ impl FloorNavigator {
     /// towards `goal`.
     #[new]
     #[pyo3(signature = (outer, goal, holes=None, *, max_element=0.2, centre="solve",
-                        heading="auto", **options))]
+                        heading="auto", funnels=false, **options))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
@@ -139,6 +176,7 @@ impl FloorNavigator {
         max_element: f64,
         centre: &str,
         heading: &str,
+        funnels: bool,
         options: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<PyClassInitializer<Self>> {
         let keywords = Keywords::parse("FloorNavigator", &PyTuple::empty(py), options)?;
@@ -149,6 +187,7 @@ impl FloorNavigator {
             max_element,
             centre: centre.to_owned(),
             heading: heading.to_owned(),
+            funnels,
         };
         on_floor(py, keywords, floor, goal, |options| {
             FloorMap::new(outer, holes, options)
@@ -165,7 +204,7 @@ impl FloorNavigator {
     /// not reachable from the start, a passage narrower than the robot.
     #[staticmethod]
     #[pyo3(signature = (yaml, start, goal, *, speck_pixels=0, simplify=0.5, max_element=0.2,
-                        centre="solve", heading="auto", **options))]
+                        centre="solve", heading="auto", funnels=false, **options))]
     #[allow(clippy::too_many_arguments)]
     fn from_map(
         py: Python<'_>,
@@ -177,6 +216,7 @@ impl FloorNavigator {
         max_element: f64,
         centre: &str,
         heading: &str,
+        funnels: bool,
         options: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Py<Self>> {
         let keywords = Keywords::parse("FloorNavigator.from_map", &PyTuple::empty(py), options)?;
@@ -186,6 +226,7 @@ impl FloorNavigator {
             max_element,
             centre: centre.to_owned(),
             heading: heading.to_owned(),
+            funnels,
         };
         // `simplify` is checked by the map (`MapError` naming it).
         let init = on_floor(py, keywords, floor, goal, |floor| {
@@ -222,6 +263,44 @@ impl FloorNavigator {
     #[getter]
     fn escapes(slf: &Bound<'_, Self>) -> PyResult<usize> {
         Self::floor(slf, RsFloorNavigator::escapes)
+    }
+
+    /// The chain of certified funnels the navigator follows (`funnels=True`, `docs/maths.md`
+    /// §13.10), or `None`: a dict with `count`, `certified_fraction` (the fraction of the free
+    /// area reachable from the goal that lies in a funnel: convergence is certified from
+    /// there), `deepest` (the most switches to the goal), `goals` (each funnel's goal `(x, y)`
+    /// with its parent's index, `None` for the navigator's goal) and `current` (the funnel the
+    /// robot was last in, `None` before the first command in one).
+    #[getter]
+    fn funnels(slf: &Bound<'_, Self>) -> PyResult<Option<Py<PyDict>>> {
+        let py = slf.py();
+        let Some((chain, current)) =
+            Self::floor(slf, |nav| nav.funnels().map(|(c, i)| (Arc::clone(c), i)))?
+        else {
+            return Ok(None);
+        };
+        let d = PyDict::new(py);
+        d.set_item("count", chain.funnels.len())?;
+        d.set_item("certified_fraction", chain.fraction())?;
+        d.set_item("deepest", chain.deepest())?;
+        let goals: Vec<((f64, f64), Option<usize>)> = chain
+            .funnels
+            .iter()
+            .map(|f| ((f.goal.x, f.goal.y), f.parent))
+            .collect();
+        d.set_item("goals", goals)?;
+        d.set_item("current", current)?;
+        Ok(Some(d.unbind()))
+    }
+
+    /// The funnel of least index that holds `x` (the one the robot would follow from there), or
+    /// `None` when `x` lies in none or the navigator follows no chain: convergence from `x` is
+    /// certified by the chain exactly when this is not `None`.
+    fn funnel_at(slf: &Bound<'_, Self>, x: &Bound<'_, PyAny>) -> PyResult<Option<usize>> {
+        let x = point_like(x, "x")?;
+        Self::floor(slf, |nav| {
+            nav.funnels().and_then(|(chain, _)| chain.entry(x))
+        })
     }
 
     /// An independent navigator with the same walls, obstacles and state.

@@ -6,6 +6,7 @@
 use std::sync::{Arc, Mutex};
 
 use harmonav_rs::Vector2;
+use harmonav_rs::floorplan::Funnels;
 use harmonav_rs::{
     Base, EscapeMemory, FloorMap, FloorNavigator as RsFloorNavigator, GoalTolerance, LaserScan,
     Law, Mode, Mover as RsMover, MoverKind, MoverMemory, NavError, Navigator as RsNavigator,
@@ -118,6 +119,8 @@ pub(crate) enum Workspace {
     Floor {
         map: Arc<FloorMap>,
         keywords: FloorKeywords,
+        /// The chain of certified funnels the navigator follows (`funnels=True`), built once.
+        funnels: Option<Arc<Funnels>>,
     },
 }
 
@@ -144,8 +147,12 @@ impl Built {
                 law,
                 options,
             )?),
-            Workspace::Floor { map, .. } => {
-                Inner::Floor(RsFloorNavigator::new(Arc::clone(map), goal, law, options)?)
+            Workspace::Floor { map, funnels, .. } => {
+                let mut nav = RsFloorNavigator::new(Arc::clone(map), goal, law, options)?;
+                if let Some(chain) = funnels {
+                    nav.set_funnels(Arc::clone(chain))?;
+                }
+                Inner::Floor(nav)
             }
         })
     }
@@ -1266,7 +1273,7 @@ impl Navigator {
                 args.extend(built.keywords.values(py)?);
                 (class, PyTuple::new(py, args)?)
             }
-            Workspace::Floor { map, keywords } => {
+            Workspace::Floor { map, keywords, .. } => {
                 let walls = map.walls();
                 let ring = |r: &[Vector2<f64>]| r.iter().map(|p| [p.x, p.y]).collect::<Vec<_>>();
                 let holes: Vec<Vec<[f64; 2]>> = walls.holes().iter().map(|h| ring(h)).collect();

@@ -322,12 +322,14 @@ impl Keywords {
 
 /// The options of a floor plan alone, as given: `max_element` (m, the boundary elements'
 /// length and the width `δ` of the boundary layer), `centre` and `heading` (a star world has
-/// no shortest path to turn towards).
+/// no shortest path to turn towards), and `funnels`.
 #[derive(Clone, Debug)]
 pub(crate) struct FloorKeywords {
     pub(crate) max_element: f64,
     pub(crate) centre: String,
     pub(crate) heading: String,
+    /// Follow a chain of certified funnels (`funnels=True`, docs/maths.md §13.10).
+    pub(crate) funnels: bool,
 }
 
 impl FloorKeywords {
@@ -344,7 +346,8 @@ impl FloorKeywords {
     pub(crate) fn add_to(&self, d: &Bound<'_, PyDict>) -> PyResult<()> {
         d.set_item("max_element", self.max_element)?;
         d.set_item("centre", &self.centre)?;
-        d.set_item("heading", &self.heading)
+        d.set_item("heading", &self.heading)?;
+        d.set_item("funnels", self.funnels)
     }
 }
 

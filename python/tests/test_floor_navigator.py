@@ -225,3 +225,69 @@ def test_furniture_against_a_wall_joins_the_walls_and_the_loop_stays_clear():
     other = l_room()
     other.add_obstacle(harmonav.circle([3.5, 1.0], 0.2))
     assert other.joined == []
+
+
+# The bar room of scenarios/floorplans/funnels/bar.toml: a 4 m bar across a 6 × 4 m room, the
+# goal just behind it; below the bar the flow of Θ alone rests against it.
+BAR_OUTER = np.array([[0.0, 0.0], [6.0, 0.0], [6.0, 4.0], [0.0, 4.0]])
+BAR = np.array([[1.0, 1.8], [5.0, 1.8], [5.0, 2.2], [1.0, 2.2]])
+BAR_GOAL, BAR_START = [3.0, 2.6], np.array([2.0, 1.0])
+
+
+def bar_room(**kwargs):
+    return harmonav.FloorNavigator(
+        BAR_OUTER, BAR_GOAL, [BAR], radius=0.1, margin=0.1, max_element=0.1, heading="paper", **kwargs
+    )
+
+
+def fly_bar(nav, seconds):
+    """The held loop from BAR_START: (arrived, end, the funnels it was in, in order, modes)."""
+    x, h = BAR_START.copy(), nav.control_period
+    walls = edges(BAR_OUTER, BAR)
+    funnels, modes = [], set()
+    for _ in range(int(seconds / h)):
+        if np.linalg.norm(x - BAR_GOAL) < 0.05:
+            return True, x, funnels, modes
+        x = x + h * nav.command(x)
+        modes.add(nav.mode)
+        assert distance(x, walls) >= 0.2 - 1e-6 and not inside(x, BAR), x
+        now = nav.funnels["current"] if nav.funnels else None
+        if not funnels or funnels[-1] != now:
+            funnels.append(now)
+    return False, x, funnels, modes
+
+
+def test_funnels_certify_the_room_and_lead_around_the_bar_where_theta_alone_rests():
+    import pickle
+
+    # Without the chain (the negative control): pressed under the bar, not arrived in 20 s.
+    arrived, end, _, _ = fly_bar(bar_room(), 20.0)
+    assert not arrived and end[1] < 1.8, end
+    nav = bar_room(funnels=True)
+    chain = nav.funnels
+    assert chain["count"] >= 2 and chain["certified_fraction"] >= 0.9, chain
+    assert chain["goals"][0] == (tuple(BAR_GOAL), None) and chain["current"] is None
+    assert all(p is not None and p < i for i, (_, p) in enumerate(chain["goals"]) if i > 0)
+    # The start lies in a funnel other than the goal's; a point in the bar in none.
+    assert nav.funnel_at(BAR_START) > 0 and nav.funnel_at([3.0, 2.0]) is None
+    # A pickled navigator rebuilds the same chain (built from the goal, not from a start).
+    twin = pickle.loads(pickle.dumps(nav))
+    assert twin.funnels == chain
+    arrived, end, funnels, modes = fly_bar(nav, 40.0)
+    assert arrived and "escaping" not in modes, (end, funnels, modes)
+    # Every switch goes to an ancestor of the funnel it leaves, and the last is the goal's.
+    parents = [p for _, p in chain["goals"]]
+    assert funnels[-1] == 0 and None not in funnels, funnels
+    for a, b in zip(funnels, funnels[1:]):
+        up = parents[a]
+        while up is not None and up != b:
+            up = parents[up]
+        assert up == b, (a, b, funnels)
+    # The twin commands as the original did.
+    assert np.array_equal(twin.command(BAR_START), bar_room(funnels=True).command(BAR_START))
+
+
+def test_funnels_need_the_kinematic_law():
+    with pytest.raises(ValueError, match="funnels=True.*kinematic"):
+        bar_room(funnels=True, law="dynamic")
+    assert bar_room().funnels is None and bar_room().funnel_at(BAR_START) is None
