@@ -48,7 +48,7 @@ pub const FUNNEL_MARGIN: f64 = 1e-3;
 /// Options of [`FloorField::funnels`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FunnelOptions {
-    /// The most funnels, the file's goal's included (default 32).
+    /// The most funnels, the file's goal's included (default 96: the office needs 62).
     pub max_funnels: usize,
     /// Stop once this fraction of the reachable samples is covered (default 0.99).
     pub target: f64,
@@ -67,7 +67,7 @@ pub struct FunnelOptions {
 impl Default for FunnelOptions {
     fn default() -> Self {
         Self {
-            max_funnels: 32,
+            max_funnels: 96,
             target: 0.99,
             inward: 0.0,
             level: LevelOptions {
