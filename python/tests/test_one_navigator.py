@@ -179,7 +179,7 @@ def test_both_worlds_have_the_same_defaults():
     assert {p.name: p.default for p in parameters} == dict(
         zip([p.name for p in parameters], args[2:]))
     partial, _, _ = floor().__reduce__()
-    floor_only = {"max_element": 0.2, "centre": "solve", "heading": "auto"}
+    floor_only = {"max_element": 0.2, "centre": "solve", "heading": "auto", "funnels": False}
     assert partial.keywords == {**{p.name: p.default for p in parameters}, **floor_only}
 
 
