@@ -130,15 +130,11 @@ fn on_floor<E: std::fmt::Display + Send>(
 }
 
 /// The chain of certified funnels towards `nav`'s goal over its walls
-/// ([`harmonav_rs::floorplan::FloorField::funnels`], default options on up to four threads),
+/// ([`harmonav_rs::floorplan::FloorField::funnels`], [`FunnelOptions::on_this_machine`]),
 /// over the free space of clearance `inflation` reachable from the goal: the same chain
 /// whichever the start, so a pickled navigator rebuilds it exactly.
 fn chain(nav: &RsFloorNavigator, inflation: f64) -> Arc<Funnels> {
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get().min(4));
-    let options = FunnelOptions {
-        threads,
-        ..FunnelOptions::default()
-    };
+    let options = FunnelOptions::on_this_machine();
     let field = nav.field();
     let goal = field.transform().goal();
     Arc::new(field.funnels(None, goal, inflation, &[], &options))

@@ -80,6 +80,18 @@ impl Default for FunnelOptions {
     }
 }
 
+impl FunnelOptions {
+    /// The default options with [`FunnelOptions::threads`] this machine's available
+    /// parallelism, at most four (what a file's chain and Python's `funnels=True` use).
+    #[must_use]
+    pub fn on_this_machine() -> Self {
+        Self {
+            threads: std::thread::available_parallelism().map_or(1, |n| n.get().min(4)),
+            ..Self::default()
+        }
+    }
+}
+
 /// One funnel of the chain: its goal, its field and its certified level.
 #[derive(Clone, Debug)]
 pub struct Funnel {

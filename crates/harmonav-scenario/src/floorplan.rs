@@ -955,11 +955,7 @@ impl FloorScenario {
                 None => FloorField::new(floor.clone(), goal, self.field.k)
                     .map_err(|e| f("robot.goal", e.to_string()))?,
             };
-            let threads = std::thread::available_parallelism().map_or(1, |n| n.get().min(4));
-            let options = FunnelOptions {
-                threads,
-                ..FunnelOptions::default()
-            };
+            let options = FunnelOptions::on_this_machine();
             let level = certified.as_ref().map(|(_, level)| *level);
             let inflation = r.radius + r.margin;
             Some(Arc::new(
