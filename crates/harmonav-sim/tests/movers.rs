@@ -109,6 +109,34 @@ fn a_floor_plan_with_a_mover_yields_and_arrives() {
     assert_eq!(s.movers.as_ref().unwrap().mover_contacts, 0);
 }
 
+/// A force-bounded robot in the corridor a person paces (`floor-corridor-force-bound.toml`,
+/// 1 N at 50 Hz): it arrives with every guarantee, no contact episode and no command refused,
+/// under the built-in loop and in rapier; its uncertified commands are all `Overwhelmed`
+/// (passive safety). Before KeepRight turned a force-bounded robot's nominal and eq.
+/// backuppieces certified its moving off the person's line (2026-12-07), the person walked
+/// into the standing robot: 2 contact episodes and 114 commands refused (the bodies
+/// overlapping).
+#[test]
+fn a_force_bounded_robot_steps_off_a_pacing_persons_line() {
+    use harmonav_scenario::floorplan::FloorScenario;
+    use harmonav_sim::floor::FloorSummary;
+    use harmonav_sim::physics::simulate_floor;
+    let prepared = FloorScenario::load(&file("floor-corridor-force-bound.toml")).unwrap();
+    let start = nalgebra::Vector2::from(prepared.scenario.robot.start);
+    for physics in [Physics::Builtin, Physics::Rapier] {
+        let run = simulate_floor(&prepared, None, start, physics).unwrap();
+        let s = FloorSummary::new(&prepared, None, start, &run);
+        let m = s.movers.as_ref().unwrap();
+        assert!(
+            s.all_passed() && s.reached,
+            "{physics:?}: {:?}",
+            s.guarantees
+        );
+        assert_eq!((m.mover_contacts, m.refused_commands), (0, 0), "{m:?}");
+        assert!(run.max_force <= 1.0, "{}", run.max_force);
+    }
+}
+
 #[test]
 fn four_robots_swap_places_without_touching() {
     let prepared = Scenario::load(&file("four-robots-swap.toml")).unwrap();

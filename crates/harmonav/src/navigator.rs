@@ -226,7 +226,9 @@ impl<W: World> Navigator<W> {
         }
         let result = W::held(&self.core, &self.world, x, v).and_then(|(command, step)| {
             let (command, yielded, memory) = self.filtered(x, v, command)?;
+            let nominal = command.value;
             let (command, yielded) = self.braked(x, v, command, yielded)?;
+            let memory = self.braked_memory(memory, (x, v), (nominal, command.value), yielded);
             if command.value.iter().all(|c| c.is_finite()) {
                 Ok((command, step, yielded, memory))
             } else {
@@ -327,17 +329,29 @@ impl<W: World> Navigator<W> {
         command: Command,
     ) -> Result<(Command, bool, KeepRight), NavError> {
         let memory = self.core.keep_right;
-        // Under a force bound the movers are kept out of by the braking certificate
-        // ([`Navigator::braked`]), not by the rows of one period.
-        let bounded = self.core.options.force_bound.is_some()
-            && matches!(self.core.controller, Controller::Dynamic(_));
-        if self.core.movers.is_empty() || bounded {
+        if self.core.movers.is_empty() {
             return Ok((command, false, memory));
         }
         let h = self.core.period;
         let options = &self.core.options;
-        let body = (x, options.radius, options.margin);
         let inflation = options.inflation();
+        // Under a force bound the movers are kept out of by the braking certificate
+        // ([`Navigator::braked`]), not by the rows of one period; KeepRight turns the velocity
+        // the nominal force leads to (the certificate then certifies whatever it becomes).
+        if let (Some(_), Controller::Dynamic(law)) = (options.force_bound, &self.core.controller) {
+            if matches!(command.mode, hold::Mode::Recovering(_) | hold::Mode::Halted) {
+                return Ok((command, false, memory));
+            }
+            let m = law.mass();
+            let next = v + (h / m) * command.value;
+            let turn = memory.turn(&self.core.movers, x, next, inflation);
+            if turn > 0.0 {
+                let value = (m / h) * (movers::clockwise(next, turn) - v);
+                return Ok((Command { value, ..command }, false, memory));
+            }
+            return Ok((command, false, memory));
+        }
+        let body = (x, options.radius, options.margin);
         let field = self.world.field();
         let far = (x - self.world.goal()).norm() > 2.0 * inflation;
         // KeepRight turns the nominal only (docs/movers.md §7); the filter certifies it.
@@ -435,6 +449,31 @@ impl<W: World> Navigator<W> {
             },
             yielded || by_mover,
         ))
+    }
+
+    /// KeepRight's memory after a command under a force bound among movers (docs/movers.md
+    /// §7): slow while the braking certificate keeps `|v⁺|` below ⅕ of the speed the nominal
+    /// force (`forces.0`, KeepRight's turn included) led to, and a mover bound it (`yielded`);
+    /// `memory` as it is otherwise (without a bound [`Navigator::filtered`] updates it).
+    fn braked_memory(
+        &self,
+        memory: KeepRight,
+        (x, v): (Vector2<f64>, Vector2<f64>),
+        (nominal, kept): (Vector2<f64>, Vector2<f64>),
+        yielded: bool,
+    ) -> KeepRight {
+        let (Some(_), Controller::Dynamic(law)) =
+            (self.core.options.force_bound, &self.core.controller)
+        else {
+            return memory;
+        };
+        if self.core.movers.is_empty() {
+            return memory;
+        }
+        let (h, m) = (self.core.period, law.mass());
+        let speed = |f: Vector2<f64>| (v + (h / m) * f).norm();
+        let far = (x - self.world.goal()).norm() > 2.0 * self.core.options.inflation();
+        memory.after((speed(kept), speed(nominal)), yielded, far, h)
     }
 
     /// The continuous law at the state `(x, ẋ)` with what it is made of (`Θ`, `∇Θ`, the

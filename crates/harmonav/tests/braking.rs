@@ -616,3 +616,39 @@ fn the_mover_cap_holds_at_the_ends_of_the_ranges() {
     // The first form's error in `V·s/a`, metres of `d`: measured 0.09 m.
     assert!(cancelled > 1e-3, "{cancelled}");
 }
+
+/// KeepRight under a force bound (docs/movers.md §7, since 2026-12-07): a force-bounded robot
+/// at rest, facing a person who walks at it down its line to the goal, is given a force turned
+/// clockwise off the law's (the braking certificate certifies it, as it would any nominal);
+/// with the person walking off the line the command is the law's, bit for bit. Before, the
+/// force-bounded robot's nominal was never turned (the `Yielding` command ran along the law's
+/// force, from the brake towards it) and in `movers/floor-corridor-force-bound.toml` the person
+/// walked into the standing robot: 2 contact episodes, 114 periods with the bodies overlapping.
+#[test]
+fn keep_right_turns_a_force_bounded_robot_off_a_mover_s_line() {
+    let (h, bound) = (0.02, 1.0);
+    let boundary = StarShape::circle(Vector2::zeros(), 20.0).unwrap();
+    let options = Options::default()
+        .with_robot(RADIUS, MARGIN)
+        .with_control_period(h)
+        .with_force_bound(bound);
+    let (x, goal) = (v(0.0, 0.0), v(5.0, 0.0));
+    let mut alone = Navigator::new(boundary.clone(), goal, LAW, options).unwrap();
+    let law = alone.command(x, Vector2::zeros()).unwrap();
+    let person = |centre: Vector2<f64>, velocity: Vector2<f64>| Mover {
+        velocity: Some(velocity),
+        ..Mover::new(centre, 0.25, 0.6)
+    };
+    let mut nav = Navigator::new(boundary.clone(), goal, LAW, options).unwrap();
+    nav.set_movers(&[person(v(2.0, 0.0), v(-0.6, 0.0))])
+        .unwrap();
+    let c = nav.command(x, Vector2::zeros()).unwrap();
+    assert!(c.certified(), "{:?}", c.mode);
+    let turn = law.value.perp(&c.value).atan2(law.value.dot(&c.value));
+    // Measured: 9.9° clockwise.
+    assert!(turn < -5f64.to_radians(), "{} deg", turn.to_degrees());
+    let mut nav = Navigator::new(boundary, goal, LAW, options).unwrap();
+    nav.set_movers(&[person(v(2.0, 2.0), v(0.0, 0.6))]).unwrap();
+    let c = nav.command(x, Vector2::zeros()).unwrap();
+    assert_eq!(c.value, law.value);
+}
