@@ -454,8 +454,8 @@ fn kinematic_step(
 /// ```
 ///
 /// turned towards the nominal heading (`Dynamic::turned`, an exact rotation: `|v⁺|` kept),
-/// slid along `∂W_δ` and the sensed obstacles' bands on a floor plan (`Space::slide`),
-/// shortened if needed to `|v⁺| ≤ min(DYNAMIC_FRACTION·d(x)/h, (1 − SPEED_SLACK)√(2μ/m))`,
+/// slid along `∂W_δ` and the sensed obstacles' bands on a floor plan (`Space::slide`), both
+/// kept dissipative ([`dissipative`], eq. heldwork), shortened if needed to `|v⁺| ≤ min(DYNAMIC_FRACTION·d(x)/h, (1 − SPEED_SLACK)√(2μ/m))`,
 /// and the force `f = m(v⁺ − v)/h` that produces it under `v += h f/m`. As `h → 0`,
 /// `f → −μ_p∇Ψ − Λv + f_g`, the continuous law of [`Dynamic::force_toward`] (`μ_p` its
 /// [`Dynamic::pull`], `f_g` the heading force, 0 in a star world). The implicit damping contracts
@@ -481,8 +481,12 @@ pub(crate) fn dynamic(
         next -= n * (climb * (1.0 / a - 1.0 / (a + b)));
     }
     // The gyroscopic heading force over the period: an exact rotation, `|v⁺|` kept.
+    let damped = next;
     next = law.turned(e, next, space.heading(x, e), h);
     next = space.slide(x, next, 2.0 * h * next.norm());
+    if next != damped {
+        next = dissipative(next, w);
+    }
     let speed = next.norm();
     let bound = (1.0 - SPEED_SLACK) * law.speed_bound();
     let d = space.clearance(x, 2.0 * h * speed / DYNAMIC_FRACTION, None);
@@ -507,6 +511,29 @@ pub(crate) fn dynamic(
     Command {
         value: (m / h) * (next - v),
         mode,
+    }
+}
+
+/// `v⁺` shortened, if need be, so that the held step dissipates (eq. heldwork):
+///
+/// ```text
+/// v⁺·(f + μ_p∇Ψ(x)) = (m/h)·v⁺·(v⁺ − w) ≤ 0,   f = m(v⁺ − v)/h,   w = v − hμ_p∇Ψ/m,
+/// ```
+///
+/// the held step's own term of `V' − V` (`harmonav_sim`'s `euler_energy_error` has the
+/// integrator's other two). The implicitly damped `v⁺ = w/a` (`a ≥ 1`) meets it; the heading's
+/// exact rotation by `θ` does only while `a·cos θ ≥ 1`, and the slide along `∂W_δ` not always:
+/// the continuous force `f_g ⟂ ẋ` does no work, its held rotation does `O(h²)` (measured: `V`
+/// rose by 1.6e-9 of itself over one period of `map-office-solve.toml`). Where it fails, `v⁺`
+/// becomes `w`'s projection on it, `(v⁺·w/|v⁺|²)·v⁺` (0 if that is negative), the longest
+/// velocity along `v⁺` that meets it. The hold's caps after it only shorten `v⁺` further,
+/// which keeps it (`c²|v⁺|² − c·v⁺·w ≤ c·(|v⁺|² − v⁺·w)` for `c ≤ 1`).
+fn dissipative(next: Vector2<f64>, w: Vector2<f64>) -> Vector2<f64> {
+    let (along, square) = (next.dot(&w), next.norm_squared());
+    if along >= square {
+        next
+    } else {
+        next * (along.max(0.0) / square)
     }
 }
 
