@@ -166,6 +166,13 @@ pub struct FloorRun {
     /// A file with `[[robots]]`: the other robots and the clearances between all of them
     /// (the lockstep loop of the robots; this run is the first robot's). `None` otherwise.
     pub fleet: Option<FleetReport>,
+    /// Under the dynamic law with the built-in step: the largest rise of `V = μΨ + ½m|ẋ|²`
+    /// over one period relative to `V`, and the same beyond the step's own error
+    /// ([`crate::held::euler_energy_error`]), over the periods whose command was the law's
+    /// (`law` or `capped`) or a custom controller's, with no discovery in them
+    /// ([`Check::EnergyNonIncreasing`]). `None` for the kinematic law, a differential drive,
+    /// rapier, or a run with no such period.
+    pub energy_rise: Option<(f64, f64)>,
 }
 
 /// The name of the `i`-th obstacle of a floor-plan file: its `name`, or `obstacles[i]`.
@@ -404,6 +411,34 @@ fn sample(nav: &FloorNavigator, t: f64, x: Vector2<f64>, v: Vector2<f64>) -> Sam
     }
 }
 
+/// The rise of `V = μΨ + ½m|ẋ|²` over one held period of the dynamic law, from `(x₀, ẋ₀)`
+/// to `(x₁, ẋ₁)` under the force `f`, relative to `V(x₀, ẋ₀)`: `(raw, beyond)`, the second
+/// less the semi-implicit Euler step's own error ([`crate::held::euler_energy_error`], as a
+/// star world's held loop allows). `None` under the kinematic law, or where either state has
+/// no `V` (the boundary layer). `V` is the navigator's own (the floor's `Θ`, scale shift 0).
+fn energy_rise(
+    nav: &FloorNavigator,
+    (x0, x1): (Vector2<f64>, Vector2<f64>),
+    (v0, v1): (Vector2<f64>, Vector2<f64>),
+    f: Vector2<f64>,
+    h: f64,
+) -> Option<(f64, f64)> {
+    let Controller::Dynamic(law) = nav.controller() else {
+        return None;
+    };
+    let calibration = (nav.field().destination_stiffness(), 0.0);
+    let p0 = law.potential_for(calibration, &nav.evaluate(x0, v0).ok()?.field);
+    let p1 = law.potential_for(calibration, &nav.evaluate(x1, v1).ok()?.field);
+    let energy = |p: &harmonav::control::Potential, v: Vector2<f64>| {
+        law.pull() * p.value + 0.5 * law.mass() * v.norm_squared()
+    };
+    let (e0, e1) = (energy(&p0, v0), energy(&p1, v1));
+    let allowance = crate::held::euler_energy_error(law, h, (&p0, p1.value), (x0, x1), (v0, v1), f);
+    // Guard: V is positive away from the goal; at the goal both are ~0 (as the star monitor).
+    let scale = e0.max(1e-12);
+    Some(((e1 - e0) / scale, (e1 - e0 - allowance) / scale))
+}
+
 /// The body disc's clearance at `p` from the true walls, obstacles and (on a map) pixels of
 /// `prepared`.
 fn body_clearance(prepared: &FloorPrepared, p: Vector2<f64>) -> f64 {
@@ -524,6 +559,7 @@ impl<'a, 'c, 'h, 'o> Flight<'a, 'c, 'h, 'o> {
             mover_frames: Vec::new(),
             diff: None,
             fleet: None,
+            energy_rise: None,
         };
         let world = MoverWorld::new(&prepared.scenario.movers, r.radius);
         let mass = match nav.controller() {
@@ -833,14 +869,36 @@ impl<'a, 'c, 'h, 'o> Flight<'a, 'c, 'h, 'o> {
             o(Event::State(&s));
             self.observed = Some(out.time);
         }
-        let moved = (self.hold)(&Held {
+        let held = Held {
             controller: nav.controller(),
             h,
             x,
             v: self.vel,
             command,
             pose: None,
-        });
+        };
+        let moved = (self.hold)(&held);
+        // The energy monitor: on the built-in step (the one its error model describes) of a
+        // period the law (or a custom controller, as in a star world) commanded, with nothing
+        // discovered; an escape, a way out of the band, a filtered or a bounded command is
+        // not the law's, and may add energy.
+        let judged = !discovered
+            && (self.custom.is_some()
+                || matches!(
+                    mode,
+                    Some(harmonav::Mode::Law | harmonav::Mode::Capped { .. })
+                ));
+        if judged
+            && {
+                let euler = held.euler();
+                (euler.x, euler.v) == (moved.x, moved.v)
+            }
+            && let Some((raw, beyond)) =
+                energy_rise(nav, (x, moved.x), (self.vel, moved.v), command, h)
+        {
+            let (r0, b0) = out.energy_rise.unwrap_or((0.0, 0.0));
+            out.energy_rise = Some((r0.max(raw), b0.max(beyond)));
+        }
         let next = moved.x;
         self.vel = moved.v;
         out.max_speed = out.max_speed.max(self.vel.norm());
@@ -1249,6 +1307,16 @@ impl FloorSummary {
                 run.max_speed < bound,
             ));
         }
+        // The energy monitor of a star world's held loop, on the built-in step (issue 51).
+        if let Some((raw, beyond)) = run.energy_rise {
+            guarantees.push(Guarantee::new(
+                Check::EnergyNonIncreasing {
+                    largest_rise: raw.max(0.0),
+                    beyond_tolerance: beyond.max(0.0),
+                },
+                beyond <= 0.0,
+            ));
+        }
         // rapier's own checks, as in a star world (`crate::rapier`): no contact event, and
         // the deviation from the built-in run (measured, not judged).
         if let Some(contacts) = run.contacts {
@@ -1345,4 +1413,45 @@ pub fn certificate(
         .floor
         .certify(max_evaluations)
         .map_err(|e| e.to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use harmonav_scenario::floorplan::FloorScenario;
+
+    use super::*;
+
+    /// The energy monitor on a floor plan (issue 51, item 2): the dynamic law's run of the L
+    /// room is judged, `V` never rising beyond the step's own error; a controller that pumps
+    /// energy in (the law's continuous force plus `2m·ẋ`) fails it (the negative control);
+    /// the kinematic law has no `V` and is not judged.
+    #[test]
+    fn the_energy_monitor_judges_the_dynamic_law_and_catches_a_pump() {
+        let path =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/floorplans/l-room.toml");
+        let p = FloorScenario::load(&path).unwrap();
+        let start = Vector2::from(p.scenario.robot.start);
+        let law = run(&p, Some(Model::Dynamic), start).unwrap();
+        let (_, beyond) = law.energy_rise.expect("the dynamic law is judged");
+        assert!(beyond <= 0.0, "{beyond:e}");
+        assert!(matches!(law.outcome, Outcome::Reached { .. }), "{:?}", law.outcome);
+        let pump = |nav: &FloorNavigator, x: Vector2<f64>, v: Vector2<f64>| {
+            nav.evaluate(x, v).map_or(Vector2::zeros(), |e| e.command) + 2.0 * v
+        };
+        let pumped = fly(
+            &p,
+            Some(Model::Dynamic),
+            start,
+            Some(&pump),
+            &mut |held| held.euler(),
+            None,
+        )
+        .unwrap();
+        let (_, beyond) = pumped.energy_rise.expect("a custom controller is judged");
+        assert!(beyond > 0.0, "the pump was not caught: {beyond:e}");
+        let kinematic = run(&p, Some(Model::Kinematic), start).unwrap();
+        assert_eq!(kinematic.energy_rise, None);
+    }
 }
