@@ -1436,7 +1436,11 @@ mod tests {
         let law = run(&p, Some(Model::Dynamic), start).unwrap();
         let (_, beyond) = law.energy_rise.expect("the dynamic law is judged");
         assert!(beyond <= 0.0, "{beyond:e}");
-        assert!(matches!(law.outcome, Outcome::Reached { .. }), "{:?}", law.outcome);
+        assert!(
+            matches!(law.outcome, Outcome::Reached { .. }),
+            "{:?}",
+            law.outcome
+        );
         let pump = |nav: &FloorNavigator, x: Vector2<f64>, v: Vector2<f64>| {
             nav.evaluate(x, v).map_or(Vector2::zeros(), |e| e.command) + 2.0 * v
         };
