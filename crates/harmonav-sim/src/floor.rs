@@ -168,7 +168,7 @@ pub struct FloorRun {
     pub fleet: Option<FleetReport>,
     /// Under the dynamic law with the built-in step: the largest rise of `V = μΨ + ½m|ẋ|²`
     /// over one period relative to `V`, and the same beyond the step's own error
-    /// ([`crate::held::euler_energy_error`]), over the periods whose command was the law's
+    /// (the held loop's `euler_energy_error`), over the periods whose command was the law's
     /// (`law` or `capped`) or a custom controller's, with no discovery in them
     /// ([`Check::EnergyNonIncreasing`]). `None` for the kinematic law, a differential drive,
     /// rapier, or a run with no such period.
