@@ -452,9 +452,10 @@ impl<W: World> Navigator<W> {
     }
 
     /// KeepRight's memory after a command under a force bound among movers (docs/movers.md
-    /// §7): slow while the braking certificate keeps `|v⁺|` below ⅕ of the speed the nominal
-    /// force (`forces.0`, KeepRight's turn included) led to, and a mover bound it (`yielded`);
-    /// `memory` as it is otherwise (without a bound [`Navigator::filtered`] updates it).
+    /// §7): slow while the braking certificate keeps `|v⁺|` (of the force `kept`) below ⅕ of
+    /// the speed the `nominal` force (KeepRight's turn included) led to, and a mover bound it
+    /// (`yielded`); `memory` as it is otherwise (without a bound [`Navigator::filtered`]
+    /// updates it).
     fn braked_memory(
         &self,
         memory: KeepRight,
