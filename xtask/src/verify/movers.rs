@@ -1,8 +1,9 @@
 //! The mover scenarios (`scenarios/movers/`, issue 54, item 4; docs/movers.md §8): every file
 //! flown under both laws in the held-command loop, with the movers reported to the navigator
-//! each period. Every guarantee must hold, arrival included, and no mover may touch the robot
-//! (`no-collision-with-movers`: 0 contacts; with `[[robots]]`, `no-collision-between-robots`
-//! and every robot arrived). A differential drive (`[robot] base = "diff"`) flies the
+//! each period. Every guarantee must hold, arrival included (`no-collision-with-movers`: no
+//! contact after a certified command; with `[[robots]]`, `no-collision-between-robots` and
+//! every robot arrived); a contact only after `Overwhelmed` commands (passive safety) is a
+//! target not met, issue 54's 0 contacts. A differential drive (`[robot] base = "diff"`) flies the
 //! kinematic law, its arcs certified by `command_pose`; under the dynamic law its file must be
 //! refused by name. Negative controls fly the crossing with the robot blind to the movers, the
 //! differential drive blind to its walkers, and the four robots blind to each other: each must
@@ -122,11 +123,7 @@ fn fly(file: &Path, model: Model) -> Outcome {
     }
     let m = s.movers.as_ref().ok_or("no mover report")?;
     let detail = detail(s.reached, s.time_s, m, prepared.margin());
-    let failed = failed_names(&s.guarantees);
-    if !failed.is_empty() || m.mover_contacts > 0 {
-        return Err(format!("{detail}; failed: {failed:?}"));
-    }
-    Ok(Verdict::Held(detail))
+    judged(&detail, m, &s.guarantees)
 }
 
 /// One file under `model` in rapier (the movers judged along every rapier step): every
@@ -195,6 +192,23 @@ fn fleet(
     Ok(Verdict::Held(detail))
 }
 
+/// A mover run's verdict: a failed guarantee fails it (`no-collision-with-movers` fails on a
+/// contact after a certified command: Theorem 1 broken); a contact only after `Overwhelmed`
+/// or refused commands (passive safety, which the theorem allows) is issue 54's "0 contacts"
+/// not met, a [`Verdict::Target`]; else it held.
+fn judged(detail: &str, m: &MoverReport, guarantees: &[Guarantee]) -> Outcome {
+    let failed = failed_names(guarantees);
+    if !failed.is_empty() || m.contacts_after_certified > 0 {
+        return Err(format!("{detail}; failed: {failed:?}"));
+    }
+    if m.mover_contacts > 0 {
+        return Ok(Verdict::Target(format!(
+            "{detail}; every contact after an uncertified command (passive safety)"
+        )));
+    }
+    Ok(Verdict::Held(detail.to_string()))
+}
+
 /// What a mover run measured, for its line in the verify table.
 fn detail(reached: bool, time_s: f64, m: &MoverReport, margin: f64) -> String {
     format!(
@@ -223,11 +237,7 @@ fn fly_floor(file: &Path, model: Model) -> Outcome {
     }
     let m = s.movers.as_ref().ok_or("no mover report")?;
     let detail = detail(s.reached, s.time_s, m, margin);
-    let failed = failed_names(&s.guarantees);
-    if !failed.is_empty() || m.mover_contacts > 0 {
-        return Err(format!("{detail}; failed: {failed:?}"));
-    }
-    Ok(Verdict::Held(detail))
+    judged(&detail, m, &s.guarantees)
 }
 
 /// A negative control: `file` run without the filter must fail the guarantee `guarantee`, with
